@@ -1,0 +1,33 @@
+#include <gtest/gtest.h>
+
+#include "edsp/sim/pose_text.h"
+
+namespace edsp {
+namespace {
+
+TEST(PoseText, ParsesSixNumbersInOrder) {
+  const Pose pose = ParsePoseText("0.1,-0.2,1.6,0.01,-2e-2,0.3");
+  EXPECT_EQ(pose.ToVector(), (Vector6() << 0.1, -0.2, 1.6, 0.01, -0.02, 0.3).finished());
+}
+
+std::string ErrorOf(const std::string& text) {
+  try {
+    ParsePoseText(text);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(PoseText, RejectsWhatIsNotSixFiniteNumbers) {
+  EXPECT_NE(ErrorOf("0,0,1.5,0,0").find("exactly six"), std::string::npos);
+  EXPECT_NE(ErrorOf("0,0,1.5,0,0,0,0").find("exactly six"), std::string::npos);
+  EXPECT_NE(ErrorOf("0,0,1.5,0,0,").find("yaw"), std::string::npos);
+  EXPECT_NE(ErrorOf("0,0,1.5,nan,0,0").find("roll = \"nan\""), std::string::npos);
+  EXPECT_NE(ErrorOf("0,0,inf,0,0,0").find("z = \"inf\""), std::string::npos);
+  EXPECT_NE(ErrorOf("0,0,1.5m,0,0,0").find("z = \"1.5m\""), std::string::npos);
+  EXPECT_NE(ErrorOf("").find("exactly six"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace edsp
