@@ -1,0 +1,244 @@
+// Shared-memory channel: ring protocol, overrun accounting, header checks,
+// permissions, clean-up and blocking waits (single process unless noted).
+#include <sys/stat.h>
+
+#include <chrono>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "edsp/transport/shm_channel.h"
+#include "shm_test_util.h"
+
+namespace edsp {
+namespace {
+
+using testing::Decoded;
+using testing::DecodePattern;
+using testing::EncodePattern;
+using testing::TestSpec;
+
+std::unique_ptr<ShmWriter> OpenWriter(const ShmChannelSpec& spec) {
+  auto result = ShmWriter::Open(spec);
+  EXPECT_TRUE(result.ok()) << result.message;
+  return std::move(result.value);
+}
+
+std::unique_ptr<ShmReader> OpenReader(const ShmChannelSpec& spec) {
+  auto result = ShmReader::Open(spec);
+  EXPECT_TRUE(result.ok()) << result.message;
+  return std::move(result.value);
+}
+
+std::uint64_t Publish(ShmWriter& writer, std::uint64_t number, std::uint32_t size = 64) {
+  return writer.Publish([&](std::uint8_t* buffer, std::uint32_t capacity) {
+    return EncodePattern(buffer, capacity, number, 7, size);
+  });
+}
+
+TakeStatus Take(ShmReader& reader, Decoded* out, std::uint64_t* number = nullptr) {
+  return reader.TryTake(
+      [&](const std::uint8_t* data, std::uint32_t size) { return DecodePattern(data, size, out); },
+      number);
+}
+
+TEST(ShmChannel, DeliversInOrderFromTheFirstMessageAfterAttach) {
+  const ShmChannelSpec spec = TestSpec("order");
+  auto writer = OpenWriter(spec);
+  Publish(*writer, 100);  // before the reader: not delivered to it
+  auto reader = OpenReader(spec);
+  for (std::uint64_t k = 1; k <= 5; ++k) EXPECT_EQ(Publish(*writer, 100 + k), k + 1);
+  Decoded d;
+  std::uint64_t number = 0;
+  for (std::uint64_t k = 1; k <= 5; ++k) {
+    ASSERT_EQ(Take(*reader, &d, &number), TakeStatus::kMessage);
+    EXPECT_EQ(d.number, 100 + k);
+    EXPECT_EQ(number, k + 1);
+  }
+  EXPECT_EQ(Take(*reader, &d), TakeStatus::kEmpty);
+  EXPECT_EQ(reader->stats().received, 5u);
+  EXPECT_EQ(reader->stats().overruns, 0u);
+}
+
+TEST(ShmChannel, LappedReaderCountsExactlyWhatItLost) {
+  const ShmChannelSpec spec = TestSpec("lap", 8);
+  auto writer = OpenWriter(spec);
+  auto reader = OpenReader(spec);
+  for (std::uint64_t k = 1; k <= 8 + 5; ++k) Publish(*writer, k);
+  Decoded d;
+  std::uint64_t first = 0, count = 0;
+  while (Take(*reader, &d) == TakeStatus::kMessage) {
+    if (count++ == 0) first = d.number;
+  }
+  EXPECT_EQ(first, 6u);  // the 8 newest survive
+  EXPECT_EQ(count, 8u);
+  EXPECT_EQ(reader->stats().overruns, 5u);
+  EXPECT_EQ(reader->stats().received + reader->stats().overruns, 13u);
+}
+
+TEST(ShmChannel, SkipToLatestIsNotAnOverrun) {
+  const ShmChannelSpec spec = TestSpec("latest", 8);
+  auto writer = OpenWriter(spec);
+  auto reader = OpenReader(spec);
+  for (std::uint64_t k = 1; k <= 5; ++k) Publish(*writer, k);
+  reader->SkipToLatest();
+  Decoded d;
+  ASSERT_EQ(Take(*reader, &d), TakeStatus::kMessage);
+  EXPECT_EQ(d.number, 5u);
+  EXPECT_EQ(reader->stats().overruns, 0u);
+}
+
+TEST(ShmChannel, OversizedMessageIsNotPublished) {
+  const ShmChannelSpec spec = TestSpec("oversize", 8, 64);
+  auto writer = OpenWriter(spec);
+  auto reader = OpenReader(spec);
+  EXPECT_EQ(Publish(*writer, 1, 65), 0u);
+  EXPECT_EQ(writer->published(), 0u);
+  Decoded d;
+  EXPECT_EQ(Take(*reader, &d), TakeStatus::kEmpty);
+  EXPECT_EQ(Publish(*writer, 2, 64), 1u);
+  EXPECT_EQ(Take(*reader, &d), TakeStatus::kMessage);
+}
+
+TEST(ShmChannel, DecodeRefusalIsCountedNotDelivered) {
+  const ShmChannelSpec spec = TestSpec("decode");
+  auto writer = OpenWriter(spec);
+  auto reader = OpenReader(spec);
+  writer->Publish([](std::uint8_t* buffer, std::uint32_t) {
+    std::memset(buffer, 0, 8);
+    return 8;  // too short for the pattern
+  });
+  Decoded d;
+  EXPECT_EQ(Take(*reader, &d), TakeStatus::kDecodeError);
+  EXPECT_EQ(reader->stats().decode_errors, 1u);
+  EXPECT_EQ(reader->stats().received, 0u);
+}
+
+TEST(ShmChannel, ReaderOfAnotherTypeIsRefusedByName) {
+  const ShmChannelSpec spec = TestSpec("type");
+  auto writer = OpenWriter(spec);
+  ShmChannelSpec other = spec;
+  other.type_fingerprint = 42;
+  const auto reader = ShmReader::Open(other);
+  EXPECT_EQ(reader.error, ShmError::kTypeMismatch);
+  EXPECT_NE(reader.message.find(spec.segment_name), std::string::npos) << reader.message;
+  EXPECT_NE(reader.message.find("fingerprint"), std::string::npos) << reader.message;
+}
+
+TEST(ShmChannel, CorruptOrForeignHeadersAreRefused) {
+  const ShmChannelSpec spec = TestSpec("corrupt");
+  auto writer = OpenWriter(spec);
+  ShmSegmentHeader* h = writer->segment().header();
+
+  h->slot_count = 1024;  // geometry changed behind the checksum's back
+  EXPECT_EQ(ShmReader::Open(spec).error, ShmError::kCorruptHeader);
+  h->slot_count = spec.slot_count;
+  ASSERT_TRUE(ShmReader::Open(spec).ok());
+
+  h->layout_version = kShmLayoutVersion + 1;
+  h->checksum = ShmHeaderChecksum(*h);
+  const auto version = ShmReader::Open(spec);
+  EXPECT_EQ(version.error, ShmError::kLayoutVersion);
+  EXPECT_NE(version.message.find("layout version"), std::string::npos);
+  h->layout_version = kShmLayoutVersion;
+  h->checksum = ShmHeaderChecksum(*h);
+
+  h->magic.store(0xdeadbeef);
+  EXPECT_EQ(ShmReader::Open(spec).error, ShmError::kCorruptHeader);
+  h->magic.store(0);
+  EXPECT_EQ(ShmReader::Open(spec).error, ShmError::kNotReady);
+  h->magic.store(kShmMagic);
+  EXPECT_TRUE(ShmReader::Open(spec).ok());
+}
+
+TEST(ShmChannel, ReaderBeforeWriterIsNotFound) {
+  const auto reader = ShmReader::Open(TestSpec("absent"));
+  EXPECT_EQ(reader.error, ShmError::kNotFound);
+}
+
+TEST(ShmChannel, BadSpecsAreRefused) {
+  EXPECT_EQ(ShmWriter::Open(TestSpec("slots", 6)).error, ShmError::kBadSpec);
+  EXPECT_EQ(ShmWriter::Open(TestSpec("size", 8, 0)).error, ShmError::kBadSpec);
+  ShmChannelSpec slash = TestSpec("slash");
+  slash.segment_name = "a/b";
+  EXPECT_EQ(ShmWriter::Open(slash).error, ShmError::kBadSpec);
+}
+
+mode_t SegmentMode(const std::string& name) {
+  struct stat st {};
+  if (::stat(("/dev/shm/" + name).c_str(), &st) != 0) return 0;
+  return st.st_mode & 0777;
+}
+
+TEST(ShmChannel, PermissionsAreAsConfiguredAndOrderlyExitRemovesTheSegment) {
+  ShmChannelSpec spec = TestSpec("mode");
+  {
+    auto writer = OpenWriter(spec);
+    EXPECT_EQ(SegmentMode(spec.segment_name), 0600u);
+  }
+  EXPECT_EQ(SegmentMode(spec.segment_name), 0u) << "segment left behind";
+  spec.permissions = 0660;
+  auto writer = OpenWriter(spec);
+  EXPECT_EQ(SegmentMode(spec.segment_name), 0660u);
+}
+
+TEST(ShmChannel, SecondLiveWriterIsRefused) {
+  const ShmChannelSpec spec = TestSpec("two-writers");
+  int ready[2];
+  ASSERT_EQ(::pipe(ready), 0);
+  const pid_t child = testing::Spawn([&] {
+    auto writer = ShmWriter::Open(spec);
+    const char byte = writer.ok() ? 'y' : 'n';
+    (void)!::write(ready[1], &byte, 1);
+    ::pause();
+    return 0;
+  });
+  char byte = 0;
+  ASSERT_EQ(::read(ready[0], &byte, 1), 1);
+  ASSERT_EQ(byte, 'y');
+  const auto second = ShmWriter::Open(spec);
+  EXPECT_EQ(second.error, ShmError::kWriterAlive);
+  EXPECT_NE(second.message.find(std::to_string(child)), std::string::npos) << second.message;
+  ::kill(child, SIGKILL);
+  testing::WaitExit(child);
+  // Its writer is dead now: the segment is taken over, not refused.
+  EXPECT_TRUE(ShmWriter::Open(spec).ok());
+}
+
+TEST(ShmChannel, StaleSegmentOfADeadWriterIsReclaimedEvenIfIncompatible) {
+  const ShmChannelSpec old_spec = TestSpec("stale");
+  const pid_t child = testing::Spawn([&] {
+    auto writer = ShmWriter::Open(old_spec);
+    Publish(*writer.value, 1);
+    ::kill(::getpid(), SIGKILL);  // dies without cleaning up
+    return 0;
+  });
+  EXPECT_EQ(testing::WaitExit(child), 128 + SIGKILL);
+  EXPECT_EQ(SegmentMode(old_spec.segment_name), 0600u) << "the crash should leave it behind";
+  ShmChannelSpec new_spec = old_spec;
+  new_spec.type_fingerprint = 99;
+  new_spec.slot_count = 16;
+  auto writer = OpenWriter(new_spec);
+  ASSERT_NE(writer, nullptr);
+  EXPECT_EQ(writer->segment().header()->slot_count, 16u);
+  EXPECT_EQ(writer->published(), 0u);
+}
+
+TEST(ShmChannel, WaitTimesOutWhenIdleAndWakesOnPublish) {
+  const ShmChannelSpec spec = TestSpec("wait");
+  auto writer = OpenWriter(spec);
+  auto reader = OpenReader(spec);
+  EXPECT_FALSE(reader->Wait(std::chrono::milliseconds(20)));
+  std::thread publisher([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(30));
+    Publish(*writer, 1);
+  });
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_TRUE(reader->Wait(std::chrono::seconds(5)));
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(4));
+  publisher.join();
+  EXPECT_EQ(writer->segment().header()->sleepers.load(), 0u);
+}
+
+}  // namespace
+}  // namespace edsp
