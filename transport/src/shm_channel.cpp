@@ -2,6 +2,8 @@
 
 #include <time.h>
 
+#include <mutex>
+#include <set>
 #include <thread>
 
 #if defined(__x86_64__) || defined(__i386__)
@@ -21,16 +23,44 @@ std::int64_t NowMicros() noexcept {
 
 ShmWriter::ShmWriter(std::unique_ptr<ShmSegment> segment) : segment_(std::move(segment)) {}
 
+namespace {
+
+// Segments this process writes: the header's pid cannot tell two writers of
+// one process apart, so the second is refused here.
+std::mutex& WritersMutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+std::set<std::string>& LocalWriters() {
+  static std::set<std::string> names;
+  return names;
+}
+
+}  // namespace
+
 ShmResult<ShmWriter> ShmWriter::Open(const ShmChannelSpec& spec) {
-  ShmResult<ShmSegment> segment = AttachSegmentAsWriter(spec);
   ShmResult<ShmWriter> result;
+  std::lock_guard<std::mutex> lock(WritersMutex());
+  if (LocalWriters().count(spec.segment_name) != 0) {
+    result.error = ShmError::kWriterAlive;
+    result.message = spec.segment_name + ": this process already writes it";
+    return result;
+  }
+  ShmResult<ShmSegment> segment = AttachSegmentAsWriter(spec);
   result.error = segment.error;
   result.message = std::move(segment.message);
-  if (segment.ok()) result.value = std::make_unique<ShmWriter>(std::move(segment.value));
+  if (segment.ok()) {
+    result.value = std::make_unique<ShmWriter>(std::move(segment.value));
+    LocalWriters().insert(spec.segment_name);
+  }
   return result;
 }
 
 ShmWriter::~ShmWriter() {
+  {
+    std::lock_guard<std::mutex> lock(WritersMutex());
+    LocalWriters().erase(segment_->name());
+  }
   ShmSegmentHeader* h = segment_->header();
   if (h->writer_pid.load(std::memory_order_acquire) != CurrentPid()) return;  // taken over
   h->writer_pid.store(0, std::memory_order_release);

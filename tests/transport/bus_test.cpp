@@ -1,0 +1,229 @@
+// edsp::Bus in one process: LCM over memq://, shared memory, both with a
+// decimated mirror, bad packets, handler exceptions, seq gaps, set-up errors.
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include "edsp/pose_setpoint_t.hpp"
+#include "edsp/leg_command_t.hpp"
+#include "edsp/transport/bus.h"
+
+namespace edsp {
+namespace {
+
+TransportConfig MemqConfig() {
+  TransportConfig config;
+  config.lcm_url = "memq://";
+  config.shm_prefix = "edsp.bustest." + std::to_string(::getpid());
+  return config;
+}
+
+TransportConfig Routed(const std::string& channel, ChannelPath path, std::uint32_t mirror_every = 1) {
+  TransportConfig config = MemqConfig();
+  ChannelRoute route;
+  route.path = path;
+  route.mirror_every = mirror_every;
+  route.slots = 16;
+  route.slot_size_bytes = 512;
+  config.channels[channel] = route;
+  return config;
+}
+
+pose_setpoint_t Setpoint(std::int64_t seq) {
+  pose_setpoint_t msg{};
+  msg.utime = 1000 + seq;
+  msg.seq = seq;
+  msg.session_id = 7;
+  for (int k = 0; k < 6; ++k) msg.pose[k] = 0.1 * k + static_cast<double>(seq);
+  msg.trajectory = "Lz";
+  msg.segment = 2;
+  return msg;
+}
+
+void ExpectSame(const pose_setpoint_t& a, const pose_setpoint_t& b) {
+  EXPECT_EQ(a.seq, b.seq);
+  EXPECT_EQ(a.session_id, b.session_id);
+  for (int k = 0; k < 6; ++k) EXPECT_EQ(a.pose[k], b.pose[k]);
+  EXPECT_EQ(a.trajectory, b.trajectory);
+}
+
+int HandleAll(Bus& bus) {
+  int total = 0;
+  for (int k = 0; k < 50; ++k) total += bus.Handle(std::chrono::milliseconds(1));
+  return total;
+}
+
+TEST(Bus, LcmPathDeliversTypedMessages) {
+  Bus bus(MemqConfig());
+  std::vector<pose_setpoint_t> got;
+  bus.Subscribe<pose_setpoint_t>("EDSP_SETPOINT", [&](const pose_setpoint_t& m) { got.push_back(m); });
+  for (int k = 1; k <= 3; ++k) EXPECT_TRUE(bus.Publish("EDSP_SETPOINT", Setpoint(k)));
+  HandleAll(bus);
+  ASSERT_EQ(got.size(), 3u);
+  ExpectSame(got[2], Setpoint(3));
+  EXPECT_EQ(bus.Counters("EDSP_SETPOINT").received, 3u);
+  EXPECT_EQ(bus.Counters("EDSP_SETPOINT").published, 3u);
+}
+
+TEST(Bus, ForeignAndTruncatedPacketsAreCountedNeverDelivered) {
+  Bus bus(MemqConfig());
+  int delivered = 0;
+  bus.Subscribe<pose_setpoint_t>("EDSP_SETPOINT", [&](const pose_setpoint_t&) { ++delivered; });
+  // A leg command on the setpoint channel (foreign fingerprint) ...
+  leg_command_t foreign{};
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(foreign.getEncodedSize()));
+  foreign.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  bus.lcm().Publish("EDSP_SETPOINT", bytes.data(), static_cast<std::uint32_t>(bytes.size()));
+  // ... a setpoint cut in half, and noise.
+  const pose_setpoint_t whole = Setpoint(1);
+  bytes.resize(static_cast<std::size_t>(whole.getEncodedSize()));
+  whole.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  bus.lcm().Publish("EDSP_SETPOINT", bytes.data(), static_cast<std::uint32_t>(bytes.size() / 2));
+  const std::uint8_t noise[3] = {1, 2, 3};
+  bus.lcm().Publish("EDSP_SETPOINT", noise, 3);
+  HandleAll(bus);
+  EXPECT_EQ(delivered, 0);
+  const ChannelCounters& c = bus.Counters("EDSP_SETPOINT");
+  EXPECT_EQ(c.decode_errors, 3u);
+  EXPECT_NE(c.last_error.find("EDSP_SETPOINT"), std::string::npos) << c.last_error;
+}
+
+TEST(Bus, HandlerExceptionIsRethrownFromHandleAndTheBusCarriesOn) {
+  Bus bus(MemqConfig());
+  int calls = 0;
+  bus.Subscribe<pose_setpoint_t>("EDSP_SETPOINT", [&](const pose_setpoint_t& m) {
+    ++calls;
+    if (m.seq == 1) throw std::runtime_error("bad setpoint 1");
+  });
+  bus.Publish("EDSP_SETPOINT", Setpoint(1));
+  EXPECT_THROW(
+      {
+        for (int k = 0; k < 50; ++k) bus.Handle(std::chrono::milliseconds(1));
+      },
+      std::runtime_error);
+  bus.Publish("EDSP_SETPOINT", Setpoint(2));
+  HandleAll(bus);
+  EXPECT_EQ(calls, 2);
+}
+
+TEST(Bus, SeqGapsAreCounted) {
+  Bus bus(MemqConfig());
+  bus.Subscribe<pose_setpoint_t>("EDSP_SETPOINT", [](const pose_setpoint_t&) {});
+  for (std::int64_t seq : {1, 2, 5, 6, 10}) bus.Publish("EDSP_SETPOINT", Setpoint(seq));
+  HandleAll(bus);
+  EXPECT_EQ(bus.Counters("EDSP_SETPOINT").seq_gaps, 2u + 3u);
+}
+
+TEST(Bus, ShmPathDeliversTypedMessages) {
+  Bus bus(Routed("EDSP_SETPOINT", ChannelPath::kShm));
+  auto publisher = bus.Advertise<pose_setpoint_t>("EDSP_SETPOINT");
+  std::vector<pose_setpoint_t> got;
+  bus.Subscribe<pose_setpoint_t>("EDSP_SETPOINT", [&](const pose_setpoint_t& m) { got.push_back(m); });
+  for (int k = 1; k <= 5; ++k) EXPECT_TRUE(publisher.Publish(Setpoint(k)));
+  EXPECT_EQ(bus.Handle(std::chrono::milliseconds(10)), 5);
+  ASSERT_EQ(got.size(), 5u);
+  ExpectSame(got[4], Setpoint(5));
+  EXPECT_EQ(publisher.counters().published, 5u);
+}
+
+TEST(Bus, BothPathMirrorsEveryNthMessageOnLcm) {
+  Bus bus(Routed("EDSP_LEG_COMMAND", ChannelPath::kBoth, 3));
+  auto publisher = bus.Advertise<pose_setpoint_t>("EDSP_LEG_COMMAND");
+  std::vector<std::int64_t> shm_seqs, lcm_seqs;
+  bus.Subscribe<pose_setpoint_t>("EDSP_LEG_COMMAND",
+                                 [&](const pose_setpoint_t& m) { shm_seqs.push_back(m.seq); });
+  bus.lcm().Subscribe("EDSP_LEG_COMMAND", [&](const std::string&, const std::uint8_t* data,
+                                              std::uint32_t size) {
+    pose_setpoint_t m;
+    ASSERT_GE(m.decode(data, 0, static_cast<int>(size)), 0);
+    lcm_seqs.push_back(m.seq);
+  });
+  for (int k = 1; k <= 9; ++k) publisher.Publish(Setpoint(k));
+  HandleAll(bus);
+  EXPECT_EQ(shm_seqs, (std::vector<std::int64_t>{1, 2, 3, 4, 5, 6, 7, 8, 9}));
+  EXPECT_EQ(lcm_seqs, (std::vector<std::int64_t>{3, 6, 9}));
+  EXPECT_EQ(publisher.counters().mirrored, 3u);
+}
+
+TEST(Bus, MessageTooBigForItsSlotIsRefusedAndCounted) {
+  Bus bus(Routed("EDSP_SETPOINT", ChannelPath::kShm));
+  pose_setpoint_t big = Setpoint(1);
+  big.trajectory.assign(1000, 'x');  // slot is 512 bytes
+  EXPECT_FALSE(bus.Publish("EDSP_SETPOINT", big));
+  EXPECT_EQ(bus.Counters("EDSP_SETPOINT").publish_failures, 1u);
+}
+
+TEST(Bus, SecondWriterOfAChannelIsRefusedNamingIt) {
+  const TransportConfig config = Routed("EDSP_SETPOINT", ChannelPath::kShm);
+  Bus first(config), second(config);
+  first.Advertise<pose_setpoint_t>("EDSP_SETPOINT");
+  try {
+    second.Advertise<pose_setpoint_t>("EDSP_SETPOINT");
+    FAIL() << "no error";
+  } catch (const TransportError& e) {
+    EXPECT_NE(std::string(e.what()).find("EDSP_SETPOINT"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Bus, BadLcmUrlIsNamed) {
+  TransportConfig config;
+  config.lcm_url = "carrier-pigeon://loft";
+  try {
+    Bus bus(config);
+    FAIL() << "no error";
+  } catch (const TransportError& e) {
+    EXPECT_NE(std::string(e.what()).find("carrier-pigeon://loft"), std::string::npos);
+  }
+}
+
+TEST(TransportConfig, ParsesRoutesAndDefaults) {
+  const TransportConfig c = ParseTransportConfig(R"(
+[transport]
+lcm_url = "udpm://239.255.76.67:7667?ttl=1"
+shm_prefix = "rig1"
+shm_permissions = "0660"
+[transport.channels.EDSP_LEG_COMMAND]
+path = "both"
+mirror_every = 10
+slots = 128
+slot_size_bytes = 1024
+[transport.channels.EDSP_LEG_STATE]
+path = "shm"
+)",
+                                                 "group.toml");
+  EXPECT_EQ(c.lcm_url, "udpm://239.255.76.67:7667?ttl=1");
+  EXPECT_EQ(c.shm_permissions, 0660u);
+  EXPECT_EQ(c.SegmentName("EDSP_LEG_STATE"), "rig1.EDSP_LEG_STATE");
+  EXPECT_EQ(c.Route("EDSP_LEG_COMMAND").path, ChannelPath::kBoth);
+  EXPECT_EQ(c.Route("EDSP_LEG_COMMAND").mirror_every, 10u);
+  EXPECT_EQ(c.Route("EDSP_LEG_COMMAND").slots, 128u);
+  EXPECT_EQ(c.Route("EDSP_LEG_STATE").path, ChannelPath::kShm);
+  EXPECT_EQ(c.Route("EDSP_TRACKER").path, ChannelPath::kLcm);
+  EXPECT_EQ(ParseTransportConfig("", "empty.toml").lcm_url, kDefaultLcmUrl);
+}
+
+std::string TransportErrorOf(const std::string& text) {
+  try {
+    ParseTransportConfig(text, "group.toml");
+  } catch (const TransportError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(TransportConfig, ErrorsNameFileLineAndKey) {
+  const std::string head = "[transport.channels.EDSP_X]\n";
+  EXPECT_NE(TransportErrorOf(head + "path = \"udp\"\n").find("group.toml:2: [transport.channels.EDSP_X] path = \"udp\""),
+            std::string::npos);
+  EXPECT_NE(TransportErrorOf(head + "slots = 100\n").find("power of two"), std::string::npos);
+  EXPECT_NE(TransportErrorOf(head + "mirror_every = 0\n").find("mirror_every"), std::string::npos);
+  EXPECT_NE(TransportErrorOf(head + "slot = 8\n").find("unknown key"), std::string::npos);
+  EXPECT_NE(TransportErrorOf("[transport]\nshm_permissions = \"0044\"\n").find("shm_permissions"),
+            std::string::npos);
+  EXPECT_NE(TransportErrorOf("[transport]\nurl = \"x\"\n").find("unknown key [transport] url"),
+            std::string::npos);
+  EXPECT_NE(TransportErrorOf("[transport\n").find("group.toml:1:"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace edsp

@@ -1,0 +1,221 @@
+#pragma once
+// edsp::Bus: typed publish/subscribe of lcm-gen types on named channels, one
+// API whatever the path. The path of each channel (LCM, shared memory, or
+// both with an optionally decimated LCM mirror) comes from TransportConfig,
+// i.e. the deploy group file, never from the code that publishes.
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <type_traits>
+#include <unordered_map>
+#include <vector>
+
+#include "edsp/transport/error.h"
+#include "edsp/transport/lcm_transport.h"
+#include "edsp/transport/shm_channel.h"
+#include "edsp/transport/transport_config.h"
+
+namespace edsp {
+
+// What happened on one channel in this process; the source of EDSP_STATUS.
+struct ChannelCounters {
+  std::uint64_t published = 0;
+  std::uint64_t publish_failures = 0;  // LCM refused, or too big for a slot
+  std::uint64_t mirrored = 0;          // shm messages also sent on LCM
+  std::uint64_t received = 0;
+  std::uint64_t decode_errors = 0;     // truncated or foreign packets
+  std::uint64_t overruns = 0;          // shm messages lost to a lapping writer
+  std::uint64_t seq_gaps = 0;          // messages missing by their `seq` field
+  std::string last_error;              // newest problem, for EDSP_FAULT
+};
+
+class Bus {
+  struct PublisherState;
+
+ public:
+  // Opens LCM at config.lcm_url; throws TransportError naming it on failure.
+  explicit Bus(TransportConfig config = {});
+  ~Bus();
+  Bus(const Bus&) = delete;
+  Bus& operator=(const Bus&) = delete;
+
+  // A publishing handle with no per-message lookup (control loops hold one).
+  template <typename Msg>
+  class Publisher {
+   public:
+    bool Publish(const Msg& msg) noexcept { return bus_->PublishEncoded(*state_, msg); }
+    const ChannelCounters& counters() const;
+
+   private:
+    friend class Bus;
+    Publisher(Bus* bus, typename Bus::PublisherState* state) : bus_(bus), state_(state) {}
+    Bus* bus_;
+    typename Bus::PublisherState* state_;
+  };
+
+  // Set-up: opens the channel's shared-memory segment if it is routed there.
+  // Throws TransportError (segment taken by a live writer, wrong type, ...).
+  template <typename Msg>
+  Publisher<Msg> Advertise(const std::string& channel);
+
+  // Convenience: Advertise on first use, then publish. Returns false if the
+  // message was not sent (counted in the channel's counters).
+  template <typename Msg>
+  bool Publish(const std::string& channel, const Msg& msg) {
+    return Advertise<Msg>(channel).Publish(msg);
+  }
+
+  // Handlers run inside Handle(). A message that does not decode (foreign
+  // type, truncated) is counted and dropped, never handed over.
+  template <typename Msg>
+  void Subscribe(const std::string& channel, std::function<void(const Msg&)> handler);
+
+  // Waits up to `timeout` for the first message, then dispatches everything
+  // pending. Returns the number dispatched. Rethrows a handler's exception.
+  int Handle(std::chrono::microseconds timeout);
+
+  const ChannelCounters& Counters(const std::string& channel);
+  const TransportConfig& config() const { return config_; }
+  LcmTransport& lcm() { return lcm_; }
+
+ private:
+  struct PublisherState {
+    std::string channel;
+    ChannelRoute route;
+    std::int64_t fingerprint = 0;
+    std::unique_ptr<ShmWriter> writer;
+    std::vector<std::uint8_t> buffer;  // LCM encode buffer, grown once
+    ChannelCounters* counters = nullptr;
+  };
+  struct ShmSubscription {
+    ShmChannelSpec spec;
+    std::unique_ptr<ShmReader> reader;
+    std::function<TakeStatus(ShmReader&)> take;  // decode + dispatch one message
+    ChannelCounters* counters = nullptr;
+    std::chrono::steady_clock::time_point next_attach{};
+  };
+
+  PublisherState& StateFor(const std::string& channel, std::int64_t fingerprint);
+  template <typename Msg>
+  bool PublishEncoded(PublisherState& state, const Msg& msg) noexcept;
+  void Mirror(PublisherState& state, std::uint64_t message_number) noexcept;
+  void AddShmSubscription(const std::string& channel, std::int64_t fingerprint,
+                          std::function<TakeStatus(ShmReader&)> take);
+  bool Attach(ShmSubscription& subscription);
+  int DrainShm();
+  void Fail(std::exception_ptr error);
+  template <typename Msg>
+  void Delivered(ChannelCounters& counters, const Msg& msg, std::int64_t* last_seq);
+
+  TransportConfig config_;
+  LcmTransport lcm_;
+  std::unordered_map<std::string, std::unique_ptr<PublisherState>> publishers_;
+  std::unordered_map<std::string, ChannelCounters> counters_;
+  std::vector<std::unique_ptr<ShmSubscription>> shm_subscriptions_;
+  std::exception_ptr pending_error_;
+};
+
+// ---- templates -------------------------------------------------------------
+
+namespace detail {
+template <typename T, typename = void>
+struct HasSeq : std::false_type {};
+template <typename T>
+struct HasSeq<T, std::void_t<decltype(std::declval<T>().seq)>> : std::true_type {};
+}  // namespace detail
+
+template <typename Msg>
+const ChannelCounters& Bus::Publisher<Msg>::counters() const {
+  return *state_->counters;
+}
+
+template <typename Msg>
+Bus::Publisher<Msg> Bus::Advertise(const std::string& channel) {
+  return Publisher<Msg>(this, &StateFor(channel, Msg::getHash()));
+}
+
+template <typename Msg>
+bool Bus::PublishEncoded(PublisherState& s, const Msg& msg) noexcept {
+  const int size = msg.getEncodedSize();
+  if (s.writer != nullptr) {
+    const std::uint64_t n =
+        s.writer->Publish([&](std::uint8_t* buffer, std::uint32_t capacity) -> std::int64_t {
+          if (size < 0 || static_cast<std::uint32_t>(size) > capacity) return -1;
+          return msg.encode(buffer, 0, static_cast<int>(capacity));
+        });
+    if (n == 0) {
+      ++s.counters->publish_failures;
+      return false;
+    }
+    ++s.counters->published;
+    if (s.route.path == ChannelPath::kBoth && n % s.route.mirror_every == 0) Mirror(s, n);
+    return true;
+  }
+  if (size < 0) return false;
+  if (s.buffer.size() < static_cast<std::size_t>(size)) s.buffer.resize(static_cast<std::size_t>(size));
+  if (msg.encode(s.buffer.data(), 0, size) < 0 ||
+      !lcm_.Publish(s.channel, s.buffer.data(), static_cast<std::uint32_t>(size))) {
+    ++s.counters->publish_failures;
+    return false;
+  }
+  ++s.counters->published;
+  return true;
+}
+
+template <typename Msg>
+void Bus::Delivered(ChannelCounters& counters, const Msg& msg, std::int64_t* last_seq) {
+  ++counters.received;
+  if constexpr (detail::HasSeq<Msg>::value) {
+    if (*last_seq >= 0 && msg.seq > *last_seq + 1) {
+      counters.seq_gaps += static_cast<std::uint64_t>(msg.seq - *last_seq - 1);
+    }
+    *last_seq = msg.seq;  // a restarted publisher (seq going back) is not a gap
+  }
+}
+
+template <typename Msg>
+void Bus::Subscribe(const std::string& channel, std::function<void(const Msg&)> handler) {
+  const ChannelRoute& route = config_.Route(channel);
+  ChannelCounters* counters = &counters_[channel];
+  auto last_seq = std::make_shared<std::int64_t>(-1);
+  if (route.path == ChannelPath::kLcm) {
+    lcm_.Subscribe(channel, [this, channel, counters, last_seq, handler = std::move(handler)](
+                                const std::string&, const std::uint8_t* data, std::uint32_t size) {
+      Msg msg;
+      if (msg.decode(data, 0, static_cast<int>(size)) < 0) {
+        ++counters->decode_errors;
+        counters->last_error = channel + ": dropped a packet that is not a valid " +
+                               std::string(typeid(Msg).name()) + " (" + std::to_string(size) +
+                               " bytes: truncated or foreign type)";
+        return;
+      }
+      Delivered(*counters, msg, last_seq.get());
+      handler(msg);
+    });
+    return;
+  }
+  auto msg = std::make_shared<Msg>();
+  AddShmSubscription(
+      channel, Msg::getHash(),
+      [this, counters, msg, last_seq, handler = std::move(handler)](ShmReader& reader) {
+        const TakeStatus status = reader.TryTake([&](const std::uint8_t* data, std::uint32_t size) {
+          try {
+            return msg->decode(data, 0, static_cast<int>(size)) >= 0;
+          } catch (...) {  // a torn length field can ask for absurd allocations
+            return false;
+          }
+        });
+        if (status == TakeStatus::kMessage) {
+          Delivered(*counters, *msg, last_seq.get());
+          handler(*msg);
+        } else if (status == TakeStatus::kDecodeError) {
+          ++counters->decode_errors;
+        }
+        return status;
+      });
+}
+
+}  // namespace edsp

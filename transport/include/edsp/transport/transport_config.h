@@ -1,0 +1,50 @@
+#pragma once
+// Which path each channel takes, read from the deploy group file's
+// [transport] section (never decided in code). docs/transport.md.
+//
+//   [transport]
+//   lcm_url = "udpm://239.255.76.67:7667?ttl=0"
+//   shm_prefix = "edsp"          # segment names: <prefix>.<channel>
+//   shm_permissions = "0600"
+//   [transport.channels.EDSP_LEG_COMMAND]
+//   path = "both"                # lcm | shm | both
+//   mirror_every = 10            # both: every 10th message also on LCM
+//   slots = 64
+//   slot_size_bytes = 1024
+
+#include <sys/types.h>
+
+#include <cstdint>
+#include <map>
+#include <string>
+
+#include "edsp/transport/lcm_transport.h"
+
+namespace edsp {
+
+enum class ChannelPath { kLcm, kShm, kBoth };
+const char* ChannelPathName(ChannelPath path);
+
+struct ChannelRoute {
+  ChannelPath path = ChannelPath::kLcm;
+  std::uint32_t mirror_every = 1;         // LCM mirror decimation for kBoth
+  std::uint32_t slots = 64;               // shared-memory ring length (power of two)
+  std::uint32_t slot_size_bytes = 4096;   // largest encoded message
+};
+
+struct TransportConfig {
+  std::string lcm_url = kDefaultLcmUrl;
+  std::string shm_prefix = "edsp";
+  mode_t shm_permissions = 0600;
+  std::map<std::string, ChannelRoute> channels;  // channels not listed use LCM
+
+  const ChannelRoute& Route(const std::string& channel) const;
+  std::string SegmentName(const std::string& channel) const;
+};
+
+// Parses the [transport] section of TOML text (absent section: defaults).
+// Throws TransportError naming `origin`, the line and the key.
+TransportConfig ParseTransportConfig(const std::string& toml_text, const std::string& origin);
+TransportConfig LoadTransportConfig(const std::string& path);
+
+}  // namespace edsp

@@ -1,0 +1,156 @@
+#include "edsp/transport/bus.h"
+
+#include <poll.h>
+
+#include <algorithm>
+#include <thread>
+
+#include <fmt/format.h>
+
+namespace edsp {
+
+namespace {
+constexpr auto kAttachRetry = std::chrono::milliseconds(100);
+// With both LCM and shared-memory inputs there is no single thing to sleep
+// on; LCM's socket is polled in slices this long between shm checks.
+constexpr auto kMixedWaitSlice = std::chrono::microseconds(500);
+}  // namespace
+
+Bus::Bus(TransportConfig config) : config_(std::move(config)), lcm_(config_.lcm_url) {}
+
+Bus::~Bus() = default;
+
+const ChannelCounters& Bus::Counters(const std::string& channel) { return counters_[channel]; }
+
+Bus::PublisherState& Bus::StateFor(const std::string& channel, std::int64_t fingerprint) {
+  auto it = publishers_.find(channel);
+  if (it != publishers_.end()) {
+    if (it->second->fingerprint != fingerprint) {
+      throw TransportError(fmt::format("{}: published with two different message types", channel));
+    }
+    return *it->second;
+  }
+  auto state = std::make_unique<PublisherState>();
+  state->channel = channel;
+  state->route = config_.Route(channel);
+  state->fingerprint = fingerprint;
+  state->counters = &counters_[channel];
+  if (state->route.path != ChannelPath::kLcm) {
+    ShmChannelSpec spec{config_.SegmentName(channel), fingerprint, state->route.slots,
+                        state->route.slot_size_bytes, config_.shm_permissions};
+    ShmResult<ShmWriter> writer = ShmWriter::Open(spec);
+    if (!writer.ok()) {
+      throw TransportError(fmt::format("channel {}: {} ({})", channel, writer.message,
+                                       ShmErrorName(writer.error)));
+    }
+    state->writer = std::move(writer.value);
+  }
+  return *publishers_.emplace(channel, std::move(state)).first->second;
+}
+
+void Bus::Mirror(PublisherState& s, std::uint64_t n) noexcept {
+  // The slot we just filled holds the encoded message: send those bytes, no
+  // second encode. Nothing else writes this slot until the ring wraps.
+  const ShmSegment& segment = s.writer->segment();
+  ShmSlotHeader* slot = segment.slot(n);
+  if (lcm_.Publish(s.channel, segment.payload(slot), slot->size_bytes)) {
+    ++s.counters->mirrored;
+  } else {
+    ++s.counters->publish_failures;
+  }
+}
+
+void Bus::AddShmSubscription(const std::string& channel, std::int64_t fingerprint,
+                             std::function<TakeStatus(ShmReader&)> take) {
+  auto subscription = std::make_unique<ShmSubscription>();
+  const ChannelRoute& route = config_.Route(channel);
+  subscription->spec = ShmChannelSpec{config_.SegmentName(channel), fingerprint, route.slots,
+                                      route.slot_size_bytes, config_.shm_permissions};
+  subscription->take = std::move(take);
+  subscription->counters = &counters_[channel];
+  Attach(*subscription);  // the writer may not be up yet: retried in Handle
+  shm_subscriptions_.push_back(std::move(subscription));
+}
+
+bool Bus::Attach(ShmSubscription& s) {
+  const auto now = std::chrono::steady_clock::now();
+  if (now < s.next_attach) return false;
+  s.next_attach = now + kAttachRetry;
+  ShmResult<ShmReader> reader = ShmReader::Open(s.spec);
+  if (!reader.ok()) {
+    if (reader.error != ShmError::kNotFound && reader.error != ShmError::kNotReady) {
+      s.counters->last_error = reader.message;  // wrong type, corrupt: say so, keep trying
+    }
+    return false;
+  }
+  s.reader = std::move(reader.value);
+  return true;
+}
+
+int Bus::DrainShm() {
+  int delivered = 0;
+  for (auto& s : shm_subscriptions_) {
+    if (s->reader == nullptr && !Attach(*s)) continue;
+    const std::uint64_t overruns_before = s->reader->stats().overruns;
+    for (;;) {
+      TakeStatus status;
+      try {
+        status = s->take(*s->reader);
+      } catch (...) {
+        Fail(std::current_exception());
+        break;
+      }
+      if (status == TakeStatus::kEmpty) break;
+      if (status == TakeStatus::kMessage) ++delivered;
+    }
+    s->counters->overruns += s->reader->stats().overruns - overruns_before;
+    // A writer that exited in order removed its segment; a new one made
+    // another. Follow it (a writer restarted after kill -9 re-attaches to the
+    // same segment and needs nothing).
+    if (!s->reader->WriterAlive() && std::chrono::steady_clock::now() >= s->next_attach) {
+      s->next_attach = std::chrono::steady_clock::now() + kAttachRetry;
+      ShmResult<ShmReader> fresh = ShmReader::Open(s->spec);
+      if (fresh.ok() && fresh.value->WriterAlive()) s->reader = std::move(fresh.value);
+    }
+  }
+  return delivered;
+}
+
+void Bus::Fail(std::exception_ptr error) {
+  if (!pending_error_) pending_error_ = error;
+}
+
+int Bus::Handle(std::chrono::microseconds timeout) {
+  using Clock = std::chrono::steady_clock;
+  const auto deadline = Clock::now() + timeout;
+  int delivered = 0;
+  for (;;) {
+    delivered += DrainShm();
+    if (lcm_.subscription_count() > 0 || shm_subscriptions_.empty()) {
+      const auto now = Clock::now();
+      auto wait = delivered > 0 || now >= deadline
+                      ? std::chrono::microseconds(0)
+                      : std::chrono::duration_cast<std::chrono::microseconds>(deadline - now);
+      if (!shm_subscriptions_.empty()) wait = std::min(wait, std::chrono::microseconds(kMixedWaitSlice));
+      delivered += lcm_.Handle(wait);
+      if (!shm_subscriptions_.empty()) delivered += DrainShm();
+    } else if (delivered == 0 && shm_subscriptions_.size() == 1 &&
+               shm_subscriptions_[0]->reader != nullptr) {
+      const auto now = Clock::now();
+      if (now < deadline) shm_subscriptions_[0]->reader->Wait(deadline - now);
+      delivered += DrainShm();
+    } else if (delivered == 0 && Clock::now() < deadline) {
+      // Several shm inputs (or one not attached yet): short sleeps.
+      std::this_thread::sleep_for(std::min<Clock::duration>(kMixedWaitSlice, deadline - Clock::now()));
+      delivered += DrainShm();
+    }
+    if (pending_error_) {
+      std::exception_ptr error = pending_error_;
+      pending_error_ = nullptr;
+      std::rethrow_exception(error);
+    }
+    if (delivered > 0 || Clock::now() >= deadline) return delivered;
+  }
+}
+
+}  // namespace edsp
