@@ -1,0 +1,259 @@
+// Multi-process tests of the shared-memory channel and the bus (ctest label
+// `multiprocess`): a million messages past a slow reader, a writer killed and
+// restarted mid-stream, and shm vs LCM-mirror readers seeing one sequence.
+#include <poll.h>
+#include <signal.h>
+
+#include <chrono>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "edsp/pose_setpoint_t.hpp"
+#include "edsp/transport/bus.h"
+#include "shm_test_util.h"
+
+namespace edsp {
+namespace {
+
+using namespace std::chrono_literals;
+using testing::Decoded;
+using testing::DecodePattern;
+using testing::EncodePattern;
+
+// A one-way channel between processes (one per direction: a process that
+// writes and then reads the same pipe reads its own message back). Receive
+// gives up after 30 s so a dead peer fails the test instead of hanging it.
+class Pipe {
+ public:
+  Pipe() { EXPECT_EQ(::pipe(fds_), 0); }
+  ~Pipe() {
+    ::close(fds_[0]);
+    ::close(fds_[1]);
+  }
+  void Send(std::uint64_t value) { (void)!::write(fds_[1], &value, sizeof value); }
+  std::uint64_t Receive() {
+    pollfd fd{fds_[0], POLLIN, 0};
+    if (::poll(&fd, 1, 30000) != 1) return ~0ull;
+    std::uint64_t value = 0;
+    return ::read(fds_[0], &value, sizeof value) == sizeof value ? value : ~0ull;
+  }
+  template <typename T>
+  void SendVector(const std::vector<T>& v) {
+    Send(v.size());
+    (void)!::write(fds_[1], v.data(), v.size() * sizeof(T));
+  }
+  template <typename T>
+  std::vector<T> ReceiveVector() {
+    const std::uint64_t count = Receive();
+    if (count == ~0ull) return {};
+    std::vector<T> v(count);
+    std::size_t got = 0;
+    auto* bytes = reinterpret_cast<char*>(v.data());
+    while (got < v.size() * sizeof(T)) {
+      const ssize_t n = ::read(fds_[0], bytes + got, v.size() * sizeof(T) - got);
+      if (n <= 0) break;
+      got += static_cast<std::size_t>(n);
+    }
+    return v;
+  }
+
+ private:
+  int fds_[2];
+};
+
+std::unique_ptr<ShmReader> OpenReaderWhenReady(const ShmChannelSpec& spec) {
+  for (int k = 0; k < 2000; ++k) {
+    auto reader = ShmReader::Open(spec);
+    if (reader.ok()) return std::move(reader.value);
+    std::this_thread::sleep_for(1ms);
+  }
+  ADD_FAILURE() << "no segment " << spec.segment_name;
+  return nullptr;
+}
+
+void BusyWait(std::chrono::nanoseconds duration) {
+  const auto until = std::chrono::steady_clock::now() + duration;
+  while (std::chrono::steady_clock::now() < until) {
+  }
+}
+
+TEST(ShmStress, MillionMessagesPastASlowReaderNoTornReadEveryLossCounted) {
+  constexpr std::uint64_t kMessages = 1000000;
+  const ShmChannelSpec spec = testing::TestSpec("million", 64, 512);
+  Pipe writer_ready, reader_ready, writer_done, reader_done;
+  const pid_t writer = testing::Spawn([&] {
+    auto w = ShmWriter::Open(spec);
+    if (!w.ok()) return 2;
+    writer_ready.Send(1);
+    reader_ready.Receive();
+    for (std::uint64_t k = 1; k <= kMessages; ++k) {
+      const std::uint32_t size = 16 + static_cast<std::uint32_t>(k % 497);
+      w.value->Publish([&](std::uint8_t* buffer, std::uint32_t capacity) {
+        return EncodePattern(buffer, capacity, k, 1, size);
+      });
+    }
+    writer_done.Send(w.value->published());
+    reader_done.Receive();  // keep the segment until the reader has drained
+    return 0;
+  });
+  ASSERT_EQ(writer_ready.Receive(), 1u);
+  auto reader = OpenReaderWhenReady(spec);
+  ASSERT_NE(reader, nullptr);
+  reader_ready.Send(1);
+
+  std::uint64_t accepted_torn = 0, out_of_order = 0, last = 0, received = 0;
+  for (;;) {
+    Decoded d;
+    std::uint64_t number = 0;
+    const TakeStatus status = reader->TryTake(
+        [&](const std::uint8_t* data, std::uint32_t size) { return DecodePattern(data, size, &d); },
+        &number);
+    if (status == TakeStatus::kMessage) {
+      ++received;
+      if (!d.intact || d.number != number) ++accepted_torn;
+      if (number <= last) ++out_of_order;
+      last = number;
+      if (received % 64 == 0) BusyWait(20us);  // deliberately slow
+      continue;
+    }
+    ASSERT_NE(status, TakeStatus::kDecodeError) << "a torn slot was handed over as a message";
+    if (reader->next_message() > kMessages) break;  // every number read or counted lost
+  }
+  EXPECT_EQ(writer_done.Receive(), kMessages);
+  reader_done.Send(1);
+  EXPECT_EQ(testing::WaitExit(writer), 0);
+  const ShmReaderStats& s = reader->stats();
+  EXPECT_EQ(accepted_torn, 0u);
+  EXPECT_EQ(out_of_order, 0u);
+  EXPECT_EQ(s.received, received);
+  EXPECT_EQ(s.received + s.overruns, kMessages) << "every message is either read or counted lost";
+  EXPECT_GT(s.overruns, 0u) << "the reader was meant to be too slow";
+  EXPECT_GT(s.received, 1000u);
+  RecordProperty("received", static_cast<int>(s.received));
+  RecordProperty("overruns", static_cast<int>(s.overruns));
+  RecordProperty("torn_detected", static_cast<int>(s.torn));
+}
+
+TEST(ShmStress, WriterKilledAndRestartedMidStreamReadersCarryOn) {
+  const ShmChannelSpec spec = testing::TestSpec("restart", 64, 256);
+  auto publish_forever = [&](std::uint32_t tag, std::uint64_t limit) {
+    return [&spec, tag, limit] {
+      auto w = ShmWriter::Open(spec);
+      if (!w.ok()) return 2;
+      for (std::uint64_t k = 1; k <= limit; ++k) {
+        w.value->Publish([&](std::uint8_t* buffer, std::uint32_t capacity) {
+          return EncodePattern(buffer, capacity, k, tag, 64);
+        });
+        std::this_thread::sleep_for(20us);
+      }
+      ::pause();
+      return 0;
+    };
+  };
+  const pid_t first = testing::Spawn(publish_forever(1, ~0ull));
+  auto reader = OpenReaderWhenReady(spec);
+  ASSERT_NE(reader, nullptr);
+  const std::uint32_t generation = reader->writer_generation();
+
+  std::uint64_t last_number = 0, from_first = 0, from_second = 0, out_of_order = 0;
+  auto read_until = [&](auto done, std::chrono::seconds limit) {
+    const auto deadline = std::chrono::steady_clock::now() + limit;
+    while (!done() && std::chrono::steady_clock::now() < deadline) {
+      if (!reader->Wait(100ms)) continue;
+      Decoded d;
+      std::uint64_t number = 0;
+      while (reader->TryTake([&](const std::uint8_t* p, std::uint32_t n) {
+        return DecodePattern(p, n, &d);
+      }, &number) == TakeStatus::kMessage) {
+        if (number <= last_number) ++out_of_order;
+        last_number = number;
+        (d.tag == 1 ? from_first : from_second) += 1;
+      }
+    }
+  };
+  read_until([&] { return from_first >= 500; }, 20s);
+  ASSERT_GE(from_first, 500u);
+  ::kill(first, SIGKILL);  // mid-stream, possibly mid-slot
+  EXPECT_EQ(testing::WaitExit(first), 128 + SIGKILL);
+  EXPECT_FALSE(reader->WriterAlive());
+
+  const pid_t second = testing::Spawn(publish_forever(2, 2000));
+  read_until([&] { return from_second >= 1000; }, 20s);  // same reader, never reopened
+  EXPECT_GE(from_second, 1000u);
+  EXPECT_EQ(out_of_order, 0u) << "message numbers continue across the restart";
+  EXPECT_TRUE(reader->WriterAlive());
+  EXPECT_EQ(reader->writer_generation(), generation + 1);
+  ::kill(second, SIGKILL);
+  testing::WaitExit(second);
+  RemoveSegment(spec.segment_name);
+}
+
+TransportConfig BothConfig(const std::string& prefix) {
+  TransportConfig config;
+  config.shm_prefix = prefix;
+  ChannelRoute route;
+  route.path = ChannelPath::kBoth;
+  route.slots = 4096;  // deep enough that the shm reader loses nothing
+  route.slot_size_bytes = 512;
+  config.channels["EDSP_SETPOINT"] = route;
+  return config;
+}
+
+TEST(BusMultiprocess, ShmReaderAndLcmMirrorReaderSeeTheSameSequence) {
+  constexpr int kMessages = 3000;
+  const std::string prefix = "edsp.mirror." + std::to_string(::getpid());
+  Pipe shm_ready, lcm_ready, shm_result, lcm_result, go;
+  auto reader = [&](bool via_shm, Pipe* ready, Pipe* result) {
+    return [&, via_shm, ready, result] {
+      // A process on another host would have no shm route: plain LCM.
+      Bus bus(via_shm ? BothConfig(prefix) : TransportConfig{});
+      std::vector<std::int64_t> seqs;
+      bus.Subscribe<pose_setpoint_t>("EDSP_SETPOINT",
+                                     [&](const pose_setpoint_t& m) { seqs.push_back(m.seq); });
+      ready->Send(1);
+      const auto deadline = std::chrono::steady_clock::now() + 20s;
+      while (static_cast<int>(seqs.size()) < kMessages &&
+             std::chrono::steady_clock::now() < deadline) {
+        bus.Handle(10ms);
+      }
+      result->SendVector(seqs);
+      return 0;
+    };
+  };
+  const pid_t publisher = testing::Spawn([&] {
+    Bus bus(BothConfig(prefix));
+    auto out = bus.Advertise<pose_setpoint_t>("EDSP_SETPOINT");
+    go.Receive();
+    for (int k = 1; k <= kMessages; ++k) {
+      pose_setpoint_t m{};
+      m.seq = k;
+      m.trajectory = "mirror";
+      out.Publish(m);
+      std::this_thread::sleep_for(50us);
+    }
+    go.Receive();  // keep the segment until both readers are done
+    return 0;
+  });
+  std::this_thread::sleep_for(50ms);  // the writer creates the segment first
+  const pid_t shm_reader = testing::Spawn(reader(true, &shm_ready, &shm_result));
+  const pid_t lcm_reader = testing::Spawn(reader(false, &lcm_ready, &lcm_result));
+  shm_ready.Receive();
+  lcm_ready.Receive();
+  std::this_thread::sleep_for(200ms);  // the shm reader attaches (retried every 100 ms)
+  go.Send(1);
+  const auto via_shm = shm_result.ReceiveVector<std::int64_t>();
+  const auto via_lcm = lcm_result.ReceiveVector<std::int64_t>();
+  go.Send(1);
+  EXPECT_EQ(testing::WaitExit(shm_reader), 0);
+  EXPECT_EQ(testing::WaitExit(lcm_reader), 0);
+  EXPECT_EQ(testing::WaitExit(publisher), 0);
+  std::vector<std::int64_t> expected(kMessages);
+  for (int k = 0; k < kMessages; ++k) expected[static_cast<std::size_t>(k)] = k + 1;
+  EXPECT_EQ(via_shm, expected);
+  EXPECT_EQ(via_lcm, expected);
+}
+
+}  // namespace
+}  // namespace edsp
