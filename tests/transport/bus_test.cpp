@@ -176,6 +176,25 @@ TEST(Bus, BadLcmUrlIsNamed) {
   }
 }
 
+TEST(Bus, FileUrlRecordsAndReplaysALog) {
+  const std::string log = "/tmp/edsp_bus_test_" + std::to_string(::getpid()) + ".lcmlog";
+  {
+    TransportConfig write;
+    write.lcm_url = "file://" + log + "?mode=w";
+    Bus recorder(write);
+    for (int k = 1; k <= 4; ++k) ASSERT_TRUE(recorder.Publish("EDSP_SETPOINT", Setpoint(k)));
+  }
+  TransportConfig read;
+  read.lcm_url = "file://" + log + "?speed=0";  // as fast as possible
+  Bus replay(read);
+  std::vector<std::int64_t> seqs;
+  replay.Subscribe<pose_setpoint_t>("EDSP_SETPOINT",
+                                    [&](const pose_setpoint_t& m) { seqs.push_back(m.seq); });
+  HandleAll(replay);
+  EXPECT_EQ(seqs, (std::vector<std::int64_t>{1, 2, 3, 4}));
+  ::unlink(log.c_str());
+}
+
 TEST(TransportConfig, ParsesRoutesAndDefaults) {
   const TransportConfig c = ParseTransportConfig(R"(
 [transport]

@@ -1,5 +1,6 @@
 // Shared-memory channel: ring protocol, overrun accounting, header checks,
 // permissions, clean-up and blocking waits (single process unless noted).
+#include <sys/resource.h>
 #include <sys/stat.h>
 
 #include <chrono>
@@ -238,6 +239,31 @@ TEST(ShmChannel, WaitTimesOutWhenIdleAndWakesOnPublish) {
   EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(4));
   publisher.join();
   EXPECT_EQ(writer->segment().header()->sleepers.load(), 0u);
+}
+
+}  // namespace
+}  // namespace edsp
+
+namespace edsp {
+namespace {
+
+double ThreadCpuSeconds() {
+  rusage usage{};
+  getrusage(RUSAGE_THREAD, &usage);
+  return static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+         static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec) * 1e-6;
+}
+
+TEST(ShmChannel, IdleWaitingReaderSleepsInsteadOfSpinning) {
+  const ShmChannelSpec spec = testing::TestSpec("idle");
+  auto writer = ShmWriter::Open(spec);
+  ASSERT_TRUE(writer.ok());
+  auto reader = ShmReader::Open(spec);
+  ASSERT_TRUE(reader.ok());
+  const double before = ThreadCpuSeconds();
+  EXPECT_FALSE(reader.value->Wait(std::chrono::milliseconds(300)));  // default: spin, then sleep
+  // A spinning reader would burn ~0.3 s of CPU here; a sleeping one almost none.
+  EXPECT_LT(ThreadCpuSeconds() - before, 0.05);
 }
 
 }  // namespace

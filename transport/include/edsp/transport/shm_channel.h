@@ -96,17 +96,22 @@ std::uint64_t ShmWriter::Publish(Encode&& encode) noexcept {
   std::atomic_thread_fence(std::memory_order_release);  // odd before any payload byte
   const auto size = encode(segment_->payload(slot), h->slot_size_bytes);
   if (size < 0 || static_cast<std::uint64_t>(size) > h->slot_size_bytes) {
-    // Leave the slot marked as holding the previous lap's message: invalid.
-    slot->sequence.store(0, std::memory_order_release);
+    // The slot stays odd ("message n being written"): a reader waiting for n
+    // keeps waiting, a lapped reader still sees it was overtaken. The next
+    // Publish rewrites it as message n.
     return 0;
   }
   slot->size_bytes = static_cast<std::uint32_t>(size);
   slot->publish_utime = NowMicros();
   slot->sequence.store(2 * n, std::memory_order_release);
-  // seq_cst against the readers' sleepers/published handshake (see Wait).
+  // seq_cst against the readers' sleepers/published handshake (see Wait):
+  // either we see a sleeper and ring, or it sees `published` and never sleeps.
+  // Nobody asleep: no doorbell write, so spinning readers' lines stay quiet.
   h->published.store(n, std::memory_order_seq_cst);
-  h->doorbell.fetch_add(1, std::memory_order_seq_cst);
-  if (h->sleepers.load(std::memory_order_seq_cst) > 0) FutexWakeAll(&h->doorbell);
+  if (h->sleepers.load(std::memory_order_seq_cst) > 0) {
+    h->doorbell.fetch_add(1, std::memory_order_seq_cst);
+    FutexWakeAll(&h->doorbell);
+  }
   return n;
 }
 
@@ -115,19 +120,23 @@ TakeStatus ShmReader::TryTake(Decode&& decode, std::uint64_t* message_number) no
   ShmSegmentHeader* h = segment_->header();
   const std::uint64_t slots = h->slot_count;
   for (;;) {
-    const std::uint64_t published = h->published.load(std::memory_order_acquire);
-    if (next_ > published) return TakeStatus::kEmpty;
-    if (published - next_ >= slots) {  // lapped: the oldest still in the ring
-      const std::uint64_t oldest = published - slots + 1;
-      stats_.overruns += oldest - next_;
-      next_ = oldest;
-    }
+    // The slot's own sequence says whether message next_ is there; the shared
+    // `published` counter is only read when we may have been lapped, so a
+    // spinning reader polls one cache line the writer touches once per message.
     ShmSlotHeader* slot = segment_->slot(next_);
     const std::uint64_t before = slot->sequence.load(std::memory_order_acquire);
+    if (before < 2 * next_) return TakeStatus::kEmpty;  // not written yet (or in progress)
     if (before != 2 * next_) {
-      // Being rewritten for a later lap (or never completed): lost to us.
-      ++stats_.overruns;
-      ++next_;
+      const std::uint64_t published = h->published.load(std::memory_order_acquire);
+      if (published >= next_ && published - next_ >= slots) {  // lapped: jump to the oldest
+        const std::uint64_t oldest = published - slots + 1;
+        stats_.overruns += oldest - next_;
+        next_ = oldest;
+      } else {
+        // Rewritten for a later lap while we looked: message next_ is lost.
+        ++stats_.overruns;
+        ++next_;
+      }
       continue;
     }
     std::uint32_t size = slot->size_bytes;
