@@ -123,3 +123,17 @@ Vector3 PlatformModel::ObservationPoint(const Pose& X_BM) const {
 }
 
 }  // namespace edsp
+
+namespace edsp {
+
+double PlatformModel::MotorAngleFromLength(int leg, double length_m) const {
+  return (length_m - home_length_m_(leg)) / config_.drive.lead_m * kTwoPi *
+         config_.drive.gear_ratio;
+}
+
+double PlatformModel::LengthFromMotorAngle(int leg, double motor_angle_rad) const {
+  return home_length_m_(leg) +
+         motor_angle_rad / (kTwoPi * config_.drive.gear_ratio) * config_.drive.lead_m;
+}
+
+}  // namespace edsp

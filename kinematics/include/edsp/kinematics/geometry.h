@@ -10,10 +10,10 @@
 namespace edsp {
 
 struct PlatformGeometry {
-  Matrix36 p_BoBi_B;  // base joint centre i in {B}, m
-  Matrix36 p_MoPi_M;  // platform joint centre i in {M}, m
-  Matrix36 ja_B;      // base joint outer axis (fixed in {B}), unit
-  Matrix36 jd_M;      // platform joint outer axis (fixed in {M}), unit
+  Matrix36 p_BoBi_B = Matrix36::Zero();  // base joint centre i in {B}, m
+  Matrix36 p_MoPi_M = Matrix36::Zero();  // platform joint centre i in {M}, m
+  Matrix36 ja_B = Matrix36::Zero();      // base joint outer axis (fixed in {B}), unit
+  Matrix36 jd_M = Matrix36::Zero();      // platform joint outer axis (fixed in {M}), unit
   double home_height_m = 0.0;  // z of {M} in {B} at the home pose
 };
 

@@ -62,6 +62,12 @@ class PlatformModel {
   // Observation point A in {B} at the pose.
   Vector3 ObservationPoint(const Pose& X_BM) const;
 
+  // Drive conversions (motor angle 0 = home): what a length in encoder units
+  // means as a motor angle, and back. lead/2π per screw turn, gear_ratio
+  // motor turns per screw turn.
+  double MotorAngleFromLength(int leg, double length_m) const;
+  double LengthFromMotorAngle(int leg, double motor_angle_rad) const;
+
  private:
   double PrScale() const;  // s · lead / 2π
 

@@ -1,0 +1,44 @@
+#pragma once
+// The one door to the drives (ros2_control's SystemInterface, edsp-sized):
+// configure → activate → read/write each cycle → deactivate. The bridge never
+// knows which backend is behind it; backends are siblings chosen by
+// configuration (the virtual rig now, a CiA 402 fieldbus drive later).
+
+#include <array>
+#include <cstdint>
+#include <string>
+
+#include "edsp/kinematics/config.h"
+
+namespace edsp {
+
+enum class BackendState { kUnconfigured, kInactive, kActive, kFault };
+
+// Per-leg status, the values of leg_state_t's DRIVE_* constants.
+enum class DriveStatus : std::int8_t { kDisabled = 0, kEnabled = 1, kHolding = 2, kFault = 3 };
+
+struct DriveSetpoint {
+  std::array<double, 6> motor_angle_rad{};      // position target, from home
+  std::array<double, 6> motor_velocity_rad_s{}; // velocity feed-forward
+};
+
+struct DriveFeedback {
+  std::array<double, 6> motor_angle_rad{};
+  std::array<double, 6> motor_velocity_rad_s{};
+  std::array<DriveStatus, 6> status{};
+};
+
+class DriveBackend {
+ public:
+  virtual ~DriveBackend() = default;
+  // Set-up; false with *error saying why.
+  virtual bool Configure(const PlatformConfig& config, std::string* error) = 0;
+  virtual bool Activate(std::string* error) = 0;
+  virtual void Deactivate() = 0;
+  // Cyclic; never throw. Motion setpoints are accepted only while kActive.
+  virtual bool Read(std::int64_t now_utime, DriveFeedback* feedback) = 0;
+  virtual bool Write(std::int64_t now_utime, const DriveSetpoint& setpoint) = 0;
+  virtual BackendState state() const = 0;
+};
+
+}  // namespace edsp

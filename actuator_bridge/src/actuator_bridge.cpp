@@ -1,0 +1,125 @@
+#include "edsp/actuator_bridge/actuator_bridge.h"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "edsp/node/fault.h"
+
+namespace edsp {
+
+ActuatorBridge::ActuatorBridge(PlatformModel model, DriveBackend* backend, BridgeOptions options)
+    : model_(std::move(model)), backend_(backend), options_(std::move(options)) {
+  // Hold wherever the drives are now.
+  backend_->Read(0, &feedback_);
+  for (int i = 0; i < kNumLegs; ++i) {
+    target_.motor_angle_rad[i] = feedback_.motor_angle_rad[i];
+    target_length_m_(i) = model_.LengthFromMotorAngle(i, feedback_.motor_angle_rad[i]);
+  }
+}
+
+fault_t ActuatorBridge::Fault(FaultCode code, std::string reason, std::int64_t now_utime) const {
+  return MakeFault(options_.node_name, "EDSP_LEG_COMMAND", code, fault_t::SEVERITY_ERROR,
+                   std::move(reason), now_utime);
+}
+
+bool ActuatorBridge::Reject(FaultCode code, std::string reason, std::int64_t now_utime,
+                            fault_t* fault) {
+  ++rejected_;
+  *fault = Fault(code, std::move(reason), now_utime);
+  return false;
+}
+
+bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utime,
+                                   fault_t* fault) {
+  if (c.session_id != options_.session_id) {
+    return Reject(FaultCode::kForeignSession,
+                  fmt::format("leg command seq {} from session {}, this group is session {}",
+                              c.seq, c.session_id, options_.session_id),
+                  now_utime, fault);
+  }
+  if (now_utime - c.utime > options_.stale_us) {
+    return Reject(FaultCode::kStale,
+                  fmt::format("leg command seq {} is {} us old (limit {} us)", c.seq,
+                              now_utime - c.utime, options_.stale_us),
+                  now_utime, fault);
+  }
+  const WorkspaceLimits& limits = model_.config().limits;
+  // A step between commands longer than the legs could travel at full speed
+  // since the last valid one (at least one 1 ms cycle) is a jump.
+  const double elapsed_s =
+      target_utime_ < 0 ? 1e-3 : std::max(1e-3, static_cast<double>(now_utime - target_utime_) * 1e-6);
+  const double max_step_m = options_.max_leg_speed_m_s * elapsed_s + 1e-6;
+  for (int i = 0; i < kNumLegs; ++i) {
+    const double length = c.command_length_m[i];
+    if (!std::isfinite(length)) {
+      return Reject(FaultCode::kNonFinite,
+                    fmt::format("leg command seq {}: leg {} length is not finite", c.seq, i + 1),
+                    now_utime, fault);
+    }
+    if (length < limits.leg_min_m || length > limits.leg_max_m) {
+      return Reject(FaultCode::kOutOfStroke,
+                    fmt::format("leg command seq {}: leg {} length {:.6f} m outside {:.3f}..{:.3f} m",
+                                c.seq, i + 1, length, limits.leg_min_m, limits.leg_max_m),
+                    now_utime, fault);
+    }
+    if (std::abs(length - target_length_m_(i)) > max_step_m) {
+      return Reject(FaultCode::kJump,
+                    fmt::format("leg command seq {}: leg {} jumps {:.6f} m from the held {:.6f} m "
+                                "(at most {:.6f} m in {:.1f} ms)",
+                                c.seq, i + 1, length - target_length_m_(i), target_length_m_(i),
+                                max_step_m, elapsed_s * 1e3),
+                    now_utime, fault);
+    }
+  }
+  for (int i = 0; i < kNumLegs; ++i) {
+    const double angle = model_.MotorAngleFromLength(i, c.command_length_m[i]);
+    target_.motor_velocity_rad_s[i] =
+        target_utime_ < 0 ? 0.0 : (angle - target_.motor_angle_rad[i]) / elapsed_s;
+    target_.motor_angle_rad[i] = angle;
+    target_length_m_(i) = c.command_length_m[i];
+  }
+  target_utime_ = now_utime;
+  last_command_seq_ = c.seq;
+  holding_ = false;
+  hold_reported_ = false;
+  ++accepted_;
+  return true;
+}
+
+bool ActuatorBridge::Cycle(std::int64_t now_utime, leg_state_t* state, fault_t* fault) {
+  bool raised = false;
+  const bool stale = target_utime_ < 0 || now_utime - target_utime_ > options_.stale_us;
+  if (stale && !holding_) {
+    holding_ = true;
+    target_.motor_velocity_rad_s.fill(0.0);  // hold: the last valid position, at rest
+    if (!hold_reported_) {
+      *fault = Fault(FaultCode::kStale,
+                     fmt::format("no valid leg command for {} us: holding the last valid "
+                                 "position (command seq {})",
+                                 now_utime - target_utime_, last_command_seq_),
+                     now_utime);
+      hold_reported_ = true;
+      raised = true;
+    }
+  }
+  if (!backend_->Write(now_utime, target_) || !backend_->Read(now_utime, &feedback_)) {
+    *fault = Fault(FaultCode::kBackend, "drive backend refused a cycle", now_utime);
+    raised = true;
+  }
+  *state = leg_state_t{};
+  state->utime = now_utime;
+  state->seq = ++state_seq_;
+  state->command_seq = last_command_seq_;
+  for (int i = 0; i < kNumLegs; ++i) {
+    state->motor_angle_rad[i] = feedback_.motor_angle_rad[i];
+    state->motor_velocity_rad_s[i] = feedback_.motor_velocity_rad_s[i];
+    state->encoder_length_m[i] = model_.LengthFromMotorAngle(i, feedback_.motor_angle_rad[i]);
+    state->drive_status[i] = holding_ && feedback_.status[i] == DriveStatus::kEnabled
+                                 ? leg_state_t::DRIVE_HOLDING
+                                 : static_cast<std::int8_t>(feedback_.status[i]);
+  }
+  return raised;
+}
+
+}  // namespace edsp

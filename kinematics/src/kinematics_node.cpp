@@ -1,0 +1,150 @@
+#include "edsp/kinematics/kinematics_node.h"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "edsp/kinematics/forward_kinematics.h"
+#include "edsp/kinematics/workspace.h"
+#include "edsp/node/fault.h"
+
+namespace edsp {
+
+namespace {
+
+template <std::size_t N>
+bool AllFinite(const double (&values)[N]) {
+  for (double v : values) {
+    if (!std::isfinite(v)) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+KinematicsNode::KinematicsNode(PlatformModel model, KinematicsNodeOptions options)
+    : model_(std::move(model)), options_(std::move(options)),
+      last_target_(model_.home_pose()), last_estimate_(model_.home_pose()) {}
+
+fault_t KinematicsNode::Fault(FaultCode code, std::string reason, std::int64_t now_utime,
+                              const char* channel) const {
+  return MakeFault(options_.node_name, channel, code,
+                   fault_t::SEVERITY_ERROR, std::move(reason), now_utime);
+}
+
+bool KinematicsNode::HandleSetpoint(const pose_setpoint_t& sp, std::int64_t now_utime,
+                                    leg_command_t* command, fault_t* fault) {
+  constexpr const char* kChannel = "EDSP_SETPOINT";
+  if (sp.session_id != options_.session_id) {
+    *fault = Fault(FaultCode::kForeignSession,
+                   fmt::format("setpoint seq {} from session {}, this group is session {}", sp.seq,
+                               sp.session_id, options_.session_id),
+                   now_utime, kChannel);
+    return false;
+  }
+  if (!AllFinite(sp.pose) || !AllFinite(sp.velocity)) {
+    *fault = Fault(FaultCode::kNonFinite,
+                   fmt::format("setpoint seq {} has a non-finite pose or velocity", sp.seq),
+                   now_utime, kChannel);
+    return false;
+  }
+  if (now_utime - sp.utime > options_.stale_us) {
+    *fault = Fault(FaultCode::kStale,
+                   fmt::format("setpoint seq {} is {} us old (limit {} us)", sp.seq,
+                               now_utime - sp.utime, options_.stale_us),
+                   now_utime, kChannel);
+    return false;
+  }
+  Vector6 q;
+  for (int k = 0; k < 6; ++k) q(k) = sp.pose[k];
+  const Pose target = Pose::FromVector(q);
+  const WorkspaceCheck check = CheckWorkspace(model_, target);
+  if (!check.ok()) {
+    *fault = Fault(FaultCode::kOutsideWorkspace,
+                   fmt::format("setpoint seq {} ({}): {}", sp.seq, DescribePose(target),
+                               check.Describe()),
+                   now_utime, kChannel);
+    return false;
+  }
+  const LegSolution legs = model_.Solve(target);
+  const Vector6 pr = model_.PrLengthError(legs, options_.pr_mode);
+  *command = leg_command_t{};
+  command->utime = now_utime;
+  command->seq = ++command_seq_;
+  command->session_id = options_.session_id;
+  command->setpoint_utime = sp.utime;
+  command->setpoint_seq = sp.seq;
+  command->pr_mode = static_cast<std::int8_t>(options_.pr_mode);
+  for (int i = 0; i < kNumLegs; ++i) {
+    command->ik_length_m[i] = legs.length_m(i);
+    command->pr_correction_m[i] = pr(i);
+    command->command_length_m[i] = legs.length_m(i) - pr(i);
+    command->motor_angle_rad[i] = model_.MotorAngleFromLength(i, command->command_length_m[i]);
+  }
+  last_target_ = target;
+  return true;
+}
+
+bool KinematicsNode::HandleLegState(const leg_state_t& legs, std::int64_t now_utime,
+                                    platform_state_t* state, fault_t* fault) {
+  constexpr const char* kChannel = "EDSP_LEG_STATE";
+  if (!AllFinite(legs.encoder_length_m)) {
+    *fault = Fault(FaultCode::kNonFinite,
+                   fmt::format("leg state seq {} has a non-finite encoder length", legs.seq),
+                   now_utime, kChannel);
+    return false;
+  }
+  Vector6 lengths;
+  for (int i = 0; i < kNumLegs; ++i) lengths(i) = legs.encoder_length_m[i];
+  const FkResult fk = SolveForward(model_, lengths, last_estimate_);
+  if (!fk.ok()) {
+    *fault = Fault(FaultCode::kForwardKinematics,
+                   fmt::format("leg state seq {}: forward kinematics {} (residual {:.3g} m)",
+                               legs.seq, FkStatusName(fk.status), fk.residual_m),
+                   now_utime, kChannel);
+    return false;
+  }
+  last_estimate_ = fk.pose;
+  *state = platform_state_t{};
+  state->utime = now_utime;
+  state->seq = ++state_seq_;
+  const Vector6 pose = fk.pose.ToVector(), target = last_target_.ToVector();
+  const Vector3 a = model_.ObservationPoint(fk.pose);
+  for (int k = 0; k < 6; ++k) {
+    state->pose[k] = pose(k);
+    state->target_pose[k] = target(k);
+  }
+  for (int k = 0; k < 3; ++k) state->observation_point_m[k] = a(k);
+  state->fk_status = static_cast<std::int8_t>(fk.status);
+  state->fk_residual_m = fk.residual_m;
+  return true;
+}
+
+platform_config_t KinematicsNode::ConfigMessage(std::int64_t now_utime,
+                                                const std::string& config_toml) const {
+  const PlatformConfig& c = model_.config();
+  platform_config_t msg{};
+  msg.utime = now_utime;
+  msg.seq = 0;
+  msg.preset = c.preset;
+  for (int i = 0; i < kNumLegs; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      msg.base_joints_m[i][k] = c.geometry.p_BoBi_B(k, i);
+      msg.platform_joints_m[i][k] = c.geometry.p_MoPi_M(k, i);
+      msg.base_axes[i][k] = c.geometry.ja_B(k, i);
+      msg.platform_axes[i][k] = c.geometry.jd_M(k, i);
+    }
+  }
+  msg.home_height_m = c.geometry.home_height_m;
+  msg.lead_m = c.drive.lead_m;
+  msg.pr_sign = static_cast<std::int8_t>(c.drive.pr_sign);
+  msg.gear_ratio = c.drive.gear_ratio;
+  msg.leg_min_m = c.limits.leg_min_m;
+  msg.leg_max_m = c.limits.leg_max_m;
+  msg.joint_angle_max_rad = c.limits.joint_angle_max_rad;
+  for (int k = 0; k < 3; ++k) msg.observation_point_m[k] = c.p_MoA_M(k);
+  msg.config_toml = config_toml;
+  return msg;
+}
+
+}  // namespace edsp

@@ -1,0 +1,143 @@
+#include "edsp/rig/virtual_rig.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "edsp/kinematics/forward_kinematics.h"
+
+namespace edsp {
+
+namespace {
+constexpr double kTwoPi = 2.0 * 3.14159265358979323846;
+}
+
+RigParameters IdealRig(const PlatformConfig& nominal) {
+  RigParameters p;
+  p.true_config = nominal;
+  p.tracker.X_TB = Pose{};
+  return p;
+}
+
+VirtualRig::VirtualRig(RigParameters parameters)
+    : parameters_(std::move(parameters)), model_(parameters_.true_config),
+      pose_(model_.home_pose()), rng_(parameters_.tracker.seed) {
+  // Critically damped position loop at the requested bandwidth.
+  const double wn = kTwoPi * parameters_.servo.bandwidth_hz;
+  kp_ = parameters_.servo.inertia_kg_m2 * wn * wn;
+  kd_ = 2.0 * parameters_.servo.inertia_kg_m2 * wn;
+}
+
+void VirtualRig::SetTarget(const DriveSetpoint& setpoint, bool enabled) {
+  target_ = setpoint;
+  enabled_ = enabled;
+}
+
+void VirtualRig::StepServo(int i, double dt) {
+  const ServoParameters& s = parameters_.servo;
+  double torque = 0.0;
+  if (enabled_) {
+    torque = kp_ * (target_.motor_angle_rad[i] - angle_[i]) +
+             kd_ * (target_.motor_velocity_rad_s[i] - velocity_[i]) +
+             s.viscous_N_m_s * target_.motor_velocity_rad_s[i];  // friction feed-forward
+    torque = std::clamp(torque, -s.torque_limit_N_m, s.torque_limit_N_m);
+  }
+  // Semi-implicit Euler: stable for the stiff loop at the drive's rate.
+  velocity_[i] += dt * (torque - s.viscous_N_m_s * velocity_[i]) / s.inertia_kg_m2;
+  angle_[i] += dt * velocity_[i];
+  // Between bridge cycles the drive interpolates its target along the
+  // velocity feed-forward, as a real drive's interpolator does.
+  target_.motor_angle_rad[i] += dt * target_.motor_velocity_rad_s[i];
+}
+
+bool VirtualRig::Advance(double dt_s) {
+  const double loop_dt = 1.0 / parameters_.servo.loop_rate_hz;
+  const int steps = std::max(1, static_cast<int>(std::lround(dt_s / loop_dt)));
+  for (int k = 0; k < steps; ++k) {
+    for (int i = 0; i < kNumLegs; ++i) StepServo(i, dt_s / steps);
+  }
+  time_s_ += dt_s;
+  // The screws' encoder-implied lengths in the rig's own geometry; forward
+  // kinematics adds each screw's true signed PR.
+  Vector6 encoder_lengths;
+  for (int i = 0; i < kNumLegs; ++i) encoder_lengths(i) = model_.LengthFromMotorAngle(i, angle_[i]);
+  const FkResult fk = SolveForward(model_, encoder_lengths, pose_);
+  if (!fk.ok()) return false;
+  pose_ = fk.pose;
+  return true;
+}
+
+DriveFeedback VirtualRig::Feedback() const {
+  DriveFeedback f;
+  for (int i = 0; i < kNumLegs; ++i) {
+    f.motor_angle_rad[i] = angle_[i];
+    f.motor_velocity_rad_s[i] = velocity_[i];
+    f.status[i] = enabled_ ? DriveStatus::kEnabled : DriveStatus::kDisabled;
+  }
+  return f;
+}
+
+rig_truth_t VirtualRig::Truth(std::int64_t utime) const {
+  rig_truth_t t{};
+  t.utime = utime;
+  t.seq = ++const_cast<VirtualRig*>(this)->truth_seq_;
+  const LegSolution legs = model_.Solve(pose_);
+  const Vector6 q = pose_.ToVector();
+  const Vector3 a = model_.ObservationPoint(pose_);
+  for (int i = 0; i < kNumLegs; ++i) {
+    t.pose[i] = q(i);
+    t.leg_length_m[i] = legs.length_m(i);
+    t.twist_rad[i] = legs.twist_rad(i);
+  }
+  for (int k = 0; k < 3; ++k) t.observation_point_m[k] = a(k);
+  return t;
+}
+
+bool VirtualRig::TrackerSample(std::int64_t utime, tracker_point_t* point) {
+  if (time_s_ + 1e-9 < next_tracker_s_) return false;
+  next_tracker_s_ += 1.0 / parameters_.tracker.rate_hz;
+  const TrackerParameters& tp = parameters_.tracker;
+  Vector3 p_T = PointInBase(tp.X_TB, model_.ObservationPoint(pose_));
+  std::normal_distribution<double> noise(0.0, tp.noise_sigma_m);
+  if (tp.noise_sigma_m > 0.0) {
+    for (int k = 0; k < 3; ++k) p_T(k) += noise(rng_);
+  }
+  *point = tracker_point_t{};
+  point->utime = utime;
+  point->seq = ++tracker_seq_;
+  for (int k = 0; k < 3; ++k) point->point_m[k] = p_T(k);
+  point->sigma_m = tp.noise_sigma_m;
+  point->valid = true;
+  return true;
+}
+
+bool InProcessRigBackend::Configure(const PlatformConfig&, std::string*) {
+  state_ = BackendState::kInactive;
+  return true;
+}
+
+bool InProcessRigBackend::Activate(std::string* error) {
+  if (state_ == BackendState::kUnconfigured) {
+    *error = "activate before configure";
+    return false;
+  }
+  state_ = BackendState::kActive;
+  return true;
+}
+
+void InProcessRigBackend::Deactivate() {
+  rig_->SetTarget(DriveSetpoint{}, false);
+  state_ = BackendState::kInactive;
+}
+
+bool InProcessRigBackend::Read(std::int64_t, DriveFeedback* feedback) {
+  *feedback = rig_->Feedback();
+  return true;
+}
+
+bool InProcessRigBackend::Write(std::int64_t, const DriveSetpoint& setpoint) {
+  if (state_ != BackendState::kActive) return false;  // motion only while active
+  rig_->SetTarget(setpoint, true);
+  return true;
+}
+
+}  // namespace edsp

@@ -1,0 +1,63 @@
+#pragma once
+// The whole stack composed in one process on a deterministic clock: planner
+// → kinematics node → actuator bridge → virtual rig, one cycle per call, no
+// bus. The same library classes the processes run, so what it shows about
+// accuracy holds for the live stack.
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "edsp/actuator_bridge/actuator_bridge.h"
+#include "edsp/kinematics/kinematics_node.h"
+#include "edsp/planner/planner.h"
+#include "edsp/rig/virtual_rig.h"
+
+namespace edsp {
+
+struct StackOptions {
+  PrMode pr_mode = PrMode::kSigned;
+  std::int64_t session_id = 1;
+  double cycle_s = 1e-3;                              // 1 kHz
+  std::int64_t start_utime = 1700000000000000;        // fixed: runs are reproducible
+  std::optional<RigParameters> rig;                   // default: IdealRig(nominal)
+};
+
+struct StackSample {
+  pose_setpoint_t setpoint;
+  bool command_valid = false;
+  leg_command_t command;
+  leg_state_t legs;
+  rig_truth_t truth;
+  bool tracker_due = false;
+  tracker_point_t tracker;
+};
+
+class StackSimulation {
+ public:
+  // Throws std::invalid_argument if the trajectory leaves the workspace.
+  StackSimulation(const PlatformConfig& nominal, std::unique_ptr<TrajectorySequence> trajectory,
+                  StackOptions options);
+
+  // One cycle. Throws std::runtime_error if the rig's pose cannot be found.
+  StackSample Step();
+  bool Finished() const;
+
+  const std::vector<fault_t>& faults() const { return faults_; }
+  const PlatformModel& nominal_model() const { return kinematics_.model(); }
+  const TrajectorySequence& trajectory() const { return planner_.sequence(); }
+  VirtualRig& rig() { return rig_; }
+
+ private:
+  StackOptions options_;
+  Planner planner_;
+  KinematicsNode kinematics_;
+  VirtualRig rig_;
+  InProcessRigBackend backend_;
+  ActuatorBridge bridge_;
+  std::int64_t now_utime_;
+  std::vector<fault_t> faults_;
+};
+
+}  // namespace edsp
