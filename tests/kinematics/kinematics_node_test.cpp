@@ -1,0 +1,133 @@
+// The kinematics node's logic: commands equal the model's compensated
+// lengths, the PR mode switches live, bad setpoints become faults, encoder
+// states become poses.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "edsp/kinematics/config.h"
+#include "edsp/kinematics/kinematics_node.h"
+
+namespace edsp {
+namespace {
+
+constexpr std::int64_t kNow = 2000000000;
+
+KinematicsNode MakeNode(PrMode mode = PrMode::kSigned) {
+  KinematicsNodeOptions options;
+  options.session_id = 9;
+  options.pr_mode = mode;
+  return KinematicsNode(PlatformModel(Huang2021Config()), options);
+}
+
+pose_setpoint_t Setpoint(const Vector6& q) {
+  pose_setpoint_t sp{};
+  sp.utime = kNow - 1000;
+  sp.seq = 17;
+  sp.session_id = 9;
+  for (int k = 0; k < 6; ++k) sp.pose[k] = q(k);
+  return sp;
+}
+
+Vector6 SomePose() {
+  Vector6 q;
+  q << 0.1, -0.05, 1.6, 0.05, -0.1, 0.2;
+  return q;
+}
+
+TEST(KinematicsNode, CommandIsTheCompensatedLengthAndItsMotorAngle) {
+  KinematicsNode node = MakeNode();
+  leg_command_t command;
+  fault_t fault;
+  ASSERT_TRUE(node.HandleSetpoint(Setpoint(SomePose()), kNow, &command, &fault)) << fault.reason;
+  const PlatformModel& model = node.model();
+  const Pose pose = Pose::FromVector(SomePose());
+  const Vector6 expected = model.CompensatedLengths(pose, PrMode::kSigned);
+  for (int i = 0; i < kNumLegs; ++i) {
+    EXPECT_DOUBLE_EQ(command.command_length_m[i], expected(i));
+    EXPECT_NEAR(model.LengthFromMotorAngle(i, command.motor_angle_rad[i]), expected(i), 1e-12);
+    EXPECT_NEAR(command.ik_length_m[i] - command.pr_correction_m[i], command.command_length_m[i],
+                1e-15);
+  }
+  EXPECT_EQ(command.pr_mode, leg_command_t::PR_SIGNED);
+  EXPECT_EQ(command.setpoint_seq, 17);
+  EXPECT_EQ(command.session_id, 9);
+}
+
+TEST(KinematicsNode, PrModeSwitchesLive) {
+  KinematicsNode node = MakeNode();
+  leg_command_t signed_command, none_command;
+  fault_t fault;
+  ASSERT_TRUE(node.HandleSetpoint(Setpoint(SomePose()), kNow, &signed_command, &fault));
+  node.set_pr_mode(PrMode::kNone);
+  ASSERT_TRUE(node.HandleSetpoint(Setpoint(SomePose()), kNow, &none_command, &fault));
+  EXPECT_EQ(none_command.pr_mode, leg_command_t::PR_NONE);
+  for (int i = 0; i < kNumLegs; ++i) {
+    EXPECT_EQ(none_command.pr_correction_m[i], 0.0);
+    EXPECT_NE(signed_command.pr_correction_m[i], 0.0);
+  }
+}
+
+void ExpectRefused(pose_setpoint_t sp, FaultCode code, const std::string& fragment) {
+  KinematicsNode node = MakeNode();
+  leg_command_t command;
+  fault_t fault;
+  EXPECT_FALSE(node.HandleSetpoint(sp, kNow, &command, &fault));
+  EXPECT_EQ(fault.code, static_cast<std::int32_t>(code)) << fault.reason;
+  EXPECT_EQ(fault.channel, "EDSP_SETPOINT");
+  EXPECT_EQ(fault.node, "kinematics");
+  EXPECT_NE(fault.reason.find(fragment), std::string::npos) << fault.reason;
+}
+
+TEST(KinematicsNode, RefusesWhatItCannotValidate) {
+  pose_setpoint_t sp = Setpoint(SomePose());
+  sp.session_id = 8;
+  ExpectRefused(sp, FaultCode::kForeignSession, "session 8");
+  sp = Setpoint(SomePose());
+  sp.pose[3] = std::nan("");
+  ExpectRefused(sp, FaultCode::kNonFinite, "non-finite");
+  sp = Setpoint(SomePose());
+  sp.velocity[0] = INFINITY;
+  ExpectRefused(sp, FaultCode::kNonFinite, "non-finite");
+  sp = Setpoint(SomePose());
+  sp.utime = kNow - 80000;
+  ExpectRefused(sp, FaultCode::kStale, "80000 us old");
+  sp = Setpoint(SomePose());
+  sp.pose[2] = 2.3;
+  ExpectRefused(sp, FaultCode::kOutsideWorkspace, "leg_max_m");
+}
+
+TEST(KinematicsNode, EncoderLengthsBecomeThePose) {
+  KinematicsNode node = MakeNode();
+  const Pose truth = Pose::FromVector(SomePose());
+  const Vector6 encoders = node.model().EncoderLengths(truth);
+  leg_state_t legs{};
+  legs.seq = 3;
+  for (int i = 0; i < kNumLegs; ++i) legs.encoder_length_m[i] = encoders(i);
+  platform_state_t state;
+  fault_t fault;
+  ASSERT_TRUE(node.HandleLegState(legs, kNow, &state, &fault)) << fault.reason;
+  for (int k = 0; k < 6; ++k) EXPECT_NEAR(state.pose[k], SomePose()(k), 1e-10);
+  const Vector3 a = node.model().ObservationPoint(truth);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(state.observation_point_m[k], a(k), 1e-10);
+  legs.encoder_length_m[4] = std::nan("");
+  EXPECT_FALSE(node.HandleLegState(legs, kNow, &state, &fault));
+  EXPECT_EQ(fault.code, static_cast<std::int32_t>(FaultCode::kNonFinite));
+  legs.encoder_length_m[4] = 9.0;  // no pose has this
+  EXPECT_FALSE(node.HandleLegState(legs, kNow, &state, &fault));
+  EXPECT_EQ(fault.code, static_cast<std::int32_t>(FaultCode::kForwardKinematics));
+}
+
+TEST(KinematicsNode, ConfigMessageDescribesThePlatform) {
+  const KinematicsNode node = MakeNode();
+  const platform_config_t c = node.ConfigMessage(kNow, "[geometry]\npreset = \"huang2021\"\n");
+  EXPECT_EQ(c.preset, "huang2021");
+  EXPECT_NEAR(c.base_joints_m[0][0], 0.876144, 5e-7);
+  EXPECT_NEAR(c.platform_joints_m[0][1], 0.1, 1e-12);
+  EXPECT_EQ(c.lead_m, 0.010);
+  EXPECT_EQ(c.observation_point_m[0], 1.2);
+  EXPECT_NE(c.config_toml.find("huang2021"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace edsp

@@ -1,0 +1,150 @@
+// The virtual rig: servo loops settle and respect the torque limit, the
+// platform sits where the rig's TRUE geometry and PR put it, the tracker
+// emulator measures point A in its own frame with the configured noise.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "edsp/kinematics/config.h"
+#include "edsp/rig/virtual_rig.h"
+
+namespace edsp {
+namespace {
+
+DriveSetpoint AnglesFor(const PlatformModel& model, const Vector6& encoder_lengths) {
+  DriveSetpoint s;
+  for (int i = 0; i < kNumLegs; ++i) {
+    s.motor_angle_rad[i] = model.MotorAngleFromLength(i, encoder_lengths(i));
+  }
+  return s;
+}
+
+void RunFor(VirtualRig& rig, double seconds) {
+  for (int k = 0; k < static_cast<int>(seconds * 1000); ++k) ASSERT_TRUE(rig.Advance(1e-3));
+}
+
+TEST(VirtualRig, ServoSettlesOnATargetWithinTheTorqueLimit) {
+  RigParameters p = IdealRig(Huang2021Config());
+  VirtualRig rig(p);
+  DriveSetpoint target;
+  target.motor_angle_rad.fill(10.0);  // 16 mm of leg travel
+  rig.SetTarget(target, true);
+  double peak_acceleration = 0.0, peak_velocity = 0.0, previous_velocity = 0.0;
+  for (int k = 0; k < 1000; ++k) {
+    ASSERT_TRUE(rig.Advance(1e-3));
+    const double v = rig.Feedback().motor_velocity_rad_s[0];
+    peak_acceleration = std::max(peak_acceleration, std::abs(v - previous_velocity) / 1e-3);
+    peak_velocity = std::max(peak_velocity, std::abs(v));
+    previous_velocity = v;
+  }
+  for (int i = 0; i < kNumLegs; ++i) EXPECT_NEAR(rig.Feedback().motor_angle_rad[i], 10.0, 1e-6);
+  // Braking, viscous friction adds to the saturated torque.
+  const double limit =
+      (p.servo.torque_limit_N_m + p.servo.viscous_N_m_s * peak_velocity) / p.servo.inertia_kg_m2;
+  EXPECT_LE(peak_acceleration, limit * 1.001);
+  EXPECT_GT(peak_acceleration, limit * 0.9);  // a 10 rad step saturates it
+}
+
+TEST(VirtualRig, DisabledDrivesDoNotMove) {
+  VirtualRig rig(IdealRig(Huang2021Config()));
+  DriveSetpoint target;
+  target.motor_angle_rad.fill(5.0);
+  rig.SetTarget(target, false);
+  RunFor(rig, 0.2);
+  EXPECT_EQ(rig.Feedback().motor_angle_rad[0], 0.0);
+  EXPECT_EQ(rig.Feedback().status[0], DriveStatus::kDisabled);
+}
+
+TEST(VirtualRig, PlatformSitsWhereTheTrueSignedPrPutsIt) {
+  const PlatformModel model(Huang2021Config());
+  VirtualRig rig(IdealRig(model.config()));
+  Pose target = model.home_pose();
+  target.p_BoMo_B << 0.02, -0.01, 1.52;
+  target.rpy_rad << 0.01, 0.02, 0.05;
+  rig.SetTarget(AnglesFor(model, model.EncoderLengths(target)), true);
+  RunFor(rig, 1.0);
+  EXPECT_LT((rig.true_pose().ToVector() - target.ToVector()).cwiseAbs().maxCoeff(), 1e-9);
+  // Commanding plain IK lengths instead leaves the PR error in the pose.
+  rig.SetTarget(AnglesFor(model, model.LegLengths(target)), true);
+  RunFor(rig, 1.0);
+  EXPECT_GT((rig.true_pose().ToVector() - target.ToVector()).cwiseAbs().maxCoeff(), 1e-5);
+}
+
+TEST(VirtualRig, UsesItsOwnTrueGeometryNotTheNominalOne) {
+  const PlatformModel nominal(Huang2021Config());
+  RigParameters p = IdealRig(nominal.config());
+  p.true_config.drive.lead_m = 0.0101;  // the screws advance 1% more than nominal
+  VirtualRig rig(p);
+  Pose target = nominal.home_pose();
+  target.p_BoMo_B.z() += 0.1;
+  rig.SetTarget(AnglesFor(nominal, nominal.EncoderLengths(target)), true);
+  RunFor(rig, 1.0);
+  // Legs travel 1% further than commanded: about 1 mm too high.
+  EXPECT_NEAR(rig.true_pose().p_BoMo_B.z() - target.p_BoMo_B.z(), 0.001, 2e-4);
+}
+
+TEST(VirtualRig, TrackerMeasuresPointAInItsOwnFrame) {
+  RigParameters p = IdealRig(Huang2021Config());
+  p.tracker.X_TB.p_BoMo_B << 3.0, -1.0, 0.2;
+  p.tracker.X_TB.rpy_rad << 0.0, 0.0, 0.7;
+  VirtualRig rig(p);
+  ASSERT_TRUE(rig.Advance(1e-3));
+  tracker_point_t point;
+  ASSERT_TRUE(rig.TrackerSample(1000, &point));
+  const Vector3 a_B = rig.true_model().ObservationPoint(rig.true_pose());
+  const Vector3 expected = PointInBase(p.tracker.X_TB, a_B);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(point.point_m[k], expected(k), 1e-12);
+  EXPECT_TRUE(point.valid);
+}
+
+std::vector<double> TrackerX(const RigParameters& p, int steps) {
+  VirtualRig rig(p);
+  std::vector<double> xs;
+  for (int k = 1; k <= steps; ++k) {
+    rig.Advance(1e-3);
+    tracker_point_t point;
+    if (rig.TrackerSample(k * 1000, &point)) xs.push_back(point.point_m[0]);
+  }
+  return xs;
+}
+
+TEST(VirtualRig, TrackerNoiseRateAndSeed) {
+  RigParameters p = IdealRig(Huang2021Config());
+  p.tracker.noise_sigma_m = 1e-5;
+  p.tracker.rate_hz = 250.0;
+  p.tracker.seed = 7;
+  const std::vector<double> xs = TrackerX(p, 8000);
+  EXPECT_NEAR(static_cast<double>(xs.size()), 2000.0, 1.0);  // 250 Hz over 8 s
+  double mean = 0.0, var = 0.0;
+  for (double x : xs) mean += x / static_cast<double>(xs.size());
+  for (double x : xs) var += (x - mean) * (x - mean) / static_cast<double>(xs.size() - 1);
+  EXPECT_NEAR(std::sqrt(var), 1e-5, 1e-6);
+  EXPECT_NEAR(mean, 1.2, 1e-6);  // A at home is (1.2, 0, H) and the platform is still
+  EXPECT_EQ(TrackerX(p, 400), TrackerX(p, 400));  // same seed, same run
+  RigParameters other = p;
+  other.tracker.seed = 8;
+  EXPECT_NE(TrackerX(p, 400), TrackerX(other, 400));
+}
+
+TEST(InProcessRigBackend, MotionOnlyWhileActive) {
+  VirtualRig rig(IdealRig(Huang2021Config()));
+  InProcessRigBackend backend(&rig);
+  std::string error;
+  DriveSetpoint target;
+  target.motor_angle_rad.fill(1.0);
+  EXPECT_FALSE(backend.Write(0, target));
+  EXPECT_FALSE(backend.Activate(&error));
+  EXPECT_FALSE(error.empty());
+  ASSERT_TRUE(backend.Configure(Huang2021Config(), &error));
+  ASSERT_TRUE(backend.Activate(&error));
+  EXPECT_TRUE(backend.Write(0, target));
+  RunFor(rig, 0.5);
+  DriveFeedback feedback;
+  ASSERT_TRUE(backend.Read(0, &feedback));
+  EXPECT_NEAR(feedback.motor_angle_rad[3], 1.0, 1e-6);
+  backend.Deactivate();
+  EXPECT_FALSE(backend.Write(0, target));
+}
+
+}  // namespace
+}  // namespace edsp
