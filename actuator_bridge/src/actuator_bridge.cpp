@@ -1,5 +1,6 @@
 #include "edsp/actuator_bridge/actuator_bridge.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -45,10 +46,16 @@ bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utim
                   now_utime, fault);
   }
   const WorkspaceLimits& limits = model_.config().limits;
-  // A step between commands longer than the legs could travel at full speed
-  // since the last valid one (at least one 1 ms cycle) is a jump.
-  const double elapsed_s =
-      target_utime_ < 0 ? 1e-3 : std::max(1e-3, static_cast<double>(now_utime - target_utime_) * 1e-6);
+  // A step longer than the legs could travel at full speed in the planner
+  // time between the two setpoints is a jump. Planner time, not arrival time:
+  // a late cycle or a burst of queued commands is not motion. After a hold
+  // (or at start) only a one-cycle step continues from the held position.
+  const std::int64_t basis = c.setpoint_utime != 0 ? c.setpoint_utime : c.utime;
+  double elapsed_s = 1e-3;
+  if (!holding_ && target_utime_ >= 0) {
+    elapsed_s = std::clamp(static_cast<double>(basis - last_basis_utime_) * 1e-6, 1e-3,
+                           static_cast<double>(options_.stale_us) * 1e-6);
+  }
   const double max_step_m = options_.max_leg_speed_m_s * elapsed_s + 1e-6;
   for (int i = 0; i < kNumLegs; ++i) {
     const double length = c.command_length_m[i];
@@ -80,6 +87,7 @@ bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utim
     target_length_m_(i) = c.command_length_m[i];
   }
   target_utime_ = now_utime;
+  last_basis_utime_ = basis;
   last_command_seq_ = c.seq;
   holding_ = false;
   hold_reported_ = false;
@@ -103,10 +111,14 @@ bool ActuatorBridge::Cycle(std::int64_t now_utime, leg_state_t* state, fault_t* 
       raised = true;
     }
   }
-  if (!backend_->Write(now_utime, target_) || !backend_->Read(now_utime, &feedback_)) {
-    *fault = Fault(FaultCode::kBackend, "drive backend refused a cycle", now_utime);
+  const bool backend_ok =
+      backend_->Write(now_utime, target_) && backend_->Read(now_utime, &feedback_);
+  if (!backend_ok && backend_ok_) {
+    *fault = Fault(FaultCode::kBackend,
+                   "drive backend failed a cycle (drives silent or not active)", now_utime);
     raised = true;
   }
+  backend_ok_ = backend_ok;
   *state = leg_state_t{};
   state->utime = now_utime;
   state->seq = ++state_seq_;

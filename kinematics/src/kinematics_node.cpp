@@ -121,11 +121,11 @@ bool KinematicsNode::HandleLegState(const leg_state_t& legs, std::int64_t now_ut
 }
 
 platform_config_t KinematicsNode::ConfigMessage(std::int64_t now_utime,
-                                                const std::string& config_toml) const {
+                                                const std::string& config_toml) {
   const PlatformConfig& c = model_.config();
   platform_config_t msg{};
   msg.utime = now_utime;
-  msg.seq = 0;
+  msg.seq = ++config_seq_;
   msg.preset = c.preset;
   for (int i = 0; i < kNumLegs; ++i) {
     for (int k = 0; k < 3; ++k) {

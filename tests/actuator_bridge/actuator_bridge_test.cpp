@@ -47,6 +47,7 @@ struct Fixture {
     const Vector6 lengths = model.CompensatedLengths(pose, PrMode::kSigned);
     leg_command_t c{};
     c.utime = utime;
+    c.setpoint_utime = utime;
     c.seq = seq;
     c.session_id = 5;
     for (int i = 0; i < kNumLegs; ++i) c.command_length_m[i] = lengths(i);
@@ -85,6 +86,27 @@ void ExpectRejected(Fixture& f, const leg_command_t& c, FaultCode code, const st
   leg_state_t state;
   f.bridge.Cycle(now, &state, &fault);
   EXPECT_EQ(f.backend.written.motor_angle_rad, before.motor_angle_rad) << "a refused command moved the drives";
+}
+
+TEST(ActuatorBridge, LateOrBurstyDeliveryIsNotMistakenForAJump) {
+  // 0.4 m/s of leg motion, planner at 1 kHz, but the commands arrive in bursts
+  // of three in one bridge cycle (a late cycle upstream).
+  Fixture f;
+  fault_t fault;
+  leg_state_t state;
+  std::int64_t planner_time = kStart;
+  for (int burst = 0; burst < 20; ++burst) {
+    const std::int64_t arrival = kStart + burst * 3000;
+    for (int k = 0; k < 3; ++k) {
+      planner_time += 1000;
+      const double dz = 4e-4 * static_cast<double>((planner_time - kStart) / 1000);
+      leg_command_t c = f.Command(dz, arrival, 1 + burst * 3 + k);
+      c.setpoint_utime = planner_time;
+      EXPECT_TRUE(f.bridge.HandleCommand(c, arrival, &fault)) << fault.reason;
+    }
+    f.bridge.Cycle(arrival, &state, &fault);
+  }
+  EXPECT_EQ(f.bridge.rejected(), 0);
 }
 
 TEST(ActuatorBridge, RefusesForeignNonFiniteOutOfStrokeAndJumpingCommands) {

@@ -119,7 +119,7 @@ TEST(KinematicsNode, EncoderLengthsBecomeThePose) {
 }
 
 TEST(KinematicsNode, ConfigMessageDescribesThePlatform) {
-  const KinematicsNode node = MakeNode();
+  KinematicsNode node = MakeNode();
   const platform_config_t c = node.ConfigMessage(kNow, "[geometry]\npreset = \"huang2021\"\n");
   EXPECT_EQ(c.preset, "huang2021");
   EXPECT_NEAR(c.base_joints_m[0][0], 0.876144, 5e-7);

@@ -49,9 +49,11 @@ class ActuatorBridge {
   DriveSetpoint target_;             // what the drives are told
   Vector6 target_length_m_;
   std::int64_t target_utime_ = -1;   // receipt time of the last valid command
+  std::int64_t last_basis_utime_ = 0; // its planner time (setpoint_utime)
   std::int64_t last_command_seq_ = 0;
   bool holding_ = true;
   bool hold_reported_ = true;        // start holding without a fault
+  bool backend_ok_ = true;           // faults are raised on the transition only
   std::int64_t state_seq_ = 0;
   std::int64_t accepted_ = 0;
   std::int64_t rejected_ = 0;

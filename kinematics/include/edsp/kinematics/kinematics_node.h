@@ -38,7 +38,7 @@ class KinematicsNode {
                       fault_t* fault);
 
   // The config latched on EDSP_CONFIG; `config_toml` is the file's text.
-  platform_config_t ConfigMessage(std::int64_t now_utime, const std::string& config_toml) const;
+  platform_config_t ConfigMessage(std::int64_t now_utime, const std::string& config_toml);
 
   void set_pr_mode(PrMode mode) { options_.pr_mode = mode; }
   PrMode pr_mode() const { return options_.pr_mode; }
@@ -52,6 +52,7 @@ class KinematicsNode {
   KinematicsNodeOptions options_;
   std::int64_t command_seq_ = 0;
   std::int64_t state_seq_ = 0;
+  std::int64_t config_seq_ = 0;
   Pose last_target_;
   Pose last_estimate_;
 };

@@ -1,0 +1,97 @@
+// edsp-actuator-bridge: EDSP_LEG_COMMAND → drive setpoints through a
+// DriveBackend, encoders → EDSP_LEG_STATE, at 1 kHz. Holds the last valid
+// position when commands go stale (50 ms) and reports it on EDSP_FAULT.
+//   edsp-actuator-bridge [--backend virtual-rig] [--image-prefix edsp]
+//                        [--config FILE] [--group FILE] [--session-id N]
+#include <cstdio>
+
+#include "edsp/actuator_bridge/actuator_bridge.h"
+#include "edsp/actuator_bridge/virtual_rig_backend.h"
+#include "edsp/kinematics/config.h"
+#include "edsp/node/node_options.h"
+#include "edsp/node/runtime.h"
+#include "edsp/transport/bus.h"
+
+namespace edsp {
+namespace {
+
+std::unique_ptr<DriveBackend> MakeBackend(const std::string& name, const TransportConfig& transport,
+                                          const std::string& image_prefix) {
+  if (name == "virtual-rig") {
+    return std::make_unique<VirtualRigBackend>(
+        image_prefix.empty() ? transport.shm_prefix : image_prefix, transport.shm_permissions);
+  }
+  throw std::runtime_error("--backend " + name + ": known backends: virtual-rig");
+}
+
+int Run(int argc, char** argv) {
+  CLI::App app{"edsp-actuator-bridge: leg commands → drives, encoders → leg states"};
+  NodeOptions node;
+  AddNodeOptions(&app, &node);
+  std::string backend_name = "virtual-rig", image_prefix;
+  int stale_ms = 50;
+  app.add_option("--backend", backend_name, "drive backend (virtual-rig)");
+  app.add_option("--image-prefix", image_prefix, "process image segment prefix (default: shm_prefix)");
+  app.add_option("--stale-ms", stale_ms, "hold when no valid command for this long")
+      ->check(CLI::Range(1, 10000));
+  CLI11_PARSE(app, argc, argv);
+
+  const PlatformConfig config = LoadConfigFile(node.config_path);
+  const TransportConfig transport = TransportFor(node);
+  InstallStopSignals();
+  std::unique_ptr<DriveBackend> backend = MakeBackend(backend_name, transport, image_prefix);
+  std::string error;
+  if (!backend->Configure(config, &error) || !backend->Activate(&error)) {
+    throw std::runtime_error("drive backend " + backend_name + ": " + error);
+  }
+  BridgeOptions options;
+  options.session_id = node.session_id;
+  options.stale_us = std::int64_t{stale_ms} * 1000;
+  ActuatorBridge bridge(PlatformModel(config), backend.get(), options);
+  Bus bus(transport);
+  auto states = bus.Advertise<leg_state_t>("EDSP_LEG_STATE");
+  auto faults = bus.Advertise<fault_t>("EDSP_FAULT");
+  auto status_out = bus.Advertise<node_status_t>("EDSP_STATUS");
+  NodeStatus status("actuator_bridge");
+  status.SetState(node_status_t::STATE_RUNNING);
+  bus.Subscribe<leg_command_t>("EDSP_LEG_COMMAND", [&](const leg_command_t& command) {
+    status.CountIn();
+    fault_t fault;
+    if (!bridge.HandleCommand(command, UtimeNow(), &fault)) {
+      status.CountRejected();
+      faults.Publish(fault);
+    }
+  });
+  RateClock clock(std::chrono::milliseconds(1));
+  while (!StopRequested()) {
+    clock.WaitNext();
+    const auto start = std::chrono::steady_clock::now();
+    bus.Handle(std::chrono::microseconds(0));
+    const std::int64_t now = UtimeNow();
+    leg_state_t state;
+    fault_t fault;
+    if (bridge.Cycle(now, &state, &fault)) faults.Publish(fault);
+    if (states.Publish(state)) status.CountOut();
+    status.SetState(bridge.holding() ? node_status_t::STATE_HOLDING : node_status_t::STATE_RUNNING);
+    status.RecordLoop(std::chrono::steady_clock::now() - start);
+    if (status.Due(now)) {
+      const ChannelCounters& in = bus.Counters("EDSP_LEG_COMMAND");
+      status.SetDrops(static_cast<std::int64_t>(in.seq_gaps + in.overruns));
+      status_out.Publish(status.Report(now, clock.missed()));
+    }
+  }
+  backend->Deactivate();
+  return 0;
+}
+
+}  // namespace
+}  // namespace edsp
+
+int main(int argc, char** argv) {
+  try {
+    return edsp::Run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "edsp-actuator-bridge: error: %s\n", e.what());
+    return 1;
+  }
+}

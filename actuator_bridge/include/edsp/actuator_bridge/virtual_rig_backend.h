@@ -1,0 +1,40 @@
+#pragma once
+// DriveBackend for drives behind the shared-memory process image (the
+// edsp-rig process today; the same image could front a fieldbus master).
+// Read() reports failure when the drives have been silent for `timeout_us`.
+
+#include <memory>
+#include <string>
+
+#include "edsp/actuator_bridge/drive_process_image.h"
+#include "edsp/transport/shm_channel.h"
+
+namespace edsp {
+
+class VirtualRigBackend final : public DriveBackend {
+ public:
+  VirtualRigBackend(std::string segment_prefix, mode_t permissions = 0600,
+                    std::int64_t timeout_us = 50000);
+  bool Configure(const PlatformConfig& config, std::string* error) override;
+  // Waits up to 5 s for the drives' feedback channel to appear.
+  bool Activate(std::string* error) override;
+  void Deactivate() override;
+  bool Read(std::int64_t now_utime, DriveFeedback* feedback) override;
+  bool Write(std::int64_t now_utime, const DriveSetpoint& setpoint) override;
+  BackendState state() const override { return state_; }
+
+ private:
+  bool Publish(std::int64_t now_utime, const DriveSetpoint& setpoint, bool enable);
+
+  std::string prefix_;
+  mode_t permissions_;
+  std::int64_t timeout_us_;
+  BackendState state_ = BackendState::kUnconfigured;
+  std::unique_ptr<ShmWriter> commands_;
+  std::unique_ptr<ShmReader> feedback_;
+  DriveFeedback last_;
+  std::int64_t last_feedback_utime_ = -1;
+  std::int64_t cycle_ = 0;
+};
+
+}  // namespace edsp

@@ -1,0 +1,102 @@
+#include "edsp/actuator_bridge/virtual_rig_backend.h"
+
+#include <cstring>
+#include <thread>
+
+namespace edsp {
+
+VirtualRigBackend::VirtualRigBackend(std::string segment_prefix, mode_t permissions,
+                                     std::int64_t timeout_us)
+    : prefix_(std::move(segment_prefix)), permissions_(permissions), timeout_us_(timeout_us) {}
+
+bool VirtualRigBackend::Configure(const PlatformConfig&, std::string* error) {
+  ShmChannelSpec spec{DriveCommandSegment(prefix_), kDriveImageCommandFingerprint, 16,
+                      sizeof(DriveImageCommand), permissions_};
+  auto writer = ShmWriter::Open(spec);
+  if (!writer.ok()) {
+    *error = writer.message;
+    state_ = BackendState::kFault;
+    return false;
+  }
+  commands_ = std::move(writer.value);
+  state_ = BackendState::kInactive;
+  return true;
+}
+
+bool VirtualRigBackend::Activate(std::string* error) {
+  if (state_ != BackendState::kInactive) {
+    *error = "activate needs a configured, inactive backend";
+    return false;
+  }
+  ShmChannelSpec spec{DriveFeedbackSegment(prefix_), kDriveImageFeedbackFingerprint, 16,
+                      sizeof(DriveImageFeedback), permissions_};
+  for (int attempt = 0; attempt < 500 && feedback_ == nullptr; ++attempt) {
+    auto reader = ShmReader::Open(spec);
+    if (reader.ok()) {
+      feedback_ = std::move(reader.value);
+    } else if (reader.error != ShmError::kNotFound && reader.error != ShmError::kNotReady) {
+      *error = reader.message;
+      return false;
+    } else {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  }
+  if (feedback_ == nullptr) {
+    *error = "no drive feedback on " + spec.segment_name + " after 5 s (is edsp-rig running?)";
+    return false;
+  }
+  // Wait for the first feedback so the bridge starts from the real position.
+  if (!feedback_->Wait(std::chrono::seconds(5))) {
+    *error = "the drives publish no feedback on " + spec.segment_name;
+    return false;
+  }
+  state_ = BackendState::kActive;
+  return true;
+}
+
+void VirtualRigBackend::Deactivate() {
+  if (commands_ != nullptr) Publish(0, DriveSetpoint{}, false);
+  state_ = BackendState::kInactive;
+}
+
+bool VirtualRigBackend::Publish(std::int64_t now_utime, const DriveSetpoint& s, bool enable) {
+  DriveImageCommand c{};
+  c.utime = now_utime;
+  c.cycle = ++cycle_;
+  c.enable = enable ? 1 : 0;
+  std::memcpy(c.motor_angle_rad, s.motor_angle_rad.data(), sizeof c.motor_angle_rad);
+  std::memcpy(c.motor_velocity_rad_s, s.motor_velocity_rad_s.data(), sizeof c.motor_velocity_rad_s);
+  return commands_->Publish([&](std::uint8_t* buffer, std::uint32_t) -> std::int64_t {
+    std::memcpy(buffer, &c, sizeof c);
+    return sizeof c;
+  }) != 0;
+}
+
+bool VirtualRigBackend::Write(std::int64_t now_utime, const DriveSetpoint& setpoint) {
+  if (state_ != BackendState::kActive) return false;  // motion only while active
+  return Publish(now_utime, setpoint, true);
+}
+
+bool VirtualRigBackend::Read(std::int64_t now_utime, DriveFeedback* feedback) {
+  if (feedback_ != nullptr) {
+    feedback_->SkipToLatest();
+    DriveImageFeedback f{};
+    const TakeStatus status = feedback_->TryTake([&](const std::uint8_t* data, std::uint32_t size) {
+      if (size != sizeof f) return false;
+      std::memcpy(&f, data, sizeof f);
+      return true;
+    });
+    if (status == TakeStatus::kMessage) {
+      for (int i = 0; i < 6; ++i) {
+        last_.motor_angle_rad[i] = f.motor_angle_rad[i];
+        last_.motor_velocity_rad_s[i] = f.motor_velocity_rad_s[i];
+        last_.status[i] = static_cast<DriveStatus>(f.status[i]);
+      }
+      last_feedback_utime_ = now_utime;
+    }
+  }
+  *feedback = last_;
+  return last_feedback_utime_ >= 0 && now_utime - last_feedback_utime_ <= timeout_us_;
+}
+
+}  // namespace edsp

@@ -1,0 +1,104 @@
+#include "group_file.h"
+
+#include <set>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+namespace edsp {
+
+namespace {
+
+[[noreturn]] void Fail(const std::string& path, const toml::node& node, const std::string& what) {
+  throw std::runtime_error(fmt::format("{}:{}: {}", path, node.source().begin.line, what));
+}
+
+std::string RequireString(const std::string& path, const toml::node& node, const std::string& key) {
+  if (!node.is_string()) Fail(path, node, key + " must be a string");
+  return *node.value<std::string>();
+}
+
+MemberSpec ReadMember(const std::string& path, const toml::table& t, int index) {
+  MemberSpec m;
+  const std::string where = fmt::format("[[member]] #{}", index + 1);
+  for (auto&& [key, node] : t) {
+    const std::string k(key.str());
+    if (k == "name") {
+      m.name = RequireString(path, node, where + " name");
+    } else if (k == "command") {
+      m.command = RequireString(path, node, where + " command");
+    } else if (k == "args") {
+      const toml::array* args = node.as_array();
+      if (args == nullptr) Fail(path, node, where + " args must be an array of strings");
+      for (const toml::node& a : *args) m.args.push_back(RequireString(path, a, where + " args"));
+    } else if (k == "env") {
+      const toml::table* env = node.as_table();
+      if (env == nullptr) Fail(path, node, where + " env must be a table");
+      for (auto&& [name, value] : *env) m.env[std::string(name.str())] = RequireString(path, value, "env");
+    } else if (k == "host") {
+      m.host = RequireString(path, node, where + " host");
+    } else if (k == "restart") {
+      const std::string r = RequireString(path, node, where + " restart");
+      if (r == "never") m.restart = RestartPolicy::kNever;
+      else if (r == "on-failure") m.restart = RestartPolicy::kOnFailure;
+      else if (r == "always") m.restart = RestartPolicy::kAlways;
+      else Fail(path, node, fmt::format("{} restart = \"{}\" must be never, on-failure or always", where, r));
+    } else if (k == "max_restarts" || k == "start_delay_ms") {
+      const auto v = node.value<std::int64_t>();
+      if (!node.is_integer() || *v < 0 || *v > 100000) Fail(path, node, where + " " + k + " must be an integer 0..100000");
+      (k == "max_restarts" ? m.max_restarts : m.start_delay_ms) = static_cast<int>(*v);
+    } else if (k == "node_options") {
+      if (!node.is_boolean()) Fail(path, node, where + " node_options must be true or false");
+      m.node_options = *node.value<bool>();
+    } else {
+      Fail(path, node, fmt::format("unknown key {} {}", where, k));
+    }
+  }
+  if (m.name.empty() || m.command.empty()) {
+    throw std::runtime_error(fmt::format("{}: {} needs a name and a command", path, where));
+  }
+  return m;
+}
+
+}  // namespace
+
+GroupSpec LoadGroupFile(const std::string& path) {
+  toml::table root;
+  try {
+    root = toml::parse_file(path);
+  } catch (const toml::parse_error& e) {
+    throw std::runtime_error(fmt::format("{}:{}:{}: {}", path, e.source().begin.line,
+                                         e.source().begin.column, e.description()));
+  }
+  GroupSpec group;
+  group.path = path;
+  if (const toml::table* g = root["group"].as_table()) {
+    for (auto&& [key, node] : *g) {
+      const std::string k(key.str());
+      if (k == "name") group.name = RequireString(path, node, "[group] name");
+      else if (k == "config") group.config = RequireString(path, node, "[group] config");
+      else if (k == "session_id") {
+        if (!node.is_integer() || *node.value<std::int64_t>() < 0) Fail(path, node, "[group] session_id must be a non-negative integer");
+        group.session_id = *node.value<std::int64_t>();
+      } else {
+        Fail(path, node, "unknown key [group] " + k);
+      }
+    }
+  }
+  const toml::array* members = root["member"].as_array();
+  if (members == nullptr || members->empty()) throw std::runtime_error(path + ": no [[member]] entries");
+  std::set<std::string> names;
+  for (std::size_t i = 0; i < members->size(); ++i) {
+    const toml::table* t = (*members)[i].as_table();
+    if (t == nullptr) Fail(path, (*members)[i], "[[member]] must be a table");
+    group.members.push_back(ReadMember(path, *t, static_cast<int>(i)));
+    if (!names.insert(group.members.back().name).second) {
+      throw std::runtime_error(fmt::format("{}: two members named \"{}\"", path, group.members.back().name));
+    }
+  }
+  if (group.name.empty()) group.name = path;
+  return group;
+}
+
+}  // namespace edsp

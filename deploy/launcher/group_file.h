@@ -1,0 +1,38 @@
+#pragma once
+// A process-group file (TOML): which programs form the group, in start
+// order, with their arguments, environment, host and restart policy. The
+// same file's [transport] section routes the group's channels.
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace edsp {
+
+enum class RestartPolicy { kNever, kOnFailure, kAlways };
+
+struct MemberSpec {
+  std::string name;
+  std::string command;             // a program in --bin-dir, or a path
+  std::vector<std::string> args;
+  std::map<std::string, std::string> env;
+  std::string host = "local";
+  RestartPolicy restart = RestartPolicy::kOnFailure;
+  int max_restarts = 10;
+  int start_delay_ms = 0;          // pause after starting it, before the next
+  bool node_options = true;        // pass --config, --group, --session-id
+};
+
+struct GroupSpec {
+  std::string path;
+  std::string name;
+  std::string config = "config/huang2021.toml";
+  std::int64_t session_id = 0;     // 0: a fresh one per launch
+  std::vector<MemberSpec> members;
+};
+
+// Throws std::runtime_error naming the file, line and key.
+GroupSpec LoadGroupFile(const std::string& path);
+
+}  // namespace edsp

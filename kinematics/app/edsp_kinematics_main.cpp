@@ -1,0 +1,104 @@
+// edsp-kinematics: EDSP_SETPOINT → EDSP_LEG_COMMAND (PR compensation in the
+// chosen mode), EDSP_LEG_STATE → EDSP_PLATFORM_STATE (100 Hz), EDSP_CONFIG
+// latched at 1 Hz. A setpoint it cannot validate becomes an EDSP_FAULT and is
+// never forwarded.
+//   edsp-kinematics [--pr-mode signed|unsigned|none|asin] [--config FILE]
+//                   [--group FILE] [--session-id N] [--stale-ms 50]
+#include <cstdio>
+
+#include "edsp/kinematics/config.h"
+#include "edsp/kinematics/kinematics_node.h"
+#include "edsp/node/node_options.h"
+#include "edsp/node/runtime.h"
+#include "edsp/transport/bus.h"
+
+namespace edsp {
+namespace {
+
+int Run(int argc, char** argv) {
+  CLI::App app{"edsp-kinematics: setpoints → leg commands with PR compensation"};
+  NodeOptions node;
+  AddNodeOptions(&app, &node);
+  std::string mode_text = "signed";
+  int stale_ms = 50;
+  app.add_option("--pr-mode", mode_text, "none, unsigned (paper Eq. 9), signed, asin (LinuxCNC)");
+  app.add_option("--stale-ms", stale_ms, "refuse setpoints older than this")->check(CLI::Range(1, 10000));
+  CLI11_PARSE(app, argc, argv);
+
+  KinematicsNodeOptions options;
+  if (!ParsePrMode(mode_text.c_str(), &options.pr_mode)) {
+    throw std::runtime_error("--pr-mode " + mode_text + ": use none, unsigned, signed or asin");
+  }
+  options.session_id = node.session_id;
+  options.stale_us = std::int64_t{stale_ms} * 1000;
+  const std::string config_text = ReadTextFile(node.config_path);
+  KinematicsNode kinematics(PlatformModel(LoadConfigFile(node.config_path)), options);
+  InstallStopSignals();
+  Bus bus(TransportFor(node));
+  auto commands = bus.Advertise<leg_command_t>("EDSP_LEG_COMMAND");
+  auto states = bus.Advertise<platform_state_t>("EDSP_PLATFORM_STATE");
+  auto config_out = bus.Advertise<platform_config_t>("EDSP_CONFIG");
+  auto faults = bus.Advertise<fault_t>("EDSP_FAULT");
+  auto status_out = bus.Advertise<node_status_t>("EDSP_STATUS");
+  NodeStatus status("kinematics");
+  status.SetState(node_status_t::STATE_RUNNING);
+
+  bus.Subscribe<pose_setpoint_t>("EDSP_SETPOINT", [&](const pose_setpoint_t& sp) {
+    const auto start = std::chrono::steady_clock::now();
+    status.CountIn();
+    leg_command_t command;
+    fault_t fault;
+    const std::int64_t now = UtimeNow();
+    if (kinematics.HandleSetpoint(sp, now, &command, &fault)) {
+      if (commands.Publish(command)) status.CountOut();
+    } else {
+      status.CountRejected();
+      faults.Publish(fault);
+    }
+    status.RecordLoop(std::chrono::steady_clock::now() - start);
+  });
+  std::int64_t leg_states = 0;
+  bus.Subscribe<leg_state_t>("EDSP_LEG_STATE", [&](const leg_state_t& legs) {
+    status.CountIn();
+    if (++leg_states % 10 != 0) return;  // 1 kHz in, 100 Hz out
+    platform_state_t state;
+    fault_t fault;
+    if (kinematics.HandleLegState(legs, UtimeNow(), &state, &fault)) {
+      states.Publish(state);
+    } else {
+      faults.Publish(fault);
+    }
+  });
+
+  std::int64_t next_config = 0;
+  while (!StopRequested()) {
+    bus.Handle(std::chrono::milliseconds(100));
+    const std::int64_t now = UtimeNow();
+    if (now >= next_config) {
+      config_out.Publish(kinematics.ConfigMessage(now, config_text));
+      next_config = now + 1000000;
+    }
+    if (status.Due(now)) {
+      const ChannelCounters& in = bus.Counters("EDSP_SETPOINT");
+      status.SetDrops(static_cast<std::int64_t>(in.seq_gaps + in.overruns));
+      status_out.Publish(status.Report(now, 0));
+      if (in.decode_errors > 0) {
+        faults.Publish(MakeFault("kinematics", "EDSP_SETPOINT", FaultCode::kUndecodable,
+                                 fault_t::SEVERITY_WARNING, in.last_error, now));
+      }
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+}  // namespace edsp
+
+int main(int argc, char** argv) {
+  try {
+    return edsp::Run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "edsp-kinematics: error: %s\n", e.what());
+    return 1;
+  }
+}

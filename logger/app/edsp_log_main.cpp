@@ -1,0 +1,87 @@
+// edsp-log: tools for LCM log files.
+//   edsp-log info LOG [--json]     channels, counts, rates, seq gaps, damage
+//   edsp-log faults LOG            every EDSP_FAULT: time, node, channel, reason
+#include <cstdio>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "edsp/fault_t.hpp"
+#include "edsp/logger/log_summary.h"
+
+namespace edsp {
+namespace {
+
+int Info(const std::string& path, bool json) {
+  const LogSummary s = SummarizeLog(path);
+  if (json) {
+    nlohmann::json out;
+    out["events"] = s.events;
+    out["damaged"] = s.damaged;
+    if (s.damaged) out["damage_offset_bytes"] = s.damage_offset;
+    for (const auto& [name, c] : s.channels) {
+      out["channels"][name] = {{"messages", c.messages}, {"bytes", c.bytes},
+                               {"rate_hz", c.rate_hz()}, {"seq_gaps", c.seq_gaps},
+                               {"seq_restarts", c.seq_restarts},
+                               {"duration_s", static_cast<double>(c.last_utime - c.first_utime) * 1e-6}};
+    }
+    std::printf("%s\n", out.dump(2).c_str());
+  } else {
+    std::printf("%-24s %10s %10s %10s %8s\n", "channel", "messages", "rate_hz", "seq_gaps", "restarts");
+    for (const auto& [name, c] : s.channels) {
+      std::printf("%-24s %10lld %10.1f %10lld %8lld\n", name.c_str(),
+                  static_cast<long long>(c.messages), c.rate_hz(),
+                  static_cast<long long>(c.seq_gaps), static_cast<long long>(c.seq_restarts));
+    }
+    if (s.damaged) {
+      std::printf("damaged: read up to byte %lld, the rest is unreadable\n",
+                  static_cast<long long>(s.damage_offset));
+    }
+  }
+  return s.damaged ? 3 : 0;
+}
+
+int Faults(const std::string& path) {
+  LogReader reader(path);
+  LogEvent event;
+  std::int64_t first = -1, count = 0;
+  while (reader.Next(&event)) {
+    if (first < 0) first = event.timestamp_utime;
+    if (event.channel != "EDSP_FAULT") continue;
+    fault_t fault;
+    if (fault.decode(event.data.data(), 0, static_cast<int>(event.data.size())) < 0) {
+      std::printf("%10.3f s  (undecodable EDSP_FAULT, %zu bytes)\n",
+                  static_cast<double>(event.timestamp_utime - first) * 1e-6, event.data.size());
+      continue;
+    }
+    ++count;
+    std::printf("%10.3f s  %-16s %-18s code %d  %s\n",
+                static_cast<double>(event.timestamp_utime - first) * 1e-6, fault.node.c_str(),
+                fault.channel.c_str(), fault.code, fault.reason.c_str());
+  }
+  std::printf("%lld faults\n", static_cast<long long>(count));
+  return reader.damaged() ? 3 : 0;
+}
+
+}  // namespace
+}  // namespace edsp
+
+int main(int argc, char** argv) {
+  CLI::App app{"edsp-log: inspect and export LCM logs"};
+  app.require_subcommand(1);
+  std::string path;
+  bool json = false;
+  CLI::App* info = app.add_subcommand("info", "channels, counts, rates, seq gaps");
+  info->add_option("log", path, "LCM log file")->required();
+  info->add_flag("--json", json, "print JSON");
+  CLI::App* faults = app.add_subcommand("faults", "every EDSP_FAULT with its reason");
+  faults->add_option("log", path, "LCM log file")->required();
+  CLI11_PARSE(app, argc, argv);
+  try {
+    if (*faults) return edsp::Faults(path);
+    return edsp::Info(path, json);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "edsp-log: error: %s\n", e.what());
+    return 1;
+  }
+}

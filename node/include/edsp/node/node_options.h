@@ -1,0 +1,33 @@
+#pragma once
+// Command-line options every node process takes, and what they build:
+//   --config FILE      platform config (TOML), default config/huang2021.toml
+//   --group FILE       deploy group file; its [transport] section routes channels
+//   --session-id N     launch session; commands of other sessions are refused
+//   --lcm-url URL      overrides the group file's LCM URL
+
+#include <cstdint>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "edsp/transport/transport_config.h"
+
+namespace edsp {
+
+struct NodeOptions {
+  std::string config_path = "config/huang2021.toml";
+  std::string group_path;
+  std::int64_t session_id = 1;
+  std::string lcm_url;
+};
+
+void AddNodeOptions(CLI::App* app, NodeOptions* options);
+
+// The transport config from the group file (defaults without one) with the
+// --lcm-url override applied. Throws TransportError naming the file.
+TransportConfig TransportFor(const NodeOptions& options);
+
+// Reads a whole file; throws std::runtime_error naming it.
+std::string ReadTextFile(const std::string& path);
+
+}  // namespace edsp

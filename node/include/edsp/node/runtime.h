@@ -1,0 +1,61 @@
+#pragma once
+// What every node process shares: a clean stop on SIGINT/SIGTERM, a loop on
+// an absolute clock (no drift, missed cycles counted), and the status it
+// reports on EDSP_STATUS at 1 Hz.
+
+#include <chrono>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "edsp/node_status_t.hpp"
+
+namespace edsp {
+
+// SIGINT and SIGTERM set a flag instead of killing the process.
+void InstallStopSignals();
+bool StopRequested();
+
+// Microseconds since the epoch (LCM's utime).
+std::int64_t UtimeNow();
+
+// Ticks at a fixed period on CLOCK_MONOTONIC with absolute deadlines. A
+// cycle that starts more than one period late counts as missed, and the
+// clock skips ahead rather than bursting.
+class RateClock {
+ public:
+  explicit RateClock(std::chrono::nanoseconds period);
+  void WaitNext();
+  std::int64_t missed() const { return missed_; }
+  std::chrono::nanoseconds period() const { return period_; }
+
+ private:
+  std::chrono::nanoseconds period_;
+  std::int64_t next_ns_;
+  std::int64_t missed_ = 0;
+};
+
+// Loop-time percentiles and message counters for EDSP_STATUS.
+class NodeStatus {
+ public:
+  explicit NodeStatus(std::string node);
+  void RecordLoop(std::chrono::nanoseconds busy);
+  void CountIn(std::int64_t n = 1) { in_ += n; }
+  void CountOut(std::int64_t n = 1) { out_ += n; }
+  void CountRejected() { ++rejected_; }
+  void SetDrops(std::int64_t drops) { drops_ = drops; }
+  void SetState(std::int8_t state) { state_ = state; }
+  // The message for now; resets the loop-time window.
+  node_status_t Report(std::int64_t utime, std::int64_t deadline_misses);
+  // True once a second (the caller then publishes Report()).
+  bool Due(std::int64_t utime);
+
+ private:
+  std::string node_;
+  std::int8_t state_ = node_status_t::STATE_STARTING;
+  std::int64_t in_ = 0, out_ = 0, rejected_ = 0, drops_ = 0, seq_ = 0;
+  std::int64_t next_report_utime_ = 0;
+  std::vector<double> loop_us_;
+};
+
+}  // namespace edsp

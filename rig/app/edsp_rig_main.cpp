@@ -1,0 +1,143 @@
+// edsp-rig: the virtual EDSP standing in for hardware. Serves the drives'
+// shared-memory process image to the actuator bridge, steps servo loops,
+// screws with true signed PR and the platform at 1 kHz, and publishes the
+// laser tracker (EDSP_TRACKER) and ground truth (EDSP_RIG_TRUTH).
+//   edsp-rig [--tracker-noise-m 0] [--tracker-rate-hz 1000] [--seed 1]
+//            [--tracker-frame x,y,z,roll,pitch,yaw] [--image-prefix edsp]
+//            [--config FILE] [--group FILE]
+#include <cstdio>
+#include <cstring>
+
+#include "edsp/actuator_bridge/drive_process_image.h"
+#include "edsp/kinematics/config.h"
+#include "edsp/node/fault.h"
+#include "edsp/node/node_options.h"
+#include "edsp/node/runtime.h"
+#include "edsp/rig/virtual_rig.h"
+#include "edsp/sim/pose_text.h"
+#include "edsp/transport/bus.h"
+
+namespace edsp {
+namespace {
+
+// The drives' side of the process image.
+class DriveImage {
+ public:
+  DriveImage(const std::string& prefix, mode_t permissions) : prefix_(prefix), mode_(permissions) {
+    ShmChannelSpec spec{DriveFeedbackSegment(prefix), kDriveImageFeedbackFingerprint, 16,
+                        sizeof(DriveImageFeedback), permissions};
+    auto writer = ShmWriter::Open(spec);
+    if (!writer.ok()) throw std::runtime_error("drive feedback image: " + writer.message);
+    feedback_ = std::move(writer.value);
+  }
+
+  // The newest command, if any arrived since the last call.
+  bool LatestCommand(DriveImageCommand* command) {
+    if (commands_ == nullptr) {
+      ShmChannelSpec spec{DriveCommandSegment(prefix_), kDriveImageCommandFingerprint, 16,
+                          sizeof(DriveImageCommand), mode_};
+      auto reader = ShmReader::Open(spec);
+      if (!reader.ok()) return false;  // no bridge yet
+      commands_ = std::move(reader.value);
+    }
+    commands_->SkipToLatest();
+    return commands_->TryTake([&](const std::uint8_t* data, std::uint32_t size) {
+             if (size != sizeof *command) return false;
+             std::memcpy(command, data, sizeof *command);
+             return true;
+           }) == TakeStatus::kMessage;
+  }
+
+  void PublishFeedback(const DriveFeedback& f, std::int64_t utime, std::int64_t cycle) {
+    DriveImageFeedback image{};
+    image.utime = utime;
+    image.cycle = cycle;
+    for (int i = 0; i < 6; ++i) {
+      image.motor_angle_rad[i] = f.motor_angle_rad[i];
+      image.motor_velocity_rad_s[i] = f.motor_velocity_rad_s[i];
+      image.status[i] = static_cast<std::int8_t>(f.status[i]);
+    }
+    feedback_->Publish([&](std::uint8_t* buffer, std::uint32_t) -> std::int64_t {
+      std::memcpy(buffer, &image, sizeof image);
+      return sizeof image;
+    });
+  }
+
+ private:
+  std::string prefix_;
+  mode_t mode_;
+  std::unique_ptr<ShmWriter> feedback_;
+  std::unique_ptr<ShmReader> commands_;
+};
+
+int Run(int argc, char** argv) {
+  CLI::App app{"edsp-rig: the virtual EDSP with a laser-tracker emulator"};
+  NodeOptions node;
+  AddNodeOptions(&app, &node);
+  RigParameters rig_parameters;
+  std::string frame_text, image_prefix;
+  app.add_option("--tracker-noise-m", rig_parameters.tracker.noise_sigma_m, "1-sigma per axis")
+      ->check(CLI::Range(0.0, 0.01));
+  app.add_option("--tracker-rate-hz", rig_parameters.tracker.rate_hz)->check(CLI::Range(1.0, 1000.0));
+  app.add_option("--seed", rig_parameters.tracker.seed, "noise seed");
+  app.add_option("--tracker-frame", frame_text, "pose of {B} in the tracker frame, x,y,z,roll,pitch,yaw");
+  app.add_option("--image-prefix", image_prefix, "process image segment prefix (default: shm_prefix)");
+  CLI11_PARSE(app, argc, argv);
+
+  const PlatformConfig config = LoadConfigFile(node.config_path);
+  rig_parameters.true_config = config;
+  if (!frame_text.empty()) rig_parameters.tracker.X_TB = ParsePoseText(frame_text);
+  const TransportConfig transport = TransportFor(node);
+  InstallStopSignals();
+  VirtualRig rig(rig_parameters);
+  DriveImage image(image_prefix.empty() ? transport.shm_prefix : image_prefix,
+                   transport.shm_permissions);
+  Bus bus(transport);
+  auto tracker_out = bus.Advertise<tracker_point_t>("EDSP_TRACKER");
+  auto truth_out = bus.Advertise<rig_truth_t>("EDSP_RIG_TRUTH");
+  auto faults = bus.Advertise<fault_t>("EDSP_FAULT");
+  auto status_out = bus.Advertise<node_status_t>("EDSP_STATUS");
+  NodeStatus status("rig");
+  status.SetState(node_status_t::STATE_RUNNING);
+  RateClock clock(std::chrono::milliseconds(1));
+  std::int64_t cycle = 0;
+  while (!StopRequested()) {
+    clock.WaitNext();
+    const auto start = std::chrono::steady_clock::now();
+    DriveImageCommand command;
+    if (image.LatestCommand(&command)) {
+      DriveSetpoint setpoint;
+      for (int i = 0; i < 6; ++i) {
+        setpoint.motor_angle_rad[i] = command.motor_angle_rad[i];
+        setpoint.motor_velocity_rad_s[i] = command.motor_velocity_rad_s[i];
+      }
+      rig.SetTarget(setpoint, command.enable != 0);
+      status.CountIn();
+    }
+    const std::int64_t now = UtimeNow();
+    if (!rig.Advance(1e-3)) {
+      faults.Publish(MakeFault("rig", "", FaultCode::kForwardKinematics, fault_t::SEVERITY_ERROR,
+                               "the virtual platform's pose could not be found", now));
+      status.SetState(node_status_t::STATE_FAULT);
+    }
+    image.PublishFeedback(rig.Feedback(), now, ++cycle);
+    truth_out.Publish(rig.Truth(now));
+    tracker_point_t point;
+    if (rig.TrackerSample(now, &point) && tracker_out.Publish(point)) status.CountOut();
+    status.RecordLoop(std::chrono::steady_clock::now() - start);
+    if (status.Due(now)) status_out.Publish(status.Report(now, clock.missed()));
+  }
+  return 0;
+}
+
+}  // namespace
+}  // namespace edsp
+
+int main(int argc, char** argv) {
+  try {
+    return edsp::Run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "edsp-rig: error: %s\n", e.what());
+    return 1;
+  }
+}
