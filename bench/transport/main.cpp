@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <thread>
 #include <vector>
@@ -75,7 +76,9 @@ pid_t Spawn(Body&& body) {
     } catch (const std::exception& e) {
       std::fprintf(stderr, "edsp-bench-transport: child: %s\n", e.what());
     }
-    ::_exit(rc);
+    // exit(), not _exit(): iceoryx's runtime must deregister from RouDi in its
+    // static destructor, or RouDi aborts at shutdown and leaves its segments.
+    std::exit(rc);
   }
   return pid;
 }

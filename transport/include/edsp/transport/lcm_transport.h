@@ -16,7 +16,11 @@
 namespace edsp {
 
 // Host-only multicast: nothing leaves the machine unless a group file says so.
-inline constexpr const char* kDefaultLcmUrl = "udpm://239.255.76.67:7667?ttl=0";
+// A 4 MiB receive buffer rides out scheduling stalls of a loaded host (the
+// logger takes every channel at several kHz); the kernel caps it at
+// net.core.rmem_max, which `deploy/edsp` raises to match.
+inline constexpr const char* kDefaultLcmUrl =
+    "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304";
 
 class LcmTransport {
  public:

@@ -1,0 +1,159 @@
+// The sim group as real processes (rig, actuator bridge, kinematics, logger,
+// planner) started by edsp-launch inside a private network namespace. From
+// the group's own log: with tracker noise off, point A settles within 5 µm
+// of target at every dwell with signed compensation, and with mode none it
+// misses by the PR error edsp-sim predicts; no faults, no lost commands.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <fstream>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "edsp/kinematics/config.h"
+#include "edsp/logger/log_reader.h"
+#include "edsp/logger/log_summary.h"
+#include "edsp/pose_setpoint_t.hpp"
+#include "edsp/sim/paper_table.h"
+#include "edsp/tracker_point_t.hpp"
+
+namespace edsp {
+namespace {
+
+struct GroupRun {
+  int exit_code = -1;
+  std::string log_path;
+};
+
+GroupRun LaunchSimGroup(const std::string& name, const std::string& pr_mode) {
+  const std::string dir = fmt::format("/tmp/edsp_group_test_{}_{}", ::getpid(), name);
+  std::system(("mkdir -p " + dir).c_str());
+  GroupRun run;
+  run.log_path = dir + "/run.lcmlog";
+  std::ofstream(dir + "/group.toml") << fmt::format(R"(
+[group]
+name = "{0}"
+config = "{1}/config/huang2021.toml"
+session_id = 77
+[transport]
+shm_prefix = "edsp.test.{2}.{0}"
+[[member]]
+name = "rig"
+command = "edsp-rig"
+args = ["--tracker-noise-m", "0"]
+start_delay_ms = 200
+[[member]]
+name = "actuator_bridge"
+command = "edsp-actuator-bridge"
+start_delay_ms = 100
+[[member]]
+name = "kinematics"
+command = "edsp-kinematics"
+args = ["--pr-mode", "{3}"]
+[[member]]
+name = "logger"
+command = "edsp-logger"
+args = ["--output", "{4}"]
+start_delay_ms = 300
+[[member]]
+name = "planner"
+command = "edsp-planner"
+args = ["--motions", "Lz,Rz", "--stops", "3", "--dwell-s", "0.6", "--max-speed-m-s", "0.25",
+        "--max-speed-rad-s", "0.5", "--exit-after-hold-s", "0.3"]
+restart = "never"
+)",
+                                                    name, EDSP_SOURCE_DIR, ::getpid(), pr_mode,
+                                                    run.log_path);
+  const std::string command = fmt::format("{} {}/group.toml --until-exit planner --duration-s 120 2>{}/launch.err",
+                                          EDSP_LAUNCH_BINARY, dir, dir);
+  const int status = std::system(command.c_str());
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return run;
+}
+
+struct DwellEnd {
+  std::string segment;
+  Pose target;
+  double miss_m;
+};
+
+// The last tracker sample of every dwell against the target's point A.
+std::vector<DwellEnd> DwellEnds(const std::string& log_path, const PlatformModel& model) {
+  LogReader reader(log_path);
+  LogEvent event;
+  std::vector<DwellEnd> ends;
+  pose_setpoint_t previous{};
+  bool have_previous = false;
+  tracker_point_t last_tracker{};
+  bool have_tracker = false;
+  while (reader.Next(&event)) {
+    const int size = static_cast<int>(event.data.size());
+    if (event.channel == "EDSP_TRACKER") {
+      tracker_point_t t;
+      if (t.decode(event.data.data(), 0, size) >= 0) {
+        last_tracker = t;
+        have_tracker = true;
+      }
+    } else if (event.channel == "EDSP_SETPOINT") {
+      pose_setpoint_t sp;
+      if (sp.decode(event.data.data(), 0, size) < 0) continue;
+      if (have_previous && have_tracker && sp.segment != previous.segment &&
+          previous.trajectory.find("/dwell") != std::string::npos) {
+        Vector6 q;
+        for (int k = 0; k < 6; ++k) q(k) = previous.pose[k];
+        const Vector3 target = model.ObservationPoint(Pose::FromVector(q));
+        const Vector3 measured(last_tracker.point_m[0], last_tracker.point_m[1], last_tracker.point_m[2]);
+        ends.push_back({previous.trajectory, Pose::FromVector(q), (measured - target).norm()});
+      }
+      previous = sp;
+      have_previous = true;
+    }
+  }
+  EXPECT_FALSE(reader.damaged());
+  return ends;
+}
+
+void ExpectCleanRun(const GroupRun& run) {
+  ASSERT_EQ(run.exit_code, 0) << "edsp-launch failed; see " << run.log_path << "/../launch.err";
+  const LogSummary summary = SummarizeLog(run.log_path);
+  EXPECT_EQ(summary.channels.count("EDSP_FAULT"), 0u) << "faults were raised: edsp-log faults " << run.log_path;
+  const ChannelSummary& commands = summary.channels.at("EDSP_LEG_COMMAND");
+  EXPECT_GT(commands.messages, 10000);
+  EXPECT_NEAR(commands.rate_hz(), 1000.0, 20.0);
+  // Loss on loopback multicast on this loaded 2-core machine: usually none,
+  // occasionally one burst of a few ms (open in the multi-host issue, which
+  // requires zero). Bounded here so a real regression still fails.
+  for (const char* channel : {"EDSP_LEG_COMMAND", "EDSP_SETPOINT", "EDSP_TRACKER"}) {
+    const ChannelSummary& c = summary.channels.at(channel);
+    EXPECT_LE(c.seq_gaps, c.messages / 1000) << channel;
+    ::testing::Test::RecordProperty(std::string(channel) + "_seq_gaps", static_cast<int>(c.seq_gaps));
+  }
+  EXPECT_GT(summary.channels.at("EDSP_CONFIG").messages, 5);
+}
+
+TEST(SimGroup, SignedCompensationSettlesPointAWithin5umAtEveryDwell) {
+  const GroupRun run = LaunchSimGroup("signed", "signed");
+  ExpectCleanRun(run);
+  const PlatformModel model(Huang2021Config());
+  const std::vector<DwellEnd> ends = DwellEnds(run.log_path, model);
+  ASSERT_GE(ends.size(), 5u);  // Lz: 3 stops + home, Rz: 3 stops (+ home at the end)
+  for (const DwellEnd& d : ends) EXPECT_LT(d.miss_m, 5e-6) << d.segment;
+}
+
+TEST(SimGroup, WithoutCompensationMissesByThePredictedPrError) {
+  const GroupRun run = LaunchSimGroup("none", "none");
+  ExpectCleanRun(run);
+  const PlatformModel model(Huang2021Config());
+  double largest = 0.0;
+  for (const DwellEnd& d : DwellEnds(run.log_path, model)) {
+    const double predicted = PointAError(model, d.target, PrMode::kNone);
+    EXPECT_NEAR(d.miss_m, predicted, 2e-6) << d.segment;
+    largest = std::max(largest, predicted);
+  }
+  EXPECT_GT(largest, 1e-3);  // Rz ±30°: about 1.4 mm
+}
+
+}  // namespace
+}  // namespace edsp
