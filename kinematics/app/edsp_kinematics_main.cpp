@@ -3,7 +3,9 @@
 // latched at 1 Hz. A setpoint it cannot validate becomes an EDSP_FAULT and is
 // never forwarded.
 //   edsp-kinematics [--pr-mode signed|unsigned|none|asin] [--config FILE]
-//                   [--group FILE] [--session-id N] [--stale-ms 50]
+//                   [--group FILE] [--session-id N] [--stale-ms 50] [--replay]
+// --replay: the setpoints come from a log (lcm-logplayer), so they are judged
+// by their own clock, not the wall clock, and reproduce the recorded commands.
 #include <cstdio>
 
 #include "edsp/kinematics/config.h"
@@ -23,6 +25,8 @@ int Run(int argc, char** argv) {
   int stale_ms = 50;
   app.add_option("--pr-mode", mode_text, "none, unsigned (paper Eq. 9), signed, asin (LinuxCNC)");
   app.add_option("--stale-ms", stale_ms, "refuse setpoints older than this")->check(CLI::Range(1, 10000));
+  bool replay = false;
+  app.add_flag("--replay", replay, "judge setpoints by their own clock (input from lcm-logplayer)");
   CLI11_PARSE(app, argc, argv);
 
   KinematicsNodeOptions options;
@@ -48,7 +52,7 @@ int Run(int argc, char** argv) {
     status.CountIn();
     leg_command_t command;
     fault_t fault;
-    const std::int64_t now = UtimeNow();
+    const std::int64_t now = replay ? sp.utime : UtimeNow();
     if (kinematics.HandleSetpoint(sp, now, &command, &fault)) {
       if (commands.Publish(command)) status.CountOut();
     } else {

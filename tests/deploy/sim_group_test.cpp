@@ -15,6 +15,9 @@
 #include "edsp/kinematics/config.h"
 #include "edsp/logger/log_reader.h"
 #include "edsp/logger/log_summary.h"
+#include <map>
+
+#include "edsp/leg_command_t.hpp"
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/sim/paper_table.h"
 #include "edsp/tracker_point_t.hpp"
@@ -133,13 +136,70 @@ void ExpectCleanRun(const GroupRun& run) {
   EXPECT_GT(summary.channels.at("EDSP_CONFIG").messages, 5);
 }
 
-TEST(SimGroup, SignedCompensationSettlesPointAWithin5umAtEveryDwell) {
-  const GroupRun run = LaunchSimGroup("signed", "signed");
+// One signed run serves several tests.
+class SignedSimGroup : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { run_ = new GroupRun(LaunchSimGroup("signed", "signed")); }
+  static void TearDownTestSuite() { delete run_; }
+  static GroupRun* run_;
+};
+GroupRun* SignedSimGroup::run_ = nullptr;
+
+TEST_F(SignedSimGroup, SignedCompensationSettlesPointAWithin5umAtEveryDwell) {
+  const GroupRun& run = *run_;
   ExpectCleanRun(run);
   const PlatformModel model(Huang2021Config());
   const std::vector<DwellEnd> ends = DwellEnds(run.log_path, model);
   ASSERT_GE(ends.size(), 5u);  // Lz: 3 stops + home, Rz: 3 stops (+ home at the end)
   for (const DwellEnd& d : ends) EXPECT_LT(d.miss_m, 5e-6) << d.segment;
+}
+
+std::map<std::int64_t, leg_command_t> CommandsBySetpoint(const std::string& log_path) {
+  LogReader reader(log_path);
+  LogEvent event;
+  std::map<std::int64_t, leg_command_t> commands;
+  while (reader.Next(&event)) {
+    if (event.channel != "EDSP_LEG_COMMAND") continue;
+    leg_command_t c;
+    if (c.decode(event.data.data(), 0, static_cast<int>(event.data.size())) >= 0) {
+      commands[c.setpoint_seq] = c;
+    }
+  }
+  return commands;
+}
+
+TEST_F(SignedSimGroup, ReplayedThroughLcmLogplayerAFreshKinematicsNodeReproducesTheCommands) {
+  ASSERT_EQ(run_->exit_code, 0);
+  const std::string dir = run_->log_path.substr(0, run_->log_path.rfind('/'));
+  const std::string url = "udpm://239.255.76.67:7668?ttl=0&recv_buf_size=4194304";
+  const std::string replayed = dir + "/replayed.lcmlog";
+  const std::string bin = std::string(EDSP_LAUNCH_BINARY).substr(0, std::string(EDSP_LAUNCH_BINARY).rfind('/'));
+  // Kinematics and a logger on their own port; then the recorded setpoints.
+  const std::string script = fmt::format(
+      "{0}/edsp-kinematics --replay --session-id 77 --config {1}/config/huang2021.toml --lcm-url '{2}' & K=$!; "
+      "{0}/edsp-logger --channels EDSP_LEG_COMMAND --output {3} --lcm-url '{2}' & L=$!; sleep 0.5; "
+      "lcm-logplayer -s 2 -e EDSP_SETPOINT -l '{2}' {4} >/dev/null; sleep 0.5; kill -INT $K $L; wait",
+      bin, EDSP_SOURCE_DIR, url, replayed, run_->log_path);
+  // system() runs the script in sh -c itself: no nested shell, so $! is ours.
+  ASSERT_EQ(std::system(("{ " + script + "; } 2>" + dir + "/replay.err").c_str()), 0);
+  const auto recorded = CommandsBySetpoint(run_->log_path);
+  const auto reproduced = CommandsBySetpoint(replayed);
+  ASSERT_GT(recorded.size(), 10000u);
+  std::size_t matched = 0, different = 0;
+  for (const auto& [setpoint_seq, again] : reproduced) {
+    const auto it = recorded.find(setpoint_seq);
+    if (it == recorded.end()) continue;
+    ++matched;
+    for (int i = 0; i < 6; ++i) {
+      if (again.command_length_m[i] != it->second.command_length_m[i] ||
+          again.pr_correction_m[i] != it->second.pr_correction_m[i]) {
+        ++different;
+        break;
+      }
+    }
+  }
+  EXPECT_EQ(different, 0u) << "replayed commands must be bit-identical";
+  EXPECT_GE(matched, recorded.size() * 99 / 100) << "replay lost more than 1% of the setpoints";
 }
 
 TEST(SimGroup, WithoutCompensationMissesByThePredictedPrError) {
