@@ -10,7 +10,10 @@
 #include "edsp/kinematics/config.h"
 #include "edsp/node/node_options.h"
 #include "edsp/node/runtime.h"
+#include "edsp/arm_t.hpp"
 #include "edsp/transport/bus.h"
+
+#include <fmt/format.h>
 
 namespace edsp {
 namespace {
@@ -61,6 +64,18 @@ int Run(int argc, char** argv) {
       status.CountRejected();
       faults.Publish(fault);
     }
+  });
+  bus.Subscribe<arm_t>("EDSP_ARM", [&](const arm_t& arm) {
+    if (arm.session_id != node.session_id) {
+      faults.Publish(MakeFault("actuator_bridge", "EDSP_ARM", FaultCode::kForeignSession,
+                               fault_t::SEVERITY_WARNING,
+                               fmt::format("re-arm from session {} ignored (this group is session {})",
+                                           arm.session_id, node.session_id),
+                               UtimeNow()));
+      return;
+    }
+    bridge.Rearm();
+    std::fprintf(stderr, "edsp-actuator-bridge: re-armed by %s\n", arm.operator_name.c_str());
   });
   RateClock clock(std::chrono::milliseconds(1));
   while (!StopRequested()) {

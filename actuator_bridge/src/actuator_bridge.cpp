@@ -31,8 +31,17 @@ bool ActuatorBridge::Reject(FaultCode code, std::string reason, std::int64_t now
   return false;
 }
 
+void ActuatorBridge::Rearm() { latched_ = false; }
+
 bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utime,
                                    fault_t* fault) {
+  if (latched_) {
+    return Reject(FaultCode::kStale,
+                  fmt::format("leg command seq {} refused: holding after stale input since command "
+                              "seq {}; re-arm required (EDSP_ARM)",
+                              c.seq, last_command_seq_),
+                  now_utime, fault);
+  }
   if (c.session_id != options_.session_id) {
     return Reject(FaultCode::kForeignSession,
                   fmt::format("leg command seq {} from session {}, this group is session {}",
@@ -100,11 +109,12 @@ bool ActuatorBridge::Cycle(std::int64_t now_utime, leg_state_t* state, fault_t* 
   const bool stale = target_utime_ < 0 || now_utime - target_utime_ > options_.stale_us;
   if (stale && !holding_) {
     holding_ = true;
+    latched_ = target_utime_ >= 0;  // a stream that stopped, not a start-up
     target_.motor_velocity_rad_s.fill(0.0);  // hold: the last valid position, at rest
     if (!hold_reported_) {
       *fault = Fault(FaultCode::kStale,
                      fmt::format("no valid leg command for {} us: holding the last valid "
-                                 "position (command seq {})",
+                                 "position (command seq {}) until re-armed",
                                  now_utime - target_utime_, last_command_seq_),
                      now_utime);
       hold_reported_ = true;

@@ -55,6 +55,16 @@ struct Fixture {
   }
 };
 
+TEST(ActuatorBridge, StartUpHoldIsNotLatched) {
+  Fixture f;
+  fault_t fault;
+  leg_state_t state;
+  for (int k = 0; k < 100; ++k) f.bridge.Cycle(kStart - 100000 + k * 1000, &state, &fault);
+  EXPECT_TRUE(f.bridge.holding());
+  EXPECT_FALSE(f.bridge.latched());
+  EXPECT_TRUE(f.bridge.HandleCommand(f.Command(0.0, kStart), kStart, &fault)) << fault.reason;
+}
+
 TEST(ActuatorBridge, ValidCommandsReachTheDrivesAsMotorAngles) {
   Fixture f;
   fault_t fault;
@@ -151,11 +161,16 @@ TEST(ActuatorBridge, HoldsTheLastValidPositionWithin50msOfSilence) {
   EXPECT_TRUE(f.bridge.holding());
   for (double v : f.backend.written.motor_velocity_rad_s) EXPECT_EQ(v, 0.0);
   EXPECT_EQ(state.drive_status[0], leg_state_t::DRIVE_HOLDING);
-  // A command far from the hold (the planner moved on meanwhile) is a jump.
-  EXPECT_FALSE(f.bridge.HandleCommand(f.Command(0.2, t, 21), t, &fault));
+  // Latched: even a command continuing exactly from the hold is refused.
+  EXPECT_TRUE(f.bridge.latched());
+  EXPECT_FALSE(f.bridge.HandleCommand(f.Command(2e-3 + 1e-5, t, 21), t, &fault));
+  EXPECT_NE(fault.reason.find("re-arm required"), std::string::npos) << fault.reason;
+  f.bridge.Rearm();
+  // Re-armed: a command far from the hold (the planner moved on) is a jump ...
+  EXPECT_FALSE(f.bridge.HandleCommand(f.Command(0.2, t, 22), t, &fault));
   EXPECT_EQ(fault.code, static_cast<std::int32_t>(FaultCode::kJump));
-  // One continuing from the hold is accepted.
-  EXPECT_TRUE(f.bridge.HandleCommand(f.Command(2e-3 + 1e-5, t, 22), t, &fault)) << fault.reason;
+  // ... one continuing from the hold is accepted.
+  EXPECT_TRUE(f.bridge.HandleCommand(f.Command(2e-3 + 1e-5, t, 23), t, &fault)) << fault.reason;
   EXPECT_FALSE(f.bridge.holding());
 }
 

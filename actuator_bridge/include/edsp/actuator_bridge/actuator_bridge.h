@@ -3,7 +3,7 @@
 // setpoints out, encoders back as leg states. Safety first: it forwards only
 // commands it can validate (session, finite, within stroke, no jump from the
 // last valid target), and when commands stop coming (stale) it holds the last
-// valid position.
+// valid position and stays latched there until explicitly re-armed.
 
 #include <cstdint>
 #include <string>
@@ -35,6 +35,13 @@ class ActuatorBridge {
   // Returns true and fills *fault when a new fault arose this cycle.
   bool Cycle(std::int64_t now_utime, leg_state_t* state, fault_t* fault);
 
+  // After a stale hold the bridge refuses every command until an operator
+  // re-arms it (the stream may come back anywhere; resuming by itself when the
+  // trajectory happens to pass the held pose would start the platform with a
+  // jerk). After Rearm(), commands resume subject to the jump guard, i.e. once
+  // they continue from the held position.
+  void Rearm();
+  bool latched() const { return latched_; }
   bool holding() const { return holding_; }
   std::int64_t accepted() const { return accepted_; }
   std::int64_t rejected() const { return rejected_; }
@@ -54,6 +61,7 @@ class ActuatorBridge {
   bool holding_ = true;
   bool hold_reported_ = true;        // start holding without a fault
   bool backend_ok_ = true;           // faults are raised on the transition only
+  bool latched_ = false;             // held after stale input: needs Rearm()
   std::int64_t state_seq_ = 0;
   std::int64_t accepted_ = 0;
   std::int64_t rejected_ = 0;
