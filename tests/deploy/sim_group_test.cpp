@@ -279,7 +279,10 @@ TEST(SimGroup, KinematicsKilledMidMotionIsRestartedWhileTheBridgeHolds) {
       drift_after_hold = std::max(drift_after_hold, (truth[k].second - held).head<3>().norm());
     }
   }
-  EXPECT_LT(largest_step, 4e-4) << "no jump: at most 0.25 m/s × 1 ms plus margin per cycle";
+  // A jump would be the ~25 mm the planner moved during the outage; servo
+  // motion is at most ~0.25-0.5 mm per cycle (more when a loaded machine makes
+  // the rig catch up a late cycle).
+  EXPECT_LT(largest_step, 1e-3) << "no jump";
   ::testing::Test::RecordProperty("largest_step_um", static_cast<int>(largest_step * 1e6));
   ::testing::Test::RecordProperty("drift_after_hold_nm", static_cast<int>(drift_after_hold * 1e9));
   ASSERT_TRUE(have_held);
