@@ -102,11 +102,4 @@ int Run(int argc, char** argv) {
 }  // namespace
 }  // namespace edsp
 
-int main(int argc, char** argv) {
-  try {
-    return edsp::Run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "edsp-actuator-bridge: error: %s\n", e.what());
-    return 1;
-  }
-}
+int main(int argc, char** argv) { return edsp::RunMain("edsp-actuator-bridge", edsp::Run, argc, argv); }

@@ -184,11 +184,4 @@ int Run(int argc, char** argv) {
 }  // namespace
 }  // namespace edsp
 
-int main(int argc, char** argv) {
-  try {
-    return edsp::Run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "edsp-launch: error: %s\n", e.what());
-    return 2;
-  }
-}
+int main(int argc, char** argv) { return edsp::RunMain("edsp-launch", edsp::Run, argc, argv, 2); }

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstdio>
+#include <exception>
 #include <cerrno>
 
 namespace edsp {
@@ -33,6 +35,15 @@ void InstallStopSignals() {
 }
 
 bool StopRequested() { return g_stop.load(); }
+
+int RunMain(const char* program, int (*run)(int, char**), int argc, char** argv, int error_exit) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: error: %s\n", program, e.what());
+    return error_exit;
+  }
+}
 
 std::int64_t UtimeNow() {
   timespec ts{};

@@ -105,11 +105,4 @@ int Run(int argc, char** argv) {
 }  // namespace
 }  // namespace edsp
 
-int main(int argc, char** argv) {
-  try {
-    return edsp::Run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "edsp-planner: error: %s\n", e.what());
-    return 1;
-  }
-}
+int main(int argc, char** argv) { return edsp::RunMain("edsp-planner", edsp::Run, argc, argv); }
