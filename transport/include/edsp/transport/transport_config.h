@@ -3,7 +3,7 @@
 // [transport] section (never decided in code). docs/transport.md.
 //
 //   [transport]
-//   lcm_url = "udpm://239.255.76.67:7667?ttl=0"
+//   lcm_url = "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304"
 //   shm_prefix = "edsp"          # segment names: <prefix>.<channel>
 //   shm_permissions = "0600"
 //   [transport.channels.EDSP_LEG_COMMAND]
