@@ -54,6 +54,10 @@ int Run(int argc, char** argv) {
   Bus bus(transport);
   auto states = bus.Advertise<leg_state_t>("EDSP_LEG_STATE");
   auto faults = bus.Advertise<fault_t>("EDSP_FAULT");
+  FaultThrottle throttle;
+  auto report = [&](fault_t fault) {
+    if (throttle.Admit(&fault)) faults.Publish(fault);
+  };
   auto status_out = bus.Advertise<node_status_t>("EDSP_STATUS");
   NodeStatus status("actuator_bridge");
   status.SetState(node_status_t::STATE_RUNNING);
@@ -62,7 +66,7 @@ int Run(int argc, char** argv) {
     fault_t fault;
     if (!bridge.HandleCommand(command, UtimeNow(), &fault)) {
       status.CountRejected();
-      faults.Publish(fault);
+      report(fault);
     }
   });
   bus.Subscribe<arm_t>("EDSP_ARM", [&](const arm_t& arm) {
@@ -85,7 +89,7 @@ int Run(int argc, char** argv) {
     const std::int64_t now = UtimeNow();
     leg_state_t state;
     fault_t fault;
-    if (bridge.Cycle(now, &state, &fault)) faults.Publish(fault);
+    if (bridge.Cycle(now, &state, &fault)) report(fault);
     if (states.Publish(state)) status.CountOut();
     status.SetState(bridge.holding() ? node_status_t::STATE_HOLDING : node_status_t::STATE_RUNNING);
     status.RecordLoop(std::chrono::steady_clock::now() - start);

@@ -14,6 +14,8 @@
 #include "edsp/node/runtime.h"
 #include "edsp/transport/bus.h"
 
+#include <fmt/format.h>
+
 namespace edsp {
 namespace {
 
@@ -43,6 +45,10 @@ int Run(int argc, char** argv) {
   auto states = bus.Advertise<platform_state_t>("EDSP_PLATFORM_STATE");
   auto config_out = bus.Advertise<platform_config_t>("EDSP_CONFIG");
   auto faults = bus.Advertise<fault_t>("EDSP_FAULT");
+  FaultThrottle throttle;
+  auto report = [&](fault_t fault) {
+    if (throttle.Admit(&fault)) faults.Publish(fault);
+  };
   auto status_out = bus.Advertise<node_status_t>("EDSP_STATUS");
   NodeStatus status("kinematics");
   status.SetState(node_status_t::STATE_RUNNING);
@@ -57,7 +63,7 @@ int Run(int argc, char** argv) {
       if (commands.Publish(command)) status.CountOut();
     } else {
       status.CountRejected();
-      faults.Publish(fault);
+      report(fault);
     }
     status.RecordLoop(std::chrono::steady_clock::now() - start);
   });
@@ -70,11 +76,12 @@ int Run(int argc, char** argv) {
     if (kinematics.HandleLegState(legs, UtimeNow(), &state, &fault)) {
       states.Publish(state);
     } else {
-      faults.Publish(fault);
+      report(fault);
     }
   });
 
   std::int64_t next_config = 0;
+  std::uint64_t reported_decode_errors = 0;
   while (!StopRequested()) {
     bus.Handle(std::chrono::milliseconds(100));
     const std::int64_t now = UtimeNow();
@@ -86,9 +93,13 @@ int Run(int argc, char** argv) {
       const ChannelCounters& in = bus.Counters("EDSP_SETPOINT");
       status.SetDrops(static_cast<std::int64_t>(in.seq_gaps + in.overruns));
       status_out.Publish(status.Report(now, 0));
-      if (in.decode_errors > 0) {
+      if (in.decode_errors > reported_decode_errors) {  // new ones since the last report
         faults.Publish(MakeFault("kinematics", "EDSP_SETPOINT", FaultCode::kUndecodable,
-                                 fault_t::SEVERITY_WARNING, in.last_error, now));
+                                 fault_t::SEVERITY_WARNING,
+                                 fmt::format("{} undecodable packets; last: {}",
+                                             in.decode_errors - reported_decode_errors, in.last_error),
+                                 now));
+        reported_decode_errors = in.decode_errors;
       }
     }
   }

@@ -17,6 +17,27 @@ const char* FaultCodeName(FaultCode code) {
   return "unknown";
 }
 
+bool FaultThrottle::Admit(fault_t* fault) {
+  const auto key = std::make_pair(fault->channel, fault->code);
+  auto it = entries_.find(key);
+  if (it == entries_.end()) {
+    entries_.emplace(key, Entry{fault->utime, 0});
+    return true;
+  }
+  Entry& e = it->second;
+  if (fault->utime - e.last_sent_utime < interval_us_) {
+    ++e.suppressed;
+    ++suppressed_total_;
+    return false;
+  }
+  if (e.suppressed > 0) {
+    fault->reason += " (and " + std::to_string(e.suppressed) + " more like it since the last report)";
+  }
+  e.last_sent_utime = fault->utime;
+  e.suppressed = 0;
+  return true;
+}
+
 fault_t MakeFault(const std::string& node, const std::string& channel, FaultCode code,
                   std::int8_t severity, std::string reason, std::int64_t utime) {
   fault_t fault{};

@@ -42,7 +42,8 @@ constexpr const char* kDefaultPlannerArgs =
 
 GroupRun LaunchSimGroup(const std::string& name, const std::string& pr_mode,
                         const std::string& planner_args = kDefaultPlannerArgs,
-                        const std::function<void(const std::string& dir)>& during = {}) {
+                        const std::function<void(const std::string& dir)>& during = {},
+                        std::int64_t session_id = 77) {
   const std::string dir = fmt::format("/tmp/edsp_group_test_{}_{}", ::getpid(), name);
   std::system(("mkdir -p " + dir).c_str());
   GroupRun run;
@@ -51,7 +52,7 @@ GroupRun LaunchSimGroup(const std::string& name, const std::string& pr_mode,
 [group]
 name = "{0}"
 config = "{1}/config/huang2021.toml"
-session_id = 77
+session_id = {6}
 [transport]
 shm_prefix = "edsp.test.{2}.{0}"
 [[member]]
@@ -79,7 +80,7 @@ args = [{5}]
 restart = "never"
 )",
                                                     name, EDSP_SOURCE_DIR, ::getpid(), pr_mode,
-                                                    run.log_path, planner_args);
+                                                    run.log_path, planner_args, session_id);
   const std::string command = fmt::format("{} {}/group.toml --until-exit planner --duration-s 120 2>{}/launch.err",
                                           EDSP_LAUNCH_BINARY, dir, dir);
   std::thread action;
@@ -288,6 +289,57 @@ TEST(SimGroup, KinematicsKilledMidMotionIsRestartedWhileTheBridgeHolds) {
   ASSERT_TRUE(have_held);
   EXPECT_LT(drift_after_hold, 1e-6) << "the platform stays where it was held (nobody re-armed)";
   EXPECT_GT(refused_until_rearm, 100) << "the restarted kinematics' commands must be refused";
+}
+
+TEST(SimGroup, ALogReplayedFromAnotherSessionMovesNothing) {
+  // A recording of session 77 moving the platform ...
+  const GroupRun source = LaunchSimGroup(
+      "guard-source", "signed",
+      R"("--motions", "Lz", "--stops", "2", "--dwell-s", "0.2", "--max-speed-m-s", "0.5", "--exit-after-hold-s", "0")");
+  ASSERT_EQ(source.exit_code, 0);
+  // ... replayed (setpoints and leg commands) onto a live session-99 group
+  // whose own planner holds home.
+  const std::string dir = source.log_path.substr(0, source.log_path.rfind('/'));
+  std::ofstream(dir + "/home.csv") << "time_s,x_m,y_m,z_m,roll_rad,pitch_rad,yaw_rad\n"
+                                   << "0,0,0,1.511,0,0,0\n8,0,0,1.511,0,0,0\n";
+  const GroupRun live = LaunchSimGroup(
+      "guard-live", "signed", fmt::format(R"("--csv", "{}/home.csv", "--exit-after-hold-s", "0")", dir),
+      [&](const std::string&) {
+        std::this_thread::sleep_for(std::chrono::seconds(2));
+        std::system(("lcm-logplayer -e 'EDSP_SETPOINT|EDSP_LEG_COMMAND' "
+                     "-l 'udpm://239.255.76.67:7667?ttl=0' " + source.log_path + " >/dev/null 2>&1")
+                        .c_str());
+      },
+      99);
+  ASSERT_EQ(live.exit_code, 0);
+  LogReader reader(live.log_path);
+  LogEvent event;
+  std::int64_t foreign_refused = 0, truth_samples = 0;
+  double furthest_from_home = 0.0;
+  const Vector6 home = PlatformModel(Huang2021Config()).home_pose().ToVector();
+  while (reader.Next(&event)) {
+    const int size = static_cast<int>(event.data.size());
+    if (event.channel == "EDSP_FAULT") {
+      fault_t f{};
+      if (f.decode(event.data.data(), 0, size) >= 0 &&
+          f.code == static_cast<std::int32_t>(FaultCode::kForeignSession)) {
+        ++foreign_refused;
+      }
+    } else if (event.channel == "EDSP_RIG_TRUTH") {
+      rig_truth_t t{};
+      if (t.decode(event.data.data(), 0, size) < 0) continue;
+      Vector6 q;
+      for (int k = 0; k < 6; ++k) q(k) = t.pose[k];
+      furthest_from_home = std::max(furthest_from_home, (q - home).cwiseAbs().maxCoeff());
+      ++truth_samples;
+    }
+  }
+  EXPECT_GT(truth_samples, 5000);
+  EXPECT_LT(furthest_from_home, 1e-6) << "the replayed session moved the live platform";
+  // Thousands were refused; EDSP_FAULT carries a throttled summary of them
+  // (one per channel and code every 100 ms), not a flood.
+  EXPECT_GT(foreign_refused, 20) << "the replayed setpoints and commands must be refused";
+  EXPECT_LT(foreign_refused, 400) << "faults must be throttled, not one per refused message";
 }
 
 }  // namespace

@@ -2,7 +2,9 @@
 // What every node reports on EDSP_FAULT: the codes, and building the message.
 
 #include <cstdint>
+#include <map>
 #include <string>
+#include <utility>
 
 #include "edsp/fault_t.hpp"
 
@@ -22,6 +24,27 @@ enum class FaultCode : std::int32_t {
 };
 
 const char* FaultCodeName(FaultCode code);
+
+// Repeated faults (a flood of foreign packets, a stream of stale commands)
+// must not flood EDSP_FAULT in turn: at most one per (channel, code) every
+// `interval_us`; the next one sent says how many were held back.
+class FaultThrottle {
+ public:
+  explicit FaultThrottle(std::int64_t interval_us = 100000) : interval_us_(interval_us) {}
+  // True if `fault` should be published now (its reason then carries the
+  // count of the ones suppressed since the last one sent).
+  bool Admit(fault_t* fault);
+  std::int64_t suppressed_total() const { return suppressed_total_; }
+
+ private:
+  struct Entry {
+    std::int64_t last_sent_utime;
+    std::int64_t suppressed;
+  };
+  std::int64_t interval_us_;
+  std::map<std::pair<std::string, std::int32_t>, Entry> entries_;
+  std::int64_t suppressed_total_ = 0;
+};
 
 fault_t MakeFault(const std::string& node, const std::string& channel, FaultCode code,
                   std::int8_t severity, std::string reason, std::int64_t utime);
