@@ -1,13 +1,18 @@
 // edsp-log: tools for LCM log files.
 //   edsp-log info LOG [--json]     channels, counts, rates, seq gaps, damage
 //   edsp-log faults LOG            every EDSP_FAULT: time, node, channel, reason
+//   edsp-log export --measurement FILE.csv LOG
+//                                  the measurement CSV of interfaces.md §3
 #include <cstdio>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "edsp/fault_t.hpp"
+#include <fstream>
+
 #include "edsp/logger/log_summary.h"
+#include "edsp/logger/measurement_export.h"
 
 namespace edsp {
 namespace {
@@ -63,6 +68,22 @@ int Faults(const std::string& path) {
   return reader.damaged() ? 3 : 0;
 }
 
+int Export(const std::string& path, const std::string& csv) {
+  std::ofstream out(csv);
+  if (!out) throw std::runtime_error(csv + ": cannot create file");
+  const MeasurementExport e = ExportMeasurementCsv(path, out);
+  out.close();
+  if (!out) throw std::runtime_error(csv + ": write failed");
+  std::fprintf(stderr, "edsp-log: %lld rows to %s (%lld tracker samples skipped)\n",
+               static_cast<long long>(e.rows), csv.c_str(), static_cast<long long>(e.skipped));
+  if (e.damaged) {
+    std::fprintf(stderr, "edsp-log: %s is damaged at byte %lld; exported what precedes it\n",
+                 path.c_str(), static_cast<long long>(e.damage_offset));
+    return 3;
+  }
+  return 0;
+}
+
 }  // namespace
 }  // namespace edsp
 
@@ -76,9 +97,14 @@ int main(int argc, char** argv) {
   info->add_flag("--json", json, "print JSON");
   CLI::App* faults = app.add_subcommand("faults", "every EDSP_FAULT with its reason");
   faults->add_option("log", path, "LCM log file")->required();
+  CLI::App* export_cmd = app.add_subcommand("export", "export a log for analysis");
+  std::string measurement;
+  export_cmd->add_option("log", path, "LCM log file")->required();
+  export_cmd->add_option("--measurement", measurement, "write the measurement CSV here")->required();
   CLI11_PARSE(app, argc, argv);
   try {
     if (*faults) return edsp::Faults(path);
+    if (*export_cmd) return edsp::Export(path, measurement);
     return edsp::Info(path, json);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "edsp-log: error: %s\n", e.what());

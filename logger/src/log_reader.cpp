@@ -42,13 +42,14 @@ LogReader::LogReader(const std::string& path) {
 LogReader::~LogReader() = default;
 
 bool LogReader::Next(LogEvent* event) {
+  // LCM says "no more" both at the end and at damage: bytes left where no
+  // whole event could be read mean damage, starting where that read began.
+  const long before = std::ftell(impl_->file.getFilePtr());
   const lcm::LogEvent* e = impl_->file.readNextEvent();
   if (e == nullptr) {
-    // LCM says "no more" both at the end and at damage: compare positions.
-    const long position = std::ftell(impl_->file.getFilePtr());
-    if (position >= 0 && position < file_size_) {
+    if (before >= 0 && before < file_size_) {
       damaged_ = true;
-      damage_offset_ = position;
+      damage_offset_ = before;
     }
     return false;
   }

@@ -1,0 +1,154 @@
+// The measurement export on a log written here: rows only for valid tracker
+// samples after a command, the latest setpoint/command/encoders beside each,
+// the run from the trajectory name, every double exact, and a damaged log
+// exported up to its damage.
+#include <unistd.h>
+
+#include <cstdio>
+#include <sstream>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <lcm/lcm-cpp.hpp>
+
+#include "edsp/leg_command_t.hpp"
+#include "edsp/leg_state_t.hpp"
+#include "edsp/logger/log_summary.h"
+#include "edsp/logger/measurement_export.h"
+#include "edsp/pose_setpoint_t.hpp"
+#include "edsp/tracker_point_t.hpp"
+
+namespace edsp {
+namespace {
+
+class LogBuilder {
+ public:
+  explicit LogBuilder(const std::string& path) : log_(path, "w") {}
+  template <typename Msg>
+  void Add(const std::string& channel, const Msg& msg) {
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(msg.getEncodedSize()));
+    msg.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+    lcm::LogEvent e{};
+    e.eventnum = n_++;
+    e.timestamp = 1000 * n_;
+    e.channel = channel;
+    e.datalen = static_cast<std::int32_t>(bytes.size());
+    e.data = bytes.data();
+    log_.writeEvent(&e);
+  }
+
+ private:
+  lcm::LogFile log_;
+  std::int64_t n_ = 0;
+};
+
+tracker_point_t Point(std::int64_t utime, double x, bool valid = true) {
+  tracker_point_t p{};
+  p.utime = utime;
+  p.point_m[0] = x;
+  p.point_m[1] = 1.0 / 3.0;
+  p.point_m[2] = 1.511;
+  p.valid = valid;
+  return p;
+}
+
+pose_setpoint_t Setpoint(const char* trajectory, double z) {
+  pose_setpoint_t s{};
+  s.pose[2] = z;
+  s.pose[5] = 0.1 + 1e-17;
+  s.trajectory = trajectory;
+  return s;
+}
+
+std::vector<std::vector<std::string>> Rows(const std::string& csv) {
+  std::vector<std::vector<std::string>> rows;
+  std::istringstream in(csv);
+  std::string line;
+  while (std::getline(in, line)) {
+    rows.emplace_back();
+    std::string cell;
+    std::istringstream cells(line);
+    while (std::getline(cells, cell, ',')) rows.back().push_back(cell);
+  }
+  return rows;
+}
+
+const std::string kPath = "/tmp/edsp_export_test_" + std::to_string(::getpid()) + ".lcmlog";
+
+void WriteLog() {
+  LogBuilder b(kPath);
+  b.Add("EDSP_TRACKER", Point(100, 9.0));  // before any command: skipped
+  b.Add("EDSP_SETPOINT", Setpoint("Lz/move 1", 1.4));
+  leg_command_t c{};
+  for (int i = 0; i < 6; ++i) c.command_length_m[i] = 1.9 + 0.001 * i + 1e-13;
+  b.Add("EDSP_LEG_COMMAND", c);
+  leg_state_t s{};
+  for (int i = 0; i < 6; ++i) s.encoder_length_m[i] = 1.8 + 0.002 * i;
+  b.Add("EDSP_LEG_STATE", s);
+  b.Add("EDSP_TRACKER", Point(200, 1.2 + 1e-12));
+  b.Add("EDSP_TRACKER", Point(300, 5.0, false));  // beam broken: skipped
+  b.Add("EDSP_SETPOINT", Setpoint("Rz/dwell 2", 1.5));
+  b.Add("EDSP_TRACKER", Point(1500200, 1.3));
+}
+
+TEST(MeasurementExport, OneRowPerValidTrackerSampleWithTheLatestCommands) {
+  WriteLog();
+  std::ostringstream csv;
+  const MeasurementExport e = ExportMeasurementCsv(kPath, csv);
+  EXPECT_EQ(e.rows, 2);
+  EXPECT_EQ(e.skipped, 2);
+  EXPECT_FALSE(e.damaged);
+  const auto rows = Rows(csv.str());
+  ASSERT_EQ(rows.size(), 3u);
+  ASSERT_EQ(rows[0].size(), 23u);
+  EXPECT_EQ(rows[0][0], "time_s");
+  EXPECT_EQ(rows[0][8], "leg_cmd_1_m");
+  EXPECT_EQ(rows[0][22], "point_z_m");
+  EXPECT_EQ(rows[1][1], "Lz");
+  EXPECT_EQ(rows[2][1], "Rz");
+  EXPECT_EQ(std::stod(rows[1][0]), 0.0);
+  EXPECT_DOUBLE_EQ(std::stod(rows[2][0]), 1.5);
+  // Every double survives the text exactly.
+  EXPECT_EQ(std::stod(rows[1][4]), 1.4);
+  EXPECT_EQ(std::stod(rows[1][7]), 0.1 + 1e-17);
+  EXPECT_EQ(std::stod(rows[1][9]), 1.9 + 0.001 * 1 + 1e-13);
+  EXPECT_EQ(std::stod(rows[1][15]), 1.8 + 0.002 * 1);
+  EXPECT_EQ(std::stod(rows[1][20]), 1.2 + 1e-12);
+  EXPECT_EQ(std::stod(rows[1][21]), 1.0 / 3.0);
+  EXPECT_EQ(std::stod(rows[2][4]), 1.5);
+  ::unlink(kPath.c_str());
+}
+
+TEST(MeasurementExport, DamagedLogIsExportedUpToTheDamageAndSaysWhere) {
+  WriteLog();
+  const long size = [] {
+    FILE* f = std::fopen(kPath.c_str(), "rb");
+    std::fseek(f, 0, SEEK_END);
+    const long s = std::ftell(f);
+    std::fclose(f);
+    return s;
+  }();
+  ASSERT_EQ(::truncate(kPath.c_str(), size - 20), 0);  // the last event cut short
+  std::ostringstream csv;
+  const MeasurementExport e = ExportMeasurementCsv(kPath, csv);
+  EXPECT_TRUE(e.damaged);
+  EXPECT_GT(e.damage_offset, 0);
+  EXPECT_EQ(e.rows, 1);  // the Lz row before the damage
+  const LogSummary summary = SummarizeLog(kPath);
+  EXPECT_TRUE(summary.damaged);
+  EXPECT_EQ(summary.channels.at("EDSP_SETPOINT").messages, 2);
+  ::unlink(kPath.c_str());
+}
+
+TEST(MeasurementExport, MissingLogIsNamed) {
+  std::ostringstream csv;
+  try {
+    ExportMeasurementCsv("/nonexistent/run.lcmlog", csv);
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/run.lcmlog"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace edsp
