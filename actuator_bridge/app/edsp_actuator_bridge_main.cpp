@@ -9,6 +9,7 @@
 #include "edsp/actuator_bridge/virtual_rig_backend.h"
 #include "edsp/kinematics/config.h"
 #include "edsp/node/node_options.h"
+#include "edsp/node/node_reporting.h"
 #include "edsp/node/runtime.h"
 #include "edsp/arm_t.hpp"
 #include "edsp/transport/bus.h"
@@ -53,25 +54,19 @@ int Run(int argc, char** argv) {
   ActuatorBridge bridge(PlatformModel(config), backend.get(), options);
   Bus bus(transport);
   auto states = bus.Advertise<leg_state_t>("EDSP_LEG_STATE");
-  auto faults = bus.Advertise<fault_t>("EDSP_FAULT");
-  FaultThrottle throttle;
-  auto report = [&](fault_t fault) {
-    if (throttle.Admit(&fault)) faults.Publish(fault);
-  };
-  auto status_out = bus.Advertise<node_status_t>("EDSP_STATUS");
-  NodeStatus status("actuator_bridge");
-  status.SetState(node_status_t::STATE_RUNNING);
+  NodeReporting reporting(bus, "actuator_bridge");
+  NodeStatus& status = reporting.status();
   bus.Subscribe<leg_command_t>("EDSP_LEG_COMMAND", [&](const leg_command_t& command) {
     status.CountIn();
     fault_t fault;
     if (!bridge.HandleCommand(command, UtimeNow(), &fault)) {
       status.CountRejected();
-      report(fault);
+      reporting.Fault(fault);
     }
   });
   bus.Subscribe<arm_t>("EDSP_ARM", [&](const arm_t& arm) {
     if (arm.session_id != node.session_id) {
-      faults.Publish(MakeFault("actuator_bridge", "EDSP_ARM", FaultCode::kForeignSession,
+      reporting.Fault(MakeFault("actuator_bridge", "EDSP_ARM", FaultCode::kForeignSession,
                                fault_t::SEVERITY_WARNING,
                                fmt::format("re-arm from session {} ignored (this group is session {})",
                                            arm.session_id, node.session_id),
@@ -81,6 +76,8 @@ int Run(int argc, char** argv) {
     bridge.Rearm();
     std::fprintf(stderr, "edsp-actuator-bridge: re-armed by %s\n", arm.operator_name.c_str());
   });
+  // Node-based map: the reference stays valid; no lookup in the 1 kHz loop.
+  const ChannelCounters& in = bus.Counters("EDSP_LEG_COMMAND");
   RateClock clock(std::chrono::milliseconds(1));
   while (!StopRequested()) {
     clock.WaitNext();
@@ -89,15 +86,12 @@ int Run(int argc, char** argv) {
     const std::int64_t now = UtimeNow();
     leg_state_t state;
     fault_t fault;
-    if (bridge.Cycle(now, &state, &fault)) report(fault);
+    if (bridge.Cycle(now, &state, &fault)) reporting.Fault(fault);
     if (states.Publish(state)) status.CountOut();
     status.SetState(bridge.holding() ? node_status_t::STATE_HOLDING : node_status_t::STATE_RUNNING);
     status.RecordLoop(std::chrono::steady_clock::now() - start);
-    if (status.Due(now)) {
-      const ChannelCounters& in = bus.Counters("EDSP_LEG_COMMAND");
-      status.SetDrops(static_cast<std::int64_t>(in.seq_gaps + in.overruns));
-      status_out.Publish(status.Report(now, clock.missed()));
-    }
+    status.SetDrops(static_cast<std::int64_t>(in.seq_gaps + in.overruns));
+    reporting.StatusTick(now, clock.missed());
   }
   backend->Deactivate();
   return 0;

@@ -11,6 +11,7 @@
 #include "edsp/kinematics/config.h"
 #include "edsp/kinematics/kinematics_node.h"
 #include "edsp/node/node_options.h"
+#include "edsp/node/node_reporting.h"
 #include "edsp/node/runtime.h"
 #include "edsp/transport/bus.h"
 
@@ -44,14 +45,8 @@ int Run(int argc, char** argv) {
   auto commands = bus.Advertise<leg_command_t>("EDSP_LEG_COMMAND");
   auto states = bus.Advertise<platform_state_t>("EDSP_PLATFORM_STATE");
   auto config_out = bus.Advertise<platform_config_t>("EDSP_CONFIG");
-  auto faults = bus.Advertise<fault_t>("EDSP_FAULT");
-  FaultThrottle throttle;
-  auto report = [&](fault_t fault) {
-    if (throttle.Admit(&fault)) faults.Publish(fault);
-  };
-  auto status_out = bus.Advertise<node_status_t>("EDSP_STATUS");
-  NodeStatus status("kinematics");
-  status.SetState(node_status_t::STATE_RUNNING);
+  NodeReporting reporting(bus, "kinematics");
+  NodeStatus& status = reporting.status();
 
   bus.Subscribe<pose_setpoint_t>("EDSP_SETPOINT", [&](const pose_setpoint_t& sp) {
     const auto start = std::chrono::steady_clock::now();
@@ -63,7 +58,7 @@ int Run(int argc, char** argv) {
       if (commands.Publish(command)) status.CountOut();
     } else {
       status.CountRejected();
-      report(fault);
+      reporting.Fault(fault);
     }
     status.RecordLoop(std::chrono::steady_clock::now() - start);
   });
@@ -76,10 +71,11 @@ int Run(int argc, char** argv) {
     if (kinematics.HandleLegState(legs, UtimeNow(), &state, &fault)) {
       states.Publish(state);
     } else {
-      report(fault);
+      reporting.Fault(fault);
     }
   });
 
+  const ChannelCounters& in = bus.Counters("EDSP_SETPOINT");
   std::int64_t next_config = 0;
   std::uint64_t reported_decode_errors = 0;
   while (!StopRequested()) {
@@ -89,19 +85,16 @@ int Run(int argc, char** argv) {
       config_out.Publish(kinematics.ConfigMessage(now, config_text));
       next_config = now + 1000000;
     }
-    if (status.Due(now)) {
-      const ChannelCounters& in = bus.Counters("EDSP_SETPOINT");
-      status.SetDrops(static_cast<std::int64_t>(in.seq_gaps + in.overruns));
-      status_out.Publish(status.Report(now, 0));
-      if (in.decode_errors > reported_decode_errors) {  // new ones since the last report
-        faults.Publish(MakeFault("kinematics", "EDSP_SETPOINT", FaultCode::kUndecodable,
-                                 fault_t::SEVERITY_WARNING,
-                                 fmt::format("{} undecodable packets; last: {}",
-                                             in.decode_errors - reported_decode_errors, in.last_error),
-                                 now));
-        reported_decode_errors = in.decode_errors;
-      }
+    status.SetDrops(static_cast<std::int64_t>(in.seq_gaps + in.overruns));
+    if (in.decode_errors > reported_decode_errors) {  // new ones since the last report
+      reporting.Fault(MakeFault("kinematics", "EDSP_SETPOINT", FaultCode::kUndecodable,
+                                fault_t::SEVERITY_WARNING,
+                                fmt::format("{} undecodable packets; last: {}",
+                                            in.decode_errors - reported_decode_errors, in.last_error),
+                                now));
+      reported_decode_errors = in.decode_errors;
     }
+    reporting.StatusTick(now, 0);
   }
   return 0;
 }

@@ -1,0 +1,32 @@
+#pragma once
+// A node's two reporting channels on the bus: throttled EDSP_FAULT and its
+// EDSP_STATUS once a second.
+
+#include <cstdint>
+#include <string>
+
+#include "edsp/node/fault.h"
+#include "edsp/node/runtime.h"
+#include "edsp/transport/bus.h"
+
+namespace edsp {
+
+class NodeReporting {
+ public:
+  // Set-up: advertises EDSP_FAULT and EDSP_STATUS (may throw TransportError).
+  NodeReporting(Bus& bus, const std::string& node);
+
+  // Publishes the fault unless the throttle holds it back.
+  void Fault(fault_t fault);
+  NodeStatus& status() { return status_; }
+  // Publishes EDSP_STATUS when a second has passed since the last one.
+  void StatusTick(std::int64_t now_utime, std::int64_t deadline_misses);
+
+ private:
+  Bus::Publisher<fault_t> faults_;
+  Bus::Publisher<node_status_t> status_out_;
+  FaultThrottle throttle_;
+  NodeStatus status_;
+};
+
+}  // namespace edsp
