@@ -76,10 +76,10 @@ DriveFeedback VirtualRig::Feedback() const {
   return f;
 }
 
-rig_truth_t VirtualRig::Truth(std::int64_t utime) const {
+rig_truth_t VirtualRig::Truth(std::int64_t utime) {
   rig_truth_t t{};
   t.utime = utime;
-  t.seq = ++const_cast<VirtualRig*>(this)->truth_seq_;
+  t.seq = ++truth_seq_;
   const LegSolution legs = model_.Solve(pose_);
   const Vector6 q = pose_.ToVector();
   const Vector3 a = model_.ObservationPoint(pose_);

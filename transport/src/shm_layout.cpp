@@ -17,8 +17,10 @@ void Mix(std::uint32_t* hash, const void* data, std::size_t size) {
 }  // namespace
 
 std::uint32_t ShmHeaderChecksum(const ShmSegmentHeader& h) {
+  // The magic is checked on its own and is published last (it marks the
+  // header complete), so the checksum covers the constant, not the field.
   std::uint32_t hash = 2166136261u;
-  const std::uint64_t magic = h.magic.load(std::memory_order_relaxed);
+  const std::uint64_t magic = kShmMagic;
   Mix(&hash, &magic, sizeof magic);
   Mix(&hash, &h.layout_version, sizeof h.layout_version);
   Mix(&hash, &h.header_size_bytes, sizeof h.header_size_bytes);

@@ -199,14 +199,12 @@ ShmResult<ShmSegment> CreateSegment(const ShmChannelSpec& spec) {
   h->slot_size_bytes = spec.slot_size_bytes;
   h->slot_stride_bytes = ShmSlotStride(spec.slot_size_bytes);
   ClaimWriter(h);
-  h->magic.store(kShmMagic, std::memory_order_relaxed);
   h->checksum = ShmHeaderChecksum(*h);
-  std::atomic_thread_fence(std::memory_order_release);
+  // Publish last, with release: a reader (or a second writer) that sees the
+  // magic sees a complete header; before it, only "not ready" (magic == 0).
+  h->magic.store(kShmMagic, std::memory_order_release);
   ShmResult<ShmSegment> result;
   result.value = ShmSegmentFactory::Make(spec.segment_name, std::move(mapping));
-  // Publish the header last: readers treat magic == 0 as "not ready", so
-  // store it again now that the checksum is in place.
-  result.value->header()->magic.store(kShmMagic, std::memory_order_release);
   return result;
 }
 

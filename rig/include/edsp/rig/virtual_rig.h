@@ -51,7 +51,7 @@ class VirtualRig {
   bool Advance(double dt_s);
 
   DriveFeedback Feedback() const;
-  rig_truth_t Truth(std::int64_t utime) const;
+  rig_truth_t Truth(std::int64_t utime);  // numbers each message (seq)
   // True (and *point filled) when a tracker sample is due at this step.
   bool TrackerSample(std::int64_t utime, tracker_point_t* point);
 

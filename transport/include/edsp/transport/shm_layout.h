@@ -54,7 +54,8 @@ static_assert(sizeof(ShmSlotHeader) == kCacheLine);
 static_assert(std::atomic<std::uint64_t>::is_always_lock_free);
 static_assert(std::atomic<std::uint32_t>::is_always_lock_free);
 
-// FNV-1a over the immutable header fields.
+// FNV-1a over the immutable header fields (and the expected magic), so the
+// checksum can be written before `magic` publishes the header.
 std::uint32_t ShmHeaderChecksum(const ShmSegmentHeader& header);
 
 // Bytes one slot occupies: header + payload, rounded up to a cache line.
