@@ -3,14 +3,21 @@
 //   edsp-log faults LOG            every EDSP_FAULT: time, node, channel, reason
 //   edsp-log export --measurement FILE.csv LOG
 //                                  the measurement CSV of interfaces.md §3
+//   edsp-log export --csv DIR [--channels REGEX] LOG
+//                                  one CSV per channel, every field
+// Exit status: 0, 1 on errors, 3 when the log is damaged (what precedes the
+// damage is still read and exported).
+#include <algorithm>
 #include <cstdio>
 
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "edsp/fault_t.hpp"
 #include <fstream>
 
+#include "edsp/logger/channel_csv_export.h"
 #include "edsp/logger/log_summary.h"
 #include "edsp/logger/measurement_export.h"
 
@@ -68,7 +75,28 @@ int Faults(const std::string& path) {
   return reader.damaged() ? 3 : 0;
 }
 
-int Export(const std::string& path, const std::string& csv) {
+int ReportDamage(const std::string& path, bool damaged, std::int64_t offset) {
+  if (!damaged) return 0;
+  std::fprintf(stderr, "edsp-log: %s is damaged at byte %lld; exported what precedes it\n",
+               path.c_str(), static_cast<long long>(offset));
+  return 3;
+}
+
+int ExportChannels(const std::string& path, const std::string& dir, const std::string& channels) {
+  const ChannelCsvExport e = ExportChannelCsvs(path, dir, channels);
+  for (const auto& [name, c] : e.channels) {
+    std::fprintf(stderr, "edsp-log: %-20s %8lld rows  %s%s\n", name.c_str(),
+                 static_cast<long long>(c.rows), c.path.c_str(),
+                 c.skipped ? fmt::format("  ({} undecodable skipped)", c.skipped).c_str() : "");
+  }
+  for (const auto& [name, n] : e.unknown) {
+    std::fprintf(stderr, "edsp-log: %-20s %8lld messages of no edsp type: not exported\n",
+                 name.c_str(), static_cast<long long>(n));
+  }
+  return ReportDamage(path, e.damaged, e.damage_offset);
+}
+
+int ExportMeasurement(const std::string& path, const std::string& csv) {
   std::ofstream out(csv);
   if (!out) throw std::runtime_error(csv + ": cannot create file");
   const MeasurementExport e = ExportMeasurementCsv(path, out);
@@ -76,12 +104,7 @@ int Export(const std::string& path, const std::string& csv) {
   if (!out) throw std::runtime_error(csv + ": write failed");
   std::fprintf(stderr, "edsp-log: %lld rows to %s (%lld tracker samples skipped)\n",
                static_cast<long long>(e.rows), csv.c_str(), static_cast<long long>(e.skipped));
-  if (e.damaged) {
-    std::fprintf(stderr, "edsp-log: %s is damaged at byte %lld; exported what precedes it\n",
-                 path.c_str(), static_cast<long long>(e.damage_offset));
-    return 3;
-  }
-  return 0;
+  return ReportDamage(path, e.damaged, e.damage_offset);
 }
 
 }  // namespace
@@ -98,13 +121,25 @@ int main(int argc, char** argv) {
   CLI::App* faults = app.add_subcommand("faults", "every EDSP_FAULT with its reason");
   faults->add_option("log", path, "LCM log file")->required();
   CLI::App* export_cmd = app.add_subcommand("export", "export a log for analysis");
-  std::string measurement;
+  std::string measurement, csv_dir, channels = ".*";
   export_cmd->add_option("log", path, "LCM log file")->required();
-  export_cmd->add_option("--measurement", measurement, "write the measurement CSV here")->required();
+  export_cmd->add_option("--measurement", measurement, "write the measurement CSV here");
+  export_cmd->add_option("--csv", csv_dir, "write one CSV per channel into this directory");
+  export_cmd->add_option("--channels", channels, "with --csv: channels to export (regex)");
+  export_cmd->callback([&] {
+    if (measurement.empty() && csv_dir.empty()) {
+      throw CLI::ValidationError("export", "give --measurement FILE and/or --csv DIR");
+    }
+  });
   CLI11_PARSE(app, argc, argv);
   try {
     if (*faults) return edsp::Faults(path);
-    if (*export_cmd) return edsp::Export(path, measurement);
+    if (*export_cmd) {
+      int status = 0;
+      if (!measurement.empty()) status = edsp::ExportMeasurement(path, measurement);
+      if (!csv_dir.empty()) status = std::max(status, edsp::ExportChannels(path, csv_dir, channels));
+      return status;
+    }
     return edsp::Info(path, json);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "edsp-log: error: %s\n", e.what());

@@ -9,8 +9,8 @@
 #include <vector>
 
 #include <gtest/gtest.h>
-#include <lcm/lcm-cpp.hpp>
 
+#include "log_builder.h"
 #include "edsp/leg_command_t.hpp"
 #include "edsp/leg_state_t.hpp"
 #include "edsp/logger/log_summary.h"
@@ -21,26 +21,7 @@
 namespace edsp {
 namespace {
 
-class LogBuilder {
- public:
-  explicit LogBuilder(const std::string& path) : log_(path, "w") {}
-  template <typename Msg>
-  void Add(const std::string& channel, const Msg& msg) {
-    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(msg.getEncodedSize()));
-    msg.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
-    lcm::LogEvent e{};
-    e.eventnum = n_++;
-    e.timestamp = 1000 * n_;
-    e.channel = channel;
-    e.datalen = static_cast<std::int32_t>(bytes.size());
-    e.data = bytes.data();
-    log_.writeEvent(&e);
-  }
-
- private:
-  lcm::LogFile log_;
-  std::int64_t n_ = 0;
-};
+using test_support::LogBuilder;
 
 tracker_point_t Point(std::int64_t utime, double x, bool valid = true) {
   tracker_point_t p{};
