@@ -1,5 +1,8 @@
 #include "group_file.h"
 
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
 #include <set>
 #include <stdexcept>
 
@@ -19,6 +22,8 @@ std::string RequireString(const std::string& path, const toml::node& node, const
   return *node.value<std::string>();
 }
 
+const char* Environment(const std::string& name) { return std::getenv(name.c_str()); }
+
 MemberSpec ReadMember(const std::string& path, const toml::table& t, int index) {
   MemberSpec m;
   const std::string where = fmt::format("[[member]] #{}", index + 1);
@@ -31,7 +36,13 @@ MemberSpec ReadMember(const std::string& path, const toml::table& t, int index) 
     } else if (k == "args") {
       const toml::array* args = node.as_array();
       if (args == nullptr) Fail(path, node, where + " args must be an array of strings");
-      for (const toml::node& a : *args) m.args.push_back(RequireString(path, a, where + " args"));
+      for (const toml::node& a : *args) {
+        try {
+          m.args.push_back(ExpandVariables(RequireString(path, a, where + " args"), Environment));
+        } catch (const std::invalid_argument& e) {
+          Fail(path, a, fmt::format("{} args: {}", where, e.what()));
+        }
+      }
     } else if (k == "env") {
       const toml::table* env = node.as_table();
       if (env == nullptr) Fail(path, node, where + " env must be a table");
@@ -62,6 +73,37 @@ MemberSpec ReadMember(const std::string& path, const toml::table& t, int index) 
 }
 
 }  // namespace
+
+std::string ExpandVariables(const std::string& text,
+                            const std::function<const char*(const std::string&)>& lookup) {
+  std::string out;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (text[i] != '$' || i + 1 >= text.size() || text[i + 1] != '{') {
+      out += text[i];
+      continue;
+    }
+    const std::size_t close = text.find('}', i + 2);
+    if (close == std::string::npos) throw std::invalid_argument("unclosed ${ in \"" + text + "\"");
+    const std::string body = text.substr(i + 2, close - i - 2);
+    const std::size_t dash = body.find(":-");
+    const std::string name = body.substr(0, dash);
+    const bool valid_name = !name.empty() && !std::isdigit(static_cast<unsigned char>(name[0])) &&
+                            std::all_of(name.begin(), name.end(), [](char c) {
+                              return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+                            });
+    if (!valid_name) throw std::invalid_argument("bad variable name in \"" + text + "\"");
+    const char* value = lookup(name);
+    if (value != nullptr && *value != '\0') {
+      out += value;
+    } else if (dash != std::string::npos) {
+      out += body.substr(dash + 2);
+    } else {
+      throw std::invalid_argument("${" + name + "} is not set and has no default (${" + name + ":-...})");
+    }
+    i = close;
+  }
+  return out;
+}
 
 GroupSpec LoadGroupFile(const std::string& path) {
   toml::table root;

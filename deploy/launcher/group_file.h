@@ -4,6 +4,7 @@
 // same file's [transport] section routes the group's channels.
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -32,7 +33,15 @@ struct GroupSpec {
   std::vector<MemberSpec> members;
 };
 
-// Throws std::runtime_error naming the file, line and key.
+// Throws std::runtime_error naming the file, line and key. Member args may
+// use ${NAME} and ${NAME:-default}, expanded from the launcher's environment
+// (e.g. `deploy/edsp demo` sets the PR mode and log directory per run); an
+// unset NAME without a default is an error.
 GroupSpec LoadGroupFile(const std::string& path);
+
+// The expansion above. `lookup` returns nullptr for an unset variable.
+// Throws std::invalid_argument naming the variable or the malformed text.
+std::string ExpandVariables(const std::string& text,
+                            const std::function<const char*(const std::string&)>& lookup);
 
 }  // namespace edsp

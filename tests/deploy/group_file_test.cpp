@@ -1,0 +1,84 @@
+// Group files: ${NAME} / ${NAME:-default} in member args, and errors that
+// name the file, line and what is wrong.
+#include <unistd.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <map>
+
+#include <gtest/gtest.h>
+
+#include "group_file.h"
+
+namespace edsp {
+namespace {
+
+const char* Lookup(const std::string& name) {
+  static const std::map<std::string, std::string> env = {{"MODE", "none"}, {"EMPTY", ""}};
+  const auto it = env.find(name);
+  return it == env.end() ? nullptr : it->second.c_str();
+}
+
+TEST(ExpandVariables, SetUnsetDefaultsAndPlainText) {
+  EXPECT_EQ(ExpandVariables("--pr-mode", Lookup), "--pr-mode");
+  EXPECT_EQ(ExpandVariables("${MODE}", Lookup), "none");
+  EXPECT_EQ(ExpandVariables("${MODE:-signed}", Lookup), "none");
+  EXPECT_EQ(ExpandVariables("${UNSET:-signed}", Lookup), "signed");
+  EXPECT_EQ(ExpandVariables("${EMPTY:-x}", Lookup), "x");  // empty counts as unset, as in sh
+  EXPECT_EQ(ExpandVariables("a${MODE}b${UNSET:-}c", Lookup), "anonebc");
+  EXPECT_EQ(ExpandVariables("cost $5", Lookup), "cost $5");
+}
+
+TEST(ExpandVariables, ErrorsNameTheVariable) {
+  auto message = [](const std::string& text) {
+    try {
+      ExpandVariables(text, Lookup);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message("${UNSET}").find("${UNSET} is not set"), std::string::npos);
+  EXPECT_NE(message("x${MODE").find("unclosed"), std::string::npos);
+  EXPECT_NE(message("${1A}").find("bad variable name"), std::string::npos);
+  EXPECT_NE(message("${}").find("bad variable name"), std::string::npos);
+}
+
+TEST(LoadGroupFile, ExpandsArgsFromTheEnvironmentAndNamesTheLine) {
+  const std::string path = "/tmp/edsp_group_file_test_" + std::to_string(::getpid()) + ".toml";
+  std::ofstream(path) << "[group]\nname = \"t\"\n[[member]]\nname = \"k\"\ncommand = \"edsp-kinematics\"\n"
+                         "args = [\"--pr-mode\", \"${EDSP_TEST_MODE:-signed}\",\n"
+                         "        \"${EDSP_TEST_REQUIRED}\"]\n";
+  ::unsetenv("EDSP_TEST_MODE");
+  ::setenv("EDSP_TEST_REQUIRED", "--replay", 1);
+  GroupSpec g = LoadGroupFile(path);
+  ASSERT_EQ(g.members.size(), 1u);
+  EXPECT_EQ(g.members[0].args, (std::vector<std::string>{"--pr-mode", "signed", "--replay"}));
+  ::setenv("EDSP_TEST_MODE", "unsigned", 1);
+  EXPECT_EQ(LoadGroupFile(path).members[0].args[1], "unsigned");
+  ::unsetenv("EDSP_TEST_REQUIRED");
+  try {
+    LoadGroupFile(path);
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(path + ":7:"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("EDSP_TEST_REQUIRED"), std::string::npos) << e.what();
+  }
+  ::unlink(path.c_str());
+}
+
+TEST(LoadGroupFile, BadValuesAreNamed) {
+  const std::string path = "/tmp/edsp_group_file_bad_" + std::to_string(::getpid()) + ".toml";
+  std::ofstream(path) << "[[member]]\nname = \"k\"\ncommand = \"x\"\nrestart = \"sometimes\"\n";
+  try {
+    LoadGroupFile(path);
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(path + ":4:"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("sometimes"), std::string::npos) << e.what();
+  }
+  ::unlink(path.c_str());
+}
+
+}  // namespace
+}  // namespace edsp
