@@ -1,6 +1,8 @@
 // edsp-sim: offline kinematics and simulation commands (docs/edsp-sim.md).
 //   edsp-sim pr --config FILE --pose x,y,z,roll,pitch,yaw [--json]
 //   edsp-sim paper-table --config FILE [--poses N] [--json]
+//   edsp-sim stack-table --config FILE LOG... [--plots DIR] [--json]
+//       the same table measured by the tracker in logs of the live stack
 
 #include <cstdio>
 #include <exception>
@@ -14,6 +16,7 @@
 #include "edsp/kinematics/workspace.h"
 #include "edsp/sim/paper_table.h"
 #include "edsp/sim/pose_text.h"
+#include "edsp/sim/stack_report.h"
 
 namespace edsp {
 namespace {
@@ -110,6 +113,43 @@ int RunPaperTable(const std::string& config_path, int poses, bool json) {
   return 0;
 }
 
+int RunStackTable(const std::string& config_path, const std::vector<std::string>& logs,
+                  const std::string& plots_dir, bool json) {
+  const PlatformModel model(LoadConfigFile(config_path));
+  std::vector<DwellError> dwells;
+  int status = 0;
+  for (const std::string& log : logs) {
+    const DwellErrors run = DwellErrorsFromLog(log, model);
+    if (run.dwells.empty()) throw std::runtime_error(log + ": no completed dwell with tracker data");
+    if (run.damaged) {
+      std::fprintf(stderr, "edsp-sim: %s is damaged at byte %lld; using the dwells before it\n",
+                   log.c_str(), static_cast<long long>(run.damage_offset));
+      status = 3;
+    }
+    dwells.insert(dwells.end(), run.dwells.begin(), run.dwells.end());
+  }
+  const std::vector<StackTableRow> rows = StackTable(dwells, model);
+  std::vector<std::string> pngs;
+  if (!plots_dir.empty()) pngs = WriteStackPlots(dwells, model, plots_dir);
+  if (json) {
+    nlohmann::json out;
+    out["rows"] = nlohmann::json::array();
+    for (const StackTableRow& r : rows) {
+      out["rows"].push_back({{"motion", r.motion}, {"pr_mode", PrModeName(r.mode)},
+                             {"stops", r.stops}, {"max_measured_m", r.max_measured_m},
+                             {"rms_measured_m", r.rms_measured_m},
+                             {"max_predicted_m", r.max_predicted_m}});
+    }
+    out["plots"] = pngs;
+    std::printf("%s\n", out.dump(2).c_str());
+  } else {
+    std::printf("Point-A error at the dwells, max over the stops: tracker (model prediction), mm\n%s",
+                FormatStackTable(rows).c_str());
+    for (const std::string& png : pngs) std::printf("plot: %s\n", png.c_str());
+  }
+  return status;
+}
+
 }  // namespace
 }  // namespace edsp
 
@@ -133,9 +173,19 @@ int main(int argc, char** argv) {
   table->add_option("--poses", poses, "poses per motion (the paper's figures: 41)");
   table->add_flag("--json", json, "print JSON");
 
+  CLI::App* stack = app.add_subcommand(
+      "stack-table", "the table measured by the tracker in logs of the live stack (Table 1, Figs. 6-9)");
+  std::vector<std::string> logs;
+  std::string plots_dir;
+  stack->add_option("--config", config_path, "platform config (TOML)")->required();
+  stack->add_option("logs", logs, "LCM logs of sim-group runs (any PR modes)")->required();
+  stack->add_option("--plots", plots_dir, "write error-against-displacement PNGs here");
+  stack->add_flag("--json", json, "print JSON");
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (*pr) return edsp::RunPr(config_path, pose_text, json);
+    if (*stack) return edsp::RunStackTable(config_path, logs, plots_dir, json);
     return edsp::RunPaperTable(config_path, poses, json);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "edsp-sim: error: %s\n", e.what());

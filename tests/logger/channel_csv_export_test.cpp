@@ -11,7 +11,7 @@
 
 #include <gtest/gtest.h>
 
-#include "log_builder.h"
+#include "log_builder.h"  // tests/support
 #include "edsp/fault_t.hpp"
 #include "edsp/leg_command_t.hpp"
 #include "edsp/logger/channel_csv_export.h"

@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-#include "log_builder.h"
+#include "log_builder.h"  // tests/support
 #include "edsp/leg_command_t.hpp"
 #include "edsp/leg_state_t.hpp"
 #include "edsp/logger/log_summary.h"
