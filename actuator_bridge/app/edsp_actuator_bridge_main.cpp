@@ -3,11 +3,18 @@
 // position when commands go stale (50 ms) and reports it on EDSP_FAULT.
 //   edsp-actuator-bridge [--backend virtual-rig] [--image-prefix edsp]
 //                        [--config FILE] [--group FILE] [--session-id N]
+//                        [--latency-report FILE]
+// A valid command goes to the drives the moment it arrives; the 1 kHz cycle
+// checks staleness, re-writes the target and reads the encoders.
+// --latency-report: on exit, JSON of setpoint → drive-setpoint latencies and
+// cycles without a fresh command (the stack benchmark reads it).
 #include <cstdio>
+#include <fstream>
 
 #include "edsp/actuator_bridge/actuator_bridge.h"
 #include "edsp/actuator_bridge/virtual_rig_backend.h"
 #include "edsp/kinematics/config.h"
+#include "edsp/node/latency_recorder.h"
 #include "edsp/node/node_options.h"
 #include "edsp/node/node_reporting.h"
 #include "edsp/node/runtime.h"
@@ -28,6 +35,16 @@ std::unique_ptr<DriveBackend> MakeBackend(const std::string& name, const Transpo
   throw std::runtime_error("--backend " + name + ": known backends: virtual-rig");
 }
 
+void WriteLatencyReport(const std::string& path, const LatencyRecorder& latency,
+                        std::int64_t deadline_misses, const ChannelCounters& in) {
+  nlohmann::json report = ToJson(latency.Summarize());
+  report["deadline_misses"] = deadline_misses;
+  report["command_seq_gaps"] = in.seq_gaps + in.overruns;
+  std::ofstream out(path);
+  out << report.dump(2) << "\n";
+  if (!out) std::fprintf(stderr, "edsp-actuator-bridge: cannot write %s\n", path.c_str());
+}
+
 int Run(int argc, char** argv) {
   CLI::App app{"edsp-actuator-bridge: leg commands → drives, encoders → leg states"};
   NodeOptions node;
@@ -38,6 +55,8 @@ int Run(int argc, char** argv) {
   app.add_option("--image-prefix", image_prefix, "process image segment prefix (default: shm_prefix)");
   app.add_option("--stale-ms", stale_ms, "hold when no valid command for this long")
       ->check(CLI::Range(1, 10000));
+  std::string latency_report;
+  app.add_option("--latency-report", latency_report, "write latency JSON here on exit");
   CLI11_PARSE(app, argc, argv);
 
   const PlatformConfig config = LoadConfigFile(node.config_path);
@@ -56,13 +75,16 @@ int Run(int argc, char** argv) {
   auto states = bus.Advertise<leg_state_t>("EDSP_LEG_STATE");
   NodeReporting reporting(bus, "actuator_bridge");
   NodeStatus& status = reporting.status();
+  LatencyRecorder latency;
   bus.Subscribe<leg_command_t>("EDSP_LEG_COMMAND", [&](const leg_command_t& command) {
     status.CountIn();
     fault_t fault;
     if (!bridge.HandleCommand(command, UtimeNow(), &fault)) {
       status.CountRejected();
       reporting.Fault(fault);
+      return;
     }
+    if (command.setpoint_utime > 0) latency.Record(UtimeNow() - command.setpoint_utime);
   });
   bus.Subscribe<arm_t>("EDSP_ARM", [&](const arm_t& arm) {
     if (arm.session_id != node.session_id) {
@@ -80,9 +102,12 @@ int Run(int argc, char** argv) {
   const ChannelCounters& in = bus.Counters("EDSP_LEG_COMMAND");
   RateClock clock(std::chrono::milliseconds(1));
   while (!StopRequested()) {
+    for (auto left = clock.UntilNext(); left.count() > 0 && !StopRequested(); left = clock.UntilNext()) {
+      bus.Handle(std::chrono::duration_cast<std::chrono::microseconds>(left));
+    }
     clock.WaitNext();
+    latency.EndCycle();
     const auto start = std::chrono::steady_clock::now();
-    bus.Handle(std::chrono::microseconds(0));
     const std::int64_t now = UtimeNow();
     leg_state_t state;
     fault_t fault;
@@ -94,6 +119,7 @@ int Run(int argc, char** argv) {
     reporting.StatusTick(now, clock.missed());
   }
   backend->Deactivate();
+  if (!latency_report.empty()) WriteLatencyReport(latency_report, latency, clock.missed(), in);
   return 0;
 }
 

@@ -101,6 +101,9 @@ bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utim
   holding_ = false;
   hold_reported_ = false;
   ++accepted_;
+  // To the drives now, not at the next cycle: the command's latency is the
+  // transport's, not the cycle's phase. A failed write shows in Cycle().
+  backend_->Write(now_utime, target_);
   return true;
 }
 

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
+#include <sched.h>
+
 #include <set>
 #include <stdexcept>
 
@@ -59,6 +61,18 @@ MemberSpec ReadMember(const std::string& path, const toml::table& t, int index) 
       const auto v = node.value<std::int64_t>();
       if (!node.is_integer() || *v < 0 || *v > 100000) Fail(path, node, where + " " + k + " must be an integer 0..100000");
       (k == "max_restarts" ? m.max_restarts : m.start_delay_ms) = static_cast<int>(*v);
+    } else if (k == "realtime_priority") {
+      const auto v = node.value<std::int64_t>();
+      if (!node.is_integer() || *v < 0 || *v > 99) Fail(path, node, where + " realtime_priority must be an integer 0..99 (0: not real-time)");
+      m.realtime_priority = static_cast<int>(*v);
+    } else if (k == "cpus") {
+      const toml::array* cpus = node.as_array();
+      if (cpus == nullptr) Fail(path, node, where + " cpus must be an array of CPU numbers");
+      for (const toml::node& c : *cpus) {
+        const auto v = c.value<std::int64_t>();
+        if (!c.is_integer() || *v < 0 || *v >= CPU_SETSIZE) Fail(path, c, where + " cpus: each must be a CPU number 0..1023");
+        m.cpus.push_back(static_cast<int>(*v));
+      }
     } else if (k == "node_options") {
       if (!node.is_boolean()) Fail(path, node, where + " node_options must be true or false");
       m.node_options = *node.value<bool>();

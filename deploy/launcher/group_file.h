@@ -23,6 +23,8 @@ struct MemberSpec {
   int max_restarts = 10;
   int start_delay_ms = 0;          // pause after starting it, before the next
   bool node_options = true;        // pass --config, --group, --session-id
+  int realtime_priority = 0;       // 1..99: SCHED_FIFO at this priority; 0: normal
+  std::vector<int> cpus;           // CPU affinity; empty: any CPU
 };
 
 struct GroupSpec {

@@ -69,6 +69,10 @@ void RateClock::WaitNext() {
   }
 }
 
+std::chrono::nanoseconds RateClock::UntilNext() const {
+  return std::chrono::nanoseconds(next_ns_ - MonotonicNs());
+}
+
 NodeStatus::NodeStatus(std::string node) : node_(std::move(node)) { loop_us_.reserve(4096); }
 
 void NodeStatus::RecordLoop(std::chrono::nanoseconds busy) {

@@ -71,7 +71,10 @@ TEST(ActuatorBridge, ValidCommandsReachTheDrivesAsMotorAngles) {
   leg_state_t state;
   std::int64_t t = kStart;
   for (int k = 1; k <= 100; ++k, t += 1000) {  // 0.1 mm per ms = 0.1 m/s
-    ASSERT_TRUE(f.bridge.HandleCommand(f.Command(1e-4 * k, t, k), t, &fault)) << fault.reason;
+    const leg_command_t c = f.Command(1e-4 * k, t, k);
+    ASSERT_TRUE(f.bridge.HandleCommand(c, t, &fault)) << fault.reason;
+    // At the drives on arrival, before the cycle: latency is the transport's.
+    EXPECT_NEAR(f.backend.written.motor_angle_rad[2], f.model.MotorAngleFromLength(2, c.command_length_m[2]), 1e-12);
     EXPECT_FALSE(f.bridge.Cycle(t, &state, &fault));
   }
   const leg_command_t last = f.Command(1e-2, t - 1000, 100);

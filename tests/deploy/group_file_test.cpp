@@ -82,3 +82,28 @@ TEST(LoadGroupFile, BadValuesAreNamed) {
 
 }  // namespace
 }  // namespace edsp
+
+namespace edsp {
+namespace {
+
+TEST(LoadGroupFile, RealTimePriorityAndCpusAreReadAndChecked) {
+  const std::string path = "/tmp/edsp_group_file_rt_" + std::to_string(::getpid()) + ".toml";
+  std::ofstream(path) << "[[member]]\nname = \"k\"\ncommand = \"x\"\nrealtime_priority = 80\ncpus = [1, 3]\n";
+  const GroupSpec g = LoadGroupFile(path);
+  EXPECT_EQ(g.members[0].realtime_priority, 80);
+  EXPECT_EQ(g.members[0].cpus, (std::vector<int>{1, 3}));
+  for (const char* bad : {"realtime_priority = 100", "realtime_priority = -1", "cpus = [\"one\"]",
+                          "cpus = 1", "cpus = [5000]"}) {
+    std::ofstream(path) << "[[member]]\nname = \"k\"\ncommand = \"x\"\n" << bad << "\n";
+    try {
+      LoadGroupFile(path);
+      ADD_FAILURE() << "accepted " << bad;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(path + ":4:"), std::string::npos) << e.what();
+    }
+  }
+  ::unlink(path.c_str());
+}
+
+}  // namespace
+}  // namespace edsp

@@ -2,6 +2,8 @@
 // decimated mirror, bad packets, handler exceptions, seq gaps, set-up errors.
 #include <unistd.h>
 
+#include <thread>
+
 #include <gtest/gtest.h>
 
 #include "edsp/pose_setpoint_t.hpp"
@@ -242,6 +244,43 @@ TEST(TransportConfig, ErrorsNameFileLineAndKey) {
   EXPECT_NE(TransportErrorOf("[transport]\nurl = \"x\"\n").find("unknown key [transport] url"),
             std::string::npos);
   EXPECT_NE(TransportErrorOf("[transport\n").find("group.toml:1:"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace edsp
+
+namespace edsp {
+namespace {
+
+// A node with two shm inputs and an LCM one (the kinematics node in a shm
+// group): a message on the second shm channel wakes Handle at once, not at
+// its timeout, and an LCM message still gets through.
+TEST(Bus, MixedInputsWakeOnAnyShmChannelAndStillServeLcm) {
+  TransportConfig config = Routed("EDSP_SETPOINT", ChannelPath::kShm);
+  config.channels["EDSP_LEG_STATE"] = config.channels["EDSP_SETPOINT"];
+  Bus writer_bus(config);
+  auto setpoints = writer_bus.Advertise<pose_setpoint_t>("EDSP_SETPOINT");
+  auto states = writer_bus.Advertise<pose_setpoint_t>("EDSP_LEG_STATE");
+  Bus bus(config);
+  std::vector<std::string> got;
+  for (const char* channel : {"EDSP_SETPOINT", "EDSP_LEG_STATE", "EDSP_ARM"}) {
+    bus.Subscribe<pose_setpoint_t>(channel, [&got, channel](const pose_setpoint_t&) { got.push_back(channel); });
+  }
+  for (int k = 0; k < 3; ++k) bus.Handle(std::chrono::milliseconds(5));  // attach
+  std::thread publisher([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    states.Publish(Setpoint(1));
+  });
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_EQ(bus.Handle(std::chrono::seconds(3)), 1);
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(2));
+  publisher.join();
+  EXPECT_EQ(got, std::vector<std::string>{"EDSP_LEG_STATE"});
+  // memq:// delivers to the publishing instance only: publish on `bus` itself.
+  bus.Publish("EDSP_ARM", Setpoint(2));
+  EXPECT_EQ(bus.Handle(std::chrono::milliseconds(100)), 1);
+  EXPECT_EQ(got.back(), "EDSP_ARM");
+  (void)setpoints;
 }
 
 }  // namespace

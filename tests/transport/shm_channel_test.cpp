@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <thread>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -264,6 +265,42 @@ TEST(ShmChannel, IdleWaitingReaderSleepsInsteadOfSpinning) {
   EXPECT_FALSE(reader.value->Wait(std::chrono::milliseconds(300)));  // default: spin, then sleep
   // A spinning reader would burn ~0.3 s of CPU here; a sleeping one almost none.
   EXPECT_LT(ThreadCpuSeconds() - before, 0.05);
+}
+
+}  // namespace
+}  // namespace edsp
+
+namespace edsp {
+namespace {
+
+// One thread sleeping on several channels (futex_waitv): it sleeps while all
+// are idle, wakes on a message on any of them, and leaves no sleeper behind.
+TEST(ShmChannel, WaitAnySleepsOnEveryChannelAndWakesOnTheOneThatIsWritten) {
+  std::vector<std::unique_ptr<ShmWriter>> writers;
+  std::vector<std::unique_ptr<ShmReader>> readers;
+  std::vector<ShmReader*> raw;
+  for (int i = 0; i < 3; ++i) {
+    const ShmChannelSpec spec = testing::TestSpec("any" + std::to_string(i));
+    writers.push_back(OpenWriter(spec));
+    readers.push_back(OpenReader(spec));
+    raw.push_back(readers.back().get());
+  }
+  const double before = ThreadCpuSeconds();
+  EXPECT_FALSE(ShmReader::WaitAny(raw.data(), 3, std::chrono::milliseconds(300)));
+  EXPECT_LT(ThreadCpuSeconds() - before, 0.05);  // slept, did not spin
+  for (int target = 0; target < 3; ++target) {
+    std::thread publisher([&] {
+      std::this_thread::sleep_for(std::chrono::milliseconds(30));
+      Publish(*writers[static_cast<std::size_t>(target)], 1 + static_cast<std::uint64_t>(target));
+    });
+    const auto start = std::chrono::steady_clock::now();
+    EXPECT_TRUE(ShmReader::WaitAny(raw.data(), 3, std::chrono::seconds(5)));
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(4)) << target;
+    publisher.join();
+    EXPECT_TRUE(raw[static_cast<std::size_t>(target)]->Available());
+    for (auto& w : writers) EXPECT_EQ(w->segment().header()->sleepers.load(), 0u);
+    raw[static_cast<std::size_t>(target)]->SkipToLatest();
+  }
 }
 
 }  // namespace

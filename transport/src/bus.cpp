@@ -12,7 +12,8 @@ namespace edsp {
 namespace {
 constexpr auto kAttachRetry = std::chrono::milliseconds(100);
 // With both LCM and shared-memory inputs there is no single thing to sleep
-// on; LCM's socket is polled in slices this long between shm checks.
+// on: the shm doorbells are slept on (the fast path wakes in microseconds)
+// and LCM's socket is polled between slices this long.
 constexpr auto kMixedWaitSlice = std::chrono::microseconds(500);
 }  // namespace
 
@@ -120,29 +121,42 @@ void Bus::Fail(std::exception_ptr error) {
   if (!pending_error_) pending_error_ = error;
 }
 
+bool Bus::WaitShm(std::chrono::steady_clock::duration timeout) {
+  ShmReader* readers[64];
+  int count = 0;
+  for (auto& sub : shm_subscriptions_) {
+    if (sub->reader != nullptr && count < 64) readers[count++] = sub->reader.get();
+  }
+  if (count == 0) {
+    std::this_thread::sleep_for(timeout);
+    return false;
+  }
+  return ShmReader::WaitAny(readers, count,
+                            std::chrono::duration_cast<std::chrono::nanoseconds>(timeout));
+}
+
 int Bus::Handle(std::chrono::microseconds timeout) {
   using Clock = std::chrono::steady_clock;
   const auto deadline = Clock::now() + timeout;
   int delivered = 0;
   for (;;) {
     delivered += DrainShm();
-    if (lcm_.subscription_count() > 0 || shm_subscriptions_.empty()) {
-      const auto now = Clock::now();
-      auto wait = delivered > 0 || now >= deadline
-                      ? std::chrono::microseconds(0)
-                      : std::chrono::duration_cast<std::chrono::microseconds>(deadline - now);
-      if (!shm_subscriptions_.empty()) wait = std::min(wait, std::chrono::microseconds(kMixedWaitSlice));
-      delivered += lcm_.Handle(wait);
-      if (!shm_subscriptions_.empty()) delivered += DrainShm();
-    } else if (delivered == 0 && shm_subscriptions_.size() == 1 &&
-               shm_subscriptions_[0]->reader != nullptr) {
-      const auto now = Clock::now();
-      if (now < deadline) shm_subscriptions_[0]->reader->Wait(deadline - now);
+    const auto now = Clock::now();
+    const auto remaining = delivered > 0 || now >= deadline ? Clock::duration::zero() : deadline - now;
+    if (shm_subscriptions_.empty()) {
+      delivered += lcm_.Handle(std::chrono::duration_cast<std::chrono::microseconds>(remaining));
+    } else {
+      // Sleep on every shm doorbell at once. LCM's socket, if any, is polled
+      // between slices, and a segment not attached yet is retried per slice.
+      const bool mixed = lcm_.subscription_count() > 0;
+      const bool all_attached = std::all_of(shm_subscriptions_.begin(), shm_subscriptions_.end(),
+                                            [](const auto& sub) { return sub->reader != nullptr; });
+      auto slice = remaining;
+      if (mixed) slice = std::min<Clock::duration>(slice, kMixedWaitSlice);
+      if (!all_attached) slice = std::min<Clock::duration>(slice, kAttachRetry);
+      if (slice > Clock::duration::zero()) WaitShm(slice);
       delivered += DrainShm();
-    } else if (delivered == 0 && Clock::now() < deadline) {
-      // Several shm inputs (or one not attached yet): short sleeps.
-      std::this_thread::sleep_for(std::min<Clock::duration>(kMixedWaitSlice, deadline - Clock::now()));
-      delivered += DrainShm();
+      if (mixed) delivered += lcm_.Handle(std::chrono::microseconds(0));
     }
     if (pending_error_) {
       std::exception_ptr error = pending_error_;

@@ -2,6 +2,7 @@
 
 #include <time.h>
 
+#include <algorithm>
 #include <mutex>
 #include <set>
 #include <thread>
@@ -123,6 +124,43 @@ bool ShmReader::Wait(std::chrono::nanoseconds timeout, std::chrono::nanoseconds 
     FutexWait(&h->doorbell, bell, deadline - now);
     h->sleepers.fetch_sub(1, std::memory_order_seq_cst);
     if (h->writer_pid.load(std::memory_order_acquire) == 0 && !Available()) return false;
+  }
+}
+
+bool ShmReader::WaitAny(ShmReader* const* readers, int count, std::chrono::nanoseconds timeout,
+                        std::chrono::nanoseconds spin) noexcept {
+  if (count == 1) return readers[0]->Wait(timeout, spin);
+  using Clock = std::chrono::steady_clock;
+  constexpr int kMax = 64;
+  count = std::min(count, kMax);
+  auto any = [&] {
+    for (int i = 0; i < count; ++i) {
+      if (readers[i]->Available()) return true;
+    }
+    return false;
+  };
+  const auto start = Clock::now();
+  const auto deadline = start + timeout;
+  const auto spin_until = start + std::min(spin, timeout);
+  while (Clock::now() < spin_until) {
+    if (any()) return true;
+    EDSP_CPU_RELAX();
+  }
+  std::atomic<std::uint32_t>* bells[kMax];
+  std::uint32_t rung[kMax];
+  for (;;) {
+    for (int i = 0; i < count; ++i) {
+      bells[i] = &readers[i]->segment_->header()->doorbell;
+      rung[i] = bells[i]->load(std::memory_order_seq_cst);
+    }
+    if (any()) return true;
+    const auto now = Clock::now();
+    if (now >= deadline) return false;
+    // The same handshake as Wait(), on every channel: announce, re-check, sleep.
+    for (int i = 0; i < count; ++i) readers[i]->segment_->header()->sleepers.fetch_add(1, std::memory_order_seq_cst);
+    const bool ready = any() || (FutexWaitAny(bells, rung, count, deadline - now), any());
+    for (int i = 0; i < count; ++i) readers[i]->segment_->header()->sleepers.fetch_sub(1, std::memory_order_seq_cst);
+    if (ready) return true;
   }
 }
 

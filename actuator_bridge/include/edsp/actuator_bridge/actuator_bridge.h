@@ -28,7 +28,8 @@ class ActuatorBridge {
   // The backend must outlive the bridge. Starts holding the current position.
   ActuatorBridge(PlatformModel model, DriveBackend* backend, BridgeOptions options);
 
-  // True: the command becomes the target. False: *fault says why it was refused.
+  // True: the command becomes the target and is written to the drives at
+  // once. False: *fault says why it was refused.
   bool HandleCommand(const leg_command_t& command, std::int64_t now_utime, fault_t* fault);
 
   // One drive cycle: hold if the target went stale, write it, read the drives.

@@ -31,6 +31,9 @@ class RateClock {
  public:
   explicit RateClock(std::chrono::nanoseconds period);
   void WaitNext();
+  // Time left until the next tick (≤ 0 once it is due): event-driven loops
+  // handle input until then, then call WaitNext() to advance.
+  std::chrono::nanoseconds UntilNext() const;
   std::int64_t missed() const { return missed_; }
   std::chrono::nanoseconds period() const { return period_; }
 

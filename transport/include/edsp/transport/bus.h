@@ -75,6 +75,8 @@ class Bus {
 
   // Waits up to `timeout` for the first message, then dispatches everything
   // pending. Returns the number dispatched. Rethrows a handler's exception.
+  // It sleeps on LCM's socket, or on all shared-memory channels at once; with
+  // both kinds of input, shm wakes it at once and LCM within 0.5 ms.
   int Handle(std::chrono::microseconds timeout);
 
   const ChannelCounters& Counters(const std::string& channel);
@@ -106,6 +108,7 @@ class Bus {
                           std::function<TakeStatus(ShmReader&)> take);
   bool Attach(ShmSubscription& subscription);
   int DrainShm();
+  bool WaitShm(std::chrono::steady_clock::duration timeout);
   void Fail(std::exception_ptr error);
   template <typename Msg>
   void Delivered(ChannelCounters& counters, const Msg& msg, std::int64_t* last_seq);

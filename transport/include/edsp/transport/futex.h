@@ -13,6 +13,14 @@ namespace edsp {
 bool FutexWait(std::atomic<std::uint32_t>* word, std::uint32_t expected,
                std::chrono::nanoseconds timeout) noexcept;
 
+// Sleeps while every words[i] == expected[i] (at most 128 words), at most
+// `timeout`: one thread waiting on several shared-memory channels at once
+// (futex_waitv, Linux ≥ 5.16). Returns false on timeout; spurious returns
+// are possible. Where the kernel lacks futex_waitv it sleeps on words[0]
+// for at most 200 µs (slices), so the other words are still seen.
+bool FutexWaitAny(std::atomic<std::uint32_t>* const* words, const std::uint32_t* expected, int count,
+                  std::chrono::nanoseconds timeout) noexcept;
+
 // Wakes every waiter on *word.
 void FutexWakeAll(std::atomic<std::uint32_t>* word) noexcept;
 

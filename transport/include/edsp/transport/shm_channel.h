@@ -72,6 +72,12 @@ class ShmReader {
   bool Wait(std::chrono::nanoseconds timeout,
             std::chrono::nanoseconds spin = std::chrono::microseconds(20)) noexcept;
 
+  // Waits until any of `readers` has a message or `timeout` passes, spinning
+  // for `spin` first, then sleeping on all their doorbells at once (one
+  // futex_waitv). Returns true if one is available.
+  static bool WaitAny(ShmReader* const* readers, int count, std::chrono::nanoseconds timeout,
+                      std::chrono::nanoseconds spin = std::chrono::microseconds(20)) noexcept;
+
   bool Available() const noexcept;
   bool WriterAlive() const;
   std::uint32_t writer_generation() const;
