@@ -95,8 +95,15 @@ int Run(int argc, char** argv) {
                                UtimeNow()));
       return;
     }
+    const bool was_latched = bridge.latched();
     bridge.Rearm();
     std::fprintf(stderr, "edsp-actuator-bridge: re-armed by %s\n", arm.operator_name.c_str());
+    reporting.Fault(MakeFault("actuator_bridge", "EDSP_ARM", FaultCode::kOperatorAction,
+                              fault_t::SEVERITY_INFO,
+                              fmt::format("re-armed by {}{}", arm.operator_name,
+                                          was_latched ? "; commands accepted again once they continue from the held position"
+                                                      : " (was not latched)"),
+                              UtimeNow()));
   });
   // Node-based map: the reference stays valid; no lookup in the 1 kHz loop.
   const ChannelCounters& in = bus.Counters("EDSP_LEG_COMMAND");

@@ -6,6 +6,8 @@
 //                   [--group FILE] [--session-id N] [--stale-ms 50] [--replay]
 // --replay: the setpoints come from a log (lcm-logplayer), so they are judged
 // by their own clock, not the wall clock, and reproduce the recorded commands.
+// EDSP_PR_MODE (pr_mode_t, e.g. from `edsp-ctl pr-mode signed`) switches the
+// mode live, blended over 0.5 s; the switch is confirmed on EDSP_FAULT (info).
 #include <cstdio>
 
 #include "edsp/kinematics/config.h"
@@ -14,6 +16,7 @@
 #include "edsp/node/node_reporting.h"
 #include "edsp/node/runtime.h"
 #include "edsp/transport/bus.h"
+#include "edsp/pr_mode_t.hpp"
 
 #include <fmt/format.h>
 
@@ -61,6 +64,34 @@ int Run(int argc, char** argv) {
       reporting.Fault(fault);
     }
     status.RecordLoop(std::chrono::steady_clock::now() - start);
+  });
+  bus.Subscribe<pr_mode_t>("EDSP_PR_MODE", [&](const pr_mode_t& request) {
+    const std::int64_t now = UtimeNow();
+    if (request.session_id != node.session_id) {
+      reporting.Fault(MakeFault("kinematics", "EDSP_PR_MODE", FaultCode::kForeignSession,
+                                fault_t::SEVERITY_WARNING,
+                                fmt::format("PR mode request from session {} ignored (this group is session {})",
+                                            request.session_id, node.session_id),
+                                now));
+      return;
+    }
+    PrMode mode;
+    const std::string text = std::to_string(request.pr_mode);
+    if (!ParsePrMode(text.c_str(), &mode)) {
+      reporting.Fault(MakeFault("kinematics", "EDSP_PR_MODE", FaultCode::kBadRequest,
+                                fault_t::SEVERITY_WARNING,
+                                fmt::format("PR mode {} from {} is not 0..3; mode stays {}", text,
+                                            request.operator_name, PrModeName(kinematics.pr_mode())),
+                                now));
+      return;
+    }
+    const PrMode before = kinematics.pr_mode();
+    kinematics.SwitchPrMode(mode);
+    reporting.Fault(MakeFault("kinematics", "EDSP_PR_MODE", FaultCode::kOperatorAction, fault_t::SEVERITY_INFO,
+                              fmt::format("PR mode {} → {} (requested by {}), blended over {} ms",
+                                          PrModeName(before), PrModeName(mode), request.operator_name,
+                                          options.pr_blend_us / 1000),
+                              now));
   });
   std::int64_t leg_states = 0;
   bus.Subscribe<leg_state_t>("EDSP_LEG_STATE", [&](const leg_state_t& legs) {

@@ -1,5 +1,7 @@
 #include "edsp/kinematics/kinematics_node.h"
 
+#include <algorithm>
+
 #include <cmath>
 
 #include <fmt/format.h>
@@ -24,12 +26,46 @@ bool AllFinite(const double (&values)[N]) {
 
 KinematicsNode::KinematicsNode(PlatformModel model, KinematicsNodeOptions options)
     : model_(std::move(model)), options_(std::move(options)),
-      last_target_(model_.home_pose()), last_estimate_(model_.home_pose()) {}
+      last_target_(model_.home_pose()), last_estimate_(model_.home_pose()) {
+  last_weights_[static_cast<std::size_t>(options_.pr_mode)] = 1.0;
+}
 
 fault_t KinematicsNode::Fault(FaultCode code, std::string reason, std::int64_t now_utime,
                               const char* channel) const {
   return MakeFault(options_.node_name, channel, code,
                    fault_t::SEVERITY_ERROR, std::move(reason), now_utime);
+}
+
+void KinematicsNode::SwitchPrMode(PrMode mode) {
+  if (mode == options_.pr_mode) return;  // already there, or on the way: carry on
+  blend_from_ = last_weights_;
+  options_.pr_mode = mode;
+  blending_ = true;
+  blend_start_utime_ = -1;
+}
+
+KinematicsNode::ModeWeights KinematicsNode::Weights(std::int64_t setpoint_utime) const {
+  ModeWeights target{};
+  target[static_cast<std::size_t>(options_.pr_mode)] = 1.0;
+  if (!blending_) return target;
+  const std::int64_t start = blend_start_utime_ < 0 ? setpoint_utime : blend_start_utime_;
+  const double a = std::clamp(static_cast<double>(setpoint_utime - start) /
+                                  static_cast<double>(std::max<std::int64_t>(options_.pr_blend_us, 1)),
+                              0.0, 1.0);
+  ModeWeights w{};
+  for (std::size_t m = 0; m < w.size(); ++m) w[m] = (1.0 - a) * blend_from_[m] + a * target[m];
+  return w;
+}
+
+Vector6 KinematicsNode::BlendedPrError(const LegSolution& legs, std::int64_t setpoint_utime) {
+  if (blending_ && blend_start_utime_ < 0) blend_start_utime_ = setpoint_utime;
+  last_weights_ = Weights(setpoint_utime);
+  if (blending_ && last_weights_[static_cast<std::size_t>(options_.pr_mode)] >= 1.0) blending_ = false;
+  Vector6 pr = Vector6::Zero();
+  for (std::size_t m = 0; m < last_weights_.size(); ++m) {
+    if (last_weights_[m] != 0.0) pr += last_weights_[m] * model_.PrLengthError(legs, static_cast<PrMode>(m));
+  }
+  return pr;
 }
 
 bool KinematicsNode::HandleSetpoint(const pose_setpoint_t& sp, std::int64_t now_utime,
@@ -67,7 +103,7 @@ bool KinematicsNode::HandleSetpoint(const pose_setpoint_t& sp, std::int64_t now_
     return false;
   }
   const LegSolution legs = model_.Solve(target);
-  const Vector6 pr = model_.PrLengthError(legs, options_.pr_mode);
+  const Vector6 pr = BlendedPrError(legs, sp.utime);
   *command = leg_command_t{};
   command->utime = now_utime;
   command->seq = ++command_seq_;

@@ -13,6 +13,8 @@ const char* FaultCodeName(FaultCode code) {
     case FaultCode::kOutOfStroke: return "out of stroke";
     case FaultCode::kForwardKinematics: return "forward kinematics";
     case FaultCode::kBackend: return "drive backend";
+    case FaultCode::kBadRequest: return "bad request";
+    case FaultCode::kOperatorAction: return "operator action";
   }
   return "unknown";
 }

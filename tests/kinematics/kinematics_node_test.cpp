@@ -54,18 +54,57 @@ TEST(KinematicsNode, CommandIsTheCompensatedLengthAndItsMotorAngle) {
   EXPECT_EQ(command.session_id, 9);
 }
 
-TEST(KinematicsNode, PrModeSwitchesLive) {
+// A live switch blends the correction linearly over 0.5 s of setpoint time
+// from the old mode's to the new one's (no step for the bridge to refuse),
+// and a switch mid-blend continues from where the correction is.
+TEST(KinematicsNode, PrModeSwitchesLiveBlendingTheCorrection) {
   KinematicsNode node = MakeNode();
-  leg_command_t signed_command, none_command;
   fault_t fault;
-  ASSERT_TRUE(node.HandleSetpoint(Setpoint(SomePose()), kNow, &signed_command, &fault));
-  node.set_pr_mode(PrMode::kNone);
-  ASSERT_TRUE(node.HandleSetpoint(Setpoint(SomePose()), kNow, &none_command, &fault));
-  EXPECT_EQ(none_command.pr_mode, leg_command_t::PR_NONE);
+  auto command_at = [&](std::int64_t dt_us) {
+    pose_setpoint_t sp = Setpoint(SomePose());
+    sp.utime = kNow + dt_us;
+    leg_command_t c;
+    EXPECT_TRUE(node.HandleSetpoint(sp, sp.utime, &c, &fault)) << fault.reason;
+    return c;
+  };
+  const leg_command_t before = command_at(0);
+  node.SwitchPrMode(PrMode::kNone);
+  EXPECT_TRUE(node.blending());
+  const leg_command_t start = command_at(1000);  // the blend starts here
+  const leg_command_t quarter = command_at(1000 + 125000);
+  const leg_command_t half = command_at(1000 + 250000);
+  const leg_command_t done = command_at(1000 + 500000);
+  EXPECT_FALSE(node.blending());
+  EXPECT_EQ(start.pr_mode, leg_command_t::PR_NONE);
   for (int i = 0; i < kNumLegs; ++i) {
-    EXPECT_EQ(none_command.pr_correction_m[i], 0.0);
-    EXPECT_NE(signed_command.pr_correction_m[i], 0.0);
+    const double s = before.pr_correction_m[i];
+    EXPECT_NE(s, 0.0);
+    EXPECT_NEAR(start.pr_correction_m[i], s, 1e-15);
+    EXPECT_NEAR(quarter.pr_correction_m[i], 0.75 * s, 1e-15);
+    EXPECT_NEAR(half.pr_correction_m[i], 0.5 * s, 1e-15);
+    EXPECT_EQ(done.pr_correction_m[i], 0.0);
+    EXPECT_NEAR(half.command_length_m[i], half.ik_length_m[i] - half.pr_correction_m[i], 1e-15);
   }
+  // Back to signed, then to unsigned mid-way: the second blend starts from
+  // the mix in force (half signed, half none), never with a step.
+  node.SwitchPrMode(PrMode::kSigned);
+  command_at(600000);
+  const leg_command_t mid = command_at(600000 + 250000);
+  node.SwitchPrMode(PrMode::kUnsigned);
+  const leg_command_t next = command_at(600000 + 251000);
+  const leg_command_t later = command_at(600000 + 251000 + 250000);
+  node.SwitchPrMode(PrMode::kUnsigned);  // on the way there already: no restart
+  const leg_command_t end = command_at(600000 + 251000 + 500000);
+  const Vector6 unsigned_error =
+      node.model().PrLengthError(node.model().Solve(Pose::FromVector(SomePose())), PrMode::kUnsigned);
+  for (int i = 0; i < kNumLegs; ++i) {
+    const double s = before.pr_correction_m[i];
+    EXPECT_NEAR(mid.pr_correction_m[i], 0.5 * s, 1e-15);
+    EXPECT_NEAR(next.pr_correction_m[i], 0.5 * s, 1e-15);  // continuous at the switch
+    EXPECT_NEAR(later.pr_correction_m[i], 0.25 * s + 0.5 * unsigned_error(i), 1e-15);
+    EXPECT_NEAR(end.pr_correction_m[i], unsigned_error(i), 1e-15);
+  }
+  EXPECT_FALSE(node.blending());
 }
 
 void ExpectRefused(pose_setpoint_t sp, FaultCode code, const std::string& fragment) {

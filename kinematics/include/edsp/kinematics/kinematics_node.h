@@ -5,6 +5,7 @@
 // forward kinematics with PR; the platform config message. A setpoint it
 // cannot validate is never forwarded: it yields a fault instead.
 
+#include <array>
 #include <cstdint>
 #include <string>
 
@@ -23,6 +24,7 @@ struct KinematicsNodeOptions {
   PrMode pr_mode = PrMode::kSigned;
   std::int64_t session_id = 0;   // setpoints from any other session are refused
   std::int64_t stale_us = 50000; // setpoints older than this are refused
+  std::int64_t pr_blend_us = 500000;  // a live mode switch blends over this much setpoint time
 };
 
 class KinematicsNode {
@@ -40,19 +42,34 @@ class KinematicsNode {
   // The config latched on EDSP_CONFIG; `config_toml` is the file's text.
   platform_config_t ConfigMessage(std::int64_t now_utime, const std::string& config_toml);
 
-  void set_pr_mode(PrMode mode) { options_.pr_mode = mode; }
+  // Switches the PR mode live. The correction moves from the old mode's to
+  // the new one's linearly over pr_blend_us of setpoint time, starting at the
+  // next setpoint: switching none → signed at Rz 30° is a 1.4 mm change,
+  // which in one step the bridge would (rightly) refuse as a jump.
+  void SwitchPrMode(PrMode mode);
   PrMode pr_mode() const { return options_.pr_mode; }
+  bool blending() const { return blending_; }
   const PlatformModel& model() const { return model_; }
 
  private:
   fault_t Fault(FaultCode code, std::string reason, std::int64_t now_utime,
                 const char* channel) const;
+  Vector6 BlendedPrError(const LegSolution& legs, std::int64_t setpoint_utime);
 
   PlatformModel model_;
   KinematicsNodeOptions options_;
   std::int64_t command_seq_ = 0;
   std::int64_t state_seq_ = 0;
   std::int64_t config_seq_ = 0;
+  // The correction is a mix of the modes' corrections: one-hot at rest, and
+  // during a blend (1−a)·from + a·one-hot(pr_mode). A switch mid-blend starts
+  // from the mix in force, so the correction never steps.
+  using ModeWeights = std::array<double, 4>;
+  ModeWeights Weights(std::int64_t setpoint_utime) const;
+  ModeWeights blend_from_{};
+  ModeWeights last_weights_{};
+  bool blending_ = false;
+  std::int64_t blend_start_utime_ = -1;  // setpoint time the blend began; -1: next setpoint
   Pose last_target_;
   Pose last_estimate_;
 };

@@ -21,6 +21,8 @@ enum class FaultCode : std::int32_t {
   kOutOfStroke = 7,       // leg length beyond its stroke
   kForwardKinematics = 8, // the pose could not be computed from the encoders
   kBackend = 9,           // the drive backend failed
+  kBadRequest = 10,       // an operator request with a value out of range
+  kOperatorAction = 11,   // not a fault: an operator's action confirmed (severity info)
 };
 
 const char* FaultCodeName(FaultCode code);

@@ -1,0 +1,166 @@
+// edsp-ctl: an operator's commands to a running group, over LCM.
+//   edsp-ctl arm [--operator NAME] [--session-id N|auto] [--group FILE | --lcm-url URL]
+//       re-arm the actuator bridge after it latched a hold (EDSP_ARM)
+//   edsp-ctl pr-mode none|unsigned|signed|asin [same options]
+//       switch the kinematics node's PR compensation live (EDSP_PR_MODE)
+// --session-id auto (the default) listens for up to 2 s for the group's leg
+// commands or setpoints and takes their session; several sessions on the bus
+// (two groups) is an error naming them. The command then waits up to 2 s
+// for the node's confirmation on EDSP_FAULT and prints it; exit 0 only if
+// confirmed, 2 if refused or unanswered.
+#include <unistd.h>
+
+#include <chrono>
+#include <memory>
+#include <cstdio>
+#include <set>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "edsp/arm_t.hpp"
+#include "edsp/fault_t.hpp"
+#include "edsp/kinematics/passive_rotation.h"
+#include "edsp/leg_command_t.hpp"
+#include "edsp/node/fault.h"
+#include "edsp/node/runtime.h"
+#include "edsp/pose_setpoint_t.hpp"
+#include "edsp/pr_mode_t.hpp"
+#include "edsp/transport/bus.h"
+
+namespace edsp {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr auto kListen = std::chrono::seconds(2);
+
+struct CtlOptions {
+  std::string session = "auto";
+  std::string operator_name;
+  std::string group_file;
+  std::string lcm_url;
+};
+
+TransportConfig Transport(const CtlOptions& o) {
+  TransportConfig config = o.group_file.empty() ? TransportConfig{} : LoadTransportConfig(o.group_file);
+  if (!o.lcm_url.empty()) config.lcm_url = o.lcm_url;
+  config.channels.clear();  // the operator's commands and the confirmations all travel on LCM
+  return config;
+}
+
+// The session of the group commanding the platform, from its own traffic.
+// The handlers stay subscribed for the bus's life (Bus has no unsubscribe),
+// so they share ownership of what they write to.
+std::int64_t DiscoverSession(Bus& bus) {
+  auto seen = std::make_shared<std::set<std::int64_t>>();
+  bus.Subscribe<leg_command_t>("EDSP_LEG_COMMAND", [seen](const leg_command_t& c) { seen->insert(c.session_id); });
+  bus.Subscribe<pose_setpoint_t>("EDSP_SETPOINT", [seen](const pose_setpoint_t& s) { seen->insert(s.session_id); });
+  const std::set<std::int64_t>& sessions = *seen;
+  const auto until = Clock::now() + kListen;
+  while (Clock::now() < until && sessions.empty()) bus.Handle(std::chrono::milliseconds(50));
+  bus.Handle(std::chrono::milliseconds(50));  // one more round: a second group shows itself
+  if (sessions.empty()) {
+    throw std::runtime_error(fmt::format("no leg commands or setpoints on {} within 2 s: is the group running "
+                                         "on this network? (or give --session-id)", bus.config().lcm_url));
+  }
+  if (sessions.size() > 1) {
+    std::string list;
+    for (std::int64_t s : sessions) list += (list.empty() ? "" : ", ") + std::to_string(s);
+    throw std::runtime_error("several groups on the bus (sessions " + list + "): give --session-id");
+  }
+  return *sessions.begin();
+}
+
+std::int64_t SessionId(Bus& bus, const CtlOptions& o) {
+  if (o.session == "auto") return DiscoverSession(bus);
+  try {
+    std::size_t used = 0;
+    const std::int64_t id = std::stoll(o.session, &used);
+    if (used == o.session.size() && id >= 0) return id;
+  } catch (const std::exception&) {
+  }
+  throw std::runtime_error("--session-id " + o.session + ": give a non-negative integer or auto");
+}
+
+// Waits for the node's answer on EDSP_FAULT about `channel`; prints it.
+// Called last: nothing handles the bus after it returns.
+int AwaitConfirmation(Bus& bus, const std::string& node, const std::string& channel) {
+  struct Answer {
+    bool given = false;
+    int status = 2;
+  };
+  auto answer = std::make_shared<Answer>();
+  bus.Subscribe<fault_t>("EDSP_FAULT", [answer, node, channel](const fault_t& f) {
+    if (answer->given || f.node != node || f.channel != channel) return;
+    answer->given = true;
+    answer->status = f.code == static_cast<std::int32_t>(FaultCode::kOperatorAction) ? 0 : 2;
+    std::printf("%s: %s\n", node.c_str(), f.reason.c_str());
+  });
+  const auto until = Clock::now() + kListen;
+  while (!answer->given && Clock::now() < until) bus.Handle(std::chrono::milliseconds(50));
+  if (!answer->given) std::fprintf(stderr, "edsp-ctl: no answer from %s within 2 s\n", node.c_str());
+  return answer->status;
+}
+
+std::string DefaultOperator() {
+  const char* user = std::getenv("USER");
+  char host[256] = {};
+  ::gethostname(host, sizeof(host) - 1);
+  return fmt::format("{}@{} (edsp-ctl)", user != nullptr ? user : "operator", host);
+}
+
+// Fills the request's session, time and operator, sends it, and waits for
+// `node`'s confirmation.
+template <typename Msg>
+int SendAndConfirm(const CtlOptions& o, const std::string& channel, Msg request, const std::string& node) {
+  Bus bus(Transport(o));
+  request.session_id = SessionId(bus, o);
+  request.utime = UtimeNow();
+  request.seq = 1;
+  request.operator_name = o.operator_name.empty() ? DefaultOperator() : o.operator_name;
+  bus.Subscribe<fault_t>("EDSP_FAULT", [](const fault_t&) {});  // listening before we send
+  if (!bus.Publish(channel, request)) throw std::runtime_error(channel + " could not be sent");
+  return AwaitConfirmation(bus, node, channel);
+}
+
+int Arm(const CtlOptions& o) { return SendAndConfirm(o, "EDSP_ARM", arm_t{}, "actuator_bridge"); }
+
+int SetPrMode(const CtlOptions& o, const std::string& mode_text) {
+  PrMode mode;
+  if (!ParsePrMode(mode_text.c_str(), &mode)) {
+    throw std::runtime_error("pr-mode " + mode_text + ": use none, unsigned, signed or asin");
+  }
+  pr_mode_t request{};
+  request.pr_mode = static_cast<std::int8_t>(mode);
+  return SendAndConfirm(o, "EDSP_PR_MODE", request, "kinematics");
+}
+
+void AddCommon(CLI::App* cmd, CtlOptions* o) {
+  cmd->add_option("--session-id", o->session, "the group's session, or auto (from its traffic)");
+  cmd->add_option("--operator", o->operator_name, "who does it, for the log");
+  cmd->add_option("--group", o->group_file, "take the LCM URL from this group file");
+  cmd->add_option("--lcm-url", o->lcm_url, "LCM URL (default: the edsp default, host-only)");
+}
+
+}  // namespace
+}  // namespace edsp
+
+int main(int argc, char** argv) {
+  CLI::App app{"edsp-ctl: operator commands to a running edsp group"};
+  app.require_subcommand(1);
+  edsp::CtlOptions options;
+  std::string mode;
+  CLI::App* arm = app.add_subcommand("arm", "re-arm the actuator bridge after a latched hold");
+  edsp::AddCommon(arm, &options);
+  CLI::App* pr = app.add_subcommand("pr-mode", "switch PR compensation live (blended over 0.5 s)");
+  pr->add_option("mode", mode, "none, unsigned, signed or asin")->required();
+  edsp::AddCommon(pr, &options);
+  CLI11_PARSE(app, argc, argv);
+  try {
+    return *arm ? edsp::Arm(options) : edsp::SetPrMode(options, mode);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "edsp-ctl: error: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,150 @@
+// edsp-ctl against a live sim group: the PR mode switched mid-motion blends
+// without a step (no fault, the platform then lands signed-accurate), and a
+// bridge latched after a kinematics crash resumes only when re-armed. Both
+// find the group's session from its own traffic (--session-id auto).
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "sim_group_harness.h"
+#include "edsp/fault_t.hpp"
+#include "edsp/kinematics/config.h"
+#include "edsp/leg_command_t.hpp"
+#include "edsp/leg_state_t.hpp"
+#include "edsp/logger/log_reader.h"
+#include "edsp/node/fault.h"
+#include "edsp/sim/dwell_errors.h"
+
+namespace edsp {
+namespace {
+
+using test_support::GroupRun;
+using test_support::LaunchSimGroup;
+using test_support::RunDir;
+
+// Runs edsp-ctl with the group's LCM URL; returns its exit status, output in *out.
+int Ctl(const std::string& dir, const std::string& args, std::string* out) {
+  const std::string path = dir + "/ctl.out";
+  const int status = std::system(
+      fmt::format("{} {} --group {}/group.toml >{} 2>&1", EDSP_CTL_BINARY, args, dir, path).c_str());
+  std::ifstream in(path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  *out = text.str();
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+template <typename Msg>
+bool Decode(const LogEvent& e, Msg* m) {
+  return m->decode(e.data.data(), 0, static_cast<int>(e.data.size())) >= 0;
+}
+
+TEST(OperatorCommands, PrModeSwitchedLiveBlendsWithoutAStepAndTheDwellsLandSigned) {
+  int ctl_status = -1;
+  std::string ctl_out;
+  const GroupRun run = LaunchSimGroup(
+      "prswitch", "none",
+      R"("--motions", "Lz", "--stops", "3", "--dwell-s", "0.6", "--max-speed-m-s", "0.25", "--exit-after-hold-s", "0.3")",
+      [&](const std::string& dir) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // during the first move
+        ctl_status = Ctl(dir, "pr-mode signed --operator test", &ctl_out);
+      });
+  ASSERT_EQ(run.exit_code, 0);
+  EXPECT_EQ(ctl_status, 0) << ctl_out;
+  EXPECT_NE(ctl_out.find("none → signed (requested by test)"), std::string::npos) << ctl_out;
+
+  LogReader reader(run.log_path);
+  LogEvent event;
+  int before = 0, after = 0, faults = 0;
+  double largest_change = 0.0, largest_switch = 0.0;
+  leg_command_t previous{};
+  bool have_previous = false;
+  while (reader.Next(&event)) {
+    if (event.channel == "EDSP_FAULT") {
+      fault_t f;
+      if (Decode(event, &f) && f.severity != fault_t::SEVERITY_INFO) ++faults;
+    } else if (event.channel == "EDSP_LEG_COMMAND") {
+      leg_command_t c;
+      if (!Decode(event, &c)) continue;
+      if (c.pr_mode == leg_command_t::PR_NONE) ++before;
+      if (c.pr_mode == leg_command_t::PR_SIGNED) ++after;
+      if (have_previous && c.seq == previous.seq + 1) {
+        for (int i = 0; i < 6; ++i) {
+          largest_change = std::max(largest_change, std::abs(c.pr_correction_m[i] - previous.pr_correction_m[i]));
+        }
+      }
+      // An unblended switch would step the command by the full correction.
+      for (int i = 0; i < 6; ++i) largest_switch = std::max(largest_switch, std::abs(c.pr_correction_m[i]));
+      previous = c;
+      have_previous = true;
+    }
+  }
+  EXPECT_EQ(faults, 0) << "a blended switch must not trip the bridge: edsp-log faults " << run.log_path;
+  EXPECT_GT(before, 500);
+  EXPECT_GT(after, 5000);
+  EXPECT_GT(largest_switch, 20 * largest_change);  // the blend is what kept the steps small
+  EXPECT_LT(largest_change, 2e-6) << "per-command change of the PR correction (blend ≈ 0.6 µm/ms)";
+  ::testing::Test::RecordProperty("largest_correction_change_nm", static_cast<int>(largest_change * 1e9));
+
+  const PlatformModel model(LoadConfigFile(std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml"));
+  const DwellErrors dwells = DwellErrorsFromLog(run.log_path, model);
+  ASSERT_GE(dwells.dwells.size(), 3u);
+  for (const DwellError& d : dwells.dwells) {
+    EXPECT_EQ(d.pr_mode, PrMode::kSigned) << d.segment;
+    EXPECT_LT(d.error_norm_m(), 5e-6) << d.segment;
+  }
+}
+
+// A CSV that holds home for 0.5 s: the planner then holds home, so the stream
+// that comes back after the crash continues from where the bridge held.
+std::string HomeCsv(const std::string& dir) {
+  const std::string path = dir + "_home.csv";
+  std::ofstream(path) << "time_s,x_m,y_m,z_m,roll_rad,pitch_rad,yaw_rad\n0,0,0,1.511,0,0,0\n0.5,0,0,1.511,0,0,0\n";
+  return path;
+}
+
+TEST(OperatorCommands, LatchedBridgeResumesOnlyWhenReArmed) {
+  int ctl_status = -1;
+  std::string ctl_out;
+  const std::string csv = HomeCsv(fmt::format("/tmp/edsp_group_test_{}_arm", ::getpid()));
+  const GroupRun run = LaunchSimGroup(
+      "arm", "signed", fmt::format(R"("--csv", "{}", "--exit-after-hold-s", "5")", csv),
+      [&](const std::string& dir) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+        std::system(("pkill -KILL -f 'edsp-kinematics .*" + dir + "/group.toml'").c_str());
+        std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // restarted, refused
+        ctl_status = Ctl(dir, "arm --operator test", &ctl_out);
+      });
+  ASSERT_EQ(run.exit_code, 0);
+  EXPECT_EQ(ctl_status, 0) << ctl_out;
+  EXPECT_NE(ctl_out.find("re-armed by test"), std::string::npos) << ctl_out;
+
+  LogReader reader(run.log_path);
+  LogEvent event;
+  std::int64_t armed_utime = -1, refused_before = 0, refused_after = 0;
+  leg_state_t last_state{};
+  while (reader.Next(&event)) {
+    if (event.channel == "EDSP_FAULT") {
+      fault_t f;
+      if (!Decode(event, &f) || f.node != "actuator_bridge") continue;
+      if (f.code == static_cast<std::int32_t>(FaultCode::kOperatorAction)) armed_utime = f.utime;
+      if (f.reason.find("re-arm required") != std::string::npos) {
+        (armed_utime < 0 ? refused_before : refused_after) += 1;
+      }
+    } else if (event.channel == "EDSP_LEG_STATE") {
+      Decode(event, &last_state);
+    }
+  }
+  ASSERT_GT(armed_utime, 0) << "no re-arm confirmation in the log";
+  EXPECT_GT(refused_before, 5) << "the restarted kinematics' commands must be refused until re-armed";
+  EXPECT_EQ(refused_after, 0) << "after the re-arm the commands are accepted";
+  for (int i = 0; i < 6; ++i) EXPECT_EQ(last_state.drive_status[i], leg_state_t::DRIVE_ENABLED) << "leg " << i + 1;
+  std::remove(csv.c_str());
+}
+
+}  // namespace
+}  // namespace edsp

@@ -1,0 +1,34 @@
+#pragma once
+// The sim group as real processes for the multi-process tests: a group file
+// written per test (noise-free tracker, the test's PR mode and planner
+// arguments, its own shm prefix and session), started by edsp-launch until
+// the planner exits, with an action run meanwhile; then the log's health.
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+namespace edsp::test_support {
+
+struct GroupRun {
+  int exit_code = -1;
+  std::string log_path;   // <dir>/run.lcmlog; <dir>/launch.err beside it
+};
+
+inline constexpr const char* kDefaultPlannerArgs =
+    R"("--motions", "Lz,Rz", "--stops", "3", "--dwell-s", "0.6", "--max-speed-m-s", "0.25",
+        "--max-speed-rad-s", "0.5", "--exit-after-hold-s", "0.3")";
+
+// `during(dir)` runs on a thread while the group does.
+GroupRun LaunchSimGroup(const std::string& name, const std::string& pr_mode,
+                        const std::string& planner_args = kDefaultPlannerArgs,
+                        const std::function<void(const std::string& dir)>& during = {},
+                        std::int64_t session_id = 77);
+
+// Launcher exit 0, no faults, commands at 1 kHz, loss bounded (see .cpp).
+void ExpectCleanRun(const GroupRun& run);
+
+// Directory of a run (where group.toml, launch.err and the log are).
+inline std::string RunDir(const GroupRun& run) { return run.log_path.substr(0, run.log_path.rfind('/')); }
+
+}  // namespace edsp::test_support
