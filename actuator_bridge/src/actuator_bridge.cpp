@@ -11,6 +11,7 @@ namespace edsp {
 
 ActuatorBridge::ActuatorBridge(PlatformModel model, DriveBackend* backend, BridgeOptions options)
     : model_(std::move(model)), backend_(backend), options_(std::move(options)) {
+  if (options_.max_leg_speed_m_s < 0.0) options_.max_leg_speed_m_s = model_.config().limits.leg_speed_max_m_s;
   // Hold wherever the drives are now.
   backend_->Read(0, &feedback_);
   for (int i = 0; i < kNumLegs; ++i) {

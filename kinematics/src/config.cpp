@@ -155,7 +155,9 @@ void ReadDrive(const SectionReader& s, DriveParameters* drive) {
 }
 
 void ReadLimits(const SectionReader& s, WorkspaceLimits* limits) {
-  s.RejectUnknownKeys({"leg_min_m", "leg_max_m", "joint_angle_max_rad", "jacobian_condition_max"});
+  s.RejectUnknownKeys({"leg_min_m", "leg_max_m", "joint_angle_max_rad", "jacobian_condition_max",
+                       "leg_speed_max_m_s"});
+  limits->leg_speed_max_m_s = s.Number("leg_speed_max_m_s", limits->leg_speed_max_m_s);
   limits->leg_min_m = s.Number("leg_min_m", limits->leg_min_m);
   limits->leg_max_m = s.Number("leg_max_m", limits->leg_max_m);
   limits->joint_angle_max_rad = s.Number("joint_angle_max_rad", limits->joint_angle_max_rad);
@@ -205,6 +207,9 @@ void ValidateConfig(const PlatformConfig& c, const std::string& origin) {
   Require(l.joint_angle_max_rad > 0.0 && l.joint_angle_max_rad < kPi / 2, origin,
           fmt::format("[limits] joint_angle_max_rad = {} must be in (0, pi/2)",
                       l.joint_angle_max_rad));
+  // Above 10 m/s no lead-screw leg moves; a unit typo (mm/s for m/s).
+  Require(l.leg_speed_max_m_s > 0.0 && l.leg_speed_max_m_s <= 10.0, origin,
+          fmt::format("[limits] leg_speed_max_m_s = {} must be in (0, 10] m/s", l.leg_speed_max_m_s));
   Require(l.jacobian_condition_max >= 1.0, origin,
           fmt::format("[limits] jacobian_condition_max = {} must be at least 1",
                       l.jacobian_condition_max));

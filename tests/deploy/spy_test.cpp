@@ -52,7 +52,7 @@ TEST(LcmSpy, DecodesEdspMessagesOnJava17UnderXvfb) {
   const std::string script = fmt::format(
       "Xvfb :{0} -screen 0 1024x768x24 -nolisten tcp >{1}/xvfb.log 2>&1 & X=$!; sleep 1; "
       "DISPLAY=:{0} EDSP_BUILD_DIR={2} EDSP_SPY_MAIN=SpyProbe EDSP_SPY_EXTRA_CP={3} "
-      "{4}/deploy/edsp-spy --lcm-url='{5}' 6 >{1}/probe.out 2>{1}/probe.err; S=$?; kill $X; exit $S",
+      "{4}/deploy/edsp-spy --lcm-url='{5}' 5 {1}/spy.ready >{1}/probe.out 2>{1}/probe.err; S=$?; kill $X; exit $S",
       display, dir, std::string(EDSP_LCMTYPES_JAR).substr(0, std::string(EDSP_LCMTYPES_JAR).rfind("/lcmtypes/")),
       EDSP_SPY_PROBE_JAR, EDSP_SOURCE_DIR, url);
   int status = -1;
@@ -63,8 +63,14 @@ TEST(LcmSpy, DecodesEdspMessagesOnJava17UnderXvfb) {
   auto setpoints = bus.Advertise<pose_setpoint_t>("EDSP_SETPOINT");
   auto commands = bus.Advertise<leg_command_t>("EDSP_LEG_COMMAND");
   std::int64_t seq = 0;
-  const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(5500);
-  while (std::chrono::steady_clock::now() < until) {  // 100 Hz from before the spy starts
+  // 100 Hz from before the spy starts until 3 s after it is up (it watches
+  // 5 s from then, so its last message is our last); 60 s at most.
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  auto until = give_up;
+  while (std::chrono::steady_clock::now() < until) {
+    if (until == give_up && ::access((dir + "/spy.ready").c_str(), F_OK) == 0) {
+      until = std::chrono::steady_clock::now() + std::chrono::seconds(3);
+    }
     pose_setpoint_t sp{};
     sp.seq = ++seq;
     sp.pose[2] = 1.511;
@@ -86,9 +92,9 @@ TEST(LcmSpy, DecodesEdspMessagesOnJava17UnderXvfb) {
     ASSERT_EQ(rows.count(channel), 1u) << channel << " not seen by lcm-spy; " << dir << "/probe.out";
     const SpyRow& r = rows.at(channel);
     EXPECT_EQ(r.type, type) << channel;
-    EXPECT_GT(r.received, 50) << channel;
+    EXPECT_GT(r.received, 200) << channel;  // 3 s at 100 Hz
     EXPECT_EQ(r.undecodable, 0) << channel;
-    // The spy outlives the publisher by ~1.5 s: its last message is our last.
+    // The spy outlives the publisher by ~2 s: its last message is our last.
     EXPECT_EQ(r.last_seq, std::to_string(last_sent)) << channel;
   }
   std::system(("rm -rf " + dir).c_str());

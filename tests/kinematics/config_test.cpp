@@ -151,6 +151,8 @@ TEST(Config, AbsurdValuesAreRejectedWithTheValue) {
   EXPECT_CONFIG_ERROR(p + "[limits]\nleg_min_m = 2.5\n", "[limits] leg_min_m = 2.5");
   EXPECT_CONFIG_ERROR(p + "[limits]\njoint_angle_max_rad = 2\n", "joint_angle_max_rad = 2");
   EXPECT_CONFIG_ERROR(p + "[limits]\njacobian_condition_max = 0.5\n", "jacobian_condition_max");
+  EXPECT_CONFIG_ERROR(p + "[limits]\nleg_speed_max_m_s = 0\n", "[limits] leg_speed_max_m_s = 0");
+  EXPECT_CONFIG_ERROR(p + "[limits]\nleg_speed_max_m_s = 500\n", "leg_speed_max_m_s = 500");  // mm/s as m/s
   EXPECT_CONFIG_ERROR(p + "[observation]\npoint_m = [1e9, 0, 0]\n", "[observation] point_m");
 }
 

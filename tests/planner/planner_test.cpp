@@ -114,6 +114,40 @@ TEST(CheckTrajectory, NamesTheSegmentTimeAndLimit) {
   }
 }
 
+// The demo once ran Rz at 0.7 rad/s: legs at > 0.5 m/s, refused mid-motion by
+// the bridge as jumps. The planner now refuses it before the first setpoint,
+// with the speed computed independently here from finite differences of IK.
+TEST(CheckTrajectory, RefusesLegsFasterThanTheDrivesFollow) {
+  const PlatformModel model(Huang2021Config());
+  PaperMotionOptions fast;
+  fast.max_speed_rad_s = 0.7;
+  TrajectorySequence too_fast;
+  AppendPaperMotion("Rz", Home(), fast, &too_fast);
+  double fastest = 0.0;
+  for (double t = 0.0; t + 1e-3 <= too_fast.duration_s(); t += 1e-3) {
+    const Vector6 a = model.Solve(Pose::FromVector(too_fast.Sample(t).pose)).length_m;
+    const Vector6 b = model.Solve(Pose::FromVector(too_fast.Sample(t + 1e-3).pose)).length_m;
+    fastest = std::max(fastest, (b - a).cwiseAbs().maxCoeff() / 1e-3);
+  }
+  ASSERT_GT(fastest, 0.5);  // the case is real
+  try {
+    CheckTrajectory(model, too_fast);
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("Rz/move"), std::string::npos) << message;
+    EXPECT_NE(message.find("leg_speed_max_m_s = 0.5"), std::string::npos) << message;
+  }
+  PaperMotionOptions slow;
+  slow.max_speed_rad_s = 0.4;  // what the demo runs
+  TrajectorySequence fine;
+  AppendPaperMotion("Rz", Home(), slow, &fine);
+  EXPECT_NO_THROW(CheckTrajectory(model, fine));
+  PlatformConfig faster_drives = Huang2021Config();
+  faster_drives.limits.leg_speed_max_m_s = 1.0;
+  EXPECT_NO_THROW(CheckTrajectory(PlatformModel(faster_drives), too_fast));
+}
+
 TEST(Planner, FollowsTheAbsoluteClockAndHoldsAtTheEnd) {
   auto seq = std::make_unique<TrajectorySequence>();
   seq->Append("up", std::make_unique<QuinticMove>(Home(), Offset(2, 0.1), 1.0));

@@ -4,7 +4,7 @@
 //   channel <TAB> type-or-?? <TAB> received <TAB> undecodable <TAB> seq-of-last-decoded
 // so a test can check that lcm-spy, with the edsp jar on its classpath,
 // decodes edsp messages (rather than showing "?? <fingerprint>").
-//   EDSP_SPY_MAIN=SpyProbe EDSP_SPY_EXTRA_CP=spy_probe.jar deploy/edsp-spy --lcm-url=URL SECONDS
+//   EDSP_SPY_MAIN=SpyProbe EDSP_SPY_EXTRA_CP=spy_probe.jar deploy/edsp-spy --lcm-url=URL SECONDS [READY_FILE]
 import java.lang.reflect.Field;
 import java.util.ArrayList;
 import java.util.Map;
@@ -18,6 +18,9 @@ public class SpyProbe {
 
   public static void main(String[] args) throws Exception {
     lcm.spy.Spy spy = new lcm.spy.Spy(args[0].substring("--lcm-url=".length()));
+    if (args.length > 2) {  // tell the test the spy is up (the JVM's start-up varies with load)
+      new java.io.FileOutputStream(args[2]).close();
+    }
     Thread.sleep(Long.parseLong(args[1]) * 1000L);
     Map<?, ?> channels = (Map<?, ?>) get(spy, "channelMap");
     synchronized (get(spy, "channelList")) {

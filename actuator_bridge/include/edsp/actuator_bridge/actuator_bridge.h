@@ -20,7 +20,8 @@ struct BridgeOptions {
   std::string node_name = "actuator_bridge";
   std::int64_t session_id = 0;       // commands from any other session are refused
   std::int64_t stale_us = 50000;     // no valid command for this long: hold
-  double max_leg_speed_m_s = 0.5;    // faster changes between commands are jumps
+  double max_leg_speed_m_s = -1.0;   // faster changes are jumps; < 0: the config's
+                                     // [limits] leg_speed_max_m_s
 };
 
 class ActuatorBridge {

@@ -26,6 +26,8 @@ struct WorkspaceLimits {
   double leg_max_m = 2.45;
   double joint_angle_max_rad = 75.0 * 3.14159265358979323846 / 180.0;  // leg axis vs platform normals
   double jacobian_condition_max = 50.0;  // of the length-normalised Jacobian, see workspace.h
+  double leg_speed_max_m_s = 0.5;        // what the drives follow: the planner plans within
+                                         // it, the bridge refuses faster steps as jumps
 };
 
 struct PlatformConfig {
