@@ -8,115 +8,14 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include "edsp/kinematics/toml_section.h"
+
 namespace edsp {
 
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// Reads one section of the file, naming the file, line and key in every error.
-class SectionReader {
- public:
-  SectionReader(const toml::table& root, const char* name, const std::string& origin)
-      : name_(name), origin_(origin) {
-    const toml::node* node = root.get(name);
-    if (node != nullptr) {
-      table_ = node->as_table();
-      if (table_ == nullptr) Fail(*node, fmt::format("[{}] must be a table", name));
-    }
-  }
-
-  bool present() const { return table_ != nullptr; }
-  bool Has(const char* key) const { return table_ != nullptr && table_->get(key) != nullptr; }
-
-  // Every key of the section must be one we know: a typo such as `lead = 0.01`
-  // must not silently fall back to a default on a rig.
-  void RejectUnknownKeys(std::initializer_list<const char*> known) const {
-    if (table_ == nullptr) return;
-    for (auto&& [key, node] : *table_) {
-      bool found = false;
-      std::string list;
-      for (const char* k : known) {
-        found = found || key.str() == k;
-        list += list.empty() ? k : fmt::format(", {}", k);
-      }
-      if (!found) {
-        Fail(node, fmt::format("unknown key [{}] {} (known keys: {})", name_, key.str(), list));
-      }
-    }
-  }
-
-  std::string String(const char* key, const std::string& fallback) const {
-    const toml::node* node = Get(key);
-    if (node == nullptr) return fallback;
-    if (!node->is_string()) Fail(*node, fmt::format("[{}] {} must be a string", name_, key));
-    return *node->value<std::string>();
-  }
-
-  double Number(const char* key, double fallback) const {
-    const toml::node* node = Get(key);
-    return node == nullptr ? fallback : ToNumber(*node, key);
-  }
-
-  int Integer(const char* key, int fallback) const {
-    const toml::node* node = Get(key);
-    if (node == nullptr) return fallback;
-    if (!node->is_integer()) Fail(*node, fmt::format("[{}] {} must be an integer", name_, key));
-    return static_cast<int>(*node->value<std::int64_t>());
-  }
-
-  Vector3 Vector(const char* key, const Vector3& fallback) const {
-    const toml::node* node = Get(key);
-    return node == nullptr ? fallback : ToVector3(*node, key, "");
-  }
-
-  // A 6x3 array of arrays, returned as one column per leg.
-  bool Rows6(const char* key, Matrix36* out) const {
-    const toml::node* node = Get(key);
-    if (node == nullptr) return false;
-    const toml::array* rows = node->as_array();
-    if (rows == nullptr || rows->size() != kNumLegs) {
-      Fail(*node, fmt::format("[{}] {} must be an array of 6 rows [x, y, z]", name_, key));
-    }
-    for (int i = 0; i < kNumLegs; ++i) {
-      out->col(i) = ToVector3((*rows)[static_cast<std::size_t>(i)], key,
-                              fmt::format(" row {}", i + 1));
-    }
-    return true;
-  }
-
-  [[noreturn]] void Fail(const toml::node& node, const std::string& what) const {
-    throw ConfigError(fmt::format("{}:{}: {}", origin_, node.source().begin.line, what));
-  }
-
- private:
-  const toml::node* Get(const char* key) const {
-    return table_ == nullptr ? nullptr : table_->get(key);
-  }
-
-  double ToNumber(const toml::node& node, const std::string& key) const {
-    if (!node.is_number()) Fail(node, fmt::format("[{}] {} must be a number", name_, key));
-    const double value = *node.value<double>();
-    if (!std::isfinite(value)) {
-      Fail(node, fmt::format("[{}] {} = {} must be finite", name_, key, value));
-    }
-    return value;
-  }
-
-  Vector3 ToVector3(const toml::node& node, const std::string& key, const std::string& row) const {
-    const toml::array* xyz = node.as_array();
-    if (xyz == nullptr || xyz->size() != 3) {
-      Fail(node, fmt::format("[{}] {}{} must be [x, y, z]", name_, key, row));
-    }
-    Vector3 v;
-    for (int k = 0; k < 3; ++k) v(k) = ToNumber((*xyz)[static_cast<std::size_t>(k)], key + row);
-    return v;
-  }
-
-  const toml::table* table_ = nullptr;
-  const char* name_;
-  const std::string& origin_;
-};
 
 void ReadGeometry(const SectionReader& s, const std::string& origin, PlatformConfig* config) {
   s.RejectUnknownKeys({"preset", "home_height_m", "base_joints_m", "platform_joints_m",
@@ -169,13 +68,6 @@ void Require(bool ok, const std::string& origin, const std::string& what) {
   if (!ok) throw ConfigError(fmt::format("{}: {}", origin, what));
 }
 
-std::string ReadFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw ConfigError(fmt::format("{}: cannot open config file", path));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 }  // namespace
 
@@ -240,6 +132,14 @@ PlatformConfig ParseConfig(const std::string& toml_text, const std::string& orig
   return config;
 }
 
-PlatformConfig LoadConfigFile(const std::string& path) { return ParseConfig(ReadFile(path), path); }
+std::string ReadConfigText(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw ConfigError(fmt::format("{}: cannot open config file", path));
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+PlatformConfig LoadConfigFile(const std::string& path) { return ParseConfig(ReadConfigText(path), path); }
 
 }  // namespace edsp

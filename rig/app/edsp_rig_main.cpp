@@ -85,7 +85,8 @@ int Run(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   const PlatformConfig config = LoadConfigFile(node.config_path);
-  rig_parameters.true_config = config;
+  rig_parameters.nominal = config;
+  rig_parameters.effects = LoadRigEffects(node.config_path);  // [rig.effects]: how this rig differs
   if (!frame_text.empty()) rig_parameters.tracker.X_TB = ParsePoseText(frame_text);
   const TransportConfig transport = TransportFor(node);
   InstallStopSignals();

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "edsp/kinematics/forward_kinematics.h"
 
 namespace edsp {
 
@@ -13,18 +12,46 @@ constexpr double kTwoPi = 2.0 * 3.14159265358979323846;
 
 RigParameters IdealRig(const PlatformConfig& nominal) {
   RigParameters p;
-  p.true_config = nominal;
+  p.nominal = nominal;
   p.tracker.X_TB = Pose{};
   return p;
 }
 
+namespace {
+
+// The true geometry, with the lead and sign the screws' PR really has.
+PlatformConfig PrConfig(const RigParameters& p) {
+  PlatformConfig c = TrueConfig(p.nominal, p.effects);
+  const RigEffects::PassiveRotation& pr = p.effects.passive_rotation;
+  if (pr.enabled) {
+    if (pr.pr_sign != 0) c.drive.pr_sign = pr.pr_sign;
+    if (pr.pr_lead_m > 0.0) c.drive.lead_m = pr.pr_lead_m;
+  }
+  return c;
+}
+
+}  // namespace
+
 VirtualRig::VirtualRig(RigParameters parameters)
-    : parameters_(std::move(parameters)), model_(parameters_.true_config),
+    : parameters_(std::move(parameters)), model_(PrConfig(parameters_)),
       pose_(model_.home_pose()), rng_(parameters_.tracker.seed) {
+  fk_options_.with_pr = !(parameters_.effects.passive_rotation.enabled &&
+                          parameters_.effects.passive_rotation.pr_sign == 0);
+  // The legs' zero is the nominal home length (where the rig was homed).
+  const PlatformModel nominal(parameters_.nominal);
+  const LegSolution home = nominal.Solve(nominal.home_pose());
+  for (int i = 0; i < kNumLegs; ++i) {
+    transmissions_.emplace_back(i, home.length_m(i), parameters_.nominal.drive, parameters_.effects);
+    lengths_(i) = transmissions_.back().Length(0.0);
+  }
+  // The platform starts where those legs put it.
+  const FkResult fk = SolveForward(model_, lengths_, pose_, fk_options_);
+  if (fk.ok()) pose_ = fk.pose;
   // Critically damped position loop at the requested bandwidth.
-  const double wn = kTwoPi * parameters_.servo.bandwidth_hz;
-  kp_ = parameters_.servo.inertia_kg_m2 * wn * wn;
-  kd_ = 2.0 * parameters_.servo.inertia_kg_m2 * wn;
+  const RigEffects::ServoLag& servo = parameters_.effects.servo_lag;
+  const double wn = kTwoPi * servo.bandwidth_hz;
+  kp_ = servo.inertia_kg_m2 * wn * wn;
+  kd_ = 2.0 * servo.inertia_kg_m2 * wn;
 }
 
 void VirtualRig::SetTarget(const DriveSetpoint& setpoint, bool enabled) {
@@ -32,8 +59,19 @@ void VirtualRig::SetTarget(const DriveSetpoint& setpoint, bool enabled) {
   enabled_ = enabled;
 }
 
+void VirtualRig::StepIdeal(int i, double dt) {
+  if (enabled_) {
+    // On the (interpolated) target at the end of the step.
+    target_.motor_angle_rad[i] += dt * target_.motor_velocity_rad_s[i];
+    angle_[i] = target_.motor_angle_rad[i];
+    velocity_[i] = target_.motor_velocity_rad_s[i];
+  } else {
+    velocity_[i] = 0.0;
+  }
+}
+
 void VirtualRig::StepServo(int i, double dt) {
-  const ServoParameters& s = parameters_.servo;
+  const RigEffects::ServoLag& s = parameters_.effects.servo_lag;
   double torque = 0.0;
   if (enabled_) {
     torque = kp_ * (target_.motor_angle_rad[i] - angle_[i]) +
@@ -50,17 +88,21 @@ void VirtualRig::StepServo(int i, double dt) {
 }
 
 bool VirtualRig::Advance(double dt_s) {
-  const double loop_dt = 1.0 / parameters_.servo.loop_rate_hz;
+  const bool servo = parameters_.effects.servo_lag.enabled;
+  const double loop_dt = 1.0 / parameters_.effects.servo_lag.loop_rate_hz;
   const int steps = std::max(1, static_cast<int>(std::lround(dt_s / loop_dt)));
   for (int k = 0; k < steps; ++k) {
-    for (int i = 0; i < kNumLegs; ++i) StepServo(i, dt_s / steps);
+    for (int i = 0; i < kNumLegs; ++i) {
+      if (servo) StepServo(i, dt_s / steps);
+      else StepIdeal(i, dt_s / steps);
+      // The drive train at the loop rate: backlash sees every reversal.
+      lengths_(i) = transmissions_[static_cast<std::size_t>(i)].Length(angle_[i]);
+    }
   }
   time_s_ += dt_s;
-  // The screws' encoder-implied lengths in the rig's own geometry; forward
-  // kinematics adds each screw's true signed PR.
-  Vector6 encoder_lengths;
-  for (int i = 0; i < kNumLegs; ++i) encoder_lengths(i) = model_.LengthFromMotorAngle(i, angle_[i]);
-  const FkResult fk = SolveForward(model_, encoder_lengths, pose_);
+  // Forward kinematics in the rig's own geometry adds each screw's true
+  // signed PR to the drive-train lengths.
+  const FkResult fk = SolveForward(model_, lengths_, pose_, fk_options_);
   if (!fk.ok()) return false;
   pose_ = fk.pose;
   return true;

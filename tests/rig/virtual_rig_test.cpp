@@ -25,6 +25,7 @@ void RunFor(VirtualRig& rig, double seconds) {
 
 TEST(VirtualRig, ServoSettlesOnATargetWithinTheTorqueLimit) {
   RigParameters p = IdealRig(Huang2021Config());
+  p.effects.servo_lag.enabled = true;
   VirtualRig rig(p);
   DriveSetpoint target;
   target.motor_angle_rad.fill(10.0);  // 16 mm of leg travel
@@ -40,7 +41,8 @@ TEST(VirtualRig, ServoSettlesOnATargetWithinTheTorqueLimit) {
   for (int i = 0; i < kNumLegs; ++i) EXPECT_NEAR(rig.Feedback().motor_angle_rad[i], 10.0, 1e-6);
   // Braking, viscous friction adds to the saturated torque.
   const double limit =
-      (p.servo.torque_limit_N_m + p.servo.viscous_N_m_s * peak_velocity) / p.servo.inertia_kg_m2;
+      (p.effects.servo_lag.torque_limit_N_m + p.effects.servo_lag.viscous_N_m_s * peak_velocity) /
+      p.effects.servo_lag.inertia_kg_m2;
   EXPECT_LE(peak_acceleration, limit * 1.001);
   EXPECT_GT(peak_acceleration, limit * 0.9);  // a 10 rad step saturates it
 }
@@ -70,10 +72,11 @@ TEST(VirtualRig, PlatformSitsWhereTheTrueSignedPrPutsIt) {
   EXPECT_GT((rig.true_pose().ToVector() - target.ToVector()).cwiseAbs().maxCoeff(), 1e-5);
 }
 
-TEST(VirtualRig, UsesItsOwnTrueGeometryNotTheNominalOne) {
+TEST(VirtualRig, ScrewsAdvanceByTheirTrueLeadNotTheNominalOne) {
   const PlatformModel nominal(Huang2021Config());
   RigParameters p = IdealRig(nominal.config());
-  p.true_config.drive.lead_m = 0.0101;  // the screws advance 1% more than nominal
+  p.effects.lead_error.enabled = true;
+  p.effects.lead_error.epsilon.fill(0.01);  // the screws advance 1% more than nominal
   VirtualRig rig(p);
   Pose target = nominal.home_pose();
   target.p_BoMo_B.z() += 0.1;

@@ -38,6 +38,9 @@ struct PlatformConfig {
   WorkspaceLimits limits;
 };
 
+// The whole text of a config file. Throws ConfigError naming it if unreadable.
+std::string ReadConfigText(const std::string& path);
+
 // Reads and validates a config file. Throws ConfigError.
 PlatformConfig LoadConfigFile(const std::string& path);
 

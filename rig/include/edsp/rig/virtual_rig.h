@@ -1,29 +1,26 @@
 #pragma once
-// The virtual EDSP that stands in for hardware. Per leg a motor (inertia,
-// viscous friction, torque limit) driven by a position/velocity loop with
-// velocity feed-forward at `loop_rate_hz`. Each screw adds its TRUE signed
-// passive rotation: the platform sits at the pose whose true leg lengths
-// (encoder-implied length + true PR error) match, found by forward
-// kinematics on the rig's own, possibly non-nominal, geometry. A laser-tracker
-// emulator measures point A in its own frame.
+// The virtual EDSP that stands in for hardware. Per leg a drive (ideal, or
+// with the servo_lag effect a motor with inertia, viscous friction and a
+// torque limit under a position/velocity loop with velocity feed-forward), a
+// drive train (LegTransmission: backlash, lead errors, leg offsets) and a
+// screw that adds its TRUE signed passive rotation: the platform sits at the
+// pose whose leg lengths match, found by forward kinematics on the rig's own
+// geometry (joint_position). With no effect on, it is the nominal model. A
+// laser-tracker emulator measures point A in its own frame.
 
 #include <cstdint>
 #include <random>
+#include <vector>
 
 #include "edsp/actuator_bridge/drive_backend.h"
+#include "edsp/kinematics/forward_kinematics.h"
 #include "edsp/kinematics/platform_model.h"
+#include "edsp/rig/leg_transmission.h"
+#include "edsp/rig/rig_effects.h"
 #include "edsp/rig_truth_t.hpp"
 #include "edsp/tracker_point_t.hpp"
 
 namespace edsp {
-
-struct ServoParameters {
-  double inertia_kg_m2 = 2e-4;      // motor + reflected screw, at the motor
-  double viscous_N_m_s = 1e-4;      // per rad/s
-  double torque_limit_N_m = 5.0;    // current limit × torque constant
-  double bandwidth_hz = 50.0;       // position loop; gains follow from it
-  double loop_rate_hz = 4000.0;     // drive loop and integration rate
-};
 
 struct TrackerParameters {
   Pose X_TB;                        // {B} in the tracker frame (identity: the same)
@@ -33,8 +30,8 @@ struct TrackerParameters {
 };
 
 struct RigParameters {
-  PlatformConfig true_config;       // the rig as built (may differ from nominal)
-  ServoParameters servo;
+  PlatformConfig nominal;           // what the rig was designed to be
+  RigEffects effects;               // how it really is (none: exactly nominal)
   TrackerParameters tracker;
 };
 
@@ -57,12 +54,17 @@ class VirtualRig {
 
   const Pose& true_pose() const { return pose_; }
   const PlatformModel& true_model() const { return model_; }
+  const Vector6& true_lengths() const { return lengths_; }
 
  private:
   void StepServo(int leg, double dt);
+  void StepIdeal(int leg, double dt);
 
   RigParameters parameters_;
-  PlatformModel model_;  // the true geometry, lead and PR sign
+  PlatformModel model_;  // the true geometry; lead and sign of the true PR
+  FkOptions fk_options_;
+  std::vector<LegTransmission> transmissions_;
+  Vector6 lengths_ = Vector6::Zero();
   double kp_, kd_;
   std::array<double, 6> angle_{}, velocity_{};
   DriveSetpoint target_;

@@ -1,0 +1,79 @@
+#pragma once
+// The physical effects a nominal model leaves out (interfaces.md §4), as
+// parameters of the virtual rig's physics. Each is off unless its table in
+// the platform config's [rig.effects] section says `enabled = true`; with all
+// off the rig is the nominal model (screws with the nominal signed PR, an
+// ideal drive), and point A lands where the model says to numerical
+// precision. Units SI; per-leg values are a number (every leg) or 6 numbers.
+//
+//   [rig.effects.leg_offset]           offset_m = [...]        home-length (zero) offsets
+//   [rig.effects.joint_position]       base_m = [[dx,dy,dz] ×6], platform_m = [[...] ×6]
+//   [rig.effects.passive_rotation]     pr_sign = 1|-1|0 (0: no PR), pr_lead_m = 0.010
+//   [rig.effects.lead_error]           epsilon = [...]         lead·(1+ε) per turn
+//   [rig.effects.periodic_lead_error]  amplitude_m = [...], phase_rad = [...]   once per screw turn
+//   [rig.effects.backlash]             backlash_m = [...]      lost motion, in leg travel
+//   [rig.effects.servo_lag]            bandwidth_hz, inertia_kg_m2, viscous_N_m_s,
+//                                      torque_limit_N_m, loop_rate_hz   the drive loop's dynamics
+//
+// docs/rig.md gives each effect's physics, realistic magnitudes for a
+// platform of the paper's size, and the signature it leaves at point A.
+
+#include <array>
+#include <string>
+
+#include "edsp/kinematics/config.h"
+
+namespace edsp {
+
+using LegValues = std::array<double, 6>;
+
+struct RigEffects {
+  struct LegOffset {
+    bool enabled = false;
+    LegValues offset_m{};
+  } leg_offset;
+  struct JointPosition {
+    bool enabled = false;
+    Matrix36 base_m = Matrix36::Zero();      // added to the base joint centres, {B}
+    Matrix36 platform_m = Matrix36::Zero();  // added to the platform joint centres, {M}
+  } joint_position;
+  struct PassiveRotation {
+    bool enabled = false;
+    int pr_sign = 1;          // the screws' true s: 1, -1, or 0 for none at all
+    double pr_lead_m = 0.0;   // the lead PR acts through; 0: the nominal lead
+  } passive_rotation;
+  struct LeadError {
+    bool enabled = false;
+    LegValues epsilon{};      // relative error of the lead
+  } lead_error;
+  struct PeriodicLeadError {
+    bool enabled = false;
+    LegValues amplitude_m{};  // leg travel error, once per screw turn
+    LegValues phase_rad{};
+  } periodic_lead_error;
+  struct Backlash {
+    bool enabled = false;
+    LegValues backlash_m{};   // total lost motion, in leg travel
+  } backlash;
+  struct ServoLag {           // off: an ideal drive, the motor exactly on its target
+    bool enabled = false;
+    double inertia_kg_m2 = 2e-4;    // motor + reflected screw, at the motor
+    double viscous_N_m_s = 1e-4;    // per rad/s
+    double torque_limit_N_m = 5.0;  // current limit × torque constant
+    double bandwidth_hz = 50.0;     // position loop; gains follow from it
+    double loop_rate_hz = 4000.0;   // drive loop and integration rate
+  } servo_lag;
+
+  bool any() const;
+};
+
+// Reads [rig.effects] from a config file's text (other sections are the
+// nominal model's). Throws ConfigError naming the file, line and key for an
+// unknown effect or key, a missing or absurd value.
+RigEffects ParseRigEffects(const std::string& toml_text, const std::string& origin);
+RigEffects LoadRigEffects(const std::string& path);
+
+// The rig as built: the nominal geometry with the joint positions moved.
+PlatformConfig TrueConfig(const PlatformConfig& nominal, const RigEffects& effects);
+
+}  // namespace edsp

@@ -1,0 +1,154 @@
+#include "edsp/rig/rig_effects.h"
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+#include "edsp/kinematics/toml_section.h"
+
+namespace edsp {
+
+namespace {
+
+const char* const kEffects[] = {"leg_offset", "joint_position",      "passive_rotation", "lead_error",
+                                "periodic_lead_error", "backlash", "servo_lag"};
+
+// Bounds that catch unit typos (mm for m, ppm for a fraction) on a platform
+// of metres: an effect this large is a mistake, not a rig.
+void RequireAll(const SectionReader& s, const LegValues& v, const char* key, double lo, double hi,
+                const char* what) {
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (!(v[i] >= lo && v[i] <= hi)) {
+      s.Fail(*s.table(), fmt::format("[{}] {} = {} (leg {}) must be in [{}, {}] {}", s.name(), key,
+                                     v[i], i + 1, lo, hi, what));
+    }
+  }
+}
+
+void ReadLegOffset(const SectionReader& s, RigEffects::LegOffset* e) {
+  s.RejectUnknownKeys({"enabled", "offset_m"});
+  e->enabled = s.Bool("enabled", true);
+  e->offset_m = s.PerLeg("offset_m", e->offset_m);
+  RequireAll(s, e->offset_m, "offset_m", -0.01, 0.01, "m");
+}
+
+void ReadJointPosition(const SectionReader& s, RigEffects::JointPosition* e) {
+  s.RejectUnknownKeys({"enabled", "base_m", "platform_m"});
+  e->enabled = s.Bool("enabled", true);
+  s.Rows6("base_m", &e->base_m);
+  s.Rows6("platform_m", &e->platform_m);
+  if (e->base_m.cwiseAbs().maxCoeff() > 0.01 || e->platform_m.cwiseAbs().maxCoeff() > 0.01) {
+    s.Fail(*s.table(), fmt::format("[{}] joint offsets must be within ±0.01 m", s.name()));
+  }
+}
+
+void ReadPassiveRotation(const SectionReader& s, RigEffects::PassiveRotation* e) {
+  s.RejectUnknownKeys({"enabled", "pr_sign", "pr_lead_m"});
+  e->enabled = s.Bool("enabled", true);
+  e->pr_sign = s.Integer("pr_sign", e->pr_sign);
+  e->pr_lead_m = s.Number("pr_lead_m", e->pr_lead_m);
+  if (e->pr_sign < -1 || e->pr_sign > 1) {
+    s.Fail(*s.table(), fmt::format("[{}] pr_sign = {} must be 1, -1 or 0 (no PR)", s.name(), e->pr_sign));
+  }
+  if (e->pr_lead_m < 0.0 || e->pr_lead_m > 0.5) {
+    s.Fail(*s.table(), fmt::format("[{}] pr_lead_m = {} must be in [0, 0.5] m (0: the nominal lead)",
+                                   s.name(), e->pr_lead_m));
+  }
+}
+
+void ReadLeadError(const SectionReader& s, RigEffects::LeadError* e) {
+  s.RejectUnknownKeys({"enabled", "epsilon"});
+  e->enabled = s.Bool("enabled", true);
+  e->epsilon = s.PerLeg("epsilon", e->epsilon);
+  RequireAll(s, e->epsilon, "epsilon", -0.01, 0.01, "(a fraction: 100 ppm is 1e-4)");
+}
+
+void ReadPeriodicLeadError(const SectionReader& s, RigEffects::PeriodicLeadError* e) {
+  s.RejectUnknownKeys({"enabled", "amplitude_m", "phase_rad"});
+  e->enabled = s.Bool("enabled", true);
+  e->amplitude_m = s.PerLeg("amplitude_m", e->amplitude_m);
+  e->phase_rad = s.PerLeg("phase_rad", e->phase_rad);
+  RequireAll(s, e->amplitude_m, "amplitude_m", 0.0, 0.001, "m");
+}
+
+void ReadBacklash(const SectionReader& s, RigEffects::Backlash* e) {
+  s.RejectUnknownKeys({"enabled", "backlash_m"});
+  e->enabled = s.Bool("enabled", true);
+  e->backlash_m = s.PerLeg("backlash_m", e->backlash_m);
+  RequireAll(s, e->backlash_m, "backlash_m", 0.0, 0.005, "m");
+}
+
+void ReadServoLag(const SectionReader& s, RigEffects::ServoLag* e) {
+  s.RejectUnknownKeys({"enabled", "inertia_kg_m2", "viscous_N_m_s", "torque_limit_N_m", "bandwidth_hz",
+                       "loop_rate_hz"});
+  e->enabled = s.Bool("enabled", true);
+  e->inertia_kg_m2 = s.Number("inertia_kg_m2", e->inertia_kg_m2);
+  e->viscous_N_m_s = s.Number("viscous_N_m_s", e->viscous_N_m_s);
+  e->torque_limit_N_m = s.Number("torque_limit_N_m", e->torque_limit_N_m);
+  e->bandwidth_hz = s.Number("bandwidth_hz", e->bandwidth_hz);
+  e->loop_rate_hz = s.Number("loop_rate_hz", e->loop_rate_hz);
+  auto require = [&](bool ok, const char* key, double value, const char* range) {
+    if (!ok) s.Fail(*s.table(), fmt::format("[{}] {} = {} must be {}", s.name(), key, value, range));
+  };
+  require(e->inertia_kg_m2 > 0.0 && e->inertia_kg_m2 < 1.0, "inertia_kg_m2", e->inertia_kg_m2, "in (0, 1) kg m²");
+  require(e->viscous_N_m_s >= 0.0 && e->viscous_N_m_s < 10.0, "viscous_N_m_s", e->viscous_N_m_s, "in [0, 10) N m s");
+  require(e->torque_limit_N_m > 0.0 && e->torque_limit_N_m < 1000.0, "torque_limit_N_m", e->torque_limit_N_m,
+          "in (0, 1000) N m");
+  require(e->bandwidth_hz > 0.0 && e->bandwidth_hz <= e->loop_rate_hz / 10.0, "bandwidth_hz", e->bandwidth_hz,
+          "positive and at most a tenth of loop_rate_hz");
+  require(e->loop_rate_hz >= 1000.0 && e->loop_rate_hz <= 100000.0, "loop_rate_hz", e->loop_rate_hz,
+          "in [1000, 100000] Hz");
+}
+
+
+}  // namespace
+
+bool RigEffects::any() const {
+  return leg_offset.enabled || joint_position.enabled || passive_rotation.enabled ||
+         lead_error.enabled || periodic_lead_error.enabled || backlash.enabled || servo_lag.enabled;
+}
+
+RigEffects ParseRigEffects(const std::string& toml_text, const std::string& origin) {
+  toml::table root;
+  try {
+    root = toml::parse(toml_text, origin);
+  } catch (const toml::parse_error& e) {
+    throw ConfigError(fmt::format("{}:{}:{}: {}", origin, e.source().begin.line,
+                                  e.source().begin.column, e.description()));
+  }
+  RigEffects effects;
+  const SectionReader rig(root.get("rig"), "rig", origin);
+  rig.RejectUnknownKeys({"effects"});
+  if (!rig.present()) return effects;
+  const SectionReader all(rig.table()->get("effects"), "rig.effects", origin);
+  if (!all.present()) return effects;
+  for (auto&& [key, node] : *all.table()) {
+    const std::string name(key.str());
+    const SectionReader s(&node, "rig.effects." + name, origin);
+    if (name == "leg_offset") ReadLegOffset(s, &effects.leg_offset);
+    else if (name == "joint_position") ReadJointPosition(s, &effects.joint_position);
+    else if (name == "passive_rotation") ReadPassiveRotation(s, &effects.passive_rotation);
+    else if (name == "lead_error") ReadLeadError(s, &effects.lead_error);
+    else if (name == "periodic_lead_error") ReadPeriodicLeadError(s, &effects.periodic_lead_error);
+    else if (name == "backlash") ReadBacklash(s, &effects.backlash);
+    else if (name == "servo_lag") ReadServoLag(s, &effects.servo_lag);
+    else {
+      std::string known;
+      for (const char* k : kEffects) known += known.empty() ? k : fmt::format(", {}", k);
+      all.Fail(node, fmt::format("unknown effect [rig.effects.{}] (known: {})", name, known));
+    }
+  }
+  return effects;
+}
+
+RigEffects LoadRigEffects(const std::string& path) { return ParseRigEffects(ReadConfigText(path), path); }
+
+PlatformConfig TrueConfig(const PlatformConfig& nominal, const RigEffects& effects) {
+  PlatformConfig truth = nominal;
+  if (effects.joint_position.enabled) {
+    truth.geometry.p_BoBi_B += effects.joint_position.base_m;
+    truth.geometry.p_MoPi_M += effects.joint_position.platform_m;
+  }
+  return truth;
+}
+
+}  // namespace edsp

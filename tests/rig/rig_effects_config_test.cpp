@@ -1,0 +1,86 @@
+// [rig.effects] in a platform config: every effect and key read (a number
+// for all legs or six), the nominal sections untouched, and errors that name
+// the file, line and key for unknown effects, unknown keys and absurd values.
+#include <gtest/gtest.h>
+
+#include "edsp/kinematics/config.h"
+#include "edsp/rig/rig_effects.h"
+
+namespace edsp {
+namespace {
+
+const std::string kNominal = "[geometry]\npreset = \"huang2021\"\n";
+
+std::string ErrorOf(const std::string& text) {
+  try {
+    ParseRigEffects(text, "rig.toml");
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(RigEffectsConfig, NoSectionMeansEveryEffectOff) {
+  EXPECT_FALSE(ParseRigEffects(kNominal, "rig.toml").any());
+  EXPECT_FALSE(LoadRigEffects(std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml").any());
+}
+
+TEST(RigEffectsConfig, EveryEffectIsRead) {
+  const RigEffects e = ParseRigEffects(kNominal + R"(
+[rig.effects.leg_offset]
+offset_m = [1e-4, -5e-5, 0, 0, 0, 2e-5]
+[rig.effects.joint_position]
+base_m = [[1e-4, 0, 0], [0, 0, 0], [0, 0, 0], [0, 0, 0], [0, 0, 0], [0, 0, -2e-4]]
+[rig.effects.passive_rotation]
+pr_sign = -1
+pr_lead_m = 0.012
+[rig.effects.lead_error]
+epsilon = 2e-4
+[rig.effects.periodic_lead_error]
+amplitude_m = 5e-6
+phase_rad = [0, 1, 2, 3, 4, 5]
+[rig.effects.backlash]
+enabled = false
+backlash_m = 3e-5
+[rig.effects.servo_lag]
+bandwidth_hz = 30
+)", "rig.toml");
+  EXPECT_TRUE(e.leg_offset.enabled);
+  EXPECT_EQ(e.leg_offset.offset_m[1], -5e-5);
+  EXPECT_TRUE(e.joint_position.enabled);
+  EXPECT_EQ(e.joint_position.base_m(0, 0), 1e-4);
+  EXPECT_EQ(e.joint_position.base_m(2, 5), -2e-4);
+  EXPECT_EQ(e.passive_rotation.pr_sign, -1);
+  EXPECT_EQ(e.passive_rotation.pr_lead_m, 0.012);
+  for (double eps : e.lead_error.epsilon) EXPECT_EQ(eps, 2e-4);  // one number: every leg
+  EXPECT_EQ(e.periodic_lead_error.phase_rad[5], 5.0);
+  EXPECT_FALSE(e.backlash.enabled);  // present but switched off
+  EXPECT_EQ(e.backlash.backlash_m[0], 3e-5);
+  EXPECT_TRUE(e.servo_lag.enabled);
+  EXPECT_EQ(e.servo_lag.bandwidth_hz, 30.0);
+  const PlatformConfig truth = TrueConfig(Huang2021Config(), e);
+  EXPECT_NEAR(truth.geometry.p_BoBi_B(0, 0) - Huang2021Config().geometry.p_BoBi_B(0, 0), 1e-4, 1e-15);
+}
+
+TEST(RigEffectsConfig, ErrorsNameFileLineAndKey) {
+  EXPECT_NE(ErrorOf(kNominal + "[rig.effects.wobble]\nx = 1\n").find("rig.toml:3: unknown effect [rig.effects.wobble]"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kNominal + "[rig.effects.backlash]\nbacklash = 1e-5\n").find("unknown key [rig.effects.backlash] backlash"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kNominal + "[rig.effects.backlash]\nbacklash_m = 0.03\n").find("backlash_m = 0.03 (leg 1)"),
+            std::string::npos);  // 30 mm: mm typed as m
+  EXPECT_NE(ErrorOf(kNominal + "[rig.effects.lead_error]\nepsilon = [1, 2]\n").find("a number or an array of 6"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kNominal + "[rig.effects.lead_error]\nepsilon = 200\n").find("epsilon = 200"),
+            std::string::npos);  // ppm typed as a fraction
+  EXPECT_NE(ErrorOf(kNominal + "[rig.effects.passive_rotation]\npr_sign = 2\n").find("pr_sign = 2"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kNominal + "[rig.effects.servo_lag]\nbandwidth_hz = 1000\n").find("bandwidth_hz = 1000"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kNominal + "[rig.effects.leg_offset]\noffset_m = nan\n").find("finite"), std::string::npos);
+  EXPECT_NE(ErrorOf(kNominal + "[rig]\nfoo = 1\n").find("unknown key [rig] foo"), std::string::npos);
+  EXPECT_NE(ErrorOf(kNominal + "[rig.effects.backlash]\nenabled = 1\n").find("true or false"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace edsp

@@ -1,0 +1,232 @@
+// The rig's physical effects through the whole in-process stack (planner →
+// kinematics with signed compensation → bridge → virtual rig, tracker noise
+// off). For each effect: the point-A error at every dwell against a hand
+// calculation, independent of the rig's forward kinematics: the small-error
+// linearisation ΔA = ∂A/∂q · J⁻¹ · Δ(encoder lengths), with both Jacobians by
+// finite differences of the models; within 10%. And each effect's signature:
+// constant for offsets, ∝ stroke for lead error, flipping with direction for
+// backlash, no hysteresis for joint positions. All off: the nominal model.
+#include <cmath>
+#include <memory>
+
+#include <gtest/gtest.h>
+
+#include "edsp/kinematics/config.h"
+#include "edsp/planner/paper_motions.h"
+#include "edsp/sim/stack_simulation.h"
+
+namespace edsp {
+namespace {
+
+struct DwellEnd {
+  std::string segment;
+  Vector6 target;
+  Vector3 error;     // tracker A − target A
+  Vector6 command;   // encoder lengths commanded
+  Vector6 travel;    // each leg's last direction of travel into the dwell: +1, −1 (0: none yet)
+};
+
+std::vector<DwellEnd> RunStack(const std::string& motion, const RigEffects& effects, int stops = 3) {
+  const PlatformConfig nominal = Huang2021Config();
+  auto trajectory = std::make_unique<TrajectorySequence>();
+  PaperMotionOptions options;
+  options.stops = stops;
+  options.dwell_s = 0.3;
+  options.max_speed_m_s = 0.25;
+  options.max_speed_rad_s = 0.4;
+  AppendPaperMotion(motion, PlatformModel(nominal).home_pose().ToVector(), options, trajectory.get());
+  StackOptions stack;
+  stack.pr_mode = PrMode::kSigned;
+  RigParameters rig = IdealRig(nominal);
+  rig.effects = effects;
+  stack.rig = rig;
+  StackSimulation sim(nominal, std::move(trajectory), stack);
+  const PlatformModel& model = sim.nominal_model();
+  std::vector<DwellEnd> ends;
+  StackSample previous;
+  bool have_previous = false;
+  Vector6 travel = Vector6::Zero(), last_command = Vector6::Zero();
+  while (!sim.Finished()) {
+    const StackSample s = sim.Step();
+    EXPECT_TRUE(s.command_valid);
+    Vector6 command;
+    for (int i = 0; i < 6; ++i) command(i) = s.command.command_length_m[i];
+    for (int i = 0; i < 6; ++i) {
+      const double step = command(i) - last_command(i);
+      if (std::abs(step) > 1e-9) travel(i) = step > 0 ? 1.0 : -1.0;
+    }
+    last_command = command;
+    if (have_previous && s.setpoint.segment != previous.setpoint.segment &&
+        previous.setpoint.trajectory.find("/dwell") != std::string::npos) {
+      DwellEnd d;
+      d.segment = previous.setpoint.trajectory;
+      for (int k = 0; k < 6; ++k) d.target(k) = previous.setpoint.pose[k];
+      for (int i = 0; i < 6; ++i) d.command(i) = previous.command.command_length_m[i];
+      const Vector3 measured(previous.tracker.point_m[0], previous.tracker.point_m[1],
+                             previous.tracker.point_m[2]);
+      d.error = measured - model.ObservationPoint(Pose::FromVector(d.target));
+      d.travel = travel;
+      ends.push_back(d);
+    }
+    previous = s;
+    have_previous = true;
+  }
+  // Back home, the planner holds: that is a last stop, reached downwards or
+  // upwards depending on the motion.
+  StackSample held;
+  for (int k = 0; k < 300; ++k) held = sim.Step();
+  DwellEnd end;
+  end.segment = motion + "/end";
+  for (int k = 0; k < 6; ++k) end.target(k) = held.setpoint.pose[k];
+  for (int i = 0; i < 6; ++i) end.command(i) = held.command.command_length_m[i];
+  end.error = Vector3(held.tracker.point_m[0], held.tracker.point_m[1], held.tracker.point_m[2]) -
+              model.ObservationPoint(Pose::FromVector(end.target));
+  end.travel = travel;
+  ends.push_back(end);
+  EXPECT_TRUE(sim.faults().empty());
+  return ends;
+}
+
+// ΔA for encoder-length errors `delta` at pose q on a rig whose encoder-length
+// function is `rig` (nominal unless its geometry or PR differ).
+Vector3 Predicted(const PlatformModel& nominal, const PlatformModel& rig, const Vector6& q,
+                  const Vector6& delta) {
+  const double h = 1e-6;
+  Matrix6 J;
+  Eigen::Matrix<double, 3, 6> Ja;
+  for (int k = 0; k < 6; ++k) {
+    Vector6 up = q, down = q;
+    up(k) += h;
+    down(k) -= h;
+    J.col(k) = (rig.EncoderLengths(Pose::FromVector(up)) - rig.EncoderLengths(Pose::FromVector(down))) / (2 * h);
+    Ja.col(k) = (nominal.ObservationPoint(Pose::FromVector(up)) -
+                 nominal.ObservationPoint(Pose::FromVector(down))) / (2 * h);
+  }
+  const Vector6 mismatch = nominal.EncoderLengths(Pose::FromVector(q)) - rig.EncoderLengths(Pose::FromVector(q));
+  return Ja * J.lu().solve(delta + mismatch);
+}
+
+void ExpectWithin10Percent(const Vector3& measured, const Vector3& predicted, const std::string& where) {
+  EXPECT_LE((measured - predicted).norm(), 0.1 * predicted.norm() + 1e-8)
+      << where << ": measured " << measured.transpose() * 1e6 << " µm, hand calculation "
+      << predicted.transpose() * 1e6 << " µm";
+}
+
+const PlatformModel& Nominal() {
+  static const PlatformModel model(Huang2021Config());
+  return model;
+}
+
+TEST(RigEffects, AllOffTheRigIsTheNominalModel) {
+  for (const char* motion : {"Lz", "Rz"}) {
+    for (const DwellEnd& d : RunStack(motion, RigEffects{})) EXPECT_LT(d.error.norm(), 1e-9) << d.segment;
+  }
+}
+
+TEST(RigEffects, LegOffsetIsAConstantLegErrorMappedThroughTheKinematics) {
+  RigEffects e;
+  e.leg_offset.enabled = true;
+  e.leg_offset.offset_m = {100e-6, -50e-6, 80e-6, -120e-6, 60e-6, -30e-6};
+  const Vector6 delta = Eigen::Map<const Vector6>(e.leg_offset.offset_m.data());
+  double largest = 0.0;
+  for (const DwellEnd& d : RunStack("Lz", e)) {
+    ExpectWithin10Percent(d.error, Predicted(Nominal(), Nominal(), d.target, delta), d.segment);
+    largest = std::max(largest, d.error.norm());
+  }
+  EXPECT_GT(largest, 50e-6);  // tens to hundreds of µm at A
+}
+
+TEST(RigEffects, LeadErrorGrowsWithStroke) {
+  RigEffects e;
+  e.lead_error.enabled = true;
+  e.lead_error.epsilon.fill(300e-6);
+  const Vector6 zero = Nominal().EncoderLengths(Nominal().home_pose());
+  const std::vector<DwellEnd> ends = RunStack("Lz", e, 5);
+  for (const DwellEnd& d : ends) {
+    const Vector6 delta = 300e-6 * (d.command - zero);
+    ExpectWithin10Percent(d.error, Predicted(Nominal(), Nominal(), d.target, delta), d.segment);
+  }
+  // Stops at −0.5, −0.25, 0, +0.25, +0.5 m: zero at home, growing with the
+  // stroke, about twice at twice the stroke (exactly so in leg space; the
+  // map to A bends it a little, which the hand calculation above includes).
+  ASSERT_EQ(ends.size(), 6u);  // 5 stops + home
+  EXPECT_LT(ends[2].error.norm(), 1e-8);
+  for (int k : {0, 4}) {
+    const double ratio = ends[static_cast<std::size_t>(k)].error.norm() /
+                         ends[static_cast<std::size_t>(k == 0 ? 1 : 3)].error.norm();
+    EXPECT_GT(ratio, 1.7) << k;
+    EXPECT_LT(ratio, 2.3) << k;
+  }
+  EXPECT_GT(ends[4].error.norm(), 20e-6);
+}
+
+TEST(RigEffects, PeriodicLeadErrorFollowsTheScrewAngle) {
+  RigEffects e;
+  e.periodic_lead_error.enabled = true;
+  e.periodic_lead_error.amplitude_m.fill(5e-6);
+  e.periodic_lead_error.phase_rad = {0.0, 1.0, 2.0, 3.0, 4.0, 5.0};
+  const Vector6 zero = Nominal().EncoderLengths(Nominal().home_pose());
+  const double lead = Nominal().config().drive.lead_m;
+  for (const DwellEnd& d : RunStack("Lz", e, 5)) {
+    Vector6 delta;
+    for (int i = 0; i < 6; ++i) {
+      const double screw = 2 * M_PI * (d.command(i) - zero(i)) / lead;
+      const double phase = e.periodic_lead_error.phase_rad[static_cast<std::size_t>(i)];
+      delta(i) = 5e-6 * (std::sin(screw + phase) - std::sin(phase));
+    }
+    ExpectWithin10Percent(d.error, Predicted(Nominal(), Nominal(), d.target, delta), d.segment);
+  }
+}
+
+TEST(RigEffects, BacklashFlipsWithTheDirectionOfTravel) {
+  RigEffects e;
+  e.backlash.enabled = true;
+  e.backlash.backlash_m.fill(30e-6);
+  const std::vector<DwellEnd> ends = RunStack("Lz", e, 3);  // −0.5 (down), 0 (up), +0.5 (up), home (down)
+  ASSERT_EQ(ends.size(), 4u);
+  for (const DwellEnd& d : ends) {
+    Vector6 delta;  // a retracting leg is longer than its encoder says by the whole backlash
+    for (int i = 0; i < 6; ++i) delta(i) = d.travel(i) < 0 ? 30e-6 : 0.0;
+    ExpectWithin10Percent(d.error, Predicted(Nominal(), Nominal(), d.target, delta), d.segment);
+  }
+  // Home reached upwards (the 0 stop) and downwards (the end): two errors.
+  EXPECT_LT(ends[1].error.norm(), 1e-8);
+  EXPECT_GT(ends[3].error.norm(), 20e-6);
+  EXPECT_GT(ends[0].error.norm(), 20e-6);
+}
+
+TEST(RigEffects, PassiveRotationWithTheWrongSignDoublesThePrError) {
+  RigEffects e;
+  e.passive_rotation.enabled = true;
+  e.passive_rotation.pr_sign = -1;  // the model says +1
+  PlatformConfig rig_config = Huang2021Config();
+  rig_config.drive.pr_sign = -1;
+  const PlatformModel rig(rig_config);
+  double largest = 0.0;
+  for (const DwellEnd& d : RunStack("Rz", e)) {
+    ExpectWithin10Percent(d.error, Predicted(Nominal(), rig, d.target, Vector6::Zero()), d.segment);
+    largest = std::max(largest, d.error.norm());
+  }
+  EXPECT_GT(largest, 2.5e-3);  // about twice the 1.41 mm of no compensation at Rz 30°
+}
+
+TEST(RigEffects, JointPositionErrorsArePoseDependentWithoutHysteresis) {
+  RigEffects e;
+  e.joint_position.enabled = true;
+  for (int i = 0; i < 6; ++i) {
+    e.joint_position.base_m.col(i) = Vector3(std::sin(i), std::cos(2 * i), 0.5 * std::sin(3 * i)) * 200e-6;
+    e.joint_position.platform_m.col(i) = Vector3(std::cos(i), std::sin(2 * i), 0.3) * 150e-6;
+  }
+  const PlatformModel rig(TrueConfig(Huang2021Config(), e));
+  const std::vector<DwellEnd> ends = RunStack("Rz", e, 3);
+  for (const DwellEnd& d : ends) {
+    ExpectWithin10Percent(d.error, Predicted(Nominal(), rig, d.target, Vector6::Zero()), d.segment);
+  }
+  ASSERT_EQ(ends.size(), 4u);  // −30°, 0 (from below), +30°, home (from above)
+  EXPECT_GT(ends[1].error.norm(), 50e-6);
+  EXPECT_LT((ends[1].error - ends[3].error).norm(), 1e-9);  // same pose, same error
+  EXPECT_GT((ends[0].error - ends[1].error).norm(), 10e-6);  // but it depends on the pose
+}
+
+}  // namespace
+}  // namespace edsp
