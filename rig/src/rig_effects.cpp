@@ -1,5 +1,9 @@
 #include "edsp/rig/rig_effects.h"
 
+#include <algorithm>
+#include <stdexcept>
+#include <utility>
+
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
@@ -141,6 +145,34 @@ RigEffects ParseRigEffects(const std::string& toml_text, const std::string& orig
 }
 
 RigEffects LoadRigEffects(const std::string& path) { return ParseRigEffects(ReadConfigText(path), path); }
+
+std::vector<std::string> EnabledEffects(const RigEffects& e) {
+  std::vector<std::string> names;
+  const std::pair<const char*, bool> all[] = {
+      {"leg_offset", e.leg_offset.enabled},         {"joint_position", e.joint_position.enabled},
+      {"passive_rotation", e.passive_rotation.enabled}, {"lead_error", e.lead_error.enabled},
+      {"periodic_lead_error", e.periodic_lead_error.enabled}, {"backlash", e.backlash.enabled},
+      {"servo_lag", e.servo_lag.enabled}};
+  for (const auto& [name, on] : all) {
+    if (on) names.emplace_back(name);
+  }
+  return names;
+}
+
+RigEffects OnlyEffect(const RigEffects& e, const std::string& name) {
+  RigEffects only = e;
+  only.leg_offset.enabled = name == "leg_offset" && e.leg_offset.enabled;
+  only.joint_position.enabled = name == "joint_position" && e.joint_position.enabled;
+  only.passive_rotation.enabled = name == "passive_rotation" && e.passive_rotation.enabled;
+  only.lead_error.enabled = name == "lead_error" && e.lead_error.enabled;
+  only.periodic_lead_error.enabled = name == "periodic_lead_error" && e.periodic_lead_error.enabled;
+  only.backlash.enabled = name == "backlash" && e.backlash.enabled;
+  only.servo_lag.enabled = name == "servo_lag" && e.servo_lag.enabled;
+  if (std::find(std::begin(kEffects), std::end(kEffects), name) == std::end(kEffects)) {
+    throw std::invalid_argument("no effect named " + name);
+  }
+  return only;
+}
 
 PlatformConfig TrueConfig(const PlatformConfig& nominal, const RigEffects& effects) {
   PlatformConfig truth = nominal;

@@ -3,7 +3,12 @@
 //   edsp-sim paper-table --config FILE [--poses N] [--json]
 //   edsp-sim stack-table --config FILE LOG... [--plots DIR] [--json]
 //       the same table measured by the tracker in logs of the live stack
+//   edsp-sim rig --config FILE --out DIR [--motions Lz,Lx,Rz,Ry] [--pr-mode signed]
+//                [--stops 5] [--dwell-s 1] [--tracker-noise-m 0] [--seed 1] [--per-effect] [--json]
+//       the virtual rig with the config's [rig.effects] through the motions,
+//       offline: DIR/run.lcmlog and DIR/measurement.csv
 
+#include <chrono>
 #include <cstdio>
 #include <exception>
 #include <string>
@@ -16,6 +21,7 @@
 #include "edsp/kinematics/workspace.h"
 #include "edsp/sim/paper_table.h"
 #include "edsp/sim/pose_text.h"
+#include "edsp/sim/offline_run.h"
 #include "edsp/sim/stack_report.h"
 
 namespace edsp {
@@ -150,6 +156,48 @@ int RunStackTable(const std::string& config_path, const std::vector<std::string>
   return status;
 }
 
+int RunPerEffect(const std::string& config_path, const OfflineRunOptions& options, bool json) {
+  const std::vector<EffectError> table = PerEffectErrors(config_path, options);
+  if (json) {
+    nlohmann::json out = nlohmann::json::object();
+    for (const EffectError& e : table) out[e.effect] = {{"max_m", e.max_error_m}, {"rms_m", e.rms_error_m}};
+    std::printf("%s\n", nlohmann::json{{"effects", out}}.dump(2).c_str());
+  } else {
+    std::printf("%-22s %12s %12s\n", "effect (alone)", "max_um", "rms_um");
+    for (const EffectError& e : table) {
+      std::printf("%-22s %12.1f %12.1f\n", e.effect.c_str(), e.max_error_m * 1e6, e.rms_error_m * 1e6);
+    }
+  }
+  return 0;
+}
+
+int RunRig(const std::string& config_path, OfflineRunOptions options, const std::string& mode_text,
+           const std::string& frame_text, bool per_effect, bool json) {
+  if (!ParsePrMode(mode_text.c_str(), &options.pr_mode)) {
+    throw std::runtime_error("--pr-mode " + mode_text + ": use none, unsigned, signed or asin");
+  }
+  if (!frame_text.empty()) options.tracker.X_TB = ParsePoseText(frame_text);
+  if (per_effect) return RunPerEffect(config_path, options, json);
+  const auto start = std::chrono::steady_clock::now();
+  const OfflineRunResult r = RunOffline(config_path, options);
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (json) {
+    const nlohmann::json out = {{"log", r.log_path}, {"measurement_csv", r.csv_path},
+                                {"cycles", r.cycles}, {"tracker_samples", r.tracker_samples},
+                                {"faults", r.faults}, {"simulated_s", r.duration_s},
+                                {"max_error_m", r.max_error_m}, {"rms_error_m", r.rms_error_m},
+                                {"wall_s", wall_s}, {"faster_than_real_time", r.duration_s / wall_s}};
+    std::printf("%s\n", out.dump(2).c_str());
+  } else {
+    std::printf("%.1f s simulated in %.1f s (%.0fx real time): %lld tracker samples, %lld faults\n"
+                "point-A error: max %.1f um, rms %.1f um\n%s\n%s\n",
+                r.duration_s, wall_s, r.duration_s / wall_s, static_cast<long long>(r.tracker_samples),
+                static_cast<long long>(r.faults), r.max_error_m * 1e6, r.rms_error_m * 1e6,
+                r.log_path.c_str(), r.csv_path.c_str());
+  }
+  return r.faults == 0 ? 0 : 2;
+}
+
 }  // namespace
 }  // namespace edsp
 
@@ -182,9 +230,29 @@ int main(int argc, char** argv) {
   stack->add_option("--plots", plots_dir, "write error-against-displacement PNGs here");
   stack->add_flag("--json", json, "print JSON");
 
+  CLI::App* rig = app.add_subcommand("rig", "the virtual rig with its [rig.effects] through test motions, offline");
+  edsp::OfflineRunOptions offline;
+  std::string mode_text = "signed", frame_text;
+  rig->add_option("--config", config_path, "platform config (TOML) with [rig.effects]")->required();
+  rig->add_option("--out", offline.out_dir, "directory for run.lcmlog and measurement.csv")->required();
+  rig->add_option("--motions", offline.motions, "paper motions in order (Lx Ly Lz Rx Ry Rz)")->delimiter(',');
+  rig->add_option("--pr-mode", mode_text, "compensation the kinematics node runs");
+  rig->add_option("--stops", offline.paper.stops)->check(CLI::Range(2, 1000));
+  rig->add_option("--dwell-s", offline.paper.dwell_s)->check(CLI::Range(0.0, 3600.0));
+  rig->add_option("--max-speed-m-s", offline.paper.max_speed_m_s)->check(CLI::Range(1e-4, 2.0));
+  rig->add_option("--max-speed-rad-s", offline.paper.max_speed_rad_s)->check(CLI::Range(1e-4, 4.0));
+  rig->add_option("--tracker-noise-m", offline.tracker.noise_sigma_m, "1-sigma per axis")->check(CLI::Range(0.0, 0.01));
+  rig->add_option("--tracker-rate-hz", offline.tracker.rate_hz)->check(CLI::Range(1.0, 1000.0));
+  rig->add_option("--tracker-frame", frame_text, "pose of {B} in the tracker frame, x,y,z,roll,pitch,yaw");
+  rig->add_option("--seed", offline.tracker.seed, "tracker noise seed");
+  bool per_effect = false;
+  rig->add_flag("--per-effect", per_effect, "one run per enabled effect alone: its point-A error");
+  rig->add_flag("--json", json, "print JSON");
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (*pr) return edsp::RunPr(config_path, pose_text, json);
+    if (*rig) return edsp::RunRig(config_path, offline, mode_text, frame_text, per_effect, json);
     if (*stack) return edsp::RunStackTable(config_path, logs, plots_dir, json);
     return edsp::RunPaperTable(config_path, poses, json);
   } catch (const std::exception& e) {

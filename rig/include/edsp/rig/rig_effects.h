@@ -20,6 +20,7 @@
 
 #include <array>
 #include <string>
+#include <vector>
 
 #include "edsp/kinematics/config.h"
 
@@ -72,6 +73,12 @@ struct RigEffects {
 // unknown effect or key, a missing or absurd value.
 RigEffects ParseRigEffects(const std::string& toml_text, const std::string& origin);
 RigEffects LoadRigEffects(const std::string& path);
+
+// Names (interfaces.md §4 vocabulary) of the enabled effects, in a fixed order.
+std::vector<std::string> EnabledEffects(const RigEffects& effects);
+// `effects` with every effect but `name` switched off. Throws
+// std::invalid_argument for a name that is not an effect.
+RigEffects OnlyEffect(const RigEffects& effects, const std::string& name);
 
 // The rig as built: the nominal geometry with the joint positions moved.
 PlatformConfig TrueConfig(const PlatformConfig& nominal, const RigEffects& effects);
