@@ -14,7 +14,8 @@ namespace edsp {
 namespace {
 
 const char* const kEffects[] = {"leg_offset", "joint_position",      "passive_rotation", "lead_error",
-                                "periodic_lead_error", "backlash", "servo_lag"};
+                                "periodic_lead_error", "backlash", "servo_lag", "compliance",
+                                "thermal_drift"};
 
 // Bounds that catch unit typos (mm for m, ppm for a fraction) on a platform
 // of metres: an effect this large is a mistake, not a rig.
@@ -104,11 +105,44 @@ void ReadServoLag(const SectionReader& s, RigEffects::ServoLag* e) {
 }
 
 
+void ReadCompliance(const SectionReader& s, RigEffects::Compliance* e) {
+  s.RejectUnknownKeys({"enabled", "stiffness_N_m", "mass_kg", "com_m", "gravity_m_s2"});
+  e->enabled = s.Bool("enabled", true);
+  e->stiffness_N_m = s.PerLeg("stiffness_N_m", e->stiffness_N_m);
+  e->mass_kg = s.Number("mass_kg", e->mass_kg);
+  e->com_m = s.Vector("com_m", e->com_m);
+  e->gravity_m_s2 = s.Vector("gravity_m_s2", e->gravity_m_s2);
+  RequireAll(s, e->stiffness_N_m, "stiffness_N_m", 1e5, 1e11, "N/m");
+  if (!(e->mass_kg > 0.0 && e->mass_kg <= 1e5)) {
+    s.Fail(*s.table(), fmt::format("[{}] mass_kg = {} must be in (0, 1e5] kg", s.name(), e->mass_kg));
+  }
+  if (e->com_m.norm() > 10.0 || e->gravity_m_s2.norm() > 100.0) {
+    s.Fail(*s.table(), fmt::format("[{}] com_m must be within 10 m of {{M}} and |gravity_m_s2| ≤ 100", s.name()));
+  }
+}
+
+void ReadThermalDrift(const SectionReader& s, RigEffects::ThermalDrift* e) {
+  s.RejectUnknownKeys({"enabled", "alpha_per_K", "heating_K_per_m", "time_constant_s", "screw_length_m"});
+  e->enabled = s.Bool("enabled", true);
+  e->alpha_per_K = s.Number("alpha_per_K", e->alpha_per_K);
+  e->heating_K_per_m = s.Number("heating_K_per_m", e->heating_K_per_m);
+  e->time_constant_s = s.Number("time_constant_s", e->time_constant_s);
+  e->screw_length_m = s.Number("screw_length_m", e->screw_length_m);
+  auto require = [&](bool ok, const char* key, double value, const char* range) {
+    if (!ok) s.Fail(*s.table(), fmt::format("[{}] {} = {} must be {}", s.name(), key, value, range));
+  };
+  require(e->alpha_per_K >= 0.0 && e->alpha_per_K < 1e-3, "alpha_per_K", e->alpha_per_K, "in [0, 1e-3) per K");
+  require(e->heating_K_per_m >= 0.0 && e->heating_K_per_m < 100.0, "heating_K_per_m", e->heating_K_per_m, "in [0, 100) K/m");
+  require(e->time_constant_s > 0.0 && e->time_constant_s < 1e6, "time_constant_s", e->time_constant_s, "in (0, 1e6) s");
+  require(e->screw_length_m > 0.0 && e->screw_length_m < 10.0, "screw_length_m", e->screw_length_m, "in (0, 10) m");
+}
+
 }  // namespace
 
 bool RigEffects::any() const {
   return leg_offset.enabled || joint_position.enabled || passive_rotation.enabled ||
-         lead_error.enabled || periodic_lead_error.enabled || backlash.enabled || servo_lag.enabled;
+         lead_error.enabled || periodic_lead_error.enabled || backlash.enabled || servo_lag.enabled ||
+         compliance.enabled || thermal_drift.enabled;
 }
 
 RigEffects ParseRigEffects(const std::string& toml_text, const std::string& origin) {
@@ -135,6 +169,8 @@ RigEffects ParseRigEffects(const std::string& toml_text, const std::string& orig
     else if (name == "periodic_lead_error") ReadPeriodicLeadError(s, &effects.periodic_lead_error);
     else if (name == "backlash") ReadBacklash(s, &effects.backlash);
     else if (name == "servo_lag") ReadServoLag(s, &effects.servo_lag);
+    else if (name == "compliance") ReadCompliance(s, &effects.compliance);
+    else if (name == "thermal_drift") ReadThermalDrift(s, &effects.thermal_drift);
     else {
       std::string known;
       for (const char* k : kEffects) known += known.empty() ? k : fmt::format(", {}", k);
@@ -152,7 +188,8 @@ std::vector<std::string> EnabledEffects(const RigEffects& e) {
       {"leg_offset", e.leg_offset.enabled},         {"joint_position", e.joint_position.enabled},
       {"passive_rotation", e.passive_rotation.enabled}, {"lead_error", e.lead_error.enabled},
       {"periodic_lead_error", e.periodic_lead_error.enabled}, {"backlash", e.backlash.enabled},
-      {"servo_lag", e.servo_lag.enabled}};
+      {"servo_lag", e.servo_lag.enabled}, {"compliance", e.compliance.enabled},
+      {"thermal_drift", e.thermal_drift.enabled}};
   for (const auto& [name, on] : all) {
     if (on) names.emplace_back(name);
   }
@@ -168,6 +205,8 @@ RigEffects OnlyEffect(const RigEffects& e, const std::string& name) {
   only.periodic_lead_error.enabled = name == "periodic_lead_error" && e.periodic_lead_error.enabled;
   only.backlash.enabled = name == "backlash" && e.backlash.enabled;
   only.servo_lag.enabled = name == "servo_lag" && e.servo_lag.enabled;
+  only.compliance.enabled = name == "compliance" && e.compliance.enabled;
+  only.thermal_drift.enabled = name == "thermal_drift" && e.thermal_drift.enabled;
   if (std::find(std::begin(kEffects), std::end(kEffects), name) == std::end(kEffects)) {
     throw std::invalid_argument("no effect named " + name);
   }

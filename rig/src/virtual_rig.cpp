@@ -1,5 +1,7 @@
 #include "edsp/rig/virtual_rig.h"
 
+#include "edsp/rig/platform_loads.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -44,8 +46,11 @@ VirtualRig::VirtualRig(RigParameters parameters)
     transmissions_.emplace_back(i, home.length_m(i), parameters_.nominal.drive, parameters_.effects);
     lengths_(i) = transmissions_.back().Length(0.0);
   }
-  // The platform starts where those legs put it.
-  const FkResult fk = SolveForward(model_, lengths_, pose_, fk_options_);
+  // The platform starts where those legs put it (sagging under its weight).
+  rigid_pose_ = rigid_previous_ = pose_;
+  Vector6 lengths = lengths_;
+  if (parameters_.effects.compliance.enabled) Deflect(0.0, &lengths);
+  const FkResult fk = SolveForward(model_, lengths, pose_, fk_options_);
   if (fk.ok()) pose_ = fk.pose;
   // Critically damped position loop at the requested bandwidth.
   const RigEffects::ServoLag& servo = parameters_.effects.servo_lag;
@@ -96,15 +101,35 @@ bool VirtualRig::Advance(double dt_s) {
       if (servo) StepServo(i, dt_s / steps);
       else StepIdeal(i, dt_s / steps);
       // The drive train at the loop rate: backlash sees every reversal.
-      lengths_(i) = transmissions_[static_cast<std::size_t>(i)].Length(angle_[i]);
+      lengths_(i) = transmissions_[static_cast<std::size_t>(i)].Length(angle_[i], dt_s / steps);
     }
   }
   time_s_ += dt_s;
+  Vector6 lengths = lengths_;
+  if (parameters_.effects.compliance.enabled && !Deflect(dt_s, &lengths)) return false;
   // Forward kinematics in the rig's own geometry adds each screw's true
   // signed PR to the drive-train lengths.
-  const FkResult fk = SolveForward(model_, lengths_, pose_, fk_options_);
+  const FkResult fk = SolveForward(model_, lengths, pose_, fk_options_);
   if (!fk.ok()) return false;
   pose_ = fk.pose;
+  return true;
+}
+
+bool VirtualRig::Deflect(double dt_s, Vector6* lengths) {
+  // The loads come from the rigid platform's motion (the drive trains'), so
+  // the deflections never feed back into the acceleration that causes them.
+  const FkResult rigid = SolveForward(model_, lengths_, rigid_pose_, fk_options_);
+  if (!rigid.ok()) return false;
+  Vector3 accel = Vector3::Zero();
+  if (rigid_history_ >= 2 && dt_s > 0.0) {
+    accel = (rigid.pose.p_BoMo_B - 2.0 * rigid_pose_.p_BoMo_B + rigid_previous_.p_BoMo_B) / (dt_s * dt_s);
+  }
+  rigid_previous_ = rigid_pose_;
+  rigid_pose_ = rigid.pose;
+  ++rigid_history_;
+  const RigEffects::Compliance& c = parameters_.effects.compliance;
+  leg_forces_ = LegForces(model_, rigid.pose, accel, c.mass_kg, c.com_m, c.gravity_m_s2);
+  for (int i = 0; i < kNumLegs; ++i) (*lengths)(i) -= leg_forces_(i) / c.stiffness_N_m[static_cast<std::size_t>(i)];
   return true;
 }
 

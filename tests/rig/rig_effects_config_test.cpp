@@ -20,9 +20,11 @@ std::string ErrorOf(const std::string& text) {
   return "no error";
 }
 
-TEST(RigEffectsConfig, NoSectionMeansEveryEffectOff) {
-  EXPECT_FALSE(ParseRigEffects(kNominal, "rig.toml").any());
-  EXPECT_FALSE(LoadRigEffects(std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml").any());
+TEST(RigEffectsConfig, NoSectionMeansEveryEffectOffButTheDriveLoop) {
+  const std::vector<std::string> only_servo = {"servo_lag"};
+  EXPECT_EQ(EnabledEffects(ParseRigEffects(kNominal, "rig.toml")), only_servo);
+  EXPECT_EQ(EnabledEffects(LoadRigEffects(std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml")), only_servo);
+  EXPECT_FALSE(ParseRigEffects(kNominal + "[rig.effects.servo_lag]\nenabled = false\n", "rig.toml").any());
 }
 
 TEST(RigEffectsConfig, EveryEffectIsRead) {
@@ -44,6 +46,13 @@ enabled = false
 backlash_m = 3e-5
 [rig.effects.servo_lag]
 bandwidth_hz = 30
+[rig.effects.compliance]
+stiffness_N_m = 2e7
+mass_kg = 800
+com_m = [0, 0, 0.1]
+[rig.effects.thermal_drift]
+heating_K_per_m = 1.5
+time_constant_s = 900
 )", "rig.toml");
   EXPECT_TRUE(e.leg_offset.enabled);
   EXPECT_EQ(e.leg_offset.offset_m[1], -5e-5);
@@ -58,6 +67,15 @@ bandwidth_hz = 30
   EXPECT_EQ(e.backlash.backlash_m[0], 3e-5);
   EXPECT_TRUE(e.servo_lag.enabled);
   EXPECT_EQ(e.servo_lag.bandwidth_hz, 30.0);
+  EXPECT_EQ(e.compliance.stiffness_N_m[3], 2e7);
+  EXPECT_EQ(e.compliance.mass_kg, 800.0);
+  EXPECT_EQ(e.compliance.com_m.z(), 0.1);
+  EXPECT_EQ(e.compliance.gravity_m_s2.z(), -9.81);  // default
+  EXPECT_EQ(e.thermal_drift.heating_K_per_m, 1.5);
+  EXPECT_EQ(e.thermal_drift.alpha_per_K, 11.7e-6);  // steel by default
+  EXPECT_EQ(EnabledEffects(e).size(), 8u);          // backlash is off
+  EXPECT_EQ(EnabledEffects(OnlyEffect(e, "compliance")), std::vector<std::string>{"compliance"});
+  EXPECT_THROW(OnlyEffect(e, "wobble"), std::invalid_argument);
   const PlatformConfig truth = TrueConfig(Huang2021Config(), e);
   EXPECT_NEAR(truth.geometry.p_BoBi_B(0, 0) - Huang2021Config().geometry.p_BoBi_B(0, 0), 1e-4, 1e-15);
 }
@@ -80,6 +98,11 @@ TEST(RigEffectsConfig, ErrorsNameFileLineAndKey) {
   EXPECT_NE(ErrorOf(kNominal + "[rig.effects.leg_offset]\noffset_m = nan\n").find("finite"), std::string::npos);
   EXPECT_NE(ErrorOf(kNominal + "[rig]\nfoo = 1\n").find("unknown key [rig] foo"), std::string::npos);
   EXPECT_NE(ErrorOf(kNominal + "[rig.effects.backlash]\nenabled = 1\n").find("true or false"), std::string::npos);
+  EXPECT_NE(ErrorOf(kNominal + "[rig.effects.compliance]\nstiffness_N_m = 2e7\n").find("mass_kg = 0"), std::string::npos);
+  EXPECT_NE(ErrorOf(kNominal + "[rig.effects.compliance]\nstiffness_N_m = 20\nmass_kg = 5\n").find("stiffness_N_m = 20"),
+            std::string::npos);  // N/µm typed as N/m
+  EXPECT_NE(ErrorOf(kNominal + "[rig.effects.thermal_drift]\nalpha_per_K = 11.7\n").find("alpha_per_K = 11.7"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -18,6 +18,13 @@
 namespace edsp {
 namespace {
 
+// No effect at all, the drive ideal too: every stop exactly on target.
+RigEffects NoEffects() {
+  RigEffects none;
+  none.servo_lag.enabled = false;
+  return none;
+}
+
 struct DwellEnd {
   std::string segment;
   Vector6 target;
@@ -118,13 +125,14 @@ const PlatformModel& Nominal() {
 }
 
 TEST(RigEffects, AllOffTheRigIsTheNominalModel) {
+  EXPECT_FALSE(NoEffects().any());
   for (const char* motion : {"Lz", "Rz"}) {
-    for (const DwellEnd& d : RunStack(motion, RigEffects{})) EXPECT_LT(d.error.norm(), 1e-9) << d.segment;
+    for (const DwellEnd& d : RunStack(motion, NoEffects())) EXPECT_LT(d.error.norm(), 1e-9) << d.segment;
   }
 }
 
 TEST(RigEffects, LegOffsetIsAConstantLegErrorMappedThroughTheKinematics) {
-  RigEffects e;
+  RigEffects e = NoEffects();  // this effect alone
   e.leg_offset.enabled = true;
   e.leg_offset.offset_m = {100e-6, -50e-6, 80e-6, -120e-6, 60e-6, -30e-6};
   const Vector6 delta = Eigen::Map<const Vector6>(e.leg_offset.offset_m.data());
@@ -137,7 +145,7 @@ TEST(RigEffects, LegOffsetIsAConstantLegErrorMappedThroughTheKinematics) {
 }
 
 TEST(RigEffects, LeadErrorGrowsWithStroke) {
-  RigEffects e;
+  RigEffects e = NoEffects();  // this effect alone
   e.lead_error.enabled = true;
   e.lead_error.epsilon.fill(300e-6);
   const Vector6 zero = Nominal().EncoderLengths(Nominal().home_pose());
@@ -161,7 +169,7 @@ TEST(RigEffects, LeadErrorGrowsWithStroke) {
 }
 
 TEST(RigEffects, PeriodicLeadErrorFollowsTheScrewAngle) {
-  RigEffects e;
+  RigEffects e = NoEffects();  // this effect alone
   e.periodic_lead_error.enabled = true;
   e.periodic_lead_error.amplitude_m.fill(5e-6);
   e.periodic_lead_error.phase_rad = {0.0, 1.0, 2.0, 3.0, 4.0, 5.0};
@@ -179,7 +187,7 @@ TEST(RigEffects, PeriodicLeadErrorFollowsTheScrewAngle) {
 }
 
 TEST(RigEffects, BacklashFlipsWithTheDirectionOfTravel) {
-  RigEffects e;
+  RigEffects e = NoEffects();  // this effect alone
   e.backlash.enabled = true;
   e.backlash.backlash_m.fill(30e-6);
   const std::vector<DwellEnd> ends = RunStack("Lz", e, 3);  // −0.5 (down), 0 (up), +0.5 (up), home (down)
@@ -196,7 +204,7 @@ TEST(RigEffects, BacklashFlipsWithTheDirectionOfTravel) {
 }
 
 TEST(RigEffects, PassiveRotationWithTheWrongSignDoublesThePrError) {
-  RigEffects e;
+  RigEffects e = NoEffects();  // this effect alone
   e.passive_rotation.enabled = true;
   e.passive_rotation.pr_sign = -1;  // the model says +1
   PlatformConfig rig_config = Huang2021Config();
@@ -211,7 +219,7 @@ TEST(RigEffects, PassiveRotationWithTheWrongSignDoublesThePrError) {
 }
 
 TEST(RigEffects, JointPositionErrorsArePoseDependentWithoutHysteresis) {
-  RigEffects e;
+  RigEffects e = NoEffects();  // this effect alone
   e.joint_position.enabled = true;
   for (int i = 0; i < 6; ++i) {
     e.joint_position.base_m.col(i) = Vector3(std::sin(i), std::cos(2 * i), 0.5 * std::sin(3 * i)) * 200e-6;
@@ -301,6 +309,100 @@ TEST(RigEffects, ServoLagVanishesAtRestAndGrowsWithTheMotion) {
   EXPECT_NEAR(slow.max_error_m, slow.max_predicted_m, 0.1 * slow.max_predicted_m);
   EXPECT_NEAR(fast.max_error_m / slow.max_error_m, 4.0, 0.4);  // quintic: acceleration ∝ speed²
   EXPECT_GT(fast.max_error_m, 1e-6);
+}
+
+}  // namespace
+}  // namespace edsp
+
+namespace edsp {
+namespace {
+
+// Each leg's axis at a pose: its vertical component (all six alike for the
+// symmetric platform in vertical-only poses).
+double LegAxisZ(const PlatformModel& model, const Vector6& q) {
+  const LegSolution legs = model.Solve(Pose::FromVector(q));
+  return legs.u_B(2, 0);
+}
+
+// At rest, by symmetry, each of the six legs carries m·g / (6·u_z): they
+// shorten by that over k and the platform sinks by it over u_z. In motion the
+// vertical acceleration adds to g.
+TEST(RigEffects, ComplianceSagsByTheLegForcesItCarries) {
+  const double k = 2e7, m = 800.0;
+  RigEffects e = NoEffects();  // this effect alone
+  e.compliance.enabled = true;
+  e.compliance.stiffness_N_m.fill(k);
+  e.compliance.mass_kg = m;
+  const std::vector<DwellEnd> ends = RunStack("Lz", e, 3);
+  for (const DwellEnd& d : ends) {
+    const double uz = LegAxisZ(Nominal(), d.target);
+    for (int i = 1; i < 6; ++i) EXPECT_NEAR(Nominal().Solve(Pose::FromVector(d.target)).u_B(2, i), uz, 1e-12);
+    const Vector3 predicted(0.0, 0.0, -m * 9.81 / (6 * k * uz * uz));
+    ExpectWithin10Percent(d.error, predicted, d.segment);
+  }
+  // Lower poses have flatter legs: more force, more sag.
+  EXPECT_GT(ends[0].error.norm(), ends[2].error.norm());
+  EXPECT_GT(ends[1].error.norm(), 15e-6);
+}
+
+TEST(RigEffects, ComplianceFollowsTheAccelerationInMotion) {
+  const double k = 2e7, m = 800.0;
+  const PlatformConfig nominal = Huang2021Config();
+  auto trajectory = std::make_unique<TrajectorySequence>();
+  PaperMotionOptions options;
+  options.stops = 2;
+  options.dwell_s = 0.2;
+  options.max_speed_m_s = 0.35;
+  AppendPaperMotion("Lz", PlatformModel(nominal).home_pose().ToVector(), options, trajectory.get());
+  StackOptions stack;
+  RigParameters rig = IdealRig(nominal);
+  rig.effects.servo_lag.enabled = false;  // compliance alone, sample by sample
+  rig.effects.compliance.enabled = true;
+  rig.effects.compliance.stiffness_N_m.fill(k);
+  rig.effects.compliance.mass_kg = m;
+  stack.rig = rig;
+  StackSimulation sim(nominal, std::move(trajectory), stack);
+  double worst = 0.0, largest_dynamic = 0.0;
+  StackSample previous;
+  bool have_previous = false;
+  while (!sim.Finished()) {
+    const StackSample s = sim.Step();
+    if (have_previous) {
+      // The rig stands at this step's setpoint instant: compare with it.
+      Vector6 q;
+      for (int k2 = 0; k2 < 6; ++k2) q(k2) = s.setpoint.pose[k2];
+      const double uz = LegAxisZ(sim.nominal_model(), q);
+      const double predicted = -m * (9.81 + s.setpoint.acceleration[2]) / (6 * k * uz * uz);
+      const double measured = previous.truth.observation_point_m[2] - sim.nominal_model().ObservationPoint(Pose::FromVector(q)).z();
+      worst = std::max(worst, std::abs(measured - predicted) / std::abs(predicted));
+      largest_dynamic = std::max(largest_dynamic, std::abs(s.setpoint.acceleration[2]) / 9.81);
+    }
+    previous = s;
+    have_previous = true;
+  }
+  EXPECT_LT(worst, 0.1);
+  EXPECT_GT(largest_dynamic, 0.02);  // the motion did accelerate (quintic, 0.35 m/s)
+}
+
+// With cooling negligible over the run, each screw warms by heating × its
+// travel, and the legs grow by α·ΔT·L_screw: the platform rises over time.
+TEST(RigEffects, ThermalDriftGrowsWithTheWorkDone) {
+  RigEffects e = NoEffects();  // this effect alone
+  e.thermal_drift.enabled = true;
+  e.thermal_drift.heating_K_per_m = 2.0;
+  e.thermal_drift.time_constant_s = 1e5;
+  const std::vector<DwellEnd> ends = RunStack("Lz", e, 3);  // −0.5, 0, +0.5, home
+  ASSERT_EQ(ends.size(), 4u);
+  // Home is visited twice: after the first two moves and at the end.
+  EXPECT_GT(ends[3].error.z(), ends[1].error.z() * 1.5);
+  const Vector6 zero = Nominal().EncoderLengths(Nominal().home_pose());
+  auto stroke = [&](const DwellEnd& d) {
+    return std::abs((Nominal().EncoderLengths(Pose::FromVector(d.target)) - zero)(0));
+  };
+  const double travel = 2 * stroke(ends[0]) + 2 * stroke(ends[2]);  // home → −0.5 → 0 → +0.5 → home
+  const double dl = 11.7e-6 * 2.0 * travel * 0.6;
+  const double uz = LegAxisZ(Nominal(), ends[3].target);
+  ExpectWithin10Percent(ends[3].error, Vector3(0.0, 0.0, dl / uz), ends[3].segment);
 }
 
 }  // namespace

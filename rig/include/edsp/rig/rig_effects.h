@@ -1,10 +1,11 @@
 #pragma once
 // The physical effects a nominal model leaves out (interfaces.md §4), as
-// parameters of the virtual rig's physics. Each is off unless its table in
-// the platform config's [rig.effects] section says `enabled = true`; with all
-// off the rig is the nominal model (screws with the nominal signed PR, an
-// ideal drive), and point A lands where the model says to numerical
-// precision. Units SI; per-leg values are a number (every leg) or 6 numbers.
+// parameters of the virtual rig's physics. Each is off unless its table is
+// present in the platform config's [rig.effects] section (and not
+// `enabled = false`), except servo_lag: the drive loop is on unless
+// switched off. With all off the rig is the nominal model (screws with the
+// nominal signed PR, an ideal drive, rigid legs, screws at ambient), and
+// point A lands where the model says to numerical precision. Units SI; per-leg values are a number (every leg) or 6 numbers.
 //
 //   [rig.effects.leg_offset]           offset_m = [...]        home-length (zero) offsets
 //   [rig.effects.joint_position]       base_m = [[dx,dy,dz] ×6], platform_m = [[...] ×6]
@@ -14,6 +15,8 @@
 //   [rig.effects.backlash]             backlash_m = [...]      lost motion, in leg travel
 //   [rig.effects.servo_lag]            bandwidth_hz, inertia_kg_m2, viscous_N_m_s,
 //                                      torque_limit_N_m, loop_rate_hz   the drive loop's dynamics
+//   [rig.effects.compliance]           stiffness_N_m = [...], mass_kg, com_m = [x, y, z] in {M}
+//   [rig.effects.thermal_drift]        alpha_per_K, heating_K_per_m, time_constant_s, screw_length_m
 //
 // docs/rig.md gives each effect's physics, realistic magnitudes for a
 // platform of the paper's size, and the signature it leaves at point A.
@@ -23,6 +26,7 @@
 #include <vector>
 
 #include "edsp/kinematics/config.h"
+#include "edsp/kinematics/types.h"
 
 namespace edsp {
 
@@ -56,14 +60,28 @@ struct RigEffects {
     bool enabled = false;
     LegValues backlash_m{};   // total lost motion, in leg travel
   } backlash;
-  struct ServoLag {           // off: an ideal drive, the motor exactly on its target
-    bool enabled = false;
+  struct ServoLag {           // on unless switched off: the drive loop every real rig has;
+    bool enabled = true;      // off: an ideal drive, the motor exactly on its target
     double inertia_kg_m2 = 2e-4;    // motor + reflected screw, at the motor
     double viscous_N_m_s = 1e-4;    // per rad/s
     double torque_limit_N_m = 5.0;  // current limit × torque constant
     double bandwidth_hz = 50.0;     // position loop; gains follow from it
     double loop_rate_hz = 4000.0;   // drive loop and integration rate
   } servo_lag;
+  struct Compliance {         // quasi-static: legs deflect under the rigid-body leg forces
+    bool enabled = false;
+    LegValues stiffness_N_m{};      // axial, leg + both joints
+    double mass_kg = 0.0;           // platform + payload
+    Vector3 com_m = Vector3::Zero();  // centre of mass in {M}
+    Vector3 gravity_m_s2 = Vector3(0.0, 0.0, -9.81);  // in {B}
+  } compliance;
+  struct ThermalDrift {       // screws warm with the work they do and grow
+    bool enabled = false;
+    double alpha_per_K = 11.7e-6;   // steel
+    double heating_K_per_m = 0.0;   // temperature rise per metre of leg travel
+    double time_constant_s = 600.0; // cooling towards ambient
+    double screw_length_m = 0.6;    // the length of screw that warms and grows
+  } thermal_drift;
 
   bool any() const;
 };

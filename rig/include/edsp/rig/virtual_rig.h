@@ -54,17 +54,22 @@ class VirtualRig {
 
   const Pose& true_pose() const { return pose_; }
   const PlatformModel& true_model() const { return model_; }
-  const Vector6& true_lengths() const { return lengths_; }
+  const Vector6& drive_train_lengths() const { return lengths_; }
+  const Vector6& leg_forces() const { return leg_forces_; }  // compliance: N, + compression
 
  private:
   void StepServo(int leg, double dt);
   void StepIdeal(int leg, double dt);
+  bool Deflect(double dt_s, Vector6* lengths);
 
   RigParameters parameters_;
   PlatformModel model_;  // the true geometry; lead and sign of the true PR
   FkOptions fk_options_;
   std::vector<LegTransmission> transmissions_;
-  Vector6 lengths_ = Vector6::Zero();
+  Vector6 lengths_ = Vector6::Zero();    // drive-train lengths (before deflection)
+  Pose rigid_pose_, rigid_previous_;     // the undeflected platform, for its acceleration
+  int rigid_history_ = 0;
+  Vector6 leg_forces_ = Vector6::Zero();
   double kp_, kd_;
   std::array<double, 6> angle_{}, velocity_{};
   DriveSetpoint target_;
