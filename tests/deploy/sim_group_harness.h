@@ -28,6 +28,9 @@ GroupRun LaunchSimGroup(const std::string& name, const std::string& pr_mode,
 // Launcher exit 0, no faults, commands at 1 kHz, loss bounded (see .cpp).
 void ExpectCleanRun(const GroupRun& run);
 
+// The largest deadline-miss count the planner reported on EDSP_STATUS.
+std::int64_t PlannerDeadlineMisses(const std::string& log_path);
+
 // Directory of a run (where group.toml, launch.err and the log are).
 inline std::string RunDir(const GroupRun& run) { return run.log_path.substr(0, run.log_path.rfind('/')); }
 
