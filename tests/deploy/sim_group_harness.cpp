@@ -20,7 +20,7 @@ namespace edsp::test_support {
 GroupRun LaunchSimGroup(const std::string& name, const std::string& pr_mode,
                         const std::string& planner_args,
                         const std::function<void(const std::string& dir)>& during,
-                        std::int64_t session_id) {
+                        std::int64_t session_id, const std::string& config) {
   const std::string dir = fmt::format("/tmp/edsp_group_test_{}_{}", ::getpid(), name);
   std::system(("mkdir -p " + dir).c_str());
   GroupRun run;
@@ -28,7 +28,7 @@ GroupRun LaunchSimGroup(const std::string& name, const std::string& pr_mode,
   std::ofstream(dir + "/group.toml") << fmt::format(R"(
 [group]
 name = "{0}"
-config = "{1}/config/huang2021.toml"
+config = "{1}/{7}"
 session_id = {6}
 [transport]
 shm_prefix = "edsp.test.{2}.{0}"
@@ -57,7 +57,7 @@ args = [{5}]
 restart = "never"
 )",
                                                     name, EDSP_SOURCE_DIR, ::getpid(), pr_mode,
-                                                    run.log_path, planner_args, session_id);
+                                                    run.log_path, planner_args, session_id, config);
   const std::string command = fmt::format("{} {}/group.toml --until-exit planner --duration-s 120 2>{}/launch.err",
                                           EDSP_LAUNCH_BINARY, dir, dir);
   std::thread action;

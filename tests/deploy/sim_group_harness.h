@@ -23,7 +23,8 @@ inline constexpr const char* kDefaultPlannerArgs =
 GroupRun LaunchSimGroup(const std::string& name, const std::string& pr_mode,
                         const std::string& planner_args = kDefaultPlannerArgs,
                         const std::function<void(const std::string& dir)>& during = {},
-                        std::int64_t session_id = 77);
+                        std::int64_t session_id = 77,
+                        const std::string& config = "config/huang2021.toml");  // in the checkout
 
 // Launcher exit 0, no faults, commands at 1 kHz, loss bounded (see .cpp).
 void ExpectCleanRun(const GroupRun& run);
