@@ -48,8 +48,15 @@ VirtualRig::VirtualRig(RigParameters parameters)
   }
   // The platform starts where those legs put it (sagging under its weight).
   rigid_pose_ = rigid_previous_ = pose_;
+  const RigEffects& e = parameters_.effects;
+  loaded_ = e.compliance.enabled || (e.servo_lag.enabled && e.servo_lag.load_mass_kg > 0.0);
+  if (e.servo_lag.enabled && loaded_) {
+    // Each motor moves about a sixth of the platform along its leg.
+    load_mass_per_leg_kg_ = (e.compliance.enabled ? e.compliance.mass_kg : e.servo_lag.load_mass_kg) / 6.0;
+  }
   Vector6 lengths = lengths_;
-  if (parameters_.effects.compliance.enabled) Deflect(0.0, &lengths);
+  if (loaded_) UpdateLoads(0.0);
+  if (e.compliance.enabled) Deflect(&lengths);
   const FkResult fk = SolveForward(model_, lengths, pose_, fk_options_);
   if (fk.ok()) pose_ = fk.pose;
   // Critically damped position loop at the requested bandwidth.
@@ -57,6 +64,14 @@ VirtualRig::VirtualRig(RigParameters parameters)
   const double wn = kTwoPi * servo.bandwidth_hz;
   kp_ = servo.inertia_kg_m2 * wn * wn;
   kd_ = 2.0 * servo.inertia_kg_m2 * wn;
+  ki_ = servo.integral_time_s > 0.0 ? kp_ / servo.integral_time_s : 0.0;
+  // An integrating drive has been holding the platform before the run: its
+  // integral already carries the weight (as after enabling and settling).
+  if (servo.enabled && ki_ > 0.0) {
+    for (int i = 0; i < kNumLegs; ++i) {
+      integral_[static_cast<std::size_t>(i)] = static_leg_forces_(i) * ScrewRatio() / ki_;
+    }
+  }
 }
 
 void VirtualRig::SetTarget(const DriveSetpoint& setpoint, bool enabled) {
@@ -75,17 +90,54 @@ void VirtualRig::StepIdeal(int i, double dt) {
   }
 }
 
+namespace {
+
+// One step of a motor with dry friction: it sticks while the other torques
+// cannot overcome `coulomb`, and a moving motor that friction would reverse
+// stops instead (a discrete Coulomb model that needs no tiny time step).
+double VelocityWithCoulomb(double v, double net_torque, double coulomb, double inertia, double dt) {
+  if (coulomb <= 0.0) return v + dt * net_torque / inertia;
+  if (v == 0.0 && std::abs(net_torque) <= coulomb) return 0.0;
+  const double direction = v != 0.0 ? (v > 0.0 ? 1.0 : -1.0) : (net_torque > 0.0 ? 1.0 : -1.0);
+  const double next = v + dt * (net_torque - coulomb * direction) / inertia;
+  return v != 0.0 && next * v < 0.0 ? 0.0 : next;
+}
+
+}  // namespace
+
+double VirtualRig::ScrewRatio() const {
+  return parameters_.nominal.drive.lead_m / (kTwoPi * parameters_.nominal.drive.gear_ratio *
+                                            parameters_.effects.servo_lag.screw_efficiency);
+}
+
 void VirtualRig::StepServo(int i, double dt) {
   const RigEffects::ServoLag& s = parameters_.effects.servo_lag;
-  double torque = 0.0;
-  if (enabled_) {
-    torque = kp_ * (target_.motor_angle_rad[i] - angle_[i]) +
-             kd_ * (target_.motor_velocity_rad_s[i] - velocity_[i]) +
-             s.viscous_N_m_s * target_.motor_velocity_rad_s[i];  // friction feed-forward
-    torque = std::clamp(torque, -s.torque_limit_N_m, s.torque_limit_N_m);
+  const auto leg = static_cast<std::size_t>(i);
+  if (!enabled_) {
+    // A disabled drive's holding brake: the platform's weight cannot
+    // back-drive the screw while nobody commands it.
+    velocity_[i] = 0.0;
+    target_.motor_angle_rad[i] += dt * target_.motor_velocity_rad_s[i];
+    return;
   }
+  double torque = 0.0;
+  {
+    const double error = target_.motor_angle_rad[i] - angle_[i];
+    const double unclamped = kp_ * error + kd_ * (target_.motor_velocity_rad_s[i] - velocity_[i]) +
+                             ki_ * (integral_[leg] + error * dt) +
+                             s.viscous_N_m_s * target_.motor_velocity_rad_s[i];  // friction feed-forward
+    torque = std::clamp(unclamped, -s.torque_limit_N_m, s.torque_limit_N_m);
+    if (torque == unclamped) integral_[leg] += error * dt;  // no wind-up against the current limit
+  }
+  // The platform's weight on this leg, at the motor (it resists extension),
+  // and its mass as inertia the motor accelerates with it: in the motor's
+  // own equation, not as a force a step late, which would make a loop.
+  const double screw = ScrewRatio();
+  const double load = static_leg_forces_(i) * screw;
+  const double inertia = s.inertia_kg_m2 + load_mass_per_leg_kg_ * screw * screw * s.screw_efficiency;
   // Semi-implicit Euler: stable for the stiff loop at the drive's rate.
-  velocity_[i] += dt * (torque - s.viscous_N_m_s * velocity_[i]) / s.inertia_kg_m2;
+  velocity_[i] = VelocityWithCoulomb(velocity_[i], torque - s.viscous_N_m_s * velocity_[i] - load,
+                                     s.coulomb_N_m, inertia, dt);
   angle_[i] += dt * velocity_[i];
   // Between bridge cycles the drive interpolates its target along the
   // velocity feed-forward, as a real drive's interpolator does.
@@ -106,7 +158,8 @@ bool VirtualRig::Advance(double dt_s) {
   }
   time_s_ += dt_s;
   Vector6 lengths = lengths_;
-  if (parameters_.effects.compliance.enabled && !Deflect(dt_s, &lengths)) return false;
+  if (loaded_ && !UpdateLoads(dt_s)) return false;
+  if (parameters_.effects.compliance.enabled) Deflect(&lengths);
   // Forward kinematics in the rig's own geometry adds each screw's true
   // signed PR to the drive-train lengths.
   const FkResult fk = SolveForward(model_, lengths, pose_, fk_options_);
@@ -115,7 +168,7 @@ bool VirtualRig::Advance(double dt_s) {
   return true;
 }
 
-bool VirtualRig::Deflect(double dt_s, Vector6* lengths) {
+bool VirtualRig::UpdateLoads(double dt_s) {
   // The loads come from the rigid platform's motion (the drive trains'), so
   // the deflections never feed back into the acceleration that causes them.
   const FkResult rigid = SolveForward(model_, lengths_, rigid_pose_, fk_options_);
@@ -127,10 +180,18 @@ bool VirtualRig::Deflect(double dt_s, Vector6* lengths) {
   rigid_previous_ = rigid_pose_;
   rigid_pose_ = rigid.pose;
   ++rigid_history_;
-  const RigEffects::Compliance& c = parameters_.effects.compliance;
-  leg_forces_ = LegForces(model_, rigid.pose, accel, c.mass_kg, c.com_m, c.gravity_m_s2);
-  for (int i = 0; i < kNumLegs; ++i) (*lengths)(i) -= leg_forces_(i) / c.stiffness_N_m[static_cast<std::size_t>(i)];
+  const RigEffects& e = parameters_.effects;
+  const bool platform = e.compliance.enabled;
+  const double mass = platform ? e.compliance.mass_kg : e.servo_lag.load_mass_kg;
+  const Vector3 com = platform ? e.compliance.com_m : Vector3::Zero();
+  leg_forces_ = LegForces(model_, rigid.pose, accel, mass, com, e.compliance.gravity_m_s2);
+  static_leg_forces_ = LegForces(model_, rigid.pose, Vector3::Zero(), mass, com, e.compliance.gravity_m_s2);
   return true;
+}
+
+void VirtualRig::Deflect(Vector6* lengths) const {
+  const RigEffects::Compliance& c = parameters_.effects.compliance;
+  for (int i = 0; i < kNumLegs; ++i) (*lengths)(i) -= leg_forces_(i) / c.stiffness_N_m[static_cast<std::size_t>(i)];
 }
 
 DriveFeedback VirtualRig::Feedback() const {

@@ -46,6 +46,9 @@ enabled = false
 backlash_m = 3e-5
 [rig.effects.servo_lag]
 bandwidth_hz = 30
+coulomb_N_m = 0.02
+integral_time_s = 0.05
+load_mass_kg = 300
 [rig.effects.compliance]
 stiffness_N_m = 2e7
 mass_kg = 800
@@ -67,6 +70,10 @@ time_constant_s = 900
   EXPECT_EQ(e.backlash.backlash_m[0], 3e-5);
   EXPECT_TRUE(e.servo_lag.enabled);
   EXPECT_EQ(e.servo_lag.bandwidth_hz, 30.0);
+  EXPECT_EQ(e.servo_lag.coulomb_N_m, 0.02);
+  EXPECT_EQ(e.servo_lag.integral_time_s, 0.05);
+  EXPECT_EQ(e.servo_lag.load_mass_kg, 300.0);
+  EXPECT_EQ(e.servo_lag.screw_efficiency, 0.9);
   EXPECT_EQ(e.compliance.stiffness_N_m[3], 2e7);
   EXPECT_EQ(e.compliance.mass_kg, 800.0);
   EXPECT_EQ(e.compliance.com_m.z(), 0.1);
@@ -95,6 +102,10 @@ TEST(RigEffectsConfig, ErrorsNameFileLineAndKey) {
             std::string::npos);
   EXPECT_NE(ErrorOf(kNominal + "[rig.effects.servo_lag]\nbandwidth_hz = 1000\n").find("bandwidth_hz = 1000"),
             std::string::npos);
+  EXPECT_NE(ErrorOf(kNominal + "[rig.effects.servo_lag]\nintegral_time_s = 0.001\n").find("integral_time_s = 0.001"),
+            std::string::npos);  // faster than the loop can take
+  EXPECT_NE(ErrorOf(kNominal + "[rig.effects.servo_lag]\ncoulomb_N_m = 9\n").find("coulomb_N_m = 9"),
+            std::string::npos);  // above the current limit
   EXPECT_NE(ErrorOf(kNominal + "[rig.effects.leg_offset]\noffset_m = nan\n").find("finite"), std::string::npos);
   EXPECT_NE(ErrorOf(kNominal + "[rig]\nfoo = 1\n").find("unknown key [rig] foo"), std::string::npos);
   EXPECT_NE(ErrorOf(kNominal + "[rig.effects.backlash]\nenabled = 1\n").find("true or false"), std::string::npos);

@@ -151,3 +151,62 @@ TEST(InProcessRigBackend, MotionOnlyWhileActive) {
 
 }  // namespace
 }  // namespace edsp
+
+namespace edsp {
+namespace {
+
+// The servo_lag effect's load: the platform's weight through the screw. A
+// P-D loop sags under it by the load torque over kp (the hand calculation:
+// each of the six symmetric legs carries m·g/(6·u_z)); integral action
+// removes the sag.
+TEST(VirtualRig, LoadedDriveSagsUnlessTheLoopIntegrates) {
+  const PlatformConfig nominal = Huang2021Config();
+  const PlatformModel model(nominal);
+  const double m = 600.0;
+  const double uz = model.Solve(model.home_pose()).u_B(2, 0);
+  const double force = m * 9.81 / (6.0 * uz);
+  const double torque = force * nominal.drive.lead_m / (2.0 * M_PI * nominal.drive.gear_ratio * 0.9);
+  for (double integral_time_s : {0.0, 0.05}) {
+    RigParameters p = IdealRig(nominal);
+    p.effects.servo_lag.load_mass_kg = m;
+    p.effects.servo_lag.integral_time_s = integral_time_s;
+    VirtualRig rig(p);
+    rig.SetTarget(DriveSetpoint{}, true);  // hold home
+    RunFor(rig, 3.0);
+    const double kp = p.effects.servo_lag.inertia_kg_m2 * std::pow(2.0 * M_PI * p.effects.servo_lag.bandwidth_hz, 2);
+    for (int i = 0; i < kNumLegs; ++i) {
+      const double angle = rig.Feedback().motor_angle_rad[i];
+      if (integral_time_s == 0.0) {
+        EXPECT_NEAR(angle, -torque / kp, 0.01 * torque / kp) << "leg " << i + 1;  // pushed back
+      } else {
+        EXPECT_LT(std::abs(angle), 1e-9) << "leg " << i + 1;
+      }
+    }
+  }
+}
+
+// Dry friction: the motor stops where the loop's torque no longer beats
+// it, short of the target by at most coulomb/kp, on the side it came from.
+TEST(VirtualRig, CoulombFrictionLeavesADeadbandOnTheSideOfTheApproach) {
+  RigParameters p = IdealRig(Huang2021Config());
+  p.effects.servo_lag.coulomb_N_m = 0.05;
+  VirtualRig rig(p);
+  const double kp = p.effects.servo_lag.inertia_kg_m2 * std::pow(2.0 * M_PI * p.effects.servo_lag.bandwidth_hz, 2);
+  const double band = 0.05 / kp;
+  DriveSetpoint target;
+  target.motor_angle_rad.fill(1.0);
+  rig.SetTarget(target, true);
+  RunFor(rig, 1.0);
+  const double from_below = 1.0 - rig.Feedback().motor_angle_rad[0];
+  EXPECT_GT(from_below, 0.01 * band);
+  EXPECT_LE(from_below, band * 1.0001);
+  EXPECT_LT(std::abs(rig.Feedback().motor_velocity_rad_s[0]), 1e-9);  // stopped
+  rig.SetTarget(DriveSetpoint{}, true);
+  RunFor(rig, 1.0);
+  const double from_above = 0.0 - rig.Feedback().motor_angle_rad[0];
+  EXPECT_LT(from_above, -0.01 * band);
+  EXPECT_GE(from_above, -band * 1.0001);
+}
+
+}  // namespace
+}  // namespace edsp

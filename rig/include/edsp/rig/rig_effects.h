@@ -67,6 +67,11 @@ struct RigEffects {
     double torque_limit_N_m = 5.0;  // current limit × torque constant
     double bandwidth_hz = 50.0;     // position loop; gains follow from it
     double loop_rate_hz = 4000.0;   // drive loop and integration rate
+    double coulomb_N_m = 0.0;       // dry friction in screw and bearings, at the motor
+    double integral_time_s = 0.0;   // the loop's integral action (0: none, a P-D loop)
+    double screw_efficiency = 0.9;  // leg force → motor torque through the screw
+    double load_mass_kg = 0.0;      // platform + payload the motors carry (compliance's
+                                    // mass_kg and com_m when that effect is on)
   } servo_lag;
   struct Compliance {         // quasi-static: legs deflect under the rigid-body leg forces
     bool enabled = false;

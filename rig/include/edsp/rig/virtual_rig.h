@@ -60,7 +60,9 @@ class VirtualRig {
  private:
   void StepServo(int leg, double dt);
   void StepIdeal(int leg, double dt);
-  bool Deflect(double dt_s, Vector6* lengths);
+  bool UpdateLoads(double dt_s);          // leg forces of the platform's rigid-body motion
+  double ScrewRatio() const;              // motor torque per newton of leg force
+  void Deflect(Vector6* lengths) const;   // compliance: legs shortened under them
 
   RigParameters parameters_;
   PlatformModel model_;  // the true geometry; lead and sign of the true PR
@@ -69,8 +71,12 @@ class VirtualRig {
   Vector6 lengths_ = Vector6::Zero();    // drive-train lengths (before deflection)
   Pose rigid_pose_, rigid_previous_;     // the undeflected platform, for its acceleration
   int rigid_history_ = 0;
-  Vector6 leg_forces_ = Vector6::Zero();
-  double kp_, kd_;
+  Vector6 leg_forces_ = Vector6::Zero();         // with the platform's acceleration (compliance)
+  Vector6 static_leg_forces_ = Vector6::Zero();  // its weight alone (the motors' load torque)
+  double load_mass_per_leg_kg_ = 0.0;            // reflected to each motor as inertia
+  double kp_, kd_, ki_ = 0.0;
+  std::array<double, 6> integral_{};
+  bool loaded_ = false;                  // leg forces needed (compliance, or a servo load)
   std::array<double, 6> angle_{}, velocity_{};
   DriveSetpoint target_;
   bool enabled_ = false;
