@@ -117,7 +117,14 @@ void ReadServoLag(const SectionReader& s, RigEffects::ServoLag* e) {
 
 
 void ReadCompliance(const SectionReader& s, RigEffects::Compliance* e) {
-  s.RejectUnknownKeys({"enabled", "stiffness_N_m", "mass_kg", "com_m", "gravity_m_s2"});
+  s.RejectUnknownKeys({"enabled", "stiffness_N_m", "mass_kg", "com_m", "payload_kg", "payload_com_m",
+                       "gravity_m_s2"});
+  e->payload_kg = s.Number("payload_kg", e->payload_kg);
+  e->payload_com_m = s.Vector("payload_com_m", e->payload_com_m);
+  if (!(e->payload_kg >= 0.0 && e->payload_kg <= 1e5) || e->payload_com_m.norm() > 10.0) {
+    s.Fail(*s.table(), fmt::format("[{}] payload_kg = {} must be in [0, 1e5] kg, payload_com_m within 10 m",
+                                   s.name(), e->payload_kg));
+  }
   e->enabled = s.Bool("enabled", true);
   e->stiffness_N_m = s.PerLeg("stiffness_N_m", e->stiffness_N_m);
   e->mass_kg = s.Number("mass_kg", e->mass_kg);

@@ -52,7 +52,7 @@ VirtualRig::VirtualRig(RigParameters parameters)
   loaded_ = e.compliance.enabled || (e.servo_lag.enabled && e.servo_lag.load_mass_kg > 0.0);
   if (e.servo_lag.enabled && loaded_) {
     // Each motor moves about a sixth of the platform along its leg.
-    load_mass_per_leg_kg_ = (e.compliance.enabled ? e.compliance.mass_kg : e.servo_lag.load_mass_kg) / 6.0;
+    load_mass_per_leg_kg_ = (e.compliance.enabled ? e.compliance.total_mass_kg() : e.servo_lag.load_mass_kg) / 6.0;
   }
   Vector6 lengths = lengths_;
   if (loaded_) UpdateLoads(0.0);
@@ -182,8 +182,8 @@ bool VirtualRig::UpdateLoads(double dt_s) {
   ++rigid_history_;
   const RigEffects& e = parameters_.effects;
   const bool platform = e.compliance.enabled;
-  const double mass = platform ? e.compliance.mass_kg : e.servo_lag.load_mass_kg;
-  const Vector3 com = platform ? e.compliance.com_m : Vector3::Zero();
+  const double mass = platform ? e.compliance.total_mass_kg() : e.servo_lag.load_mass_kg;
+  const Vector3 com = platform ? e.compliance.total_com_m() : Vector3::Zero();
   leg_forces_ = LegForces(model_, rigid.pose, accel, mass, com, e.compliance.gravity_m_s2);
   static_leg_forces_ = LegForces(model_, rigid.pose, Vector3::Zero(), mass, com, e.compliance.gravity_m_s2);
   return true;

@@ -53,6 +53,8 @@ load_mass_kg = 300
 stiffness_N_m = 2e7
 mass_kg = 800
 com_m = [0, 0, 0.1]
+payload_kg = 200
+payload_com_m = [0, 0, 0.6]
 [rig.effects.thermal_drift]
 heating_K_per_m = 1.5
 time_constant_s = 900
@@ -77,6 +79,8 @@ time_constant_s = 900
   EXPECT_EQ(e.compliance.stiffness_N_m[3], 2e7);
   EXPECT_EQ(e.compliance.mass_kg, 800.0);
   EXPECT_EQ(e.compliance.com_m.z(), 0.1);
+  EXPECT_EQ(e.compliance.total_mass_kg(), 1000.0);
+  EXPECT_NEAR(e.compliance.total_com_m().z(), (800 * 0.1 + 200 * 0.6) / 1000.0, 1e-15);
   EXPECT_EQ(e.compliance.gravity_m_s2.z(), -9.81);  // default
   EXPECT_EQ(e.thermal_drift.heating_K_per_m, 1.5);
   EXPECT_EQ(e.thermal_drift.alpha_per_K, 11.7e-6);  // steel by default

@@ -343,6 +343,12 @@ TEST(RigEffects, ComplianceSagsByTheLegForcesItCarries) {
   // Lower poses have flatter legs: more force, more sag.
   EXPECT_GT(ends[0].error.norm(), ends[2].error.norm());
   EXPECT_GT(ends[1].error.norm(), 15e-6);
+  // A payload centred on the platform adds its weight: 800 + 400 kg sag 1.5×.
+  e.compliance.payload_kg = 400.0;
+  const std::vector<DwellEnd> loaded = RunStack("Lz", e, 3);
+  for (std::size_t k = 0; k < ends.size(); ++k) {
+    EXPECT_NEAR(loaded[k].error.z() / ends[k].error.z(), 1.5, 0.01) << ends[k].segment;
+  }
 }
 
 TEST(RigEffects, ComplianceFollowsTheAccelerationInMotion) {

@@ -76,8 +76,14 @@ struct RigEffects {
   struct Compliance {         // quasi-static: legs deflect under the rigid-body leg forces
     bool enabled = false;
     LegValues stiffness_N_m{};      // axial, leg + both joints
-    double mass_kg = 0.0;           // platform + payload
-    Vector3 com_m = Vector3::Zero();  // centre of mass in {M}
+    double mass_kg = 0.0;           // the moving platform
+    Vector3 com_m = Vector3::Zero();  // its centre of mass in {M}
+    double payload_kg = 0.0;        // what it carries (a second payload separates compliance)
+    Vector3 payload_com_m = Vector3::Zero();
+    double total_mass_kg() const { return mass_kg + payload_kg; }
+    Vector3 total_com_m() const {
+      return total_mass_kg() > 0.0 ? (mass_kg * com_m + payload_kg * payload_com_m) / total_mass_kg() : com_m;
+    }
     Vector3 gravity_m_s2 = Vector3(0.0, 0.0, -9.81);  // in {B}
   } compliance;
   struct ThermalDrift {       // screws warm with the work they do and grow
