@@ -1,10 +1,9 @@
 #include "edsp/rig/virtual_rig.h"
 
-#include "edsp/rig/platform_loads.h"
-
 #include <algorithm>
 #include <cmath>
 
+#include "edsp/rig/platform_loads.h"
 
 namespace edsp {
 
@@ -120,15 +119,12 @@ void VirtualRig::StepServo(int i, double dt) {
     target_.motor_angle_rad[i] += dt * target_.motor_velocity_rad_s[i];
     return;
   }
-  double torque = 0.0;
-  {
-    const double error = target_.motor_angle_rad[i] - angle_[i];
-    const double unclamped = kp_ * error + kd_ * (target_.motor_velocity_rad_s[i] - velocity_[i]) +
-                             ki_ * (integral_[leg] + error * dt) +
-                             s.viscous_N_m_s * target_.motor_velocity_rad_s[i];  // friction feed-forward
-    torque = std::clamp(unclamped, -s.torque_limit_N_m, s.torque_limit_N_m);
-    if (torque == unclamped) integral_[leg] += error * dt;  // no wind-up against the current limit
-  }
+  const double error = target_.motor_angle_rad[i] - angle_[i];
+  const double unclamped = kp_ * error + kd_ * (target_.motor_velocity_rad_s[i] - velocity_[i]) +
+                           ki_ * (integral_[leg] + error * dt) +
+                           s.viscous_N_m_s * target_.motor_velocity_rad_s[i];  // friction feed-forward
+  const double torque = std::clamp(unclamped, -s.torque_limit_N_m, s.torque_limit_N_m);
+  if (torque == unclamped) integral_[leg] += error * dt;  // no wind-up against the current limit
   // The platform's weight on this leg, at the motor (it resists extension),
   // and its mass as inertia the motor accelerates with it: in the motor's
   // own equation, not as a force a step late, which would make a loop.

@@ -346,8 +346,8 @@ TEST(RigEffects, ComplianceSagsByTheLegForcesItCarries) {
   // A payload centred on the platform adds its weight: 800 + 400 kg sag 1.5×.
   e.compliance.payload_kg = 400.0;
   const std::vector<DwellEnd> loaded = RunStack("Lz", e, 3);
-  for (std::size_t k = 0; k < ends.size(); ++k) {
-    EXPECT_NEAR(loaded[k].error.z() / ends[k].error.z(), 1.5, 0.01) << ends[k].segment;
+  for (std::size_t stop = 0; stop < ends.size(); ++stop) {
+    EXPECT_NEAR(loaded[stop].error.z() / ends[stop].error.z(), 1.5, 0.01) << ends[stop].segment;
   }
 }
 
