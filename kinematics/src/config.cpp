@@ -108,13 +108,7 @@ void ValidateConfig(const PlatformConfig& c, const std::string& origin) {
 }
 
 PlatformConfig ParseConfig(const std::string& toml_text, const std::string& origin) {
-  toml::table root;
-  try {
-    root = toml::parse(toml_text, origin);
-  } catch (const toml::parse_error& e) {
-    throw ConfigError(fmt::format("{}:{}:{}: {}", origin, e.source().begin.line,
-                                  e.source().begin.column, e.description()));
-  }
+  const toml::table root = ParseTomlText(toml_text, origin);
   PlatformConfig config;
   const SectionReader geometry(root, "geometry", origin);
   Require(geometry.present(), origin, "missing section [geometry]");

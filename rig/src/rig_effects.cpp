@@ -164,13 +164,7 @@ bool RigEffects::any() const {
 }
 
 RigEffects ParseRigEffects(const std::string& toml_text, const std::string& origin) {
-  toml::table root;
-  try {
-    root = toml::parse(toml_text, origin);
-  } catch (const toml::parse_error& e) {
-    throw ConfigError(fmt::format("{}:{}:{}: {}", origin, e.source().begin.line,
-                                  e.source().begin.column, e.description()));
-  }
+  const toml::table root = ParseTomlText(toml_text, origin);
   RigEffects effects;
   const SectionReader rig(root.get("rig"), "rig", origin);
   rig.RejectUnknownKeys({"effects"});

@@ -16,6 +16,17 @@
 
 namespace edsp {
 
+// The whole file parsed; a syntax error becomes a ConfigError naming the
+// file, line and column.
+inline toml::table ParseTomlText(const std::string& text, const std::string& origin) {
+  try {
+    return toml::parse(text, origin);
+  } catch (const toml::parse_error& e) {
+    throw ConfigError(fmt::format("{}:{}:{}: {}", origin, e.source().begin.line,
+                                  e.source().begin.column, e.description()));
+  }
+}
+
 // Reads one section of the file, naming the file, line and key in every error.
 class SectionReader {
  public:
