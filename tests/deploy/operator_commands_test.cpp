@@ -52,7 +52,8 @@ TEST(OperatorCommands, PrModeSwitchedLiveBlendsWithoutAStepAndTheDwellsLandSigne
       [&](const std::string& dir) {
         std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // during the first move
         ctl_status = Ctl(dir, "pr-mode signed --operator test", &ctl_out);
-      });
+      },
+      77, test_support::kDefaultConfig, test_support::kStallTolerantStaleMs);
   ASSERT_EQ(run.exit_code, 0);
   EXPECT_EQ(ctl_status, 0) << ctl_out;
   EXPECT_NE(ctl_out.find("none → signed (requested by test)"), std::string::npos) << ctl_out;
@@ -85,7 +86,7 @@ TEST(OperatorCommands, PrModeSwitchedLiveBlendsWithoutAStepAndTheDwellsLandSigne
       have_previous = true;
     }
   }
-  EXPECT_EQ(faults, 0) << "a blended switch must not trip the bridge: edsp-log faults " << run.log_path;
+  EXPECT_EQ(faults, 0) << "a blended switch must not trip the bridge:\n" << test_support::FaultLines(run.log_path);
   EXPECT_GT(before, 200);  // the run began without compensation
   EXPECT_GT(after, 5000);
   EXPECT_GT(largest_switch, 20 * largest_change);  // the blend is what kept the steps small

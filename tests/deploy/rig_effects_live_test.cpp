@@ -22,7 +22,7 @@ TEST(RigEffectsLive, TheLiveGroupMeasuresWhatEdspSimRigComputes) {
       "effects", "signed",
       R"("--motions", "Lz,Rz", "--stops", "3", "--dwell-s", "0.6", "--max-speed-m-s", "0.25",
          "--max-speed-rad-s", "0.4", "--exit-after-hold-s", "0.3")",
-      {}, 77, config);
+      {}, 77, config, test_support::kStallTolerantStaleMs);
   ASSERT_EQ(live.exit_code, 0);
 
   OfflineRunOptions o;

@@ -13,6 +13,7 @@
 
 #include "edsp/logger/log_reader.h"
 #include "edsp/logger/log_summary.h"
+#include "edsp/fault_t.hpp"
 #include "edsp/node_status_t.hpp"
 
 namespace edsp::test_support {
@@ -20,7 +21,7 @@ namespace edsp::test_support {
 GroupRun LaunchSimGroup(const std::string& name, const std::string& pr_mode,
                         const std::string& planner_args,
                         const std::function<void(const std::string& dir)>& during,
-                        std::int64_t session_id, const std::string& config) {
+                        std::int64_t session_id, const std::string& config, int stale_ms) {
   const std::string dir = fmt::format("/tmp/edsp_group_test_{}_{}", ::getpid(), name);
   std::system(("mkdir -p " + dir).c_str());
   GroupRun run;
@@ -40,11 +41,12 @@ start_delay_ms = 200
 [[member]]
 name = "actuator_bridge"
 command = "edsp-actuator-bridge"
+args = ["--stale-ms", "{8}"]
 start_delay_ms = 100
 [[member]]
 name = "kinematics"
 command = "edsp-kinematics"
-args = ["--pr-mode", "{3}"]
+args = ["--pr-mode", "{3}", "--stale-ms", "{8}"]
 [[member]]
 name = "logger"
 command = "edsp-logger"
@@ -57,7 +59,7 @@ args = [{5}]
 restart = "never"
 )",
                                                     name, EDSP_SOURCE_DIR, ::getpid(), pr_mode,
-                                                    run.log_path, planner_args, session_id, config);
+                                                    run.log_path, planner_args, session_id, config, stale_ms);
   const std::string command = fmt::format("{} {}/group.toml --until-exit planner --duration-s 120 2>{}/launch.err",
                                           EDSP_LAUNCH_BINARY, dir, dir);
   std::thread action;
@@ -83,10 +85,24 @@ std::int64_t PlannerDeadlineMisses(const std::string& log_path) {
   return misses;
 }
 
+std::string FaultLines(const std::string& log_path) {
+  LogReader reader(log_path);
+  LogEvent event;
+  std::string lines;
+  while (reader.Next(&event)) {
+    if (event.channel != "EDSP_FAULT") continue;
+    fault_t f;
+    if (f.decode(event.data.data(), 0, static_cast<int>(event.data.size())) < 0) continue;
+    lines += fmt::format("{} {} {} code {}: {}\n", f.utime, f.node, f.channel, f.code, f.reason);
+  }
+  return lines;
+}
+
 void ExpectCleanRun(const GroupRun& run) {
   ASSERT_EQ(run.exit_code, 0) << "edsp-launch failed; see " << run.log_path << "/../launch.err";
   const LogSummary summary = SummarizeLog(run.log_path);
-  EXPECT_EQ(summary.channels.count("EDSP_FAULT"), 0u) << "faults were raised: edsp-log faults " << run.log_path;
+  EXPECT_EQ(summary.channels.count("EDSP_FAULT"), 0u) << "faults were raised (edsp-log faults " << run.log_path << "):\n"
+      << FaultLines(run.log_path);
   const ChannelSummary& commands = summary.channels.at("EDSP_LEG_COMMAND");
   EXPECT_GT(commands.messages, 10000);
   // 1 kHz on an absolute clock: every cycle of the run is either a command

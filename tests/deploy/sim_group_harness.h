@@ -19,12 +19,25 @@ inline constexpr const char* kDefaultPlannerArgs =
     R"("--motions", "Lz,Rz", "--stops", "3", "--dwell-s", "0.6", "--max-speed-m-s", "0.25",
         "--max-speed-rad-s", "0.5", "--exit-after-hold-s", "0.3")";
 
-// `during(dir)` runs on a thread while the group does.
+inline constexpr const char* kDefaultConfig = "config/huang2021.toml";  // in the checkout
+
+// The nodes' stale limit as shipped: what the hold tests exercise.
+inline constexpr int kShippedStaleMs = 50;
+// For tests of accuracy, not of holding: this shared 2-core VM has stalled
+// for over 50 ms (a fresh-clone CI run latched the bridge mid-motion), which
+// is a correct hold but not what those tests measure.
+inline constexpr int kStallTolerantStaleMs = 250;
+
+// `during(dir)` runs on a thread while the group does. `stale_ms` goes to the
+// kinematics node and the actuator bridge.
 GroupRun LaunchSimGroup(const std::string& name, const std::string& pr_mode,
                         const std::string& planner_args = kDefaultPlannerArgs,
                         const std::function<void(const std::string& dir)>& during = {},
-                        std::int64_t session_id = 77,
-                        const std::string& config = "config/huang2021.toml");  // in the checkout
+                        std::int64_t session_id = 77, const std::string& config = kDefaultConfig,
+                        int stale_ms = kShippedStaleMs);
+
+// Every EDSP_FAULT of a log as "node channel code: reason" lines.
+std::string FaultLines(const std::string& log_path);
 
 // Launcher exit 0, no faults, commands at 1 kHz, loss bounded (see .cpp).
 void ExpectCleanRun(const GroupRun& run);

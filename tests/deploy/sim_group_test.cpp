@@ -82,7 +82,10 @@ std::vector<DwellEnd> DwellEnds(const std::string& log_path, const PlatformModel
 // One signed run serves several tests.
 class SignedSimGroup : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() { run_ = new GroupRun(LaunchSimGroup("signed", "signed")); }
+  static void SetUpTestSuite() { 
+    run_ = new GroupRun(LaunchSimGroup("signed", "signed", test_support::kDefaultPlannerArgs, {}, 77,
+                                       test_support::kDefaultConfig, test_support::kStallTolerantStaleMs));
+  }
   static void TearDownTestSuite() { delete run_; }
   static GroupRun* run_;
 };
@@ -143,7 +146,8 @@ TEST_F(SignedSimGroup, ReplayedThroughLcmLogplayerAFreshKinematicsNodeReproduces
 }
 
 TEST(SimGroup, WithoutCompensationMissesByThePredictedPrError) {
-  const GroupRun run = LaunchSimGroup("none", "none");
+  const GroupRun run = LaunchSimGroup("none", "none", test_support::kDefaultPlannerArgs, {}, 77,
+                                      test_support::kDefaultConfig, test_support::kStallTolerantStaleMs);
   ExpectCleanRun(run);
   const PlatformModel model(Huang2021Config());
   double largest = 0.0;
