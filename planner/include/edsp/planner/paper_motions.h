@@ -20,7 +20,10 @@ struct PaperMotionOptions {
   double angular_range_rad = 30.0 * 3.14159265358979323846 / 180.0;
 };
 
-// Known names: Lx Ly Lz Rx Ry Rz. Throws std::invalid_argument for others.
+// Known names: Lx Ly Lz Rx Ry Rz, and the mixed motions M1 … M999: every
+// axis at once, `stops` poses drawn deterministically (from the number)
+// within 35% of each axis's range at half of each axis's speed, then home. Throws std::invalid_argument
+// for others.
 void AppendPaperMotion(const std::string& name, const Vector6& home,
                        const PaperMotionOptions& options, TrajectorySequence* sequence);
 

@@ -1,0 +1,74 @@
+#pragma once
+// The linearised measurement model every fit of the diagnosis shares.
+// At each row n the nominal model puts point A at A_n = A(pose_cmd_n); leg
+// errors Δl move it by G_n·Δl with G_n = ∂A/∂q·(∂l/∂q − ∂PR/∂q)⁻¹; the tracker
+// sees it through its frame, T(p) = R·p + t. Around a first frame estimate
+// (R0, t0, Umeyama) the residual r_n = point_n − (R0·A_n + t0) is linear in
+// the frame correction (δt, δω) and in every effect's parameters θ:
+//   r_n ≈ δt − R0[A_n]×·δω + Σ_e R0·G_n·B_e,n·θ_e.
+// Rows are stored grouped by run (each run a contiguous block).
+
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "edsp/diagnosis/effects.h"
+#include "edsp/diagnosis/measurement_data.h"
+#include "edsp/kinematics/platform_model.h"
+
+namespace edsp::gap {
+
+struct DesignOptions {
+  double thermal_time_constant_s = 900.0;   // cooling of the screws
+  double direction_deadband_m_s = 1e-5;     // slower legs keep their last direction
+  Vector3 gravity_B_m_s2 = Vector3(0.0, 0.0, -9.81);
+};
+
+struct ColumnRange {
+  int begin = 0, count = 0;
+};
+
+struct Design {
+  // Rows (3 per sample), grouped by run.
+  Eigen::VectorXd residual;          // r, m
+  Eigen::MatrixXd columns;           // [frame (6) | every effect's θ columns]
+  ColumnRange frame;                 // δt (3), δω (3)
+  std::array<ColumnRange, kEffectCount> effect;  // by static_cast<int>(Effect)
+  std::vector<int> sample_run;       // run of each sample
+  std::vector<ColumnRange> run_samples;  // samples of each run (contiguous)
+  std::vector<std::string> runs;
+  std::vector<int> source_row;       // row in MeasurementData of each sample
+
+  // Per sample, for the gap summaries.
+  std::vector<Eigen::Matrix<double, 3, 6>> point_per_leg;  // R0·G_n
+  std::vector<Vector6> leg_velocity_m_s;
+  std::vector<Vector6> leg_accel_m_s2;
+  std::vector<Vector6> servo_error_m;  // leg_cmd − leg_enc, when the data has encoders
+  std::vector<double> time_s;
+  std::vector<double> displacement;    // |pose − home| (m, rad mixed: metres + 1 m per rad)
+  bool has_encoder = false;
+
+  // The PR compensation the data's controller applied (IK length − command)
+  // against the signed PR model: least-squares ratio κ, and a name for it.
+  double applied_pr_ratio = 0.0;
+  std::string applied_pr = "none";  // none | signed | other
+
+  // Frame estimate the residual is taken around: point = R0·A + t0.
+  Matrix3 R0 = Matrix3::Identity();
+  Vector3 t0 = Vector3::Zero();
+
+  int samples() const { return static_cast<int>(sample_run.size()); }
+  int parameters() const { return static_cast<int>(columns.cols()); }
+  const ColumnRange& Of(Effect e) const { return effect[static_cast<std::size_t>(e)]; }
+};
+
+// Throws MeasurementError if a commanded pose is outside what the model can
+// solve (names the run and time).
+Design BuildDesign(const PlatformModel& model, const MeasurementData& data, const DesignOptions& options = {});
+
+// Rigid frame (R, t) with measured ≈ R·model + t, least squares (Umeyama).
+void EstimateFrame(const std::vector<Vector3>& model_points, const std::vector<Vector3>& measured,
+                   Matrix3* R, Vector3* t);
+
+}  // namespace edsp::gap

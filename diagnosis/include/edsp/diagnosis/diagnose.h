@@ -1,0 +1,75 @@
+#pragma once
+// edsp-gap diagnose: where the gap between the model and the measurement
+// lies, which effects of the vocabulary explain it (forward selection with
+// cross-validation across runs and an information criterion), how far it
+// shrinks on runs held out of every fit, and what is left.
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "edsp/diagnosis/design.h"
+#include "edsp/diagnosis/gap_summary.h"
+#include "edsp/diagnosis/whiteness.h"
+
+namespace edsp::gap {
+
+struct DiagnoseOptions {
+  double max_rate_hz = 100.0;     // rows per run are thinned to this rate
+  DesignOptions design;
+  double min_cv_gain = 0.05;      // an effect must cut the held-out MSE by this fraction
+  double min_bic_drop = 10.0;     // and lower BIC by this much
+  double ambiguity_ratio = 0.7;   // an alternative reaching this share of its gain is as good
+  int max_effects = 4;
+  double unknown_factor = 1.5;    // residual above this × noise floor and not white: unknown
+};
+
+struct EffectResult {
+  Effect effect = Effect::kLegOffset;
+  Eigen::VectorXd theta, sigma;       // fitted on every run, with 1-σ uncertainties
+  double explained_fraction = 0.0;    // of the gap's variance, in selection order
+  double cv_gain = 0.0;               // held-out MSE reduction / baseline held-out MSE
+  std::string verdict;                // identified | ambiguous | rejected
+  std::vector<std::string> ambiguous_with;
+  std::string next_measurement;
+  double frame_overlap = 0.0;         // share of its signature the tracker frame can mimic
+};
+
+// One sample's gap at A before and after the selected effects (in-sample),
+// for the report's plots.
+struct SampleGap {
+  int run = 0;
+  double time_s = 0.0, displacement = 0.0, before_m = 0.0, after_m = 0.0;
+};
+
+struct Diagnosis {
+  int samples = 0;
+  std::vector<std::string> runs;
+  GapSummary gap;                     // before any effect (frame estimated)
+  std::vector<EffectResult> effects;  // ranked: selected first, then rejected by gain
+  std::vector<Effect> selected;
+  std::string conclusion;             // "effects", "none" or "unknown"
+  std::vector<std::string> holdout_runs;
+  RmsMax holdout_before, holdout_after;
+  double shrink = 0.0;
+  double noise_floor_rms_m = 0.0;     // point-A noise the tracker alone explains
+  RmsMax unexplained;                 // in-sample, after the selected effects
+  Whiteness whiteness;
+  std::string unexplained_note;
+  std::vector<SampleGap> series;
+  std::string applied_pr;             // the compensation found in the data: none | signed | other
+  double applied_pr_ratio = 0.0;
+  Eigen::VectorXd frame;              // δt, δω around (R0, t0), with the selected effects
+  Matrix3 R0 = Matrix3::Identity();
+  Vector3 t0 = Vector3::Zero();
+  double seconds = 0.0;
+};
+
+Diagnosis Diagnose(const PlatformModel& model, const MeasurementData& data, const DiagnoseOptions& options = {});
+
+// Point noise floor (RMS of |noise| at A) from sample-to-sample differences
+// of the residual where the platform is at rest.
+double NoiseFloorRms(const Design& design);
+
+}  // namespace edsp::gap

@@ -1,0 +1,42 @@
+#pragma once
+// The effect vocabulary of interfaces.md §4 as the diagnosis models it: each
+// effect is a parameterised leg-length error Δl(θ) added to the nominal
+// model, linear in its parameters θ (see docs/diagnosis.md for each basis).
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+namespace edsp::gap {
+
+enum class Effect {
+  kPassiveRotation,
+  kLegOffset,
+  kJointPosition,
+  kLeadError,
+  kPeriodicLeadError,
+  kBacklash,
+  kServoLag,
+  kCompliance,
+  kThermalDrift,
+};
+
+inline constexpr int kEffectCount = 9;
+
+const std::vector<Effect>& AllEffects();
+const char* EffectName(Effect effect);
+bool ParseEffect(const std::string& name, Effect* effect);
+
+// Number of parameters θ of the effect's leg-space basis.
+int ParameterCount(Effect effect);
+
+// Its parameters as JSON, named with units (e.g. {"backlash_m": [...]}).
+nlohmann::json ParametersJson(Effect effect, const double* theta);
+
+// The measurement that would tell `a` from `b` apart when the data cannot.
+std::string SeparatingMeasurement(Effect a, Effect b);
+// The same against the tracker frame (a nuisance the diagnosis estimates).
+std::string SeparatingMeasurementFromFrame(Effect a);
+
+}  // namespace edsp::gap

@@ -1,0 +1,62 @@
+#pragma once
+// Least squares on the linearised design, from per-fold normal equations:
+// the Gram matrix of every column is summed once per fold, after which any
+// subset of columns fitted on any set of folds, and its squared error on any
+// other fold, costs a few small dense solves. That is what makes forward
+// selection with cross-validation across runs cheap.
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "edsp/diagnosis/design.h"
+
+namespace edsp::gap {
+
+using Columns = std::vector<int>;  // indices into Design::columns
+
+struct Fold {
+  std::vector<ColumnRange> samples;  // sample ranges held out together
+  std::string name;                  // the run (or "run part k/n")
+};
+
+// Folds for cross-validation: one per run with 3 runs or more; otherwise
+// each run cut into thirds in time.
+std::vector<Fold> MakeFolds(const Design& design);
+
+class GramSet {
+ public:
+  GramSet(const Design& design, std::vector<Fold> folds);
+
+  int folds() const { return static_cast<int>(folds_.size()); }
+  const Fold& fold(int k) const { return folds_[static_cast<std::size_t>(k)]; }
+  std::vector<int> AllFolds() const;
+  std::vector<int> AllBut(int fold) const;
+
+  // θ for `columns` on the folds `train`, with a ridge `prior_weight` per
+  // design column (σ_meas²/σ_prior², 0 for none) against null directions.
+  Eigen::VectorXd Solve(const Columns& columns, const std::vector<int>& train,
+                        const Eigen::VectorXd& prior_weight) const;
+  // Sum of squared residuals of that θ on `folds`, and how many residuals.
+  double Sse(const Columns& columns, const Eigen::VectorXd& theta, const std::vector<int>& folds) const;
+  int Residuals(const std::vector<int>& folds) const;
+  // Σ over `folds` of the Gram block CₐᵀC_b.
+  Eigen::MatrixXd Gram(const Columns& a, const Columns& b, const std::vector<int>& folds) const;
+  // Covariance of θ (σ² (H + Λ)⁻¹), for uncertainties and correlations.
+  Eigen::MatrixXd Covariance(const Columns& columns, const std::vector<int>& train,
+                             const Eigen::VectorXd& prior_weight, double sigma2) const;
+
+ private:
+  Eigen::MatrixXd NormalMatrix(const Columns& columns, const std::vector<int>& folds,
+                               const Eigen::VectorXd& prior_weight) const;
+  std::vector<Fold> folds_;
+  std::vector<Eigen::MatrixXd> H_;  // per fold: CᵀC over all design columns
+  std::vector<Eigen::VectorXd> g_;  // Cᵀr
+  std::vector<double> rr_;          // rᵀr
+  std::vector<int> n_;              // residuals
+};
+
+// Every column of the frame and of the listed effects.
+Columns ColumnsOf(const Design& design, const std::vector<Effect>& effects);
+
+}  // namespace edsp::gap

@@ -1,0 +1,36 @@
+#pragma once
+// What edsp-gap prints and saves: the JSON report of interfaces.md §4 (and
+// more), the saved model a later `evaluate` applies to new data, and the
+// readable report directory.
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "edsp/diagnosis/diagnose.h"
+
+namespace edsp::gap {
+
+nlohmann::json ToJson(const Diagnosis& diagnosis);
+
+// The selected effects with their parameters: what `evaluate` applies.
+nlohmann::json ModelJson(const Diagnosis& diagnosis, const DiagnoseOptions& options);
+
+struct Evaluation {
+  RmsMax before, after;  // frame re-estimated on the data in both
+  double shrink = 0.0;
+  int samples = 0;
+};
+
+// Applies a saved model (ModelJson) to data it has never seen: the tracker
+// frame is re-estimated (it is a nuisance), the effects' parameters are not.
+// Throws MeasurementError naming what is wrong with the model.
+Evaluation Evaluate(const PlatformModel& model, const MeasurementData& data, const nlohmann::json& saved,
+                    const std::string& origin);
+
+nlohmann::json ToJson(const Evaluation& evaluation);
+
+// Markdown report with PNG plots (gnuplot) in `dir`; returns the files written.
+std::vector<std::string> WriteReport(const Diagnosis& diagnosis, const std::string& dir);
+
+}  // namespace edsp::gap

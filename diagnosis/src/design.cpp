@@ -1,0 +1,268 @@
+#include "edsp/diagnosis/design.h"
+
+#include <cmath>
+#include <map>
+
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+#include <fmt/format.h>
+
+#include "edsp/rig/platform_loads.h"
+
+namespace edsp::gap {
+
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586;
+
+Matrix3 Skew(const Vector3& v) {
+  Matrix3 s;
+  s << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return s;
+}
+
+// ∂A/∂q by central differences (A is a smooth, cheap function of the pose).
+Eigen::Matrix<double, 3, 6> PointJacobian(const PlatformModel& model, const Vector6& q) {
+  Eigen::Matrix<double, 3, 6> J;
+  constexpr double h = 1e-6;
+  for (int k = 0; k < 6; ++k) {
+    Vector6 plus = q, minus = q;
+    plus(k) += h;
+    minus(k) -= h;
+    J.col(k) = (model.ObservationPoint(Pose::FromVector(plus)) -
+                model.ObservationPoint(Pose::FromVector(minus))) / (2.0 * h);
+  }
+  return J;
+}
+
+// Central difference of a per-row quantity within one run (one-sided at its ends).
+template <typename Get>
+Vector6 Derivative(const std::vector<int>& rows, std::size_t k, const MeasurementData& data, Get get) {
+  const std::size_t lo = k == 0 ? 0 : k - 1;
+  const std::size_t hi = k + 1 < rows.size() ? k + 1 : k;
+  if (lo == hi) return Vector6::Zero();
+  const MeasurementRow& a = data.rows[static_cast<std::size_t>(rows[lo])];
+  const MeasurementRow& b = data.rows[static_cast<std::size_t>(rows[hi])];
+  const double dt = b.time_s - a.time_s;
+  if (dt <= 0.0) return Vector6::Zero();
+  return (get(b) - get(a)) / dt;
+}
+
+// Leg-space basis B_e (6 × p_e) of every effect at one sample.
+struct SampleState {
+  LegSolution legs;
+  Vector6 stroke, velocity, accel, jerk, direction, heat, pr_signed, compensation;
+  Eigen::Matrix<double, 6, 4> load;  // leg forces per kg at {M}'s origin, then per kg·m of c.o.m. x, y, z
+};
+
+Eigen::MatrixXd LegBasis(Effect effect, const SampleState& s, const PlatformModel& model) {
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(6, ParameterCount(effect));
+  const double lead = model.config().drive.lead_m;
+  switch (effect) {
+    case Effect::kPassiveRotation:
+      B.col(0) = s.pr_signed;
+      B.col(1) = s.compensation;
+      break;
+    case Effect::kLegOffset:
+      B = Eigen::MatrixXd::Identity(6, 6);
+      break;
+    case Effect::kJointPosition:
+      for (int i = 0; i < 6; ++i) {
+        // A base joint moved by δb shortens the geometric leg by û·δb, so the
+        // drive length reaches a pose whose nominal length is longer: +û·δb.
+        const Vector3 u = s.legs.u_B.col(i);
+        B.block<1, 3>(i, 3 * i) = u.transpose();
+        B.block<1, 3>(i, 18 + 3 * i) = -(s.legs.R_BM.transpose() * u).transpose();
+      }
+      break;
+    case Effect::kLeadError:
+      for (int i = 0; i < 6; ++i) B(i, i) = s.stroke(i);
+      break;
+    case Effect::kPeriodicLeadError:
+      for (int i = 0; i < 6; ++i) {
+        const double phi = kTwoPi * s.stroke(i) / lead;
+        B(i, 2 * i) = std::sin(phi);
+        B(i, 2 * i + 1) = std::cos(phi) - 1.0;
+      }
+      break;
+    case Effect::kBacklash:
+      // Homed extending: no lost motion while extending, the full play while retracting.
+      for (int i = 0; i < 6; ++i) B(i, i) = 0.5 * (1.0 - s.direction(i));
+      break;
+    case Effect::kServoLag:
+      for (int i = 0; i < 6; ++i) {
+        B(i, i) = -s.velocity(i);
+        B(i, 6 + i) = -s.accel(i);
+      }
+      B.col(12) = -s.jerk;
+      break;
+    case Effect::kCompliance:
+      // Δl_i = −F_i(m, m·c)/k_i: each leg its own stiffness for the weight
+      // and inertia of the mass, one mean stiffness for the c.o.m.'s moments.
+      for (int i = 0; i < 6; ++i) B(i, i) = -s.load(i, 0);
+      B.rightCols(3) = -s.load.rightCols(3);
+      break;
+    case Effect::kThermalDrift:
+      B.col(0) = s.heat;
+      break;
+  }
+  return B;
+}
+
+std::vector<std::vector<int>> RowsByRun(const MeasurementData& data) {
+  std::vector<std::vector<int>> rows(data.runs.size());
+  for (std::size_t k = 0; k < data.rows.size(); ++k) {
+    rows[static_cast<std::size_t>(data.rows[k].run)].push_back(static_cast<int>(k));
+  }
+  return rows;
+}
+
+Eigen::Matrix<double, 6, 4> LoadColumns(const PlatformModel& model, const Pose& pose, const Vector3& accel,
+                                        const DesignOptions& o) {
+  const Vector3 coms[4] = {Vector3::Zero(), Vector3::UnitX(), Vector3::UnitY(), Vector3::UnitZ()};
+  Eigen::Matrix<double, 6, 4> F;
+  for (int c = 0; c < 4; ++c) {
+    // Absolute, not from home: a rig homed by its encoders sits lower at home too.
+    F.col(c) = LegForces(model, pose, accel, 1.0, coms[c], o.gravity_B_m_s2);
+  }
+  for (int c = 1; c < 4; ++c) F.col(c) -= F.col(0);
+  return F;
+}
+
+}  // namespace
+
+void EstimateFrame(const std::vector<Vector3>& model_points, const std::vector<Vector3>& measured, Matrix3* R,
+                   Vector3* t) {
+  const Eigen::Index n = static_cast<Eigen::Index>(model_points.size());
+  Eigen::Matrix3Xd src(3, n), dst(3, n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    src.col(k) = model_points[static_cast<std::size_t>(k)];
+    dst.col(k) = measured[static_cast<std::size_t>(k)];
+  }
+  const Eigen::Matrix4d T = Eigen::umeyama(src, dst, false);
+  *R = T.topLeftCorner<3, 3>();
+  *t = T.topRightCorner<3, 1>();
+}
+
+Design BuildDesign(const PlatformModel& model, const MeasurementData& data, const DesignOptions& o) {
+  Design d;
+  d.runs = data.runs;
+  const std::vector<std::vector<int>> by_run = RowsByRun(data);
+  const int n = static_cast<int>(data.rows.size());
+  d.frame = {0, 6};
+  int column = 6;
+  for (Effect e : AllEffects()) {
+    d.effect[static_cast<std::size_t>(e)] = {column, ParameterCount(e)};
+    column += ParameterCount(e);
+  }
+  d.residual.resize(3 * n);
+  d.columns.setZero(3 * n, column);
+  d.has_encoder = !data.rows.empty();
+  for (const MeasurementRow& row : data.rows) d.has_encoder = d.has_encoder && row.has_encoder;
+
+  // Pass 1: the model's point and the leg-space state of every sample, in
+  // run order (direction and heat carry over from run to run, as on the rig).
+  std::vector<Vector3> model_points, measured;
+  std::vector<Eigen::Matrix<double, 3, 6>> G;
+  std::vector<SampleState> states;
+  model_points.reserve(static_cast<std::size_t>(n));
+  Vector6 direction = Vector6::Ones(), heat = Vector6::Zero(), last_stroke = Vector6::Zero();
+  double last_time = 0.0;
+  bool first = true;
+  for (std::size_t run = 0; run < by_run.size(); ++run) {
+    const std::vector<int>& rows = by_run[run];
+    d.run_samples.push_back({static_cast<int>(d.sample_run.size()), static_cast<int>(rows.size())});
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      const MeasurementRow& row = data.rows[static_cast<std::size_t>(rows[k])];
+      const Pose pose = Pose::FromVector(row.pose_cmd);
+      SampleState s;
+      s.legs = model.Solve(pose);
+      const Matrix6 M = model.LengthJacobian(pose) - model.PrLengthErrorJacobian(pose);
+      Eigen::FullPivLU<Matrix6> lu(M);
+      if (!pose.IsFinite() || !lu.isInvertible()) {
+        throw MeasurementError(fmt::format("{}: run \"{}\" at time_s {}: commanded pose {} is singular for the model",
+                                           data.source, data.runs[run], row.time_s, DescribePose(pose)));
+      }
+      G.push_back(PointJacobian(model, row.pose_cmd) * lu.inverse());
+      s.stroke = row.leg_cmd_m - model.home_length_m();
+      s.velocity = Derivative(rows, k, data, [](const MeasurementRow& r) { return r.leg_cmd_m; });
+      const std::size_t lo = k == 0 ? 0 : k - 1, hi = k + 1 < rows.size() ? k + 1 : k;
+      const MeasurementRow& a = data.rows[static_cast<std::size_t>(rows[lo])];
+      const MeasurementRow& b = data.rows[static_cast<std::size_t>(rows[hi])];
+      const double span = b.time_s - a.time_s;
+      s.accel = Vector6::Zero();
+      Vector3 platform_accel = Vector3::Zero();
+      if (lo + 1 == k && hi == k + 1 && span > 0.0) {
+        const double h = 0.5 * span;
+        s.accel = (b.leg_cmd_m - 2.0 * row.leg_cmd_m + a.leg_cmd_m) / (h * h);
+        platform_accel = (b.pose_cmd.head<3>() - 2.0 * row.pose_cmd.head<3>() + a.pose_cmd.head<3>()) / (h * h);
+      }
+      for (int i = 0; i < 6; ++i) {
+        if (std::abs(s.velocity(i)) > o.direction_deadband_m_s) direction(i) = s.velocity(i) > 0 ? 1.0 : -1.0;
+      }
+      s.direction = direction;
+      if (!first) {
+        const double dt = std::max(0.0, row.time_s - last_time);
+        heat = heat * std::exp(-dt / o.thermal_time_constant_s) + (s.stroke - last_stroke).cwiseAbs();
+      }
+      first = false;
+      last_time = row.time_s;
+      last_stroke = s.stroke;
+      s.heat = heat;
+      s.pr_signed = model.PrLengthError(s.legs, PrMode::kSigned);
+      s.compensation = s.legs.length_m - row.leg_cmd_m;
+      s.load = LoadColumns(model, pose, platform_accel, o);
+      states.push_back(s);
+      model_points.push_back(model.ObservationPoint(pose));
+      measured.push_back(row.point_m);
+      d.sample_run.push_back(static_cast<int>(run));
+      d.source_row.push_back(rows[k]);
+      d.time_s.push_back(row.time_s);
+      d.leg_velocity_m_s.push_back(s.velocity);
+      d.leg_accel_m_s2.push_back(s.accel);
+      d.servo_error_m.push_back(d.has_encoder ? Vector6(row.leg_cmd_m - row.leg_enc_m) : Vector6::Zero());
+      Vector6 from_home = row.pose_cmd - model.home_pose().ToVector();
+      d.displacement.push_back(from_home.norm());
+    }
+  }
+
+  // Jerk: the central difference of the acceleration within each run.
+  for (const ColumnRange& run : d.run_samples) {
+    for (int k = run.begin; k < run.begin + run.count; ++k) {
+      SampleState& s = states[static_cast<std::size_t>(k)];
+      s.jerk = Vector6::Zero();
+      if (k == run.begin || k + 1 == run.begin + run.count) continue;
+      const double span = d.time_s[static_cast<std::size_t>(k + 1)] - d.time_s[static_cast<std::size_t>(k - 1)];
+      if (span > 0.0) s.jerk = (states[static_cast<std::size_t>(k + 1)].accel - states[static_cast<std::size_t>(k - 1)].accel) / span;
+    }
+  }
+
+  double cp = 0.0, pp = 0.0, cc = 0.0;
+  for (const SampleState& s : states) {
+    cp += s.compensation.dot(s.pr_signed), pp += s.pr_signed.squaredNorm(), cc += s.compensation.squaredNorm();
+  }
+  d.applied_pr_ratio = pp > 0.0 ? cp / pp : 0.0;
+  const double misfit = cc - 2.0 * d.applied_pr_ratio * cp + d.applied_pr_ratio * d.applied_pr_ratio * pp;
+  if (cc <= 1e-6 * std::max(pp, 1e-30)) d.applied_pr = "none";
+  else if (misfit <= 1e-4 * cc && std::abs(d.applied_pr_ratio - 1.0) < 1e-3) d.applied_pr = "signed";
+  else d.applied_pr = "other";
+
+  // Pass 2: the frame estimate, then the linear columns around it.
+  EstimateFrame(model_points, measured, &d.R0, &d.t0);
+  d.point_per_leg.resize(static_cast<std::size_t>(n));
+  for (int k = 0; k < n; ++k) {
+    const std::size_t s = static_cast<std::size_t>(k);
+    d.residual.segment<3>(3 * k) = measured[s] - (d.R0 * model_points[s] + d.t0);
+    d.columns.block<3, 3>(3 * k, 0) = Matrix3::Identity();
+    d.columns.block<3, 3>(3 * k, 3) = -d.R0 * Skew(model_points[s]);
+    const Eigen::Matrix<double, 3, 6> RG = d.R0 * G[s];
+    d.point_per_leg[s] = RG;
+    for (Effect e : AllEffects()) {
+      const ColumnRange& range = d.Of(e);
+      d.columns.block(3 * k, range.begin, 3, range.count) = RG * LegBasis(e, states[s], model);
+    }
+  }
+  return d;
+}
+
+}  // namespace edsp::gap

@@ -1,0 +1,339 @@
+#include "edsp/diagnosis/diagnose.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <map>
+#include <set>
+
+#include <fmt/format.h>
+
+#include "edsp/diagnosis/linear_fit.h"
+
+namespace edsp::gap {
+
+namespace {
+
+// Prior 1-σ of each effect's parameters: far wider than any real rig's
+// value; it only pins directions the data cannot see (ridge regression).
+double PriorSigma(Effect e) {
+  switch (e) {
+    case Effect::kPassiveRotation: return 10.0;
+    case Effect::kLegOffset: return 5e-3;
+    case Effect::kJointPosition: return 3e-4;
+    case Effect::kLeadError: return 1e-2;
+    case Effect::kPeriodicLeadError: return 1e-3;
+    case Effect::kBacklash: return 5e-3;
+    case Effect::kServoLag: return 1.0;
+    case Effect::kCompliance: return 1e-2;
+    case Effect::kThermalDrift: return 1e-3;
+  }
+  return 1.0;
+}
+
+Eigen::VectorXd PriorWeights(const Design& d, double sigma2) {
+  Eigen::VectorXd w = Eigen::VectorXd::Zero(d.parameters());
+  for (Effect e : AllEffects()) {
+    const ColumnRange& r = d.Of(e);
+    w.segment(r.begin, r.count).setConstant(sigma2 / (PriorSigma(e) * PriorSigma(e)));
+  }
+  return w;
+}
+
+std::vector<Effect> With(std::vector<Effect> set, Effect e) {
+  set.push_back(e);
+  return set;
+}
+
+std::vector<Effect> Without(const std::vector<Effect>& set, Effect e) {
+  std::vector<Effect> rest;
+  for (Effect x : set) {
+    if (x != e) rest.push_back(x);
+  }
+  return rest;
+}
+
+bool Contains(const std::vector<Effect>& set, Effect e) { return std::find(set.begin(), set.end(), e) != set.end(); }
+
+// Held-out and in-sample errors of effect sets, memoised (selection asks
+// for the same set again when it checks alternatives).
+class Evaluator {
+ public:
+  Evaluator(const Design& d, const GramSet& gram, Eigen::VectorXd prior)
+      : d_(d), gram_(gram), prior_(std::move(prior)) {}
+
+  // Mean squared held-out residual (per coordinate), leave-one-fold-out.
+  double Cv(const std::vector<Effect>& set) {
+    const std::string key = Key(set);
+    const auto it = cv_.find(key);
+    if (it != cv_.end()) return it->second;
+    const Columns cols = ColumnsOf(d_, set);
+    double sse = 0.0;
+    for (int f = 0; f < gram_.folds(); ++f) {
+      const Eigen::VectorXd x = gram_.Solve(cols, gram_.AllBut(f), prior_);
+      const double e = gram_.Sse(cols, x, {f});
+      if (std::getenv("EDSP_GAP_DEBUG")) std::fprintf(stderr, "%s fold %d: rms %.2f um  x %s\n", key.c_str(), f, std::sqrt(e / gram_.Residuals({f})) * 1e6, std::to_string(x.head(6).norm()).c_str());
+      sse += e;
+    }
+    return cv_[key] = sse / gram_.Residuals(gram_.AllFolds());
+  }
+
+  // In-sample sum of squared residuals, every fold fitted.
+  double Rss(const std::vector<Effect>& set) {
+    const Columns cols = ColumnsOf(d_, set);
+    const std::vector<int> all = gram_.AllFolds();
+    return gram_.Sse(cols, gram_.Solve(cols, all, prior_), all);
+  }
+
+ private:
+  static std::string Key(std::vector<Effect> set) {
+    std::sort(set.begin(), set.end());
+    std::string key;
+    for (Effect e : set) key += EffectName(e), key += ',';
+    return key;
+  }
+  const Design& d_;
+  const GramSet& gram_;
+  Eigen::VectorXd prior_;
+  std::map<std::string, double> cv_;
+};
+
+// Share of an effect's signature the frame can reproduce: per column, the
+// part of its norm in the span of the frame's columns; the mean over columns.
+double FrameOverlap(const Design& d, const GramSet& gram, Effect e) {
+  const Columns frame = ColumnsOf(d, {});
+  const ColumnRange& r = d.Of(e);
+  Columns own;
+  for (int k = 0; k < r.count; ++k) own.push_back(r.begin + k);
+  const std::vector<int> all = gram.AllFolds();
+  const Eigen::MatrixXd Hff = gram.Gram(frame, frame, all);
+  const Eigen::MatrixXd Hfe = gram.Gram(frame, own, all);
+  const Eigen::MatrixXd Hee = gram.Gram(own, own, all);
+  const Eigen::MatrixXd projected = Hfe.transpose() * Hff.ldlt().solve(Hfe);
+  double overlap = 0.0;
+  int used = 0;
+  for (Eigen::Index k = 0; k < Hee.rows(); ++k) {
+    if (Hee(k, k) <= 0.0) continue;
+    overlap += std::clamp(projected(k, k) / Hee(k, k), 0.0, 1.0);
+    ++used;
+  }
+  return used ? overlap / used : 0.0;
+}
+
+}  // namespace
+
+double NoiseFloorRms(const Design& d) {
+  std::vector<double> diffs, all;
+  for (const ColumnRange& run : d.run_samples) {
+    for (int k = run.begin + 1; k < run.begin + run.count; ++k) {
+      const bool rest = d.leg_velocity_m_s[static_cast<std::size_t>(k)].cwiseAbs().maxCoeff() < 1e-5 &&
+                        d.leg_velocity_m_s[static_cast<std::size_t>(k - 1)].cwiseAbs().maxCoeff() < 1e-5;
+      for (int axis = 0; axis < 3; ++axis) {
+        const double diff = d.residual(3 * k + axis) - d.residual(3 * (k - 1) + axis);
+        all.push_back(std::abs(diff));
+        if (rest) diffs.push_back(std::abs(diff));
+      }
+    }
+  }
+  std::vector<double>& use = diffs.size() >= 150 ? diffs : all;
+  if (use.empty()) return 0.0;
+  std::nth_element(use.begin(), use.begin() + static_cast<std::ptrdiff_t>(use.size() / 2), use.end());
+  const double mad = use[use.size() / 2];
+  // |a − b| of two N(0, σ²) samples has median 0.6745·√2·σ.
+  const double sigma = mad / (0.6745 * std::sqrt(2.0));
+  return std::sqrt(3.0) * sigma;
+}
+
+Diagnosis Diagnose(const PlatformModel& model, const MeasurementData& data, const DiagnoseOptions& o) {
+  const auto start = std::chrono::steady_clock::now();
+  const Design d = BuildDesign(model, Decimated(data, o.max_rate_hz), o.design);
+  Diagnosis out;
+  out.samples = d.samples();
+  out.runs = d.runs;
+  out.R0 = d.R0;
+  out.t0 = d.t0;
+  out.noise_floor_rms_m = NoiseFloorRms(d);
+  const double sigma_axis = std::max(out.noise_floor_rms_m / std::sqrt(3.0), 1e-8);
+  const GramSet gram(d, MakeFolds(d));
+  const std::vector<int> all = gram.AllFolds();
+  const double n_res = gram.Residuals(all);
+  // The prior's weight is set against what the model does not yet explain
+  // (not only the noise): a systematic misfit must not push poorly excited
+  // parameters (joint centres seen from a single axis) far beyond real rigs.
+  const Columns frame_only_cols = ColumnsOf(d, {});
+  const double mse0 = gram.Sse(frame_only_cols, gram.Solve(frame_only_cols, all, Eigen::VectorXd::Zero(d.parameters())), all) / n_res;
+  const Eigen::VectorXd prior = PriorWeights(d, std::max(sigma_axis * sigma_axis, mse0));
+  Evaluator eval(d, gram, prior);
+
+  // The gap before any effect: the frame alone, fitted on everything.
+  const Columns frame_cols = ColumnsOf(d, {});
+  const Eigen::VectorXd frame_only = gram.Solve(frame_cols, all, prior);
+  const Eigen::VectorXd baseline = d.residual - d.columns(Eigen::all, frame_cols) * frame_only;
+  out.gap = SummarizeGap(d, baseline);
+
+  // Forward selection: the effect that most cuts the held-out error, while
+  // it cuts it enough and BIC agrees.
+  const double cv0 = eval.Cv({});
+  double cv = cv0, rss = eval.Rss({});
+  const double rss0 = rss;
+  std::map<Effect, double> explained;
+  while (static_cast<int>(out.selected.size()) < o.max_effects) {
+    Effect best = Effect::kLegOffset;
+    double best_cv = cv;
+    for (Effect e : AllEffects()) {
+      if (Contains(out.selected, e)) continue;
+      const double c = eval.Cv(With(out.selected, e));
+      if (c < best_cv) best_cv = c, best = e;
+    }
+    if (best_cv >= cv * (1.0 - o.min_cv_gain)) break;
+    const double rss_new = eval.Rss(With(out.selected, best));
+    const double bic_change = n_res * std::log(std::max(rss_new, 1e-300) / std::max(rss, 1e-300)) +
+                              ParameterCount(best) * std::log(n_res);
+    if (bic_change > -o.min_bic_drop) break;
+    explained[best] = (rss - rss_new) / rss0;
+    out.selected.push_back(best);
+    cv = best_cv;
+    rss = rss_new;
+  }
+
+  // Backward: an effect the later ones made redundant goes again.
+  for (bool removed = true; removed && out.selected.size() > 1;) {
+    removed = false;
+    for (Effect e : out.selected) {
+      const double without = eval.Cv(Without(out.selected, e));
+      if (without < cv / (1.0 - o.min_cv_gain)) {
+        out.selected = Without(out.selected, e);
+        cv = without;
+        removed = true;
+        break;
+      }
+    }
+  }
+  rss = eval.Rss(out.selected);
+  {
+    std::vector<Effect> so_far;
+    double before = rss0;
+    for (Effect e : out.selected) {
+      so_far.push_back(e);
+      const double after = eval.Rss(so_far);
+      explained[e] = (before - after) / rss0;
+      before = after;
+    }
+  }
+
+  // Verdicts: a selected effect that another could replace for most of its
+  // gain is ambiguous (both are named); the others are rejected.
+  std::map<Effect, EffectResult> results;
+  for (Effect e : AllEffects()) {
+    EffectResult r;
+    r.effect = e;
+    if (Contains(out.selected, e)) {
+      r.cv_gain = (eval.Cv(Without(out.selected, e)) - cv) / cv0;
+      r.explained_fraction = explained[e];
+      r.verdict = "identified";
+    } else {
+      r.cv_gain = (cv - eval.Cv(With(out.selected, e))) / cv0;
+      r.explained_fraction = (rss - eval.Rss(With(out.selected, e))) / rss0;
+      r.verdict = "rejected";
+    }
+    results[e] = r;
+  }
+  for (Effect e : out.selected) {
+    const std::vector<Effect> rest = Without(out.selected, e);
+    const double base = eval.Cv(rest);
+    const double gain = (base - cv) / base;  // what e adds to the others
+    for (Effect alt : AllEffects()) {
+      if (Contains(out.selected, alt)) continue;
+      const double alt_gain = (base - eval.Cv(With(rest, alt))) / base;
+      if (alt_gain < std::max(o.min_cv_gain, o.ambiguity_ratio * gain)) continue;
+      for (auto [a, b] : {std::pair{e, alt}, std::pair{alt, e}}) {
+        EffectResult& r = results[a];
+        r.verdict = "ambiguous";
+        r.ambiguous_with.push_back(EffectName(b));
+        r.next_measurement = SeparatingMeasurement(a, b);
+      }
+    }
+  }
+
+  // The selected model on every run: parameters, uncertainties, residual.
+  const Columns cols = ColumnsOf(d, out.selected);
+  const Eigen::VectorXd theta = gram.Solve(cols, all, prior);
+  const Eigen::VectorXd final_residual = d.residual - d.columns(Eigen::all, cols) * theta;
+  const double dof = std::max(1.0, n_res - static_cast<double>(cols.size()));
+  const Eigen::MatrixXd cov = gram.Covariance(cols, all, prior, rss / dof);
+  out.frame = theta.head(6);
+  int at = 6;
+  for (Effect e : out.selected) {
+    const int p = ParameterCount(e);
+    results[e].theta = theta.segment(at, p);
+    results[e].sigma = cov.diagonal().segment(at, p).cwiseMax(0.0).cwiseSqrt();
+    at += p;
+  }
+  for (Effect e : AllEffects()) {
+    if (Contains(out.selected, e)) continue;
+    const Columns c = ColumnsOf(d, With(out.selected, e));
+    const Eigen::VectorXd t = gram.Solve(c, all, prior);
+    results[e].theta = t.tail(ParameterCount(e));
+    results[e].sigma = gram.Covariance(c, all, prior, rss / dof).diagonal().tail(ParameterCount(e)).cwiseMax(0.0).cwiseSqrt();
+  }
+  for (auto& [e, r] : results) r.frame_overlap = FrameOverlap(d, gram, e);
+  for (Effect e : out.selected) out.effects.push_back(results[e]);
+  std::vector<EffectResult> others;
+  for (Effect e : AllEffects()) {
+    if (!Contains(out.selected, e)) others.push_back(results[e]);
+  }
+  std::stable_sort(others.begin(), others.end(), [](const EffectResult& a, const EffectResult& b) {
+    return a.cv_gain > b.cv_gain;
+  });
+  out.effects.insert(out.effects.end(), others.begin(), others.end());
+
+  // What is left: white noise at the tracker's floor, or structure nobody explains.
+  out.unexplained = PointStats(final_residual, 0, d.samples());
+  out.whiteness = TestWhiteness(d, final_residual);
+  const bool structured = !out.whiteness.white && out.unexplained.rms_m > o.unknown_factor * out.noise_floor_rms_m;
+  out.conclusion = structured ? "unknown" : (out.selected.empty() ? "none" : "effects");
+  out.unexplained_note =
+      structured ? fmt::format("structured residual of {:.1f} µm RMS (noise floor {:.1f} µm, lag-1 autocorrelation "
+                               "{:.2f}) that no effect of the vocabulary explains",
+                               out.unexplained.rms_m * 1e6, out.noise_floor_rms_m * 1e6, out.whiteness.lag1)
+                 : fmt::format("white within the tracker's noise floor ({:.1f} µm RMS left, floor {:.1f} µm)",
+                               out.unexplained.rms_m * 1e6, out.noise_floor_rms_m * 1e6);
+
+  // Before and after on runs held out of every fit.
+  double before2 = 0.0, after2 = 0.0;
+  int held = 0;
+  for (int f = 0; f < gram.folds(); ++f) {
+    const std::vector<int> train = gram.AllBut(f);
+    const Eigen::VectorXd t0 = gram.Solve(frame_cols, train, prior);
+    const Eigen::VectorXd t1 = gram.Solve(cols, train, prior);
+    out.holdout_runs.push_back(gram.fold(f).name);
+    for (const ColumnRange& s : gram.fold(f).samples) {
+      for (int k = s.begin; k < s.begin + s.count; ++k) {
+        const auto rows = d.columns.middleRows(3 * k, 3);
+        const Vector3 r = d.residual.segment<3>(3 * k);
+        const double b = (r - rows(Eigen::all, frame_cols) * t0).norm();
+        const double a = (r - rows(Eigen::all, cols) * t1).norm();
+        before2 += b * b, after2 += a * a, ++held;
+        out.holdout_before.max_m = std::max(out.holdout_before.max_m, b);
+        out.holdout_after.max_m = std::max(out.holdout_after.max_m, a);
+      }
+    }
+  }
+  out.holdout_before.rms_m = held ? std::sqrt(before2 / held) : 0.0;
+  out.holdout_after.rms_m = held ? std::sqrt(after2 / held) : 0.0;
+  out.shrink = out.holdout_before.rms_m > 0.0 ? 1.0 - out.holdout_after.rms_m / out.holdout_before.rms_m : 0.0;
+  out.applied_pr = d.applied_pr;
+  out.applied_pr_ratio = d.applied_pr_ratio;
+  for (int k = 0; k < d.samples(); ++k) {
+    const std::size_t s = static_cast<std::size_t>(k);
+    out.series.push_back({d.sample_run[s], d.time_s[s], d.displacement[s], baseline.segment<3>(3 * k).norm(),
+                          final_residual.segment<3>(3 * k).norm()});
+  }
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+}  // namespace edsp::gap

@@ -1,0 +1,241 @@
+#include "edsp/diagnosis/report.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include <fmt/format.h>
+
+#include "edsp/diagnosis/linear_fit.h"
+
+namespace edsp::gap {
+
+namespace {
+
+nlohmann::json StatsJson(const RmsMax& s) { return {{"rms_m", s.rms_m}, {"max_m", s.max_m}}; }
+
+nlohmann::json EffectJson(const EffectResult& r) {
+  nlohmann::json j;
+  j["name"] = EffectName(r.effect);
+  j["params"] = r.theta.size() ? ParametersJson(r.effect, r.theta.data()) : nlohmann::json::object();
+  j["sigma"] = r.sigma.size() ? ParametersJson(r.effect, r.sigma.data()) : nlohmann::json::object();
+  if (r.effect == Effect::kPassiveRotation && r.sigma.size() == 2) {
+    j["sigma"]["applied_compensation_scale"] = r.sigma(1);  // σ of 1 + b is σ of b
+  }
+  if (r.effect == Effect::kPeriodicLeadError) j.erase("sigma");  // amplitude/phase σ are not the θ σ
+  j["explained_fraction"] = r.explained_fraction;
+  j["cv_gain"] = r.cv_gain;
+  j["verdict"] = r.verdict;
+  j["frame_overlap"] = r.frame_overlap;
+  if (!r.ambiguous_with.empty()) j["ambiguous_with"] = r.ambiguous_with;
+  if (!r.next_measurement.empty()) j["next_measurement"] = r.next_measurement;
+  return j;
+}
+
+// The PR compensation to run next, when passive_rotation was selected: the
+// screws' fitted PR as a scale of the signed model where it is one.
+nlohmann::json Compensation(const Diagnosis& d) {
+  for (const EffectResult& r : d.effects) {
+    if (r.effect != Effect::kPassiveRotation || r.verdict == "rejected" || r.theta.size() != 2) continue;
+    const double scale = r.theta(0) + (1.0 + r.theta(1)) * d.applied_pr_ratio;
+    nlohmann::json c = {{"pr_mode", "signed"}, {"pr_scale", scale},
+                        {"applied", d.applied_pr}, {"applied_ratio_to_signed", d.applied_pr_ratio}};
+    c["note"] = fmt::format(
+        "the screws follow {:.3f} × the signed PR model (pr_sign × lead relative to the config); "
+        "the data's controller applied '{}' compensation: run PR mode signed{}",
+        scale, d.applied_pr, std::abs(scale - 1.0) > 0.02 ? fmt::format(" with pr_sign·lead scaled by {:.3f}", scale) : "");
+    return c;
+  }
+  return {{"pr_mode", d.applied_pr == "other" ? "unchanged" : d.applied_pr},
+          {"note", "no PR change indicated"}};
+}
+
+}  // namespace
+
+nlohmann::json ToJson(const Diagnosis& d) {
+  nlohmann::json j;
+  j["gap"] = ToJson(d.gap);
+  j["effects"] = nlohmann::json::array();
+  if (d.conclusion == "none") {
+    j["effects"].push_back({{"name", "none"}, {"verdict", "identified"}, {"explained_fraction", 0.0},
+                            {"params", nlohmann::json::object()}});
+  }
+  for (std::size_t k = 0; k < d.effects.size(); ++k) {
+    j["effects"].push_back(EffectJson(d.effects[k]));
+    if (k + 1 == d.selected.size() && d.conclusion == "unknown") {
+      j["effects"].push_back({{"name", "unknown"}, {"verdict", "identified"},
+                              {"params", nlohmann::json::object()}, {"note", d.unexplained_note}});
+    }
+  }
+  if (d.selected.empty() && d.conclusion == "unknown") {
+    j["effects"].insert(j["effects"].begin(), nlohmann::json{{"name", "unknown"}, {"verdict", "identified"},
+                                                            {"params", nlohmann::json::object()},
+                                                            {"note", d.unexplained_note}});
+  }
+  j["selected"] = nlohmann::json::array();
+  for (Effect e : d.selected) j["selected"].push_back(EffectName(e));
+  j["conclusion"] = d.conclusion;
+  j["holdout"] = {{"runs", d.holdout_runs}, {"before", StatsJson(d.holdout_before)},
+                  {"after", StatsJson(d.holdout_after)}, {"shrink", d.shrink}};
+  j["unexplained"] = {{"rms_m", d.unexplained.rms_m}, {"max_m", d.unexplained.max_m}, {"note", d.unexplained_note},
+                      {"noise_floor_rms_m", d.noise_floor_rms_m},
+                      {"whiteness", {{"white", d.whiteness.white}, {"ljung_box_q", d.whiteness.q},
+                                     {"dof", d.whiteness.dof}, {"threshold_99", d.whiteness.threshold},
+                                     {"lag1_autocorrelation", d.whiteness.lag1},
+                                     {"outside_99_band", d.whiteness.outside_fraction}}}};
+  j["compensation"] = Compensation(d);
+  // The tracker frame (a nuisance, never an effect): point_T = R·A_B + t.
+  Matrix3 R = d.R0;
+  Vector3 t = d.t0;
+  if (d.frame.size() == 6) {
+    const Vector3 w = d.frame.tail<3>();
+    R = d.R0 * (Matrix3::Identity() + (Matrix3() << 0, -w.z(), w.y(), w.z(), 0, -w.x(), -w.y(), w.x(), 0).finished());
+    t = d.t0 + d.frame.head<3>();
+  }
+  const Eigen::Quaterniond q(R);
+  j["tracker_frame"] = {{"translation_m", {t.x(), t.y(), t.z()}}, {"quaternion_wxyz", {q.w(), q.x(), q.y(), q.z()}}};
+  j["samples"] = d.samples;
+  j["seconds"] = d.seconds;
+  return j;
+}
+
+nlohmann::json ModelJson(const Diagnosis& d, const DiagnoseOptions& o) {
+  nlohmann::json j;
+  j["format"] = "edsp-gap-model/1";
+  j["thermal_time_constant_s"] = o.design.thermal_time_constant_s;
+  j["effects"] = nlohmann::json::array();
+  for (const EffectResult& r : d.effects) {
+    if (r.verdict == "rejected" || std::find(d.selected.begin(), d.selected.end(), r.effect) == d.selected.end()) continue;
+    j["effects"].push_back({{"name", EffectName(r.effect)},
+                            {"theta", std::vector<double>(r.theta.data(), r.theta.data() + r.theta.size())}});
+  }
+  return j;
+}
+
+Evaluation Evaluate(const PlatformModel& model, const MeasurementData& data, const nlohmann::json& saved,
+                    const std::string& origin) {
+  if (!saved.is_object() || saved.value("format", "") != "edsp-gap-model/1") {
+    throw MeasurementError(origin + ": not an edsp-gap model (key \"format\" must be \"edsp-gap-model/1\")");
+  }
+  DesignOptions o;
+  o.thermal_time_constant_s = saved.value("thermal_time_constant_s", o.thermal_time_constant_s);
+  if (!(o.thermal_time_constant_s > 0.0)) throw MeasurementError(origin + ": thermal_time_constant_s must be > 0");
+  const Design d = BuildDesign(model, Decimated(data, 100.0), o);
+  Eigen::VectorXd predicted = Eigen::VectorXd::Zero(d.residual.size());
+  if (!saved.contains("effects") || !saved["effects"].is_array()) throw MeasurementError(origin + ": no \"effects\" array");
+  for (const auto& entry : saved["effects"]) {
+    Effect e;
+    const std::string name = entry.value("name", "");
+    if (!ParseEffect(name, &e)) throw MeasurementError(fmt::format("{}: unknown effect \"{}\"", origin, name));
+    const std::vector<double> theta = entry.value("theta", std::vector<double>{});
+    if (static_cast<int>(theta.size()) != ParameterCount(e)) {
+      throw MeasurementError(fmt::format("{}: effect {} needs {} parameters, has {}", origin, name,
+                                         ParameterCount(e), theta.size()));
+    }
+    for (double v : theta) {
+      if (!std::isfinite(v)) throw MeasurementError(fmt::format("{}: effect {} has a non-finite parameter", origin, name));
+    }
+    const ColumnRange& r = d.Of(e);
+    predicted += d.columns.middleCols(r.begin, r.count) * Eigen::Map<const Eigen::VectorXd>(theta.data(), r.count);
+  }
+  // Frame alone, before and after: only the effects are carried over.
+  auto frame_fit = [&](const Eigen::VectorXd& r) {
+    const auto F = d.columns.leftCols(6);
+    const Eigen::VectorXd x = (F.transpose() * F).ldlt().solve(F.transpose() * r);
+    return Eigen::VectorXd(r - F * x);
+  };
+  Evaluation ev;
+  ev.samples = d.samples();
+  ev.before = PointStats(frame_fit(d.residual), 0, d.samples());
+  ev.after = PointStats(frame_fit(d.residual - predicted), 0, d.samples());
+  ev.shrink = ev.before.rms_m > 0.0 ? 1.0 - ev.after.rms_m / ev.before.rms_m : 0.0;
+  return ev;
+}
+
+nlohmann::json ToJson(const Evaluation& e) {
+  return {{"before", StatsJson(e.before)}, {"after", StatsJson(e.after)}, {"shrink", e.shrink}, {"samples", e.samples}};
+}
+
+namespace {
+
+void Plot(const std::string& dir, const std::string& png, const std::string& script) {
+  const std::string path = dir + "/" + png + ".gp";
+  std::ofstream(path) << "set terminal pngcairo size 900,500\nset output '" << dir << "/" << png << "'\n"
+                      << "set grid\n" << script;
+  std::system(fmt::format("gnuplot '{}' 2>/dev/null", path).c_str());
+}
+
+}  // namespace
+
+std::vector<std::string> WriteReport(const Diagnosis& d, const std::string& dir) {
+  std::filesystem::create_directories(dir);
+  std::vector<std::string> files;
+  // Per run: time, displacement, gap before and after (µm).
+  std::ofstream data(dir + "/gap.dat");
+  for (std::size_t run = 0; run < d.runs.size(); ++run) {
+    data << "# run " << d.runs[run] << "\n";
+    for (const SampleGap& s : d.series) {
+      if (s.run == static_cast<int>(run)) {
+        data << s.time_s << " " << s.displacement << " " << s.before_m * 1e6 << " " << s.after_m * 1e6 << "\n";
+      }
+    }
+    data << "\n\n";
+  }
+  data.close();
+  std::ofstream legs(dir + "/legs.dat");
+  for (int i = 0; i < 6; ++i) {
+    legs << i + 1 << " " << d.gap.by_leg_m[static_cast<std::size_t>(i)] * 1e6 << " "
+         << d.gap.extending_mean_m[static_cast<std::size_t>(i)] * 1e6 << " "
+         << d.gap.retracting_mean_m[static_cast<std::size_t>(i)] * 1e6 << "\n";
+  }
+  legs.close();
+  auto per_run = [&](const std::string& x, int column) {
+    std::string t;
+    for (std::size_t k = 0; k < d.runs.size(); ++k) {
+      t += fmt::format("{}'{}/gap.dat' index {} using {}:{} with {} title '{}'", k ? ", " : "", dir, k, x, column,
+                       x == "1" ? "lines" : "points pt 7 ps 0.3", d.runs[k]);
+    }
+    return t;
+  };
+  Plot(dir, "gap_vs_time.png", "set xlabel 'time (s)'\nset ylabel '|gap at A| (µm)'\nset title 'Gap against time, before any effect'\nplot " + per_run("1", 3) + "\n");
+  Plot(dir, "gap_vs_displacement.png", "set xlabel 'displacement from home (m + rad)'\nset ylabel '|gap at A| (µm)'\nset title 'Gap against displacement, before any effect'\nplot " + per_run("2", 3) + "\n");
+  Plot(dir, "after_vs_time.png", "set xlabel 'time (s)'\nset ylabel '|residual at A| (µm)'\nset title 'After the selected effects'\nplot " + per_run("1", 4) + "\n");
+  Plot(dir, "legs.png", fmt::format("set style data histograms\nset style fill solid 0.6\nset xlabel 'leg'\nset ylabel 'µm'\n"
+                                    "set title 'Leg-space gap: RMS, and mean while extending / retracting'\n"
+                                    "plot '{0}/legs.dat' using 2:xtic(1) title 'RMS', '' using 3 title 'extending mean', '' using 4 title 'retracting mean'\n", dir));
+  for (const char* png : {"gap_vs_time.png", "gap_vs_displacement.png", "after_vs_time.png", "legs.png"}) {
+    if (std::filesystem::exists(dir + "/" + png)) files.push_back(dir + "/" + png);
+  }
+
+  std::ofstream md(dir + "/report.md");
+  md << "# Gap diagnosis\n\n";
+  md << fmt::format("{} samples in {} runs ({}), diagnosed in {:.1f} s.\n\n", d.samples, d.runs.size(),
+                    fmt::join(d.runs, ", "), d.seconds);
+  md << "## Verdict\n\n";
+  if (d.conclusion == "none") md << "**none**: the measurement agrees with the model within the tracker's noise.\n\n";
+  if (d.conclusion == "unknown") md << "**unknown**: " << d.unexplained_note << ".\n\n";
+  md << "| rank | effect | verdict | explained | held-out gain | with | next measurement |\n|---|---|---|---|---|---|---|\n";
+  for (std::size_t k = 0; k < d.effects.size(); ++k) {
+    const EffectResult& r = d.effects[k];
+    md << fmt::format("| {} | `{}` | {} | {:.1f}% | {:.1f}% | {} | {} |\n", k + 1, EffectName(r.effect), r.verdict,
+                      100 * r.explained_fraction, 100 * r.cv_gain, fmt::join(r.ambiguous_with, ", "), r.next_measurement);
+  }
+  md << "\n## Where the gap lies\n\n" << d.gap.where << "\n\n";
+  md << fmt::format("Before any effect: {:.1f} µm RMS, {:.1f} µm max at A.\n\n", d.gap.overall.rms_m * 1e6,
+                    d.gap.overall.max_m * 1e6);
+  md << "| run | RMS (µm) | max (µm) |\n|---|---|---|\n";
+  for (const auto& [run, s] : d.gap.by_run) md << fmt::format("| {} | {:.1f} | {:.1f} |\n", run, s.rms_m * 1e6, s.max_m * 1e6);
+  md << "\n![gap against time](gap_vs_time.png)\n\n![gap against displacement](gap_vs_displacement.png)\n\n![legs](legs.png)\n\n";
+  md << "## How far it shrinks (runs held out of every fit)\n\n";
+  md << fmt::format("Before: {:.1f} µm RMS ({:.1f} max); after the selected effects: {:.1f} µm RMS ({:.1f} max); "
+                    "shrink {:.0f}%. Noise floor {:.1f} µm.\n\n",
+                    d.holdout_before.rms_m * 1e6, d.holdout_before.max_m * 1e6, d.holdout_after.rms_m * 1e6,
+                    d.holdout_after.max_m * 1e6, 100 * d.shrink, d.noise_floor_rms_m * 1e6);
+  md << "![after](after_vs_time.png)\n\n## What is left\n\n" << d.unexplained_note << ".\n";
+  files.push_back(dir + "/report.md");
+  return files;
+}
+
+}  // namespace edsp::gap
