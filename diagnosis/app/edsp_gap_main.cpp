@@ -107,7 +107,7 @@ int Run(int argc, char** argv) {
   const Diagnosis d = Diagnose(model, data, options);
   if (!model_path.empty()) {
     std::ofstream out(model_path);
-    out << ModelJson(d, options).dump(2) << "\n";
+    out << ModelJson(d).dump(2) << "\n";
     if (!out) throw std::runtime_error(model_path + ": cannot write the model");
   }
   if (!report_dir.empty()) WriteReport(d, report_dir);

@@ -51,7 +51,7 @@ Vector6 Derivative(const std::vector<int>& rows, std::size_t k, const Measuremen
 // Leg-space basis B_e (6 × p_e) of every effect at one sample.
 struct SampleState {
   LegSolution legs;
-  Vector6 stroke, velocity, accel, jerk, direction, heat, pr_signed, compensation;
+  Vector6 stroke, velocity, accel, jerk, play, heat, pr_signed, compensation;
   Eigen::Matrix<double, 6, 4> load;  // leg forces per kg at {M}'s origin, then per kg·m of c.o.m. x, y, z
 };
 
@@ -86,8 +86,8 @@ Eigen::MatrixXd LegBasis(Effect effect, const SampleState& s, const PlatformMode
       }
       break;
     case Effect::kBacklash:
-      // Homed extending: no lost motion while extending, the full play while retracting.
-      for (int i = 0; i < 6; ++i) B(i, i) = 0.5 * (1.0 - s.direction(i));
+      // Share of the play taken up on the retracting side (0 after extending).
+      for (int i = 0; i < 6; ++i) B(i, i) = s.play(i);
       break;
     case Effect::kServoLag:
       for (int i = 0; i < 6; ++i) {
@@ -161,12 +161,14 @@ Design BuildDesign(const PlatformModel& model, const MeasurementData& data, cons
   for (const MeasurementRow& row : data.rows) d.has_encoder = d.has_encoder && row.has_encoder;
 
   // Pass 1: the model's point and the leg-space state of every sample, in
-  // run order (direction and heat carry over from run to run, as on the rig).
+  // run order (play and heat carry over from run to run, as on the rig).
   std::vector<Vector3> model_points, measured;
   std::vector<Eigen::Matrix<double, 3, 6>> G;
   std::vector<SampleState> states;
   model_points.reserve(static_cast<std::size_t>(n));
-  Vector6 direction = Vector6::Ones(), heat = Vector6::Zero(), last_stroke = Vector6::Zero();
+  // The play operator of each gearbox, homed extending: the driven side
+  // lags the motor by the whole play while extending, none while retracting.
+  Vector6 driven = -o.backlash_width_m * Vector6::Ones(), heat = Vector6::Zero(), last_stroke = Vector6::Zero();
   double last_time = 0.0;
   bool first = true;
   for (std::size_t run = 0; run < by_run.size(); ++run) {
@@ -197,10 +199,15 @@ Design BuildDesign(const PlatformModel& model, const MeasurementData& data, cons
         s.accel = (b.leg_cmd_m - 2.0 * row.leg_cmd_m + a.leg_cmd_m) / (h * h);
         platform_accel = (b.pose_cmd.head<3>() - 2.0 * row.pose_cmd.head<3>() + a.pose_cmd.head<3>()) / (h * h);
       }
+      // The play sits between the motor (the encoder) and the screw: with
+      // encoder data the motor's own motion drives it, lag and all.
+      const Vector6 motor = row.has_encoder ? Vector6(row.leg_enc_m - model.home_length_m()) : s.stroke;
       for (int i = 0; i < 6; ++i) {
-        if (std::abs(s.velocity(i)) > o.direction_deadband_m_s) direction(i) = s.velocity(i) > 0 ? 1.0 : -1.0;
+        const double x = motor(i);
+        if (x - driven(i) > o.backlash_width_m) driven(i) = x - o.backlash_width_m;
+        if (driven(i) > x) driven(i) = x;
+        s.play(i) = 1.0 - (x - driven(i)) / o.backlash_width_m;
       }
-      s.direction = direction;
       if (!first) {
         const double dt = std::max(0.0, row.time_s - last_time);
         heat = heat * std::exp(-dt / o.thermal_time_constant_s) + (s.stroke - last_stroke).cwiseAbs();

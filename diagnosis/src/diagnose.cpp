@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <string>
 #include <map>
 #include <set>
@@ -73,10 +71,7 @@ class Evaluator {
     const Columns cols = ColumnsOf(d_, set);
     double sse = 0.0;
     for (int f = 0; f < gram_.folds(); ++f) {
-      const Eigen::VectorXd x = gram_.Solve(cols, gram_.AllBut(f), prior_);
-      const double e = gram_.Sse(cols, x, {f});
-      if (std::getenv("EDSP_GAP_DEBUG")) std::fprintf(stderr, "%s fold %d: rms %.2f um  x %s\n", key.c_str(), f, std::sqrt(e / gram_.Residuals({f})) * 1e6, std::to_string(x.head(6).norm()).c_str());
-      sse += e;
+      sse += gram_.Sse(cols, gram_.Solve(cols, gram_.AllBut(f), prior_), {f});
     }
     return cv_[key] = sse / gram_.Residuals(gram_.AllFolds());
   }
@@ -147,10 +142,13 @@ double NoiseFloorRms(const Design& d) {
   return std::sqrt(3.0) * sigma;
 }
 
-Diagnosis Diagnose(const PlatformModel& model, const MeasurementData& data, const DiagnoseOptions& o) {
+namespace {
+
+Diagnosis DiagnoseOnce(const PlatformModel& model, const MeasurementData& data, const DiagnoseOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   const Design d = BuildDesign(model, Decimated(data, o.max_rate_hz), o.design);
   Diagnosis out;
+  out.design = o.design;
   out.samples = d.samples();
   out.runs = d.runs;
   out.R0 = d.R0;
@@ -334,6 +332,26 @@ Diagnosis Diagnose(const PlatformModel& model, const MeasurementData& data, cons
   }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
+}
+
+}  // namespace
+
+Diagnosis Diagnose(const PlatformModel& model, const MeasurementData& data, const DiagnoseOptions& options) {
+  Diagnosis d = DiagnoseOnce(model, data, options);
+  // Backlash's play operator needs the play's width, which is what the fit
+  // estimates: once found, the diagnosis runs again with the estimate.
+  for (const EffectResult& r : d.effects) {
+    if (r.effect != Effect::kBacklash || r.verdict == "rejected" || r.theta.size() != 6) continue;
+    const double width = std::clamp(r.theta.cwiseAbs().mean(), 2e-6, 1e-3);
+    if (std::abs(width - options.design.backlash_width_m) < 0.25 * options.design.backlash_width_m) break;
+    DiagnoseOptions again = options;
+    again.design.backlash_width_m = width;
+    const double first_seconds = d.seconds;
+    d = DiagnoseOnce(model, data, again);
+    d.seconds += first_seconds;
+    break;
+  }
+  return d;
 }
 
 }  // namespace edsp::gap

@@ -101,10 +101,11 @@ nlohmann::json ToJson(const Diagnosis& d) {
   return j;
 }
 
-nlohmann::json ModelJson(const Diagnosis& d, const DiagnoseOptions& o) {
+nlohmann::json ModelJson(const Diagnosis& d) {
   nlohmann::json j;
   j["format"] = "edsp-gap-model/1";
-  j["thermal_time_constant_s"] = o.design.thermal_time_constant_s;
+  j["thermal_time_constant_s"] = d.design.thermal_time_constant_s;
+  j["backlash_width_m"] = d.design.backlash_width_m;
   j["effects"] = nlohmann::json::array();
   for (const EffectResult& r : d.effects) {
     if (r.verdict == "rejected" || std::find(d.selected.begin(), d.selected.end(), r.effect) == d.selected.end()) continue;
@@ -121,7 +122,11 @@ Evaluation Evaluate(const PlatformModel& model, const MeasurementData& data, con
   }
   DesignOptions o;
   o.thermal_time_constant_s = saved.value("thermal_time_constant_s", o.thermal_time_constant_s);
+  o.backlash_width_m = saved.value("backlash_width_m", o.backlash_width_m);
   if (!(o.thermal_time_constant_s > 0.0)) throw MeasurementError(origin + ": thermal_time_constant_s must be > 0");
+  if (!(o.backlash_width_m > 0.0 && o.backlash_width_m < 0.01)) {
+    throw MeasurementError(origin + ": backlash_width_m must be in (0, 0.01) m");
+  }
   const Design d = BuildDesign(model, Decimated(data, 100.0), o);
   Eigen::VectorXd predicted = Eigen::VectorXd::Zero(d.residual.size());
   if (!saved.contains("effects") || !saved["effects"].is_array()) throw MeasurementError(origin + ": no \"effects\" array");

@@ -21,7 +21,8 @@ namespace edsp::gap {
 
 struct DesignOptions {
   double thermal_time_constant_s = 900.0;   // cooling of the screws
-  double direction_deadband_m_s = 1e-5;     // slower legs keep their last direction
+  double backlash_width_m = 30e-6;          // play the backlash basis's operator assumes
+                                            // (Diagnose refits it to the estimate)
   Vector3 gravity_B_m_s2 = Vector3(0.0, 0.0, -9.81);
 };
 

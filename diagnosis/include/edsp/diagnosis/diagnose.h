@@ -44,6 +44,7 @@ struct SampleGap {
 };
 
 struct Diagnosis {
+  DesignOptions design;               // the bases' settings the result holds for
   int samples = 0;
   std::vector<std::string> runs;
   GapSummary gap;                     // before any effect (frame estimated)

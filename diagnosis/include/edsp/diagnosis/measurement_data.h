@@ -15,11 +15,11 @@ namespace edsp::gap {
 struct MeasurementRow {
   int run = 0;                 // index into MeasurementData::runs
   double time_s = 0.0;
-  Vector6 pose_cmd;            // x y z roll pitch yaw, the planner's target
-  Vector6 leg_cmd_m;           // commanded to the drives, encoder-length units
-  Vector6 leg_enc_m;           // encoder-implied; valid when has_encoder
+  Vector6 pose_cmd = Vector6::Zero();   // x y z roll pitch yaw, the planner's target
+  Vector6 leg_cmd_m = Vector6::Zero();  // commanded to the drives, encoder-length units
+  Vector6 leg_enc_m = Vector6::Zero();  // encoder-implied; valid when has_encoder
   bool has_encoder = false;
-  Vector3 point_m;             // tracker measurement of A, tracker frame
+  Vector3 point_m = Vector3::Zero();    // tracker measurement of A, tracker frame
 };
 
 struct MeasurementData {

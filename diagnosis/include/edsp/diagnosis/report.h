@@ -14,7 +14,7 @@ namespace edsp::gap {
 nlohmann::json ToJson(const Diagnosis& diagnosis);
 
 // The selected effects with their parameters: what `evaluate` applies.
-nlohmann::json ModelJson(const Diagnosis& diagnosis, const DiagnoseOptions& options);
+nlohmann::json ModelJson(const Diagnosis& diagnosis);
 
 struct Evaluation {
   RmsMax before, after;  // frame re-estimated on the data in both

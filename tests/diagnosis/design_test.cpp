@@ -1,0 +1,113 @@
+// The linearised model the diagnosis fits: its point-per-leg Jacobian against
+// forward kinematics (an independent computation), the tracker frame
+// estimate, and the leg-space bases against the rig's physics.
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "edsp/diagnosis/design.h"
+#include "edsp/kinematics/config.h"
+#include "edsp/kinematics/forward_kinematics.h"
+
+namespace edsp::gap {
+namespace {
+
+PlatformModel Model() { return PlatformModel(LoadConfigFile(std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml")); }
+
+// Rows at random poses, commanded with signed compensation, measured exactly
+// in a tracker frame X_TB.
+MeasurementData ExactData(const PlatformModel& model, const Pose& X_TB, int rows, PrMode compensation) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  MeasurementData d;
+  d.runs = {"a", "b", "c"};
+  d.source = "synthetic";
+  const Matrix3 R = RotationFromRpy(X_TB.rpy_rad);
+  for (int k = 0; k < rows; ++k) {
+    MeasurementRow row;
+    row.run = k * 3 / rows;
+    row.time_s = 0.01 * k;
+    row.pose_cmd = model.home_pose().ToVector();
+    row.pose_cmd.head<3>() += 0.15 * Vector3(u(rng), u(rng), u(rng));
+    row.pose_cmd.tail<3>() += 0.15 * Vector3(u(rng), u(rng), u(rng));
+    const Pose pose = Pose::FromVector(row.pose_cmd);
+    row.leg_cmd_m = model.CompensatedLengths(pose, compensation);
+    row.point_m = R * model.ObservationPoint(pose) + X_TB.p_BoMo_B;
+    d.rows.push_back(row);
+  }
+  return d;
+}
+
+TEST(Design, PointPerLegMatchesForwardKinematicsOfPerturbedLegs) {
+  const PlatformModel model = Model();
+  const Design d = BuildDesign(model, ExactData(model, Pose{}, 30, PrMode::kSigned));
+  for (int k = 0; k < d.samples(); k += 7) {
+    const Vector6 q = ExactData(model, Pose{}, 30, PrMode::kSigned).rows[static_cast<std::size_t>(d.source_row[static_cast<std::size_t>(k)])].pose_cmd;
+    const Pose pose = Pose::FromVector(q);
+    const Vector6 encoder = model.EncoderLengths(pose);
+    for (int leg = 0; leg < 6; ++leg) {
+      constexpr double kStep = 1e-5;
+      Vector6 longer = encoder;
+      longer(leg) += kStep;
+      const FkResult fk = SolveForward(model, longer, pose);
+      ASSERT_TRUE(fk.ok());
+      const Vector3 moved = (model.ObservationPoint(fk.pose) - model.ObservationPoint(pose)) / kStep;
+      EXPECT_LT((moved - d.point_per_leg[static_cast<std::size_t>(k)].col(leg)).norm(), 1e-4 * moved.norm() + 1e-6)
+          << "sample " << k << " leg " << leg + 1;
+    }
+  }
+}
+
+TEST(Design, TrackerFrameIsEstimatedAndExactDataLeavesNoResidual) {
+  const PlatformModel model = Model();
+  Pose X_TB;
+  X_TB.p_BoMo_B = Vector3(2.0, -1.5, 0.3);
+  X_TB.rpy_rad = Vector3(0.01, -0.02, 2.5);
+  const Design d = BuildDesign(model, ExactData(model, X_TB, 60, PrMode::kSigned));
+  EXPECT_LT((d.R0 - RotationFromRpy(X_TB.rpy_rad)).norm(), 1e-9);
+  EXPECT_LT((d.t0 - X_TB.p_BoMo_B).norm(), 1e-9);
+  EXPECT_LT(d.residual.cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_EQ(d.applied_pr, "signed");
+  EXPECT_EQ(d.run_samples.size(), 3u);
+}
+
+TEST(Design, AppliedCompensationIsRecognised) {
+  const PlatformModel model = Model();
+  EXPECT_EQ(BuildDesign(model, ExactData(model, Pose{}, 30, PrMode::kNone)).applied_pr, "none");
+  const Design unsigned_pr = BuildDesign(model, ExactData(model, Pose{}, 30, PrMode::kUnsigned));
+  EXPECT_EQ(unsigned_pr.applied_pr, "other");
+}
+
+TEST(Design, BacklashBasisFollowsThePlayOperatorHomedExtending) {
+  const PlatformModel model = Model();
+  MeasurementData d;
+  d.runs = {"legs"};
+  d.source = "synthetic";
+  // Leg 1 extends 1 mm, then retracts 10 µm (half the 20 µm play), then 1 mm.
+  const double steps[] = {0.0, 1e-3, 1e-3 - 10e-6, 0.0};
+  for (int k = 0; k < 4; ++k) {
+    MeasurementRow row;
+    row.time_s = k;
+    row.pose_cmd = model.home_pose().ToVector();
+    row.leg_cmd_m = model.home_length_m();
+    row.leg_cmd_m(0) += steps[k];
+    row.point_m = model.ObservationPoint(model.home_pose());
+    d.rows.push_back(row);
+  }
+  DesignOptions o;
+  o.backlash_width_m = 20e-6;
+  const Design design = BuildDesign(model, d, o);
+  const ColumnRange b = design.Of(Effect::kBacklash);
+  // The basis is A's motion per metre of play taken up; its size against
+  // the leg-1 offset column gives the share of the play (0, 0, ½, 1).
+  const ColumnRange off = design.Of(Effect::kLegOffset);
+  const double expected[] = {0.0, 0.0, 0.5, 1.0};
+  for (int k = 0; k < 4; ++k) {
+    const Vector3 play = design.columns.block<3, 1>(3 * k, b.begin);
+    const Vector3 unit = design.columns.block<3, 1>(3 * k, off.begin);
+    EXPECT_NEAR(play.dot(unit) / unit.squaredNorm(), expected[k], 1e-9) << "sample " << k;
+  }
+}
+
+}  // namespace
+}  // namespace edsp::gap

@@ -1,0 +1,100 @@
+// edsp-gap as users run it: the report JSON keys of interfaces.md §4, a
+// saved model evaluated, the report directory, and wrong inputs refused with
+// a message that names the file, line and column, and a non-zero exit.
+#include <cstdio>
+#include <fstream>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace {
+
+struct Output {
+  int status = -1;
+  std::string text;
+};
+
+Output Gap(const std::string& args) {
+  Output out;
+  const std::string command = fmt::format("{} {} 2>&1", EDSP_GAP_BINARY, args);
+  FILE* pipe = popen(command.c_str(), "r");
+  char buffer[4096];
+  while (pipe && fgets(buffer, sizeof buffer, pipe)) out.text += buffer;
+  out.status = pipe ? pclose(pipe) : -1;
+  return out;
+}
+
+std::string Dir() { return fmt::format("{}/edsp_gap_cli_{}", testing::TempDir(), ::getpid()); }
+
+std::string SimulatedCsv() {
+  const std::string dir = Dir() + "/sim";
+  const std::string command =
+      fmt::format("{} rig --config {}/config/huang2021.toml --out {} --motions Lz,Rz,M1 --pr-mode unsigned "
+                  "--stops 3 --dwell-s 0.3 --max-speed-m-s 0.25 --max-speed-rad-s 0.5 --tracker-noise-m 5e-6 "
+                  "--tracker-rate-hz 100 >/dev/null",
+                  EDSP_SIM_BINARY, EDSP_SOURCE_DIR, dir);
+  EXPECT_EQ(std::system(command.c_str()), 0);
+  return dir + "/measurement.csv";
+}
+
+TEST(EdspGapCli, DiagnoseJsonHasTheInterfaceKeysAndAModelThatEvaluates) {
+  const std::string csv = SimulatedCsv();
+  const std::string model = Dir() + "/model.json", report = Dir() + "/report";
+  const Output out = Gap(fmt::format("diagnose --config {}/config/huang2021.toml --data {} --json --save-model {} --report {}",
+                                     EDSP_SOURCE_DIR, csv, model, report));
+  ASSERT_EQ(out.status, 0) << out.text;
+  const nlohmann::json j = nlohmann::json::parse(out.text);
+  for (const char* key : {"rms_m", "max_m", "by_run", "by_leg_m", "where"}) EXPECT_TRUE(j["gap"].contains(key)) << key;
+  EXPECT_EQ(j["gap"]["by_leg_m"].size(), 6u);
+  ASSERT_FALSE(j["effects"].empty());
+  for (const char* key : {"name", "params", "explained_fraction", "verdict"}) EXPECT_TRUE(j["effects"][0].contains(key)) << key;
+  EXPECT_EQ(j["effects"][0]["name"], "passive_rotation");
+  for (const char* key : {"runs", "before", "after", "shrink"}) EXPECT_TRUE(j["holdout"].contains(key)) << key;
+  EXPECT_TRUE(j["unexplained"].contains("rms_m"));
+  EXPECT_TRUE(j["unexplained"].contains("note"));
+  std::ifstream md(report + "/report.md");
+  EXPECT_TRUE(md.good());
+
+  const Output ev = Gap(fmt::format("evaluate --config {}/config/huang2021.toml --model {} --data {} --json",
+                                    EDSP_SOURCE_DIR, model, csv));
+  ASSERT_EQ(ev.status, 0) << ev.text;
+  const nlohmann::json e = nlohmann::json::parse(ev.text);
+  EXPECT_GT(e["shrink"].get<double>(), 0.9);
+  EXPECT_LT(e["after"]["rms_m"].get<double>(), e["before"]["rms_m"].get<double>());
+}
+
+TEST(EdspGapCli, WrongInputsAreNamedWithANonZeroExit) {
+  const std::string bad = Dir() + "/bad.csv";
+  std::system(("mkdir -p " + Dir()).c_str());
+  std::ofstream(bad) << "time_s,run,pose_cmd_x_m,pose_cmd_y_m,pose_cmd_z_m,pose_cmd_roll_rad,pose_cmd_pitch_rad,"
+                        "pose_cmd_yaw_rad,leg_cmd_1_m,leg_cmd_2_m,leg_cmd_3_m,leg_cmd_4_m,leg_cmd_5_m,leg_cmd_6_m,"
+                        "point_x_m,point_y_m,point_z_m\n"
+                        "0,Lz,0,0,1.511,0,0,0,1.9,1.9,1.9,1.9,1.9,1.9,1.2,0,1.5\n"
+                        "0.01,Lz,0,0,1.511,0,0,0,1.9,1.9,x1.9,1.9,1.9,1.9,1.2,0,1.5\n";
+  Output out = Gap(fmt::format("diagnose --config {}/config/huang2021.toml --data {}", EDSP_SOURCE_DIR, bad));
+  EXPECT_NE(out.status, 0);
+  EXPECT_NE(out.text.find(bad + ":3:"), std::string::npos) << out.text;
+  EXPECT_NE(out.text.find("\"x1.9\" is not a number"), std::string::npos) << out.text;
+
+  out = Gap(fmt::format("diagnose --config {}/config/huang2021.toml --data /nonexistent.csv", EDSP_SOURCE_DIR));
+  EXPECT_NE(out.status, 0);
+  EXPECT_NE(out.text.find("/nonexistent.csv: cannot open"), std::string::npos) << out.text;
+
+  const std::string model = Dir() + "/broken_model.json";
+  std::ofstream(model) << "{\"format\": \"edsp-gap-model/1\", \"effects\": [{\"name\": \"gremlins\", \"theta\": []}]}";
+  out = Gap(fmt::format("evaluate --config {}/config/huang2021.toml --model {} --data {}", EDSP_SOURCE_DIR, model, bad));
+  EXPECT_NE(out.status, 0);
+  std::ofstream(model) << "{not json";
+  out = Gap(fmt::format("evaluate --config {}/config/huang2021.toml --model {} --data {}", EDSP_SOURCE_DIR, model,
+                        SimulatedCsv()));
+  EXPECT_NE(out.status, 0);
+  EXPECT_NE(out.text.find("not JSON"), std::string::npos) << out.text;
+  std::ofstream(model) << "{\"format\": \"edsp-gap-model/1\", \"effects\": [{\"name\": \"gremlins\", \"theta\": []}]}";
+  out = Gap(fmt::format("evaluate --config {}/config/huang2021.toml --model {} --data {}", EDSP_SOURCE_DIR, model,
+                        SimulatedCsv()));
+  EXPECT_NE(out.status, 0);
+  EXPECT_NE(out.text.find("unknown effect \"gremlins\""), std::string::npos) << out.text;
+}
+
+}  // namespace

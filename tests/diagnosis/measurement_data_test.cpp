@@ -1,0 +1,125 @@
+// The measurement CSV of interfaces.md §3 as the diagnosis reads it: any
+// column order, comments, unknown columns, optional encoders; bad files
+// named with file, line and column; edsp logs read through the exporter.
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "edsp/diagnosis/measurement_data.h"
+#include "edsp/leg_command_t.hpp"
+#include "edsp/pose_setpoint_t.hpp"
+#include "edsp/tracker_point_t.hpp"
+#include "log_builder.h"
+
+namespace edsp::gap {
+namespace {
+
+const char* kHeader =
+    "point_z_m,time_s,run,pose_cmd_x_m,pose_cmd_y_m,pose_cmd_z_m,pose_cmd_roll_rad,pose_cmd_pitch_rad,"
+    "pose_cmd_yaw_rad,leg_cmd_1_m,leg_cmd_2_m,leg_cmd_3_m,leg_cmd_4_m,leg_cmd_5_m,leg_cmd_6_m,"
+    "extra,point_x_m,point_y_m\n";
+
+std::string Row(double t, const char* run, const char* z = "1.5") {
+  return std::string(z) + "," + std::to_string(t) + "," + run + ",0,0,1.511,0,0,0,1.9,1.9,1.9,1.9,1.9,1.9,junk,1.2,0\n";
+}
+
+TEST(MeasurementCsv, AnyColumnOrderCommentsAndUnknownColumns) {
+  const MeasurementData d = ParseMeasurementCsv(
+      std::string("# exported by a tracker\n") + kHeader + Row(0.0, "Lz") + Row(0.01, "Lz") + "\n" + Row(0.0, "Rz"),
+      "t.csv");
+  ASSERT_EQ(d.rows.size(), 3u);
+  EXPECT_EQ(d.runs, (std::vector<std::string>{"Lz", "Rz"}));
+  EXPECT_EQ(d.rows[2].run, 1);
+  EXPECT_DOUBLE_EQ(d.rows[1].point_m.z(), 1.5);
+  EXPECT_DOUBLE_EQ(d.rows[1].point_m.x(), 1.2);
+  EXPECT_DOUBLE_EQ(d.rows[0].pose_cmd(2), 1.511);
+  EXPECT_FALSE(d.rows[0].has_encoder);
+}
+
+void ExpectError(const std::string& text, const std::string& fragment) {
+  try {
+    ParseMeasurementCsv(text, "bad.csv");
+    ADD_FAILURE() << "accepted: " << fragment;
+  } catch (const MeasurementError& e) {
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+  }
+}
+
+TEST(MeasurementCsv, BadCellsAreNamedByFileLineAndColumn) {
+  ExpectError(std::string(kHeader) + Row(0.0, "Lz", "abc"), "bad.csv:2:1: point_z_m \"abc\" is not a number");
+  ExpectError(std::string(kHeader) + Row(0.0, "Lz", "nan"), "bad.csv:2:1: point_z_m is nan (not finite)");
+  ExpectError(std::string(kHeader) + Row(0.0, "Lz", "inf"), "not finite");
+  ExpectError(std::string(kHeader) + Row(0.5, "Lz") + Row(0.1, "Lz"), "bad.csv:3:5: time_s 0.1 goes back in run \"Lz\"");
+  ExpectError(std::string(kHeader) + "1.5,0,Lz,0\n", "bad.csv:2: row has 4 fields");
+  ExpectError("time_s,run\n0,Lz\n", "bad.csv:1: header lacks the required column \"pose_cmd_x_m\"");
+  ExpectError("# only a comment\n", "no header row");
+  ExpectError(kHeader, "a header but no data rows");
+}
+
+TEST(MeasurementCsv, EncodersAreOptionalPerFile) {
+  std::string header = "time_s,run,pose_cmd_x_m,pose_cmd_y_m,pose_cmd_z_m,pose_cmd_roll_rad,pose_cmd_pitch_rad,"
+                       "pose_cmd_yaw_rad,leg_cmd_1_m,leg_cmd_2_m,leg_cmd_3_m,leg_cmd_4_m,leg_cmd_5_m,leg_cmd_6_m,"
+                       "leg_enc_1_m,leg_enc_2_m,leg_enc_3_m,leg_enc_4_m,leg_enc_5_m,leg_enc_6_m,point_x_m,point_y_m,point_z_m\n";
+  const MeasurementData d = ParseMeasurementCsv(
+      header + "0,Lz,0,0,1.511,0,0,0,1,1,1,1,1,1,1.1,1.1,1.1,1.1,1.1,1.1,1,2,3\n"
+               "0.1,Lz,0,0,1.511,0,0,0,1,1,1,1,1,1,,,,,,,1,2,3\n",
+      "enc.csv");
+  EXPECT_TRUE(d.rows[0].has_encoder);
+  EXPECT_DOUBLE_EQ(d.rows[0].leg_enc_m(5), 1.1);
+  EXPECT_FALSE(d.rows[1].has_encoder);
+}
+
+TEST(MeasurementCsv, DecimationKeepsEveryRunAtMostAtTheRate) {
+  std::string text = kHeader;
+  for (int k = 0; k < 100; ++k) text += Row(k * 0.001, "Lz");
+  for (int k = 0; k < 100; ++k) text += Row(k * 0.001, "Rz");
+  const MeasurementData d = Decimated(ParseMeasurementCsv(text, "t.csv"), 100.0);
+  EXPECT_EQ(d.rows.size(), 20u);  // 0.1 s of 1 kHz per run at 100 Hz
+}
+
+TEST(MeasurementCsv, SameRunNamesFromTwoFilesStayApart) {
+  MeasurementData a = ParseMeasurementCsv(std::string(kHeader) + Row(0, "Lz"), "/d/a.csv");
+  AppendMeasurement(&a, ParseMeasurementCsv(std::string(kHeader) + Row(0, "Lz") + Row(0, "Rz"), "/d/b.csv"));
+  EXPECT_EQ(a.runs, (std::vector<std::string>{"Lz", "Lz@b.csv", "Rz"}));
+  EXPECT_EQ(a.rows[2].run, 2);
+}
+
+TEST(MeasurementLog, AnEdspLogIsReadThroughTheExporter) {
+  const std::string path = testing::TempDir() + "/gap_input.lcmlog";
+  {
+    test_support::LogBuilder log(path);
+    pose_setpoint_t sp{};
+    sp.trajectory = "Lz/move 1";
+    sp.pose[2] = 1.511;
+    leg_command_t c{};
+    for (double& l : c.command_length_m) l = 1.9;
+    tracker_point_t t{};
+    t.valid = 1;
+    t.point_m[0] = 1.2;
+    t.point_m[2] = 1.511;
+    log.Add("EDSP_SETPOINT", sp);
+    log.Add("EDSP_LEG_COMMAND", c);
+    for (int k = 0; k < 3; ++k) {
+      t.utime = 1000 * k;
+      log.Add("EDSP_TRACKER", t);
+    }
+    log.AddBytes("EDSP_TRACKER", {1, 2, 3});  // truncated: skipped, not fatal
+  }
+  const MeasurementData d = LoadMeasurement(path);
+  ASSERT_EQ(d.rows.size(), 3u);
+  EXPECT_EQ(d.runs, std::vector<std::string>{"Lz"});
+  EXPECT_DOUBLE_EQ(d.rows[2].time_s, 0.002);
+  EXPECT_DOUBLE_EQ(d.rows[0].leg_cmd_m(3), 1.9);
+}
+
+TEST(MeasurementLog, MissingFileIsNamed) {
+  try {
+    LoadMeasurement("/nonexistent/run.csv");
+    FAIL();
+  } catch (const MeasurementError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/run.csv: cannot open"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace edsp::gap
