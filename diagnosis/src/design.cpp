@@ -256,6 +256,7 @@ Design BuildDesign(const PlatformModel& model, const MeasurementData& data, cons
 
   // Pass 2: the frame estimate, then the linear columns around it.
   EstimateFrame(model_points, measured, &d.R0, &d.t0);
+  d.model_point = model_points;
   d.point_per_leg.resize(static_cast<std::size_t>(n));
   for (int k = 0; k < n; ++k) {
     const std::size_t s = static_cast<std::size_t>(k);

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "edsp/diagnosis/linear_fit.h"
+#include "edsp/diagnosis/robust_fit.h"
 
 namespace edsp::gap {
 
@@ -256,18 +257,23 @@ Diagnosis DiagnoseOnce(const PlatformModel& model, const MeasurementData& data, 
     }
   }
 
-  // The selected model on every run: parameters, uncertainties, residual.
+  // The selected model on every run, refined with Ceres (exact frame
+  // rotation, Huber loss): parameters, uncertainties, residual.
   const Columns cols = ColumnsOf(d, out.selected);
   const Eigen::VectorXd theta = gram.Solve(cols, all, prior);
-  const Eigen::VectorXd final_residual = d.residual - d.columns(Eigen::all, cols) * theta;
+  const Columns effect_cols(cols.begin() + 6, cols.end());
+  const RobustFit robust = FitRobust(d, effect_cols, theta.tail(static_cast<Eigen::Index>(effect_cols.size())),
+                                     3.0 * std::max(out.noise_floor_rms_m, 1e-7));
+  out.robust = {robust.huber_m, robust.iterations, robust.converged, robust.covariance_ok};
+  const Eigen::VectorXd& final_residual = robust.residual;
   const double dof = std::max(1.0, n_res - static_cast<double>(cols.size()));
-  const Eigen::MatrixXd cov = gram.Covariance(cols, all, prior, rss / dof);
-  out.frame = theta.head(6);
-  int at = 6;
+  out.frame = Eigen::VectorXd(6);
+  out.frame << robust.frame.tail(3), robust.frame.head(3);
+  int at = 0;
   for (Effect e : out.selected) {
     const int p = ParameterCount(e);
-    results[e].theta = theta.segment(at, p);
-    results[e].sigma = cov.diagonal().segment(at, p).cwiseMax(0.0).cwiseSqrt();
+    results[e].theta = robust.theta.segment(at, p);
+    results[e].sigma = robust.sigma.segment(at, p);
     at += p;
   }
   for (Effect e : AllEffects()) {

@@ -91,11 +91,14 @@ nlohmann::json ToJson(const Diagnosis& d) {
   Vector3 t = d.t0;
   if (d.frame.size() == 6) {
     const Vector3 w = d.frame.tail<3>();
-    R = d.R0 * (Matrix3::Identity() + (Matrix3() << 0, -w.z(), w.y(), w.z(), 0, -w.x(), -w.y(), w.x(), 0).finished());
+    if (w.norm() > 0.0) R = d.R0 * Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix();
     t = d.t0 + d.frame.head<3>();
   }
   const Eigen::Quaterniond q(R);
   j["tracker_frame"] = {{"translation_m", {t.x(), t.y(), t.z()}}, {"quaternion_wxyz", {q.w(), q.x(), q.y(), q.z()}}};
+  j["fit"] = {{"solver", "ceres"}, {"loss", "huber"}, {"huber_m", d.robust.huber_m},
+              {"iterations", d.robust.iterations}, {"converged", d.robust.converged},
+              {"covariance", d.robust.covariance_ok}, {"cross_validation", "leave one run out"}};
   j["samples"] = d.samples;
   j["seconds"] = d.seconds;
   return j;

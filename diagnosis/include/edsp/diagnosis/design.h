@@ -43,6 +43,7 @@ struct Design {
 
   // Per sample, for the gap summaries.
   std::vector<Eigen::Matrix<double, 3, 6>> point_per_leg;  // R0·G_n
+  std::vector<Vector3> model_point;  // A_n in {B}
   std::vector<Vector6> leg_velocity_m_s;
   std::vector<Vector6> leg_accel_m_s2;
   std::vector<Vector6> servo_error_m;  // leg_cmd − leg_enc, when the data has encoders

@@ -43,6 +43,13 @@ struct SampleGap {
   double time_s = 0.0, displacement = 0.0, before_m = 0.0, after_m = 0.0;
 };
 
+// How the final Ceres fit went.
+struct RobustFitSummary {
+  double huber_m = 0.0;
+  int iterations = 0;
+  bool converged = false, covariance_ok = false;
+};
+
 struct Diagnosis {
   DesignOptions design;               // the bases' settings the result holds for
   int samples = 0;
@@ -61,6 +68,7 @@ struct Diagnosis {
   std::vector<SampleGap> series;
   std::string applied_pr;             // the compensation found in the data: none | signed | other
   double applied_pr_ratio = 0.0;
+  RobustFitSummary robust;
   Eigen::VectorXd frame;              // δt, δω around (R0, t0), with the selected effects
   Matrix3 R0 = Matrix3::Identity();
   Vector3 t0 = Vector3::Zero();
