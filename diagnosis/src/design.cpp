@@ -244,14 +244,16 @@ Design BuildDesign(const PlatformModel& model, const MeasurementData& data, cons
     }
   }
 
-  double cp = 0.0, pp = 0.0, cc = 0.0;
+  double cp = 0.0, pp = 0.0, cc = 0.0, unsigned_misfit = 0.0;
   for (const SampleState& s : states) {
     cp += s.compensation.dot(s.pr_signed), pp += s.pr_signed.squaredNorm(), cc += s.compensation.squaredNorm();
+    unsigned_misfit += (s.compensation - model.PrLengthError(s.legs, PrMode::kUnsigned)).squaredNorm();
   }
   d.applied_pr_ratio = pp > 0.0 ? cp / pp : 0.0;
   const double misfit = cc - 2.0 * d.applied_pr_ratio * cp + d.applied_pr_ratio * d.applied_pr_ratio * pp;
   if (cc <= 1e-6 * std::max(pp, 1e-30)) d.applied_pr = "none";
   else if (misfit <= 1e-4 * cc && std::abs(d.applied_pr_ratio - 1.0) < 1e-3) d.applied_pr = "signed";
+  else if (unsigned_misfit <= 1e-4 * cc) d.applied_pr = "unsigned";  // the paper's Eq. (9)
   else d.applied_pr = "other";
 
   // Pass 2: the frame estimate, then the linear columns around it.

@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <map>
 #include <set>
 
+#include <Eigen/Eigenvalues>
 #include <fmt/format.h>
 
 #include "edsp/diagnosis/linear_fit.h"
@@ -117,6 +119,36 @@ double FrameOverlap(const Design& d, const GramSet& gram, Effect e) {
     ++used;
   }
   return used ? overlap / used : 0.0;
+}
+
+// Before trusting a fit: the stacked (column-scaled) Jacobian's condition
+// number, and for each selected effect its strongest parameter correlation
+// with another selected effect or the tracker frame.
+void Identifiability(const Design& d, const GramSet& gram, const Eigen::VectorXd& prior,
+                     const std::vector<Effect>& selected, std::map<Effect, EffectResult>* results,
+                     double* condition_number) {
+  const Columns cols = ColumnsOf(d, selected);
+  const std::vector<int> all = gram.AllFolds();
+  Eigen::MatrixXd H = gram.Gram(cols, cols, all);
+  const Eigen::VectorXd scale = H.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
+  const Eigen::MatrixXd S = scale.asDiagonal() * H * scale.asDiagonal();
+  const Eigen::VectorXd lambda = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(S).eigenvalues().cwiseMax(0.0);
+  *condition_number = lambda.minCoeff() > 0.0 ? std::sqrt(lambda.maxCoeff() / lambda.minCoeff())
+                                              : std::numeric_limits<double>::infinity();
+  const Eigen::MatrixXd cov = gram.Covariance(cols, all, prior, 1.0);
+  std::vector<std::string> owner(6, "tracker_frame");
+  for (Effect e : selected) owner.insert(owner.end(), static_cast<std::size_t>(ParameterCount(e)), EffectName(e));
+  for (Effect e : selected) {
+    EffectResult& r = (*results)[e];
+    for (Eigen::Index a = 0; a < cov.rows(); ++a) {
+      if (owner[static_cast<std::size_t>(a)] != EffectName(e)) continue;
+      for (Eigen::Index b = 0; b < cov.rows(); ++b) {
+        if (owner[static_cast<std::size_t>(b)] == EffectName(e) || cov(a, a) <= 0.0 || cov(b, b) <= 0.0) continue;
+        const double c = std::abs(cov(a, b)) / std::sqrt(cov(a, a) * cov(b, b));
+        if (c > r.max_correlation) r.max_correlation = c, r.correlated_with = owner[static_cast<std::size_t>(b)];
+      }
+    }
+  }
 }
 
 }  // namespace
@@ -263,7 +295,7 @@ Diagnosis DiagnoseOnce(const PlatformModel& model, const MeasurementData& data, 
   const Eigen::VectorXd theta = gram.Solve(cols, all, prior);
   const Columns effect_cols(cols.begin() + 6, cols.end());
   const RobustFit robust = FitRobust(d, effect_cols, theta.tail(static_cast<Eigen::Index>(effect_cols.size())),
-                                     3.0 * std::max(out.noise_floor_rms_m, 1e-7));
+                                     3.0 * std::max(out.noise_floor_rms_m, 1e-7), prior);
   out.robust = {robust.huber_m, robust.iterations, robust.converged, robust.covariance_ok};
   const Eigen::VectorXd& final_residual = robust.residual;
   const double dof = std::max(1.0, n_res - static_cast<double>(cols.size()));
@@ -284,6 +316,7 @@ Diagnosis DiagnoseOnce(const PlatformModel& model, const MeasurementData& data, 
     results[e].sigma = gram.Covariance(c, all, prior, rss / dof).diagonal().tail(ParameterCount(e)).cwiseMax(0.0).cwiseSqrt();
   }
   for (auto& [e, r] : results) r.frame_overlap = FrameOverlap(d, gram, e);
+  Identifiability(d, gram, prior, out.selected, &results, &out.condition_number);
   for (Effect e : out.selected) out.effects.push_back(results[e]);
   std::vector<EffectResult> others;
   for (Effect e : AllEffects()) {

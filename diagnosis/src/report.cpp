@@ -29,6 +29,10 @@ nlohmann::json EffectJson(const EffectResult& r) {
   j["cv_gain"] = r.cv_gain;
   j["verdict"] = r.verdict;
   j["frame_overlap"] = r.frame_overlap;
+  if (!r.correlated_with.empty()) {
+    j["max_correlation"] = r.max_correlation;
+    j["correlated_with"] = r.correlated_with;
+  }
   if (!r.ambiguous_with.empty()) j["ambiguous_with"] = r.ambiguous_with;
   if (!r.next_measurement.empty()) j["next_measurement"] = r.next_measurement;
   return j;
@@ -52,6 +56,16 @@ nlohmann::json Compensation(const Diagnosis& d) {
           {"note", "no PR change indicated"}};
 }
 
+// Structure no effect explains, as an entry of the ranking: its share of the
+// gap's variance beyond the noise.
+nlohmann::json UnknownJson(const Diagnosis& d) {
+  const double noise2 = d.noise_floor_rms_m * d.noise_floor_rms_m;
+  const double left = std::max(0.0, d.unexplained.rms_m * d.unexplained.rms_m - noise2);
+  const double gap = std::max(1e-30, d.gap.overall.rms_m * d.gap.overall.rms_m);
+  return {{"name", "unknown"}, {"verdict", "identified"}, {"params", nlohmann::json::object()},
+          {"explained_fraction", 0.0}, {"unexplained_fraction", left / gap}, {"note", d.unexplained_note}};
+}
+
 }  // namespace
 
 nlohmann::json ToJson(const Diagnosis& d) {
@@ -65,14 +79,11 @@ nlohmann::json ToJson(const Diagnosis& d) {
   for (std::size_t k = 0; k < d.effects.size(); ++k) {
     j["effects"].push_back(EffectJson(d.effects[k]));
     if (k + 1 == d.selected.size() && d.conclusion == "unknown") {
-      j["effects"].push_back({{"name", "unknown"}, {"verdict", "identified"},
-                              {"params", nlohmann::json::object()}, {"note", d.unexplained_note}});
+      j["effects"].push_back(UnknownJson(d));
     }
   }
   if (d.selected.empty() && d.conclusion == "unknown") {
-    j["effects"].insert(j["effects"].begin(), nlohmann::json{{"name", "unknown"}, {"verdict", "identified"},
-                                                            {"params", nlohmann::json::object()},
-                                                            {"note", d.unexplained_note}});
+    j["effects"].insert(j["effects"].begin(), UnknownJson(d));
   }
   j["selected"] = nlohmann::json::array();
   for (Effect e : d.selected) j["selected"].push_back(EffectName(e));
@@ -98,7 +109,8 @@ nlohmann::json ToJson(const Diagnosis& d) {
   j["tracker_frame"] = {{"translation_m", {t.x(), t.y(), t.z()}}, {"quaternion_wxyz", {q.w(), q.x(), q.y(), q.z()}}};
   j["fit"] = {{"solver", "ceres"}, {"loss", "huber"}, {"huber_m", d.robust.huber_m},
               {"iterations", d.robust.iterations}, {"converged", d.robust.converged},
-              {"covariance", d.robust.covariance_ok}, {"cross_validation", "leave one run out"}};
+              {"covariance", d.robust.covariance_ok}, {"cross_validation", "leave one run out"},
+              {"condition_number", std::isfinite(d.condition_number) ? nlohmann::json(d.condition_number) : nlohmann::json("inf")}};
   j["samples"] = d.samples;
   j["seconds"] = d.seconds;
   return j;

@@ -59,9 +59,30 @@ class SampleCost : public ceres::CostFunction {
   int k_;
 };
 
+// The ridge prior as residuals √w_j·θ_j, one per parameter.
+class PriorCost : public ceres::CostFunction {
+ public:
+  explicit PriorCost(Eigen::VectorXd sqrt_weight) : w_(std::move(sqrt_weight)) {
+    set_num_residuals(static_cast<int>(w_.size()));
+    mutable_parameter_block_sizes()->push_back(static_cast<int>(w_.size()));
+  }
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    for (Eigen::Index k = 0; k < w_.size(); ++k) residuals[k] = w_(k) * parameters[0][k];
+    if (jacobians != nullptr && jacobians[0] != nullptr) {
+      Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> J(jacobians[0], w_.size(), w_.size());
+      J = w_.asDiagonal();
+    }
+    return true;
+  }
+
+ private:
+  Eigen::VectorXd w_;
+};
+
 }  // namespace
 
-RobustFit FitRobust(const Design& d, const std::vector<int>& columns, const Eigen::VectorXd& start, double huber_m) {
+RobustFit FitRobust(const Design& d, const std::vector<int>& columns, const Eigen::VectorXd& start, double huber_m,
+                    const Eigen::VectorXd& prior_weight) {
   RobustFit fit;
   fit.huber_m = huber_m;
   const Eigen::MatrixXd C = d.columns(Eigen::all, columns);
@@ -77,7 +98,13 @@ RobustFit FitRobust(const Design& d, const std::vector<int>& columns, const Eige
   for (int k = 0; k < d.samples(); ++k) {
     problem.AddResidualBlock(new SampleCost(d, C_used, k), &loss, fit.frame.data(), fit.theta.data());
   }
-  if (C.cols() == 0) problem.SetParameterBlockConstant(fit.theta.data());
+  if (C.cols() == 0) {
+    problem.SetParameterBlockConstant(fit.theta.data());
+  } else if (prior_weight.size() > 0) {
+    Eigen::VectorXd root(static_cast<Eigen::Index>(columns.size()));
+    for (std::size_t k = 0; k < columns.size(); ++k) root(static_cast<Eigen::Index>(k)) = std::sqrt(prior_weight(columns[k]));
+    problem.AddResidualBlock(new PriorCost(root), nullptr, fit.theta.data());
+  }
   ceres::Solver::Options options;
   options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
   options.max_num_iterations = 25;

@@ -75,7 +75,7 @@ TEST(Design, AppliedCompensationIsRecognised) {
   const PlatformModel model = Model();
   EXPECT_EQ(BuildDesign(model, ExactData(model, Pose{}, 30, PrMode::kNone)).applied_pr, "none");
   const Design unsigned_pr = BuildDesign(model, ExactData(model, Pose{}, 30, PrMode::kUnsigned));
-  EXPECT_EQ(unsigned_pr.applied_pr, "other");
+  EXPECT_EQ(unsigned_pr.applied_pr, "unsigned");
 }
 
 TEST(Design, BacklashBasisFollowsThePlayOperatorHomedExtending) {

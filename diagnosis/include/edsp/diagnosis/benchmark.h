@@ -57,6 +57,7 @@ struct BenchmarkResult {
   int single = 0, single_top_true = 0;
   int pairs = 0, pairs_both = 0;
   int clean = 0, clean_nothing_identified = 0;
+  int extra_identified = 0;             // scenarios with effects where a false one was also identified
   double median_shrink = 0.0;           // scenarios with effects
   double median_after_over_noise = 0.0;
   double median_diagnose_s = 0.0;

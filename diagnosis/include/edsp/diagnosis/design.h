@@ -54,7 +54,7 @@ struct Design {
   // The PR compensation the data's controller applied (IK length − command)
   // against the signed PR model: least-squares ratio κ, and a name for it.
   double applied_pr_ratio = 0.0;
-  std::string applied_pr = "none";  // none | signed | other
+  std::string applied_pr = "none";  // none | signed | unsigned | other
 
   // Frame estimate the residual is taken around: point = R0·A + t0.
   Matrix3 R0 = Matrix3::Identity();

@@ -21,7 +21,7 @@ struct DiagnoseOptions {
   double min_cv_gain = 0.05;      // an effect must cut the held-out MSE by this fraction
   double min_bic_drop = 10.0;     // and lower BIC by this much
   double ambiguity_ratio = 0.7;   // an alternative reaching this share of its gain is as good
-  int max_effects = 4;
+  int max_effects = 9;
   double unknown_factor = 1.5;    // residual above this × noise floor and not white: unknown
 };
 
@@ -34,6 +34,8 @@ struct EffectResult {
   std::vector<std::string> ambiguous_with;
   std::string next_measurement;
   double frame_overlap = 0.0;         // share of its signature the tracker frame can mimic
+  double max_correlation = 0.0;       // strongest |correlation| of a parameter with another
+  std::string correlated_with;        //   selected effect's or the frame's (selected effects)
 };
 
 // One sample's gap at A before and after the selected effects (in-sample),
@@ -66,9 +68,10 @@ struct Diagnosis {
   Whiteness whiteness;
   std::string unexplained_note;
   std::vector<SampleGap> series;
-  std::string applied_pr;             // the compensation found in the data: none | signed | other
+  std::string applied_pr;             // the compensation found in the data: none | signed | unsigned | other
   double applied_pr_ratio = 0.0;
   RobustFitSummary robust;
+  double condition_number = 0.0;      // of the selected model's column-scaled Jacobian
   Eigen::VectorXd frame;              // δt, δω around (R0, t0), with the selected effects
   Matrix3 R0 = Matrix3::Identity();
   Vector3 t0 = Vector3::Zero();

@@ -24,8 +24,10 @@ struct RobustFit {
 };
 
 // `columns`: design columns of the effects (frame columns excluded);
-// `start`: their starting values (the linear fit's).
+// `start`: their starting values (the linear fit's); `prior_weight`: the
+// linear fit's ridge per column (σ²/σ_prior²; empty for none), so both fits
+// pin the directions the data cannot see the same way.
 RobustFit FitRobust(const Design& design, const std::vector<int>& columns, const Eigen::VectorXd& start,
-                    double huber_m);
+                    double huber_m, const Eigen::VectorXd& prior_weight = {});
 
 }  // namespace edsp::gap
