@@ -177,107 +177,86 @@ double NoiseFloorRms(const Design& d) {
 
 namespace {
 
-Diagnosis DiagnoseOnce(const PlatformModel& model, const MeasurementData& data, const DiagnoseOptions& o) {
-  const auto start = std::chrono::steady_clock::now();
-  const Design d = BuildDesign(model, Decimated(data, o.max_rate_hz), o.design);
-  Diagnosis out;
-  out.design = o.design;
-  out.samples = d.samples();
-  out.runs = d.runs;
-  out.R0 = d.R0;
-  out.t0 = d.t0;
-  out.noise_floor_rms_m = NoiseFloorRms(d);
-  const double sigma_axis = std::max(out.noise_floor_rms_m / std::sqrt(3.0), 1e-8);
-  const GramSet gram(d, MakeFolds(d));
-  const std::vector<int> all = gram.AllFolds();
-  const double n_res = gram.Residuals(all);
-  // The prior's weight is set against what the model does not yet explain
-  // (not only the noise): a systematic misfit must not push poorly excited
-  // parameters (joint centres seen from a single axis) far beyond real rigs.
-  const Columns frame_only_cols = ColumnsOf(d, {});
-  const double mse0 = gram.Sse(frame_only_cols, gram.Solve(frame_only_cols, all, Eigen::VectorXd::Zero(d.parameters())), all) / n_res;
-  const Eigen::VectorXd prior = PriorWeights(d, std::max(sigma_axis * sigma_axis, mse0));
-  Evaluator eval(d, gram, prior);
-
-  // The gap before any effect: the frame alone, fitted on everything.
-  const Columns frame_cols = ColumnsOf(d, {});
-  const Eigen::VectorXd frame_only = gram.Solve(frame_cols, all, prior);
-  const Eigen::VectorXd baseline = d.residual - d.columns(Eigen::all, frame_cols) * frame_only;
-  out.gap = SummarizeGap(d, baseline);
-
-  // Forward selection: the effect that most cuts the held-out error, while
-  // it cuts it enough and BIC agrees.
-  const double cv0 = eval.Cv({});
-  double cv = cv0, rss = eval.Rss({});
-  const double rss0 = rss;
+// Forward selection (the effect that most cuts the held-out error, while it
+// cuts it enough and BIC agrees), then backward (an effect the later ones
+// made redundant goes again); explained fractions in the final order.
+struct Selection {
+  std::vector<Effect> effects;
+  double cv0 = 0.0, cv = 0.0;      // held-out MSE: frame only, selected
+  double rss0 = 0.0, rss = 0.0;    // in-sample SSE: frame only, selected
   std::map<Effect, double> explained;
-  while (static_cast<int>(out.selected.size()) < o.max_effects) {
+};
+
+Selection SelectEffects(Evaluator& eval, const DiagnoseOptions& o, double n_res) {
+  Selection s;
+  s.cv0 = s.cv = eval.Cv({});
+  s.rss0 = s.rss = eval.Rss({});
+  while (static_cast<int>(s.effects.size()) < o.max_effects) {
     Effect best = Effect::kLegOffset;
-    double best_cv = cv;
+    double best_cv = s.cv;
     for (Effect e : AllEffects()) {
-      if (Contains(out.selected, e)) continue;
-      const double c = eval.Cv(With(out.selected, e));
+      if (Contains(s.effects, e)) continue;
+      const double c = eval.Cv(With(s.effects, e));
       if (c < best_cv) best_cv = c, best = e;
     }
-    if (best_cv >= cv * (1.0 - o.min_cv_gain)) break;
-    const double rss_new = eval.Rss(With(out.selected, best));
-    const double bic_change = n_res * std::log(std::max(rss_new, 1e-300) / std::max(rss, 1e-300)) +
+    if (best_cv >= s.cv * (1.0 - o.min_cv_gain)) break;
+    const double rss_new = eval.Rss(With(s.effects, best));
+    const double bic_change = n_res * std::log(std::max(rss_new, 1e-300) / std::max(s.rss, 1e-300)) +
                               ParameterCount(best) * std::log(n_res);
     if (bic_change > -o.min_bic_drop) break;
-    explained[best] = (rss - rss_new) / rss0;
-    out.selected.push_back(best);
-    cv = best_cv;
-    rss = rss_new;
+    s.effects.push_back(best);
+    s.cv = best_cv;
+    s.rss = rss_new;
   }
-
-  // Backward: an effect the later ones made redundant goes again.
-  for (bool removed = true; removed && out.selected.size() > 1;) {
+  for (bool removed = true; removed && s.effects.size() > 1;) {
     removed = false;
-    for (Effect e : out.selected) {
-      const double without = eval.Cv(Without(out.selected, e));
-      if (without < cv / (1.0 - o.min_cv_gain)) {
-        out.selected = Without(out.selected, e);
-        cv = without;
+    for (Effect e : s.effects) {
+      const double without = eval.Cv(Without(s.effects, e));
+      if (without < s.cv / (1.0 - o.min_cv_gain)) {
+        s.effects = Without(s.effects, e);
+        s.cv = without;
         removed = true;
         break;
       }
     }
   }
-  rss = eval.Rss(out.selected);
-  {
-    std::vector<Effect> so_far;
-    double before = rss0;
-    for (Effect e : out.selected) {
-      so_far.push_back(e);
-      const double after = eval.Rss(so_far);
-      explained[e] = (before - after) / rss0;
-      before = after;
-    }
+  s.rss = eval.Rss(s.effects);
+  std::vector<Effect> so_far;
+  double before = s.rss0;
+  for (Effect e : s.effects) {
+    so_far.push_back(e);
+    const double after = eval.Rss(so_far);
+    s.explained[e] = (before - after) / s.rss0;
+    before = after;
   }
+  return s;
+}
 
-  // Verdicts: a selected effect that another could replace for most of its
-  // gain is ambiguous (both are named); the others are rejected.
+// Verdicts: a selected effect that another could replace for most of its
+// gain (and that would pass selection itself) is ambiguous, and both are
+// named; the others are rejected.
+std::map<Effect, EffectResult> Verdicts(Evaluator& eval, const Selection& s, const DiagnoseOptions& o) {
   std::map<Effect, EffectResult> results;
   for (Effect e : AllEffects()) {
     EffectResult r;
     r.effect = e;
-    if (Contains(out.selected, e)) {
-      r.cv_gain = (eval.Cv(Without(out.selected, e)) - cv) / cv0;
-      r.explained_fraction = explained[e];
+    if (Contains(s.effects, e)) {
+      r.cv_gain = (eval.Cv(Without(s.effects, e)) - s.cv) / s.cv0;
+      r.explained_fraction = s.explained.at(e);
       r.verdict = "identified";
     } else {
-      r.cv_gain = (cv - eval.Cv(With(out.selected, e))) / cv0;
-      r.explained_fraction = (rss - eval.Rss(With(out.selected, e))) / rss0;
+      r.cv_gain = (s.cv - eval.Cv(With(s.effects, e))) / s.cv0;
+      r.explained_fraction = (s.rss - eval.Rss(With(s.effects, e))) / s.rss0;
       r.verdict = "rejected";
     }
     results[e] = r;
   }
-  for (Effect e : out.selected) {
-    const std::vector<Effect> rest = Without(out.selected, e);
+  for (Effect e : s.effects) {
+    const std::vector<Effect> rest = Without(s.effects, e);
     const double base = eval.Cv(rest);
-    const double gain = (base - cv) / base;  // what e adds to the others
+    const double gain = (base - s.cv) / base;  // what e adds to the others
     for (Effect alt : AllEffects()) {
-      if (Contains(out.selected, alt)) continue;
+      if (Contains(s.effects, alt)) continue;
       const double alt_gain = (base - eval.Cv(With(rest, alt))) / base;
       if (alt_gain < std::max(o.min_cv_gain, o.ambiguity_ratio * gain)) continue;
       for (auto [a, b] : {std::pair{e, alt}, std::pair{alt, e}}) {
@@ -288,65 +267,82 @@ Diagnosis DiagnoseOnce(const PlatformModel& model, const MeasurementData& data, 
       }
     }
   }
+  return results;
+}
 
-  // The selected model on every run, refined with Ceres (exact frame
-  // rotation, Huber loss): parameters, uncertainties, residual.
-  const Columns cols = ColumnsOf(d, out.selected);
+// The selected model on every run, refined with Ceres (exact frame rotation,
+// Huber loss): parameters and uncertainties into `results`, the frame and
+// the fit's summary into `out`; returns the residual. Rejected effects get
+// the linear fit's values for what they would have been beside the others.
+Eigen::VectorXd FitSelected(const Design& d, const GramSet& gram, const Eigen::VectorXd& prior, const Selection& s,
+                            Diagnosis* out, std::map<Effect, EffectResult>* results) {
+  const std::vector<int> all = gram.AllFolds();
+  const Columns cols = ColumnsOf(d, s.effects);
   const Eigen::VectorXd theta = gram.Solve(cols, all, prior);
   const Columns effect_cols(cols.begin() + 6, cols.end());
   const RobustFit robust = FitRobust(d, effect_cols, theta.tail(static_cast<Eigen::Index>(effect_cols.size())),
-                                     3.0 * std::max(out.noise_floor_rms_m, 1e-7), prior);
-  out.robust = {robust.huber_m, robust.iterations, robust.converged, robust.covariance_ok};
-  const Eigen::VectorXd& final_residual = robust.residual;
-  const double dof = std::max(1.0, n_res - static_cast<double>(cols.size()));
-  out.frame = Eigen::VectorXd(6);
-  out.frame << robust.frame.tail(3), robust.frame.head(3);
+                                     3.0 * std::max(out->noise_floor_rms_m, 1e-7), prior);
+  out->robust = {robust.huber_m, robust.iterations, robust.converged, robust.covariance_ok};
+  out->frame = Eigen::VectorXd(6);
+  out->frame << robust.frame.tail(3), robust.frame.head(3);
   int at = 0;
-  for (Effect e : out.selected) {
+  for (Effect e : s.effects) {
     const int p = ParameterCount(e);
-    results[e].theta = robust.theta.segment(at, p);
-    results[e].sigma = robust.sigma.segment(at, p);
+    (*results)[e].theta = robust.theta.segment(at, p);
+    (*results)[e].sigma = robust.sigma.segment(at, p);
     at += p;
   }
+  const double dof = std::max(1.0, gram.Residuals(all) - static_cast<double>(cols.size()));
   for (Effect e : AllEffects()) {
-    if (Contains(out.selected, e)) continue;
-    const Columns c = ColumnsOf(d, With(out.selected, e));
-    const Eigen::VectorXd t = gram.Solve(c, all, prior);
-    results[e].theta = t.tail(ParameterCount(e));
-    results[e].sigma = gram.Covariance(c, all, prior, rss / dof).diagonal().tail(ParameterCount(e)).cwiseMax(0.0).cwiseSqrt();
+    if (Contains(s.effects, e)) continue;
+    const Columns c = ColumnsOf(d, With(s.effects, e));
+    (*results)[e].theta = gram.Solve(c, all, prior).tail(ParameterCount(e));
+    (*results)[e].sigma =
+        gram.Covariance(c, all, prior, s.rss / dof).diagonal().tail(ParameterCount(e)).cwiseMax(0.0).cwiseSqrt();
   }
-  for (auto& [e, r] : results) r.frame_overlap = FrameOverlap(d, gram, e);
-  Identifiability(d, gram, prior, out.selected, &results, &out.condition_number);
-  for (Effect e : out.selected) out.effects.push_back(results[e]);
-  std::vector<EffectResult> others;
-  for (Effect e : AllEffects()) {
-    if (!Contains(out.selected, e)) others.push_back(results[e]);
-  }
-  std::stable_sort(others.begin(), others.end(), [](const EffectResult& a, const EffectResult& b) {
-    return a.cv_gain > b.cv_gain;
-  });
-  out.effects.insert(out.effects.end(), others.begin(), others.end());
+  return robust.residual;
+}
 
-  // What is left: white noise at the tracker's floor, or structure nobody explains.
-  out.unexplained = PointStats(final_residual, 0, d.samples());
-  out.whiteness = TestWhiteness(d, final_residual);
-  const bool structured = !out.whiteness.white && out.unexplained.rms_m > o.unknown_factor * out.noise_floor_rms_m;
-  out.conclusion = structured ? "unknown" : (out.selected.empty() ? "none" : "effects");
-  out.unexplained_note =
+// Selected effects in selection order, then the others by what they would add.
+std::vector<EffectResult> Ranked(const std::map<Effect, EffectResult>& results, const std::vector<Effect>& selected) {
+  std::vector<EffectResult> ranked, others;
+  for (Effect e : selected) ranked.push_back(results.at(e));
+  for (Effect e : AllEffects()) {
+    if (!Contains(selected, e)) others.push_back(results.at(e));
+  }
+  std::stable_sort(others.begin(), others.end(),
+                   [](const EffectResult& a, const EffectResult& b) { return a.cv_gain > b.cv_gain; });
+  ranked.insert(ranked.end(), others.begin(), others.end());
+  return ranked;
+}
+
+// What is left: white noise at the tracker's floor, or structure nobody explains.
+void DescribeRest(const Design& d, const Eigen::VectorXd& residual, const DiagnoseOptions& o, Diagnosis* out) {
+  out->unexplained = PointStats(residual, 0, d.samples());
+  out->whiteness = TestWhiteness(d, residual);
+  const bool structured =
+      !out->whiteness.white && out->unexplained.rms_m > o.unknown_factor * out->noise_floor_rms_m;
+  out->conclusion = structured ? "unknown" : (out->selected.empty() ? "none" : "effects");
+  out->unexplained_note =
       structured ? fmt::format("structured residual of {:.1f} µm RMS (noise floor {:.1f} µm, lag-1 autocorrelation "
                                "{:.2f}) that no effect of the vocabulary explains",
-                               out.unexplained.rms_m * 1e6, out.noise_floor_rms_m * 1e6, out.whiteness.lag1)
+                               out->unexplained.rms_m * 1e6, out->noise_floor_rms_m * 1e6, out->whiteness.lag1)
                  : fmt::format("white within the tracker's noise floor ({:.1f} µm RMS left, floor {:.1f} µm)",
-                               out.unexplained.rms_m * 1e6, out.noise_floor_rms_m * 1e6);
+                               out->unexplained.rms_m * 1e6, out->noise_floor_rms_m * 1e6);
+}
 
-  // Before and after on runs held out of every fit.
+// Before (frame only) and after (frame and the selected effects) on each run
+// held out of the fit, pooled.
+void HoldOut(const Design& d, const GramSet& gram, const Eigen::VectorXd& prior, const Columns& cols,
+             Diagnosis* out) {
+  const Columns frame_cols = ColumnsOf(d, {});
   double before2 = 0.0, after2 = 0.0;
   int held = 0;
   for (int f = 0; f < gram.folds(); ++f) {
     const std::vector<int> train = gram.AllBut(f);
     const Eigen::VectorXd t0 = gram.Solve(frame_cols, train, prior);
     const Eigen::VectorXd t1 = gram.Solve(cols, train, prior);
-    out.holdout_runs.push_back(gram.fold(f).name);
+    out->holdout_runs.push_back(gram.fold(f).name);
     for (const ColumnRange& s : gram.fold(f).samples) {
       for (int k = s.begin; k < s.begin + s.count; ++k) {
         const auto rows = d.columns.middleRows(3 * k, 3);
@@ -354,20 +350,59 @@ Diagnosis DiagnoseOnce(const PlatformModel& model, const MeasurementData& data, 
         const double b = (r - rows(Eigen::all, frame_cols) * t0).norm();
         const double a = (r - rows(Eigen::all, cols) * t1).norm();
         before2 += b * b, after2 += a * a, ++held;
-        out.holdout_before.max_m = std::max(out.holdout_before.max_m, b);
-        out.holdout_after.max_m = std::max(out.holdout_after.max_m, a);
+        out->holdout_before.max_m = std::max(out->holdout_before.max_m, b);
+        out->holdout_after.max_m = std::max(out->holdout_after.max_m, a);
       }
     }
   }
-  out.holdout_before.rms_m = held ? std::sqrt(before2 / held) : 0.0;
-  out.holdout_after.rms_m = held ? std::sqrt(after2 / held) : 0.0;
-  out.shrink = out.holdout_before.rms_m > 0.0 ? 1.0 - out.holdout_after.rms_m / out.holdout_before.rms_m : 0.0;
+  out->holdout_before.rms_m = held ? std::sqrt(before2 / held) : 0.0;
+  out->holdout_after.rms_m = held ? std::sqrt(after2 / held) : 0.0;
+  out->shrink = out->holdout_before.rms_m > 0.0 ? 1.0 - out->holdout_after.rms_m / out->holdout_before.rms_m : 0.0;
+}
+
+Diagnosis DiagnoseOnce(const PlatformModel& model, const MeasurementData& data, const DiagnoseOptions& o) {
+  const auto start = std::chrono::steady_clock::now();
+  const Design d = BuildDesign(model, Decimated(data, o.max_rate_hz), o.design);
+  Diagnosis out;
+  out.design = o.design;
+  out.samples = d.samples();
+  out.runs = d.runs;
+  out.R0 = d.R0;
+  out.t0 = d.t0;
   out.applied_pr = d.applied_pr;
   out.applied_pr_ratio = d.applied_pr_ratio;
+  out.noise_floor_rms_m = NoiseFloorRms(d);
+  const GramSet gram(d, MakeFolds(d));
+  const std::vector<int> all = gram.AllFolds();
+  const double n_res = gram.Residuals(all);
+
+  // The gap before any effect: the frame alone, fitted on everything.
+  const Columns frame_cols = ColumnsOf(d, {});
+  const Eigen::VectorXd frame_only = gram.Solve(frame_cols, all, Eigen::VectorXd::Zero(d.parameters()));
+  const Eigen::VectorXd baseline = d.residual - d.columns(Eigen::all, frame_cols) * frame_only;
+  out.gap = SummarizeGap(d, baseline);
+
+  // The prior's weight is set against what the model does not yet explain
+  // (not only the noise): a systematic misfit must not push poorly excited
+  // parameters (joint centres seen from a single axis) far beyond real rigs.
+  const double sigma_axis = std::max(out.noise_floor_rms_m / std::sqrt(3.0), 1e-8);
+  const double mse0 = baseline.squaredNorm() / n_res;
+  const Eigen::VectorXd prior = PriorWeights(d, std::max(sigma_axis * sigma_axis, mse0));
+  Evaluator eval(d, gram, prior);
+
+  const Selection selection = SelectEffects(eval, o, n_res);
+  out.selected = selection.effects;
+  std::map<Effect, EffectResult> results = Verdicts(eval, selection, o);
+  const Eigen::VectorXd residual = FitSelected(d, gram, prior, selection, &out, &results);
+  for (auto& [e, r] : results) r.frame_overlap = FrameOverlap(d, gram, e);
+  Identifiability(d, gram, prior, out.selected, &results, &out.condition_number);
+  out.effects = Ranked(results, out.selected);
+  DescribeRest(d, residual, o, &out);
+  HoldOut(d, gram, prior, ColumnsOf(d, out.selected), &out);
   for (int k = 0; k < d.samples(); ++k) {
     const std::size_t s = static_cast<std::size_t>(k);
     out.series.push_back({d.sample_run[s], d.time_s[s], d.displacement[s], baseline.segment<3>(3 * k).norm(),
-                          final_residual.segment<3>(3 * k).norm()});
+                          residual.segment<3>(3 * k).norm()});
   }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;

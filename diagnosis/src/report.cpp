@@ -242,6 +242,18 @@ std::vector<std::string> WriteReport(const Diagnosis& d, const std::string& dir)
     md << fmt::format("| {} | `{}` | {} | {:.1f}% | {:.1f}% | {} | {} |\n", k + 1, EffectName(r.effect), r.verdict,
                       100 * r.explained_fraction, 100 * r.cv_gain, fmt::join(r.ambiguous_with, ", "), r.next_measurement);
   }
+  md << "\n## Parameters of the effects found (1-σ from the Ceres fit)\n\n";
+  for (const EffectResult& r : d.effects) {
+    if (r.verdict == "rejected" || r.theta.size() == 0) continue;
+    const nlohmann::json j = EffectJson(r);
+    md << fmt::format("- `{}`: {}", EffectName(r.effect), j["params"].dump());
+    if (j.contains("sigma")) md << fmt::format("; σ {}", j["sigma"].dump());
+    if (!r.correlated_with.empty()) {
+      md << fmt::format(" (strongest correlation {:.2f}, with {})", r.max_correlation, r.correlated_with);
+    }
+    md << "\n";
+  }
+  md << "\nCompensation to run next: " << Compensation(d)["note"].get<std::string>() << ".\n";
   md << "\n## Where the gap lies\n\n" << d.gap.where << "\n\n";
   md << fmt::format("Before any effect: {:.1f} µm RMS, {:.1f} µm max at A.\n\n", d.gap.overall.rms_m * 1e6,
                     d.gap.overall.max_m * 1e6);
