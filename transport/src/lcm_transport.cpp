@@ -11,8 +11,12 @@ namespace edsp {
 struct LcmTransport::Subscription {
   LcmTransport* owner;
   RawHandler handler;
-  void Handle(const lcm::ReceiveBuffer* buffer, const std::string& channel) {
-    owner->Dispatch(buffer, channel, &handler);
+  // A plain function with a context, not LCM's member-function subscribe:
+  // GCC 12's UBSan instrumentation of that template's pointer-to-member call
+  // (lcm-cpp-impl.hpp:108) passes a wrong object, so the sanitizer build
+  // crashed on every LCM message (found by `deploy/edsp sanitize`).
+  static void Handle(const lcm::ReceiveBuffer* buffer, const std::string& channel, Subscription* self) {
+    self->owner->Dispatch(buffer, channel, &self->handler);
   }
 };
 
@@ -49,7 +53,7 @@ void LcmTransport::Subscribe(const std::string& channel, RawHandler handler) {
 
 void LcmTransport::SubscribePattern(const std::string& regex, RawHandler handler) {
   auto subscription = std::make_unique<Subscription>(Subscription{this, std::move(handler)});
-  if (lcm_->subscribe(regex, &Subscription::Handle, subscription.get()) == nullptr) {
+  if (lcm_->subscribeFunction(regex, &Subscription::Handle, subscription.get()) == nullptr) {
     throw TransportError(fmt::format("LCM refused the subscription \"{}\"", regex));
   }
   subscriptions_.push_back(std::move(subscription));
