@@ -41,12 +41,22 @@ TEST(RigEffectsLive, TheLiveGroupMeasuresWhatEdspSimRigComputes) {
   const std::vector<DwellError> b = DwellErrorsFromLog(offline.log_path, model).dwells;
   ASSERT_EQ(a.size(), b.size());
   ASSERT_GE(a.size(), 6u);
+  // Offline, every cycle happens on time. A live cycle this VM stalled
+  // (planner or rig late by more than a period) is a different history: the
+  // rig catches up with a step, its drive overshoots, and the 20 µm backlash
+  // may be left on its other side. Then the live run can only be bounded by
+  // that physics, not matched to the nanometre.
+  const std::int64_t late = test_support::DeadlineMisses(live.log_path, "planner") +
+                            test_support::DeadlineMisses(live.log_path, "rig");
+  const double tolerance = late == 0 ? 3e-6 : 25e-6;
+  ::testing::Test::RecordProperty("late_cycles", static_cast<int>(late));
   double largest = 0.0, worst = 0.0;
   for (std::size_t k = 0; k < a.size(); ++k) {
     EXPECT_EQ(a[k].segment, b[k].segment);
     largest = std::max(largest, b[k].error_norm_m());
     worst = std::max(worst, (a[k].error_m - b[k].error_m).norm());
-    EXPECT_LT((a[k].error_m - b[k].error_m).norm(), 3e-6)
+    EXPECT_LT((a[k].error_m - b[k].error_m).norm(), tolerance)
+        << late << " late planner/rig cycles; "
         << a[k].segment << ": live " << a[k].error_m.transpose() * 1e6 << " µm, offline "
         << b[k].error_m.transpose() * 1e6 << " µm";
   }

@@ -71,19 +71,21 @@ restart = "never"
 }
 
 
-std::int64_t PlannerDeadlineMisses(const std::string& log_path) {
+std::int64_t DeadlineMisses(const std::string& log_path, const std::string& node) {
   LogReader reader(log_path);
   LogEvent event;
   std::int64_t misses = 0;
   while (reader.Next(&event)) {
     if (event.channel != "EDSP_STATUS") continue;
     node_status_t s;
-    if (s.decode(event.data.data(), 0, static_cast<int>(event.data.size())) >= 0 && s.node == "planner") {
+    if (s.decode(event.data.data(), 0, static_cast<int>(event.data.size())) >= 0 && s.node == node) {
       misses = std::max(misses, s.deadline_misses);
     }
   }
   return misses;
 }
+
+std::int64_t PlannerDeadlineMisses(const std::string& log_path) { return DeadlineMisses(log_path, "planner"); }
 
 std::string FaultLines(const std::string& log_path) {
   LogReader reader(log_path);

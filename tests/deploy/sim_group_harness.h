@@ -42,7 +42,8 @@ std::string FaultLines(const std::string& log_path);
 // Launcher exit 0, no faults, commands at 1 kHz, loss bounded (see .cpp).
 void ExpectCleanRun(const GroupRun& run);
 
-// The largest deadline-miss count the planner reported on EDSP_STATUS.
+// The largest deadline-miss count `node` reported on EDSP_STATUS.
+std::int64_t DeadlineMisses(const std::string& log_path, const std::string& node);
 std::int64_t PlannerDeadlineMisses(const std::string& log_path);
 
 // Directory of a run (where group.toml, launch.err and the log are).
