@@ -3,7 +3,7 @@
 // position when commands go stale (50 ms) and reports it on EDSP_FAULT.
 //   edsp-actuator-bridge [--backend virtual-rig] [--image-prefix edsp]
 //                        [--config FILE] [--group FILE] [--session-id N]
-//                        [--latency-report FILE]
+//                        [--latency-report FILE] [--rejoin-speed-m-s V]
 // A valid command goes to the drives the moment it arrives; the 1 kHz cycle
 // checks staleness, re-writes the target and reads the encoders.
 // --latency-report: on exit, JSON of setpoint → drive-setpoint latencies and
@@ -55,6 +55,10 @@ int Run(int argc, char** argv) {
   app.add_option("--image-prefix", image_prefix, "process image segment prefix (default: shm_prefix)");
   app.add_option("--stale-ms", stale_ms, "hold when no valid command for this long")
       ->check(CLI::Range(1, 10000));
+  double rejoin_speed_m_s = BridgeOptions{}.rejoin_speed_m_s;
+  app.add_option("--rejoin-speed-m-s", rejoin_speed_m_s,
+                 "after a re-arm, how fast the held legs go to the command stream")
+      ->check(CLI::Range(1e-4, 0.5));
   std::string latency_report;
   app.add_option("--latency-report", latency_report, "write latency JSON here on exit");
   CLI11_PARSE(app, argc, argv);
@@ -70,6 +74,7 @@ int Run(int argc, char** argv) {
   BridgeOptions options;
   options.session_id = node.session_id;
   options.stale_us = std::int64_t{stale_ms} * 1000;
+  options.rejoin_speed_m_s = rejoin_speed_m_s;
   ActuatorBridge bridge(PlatformModel(config), backend.get(), options);
   Bus bus(transport);
   auto states = bus.Advertise<leg_state_t>("EDSP_LEG_STATE");
@@ -101,8 +106,8 @@ int Run(int argc, char** argv) {
     reporting.Fault(MakeFault("actuator_bridge", "EDSP_ARM", FaultCode::kOperatorAction,
                               fault_t::SEVERITY_INFO,
                               fmt::format("re-armed by {}{}", arm.operator_name,
-                                          was_latched ? "; commands accepted again once they continue from the held position"
-                                                      : " (was not latched)"),
+                                          was_latched ? fmt::format("; rejoining the command stream at {:.3f} m/s", rejoin_speed_m_s)
+                                                      : std::string(" (was not latched)")),
                               UtimeNow()));
   });
   // Node-based map: the reference stays valid; no lookup in the 1 kHz loop.

@@ -18,6 +18,7 @@ ActuatorBridge::ActuatorBridge(PlatformModel model, DriveBackend* backend, Bridg
     target_.motor_angle_rad[i] = feedback_.motor_angle_rad[i];
     target_length_m_(i) = model_.LengthFromMotorAngle(i, feedback_.motor_angle_rad[i]);
   }
+  stream_length_m_ = target_length_m_;
 }
 
 fault_t ActuatorBridge::Fault(FaultCode code, std::string reason, std::int64_t now_utime) const {
@@ -32,7 +33,24 @@ bool ActuatorBridge::Reject(FaultCode code, std::string reason, std::int64_t now
   return false;
 }
 
-void ActuatorBridge::Rearm() { latched_ = false; }
+void ActuatorBridge::Rearm() {
+  if (!latched_) return;
+  latched_ = false;
+  rejoining_ = true;
+  accepted_since_arm_ = 0;
+}
+
+Vector6 ActuatorBridge::NextTarget(const Vector6& command_m, double max_step_m, double elapsed_s) {
+  if (!rejoining_) return command_m;
+  const Vector6 gap = command_m - target_length_m_;
+  const double largest = gap.cwiseAbs().maxCoeff();
+  const double step = std::min(max_step_m, options_.rejoin_speed_m_s * elapsed_s);
+  if (largest <= step) {
+    rejoining_ = false;  // caught up: the stream again
+    return command_m;
+  }
+  return target_length_m_ + gap * (step / largest);
+}
 
 bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utime,
                                    fault_t* fault) {
@@ -55,6 +73,13 @@ bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utim
                               now_utime - c.utime, options_.stale_us),
                   now_utime, fault);
   }
+  if (c.utime - now_utime > options_.stale_us) {
+    return Reject(FaultCode::kStale,
+                  fmt::format("leg command seq {} is stamped {} us in the future (limit {} us): the "
+                              "clocks of its host and this one disagree (docs/multihost.md)",
+                              c.seq, c.utime - now_utime, options_.stale_us),
+                  now_utime, fault);
+  }
   const WorkspaceLimits& limits = model_.config().limits;
   // A step longer than the legs could travel at full speed in the planner
   // time between the two setpoints is a jump. Planner time, not arrival time:
@@ -67,6 +92,11 @@ bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utim
                            static_cast<double>(options_.stale_us) * 1e-6);
   }
   const double max_step_m = options_.max_leg_speed_m_s * elapsed_s + 1e-6;
+  // Rejoining: the first command after the re-arm starts the stream anew;
+  // the ones after it must continue from it.
+  const bool stream_starts = rejoining_ && accepted_since_arm_ == 0;
+  const Vector6& reference = rejoining_ ? stream_length_m_ : target_length_m_;
+  Vector6 command_m;
   for (int i = 0; i < kNumLegs; ++i) {
     const double length = c.command_length_m[i];
     if (!std::isfinite(length)) {
@@ -80,21 +110,27 @@ bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utim
                                 c.seq, i + 1, length, limits.leg_min_m, limits.leg_max_m),
                     now_utime, fault);
     }
-    if (std::abs(length - target_length_m_(i)) > max_step_m) {
+    if (!stream_starts && std::abs(length - reference(i)) > max_step_m) {
       return Reject(FaultCode::kJump,
-                    fmt::format("leg command seq {}: leg {} jumps {:.6f} m from the held {:.6f} m "
+                    fmt::format("leg command seq {}: leg {} jumps {:.6f} m from the {} {:.6f} m "
                                 "(at most {:.6f} m in {:.1f} ms)",
-                                c.seq, i + 1, length - target_length_m_(i), target_length_m_(i),
+                                c.seq, i + 1, length - reference(i),
+                                rejoining_ ? "previous command" : "held", reference(i),
                                 max_step_m, elapsed_s * 1e3),
                     now_utime, fault);
     }
+    command_m(i) = length;
   }
+  stream_length_m_ = command_m;
+  const Vector6 next = NextTarget(command_m, max_step_m, elapsed_s);
+  if (rejoining_) ++accepted_since_arm_;
+  else accepted_since_arm_ = 0;
   for (int i = 0; i < kNumLegs; ++i) {
-    const double angle = model_.MotorAngleFromLength(i, c.command_length_m[i]);
+    const double angle = model_.MotorAngleFromLength(i, next(i));
     target_.motor_velocity_rad_s[i] =
         target_utime_ < 0 ? 0.0 : (angle - target_.motor_angle_rad[i]) / elapsed_s;
     target_.motor_angle_rad[i] = angle;
-    target_length_m_(i) = c.command_length_m[i];
+    target_length_m_(i) = next(i);
   }
   target_utime_ = now_utime;
   last_basis_utime_ = basis;
@@ -110,6 +146,12 @@ bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utim
 
 bool ActuatorBridge::Cycle(std::int64_t now_utime, leg_state_t* state, fault_t* fault) {
   bool raised = false;
+  // A command overdue by more than a couple of cycles: the velocity
+  // feed-forward no longer describes any motion, and a drive given it with a
+  // fixed target settles past that target (by kd/kp · v): hold it at rest.
+  if (target_utime_ >= 0 && now_utime - target_utime_ > kFeedForwardLapseUs) {
+    target_.motor_velocity_rad_s.fill(0.0);
+  }
   const bool stale = target_utime_ < 0 || now_utime - target_utime_ > options_.stale_us;
   if (stale && !holding_) {
     holding_ = true;

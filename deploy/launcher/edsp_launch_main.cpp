@@ -3,6 +3,9 @@
 // SIGKILL). Exits non-zero if a member failed for good.
 //   edsp-launch GROUP_FILE [--host NAME] [--session-id N] [--duration-s S]
 //                          [--until-exit MEMBER] [--bin-dir DIR]
+//   edsp-launch GROUP_FILE --member NAME      run one member in place (systemd units)
+//   edsp-launch GROUP_FILE --host NAME --write-units DIR [--root DIR]
+//                                             write that host's systemd units
 #include <signal.h>
 #include <sched.h>
 #include <sys/prctl.h>
@@ -13,13 +16,19 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <thread>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "edsp/node/node_options.h"
 #include "edsp/node/runtime.h"
+#include "edsp/transport/transport_config.h"
 #include "group_file.h"
+#include "multicast_route.h"
+#include "systemd_units.h"
 
 namespace edsp {
 namespace {
@@ -62,29 +71,85 @@ void ApplyScheduling(const MemberSpec& spec) {
   }
 }
 
+std::vector<std::string> MemberArgv(const MemberSpec& spec, const GroupSpec& group,
+                                    std::int64_t session_id, const std::string& bin_dir) {
+  std::vector<std::string> argv{Resolve(spec.command, bin_dir)};
+  argv.insert(argv.end(), spec.args.begin(), spec.args.end());
+  if (spec.node_options) {
+    argv.insert(argv.end(), {"--config", group.config, "--group", group.path, "--session-id",
+                             std::to_string(session_id), "--member", spec.name});
+  }
+  return argv;
+}
+
+// In the child (or in place of the launcher, --member): environment,
+// scheduling, then the program. Returns only if exec failed.
+void ExecMember(const MemberSpec& spec, std::vector<std::string> argv) {
+  for (const auto& [name, value] : spec.env) ::setenv(name.c_str(), value.c_str(), 1);
+  ApplyScheduling(spec);
+  std::vector<char*> raw;
+  for (std::string& a : argv) raw.push_back(a.data());
+  raw.push_back(nullptr);
+  ::execvp(raw[0], raw.data());
+  std::fprintf(stderr, "edsp-launch: %s: cannot run %s (%s)\n", spec.name.c_str(), raw[0], std::strerror(errno));
+}
+
 pid_t Start(const Member& m, const GroupSpec& group, std::int64_t session_id,
             const std::string& bin_dir) {
-  std::vector<std::string> argv{Resolve(m.spec.command, bin_dir)};
-  argv.insert(argv.end(), m.spec.args.begin(), m.spec.args.end());
-  if (m.spec.node_options) {
-    argv.insert(argv.end(), {"--config", group.config, "--group", group.path, "--session-id",
-                             std::to_string(session_id)});
-  }
+  std::vector<std::string> argv = MemberArgv(m.spec, group, session_id, bin_dir);
   const pid_t pid = ::fork();
   if (pid == 0) {
     ::setpgid(0, 0);                    // Ctrl-C reaches the launcher only: it stops in order
     ::prctl(PR_SET_PDEATHSIG, SIGTERM);  // and a dead launcher leaves no orphans
-    for (const auto& [name, value] : m.spec.env) ::setenv(name.c_str(), value.c_str(), 1);
-    ApplyScheduling(m.spec);
-    std::vector<char*> raw;
-    for (std::string& a : argv) raw.push_back(a.data());
-    raw.push_back(nullptr);
-    ::execvp(raw[0], raw.data());
-    std::fprintf(stderr, "edsp-launch: %s: cannot run %s\n", m.spec.name.c_str(), raw[0]);
+    ExecMember(m.spec, std::move(argv));
     ::_exit(127);
   }
   std::fprintf(stderr, "edsp-launch: %-16s started  pid %d\n", m.spec.name.c_str(), pid);
   return pid;
+}
+
+// A host whose [hosts.NAME] names an interface: the group's multicast must
+// leave by it, or the members would talk on the wrong network (or none).
+void CheckMulticastInterface(const GroupSpec& group, const std::string& host) {
+  const auto it = group.hosts.find(host);
+  if (it == group.hosts.end() || it->second.interface.empty()) return;
+  const std::string url = LoadTransportConfig(group.path).lcm_url;
+  const std::string address = MulticastAddress(url);
+  if (address.empty()) return;
+  std::string error;
+  const std::string interface = MulticastRouteInterface(address, &error);
+  if (interface != it->second.interface) {
+    throw std::runtime_error(fmt::format(
+        "{}: [hosts.{}] interface = \"{}\", but the route to the LCM group {} {}; add one with "
+        "`ip route add 224.0.0.0/4 dev {}` (docs/multihost.md)",
+        group.path, host, it->second.interface, address,
+        interface.empty() ? error : "leaves by " + interface, it->second.interface));
+  }
+}
+
+void WriteUnits(const GroupSpec& group, const std::string& host, const std::string& dir,
+                const std::string& root, const std::string& bin_dir) {
+  if (host.empty()) throw std::runtime_error("--write-units needs --host: units are written per machine");
+  namespace fs = std::filesystem;
+  const fs::path template_path = fs::path(root) / "deploy/systemd/edsp@.service";
+  if (!fs::exists(template_path)) throw std::runtime_error(template_path.string() + ": no unit template there (--root)");
+  std::vector<UnitFile> units = MemberUnits(group, host, root, bin_dir);
+  units.push_back({"edsp@.service", ReadTextFile(template_path.string())});
+  for (const UnitFile& unit : units) {
+    const fs::path path = fs::path(dir) / unit.path;
+    fs::create_directories(path.parent_path());
+    std::ofstream out(path);
+    out << unit.text;
+    if (!out) throw std::runtime_error(path.string() + ": cannot write");
+    std::printf("%s\n", path.c_str());
+  }
+}
+
+std::string SelfDirectory() {
+  char self[4096] = {0};
+  const ssize_t n = ::readlink("/proc/self/exe", self, sizeof self - 1);
+  const std::string path = n > 0 ? std::string(self, static_cast<std::size_t>(n)) : "./x";
+  return path.substr(0, path.rfind('/'));
 }
 
 bool WaitExit(pid_t pid, std::chrono::milliseconds limit, int* status) {
@@ -125,7 +190,7 @@ std::string Describe(int status) {
 
 int Run(int argc, char** argv) {
   CLI::App app{"edsp-launch: start, watch and stop an edsp process group"};
-  std::string group_path, host, until_exit, bin_dir;
+  std::string group_path, host, until_exit, bin_dir, only_member, unit_dir, root;
   std::int64_t session_id = 0;
   double duration_s = 0.0;
   app.add_option("group", group_path, "group file (TOML)")->required();
@@ -134,17 +199,30 @@ int Run(int argc, char** argv) {
   app.add_option("--duration-s", duration_s, "stop the group after this long (0: run until Ctrl-C)");
   app.add_option("--until-exit", until_exit, "stop the group when this member exits successfully");
   app.add_option("--bin-dir", bin_dir, "where the edsp programs are (default: beside edsp-launch)");
+  app.add_option("--member", only_member, "run this one member in place of the launcher (systemd units)");
+  app.add_option("--write-units", unit_dir, "write --host's systemd units into this directory, then exit");
+  app.add_option("--root", root, "--write-units: the edsp checkout on that host (default: this one)");
   CLI11_PARSE(app, argc, argv);
 
   const GroupSpec group = LoadGroupFile(group_path);
-  if (bin_dir.empty()) {
-    char self[4096] = {0};
-    const ssize_t n = ::readlink("/proc/self/exe", self, sizeof self - 1);
-    bin_dir = n > 0 ? std::string(self, static_cast<std::size_t>(n)) : ".";
-    bin_dir = bin_dir.substr(0, bin_dir.rfind('/'));
+  if (bin_dir.empty()) bin_dir = SelfDirectory();
+  if (!unit_dir.empty()) {
+    if (root.empty()) root = std::filesystem::absolute(bin_dir + "/../..").lexically_normal().string();
+    if (root.size() > 1 && root.back() == '/') root.pop_back();
+    WriteUnits(group, host, unit_dir, root, std::filesystem::absolute(bin_dir).lexically_normal().string());
+    return 0;
   }
   if (session_id == 0) session_id = group.session_id;
   if (session_id == 0) session_id = (UtimeNow() / 1000) & 0x7fffffff;  // fresh per launch
+  if (!only_member.empty()) {
+    const auto spec = std::find_if(group.members.begin(), group.members.end(),
+                                   [&](const MemberSpec& m) { return m.name == only_member; });
+    if (spec == group.members.end()) throw std::runtime_error("--member " + only_member + ": no such member in " + group_path);
+    CheckMulticastInterface(group, spec->host);
+    ExecMember(*spec, MemberArgv(*spec, group, session_id, bin_dir));
+    return 127;
+  }
+  if (!host.empty()) CheckMulticastInterface(group, host);
   std::vector<Member> members;
   for (const MemberSpec& spec : group.members) {
     if (host.empty() || spec.host == host) members.push_back(Member{spec});

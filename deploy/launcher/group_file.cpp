@@ -9,7 +9,11 @@
 #include <stdexcept>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <toml++/toml.h>
+
+#include "edsp/transport/error.h"
+#include "edsp/transport/transport_config.h"
 
 namespace edsp {
 
@@ -73,6 +77,10 @@ MemberSpec ReadMember(const std::string& path, const toml::table& t, int index) 
         if (!c.is_integer() || *v < 0 || *v >= CPU_SETSIZE) Fail(path, c, where + " cpus: each must be a CPU number 0..1023");
         m.cpus.push_back(static_cast<int>(*v));
       }
+    } else if (k == "requires") {
+      const toml::array* list = node.as_array();
+      if (list == nullptr) Fail(path, node, where + " requires must be an array of member names");
+      for (const toml::node& r : *list) m.requires_members.push_back(RequireString(path, r, where + " requires"));
     } else if (k == "node_options") {
       if (!node.is_boolean()) Fail(path, node, where + " node_options must be true or false");
       m.node_options = *node.value<bool>();
@@ -86,7 +94,58 @@ MemberSpec ReadMember(const std::string& path, const toml::table& t, int index) 
   return m;
 }
 
+std::map<std::string, HostSpec> ReadHosts(const std::string& path, const toml::table& root) {
+  std::map<std::string, HostSpec> hosts;
+  const toml::node* section = root.get("hosts");
+  if (section == nullptr) return hosts;
+  const toml::table* table = section->as_table();
+  if (table == nullptr) Fail(path, *section, "[hosts] must be a table of [hosts.NAME] tables");
+  for (auto&& [name, node] : *table) {
+    const std::string where = fmt::format("[hosts.{}]", name.str());
+    const toml::table* t = node.as_table();
+    if (t == nullptr) Fail(path, node, where + " must be a table");
+    HostSpec host;
+    for (auto&& [key, value] : *t) {
+      if (key.str() == "interface") host.interface = RequireString(path, value, where + " interface");
+      else Fail(path, value, fmt::format("unknown key {} {} (known: interface)", where, key.str()));
+    }
+    hosts[std::string(name.str())] = host;
+  }
+  return hosts;
+}
+
+// What only makes sense once every member is read.
+void CheckMembers(const GroupSpec& group) {
+  std::map<std::string, std::string> host_of;
+  for (const MemberSpec& m : group.members) host_of[m.name] = m.host;
+  for (const MemberSpec& m : group.members) {
+    for (const std::string& r : m.requires_members) {
+      if (!host_of.count(r)) throw std::runtime_error(fmt::format("{}: member {} requires \"{}\", which is no member", group.path, m.name, r));
+      if (host_of[r] != m.host) {
+        throw std::runtime_error(fmt::format("{}: member {} (host {}) requires {} on host {}: systemd orders units of one host only",
+                                             group.path, m.name, m.host, r, host_of[r]));
+      }
+    }
+    if (!group.hosts.empty() && !group.hosts.count(m.host)) {
+      throw std::runtime_error(fmt::format("{}: member {} is on host {}, which [hosts] does not list", group.path, m.name, m.host));
+    }
+  }
+  const std::vector<std::string> hosts = group.MemberHosts();
+  if (hosts.size() > 1 && group.session_id == 0) {
+    throw std::runtime_error(fmt::format(
+        "{}: the group spans hosts ({}): set [group] session_id so every host's launcher "
+        "gives its members the same session (commands of other sessions are refused)",
+        group.path, fmt::join(hosts, ", ")));
+  }
+}
+
 }  // namespace
+
+std::vector<std::string> GroupSpec::MemberHosts() const {
+  std::set<std::string> distinct;
+  for (const MemberSpec& m : members) distinct.insert(m.host);
+  return {distinct.begin(), distinct.end()};
+}
 
 std::string ExpandVariables(const std::string& text,
                             const std::function<const char*(const std::string&)>& lookup) {
@@ -154,6 +213,13 @@ GroupSpec LoadGroupFile(const std::string& path) {
     }
   }
   if (group.name.empty()) group.name = path;
+  group.hosts = ReadHosts(path, root);
+  CheckMembers(group);
+  try {
+    LoadTransportConfig(path);  // the nodes read it too: fail here, before any starts
+  } catch (const TransportError& e) {
+    throw std::runtime_error(e.what());
+  }
   return group;
 }
 

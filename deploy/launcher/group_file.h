@@ -25,6 +25,12 @@ struct MemberSpec {
   bool node_options = true;        // pass --config, --group, --session-id
   int realtime_priority = 0;       // 1..99: SCHED_FIFO at this priority; 0: normal
   std::vector<int> cpus;           // CPU affinity; empty: any CPU
+  std::vector<std::string> requires_members;  // systemd Requires= (members of the same host)
+};
+
+// A machine of a group spanning hosts ([hosts.NAME]).
+struct HostSpec {
+  std::string interface;           // where the LCM multicast must leave (checked at launch)
 };
 
 struct GroupSpec {
@@ -33,9 +39,16 @@ struct GroupSpec {
   std::string config = "config/huang2021.toml";
   std::int64_t session_id = 0;     // 0: a fresh one per launch
   std::vector<MemberSpec> members;
+  std::map<std::string, HostSpec> hosts;
+
+  // The distinct hosts of the members, sorted; more than one: LCM crosses machines.
+  std::vector<std::string> MemberHosts() const;
 };
 
-// Throws std::runtime_error naming the file, line and key. Member args may
+// Throws std::runtime_error naming the file, line and key. The [transport]
+// section is checked too (a group spanning hosts needs ttl ≥ 1, a writer per
+// shared-memory channel and a fixed session id: every host's launcher must
+// agree on it). Member args may
 // use ${NAME} and ${NAME:-default}, expanded from the launcher's environment
 // (e.g. `deploy/edsp demo` sets the PR mode and log directory per run); an
 // unset NAME without a default is an error.

@@ -91,6 +91,14 @@ bool KinematicsNode::HandleSetpoint(const pose_setpoint_t& sp, std::int64_t now_
                    now_utime, kChannel);
     return false;
   }
+  if (sp.utime - now_utime > options_.stale_us) {
+    *fault = Fault(FaultCode::kStale,
+                   fmt::format("setpoint seq {} is stamped {} us in the future (limit {} us): the "
+                               "clocks of its host and this one disagree (docs/multihost.md)",
+                               sp.seq, sp.utime - now_utime, options_.stale_us),
+                   now_utime, kChannel);
+    return false;
+  }
   Vector6 q;
   for (int k = 0; k < 6; ++k) q(k) = sp.pose[k];
   const Pose target = Pose::FromVector(q);

@@ -4,17 +4,21 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "edsp/transport/host_routes.h"
+
 namespace edsp {
 
 void AddNodeOptions(CLI::App* app, NodeOptions* o) {
   app->add_option("--config", o->config_path, "platform config (TOML)");
   app->add_option("--group", o->group_path, "deploy group file ([transport] routes)");
   app->add_option("--session-id", o->session_id, "launch session id");
+  app->add_option("--member", o->member, "this process's member name in the group file");
   app->add_option("--lcm-url", o->lcm_url, "LCM URL (overrides the group file)");
 }
 
 TransportConfig TransportFor(const NodeOptions& o) {
-  TransportConfig config = o.group_path.empty() ? TransportConfig{} : LoadTransportConfig(o.group_path);
+  TransportConfig config = o.group_path.empty() ? TransportConfig{}
+                                                : RoutesForMember(LoadTransportConfig(o.group_path), o.member);
   if (!o.lcm_url.empty()) config.lcm_url = o.lcm_url;
   return config;
 }

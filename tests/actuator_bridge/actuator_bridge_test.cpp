@@ -169,12 +169,108 @@ TEST(ActuatorBridge, HoldsTheLastValidPositionWithin50msOfSilence) {
   EXPECT_FALSE(f.bridge.HandleCommand(f.Command(2e-3 + 1e-5, t, 21), t, &fault));
   EXPECT_NE(fault.reason.find("re-arm required"), std::string::npos) << fault.reason;
   f.bridge.Rearm();
-  // Re-armed: a command far from the hold (the planner moved on) is a jump ...
-  EXPECT_FALSE(f.bridge.HandleCommand(f.Command(0.2, t, 22), t, &fault));
-  EXPECT_EQ(fault.code, static_cast<std::int32_t>(FaultCode::kJump));
-  // ... one continuing from the hold is accepted.
-  EXPECT_TRUE(f.bridge.HandleCommand(f.Command(2e-3 + 1e-5, t, 23), t, &fault)) << fault.reason;
+  // Re-armed: a command continuing from the hold is simply followed.
+  EXPECT_TRUE(f.bridge.HandleCommand(f.Command(2e-3 + 1e-5, t, 22), t, &fault)) << fault.reason;
   EXPECT_FALSE(f.bridge.holding());
+  EXPECT_FALSE(f.bridge.rejoining());
+}
+
+// Lengths the drives were told, from their motor angles.
+Vector6 WrittenLengths(const Fixture& f) {
+  Vector6 l;
+  for (int i = 0; i < kNumLegs; ++i) l(i) = f.model.LengthFromMotorAngle(i, f.backend.written.motor_angle_rad[i]);
+  return l;
+}
+
+// One command at home, then 100 ms of silence (the link is gone): latched.
+// Returns the time after it.
+std::int64_t LatchAtHome(Fixture& f) {
+  fault_t fault;
+  leg_state_t state;
+  std::int64_t t = kStart;
+  EXPECT_TRUE(f.bridge.HandleCommand(f.Command(0.0, t, 1), t, &fault));
+  for (int k = 0; k < 100; ++k, t += 1000) f.bridge.Cycle(t, &state, &fault);
+  EXPECT_TRUE(f.bridge.latched());
+  return t;
+}
+
+TEST(ActuatorBridge, AReArmedBridgeRejoinsAMovedStreamAtTheRejoinSpeed) {
+  Fixture f;
+  fault_t fault;
+  std::int64_t t = LatchAtHome(f);
+  const Vector6 held = WrittenLengths(f);
+  f.bridge.Rearm();
+  // The planner moved on by 20 mm in z meanwhile, and goes on 0.01 mm per ms.
+  const double speed = Fixture::Options().rejoin_speed_m_s;
+  Vector6 previous = held;
+  double largest_step = 0.0;
+  int k = 0;
+  for (; k < 3000 && (k == 0 || f.bridge.rejoining()); ++k, t += 1000) {
+    const double dz = 0.02 + 1e-5 * k;
+    ASSERT_TRUE(f.bridge.HandleCommand(f.Command(dz, t, 2 + k), t, &fault)) << k << ": " << fault.reason;
+    const Vector6 now = WrittenLengths(f);
+    largest_step = std::max(largest_step, (now - previous).cwiseAbs().maxCoeff());
+    // A straight line in leg space: every leg's step is the same fraction of its gap.
+    previous = now;
+  }
+  EXPECT_FALSE(f.bridge.rejoining()) << "never caught up";
+  EXPECT_LE(largest_step, speed * 1e-3 + 1e-9);        // never faster than the rejoin speed
+  EXPECT_GT(k, static_cast<int>(0.015 / (speed * 1e-3)));  // so it took its time
+  // Caught up: the drives follow the stream exactly again.
+  ASSERT_TRUE(f.bridge.HandleCommand(f.Command(0.02 + 1e-5 * k, t, 5000), t, &fault)) << fault.reason;
+  const Vector6 expected = [&] {
+    leg_command_t c = f.Command(0.02 + 1e-5 * k, t, 5000);
+    Vector6 l;
+    for (int i = 0; i < kNumLegs; ++i) l(i) = c.command_length_m[i];
+    return l;
+  }();
+  EXPECT_LT((WrittenLengths(f) - expected).cwiseAbs().maxCoeff(), 1e-9);
+}
+
+TEST(ActuatorBridge, ACommandFromTheFutureMeansTheClocksDisagreeAndIsRefused) {
+  Fixture f;
+  fault_t fault;
+  const std::int64_t t = kStart;
+  EXPECT_TRUE(f.bridge.HandleCommand(f.Command(0.0, t + 40000, 1), t, &fault)) << fault.reason;  // within the limit
+  EXPECT_FALSE(f.bridge.HandleCommand(f.Command(0.0, t + 60000, 2), t, &fault));
+  EXPECT_EQ(fault.code, static_cast<std::int32_t>(FaultCode::kStale));
+  EXPECT_NE(fault.reason.find("60000 us in the future"), std::string::npos) << fault.reason;
+  EXPECT_NE(fault.reason.find("clocks"), std::string::npos) << fault.reason;
+}
+
+TEST(ActuatorBridge, AnOverdueCommandLosesItsVelocityFeedForward) {
+  Fixture f;
+  fault_t fault;
+  leg_state_t state;
+  std::int64_t t = kStart;
+  for (int k = 1; k <= 5; ++k, t += 1000) {  // moving up at 0.1 m/s
+    ASSERT_TRUE(f.bridge.HandleCommand(f.Command(1e-4 * k, t, k), t, &fault));
+    f.bridge.Cycle(t, &state, &fault);
+  }
+  const auto angle = f.backend.written.motor_angle_rad;
+  EXPECT_GT(std::abs(f.backend.written.motor_velocity_rad_s[0]), 1.0);
+  f.bridge.Cycle(t - 1000 + kFeedForwardLapseUs, &state, &fault);  // a late command: still moving
+  EXPECT_GT(std::abs(f.backend.written.motor_velocity_rad_s[0]), 1.0);
+  f.bridge.Cycle(t - 1000 + kFeedForwardLapseUs + 500, &state, &fault);  // overdue: at rest, same target
+  for (double v : f.backend.written.motor_velocity_rad_s) EXPECT_EQ(v, 0.0);
+  EXPECT_EQ(f.backend.written.motor_angle_rad, angle);
+  EXPECT_FALSE(f.bridge.holding());  // not stale yet: the next command just continues
+  ASSERT_TRUE(f.bridge.HandleCommand(f.Command(6e-4, t + 3000, 6), t + 3000, &fault)) << fault.reason;
+}
+
+TEST(ActuatorBridge, WhileRejoiningAJumpInTheStreamIsStillRefused) {
+  Fixture f;
+  fault_t fault;
+  std::int64_t t = LatchAtHome(f);
+  f.bridge.Rearm();
+  ASSERT_TRUE(f.bridge.HandleCommand(f.Command(0.05, t, 2), t, &fault));
+  const Vector6 after_first = WrittenLengths(f);
+  t += 1000;
+  EXPECT_FALSE(f.bridge.HandleCommand(f.Command(0.10, t, 3), t, &fault));  // 50 mm in 1 ms
+  EXPECT_EQ(fault.code, static_cast<std::int32_t>(FaultCode::kJump));
+  EXPECT_NE(fault.reason.find("previous command"), std::string::npos) << fault.reason;
+  EXPECT_EQ(WrittenLengths(f), after_first);
+  EXPECT_TRUE(f.bridge.rejoining());
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "group_file.h"
+#include "systemd_units.h"
 
 namespace edsp {
 namespace {
@@ -102,6 +103,75 @@ TEST(LoadGroupFile, RealTimePriorityAndCpusAreReadAndChecked) {
       EXPECT_NE(std::string(e.what()).find(path + ":4:"), std::string::npos) << e.what();
     }
   }
+  ::unlink(path.c_str());
+}
+
+}  // namespace
+}  // namespace edsp
+
+// Groups spanning hosts: what every host's launcher must agree on, and the
+// systemd units of one host.
+namespace edsp {
+namespace {
+
+std::string ErrorLoading(const std::string& text) {
+  const std::string path = "/tmp/edsp_group_file_hosts_" + std::to_string(::getpid()) + ".toml";
+  std::ofstream(path) << text;
+  std::string error = "no error";
+  try {
+    LoadGroupFile(path);
+  } catch (const std::runtime_error& e) {
+    error = e.what();
+  }
+  ::unlink(path.c_str());
+  return error;
+}
+
+constexpr const char* kTwoHostMembers =
+    "[[member]]\nname = \"rig\"\ncommand = \"edsp-rig\"\nhost = \"drive\"\n"
+    "[[member]]\nname = \"bridge\"\ncommand = \"edsp-actuator-bridge\"\nhost = \"drive\"\nrequires = [\"rig\"]\n"
+    "restart = \"always\"\nstart_delay_ms = 100\n"
+    "[[member]]\nname = \"kinematics\"\ncommand = \"edsp-kinematics\"\nhost = \"controller\"\n";
+constexpr const char* kTtl1 = "[transport]\nlcm_url = \"udpm://239.255.76.67:7667?ttl=1\"\n";
+
+TEST(LoadGroupFile, AGroupSpanningHostsNeedsASessionAndTtl) {
+  EXPECT_NE(ErrorLoading(std::string(kTtl1) + kTwoHostMembers).find("spans hosts (controller, drive): set [group] session_id"),
+            std::string::npos);
+  EXPECT_NE(ErrorLoading(std::string("[group]\nsession_id = 7\n") + kTwoHostMembers).find("ttl=0"), std::string::npos);
+  EXPECT_EQ(ErrorLoading(std::string("[group]\nsession_id = 7\n") + kTtl1 + kTwoHostMembers), "no error");
+}
+
+TEST(LoadGroupFile, RequiresAndHostsAreChecked) {
+  const std::string head = std::string("[group]\nsession_id = 7\n") + kTtl1;
+  EXPECT_NE(ErrorLoading(head + kTwoHostMembers + "requires = [\"rig\"]\n").find("systemd orders units of one host only"),
+            std::string::npos);
+  EXPECT_NE(ErrorLoading(head + kTwoHostMembers + "requires = [\"rgi\"]\n").find("requires \"rgi\", which is no member"),
+            std::string::npos);
+  EXPECT_NE(ErrorLoading(head + "[hosts.drive]\ninterface = \"eth0\"\n" + kTwoHostMembers)
+                .find("kinematics is on host controller, which [hosts] does not list"),
+            std::string::npos);
+  EXPECT_NE(ErrorLoading(head + "[hosts.drive]\nnic = \"eth0\"\n" + kTwoHostMembers).find("unknown key [hosts.drive] nic"),
+            std::string::npos);
+}
+
+TEST(MemberUnits, OneHostsMembersInStartOrderWithTheirPolicies) {
+  const std::string path = "/tmp/edsp_group_units_" + std::to_string(::getpid()) + ".toml";
+  std::ofstream(path) << "[group]\nname = \"mh\"\nsession_id = 7\n" << kTtl1 << kTwoHostMembers;
+  const GroupSpec group = LoadGroupFile(path);
+  const std::vector<UnitFile> units = MemberUnits(group, "drive", "/opt/edsp", "/opt/edsp/build/bin");
+  ASSERT_EQ(units.size(), 3u);  // rig, bridge, the target
+  EXPECT_EQ(units[0].path, "edsp@mh.rig.service.d/10-edsp-member.conf");
+  EXPECT_EQ(units[0].text.find("After=edsp@"), std::string::npos);  // first on this host
+  EXPECT_NE(units[0].text.find("Restart=on-failure"), std::string::npos);
+  EXPECT_NE(units[0].text.find("EDSP_GROUP_FILE=" + path + " EDSP_MEMBER=rig"), std::string::npos);
+  EXPECT_NE(units[1].text.find("After=edsp@mh.rig.service"), std::string::npos);
+  EXPECT_NE(units[1].text.find("Requires=edsp@mh.rig.service"), std::string::npos);
+  EXPECT_NE(units[1].text.find("Restart=always"), std::string::npos);
+  EXPECT_NE(units[1].text.find("ExecStartPost=/bin/sleep 0.100"), std::string::npos);
+  EXPECT_EQ(units[2].path, "edsp-mh.target");
+  EXPECT_NE(units[2].text.find("Wants=edsp@mh.rig.service edsp@mh.bridge.service\n"), std::string::npos);
+  EXPECT_EQ(units[2].text.find("kinematics"), std::string::npos);  // another host's
+  EXPECT_THROW(MemberUnits(group, "operator", "/opt/edsp", "/opt/edsp/build/bin"), std::runtime_error);
   ::unlink(path.c_str());
 }
 

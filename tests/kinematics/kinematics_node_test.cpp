@@ -132,6 +132,9 @@ TEST(KinematicsNode, RefusesWhatItCannotValidate) {
   sp.utime = kNow - 80000;
   ExpectRefused(sp, FaultCode::kStale, "80000 us old");
   sp = Setpoint(SomePose());
+  sp.utime = kNow + 80000;  // the planner's host clock runs ahead of this one
+  ExpectRefused(sp, FaultCode::kStale, "80000 us in the future");
+  sp = Setpoint(SomePose());
   sp.pose[2] = 2.3;
   ExpectRefused(sp, FaultCode::kOutsideWorkspace, "leg_max_m");
 }

@@ -116,6 +116,19 @@ TEST(Bus, SeqGapsAreCounted) {
   EXPECT_EQ(bus.Counters("EDSP_SETPOINT").seq_gaps, 2u + 3u);
 }
 
+TEST(Bus, SeqGapsAreCountedPerSessionWhenTwoGroupsShareAChannel) {
+  Bus bus(MemqConfig());
+  bus.Subscribe<pose_setpoint_t>("EDSP_SETPOINT", [](const pose_setpoint_t&) {});
+  for (std::int64_t k = 1; k <= 5; ++k) {
+    bus.Publish("EDSP_SETPOINT", Setpoint(k));  // session 7
+    pose_setpoint_t other = Setpoint(1000 + k);
+    other.session_id = 99;
+    if (k != 3) bus.Publish("EDSP_SETPOINT", other);  // session 99 loses one
+  }
+  HandleAll(bus);
+  EXPECT_EQ(bus.Counters("EDSP_SETPOINT").seq_gaps, 1u);
+}
+
 TEST(Bus, ShmPathDeliversTypedMessages) {
   Bus bus(Routed("EDSP_SETPOINT", ChannelPath::kShm));
   auto publisher = bus.Advertise<pose_setpoint_t>("EDSP_SETPOINT");
@@ -281,6 +294,34 @@ TEST(Bus, MixedInputsWakeOnAnyShmChannelAndStillServeLcm) {
   EXPECT_EQ(bus.Handle(std::chrono::milliseconds(100)), 1);
   EXPECT_EQ(got.back(), "EDSP_ARM");
   (void)setpoints;
+}
+
+TEST(Bus, MixedInputsWakeOnLcmAtOnceNotAtTheNextSlice) {
+  // A node with shm and LCM inputs sleeps on both: an LCM message wakes it
+  // (through the socket's FdDoorbell), not the 1 s safety slice.
+  TransportConfig config = Routed("EDSP_LEG_STATE", ChannelPath::kShm);
+  Bus writer_bus(config);
+  auto states = writer_bus.Advertise<pose_setpoint_t>("EDSP_LEG_STATE");
+  Bus bus(config);
+  int lcm_messages = 0;
+  bus.Subscribe<pose_setpoint_t>("EDSP_LEG_STATE", [](const pose_setpoint_t&) {});
+  bus.Subscribe<pose_setpoint_t>("EDSP_ARM", [&](const pose_setpoint_t&) { ++lcm_messages; });
+  for (int k = 0; k < 3; ++k) bus.Handle(std::chrono::milliseconds(5));  // attach
+  const pose_setpoint_t msg = Setpoint(3);
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(msg.getEncodedSize()));
+  msg.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  for (int round = 0; round < 3; ++round) {  // the doorbell re-arms after each drain
+    std::thread publisher([&] {
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      bus.lcm().Publish("EDSP_ARM", bytes.data(), static_cast<std::uint32_t>(bytes.size()));  // LCM publish is thread-safe
+    });
+    const auto start = std::chrono::steady_clock::now();
+    EXPECT_EQ(bus.Handle(std::chrono::seconds(5)), 1) << round;
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::milliseconds(600)) << round;
+    publisher.join();
+  }
+  EXPECT_EQ(lcm_messages, 3);
+  (void)states;
 }
 
 }  // namespace

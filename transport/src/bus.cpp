@@ -11,10 +11,10 @@ namespace edsp {
 
 namespace {
 constexpr auto kAttachRetry = std::chrono::milliseconds(100);
-// With both LCM and shared-memory inputs there is no single thing to sleep
-// on: the shm doorbells are slept on (the fast path wakes in microseconds)
-// and LCM's socket is polled between slices this long.
-constexpr auto kMixedWaitSlice = std::chrono::microseconds(500);
+// With both LCM and shared-memory inputs, an FdDoorbell turns LCM's socket
+// into one more futex word beside the segments' doorbells; this slice only
+// bounds a wait in case a wake-up were ever missed.
+constexpr auto kMixedWaitSlice = std::chrono::seconds(1);
 }  // namespace
 
 Bus::Bus(TransportConfig config) : config_(std::move(config)), lcm_(config_.lcm_url) {}
@@ -121,18 +121,25 @@ void Bus::Fail(std::exception_ptr error) {
   if (!pending_error_) pending_error_ = error;
 }
 
-bool Bus::WaitShm(std::chrono::steady_clock::duration timeout) {
+bool Bus::WaitShm(std::chrono::steady_clock::duration timeout, FdDoorbell* lcm_bell) {
   ShmReader* readers[64];
   int count = 0;
   for (auto& sub : shm_subscriptions_) {
     if (sub->reader != nullptr && count < 64) readers[count++] = sub->reader.get();
   }
+  const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(timeout);
+  if (lcm_bell != nullptr) {
+    // Read the bell before looking at the socket: a message that arrives
+    // after the look changes the word, and the wait returns at once.
+    const std::uint32_t rung = lcm_bell->word()->load(std::memory_order_seq_cst);
+    if (lcm_.Readable()) return true;
+    return ShmReader::WaitAny(readers, count, ns, std::chrono::microseconds(20), lcm_bell->word(), rung);
+  }
   if (count == 0) {
     std::this_thread::sleep_for(timeout);
     return false;
   }
-  return ShmReader::WaitAny(readers, count,
-                            std::chrono::duration_cast<std::chrono::nanoseconds>(timeout));
+  return ShmReader::WaitAny(readers, count, ns);
 }
 
 int Bus::Handle(std::chrono::microseconds timeout) {
@@ -146,17 +153,21 @@ int Bus::Handle(std::chrono::microseconds timeout) {
     if (shm_subscriptions_.empty()) {
       delivered += lcm_.Handle(std::chrono::duration_cast<std::chrono::microseconds>(remaining));
     } else {
-      // Sleep on every shm doorbell at once. LCM's socket, if any, is polled
-      // between slices, and a segment not attached yet is retried per slice.
+      // Sleep on every shm doorbell, and LCM's socket's, at once; a segment
+      // not attached yet is retried per slice.
       const bool mixed = lcm_.subscription_count() > 0;
+      if (mixed && lcm_bell_ == nullptr) lcm_bell_ = std::make_unique<FdDoorbell>(lcm_.fileno());
       const bool all_attached = std::all_of(shm_subscriptions_.begin(), shm_subscriptions_.end(),
                                             [](const auto& sub) { return sub->reader != nullptr; });
       auto slice = remaining;
       if (mixed) slice = std::min<Clock::duration>(slice, kMixedWaitSlice);
       if (!all_attached) slice = std::min<Clock::duration>(slice, kAttachRetry);
-      if (slice > Clock::duration::zero()) WaitShm(slice);
+      if (slice > Clock::duration::zero()) WaitShm(slice, mixed ? lcm_bell_.get() : nullptr);
       delivered += DrainShm();
-      if (mixed) delivered += lcm_.Handle(std::chrono::microseconds(0));
+      if (mixed) {
+        delivered += lcm_.Handle(std::chrono::microseconds(0));
+        lcm_bell_->Drained();
+      }
     }
     if (pending_error_) {
       std::exception_ptr error = pending_error_;

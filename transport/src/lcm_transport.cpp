@@ -72,6 +72,11 @@ void LcmTransport::Dispatch(const lcm::ReceiveBuffer* buffer, const std::string&
 
 int LcmTransport::fileno() const { return lcm_->getFileno(); }
 
+bool LcmTransport::Readable() const {
+  pollfd fd{fileno(), POLLIN, 0};
+  return ::poll(&fd, 1, 0) > 0 && (fd.revents & POLLIN) != 0;
+}
+
 int LcmTransport::DrainReady() {
   pollfd fd{fileno(), POLLIN, 0};
   while (::poll(&fd, 1, 0) > 0 && (fd.revents & POLLIN) != 0) {

@@ -128,12 +128,14 @@ bool ShmReader::Wait(std::chrono::nanoseconds timeout, std::chrono::nanoseconds 
 }
 
 bool ShmReader::WaitAny(ShmReader* const* readers, int count, std::chrono::nanoseconds timeout,
-                        std::chrono::nanoseconds spin) noexcept {
-  if (count == 1) return readers[0]->Wait(timeout, spin);
+                        std::chrono::nanoseconds spin, std::atomic<std::uint32_t>* extra,
+                        std::uint32_t extra_expected) noexcept {
+  if (count == 1 && extra == nullptr) return readers[0]->Wait(timeout, spin);
   using Clock = std::chrono::steady_clock;
   constexpr int kMax = 64;
   count = std::min(count, kMax);
   auto any = [&] {
+    if (extra != nullptr && extra->load(std::memory_order_seq_cst) != extra_expected) return true;
     for (int i = 0; i < count; ++i) {
       if (readers[i]->Available()) return true;
     }
@@ -146,19 +148,24 @@ bool ShmReader::WaitAny(ShmReader* const* readers, int count, std::chrono::nanos
     if (any()) return true;
     EDSP_CPU_RELAX();
   }
-  std::atomic<std::uint32_t>* bells[kMax];
-  std::uint32_t rung[kMax];
+  std::atomic<std::uint32_t>* bells[kMax + 1];
+  std::uint32_t rung[kMax + 1];
   for (;;) {
     for (int i = 0; i < count; ++i) {
       bells[i] = &readers[i]->segment_->header()->doorbell;
       rung[i] = bells[i]->load(std::memory_order_seq_cst);
+    }
+    int words = count;
+    if (extra != nullptr) {
+      bells[words] = extra;
+      rung[words++] = extra_expected;
     }
     if (any()) return true;
     const auto now = Clock::now();
     if (now >= deadline) return false;
     // The same handshake as Wait(), on every channel: announce, re-check, sleep.
     for (int i = 0; i < count; ++i) readers[i]->segment_->header()->sleepers.fetch_add(1, std::memory_order_seq_cst);
-    const bool ready = any() || (FutexWaitAny(bells, rung, count, deadline - now), any());
+    const bool ready = any() || (FutexWaitAny(bells, rung, words, deadline - now), any());
     for (int i = 0; i < count; ++i) readers[i]->segment_->header()->sleepers.fetch_sub(1, std::memory_order_seq_cst);
     if (ready) return true;
   }

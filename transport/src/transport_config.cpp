@@ -7,6 +7,7 @@
 #include <toml++/toml.h>
 
 #include "edsp/transport/error.h"
+#include "edsp/transport/host_routes.h"
 
 namespace edsp {
 
@@ -51,13 +52,29 @@ ChannelRoute ReadRoute(const toml::table& table, const std::string& channel,
   const std::string where = fmt::format("[transport.channels.{}]", channel);
   for (auto&& [key, node] : table) {
     const std::string k(key.str());
-    if (k != "path" && k != "mirror_every" && k != "slots" && k != "slot_size_bytes") {
+    if (k != "path" && k != "mirror_every" && k != "slots" && k != "slot_size_bytes" &&
+        k != "writer" && k != "readers") {
       Fail(origin, node,
-           fmt::format("unknown key {} {} (known: path, mirror_every, slots, slot_size_bytes)",
+           fmt::format("unknown key {} {} (known: path, mirror_every, slots, slot_size_bytes, "
+                       "writer, readers)",
                        where, k));
     }
   }
   ChannelRoute route;
+  if (const toml::node* writer = table.get("writer")) {
+    if (!writer->is_string() || writer->value_or(std::string()).empty()) {
+      Fail(origin, *writer, where + " writer must be a member's name");
+    }
+    route.writer = *writer->value<std::string>();
+  }
+  if (const toml::node* readers = table.get("readers")) {
+    const toml::array* list = readers->as_array();
+    if (list == nullptr) Fail(origin, *readers, where + " readers must be an array of member names");
+    for (const toml::node& r : *list) {
+      if (!r.is_string()) Fail(origin, r, where + " readers must be an array of member names");
+      route.readers.push_back(*r.value<std::string>());
+    }
+  }
   if (const toml::node* path = table.get("path")) {
     const std::string text = path->value_or(std::string());
     if (text == "lcm") {
@@ -81,6 +98,19 @@ ChannelRoute ReadRoute(const toml::table& table, const std::string& channel,
   return route;
 }
 
+// Only each member's name and host: the rest of [[member]] is the
+// launcher's to check.
+void ReadMemberHosts(const toml::table& root, TransportConfig* config) {
+  const toml::array* members = root["member"].as_array();
+  if (members == nullptr) return;
+  for (const toml::node& node : *members) {
+    const toml::table* member = node.as_table();
+    if (member == nullptr) continue;
+    const auto name = (*member)["name"].value<std::string>();
+    if (name) config->member_hosts[*name] = (*member)["host"].value_or(std::string("local"));
+  }
+}
+
 }  // namespace
 
 TransportConfig ParseTransportConfig(const std::string& toml_text, const std::string& origin) {
@@ -92,8 +122,12 @@ TransportConfig ParseTransportConfig(const std::string& toml_text, const std::st
                                      e.source().begin.column, e.description()));
   }
   TransportConfig config;
+  ReadMemberHosts(root, &config);
   const toml::table* transport = root["transport"].as_table();
-  if (transport == nullptr) return config;
+  if (transport == nullptr) {
+    CheckHostRoutes(config, origin);  // the defaults are host-only
+    return config;
+  }
   for (auto&& [key, node] : *transport) {
     const std::string k(key.str());
     if (k == "lcm_url") {
@@ -131,6 +165,7 @@ TransportConfig ParseTransportConfig(const std::string& toml_text, const std::st
       Fail(origin, node, fmt::format("unknown key [transport] {}", k));
     }
   }
+  CheckHostRoutes(config, origin);
   return config;
 }
 

@@ -16,12 +16,16 @@
 
 namespace edsp {
 
+// No new command for this long: the drives get no velocity feed-forward.
+inline constexpr std::int64_t kFeedForwardLapseUs = 2500;
+
 struct BridgeOptions {
   std::string node_name = "actuator_bridge";
   std::int64_t session_id = 0;       // commands from any other session are refused
   std::int64_t stale_us = 50000;     // no valid command for this long: hold
   double max_leg_speed_m_s = -1.0;   // faster changes are jumps; < 0: the config's
                                      // [limits] leg_speed_max_m_s
+  double rejoin_speed_m_s = 0.02;    // after a re-arm: how fast the held legs go to the stream
 };
 
 class ActuatorBridge {
@@ -40,9 +44,13 @@ class ActuatorBridge {
   // After a stale hold the bridge refuses every command until an operator
   // re-arms it (the stream may come back anywhere; resuming by itself when the
   // trajectory happens to pass the held pose would start the platform with a
-  // jerk). After Rearm(), commands resume subject to the jump guard, i.e. once
-  // they continue from the held position.
+  // jerk). After Rearm() the bridge rejoins the stream: the held legs move to
+  // the latest command along a straight line in leg space at no more than
+  // rejoin_speed_m_s, then follow it as before (caught up: within one rejoin
+  // step). While rejoining, the stream
+  // itself must stay continuous (a jump in it is refused, as ever).
   void Rearm();
+  bool rejoining() const { return rejoining_; }
   bool latched() const { return latched_; }
   bool holding() const { return holding_; }
   std::int64_t accepted() const { return accepted_; }
@@ -51,6 +59,10 @@ class ActuatorBridge {
  private:
   fault_t Fault(FaultCode code, std::string reason, std::int64_t now_utime) const;
   bool Reject(FaultCode code, std::string reason, std::int64_t now_utime, fault_t* fault);
+  // The target this command allows: itself, or while rejoining a bounded
+  // step towards it. Ends the rejoin once the stream is within one rejoin step
+  // (a stream moving faster than the rejoin speed is caught when it slows).
+  Vector6 NextTarget(const Vector6& command_m, double max_step_m, double elapsed_s);
 
   PlatformModel model_;
   DriveBackend* backend_;
@@ -64,6 +76,9 @@ class ActuatorBridge {
   bool hold_reported_ = true;        // start holding without a fault
   bool backend_ok_ = true;           // faults are raised on the transition only
   bool latched_ = false;             // held after stale input: needs Rearm()
+  bool rejoining_ = false;           // re-armed, legs on their way to the stream
+  Vector6 stream_length_m_;          // the last valid command (= target unless rejoining)
+  std::int64_t accepted_since_arm_ = 0;
   std::int64_t state_seq_ = 0;
   std::int64_t accepted_ = 0;
   std::int64_t rejected_ = 0;

@@ -3,6 +3,9 @@
 //   --config FILE      platform config (TOML), default config/huang2021.toml
 //   --group FILE       deploy group file; its [transport] section routes channels
 //   --session-id N     launch session; commands of other sessions are refused
+//   --member NAME      this process's [[member]] name in the group file (edsp-launch
+//                      passes it): in a group spanning hosts it decides which
+//                      channels this process reads from shared memory
 //   --lcm-url URL      overrides the group file's LCM URL
 
 #include <cstdint>
@@ -18,13 +21,14 @@ struct NodeOptions {
   std::string config_path = "config/huang2021.toml";
   std::string group_path;
   std::int64_t session_id = 1;
+  std::string member;
   std::string lcm_url;
 };
 
 void AddNodeOptions(CLI::App* app, NodeOptions* options);
 
-// The transport config from the group file (defaults without one) with the
-// --lcm-url override applied. Throws TransportError naming the file.
+// The transport config from the group file (defaults without one), routed
+// for this member (host_routes.h), with the --lcm-url override applied. Throws TransportError naming the file.
 TransportConfig TransportFor(const NodeOptions& options);
 
 // Reads a whole file; throws std::runtime_error naming it.

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "edsp/transport/error.h"
+#include "edsp/transport/fd_doorbell.h"
 #include "edsp/transport/lcm_transport.h"
 #include "edsp/transport/shm_channel.h"
 #include "edsp/transport/transport_config.h"
@@ -30,6 +31,13 @@ struct ChannelCounters {
   std::uint64_t overruns = 0;          // shm messages lost to a lapping writer
   std::uint64_t seq_gaps = 0;          // messages missing by their `seq` field
   std::string last_error;              // newest problem, for EDSP_FAULT
+};
+
+// The last `seq` seen per sending session: two groups on one network (one
+// of them foreign, refused downstream) interleave their streams on a
+// channel, and counting gaps across them would report millions of losses.
+struct SeqTracker {
+  std::unordered_map<std::int64_t, std::int64_t> last_by_session;  // messages without a session: key 0
 };
 
 class Bus {
@@ -76,7 +84,8 @@ class Bus {
   // Waits up to `timeout` for the first message, then dispatches everything
   // pending. Returns the number dispatched. Rethrows a handler's exception.
   // It sleeps on LCM's socket, or on all shared-memory channels at once; with
-  // both kinds of input, shm wakes it at once and LCM within 0.5 ms.
+  // both kinds of input, on all of them at once too (an FdDoorbell thread
+  // watches LCM's socket), so either wakes it at once.
   int Handle(std::chrono::microseconds timeout);
 
   const ChannelCounters& Counters(const std::string& channel);
@@ -108,10 +117,10 @@ class Bus {
                           std::function<TakeStatus(ShmReader&)> take);
   bool Attach(ShmSubscription& subscription);
   int DrainShm();
-  bool WaitShm(std::chrono::steady_clock::duration timeout);
+  bool WaitShm(std::chrono::steady_clock::duration timeout, FdDoorbell* lcm_bell);
   void Fail(std::exception_ptr error);
   template <typename Msg>
-  void Delivered(ChannelCounters& counters, const Msg& msg, std::int64_t* last_seq);
+  void Delivered(ChannelCounters& counters, const Msg& msg, SeqTracker* seqs);
 
   TransportConfig config_;
   LcmTransport lcm_;
@@ -119,6 +128,7 @@ class Bus {
   std::unordered_map<std::string, ChannelCounters> counters_;
   std::vector<std::unique_ptr<ShmSubscription>> shm_subscriptions_;
   std::exception_ptr pending_error_;
+  std::unique_ptr<FdDoorbell> lcm_bell_;  // mixed inputs only, made on first need
 };
 
 // ---- templates -------------------------------------------------------------
@@ -128,6 +138,10 @@ template <typename T, typename = void>
 struct HasSeq : std::false_type {};
 template <typename T>
 struct HasSeq<T, std::void_t<decltype(std::declval<T>().seq)>> : std::true_type {};
+template <typename T, typename = void>
+struct HasSessionId : std::false_type {};
+template <typename T>
+struct HasSessionId<T, std::void_t<decltype(std::declval<T>().session_id)>> : std::true_type {};
 }  // namespace detail
 
 template <typename Msg>
@@ -169,9 +183,13 @@ bool Bus::PublishEncoded(PublisherState& s, const Msg& msg) noexcept {
 }
 
 template <typename Msg>
-void Bus::Delivered(ChannelCounters& counters, const Msg& msg, std::int64_t* last_seq) {
+void Bus::Delivered(ChannelCounters& counters, const Msg& msg, SeqTracker* seqs) {
   ++counters.received;
   if constexpr (detail::HasSeq<Msg>::value) {
+    std::int64_t session = 0;
+    if constexpr (detail::HasSessionId<Msg>::value) session = msg.session_id;
+    if (seqs->last_by_session.size() > 64) seqs->last_by_session.clear();  // a flood of sessions: start over
+    std::int64_t* last_seq = &seqs->last_by_session.try_emplace(session, -1).first->second;
     if (*last_seq >= 0 && msg.seq > *last_seq + 1) {
       counters.seq_gaps += static_cast<std::uint64_t>(msg.seq - *last_seq - 1);
     }
@@ -183,7 +201,7 @@ template <typename Msg>
 void Bus::Subscribe(const std::string& channel, std::function<void(const Msg&)> handler) {
   const ChannelRoute& route = config_.Route(channel);
   ChannelCounters* counters = &counters_[channel];
-  auto last_seq = std::make_shared<std::int64_t>(-1);
+  auto last_seq = std::make_shared<SeqTracker>();
   if (route.path == ChannelPath::kLcm) {
     lcm_.Subscribe(channel, [this, channel, counters, last_seq, handler = std::move(handler)](
                                 const std::string&, const std::uint8_t* data, std::uint32_t size) {

@@ -47,6 +47,8 @@ class LcmTransport {
   int Handle(std::chrono::microseconds timeout);
 
   int fileno() const;
+  // A message is waiting (poll with no wait).
+  bool Readable() const;
   std::size_t subscription_count() const { return subscriptions_.size(); }
   const std::string& url() const { return url_; }
   std::uint64_t publish_failures() const { return publish_failures_; }

@@ -74,9 +74,13 @@ class ShmReader {
 
   // Waits until any of `readers` has a message or `timeout` passes, spinning
   // for `spin` first, then sleeping on all their doorbells at once (one
-  // futex_waitv). Returns true if one is available.
+  // futex_waitv). Returns true if one is available. With `extra`, it also
+  // returns once *extra != extra_expected (another source's doorbell: an
+  // FdDoorbell of the LCM socket).
   static bool WaitAny(ShmReader* const* readers, int count, std::chrono::nanoseconds timeout,
-                      std::chrono::nanoseconds spin = std::chrono::microseconds(20)) noexcept;
+                      std::chrono::nanoseconds spin = std::chrono::microseconds(20),
+                      std::atomic<std::uint32_t>* extra = nullptr,
+                      std::uint32_t extra_expected = 0) noexcept;
 
   bool Available() const noexcept;
   bool WriterAlive() const;

@@ -11,12 +11,17 @@
 //   mirror_every = 10            # both: every 10th message also on LCM
 //   slots = 64
 //   slot_size_bytes = 1024
+//   writer = "kinematics"        # a group spanning hosts: the member that publishes it
+//   readers = ["actuator_bridge"] # optional: who reads it (default: anyone)
+// The same file's [[member]] name/host pairs say which members share a host
+// (shared memory only ever joins members of one host: host_routes.h).
 
 #include <sys/types.h>
 
 #include <cstdint>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "edsp/transport/lcm_transport.h"
 
@@ -30,6 +35,8 @@ struct ChannelRoute {
   std::uint32_t mirror_every = 1;         // LCM mirror decimation for kBoth
   std::uint32_t slots = 64;               // shared-memory ring length (power of two)
   std::uint32_t slot_size_bytes = 4096;   // largest encoded message
+  std::string writer;                     // the publishing member (multi-host groups)
+  std::vector<std::string> readers;       // empty: any member may read it
 };
 
 struct TransportConfig {
@@ -37,13 +44,15 @@ struct TransportConfig {
   std::string shm_prefix = "edsp";
   mode_t shm_permissions = 0600;
   std::map<std::string, ChannelRoute> channels;  // channels not listed use LCM
+  std::map<std::string, std::string> member_hosts;  // [[member]] name → host ("local")
 
   const ChannelRoute& Route(const std::string& channel) const;
   std::string SegmentName(const std::string& channel) const;
 };
 
-// Parses the [transport] section of TOML text (absent section: defaults).
-// Throws TransportError naming `origin`, the line and the key.
+// Parses the [transport] section of TOML text (absent section: defaults) and
+// the [[member]] hosts, then checks a group that spans hosts
+// (CheckHostRoutes). Throws TransportError naming `origin`, the line and the key.
 TransportConfig ParseTransportConfig(const std::string& toml_text, const std::string& origin);
 TransportConfig LoadTransportConfig(const std::string& path);
 

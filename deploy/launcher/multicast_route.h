@@ -1,0 +1,18 @@
+#pragma once
+// Which network interface this machine's kernel sends a multicast group's
+// packets through: LCM 1.3 has no interface option, so the route for
+// 224.0.0.0/4 decides, and a rig host with two networks (plant and office)
+// must be checked before its members start talking on the wrong one.
+
+#include <string>
+
+namespace edsp {
+
+// "239.255.76.67" from "udpm://239.255.76.67:7667?ttl=1"; empty for other providers.
+std::string MulticastAddress(const std::string& lcm_url);
+
+// The interface the route to `group_address` leaves by ("" if no route:
+// the error says so). Throws std::runtime_error on a malformed address.
+std::string MulticastRouteInterface(const std::string& group_address, std::string* error);
+
+}  // namespace edsp

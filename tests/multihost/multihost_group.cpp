@@ -1,0 +1,181 @@
+#include "multihost_group.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <set>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "edsp/logger/log_reader.h"
+#include "edsp/node_status_t.hpp"
+#include "edsp/pose_setpoint_t.hpp"
+#include "edsp/rig_truth_t.hpp"
+
+namespace edsp::test_support {
+
+namespace {
+
+void Pause(int ms) { std::this_thread::sleep_for(std::chrono::milliseconds(ms)); }
+
+template <typename Msg, typename Fn>
+void ForEach(const std::string& log_path, const std::string& channel, Fn fn) {
+  LogReader reader(log_path);
+  LogEvent event;
+  while (reader.Next(&event)) {
+    if (event.channel != channel) continue;
+    Msg msg;
+    if (msg.decode(event.data.data(), 0, static_cast<int>(event.data.size())) >= 0) fn(msg);
+  }
+}
+
+}  // namespace
+
+MultiHostGroup::MultiHostGroup(const VirtualNetwork& network, const std::string& name,
+                               MultiHostOptions options)
+    : network_(network), options_(std::move(options)),
+      dir_(fmt::format("/tmp/edsp_multihost_test_{}_{}", ::getpid(), name)) {
+  std::system(("rm -rf " + dir_ + " && mkdir -p " + dir_).c_str());
+  std::ofstream(group_path()) << fmt::format(R"([group]
+name = "{0}"
+config = "{1}/config/huang2021.toml"
+session_id = {2}
+{9}
+[transport]
+lcm_url = "udpm://239.255.76.67:7667?ttl=1&recv_buf_size=4194304"
+shm_prefix = "edsp.mh"
+[transport.channels.EDSP_LEG_COMMAND]
+path = "shm"
+writer = "kinematics"
+[transport.channels.EDSP_LEG_STATE]
+path = "shm"
+writer = "actuator_bridge"
+[[member]]
+name = "rig"
+host = "{5}"
+command = "edsp-rig"
+args = ["--tracker-noise-m", "0"]
+start_delay_ms = 200
+[[member]]
+name = "actuator_bridge"
+host = "{5}"
+command = "edsp-actuator-bridge"
+args = ["--latency-report", "{6}", "--rejoin-speed-m-s", "0.05", "--stale-ms", "{10}"]
+requires = ["rig"]
+start_delay_ms = 100
+[[member]]
+name = "kinematics"
+host = "{4}"
+command = "edsp-kinematics"
+args = ["--pr-mode", "signed", "--stale-ms", "{10}"]
+[[member]]
+name = "logger"
+host = "{3}"
+command = "edsp-logger"
+args = ["--output", "{7}"]
+start_delay_ms = 300
+[[member]]
+name = "planner"
+host = "{3}"
+command = "edsp-planner"
+args = [{8}]
+restart = "never"
+)",
+                                             name, EDSP_SOURCE_DIR, options_.session_id,
+                                             options_.operator_host, options_.controller_host,
+                                             options_.drive_host, latency_path(), log_path(),
+                                             options_.planner_args, HostSections(), options_.stale_ms);
+}
+
+std::string MultiHostGroup::HostSections() const {
+  std::set<std::string> hosts{options_.operator_host, options_.controller_host, options_.drive_host};
+  std::string out;
+  for (const std::string& host : hosts) out += fmt::format("[hosts.{}]\ninterface = \"eth0\"\n", host);
+  return out;
+}
+
+void MultiHostGroup::Start() {
+  auto launch = [&](const std::string& host, const std::string& extra) {
+    return network_.Spawn(host,
+                          fmt::format("{} {} --host {} {}", EDSP_LAUNCH_BINARY, group_path(), host, extra),
+                          fmt::format("{}/launch.{}.err", dir_, host));
+  };
+  // One launcher per distinct host; the operator's last, until its planner exits.
+  if (options_.drive_host != options_.operator_host) {
+    drive_ = launch(options_.drive_host, "");
+    Pause(600);
+  }
+  if (options_.controller_host != options_.operator_host && options_.controller_host != options_.drive_host) {
+    controller_ = launch(options_.controller_host, "");
+    Pause(400);
+  }
+  operator_ = launch(options_.operator_host, "--until-exit planner --duration-s 200");
+}
+
+int MultiHostGroup::Finish(int timeout_ms) {
+  const int operator_exit = VirtualNetwork::Wait(operator_, timeout_ms);
+  background_exits_.clear();
+  for (pid_t pid : {controller_, drive_}) {
+    if (pid > 0) background_exits_.push_back(VirtualNetwork::Stop(pid));
+  }
+  return operator_exit;
+}
+
+int MultiHostGroup::Ctl(const std::string& host, const std::string& arguments) const {
+  return network_.Run(host, fmt::format("{} {} --session-id {} --group {} >>{}/ctl.out 2>&1", EDSP_CTL_BINARY,
+                                        arguments, options_.session_id, group_path(), dir_));
+}
+
+std::vector<TruthSample> TruthOf(const std::string& log_path) {
+  std::vector<TruthSample> out;
+  ForEach<rig_truth_t>(log_path, "EDSP_RIG_TRUTH", [&](const rig_truth_t& t) {
+    TruthSample s{t.utime, {}};
+    std::copy(t.pose, t.pose + 6, s.pose);
+    out.push_back(s);
+  });
+  return out;
+}
+
+std::vector<fault_t> FaultsOf(const std::string& log_path) {
+  std::vector<fault_t> out;
+  ForEach<fault_t>(log_path, "EDSP_FAULT", [&](const fault_t& f) { out.push_back(f); });
+  return out;
+}
+
+std::string Describe(const std::vector<fault_t>& faults) {
+  std::string lines;
+  for (const fault_t& f : faults) lines += fmt::format("{} {} {} code {}: {}\n", f.utime, f.node, f.channel, f.code, f.reason);
+  return lines;
+}
+
+std::int64_t StatusDrops(const std::string& log_path, const std::string& node) {
+  std::int64_t drops = 0;
+  ForEach<node_status_t>(log_path, "EDSP_STATUS", [&](const node_status_t& s) {
+    if (s.node == node) drops = std::max(drops, s.drops);
+  });
+  return drops;
+}
+
+double LargestTrueStep(const std::vector<TruthSample>& truth, std::int64_t from_utime, std::int64_t to_utime) {
+  double largest = 0.0;
+  for (std::size_t i = 1; i < truth.size(); ++i) {
+    if (truth[i - 1].utime < from_utime || truth[i].utime > to_utime) continue;
+    const double d = std::hypot(truth[i].pose[0] - truth[i - 1].pose[0], truth[i].pose[1] - truth[i - 1].pose[1],
+                                truth[i].pose[2] - truth[i - 1].pose[2]);
+    largest = std::max(largest, d);
+  }
+  return largest;
+}
+
+std::vector<double> LastSetpoint(const std::string& log_path) {
+  std::vector<double> pose(6, 0.0);
+  ForEach<pose_setpoint_t>(log_path, "EDSP_SETPOINT", [&](const pose_setpoint_t& s) { pose.assign(s.pose, s.pose + 6); });
+  return pose;
+}
+
+}  // namespace edsp::test_support

@@ -1,0 +1,81 @@
+#pragma once
+// The sim stack as a rig wires it, on a VirtualNetwork: operator (planner +
+// logger), controller (kinematics), drive (actuator bridge + virtual rig),
+// one edsp-launch per host, all from one group file written per test. The
+// logger on the operator host records every channel; the bridge writes its
+// setpoint → drive latencies on exit.
+
+#include <sys/types.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "edsp/fault_t.hpp"
+#include "virtual_network.h"
+
+namespace edsp::test_support {
+
+inline constexpr std::int64_t kMultiHostSession = 4242;
+
+struct MultiHostOptions {
+  std::string planner_args;        // TOML array items
+  std::int64_t session_id = kMultiHostSession;
+  std::string operator_host = "operator";
+  std::string controller_host = "controller";
+  std::string drive_host = "drive";
+  // The bridge's and kinematics' stale limit. The shipped 50 ms for the tests
+  // of holding; for the others more, as in the single-host group tests: this
+  // shared 2-vCPU VM has delivered a command 91 ms late in a fresh run, a
+  // correct hold but not what those tests measure.
+  int stale_ms = 250;
+};
+
+class MultiHostGroup {
+ public:
+  MultiHostGroup(const VirtualNetwork& network, const std::string& name, MultiHostOptions options);
+
+  // Drive host first, then the controller, then the operator's logger and
+  // planner (the operator's launcher stops when the planner exits): one
+  // launcher per distinct host.
+  void Start();
+  // Waits for the operator's launcher, then stops the others in reverse
+  // order; returns the operator launcher's exit status.
+  int Finish(int timeout_ms = 240000);
+
+  // edsp-ctl on `host`, in this group's session; returns its exit status.
+  int Ctl(const std::string& host, const std::string& arguments) const;
+
+  std::string dir() const { return dir_; }
+  std::string log_path() const { return dir_ + "/run.lcmlog"; }
+  std::string latency_path() const { return dir_ + "/latency.json"; }
+  std::string group_path() const { return dir_ + "/group.toml"; }
+  std::vector<int> background_exits() const { return background_exits_; }
+
+ private:
+  std::string HostSections() const;
+
+  const VirtualNetwork& network_;
+  MultiHostOptions options_;
+  std::string dir_;
+  pid_t drive_ = -1, controller_ = -1, operator_ = -1;
+  std::vector<int> background_exits_;
+};
+
+// What the tests read back from the operator's log.
+struct TruthSample {
+  std::int64_t utime;
+  double pose[6];
+};
+std::vector<TruthSample> TruthOf(const std::string& log_path);
+std::vector<fault_t> FaultsOf(const std::string& log_path);
+std::string Describe(const std::vector<fault_t>& faults);
+// The largest `drops` a node reported on EDSP_STATUS.
+std::int64_t StatusDrops(const std::string& log_path, const std::string& node);
+// The largest change of the true position between consecutive truth samples, m.
+double LargestTrueStep(const std::vector<TruthSample>& truth, std::int64_t from_utime = 0,
+                       std::int64_t to_utime = INT64_MAX);
+// The last setpoint's pose.
+std::vector<double> LastSetpoint(const std::string& log_path);
+
+}  // namespace edsp::test_support

@@ -1,0 +1,131 @@
+// A group spanning hosts: shared memory only between members of one host,
+// LCM between hosts, decided from the group file; and the checks that keep
+// a multi-host group from starting with a host-only LCM or an unowned segment.
+#include <gtest/gtest.h>
+
+#include "edsp/transport/error.h"
+#include "edsp/transport/host_routes.h"
+
+namespace edsp {
+namespace {
+
+// operator: planner + logger; controller: kinematics; drive: bridge + rig.
+std::string ThreeHosts(const std::string& url, const std::string& command_route) {
+  return R"([transport]
+lcm_url = ")" + url + R"("
+[transport.channels.EDSP_LEG_COMMAND]
+)" + command_route + R"(
+[transport.channels.EDSP_RIG_TRUTH]
+path = "shm"
+writer = "rig"
+readers = ["actuator_bridge"]
+[[member]]
+name = "planner"
+host = "operator"
+[[member]]
+name = "logger"
+host = "operator"
+[[member]]
+name = "kinematics"
+host = "controller"
+[[member]]
+name = "rig"
+host = "drive"
+[[member]]
+name = "actuator_bridge"
+host = "drive"
+)";
+}
+
+constexpr const char* kTtl1 = "udpm://239.255.76.67:7667?ttl=1";
+
+std::string ErrorOf(const std::string& text) {
+  try {
+    ParseTransportConfig(text, "g.toml");
+  } catch (const TransportError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(HostRoutes, WriterPublishesBothWhenAReaderIsElsewhereAndRemoteReadersUseLcm) {
+  const TransportConfig group =
+      ParseTransportConfig(ThreeHosts(kTtl1, "path = \"shm\"\nwriter = \"kinematics\""), "g.toml");
+  EXPECT_EQ(GroupHosts(group), (std::vector<std::string>{"controller", "drive", "operator"}));
+  const ChannelRoute writer = RoutesForMember(group, "kinematics").Route("EDSP_LEG_COMMAND");
+  EXPECT_EQ(writer.path, ChannelPath::kBoth);
+  EXPECT_EQ(writer.mirror_every, 1u);  // every message crosses, not a decimated mirror
+  EXPECT_EQ(RoutesForMember(group, "actuator_bridge").Route("EDSP_LEG_COMMAND").path, ChannelPath::kLcm);
+  EXPECT_EQ(RoutesForMember(group, "logger").Route("EDSP_LEG_COMMAND").path, ChannelPath::kLcm);
+  // A program that is no member (edsp-ctl, a spy) cannot know the writer is local.
+  EXPECT_EQ(RoutesForMember(group, "").Route("EDSP_LEG_COMMAND").path, ChannelPath::kLcm);
+}
+
+TEST(HostRoutes, ReadersAllOnTheWritersHostKeepSharedMemoryOnly) {
+  const TransportConfig group =
+      ParseTransportConfig(ThreeHosts(kTtl1, "path = \"lcm\""), "g.toml");
+  EXPECT_EQ(RoutesForMember(group, "rig").Route("EDSP_RIG_TRUTH").path, ChannelPath::kShm);
+  EXPECT_EQ(RoutesForMember(group, "actuator_bridge").Route("EDSP_RIG_TRUTH").path, ChannelPath::kShm);
+  EXPECT_EQ(RoutesForMember(group, "logger").Route("EDSP_RIG_TRUTH").path, ChannelPath::kLcm);
+  EXPECT_EQ(RoutesForMember(group, "kinematics").Route("EDSP_LEG_COMMAND").path, ChannelPath::kLcm);
+}
+
+TEST(HostRoutes, SameHostReaderOfAMirroredChannelKeepsReadingSharedMemory) {
+  std::string text = ThreeHosts(kTtl1, "path = \"both\"\nmirror_every = 10\nwriter = \"actuator_bridge\"");
+  const TransportConfig group = ParseTransportConfig(text, "g.toml");
+  EXPECT_EQ(RoutesForMember(group, "rig").Route("EDSP_LEG_COMMAND").path, ChannelPath::kBoth);
+  const ChannelRoute writer = RoutesForMember(group, "actuator_bridge").Route("EDSP_LEG_COMMAND");
+  EXPECT_EQ(writer.path, ChannelPath::kBoth);
+  EXPECT_EQ(writer.mirror_every, 1u);
+}
+
+TEST(HostRoutes, OneHostGroupsAreUnchanged) {
+  const TransportConfig group = ParseTransportConfig(R"([transport]
+[transport.channels.EDSP_LEG_COMMAND]
+path = "both"
+mirror_every = 10
+[[member]]
+name = "kinematics"
+[[member]]
+name = "actuator_bridge"
+)", "g.toml");
+  EXPECT_EQ(GroupHosts(group), (std::vector<std::string>{"local"}));
+  for (const char* member : {"kinematics", "actuator_bridge", ""}) {
+    const ChannelRoute route = RoutesForMember(group, member).Route("EDSP_LEG_COMMAND");
+    EXPECT_EQ(route.path, ChannelPath::kBoth) << member;
+    EXPECT_EQ(route.mirror_every, 10u) << member;
+  }
+}
+
+TEST(HostRoutes, MultiHostNeedsTtlAtLeastOne) {
+  const std::string error = ErrorOf(ThreeHosts("udpm://239.255.76.67:7667?ttl=0", "path = \"lcm\""));
+  EXPECT_NE(error.find("g.toml"), std::string::npos) << error;
+  EXPECT_NE(error.find("ttl=0"), std::string::npos) << error;
+  EXPECT_NE(error.find("3 hosts (controller, drive, operator)"), std::string::npos) << error;
+  EXPECT_NE(error.find("set ttl=1"), std::string::npos) << error;
+  // LCM's default ttl (no option) is 0 as well.
+  EXPECT_NE(ErrorOf(ThreeHosts("udpm://239.255.76.67:7667", "path = \"lcm\"")).find("ttl=0"), std::string::npos);
+}
+
+TEST(HostRoutes, SharedMemoryChannelsOfAMultiHostGroupNameAKnownWriter) {
+  EXPECT_NE(ErrorOf(ThreeHosts(kTtl1, "path = \"shm\"")).find("[transport.channels.EDSP_LEG_COMMAND] path = \"shm\""),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(ThreeHosts(kTtl1, "path = \"shm\"\nwriter = \"kinematic\"")).find("writer = \"kinematic\" is no member"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(ThreeHosts(kTtl1, "path = \"shm\"\nwriter = \"kinematics\"\nreaders = [\"bridge\"]"))
+                .find("readers: \"bridge\" is no member"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(ThreeHosts(kTtl1, "path = \"shm\"\nwriter = 3")).find("writer must be a member's name"),
+            std::string::npos);
+}
+
+TEST(HostRoutes, TtlIsReadFromTheUrl) {
+  EXPECT_EQ(LcmUrlTtl("udpm://239.255.76.67:7667"), 0);
+  EXPECT_EQ(LcmUrlTtl("udpm://239.255.76.67:7667?ttl=1"), 1);
+  EXPECT_EQ(LcmUrlTtl("udpm://239.255.76.67:7667?recv_buf_size=4194304&ttl=2"), 2);
+  EXPECT_THROW(LcmUrlTtl("udpm://239.255.76.67:7667?ttl=x"), TransportError);
+  EXPECT_THROW(LcmUrlTtl("udpm://239.255.76.67:7667?ttl=256"), TransportError);
+}
+
+}  // namespace
+}  // namespace edsp
