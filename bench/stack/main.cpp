@@ -22,6 +22,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "edsp/transport/decode.h"
 #include "edsp/logger/log_reader.h"
 #include "edsp/node_status_t.hpp"
 #include "edsp/transport/private_network.h"
@@ -114,7 +115,7 @@ std::map<std::string, node_status_t> LastStatus(const std::string& log_path) {
   while (reader.Next(&event)) {
     if (event.channel != "EDSP_STATUS") continue;
     node_status_t s;
-    if (s.decode(event.data.data(), 0, static_cast<int>(event.data.size())) >= 0) last[s.node] = s;
+    if (DecodeUntrusted(&s, event.data.data(), event.data.size())) last[s.node] = s;
   }
   return last;
 }

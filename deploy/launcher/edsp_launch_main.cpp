@@ -213,6 +213,11 @@ int Run(int argc, char** argv) {
     return 0;
   }
   if (session_id == 0) session_id = group.session_id;
+  if (session_id == 0 && !only_member.empty()) {
+    // Each member runs (and restarts) on its own: a session drawn per exec
+    // would differ between them, and the bridge would refuse every command.
+    throw std::runtime_error(group_path + ": --member needs a fixed session: set [group] session_id (or pass --session-id)");
+  }
   if (session_id == 0) session_id = (UtimeNow() / 1000) & 0x7fffffff;  // fresh per launch
   if (!only_member.empty()) {
     const auto spec = std::find_if(group.members.begin(), group.members.end(),

@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "edsp/transport/decode.h"
 #include "edsp/fault_t.hpp"
 #include <fstream>
 
@@ -61,7 +62,7 @@ int Faults(const std::string& path) {
     if (first < 0) first = event.timestamp_utime;
     if (event.channel != "EDSP_FAULT") continue;
     fault_t fault;
-    if (fault.decode(event.data.data(), 0, static_cast<int>(event.data.size())) < 0) {
+    if (!DecodeUntrusted(&fault, event.data.data(), event.data.size())) {
       std::printf("%10.3f s  (undecodable EDSP_FAULT, %zu bytes)\n",
                   static_cast<double>(event.timestamp_utime - first) * 1e-6, event.data.size());
       continue;

@@ -61,7 +61,7 @@ int Run(int argc, char** argv) {
     if (writer.Enqueue(channel, data, size, UtimeNow())) status.CountOut();
     std::vector<std::uint8_t> head(data, data + std::min<std::uint32_t>(size, 24));
     EdspHeader header;
-    if (channel != "EDSP_STATUS" && channel != "EDSP_FAULT" && ParseEdspHeader(head, &header)) {
+    if (!IsSharedEdspChannel(channel) && ParseEdspHeader(head, &header)) {
       auto [it, fresh] = last_seq.emplace(channel, header.seq);
       if (!fresh) {
         if (header.seq > it->second + 1) gaps += header.seq - it->second - 1;

@@ -1,3 +1,4 @@
+#include "edsp/transport/decode.h"
 #include "edsp/logger/channel_csv_export.h"
 
 #include <cctype>
@@ -129,7 +130,7 @@ template <typename Msg>
 MessageType Describe(const char* name) {
   return {Msg::getHash(), name, [](const LogEvent& e, CsvRow* row) {
             Msg msg;
-            if (msg.decode(e.data.data(), 0, static_cast<int>(e.data.size())) < 0) return false;
+            if (!DecodeUntrusted(&msg, e.data.data(), e.data.size())) return false;
             Fields(msg, row);
             return true;
           }};

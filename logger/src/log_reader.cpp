@@ -61,4 +61,8 @@ bool LogReader::Next(LogEvent* event) {
   return true;
 }
 
+bool IsSharedEdspChannel(const std::string& channel) {
+  return channel == "EDSP_STATUS" || channel == "EDSP_FAULT";
+}
+
 }  // namespace edsp

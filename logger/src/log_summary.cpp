@@ -19,7 +19,8 @@ LogSummary SummarizeLog(const std::string& path) {
     c.bytes += static_cast<std::int64_t>(event.data.size());
     c.last_utime = event.timestamp_utime;
     EdspHeader header;
-    if (event.channel.rfind("EDSP_", 0) == 0 && ParseEdspHeader(event.data, &header)) {
+    if (event.channel.rfind("EDSP_", 0) == 0 && !IsSharedEdspChannel(event.channel) &&
+        ParseEdspHeader(event.data, &header)) {
       if (c.last_seq >= 0 && header.seq > c.last_seq + 1) c.seq_gaps += header.seq - c.last_seq - 1;
       if (c.last_seq >= 0 && header.seq <= c.last_seq) ++c.seq_restarts;
       c.last_seq = header.seq;

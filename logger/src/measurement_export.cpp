@@ -1,3 +1,4 @@
+#include "edsp/transport/decode.h"
 #include "edsp/logger/measurement_export.h"
 
 #include <fmt/format.h>
@@ -14,7 +15,7 @@ namespace {
 
 template <typename Msg>
 bool Decode(const LogEvent& event, Msg* msg) {
-  return msg->decode(event.data.data(), 0, static_cast<int>(event.data.size())) >= 0;
+  return DecodeUntrusted(msg, event.data.data(), event.data.size());
 }
 
 void WriteHeader(std::ostream& out) {

@@ -1,3 +1,4 @@
+#include "edsp/transport/decode.h"
 #include "edsp/sim/dwell_errors.h"
 
 #include "edsp/leg_command_t.hpp"
@@ -26,7 +27,7 @@ struct OpenDwell {
 
 template <typename Msg>
 bool Decode(const LogEvent& event, Msg* msg) {
-  return msg->decode(event.data.data(), 0, static_cast<int>(event.data.size())) >= 0;
+  return DecodeUntrusted(msg, event.data.data(), event.data.size());
 }
 
 bool IsDwell(const pose_setpoint_t& s) { return s.trajectory.find("/dwell") != std::string::npos; }

@@ -161,6 +161,16 @@ std::int64_t StatusDrops(const std::string& log_path, const std::string& node) {
   return drops;
 }
 
+std::map<std::string, std::int64_t> StatusGapsByNode(const std::string& log_path) {
+  std::map<std::string, std::int64_t> gaps, last;
+  ForEach<node_status_t>(log_path, "EDSP_STATUS", [&](const node_status_t& s) {
+    const auto [it, fresh] = last.emplace(s.node, s.seq);
+    gaps[s.node] += !fresh && s.seq > it->second + 1 ? s.seq - it->second - 1 : 0;
+    it->second = s.seq;
+  });
+  return gaps;
+}
+
 double LargestTrueStep(const std::vector<TruthSample>& truth, std::int64_t from_utime, std::int64_t to_utime) {
   double largest = 0.0;
   for (std::size_t i = 1; i < truth.size(); ++i) {

@@ -8,6 +8,7 @@
 #include <sys/types.h>
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -72,6 +73,8 @@ std::vector<fault_t> FaultsOf(const std::string& log_path);
 std::string Describe(const std::vector<fault_t>& faults);
 // The largest `drops` a node reported on EDSP_STATUS.
 std::int64_t StatusDrops(const std::string& log_path, const std::string& node);
+// Messages missing from each node's EDSP_STATUS stream, by its seq.
+std::map<std::string, std::int64_t> StatusGapsByNode(const std::string& log_path);
 // The largest change of the true position between consecutive truth samples, m.
 double LargestTrueStep(const std::vector<TruthSample>& truth, std::int64_t from_utime = 0,
                        std::int64_t to_utime = INT64_MAX);

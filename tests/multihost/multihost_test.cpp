@@ -2,6 +2,8 @@
 // a bridge stand in for the operator PC, the real-time controller and the
 // drive cabinet; LCM crosses them with ttl=1, shared memory stays inside the
 // drive host. Figures are recorded as test properties (ctest --output-junit).
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -68,13 +70,18 @@ TEST(MultiHost, PaperMotionsRunAcrossThreeHostsAndTheOperatorLogsEveryMessage) {
   EXPECT_TRUE(faults.empty()) << Describe(faults);
   // Every node's output crossed the bridge to the operator's logger: none lost.
   for (const char* channel : {"EDSP_SETPOINT", "EDSP_LEG_COMMAND", "EDSP_LEG_STATE", "EDSP_PLATFORM_STATE",
-                              "EDSP_TRACKER", "EDSP_RIG_TRUTH", "EDSP_STATUS", "EDSP_CONFIG"}) {
+                              "EDSP_TRACKER", "EDSP_RIG_TRUTH", "EDSP_CONFIG"}) {
     ASSERT_TRUE(summary.channels.count(channel)) << channel << " never reached the operator host";
     const ChannelSummary& c = summary.channels.at(channel);
     EXPECT_EQ(c.seq_gaps, 0) << channel << ": " << c.seq_gaps << " of " << c.messages << " lost";
     ::testing::Test::RecordProperty(std::string(channel) + "_messages", static_cast<int>(c.messages));
   }
   EXPECT_GT(summary.channels.at("EDSP_LEG_COMMAND").messages, 20000);
+  // EDSP_STATUS: five publishers on one channel, so each node's own count.
+  for (const auto& [node, gaps] : StatusGapsByNode(group.log_path())) {
+    EXPECT_EQ(gaps, 0) << "EDSP_STATUS of " << node;
+  }
+  EXPECT_EQ(StatusGapsByNode(group.log_path()).size(), 5u);
   EXPECT_EQ(StatusDrops(group.log_path(), "actuator_bridge"), 0);
   EXPECT_EQ(StatusDrops(group.log_path(), "kinematics"), 0);
   ExpectSettledOnTheLastSetpoint(group.log_path(), 5e-6);
@@ -231,6 +238,21 @@ TEST(MultiHost, AnUnrelatedGroupOnTheSameNetworkCannotCommandThisRig) {
   EXPECT_LT(LatencyOf(ours).at("command_seq_gaps").get<long>(), 10);
   std::printf("foreign commands refused (throttled reports): %d; largest yaw %.2g rad\n", foreign, largest_yaw);
   ExpectSettledOnTheLastSetpoint(ours.log_path(), 5e-6);
+}
+
+TEST(MultiHost, ALauncherRefusesAHostWhoseMulticastLeavesByAnotherInterface) {
+  VirtualNetwork network({"solo"});
+  const std::string dir = fmt::format("/tmp/edsp_multihost_test_{}_interface", ::getpid());
+  std::system(("rm -rf " + dir + " && mkdir -p " + dir).c_str());
+  std::ofstream(dir + "/group.toml") << "[group]\nname = \"iface\"\n[hosts.solo]\ninterface = \"eth9\"\n"
+                                        "[[member]]\nname = \"rig\"\nhost = \"solo\"\ncommand = \"edsp-rig\"\n";
+  const int exit = network.Run("solo", fmt::format("{} {}/group.toml --host solo --duration-s 1 2>{}/launch.err",
+                                                   EDSP_LAUNCH_BINARY, dir, dir));
+  const std::string err = Slurp(dir + "/launch.err");
+  EXPECT_EQ(exit, 2) << err;
+  EXPECT_NE(err.find("[hosts.solo] interface = \"eth9\""), std::string::npos) << err;
+  EXPECT_NE(err.find("leaves by eth0"), std::string::npos) << err;
+  EXPECT_EQ(err.find("started"), std::string::npos) << "nothing may start on the wrong network:\n" << err;
 }
 
 TEST(MultiHost, OneHostAgainstThreeHosts) {

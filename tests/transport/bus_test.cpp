@@ -67,6 +67,50 @@ TEST(Bus, LcmPathDeliversTypedMessages) {
   EXPECT_EQ(bus.Counters("EDSP_SETPOINT").published, 3u);
 }
 
+// Regression (fuzz_lcm_decode): a string with an embedded NUL. lcm-gen's
+// encoder stops at the NUL while getEncodedSize() counts the whole string;
+// the packet on the wire must be exactly what encode wrote.
+TEST(Bus, APacketIsWhatEncodeWroteEvenWithANulInAString) {
+  Bus bus(MemqConfig());
+  std::vector<std::uint32_t> sizes;
+  std::vector<int> consumed;
+  bus.lcm().Subscribe("EDSP_SETPOINT", [&](const std::string&, const std::uint8_t* data, std::uint32_t size) {
+    sizes.push_back(size);
+    pose_setpoint_t m;
+    consumed.push_back(m.decode(data, 0, static_cast<int>(size)));
+  });
+  pose_setpoint_t msg = Setpoint(1);
+  msg.trajectory = std::string("Lz\0after the NUL", 17);
+  ASSERT_TRUE(bus.Publish("EDSP_SETPOINT", msg));
+  HandleAll(bus);
+  ASSERT_EQ(sizes.size(), 1u);
+  EXPECT_LT(sizes[0], static_cast<std::uint32_t>(msg.getEncodedSize()));
+  EXPECT_EQ(consumed[0], static_cast<int>(sizes[0]));  // every byte sent is the message
+}
+
+// Regression (fuzz_lcm_decode): a packet whose string length field is
+// zero or negative made lcm-gen's decoder throw std::length_error (or, for
+// INT32_MIN, overflow and read past the packet), which came out of
+// Handle and stopped the node. It is a bad packet, counted and dropped.
+TEST(Bus, APacketWithAnAbsurdStringLengthIsDroppedNotThrown) {
+  Bus bus(MemqConfig());
+  int delivered = 0;
+  bus.Subscribe<pose_setpoint_t>("EDSP_SETPOINT", [&](const pose_setpoint_t&) { ++delivered; });
+  const pose_setpoint_t msg = Setpoint(1);
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(msg.getEncodedSize()));
+  msg.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  // fingerprint, utime, seq, session_id, pose, velocity, acceleration: then
+  // the trajectory's big-endian length.
+  const std::size_t at = 8 + 8 + 8 + 8 + 3 * 6 * 8;
+  for (const std::uint32_t length : {0xFFFFFFF0u, 0u, 0x80000000u}) {
+    for (int k = 0; k < 4; ++k) bytes[at + k] = static_cast<std::uint8_t>(length >> (24 - 8 * k));
+    bus.lcm().Publish("EDSP_SETPOINT", bytes.data(), static_cast<std::uint32_t>(bytes.size()));
+    EXPECT_NO_THROW(HandleAll(bus));
+  }
+  EXPECT_EQ(delivered, 0);
+  EXPECT_EQ(bus.Counters("EDSP_SETPOINT").decode_errors, 3u);
+}
+
 TEST(Bus, ForeignAndTruncatedPacketsAreCountedNeverDelivered) {
   Bus bus(MemqConfig());
   int delivered = 0;

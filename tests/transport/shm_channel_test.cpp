@@ -62,6 +62,27 @@ TEST(ShmChannel, DeliversInOrderFromTheFirstMessageAfterAttach) {
   EXPECT_EQ(reader->stats().overruns, 0u);
 }
 
+// Regression (fuzz_shm_segment): slots whose sequence runs ahead of the
+// writer's own `published` count (a corrupt or foreign ring) used to make
+// TryTake skip forward one message at a time, for ever. Now it waits.
+TEST(ShmChannel, ASlotAheadOfWhatTheWriterPublishedIsNotChasedForever) {
+  const ShmChannelSpec spec = TestSpec("corrupt_ring");
+  auto writer = OpenWriter(spec);
+  auto reader = OpenReader(spec);
+  Publish(*writer, 1);
+  Decoded d;
+  ASSERT_EQ(Take(*reader, &d), TakeStatus::kMessage);
+  // Every slot claims a message far in the future; `published` says 1.
+  for (std::uint64_t n = 0; n < spec.slot_count; ++n) {
+    writer->segment().slot(n)->sequence.store(std::uint64_t{1} << 62);
+  }
+  EXPECT_EQ(Take(*reader, &d), TakeStatus::kEmpty);
+  EXPECT_LE(reader->stats().overruns, 1u);
+  // A `published` count near 2^64: jumping there would overflow 2·n.
+  writer->segment().header()->published.store(~std::uint64_t{0} - 3);
+  EXPECT_EQ(Take(*reader, &d), TakeStatus::kEmpty);
+}
+
 TEST(ShmChannel, LappedReaderCountsExactlyWhatItLost) {
   const ShmChannelSpec spec = TestSpec("lap", 8);
   auto writer = OpenWriter(spec);

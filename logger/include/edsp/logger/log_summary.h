@@ -15,7 +15,7 @@ struct ChannelSummary {
   std::int64_t bytes = 0;
   std::int64_t first_utime = 0;
   std::int64_t last_utime = 0;
-  std::int64_t seq_gaps = 0;      // messages missing between consecutive seq
+  std::int64_t seq_gaps = 0;      // messages missing between consecutive seq (0 on shared channels)
   std::int64_t seq_restarts = 0;  // seq going backwards (a publisher restarted)
   std::int64_t last_seq = -1;
   double rate_hz() const;

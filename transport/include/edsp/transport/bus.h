@@ -13,6 +13,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "edsp/transport/decode.h"
 #include "edsp/transport/error.h"
 #include "edsp/transport/fd_doorbell.h"
 #include "edsp/transport/lcm_transport.h"
@@ -173,8 +174,11 @@ bool Bus::PublishEncoded(PublisherState& s, const Msg& msg) noexcept {
   }
   if (size < 0) return false;
   if (s.buffer.size() < static_cast<std::size_t>(size)) s.buffer.resize(static_cast<std::size_t>(size));
-  if (msg.encode(s.buffer.data(), 0, size) < 0 ||
-      !lcm_.Publish(s.channel, s.buffer.data(), static_cast<std::uint32_t>(size))) {
+  // What encode wrote, not getEncodedSize(): lcm-gen's encoder stops a
+  // string at an embedded NUL where its size counts the whole std::string
+  // (found by fuzz_lcm_decode), and the rest of the buffer is not the message.
+  const int written = msg.encode(s.buffer.data(), 0, size);
+  if (written < 0 || !lcm_.Publish(s.channel, s.buffer.data(), static_cast<std::uint32_t>(written))) {
     ++s.counters->publish_failures;
     return false;
   }
@@ -206,7 +210,7 @@ void Bus::Subscribe(const std::string& channel, std::function<void(const Msg&)> 
     lcm_.Subscribe(channel, [this, channel, counters, last_seq, handler = std::move(handler)](
                                 const std::string&, const std::uint8_t* data, std::uint32_t size) {
       Msg msg;
-      if (msg.decode(data, 0, static_cast<int>(size)) < 0) {
+      if (!DecodeUntrusted(&msg, data, size)) {
         ++counters->decode_errors;
         counters->last_error = channel + ": dropped a packet that is not a valid " +
                                std::string(typeid(Msg).name()) + " (" + std::to_string(size) +
@@ -223,11 +227,7 @@ void Bus::Subscribe(const std::string& channel, std::function<void(const Msg&)> 
       channel, Msg::getHash(),
       [this, counters, msg, last_seq, handler = std::move(handler)](ShmReader& reader) {
         const TakeStatus status = reader.TryTake([&](const std::uint8_t* data, std::uint32_t size) {
-          try {
-            return msg->decode(data, 0, static_cast<int>(size)) >= 0;
-          } catch (...) {  // a torn length field can ask for absurd allocations
-            return false;
-          }
+          return DecodeUntrusted(msg.get(), data, size);  // a torn length field is a bad message
         });
         if (status == TakeStatus::kMessage) {
           Delivered(*counters, *msg, last_seq.get());

@@ -138,12 +138,19 @@ TakeStatus ShmReader::TryTake(Decode&& decode, std::uint64_t* message_number) no
     if (before < 2 * next_) return TakeStatus::kEmpty;  // not written yet (or in progress)
     if (before != 2 * next_) {
       const std::uint64_t published = h->published.load(std::memory_order_acquire);
+      // 2^62 messages would take 146 000 years at 1 MHz: a count that high is
+      // a corrupt header, and 2·next_ would overflow (fuzz_shm_segment).
+      if (published >= kShmMaxMessages) return TakeStatus::kEmpty;
       if (published >= next_ && published - next_ >= slots) {  // lapped: jump to the oldest
         const std::uint64_t oldest = published - slots + 1;
         stats_.overruns += oldest - next_;
         next_ = oldest;
       } else {
         // Rewritten for a later lap while we looked: message next_ is lost.
+        // That needs the writer to have published next_ at least; a slot
+        // ahead of the writer's own count is a foreign or corrupt ring, and
+        // skipping on would spin through it (found by fuzz_shm_segment).
+        if (next_ > published) return TakeStatus::kEmpty;
         ++stats_.overruns;
         ++next_;
       }

@@ -18,6 +18,8 @@ namespace edsp {
 inline constexpr std::uint64_t kShmMagic = 0x314D48535053'4445ull;  // "EDSPSHM1"
 inline constexpr std::uint32_t kShmLayoutVersion = 1;
 inline constexpr std::uint32_t kCacheLine = 64;
+// Message numbers stay below this (sequence = 2n must not overflow).
+inline constexpr std::uint64_t kShmMaxMessages = std::uint64_t{1} << 62;
 
 struct alignas(kCacheLine) ShmSegmentHeader {
   // Immutable after initialisation; protected by `checksum`. `magic` is
