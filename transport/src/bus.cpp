@@ -15,6 +15,9 @@ constexpr auto kAttachRetry = std::chrono::milliseconds(100);
 // into one more futex word beside the segments' doorbells; this slice only
 // bounds a wait in case a wake-up were ever missed.
 constexpr auto kMixedWaitSlice = std::chrono::seconds(1);
+// An LCM provider without a file descriptor to poll: LCM is looked at
+// between slices this long instead.
+constexpr auto kMixedPollSlice = std::chrono::microseconds(500);
 }  // namespace
 
 Bus::Bus(TransportConfig config) : config_(std::move(config)), lcm_(config_.lcm_url) {}
@@ -156,17 +159,17 @@ int Bus::Handle(std::chrono::microseconds timeout) {
       // Sleep on every shm doorbell, and LCM's socket's, at once; a segment
       // not attached yet is retried per slice.
       const bool mixed = lcm_.subscription_count() > 0;
-      if (mixed && lcm_bell_ == nullptr) lcm_bell_ = std::make_unique<FdDoorbell>(lcm_.fileno());
+      if (mixed && lcm_bell_ == nullptr && lcm_.fileno() >= 0) lcm_bell_ = std::make_unique<FdDoorbell>(lcm_.fileno());
       const bool all_attached = std::all_of(shm_subscriptions_.begin(), shm_subscriptions_.end(),
                                             [](const auto& sub) { return sub->reader != nullptr; });
       auto slice = remaining;
-      if (mixed) slice = std::min<Clock::duration>(slice, kMixedWaitSlice);
+      if (mixed) slice = std::min<Clock::duration>(slice, lcm_bell_ ? Clock::duration(kMixedWaitSlice) : Clock::duration(kMixedPollSlice));
       if (!all_attached) slice = std::min<Clock::duration>(slice, kAttachRetry);
-      if (slice > Clock::duration::zero()) WaitShm(slice, mixed ? lcm_bell_.get() : nullptr);
+      if (slice > Clock::duration::zero()) WaitShm(slice, lcm_bell_.get());
       delivered += DrainShm();
       if (mixed) {
         delivered += lcm_.Handle(std::chrono::microseconds(0));
-        lcm_bell_->Drained();
+        if (lcm_bell_) lcm_bell_->Drained();
       }
     }
     if (pending_error_) {
