@@ -128,6 +128,7 @@ int Run(int argc, char** argv) {
     status.SetState(bridge.holding() ? node_status_t::STATE_HOLDING : node_status_t::STATE_RUNNING);
     status.RecordLoop(std::chrono::steady_clock::now() - start);
     status.SetDrops(static_cast<std::int64_t>(in.seq_gaps + in.overruns));
+    reporting.ReportUndecodable("EDSP_LEG_COMMAND", in, now);
     reporting.StatusTick(now, clock.missed());
   }
   backend->Deactivate();

@@ -108,7 +108,6 @@ int Run(int argc, char** argv) {
 
   const ChannelCounters& in = bus.Counters("EDSP_SETPOINT");
   std::int64_t next_config = 0;
-  std::uint64_t reported_decode_errors = 0;
   while (!StopRequested()) {
     bus.Handle(std::chrono::milliseconds(100));
     const std::int64_t now = UtimeNow();
@@ -117,14 +116,8 @@ int Run(int argc, char** argv) {
       next_config = now + 1000000;
     }
     status.SetDrops(static_cast<std::int64_t>(in.seq_gaps + in.overruns));
-    if (in.decode_errors > reported_decode_errors) {  // new ones since the last report
-      reporting.Fault(MakeFault("kinematics", "EDSP_SETPOINT", FaultCode::kUndecodable,
-                                fault_t::SEVERITY_WARNING,
-                                fmt::format("{} undecodable packets; last: {}",
-                                            in.decode_errors - reported_decode_errors, in.last_error),
-                                now));
-      reported_decode_errors = in.decode_errors;
-    }
+    reporting.ReportUndecodable("EDSP_SETPOINT", in, now);
+    reporting.ReportUndecodable("EDSP_LEG_STATE", bus.Counters("EDSP_LEG_STATE"), now);
     reporting.StatusTick(now, 0);
   }
   return 0;

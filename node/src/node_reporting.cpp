@@ -1,11 +1,14 @@
 #include "edsp/node/node_reporting.h"
 
+#include <fmt/format.h>
+
 namespace edsp {
 
 NodeReporting::NodeReporting(Bus& bus, const std::string& node)
     : faults_(bus.Advertise<fault_t>("EDSP_FAULT")),
       status_out_(bus.Advertise<node_status_t>("EDSP_STATUS")),
-      status_(node) {
+      status_(node),
+      node_(node) {
   status_.SetState(node_status_t::STATE_RUNNING);
 }
 
@@ -15,6 +18,16 @@ void NodeReporting::Fault(fault_t fault) {
 
 void NodeReporting::StatusTick(std::int64_t now_utime, std::int64_t deadline_misses) {
   if (status_.Due(now_utime)) status_out_.Publish(status_.Report(now_utime, deadline_misses));
+}
+
+void NodeReporting::ReportUndecodable(const std::string& channel, const ChannelCounters& in,
+                                      std::int64_t now_utime) {
+  std::uint64_t& reported = reported_decode_errors_[channel];
+  if (in.decode_errors <= reported) return;
+  Fault(MakeFault(node_, channel, FaultCode::kUndecodable, fault_t::SEVERITY_WARNING,
+                  fmt::format("{} undecodable packets; last: {}", in.decode_errors - reported, in.last_error),
+                  now_utime));
+  reported = in.decode_errors;
 }
 
 }  // namespace edsp

@@ -14,6 +14,8 @@
 #include "edsp/logger/log_reader.h"
 #include "edsp/logger/log_summary.h"
 #include "edsp/fault_t.hpp"
+#include "edsp/pose_setpoint_t.hpp"
+#include "edsp/tracker_point_t.hpp"
 #include "edsp/node_status_t.hpp"
 
 namespace edsp::test_support {
@@ -98,6 +100,41 @@ std::string FaultLines(const std::string& log_path) {
     lines += fmt::format("{} {} {} code {}: {}\n", f.utime, f.node, f.channel, f.code, f.reason);
   }
   return lines;
+}
+
+std::vector<DwellEnd> DwellEnds(const std::string& log_path, const PlatformModel& model) {
+  LogReader reader(log_path);
+  LogEvent event;
+  std::vector<DwellEnd> ends;
+  pose_setpoint_t previous{};
+  bool have_previous = false;
+  tracker_point_t last_tracker{};
+  bool have_tracker = false;
+  while (reader.Next(&event)) {
+    const int size = static_cast<int>(event.data.size());
+    if (event.channel == "EDSP_TRACKER") {
+      tracker_point_t t;
+      if (t.decode(event.data.data(), 0, size) >= 0) {
+        last_tracker = t;
+        have_tracker = true;
+      }
+    } else if (event.channel == "EDSP_SETPOINT") {
+      pose_setpoint_t sp;
+      if (sp.decode(event.data.data(), 0, size) < 0) continue;
+      if (have_previous && have_tracker && sp.segment != previous.segment &&
+          previous.trajectory.find("/dwell") != std::string::npos) {
+        Vector6 q;
+        for (int k = 0; k < 6; ++k) q(k) = previous.pose[k];
+        const Vector3 target = model.ObservationPoint(Pose::FromVector(q));
+        const Vector3 measured(last_tracker.point_m[0], last_tracker.point_m[1], last_tracker.point_m[2]);
+        ends.push_back({previous.trajectory, Pose::FromVector(q), (measured - target).norm()});
+      }
+      previous = sp;
+      have_previous = true;
+    }
+  }
+  EXPECT_FALSE(reader.damaged());
+  return ends;
 }
 
 void ExpectCleanRun(const GroupRun& run) {

@@ -7,6 +7,9 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <vector>
+
+#include "edsp/kinematics/platform_model.h"
 
 namespace edsp::test_support {
 
@@ -45,6 +48,14 @@ void ExpectCleanRun(const GroupRun& run);
 // The largest deadline-miss count `node` reported on EDSP_STATUS.
 std::int64_t DeadlineMisses(const std::string& log_path, const std::string& node);
 std::int64_t PlannerDeadlineMisses(const std::string& log_path);
+
+struct DwellEnd {
+  std::string segment;
+  Pose target;
+  double miss_m;
+};
+// The last tracker sample of every dwell against the target's point A.
+std::vector<DwellEnd> DwellEnds(const std::string& log_path, const PlatformModel& model);
 
 // Directory of a run (where group.toml, launch.err and the log are).
 inline std::string RunDir(const GroupRun& run) { return run.log_path.substr(0, run.log_path.rfind('/')); }

@@ -3,6 +3,7 @@
 // EDSP_STATUS once a second.
 
 #include <cstdint>
+#include <map>
 #include <string>
 
 #include "edsp/node/fault.h"
@@ -21,12 +22,18 @@ class NodeReporting {
   NodeStatus& status() { return status_; }
   // Publishes EDSP_STATUS when a second has passed since the last one.
   void StatusTick(std::int64_t now_utime, std::int64_t deadline_misses);
+  // An EDSP_FAULT (undecodable, throttled) for packets on `channel` that did
+  // not decode since the last call: a foreign or truncated packet is refused
+  // by the Bus, and the rig's operator must hear of it.
+  void ReportUndecodable(const std::string& channel, const ChannelCounters& in, std::int64_t now_utime);
 
  private:
   Bus::Publisher<fault_t> faults_;
   Bus::Publisher<node_status_t> status_out_;
   FaultThrottle throttle_;
   NodeStatus status_;
+  std::string node_;
+  std::map<std::string, std::uint64_t> reported_decode_errors_;
 };
 
 }  // namespace edsp

@@ -1,0 +1,101 @@
+// Faults injected into a running sim group (label multiprocess, private
+// network namespace): what a rig meets from outside while it moves.
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <thread>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "edsp/fault_t.hpp"
+#include "edsp/kinematics/config.h"
+#include "edsp/logger/log_reader.h"
+#include "edsp/node/fault.h"
+#include "edsp/pose_setpoint_t.hpp"
+#include "edsp/transport/lcm_transport.h"
+#include "sim_group_harness.h"
+
+namespace edsp {
+namespace {
+
+using test_support::DwellEnd;
+using test_support::DwellEnds;
+using test_support::GroupRun;
+using test_support::LaunchSimGroup;
+
+// Garbage, and packets that start like the real type (right fingerprint)
+// but are truncated or carry a corrupt string length, on every channel the
+// nodes read, for `seconds`. Returns how many were sent.
+long Flood(double seconds) {
+  LcmTransport lcm(kDefaultLcmUrl);
+  std::mt19937 random(7);
+  pose_setpoint_t sp{};
+  sp.session_id = 77;
+  sp.trajectory = "flood";
+  std::vector<std::uint8_t> real(static_cast<std::size_t>(sp.getEncodedSize()));
+  sp.encode(real.data(), 0, static_cast<int>(real.size()));
+  std::vector<std::uint8_t> corrupt = real;
+  std::fill(corrupt.begin() + 176, corrupt.begin() + 180, std::uint8_t{0xFF});  // trajectory length -1
+  const char* channels[] = {"EDSP_SETPOINT", "EDSP_LEG_COMMAND", "EDSP_LEG_STATE", "EDSP_ARM", "EDSP_PR_MODE"};
+  const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  long sent = 0;
+  while (std::chrono::steady_clock::now() < until) {
+    for (const char* channel : channels) {
+      std::vector<std::uint8_t> bytes;
+      switch (random() % 3) {
+        case 0: bytes.resize(random() % 300); for (auto& b : bytes) b = static_cast<std::uint8_t>(random()); break;
+        case 1: bytes.assign(real.begin(), real.begin() + static_cast<long>(random() % real.size())); break;
+        default: bytes = corrupt; break;
+      }
+      lcm.Publish(channel, bytes.data(), static_cast<std::uint32_t>(bytes.size()));
+      ++sent;
+    }
+    std::this_thread::sleep_for(std::chrono::microseconds(500));  // ~10 000 packets a second
+  }
+  return sent;
+}
+
+TEST(FaultInjection, AFloodOfForeignPacketsOnEveryInputMovesNothingAndStopsNoNode) {
+  long sent = 0;
+  const GroupRun run = LaunchSimGroup(
+      "flood", "signed", test_support::kDefaultPlannerArgs,
+      [&](const std::string&) {
+        std::this_thread::sleep_for(std::chrono::seconds(2));
+        sent = Flood(4.0);
+      },
+      77, test_support::kDefaultConfig, test_support::kStallTolerantStaleMs);
+  ASSERT_EQ(run.exit_code, 0) << "see " << test_support::RunDir(run) << "/launch.err";
+  std::printf("foreign packets sent: %ld\n", sent);
+  ::testing::Test::RecordProperty("foreign_packets", static_cast<int>(sent));
+  EXPECT_GT(sent, 10000);
+  // No node died: the launcher restarted nobody.
+  std::ifstream err(test_support::RunDir(run) + "/launch.err");
+  std::stringstream text;
+  text << err.rdbuf();
+  EXPECT_EQ(text.str().find("restart"), std::string::npos) << text.str();
+  // Refused and said so: the nodes reading commands reported undecodable packets.
+  int kinematics = 0, bridge = 0;
+  LogReader reader(run.log_path);
+  LogEvent event;
+  while (reader.Next(&event)) {
+    if (event.channel != "EDSP_FAULT") continue;
+    fault_t f;
+    if (f.decode(event.data.data(), 0, static_cast<int>(event.data.size())) < 0) continue;
+    if (f.code != static_cast<std::int32_t>(FaultCode::kUndecodable)) continue;
+    if (f.node == "kinematics") ++kinematics;
+    if (f.node == "actuator_bridge") ++bridge;
+  }
+  EXPECT_GT(kinematics, 0);
+  EXPECT_GT(bridge, 0);
+  // Moved exactly as without the flood: every dwell within 5 µm.
+  const std::vector<DwellEnd> ends = DwellEnds(run.log_path, PlatformModel(Huang2021Config()));
+  ASSERT_GE(ends.size(), 5u);
+  for (const DwellEnd& d : ends) EXPECT_LT(d.miss_m, 5e-6) << d.segment;
+}
+
+}  // namespace
+}  // namespace edsp
