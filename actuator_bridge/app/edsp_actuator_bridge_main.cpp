@@ -84,10 +84,18 @@ int Run(int argc, char** argv) {
   bus.Subscribe<leg_command_t>("EDSP_LEG_COMMAND", [&](const leg_command_t& command) {
     status.CountIn();
     fault_t fault;
+    const bool was_rejoining = bridge.rejoining();
     if (!bridge.HandleCommand(command, UtimeNow(), &fault)) {
       status.CountRejected();
       reporting.Fault(fault);
       return;
+    }
+    if (was_rejoining && !bridge.rejoining()) {  // the hold is over
+      reporting.Fault(MakeFault("actuator_bridge", "EDSP_LEG_COMMAND", FaultCode::kStale,
+                                fault_t::SEVERITY_INFO,
+                                fmt::format("rejoined the command stream at seq {}: following it again",
+                                            command.seq),
+                                UtimeNow()));
     }
     if (command.setpoint_utime > 0) latency.Record(UtimeNow() - command.setpoint_utime);
   });

@@ -34,7 +34,9 @@ bool ActuatorBridge::Reject(FaultCode code, std::string reason, std::int64_t now
 }
 
 void ActuatorBridge::Rearm() {
-  if (!latched_) return;
+  // Latched after a fault, or holding since start-up while the stream it was
+  // started into refuses as a jump (a restarted bridge): rejoin it.
+  if (!latched_ && !holding_) return;
   latched_ = false;
   rejoining_ = true;
   accepted_since_arm_ = 0;
@@ -59,6 +61,26 @@ bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utim
                   fmt::format("leg command seq {} refused: holding after stale input since command "
                               "seq {}; re-arm required (EDSP_ARM)",
                               c.seq, last_command_seq_),
+                  now_utime, fault);
+  }
+  if (!holding_ && target_utime_ >= 0 && now_utime - target_utime_ > options_.stale_us) {
+    // Starved longer than the stale limit and no cycle noticed (this process
+    // was frozen, or descheduled): whatever comes now may be anywhere. Hold
+    // first, as a cycle would have.
+    const std::int64_t silent_us = now_utime - target_utime_;
+    HoldLatched();
+    hold_reported_ = true;
+    backend_->Write(now_utime, target_);
+    return Reject(FaultCode::kStale,
+                  fmt::format("leg command seq {} refused: no valid leg command for {} us before it "
+                              "(limit {} us); holding the last valid position (command seq {}) until "
+                              "re-armed",
+                              c.seq, silent_us, options_.stale_us, last_command_seq_),
+                  now_utime, fault);
+  }
+  if (!backend_ok_) {
+    return Reject(FaultCode::kBackend,
+                  fmt::format("leg command seq {} refused: the drives do not answer", c.seq),
                   now_utime, fault);
   }
   if (c.session_id != options_.session_id) {
@@ -144,6 +166,21 @@ bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utim
   return true;
 }
 
+void ActuatorBridge::HoldLatched() {
+  holding_ = true;
+  latched_ = target_utime_ >= 0;  // a stream that stopped, not a start-up
+  target_.motor_velocity_rad_s.fill(0.0);  // hold: the last valid position, at rest
+}
+
+void ActuatorBridge::HoldWhereTheDrivesAre() {
+  for (int i = 0; i < kNumLegs; ++i) {
+    target_.motor_angle_rad[i] = feedback_.motor_angle_rad[i];
+    target_.motor_velocity_rad_s[i] = 0.0;
+    target_length_m_(i) = model_.LengthFromMotorAngle(i, feedback_.motor_angle_rad[i]);
+  }
+  stream_length_m_ = target_length_m_;
+}
+
 bool ActuatorBridge::Cycle(std::int64_t now_utime, leg_state_t* state, fault_t* fault) {
   bool raised = false;
   // A command overdue by more than a couple of cycles: the velocity
@@ -154,9 +191,7 @@ bool ActuatorBridge::Cycle(std::int64_t now_utime, leg_state_t* state, fault_t* 
   }
   const bool stale = target_utime_ < 0 || now_utime - target_utime_ > options_.stale_us;
   if (stale && !holding_) {
-    holding_ = true;
-    latched_ = target_utime_ >= 0;  // a stream that stopped, not a start-up
-    target_.motor_velocity_rad_s.fill(0.0);  // hold: the last valid position, at rest
+    HoldLatched();
     if (!hold_reported_) {
       *fault = Fault(FaultCode::kStale,
                      fmt::format("no valid leg command for {} us: holding the last valid "
@@ -167,11 +202,39 @@ bool ActuatorBridge::Cycle(std::int64_t now_utime, leg_state_t* state, fault_t* 
       raised = true;
     }
   }
-  const bool backend_ok =
-      backend_->Write(now_utime, target_) && backend_->Read(now_utime, &feedback_);
+  // Read first: drives that answer again after an outage are held where
+  // they are now (a restarted rig, or drives that moved while unobserved),
+  // not driven back to a target from before it.
+  // This bridge not cycling for longer than the stale limit (frozen,
+  // descheduled): the drives stopped on their own watchdog, wherever that
+  // was; hold them there rather than pull them back to the last command.
+  const bool self_starved = last_cycle_utime_ >= 0 && now_utime - last_cycle_utime_ > options_.stale_us;
+  last_cycle_utime_ = now_utime;
+  const bool read_ok = backend_->Read(now_utime, &feedback_);
+  if (read_ok && holding_ && (!backend_ok_ || self_starved)) HoldWhereTheDrivesAre();
+  const bool backend_ok = backend_->Write(now_utime, target_) && read_ok;
   if (!backend_ok && backend_ok_) {
+    // Drives that do not answer may not have followed: nothing the stream
+    // says next can be checked against where they are. Hold and latch.
+    const bool was_moving = !holding_;
+    holding_ = true;
+    hold_reported_ = true;
+    latched_ = latched_ || target_utime_ >= 0;
+    target_.motor_velocity_rad_s.fill(0.0);
+    backend_->Write(now_utime, target_);  // at rest now, should the drives still listen
     *fault = Fault(FaultCode::kBackend,
-                   "drive backend failed a cycle (drives silent or not active)", now_utime);
+                   fmt::format("drive backend failed a cycle (drives silent or not active){}",
+                               was_moving ? fmt::format(": holding the last valid position (command "
+                                                        "seq {}) until re-armed", last_command_seq_)
+                                          : std::string()),
+                   now_utime);
+    raised = true;
+  } else if (backend_ok && !backend_ok_ && !raised) {
+    *fault = Fault(FaultCode::kBackend,
+                   latched_ ? "drive backend answers again; holding until re-armed"
+                            : "drive backend answers again",
+                   now_utime);
+    fault->severity = fault_t::SEVERITY_INFO;
     raised = true;
   }
   backend_ok_ = backend_ok;

@@ -1,6 +1,8 @@
 // edsp-launch: starts a process group, watches it, restarts crashed members
 // with backoff, and stops it in reverse order on Ctrl-C (SIGINT → SIGTERM →
-// SIGKILL). Exits non-zero if a member failed for good.
+// SIGKILL). Exits non-zero if a member failed for good. A member that
+// freezes (stopped by a signal), exits or restarts is reported on EDSP_FAULT
+// (node "launcher"), and the launcher's EDSP_STATUS is STATE_FAULT meanwhile.
 //   edsp-launch GROUP_FILE [--host NAME] [--session-id N] [--duration-s S]
 //                          [--until-exit MEMBER] [--bin-dir DIR]
 //   edsp-launch GROUP_FILE --member NAME      run one member in place (systemd units)
@@ -23,10 +25,13 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "edsp/node/fault.h"
 #include "edsp/node/node_options.h"
 #include "edsp/node/runtime.h"
+#include "edsp/transport/bus.h"
 #include "edsp/transport/transport_config.h"
 #include "group_file.h"
+#include "member_watch.h"
 #include "multicast_route.h"
 #include "systemd_units.h"
 
@@ -42,7 +47,70 @@ struct Member {
   bool done = false;     // exited and will not be restarted
   bool failed = false;
   Clock::time_point restart_at{};
+  FreezeWatch freeze;
 };
+
+// The launcher's voice on the group's bus: EDSP_FAULT and EDSP_STATUS over
+// LCM (never shm: the launcher is no member of the routes).
+class GroupReport {
+ public:
+  explicit GroupReport(const GroupSpec& group)
+      : bus_(LcmOnly(group.path)),
+        faults_(bus_.Advertise<fault_t>("EDSP_FAULT")),
+        status_out_(bus_.Advertise<node_status_t>("EDSP_STATUS")),
+        status_("launcher") {
+    status_.SetState(node_status_t::STATE_RUNNING);
+  }
+  void Fault(const std::string& member, std::int8_t severity, const std::string& reason) {
+    faults_.Publish(MakeFault("launcher", "", FaultCode::kProcess, severity,
+                              fmt::format("member {}: {}", member, reason), UtimeNow()));
+    status_.CountOut();
+  }
+  // Once a second, and at once when health changes; `healthy`: no member
+  // frozen or waiting to restart.
+  void Tick(bool healthy) {
+    status_.SetState(healthy ? node_status_t::STATE_RUNNING : node_status_t::STATE_FAULT);
+    const std::int64_t now = UtimeNow();
+    const bool changed = healthy != healthy_;
+    healthy_ = healthy;
+    if (status_.Due(now) || changed) status_out_.Publish(status_.Report(now, 0));
+  }
+
+ private:
+  static TransportConfig LcmOnly(const std::string& path) {
+    TransportConfig config = LoadTransportConfig(path);
+    config.channels.clear();
+    return config;
+  }
+  Bus bus_;
+  Bus::Publisher<fault_t> faults_;
+  Bus::Publisher<node_status_t> status_out_;
+  NodeStatus status_;
+  bool healthy_ = true;
+};
+
+// Frozen and resumed members, from the process table.
+void WatchFreezes(std::vector<Member>& members, GroupReport& report) {
+  const std::int64_t now = UtimeNow();
+  for (Member& m : members) {
+    if (m.pid <= 0) continue;
+    const ProcessState state = ReadProcessState(m.pid);
+    const double frozen_ms = static_cast<double>(m.freeze.frozen_for_us(now)) * 1e-3;
+    switch (m.freeze.Observe(state, now)) {
+      case FreezeWatch::Change::kFroze:
+        std::fprintf(stderr, "edsp-launch: %-16s frozen   (stopped)\n", m.spec.name.c_str());
+        report.Fault(m.spec.name, fault_t::SEVERITY_ERROR,
+                     fmt::format("pid {} is stopped (SIGSTOP, or a tracer for over a second): frozen, not running", m.pid));
+        break;
+      case FreezeWatch::Change::kResumed:
+        std::fprintf(stderr, "edsp-launch: %-16s resumed  after %.0f ms\n", m.spec.name.c_str(), frozen_ms);
+        report.Fault(m.spec.name, fault_t::SEVERITY_INFO,
+                     fmt::format("pid {} runs again after {:.0f} ms frozen", m.pid, frozen_ms));
+        break;
+      case FreezeWatch::Change::kNone: break;
+    }
+  }
+}
 
 std::string Resolve(const std::string& command, const std::string& bin_dir) {
   if (command.find('/') != std::string::npos) return command;
@@ -230,7 +298,7 @@ int Run(int argc, char** argv) {
   if (!host.empty()) CheckMulticastInterface(group, host);
   std::vector<Member> members;
   for (const MemberSpec& spec : group.members) {
-    if (host.empty() || spec.host == host) members.push_back(Member{spec});
+    if (host.empty() || spec.host == host) members.push_back(Member{spec, -1, 0, false, false, {}, {}});
   }
   if (members.empty()) throw std::runtime_error(group_path + ": no member on host " + host);
   if (!until_exit.empty() &&
@@ -238,6 +306,7 @@ int Run(int argc, char** argv) {
     throw std::runtime_error("--until-exit " + until_exit + ": no such member");
   }
   InstallStopSignals();
+  GroupReport report(group);
   std::fprintf(stderr, "edsp-launch: group %s, session %lld, %zu members\n", group.name.c_str(),
                static_cast<long long>(session_id), members.size());
   for (Member& m : members) {
@@ -254,6 +323,7 @@ int Run(int argc, char** argv) {
       for (Member& m : members) {
         if (m.pid != pid) continue;
         m.pid = -1;
+        m.freeze.Forget();
         std::fprintf(stderr, "edsp-launch: %-16s exited   (%s)\n", m.spec.name.c_str(), Describe(status).c_str());
         if (m.spec.name == until_exit && !Failed(status)) stopping = true;
         const bool restart = !stopping && m.restarts < m.spec.max_restarts &&
@@ -264,8 +334,14 @@ int Run(int argc, char** argv) {
           m.restart_at = Clock::now() + std::chrono::milliseconds(backoff_ms);
           ++m.restarts;
           std::fprintf(stderr, "edsp-launch: %-16s restart %d in %d ms\n", m.spec.name.c_str(), m.restarts, backoff_ms);
+          report.Fault(m.spec.name, fault_t::SEVERITY_ERROR,
+                       fmt::format("exited ({}); restart {} in {} ms", Describe(status), m.restarts, backoff_ms));
         } else {
           m.done = true;
+          if (Failed(status) && !stopping) {
+            report.Fault(m.spec.name, fault_t::SEVERITY_ERROR,
+                         fmt::format("exited ({}) for good; stopping the group", Describe(status)));
+          }
           if (Failed(status)) {
             m.failed = failed = true;
             stopping = true;  // a member down for good: the group is not safe to run
@@ -276,8 +352,15 @@ int Run(int argc, char** argv) {
     for (Member& m : members) {
       if (!stopping && m.pid < 0 && !m.done && Clock::now() >= m.restart_at) {
         m.pid = Start(m, group, session_id, bin_dir);
+        if (m.restarts > 0) {
+          report.Fault(m.spec.name, fault_t::SEVERITY_INFO, fmt::format("restarted as pid {}", m.pid));
+        }
       }
     }
+    WatchFreezes(members, report);
+    report.Tick(std::none_of(members.begin(), members.end(), [](const Member& m) {
+      return m.freeze.frozen() || (m.pid < 0 && !m.done);
+    }));
     if (StopRequested()) stopping = true;
     if (duration_s > 0.0 && Clock::now() - started >= std::chrono::duration<double>(duration_s)) stopping = true;
     std::this_thread::sleep_for(std::chrono::milliseconds(10));

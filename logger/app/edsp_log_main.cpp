@@ -54,6 +54,15 @@ int Info(const std::string& path, bool json) {
   return s.damaged ? 3 : 0;
 }
 
+// Damage is not an error to stop at: what precedes it was read; say where.
+int ReportDamage(const std::string& path, bool damaged, std::int64_t offset,
+                 const char* done = "exported what precedes it") {
+  if (!damaged) return 0;
+  std::fprintf(stderr, "edsp-log: %s is damaged at byte %lld; %s\n", path.c_str(),
+               static_cast<long long>(offset), done);
+  return 3;
+}
+
 int Faults(const std::string& path) {
   LogReader reader(path);
   LogEvent event;
@@ -73,15 +82,9 @@ int Faults(const std::string& path) {
                 fault.channel.c_str(), fault.code, fault.reason.c_str());
   }
   std::printf("%lld faults\n", static_cast<long long>(count));
-  return reader.damaged() ? 3 : 0;
+  return ReportDamage(path, reader.damaged(), reader.damage_offset(), "listed the faults that precede it");
 }
 
-int ReportDamage(const std::string& path, bool damaged, std::int64_t offset) {
-  if (!damaged) return 0;
-  std::fprintf(stderr, "edsp-log: %s is damaged at byte %lld; exported what precedes it\n",
-               path.c_str(), static_cast<long long>(offset));
-  return 3;
-}
 
 int ExportChannels(const std::string& path, const std::string& dir, const std::string& channels) {
   const ChannelCsvExport e = ExportChannelCsvs(path, dir, channels);

@@ -1,5 +1,7 @@
 #include "edsp/logger/log_summary.h"
 
+#include "edsp/transport/seq_gap.h"
+
 namespace edsp {
 
 double ChannelSummary::rate_hz() const {
@@ -21,7 +23,7 @@ LogSummary SummarizeLog(const std::string& path) {
     EdspHeader header;
     if (event.channel.rfind("EDSP_", 0) == 0 && !IsSharedEdspChannel(event.channel) &&
         ParseEdspHeader(event.data, &header)) {
-      if (c.last_seq >= 0 && header.seq > c.last_seq + 1) c.seq_gaps += header.seq - c.last_seq - 1;
+      c.seq_gaps += SeqGap(c.last_seq, header.seq);
       if (c.last_seq >= 0 && header.seq <= c.last_seq) ++c.seq_restarts;
       c.last_seq = header.seq;
     }

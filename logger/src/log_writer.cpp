@@ -9,14 +9,8 @@
 #include <stdexcept>
 
 #include <fmt/format.h>
-#include <lcm/lcm-cpp.hpp>
 
 namespace edsp {
-
-struct LogWriter::File {
-  explicit File(const std::string& path) : log(path, "w") {}
-  lcm::LogFile log;
-};
 
 std::string LogPartPath(const std::string& output, const std::string& stamp, int part) {
   struct stat st {};
@@ -52,22 +46,25 @@ LogWriter::~LogWriter() {
 
 void LogWriter::OpenPart() {
   const std::string path = LogPartPath(options_.output, stamp_, part_);
-  auto file = std::make_unique<File>(path);
-  if (!file->log.good()) {
-    throw std::runtime_error(path + ": cannot create log file: " + std::strerror(errno));
-  }
-  if (file_ != nullptr) std::fflush(file_->log.getFilePtr());
+  LogResume resume;
+  std::string error;
+  auto file = LogFileAppender::Open(path, &resume, &error);
+  if (file == nullptr) throw std::runtime_error(error);
+  if (file_ != nullptr) FlushFile();
   file_ = std::move(file);
-  part_bytes_ = 0;
   std::lock_guard<std::mutex> lock(mutex_);
   stats_.path = path;
+  if (part_ == 0) {
+    stats_.resumed_events = resume.events;
+    stats_.torn_bytes_cut = resume.torn_bytes;
+  }
 }
 
 bool LogWriter::Enqueue(const std::string& channel, const std::uint8_t* data, std::uint32_t size,
                         std::int64_t utime) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (queued_bytes_ + size > options_.max_queue_bytes) {
+    if (queued_bytes_ + waiting_bytes_ + size > options_.max_queue_bytes) {
       ++stats_.dropped;
       return false;
     }
@@ -84,7 +81,9 @@ LogWriterStats LogWriter::stats() const {
 }
 
 void LogWriter::WriteOne(const Event& e) {
-  if (options_.rotate_bytes > 0 && part_bytes_ >= options_.rotate_bytes) {
+  // A new part only once the current one holds everything it was given.
+  if (options_.rotate_bytes > 0 && file_->file_bytes() >= options_.rotate_bytes &&
+      file_->pending_events() == 0) {
     ++part_;
     try {
       OpenPart();
@@ -95,20 +94,32 @@ void LogWriter::WriteOne(const Event& e) {
       --part_;  // keep writing the old part
     }
   }
-  lcm::LogEvent event{};
-  event.eventnum = eventnum_++;
-  event.timestamp = e.utime;
-  event.channel = e.channel;
-  event.datalen = static_cast<std::int32_t>(e.data.size());
-  event.data = const_cast<std::uint8_t*>(e.data.data());
-  const bool ok = file_->log.writeEvent(&event) == 0;
-  part_bytes_ += static_cast<std::int64_t>(e.data.size() + e.channel.size()) + 28;
+  file_->Append(e.channel, e.data.data(), static_cast<std::uint32_t>(e.data.size()), e.utime);
+  std::int64_t dropped = 0;
+  if (file_->pending_bytes() > options_.max_queue_bytes) {
+    dropped = file_->DropPendingAbove(options_.max_queue_bytes);
+  }
   std::lock_guard<std::mutex> lock(mutex_);
+  stats_.dropped += dropped;
+  stats_.waiting_events = file_->pending_events();
+  waiting_bytes_ = file_->pending_bytes();
+}
+
+void LogWriter::FlushFile() {
+  std::string error;
+  const std::int64_t before = file_->pending_events();
+  const bool ok = file_->Flush(&error);
+  std::lock_guard<std::mutex> lock(mutex_);
+  stats_.written += before - file_->pending_events();
+  stats_.waiting_events = file_->pending_events();
+  waiting_bytes_ = file_->pending_bytes();
   if (ok) {
-    ++stats_.written;
+    if (stats_.disk_failing) ++stats_.recoveries;
+    stats_.disk_failing = false;
   } else {
     ++stats_.write_errors;
-    stats_.last_error = stats_.path + ": write failed (disk full?): " + std::strerror(errno);
+    stats_.disk_failing = true;
+    stats_.last_error = error;
   }
 }
 
@@ -127,13 +138,16 @@ void LogWriter::Run() {
     }
     for (const Event& e : batch) WriteOne(e);
     batch.clear();
+    // A failing disk is retried at the flush interval, not at every event.
     if (Clock::now() >= next_flush || stopping) {
-      std::fflush(file_->log.getFilePtr());
+      FlushFile();
       next_flush = Clock::now() + std::chrono::milliseconds(options_.flush_ms);
     }
     if (stopping) {
       std::lock_guard<std::mutex> lock(mutex_);
-      if (queue_.empty()) return;
+      if (!queue_.empty()) continue;
+      stats_.dropped += file_->pending_events();  // the disk refused them to the end
+      return;
     }
   }
 }

@@ -15,6 +15,8 @@ const char* FaultCodeName(FaultCode code) {
     case FaultCode::kBackend: return "drive backend";
     case FaultCode::kBadRequest: return "bad request";
     case FaultCode::kOperatorAction: return "operator action";
+    case FaultCode::kStorage: return "storage";
+    case FaultCode::kProcess: return "process";
   }
   return "unknown";
 }

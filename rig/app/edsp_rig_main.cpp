@@ -4,9 +4,15 @@
 // laser tracker (EDSP_TRACKER) and ground truth (EDSP_RIG_TRUTH).
 //   edsp-rig [--tracker-noise-m 0] [--tracker-rate-hz 1000] [--seed 1]
 //            [--tracker-frame x,y,z,roll,pitch,yaw] [--image-prefix edsp]
-//            [--config FILE] [--group FILE]
+//            [--drive-watchdog-ms 20] [--config FILE] [--group FILE]
+// Drives whose process image stops updating (a frozen or dead bridge) stop
+// interpolating after 4 ms and hold; past --drive-watchdog-ms they report
+// holding, and EDSP_FAULT says so (and again, as info, when commands return).
+#include <cmath>
 #include <cstdio>
 #include <cstring>
+
+#include <fmt/format.h>
 
 #include "edsp/actuator_bridge/drive_process_image.h"
 #include "edsp/kinematics/config.h"
@@ -70,6 +76,46 @@ class DriveImage {
   std::unique_ptr<ShmReader> commands_;
 };
 
+fault_t WatchdogFault(const std::string& segment, bool tripped, double since_command_s, std::int64_t now) {
+  if (tripped) {
+    return MakeFault("rig", segment, FaultCode::kStale, fault_t::SEVERITY_ERROR,
+                     fmt::format("drive watchdog: no drive command for {:.1f} ms; the drives hold "
+                                 "their position", since_command_s * 1e3),
+                     now);
+  }
+  return MakeFault("rig", segment, FaultCode::kStale, fault_t::SEVERITY_INFO,
+                   "drive watchdog: drive commands again; the drives follow them", now);
+}
+
+// A predecessor killed mid-run left its last drive feedback in the image:
+// the motors are still there (absolute encoders), so continue from them.
+// Returns what happened, for the log ("" when there was nothing to restore).
+std::string RestoreFromImage(const std::string& prefix, mode_t permissions, VirtualRig* rig,
+                             bool* restored) {
+  *restored = false;
+  const std::string segment = DriveFeedbackSegment(prefix);
+  ShmChannelSpec spec{segment, kDriveImageFeedbackFingerprint, 16, sizeof(DriveImageFeedback), permissions};
+  auto reader = ShmReader::Open(spec);
+  if (!reader.ok()) return reader.error == ShmError::kNotFound ? "" : segment + ": " + reader.message;
+  if (reader.value->WriterAlive()) return "";  // another rig: opening the writer will say so
+  reader.value->RewindToLatest();
+  DriveImageFeedback last{};
+  const TakeStatus status = reader.value->TryTake([&](const std::uint8_t* data, std::uint32_t size) {
+    if (size != sizeof last) return false;
+    std::memcpy(&last, data, sizeof last);
+    return true;
+  });
+  if (status != TakeStatus::kMessage) return segment + ": no feedback left to continue from; starting at home";
+  std::array<double, 6> angles{};
+  for (int i = 0; i < 6; ++i) {
+    if (!std::isfinite(last.motor_angle_rad[i])) return segment + ": non-finite motor angle left; starting at home";
+    angles[static_cast<std::size_t>(i)] = last.motor_angle_rad[i];
+  }
+  if (!rig->RestoreDrives(angles)) return segment + ": no platform pose fits the motor angles left; starting at home";
+  *restored = true;
+  return "continuing from the drives' last feedback in " + segment + " (absolute encoders); drives off until commanded";
+}
+
 int Run(int argc, char** argv) {
   CLI::App app{"edsp-rig: the virtual EDSP with a laser-tracker emulator"};
   NodeOptions node;
@@ -82,7 +128,11 @@ int Run(int argc, char** argv) {
   app.add_option("--seed", rig_parameters.tracker.seed, "noise seed");
   app.add_option("--tracker-frame", frame_text, "pose of {B} in the tracker frame, x,y,z,roll,pitch,yaw");
   app.add_option("--image-prefix", image_prefix, "process image segment prefix (default: shm_prefix)");
+  double watchdog_ms = rig_parameters.watchdog.timeout_s * 1e3;
+  app.add_option("--drive-watchdog-ms", watchdog_ms, "no command for this long: the drives report holding")
+      ->check(CLI::Range(5.0, 10000.0));
   CLI11_PARSE(app, argc, argv);
+  rig_parameters.watchdog.timeout_s = watchdog_ms * 1e-3;
 
   const PlatformConfig config = LoadConfigFile(node.config_path);
   rig_parameters.nominal = config;
@@ -91,17 +141,27 @@ int Run(int argc, char** argv) {
   const TransportConfig transport = TransportFor(node);
   InstallStopSignals();
   VirtualRig rig(rig_parameters);
-  DriveImage image(image_prefix.empty() ? transport.shm_prefix : image_prefix,
-                   transport.shm_permissions);
+  const std::string prefix = image_prefix.empty() ? transport.shm_prefix : image_prefix;
+  bool restored = false;
+  const std::string restore_note = RestoreFromImage(prefix, transport.shm_permissions, &rig, &restored);
+  DriveImage image(prefix, transport.shm_permissions);
+  const std::string command_segment = DriveCommandSegment(prefix);
   Bus bus(transport);
   auto tracker_out = bus.Advertise<tracker_point_t>("EDSP_TRACKER");
   auto truth_out = bus.Advertise<rig_truth_t>("EDSP_RIG_TRUTH");
   auto faults = bus.Advertise<fault_t>("EDSP_FAULT");
   auto status_out = bus.Advertise<node_status_t>("EDSP_STATUS");
   NodeStatus status("rig");
+  if (!restore_note.empty()) {
+    std::fprintf(stderr, "edsp-rig: %s\n", restore_note.c_str());
+    faults.Publish(MakeFault("rig", DriveFeedbackSegment(prefix), FaultCode::kProcess,
+                             restored ? fault_t::SEVERITY_INFO : fault_t::SEVERITY_WARNING, restore_note,
+                             UtimeNow()));
+  }
   status.SetState(node_status_t::STATE_RUNNING);
   RateClock clock(std::chrono::milliseconds(1));
   std::int64_t cycle = 0;
+  bool watchdog_reported = false;
   while (!StopRequested()) {
     clock.WaitNext();
     const auto start = std::chrono::steady_clock::now();
@@ -116,6 +176,10 @@ int Run(int argc, char** argv) {
       status.CountIn();
     }
     const std::int64_t now = UtimeNow();
+    if (rig.watchdog_tripped() != watchdog_reported) {
+      watchdog_reported = rig.watchdog_tripped();
+      faults.Publish(WatchdogFault(command_segment, watchdog_reported, rig.since_command_s(), now));
+    }
     if (!rig.Advance(1e-3)) {
       faults.Publish(MakeFault("rig", "", FaultCode::kForwardKinematics, fault_t::SEVERITY_ERROR,
                                "the virtual platform's pose could not be found", now));

@@ -76,6 +76,27 @@ VirtualRig::VirtualRig(RigParameters parameters)
 void VirtualRig::SetTarget(const DriveSetpoint& setpoint, bool enabled) {
   target_ = setpoint;
   enabled_ = enabled;
+  since_command_s_ = 0.0;
+}
+
+bool VirtualRig::RestoreDrives(const std::array<double, 6>& motor_angle_rad) {
+  for (int i = 0; i < kNumLegs; ++i) {
+    angle_[i] = motor_angle_rad[i];
+    velocity_[i] = 0.0;
+    target_.motor_angle_rad[i] = motor_angle_rad[i];
+    target_.motor_velocity_rad_s[i] = 0.0;
+    lengths_(i) = transmissions_[static_cast<std::size_t>(i)].Length(angle_[i]);
+  }
+  enabled_ = false;
+  const FkResult fk = SolveForward(model_, lengths_, pose_, fk_options_);
+  if (!fk.ok()) return false;
+  pose_ = rigid_pose_ = rigid_previous_ = fk.pose;
+  rigid_history_ = 0;
+  return true;
+}
+
+bool VirtualRig::watchdog_tripped() const {
+  return enabled_ && since_command_s_ > parameters_.watchdog.timeout_s + 1e-9;  // dt sums are inexact
 }
 
 void VirtualRig::StepIdeal(int i, double dt) {
@@ -144,6 +165,11 @@ bool VirtualRig::Advance(double dt_s) {
   const bool servo = parameters_.effects.servo_lag.enabled;
   const double loop_dt = 1.0 / parameters_.effects.servo_lag.loop_rate_hz;
   const int steps = std::max(1, static_cast<int>(std::lround(dt_s / loop_dt)));
+  // No new target for a few cycles: stop interpolating, hold at rest.
+  if (since_command_s_ >= parameters_.watchdog.interpolation_horizon_s - 1e-9) {
+    target_.motor_velocity_rad_s.fill(0.0);
+  }
+  since_command_s_ += dt_s;
   for (int k = 0; k < steps; ++k) {
     for (int i = 0; i < kNumLegs; ++i) {
       if (servo) StepServo(i, dt_s / steps);
@@ -195,7 +221,8 @@ DriveFeedback VirtualRig::Feedback() const {
   for (int i = 0; i < kNumLegs; ++i) {
     f.motor_angle_rad[i] = angle_[i];
     f.motor_velocity_rad_s[i] = velocity_[i];
-    f.status[i] = enabled_ ? DriveStatus::kEnabled : DriveStatus::kDisabled;
+    f.status[i] = !enabled_ ? DriveStatus::kDisabled
+                  : watchdog_tripped() ? DriveStatus::kHolding : DriveStatus::kEnabled;
   }
   return f;
 }

@@ -1,6 +1,8 @@
 // The bridge forwards only what it can validate and holds on stale input;
 // tested against a fake backend that records what the drives were told.
+#include <array>
 #include <cmath>
+#include <optional>
 
 #include <gtest/gtest.h>
 
@@ -16,7 +18,8 @@ class RecordingBackend final : public DriveBackend {
   bool Activate(std::string*) override { return true; }
   void Deactivate() override {}
   bool Read(std::int64_t, DriveFeedback* feedback) override {
-    feedback->motor_angle_rad = written.motor_angle_rad;  // a perfect drive
+    if (!answering) return false;  // drives silent (a frozen rig, a lost fieldbus)
+    feedback->motor_angle_rad = stopped_at ? *stopped_at : written.motor_angle_rad;  // a perfect drive
     feedback->status.fill(DriveStatus::kEnabled);
     return true;
   }
@@ -28,6 +31,8 @@ class RecordingBackend final : public DriveBackend {
   BackendState state() const override { return BackendState::kActive; }
   DriveSetpoint written;
   int writes = 0;
+  bool answering = true;
+  std::optional<std::array<double, 6>> stopped_at;  // drives that stopped elsewhere
 };
 
 constexpr std::int64_t kStart = 1000000000;
@@ -54,6 +59,17 @@ struct Fixture {
     return c;
   }
 };
+
+// Commands and cycles every ms, moving up `step_m` per ms from home, for
+// `count` ms from *t (advanced). Every command must be accepted.
+void MoveUp(Fixture& f, std::int64_t* t, double step_m, int count) {
+  fault_t fault;
+  leg_state_t state;
+  for (int k = 1; k <= count; ++k, *t += 1000) {
+    ASSERT_TRUE(f.bridge.HandleCommand(f.Command(step_m * k, *t, k), *t, &fault)) << fault.reason;
+    f.bridge.Cycle(*t, &state, &fault);
+  }
+}
 
 TEST(ActuatorBridge, StartUpHoldIsNotLatched) {
   Fixture f;
@@ -243,10 +259,7 @@ TEST(ActuatorBridge, AnOverdueCommandLosesItsVelocityFeedForward) {
   fault_t fault;
   leg_state_t state;
   std::int64_t t = kStart;
-  for (int k = 1; k <= 5; ++k, t += 1000) {  // moving up at 0.1 m/s
-    ASSERT_TRUE(f.bridge.HandleCommand(f.Command(1e-4 * k, t, k), t, &fault));
-    f.bridge.Cycle(t, &state, &fault);
-  }
+  MoveUp(f, &t, 1e-4, 5);  // moving up at 0.1 m/s
   const auto angle = f.backend.written.motor_angle_rad;
   EXPECT_GT(std::abs(f.backend.written.motor_velocity_rad_s[0]), 1.0);
   f.bridge.Cycle(t - 1000 + kFeedForwardLapseUs, &state, &fault);  // a late command: still moving
@@ -271,6 +284,100 @@ TEST(ActuatorBridge, WhileRejoiningAJumpInTheStreamIsStillRefused) {
   EXPECT_NE(fault.reason.find("previous command"), std::string::npos) << fault.reason;
   EXPECT_EQ(WrittenLengths(f), after_first);
   EXPECT_TRUE(f.bridge.rejoining());
+}
+
+// Drives that stop answering mid-motion: the bridge holds where it was told
+// to be, at rest, refuses the stream, and moves again only when re-armed
+// after the drives answer.
+TEST(ActuatorBridge, DrivesThatStopAnsweringLatchAHoldUntilReArmed) {
+  Fixture f;
+  fault_t fault;
+  leg_state_t state;
+  std::int64_t t = kStart;
+  MoveUp(f, &t, 1e-4, 20);  // moving up at 0.1 m/s
+  int seq = 21;
+  f.backend.answering = false;
+  ASSERT_TRUE(f.bridge.Cycle(t, &state, &fault));
+  EXPECT_EQ(fault.code, static_cast<std::int32_t>(FaultCode::kBackend));
+  EXPECT_NE(fault.reason.find("until re-armed"), std::string::npos) << fault.reason;
+  EXPECT_TRUE(f.bridge.holding());
+  EXPECT_TRUE(f.bridge.latched());
+  for (double v : f.backend.written.motor_velocity_rad_s) EXPECT_EQ(v, 0.0);
+  const Vector6 held = WrittenLengths(f);
+  t += 1000;
+  EXPECT_FALSE(f.bridge.HandleCommand(f.Command(1e-4 * seq, t, seq), t, &fault));
+  ++seq;
+  f.bridge.Rearm();  // the operator tries while the drives are still silent
+  EXPECT_FALSE(f.bridge.HandleCommand(f.Command(1e-4 * seq, t, seq), t, &fault));
+  EXPECT_NE(fault.reason.find("do not answer"), std::string::npos) << fault.reason;
+  EXPECT_EQ(WrittenLengths(f), held);
+  ++seq;
+  f.backend.answering = true;
+  ASSERT_TRUE(f.bridge.Cycle(t, &state, &fault));
+  EXPECT_EQ(fault.severity, fault_t::SEVERITY_INFO);
+  EXPECT_NE(fault.reason.find("answers again"), std::string::npos) << fault.reason;
+  t += 1000;
+  ASSERT_TRUE(f.bridge.HandleCommand(f.Command(1e-4 * seq, t, seq), t, &fault)) << fault.reason;
+}
+
+// A bridge restarted while the stream is elsewhere (its predecessor was
+// killed mid-motion) starts holding where the drives are, refuses the
+// stream as a jump, and rejoins it when re-armed.
+TEST(ActuatorBridge, ARestartedBridgeRefusesAStreamElsewhereUntilReArmed) {
+  Fixture f;
+  fault_t fault;
+  leg_state_t state;
+  std::int64_t t = kStart;
+  for (int k = 0; k < 10; ++k, t += 1000) f.bridge.Cycle(t, &state, &fault);
+  EXPECT_FALSE(f.bridge.HandleCommand(f.Command(0.01, t, 100), t, &fault));
+  EXPECT_EQ(fault.code, static_cast<std::int32_t>(FaultCode::kJump));
+  f.bridge.Rearm();
+  int k = 0;
+  for (; k < 2000 && (k == 0 || f.bridge.rejoining()); ++k, t += 1000) {
+    ASSERT_TRUE(f.bridge.HandleCommand(f.Command(0.01, t, 101 + k), t, &fault)) << fault.reason;
+  }
+  EXPECT_FALSE(f.bridge.rejoining());
+  EXPECT_GT(k, 300);  // 10 mm at 0.02 m/s: about half a second, not a jump
+}
+
+// The bridge itself frozen (SIGSTOP, a long deschedule) mid-motion: no cycle
+// ran to notice the silence, and the first command after it is fresh but
+// far from the held target. It must hold and latch, not jump there.
+TEST(ActuatorBridge, AFreshCommandAfterTheBridgesOwnFreezeIsRefusedAndLatches) {
+  Fixture f;
+  fault_t fault;
+  leg_state_t state;
+  std::int64_t t = kStart;
+  MoveUp(f, &t, 3e-5, 20);  // moving up at 0.03 m/s
+  const Vector6 before = WrittenLengths(f);
+  t += 500000;  // frozen for 0.5 s; the stream went on 15 mm
+  EXPECT_FALSE(f.bridge.HandleCommand(f.Command(3e-5 * 520, t, 520), t, &fault));
+  EXPECT_EQ(fault.code, static_cast<std::int32_t>(FaultCode::kStale));
+  EXPECT_NE(fault.reason.find("until re-armed"), std::string::npos) << fault.reason;
+  EXPECT_TRUE(f.bridge.latched());
+  EXPECT_EQ(WrittenLengths(f), before);
+  for (double v : f.backend.written.motor_velocity_rad_s) EXPECT_EQ(v, 0.0);
+  EXPECT_FALSE(f.bridge.Cycle(t, &state, &fault)) << "reported once, by the refusal: " << fault.reason;
+}
+
+// Frozen while the drives went on interpolating for a few cycles and then
+// stopped on their watchdog: when the bridge runs again it holds them where
+// they stopped, not back at its last command (which would move them).
+TEST(ActuatorBridge, AfterItsOwnFreezeTheBridgeHoldsTheDrivesWhereTheyStopped) {
+  Fixture f;
+  fault_t fault;
+  leg_state_t state;
+  std::int64_t t = kStart;
+  MoveUp(f, &t, 3e-5, 20);
+  std::array<double, 6> past = f.backend.written.motor_angle_rad;
+  for (double& a : past) a += 0.05;  // where the drives' interpolator left them
+  f.backend.stopped_at = past;
+  t += 500000;
+  ASSERT_TRUE(f.bridge.Cycle(t, &state, &fault));
+  EXPECT_EQ(fault.code, static_cast<std::int32_t>(FaultCode::kStale));
+  EXPECT_TRUE(f.bridge.latched());
+  EXPECT_EQ(f.backend.written.motor_angle_rad, past);
+  for (double v : f.backend.written.motor_velocity_rad_s) EXPECT_EQ(v, 0.0);
 }
 
 }  // namespace

@@ -20,20 +20,27 @@
 
 namespace edsp::test_support {
 
+std::string SimGroupDir(const std::string& name) {
+  return fmt::format("/tmp/edsp_group_test_{}_{}", ::getpid(), name);
+}
+
 GroupRun LaunchSimGroup(const std::string& name, const std::string& pr_mode,
                         const std::string& planner_args,
                         const std::function<void(const std::string& dir)>& during,
-                        std::int64_t session_id, const std::string& config, int stale_ms) {
-  const std::string dir = fmt::format("/tmp/edsp_group_test_{}_{}", ::getpid(), name);
+                        std::int64_t session_id, const std::string& config, int stale_ms,
+                        const SimGroupExtras& extras) {
+  const std::string dir = SimGroupDir(name);
   std::system(("mkdir -p " + dir).c_str());
   GroupRun run;
-  run.log_path = dir + "/run.lcmlog";
+  run.dir = dir;
+  run.log_path = extras.log_path.empty() ? dir + "/run.lcmlog" : extras.log_path;
   std::ofstream(dir + "/group.toml") << fmt::format(R"(
 [group]
 name = "{0}"
 config = "{1}/{7}"
 session_id = {6}
 [transport]
+lcm_url = "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304"
 shm_prefix = "edsp.test.{2}.{0}"
 [[member]]
 name = "rig"
@@ -43,7 +50,7 @@ start_delay_ms = 200
 [[member]]
 name = "actuator_bridge"
 command = "edsp-actuator-bridge"
-args = ["--stale-ms", "{8}"]
+args = ["--stale-ms", "{8}"{9}]
 start_delay_ms = 100
 [[member]]
 name = "kinematics"
@@ -52,16 +59,18 @@ args = ["--pr-mode", "{3}", "--stale-ms", "{8}"]
 [[member]]
 name = "logger"
 command = "edsp-logger"
-args = ["--output", "{4}"]
+args = ["--output", "{4}"{10}]
 start_delay_ms = 300
 [[member]]
 name = "planner"
 command = "edsp-planner"
 args = [{5}]
 restart = "never"
+{11}
 )",
                                                     name, EDSP_SOURCE_DIR, ::getpid(), pr_mode,
-                                                    run.log_path, planner_args, session_id, config, stale_ms);
+                                                    run.log_path, planner_args, session_id, config, stale_ms,
+                                                    extras.bridge_args, extras.logger_args, extras.toml);
   const std::string command = fmt::format("{} {}/group.toml --until-exit planner --duration-s 120 2>{}/launch.err",
                                           EDSP_LAUNCH_BINARY, dir, dir);
   std::thread action;

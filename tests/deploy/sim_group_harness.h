@@ -15,7 +15,8 @@ namespace edsp::test_support {
 
 struct GroupRun {
   int exit_code = -1;
-  std::string log_path;   // <dir>/run.lcmlog; <dir>/launch.err beside it
+  std::string log_path;   // <dir>/run.lcmlog unless SimGroupExtras::log_path
+  std::string dir;        // group.toml, launch.err
 };
 
 inline constexpr const char* kDefaultPlannerArgs =
@@ -31,13 +32,26 @@ inline constexpr int kShippedStaleMs = 50;
 // is a correct hold but not what those tests measure.
 inline constexpr int kStallTolerantStaleMs = 250;
 
+// What some tests change beyond the planner: TOML appended to the group file
+// (e.g. [transport.channels.X]), more arguments (each quoted, comma-led:
+// `, "--x", "1"`) for the bridge and the logger, and where the log goes.
+struct SimGroupExtras {
+  std::string toml;
+  std::string bridge_args;
+  std::string logger_args;
+  std::string log_path;  // default <dir>/run.lcmlog
+};
+
 // `during(dir)` runs on a thread while the group does. `stale_ms` goes to the
 // kinematics node and the actuator bridge.
 GroupRun LaunchSimGroup(const std::string& name, const std::string& pr_mode,
                         const std::string& planner_args = kDefaultPlannerArgs,
                         const std::function<void(const std::string& dir)>& during = {},
                         std::int64_t session_id = 77, const std::string& config = kDefaultConfig,
-                        int stale_ms = kShippedStaleMs);
+                        int stale_ms = kShippedStaleMs, const SimGroupExtras& extras = {});
+
+// The run directory LaunchSimGroup uses for `name` (it exists once launched).
+std::string SimGroupDir(const std::string& name);
 
 // Every EDSP_FAULT of a log as "node channel code: reason" lines.
 std::string FaultLines(const std::string& log_path);
@@ -57,7 +71,8 @@ struct DwellEnd {
 // The last tracker sample of every dwell against the target's point A.
 std::vector<DwellEnd> DwellEnds(const std::string& log_path, const PlatformModel& model);
 
-// Directory of a run (where group.toml, launch.err and the log are).
-inline std::string RunDir(const GroupRun& run) { return run.log_path.substr(0, run.log_path.rfind('/')); }
+// Directory of a run (where group.toml and launch.err are; the log too
+// unless SimGroupExtras::log_path put it elsewhere).
+inline std::string RunDir(const GroupRun& run) { return run.dir; }
 
 }  // namespace edsp::test_support

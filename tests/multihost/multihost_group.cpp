@@ -16,6 +16,7 @@
 #include "edsp/node_status_t.hpp"
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/rig_truth_t.hpp"
+#include "edsp/transport/seq_gap.h"
 
 namespace edsp::test_support {
 
@@ -165,7 +166,7 @@ std::map<std::string, std::int64_t> StatusGapsByNode(const std::string& log_path
   std::map<std::string, std::int64_t> gaps, last;
   ForEach<node_status_t>(log_path, "EDSP_STATUS", [&](const node_status_t& s) {
     const auto [it, fresh] = last.emplace(s.node, s.seq);
-    gaps[s.node] += !fresh && s.seq > it->second + 1 ? s.seq - it->second - 1 : 0;
+    gaps[s.node] += fresh ? 0 : SeqGap(it->second, s.seq);
     it->second = s.seq;
   });
   return gaps;

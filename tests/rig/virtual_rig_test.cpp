@@ -208,5 +208,68 @@ TEST(VirtualRig, CoulombFrictionLeavesADeadbandOnTheSideOfTheApproach) {
   EXPECT_GE(from_above, -band * 1.0001);
 }
 
+// A process image that stops updating (the bridge frozen or killed while
+// moving): the drives follow the last velocity feed-forward for the
+// interpolation horizon only, then hold, and report it past the watchdog.
+// With and without the servo: both drive models must stop.
+TEST(VirtualRig, DrivesWithoutNewCommandsStopAfterTheInterpolationHorizon) {
+  for (const bool servo : {false, true}) {
+    RigParameters p = IdealRig(Huang2021Config());
+    p.effects.servo_lag.enabled = servo;
+    VirtualRig rig(p);
+    DriveSetpoint moving;
+    const double speed_rad_s = 100.0;  // about 0.16 m/s of leg
+    double angle = 0.0;
+    for (int k = 0; k < 200; ++k) {  // commands every cycle while moving
+      moving.motor_angle_rad.fill(angle);
+      moving.motor_velocity_rad_s.fill(speed_rad_s);
+      rig.SetTarget(moving, true);
+      ASSERT_TRUE(rig.Advance(1e-3));
+      angle += speed_rad_s * 1e-3;
+      EXPECT_FALSE(rig.watchdog_tripped());
+    }
+    // The commands stop. Where the target can end up: the last command plus
+    // the horizon at that speed.
+    const double last_command = angle - speed_rad_s * 1e-3;
+    const double limit = last_command + speed_rad_s * p.watchdog.interpolation_horizon_s;
+    double at_watchdog = 0.0;
+    for (int k = 1; k <= 500; ++k) {
+      ASSERT_TRUE(rig.Advance(1e-3));
+      if (k == 20) at_watchdog = rig.Feedback().motor_angle_rad[0];
+      EXPECT_EQ(rig.watchdog_tripped(), k + 1 > 20) << k;  // k + 1 ms since the last command
+    }
+    const DriveFeedback f = rig.Feedback();
+    EXPECT_LT(f.motor_angle_rad[0], limit + 0.05 * speed_rad_s * 1e-3) << (servo ? "servo" : "ideal");
+    EXPECT_GT(f.motor_angle_rad[0], last_command - 0.5) << "it did not run backwards either";
+    EXPECT_NEAR(f.motor_angle_rad[0], at_watchdog, servo ? 0.5 : 1e-12) << "at rest after the watchdog";
+    EXPECT_NEAR(f.motor_velocity_rad_s[0], 0.0, 1e-3);
+    EXPECT_EQ(f.status[0], DriveStatus::kHolding);
+    rig.SetTarget(moving, true);  // a command again: enabled, following
+    EXPECT_FALSE(rig.watchdog_tripped());
+    EXPECT_EQ(rig.Feedback().status[0], DriveStatus::kEnabled);
+  }
+}
+
+// A rig emulator restarted after a crash continues where its predecessor's
+// motors were (absolute encoders), not at home.
+TEST(VirtualRig, ARestoredRigSitsWhereItsPredecessorsMotorsWere) {
+  const PlatformConfig config = Huang2021Config();
+  const PlatformModel model(config);
+  VirtualRig before(IdealRig(config));
+  Pose pose = model.home_pose();
+  pose.p_BoMo_B += Vector3(0.01, -0.02, 0.03);
+  before.SetTarget(AnglesFor(model, model.CompensatedLengths(pose, PrMode::kSigned)), true);
+  RunFor(before, 2.0);  // the servo settles
+  VirtualRig after(IdealRig(config));
+  ASSERT_TRUE(after.RestoreDrives(before.Feedback().motor_angle_rad));
+  EXPECT_LT((after.true_pose().p_BoMo_B - before.true_pose().p_BoMo_B).norm(), 1e-9);
+  EXPECT_NEAR((after.true_pose().p_BoMo_B - model.home_pose().p_BoMo_B).norm(), 0.0374, 1e-3) << "not at home";
+  const DriveFeedback f = after.Feedback();
+  EXPECT_EQ(f.status[0], DriveStatus::kDisabled);
+  EXPECT_EQ(f.motor_angle_rad, before.Feedback().motor_angle_rad);
+  RunFor(after, 0.1);  // disabled: it stays
+  EXPECT_LT((after.true_pose().p_BoMo_B - before.true_pose().p_BoMo_B).norm(), 1e-9);
+}
+
 }  // namespace
 }  // namespace edsp

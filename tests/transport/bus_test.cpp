@@ -2,6 +2,7 @@
 // decimated mirror, bad packets, handler exceptions, seq gaps, set-up errors.
 #include <unistd.h>
 
+#include <limits>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -9,6 +10,7 @@
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/leg_command_t.hpp"
 #include "edsp/transport/bus.h"
+#include "edsp/transport/seq_gap.h"
 
 namespace edsp {
 namespace {
@@ -366,6 +368,19 @@ TEST(Bus, MixedInputsWakeOnLcmAtOnceNotAtTheNextSlice) {
   }
   EXPECT_EQ(lcm_messages, 3);
   (void)states;
+}
+
+// Regression (the flood under UBSan): foreign packets carry any seq; the
+// logger's gap count overflowed int64 on them and stopped the logger.
+TEST(SeqGap, CountsLossNeverOverflowsAndIgnoresForeignNumbers) {
+  EXPECT_EQ(SeqGap(-1, 5), 0);   // first message
+  EXPECT_EQ(SeqGap(5, 6), 0);
+  EXPECT_EQ(SeqGap(5, 9), 3);
+  EXPECT_EQ(SeqGap(9, 2), 0);    // a restarted publisher
+  EXPECT_EQ(SeqGap(7736393874816021169, std::numeric_limits<std::int64_t>::max()), 0);
+  EXPECT_EQ(SeqGap(0, std::numeric_limits<std::int64_t>::max()), 0);  // foreign, not 9e18 lost
+  EXPECT_EQ(SeqGap(std::numeric_limits<std::int64_t>::max(), 0), 0);
+  EXPECT_EQ(SeqGap(0, kImplausibleSeqGap), kImplausibleSeqGap - 1);
 }
 
 }  // namespace

@@ -111,6 +111,26 @@ TEST(ShmChannel, SkipToLatestIsNotAnOverrun) {
   EXPECT_EQ(reader->stats().overruns, 0u);
 }
 
+// A successor reads the last state its predecessor published (the rig's
+// drives after a crash), though a new reader starts after what was there.
+TEST(ShmChannel, RewindToLatestReadsTheNewestMessageFromBeforeTheAttach) {
+  const ShmChannelSpec spec = TestSpec("rewind", 8);
+  auto writer = OpenWriter(spec);
+  for (std::uint64_t k = 1; k <= 11; ++k) Publish(*writer, 40 + k);
+  auto reader = OpenReader(spec);
+  Decoded d;
+  EXPECT_EQ(Take(*reader, &d), TakeStatus::kEmpty);
+  reader->RewindToLatest();
+  ASSERT_EQ(Take(*reader, &d), TakeStatus::kMessage);
+  EXPECT_EQ(d.number, 51u);
+  EXPECT_EQ(Take(*reader, &d), TakeStatus::kEmpty);
+  const ShmChannelSpec silent = TestSpec("rewind_silent", 8);
+  auto silent_writer = OpenWriter(silent);  // nothing published yet: nothing to rewind to
+  auto silent_reader = OpenReader(silent);
+  silent_reader->RewindToLatest();
+  EXPECT_EQ(Take(*silent_reader, &d), TakeStatus::kEmpty);
+}
+
 TEST(ShmChannel, OversizedMessageIsNotPublished) {
   const ShmChannelSpec spec = TestSpec("oversize", 8, 64);
   auto writer = OpenWriter(spec);

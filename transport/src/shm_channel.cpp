@@ -93,6 +93,11 @@ void ShmReader::SkipToLatest() noexcept {
   if (published >= next_) next_ = published;
 }
 
+void ShmReader::RewindToLatest() noexcept {
+  const std::uint64_t published = segment_->header()->published.load(std::memory_order_acquire);
+  if (published >= 1 && published < kShmMaxMessages) next_ = published;
+}
+
 bool ShmReader::Available() const noexcept {
   return segment_->header()->published.load(std::memory_order_acquire) >= next_;
 }

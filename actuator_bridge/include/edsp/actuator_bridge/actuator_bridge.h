@@ -41,14 +41,15 @@ class ActuatorBridge {
   // Returns true and fills *fault when a new fault arose this cycle.
   bool Cycle(std::int64_t now_utime, leg_state_t* state, fault_t* fault);
 
-  // After a stale hold the bridge refuses every command until an operator
-  // re-arms it (the stream may come back anywhere; resuming by itself when the
+  // After a stale hold, or drives that stopped answering, the bridge refuses
+  // every command until an operator re-arms it (the stream may come back anywhere; resuming by itself when the
   // trajectory happens to pass the held pose would start the platform with a
   // jerk). After Rearm() the bridge rejoins the stream: the held legs move to
   // the latest command along a straight line in leg space at no more than
   // rejoin_speed_m_s, then follow it as before (caught up: within one rejoin
-  // step). While rejoining, the stream
-  // itself must stay continuous (a jump in it is refused, as ever).
+  // step). While rejoining, the stream itself must stay continuous (a jump
+  // in it is refused, as ever). A bridge started (or restarted) into a
+  // stream that is elsewhere refuses it as a jump until re-armed likewise.
   void Rearm();
   bool rejoining() const { return rejoining_; }
   bool latched() const { return latched_; }
@@ -63,6 +64,8 @@ class ActuatorBridge {
   // step towards it. Ends the rejoin once the stream is within one rejoin step
   // (a stream moving faster than the rejoin speed is caught when it slows).
   Vector6 NextTarget(const Vector6& command_m, double max_step_m, double elapsed_s);
+  void HoldLatched();            // the last valid position, at rest; latched if a stream ran
+  void HoldWhereTheDrivesAre();  // after drives answer again
 
   PlatformModel model_;
   DriveBackend* backend_;
@@ -70,6 +73,7 @@ class ActuatorBridge {
   DriveSetpoint target_;             // what the drives are told
   Vector6 target_length_m_;
   std::int64_t target_utime_ = -1;   // receipt time of the last valid command
+  std::int64_t last_cycle_utime_ = -1;
   std::int64_t last_basis_utime_ = 0; // its planner time (setpoint_utime)
   std::int64_t last_command_seq_ = 0;
   bool holding_ = true;

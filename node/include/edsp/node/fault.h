@@ -23,6 +23,8 @@ enum class FaultCode : std::int32_t {
   kBackend = 9,           // the drive backend failed
   kBadRequest = 10,       // an operator request with a value out of range
   kOperatorAction = 11,   // not a fault: an operator's action confirmed (severity info)
+  kStorage = 12,          // the log's disk refused writes (info: it accepts them again)
+  kProcess = 13,          // a group member froze, exited or restarted (the launcher)
 };
 
 const char* FaultCodeName(FaultCode code);

@@ -8,6 +8,7 @@
 // geometry (joint_position). With no effect on, it is the nominal model. A
 // laser-tracker emulator measures point A in its own frame.
 
+#include <array>
 #include <cstdint>
 #include <random>
 #include <vector>
@@ -29,10 +30,21 @@ struct TrackerParameters {
   std::uint64_t seed = 1;
 };
 
+// The drives' side of a process image that stops updating (a frozen or
+// killed bridge, a lost fieldbus): like a real drive's interpolator, the
+// target follows the last velocity feed-forward for a few cycles only, then
+// stays where it is (the drive holds position; it never runs on for ever);
+// past the watchdog the drives report themselves holding.
+struct DriveWatchdog {
+  double interpolation_horizon_s = 0.004;  // 4 cycles of the 1 kHz image
+  double timeout_s = 0.02;                 // then status kHolding, until a command
+};
+
 struct RigParameters {
   PlatformConfig nominal;           // what the rig was designed to be
   RigEffects effects;               // how it really is (none: exactly nominal)
   TrackerParameters tracker;
+  DriveWatchdog watchdog;
 };
 
 // RigParameters for a rig built exactly to `nominal`, tracker frame = {B}.
@@ -43,11 +55,19 @@ class VirtualRig {
   explicit VirtualRig(RigParameters parameters);
 
   void SetTarget(const DriveSetpoint& setpoint, bool enabled);
+  // The motors where they are (absolute encoders): a rig emulator restarted
+  // after a crash continues from its predecessor's last drive feedback, as
+  // real hardware does not move when its controller restarts. Drives off,
+  // the platform where those angles put it. False if no pose fits them.
+  bool RestoreDrives(const std::array<double, 6>& motor_angle_rad);
   // Advances time by dt_s: servo loops at their rate, then the platform pose.
   // Returns false if the platform pose could not be found (a broken rig).
   bool Advance(double dt_s);
 
   DriveFeedback Feedback() const;
+  // Enabled drives without a command for longer than the watchdog timeout.
+  bool watchdog_tripped() const;
+  double since_command_s() const { return since_command_s_; }
   rig_truth_t Truth(std::int64_t utime);  // numbers each message (seq)
   // True (and *point filled) when a tracker sample is due at this step.
   bool TrackerSample(std::int64_t utime, tracker_point_t* point);
@@ -80,6 +100,7 @@ class VirtualRig {
   std::array<double, 6> angle_{}, velocity_{};
   DriveSetpoint target_;
   bool enabled_ = false;
+  double since_command_s_ = 0.0;         // since the last SetTarget
   Pose pose_;
   double time_s_ = 0.0;
   double next_tracker_s_ = 0.0;

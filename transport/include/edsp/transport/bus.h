@@ -17,6 +17,7 @@
 #include "edsp/transport/error.h"
 #include "edsp/transport/fd_doorbell.h"
 #include "edsp/transport/lcm_transport.h"
+#include "edsp/transport/seq_gap.h"
 #include "edsp/transport/shm_channel.h"
 #include "edsp/transport/transport_config.h"
 
@@ -194,9 +195,7 @@ void Bus::Delivered(ChannelCounters& counters, const Msg& msg, SeqTracker* seqs)
     if constexpr (detail::HasSessionId<Msg>::value) session = msg.session_id;
     if (seqs->last_by_session.size() > 64) seqs->last_by_session.clear();  // a flood of sessions: start over
     std::int64_t* last_seq = &seqs->last_by_session.try_emplace(session, -1).first->second;
-    if (*last_seq >= 0 && msg.seq > *last_seq + 1) {
-      counters.seq_gaps += static_cast<std::uint64_t>(msg.seq - *last_seq - 1);
-    }
+    counters.seq_gaps += static_cast<std::uint64_t>(SeqGap(*last_seq, msg.seq));
     *last_seq = msg.seq;  // a restarted publisher (seq going back) is not a gap
   }
 }

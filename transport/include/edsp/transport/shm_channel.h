@@ -67,6 +67,11 @@ class ShmReader {
   // Skipped messages are not overruns.
   void SkipToLatest() noexcept;
 
+  // Back to the newest message published before this reader attached, if
+  // any (a new reader otherwise starts after it): a restarted process
+  // reading the last state its dead predecessor published.
+  void RewindToLatest() noexcept;
+
   // Waits until a message is available or `timeout` passes: spins for
   // `spin` first, then sleeps on the futex. Returns true if one is available.
   bool Wait(std::chrono::nanoseconds timeout,

@@ -1,0 +1,220 @@
+#include "edsp/logger/log_file_appender.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <cstring>
+
+#include <fmt/format.h>
+
+namespace edsp {
+namespace {
+
+constexpr std::uint32_t kSyncWord = 0xEDA1DA01u;
+constexpr std::size_t kHeaderBytes = 4 + 8 + 8 + 4 + 4;
+// LCM's own limit on channel names is lower; anything longer is not a header.
+constexpr std::int64_t kMaxChannelBytes = 1024;
+
+void PutBigEndian(std::vector<std::uint8_t>* out, std::uint64_t value, int bytes) {
+  for (int k = bytes - 1; k >= 0; --k) out->push_back(static_cast<std::uint8_t>(value >> (8 * k)));
+}
+
+std::uint64_t GetBigEndian(const std::uint8_t* p, int bytes) {
+  std::uint64_t v = 0;
+  for (int k = 0; k < bytes; ++k) v = (v << 8) | p[k];
+  return v;
+}
+
+struct Header {
+  std::int64_t event_number;
+  std::int64_t total_bytes;  // header + channel + data
+};
+
+// A plausible event header at `p` for an event that must fit in `room` bytes.
+bool ParseHeader(const std::uint8_t* p, std::int64_t room, Header* h) {
+  if (GetBigEndian(p, 4) != kSyncWord) return false;
+  const auto channel = static_cast<std::int32_t>(GetBigEndian(p + 20, 4));
+  const auto data = static_cast<std::int32_t>(GetBigEndian(p + 24, 4));
+  if (channel <= 0 || channel > kMaxChannelBytes || data < 0) return false;
+  h->event_number = static_cast<std::int64_t>(GetBigEndian(p + 4, 8));
+  h->total_bytes = static_cast<std::int64_t>(kHeaderBytes) + channel + data;
+  return h->total_bytes <= room;
+}
+
+bool ReadAt(int fd, std::uint8_t* buffer, std::size_t bytes, std::int64_t offset) {
+  std::size_t done = 0;
+  while (done < bytes) {
+    const ssize_t n = ::pread(fd, buffer + done, bytes - done, offset + static_cast<std::int64_t>(done));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    done += static_cast<std::size_t>(n);
+  }
+  return true;
+}
+
+// Is there a whole event starting anywhere after `from`? (Then the damage at
+// `from` is inside the log, not a torn tail.)
+bool WholeEventAfter(int fd, std::int64_t from, std::int64_t size) {
+  constexpr std::size_t kChunk = 1 << 20;
+  std::vector<std::uint8_t> chunk(kChunk + kHeaderBytes);
+  for (std::int64_t base = from + 1; base + static_cast<std::int64_t>(kHeaderBytes) <= size;
+       base += static_cast<std::int64_t>(kChunk)) {
+    const auto bytes = static_cast<std::size_t>(std::min<std::int64_t>(
+        static_cast<std::int64_t>(chunk.size()), size - base));
+    if (!ReadAt(fd, chunk.data(), bytes, base)) return false;
+    for (std::size_t k = 0; k + kHeaderBytes <= bytes && k < kChunk; ++k) {
+      Header h{};
+      if (ParseHeader(chunk.data() + k, size - base - static_cast<std::int64_t>(k), &h)) return true;
+    }
+  }
+  return false;
+}
+
+LogScan ScanOpenLog(int fd, std::int64_t size) {
+  LogScan scan;
+  std::array<std::uint8_t, kHeaderBytes> header{};
+  std::int64_t offset = 0;
+  while (offset + static_cast<std::int64_t>(kHeaderBytes) <= size) {
+    Header h{};
+    if (!ReadAt(fd, header.data(), header.size(), offset) ||
+        !ParseHeader(header.data(), size - offset, &h)) {
+      break;
+    }
+    ++scan.events;
+    scan.last_event_number = h.event_number;
+    offset += h.total_bytes;
+  }
+  scan.whole_bytes = offset;
+  if (offset < size) {
+    scan.damaged_inside = WholeEventAfter(fd, offset, size);
+    scan.tail_torn = !scan.damaged_inside;
+  }
+  return scan;
+}
+
+std::string ErrnoText(int error) { return std::strerror(error); }
+
+}  // namespace
+
+LogScan ScanLogFile(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return {};
+  struct stat st {};
+  LogScan scan;
+  if (::fstat(fd, &st) == 0) scan = ScanOpenLog(fd, static_cast<std::int64_t>(st.st_size));
+  ::close(fd);
+  return scan;
+}
+
+std::unique_ptr<LogFileAppender> LogFileAppender::Open(const std::string& path, LogResume* resume,
+                                                       std::string* error) {
+  const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    *error = fmt::format("{}: cannot open the log file: {}", path, ErrnoText(errno));
+    return nullptr;
+  }
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) {
+    *error = fmt::format("{}: cannot stat the log file: {}", path, ErrnoText(errno));
+    ::close(fd);
+    return nullptr;
+  }
+  const LogScan scan = ScanOpenLog(fd, static_cast<std::int64_t>(st.st_size));
+  if (scan.damaged_inside) {
+    *error = fmt::format("{}: damaged at byte {} with whole events after it; not appending to it",
+                         path, scan.whole_bytes);
+    ::close(fd);
+    return nullptr;
+  }
+  if (scan.tail_torn && ::ftruncate(fd, scan.whole_bytes) != 0) {
+    *error = fmt::format("{}: cannot cut the torn last event at byte {}: {}", path, scan.whole_bytes,
+                         ErrnoText(errno));
+    ::close(fd);
+    return nullptr;
+  }
+  if (::lseek(fd, scan.whole_bytes, SEEK_SET) < 0) {
+    *error = fmt::format("{}: cannot seek: {}", path, ErrnoText(errno));
+    ::close(fd);
+    return nullptr;
+  }
+  if (resume != nullptr) {
+    resume->events = scan.events;
+    resume->torn_bytes = static_cast<std::int64_t>(st.st_size) - scan.whole_bytes;
+  }
+  return std::unique_ptr<LogFileAppender>(
+      new LogFileAppender(path, fd, scan.whole_bytes, scan.last_event_number + 1));
+}
+
+LogFileAppender::LogFileAppender(std::string path, int fd, std::int64_t committed,
+                                 std::int64_t next_event)
+    : path_(std::move(path)), fd_(fd), committed_(committed), next_event_(next_event) {}
+
+LogFileAppender::~LogFileAppender() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+void LogFileAppender::Append(const std::string& channel, const std::uint8_t* data,
+                             std::uint32_t size, std::int64_t utime) {
+  pending_.reserve(pending_.size() + kHeaderBytes + channel.size() + size);
+  PutBigEndian(&pending_, kSyncWord, 4);
+  PutBigEndian(&pending_, static_cast<std::uint64_t>(next_event_++), 8);
+  PutBigEndian(&pending_, static_cast<std::uint64_t>(utime), 8);
+  PutBigEndian(&pending_, channel.size(), 4);
+  PutBigEndian(&pending_, size, 4);
+  pending_.insert(pending_.end(), channel.begin(), channel.end());
+  pending_.insert(pending_.end(), data, data + size);
+  boundaries_.push_back(pending_.size());
+}
+
+void LogFileAppender::KeepPendingFrom(std::size_t written_bytes) {
+  // The events wholly written leave the buffer; the rest is renumbered
+  // relative to what remains.
+  const auto first_left = std::upper_bound(boundaries_.begin(), boundaries_.end(), written_bytes);
+  const std::size_t whole = first_left == boundaries_.begin() ? 0 : *(first_left - 1);
+  committed_ += static_cast<std::int64_t>(whole);
+  pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(whole));
+  boundaries_.erase(boundaries_.begin(), first_left);
+  for (std::size_t& end : boundaries_) end -= whole;
+}
+
+bool LogFileAppender::Flush(std::string* error) {
+  std::size_t written = 0;
+  int failure = 0;
+  while (written < pending_.size()) {
+    const ssize_t n = ::write(fd_, pending_.data() + written, pending_.size() - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      failure = n < 0 ? errno : ENOSPC;  // write() returning 0 for a regular file: no room
+      break;
+    }
+    written += static_cast<std::size_t>(n);
+  }
+  KeepPendingFrom(written);
+  if (failure == 0) return true;
+  // A partial event may be on disk: cut the file back to its last whole
+  // event, so readers never meet a torn event in the middle of the log.
+  if (::ftruncate(fd_, committed_) != 0 || ::lseek(fd_, committed_, SEEK_SET) < 0) {
+    *error = fmt::format("{}: write failed ({}) and the torn event could not be cut: {}", path_,
+                         ErrnoText(failure), ErrnoText(errno));
+    return false;
+  }
+  *error = fmt::format("{}: write failed: {} ({} events waiting in memory)", path_,
+                       ErrnoText(failure), boundaries_.size());
+  return false;
+}
+
+std::int64_t LogFileAppender::DropPendingAbove(std::int64_t bytes) {
+  std::int64_t dropped = 0;
+  while (!boundaries_.empty() && static_cast<std::int64_t>(pending_.size()) > bytes) {
+    boundaries_.pop_back();
+    pending_.resize(boundaries_.empty() ? 0 : boundaries_.back());
+    ++dropped;
+  }
+  return dropped;
+}
+
+}  // namespace edsp
