@@ -51,18 +51,20 @@ struct Member {
 };
 
 // The launcher's voice on the group's bus: EDSP_FAULT and EDSP_STATUS over
-// LCM (never shm: the launcher is no member of the routes).
+// LCM (never shm: the launcher is no member of the routes), as node
+// "launcher", or "launcher@<host>" for one host's members (one per host).
 class GroupReport {
  public:
-  explicit GroupReport(const GroupSpec& group)
-      : bus_(LcmOnly(group.path)),
+  GroupReport(const GroupSpec& group, const std::string& host)
+      : node_(host.empty() ? "launcher" : "launcher@" + host),
+        bus_(LcmOnly(group.path)),
         faults_(bus_.Advertise<fault_t>("EDSP_FAULT")),
         status_out_(bus_.Advertise<node_status_t>("EDSP_STATUS")),
-        status_("launcher") {
+        status_(node_) {
     status_.SetState(node_status_t::STATE_RUNNING);
   }
   void Fault(const std::string& member, std::int8_t severity, const std::string& reason) {
-    faults_.Publish(MakeFault("launcher", "", FaultCode::kProcess, severity,
+    faults_.Publish(MakeFault(node_, "", FaultCode::kProcess, severity,
                               fmt::format("member {}: {}", member, reason), UtimeNow()));
     status_.CountOut();
   }
@@ -82,6 +84,7 @@ class GroupReport {
     config.channels.clear();
     return config;
   }
+  std::string node_;
   Bus bus_;
   Bus::Publisher<fault_t> faults_;
   Bus::Publisher<node_status_t> status_out_;
@@ -306,7 +309,7 @@ int Run(int argc, char** argv) {
     throw std::runtime_error("--until-exit " + until_exit + ": no such member");
   }
   InstallStopSignals();
-  GroupReport report(group);
+  GroupReport report(group, host);
   std::fprintf(stderr, "edsp-launch: group %s, session %lld, %zu members\n", group.name.c_str(),
                static_cast<long long>(session_id), members.size());
   for (Member& m : members) {

@@ -133,11 +133,14 @@ int Run(int argc, char** argv) {
   while (!StopRequested()) {
     bus.Handle(std::chrono::milliseconds(20));
     const std::int64_t now = UtimeNow();
-    if (status.Due(now)) {
-      const LogWriterStats w = writer.stats();
+    // The disk's health every pass (20 ms at most), its status once a second
+    // and at once when it changes.
+    const LogWriterStats w = writer.stats();
+    fault_t fault;
+    const bool changed = disk.Update(w, now, &fault);
+    if (changed) faults.Publish(fault);
+    if (status.Due(now) || changed) {
       status.SetDrops(gaps + w.dropped);
-      fault_t fault;
-      if (disk.Update(w, now, &fault)) faults.Publish(fault);
       status.SetState(disk.failing() ? node_status_t::STATE_FAULT : node_status_t::STATE_RUNNING);
       status_out.Publish(status.Report(now, 0));
     }

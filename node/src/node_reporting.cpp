@@ -13,7 +13,9 @@ NodeReporting::NodeReporting(Bus& bus, const std::string& node)
 }
 
 void NodeReporting::Fault(fault_t fault) {
-  if (throttle_.Admit(&fault)) faults_.Publish(fault);
+  // Info is a transition (re-armed, rejoined, answering again): rare by
+  // construction, and one held back behind a refusal would be lost.
+  if (fault.severity == fault_t::SEVERITY_INFO || throttle_.Admit(&fault)) faults_.Publish(fault);
 }
 
 void NodeReporting::StatusTick(std::int64_t now_utime, std::int64_t deadline_misses) {

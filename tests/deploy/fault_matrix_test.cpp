@@ -10,6 +10,8 @@
 // The planner kill is not in it: the planner is the job (restart = "never";
 // a restarted trajectory would start again from its beginning), and its
 // freeze covers a silent setpoint stream.
+#include <signal.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -70,12 +72,18 @@ struct Timeline {
   int arm_status = -1;
 };
 
-// "[e]dsp-x": the pattern must not match the shell that runs pkill (a
-// stopped shell would never return).
-void Signal(const std::string& signal, const FaultCase& c, const std::string& dir) {
-  std::system(fmt::format("pkill -{} -f '[{}]{} .*{}/group.toml'", signal, c.program.front(),
-                          c.program.substr(1), dir)
-                  .c_str());
+// The member's pid ("[e]dsp-x": the pattern must not match the shell that
+// runs pgrep), found before the fault so that its time is the signal's.
+pid_t MemberPid(const FaultCase& c, const std::string& dir) {
+  const std::string command = fmt::format("pgrep -f '[{}]{} .*{}/group.toml'", c.program.front(),
+                                          c.program.substr(1), dir);
+  FILE* pipe = ::popen(command.c_str(), "r");
+  long pid = -1;
+  if (pipe != nullptr) {
+    if (std::fscanf(pipe, "%ld", &pid) != 1) pid = -1;
+    ::pclose(pipe);
+  }
+  return static_cast<pid_t>(pid);
 }
 
 int Arm(const std::string& dir) {
@@ -217,13 +225,15 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
       name, "signed", fmt::format(R"("--csv", "{}", "--exit-after-hold-s", "0.5")", csv),
       [&](const std::string& d) {
         std::this_thread::sleep_for(std::chrono::milliseconds(2000));  // moving up
+        const pid_t pid = MemberPid(c, d);
+        if (pid <= 0) return;  // fails below: no fault time
         t.fault_utime = UtimeNow();
-        Signal(c.kill ? "KILL" : "STOP", c, d);
+        ::kill(pid, c.kill ? SIGKILL : SIGSTOP);
         if (c.kill) {
           std::this_thread::sleep_for(std::chrono::milliseconds(800));  // the launcher restarts it
         } else {
           std::this_thread::sleep_for(std::chrono::milliseconds(500));
-          Signal("CONT", c, d);
+          ::kill(pid, SIGCONT);
           t.end_utime = UtimeNow();
         }
         if (motion_stops) {
@@ -237,6 +247,7 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
   std::ostringstream launch_text;
   launch_text << launch_err.rdbuf();
   ASSERT_EQ(run.exit_code, 0) << launch_text.str();
+  ASSERT_GT(t.fault_utime, 0) << "no " << c.program << " process of this group found";
   const Analysis a = Analyse(run.log_path, t);
   const bool logger_killed = c.member == "logger" && c.kill;
   if (c.kill && !logger_killed) {

@@ -77,11 +77,12 @@ TEST(MultiHost, PaperMotionsRunAcrossThreeHostsAndTheOperatorLogsEveryMessage) {
     ::testing::Test::RecordProperty(std::string(channel) + "_messages", static_cast<int>(c.messages));
   }
   EXPECT_GT(summary.channels.at("EDSP_LEG_COMMAND").messages, 20000);
-  // EDSP_STATUS: five publishers on one channel, so each node's own count.
-  for (const auto& [node, gaps] : StatusGapsByNode(group.log_path())) {
-    EXPECT_EQ(gaps, 0) << "EDSP_STATUS of " << node;
-  }
-  EXPECT_EQ(StatusGapsByNode(group.log_path()).size(), 5u);
+  // EDSP_STATUS: five nodes and a launcher per host (launcher@<host>) on
+  // one channel, so each publisher's own count.
+  const auto status_gaps = StatusGapsByNode(group.log_path());
+  for (const auto& [node, gaps] : status_gaps) EXPECT_EQ(gaps, 0) << "EDSP_STATUS of " << node;
+  EXPECT_EQ(status_gaps.size(), 8u);
+  EXPECT_EQ(status_gaps.count("launcher@controller"), 1u);
   EXPECT_EQ(StatusDrops(group.log_path(), "actuator_bridge"), 0);
   EXPECT_EQ(StatusDrops(group.log_path(), "kinematics"), 0);
   ExpectSettledOnTheLastSetpoint(group.log_path(), 5e-6);

@@ -17,7 +17,7 @@ class NodeReporting {
   // Set-up: advertises EDSP_FAULT and EDSP_STATUS (may throw TransportError).
   NodeReporting(Bus& bus, const std::string& node);
 
-  // Publishes the fault unless the throttle holds it back.
+  // Publishes the fault unless the throttle holds it back (never info).
   void Fault(fault_t fault);
   NodeStatus& status() { return status_; }
   // Publishes EDSP_STATUS when a second has passed since the last one.
