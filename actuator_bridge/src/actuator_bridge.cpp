@@ -67,9 +67,13 @@ bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utim
     // Starved longer than the stale limit and no cycle noticed (this process
     // was frozen, or descheduled): whatever comes now may be anywhere. Hold
     // first, as a cycle would have.
+    // Its drives were left alone as long: they stopped on their own
+    // watchdog. Hold them there (writing the last command would pull them
+    // back by up to the drives' interpolation horizon).
     const std::int64_t silent_us = now_utime - target_utime_;
     HoldLatched();
     hold_reported_ = true;
+    if (backend_->Read(now_utime, &feedback_)) HoldWhereTheDrivesAre();
     backend_->Write(now_utime, target_);
     return Reject(FaultCode::kStale,
                   fmt::format("leg command seq {} refused: no valid leg command for {} us before it "

@@ -342,20 +342,24 @@ TEST(ActuatorBridge, ARestartedBridgeRefusesAStreamElsewhereUntilReArmed) {
 
 // The bridge itself frozen (SIGSTOP, a long deschedule) mid-motion: no cycle
 // ran to notice the silence, and the first command after it is fresh but
-// far from the held target. It must hold and latch, not jump there.
+// far from the held target. It must hold and latch, not jump there, and
+// hold the drives where their watchdog stopped them (found under ASan, where
+// the thawed bridge handled a command before its first cycle).
 TEST(ActuatorBridge, AFreshCommandAfterTheBridgesOwnFreezeIsRefusedAndLatches) {
   Fixture f;
   fault_t fault;
   leg_state_t state;
   std::int64_t t = kStart;
   MoveUp(f, &t, 3e-5, 20);  // moving up at 0.03 m/s
-  const Vector6 before = WrittenLengths(f);
+  std::array<double, 6> past = f.backend.written.motor_angle_rad;
+  for (double& a : past) a += 0.05;  // where the drives' interpolator left them
+  f.backend.stopped_at = past;
   t += 500000;  // frozen for 0.5 s; the stream went on 15 mm
   EXPECT_FALSE(f.bridge.HandleCommand(f.Command(3e-5 * 520, t, 520), t, &fault));
   EXPECT_EQ(fault.code, static_cast<std::int32_t>(FaultCode::kStale));
   EXPECT_NE(fault.reason.find("until re-armed"), std::string::npos) << fault.reason;
   EXPECT_TRUE(f.bridge.latched());
-  EXPECT_EQ(WrittenLengths(f), before);
+  EXPECT_EQ(f.backend.written.motor_angle_rad, past) << "held where the drives stopped, not pulled back";
   for (double v : f.backend.written.motor_velocity_rad_s) EXPECT_EQ(v, 0.0);
   EXPECT_FALSE(f.bridge.Cycle(t, &state, &fault)) << "reported once, by the refusal: " << fault.reason;
 }
