@@ -159,7 +159,9 @@ LogFileAppender::~LogFileAppender() {
 
 void LogFileAppender::Append(const std::string& channel, const std::uint8_t* data,
                              std::uint32_t size, std::int64_t utime) {
-  pending_.reserve(pending_.size() + kHeaderBytes + channel.size() + size);
+  // No reserve() here: an exact reserve per event would defeat the vector's
+  // geometric growth and copy the whole pending buffer at every append
+  // (quadratic: it stalled the logger under a flood with ASan).
   PutBigEndian(&pending_, kSyncWord, 4);
   PutBigEndian(&pending_, static_cast<std::uint64_t>(next_event_++), 8);
   PutBigEndian(&pending_, static_cast<std::uint64_t>(utime), 8);
