@@ -35,6 +35,8 @@
 #include "edsp/rig_truth_t.hpp"
 #include "edsp/tracker_point_t.hpp"
 #include "edsp/transport/seq_gap.h"
+#include "group_watch.h"
+#include "late_cycles.h"
 #include "sim_group_harness.h"
 
 namespace edsp {
@@ -46,8 +48,9 @@ using test_support::SimGroupExtras;
 
 struct FaultCase {
   std::string member;   // group member name
-  std::string program;  // its executable, for pkill
+  std::string program;  // its executable, for pgrep
   bool kill;            // SIGKILL (restart) or SIGSTOP/SIGCONT
+  std::string output;   // an LCM channel only it publishes: its successor is back ("" = none)
 };
 
 std::string CaseName(const FaultCase& c) {
@@ -99,6 +102,7 @@ int Arm(const std::string& dir) {
 
 struct Truth {
   std::int64_t utime;
+  std::int64_t seq;
   Vector3 p;
 };
 
@@ -116,6 +120,7 @@ struct Analysis {
   bool bridge_status_holding = false;             // EDSP_STATUS after the fault
   bool launcher_status_fault = false;
   std::int64_t logger_drops = 0;                   // what the logger said it lost (EDSP_STATUS)
+  std::int64_t first_event_utime = 0;
   std::int64_t events_before_fault = 0;
   std::int64_t largest_event_gap_us = 0;           // between logged events after the fault
   std::int64_t tracker_gaps = 0, command_gaps = 0; // seq gaps in the log
@@ -132,6 +137,7 @@ Analysis Analyse(const std::string& log_path, const Timeline& t) {
   std::int64_t previous_event_utime = 0, last_tracker_seq = -1, last_command_seq = -1;
   while (reader.Next(&e)) {
     const int size = static_cast<int>(e.data.size());
+    if (a.first_event_utime == 0) a.first_event_utime = e.timestamp_utime;
     if (e.timestamp_utime < t.fault_utime) ++a.events_before_fault;
     if (previous_event_utime > 0 && e.timestamp_utime > t.fault_utime &&
         e.timestamp_utime - previous_event_utime > a.largest_event_gap_us) {
@@ -141,7 +147,7 @@ Analysis Analyse(const std::string& log_path, const Timeline& t) {
     previous_event_utime = e.timestamp_utime;
     if (e.channel == "EDSP_RIG_TRUTH") {
       rig_truth_t m;
-      if (m.decode(e.data.data(), 0, size) >= 0) a.truth.push_back({m.utime, Vector3(m.pose[0], m.pose[1], m.pose[2])});
+      if (m.decode(e.data.data(), 0, size) >= 0) a.truth.push_back({m.utime, m.seq, Vector3(m.pose[0], m.pose[1], m.pose[2])});
     } else if (e.channel == "EDSP_TRACKER") {
       tracker_point_t m;
       if (m.decode(e.data.data(), 0, size) < 0) continue;
@@ -207,6 +213,49 @@ std::optional<std::int64_t> AtRestFrom(const std::vector<Truth>& truth, std::int
   return window[k == window.size() ? k - 1 : k].utime;
 }
 
+// The largest step of the platform between true samples 1 ms apart
+// (samples further apart are a gap in the log or a late cycle, not motion
+// within one cycle), and the largest across a restart of the rig (its seq
+// starts again: the successor resumes where the platform stopped).
+double LargestCycleStep(const std::vector<Truth>& truth) {
+  double largest = 0.0;
+  for (std::size_t k = 1; k < truth.size(); ++k) {
+    if (truth[k].utime - truth[k - 1].utime > 5000) continue;
+    largest = std::max(largest, (truth[k].p - truth[k - 1].p).norm());
+  }
+  return largest;
+}
+double LargestRestartStep(const std::vector<Truth>& truth) {
+  double largest = 0.0;
+  for (std::size_t k = 1; k < truth.size(); ++k) {
+    if (truth[k].seq > truth[k - 1].seq) continue;
+    largest = std::max(largest, (truth[k].p - truth[k - 1].p).norm());
+  }
+  return largest;
+}
+
+// The first true sample at or after `utime` (the restarted rig's first).
+std::int64_t FirstTruthFrom(const std::vector<Truth>& truth, std::int64_t utime) {
+  for (const Truth& s : truth) {
+    if (s.utime >= utime) return s.utime;
+  }
+  return utime;
+}
+
+// Events of one 1 kHz channel logged before `utime` against what its
+// publisher sent meanwhile (seq span): what the log still holds of the time
+// before a fault, whatever the machine's start-up took.
+double LoggedFractionBefore(const std::vector<Truth>& truth, std::int64_t utime) {
+  std::int64_t logged = 0, first_seq = -1, last_seq = -1;
+  for (const Truth& s : truth) {
+    if (s.utime >= utime) break;
+    if (first_seq < 0) first_seq = s.seq;
+    last_seq = s.seq;
+    ++logged;
+  }
+  return logged > 0 ? static_cast<double>(logged) / static_cast<double>(last_seq - first_seq + 1) : 0.0;
+}
+
 class FaultMatrix : public ::testing::TestWithParam<FaultCase> {};
 
 TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
@@ -224,13 +273,24 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
   const GroupRun run = LaunchSimGroup(
       name, "signed", fmt::format(R"("--csv", "{}", "--exit-after-hold-s", "0.5")", csv),
       [&](const std::string& d) {
-        std::this_thread::sleep_for(std::chrono::milliseconds(2000));  // moving up
+        test_support::GroupWatch watch(test_support::kGroupLcmUrl, c.output.empty() ? "" : c.output);
+        // A third of the way up (20 of 60 mm), however long the group took to start.
+        if (!watch.WaitForSetpoint([](const pose_setpoint_t& s) { return s.pose[2] > 1.531; },
+                                   std::chrono::seconds(60))) {
+          return;  // fails below: no fault time
+        }
         const pid_t pid = MemberPid(c, d);
-        if (pid <= 0) return;  // fails below: no fault time
+        if (pid <= 0) return;
         t.fault_utime = UtimeNow();
         ::kill(pid, c.kill ? SIGKILL : SIGSTOP);
         if (c.kill) {
-          std::this_thread::sleep_for(std::chrono::milliseconds(800));  // the launcher restarts it
+          // The launcher restarts it: its successor publishes again (what
+          // was in flight from the killed one has arrived within 100 ms).
+          std::this_thread::sleep_for(std::chrono::milliseconds(100));
+          if (c.output.empty() ||
+              !watch.WaitForMessage(c.output, UtimeNow(), std::chrono::seconds(30))) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(700));
+          }
         } else {
           std::this_thread::sleep_for(std::chrono::milliseconds(500));
           ::kill(pid, SIGCONT);
@@ -256,9 +316,22 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
   }
   if (logger_killed) t.end_utime = a.resumed_utime;  // its successor's first event
 
-  // Nothing logged is lost: the log reads to its end, with what preceded the fault.
+  // Nothing logged is lost: the log reads to its end, starts before the
+  // fault (a restarted logger appends, never truncates) and holds what the
+  // rig published before it, however long the group took to start.
   EXPECT_FALSE(a.damaged);
-  EXPECT_GT(a.events_before_fault, 5000);
+  EXPECT_GT(a.first_event_utime, 0);
+  EXPECT_LT(a.first_event_utime, t.fault_utime - 500000) << "the log starts at the fault: truncated?";
+  // Most of it: loopback multicast on a busy machine loses a few per cent
+  // (counted on the logger's EDSP_STATUS); a log missing its head or a
+  // chunk of it holds far less.
+  EXPECT_GT(LoggedFractionBefore(a.truth, t.fault_utime), 0.9);
+  // The machine's own lateness in this run: the rig's 1 kHz cycles outside
+  // the fault. A busy or sanitized machine delays every node's reaction by
+  // as much; a hold or report that never comes still fails.
+  const std::int64_t late_us = test_support::LargestLateCycleUs(
+      run.log_path, "EDSP_RIG_TRUTH", 1000, t.fault_utime, std::max(t.end_utime, t.fault_utime) + 100000);
+  const double late_ms = static_cast<double>(late_us) * 1e-3;
   // Reported: by the launcher naming the member, within 50 ms. The logger
   // cannot be relied on to record its own fault (killed: nobody records;
   // frozen: what arrives meanwhile may overflow when it thaws), so for it
@@ -268,21 +341,17 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
     EXPECT_NE(launch_text.str().find(said), std::string::npos) << launch_text.str();
   } else {
     ASSERT_TRUE(a.launcher_report_utime.has_value()) << "no launcher fault for " << c.member;
-    EXPECT_LT(*a.launcher_report_utime - t.fault_utime, 50000);
+    EXPECT_LT(*a.launcher_report_utime - t.fault_utime, 50000 + late_us);
     EXPECT_TRUE(a.launcher_status_fault) << "the launcher's EDSP_STATUS never said fault";
   }
   const double report_ms =
       a.first_report_utime ? static_cast<double>(*a.first_report_utime - t.fault_utime) * 1e-3 : -1.0;
 
-  // No jump: between true samples 1 ms apart, no step beyond a servo
-  // cycle's travel (0.03 m/s, or catching up a late cycle on this VM).
-  // Samples further apart are a gap in the log, not motion.
-  double largest_step = 0.0;
-  for (std::size_t k = 1; k < a.truth.size(); ++k) {
-    if (a.truth[k].utime - a.truth[k - 1].utime > 5000) continue;
-    largest_step = std::max(largest_step, (a.truth[k].p - a.truth[k - 1].p).norm());
-  }
+  // No jump: no step beyond a servo cycle's travel (0.03 m/s, or catching
+  // up a late cycle), and none across a restarted rig (a jump home is 20 mm).
+  const double largest_step = LargestCycleStep(a.truth);
   EXPECT_LT(largest_step, 2e-4);
+  EXPECT_LT(LargestRestartStep(a.truth), 2e-4) << "the restarted rig did not resume where the platform was";
 
   double hold_ms = -1.0, overrun_um = 0.0, rejoin_ms = -1.0, hold_report_ms = -1.0;
   if (motion_stops) {
@@ -294,23 +363,25 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
                                            << t.arm_status << ")";
     ASSERT_TRUE(a.hold_report_utime.has_value()) << "neither the bridge nor the drives reported a hold";
     hold_report_ms = static_cast<double>(*a.hold_report_utime - t.fault_utime) * 1e-3;
-    // A frozen rig is the world stopped: its platform cannot move until it
-    // runs again, so its hold is timed from then.
-    const std::int64_t from = c.member == "rig" && !c.kill ? t.end_utime : t.fault_utime;
+    // A frozen or killed rig is the world stopped: its platform cannot
+    // move until it (or its successor) runs again, so its hold is timed
+    // from its first cycle after the fault, not from its start-up time.
+    const std::int64_t from = c.member == "rig" ? FirstTruthFrom(a.truth, t.fault_utime + 1) : t.fault_utime;
     const auto rest = AtRestFrom(a.truth, from, *a.armed_utime);
     ASSERT_TRUE(rest.has_value());
     hold_ms = static_cast<double>(*rest - from) * 1e-3;
-    // At rest within the bridge's 50 ms stale limit plus the servo settling
-    // (and a stall of this VM).
-    EXPECT_LT(hold_ms, 150.0);
-    EXPECT_LT(hold_report_ms, 100.0);
+    // At rest within the bridge's 50 ms stale limit plus the servo
+    // settling, and the machine's lateness measured in this run.
+    EXPECT_LT(hold_ms, 150.0 + late_ms);
+    EXPECT_LT(hold_report_ms, 100.0 + late_ms);
     Vector3 at_fault = a.truth.front().p;
     for (const Truth& s : a.truth) {
       if (s.utime <= t.fault_utime) at_fault = s.p;
       else if (s.utime < *a.armed_utime) overrun_um = std::max(overrun_um, (s.p - at_fault).norm() * 1e6);
     }
-    // The platform's lag behind the command at 0.03 m/s, and 50 ms of it.
-    EXPECT_LT(overrun_um, 3000.0) << "the platform went on past the fault";
+    // The platform's lag behind the command at 0.03 m/s, and 50 ms of it
+    // (and of the machine's lateness).
+    EXPECT_LT(overrun_um, 3000.0 + 30.0 * late_ms) << "the platform went on past the fault";
     ASSERT_TRUE(a.rejoined_utime.has_value()) << "the bridge never rejoined the stream";
     rejoin_ms = static_cast<double>(*a.rejoined_utime - *a.armed_utime) * 1e-3;
     EXPECT_TRUE(a.bridge_status_holding) << "EDSP_STATUS never said holding";
@@ -322,12 +393,16 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
       // 0.5 s of the group's ~5 000 packets a second overflow the socket and
       // LCM's receive ring when the logger thaws: lost, but counted and
       // reported (EDSP_STATUS drops), never more than the freeze.
-      EXPECT_LT(a.tracker_gaps, 600);
+      const std::int64_t frozen_ms = (t.end_utime - t.fault_utime + late_us) / 1000;
+      EXPECT_LT(a.tracker_gaps, frozen_ms + 100);
       EXPECT_GE(a.logger_drops, a.tracker_gaps) << "the logger must report what it lost";
     } else {
       EXPECT_NE(a.logger_resumed.find("resumed after"), std::string::npos)
           << "the restarted logger must append to the log, not truncate it";
-      EXPECT_LT(a.largest_event_gap_us, 1000000);
+      // Its restart time and no more: as long as this run's first start
+      // took (launch to the first event, less the start delays before it).
+      const std::int64_t first_start_us = a.first_event_utime - run.launch_utime;
+      EXPECT_LT(a.largest_event_gap_us, 1000000 + first_start_us);
     }
   }
 
@@ -343,6 +418,7 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
   const double end_ms = static_cast<double>(t.end_utime - t.fault_utime) * 1e-3;
   const auto ms = [](double v) { return v >= 0 ? fmt::format("{:.1f}", v) : std::string("-"); };
   // | member | fault | first report | hold reported | at rest | overrun | fault over | re-arm → following | lost | final |
+  std::printf("late cycles: %.1f ms at most outside the fault\n", late_ms);
   std::printf("FAULT_ROW | %s | %s | %s | %s | %s | %s | %.0f | %s | %lld | %.2f | %s | %s\n", c.member.c_str(),
               c.kill ? "SIGKILL + restart" : "SIGSTOP 0.5 s", ms(report_ms).c_str(), ms(hold_report_ms).c_str(),
               motion_stops ? ms(hold_ms).c_str() : "no hold", motion_stops ? fmt::format("{:.0f}", overrun_um).c_str() : "-",
@@ -355,15 +431,15 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
 
 INSTANTIATE_TEST_SUITE_P(
     EveryNode, FaultMatrix,
-    ::testing::Values(FaultCase{"planner", "edsp-planner", false},
-                      FaultCase{"kinematics", "edsp-kinematics", false},
-                      FaultCase{"kinematics", "edsp-kinematics", true},
-                      FaultCase{"actuator_bridge", "edsp-actuator-bridge", false},
-                      FaultCase{"actuator_bridge", "edsp-actuator-bridge", true},
-                      FaultCase{"rig", "edsp-rig", false},
-                      FaultCase{"rig", "edsp-rig", true},
-                      FaultCase{"logger", "edsp-logger", false},
-                      FaultCase{"logger", "edsp-logger", true}),
+    ::testing::Values(FaultCase{"planner", "edsp-planner", false, "EDSP_SETPOINT"},
+                      FaultCase{"kinematics", "edsp-kinematics", false, "EDSP_PLATFORM_STATE"},
+                      FaultCase{"kinematics", "edsp-kinematics", true, "EDSP_PLATFORM_STATE"},
+                      FaultCase{"actuator_bridge", "edsp-actuator-bridge", false, "EDSP_LEG_STATE"},
+                      FaultCase{"actuator_bridge", "edsp-actuator-bridge", true, "EDSP_LEG_STATE"},
+                      FaultCase{"rig", "edsp-rig", false, "EDSP_RIG_TRUTH"},
+                      FaultCase{"rig", "edsp-rig", true, "EDSP_RIG_TRUTH"},
+                      FaultCase{"logger", "edsp-logger", false, ""},
+                      FaultCase{"logger", "edsp-logger", true, ""}),
     [](const ::testing::TestParamInfo<FaultCase>& param_info) { return CaseName(param_info.param); });
 
 }  // namespace

@@ -17,6 +17,7 @@
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/tracker_point_t.hpp"
 #include "edsp/node_status_t.hpp"
+#include "edsp/node/runtime.h"
 
 namespace edsp::test_support {
 
@@ -40,7 +41,7 @@ name = "{0}"
 config = "{1}/{7}"
 session_id = {6}
 [transport]
-lcm_url = "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304"
+lcm_url = "{12}"
 shm_prefix = "edsp.test.{2}.{0}"
 [[member]]
 name = "rig"
@@ -70,10 +71,11 @@ restart = "never"
 )",
                                                     name, EDSP_SOURCE_DIR, ::getpid(), pr_mode,
                                                     run.log_path, planner_args, session_id, config, stale_ms,
-                                                    extras.bridge_args, extras.logger_args, extras.toml);
+                                                    extras.bridge_args, extras.logger_args, extras.toml, kGroupLcmUrl);
   const std::string command = fmt::format("{} {}/group.toml --until-exit planner --duration-s 120 2>{}/launch.err",
                                           EDSP_LAUNCH_BINARY, dir, dir);
   std::thread action;
+  run.launch_utime = UtimeNow();
   if (during) action = std::thread([&] { during(dir); });
   const int status = std::system(command.c_str());
   if (action.joinable()) action.join();

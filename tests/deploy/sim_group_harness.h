@@ -15,6 +15,7 @@ namespace edsp::test_support {
 
 struct GroupRun {
   int exit_code = -1;
+  std::int64_t launch_utime = 0;  // edsp-launch started (UtimeNow)
   std::string log_path;   // <dir>/run.lcmlog unless SimGroupExtras::log_path
   std::string dir;        // group.toml, launch.err
 };
@@ -22,6 +23,10 @@ struct GroupRun {
 inline constexpr const char* kDefaultPlannerArgs =
     R"("--motions", "Lz,Rz", "--stops", "3", "--dwell-s", "0.6", "--max-speed-m-s", "0.25",
         "--max-speed-rad-s", "0.5", "--exit-after-hold-s", "0.3")";
+
+// Where the group's LCM traffic is (multicast on the test's private
+// loopback, ttl 0), for a GroupWatch.
+inline constexpr const char* kGroupLcmUrl = "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304";
 
 inline constexpr const char* kDefaultConfig = "config/huang2021.toml";  // in the checkout
 

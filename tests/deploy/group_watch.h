@@ -1,0 +1,54 @@
+#pragma once
+// A running group's LCM traffic seen from the test process, so that a test
+// acts on what the group does (the platform moving, a restarted member
+// publishing again) rather than on a sleep tuned to one machine's start-up:
+// a sanitized node on a busy two-core machine starts several times slower.
+
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include <lcm/lcm-cpp.hpp>
+
+#include "edsp/pose_setpoint_t.hpp"
+
+namespace edsp::test_support {
+
+class GroupWatch {
+ public:
+  // Listens to EDSP_SETPOINT and every channel named in `channels` (a
+  // regex, as lcm::LCM::subscribe takes it) on `lcm_url` until destroyed.
+  GroupWatch(const std::string& lcm_url, const std::string& channels);
+  ~GroupWatch();
+  GroupWatch(const GroupWatch&) = delete;
+  GroupWatch& operator=(const GroupWatch&) = delete;
+
+  bool ok() const { return lcm_.good(); }
+
+  // Waits until the newest setpoint satisfies `reached`; false on timeout.
+  bool WaitForSetpoint(const std::function<bool(const pose_setpoint_t&)>& reached,
+                       std::chrono::milliseconds timeout);
+  // Waits until a message on `channel` arrives at or after `after_utime`
+  // (this process's clock, UtimeNow); false on timeout.
+  bool WaitForMessage(const std::string& channel, std::int64_t after_utime, std::chrono::milliseconds timeout);
+
+ private:
+  static void OnMessage(const lcm::ReceiveBuffer* buffer, const std::string& channel, GroupWatch* self);
+  void Listen();
+
+  lcm::LCM lcm_;
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::map<std::string, std::int64_t> last_received_utime_;
+  pose_setpoint_t setpoint_{};
+  bool have_setpoint_ = false;
+  bool stop_ = false;
+  std::thread listener_;
+};
+
+}  // namespace edsp::test_support

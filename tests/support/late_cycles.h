@@ -1,0 +1,39 @@
+#pragma once
+// How late this run's machine let a periodic node run, measured from its
+// log: the thresholds of the multi-process tests add it, so that they hold
+// on a cold, busy or sanitized machine and still fail when a hold or a
+// report never comes.
+
+#include <algorithm>
+#include <cstdint>
+#include <string>
+
+#include "edsp/logger/log_reader.h"
+
+namespace edsp::test_support {
+
+// The largest time beyond `period_us` between two messages of `channel`
+// with consecutive seq (a late cycle, not a lost packet), on the
+// publisher's own clock (the message's utime), leaving out pairs that
+// overlap [skip_from, skip_to] (a fault the test caused there).
+inline std::int64_t LargestLateCycleUs(const std::string& log_path, const std::string& channel,
+                                       std::int64_t period_us, std::int64_t skip_from = 0,
+                                       std::int64_t skip_to = -1) {
+  LogReader reader(log_path);
+  LogEvent event;
+  EdspHeader previous, header;
+  bool have_previous = false;
+  std::int64_t late = 0;
+  while (reader.Next(&event)) {
+    if (event.channel != channel || !ParseEdspHeader(event.data, &header)) continue;
+    const bool overlaps = header.utime >= skip_from && previous.utime <= skip_to;
+    if (have_previous && header.seq == previous.seq + 1 && !overlaps) {
+      late = std::max(late, header.utime - previous.utime - period_us);
+    }
+    previous = header;
+    have_previous = true;
+  }
+  return late;
+}
+
+}  // namespace edsp::test_support
