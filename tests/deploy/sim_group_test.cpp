@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "group_watch.h"
 #include "sim_group_harness.h"
 #include "edsp/kinematics/config.h"
 #include "edsp/logger/log_reader.h"
@@ -26,6 +27,7 @@
 #include "edsp/sim/paper_table.h"
 #include "edsp/fault_t.hpp"
 #include "edsp/node/fault.h"
+#include "edsp/node/runtime.h"
 #include "edsp/rig_truth_t.hpp"
 #include "edsp/tracker_point_t.hpp"
 
@@ -132,19 +134,25 @@ TEST(SimGroup, ALogReplayedFromAnotherSessionMovesNothing) {
   const std::string dir = source.log_path.substr(0, source.log_path.rfind('/'));
   std::ofstream(dir + "/home.csv") << "time_s,x_m,y_m,z_m,roll_rad,pitch_rad,yaw_rad\n"
                                    << "0,0,0,1.511,0,0,0\n8,0,0,1.511,0,0,0\n";
+  std::int64_t replay_start_utime = 0, replay_end_utime = 0;
   const GroupRun live = LaunchSimGroup(
       "guard-live", "signed", fmt::format(R"("--csv", "{}/home.csv", "--exit-after-hold-s", "0")", dir),
       [&](const std::string&) {
-        std::this_thread::sleep_for(std::chrono::seconds(2));
+        // The live group up (its planner's setpoints flowing), however long
+        // it took to start; then the replay.
+        test_support::GroupWatch watch(test_support::kGroupLcmUrl, "");
+        watch.WaitForSetpoint([](const pose_setpoint_t& s) { return s.session_id == 99; }, std::chrono::seconds(60));
+        replay_start_utime = UtimeNow();
         std::system(("lcm-logplayer -e 'EDSP_SETPOINT|EDSP_LEG_COMMAND' "
                      "-l 'udpm://239.255.76.67:7667?ttl=0' " + source.log_path + " >/dev/null 2>&1")
                         .c_str());
+        replay_end_utime = UtimeNow();
       },
       99);
   ASSERT_EQ(live.exit_code, 0);
   LogReader reader(live.log_path);
   LogEvent event;
-  std::int64_t foreign_refused = 0, truth_samples = 0;
+  std::int64_t foreign_refused = 0, last_truth_utime = 0, truth_during_replay = 0;
   double furthest_from_home = 0.0;
   const Vector6 home = PlatformModel(Huang2021Config()).home_pose().ToVector();
   while (reader.Next(&event)) {
@@ -161,10 +169,15 @@ TEST(SimGroup, ALogReplayedFromAnotherSessionMovesNothing) {
       Vector6 q;
       for (int k = 0; k < 6; ++k) q(k) = t.pose[k];
       furthest_from_home = std::max(furthest_from_home, (q - home).cwiseAbs().maxCoeff());
-      ++truth_samples;
+      last_truth_utime = t.utime;
+      if (t.utime >= replay_start_utime && t.utime <= replay_end_utime) ++truth_during_replay;
     }
   }
-  EXPECT_GT(truth_samples, 5000);
+  // The platform was watched (1 kHz) for as long as the replay and the
+  // live group overlapped.
+  const std::int64_t overlap_ms = (std::min(replay_end_utime, last_truth_utime) - replay_start_utime) / 1000;
+  EXPECT_GT(overlap_ms, 0) << "the live group ended before the replay began";
+  EXPECT_GT(truth_during_replay, overlap_ms * 9 / 10);
   EXPECT_LT(furthest_from_home, 1e-6) << "the replayed session moved the live platform";
   // Thousands were refused; EDSP_FAULT carries a throttled summary of them
   // (one per channel and code every 100 ms), not a flood.
