@@ -1,0 +1,140 @@
+// edsp-bench-drives: what one Modbus TCP cycle costs here. Six simulated
+// CiA 402 drives served by a child process (edsp's server, as
+// edsp-drive-sim runs it); the parent is the master and times N cycles of
+// one read/write request (function 23: six RxPDOs out, six TxPDOs in),
+// paced at the chosen period. Reports medians and tails from this run
+// only; the machine's own timer baseline (a sleep of the same period)
+// is measured beside it, so a busy machine shows as such.
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <thread>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "edsp/drives/csp_master.h"
+#include "edsp/drives/modbus_drive_master.h"
+#include "edsp/drives/modbus_drive_server.h"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using edsp::cia402::CspCommands;
+using edsp::cia402::CspFeedbacks;
+
+double Percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[static_cast<std::size_t>(p * static_cast<double>(v.size() - 1))];
+}
+
+nlohmann::json Summary(const std::vector<double>& us) {
+  return {{"samples", us.size()},
+          {"p50_us", Percentile(us, 0.5)},
+          {"p99_us", Percentile(us, 0.99)},
+          {"p999_us", Percentile(us, 0.999)},
+          {"max_us", us.empty() ? 0.0 : *std::max_element(us.begin(), us.end())}};
+}
+
+// How late a plain sleep of `period` wakes here: the timer baseline.
+std::vector<double> SleepLateness(std::chrono::microseconds period, int n) {
+  std::vector<double> late;
+  late.reserve(static_cast<std::size_t>(n));
+  auto next = Clock::now() + period;
+  for (int k = 0; k < n; ++k) {
+    std::this_thread::sleep_until(next);
+    late.push_back(std::chrono::duration<double, std::micro>(Clock::now() - next).count());
+    next += period;
+  }
+  return late;
+}
+
+int Run(int argc, char** argv) {
+  int cycles = 20000, warmup = 500;
+  double period_us = 1000.0;
+  bool json = false;
+  CLI::App app{"One Modbus TCP cycle of six CiA 402 drives: read+write time"};
+  app.add_option("--cycles", cycles, "timed cycles")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--warmup", warmup, "untimed cycles first (enable the drives)")->capture_default_str();
+  app.add_option("--period-us", period_us, "pace of the master's cycles")->capture_default_str()
+      ->check(CLI::Range(0.0, 100000.0));
+  app.add_flag("--json", json, "one JSON object on stdout");
+  CLI11_PARSE(app, argc, argv);
+
+  edsp::cia402::DriveServerOptions options;
+  options.port = 0;
+  edsp::cia402::ModbusDriveServer server(options);
+  const pid_t child = ::fork();
+  if (child < 0) throw std::runtime_error("fork failed");
+  if (child == 0) {
+    server.Run([] { return ::getppid() == 1; });  // until killed, or orphaned
+    ::_exit(0);
+  }
+  edsp::cia402::ModbusDriveMaster master("127.0.0.1", server.port(), 0.5);
+  std::string error;
+  if (!master.Connect(&error)) throw std::runtime_error(error);
+  CspCommands commands{};
+  CspFeedbacks feedback{};
+  std::vector<double> exchange_us;
+  exchange_us.reserve(static_cast<std::size_t>(cycles));
+  const auto period = std::chrono::microseconds(static_cast<long>(period_us));
+  auto next = Clock::now();
+  std::int32_t target = 0;
+  int failures = 0;
+  for (int k = 0; k < warmup + cycles; ++k) {
+    if (k >= warmup) target += 100;  // a ramp once enabled
+    for (std::size_t d = 0; d < commands.size(); ++d) {
+      commands[d] = edsp::cia402::NextCspCommand(feedback[d], commands[d].controlword, target);
+    }
+    const auto start = Clock::now();
+    if (!master.Exchange(commands, &feedback, &error)) {
+      ++failures;
+      if (!master.Connect(&error)) break;
+      continue;
+    }
+    if (k >= warmup) exchange_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - start).count());
+    next += period;
+    if (period.count() > 0) std::this_thread::sleep_until(next);
+  }
+  ::kill(child, SIGKILL);
+  ::waitpid(child, nullptr, 0);
+  const std::vector<double> timer = SleepLateness(std::chrono::microseconds(1000), 2000);
+
+  nlohmann::json report = {{"drives", 6},
+                           {"registers_per_cycle", 2 * edsp::cia402::modbus_map::kBlockRegisters},
+                           {"period_us", period_us},
+                           {"failures", failures},
+                           {"exchange", Summary(exchange_us)},
+                           {"timer_baseline_late", Summary(timer)}};
+  if (json) {
+    std::printf("%s\n", report.dump().c_str());
+  } else {
+    const auto& e = report["exchange"];
+    const auto& t = report["timer_baseline_late"];
+    std::printf("modbus-tcp cycle (6 drives, 1 request): p50 %.1f us, p99 %.1f us, p99.9 %.1f us, max %.1f us "
+                "(%zu cycles, %d failed)\n",
+                e["p50_us"].get<double>(), e["p99_us"].get<double>(), e["p999_us"].get<double>(),
+                e["max_us"].get<double>(), exchange_us.size(), failures);
+    std::printf("timer baseline (1 ms sleep, late by): p50 %.1f us, p99 %.1f us, max %.1f us\n",
+                t["p50_us"].get<double>(), t["p99_us"].get<double>(), t["max_us"].get<double>());
+  }
+  return failures == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return Run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "edsp-bench-drives: error: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,61 @@
+#pragma once
+// Six simulated CiA 402 drives behind a Modbus TCP server (libmodbus), at
+// the register map of modbus_register_map.h: what edsp-drive-sim serves,
+// and what a test talks to over loopback. The drives run on their own
+// clock; requests are answered as they come, one client at a time (a new
+// connection replaces the old one, as a restarted master's does).
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "edsp/drives/modbus_register_map.h"
+#include "edsp/drives/simulated_csp_drive.h"
+
+typedef struct _modbus modbus_t;
+typedef struct _modbus_mapping_t modbus_mapping_t;
+
+namespace edsp::cia402 {
+
+struct DriveServerOptions {
+  std::string host = "127.0.0.1";
+  int port = 1502;           // 0: any free port (see port())
+  double cycle_s = 0.001;    // the drives' own cycle
+  SimulatedDriveOptions drive;
+};
+
+class ModbusDriveServer {
+ public:
+  // Binds and listens; throws std::runtime_error naming host:port and why.
+  explicit ModbusDriveServer(const DriveServerOptions& options);
+  ~ModbusDriveServer();
+  ModbusDriveServer(const ModbusDriveServer&) = delete;
+  ModbusDriveServer& operator=(const ModbusDriveServer&) = delete;
+
+  int port() const { return port_; }
+  // Serves until `stop()` says so.
+  void Run(const std::function<bool()>& stop);
+  // From any thread: drive `index` (0-5) raises `error_code` at its next cycle.
+  void InjectFault(int index, std::uint16_t error_code);
+  std::int64_t requests() const { return requests_.load(); }
+
+ private:
+  void Tick(double dt_s);
+  void Serve(int client);
+  void CloseClient();
+
+  DriveServerOptions options_;
+  modbus_t* ctx_ = nullptr;
+  modbus_mapping_t* mapping_ = nullptr;
+  int listener_ = -1;
+  int client_ = -1;
+  int port_ = 0;
+  std::vector<SimulatedCspDrive> drives_;
+  std::array<std::atomic<std::uint16_t>, modbus_map::kDrives> pending_faults_{};
+  std::atomic<std::int64_t> requests_{0};
+};
+
+}  // namespace edsp::cia402

@@ -1,0 +1,68 @@
+#include "edsp/drives/modbus_drive_master.h"
+
+#include <cerrno>
+#include <cmath>
+
+#include <fmt/format.h>
+#include <modbus/modbus.h>
+
+namespace edsp::cia402 {
+
+ModbusDriveMaster::ModbusDriveMaster(std::string host, int port, double response_timeout_s)
+    : host_(std::move(host)), port_(port), response_timeout_s_(response_timeout_s) {}
+
+ModbusDriveMaster::~ModbusDriveMaster() { Disconnect(); }
+
+std::string ModbusDriveMaster::endpoint() const { return fmt::format("modbus-tcp {}:{}", host_, port_); }
+
+bool ModbusDriveMaster::Connect(std::string* error) {
+  Disconnect();
+  ctx_ = modbus_new_tcp(host_.c_str(), port_);
+  if (ctx_ == nullptr) {
+    *error = fmt::format("{}: {}", endpoint(), modbus_strerror(errno));
+    return false;
+  }
+  const double whole = std::floor(response_timeout_s_);
+  modbus_set_response_timeout(ctx_, static_cast<std::uint32_t>(whole),
+                              static_cast<std::uint32_t>((response_timeout_s_ - whole) * 1e6));
+  if (modbus_connect(ctx_) != 0) {
+    *error = fmt::format("{}: cannot connect: {}", endpoint(), modbus_strerror(errno));
+    Disconnect();
+    return false;
+  }
+  return true;
+}
+
+void ModbusDriveMaster::Disconnect() {
+  if (ctx_ == nullptr) return;
+  modbus_close(ctx_);
+  modbus_free(ctx_);
+  ctx_ = nullptr;
+}
+
+bool ModbusDriveMaster::Exchange(const CspCommands& commands, CspFeedbacks* feedback, std::string* error) {
+  if (ctx_ == nullptr) {
+    *error = endpoint() + ": not connected";
+    return false;
+  }
+  std::uint16_t out[modbus_map::kBlockRegisters];
+  std::uint16_t in[modbus_map::kBlockRegisters];
+  for (int d = 0; d < modbus_map::kDrives; ++d) {
+    const modbus_map::DriveRegisters r = modbus_map::EncodeCommand(commands[static_cast<std::size_t>(d)]);
+    std::copy(r.begin(), r.end(), out + d * modbus_map::kRegistersPerDrive);
+  }
+  const int read = modbus_write_and_read_registers(ctx_, modbus_map::kCommandAddress, modbus_map::kBlockRegisters, out,
+                                                   modbus_map::kFeedbackAddress, modbus_map::kBlockRegisters, in);
+  if (read != modbus_map::kBlockRegisters) {
+    *error = fmt::format("{}: the drives' cycle (read/write of {} registers) failed: {}", endpoint(),
+                         modbus_map::kBlockRegisters, read < 0 ? modbus_strerror(errno) : "short answer");
+    Disconnect();
+    return false;
+  }
+  for (int d = 0; d < modbus_map::kDrives; ++d) {
+    (*feedback)[static_cast<std::size_t>(d)] = modbus_map::DecodeFeedback(in + d * modbus_map::kRegistersPerDrive);
+  }
+  return true;
+}
+
+}  // namespace edsp::cia402
