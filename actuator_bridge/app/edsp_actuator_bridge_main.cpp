@@ -1,7 +1,7 @@
 // edsp-actuator-bridge: EDSP_LEG_COMMAND → drive setpoints through a
 // DriveBackend, encoders → EDSP_LEG_STATE, at 1 kHz. Holds the last valid
 // position when commands go stale (50 ms) and reports it on EDSP_FAULT.
-//   edsp-actuator-bridge [--backend virtual-rig] [--image-prefix edsp]
+//   edsp-actuator-bridge [--backend virtual-rig|modbus-tcp] [--image-prefix edsp]
 //                        [--config FILE] [--group FILE] [--session-id N]
 //                        [--latency-report FILE] [--rejoin-speed-m-s V]
 // A valid command goes to the drives the moment it arrives; the 1 kHz cycle
@@ -12,6 +12,8 @@
 #include <fstream>
 
 #include "edsp/actuator_bridge/actuator_bridge.h"
+#include "edsp/actuator_bridge/drives_config.h"
+#include "edsp/actuator_bridge/modbus_tcp_backend.h"
 #include "edsp/actuator_bridge/virtual_rig_backend.h"
 #include "edsp/kinematics/config.h"
 #include "edsp/node/latency_recorder.h"
@@ -26,13 +28,15 @@
 namespace edsp {
 namespace {
 
-std::unique_ptr<DriveBackend> MakeBackend(const std::string& name, const TransportConfig& transport,
-                                          const std::string& image_prefix) {
+// --backend, or else the config's [drives] backend ("virtual": the rig's image).
+std::unique_ptr<DriveBackend> MakeBackend(const std::string& name, const DrivesConfig& drives,
+                                          const TransportConfig& transport, const std::string& image_prefix) {
   if (name == "virtual-rig") {
     return std::make_unique<VirtualRigBackend>(
         image_prefix.empty() ? transport.shm_prefix : image_prefix, transport.shm_permissions);
   }
-  throw std::runtime_error("--backend " + name + ": known backends: virtual-rig");
+  if (name == "modbus-tcp") return std::make_unique<ModbusTcpBackend>(drives);
+  throw std::runtime_error("--backend " + name + ": known backends: virtual-rig, modbus-tcp");
 }
 
 void WriteLatencyReport(const std::string& path, const LatencyRecorder& latency,
@@ -49,9 +53,9 @@ int Run(int argc, char** argv) {
   CLI::App app{"edsp-actuator-bridge: leg commands → drives, encoders → leg states"};
   NodeOptions node;
   AddNodeOptions(&app, &node);
-  std::string backend_name = "virtual-rig", image_prefix;
+  std::string backend_name, image_prefix;
   int stale_ms = 50;
-  app.add_option("--backend", backend_name, "drive backend (virtual-rig)");
+  app.add_option("--backend", backend_name, "drive backend: virtual-rig or modbus-tcp (default: [drives] backend)");
   app.add_option("--image-prefix", image_prefix, "process image segment prefix (default: shm_prefix)");
   app.add_option("--stale-ms", stale_ms, "hold when no valid command for this long")
       ->check(CLI::Range(1, 10000));
@@ -64,9 +68,11 @@ int Run(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   const PlatformConfig config = LoadConfigFile(node.config_path);
+  const DrivesConfig drives = LoadDrivesConfig(node.config_path, config);
+  if (backend_name.empty()) backend_name = drives.backend == "virtual" ? "virtual-rig" : drives.backend;
   const TransportConfig transport = TransportFor(node);
   InstallStopSignals();
-  std::unique_ptr<DriveBackend> backend = MakeBackend(backend_name, transport, image_prefix);
+  std::unique_ptr<DriveBackend> backend = MakeBackend(backend_name, drives, transport, image_prefix);
   std::string error;
   if (!backend->Configure(config, &error) || !backend->Activate(&error)) {
     throw std::runtime_error("drive backend " + backend_name + ": " + error);

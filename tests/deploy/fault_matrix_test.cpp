@@ -348,10 +348,13 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
       a.first_report_utime ? static_cast<double>(*a.first_report_utime - t.fault_utime) * 1e-3 : -1.0;
 
   // No jump: no step beyond a servo cycle's travel (0.03 m/s, or catching
-  // up a late cycle), and none across a restarted rig (a jump home is 20 mm).
+  // up a late cycle: what the command advanced while the machine stalled,
+  // up to the legs' 0.5 m/s), and none across a restarted rig (a jump home
+  // is 20 mm; a thawed bridge's accepted stale command was 0.97 mm a cycle).
+  const double step_limit_m = std::min(5e-4, 2e-4 + 0.03 * late_ms * 1e-3);
   const double largest_step = LargestCycleStep(a.truth);
-  EXPECT_LT(largest_step, 2e-4);
-  EXPECT_LT(LargestRestartStep(a.truth), 2e-4) << "the restarted rig did not resume where the platform was";
+  EXPECT_LT(largest_step, step_limit_m);
+  EXPECT_LT(LargestRestartStep(a.truth), step_limit_m) << "the restarted rig did not resume where the platform was";
 
   double hold_ms = -1.0, overrun_um = 0.0, rejoin_ms = -1.0, hold_report_ms = -1.0;
   if (motion_stops) {

@@ -1,0 +1,56 @@
+#pragma once
+// DriveBackend for six CiA 402 drives behind a Modbus TCP server (edsp's
+// register map, docs/drives.md): `edsp-drive-sim`, or a gateway in front of
+// real drives. One request per cycle, in Read: it writes the latest
+// setpoint Write stored (a cyclic master's single exchange, one cycle of
+// latency) and reads the six feedbacks. Activate enables the drives through
+// the state machine without moving them. A drive that leaves operation (a
+// fault, a quick stop) is reported and left without power, never reset or
+// re-enabled on the backend's own: only a fresh Activate (the operator's
+// re-arm) does that. A lost connection is retried every 100 ms.
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "edsp/actuator_bridge/drive_backend.h"
+#include "edsp/actuator_bridge/drives_config.h"
+#include "edsp/drives/modbus_drive_master.h"
+
+namespace edsp {
+
+class ModbusTcpBackend final : public DriveBackend {
+ public:
+  explicit ModbusTcpBackend(const DrivesConfig& config);
+  bool Configure(const PlatformConfig& config, std::string* error) override;
+  // Connects (5 s at most), fault-resets and enables every drive where it stands.
+  bool Activate(std::string* error) override;
+  void Deactivate() override;
+  bool Read(std::int64_t now_utime, DriveFeedback* feedback) override;
+  bool Write(std::int64_t now_utime, const DriveSetpoint& setpoint) override;
+  BackendState state() const override { return state_; }
+
+  // Why the last cycle failed, or which drive is in fault and its code ("" if none).
+  const std::string& detail() const { return detail_; }
+
+ private:
+  // One exchange: each drive's next command (enable while `enabling`, hold
+  // a faulted one) carrying the stored targets.
+  bool Exchange(bool enabling, std::string* error);
+  void Describe(DriveFeedback* feedback);
+
+  DrivesConfig config_;
+  cia402::ModbusDriveMaster master_;
+  BackendState state_ = BackendState::kUnconfigured;
+  cia402::CspCommands commands_{};
+  cia402::CspFeedbacks feedback_{};
+  bool have_feedback_ = false;
+  std::array<std::optional<std::int32_t>, 6> target_counts_{};
+  std::array<std::int32_t, 6> velocity_counts_{};
+  std::int64_t last_connect_utime_ = -1;
+  std::string detail_;
+};
+
+}  // namespace edsp

@@ -1,0 +1,74 @@
+#include "edsp/actuator_bridge/drives_config.h"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "edsp/kinematics/toml_section.h"
+
+namespace edsp {
+namespace {
+
+// The toml node of `key` in [drives], for errors that name its line.
+const toml::node& NodeOf(const SectionReader& s, const char* key) { return *s.table()->get(key); }
+
+}  // namespace
+
+DrivesConfig ParseDrivesConfig(const std::string& toml_text, const std::string& origin,
+                               const DriveParameters& drive) {
+  const toml::table root = ParseTomlText(toml_text, origin);
+  const SectionReader s(root, "drives", origin);
+  DrivesConfig config;
+  if (!s.present()) return config;
+  s.RejectUnknownKeys({"backend", "host", "port", "response_timeout_ms", "counts_per_m", "offset_counts", "direction"});
+  config.backend = s.String("backend", config.backend);
+  if (config.backend != "virtual" && config.backend != "modbus-tcp") {
+    s.Fail(NodeOf(s, "backend"),
+           fmt::format("[drives] backend = \"{}\": known backends are \"virtual\" and \"modbus-tcp\"", config.backend));
+  }
+  config.host = s.String("host", config.host);
+  config.port = s.Integer("port", config.port);
+  if (config.port < 1 || config.port > 65535) {
+    s.Fail(NodeOf(s, "port"), fmt::format("[drives] port = {} must be in [1, 65535]", config.port));
+  }
+  const double timeout_ms = s.Number("response_timeout_ms", config.response_timeout_s * 1e3);
+  if (!(timeout_ms > 0.0 && timeout_ms <= 1000.0)) {
+    s.Fail(NodeOf(s, "response_timeout_ms"),
+           fmt::format("[drives] response_timeout_ms = {} must be in (0, 1000]", timeout_ms));
+  }
+  config.response_timeout_s = timeout_ms * 1e-3;
+  const bool real = config.backend != "virtual";
+  if (real && !s.Has("counts_per_m")) {
+    throw ConfigError(fmt::format("{}: [drives] backend = \"{}\" needs counts_per_m (encoder counts per metre "
+                                  "of leg travel)", origin, config.backend));
+  }
+  const auto counts_per_m = s.PerLeg("counts_per_m", {});
+  const auto offsets = s.PerLeg("offset_counts", {});
+  const auto directions = s.PerLeg("direction", {1, 1, 1, 1, 1, 1});
+  // Leg travel per motor radian: lead / (2π · gear).
+  const double m_per_rad = drive.lead_m / (2.0 * M_PI * drive.gear_ratio);
+  for (std::size_t i = 0; i < 6; ++i) {
+    if (real && !(counts_per_m[i] > 0.0)) {
+      s.Fail(NodeOf(s, "counts_per_m"),
+             fmt::format("[drives] leg {}: counts_per_m = {} must be positive", i + 1, counts_per_m[i]));
+    }
+    if (directions[i] != 1.0 && directions[i] != -1.0) {
+      s.Fail(NodeOf(s, "direction"), fmt::format("[drives] leg {}: direction = {} must be 1 or -1", i + 1, directions[i]));
+    }
+    if (std::abs(offsets[i]) > 2147483647.0 || offsets[i] != std::floor(offsets[i])) {
+      s.Fail(NodeOf(s, "offset_counts"),
+             fmt::format("[drives] offset_counts of leg {} = {} must be a 32-bit integer", i + 1, offsets[i]));
+    }
+    cia402::DriveScaling& d = config.scaling[i];
+    d.counts_per_rad = counts_per_m[i] * m_per_rad;
+    d.direction = static_cast<int>(directions[i]);
+    d.offset_counts = static_cast<std::int32_t>(offsets[i]);
+  }
+  return config;
+}
+
+DrivesConfig LoadDrivesConfig(const std::string& path, const PlatformConfig& platform) {
+  return ParseDrivesConfig(ReadConfigText(path), path, platform.drive);
+}
+
+}  // namespace edsp

@@ -1,0 +1,72 @@
+// [drives] of the platform config: defaults, a Modbus TCP rig's drives with
+// their scaling (checked against the lead and gear by hand), and every bad
+// value refused with the file, line and key.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "edsp/actuator_bridge/drives_config.h"
+
+namespace edsp {
+namespace {
+
+std::string ErrorOf(const std::string& text) {
+  try {
+    ParseDrivesConfig(text, "rig.toml", DriveParameters{});
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+const std::string kModbus =
+    "[drives]\nbackend = \"modbus-tcp\"\nhost = \"10.0.0.7\"\nport = 502\nresponse_timeout_ms = 4\n"
+    "counts_per_m = 104857600\n";
+// A Modbus rig's [drives] with its counts per metre given as `counts` (line 3).
+std::string ModbusCounts(const std::string& counts) {
+  return "[drives]\nbackend = \"modbus-tcp\"\ncounts_per_m = " + counts + "\n";
+}
+
+TEST(DrivesConfig, WithoutASectionTheVirtualDrives) {
+  const DrivesConfig c = ParseDrivesConfig("[drive]\nlead_m = 0.01\n", "rig.toml", DriveParameters{});
+  EXPECT_EQ(c.backend, "virtual");
+}
+
+TEST(DrivesConfig, AModbusRigsDrivesAndTheirScaling) {
+  DriveParameters drive;
+  drive.lead_m = 0.005;
+  drive.gear_ratio = 2.0;
+  const DrivesConfig c = ParseDrivesConfig(
+      kModbus + "offset_counts = [0, 1, 2, 3, 4, -5]\ndirection = [1, 1, 1, -1, -1, -1]\n", "rig.toml", drive);
+  EXPECT_EQ(c.backend, "modbus-tcp");
+  EXPECT_EQ(c.host, "10.0.0.7");
+  EXPECT_EQ(c.port, 502);
+  EXPECT_DOUBLE_EQ(c.response_timeout_s, 0.004);
+  // One motor turn = lead / gear = 2.5 mm of leg = 262 144 counts at 2^20·100 per metre.
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_NEAR(*c.scaling[i].ToCounts(2.0 * M_PI) - c.scaling[i].offset_counts, (i < 3 ? 1 : -1) * 262144, 1)
+        << "leg " << i + 1;
+  }
+  EXPECT_EQ(c.scaling[5].offset_counts, -5);
+}
+
+TEST(DrivesConfig, BadValuesAreNamedWithTheirLine) {
+  EXPECT_NE(ErrorOf("[drives]\nbackend = \"ethercat\"\n").find("rig.toml:2: [drives] backend = \"ethercat\""),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("[drives]\nbackend = \"modbus-tcp\"\n").find("needs counts_per_m"), std::string::npos);
+  EXPECT_NE(ErrorOf(kModbus + "port = 0\n").find("rig.toml:7:"), std::string::npos) << "TOML refuses a second port";
+  EXPECT_NE(ErrorOf("[drives]\nport = 70000\n").find("rig.toml:2: [drives] port = 70000"), std::string::npos);
+  EXPECT_NE(ErrorOf("[drives]\nresponse_timeout_ms = 0\n").find("response_timeout_ms = 0"), std::string::npos);
+  EXPECT_NE(ErrorOf(ModbusCounts("-1")).find("rig.toml:3: [drives] leg 1: counts_per_m = -1 must be positive"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(ModbusCounts("[1, 2, 3, 4, 5, 0]")).find("leg 6: counts_per_m = 0"), std::string::npos);
+  EXPECT_NE(ErrorOf(ModbusCounts("nan")).find("must be finite"), std::string::npos);
+  EXPECT_NE(ErrorOf(ModbusCounts("[1, 2]")).find("array of 6"), std::string::npos);
+  EXPECT_NE(ErrorOf(kModbus + "direction = [1, 1, 0, 1, 1, 1]\n").find("leg 3: direction"), std::string::npos);
+  EXPECT_NE(ErrorOf(kModbus + "offset_counts = 0.5\n").find("offset_counts of leg 1 = 0.5"), std::string::npos);
+  EXPECT_NE(ErrorOf(kModbus + "offset_counts = 3e9\n").find("32-bit"), std::string::npos);
+  EXPECT_NE(ErrorOf(kModbus + "counts = 1\n").find("unknown key [drives] counts"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace edsp

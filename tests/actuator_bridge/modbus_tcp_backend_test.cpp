@@ -1,0 +1,173 @@
+// The bridge's Modbus TCP backend against six simulated drives on loopback
+// (edsp's server on a thread): enabled where they stand, following the
+// setpoints it is given within a count, a drive's fault reported with its
+// code and never reset but by a new activation, an unfit setpoint refused,
+// and a server that goes away reported and reached again once it is back.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <thread>
+
+#include "edsp/actuator_bridge/modbus_tcp_backend.h"
+#include "edsp/drives/modbus_drive_server.h"
+
+namespace edsp {
+namespace {
+
+class ServedDrives {
+ public:
+  explicit ServedDrives(int port = 0) {
+    cia402::DriveServerOptions options;
+    options.port = port;
+    options.drive.fieldbus_timeout_s = 2.0;  // the test's cycles are paced by a busy machine
+    server_ = std::make_unique<cia402::ModbusDriveServer>(options);
+    thread_ = std::thread([this] { server_->Run([this] { return stop_.load(); }); });
+  }
+  ~ServedDrives() {
+    stop_ = true;
+    thread_.join();
+  }
+  cia402::ModbusDriveServer& server() { return *server_; }
+  int port() const { return server_->port(); }
+
+ private:
+  std::unique_ptr<cia402::ModbusDriveServer> server_;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+DrivesConfig ConfigFor(int port) {
+  DrivesConfig c;
+  c.backend = "modbus-tcp";
+  c.port = port;
+  c.response_timeout_s = 0.5;
+  for (auto& s : c.scaling) s.counts_per_rad = 1048576.0 / (2.0 * M_PI);
+  return c;
+}
+
+std::int64_t Now() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+// Cycles of the bridge's order (read, then write) until `until` or `limit`.
+template <typename Until>
+DriveFeedback Cycles(ModbusTcpBackend* backend, const DriveSetpoint& setpoint, Until until, int limit = 300) {
+  DriveFeedback f;
+  for (int k = 0; k < limit; ++k) {
+    backend->Read(Now(), &f);
+    backend->Write(Now(), setpoint);
+    if (until(f)) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  return f;
+}
+
+TEST(ModbusTcpBackend, EnablesTheDrivesAndFollowsTheSetpointsWithinACount) {
+  ServedDrives drives;
+  ModbusTcpBackend backend(ConfigFor(drives.port()));
+  std::string error;
+  ASSERT_TRUE(backend.Configure(PlatformConfig{}, &error)) << error;
+  ASSERT_TRUE(backend.Activate(&error)) << error;
+  EXPECT_EQ(backend.state(), BackendState::kActive);
+  // A ramp to 0.5·leg rad, 0.01 rad a cycle (a jump beyond the drives'
+  // following window would fault them, as it should).
+  DriveSetpoint setpoint;
+  DriveFeedback f;
+  for (int k = 1; k <= 300; ++k) {
+    for (int i = 0; i < 6; ++i) setpoint.motor_angle_rad[i] = std::min(0.01 * k, 0.5 * (i + 1));
+    backend.Read(Now(), &f);
+    backend.Write(Now(), setpoint);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  f = Cycles(&backend, setpoint, [&](const DriveFeedback& fb) {
+    return std::abs(fb.motor_angle_rad[5] - setpoint.motor_angle_rad[5]) < 1e-5;
+  });
+  const double count_rad = 2.0 * M_PI / 1048576.0;
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_NEAR(f.motor_angle_rad[i], setpoint.motor_angle_rad[i], count_rad) << "leg " << i + 1;
+    EXPECT_EQ(f.status[i], DriveStatus::kEnabled);
+  }
+  EXPECT_EQ(backend.detail(), "");
+}
+
+TEST(ModbusTcpBackend, ADrivesFaultIsReportedAndResetOnlyByTheNextActivation) {
+  ServedDrives drives;
+  ModbusTcpBackend backend(ConfigFor(drives.port()));
+  std::string error;
+  ASSERT_TRUE(backend.Configure(PlatformConfig{}, &error) && backend.Activate(&error)) << error;
+  DriveSetpoint home;
+  drives.server().InjectFault(3, 0x7500);
+  DriveFeedback f = Cycles(&backend, home, [](const DriveFeedback& fb) { return fb.status[3] == DriveStatus::kFault; });
+  EXPECT_EQ(f.status[3], DriveStatus::kFault);
+  EXPECT_NE(backend.detail().find("drive 4 in fault (error code 7500h)"), std::string::npos) << backend.detail();
+  // Many cycles later it is still in fault: the backend never resets it.
+  f = Cycles(&backend, home, [](const DriveFeedback&) { return false; }, 50);
+  EXPECT_EQ(f.status[3], DriveStatus::kFault);
+  EXPECT_EQ(f.status[2], DriveStatus::kEnabled) << "the others run on";
+  backend.Deactivate();
+  ASSERT_TRUE(backend.Activate(&error)) << error;  // the operator's re-arm
+  f = Cycles(&backend, home, [](const DriveFeedback& fb) { return fb.status[3] == DriveStatus::kEnabled; });
+  EXPECT_EQ(f.status[3], DriveStatus::kEnabled);
+  EXPECT_EQ(backend.detail(), "");
+}
+
+TEST(ModbusTcpBackend, ASetpointThatDoesNotFitTheCountsIsRefusedAndTheLastStays) {
+  ServedDrives drives;
+  ModbusTcpBackend backend(ConfigFor(drives.port()));
+  std::string error;
+  ASSERT_TRUE(backend.Configure(PlatformConfig{}, &error) && backend.Activate(&error)) << error;
+  DriveSetpoint good;
+  good.motor_angle_rad.fill(1.0);
+  Cycles(&backend, good, [](const DriveFeedback& fb) { return std::abs(fb.motor_angle_rad[0] - 1.0) < 1e-5; });
+  DriveSetpoint bad = good;
+  bad.motor_angle_rad[2] = NAN;
+  EXPECT_FALSE(backend.Write(Now(), bad));
+  EXPECT_NE(backend.detail().find("leg 3"), std::string::npos) << backend.detail();
+  bad.motor_angle_rad[2] = 1e6;  // far beyond 2^31 counts
+  EXPECT_FALSE(backend.Write(Now(), bad));
+  DriveFeedback f;
+  for (int k = 0; k < 20; ++k) backend.Read(Now(), &f);
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(f.motor_angle_rad[i], 1.0, 1e-5) << "leg " << i + 1;
+}
+
+TEST(ModbusTcpBackend, AServerThatGoesAwayIsReportedAndReachedAgain) {
+  auto drives = std::make_unique<ServedDrives>();
+  const int port = drives->port();
+  ModbusTcpBackend backend(ConfigFor(port));
+  std::string error;
+  ASSERT_TRUE(backend.Configure(PlatformConfig{}, &error) && backend.Activate(&error)) << error;
+  DriveFeedback f;
+  EXPECT_TRUE(backend.Read(Now(), &f));
+  drives.reset();
+  EXPECT_FALSE(backend.Read(Now(), &f));
+  EXPECT_NE(backend.detail().find("127.0.0.1:" + std::to_string(port)), std::string::npos) << backend.detail();
+  for (int i = 0; i < 6; ++i) EXPECT_EQ(f.status[i], DriveStatus::kDisabled);
+  drives = std::make_unique<ServedDrives>(port);
+  bool back = false;
+  for (int k = 0; k < 100 && !back; ++k) {  // retried every 100 ms
+    back = backend.Read(Now(), &f);
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_TRUE(back) << backend.detail();
+  // A new server's drives start disabled: reported, and not re-enabled until activated.
+  for (int i = 0; i < 6; ++i) EXPECT_EQ(f.status[i], DriveStatus::kDisabled);
+}
+
+TEST(ModbusTcpBackend, NobodyListeningFailsActivationWithTheEndpoint) {
+  int port = 0;
+  { ServedDrives gone; port = gone.port(); }
+  DrivesConfig config = ConfigFor(port);
+  ModbusTcpBackend backend(config);
+  std::string error;
+  ASSERT_TRUE(backend.Configure(PlatformConfig{}, &error));
+  EXPECT_FALSE(backend.Activate(&error));
+  EXPECT_NE(error.find("127.0.0.1:" + std::to_string(port)), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace edsp
