@@ -115,7 +115,14 @@ int Run(int argc, char** argv) {
       return;
     }
     const bool was_latched = bridge.latched();
-    bridge.Rearm();
+    std::string rearm_error;
+    if (!bridge.Rearm(&rearm_error)) {
+      reporting.Fault(MakeFault("actuator_bridge", "EDSP_ARM", FaultCode::kBackend, fault_t::SEVERITY_ERROR,
+                                fmt::format("re-arm by {} failed: the drives cannot be enabled: {}",
+                                            arm.operator_name, rearm_error),
+                                UtimeNow()));
+      return;
+    }
     std::fprintf(stderr, "edsp-actuator-bridge: re-armed by %s\n", arm.operator_name.c_str());
     reporting.Fault(MakeFault("actuator_bridge", "EDSP_ARM", FaultCode::kOperatorAction,
                               fault_t::SEVERITY_INFO,

@@ -33,13 +33,19 @@ bool ActuatorBridge::Reject(FaultCode code, std::string reason, std::int64_t now
   return false;
 }
 
-void ActuatorBridge::Rearm() {
+bool ActuatorBridge::Rearm(std::string* error) {
   // Latched after a fault, or holding since start-up while the stream it was
   // started into refuses as a jump (a restarted bridge): rejoin it.
-  if (!latched_ && !holding_) return;
+  if (!latched_ && !holding_) return true;
+  std::string why;
+  if (!backend_ok_ && !backend_->Reset(&why)) {
+    if (error != nullptr) *error = why;
+    return false;
+  }
   latched_ = false;
   rejoining_ = true;
   accepted_since_arm_ = 0;
+  return true;
 }
 
 Vector6 ActuatorBridge::NextTarget(const Vector6& command_m, double max_step_m, double elapsed_s) {
@@ -226,8 +232,10 @@ bool ActuatorBridge::Cycle(std::int64_t now_utime, leg_state_t* state, fault_t* 
     latched_ = latched_ || target_utime_ >= 0;
     target_.motor_velocity_rad_s.fill(0.0);
     backend_->Write(now_utime, target_);  // at rest now, should the drives still listen
+    const std::string detail = backend_->Detail();
     *fault = Fault(FaultCode::kBackend,
-                   fmt::format("drive backend failed a cycle (drives silent or not active){}",
+                   fmt::format("drive backend failed a cycle (drives silent or not active){}{}",
+                               detail.empty() ? std::string() : " [" + detail + "]",
                                was_moving ? fmt::format(": holding the last valid position (command "
                                                         "seq {}) until re-armed", last_command_seq_)
                                           : std::string()),

@@ -149,7 +149,12 @@ bool ModbusTcpBackend::Read(std::int64_t now_utime, DriveFeedback* feedback) {
     return false;
   }
   Describe(feedback);
-  return true;
+  return detail_.empty();
+}
+
+bool ModbusTcpBackend::Reset(std::string* error) {
+  Deactivate();
+  return Activate(error);
 }
 
 void ModbusTcpBackend::Describe(DriveFeedback* feedback) {
@@ -159,7 +164,7 @@ void ModbusTcpBackend::Describe(DriveFeedback* feedback) {
     feedback->motor_angle_rad[d] = config_.scaling[d].ToAngle(feedback_[d].position_actual);
     feedback->motor_velocity_rad_s[d] = config_.scaling[d].ToRate(feedback_[d].velocity_actual);
     feedback->status[d] = master_.connected() ? StatusOf(s) : DriveStatus::kDisabled;
-    if (master_.connected() && StatusOf(s) == DriveStatus::kFault) {
+    if (master_.connected() && state_ == BackendState::kActive && s != cia402::State::kOperationEnabled) {
       faults += fmt::format("{}drive {} in {} (error code {:04X}h)", faults.empty() ? "" : "; ", d + 1,
                             cia402::StateName(s), feedback_[d].error_code);
     }

@@ -12,33 +12,16 @@
 #include <memory>
 #include <thread>
 
+#include "edsp/actuator_bridge/actuator_bridge.h"
 #include "edsp/actuator_bridge/modbus_tcp_backend.h"
+#include "edsp/node/fault.h"
 #include "edsp/drives/modbus_drive_server.h"
+#include "served_drives.h"
 
 namespace edsp {
 namespace {
 
-class ServedDrives {
- public:
-  explicit ServedDrives(int port = 0) {
-    cia402::DriveServerOptions options;
-    options.port = port;
-    options.drive.fieldbus_timeout_s = 2.0;  // the test's cycles are paced by a busy machine
-    server_ = std::make_unique<cia402::ModbusDriveServer>(options);
-    thread_ = std::thread([this] { server_->Run([this] { return stop_.load(); }); });
-  }
-  ~ServedDrives() {
-    stop_ = true;
-    thread_.join();
-  }
-  cia402::ModbusDriveServer& server() { return *server_; }
-  int port() const { return server_->port(); }
-
- private:
-  std::unique_ptr<cia402::ModbusDriveServer> server_;
-  std::atomic<bool> stop_{false};
-  std::thread thread_;
-};
+using test_support::ServedDrives;
 
 DrivesConfig ConfigFor(int port) {
   DrivesConfig c;
@@ -47,6 +30,10 @@ DrivesConfig ConfigFor(int port) {
   c.response_timeout_s = 0.5;
   for (auto& s : c.scaling) s.counts_per_rad = 1048576.0 / (2.0 * M_PI);
   return c;
+}
+
+std::size_t Backend_Detail_Disabled(const ModbusTcpBackend& backend) {
+  return backend.Detail().find("drive 1 in switch on disabled");
 }
 
 std::int64_t Now() {
@@ -92,7 +79,7 @@ TEST(ModbusTcpBackend, EnablesTheDrivesAndFollowsTheSetpointsWithinACount) {
     EXPECT_NEAR(f.motor_angle_rad[i], setpoint.motor_angle_rad[i], count_rad) << "leg " << i + 1;
     EXPECT_EQ(f.status[i], DriveStatus::kEnabled);
   }
-  EXPECT_EQ(backend.detail(), "");
+  EXPECT_EQ(backend.Detail(), "");
 }
 
 TEST(ModbusTcpBackend, ADrivesFaultIsReportedAndResetOnlyByTheNextActivation) {
@@ -104,16 +91,16 @@ TEST(ModbusTcpBackend, ADrivesFaultIsReportedAndResetOnlyByTheNextActivation) {
   drives.server().InjectFault(3, 0x7500);
   DriveFeedback f = Cycles(&backend, home, [](const DriveFeedback& fb) { return fb.status[3] == DriveStatus::kFault; });
   EXPECT_EQ(f.status[3], DriveStatus::kFault);
-  EXPECT_NE(backend.detail().find("drive 4 in fault (error code 7500h)"), std::string::npos) << backend.detail();
+  EXPECT_NE(backend.Detail().find("drive 4 in fault (error code 7500h)"), std::string::npos) << backend.Detail();
   // Many cycles later it is still in fault: the backend never resets it.
   f = Cycles(&backend, home, [](const DriveFeedback&) { return false; }, 50);
   EXPECT_EQ(f.status[3], DriveStatus::kFault);
   EXPECT_EQ(f.status[2], DriveStatus::kEnabled) << "the others run on";
-  backend.Deactivate();
-  ASSERT_TRUE(backend.Activate(&error)) << error;  // the operator's re-arm
+  EXPECT_FALSE(backend.Read(Now(), &f)) << "a drive out of operation fails the cycle: the bridge holds";
+  ASSERT_TRUE(backend.Reset(&error)) << error;  // the operator's re-arm
   f = Cycles(&backend, home, [](const DriveFeedback& fb) { return fb.status[3] == DriveStatus::kEnabled; });
   EXPECT_EQ(f.status[3], DriveStatus::kEnabled);
-  EXPECT_EQ(backend.detail(), "");
+  EXPECT_EQ(backend.Detail(), "");
 }
 
 TEST(ModbusTcpBackend, ASetpointThatDoesNotFitTheCountsIsRefusedAndTheLastStays) {
@@ -127,7 +114,7 @@ TEST(ModbusTcpBackend, ASetpointThatDoesNotFitTheCountsIsRefusedAndTheLastStays)
   DriveSetpoint bad = good;
   bad.motor_angle_rad[2] = NAN;
   EXPECT_FALSE(backend.Write(Now(), bad));
-  EXPECT_NE(backend.detail().find("leg 3"), std::string::npos) << backend.detail();
+  EXPECT_NE(backend.Detail().find("leg 3"), std::string::npos) << backend.Detail();
   bad.motor_angle_rad[2] = 1e6;  // far beyond 2^31 counts
   EXPECT_FALSE(backend.Write(Now(), bad));
   DriveFeedback f;
@@ -145,17 +132,20 @@ TEST(ModbusTcpBackend, AServerThatGoesAwayIsReportedAndReachedAgain) {
   EXPECT_TRUE(backend.Read(Now(), &f));
   drives.reset();
   EXPECT_FALSE(backend.Read(Now(), &f));
-  EXPECT_NE(backend.detail().find("127.0.0.1:" + std::to_string(port)), std::string::npos) << backend.detail();
+  EXPECT_NE(backend.Detail().find("127.0.0.1:" + std::to_string(port)), std::string::npos) << backend.Detail();
   for (int i = 0; i < 6; ++i) EXPECT_EQ(f.status[i], DriveStatus::kDisabled);
   drives = std::make_unique<ServedDrives>(port);
+  // Reconnected within the 100 ms retry: the cycle then fails on the drives, not the wire.
   bool back = false;
-  for (int k = 0; k < 100 && !back; ++k) {  // retried every 100 ms
+  for (int k = 0; k < 100 && backend.Detail().find("switch on disabled") == std::string::npos; ++k) {
     back = backend.Read(Now(), &f);
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
-  EXPECT_TRUE(back) << backend.detail();
-  // A new server's drives start disabled: reported, and not re-enabled until activated.
+  EXPECT_FALSE(back) << "a new server's drives start disabled: not in operation until re-armed";
+  EXPECT_NE(Backend_Detail_Disabled(backend), std::string::npos) << backend.Detail();
   for (int i = 0; i < 6; ++i) EXPECT_EQ(f.status[i], DriveStatus::kDisabled);
+  ASSERT_TRUE(backend.Reset(&error)) << error;
+  EXPECT_TRUE(backend.Read(Now(), &f)) << backend.Detail();
 }
 
 TEST(ModbusTcpBackend, NobodyListeningFailsActivationWithTheEndpoint) {
@@ -167,6 +157,40 @@ TEST(ModbusTcpBackend, NobodyListeningFailsActivationWithTheEndpoint) {
   ASSERT_TRUE(backend.Configure(PlatformConfig{}, &error));
   EXPECT_FALSE(backend.Activate(&error));
   EXPECT_NE(error.find("127.0.0.1:" + std::to_string(port)), std::string::npos) << error;
+}
+
+// The bridge over Modbus drives: a drive's fault holds and latches the
+// bridge with the drive and its code in the fault, and the operator's
+// re-arm resets the drive and lets the stream through again.
+TEST(ModbusTcpBackend, ADriveFaultLatchesTheBridgeAndItsReArmResetsTheDrive) {
+  ServedDrives drives;
+  ModbusTcpBackend backend(ConfigFor(drives.port()));
+  std::string error;
+  ASSERT_TRUE(backend.Configure(PlatformConfig{}, &error) && backend.Activate(&error)) << error;
+  BridgeOptions options;
+  options.session_id = 7;
+  ActuatorBridge bridge(PlatformModel(Huang2021Config()), &backend, options);
+  leg_state_t state;
+  fault_t fault;
+  std::int64_t t = Now();
+  for (int k = 0; k < 20; ++k, t += 1000) bridge.Cycle(t, &state, &fault);
+  drives.server().InjectFault(1, 0x2310);
+  bool raised = false;
+  for (int k = 0; k < 200 && !raised; ++k, t += 1000) {
+    raised = bridge.Cycle(t, &state, &fault);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  ASSERT_TRUE(raised);
+  EXPECT_EQ(fault.code, static_cast<std::int32_t>(FaultCode::kBackend));
+  EXPECT_NE(fault.reason.find("drive 2 in fault (error code 2310h)"), std::string::npos) << fault.reason;
+  EXPECT_TRUE(bridge.holding());
+  ASSERT_TRUE(bridge.Rearm(&error)) << error;
+  bool answers = false;
+  for (int k = 0; k < 50 && !answers; ++k, t += 1000) {
+    answers = bridge.Cycle(t, &state, &fault) && fault.reason.find("answers again") != std::string::npos;
+  }
+  EXPECT_TRUE(answers) << fault.reason;
+  EXPECT_EQ(state.drive_status[1], leg_state_t::DRIVE_HOLDING) << "enabled, holding until the stream rejoins";
 }
 
 }  // namespace

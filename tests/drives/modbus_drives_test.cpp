@@ -14,32 +14,12 @@
 #include "edsp/drives/csp_master.h"
 #include "edsp/drives/modbus_drive_master.h"
 #include "edsp/drives/modbus_drive_server.h"
+#include "served_drives.h"
 
 namespace edsp::cia402 {
 namespace {
 
-// A server on a free loopback port, served on a thread until destroyed.
-class ServedDrives {
- public:
-  explicit ServedDrives(int port = 0) {
-    DriveServerOptions options;
-    options.port = port;
-    options.drive.fieldbus_timeout_s = 2.0;  // this test's cycles are paced by a busy machine, not 1 ms
-    server_ = std::make_unique<ModbusDriveServer>(options);
-    thread_ = std::thread([this] { server_->Run([this] { return stop_.load(); }); });
-  }
-  ~ServedDrives() {
-    stop_ = true;
-    thread_.join();
-  }
-  ModbusDriveServer& server() { return *server_; }
-  int port() const { return server_->port(); }
-
- private:
-  std::unique_ptr<ModbusDriveServer> server_;
-  std::atomic<bool> stop_{false};
-  std::thread thread_;
-};
+using test_support::ServedDrives;
 
 // One master cycle towards `wanted` (empty: hold); false with *error.
 struct Master {

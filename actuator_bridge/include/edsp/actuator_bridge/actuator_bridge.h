@@ -50,7 +50,9 @@ class ActuatorBridge {
   // step). While rejoining, the stream itself must stay continuous (a jump
   // in it is refused, as ever). A bridge started (or restarted) into a
   // stream that is elsewhere refuses it as a jump until re-armed likewise.
-  void Rearm();
+  // Also resets drives that left operation (DriveBackend::Reset); false
+  // with *error when that failed (still latched).
+  bool Rearm(std::string* error = nullptr);
   bool rejoining() const { return rejoining_; }
   bool latched() const { return latched_; }
   bool holding() const { return holding_; }

@@ -39,6 +39,12 @@ class DriveBackend {
   virtual bool Read(std::int64_t now_utime, DriveFeedback* feedback) = 0;
   virtual bool Write(std::int64_t now_utime, const DriveSetpoint& setpoint) = 0;
   virtual BackendState state() const = 0;
+  // The operator's re-arm: drives that left operation (a fault, a quick
+  // stop) are reset and enabled again where they stand. Backends whose
+  // drives need nothing of the kind have nothing to do.
+  virtual bool Reset(std::string* /*error*/) { return true; }
+  // Why the last cycle failed (which drive, its error), "" when unknown.
+  virtual std::string Detail() const { return ""; }
 };
 
 }  // namespace edsp

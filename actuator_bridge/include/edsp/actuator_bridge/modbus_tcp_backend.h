@@ -28,12 +28,15 @@ class ModbusTcpBackend final : public DriveBackend {
   // Connects (5 s at most), fault-resets and enables every drive where it stands.
   bool Activate(std::string* error) override;
   void Deactivate() override;
+  // False also when a drive has left operation (the bridge then holds and
+  // latches, as for silent drives).
   bool Read(std::int64_t now_utime, DriveFeedback* feedback) override;
   bool Write(std::int64_t now_utime, const DriveSetpoint& setpoint) override;
   BackendState state() const override { return state_; }
-
-  // Why the last cycle failed, or which drive is in fault and its code ("" if none).
-  const std::string& detail() const { return detail_; }
+  // Deactivate, then Activate: fault reset and enable, where the drives stand.
+  bool Reset(std::string* error) override;
+  // Why the last cycle failed, or which drive is out of operation and why.
+  std::string Detail() const override { return detail_; }
 
  private:
   // One exchange: each drive's next command (enable while `enabling`, hold
