@@ -27,10 +27,12 @@ DrivesConfig ParseDrivesConfig(const std::string& toml_text, const std::string& 
            fmt::format("[drives] backend = \"{}\": known backends are \"virtual\" and \"modbus-tcp\"", config.backend));
   }
   config.host = s.String("host", config.host);
-  config.port = s.Integer("port", config.port);
-  if (config.port < 1 || config.port > 65535) {
-    s.Fail(NodeOf(s, "port"), fmt::format("[drives] port = {} must be in [1, 65535]", config.port));
+  // As a number: an integer cast first would wrap 4294968798 to 1502.
+  const double port = s.Number("port", config.port);
+  if (!(port >= 1 && port <= 65535) || port != std::floor(port)) {
+    s.Fail(NodeOf(s, "port"), fmt::format("[drives] port = {} must be an integer in [1, 65535]", port));
   }
+  config.port = static_cast<int>(port);
   const double timeout_ms = s.Number("response_timeout_ms", config.response_timeout_s * 1e3);
   if (!(timeout_ms > 0.0 && timeout_ms <= 1000.0)) {
     s.Fail(NodeOf(s, "response_timeout_ms"),

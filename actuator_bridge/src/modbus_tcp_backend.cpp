@@ -39,53 +39,52 @@ bool ModbusTcpBackend::Configure(const PlatformConfig&, std::string* error) {
   return true;
 }
 
-bool ModbusTcpBackend::Exchange(bool enabling, std::string* error) {
+bool ModbusTcpBackend::Exchange(Enabling enabling, std::string* error) {
   for (std::size_t d = 0; d < commands_.size(); ++d) {
     const cia402::State state = cia402::StateOfStatusword(feedback_[d].statusword);
     cia402::CspCommand& c = commands_[d];
-    if (!have_feedback_ || (!enabling && state != cia402::State::kOperationEnabled)) {
-      // Nothing known yet, or a drive that left operation (a fault, a
-      // quick stop): only an activation (the operator's re-arm) brings it
-      // back; until then no power, the target where it stands.
+    // A drive in operation holds a fixed target: the bridge's, or where it
+    // stood when it entered operation (never its own drifting actual).
+    if (state == cia402::State::kOperationEnabled && !target_counts_[d]) {
+      target_counts_[d] = feedback_[d].position_actual;
+      velocity_counts_[d] = 0;
+    }
+    const bool faulted = state == cia402::State::kFault || state == cia402::State::kFaultReactionActive;
+    const bool may_enable = enabling == Enabling::kResetFaults || (enabling == Enabling::kNotFaulted && !faulted);
+    if (state != cia402::State::kOperationEnabled && !may_enable) {
+      // Out of operation, and not this call's to bring back (a fault only
+      // the operator's re-arm resets; any drive outside an activation):
+      // no power, the target where it stands.
       c.controlword = cia402::ControlwordFor(cia402::Command::kDisableVoltage);
       c.mode_of_operation = cia402::kModeCyclicSynchronousPosition;
       c.target_position = feedback_[d].position_actual;
       c.velocity_offset = 0;
+      target_counts_[d].reset();
       continue;
     }
-    c = cia402::NextCspCommand(feedback_[d], c.controlword, enabling ? std::nullopt : target_counts_[d],
-                               velocity_counts_[d]);
+    if (state != cia402::State::kOperationEnabled) target_counts_[d].reset();
+    c = cia402::NextCspCommand(feedback_[d], c.controlword, target_counts_[d], velocity_counts_[d]);
   }
-  if (!master_.Exchange(commands_, &feedback_, error)) return false;
-  have_feedback_ = true;
-  return true;
+  return master_.Exchange(commands_, &feedback_, error);
 }
 
-bool ModbusTcpBackend::Activate(std::string* error) {
-  if (state_ != BackendState::kInactive) {
-    *error = "activate needs a configured, inactive backend";
-    return false;
-  }
-  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(5);
-  while (!master_.connected() && !master_.Connect(error)) {
-    if (std::chrono::steady_clock::now() > give_up) return false;
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  target_counts_.fill(std::nullopt);
-  have_feedback_ = false;
-  // Enable every drive where it stands: a few cycles of the state machine
-  // (a faulted drive is reset here, by this activation, and only here).
+bool ModbusTcpBackend::ConnectAndRead(std::string* error) {
+  // What the drives are now, read before any command is built on it: after
+  // an outage a drive may have stopped, faulted or moved.
+  if (!master_.Connect(error)) return false;
+  return master_.ReadFeedback(&feedback_, error);
+}
+
+bool ModbusTcpBackend::EnableDrives(Enabling enabling, std::string* error) {
   for (int cycle = 0; cycle < 50; ++cycle) {
-    if (!Exchange(true, error)) return false;
-    bool all = true;
+    if (!Exchange(enabling, error)) return false;
+    bool done = true;
     for (const cia402::CspFeedback& f : feedback_) {
-      all = all && cia402::StateOfStatusword(f.statusword) == cia402::State::kOperationEnabled;
+      const cia402::State s = cia402::StateOfStatusword(f.statusword);
+      const bool left_faulted = enabling == Enabling::kNotFaulted && s == cia402::State::kFault;
+      done = done && (s == cia402::State::kOperationEnabled || left_faulted);
     }
-    if (all) {
-      state_ = BackendState::kActive;
-      detail_.clear();
-      return true;
-    }
+    if (done) return true;
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
   for (std::size_t d = 0; d < feedback_.size(); ++d) {
@@ -97,6 +96,39 @@ bool ModbusTcpBackend::Activate(std::string* error) {
     }
   }
   return false;
+}
+
+bool ModbusTcpBackend::Activate(std::string* error) {
+  if (state_ != BackendState::kInactive) {
+    *error = "activate needs a configured, inactive backend";
+    return false;
+  }
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (!ConnectAndRead(error)) {
+    if (std::chrono::steady_clock::now() > give_up) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  target_counts_.fill(std::nullopt);
+  // Start-up enables the drives where they stand but resets no fault: a
+  // drive found in fault (a predecessor's outage) stays so, the first
+  // cycle fails on it, and the bridge holds until the operator re-arms.
+  if (!EnableDrives(Enabling::kNotFaulted, error)) return false;
+  state_ = BackendState::kActive;
+  detail_.clear();
+  return true;
+}
+
+bool ModbusTcpBackend::Reset(std::string* error) {
+  if (state_ != BackendState::kActive) {
+    *error = "reset needs an active backend";
+    return false;
+  }
+  if (!master_.connected() && !ConnectAndRead(error)) return false;
+  // Only the drives out of operation are reset and enabled (where they
+  // stand); the others keep power and their targets throughout.
+  if (!EnableDrives(Enabling::kResetFaults, error)) return false;
+  detail_.clear();
+  return true;
 }
 
 void ModbusTcpBackend::Deactivate() {
@@ -135,14 +167,14 @@ bool ModbusTcpBackend::Read(std::int64_t now_utime, DriveFeedback* feedback) {
     }
     last_connect_utime_ = now_utime;
     std::string error;
-    if (!master_.Connect(&error)) {
+    if (!ConnectAndRead(&error)) {
       detail_ = error;
       Describe(feedback);
       return false;
     }
   }
   std::string error;
-  if (!Exchange(false, &error)) {
+  if (!Exchange(Enabling::kNone, &error)) {
     detail_ = error;
     last_connect_utime_ = now_utime;
     Describe(feedback);
@@ -150,11 +182,6 @@ bool ModbusTcpBackend::Read(std::int64_t now_utime, DriveFeedback* feedback) {
   }
   Describe(feedback);
   return detail_.empty();
-}
-
-bool ModbusTcpBackend::Reset(std::string* error) {
-  Deactivate();
-  return Activate(error);
 }
 
 void ModbusTcpBackend::Describe(DriveFeedback* feedback) {

@@ -6,6 +6,7 @@
 // only; the machine's own timer baseline (a sleep of the same period)
 // is measured beside it, so a busy machine shows as such.
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -71,12 +72,21 @@ int Run(int argc, char** argv) {
   edsp::cia402::DriveServerOptions options;
   options.port = 0;
   edsp::cia402::ModbusDriveServer server(options);
+  const pid_t parent = ::getpid();
   const pid_t child = ::fork();
   if (child < 0) throw std::runtime_error("fork failed");
   if (child == 0) {
-    server.Run([] { return ::getppid() == 1; });  // until killed, or orphaned
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);  // never outlives the benchmark
+    server.Run([parent] { return ::getppid() != parent; });
     ::_exit(0);
   }
+  struct KillChild {
+    pid_t pid;
+    ~KillChild() {
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, nullptr, 0);
+    }
+  } kill_child{child};
   edsp::cia402::ModbusDriveMaster master("127.0.0.1", server.port(), 0.5);
   std::string error;
   if (!master.Connect(&error)) throw std::runtime_error(error);
@@ -103,8 +113,6 @@ int Run(int argc, char** argv) {
     next += period;
     if (period.count() > 0) std::this_thread::sleep_until(next);
   }
-  ::kill(child, SIGKILL);
-  ::waitpid(child, nullptr, 0);
   const std::vector<double> timer = SleepLateness(std::chrono::microseconds(1000), 2000);
 
   nlohmann::json report = {{"drives", 6},

@@ -56,6 +56,8 @@ TEST(DrivesConfig, BadValuesAreNamedWithTheirLine) {
   EXPECT_NE(ErrorOf("[drives]\nbackend = \"modbus-tcp\"\n").find("needs counts_per_m"), std::string::npos);
   EXPECT_NE(ErrorOf(kModbus + "port = 0\n").find("rig.toml:7:"), std::string::npos) << "TOML refuses a second port";
   EXPECT_NE(ErrorOf("[drives]\nport = 70000\n").find("rig.toml:2: [drives] port = 70000"), std::string::npos);
+  EXPECT_NE(ErrorOf("[drives]\nport = 4294968798\n").find("port = 4294968798"), std::string::npos) << "never wrapped";
+  EXPECT_NE(ErrorOf("[drives]\nport = 502.5\n").find("must be an integer"), std::string::npos);
   EXPECT_NE(ErrorOf("[drives]\nresponse_timeout_ms = 0\n").find("response_timeout_ms = 0"), std::string::npos);
   EXPECT_NE(ErrorOf(ModbusCounts("-1")).find("rig.toml:3: [drives] leg 1: counts_per_m = -1 must be positive"),
             std::string::npos);

@@ -103,6 +103,41 @@ TEST(ModbusTcpBackend, ADrivesFaultIsReportedAndResetOnlyByTheNextActivation) {
   EXPECT_EQ(backend.Detail(), "");
 }
 
+TEST(ModbusTcpBackend, AStartUpResetsNoFaultAndAReArmResetsOnlyTheFaultedDrive) {
+  ServedDrives drives;
+  {
+    // A predecessor left the drives enabled at 1 rad; then drive 5 faulted.
+    ModbusTcpBackend before(ConfigFor(drives.port()));
+    std::string error;
+    ASSERT_TRUE(before.Configure(PlatformConfig{}, &error) && before.Activate(&error)) << error;
+    DriveSetpoint at;
+    for (int k = 1; k <= 100; ++k) {
+      at.motor_angle_rad.fill(0.01 * k);
+      DriveFeedback f;
+      before.Read(Now(), &f);
+      before.Write(Now(), at);
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    drives.server().InjectFault(4, 0x8130);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ModbusTcpBackend backend(ConfigFor(drives.port()));
+  std::string error;
+  ASSERT_TRUE(backend.Configure(PlatformConfig{}, &error) && backend.Activate(&error)) << error;
+  DriveFeedback f;
+  EXPECT_FALSE(backend.Read(Now(), &f)) << "a drive found in fault fails the first cycle: the bridge holds";
+  EXPECT_EQ(f.status[4], DriveStatus::kFault) << "start-up resets no fault";
+  EXPECT_NE(backend.Detail().find("drive 5 in fault (error code 8130h)"), std::string::npos) << backend.Detail();
+  for (int i : {0, 1, 2, 3, 5}) EXPECT_EQ(f.status[i], DriveStatus::kEnabled) << "leg " << i + 1;
+  const DriveFeedback held = f;
+  ASSERT_TRUE(backend.Reset(&error)) << error;  // the operator's re-arm
+  EXPECT_TRUE(backend.Read(Now(), &f)) << backend.Detail();
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_EQ(f.status[i], DriveStatus::kEnabled) << "leg " << i + 1;
+    EXPECT_NEAR(f.motor_angle_rad[i], held.motor_angle_rad[i], 1e-5) << "leg " << i + 1 << " moved";
+  }
+}
+
 TEST(ModbusTcpBackend, ASetpointThatDoesNotFitTheCountsIsRefusedAndTheLastStays) {
   ServedDrives drives;
   ModbusTcpBackend backend(ConfigFor(drives.port()));

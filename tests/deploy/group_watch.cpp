@@ -27,18 +27,35 @@ void GroupWatch::Listen() {
       std::lock_guard<std::mutex> lock(mutex_);
       if (stop_) return;
     }
-    lcm_.handleTimeout(20);
+    if (lcm_.handleTimeout(20) < 0) std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
 }
 
+namespace {
+
+// An edsp message's seq: after the 8-byte fingerprint and the utime, big-endian.
+std::int64_t SeqOf(const lcm::ReceiveBuffer* buffer) {
+  if (buffer->data_size < 24) return -1;
+  const auto* bytes = static_cast<const std::uint8_t*>(buffer->data) + 16;
+  std::uint64_t seq = 0;
+  for (int k = 0; k < 8; ++k) seq = (seq << 8) | bytes[k];
+  return static_cast<std::int64_t>(seq);
+}
+
+}  // namespace
+
 void GroupWatch::OnMessage(const lcm::ReceiveBuffer* buffer, const std::string& channel, GroupWatch* self) {
   const std::int64_t now = UtimeNow();
+  const std::int64_t seq = SeqOf(buffer);
   pose_setpoint_t setpoint;
   const bool is_setpoint = channel == "EDSP_SETPOINT" &&
                            setpoint.decode(buffer->data, 0, static_cast<int>(buffer->data_size)) >= 0;
   {
     std::lock_guard<std::mutex> lock(self->mutex_);
     self->last_received_utime_[channel] = now;
+    const auto last = self->last_seq_.find(channel);
+    if (last != self->last_seq_.end() && seq >= 0 && seq < last->second) ++self->restarts_[channel];
+    self->last_seq_[channel] = seq;
     if (is_setpoint) {
       self->setpoint_ = setpoint;
       self->have_setpoint_ = true;
@@ -51,6 +68,16 @@ bool GroupWatch::WaitForSetpoint(const std::function<bool(const pose_setpoint_t&
                                  std::chrono::milliseconds timeout) {
   std::unique_lock<std::mutex> lock(mutex_);
   return changed_.wait_for(lock, timeout, [&] { return have_setpoint_ && reached(setpoint_); });
+}
+
+int GroupWatch::Restarts(const std::string& channel) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return restarts_[channel];
+}
+
+bool GroupWatch::WaitForRestart(const std::string& channel, int seen, std::chrono::milliseconds timeout) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  return changed_.wait_for(lock, timeout, [&] { return restarts_[channel] > seen; });
 }
 
 bool GroupWatch::WaitForMessage(const std::string& channel, std::int64_t after_utime,

@@ -36,6 +36,11 @@ class GroupWatch {
   // Waits until a message on `channel` arrives at or after `after_utime`
   // (this process's clock, UtimeNow); false on timeout.
   bool WaitForMessage(const std::string& channel, std::int64_t after_utime, std::chrono::milliseconds timeout);
+  // How often a new publisher took `channel` over so far: its seq started
+  // again below the last one seen (a restarted member counts from 1).
+  int Restarts(const std::string& channel);
+  // Waits until Restarts(channel) exceeds `seen`; false on timeout.
+  bool WaitForRestart(const std::string& channel, int seen, std::chrono::milliseconds timeout);
 
  private:
   static void OnMessage(const lcm::ReceiveBuffer* buffer, const std::string& channel, GroupWatch* self);
@@ -45,6 +50,8 @@ class GroupWatch {
   std::mutex mutex_;
   std::condition_variable changed_;
   std::map<std::string, std::int64_t> last_received_utime_;
+  std::map<std::string, std::int64_t> last_seq_;
+  std::map<std::string, int> restarts_;
   pose_setpoint_t setpoint_{};
   bool have_setpoint_ = false;
   bool stop_ = false;

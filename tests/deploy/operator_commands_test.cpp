@@ -121,6 +121,7 @@ std::string HomeCsv(const std::string& dir) {
 
 TEST(OperatorCommands, LatchedBridgeResumesOnlyWhenReArmed) {
   int ctl_status = -1;
+  bool successor_seen = false;
   std::string ctl_out;
   const std::string csv = HomeCsv(fmt::format("/tmp/edsp_group_test_{}_arm", ::getpid()));
   const GroupRun run = LaunchSimGroup(
@@ -132,9 +133,9 @@ TEST(OperatorCommands, LatchedBridgeResumesOnlyWhenReArmed) {
         test_support::GroupWatch watch(test_support::kGroupLcmUrl, "EDSP_PLATFORM_STATE|EDSP_LEG_COMMAND");
         watch.WaitForSetpoint([](const pose_setpoint_t&) { return true; }, std::chrono::seconds(60));
         watch.WaitForMessage("EDSP_LEG_COMMAND", UtimeNow() + 300000, std::chrono::seconds(30));
+        const int restarts = watch.Restarts("EDSP_PLATFORM_STATE");
         std::system(("pkill -KILL -f 'edsp-kinematics .*" + dir + "/group.toml'").c_str());
-        std::this_thread::sleep_for(std::chrono::milliseconds(100));
-        watch.WaitForMessage("EDSP_PLATFORM_STATE", UtimeNow(), std::chrono::seconds(30));
+        successor_seen = watch.WaitForRestart("EDSP_PLATFORM_STATE", restarts, std::chrono::seconds(30));
         std::this_thread::sleep_for(std::chrono::milliseconds(700));
         // As an operator would: multicast on this loaded VM occasionally
         // drops a burst (docs/stack.md), so an unanswered arm is retried; a
@@ -163,6 +164,7 @@ TEST(OperatorCommands, LatchedBridgeResumesOnlyWhenReArmed) {
       Decode(event, &last_state);
     }
   }
+  EXPECT_TRUE(successor_seen) << "the restarted kinematics never published";
   ASSERT_GT(armed_utime, 0) << "no re-arm confirmation in the log";
   EXPECT_GT(refused_before, 5) << "the restarted kinematics' commands must be refused until re-armed";
   EXPECT_EQ(refused_after, 0) << "after the re-arm the commands are accepted";

@@ -5,6 +5,7 @@
 // report never comes.
 
 #include <algorithm>
+#include <climits>
 #include <cstdint>
 #include <string>
 
@@ -15,10 +16,13 @@ namespace edsp::test_support {
 // The largest time beyond `period_us` between two messages of `channel`
 // with consecutive seq (a late cycle, not a lost packet), on the
 // publisher's own clock (the message's utime), leaving out pairs that
-// overlap [skip_from, skip_to] (a fault the test caused there).
+// overlap [skip_from, skip_to] (a fault the test caused there) and, when
+// given, pairs outside [within_from, within_to] (the time around a fault:
+// a stall at start-up says nothing about the machine when the fault came).
 inline std::int64_t LargestLateCycleUs(const std::string& log_path, const std::string& channel,
                                        std::int64_t period_us, std::int64_t skip_from = 0,
-                                       std::int64_t skip_to = -1) {
+                                       std::int64_t skip_to = -1, std::int64_t within_from = 0,
+                                       std::int64_t within_to = INT64_MAX) {
   LogReader reader(log_path);
   LogEvent event;
   EdspHeader previous, header;
@@ -27,7 +31,8 @@ inline std::int64_t LargestLateCycleUs(const std::string& log_path, const std::s
   while (reader.Next(&event)) {
     if (event.channel != channel || !ParseEdspHeader(event.data, &header)) continue;
     const bool overlaps = header.utime >= skip_from && previous.utime <= skip_to;
-    if (have_previous && header.seq == previous.seq + 1 && !overlaps) {
+    const bool within = previous.utime >= within_from && header.utime <= within_to;
+    if (have_previous && header.seq == previous.seq + 1 && !overlaps && within) {
       late = std::max(late, header.utime - previous.utime - period_us);
     }
     previous = header;

@@ -22,9 +22,13 @@ bool ModbusDriveMaster::Connect(std::string* error) {
     *error = fmt::format("{}: {}", endpoint(), modbus_strerror(errno));
     return false;
   }
-  const double whole = std::floor(response_timeout_s_);
-  modbus_set_response_timeout(ctx_, static_cast<std::uint32_t>(whole),
-                              static_cast<std::uint32_t>((response_timeout_s_ - whole) * 1e6));
+  // The whole answer within the response timeout: a byte timeout of the
+  // same length keeps a half answer from stalling the cycle longer.
+  const long timeout_us = std::lround(response_timeout_s_ * 1e6);
+  const auto sec = static_cast<std::uint32_t>(timeout_us / 1000000);
+  const auto usec = static_cast<std::uint32_t>(timeout_us % 1000000);
+  modbus_set_response_timeout(ctx_, sec, usec);
+  modbus_set_byte_timeout(ctx_, sec, usec);
   if (modbus_connect(ctx_) != 0) {
     *error = fmt::format("{}: cannot connect: {}", endpoint(), modbus_strerror(errno));
     Disconnect();
@@ -55,6 +59,25 @@ bool ModbusDriveMaster::Exchange(const CspCommands& commands, CspFeedbacks* feed
                                                    modbus_map::kFeedbackAddress, modbus_map::kBlockRegisters, in);
   if (read != modbus_map::kBlockRegisters) {
     *error = fmt::format("{}: the drives' cycle (read/write of {} registers) failed: {}", endpoint(),
+                         modbus_map::kBlockRegisters, read < 0 ? modbus_strerror(errno) : "short answer");
+    Disconnect();
+    return false;
+  }
+  for (int d = 0; d < modbus_map::kDrives; ++d) {
+    (*feedback)[static_cast<std::size_t>(d)] = modbus_map::DecodeFeedback(in + d * modbus_map::kRegistersPerDrive);
+  }
+  return true;
+}
+
+bool ModbusDriveMaster::ReadFeedback(CspFeedbacks* feedback, std::string* error) {
+  if (ctx_ == nullptr) {
+    *error = endpoint() + ": not connected";
+    return false;
+  }
+  std::uint16_t in[modbus_map::kBlockRegisters];
+  const int read = modbus_read_registers(ctx_, modbus_map::kFeedbackAddress, modbus_map::kBlockRegisters, in);
+  if (read != modbus_map::kBlockRegisters) {
+    *error = fmt::format("{}: reading the drives' feedback ({} registers) failed: {}", endpoint(),
                          modbus_map::kBlockRegisters, read < 0 ? modbus_strerror(errno) : "short answer");
     Disconnect();
     return false;

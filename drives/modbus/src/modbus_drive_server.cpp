@@ -46,6 +46,8 @@ ModbusDriveServer::ModbusDriveServer(const DriveServerOptions& options)
     throw std::runtime_error(fmt::format("modbus-tcp {}: cannot listen: {}", where, why));
   }
   port_ = BoundPort(listener_);
+  // A client that sends half a request must not stop the drives' clock.
+  modbus_set_indication_timeout(ctx_, 0, 100000);
   for (auto& pending : pending_faults_) pending.store(0);
   Tick(0.0);  // the feedback block holds the drives' state before the first request
 }
@@ -116,9 +118,10 @@ void ModbusDriveServer::Run(const std::function<bool()>& stop) {
     const int ready = ::ppoll(fds, client_ >= 0 ? 2 : 1, &timeout, nullptr);
     if (ready <= 0) continue;
     if ((fds[0].revents & POLLIN) != 0) {
-      CloseClient();  // a new master replaces the old one
+      CloseClient();  // a new master replaces the old one (a restarted bridge)
       int listener = listener_;
       client_ = modbus_tcp_accept(ctx_, &listener);
+      continue;  // fds[1] spoke of the old client, whose fd number the new one may reuse
     }
     if (client_ >= 0 && (fds[1].revents & (POLLIN | POLLHUP | POLLERR)) != 0) Serve(client_);
   }

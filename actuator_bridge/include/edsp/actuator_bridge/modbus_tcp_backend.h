@@ -25,7 +25,8 @@ class ModbusTcpBackend final : public DriveBackend {
  public:
   explicit ModbusTcpBackend(const DrivesConfig& config);
   bool Configure(const PlatformConfig& config, std::string* error) override;
-  // Connects (5 s at most), fault-resets and enables every drive where it stands.
+  // Connects (5 s at most) and enables every drive not in fault where it
+  // stands; a faulted one stays so until Reset (the operator's re-arm).
   bool Activate(std::string* error) override;
   void Deactivate() override;
   // False also when a drive has left operation (the bridge then holds and
@@ -33,15 +34,19 @@ class ModbusTcpBackend final : public DriveBackend {
   bool Read(std::int64_t now_utime, DriveFeedback* feedback) override;
   bool Write(std::int64_t now_utime, const DriveSetpoint& setpoint) override;
   BackendState state() const override { return state_; }
-  // Deactivate, then Activate: fault reset and enable, where the drives stand.
+  // The operator's re-arm: fault reset and enable of the drives out of
+  // operation, where they stand; the others keep power and their targets.
   bool Reset(std::string* error) override;
   // Why the last cycle failed, or which drive is out of operation and why.
   std::string Detail() const override { return detail_; }
 
  private:
-  // One exchange: each drive's next command (enable while `enabling`, hold
-  // a faulted one) carrying the stored targets.
-  bool Exchange(bool enabling, std::string* error);
+  // Which drives out of operation an exchange may bring back.
+  enum class Enabling { kNone, kNotFaulted, kResetFaults };
+  // One exchange: each drive's next command carrying its held target.
+  bool Exchange(Enabling enabling, std::string* error);
+  bool EnableDrives(Enabling enabling, std::string* error);
+  bool ConnectAndRead(std::string* error);
   void Describe(DriveFeedback* feedback);
 
   DrivesConfig config_;
@@ -49,7 +54,6 @@ class ModbusTcpBackend final : public DriveBackend {
   BackendState state_ = BackendState::kUnconfigured;
   cia402::CspCommands commands_{};
   cia402::CspFeedbacks feedback_{};
-  bool have_feedback_ = false;
   std::array<std::optional<std::int32_t>, 6> target_counts_{};
   std::array<std::int32_t, 6> velocity_counts_{};
   std::int64_t last_connect_utime_ = -1;

@@ -27,6 +27,9 @@ class ModbusDriveMaster {
   bool connected() const { return ctx_ != nullptr; }
   // One cycle; false with *error (and disconnected) when the exchange failed.
   bool Exchange(const CspCommands& commands, CspFeedbacks* feedback, std::string* error);
+  // The feedback alone, writing nothing (what the drives are after a
+  // reconnect, before any command is built on it).
+  bool ReadFeedback(CspFeedbacks* feedback, std::string* error);
   void Disconnect();
   std::string endpoint() const;
 
