@@ -72,11 +72,16 @@ bool ReadsWhole(const std::string& path, std::int64_t* events) {
 TEST(LogStorage, AFullDiskIsReportedKeepsTheLogReadableAndRecoversWhenThereIsRoom) {
   const std::string dir = test_support::SimGroupDir("diskfull");
   const std::string disk = dir + "/disk";
-  MountSmallDisk(disk, "4m");
-  {  // 3.5 MB of the 4 taken: the log has about 0.5 MB, under a second
+  // 63.5 MB of 64 taken: the log has about 0.5 MB (under a second) before
+  // the disk is full; once the filler goes, room for the rest of the run
+  // (about 1 MB a second of log, however long a slow machine makes it:
+  // with only a few MB the disk filled again and the later dwells went
+  // unrecorded).
+  MountSmallDisk(disk, "64m");
+  {
     std::ofstream filler(disk + "/filler", std::ios::binary);
     const std::string block(1 << 20, '\0');
-    for (int k = 0; k < 3; ++k) filler << block;
+    for (int k = 0; k < 63; ++k) filler << block;
     filler << block.substr(0, 1 << 19);
   }
   const std::string log = disk + "/run.lcmlog";
@@ -162,7 +167,7 @@ TEST(LogStorage, AFullDiskIsReportedKeepsTheLogReadableAndRecoversWhenThereIsRoo
   const auto ends = DwellEnds(log, PlatformModel(Huang2021Config()));
   ASSERT_FALSE(ends.empty());
   for (const DwellEnd& d : ends) EXPECT_LT(d.miss_m, 5e-6) << d.segment;
-  std::printf("STORAGE_ROW | disk full 2.5 s (4 MB tmpfs, 1 MB memory) | report %.1f ms | recover %.1f ms | "
+  std::printf("STORAGE_ROW | disk full 2.5 s (64 MB tmpfs, 1 MB memory) | report %.1f ms | recover %.1f ms | "
               "%lld events, %lld tracker samples lost | %s | %s\n",
               static_cast<double>(full_fault_utime - full_utime) * 1e-3,
               static_cast<double>(first_after_freed - freed_utime) * 1e-3, static_cast<long long>(events),
