@@ -474,8 +474,14 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
       EXPECT_LT(a.tracker_gaps, frozen_ms + 100);
       EXPECT_GE(a.logger_drops, a.tracker_gaps) << "the logger must report what it lost";
     } else {
-      EXPECT_NE(a.logger_resumed.find("resumed after"), std::string::npos)
-          << "the restarted logger must append to the log, not truncate it";
+      // The successor says it appended (its note on EDSP_FAULT is one
+      // datagram to itself, which a sanitized logger under load has lost;
+      // its stderr is the launcher's record), and the log's head is there
+      // (checked above).
+      const bool said_in_log = a.logger_resumed.find("resumed after") != std::string::npos;
+      const bool said_on_stderr = launch_text.str().find("edsp-logger: ") != std::string::npos &&
+                                  launch_text.str().find("resumed after") != std::string::npos;
+      EXPECT_TRUE(said_in_log || said_on_stderr) << "the restarted logger must append to the log, not truncate it";
       // Its restart time and no more: as long as this run's first start
       // took (launch to the first event, less the start delays before it).
       const std::int64_t first_start_us = a.first_event_utime - run.launch_utime;
