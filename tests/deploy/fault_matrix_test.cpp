@@ -279,7 +279,10 @@ std::int64_t SilencedFrom(const std::string& log_path, const std::string& channe
   while (reader.Next(&e)) {
     if (e.channel != channel || !ParseEdspHeader(e.data, &header)) continue;
     if (have_previous && previous.utime >= sent_utime - 2000 && header.utime - previous.utime > 20000) {
-      return std::max(sent_utime, previous.utime);
+      // A cycle's stamp can lead the moment it was sent by up to a period
+      // (a 1 ms loop stamps its deadline): the member was still running 1 ms
+      // before its last stamp, and whatever reacted to its stop came later.
+      return std::max(sent_utime, previous.utime - 1000);
     }
     previous = header;
     have_previous = true;
