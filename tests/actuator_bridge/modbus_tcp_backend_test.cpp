@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -41,6 +42,22 @@ std::int64_t Now() {
       .count();
 }
 
+// A ramp of every leg, 0.01 rad a cycle up to `to[leg]`, in the bridge's
+// order (read, then write): a jump beyond the drives' following window
+// would fault them, as it should. Returns the last setpoint written.
+DriveSetpoint Ramp(ModbusTcpBackend* backend, const std::array<double, 6>& to) {
+  DriveSetpoint setpoint;
+  DriveFeedback f;
+  const double furthest = *std::max_element(to.begin(), to.end());
+  for (int k = 1; 0.01 * (k - 1) < furthest; ++k) {
+    for (int i = 0; i < 6; ++i) setpoint.motor_angle_rad[i] = std::min(0.01 * k, to[i]);
+    backend->Read(Now(), &f);
+    backend->Write(Now(), setpoint);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  return setpoint;
+}
+
 // Cycles of the bridge's order (read, then write) until `until` or `limit`.
 template <typename Until>
 DriveFeedback Cycles(ModbusTcpBackend* backend, const DriveSetpoint& setpoint, Until until, int limit = 300) {
@@ -61,17 +78,8 @@ TEST(ModbusTcpBackend, EnablesTheDrivesAndFollowsTheSetpointsWithinACount) {
   ASSERT_TRUE(backend.Configure(PlatformConfig{}, &error)) << error;
   ASSERT_TRUE(backend.Activate(&error)) << error;
   EXPECT_EQ(backend.state(), BackendState::kActive);
-  // A ramp to 0.5·leg rad, 0.01 rad a cycle (a jump beyond the drives'
-  // following window would fault them, as it should).
-  DriveSetpoint setpoint;
-  DriveFeedback f;
-  for (int k = 1; k <= 300; ++k) {
-    for (int i = 0; i < 6; ++i) setpoint.motor_angle_rad[i] = std::min(0.01 * k, 0.5 * (i + 1));
-    backend.Read(Now(), &f);
-    backend.Write(Now(), setpoint);
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  }
-  f = Cycles(&backend, setpoint, [&](const DriveFeedback& fb) {
+  const DriveSetpoint setpoint = Ramp(&backend, {0.5, 1.0, 1.5, 2.0, 2.5, 3.0});
+  const DriveFeedback f = Cycles(&backend, setpoint, [&](const DriveFeedback& fb) {
     return std::abs(fb.motor_angle_rad[5] - setpoint.motor_angle_rad[5]) < 1e-5;
   });
   const double count_rad = 2.0 * M_PI / 1048576.0;
@@ -110,14 +118,7 @@ TEST(ModbusTcpBackend, AStartUpResetsNoFaultAndAReArmResetsOnlyTheFaultedDrive) 
     ModbusTcpBackend before(ConfigFor(drives.port()));
     std::string error;
     ASSERT_TRUE(before.Configure(PlatformConfig{}, &error) && before.Activate(&error)) << error;
-    DriveSetpoint at;
-    for (int k = 1; k <= 100; ++k) {
-      at.motor_angle_rad.fill(0.01 * k);
-      DriveFeedback f;
-      before.Read(Now(), &f);
-      before.Write(Now(), at);
-      std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
+    Ramp(&before, {1.0, 1.0, 1.0, 1.0, 1.0, 1.0});
     drives.server().InjectFault(4, 0x8130);
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(20));

@@ -45,10 +45,7 @@ void ModbusDriveMaster::Disconnect() {
 }
 
 bool ModbusDriveMaster::Exchange(const CspCommands& commands, CspFeedbacks* feedback, std::string* error) {
-  if (ctx_ == nullptr) {
-    *error = endpoint() + ": not connected";
-    return false;
-  }
+  if (!Connected(error)) return false;
   std::uint16_t out[modbus_map::kBlockRegisters];
   std::uint16_t in[modbus_map::kBlockRegisters];
   for (int d = 0; d < modbus_map::kDrives; ++d) {
@@ -57,28 +54,27 @@ bool ModbusDriveMaster::Exchange(const CspCommands& commands, CspFeedbacks* feed
   }
   const int read = modbus_write_and_read_registers(ctx_, modbus_map::kCommandAddress, modbus_map::kBlockRegisters, out,
                                                    modbus_map::kFeedbackAddress, modbus_map::kBlockRegisters, in);
-  if (read != modbus_map::kBlockRegisters) {
-    *error = fmt::format("{}: the drives' cycle (read/write of {} registers) failed: {}", endpoint(),
-                         modbus_map::kBlockRegisters, read < 0 ? modbus_strerror(errno) : "short answer");
-    Disconnect();
-    return false;
-  }
-  for (int d = 0; d < modbus_map::kDrives; ++d) {
-    (*feedback)[static_cast<std::size_t>(d)] = modbus_map::DecodeFeedback(in + d * modbus_map::kRegistersPerDrive);
-  }
-  return true;
+  return TakeFeedback(read, in, "the drives' cycle (read/write of", feedback, error);
 }
 
 bool ModbusDriveMaster::ReadFeedback(CspFeedbacks* feedback, std::string* error) {
-  if (ctx_ == nullptr) {
-    *error = endpoint() + ": not connected";
-    return false;
-  }
+  if (!Connected(error)) return false;
   std::uint16_t in[modbus_map::kBlockRegisters];
   const int read = modbus_read_registers(ctx_, modbus_map::kFeedbackAddress, modbus_map::kBlockRegisters, in);
+  return TakeFeedback(read, in, "reading the drives' feedback (", feedback, error);
+}
+
+bool ModbusDriveMaster::Connected(std::string* error) const {
+  if (ctx_ != nullptr) return true;
+  *error = endpoint() + ": not connected";
+  return false;
+}
+
+bool ModbusDriveMaster::TakeFeedback(int read, const std::uint16_t* in, const char* request, CspFeedbacks* feedback,
+                                     std::string* error) {
   if (read != modbus_map::kBlockRegisters) {
-    *error = fmt::format("{}: reading the drives' feedback ({} registers) failed: {}", endpoint(),
-                         modbus_map::kBlockRegisters, read < 0 ? modbus_strerror(errno) : "short answer");
+    *error = fmt::format("{}: {} {} registers) failed: {}", endpoint(), request, modbus_map::kBlockRegisters,
+                         read < 0 ? modbus_strerror(errno) : "short answer");
     Disconnect();
     return false;
   }

@@ -5,6 +5,7 @@
 // why; after one the connection is dropped and Connect tries again.
 
 #include <array>
+#include <cstdint>
 #include <string>
 
 #include "edsp/drives/modbus_register_map.h"
@@ -34,6 +35,12 @@ class ModbusDriveMaster {
   std::string endpoint() const;
 
  private:
+  bool Connected(std::string* error) const;
+  // The answer of one request (`read` registers into `in`): decoded, or
+  // *error naming the request and why, and the connection dropped.
+  bool TakeFeedback(int read, const std::uint16_t* in, const char* request, CspFeedbacks* feedback,
+                    std::string* error);
+
   std::string host_;
   int port_;
   double response_timeout_s_;
