@@ -11,39 +11,13 @@
 
 #include <fmt/format.h>
 
+#include "edsp/logger/lcm_log_format.h"
+
 namespace edsp {
 namespace {
 
-constexpr std::uint32_t kSyncWord = 0xEDA1DA01u;
-constexpr std::size_t kHeaderBytes = 4 + 8 + 8 + 4 + 4;
-// LCM's own limit on channel names is lower; anything longer is not a header.
-constexpr std::int64_t kMaxChannelBytes = 1024;
-
-void PutBigEndian(std::vector<std::uint8_t>* out, std::uint64_t value, int bytes) {
-  for (int k = bytes - 1; k >= 0; --k) out->push_back(static_cast<std::uint8_t>(value >> (8 * k)));
-}
-
-std::uint64_t GetBigEndian(const std::uint8_t* p, int bytes) {
-  std::uint64_t v = 0;
-  for (int k = 0; k < bytes; ++k) v = (v << 8) | p[k];
-  return v;
-}
-
-struct Header {
-  std::int64_t event_number;
-  std::int64_t total_bytes;  // header + channel + data
-};
-
-// A plausible event header at `p` for an event that must fit in `room` bytes.
-bool ParseHeader(const std::uint8_t* p, std::int64_t room, Header* h) {
-  if (GetBigEndian(p, 4) != kSyncWord) return false;
-  const auto channel = static_cast<std::int32_t>(GetBigEndian(p + 20, 4));
-  const auto data = static_cast<std::int32_t>(GetBigEndian(p + 24, 4));
-  if (channel <= 0 || channel > kMaxChannelBytes || data < 0) return false;
-  h->event_number = static_cast<std::int64_t>(GetBigEndian(p + 4, 8));
-  h->total_bytes = static_cast<std::int64_t>(kHeaderBytes) + channel + data;
-  return h->total_bytes <= room;
-}
+using lcm_log::kHeaderBytes;
+using Header = lcm_log::EventHeader;
 
 bool ReadAt(int fd, std::uint8_t* buffer, std::size_t bytes, std::int64_t offset) {
   std::size_t done = 0;
@@ -68,7 +42,7 @@ bool WholeEventAfter(int fd, std::int64_t from, std::int64_t size) {
     if (!ReadAt(fd, chunk.data(), bytes, base)) return false;
     for (std::size_t k = 0; k + kHeaderBytes <= bytes && k < kChunk; ++k) {
       Header h{};
-      if (ParseHeader(chunk.data() + k, size - base - static_cast<std::int64_t>(k), &h)) return true;
+      if (lcm_log::ParseEventHeader(chunk.data() + k, size - base - static_cast<std::int64_t>(k), &h)) return true;
     }
   }
   return false;
@@ -81,12 +55,12 @@ LogScan ScanOpenLog(int fd, std::int64_t size) {
   while (offset + static_cast<std::int64_t>(kHeaderBytes) <= size) {
     Header h{};
     if (!ReadAt(fd, header.data(), header.size(), offset) ||
-        !ParseHeader(header.data(), size - offset, &h)) {
+        !lcm_log::ParseEventHeader(header.data(), size - offset, &h)) {
       break;
     }
     ++scan.events;
     scan.last_event_number = h.event_number;
-    offset += h.total_bytes;
+    offset += h.total_bytes();
   }
   scan.whole_bytes = offset;
   if (offset < size) {
@@ -162,11 +136,7 @@ void LogFileAppender::Append(const std::string& channel, const std::uint8_t* dat
   // No reserve() here: an exact reserve per event would defeat the vector's
   // geometric growth and copy the whole pending buffer at every append
   // (quadratic: it stalled the logger under a flood with ASan).
-  PutBigEndian(&pending_, kSyncWord, 4);
-  PutBigEndian(&pending_, static_cast<std::uint64_t>(next_event_++), 8);
-  PutBigEndian(&pending_, static_cast<std::uint64_t>(utime), 8);
-  PutBigEndian(&pending_, channel.size(), 4);
-  PutBigEndian(&pending_, size, 4);
+  lcm_log::AppendEventHeader(&pending_, next_event_++, utime, channel.size(), size);
   pending_.insert(pending_.end(), channel.begin(), channel.end());
   pending_.insert(pending_.end(), data, data + size);
   boundaries_.push_back(pending_.size());

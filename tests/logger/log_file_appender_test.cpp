@@ -15,6 +15,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <lcm/lcm-cpp.hpp>
 
 #include "edsp/logger/log_reader.h"
 #include "edsp/logger/log_writer.h"
@@ -40,13 +41,21 @@ void AppendEvents(LogFileAppender* file, int from, int to) {
   }
 }
 
-// Read back by LCM's reader (an independent implementation of the format).
+// Read back by LCM's own reader (an independent implementation of the
+// format): damaged if it stops before the end of the file.
 std::vector<LogEvent> ReadAll(const std::string& path, bool* damaged) {
-  LogReader reader(path);
+  lcm::LogFile file(path, "r");
   std::vector<LogEvent> events;
-  LogEvent e;
-  while (reader.Next(&e)) events.push_back(e);
-  *damaged = reader.damaged();
+  long stopped_at = 0;
+  while (true) {
+    stopped_at = std::ftell(file.getFilePtr());
+    const lcm::LogEvent* e = file.readNextEvent();
+    if (e == nullptr) break;
+    const auto* bytes = static_cast<const std::uint8_t*>(e->data);
+    events.push_back({e->eventnum, e->timestamp, e->channel, {bytes, bytes + e->datalen}});
+  }
+  struct stat st {};
+  *damaged = ::stat(path.c_str(), &st) != 0 || stopped_at < st.st_size;
   return events;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // Reading standard LCM log files (what lcm-logger, edsp-logger and
-// lcm-logplayer use), up to the first damage, saying where it is.
+// lcm-logplayer use), up to the first damage, saying where it is: every
+// whole event before the damage is read.
 
 #include <cstdint>
 #include <memory>
@@ -40,8 +41,11 @@ class LogReader {
   std::int64_t file_size() const { return file_size_; }
 
  private:
+  bool ReadEventAt(LogEvent* event);  // the event at whole_bytes_, if whole
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
+  std::int64_t whole_bytes_ = 0;  // the log up to here is whole events
   bool damaged_ = false;
   std::int64_t damage_offset_ = -1;
   std::int64_t file_size_ = 0;
