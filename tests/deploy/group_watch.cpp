@@ -1,5 +1,6 @@
 #include "group_watch.h"
 
+#include "edsp/fault_t.hpp"
 #include "edsp/node/runtime.h"
 
 namespace edsp::test_support {
@@ -9,6 +10,7 @@ GroupWatch::GroupWatch(const std::string& lcm_url, const std::string& channels) 
   // A plain function with a context: GCC 12's UBSan breaks LCM's
   // member-function subscribe (transport/ does the same).
   lcm_.subscribeFunction("EDSP_SETPOINT", &GroupWatch::OnMessage, this);
+  lcm_.subscribeFunction("EDSP_FAULT", &GroupWatch::OnMessage, this);
   if (!channels.empty()) lcm_.subscribeFunction(channels, &GroupWatch::OnMessage, this);
   listener_ = std::thread([this] { Listen(); });
 }
@@ -42,6 +44,16 @@ std::int64_t SeqOf(const lcm::ReceiveBuffer* buffer) {
   return static_cast<std::int64_t>(seq);
 }
 
+bool AsksForReArm(const std::string& channel, const lcm::ReceiveBuffer* buffer) {
+  fault_t fault;
+  if (channel != "EDSP_FAULT" || fault.decode(buffer->data, 0, static_cast<int>(buffer->data_size)) < 0) {
+    return false;
+  }
+  return fault.node == "actuator_bridge" && fault.severity == fault_t::SEVERITY_ERROR &&
+         (fault.reason.find("until re-armed") != std::string::npos ||
+          fault.reason.find("re-arm required") != std::string::npos);
+}
+
 }  // namespace
 
 void GroupWatch::OnMessage(const lcm::ReceiveBuffer* buffer, const std::string& channel, GroupWatch* self) {
@@ -60,6 +72,7 @@ void GroupWatch::OnMessage(const lcm::ReceiveBuffer* buffer, const std::string& 
       self->setpoint_ = setpoint;
       self->have_setpoint_ = true;
     }
+    if (AsksForReArm(channel, buffer)) self->last_rearm_request_utime_ = now;
   }
   self->changed_.notify_all();
 }
@@ -78,6 +91,11 @@ int GroupWatch::Restarts(const std::string& channel) {
 bool GroupWatch::WaitForRestart(const std::string& channel, int seen, std::chrono::milliseconds timeout) {
   std::unique_lock<std::mutex> lock(mutex_);
   return changed_.wait_for(lock, timeout, [&] { return restarts_[channel] > seen; });
+}
+
+std::int64_t GroupWatch::LastReArmRequestUtime() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return last_rearm_request_utime_;
 }
 
 bool GroupWatch::WaitForMessage(const std::string& channel, std::int64_t after_utime,

@@ -41,6 +41,10 @@ class GroupWatch {
   int Restarts(const std::string& channel);
   // Waits until Restarts(channel) exceeds `seen`; false on timeout.
   bool WaitForRestart(const std::string& channel, int seen, std::chrono::milliseconds timeout);
+  // When the bridge last said it holds until re-armed (a latch, or a
+  // command refused for it, which it repeats every 100 ms while latched),
+  // on this process's clock; 0: never.
+  std::int64_t LastReArmRequestUtime();
 
  private:
   static void OnMessage(const lcm::ReceiveBuffer* buffer, const std::string& channel, GroupWatch* self);
@@ -52,6 +56,7 @@ class GroupWatch {
   std::map<std::string, std::int64_t> last_received_utime_;
   std::map<std::string, std::int64_t> last_seq_;
   std::map<std::string, int> restarts_;
+  std::int64_t last_rearm_request_utime_ = 0;
   pose_setpoint_t setpoint_{};
   bool have_setpoint_ = false;
   bool stop_ = false;
