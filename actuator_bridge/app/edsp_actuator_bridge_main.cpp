@@ -20,7 +20,6 @@
 #include "edsp/node/node_options.h"
 #include "edsp/node/node_reporting.h"
 #include "edsp/node/runtime.h"
-#include "edsp/arm_t.hpp"
 #include "edsp/transport/bus.h"
 
 #include <fmt/format.h>
@@ -106,30 +105,11 @@ int Run(int argc, char** argv) {
     if (command.setpoint_utime > 0) latency.Record(UtimeNow() - command.setpoint_utime);
   });
   bus.Subscribe<arm_t>("EDSP_ARM", [&](const arm_t& arm) {
-    if (arm.session_id != node.session_id) {
-      reporting.Fault(MakeFault("actuator_bridge", "EDSP_ARM", FaultCode::kForeignSession,
-                               fault_t::SEVERITY_WARNING,
-                               fmt::format("re-arm from session {} ignored (this group is session {})",
-                                           arm.session_id, node.session_id),
-                               UtimeNow()));
-      return;
+    const fault_t answer = bridge.HandleArm(arm, UtimeNow());
+    if (answer.code == static_cast<std::int32_t>(FaultCode::kOperatorAction)) {
+      std::fprintf(stderr, "edsp-actuator-bridge: re-armed by %s\n", arm.operator_name.c_str());
     }
-    const bool was_latched = bridge.latched();
-    std::string rearm_error;
-    if (!bridge.Rearm(&rearm_error)) {
-      reporting.Fault(MakeFault("actuator_bridge", "EDSP_ARM", FaultCode::kBackend, fault_t::SEVERITY_ERROR,
-                                fmt::format("re-arm by {} failed: the drives cannot be enabled: {}",
-                                            arm.operator_name, rearm_error),
-                                UtimeNow()));
-      return;
-    }
-    std::fprintf(stderr, "edsp-actuator-bridge: re-armed by %s\n", arm.operator_name.c_str());
-    reporting.Fault(MakeFault("actuator_bridge", "EDSP_ARM", FaultCode::kOperatorAction,
-                              fault_t::SEVERITY_INFO,
-                              fmt::format("re-armed by {}{}", arm.operator_name,
-                                          was_latched ? fmt::format("; rejoining the command stream at {:.3f} m/s", rejoin_speed_m_s)
-                                                      : std::string(" (was not latched)")),
-                              UtimeNow()));
+    reporting.Fault(answer);
   });
   // Node-based map: the reference stays valid; no lookup in the 1 kHz loop.
   const ChannelCounters& in = bus.Counters("EDSP_LEG_COMMAND");

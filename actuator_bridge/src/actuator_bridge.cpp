@@ -33,28 +33,56 @@ bool ActuatorBridge::Reject(FaultCode code, std::string reason, std::int64_t now
   return false;
 }
 
+void ActuatorBridge::Apply(BridgeEvent event) {
+  const BridgeTransition t = NextBridgeState(state_, event);
+  state_ = t.allowed ? t.next : BridgeState::kLatched;
+}
+
 bool ActuatorBridge::Rearm(std::string* error) {
   // Latched after a fault, or holding since start-up while the stream it was
   // started into refuses as a jump (a restarted bridge): rejoin it.
-  if (!latched_ && !holding_) return true;
+  if (Moving()) return true;
   std::string why;
   if (!backend_ok_ && !backend_->Reset(&why)) {
     if (error != nullptr) *error = why;
     return false;
   }
-  latched_ = false;
-  rejoining_ = true;
-  accepted_since_arm_ = 0;
+  Apply(BridgeEvent::kRearm);
   return true;
 }
 
-Vector6 ActuatorBridge::NextTarget(const Vector6& command_m, double max_step_m, double elapsed_s) {
-  if (!rejoining_) return command_m;
+fault_t ActuatorBridge::HandleArm(const arm_t& arm, std::int64_t now_utime) {
+  if (arm.session_id != options_.session_id) {
+    return MakeFault(options_.node_name, "EDSP_ARM", FaultCode::kForeignSession, fault_t::SEVERITY_WARNING,
+                     fmt::format("re-arm from session {} ignored (this group is session {})", arm.session_id,
+                                 options_.session_id),
+                     now_utime);
+  }
+  const bool was_latched = latched();
+  std::string error;
+  if (!Rearm(&error)) {
+    return MakeFault(options_.node_name, "EDSP_ARM", FaultCode::kBackend, fault_t::SEVERITY_ERROR,
+                     fmt::format("re-arm by {} failed: the drives cannot be enabled: {}", arm.operator_name,
+                                 error),
+                     now_utime);
+  }
+  return MakeFault(options_.node_name, "EDSP_ARM", FaultCode::kOperatorAction, fault_t::SEVERITY_INFO,
+                   fmt::format("re-armed by {}{}", arm.operator_name,
+                               was_latched ? fmt::format("; rejoining the command stream at {:.3f} m/s",
+                                                         options_.rejoin_speed_m_s)
+                                           : std::string(" (was not latched)")),
+                   now_utime);
+}
+
+Vector6 ActuatorBridge::NextTarget(const Vector6& command_m, double max_step_m, double elapsed_s,
+                                   bool* caught_up) const {
+  *caught_up = false;
+  if (!IsRejoining(state_)) return command_m;
   const Vector6 gap = command_m - target_length_m_;
   const double largest = gap.cwiseAbs().maxCoeff();
   const double step = std::min(max_step_m, options_.rejoin_speed_m_s * elapsed_s);
   if (largest <= step) {
-    rejoining_ = false;  // caught up: the stream again
+    *caught_up = true;  // the stream again
     return command_m;
   }
   return target_length_m_ + gap * (step / largest);
@@ -62,14 +90,14 @@ Vector6 ActuatorBridge::NextTarget(const Vector6& command_m, double max_step_m, 
 
 bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utime,
                                    fault_t* fault) {
-  if (latched_) {
+  if (state_ == BridgeState::kLatched) {
     return Reject(FaultCode::kStale,
                   fmt::format("leg command seq {} refused: holding after stale input since command "
                               "seq {}; re-arm required (EDSP_ARM)",
                               c.seq, last_command_seq_),
                   now_utime, fault);
   }
-  if (!holding_ && target_utime_ >= 0 && now_utime - target_utime_ > options_.stale_us) {
+  if (Moving() && now_utime - target_utime_ > options_.stale_us) {
     // Starved longer than the stale limit and no cycle noticed (this process
     // was frozen, or descheduled): whatever comes now may be anywhere. Hold
     // first, as a cycle would have.
@@ -77,8 +105,8 @@ bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utim
     // watchdog. Hold them there (writing the last command would pull them
     // back by up to the drives' interpolation horizon).
     const std::int64_t silent_us = now_utime - target_utime_;
-    HoldLatched();
-    hold_reported_ = true;
+    Apply(BridgeEvent::kStale);
+    HoldAtRest();
     if (backend_->Read(now_utime, &feedback_)) HoldWhereTheDrivesAre();
     backend_->Write(now_utime, target_);
     return Reject(FaultCode::kStale,
@@ -119,15 +147,15 @@ bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utim
   // (or at start) only a one-cycle step continues from the held position.
   const std::int64_t basis = c.setpoint_utime != 0 ? c.setpoint_utime : c.utime;
   double elapsed_s = 1e-3;
-  if (!holding_ && target_utime_ >= 0) {
+  if (Moving()) {
     elapsed_s = std::clamp(static_cast<double>(basis - last_basis_utime_) * 1e-6, 1e-3,
                            static_cast<double>(options_.stale_us) * 1e-6);
   }
   const double max_step_m = options_.max_leg_speed_m_s * elapsed_s + 1e-6;
   // Rejoining: the first command after the re-arm starts the stream anew;
   // the ones after it must continue from it.
-  const bool stream_starts = rejoining_ && accepted_since_arm_ == 0;
-  const Vector6& reference = rejoining_ ? stream_length_m_ : target_length_m_;
+  const bool stream_starts = state_ == BridgeState::kArmed;
+  const Vector6& reference = IsRejoining(state_) ? stream_length_m_ : target_length_m_;
   Vector6 command_m;
   for (int i = 0; i < kNumLegs; ++i) {
     const double length = c.command_length_m[i];
@@ -147,16 +175,17 @@ bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utim
                     fmt::format("leg command seq {}: leg {} jumps {:.6f} m from the {} {:.6f} m "
                                 "(at most {:.6f} m in {:.1f} ms)",
                                 c.seq, i + 1, length - reference(i),
-                                rejoining_ ? "previous command" : "held", reference(i),
+                                IsRejoining(state_) ? "previous command" : "held", reference(i),
                                 max_step_m, elapsed_s * 1e3),
                     now_utime, fault);
     }
     command_m(i) = length;
   }
   stream_length_m_ = command_m;
-  const Vector6 next = NextTarget(command_m, max_step_m, elapsed_s);
-  if (rejoining_) ++accepted_since_arm_;
-  else accepted_since_arm_ = 0;
+  bool caught_up = false;
+  const Vector6 next = NextTarget(command_m, max_step_m, elapsed_s, &caught_up);
+  Apply(BridgeEvent::kCommandAccepted);
+  if (caught_up) Apply(BridgeEvent::kCaughtUp);
   for (int i = 0; i < kNumLegs; ++i) {
     const double angle = model_.MotorAngleFromLength(i, next(i));
     target_.motor_velocity_rad_s[i] =
@@ -167,8 +196,6 @@ bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utim
   target_utime_ = now_utime;
   last_basis_utime_ = basis;
   last_command_seq_ = c.seq;
-  holding_ = false;
-  hold_reported_ = false;
   ++accepted_;
   // To the drives now, not at the next cycle: the command's latency is the
   // transport's, not the cycle's phase. A failed write shows in Cycle().
@@ -176,11 +203,7 @@ bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utim
   return true;
 }
 
-void ActuatorBridge::HoldLatched() {
-  holding_ = true;
-  latched_ = target_utime_ >= 0;  // a stream that stopped, not a start-up
-  target_.motor_velocity_rad_s.fill(0.0);  // hold: the last valid position, at rest
-}
+void ActuatorBridge::HoldAtRest() { target_.motor_velocity_rad_s.fill(0.0); }
 
 void ActuatorBridge::HoldWhereTheDrivesAre() {
   for (int i = 0; i < kNumLegs; ++i) {
@@ -199,18 +222,15 @@ bool ActuatorBridge::Cycle(std::int64_t now_utime, leg_state_t* state, fault_t* 
   if (target_utime_ >= 0 && now_utime - target_utime_ > kFeedForwardLapseUs) {
     target_.motor_velocity_rad_s.fill(0.0);
   }
-  const bool stale = target_utime_ < 0 || now_utime - target_utime_ > options_.stale_us;
-  if (stale && !holding_) {
-    HoldLatched();
-    if (!hold_reported_) {
-      *fault = Fault(FaultCode::kStale,
-                     fmt::format("no valid leg command for {} us: holding the last valid "
-                                 "position (command seq {}) until re-armed",
-                                 now_utime - target_utime_, last_command_seq_),
-                     now_utime);
-      hold_reported_ = true;
-      raised = true;
-    }
+  if (Moving() && now_utime - target_utime_ > options_.stale_us) {
+    Apply(BridgeEvent::kStale);
+    HoldAtRest();
+    *fault = Fault(FaultCode::kStale,
+                   fmt::format("no valid leg command for {} us: holding the last valid "
+                               "position (command seq {}) until re-armed",
+                               now_utime - target_utime_, last_command_seq_),
+                   now_utime);
+    raised = true;
   }
   // Read first: drives that answer again after an outage are held where
   // they are now (a restarted rig, or drives that moved while unobserved),
@@ -221,16 +241,14 @@ bool ActuatorBridge::Cycle(std::int64_t now_utime, leg_state_t* state, fault_t* 
   const bool self_starved = last_cycle_utime_ >= 0 && now_utime - last_cycle_utime_ > options_.stale_us;
   last_cycle_utime_ = now_utime;
   const bool read_ok = backend_->Read(now_utime, &feedback_);
-  if (read_ok && holding_ && (!backend_ok_ || self_starved)) HoldWhereTheDrivesAre();
+  if (read_ok && !Moving() && (!backend_ok_ || self_starved)) HoldWhereTheDrivesAre();
   const bool backend_ok = backend_->Write(now_utime, target_) && read_ok;
   if (!backend_ok && backend_ok_) {
     // Drives that do not answer may not have followed: nothing the stream
     // says next can be checked against where they are. Hold and latch.
-    const bool was_moving = !holding_;
-    holding_ = true;
-    hold_reported_ = true;
-    latched_ = latched_ || target_utime_ >= 0;
-    target_.motor_velocity_rad_s.fill(0.0);
+    const bool was_moving = Moving();
+    Apply(BridgeEvent::kDrivesLost);
+    HoldAtRest();
     backend_->Write(now_utime, target_);  // at rest now, should the drives still listen
     const std::string detail = backend_->Detail();
     *fault = Fault(FaultCode::kBackend,
@@ -243,7 +261,7 @@ bool ActuatorBridge::Cycle(std::int64_t now_utime, leg_state_t* state, fault_t* 
     raised = true;
   } else if (backend_ok && !backend_ok_ && !raised) {
     *fault = Fault(FaultCode::kBackend,
-                   latched_ ? "drive backend answers again; holding until re-armed"
+                   latched() ? "drive backend answers again; holding until re-armed"
                             : "drive backend answers again",
                    now_utime);
     fault->severity = fault_t::SEVERITY_INFO;
@@ -258,7 +276,7 @@ bool ActuatorBridge::Cycle(std::int64_t now_utime, leg_state_t* state, fault_t* 
     state->motor_angle_rad[i] = feedback_.motor_angle_rad[i];
     state->motor_velocity_rad_s[i] = feedback_.motor_velocity_rad_s[i];
     state->encoder_length_m[i] = model_.LengthFromMotorAngle(i, feedback_.motor_angle_rad[i]);
-    state->drive_status[i] = holding_ && feedback_.status[i] == DriveStatus::kEnabled
+    state->drive_status[i] = !Moving() && feedback_.status[i] == DriveStatus::kEnabled
                                  ? leg_state_t::DRIVE_HOLDING
                                  : static_cast<std::int8_t>(feedback_.status[i]);
   }

@@ -8,32 +8,10 @@
 
 #include "edsp/actuator_bridge/actuator_bridge.h"
 #include "edsp/kinematics/config.h"
+#include "recording_backend.h"
 
 namespace edsp {
 namespace {
-
-class RecordingBackend final : public DriveBackend {
- public:
-  bool Configure(const PlatformConfig&, std::string*) override { return true; }
-  bool Activate(std::string*) override { return true; }
-  void Deactivate() override {}
-  bool Read(std::int64_t, DriveFeedback* feedback) override {
-    if (!answering) return false;  // drives silent (a frozen rig, a lost fieldbus)
-    feedback->motor_angle_rad = stopped_at ? *stopped_at : written.motor_angle_rad;  // a perfect drive
-    feedback->status.fill(DriveStatus::kEnabled);
-    return true;
-  }
-  bool Write(std::int64_t, const DriveSetpoint& setpoint) override {
-    written = setpoint;
-    ++writes;
-    return true;
-  }
-  BackendState state() const override { return BackendState::kActive; }
-  DriveSetpoint written;
-  int writes = 0;
-  bool answering = true;
-  std::optional<std::array<double, 6>> stopped_at;  // drives that stopped elsewhere
-};
 
 constexpr std::int64_t kStart = 1000000000;
 

@@ -8,9 +8,11 @@
 #include <cstdint>
 #include <string>
 
+#include "edsp/actuator_bridge/bridge_state.h"
 #include "edsp/actuator_bridge/drive_backend.h"
 #include "edsp/node/fault.h"
 #include "edsp/kinematics/platform_model.h"
+#include "edsp/arm_t.hpp"
 #include "edsp/leg_command_t.hpp"
 #include "edsp/leg_state_t.hpp"
 
@@ -53,9 +55,15 @@ class ActuatorBridge {
   // Also resets drives that left operation (DriveBackend::Reset); false
   // with *error when that failed (still latched).
   bool Rearm(std::string* error = nullptr);
-  bool rejoining() const { return rejoining_; }
-  bool latched() const { return latched_; }
-  bool holding() const { return holding_; }
+  // An operator's EDSP_ARM: re-arms if it comes from this group's session.
+  // Returns what to publish on EDSP_FAULT, which edsp-ctl waits for: the
+  // confirmation (info), a foreign session ignored (warning), or drives that
+  // could not be reset (error, still latched).
+  fault_t HandleArm(const arm_t& arm, std::int64_t now_utime);
+  BridgeState state() const { return state_; }
+  bool rejoining() const { return IsRejoining(state_); }
+  bool latched() const { return state_ == BridgeState::kLatched; }
+  bool holding() const { return IsHolding(state_); }
   std::int64_t accepted() const { return accepted_; }
   std::int64_t rejected() const { return rejected_; }
 
@@ -65,8 +73,13 @@ class ActuatorBridge {
   // The target this command allows: itself, or while rejoining a bounded
   // step towards it. Ends the rejoin once the stream is within one rejoin step
   // (a stream moving faster than the rejoin speed is caught when it slows).
-  Vector6 NextTarget(const Vector6& command_m, double max_step_m, double elapsed_s);
-  void HoldLatched();            // the last valid position, at rest; latched if a stream ran
+  // (Which may move the state: see Apply.)
+  Vector6 NextTarget(const Vector6& command_m, double max_step_m, double elapsed_s, bool* caught_up) const;
+  // The state after `event` (bridge_state.h). An event the table does not
+  // allow is a bug here: the bridge then latches, the safe side.
+  void Apply(BridgeEvent event);
+  bool Moving() const { return !IsHolding(state_); }
+  void HoldAtRest();             // the last valid position, at rest
   void HoldWhereTheDrivesAre();  // after drives answer again
 
   PlatformModel model_;
@@ -74,17 +87,13 @@ class ActuatorBridge {
   BridgeOptions options_;
   DriveSetpoint target_;             // what the drives are told
   Vector6 target_length_m_;
-  std::int64_t target_utime_ = -1;   // receipt time of the last valid command
+  BridgeState state_ = BridgeState::kStartupHold;
+  std::int64_t target_utime_ = -1;   // receipt time of the last valid command (-1: none yet)
   std::int64_t last_cycle_utime_ = -1;
   std::int64_t last_basis_utime_ = 0; // its planner time (setpoint_utime)
   std::int64_t last_command_seq_ = 0;
-  bool holding_ = true;
-  bool hold_reported_ = true;        // start holding without a fault
-  bool backend_ok_ = true;           // faults are raised on the transition only
-  bool latched_ = false;             // held after stale input: needs Rearm()
-  bool rejoining_ = false;           // re-armed, legs on their way to the stream
+  bool backend_ok_ = true;           // drive health, an input: faults are raised on its changes
   Vector6 stream_length_m_;          // the last valid command (= target unless rejoining)
-  std::int64_t accepted_since_arm_ = 0;
   std::int64_t state_seq_ = 0;
   std::int64_t accepted_ = 0;
   std::int64_t rejected_ = 0;

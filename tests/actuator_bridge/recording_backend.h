@@ -1,0 +1,40 @@
+#pragma once
+// A fake drive backend for the bridge's unit tests: perfect drives that
+// follow what they were told, or stopped elsewhere, or silent.
+#include <array>
+#include <optional>
+#include <string>
+
+#include "edsp/actuator_bridge/drive_backend.h"
+
+namespace edsp {
+
+class RecordingBackend final : public DriveBackend {
+ public:
+  bool Configure(const PlatformConfig&, std::string*) override { return true; }
+  bool Activate(std::string*) override { return true; }
+  void Deactivate() override {}
+  bool Read(std::int64_t, DriveFeedback* feedback) override {
+    if (!answering) return false;  // drives silent (a frozen rig, a lost fieldbus)
+    feedback->motor_angle_rad = stopped_at ? *stopped_at : written.motor_angle_rad;  // a perfect drive
+    feedback->status.fill(DriveStatus::kEnabled);
+    return true;
+  }
+  bool Write(std::int64_t, const DriveSetpoint& setpoint) override {
+    written = setpoint;
+    ++writes;
+    return true;
+  }
+  bool Reset(std::string* error) override {
+    if (!resettable) *error = "drive 3: fault 7500h (communication) persists";
+    return resettable;
+  }
+  BackendState state() const override { return BackendState::kActive; }
+  DriveSetpoint written;
+  bool resettable = true;
+  int writes = 0;
+  bool answering = true;
+  std::optional<std::array<double, 6>> stopped_at;  // drives that stopped elsewhere
+};
+
+}  // namespace edsp
