@@ -316,25 +316,29 @@ std::vector<EffectResult> Ranked(const std::map<Effect, EffectResult>& results, 
   return ranked;
 }
 
-// What is left: white noise at the tracker's floor, or structure nobody explains.
-void DescribeRest(const Design& d, const Eigen::VectorXd& residual, const DiagnoseOptions& o, Diagnosis* out) {
+// What is left: white noise, or structure nobody explains (judged on the
+// held-out residual, residual_structure.h), whatever its size.
+void DescribeRest(const Design& d, const Eigen::VectorXd& residual, const Eigen::VectorXd& heldout,
+                  const DiagnoseOptions& o, Diagnosis* out) {
   out->unexplained = PointStats(residual, 0, d.samples());
   out->whiteness = TestWhiteness(d, residual);
-  const bool structured =
-      !out->whiteness.white && out->unexplained.rms_m > o.unknown_factor * out->noise_floor_rms_m;
-  out->conclusion = structured ? "unknown" : (out->selected.empty() ? "none" : "effects");
+  out->structure = AnalyseStructure(d, residual, heldout, o.structure);
+  const bool effects = !out->selected.empty();
+  out->conclusion = out->structure.structured ? (effects ? "effects+unknown" : "unknown") : (effects ? "effects" : "none");
   out->unexplained_note =
-      structured ? fmt::format("structured residual of {:.1f} µm RMS (noise floor {:.1f} µm, lag-1 autocorrelation "
-                               "{:.2f}) that no effect of the vocabulary explains",
-                               out->unexplained.rms_m * 1e6, out->noise_floor_rms_m * 1e6, out->whiteness.lag1)
-                 : fmt::format("white within the tracker's noise floor ({:.1f} µm RMS left, floor {:.1f} µm)",
-                               out->unexplained.rms_m * 1e6, out->noise_floor_rms_m * 1e6);
+      out->structure.structured
+          ? "structure that no effect of the vocabulary explains: " + out->structure.Describe()
+          : fmt::format("white within the tracker's noise ({:.1f} µm RMS left, floor {:.1f} µm; {:.0f}% of the "
+                        "held-out residual above its white level)",
+                        out->unexplained.rms_m * 1e6, out->noise_floor_rms_m * 1e6,
+                        100 * out->structure.structured_share);
 }
 
 // Before (frame only) and after (frame and the selected effects) on each run
-// held out of the fit, pooled.
-void HoldOut(const Design& d, const GramSet& gram, const Eigen::VectorXd& prior, const Columns& cols,
-             Diagnosis* out) {
+// held out of the fit, pooled; returns the held-out residual after (3 per sample).
+Eigen::VectorXd HoldOut(const Design& d, const GramSet& gram, const Eigen::VectorXd& prior, const Columns& cols,
+                        Diagnosis* out) {
+  Eigen::VectorXd heldout = Eigen::VectorXd::Zero(3 * d.samples());
   const Columns frame_cols = ColumnsOf(d, {});
   double before2 = 0.0, after2 = 0.0;
   int held = 0;
@@ -348,7 +352,8 @@ void HoldOut(const Design& d, const GramSet& gram, const Eigen::VectorXd& prior,
         const auto rows = d.columns.middleRows(3 * k, 3);
         const Vector3 r = d.residual.segment<3>(3 * k);
         const double b = (r - rows(Eigen::all, frame_cols) * t0).norm();
-        const double a = (r - rows(Eigen::all, cols) * t1).norm();
+        heldout.segment<3>(3 * k) = r - rows(Eigen::all, cols) * t1;
+        const double a = heldout.segment<3>(3 * k).norm();
         before2 += b * b, after2 += a * a, ++held;
         out->holdout_before.max_m = std::max(out->holdout_before.max_m, b);
         out->holdout_after.max_m = std::max(out->holdout_after.max_m, a);
@@ -358,6 +363,7 @@ void HoldOut(const Design& d, const GramSet& gram, const Eigen::VectorXd& prior,
   out->holdout_before.rms_m = held ? std::sqrt(before2 / held) : 0.0;
   out->holdout_after.rms_m = held ? std::sqrt(after2 / held) : 0.0;
   out->shrink = out->holdout_before.rms_m > 0.0 ? 1.0 - out->holdout_after.rms_m / out->holdout_before.rms_m : 0.0;
+  return heldout;
 }
 
 Diagnosis DiagnoseOnce(const PlatformModel& model, const MeasurementData& data, const DiagnoseOptions& o) {
@@ -397,8 +403,8 @@ Diagnosis DiagnoseOnce(const PlatformModel& model, const MeasurementData& data, 
   for (auto& [e, r] : results) r.frame_overlap = FrameOverlap(d, gram, e);
   Identifiability(d, gram, prior, out.selected, &results, &out.condition_number);
   out.effects = Ranked(results, out.selected);
-  DescribeRest(d, residual, o, &out);
-  HoldOut(d, gram, prior, ColumnsOf(d, out.selected), &out);
+  const Eigen::VectorXd heldout = HoldOut(d, gram, prior, ColumnsOf(d, out.selected), &out);
+  DescribeRest(d, residual, heldout, o, &out);
   for (int k = 0; k < d.samples(); ++k) {
     const std::size_t s = static_cast<std::size_t>(k);
     out.series.push_back({d.sample_run[s], d.time_s[s], d.displacement[s], baseline.segment<3>(3 * k).norm(),

@@ -57,13 +57,21 @@ nlohmann::json Compensation(const Diagnosis& d) {
 }
 
 // Structure no effect explains, as an entry of the ranking: its share of the
-// gap's variance beyond the noise.
+// gap's variance (the held-out residual's part above its white level).
 nlohmann::json UnknownJson(const Diagnosis& d) {
-  const double noise2 = d.noise_floor_rms_m * d.noise_floor_rms_m;
-  const double left = std::max(0.0, d.unexplained.rms_m * d.unexplained.rms_m - noise2);
+  const double left = d.structure.structured_rms_m * d.structure.structured_rms_m;
   const double gap = std::max(1e-30, d.gap.overall.rms_m * d.gap.overall.rms_m);
   return {{"name", "unknown"}, {"verdict", "identified"}, {"params", nlohmann::json::object()},
           {"explained_fraction", 0.0}, {"unexplained_fraction", left / gap}, {"note", d.unexplained_note}};
+}
+
+nlohmann::json StructureJson(const ResidualStructure& s) {
+  return {{"structured", s.structured}, {"share_above_white", s.structured_share}, {"rms_m", s.structured_rms_m},
+          {"ljung_box_q", s.whiteness.q}, {"threshold_99", s.whiteness.threshold},
+          {"dominant_hz", s.dominant_hz}, {"damping", s.damping}, {"follows", s.follows},
+          {"follows_r2", s.follows_r2}, {"largest_in", s.largest_in},
+          {"in_sample_share_above_white", s.in_sample_share}, {"in_sample_ljung_box_q", s.in_sample_whiteness.q},
+          {"note", s.Describe()}};
 }
 
 }  // namespace
@@ -78,11 +86,11 @@ nlohmann::json ToJson(const Diagnosis& d) {
   }
   for (std::size_t k = 0; k < d.effects.size(); ++k) {
     j["effects"].push_back(EffectJson(d.effects[k]));
-    if (k + 1 == d.selected.size() && d.conclusion == "unknown") {
+    if (k + 1 == d.selected.size() && d.structure.structured) {
       j["effects"].push_back(UnknownJson(d));
     }
   }
-  if (d.selected.empty() && d.conclusion == "unknown") {
+  if (d.selected.empty() && d.structure.structured) {
     j["effects"].insert(j["effects"].begin(), UnknownJson(d));
   }
   j["selected"] = nlohmann::json::array();
@@ -95,7 +103,8 @@ nlohmann::json ToJson(const Diagnosis& d) {
                       {"whiteness", {{"white", d.whiteness.white}, {"ljung_box_q", d.whiteness.q},
                                      {"dof", d.whiteness.dof}, {"threshold_99", d.whiteness.threshold},
                                      {"lag1_autocorrelation", d.whiteness.lag1},
-                                     {"outside_99_band", d.whiteness.outside_fraction}}}};
+                                     {"outside_99_band", d.whiteness.outside_fraction}}},
+                      {"structure", StructureJson(d.structure)}};
   j["compensation"] = Compensation(d);
   // The tracker frame (a nuisance, never an effect): point_T = R·A_B + t.
   Matrix3 R = d.R0;
@@ -235,7 +244,7 @@ std::vector<std::string> WriteReport(const Diagnosis& d, const std::string& dir)
                     fmt::join(d.runs, ", "), d.seconds);
   md << "## Verdict\n\n";
   if (d.conclusion == "none") md << "**none**: the measurement agrees with the model within the tracker's noise.\n\n";
-  if (d.conclusion == "unknown") md << "**unknown**: " << d.unexplained_note << ".\n\n";
+  if (d.structure.structured) md << "**" << d.conclusion << "**: " << d.unexplained_note << ".\n\n";
   md << "| rank | effect | verdict | explained | held-out gain | with | next measurement |\n|---|---|---|---|---|---|---|\n";
   for (std::size_t k = 0; k < d.effects.size(); ++k) {
     const EffectResult& r = d.effects[k];

@@ -11,6 +11,7 @@
 
 #include "edsp/diagnosis/design.h"
 #include "edsp/diagnosis/gap_summary.h"
+#include "edsp/diagnosis/residual_structure.h"
 #include "edsp/diagnosis/whiteness.h"
 
 namespace edsp::gap {
@@ -22,7 +23,7 @@ struct DiagnoseOptions {
   double min_bic_drop = 10.0;     // and lower BIC by this much
   double ambiguity_ratio = 0.7;   // an alternative reaching this share of its gain is as good
   int max_effects = 9;
-  double unknown_factor = 1.5;    // residual above this × noise floor and not white: unknown
+  StructureOptions structure;     // when what is left counts as structure (unknown)
 };
 
 struct EffectResult {
@@ -59,13 +60,14 @@ struct Diagnosis {
   GapSummary gap;                     // before any effect (frame estimated)
   std::vector<EffectResult> effects;  // ranked: selected first, then rejected by gain
   std::vector<Effect> selected;
-  std::string conclusion;             // "effects", "none" or "unknown"
+  std::string conclusion;             // "effects", "none", "unknown" or "effects+unknown"
   std::vector<std::string> holdout_runs;
   RmsMax holdout_before, holdout_after;
   double shrink = 0.0;
   double noise_floor_rms_m = 0.0;     // point-A noise the tracker alone explains
   RmsMax unexplained;                 // in-sample, after the selected effects
-  Whiteness whiteness;
+  Whiteness whiteness;                // of the in-sample residual
+  ResidualStructure structure;        // of the held-out residual: decides unknown
   std::string unexplained_note;
   std::vector<SampleGap> series;
   std::string applied_pr;             // the compensation found in the data: none | signed | unsigned | other

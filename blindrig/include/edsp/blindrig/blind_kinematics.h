@@ -1,0 +1,50 @@
+#pragma once
+// The second rig's kinematics, written apart from kinematics/ on purpose: it
+// is the independent truth edsp's model and diagnosis are scored against, so
+// a bug in edsp's formulation shows up as a gap instead of cancelling out.
+// Rotations come from Eigen's AngleAxis; each Hooke's joint is solved for its
+// two explicit joint angles, the leg bodies' frames built from them, and the
+// twist read between those frames; forward kinematics is Newton's method on a
+// finite-difference Jacobian. Only the config's numbers are shared with edsp.
+
+#include <Eigen/Core>
+
+namespace edsp::blind {
+
+using Vec3 = Eigen::Vector3d;
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+using Mat3 = Eigen::Matrix3d;
+using Mat36 = Eigen::Matrix<double, 3, 6>;
+
+struct BlindGeometry {
+  Mat36 base_joint = Mat36::Zero();      // in {B}, m
+  Mat36 platform_joint = Mat36::Zero();  // in {M}, m
+  Mat36 base_axis = Mat36::Zero();       // outer axis fixed in {B}
+  Mat36 platform_axis = Mat36::Zero();   // outer axis fixed in {M}
+  double home_height_m = 0.0;
+  Vec3 point_M = Vec3::Zero();           // observation point A in {M}
+};
+
+// q = [x y z roll pitch yaw]; R = Rz(yaw)·Ry(pitch)·Rx(roll).
+Mat3 Rotation(const Vec6& q);
+Vec6 HomePose(const BlindGeometry& g);
+
+// Leg i's vector from base joint to platform joint, in {B}.
+Vec3 LegVector(const BlindGeometry& g, const Vec6& q, int leg);
+Vec6 LegLengths(const BlindGeometry& g, const Vec6& q);
+
+// Angle (rad) by which the upper leg body (hung from the platform's joint)
+// is turned about the leg axis against the lower body (on the base's joint),
+// each body's frame built from its joint's two explicit angles. Defined up
+// to a constant per leg; differences from home are what matter.
+Vec6 LegBodyTwist(const BlindGeometry& g, const Vec6& q);
+
+// The pose at which `residual(q)` (six values) vanishes, by Newton's method
+// from `guess` on a central-difference Jacobian. Throws std::runtime_error if
+// it does not converge to `tolerance` (m) within 50 steps.
+template <typename Residual>
+Vec6 SolvePose(const Residual& residual, Vec6 guess, double tolerance = 1e-12);
+
+}  // namespace edsp::blind
+
+#include "edsp/blindrig/solve_pose.inl"

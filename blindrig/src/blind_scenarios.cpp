@@ -1,0 +1,161 @@
+// Scenario draws of the second rig: magnitudes of a real platform of the
+// paper's size (docs/diagnosis.md, "The independent rig").
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include <fmt/format.h>
+
+#include "edsp/blindrig/blind_rig.h"
+
+namespace edsp::blind {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+class Draw {
+ public:
+  explicit Draw(std::uint64_t seed) : rng_(seed) {}
+  double Uniform(double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng_); }
+  double LogUniform(double lo, double hi) { return std::exp(Uniform(std::log(lo), std::log(hi))); }
+  double Signed(double lo, double hi) { return (Uniform(0.0, 1.0) < 0.5 ? -1.0 : 1.0) * Uniform(lo, hi); }
+  int Index(int n) { return std::uniform_int_distribution<int>(0, n - 1)(rng_); }
+  Vec6 PerLeg(double lo, double hi) {
+    Vec6 v;
+    for (int i = 0; i < 6; ++i) v(i) = Signed(lo, hi);
+    return v;
+  }
+  Vec6 PerLegPositive(double lo, double hi) {
+    Vec6 v;
+    for (int i = 0; i < 6; ++i) v(i) = Uniform(lo, hi);
+    return v;
+  }
+  Mat36 PerJoint(double sigma) {
+    Mat36 m;
+    for (int i = 0; i < 6; ++i) {
+      for (int a = 0; a < 3; ++a) m(a, i) = Signed(0.2 * sigma, sigma);
+    }
+    return m;
+  }
+
+ private:
+  std::mt19937_64 rng_;
+};
+
+const std::vector<std::string>& Vocabulary() {
+  static const std::vector<std::string> names = {"passive_rotation", "leg_offset", "joint_position",
+                                                 "lead_error", "periodic_lead_error", "backlash",
+                                                 "servo_lag", "compliance", "thermal_drift"};
+  return names;
+}
+
+// Turns one effect of the vocabulary on; returns what was drawn.
+std::string AddEffect(const std::string& name, Draw& d, BlindEffects* e) {
+  if (name == "passive_rotation") {
+    e->pr_override = true;
+    e->true_pr_sign = d.Index(2) == 0 ? 0 : -1;
+    return fmt::format("screws' true s = {}", e->true_pr_sign);
+  }
+  if (name == "leg_offset") {
+    e->leg_offset_m = d.PerLeg(50e-6, 300e-6);
+    return "leg offsets 50-300 um";
+  }
+  if (name == "joint_position") {
+    e->base_joint_error_m = d.PerJoint(400e-6);
+    e->platform_joint_error_m = d.PerJoint(400e-6);
+    return "joint centres off by up to 0.4 mm per axis";
+  }
+  if (name == "lead_error") {
+    e->lead_error = d.PerLeg(100e-6, 500e-6);
+    return "lead errors 100-500 ppm";
+  }
+  if (name == "periodic_lead_error") {
+    e->periodic_amplitude_m = d.PerLegPositive(8e-6, 25e-6);
+    e->periodic_phase_rad = d.PerLegPositive(0.0, 2.0 * kPi);
+    return "pitch error 8-25 um once per turn";
+  }
+  if (name == "backlash") {
+    e->backlash_m = d.PerLegPositive(15e-6, 40e-6);
+    return "backlash 15-40 um";
+  }
+  if (name == "servo_lag") {
+    e->servo_bandwidth_hz = d.Uniform(10.0, 30.0);
+    return fmt::format("servo bandwidth {:.1f} Hz", e->servo_bandwidth_hz);
+  }
+  if (name == "compliance") {
+    e->stiffness_N_m = d.PerLegPositive(2e7, 6e7);
+    e->mass_kg = d.Uniform(400.0, 900.0);
+    e->com_M = Vec3(d.Signed(0.0, 0.1), d.Signed(0.0, 0.1), d.Uniform(0.05, 0.3));
+    return fmt::format("legs 20-60 N/um, platform {:.0f} kg", e->mass_kg);
+  }
+  // thermal_drift: by travel or by time under power, time constant drawn.
+  e->alpha_per_K = 11.7e-6;
+  e->thermal_tau_s = d.Uniform(300.0, 1500.0);
+  if (d.Index(2) == 0) {
+    e->heating_K_per_m = d.Uniform(3.0, 8.0);
+    return fmt::format("screws warm {:.1f} K/m of travel, tau {:.0f} s", e->heating_K_per_m, e->thermal_tau_s);
+  }
+  e->heating_K_per_s = d.Uniform(0.004, 0.012);
+  return fmt::format("screws warm {:.1f} mK/s under power, tau {:.0f} s", e->heating_K_per_s * 1e3, e->thermal_tau_s);
+}
+
+std::string AddOutOfVocabulary(const std::string& kind, Draw& d, BlindEffects* e) {
+  if (kind == "structural_resonance") {
+    e->resonance_hz = d.Uniform(3.0, 8.0);
+    e->resonance_damping = d.Uniform(0.01, 0.05);
+    e->resonance_gain = d.Uniform(0.4, 1.0);
+    return fmt::format("structure sways at {:.1f} Hz, damping {:.3f}", e->resonance_hz, e->resonance_damping);
+  }
+  if (kind == "floor_vibration") {
+    e->floor_hz = d.Uniform(2.0, 15.0);
+    e->floor_amplitude_m = d.Uniform(15e-6, 40e-6);
+    e->floor_direction = Vec3(d.Signed(0.2, 1.0), d.Signed(0.2, 1.0), d.Signed(0.0, 0.5));
+    return fmt::format("tracker stand vibrates at {:.1f} Hz, {:.0f} um", e->floor_hz, e->floor_amplitude_m * 1e6);
+  }
+  // base_tilt: the base mount gives under the platform's moment.
+  e->mass_kg = d.Uniform(400.0, 900.0);
+  e->com_M = Vec3(0.0, 0.0, 0.1);
+  e->base_tilt_rad_per_N_m = d.Uniform(1.5e-8, 3e-8);
+  return fmt::format("base mount tilts {:.1f} urad per kN m", e->base_tilt_rad_per_N_m * 1e9);
+}
+
+}  // namespace
+
+std::vector<std::string> OutOfVocabularyKinds() { return {"structural_resonance", "floor_vibration", "base_tilt"}; }
+
+BlindScenario DrawBlindScenario(std::uint64_t seed, int index) {
+  Draw d(seed * 0x9e3779b97f4a7c15ULL + static_cast<std::uint64_t>(index) * 7919ULL + 1);
+  BlindScenario s;
+  const int slot = index % 5;
+  std::vector<std::string> parts;
+  if (slot == 0) {
+    s.kind = "none";
+  } else if (slot <= 3) {
+    s.kind = slot <= 2 ? "single" : "pair";
+    std::vector<std::string> pool = Vocabulary();
+    for (int k = 0; k < (slot <= 2 ? 1 : 2); ++k) {
+      const int pick = d.Index(static_cast<int>(pool.size()));
+      s.truth.push_back(pool[static_cast<std::size_t>(pick)]);
+      pool.erase(pool.begin() + pick);
+      parts.push_back(AddEffect(s.truth.back(), d, &s.effects));
+    }
+  } else {
+    s.kind = "out_of_vocabulary";
+    const std::vector<std::string> kinds = OutOfVocabularyKinds();
+    s.truth.push_back(kinds[static_cast<std::size_t>(d.Index(static_cast<int>(kinds.size())))]);
+    parts.push_back(AddOutOfVocabulary(s.truth.back(), d, &s.effects));
+  }
+  s.tracker.rate_hz = d.LogUniform(10.0, 1000.0);
+  s.tracker.noise_m = d.Uniform(2e-6, 20e-6);
+  s.tracker.encoders = d.Index(2) == 0;
+  s.tracker.seed = seed * 31 + static_cast<std::uint64_t>(index);
+  s.tracker.frame << d.Uniform(-3.0, 3.0), d.Uniform(-3.0, 3.0), d.Uniform(-0.5, 0.5), d.Signed(0.0, 0.02),
+      d.Signed(0.0, 0.02), d.Uniform(-kPi, kPi);
+  parts.push_back(fmt::format("tracker {:.0f} Hz, {:.1f} um, {} encoders", s.tracker.rate_hz, s.tracker.noise_m * 1e6,
+                              s.tracker.encoders ? "with" : "without"));
+  for (const std::string& p : parts) s.description += (s.description.empty() ? "" : "; ") + p;
+  return s;
+}
+
+}  // namespace edsp::blind
