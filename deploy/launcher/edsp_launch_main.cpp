@@ -73,9 +73,7 @@ class GroupReport {
   void Tick(bool healthy) {
     status_.SetState(healthy ? node_status_t::STATE_RUNNING : node_status_t::STATE_FAULT);
     const std::int64_t now = UtimeNow();
-    const bool changed = healthy != healthy_;
-    healthy_ = healthy;
-    if (status_.Due(now) || changed) status_out_.Publish(status_.Report(now, 0));
+    if (status_.Due(now)) status_out_.Publish(status_.Report(now, 0));
   }
 
  private:
@@ -89,7 +87,6 @@ class GroupReport {
   Bus::Publisher<fault_t> faults_;
   Bus::Publisher<node_status_t> status_out_;
   NodeStatus status_;
-  bool healthy_ = true;
 };
 
 // Frozen and resumed members, from the process table.

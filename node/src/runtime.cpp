@@ -82,8 +82,11 @@ void NodeStatus::RecordLoop(std::chrono::nanoseconds busy) {
 }
 
 bool NodeStatus::Due(std::int64_t utime) {
-  if (utime < next_report_utime_) return false;
-  next_report_utime_ = utime + 1000000;
+  const bool periodic = utime >= next_report_utime_;
+  const bool changed = state_ != reported_state_ && utime >= last_report_utime_ + kMinReportInterval_us;
+  if (!periodic && !changed) return false;
+  if (periodic) next_report_utime_ = utime + kReportPeriod_us;
+  last_report_utime_ = utime;
   return true;
 }
 
@@ -94,6 +97,7 @@ node_status_t NodeStatus::Report(std::int64_t utime, std::int64_t deadline_misse
   s.node = node_;
   s.pid = static_cast<std::int32_t>(::getpid());
   s.state = state_;
+  reported_state_ = state_;
   s.messages_in = in_;
   s.messages_out = out_;
   s.drops = drops_;

@@ -1,7 +1,7 @@
 #pragma once
 // What every node process shares: a clean stop on SIGINT/SIGTERM, a loop on
 // an absolute clock (no drift, missed cycles counted), and the status it
-// reports on EDSP_STATUS at 1 Hz.
+// reports on EDSP_STATUS at 1 Hz and on every change of state.
 
 #include <chrono>
 #include <cstdint>
@@ -55,12 +55,18 @@ class NodeStatus {
   void SetState(std::int8_t state) { state_ = state; }
   // The message for now; resets the loop-time window.
   node_status_t Report(std::int64_t utime, std::int64_t deadline_misses);
-  // True once a second (the caller then publishes Report()).
+  // True once a second, and as soon as the state differs from the last
+  // report (a hold shorter than a second is seen too), at most every 10 ms
+  // (the caller then publishes Report()).
   bool Due(std::int64_t utime);
 
  private:
+  static constexpr std::int64_t kReportPeriod_us = 1000000;
+  static constexpr std::int64_t kMinReportInterval_us = 10000;
   std::string node_;
   std::int8_t state_ = node_status_t::STATE_STARTING;
+  std::int8_t reported_state_ = node_status_t::STATE_STARTING;
+  std::int64_t last_report_utime_ = 0;
   std::int64_t in_ = 0, out_ = 0, rejected_ = 0, drops_ = 0, seq_ = 0;
   std::int64_t next_report_utime_ = 0;
   std::vector<double> loop_us_;
