@@ -1,7 +1,7 @@
 // edsp-gap: diagnose the sim-to-real gap (docs/diagnosis.md).
 //   edsp-gap diagnose --config C --data D [--data D2 …] [--json] [--save-model M] [--report DIR]
 //   edsp-gap evaluate --config C --model M --data T [--json]
-//   edsp-gap benchmark --scenarios N --seed S [--json] [--noise-m 5e-6] [--keep DIR]
+//   edsp-gap benchmark --scenarios N --seed S [--generator rig|blind] [--motions Lz,…] [--json] [--noise-m 5e-6] [--keep DIR]
 #include <unistd.h>
 
 #include <cstdio>
@@ -58,7 +58,10 @@ int Run(int argc, char** argv) {
   diagnose->add_option("--save-model", model_path, "write the selected effects for `evaluate`");
   diagnose->add_option("--report", report_dir, "write report.md with PNG plots here");
   diagnose->add_option("--max-rate-hz", options.max_rate_hz, "thin each run to this rate")->check(CLI::Range(1.0, 10000.0));
-  diagnose->add_option("--thermal-time-constant-s", options.design.thermal_time_constant_s)->check(CLI::Range(1.0, 1e6));
+  CLI::Option* thermal_tau =
+      diagnose->add_option("--thermal-time-constant-s", options.design.thermal_time_constant_s,
+                           "the screws' cooling time, fixed (default: estimated when thermal drift is found)")
+          ->check(CLI::Range(1.0, 1e6));
 
   CLI::App* evaluate = app.add_subcommand("evaluate", "apply a saved model to data it has never seen");
   evaluate->add_option("--config", config_path, "platform config (TOML)")->required();
@@ -72,9 +75,15 @@ int Run(int argc, char** argv) {
   benchmark->add_option("--seed", bench.seed, "scenario draw seed");
   benchmark->add_option("--config", bench.config_path, "nominal platform config");
   benchmark->add_option("--noise-m", bench.tracker_noise_m, "tracker noise, 1-σ per axis")->check(CLI::Range(0.0, 1e-3));
+  benchmark->add_option("--generator", bench.generator,
+                        "rig: edsp's own virtual rig; blind: the independently written rig (blindrig/), "
+                        "out-of-vocabulary scenarios and its own tracker draws")
+      ->check(CLI::IsMember({"rig", "blind"}));
+  benchmark->add_option("--motions", bench.motions, "motions of every scenario, comma-separated")->delimiter(',');
   benchmark->add_option("--keep", keep_dir, "keep each scenario's data and report here");
   benchmark->add_flag("--json", json, "print JSON");
   CLI11_PARSE(app, argc, argv);
+  if (thermal_tau->count() > 0) options.thermal_time_constants_s.clear();
 
   if (*benchmark) {
     bench.keep_dir = keep_dir;

@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "edsp/blindrig/blind_setup.h"
 #include "edsp/diagnosis/report.h"
 #include "edsp/kinematics/config.h"
 #include "edsp/sim/offline_run.h"
@@ -125,29 +126,44 @@ void Progress(const BenchmarkOptions& o, int done, int total, const std::string&
   std::fflush(stderr);
 }
 
-ScenarioScore Score(const Scenario& s, const Diagnosis& d) {
+// What a generator hands the scorer: the truth, kept from the diagnosis,
+// and the measurement CSV the diagnosis sees.
+struct Drawn {
+  std::string kind;
+  std::vector<std::string> truth;
+  std::string description;
+  std::string csv_path;
+  double simulate_s = 0.0;
+};
+
+std::string KindOf(std::size_t effects) { return effects == 0 ? "none" : effects == 1 ? "single" : "pair"; }
+
+ScenarioScore Score(const Drawn& s, const Diagnosis& d) {
   ScenarioScore score;
-  score.scenario = s;
+  score.kind = s.kind;
+  score.truth = s.truth;
+  score.description = s.description;
   score.conclusion = d.conclusion;
+  auto truth_has = [&](const std::string& name) { return std::find(s.truth.begin(), s.truth.end(), name) != s.truth.end(); };
   const nlohmann::json j = ToJson(d);
+  std::vector<std::string> identified;
   for (const auto& e : j["effects"]) {
-    const std::string verdict = e.value("verdict", "");
-    if (score.top.empty()) score.top = e.value("name", "");
-    if (verdict == "identified" || verdict == "ambiguous") score.found.push_back(e.value("name", ""));
-  }
-  auto truth_has = [&](const std::string& name) {
-    return std::any_of(s.truth.begin(), s.truth.end(), [&](Effect e) { return name == EffectName(e); });
-  };
-  score.top_true = truth_has(score.top);
-  score.all_found = std::all_of(s.truth.begin(), s.truth.end(), [&](Effect e) {
-    return std::find(score.found.begin(), score.found.end(), EffectName(e)) != score.found.end();
-  });
-  for (const auto& e : j["effects"]) {
+    const std::string name = e.value("name", ""), verdict = e.value("verdict", "");
+    if (score.top.empty()) score.top = name;
+    if (verdict == "identified" || verdict == "ambiguous") score.found.push_back(name);
     Effect parsed;
-    if (e.value("verdict", "") == "identified" && ParseEffect(e.value("name", ""), &parsed) && !truth_has(e.value("name", ""))) {
-      score.false_identified = true;
-    }
+    if (verdict != "identified" || !ParseEffect(name, &parsed)) continue;
+    identified.push_back(name);
+    score.false_identified = score.false_identified || !truth_has(name);
   }
+  score.top_true = truth_has(score.top);
+  score.top_identified_true = !identified.empty() && truth_has(identified.front());
+  auto all_in = [&](const std::vector<std::string>& names) {
+    return std::all_of(s.truth.begin(), s.truth.end(),
+                       [&](const std::string& t) { return std::find(names.begin(), names.end(), t) != names.end(); });
+  };
+  score.all_found = all_in(score.found);
+  score.all_identified = all_in(identified);
   score.before_rms_m = d.holdout_before.rms_m;
   score.after_rms_m = d.holdout_after.rms_m;
   score.shrink = d.shrink;
@@ -155,6 +171,121 @@ ScenarioScore Score(const Scenario& s, const Diagnosis& d) {
   score.diagnose_s = d.seconds;
   return score;
 }
+
+double SecondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Scenario k on edsp's own rig (edsp-sim rig's offline run).
+Drawn DrawOnRig(const BenchmarkOptions& options, const std::string& config, Rng& frames, int k, const std::string& dir) {
+  const Scenario s = DrawScenario(options.seed, k);
+  OfflineRunOptions run;
+  run.motions = options.motions;
+  run.paper.stops = 5;
+  run.paper.dwell_s = 0.5;
+  run.paper.max_speed_m_s = 0.25;
+  run.paper.max_speed_rad_s = 0.5;  // mixed motions: half of each
+  run.pr_mode = s.compensation;
+  run.tracker.noise_sigma_m = options.tracker_noise_m;
+  run.tracker.rate_hz = options.tracker_rate_hz;
+  run.tracker.seed = options.seed * 7919 + static_cast<std::uint64_t>(k);
+  // The tracker stands somewhere on the floor, turned any way.
+  run.tracker.X_TB = Pose::FromVector((Vector6() << Uniform(frames, -3, 3), Uniform(frames, -3, 3),
+                                       Uniform(frames, -0.5, 0.5), Uniform(frames, -0.03, 0.03),
+                                       Uniform(frames, -0.03, 0.03), Uniform(frames, -3.14, 3.14)).finished());
+  run.out_dir = dir;
+  Drawn drawn;
+  drawn.kind = KindOf(s.truth.size());
+  for (Effect e : s.truth) drawn.truth.push_back(EffectName(e));
+  drawn.description = s.description;
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    drawn.csv_path = RunOffline(config, s.effects, run).csv_path;
+  } catch (const std::exception& e) {
+    throw std::runtime_error(fmt::format("scenario {} ({}): {}", k, s.description, e.what()));
+  }
+  drawn.simulate_s = SecondsSince(t0);
+  return drawn;
+}
+
+// Scenario k on the blind rig (blindrig/): its own kinematics, effects,
+// motions and tracker draw; only the config's numbers are shared.
+Drawn DrawOnBlindRig(const BenchmarkOptions& options, const PlatformConfig& config, int k, const std::string& dir) {
+  const blind::BlindScenario s = blind::DrawBlindScenario(options.seed, k);
+  blind::BlindRigSetup setup = blind::SetupFromConfig(config);
+  setup.motions = options.motions;
+  Drawn drawn{s.kind, s.truth, s.description, dir + "/measurement.csv", 0.0};
+  const auto t0 = std::chrono::steady_clock::now();
+  std::string csv;
+  try {
+    csv = blind::GenerateMeasurementCsv(setup, s.effects, s.tracker);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(fmt::format("blind scenario {} ({}): {}", k, s.description, e.what()));
+  }
+  std::ofstream out(drawn.csv_path);
+  out << csv;
+  if (!out) throw std::runtime_error(drawn.csv_path + ": cannot write");
+  drawn.simulate_s = SecondsSince(t0);
+  return drawn;
+}
+
+void Tally(BenchmarkResult* r) {
+  std::vector<double> shrinks, ratios, seconds;
+  for (const ScenarioScore& s : r->scores) {
+    seconds.push_back(s.diagnose_s);
+    r->any_false_identified += s.false_identified;
+    if (s.kind == "none") {
+      ++r->clean;
+      r->clean_nothing_identified += !s.false_identified;
+      r->clean_none += s.conclusion == "none";
+      continue;
+    }
+    if (s.kind == "out_of_vocabulary") {
+      ++r->out_of_vocabulary;
+      r->out_of_vocabulary_unknown += s.conclusion == "unknown" && !s.false_identified;
+      continue;
+    }
+    r->extra_identified += s.false_identified;
+    if (s.kind == "single") {
+      ++r->single;
+      r->single_top_true += s.top_true;
+      r->single_identified_top_true += s.top_identified_true;
+    } else {
+      ++r->pairs;
+      r->pairs_both += s.all_found;
+      r->pairs_both_identified += s.all_identified;
+    }
+    shrinks.push_back(s.shrink);
+    ratios.push_back(s.noise_floor_m > 0 ? s.after_rms_m / s.noise_floor_m : 0.0);
+  }
+  r->median_shrink = Median(shrinks);
+  r->median_after_over_noise = Median(ratios);
+  r->median_diagnose_s = Median(seconds);
+}
+
+double Rate(int a, int b) { return b ? static_cast<double>(a) / b : 0.0; }
+
+// The issue's targets (docs/diagnosis.md): score, measured rate, target, met.
+struct Target {
+  const char* name;
+  double rate;
+  double target;
+  bool at_most;  // the rate must not exceed the target
+  int scenarios;
+};
+
+std::vector<Target> Targets(const BenchmarkResult& r) {
+  return {{"single_top_identified_true", Rate(r.single_identified_top_true, r.single), 0.95, false, r.single},
+          {"pairs_both_identified", Rate(r.pairs_both_identified, r.pairs), 0.85, false, r.pairs},
+          {"effect_free_none", Rate(r.clean_none, r.clean), 1.0, false, r.clean},
+          {"out_of_vocabulary_unknown", Rate(r.out_of_vocabulary_unknown, r.out_of_vocabulary), 0.90, false,
+           r.out_of_vocabulary},
+          {"any_false_identified", Rate(r.any_false_identified, static_cast<int>(r.scores.size())), 0.05, true,
+           static_cast<int>(r.scores.size())},
+          {"median_shrink", r.median_shrink, 0.85, false, r.single + r.pairs}};
+}
+
+bool Met(const Target& t) { return t.scenarios == 0 || (t.at_most ? t.rate <= t.target : t.rate >= t.target); }
 
 }  // namespace
 
@@ -178,101 +309,79 @@ Scenario DrawScenario(std::uint64_t seed, int index) {
 }
 
 BenchmarkResult RunBenchmark(const BenchmarkOptions& options) {
+  if (options.generator != "rig" && options.generator != "blind") {
+    throw std::invalid_argument("benchmark generator '" + options.generator + "': expected rig or blind");
+  }
   BenchmarkResult result;
   result.options = options;
   const std::string config = options.config_path.empty() ? EDSP_DEFAULT_CONFIG : options.config_path;
-  const PlatformModel model(LoadConfigFile(config));
+  const PlatformConfig platform = LoadConfigFile(config);
+  const PlatformModel model(platform);
   const std::string root = options.keep_dir.empty()
                                ? (std::filesystem::temp_directory_path() / fmt::format("edsp-gap-bench-{}", ::getpid())).string()
                                : options.keep_dir;
   Rng frames(options.seed);
   for (int k = 0; k < options.scenarios; ++k) {
     Progress(options, k, options.scenarios, fmt::format("scenario {}: simulating", k));
-    const Scenario s = DrawScenario(options.seed, k);
-    OfflineRunOptions run;
-    run.motions = options.motions;
-    run.paper.stops = 5;
-    run.paper.dwell_s = 0.5;
-    run.paper.max_speed_m_s = 0.25;
-    run.paper.max_speed_rad_s = 0.5;  // mixed motions: half of each
-    run.pr_mode = s.compensation;
-    run.tracker.noise_sigma_m = options.tracker_noise_m;
-    run.tracker.rate_hz = options.tracker_rate_hz;
-    run.tracker.seed = options.seed * 7919 + static_cast<std::uint64_t>(k);
-    // The tracker stands somewhere on the floor, turned any way.
-    run.tracker.X_TB = Pose::FromVector((Vector6() << Uniform(frames, -3, 3), Uniform(frames, -3, 3),
-                                         Uniform(frames, -0.5, 0.5), Uniform(frames, -0.03, 0.03),
-                                         Uniform(frames, -0.03, 0.03), Uniform(frames, -3.14, 3.14)).finished());
-    run.out_dir = fmt::format("{}/scenario-{:03d}", root, k);
-    std::filesystem::create_directories(run.out_dir);
-    const auto t0 = std::chrono::steady_clock::now();
-    OfflineRunResult sim;
-    try {
-      sim = RunOffline(config, s.effects, run);
-    } catch (const std::exception& e) {
-      throw std::runtime_error(fmt::format("scenario {} ({}): {}", k, s.description, e.what()));
-    }
-    const double simulate_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const std::string dir = fmt::format("{}/scenario-{:03d}", root, k);
+    std::filesystem::create_directories(dir);
+    const Drawn drawn = options.generator == "blind" ? DrawOnBlindRig(options, platform, k, dir)
+                                                     : DrawOnRig(options, config, frames, k, dir);
     Progress(options, k, options.scenarios, fmt::format("scenario {}: diagnosing", k));
     // Blind: the diagnosis sees the measurement CSV and the nominal model only.
-    const Diagnosis d = Diagnose(model, LoadMeasurement(sim.csv_path));
-    ScenarioScore score = Score(s, d);
+    const Diagnosis d = Diagnose(model, LoadMeasurement(drawn.csv_path));
+    ScenarioScore score = Score(drawn, d);
     score.index = k;
-    score.simulate_s = simulate_s;
+    score.simulate_s = drawn.simulate_s;
     if (!options.keep_dir.empty()) {
-      std::ofstream(run.out_dir + "/diagnosis.json") << ToJson(d).dump(2) << "\n";
-      std::ofstream(run.out_dir + "/truth.txt") << s.description << "\n";
+      std::ofstream(dir + "/diagnosis.json") << ToJson(d).dump(2) << "\n";
+      std::ofstream(dir + "/truth.txt") << drawn.kind << ": " << drawn.description << "\n";
     } else {
-      std::filesystem::remove_all(run.out_dir);
+      std::filesystem::remove_all(dir);
     }
     result.scores.push_back(score);
   }
   Progress(options, options.scenarios, options.scenarios, "done");
   if (options.keep_dir.empty()) std::filesystem::remove_all(root);
-
-  std::vector<double> shrinks, ratios, seconds;
-  for (const ScenarioScore& s : result.scores) {
-    const std::size_t n = s.scenario.truth.size();
-    seconds.push_back(s.diagnose_s);
-    if (n == 0) {
-      ++result.clean;
-      result.clean_nothing_identified += !s.false_identified;
-      continue;
-    }
-    result.extra_identified += s.false_identified;
-    if (n == 1) ++result.single, result.single_top_true += s.top_true;
-    if (n == 2) ++result.pairs, result.pairs_both += s.all_found;
-    shrinks.push_back(s.shrink);
-    ratios.push_back(s.noise_floor_m > 0 ? s.after_rms_m / s.noise_floor_m : 0.0);
-  }
-  result.median_shrink = Median(shrinks);
-  result.median_after_over_noise = Median(ratios);
-  result.median_diagnose_s = Median(seconds);
+  Tally(&result);
   return result;
 }
 
 nlohmann::json ToJson(const BenchmarkResult& r) {
   nlohmann::json j;
+  j["generator"] = r.options.generator;
   j["seed"] = r.options.seed;
   j["scenarios"] = r.scores.size();
   j["tracker_noise_m"] = r.options.tracker_noise_m;
-  auto rate = [](int a, int b) { return b ? static_cast<double>(a) / b : 0.0; };
   j["single_effect"] = {{"scenarios", r.single}, {"top_ranked_true", r.single_top_true},
-                        {"rate", rate(r.single_top_true, r.single)}};
-  j["two_effects"] = {{"scenarios", r.pairs}, {"both_found", r.pairs_both}, {"rate", rate(r.pairs_both, r.pairs)}};
+                        {"rate", Rate(r.single_top_true, r.single)},
+                        {"top_identified_true", r.single_identified_top_true},
+                        {"identified_rate", Rate(r.single_identified_top_true, r.single)}};
+  j["two_effects"] = {{"scenarios", r.pairs}, {"both_found", r.pairs_both}, {"rate", Rate(r.pairs_both, r.pairs)},
+                      {"both_identified", r.pairs_both_identified},
+                      {"identified_rate", Rate(r.pairs_both_identified, r.pairs)}};
   j["effect_free"] = {{"scenarios", r.clean}, {"nothing_identified", r.clean_nothing_identified},
-                      {"rate", rate(r.clean_nothing_identified, r.clean)}};
+                      {"rate", Rate(r.clean_nothing_identified, r.clean)}, {"conclusion_none", r.clean_none},
+                      {"none_rate", Rate(r.clean_none, r.clean)}};
+  j["out_of_vocabulary"] = {{"scenarios", r.out_of_vocabulary}, {"unknown", r.out_of_vocabulary_unknown},
+                            {"rate", Rate(r.out_of_vocabulary_unknown, r.out_of_vocabulary)}};
+  j["any_false_identified"] = {{"scenarios", r.any_false_identified},
+                               {"rate", Rate(r.any_false_identified, static_cast<int>(r.scores.size()))}};
   j["with_effects_extra_identified"] = r.extra_identified;  // a false effect identified beside the true ones
   j["median_shrink"] = r.median_shrink;
   j["median_after_over_noise_floor"] = r.median_after_over_noise;
   j["median_diagnose_s"] = r.median_diagnose_s;
+  j["targets"] = nlohmann::json::array();
+  for (const Target& t : Targets(r)) {
+    j["targets"].push_back({{"score", t.name}, {"measured", t.rate}, {"target", t.target},
+                            {"at_most", t.at_most}, {"scenarios", t.scenarios}, {"met", Met(t)}});
+  }
   j["results"] = nlohmann::json::array();
   for (const ScenarioScore& s : r.scores) {
-    nlohmann::json truth = nlohmann::json::array();
-    for (Effect e : s.scenario.truth) truth.push_back(EffectName(e));
-    j["results"].push_back({{"index", s.index}, {"truth", truth}, {"description", s.scenario.description},
+    j["results"].push_back({{"index", s.index}, {"kind", s.kind}, {"truth", s.truth}, {"description", s.description},
                             {"found", s.found}, {"top", s.top}, {"conclusion", s.conclusion},
                             {"top_true", s.top_true}, {"all_found", s.all_found},
+                            {"top_identified_true", s.top_identified_true}, {"all_identified", s.all_identified},
                             {"false_identified", s.false_identified},
                             {"holdout_before_rms_m", s.before_rms_m}, {"holdout_after_rms_m", s.after_rms_m},
                             {"shrink", s.shrink}, {"noise_floor_rms_m", s.noise_floor_m},
@@ -282,17 +391,23 @@ nlohmann::json ToJson(const BenchmarkResult& r) {
 }
 
 void PrintBenchmark(const BenchmarkResult& r) {
-  std::printf("%-3s %-40s %-40s %8s %8s %7s\n", "#", "truth", "found (ranked)", "before", "after", "shrink");
+  std::printf("generator %s, seed %llu\n%-3s %-18s %-40s %-40s %-16s %8s %8s %7s\n", r.options.generator.c_str(),
+              static_cast<unsigned long long>(r.options.seed), "#", "kind", "truth", "found (ranked)", "conclusion",
+              "before", "after", "shrink");
   for (const ScenarioScore& s : r.scores) {
-    std::vector<std::string> truth;
-    for (Effect e : s.scenario.truth) truth.push_back(EffectName(e));
-    std::printf("%-3d %-40s %-40s %6.1fµm %6.1fµm %6.0f%%\n", s.index,
-                (truth.empty() ? std::string("-") : fmt::format("{}", fmt::join(truth, ","))).c_str(),
-                (s.found.empty() ? s.top : fmt::format("{}", fmt::join(s.found, ","))).c_str(), s.before_rms_m * 1e6,
-                s.after_rms_m * 1e6, 100 * s.shrink);
+    std::printf("%-3d %-18s %-40s %-40s %-16s %6.1fµm %6.1fµm %6.0f%%\n", s.index, s.kind.c_str(),
+                (s.truth.empty() ? std::string("-") : fmt::format("{}", fmt::join(s.truth, ","))).c_str(),
+                (s.found.empty() ? s.top : fmt::format("{}", fmt::join(s.found, ","))).c_str(), s.conclusion.c_str(),
+                s.before_rms_m * 1e6, s.after_rms_m * 1e6, 100 * s.shrink);
+  }
+  std::printf("\n%-28s %9s %8s %10s %s\n", "score", "measured", "target", "scenarios", "met");
+  for (const Target& t : Targets(r)) {
+    std::printf("%-28s %8.0f%% %s%5.0f%% %10d %s\n", t.name, 100 * t.rate, t.at_most ? "≤" : "≥", 100 * t.target,
+                t.scenarios, t.scenarios == 0 ? "-" : Met(t) ? "yes" : "NO");
   }
   std::printf("\nsingle effect: top-ranked true %d/%d; two effects: both found %d/%d; effect-free: nothing "
-              "identified %d/%d; a false effect identified beside true ones in %d\nmedian shrink %.0f%%, median after/noise floor %.2f, median diagnosis %.2f s\n",
+              "identified %d/%d; a false effect identified beside true ones in %d\nmedian shrink %.0f%%, median "
+              "after/noise floor %.2f, median diagnosis %.2f s\n",
               r.single_top_true, r.single, r.pairs_both, r.pairs, r.clean_nothing_identified, r.clean, r.extra_identified,
               100 * r.median_shrink, r.median_after_over_noise, r.median_diagnose_s);
 }

@@ -52,6 +52,7 @@ Vector6 Derivative(const std::vector<int>& rows, std::size_t k, const Measuremen
 struct SampleState {
   LegSolution legs;
   Vector6 stroke, velocity, accel, jerk, play, heat, pr_signed, compensation;
+  double warm = 0.0;  // time under power, decayed with the screws' cooling (s)
   Eigen::Matrix<double, 6, 4> load;  // leg forces per kg at {M}'s origin, then per kg·m of c.o.m. x, y, z
 };
 
@@ -103,7 +104,14 @@ Eigen::MatrixXd LegBasis(Effect effect, const SampleState& s, const PlatformMode
       B.rightCols(3) = -s.load.rightCols(3);
       break;
     case Effect::kThermalDrift:
+      // A screw grows α·ΔT over the part between its bearing and the nut: a
+      // fixed length plus the stroke. ΔT is driven by the leg's own travel
+      // (friction in the nut) and by time under power (the motor's heat),
+      // both cooling with one time constant.
       B.col(0) = s.heat;
+      B.col(1) = s.heat.cwiseProduct(s.stroke);
+      B.col(2).setConstant(s.warm);
+      B.col(3) = s.warm * s.stroke;
       break;
   }
   return B;
@@ -169,6 +177,7 @@ Design BuildDesign(const PlatformModel& model, const MeasurementData& data, cons
   // The play operator of each gearbox, homed extending: the driven side
   // lags the motor by the whole play while extending, none while retracting.
   Vector6 driven = -o.backlash_width_m * Vector6::Ones(), heat = Vector6::Zero(), last_stroke = Vector6::Zero();
+  double warm = 0.0;
   double last_time = 0.0;
   bool first = true;
   for (std::size_t run = 0; run < by_run.size(); ++run) {
@@ -210,12 +219,15 @@ Design BuildDesign(const PlatformModel& model, const MeasurementData& data, cons
       }
       if (!first) {
         const double dt = std::max(0.0, row.time_s - last_time);
-        heat = heat * std::exp(-dt / o.thermal_time_constant_s) + (s.stroke - last_stroke).cwiseAbs();
+        const double cooling = std::exp(-dt / o.thermal_time_constant_s);
+        heat = heat * cooling + (s.stroke - last_stroke).cwiseAbs();
+        warm = warm * cooling + o.thermal_time_constant_s * (1.0 - cooling);
       }
       first = false;
       last_time = row.time_s;
       last_stroke = s.stroke;
       s.heat = heat;
+      s.warm = warm;
       s.pr_signed = model.PrLengthError(s.legs, PrMode::kSigned);
       s.compensation = s.legs.length_m - row.leg_cmd_m;
       s.load = LoadColumns(model, pose, platform_accel, o);

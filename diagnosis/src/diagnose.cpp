@@ -6,9 +6,11 @@
 #include <limits>
 #include <string>
 #include <map>
+#include <numeric>
 #include <set>
 
 #include <Eigen/Eigenvalues>
+#include <boost/math/distributions/students_t.hpp>
 #include <fmt/format.h>
 
 #include "edsp/diagnosis/linear_fit.h"
@@ -68,15 +70,46 @@ class Evaluator {
 
   // Mean squared held-out residual (per coordinate), leave-one-fold-out.
   double Cv(const std::vector<Effect>& set) {
+    const std::vector<double>& sse = FoldSse(set);
+    return std::accumulate(sse.begin(), sse.end(), 0.0) / gram_.Residuals(gram_.AllFolds());
+  }
+
+  // Each fold's held-out sum of squared residuals, fitted on the others.
+  const std::vector<double>& FoldSse(const std::vector<Effect>& set) {
     const std::string key = Key(set);
-    const auto it = cv_.find(key);
-    if (it != cv_.end()) return it->second;
+    const auto it = fold_sse_.find(key);
+    if (it != fold_sse_.end()) return it->second;
     const Columns cols = ColumnsOf(d_, set);
-    double sse = 0.0;
+    std::vector<double> sse;
     for (int f = 0; f < gram_.folds(); ++f) {
-      sse += gram_.Sse(cols, gram_.Solve(cols, gram_.AllBut(f), prior_), {f});
+      sse.push_back(gram_.Sse(cols, gram_.Solve(cols, gram_.AllBut(f), prior_), {f}));
     }
-    return cv_[key] = sse / gram_.Residuals(gram_.AllFolds());
+    return fold_sse_[key] = std::move(sse);
+  }
+
+  // Whether `with` predicts the held-out runs better than `without` run by
+  // run, not only pooled: a one-sided paired t-test at level `alpha` of the
+  // log ratio of each fold's held-out squared error, so that a gain one run
+  // carries (a structure that happens to resemble the effect there) is not
+  // taken for the effect. Ratios, not differences: runs of very different
+  // size (a rotation beside a lift) would otherwise drown the test in
+  // their scale.
+  bool SignificantlyBetter(const std::vector<Effect>& with, const std::vector<Effect>& without, double alpha) {
+    const std::vector<double> a = FoldSse(with), b = FoldSse(without);
+    std::vector<double> gain;
+    for (int f = 0; f < gram_.folds(); ++f) {
+      const std::size_t k = static_cast<std::size_t>(f);
+      gain.push_back(std::log(std::max(b[k], 1e-300) / std::max(a[k], 1e-300)));
+    }
+    if (std::getenv("EDSP_DEBUG_SIG")) {
+      std::string t;
+      for (Effect e : with) t += std::string(EffectName(e)) + ",";
+      t += " vs ";
+      for (Effect e : without) t += std::string(EffectName(e)) + ",";
+      for (double g : gain) t += fmt::format(" {:.3g}", g);
+      std::fprintf(stderr, "%s -> %d\n", t.c_str(), PairedGainIsSignificant(gain, alpha));
+    }
+    return PairedGainIsSignificant(gain, alpha);
   }
 
   // In-sample sum of squared residuals, every fold fitted.
@@ -96,7 +129,7 @@ class Evaluator {
   const Design& d_;
   const GramSet& gram_;
   Eigen::VectorXd prior_;
-  std::map<std::string, double> cv_;
+  std::map<std::string, std::vector<double>> fold_sse_;
 };
 
 // Share of an effect's signature the frame can reproduce: per column, the
@@ -153,6 +186,20 @@ void Identifiability(const Design& d, const GramSet& gram, const Eigen::VectorXd
 
 }  // namespace
 
+bool PairedGainIsSignificant(const std::vector<double>& gain, double alpha) {
+  const std::size_t n = gain.size();
+  if (n == 0) return false;
+  const double mean = std::accumulate(gain.begin(), gain.end(), 0.0) / static_cast<double>(n);
+  if (n < 2 || mean <= 0.0) return mean > 0.0;
+  double var = 0.0;
+  for (double g : gain) var += (g - mean) * (g - mean);
+  var /= static_cast<double>(n - 1);
+  if (var <= 0.0) return true;
+  const double t = mean / std::sqrt(var / static_cast<double>(n));
+  const boost::math::students_t dist(static_cast<double>(n - 1));
+  return t > boost::math::quantile(boost::math::complement(dist, alpha));
+}
+
 double NoiseFloorRms(const Design& d) {
   std::vector<double> diffs, all;
   for (const ColumnRange& run : d.run_samples) {
@@ -187,6 +234,28 @@ struct Selection {
   std::map<Effect, double> explained;
 };
 
+bool Nested(Effect a, Effect b) { return IsNestedIn(a, b) || IsNestedIn(b, a); }
+
+// Of a nested pair (effects.h), the simpler unless the richer is clearly
+// better on held-out runs, whichever of the two selection took.
+void PreferByNesting(Evaluator& eval, const DiagnoseOptions& o, Selection* s) {
+  for (Effect& chosen : s->effects) {
+    for (Effect other : AllEffects()) {
+      if (!Nested(chosen, other) || Contains(s->effects, other)) continue;
+      const std::vector<Effect> rest = Without(s->effects, chosen);
+      const Effect simple = IsNestedIn(chosen, other) ? chosen : other;
+      const Effect rich = simple == chosen ? other : chosen;
+      const double cv_simple = eval.Cv(With(rest, simple)), cv_rich = eval.Cv(With(rest, rich));
+      const Effect preferred = cv_rich < cv_simple * (1.0 - o.nested_gain) ? rich : simple;
+      if (preferred == chosen) continue;
+      std::vector<Effect> swapped = rest;
+      swapped.push_back(preferred);
+      chosen = preferred;
+      s->cv = eval.Cv(swapped);
+    }
+  }
+}
+
 Selection SelectEffects(Evaluator& eval, const DiagnoseOptions& o, double n_res) {
   Selection s;
   s.cv0 = s.cv = eval.Cv({});
@@ -197,7 +266,7 @@ Selection SelectEffects(Evaluator& eval, const DiagnoseOptions& o, double n_res)
     for (Effect e : AllEffects()) {
       if (Contains(s.effects, e)) continue;
       const double c = eval.Cv(With(s.effects, e));
-      if (c < best_cv) best_cv = c, best = e;
+      if (c < best_cv && eval.SignificantlyBetter(With(s.effects, e), s.effects, o.significance)) best_cv = c, best = e;
     }
     if (best_cv >= s.cv * (1.0 - o.min_cv_gain)) break;
     const double rss_new = eval.Rss(With(s.effects, best));
@@ -212,7 +281,8 @@ Selection SelectEffects(Evaluator& eval, const DiagnoseOptions& o, double n_res)
     removed = false;
     for (Effect e : s.effects) {
       const double without = eval.Cv(Without(s.effects, e));
-      if (without < s.cv / (1.0 - o.min_cv_gain)) {
+      if (without < s.cv / (1.0 - o.min_cv_gain) ||
+          !eval.SignificantlyBetter(s.effects, Without(s.effects, e), o.significance)) {
         s.effects = Without(s.effects, e);
         s.cv = without;
         removed = true;
@@ -220,6 +290,7 @@ Selection SelectEffects(Evaluator& eval, const DiagnoseOptions& o, double n_res)
       }
     }
   }
+  PreferByNesting(eval, o, &s);
   s.rss = eval.Rss(s.effects);
   std::vector<Effect> so_far;
   double before = s.rss0;
@@ -256,7 +327,7 @@ std::map<Effect, EffectResult> Verdicts(Evaluator& eval, const Selection& s, con
     const double base = eval.Cv(rest);
     const double gain = (base - s.cv) / base;  // what e adds to the others
     for (Effect alt : AllEffects()) {
-      if (Contains(s.effects, alt)) continue;
+      if (Contains(s.effects, alt) || Nested(e, alt)) continue;
       const double alt_gain = (base - eval.Cv(With(rest, alt))) / base;
       if (alt_gain < std::max(o.min_cv_gain, o.ambiguity_ratio * gain)) continue;
       for (auto [a, b] : {std::pair{e, alt}, std::pair{alt, e}}) {
@@ -416,10 +487,17 @@ Diagnosis DiagnoseOnce(const PlatformModel& model, const MeasurementData& data, 
 
 }  // namespace
 
-Diagnosis Diagnose(const PlatformModel& model, const MeasurementData& data, const DiagnoseOptions& options) {
-  Diagnosis d = DiagnoseOnce(model, data, options);
-  // Backlash's play operator needs the play's width, which is what the fit
-  // estimates: once found, the diagnosis runs again with the estimate.
+namespace {
+
+bool Found(const Diagnosis& d, Effect effect) {
+  return std::any_of(d.effects.begin(), d.effects.end(),
+                     [&](const EffectResult& r) { return r.effect == effect && r.verdict != "rejected"; });
+}
+
+// Backlash's play operator needs the play's width, which is what the fit
+// estimates: once found, the diagnosis runs again with the estimate.
+Diagnosis WithBacklashWidth(const PlatformModel& model, const MeasurementData& data, const DiagnoseOptions& options,
+                            Diagnosis d) {
   for (const EffectResult& r : d.effects) {
     if (r.effect != Effect::kBacklash || r.verdict == "rejected" || r.theta.size() != 6) continue;
     const double width = std::clamp(r.theta.cwiseAbs().mean(), 2e-6, 1e-3);
@@ -431,6 +509,30 @@ Diagnosis Diagnose(const PlatformModel& model, const MeasurementData& data, cons
     d.seconds += first_seconds;
     break;
   }
+  return d;
+}
+
+}  // namespace
+
+Diagnosis Diagnose(const PlatformModel& model, const MeasurementData& data, const DiagnoseOptions& options) {
+  Diagnosis d = WithBacklashWidth(model, data, options, DiagnoseOnce(model, data, options));
+  // The screws' cooling time is the thermal basis's one non-linear
+  // parameter: once thermal drift is found, the diagnosis is repeated over a
+  // grid of time constants and the one that predicts the held-out runs best kept.
+  if (options.thermal_time_constants_s.empty() || !Found(d, Effect::kThermalDrift)) return d;
+  double seconds = d.seconds;
+  for (double tau : options.thermal_time_constants_s) {
+    if (tau == d.design.thermal_time_constant_s) continue;
+    DiagnoseOptions at = options;
+    at.design = d.design;
+    at.design.thermal_time_constant_s = tau;
+    Diagnosis candidate = DiagnoseOnce(model, data, at);
+    seconds += candidate.seconds;
+    if (Found(candidate, Effect::kThermalDrift) && candidate.holdout_after.rms_m < d.holdout_after.rms_m) {
+      d = std::move(candidate);
+    }
+  }
+  d.seconds = seconds;
   return d;
 }
 

@@ -40,6 +40,14 @@ bool ParseEffect(const std::string& name, Effect* effect) {
   return false;
 }
 
+bool IsNestedIn(Effect simple, Effect rich) {
+  static const std::pair<Effect, Effect> kNested[] = {{Effect::kLegOffset, Effect::kJointPosition}};
+  for (const auto& [s, r] : kNested) {
+    if (s == simple && r == rich) return true;
+  }
+  return false;
+}
+
 int ParameterCount(Effect effect) {
   switch (effect) {
     case Effect::kPassiveRotation: return 2;     // signed-PR scale, applied-compensation scale − 1
@@ -50,7 +58,7 @@ int ParameterCount(Effect effect) {
     case Effect::kBacklash: return 6;
     case Effect::kServoLag: return 13;           // velocity and acceleration lag per leg, one jerk lag
     case Effect::kCompliance: return 9;          // m/k per leg, m·c/k̄ (xyz) shared
-    case Effect::kThermalDrift: return 1;
+    case Effect::kThermalDrift: return 4;        // travel and time drivers, each on a fixed length and the stroke
   }
   return 0;
 }
@@ -91,7 +99,9 @@ nlohmann::json ParametersJson(Effect effect, const double* t) {
       return {{"lag_s", Slice(t, 0, 6)}, {"acceleration_lag_s2", Slice(t, 6, 6)}, {"jerk_lag_s3", t[12]}};
     case Effect::kCompliance:
       return {{"mass_over_stiffness_s2", Slice(t, 0, 6)}, {"moment_over_stiffness_s2_m", Slice(t, 6, 3)}};
-    case Effect::kThermalDrift: return {{"growth_per_travel", t[0]}};
+    case Effect::kThermalDrift:
+      return {{"growth_per_travel", t[0]}, {"growth_per_travel_stroke_per_m", t[1]},
+              {"growth_powered_m_per_s", t[2]}, {"growth_powered_stroke_per_s", t[3]}};
   }
   return {};
 }

@@ -158,7 +158,10 @@ Evaluation Evaluate(const PlatformModel& model, const MeasurementData& data, con
     Effect e;
     const std::string name = entry.value("name", "");
     if (!ParseEffect(name, &e)) throw MeasurementError(fmt::format("{}: unknown effect \"{}\"", origin, name));
-    const std::vector<double> theta = entry.value("theta", std::vector<double>{});
+    std::vector<double> theta = entry.value("theta", std::vector<double>{});
+    // Models saved before thermal drift had its time driver and stroke terms
+    // hold the travel term alone.
+    if (e == Effect::kThermalDrift && theta.size() == 1) theta.resize(static_cast<std::size_t>(ParameterCount(e)), 0.0);
     if (static_cast<int>(theta.size()) != ParameterCount(e)) {
       throw MeasurementError(fmt::format("{}: effect {} needs {} parameters, has {}", origin, name,
                                          ParameterCount(e), theta.size()));

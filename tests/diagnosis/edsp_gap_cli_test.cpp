@@ -98,3 +98,38 @@ TEST(EdspGapCli, WrongInputsAreNamedWithANonZeroExit) {
 }
 
 }  // namespace
+
+namespace {
+
+// The benchmark on the independently written rig: scenario k is of the kind
+// its index draws (effect-free, two single, a pair, one outside the
+// vocabulary), scored with the targets; an unknown generator is
+// refused by name.
+TEST(EdspGapCli, BenchmarkOnTheBlindRigScoresEveryKindWithItsTargets) {
+  const Output out = Gap("benchmark --generator blind --scenarios 5 --seed 31 --motions Lz,Rz,M1,M2 --json");
+  ASSERT_EQ(out.status, 0) << out.text;
+  const nlohmann::json j = nlohmann::json::parse(out.text);
+  EXPECT_EQ(j["generator"], "blind");
+  const std::vector<std::string> kinds = {"none", "single", "single", "pair", "out_of_vocabulary"};
+  const std::vector<std::size_t> truths = {0, 1, 1, 2, 1};
+  ASSERT_EQ(j["results"].size(), kinds.size());
+  for (std::size_t k = 0; k < kinds.size(); ++k) {
+    EXPECT_EQ(j["results"][k]["kind"], kinds[k]) << k;
+    EXPECT_EQ(j["results"][k]["truth"].size(), truths[k]) << k;
+  }
+  EXPECT_EQ(j["effect_free"]["scenarios"], 1);
+  EXPECT_EQ(j["single_effect"]["scenarios"], 2);
+  EXPECT_EQ(j["two_effects"]["scenarios"], 1);
+  EXPECT_EQ(j["out_of_vocabulary"]["scenarios"], 1);
+  // The effect-free scenario: nothing there, nothing found.
+  EXPECT_EQ(j["results"][0]["conclusion"], "none") << j["results"][0].dump();
+  ASSERT_EQ(j["targets"].size(), 6u);
+  for (const auto& t : j["targets"]) {
+    for (const char* key : {"score", "measured", "target", "met"}) EXPECT_TRUE(t.contains(key)) << t.dump();
+  }
+  const Output bad = Gap("benchmark --generator sim --scenarios 1");
+  EXPECT_NE(bad.status, 0);
+  EXPECT_NE(bad.text.find("sim"), std::string::npos) << bad.text;
+}
+
+}  // namespace

@@ -1,9 +1,12 @@
 #pragma once
-// edsp-gap benchmark: scenarios of random effect combinations drawn on the
-// virtual rig (edsp-sim rig's offline run), the truth hidden from the
-// diagnosis, which sees only the measurement CSV and the nominal config; then
-// scored: is the top-ranked effect a true one, are both of a pair found, is
-// nothing identified on effect-free data, how far the held-out gap shrinks.
+// edsp-gap benchmark: scenarios of random effect combinations drawn on a
+// virtual rig, the truth hidden from the diagnosis, which sees only the
+// measurement CSV and the nominal config; then scored: is the top-ranked
+// effect a true one, are both of a pair found, is nothing identified on
+// effect-free data, is an effect outside the vocabulary `unknown`, how far
+// the held-out gap shrinks. Two generators: edsp's own rig (edsp-sim rig's
+// offline run) and the blind rig (blindrig/, written apart from edsp's rig,
+// model and diagnosis, with effects outside the vocabulary).
 
 #include <cstdint>
 #include <string>
@@ -25,6 +28,8 @@ struct BenchmarkOptions {
   // The paper's four and four mixed motions (every axis at once): each run
   // held out is then predicted from runs that span the same workspace.
   std::vector<std::string> motions = {"Lz", "Lx", "Rz", "Ry", "M1", "M2", "M3", "M4"};
+  std::string generator = "rig";     // rig | blind (the blind rig draws its own tracker: rate 10–1000 Hz,
+                                     // σ 2–20 µm, with or without encoders; noise and rate above are the rig's)
   std::string keep_dir;              // empty: scenarios in a temporary directory, removed
   bool progress = true;              // a progress bar on stderr
 };
@@ -40,13 +45,18 @@ struct Scenario {
 // Scenario k of a seed: k % 5 == 0 effect-free, 1–2 one effect, 3–4 two.
 Scenario DrawScenario(std::uint64_t seed, int index);
 
+// Scored, whichever generator drew it.
 struct ScenarioScore {
   int index = 0;
-  Scenario scenario;
+  std::string kind;                  // none | single | pair | out_of_vocabulary
+  std::vector<std::string> truth;    // effect names; out of vocabulary: its own name
+  std::string description;
   std::vector<std::string> found;    // identified or ambiguous, ranked
   std::string top;                   // first ranked entry ("none"/"unknown" included)
   std::string conclusion;
   bool top_true = false, all_found = false, false_identified = false;
+  bool top_identified_true = false;  // the first `identified` effect is a true one
+  bool all_identified = false;       // every true effect `identified`
   double before_rms_m = 0.0, after_rms_m = 0.0, shrink = 0.0, noise_floor_m = 0.0;
   double simulate_s = 0.0, diagnose_s = 0.0;
 };
@@ -56,9 +66,13 @@ struct BenchmarkResult {
   std::vector<ScenarioScore> scores;
   int single = 0, single_top_true = 0;
   int pairs = 0, pairs_both = 0;
-  int clean = 0, clean_nothing_identified = 0;
+  int single_identified_top_true = 0;
+  int pairs_both_identified = 0;
+  int clean = 0, clean_nothing_identified = 0, clean_none = 0;
+  int out_of_vocabulary = 0, out_of_vocabulary_unknown = 0;  // conclusion unknown, nothing identified
+  int any_false_identified = 0;         // scenarios of any kind with an effect identified that is not there
   int extra_identified = 0;             // scenarios with effects where a false one was also identified
-  double median_shrink = 0.0;           // scenarios with effects
+  double median_shrink = 0.0;           // scenarios with effects of the vocabulary
   double median_after_over_noise = 0.0;
   double median_diagnose_s = 0.0;
 };

@@ -22,9 +22,20 @@ struct DiagnoseOptions {
   double min_cv_gain = 0.05;      // an effect must cut the held-out MSE by this fraction
   double min_bic_drop = 10.0;     // and lower BIC by this much
   double ambiguity_ratio = 0.7;   // an alternative reaching this share of its gain is as good
+  double significance = 0.05;     // and beat the model without it run by run (paired t-test, one-sided)
+  double nested_gain = 0.05;      // a richer effect replaces the simpler one it contains only
+                                  // if it cuts the held-out MSE by this fraction more
   int max_effects = 9;
+  // When thermal drift is found, its time constant is chosen among these by
+  // the held-out error (empty: design.thermal_time_constant_s as given).
+  std::vector<double> thermal_time_constants_s = {150.0, 300.0, 600.0, 1200.0, 2400.0, 4800.0};
   StructureOptions structure;     // when what is left counts as structure (unknown)
 };
+
+// One-sided paired t-test: whether the mean of `gain` (one value per
+// held-out fold) is above zero at level `alpha`. Fewer than two folds:
+// significant when the one gain is positive.
+bool PairedGainIsSignificant(const std::vector<double>& gain, double alpha);
 
 struct EffectResult {
   Effect effect = Effect::kLegOffset;

@@ -28,6 +28,12 @@ const std::vector<Effect>& AllEffects();
 const char* EffectName(Effect effect);
 bool ParseEffect(const std::string& name, Effect* effect);
 
+// Whether `simple` is (nearly) a special case of `rich`, so that `rich` can
+// always do what `simple` does with more parameters: leg offsets are joint
+// centres moved along the legs at home. Such a pair is never ambiguous: the
+// simpler is chosen unless the richer is clearly better held out.
+bool IsNestedIn(Effect simple, Effect rich);
+
 // Number of parameters θ of the effect's leg-space basis.
 int ParameterCount(Effect effect);
 
