@@ -7,13 +7,11 @@
 #include <Eigen/LU>
 #include <fmt/format.h>
 
-#include "edsp/rig/platform_loads.h"
+#include "edsp/kinematics/leg_error_model.h"
 
 namespace edsp::gap {
 
 namespace {
-
-constexpr double kTwoPi = 6.283185307179586;
 
 Matrix3 Skew(const Vector3& v) {
   Matrix3 s;
@@ -48,93 +46,12 @@ Vector6 Derivative(const std::vector<int>& rows, std::size_t k, const Measuremen
   return (get(b) - get(a)) / dt;
 }
 
-// Leg-space basis B_e (6 × p_e) of every effect at one sample.
-struct SampleState {
-  LegSolution legs;
-  Vector6 stroke, velocity, accel, jerk, play, heat, pr_signed, compensation;
-  double warm = 0.0;  // time under power, decayed with the screws' cooling (s)
-  Eigen::Matrix<double, 6, 4> load;  // leg forces per kg at {M}'s origin, then per kg·m of c.o.m. x, y, z
-};
-
-Eigen::MatrixXd LegBasis(Effect effect, const SampleState& s, const PlatformModel& model) {
-  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(6, ParameterCount(effect));
-  const double lead = model.config().drive.lead_m;
-  switch (effect) {
-    case Effect::kPassiveRotation:
-      B.col(0) = s.pr_signed;
-      B.col(1) = s.compensation;
-      break;
-    case Effect::kLegOffset:
-      B = Eigen::MatrixXd::Identity(6, 6);
-      break;
-    case Effect::kJointPosition:
-      for (int i = 0; i < 6; ++i) {
-        // A base joint moved by δb shortens the geometric leg by û·δb, so the
-        // drive length reaches a pose whose nominal length is longer: +û·δb.
-        const Vector3 u = s.legs.u_B.col(i);
-        B.block<1, 3>(i, 3 * i) = u.transpose();
-        B.block<1, 3>(i, 18 + 3 * i) = -(s.legs.R_BM.transpose() * u).transpose();
-      }
-      break;
-    case Effect::kLeadError:
-      for (int i = 0; i < 6; ++i) B(i, i) = s.stroke(i);
-      break;
-    case Effect::kPeriodicLeadError:
-      for (int i = 0; i < 6; ++i) {
-        const double phi = kTwoPi * s.stroke(i) / lead;
-        B(i, 2 * i) = std::sin(phi);
-        B(i, 2 * i + 1) = std::cos(phi) - 1.0;
-      }
-      break;
-    case Effect::kBacklash:
-      // Share of the play taken up on the retracting side (0 after extending).
-      for (int i = 0; i < 6; ++i) B(i, i) = s.play(i);
-      break;
-    case Effect::kServoLag:
-      for (int i = 0; i < 6; ++i) {
-        B(i, i) = -s.velocity(i);
-        B(i, 6 + i) = -s.accel(i);
-      }
-      B.col(12) = -s.jerk;
-      break;
-    case Effect::kCompliance:
-      // Δl_i = −F_i(m, m·c)/k_i: each leg its own stiffness for the weight
-      // and inertia of the mass, one mean stiffness for the c.o.m.'s moments.
-      for (int i = 0; i < 6; ++i) B(i, i) = -s.load(i, 0);
-      B.rightCols(3) = -s.load.rightCols(3);
-      break;
-    case Effect::kThermalDrift:
-      // A screw grows α·ΔT over the part between its bearing and the nut: a
-      // fixed length plus the stroke. ΔT is driven by the leg's own travel
-      // (friction in the nut) and by time under power (the motor's heat),
-      // both cooling with one time constant.
-      B.col(0) = s.heat;
-      B.col(1) = s.heat.cwiseProduct(s.stroke);
-      B.col(2).setConstant(s.warm);
-      B.col(3) = s.warm * s.stroke;
-      break;
-  }
-  return B;
-}
-
 std::vector<std::vector<int>> RowsByRun(const MeasurementData& data) {
   std::vector<std::vector<int>> rows(data.runs.size());
   for (std::size_t k = 0; k < data.rows.size(); ++k) {
     rows[static_cast<std::size_t>(data.rows[k].run)].push_back(static_cast<int>(k));
   }
   return rows;
-}
-
-Eigen::Matrix<double, 6, 4> LoadColumns(const PlatformModel& model, const Pose& pose, const Vector3& accel,
-                                        const DesignOptions& o) {
-  const Vector3 coms[4] = {Vector3::Zero(), Vector3::UnitX(), Vector3::UnitY(), Vector3::UnitZ()};
-  Eigen::Matrix<double, 6, 4> F;
-  for (int c = 0; c < 4; ++c) {
-    // Absolute, not from home: a rig homed by its encoders sits lower at home too.
-    F.col(c) = LegForces(model, pose, accel, 1.0, coms[c], o.gravity_B_m_s2);
-  }
-  for (int c = 1; c < 4; ++c) F.col(c) -= F.col(0);
-  return F;
 }
 
 }  // namespace
@@ -172,22 +89,15 @@ Design BuildDesign(const PlatformModel& model, const MeasurementData& data, cons
   // run order (play and heat carry over from run to run, as on the rig).
   std::vector<Vector3> model_points, measured;
   std::vector<Eigen::Matrix<double, 3, 6>> G;
-  std::vector<SampleState> states;
+  std::vector<calibration::LegErrorState> states;
   model_points.reserve(static_cast<std::size_t>(n));
-  // The play operator of each gearbox, homed extending: the driven side
-  // lags the motor by the whole play while extending, none while retracting.
-  Vector6 driven = -o.backlash_width_m * Vector6::Ones(), heat = Vector6::Zero(), last_stroke = Vector6::Zero();
-  double warm = 0.0;
-  double last_time = 0.0;
-  bool first = true;
+  calibration::LegErrorTracker tracker(model, o);
   for (std::size_t run = 0; run < by_run.size(); ++run) {
     const std::vector<int>& rows = by_run[run];
     d.run_samples.push_back({static_cast<int>(d.sample_run.size()), static_cast<int>(rows.size())});
     for (std::size_t k = 0; k < rows.size(); ++k) {
       const MeasurementRow& row = data.rows[static_cast<std::size_t>(rows[k])];
       const Pose pose = Pose::FromVector(row.pose_cmd);
-      SampleState s;
-      s.legs = model.Solve(pose);
       const Matrix6 M = model.LengthJacobian(pose) - model.PrLengthErrorJacobian(pose);
       Eigen::FullPivLU<Matrix6> lu(M);
       if (!pose.IsFinite() || !lu.isInvertible()) {
@@ -195,42 +105,23 @@ Design BuildDesign(const PlatformModel& model, const MeasurementData& data, cons
                                            data.source, data.runs[run], row.time_s, DescribePose(pose)));
       }
       G.push_back(PointJacobian(model, row.pose_cmd) * lu.inverse());
-      s.stroke = row.leg_cmd_m - model.home_length_m();
-      s.velocity = Derivative(rows, k, data, [](const MeasurementRow& r) { return r.leg_cmd_m; });
+      calibration::LegErrorInputs in;
+      in.time_s = row.time_s;
+      in.pose = pose;
+      in.command_m = row.leg_cmd_m;
+      // With encoder data the motor's own motion drives the play.
+      in.motor_m = row.has_encoder ? row.leg_enc_m : row.leg_cmd_m;
+      in.velocity = Derivative(rows, k, data, [](const MeasurementRow& r) { return r.leg_cmd_m; });
       const std::size_t lo = k == 0 ? 0 : k - 1, hi = k + 1 < rows.size() ? k + 1 : k;
       const MeasurementRow& a = data.rows[static_cast<std::size_t>(rows[lo])];
       const MeasurementRow& b = data.rows[static_cast<std::size_t>(rows[hi])];
       const double span = b.time_s - a.time_s;
-      s.accel = Vector6::Zero();
-      Vector3 platform_accel = Vector3::Zero();
       if (lo + 1 == k && hi == k + 1 && span > 0.0) {
         const double h = 0.5 * span;
-        s.accel = (b.leg_cmd_m - 2.0 * row.leg_cmd_m + a.leg_cmd_m) / (h * h);
-        platform_accel = (b.pose_cmd.head<3>() - 2.0 * row.pose_cmd.head<3>() + a.pose_cmd.head<3>()) / (h * h);
+        in.accel = (b.leg_cmd_m - 2.0 * row.leg_cmd_m + a.leg_cmd_m) / (h * h);
+        in.platform_accel_B_m_s2 = (b.pose_cmd.head<3>() - 2.0 * row.pose_cmd.head<3>() + a.pose_cmd.head<3>()) / (h * h);
       }
-      // The play sits between the motor (the encoder) and the screw: with
-      // encoder data the motor's own motion drives it, lag and all.
-      const Vector6 motor = row.has_encoder ? Vector6(row.leg_enc_m - model.home_length_m()) : s.stroke;
-      for (int i = 0; i < 6; ++i) {
-        const double x = motor(i);
-        if (x - driven(i) > o.backlash_width_m) driven(i) = x - o.backlash_width_m;
-        if (driven(i) > x) driven(i) = x;
-        s.play(i) = 1.0 - (x - driven(i)) / o.backlash_width_m;
-      }
-      if (!first) {
-        const double dt = std::max(0.0, row.time_s - last_time);
-        const double cooling = std::exp(-dt / o.thermal_time_constant_s);
-        heat = heat * cooling + (s.stroke - last_stroke).cwiseAbs();
-        warm = warm * cooling + o.thermal_time_constant_s * (1.0 - cooling);
-      }
-      first = false;
-      last_time = row.time_s;
-      last_stroke = s.stroke;
-      s.heat = heat;
-      s.warm = warm;
-      s.pr_signed = model.PrLengthError(s.legs, PrMode::kSigned);
-      s.compensation = s.legs.length_m - row.leg_cmd_m;
-      s.load = LoadColumns(model, pose, platform_accel, o);
+      const calibration::LegErrorState s = tracker.Advance(in);
       states.push_back(s);
       model_points.push_back(model.ObservationPoint(pose));
       measured.push_back(row.point_m);
@@ -248,7 +139,7 @@ Design BuildDesign(const PlatformModel& model, const MeasurementData& data, cons
   // Jerk: the central difference of the acceleration within each run.
   for (const ColumnRange& run : d.run_samples) {
     for (int k = run.begin; k < run.begin + run.count; ++k) {
-      SampleState& s = states[static_cast<std::size_t>(k)];
+      calibration::LegErrorState& s = states[static_cast<std::size_t>(k)];
       s.jerk = Vector6::Zero();
       if (k == run.begin || k + 1 == run.begin + run.count) continue;
       const double span = d.time_s[static_cast<std::size_t>(k + 1)] - d.time_s[static_cast<std::size_t>(k - 1)];
@@ -257,7 +148,7 @@ Design BuildDesign(const PlatformModel& model, const MeasurementData& data, cons
   }
 
   double cp = 0.0, pp = 0.0, cc = 0.0, unsigned_misfit = 0.0;
-  for (const SampleState& s : states) {
+  for (const calibration::LegErrorState& s : states) {
     cp += s.compensation.dot(s.pr_signed), pp += s.pr_signed.squaredNorm(), cc += s.compensation.squaredNorm();
     unsigned_misfit += (s.compensation - model.PrLengthError(s.legs, PrMode::kUnsigned)).squaredNorm();
   }
@@ -281,7 +172,7 @@ Design BuildDesign(const PlatformModel& model, const MeasurementData& data, cons
     d.point_per_leg[s] = RG;
     for (Effect e : AllEffects()) {
       const ColumnRange& range = d.Of(e);
-      d.columns.block(3 * k, range.begin, 3, range.count) = RG * LegBasis(e, states[s], model);
+      d.columns.block(3 * k, range.begin, 3, range.count) = RG * calibration::LegErrorBasis(e, states[s], model);
     }
   }
   return d;

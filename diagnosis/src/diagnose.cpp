@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "edsp/diagnosis/linear_fit.h"
+#include "edsp/kinematics/calibration.h"
 #include "edsp/diagnosis/robust_fit.h"
 
 namespace edsp::gap {
@@ -448,6 +449,7 @@ Diagnosis DiagnoseOnce(const PlatformModel& model, const MeasurementData& data, 
   out.t0 = d.t0;
   out.applied_pr = d.applied_pr;
   out.applied_pr_ratio = d.applied_pr_ratio;
+  out.platform = calibration::PlatformFingerprint(model);
   out.noise_floor_rms_m = NoiseFloorRms(d);
   const GramSet gram(d, MakeFolds(d));
   const std::vector<int> all = gram.AllFolds();

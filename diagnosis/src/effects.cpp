@@ -7,60 +7,12 @@
 
 namespace edsp::gap {
 
-const std::vector<Effect>& AllEffects() {
-  static const std::vector<Effect> all = {
-      Effect::kPassiveRotation, Effect::kLegOffset,  Effect::kJointPosition,
-      Effect::kLeadError,       Effect::kPeriodicLeadError, Effect::kBacklash,
-      Effect::kServoLag,        Effect::kCompliance, Effect::kThermalDrift};
-  return all;
-}
-
-const char* EffectName(Effect effect) {
-  switch (effect) {
-    case Effect::kPassiveRotation: return "passive_rotation";
-    case Effect::kLegOffset: return "leg_offset";
-    case Effect::kJointPosition: return "joint_position";
-    case Effect::kLeadError: return "lead_error";
-    case Effect::kPeriodicLeadError: return "periodic_lead_error";
-    case Effect::kBacklash: return "backlash";
-    case Effect::kServoLag: return "servo_lag";
-    case Effect::kCompliance: return "compliance";
-    case Effect::kThermalDrift: return "thermal_drift";
-  }
-  return "?";
-}
-
-bool ParseEffect(const std::string& name, Effect* effect) {
-  for (Effect e : AllEffects()) {
-    if (name == EffectName(e)) {
-      *effect = e;
-      return true;
-    }
-  }
-  return false;
-}
-
 bool IsNestedIn(Effect simple, Effect rich) {
   static const std::pair<Effect, Effect> kNested[] = {{Effect::kLegOffset, Effect::kJointPosition}};
   for (const auto& [s, r] : kNested) {
     if (s == simple && r == rich) return true;
   }
   return false;
-}
-
-int ParameterCount(Effect effect) {
-  switch (effect) {
-    case Effect::kPassiveRotation: return 2;     // signed-PR scale, applied-compensation scale − 1
-    case Effect::kLegOffset: return 6;
-    case Effect::kJointPosition: return 36;      // 6 base + 6 platform joint centres, xyz
-    case Effect::kLeadError: return 6;
-    case Effect::kPeriodicLeadError: return 12;  // sin and (cos − 1) per leg
-    case Effect::kBacklash: return 6;
-    case Effect::kServoLag: return 13;           // velocity and acceleration lag per leg, one jerk lag
-    case Effect::kCompliance: return 9;          // m/k per leg, m·c/k̄ (xyz) shared
-    case Effect::kThermalDrift: return 4;        // travel and time drivers, each on a fixed length and the stroke
-  }
-  return 0;
 }
 
 namespace {

@@ -128,12 +128,14 @@ nlohmann::json ToJson(const Diagnosis& d) {
 nlohmann::json ModelJson(const Diagnosis& d) {
   nlohmann::json j;
   j["format"] = "edsp-gap-model/1";
+  if (!d.platform.empty()) j["platform"] = d.platform;  // a calibration refuses another platform
   j["thermal_time_constant_s"] = d.design.thermal_time_constant_s;
   j["backlash_width_m"] = d.design.backlash_width_m;
   j["effects"] = nlohmann::json::array();
   for (const EffectResult& r : d.effects) {
     if (r.verdict == "rejected" || std::find(d.selected.begin(), d.selected.end(), r.effect) == d.selected.end()) continue;
     j["effects"].push_back({{"name", EffectName(r.effect)},
+                            {"verdict", r.verdict},
                             {"theta", std::vector<double>(r.theta.data(), r.theta.data() + r.theta.size())}});
   }
   return j;

@@ -4,6 +4,10 @@
 // never forwarded.
 //   edsp-kinematics [--pr-mode signed|unsigned|none|asin] [--config FILE]
 //                   [--group FILE] [--session-id N] [--stale-ms 50] [--replay]
+//                   [--calibration MODEL [--apply-ambiguous]]
+// --calibration (or [calibration] model in the config): an edsp-gap model
+// (diagnose --save-model) applied to every command and to the forward
+// kinematics; the node says which on EDSP_FAULT (info) and in its status.
 // --replay: the setpoints come from a log (lcm-logplayer), so they are judged
 // by their own clock, not the wall clock, and reproduce the recorded commands.
 // EDSP_PR_MODE (pr_mode_t, e.g. from `edsp-ctl pr-mode signed`) switches the
@@ -31,6 +35,11 @@ int Run(int argc, char** argv) {
   int stale_ms = 50;
   app.add_option("--pr-mode", mode_text, "none, unsigned (paper Eq. 9), signed, asin (LinuxCNC)");
   app.add_option("--stale-ms", stale_ms, "refuse setpoints older than this")->check(CLI::Range(1, 10000));
+  std::string calibration_path;
+  bool apply_ambiguous = false;
+  app.add_option("--calibration", calibration_path,
+                 "edsp-gap model to apply (default: the config's [calibration] model)");
+  app.add_flag("--apply-ambiguous", apply_ambiguous, "apply the model's ambiguous effects too");
   bool replay = false;
   app.add_flag("--replay", replay, "judge setpoints by their own clock (input from lcm-logplayer)");
   CLI11_PARSE(app, argc, argv);
@@ -42,7 +51,14 @@ int Run(int argc, char** argv) {
   options.session_id = node.session_id;
   options.stale_us = std::int64_t{stale_ms} * 1000;
   const std::string config_text = ReadTextFile(node.config_path);
-  KinematicsNode kinematics(PlatformModel(LoadConfigFile(node.config_path)), options);
+  const PlatformConfig config = LoadConfigFile(node.config_path);
+  const PlatformModel model(config);
+  if (calibration_path.empty()) calibration_path = config.calibration_model;
+  if (!calibration_path.empty()) {
+    options.calibration = calibration::LoadCalibration(calibration_path, model,
+                                                       apply_ambiguous || config.calibration_apply_ambiguous);
+  }
+  KinematicsNode kinematics(model, options);
   InstallStopSignals();
   Bus bus(TransportFor(node));
   auto commands = bus.Advertise<leg_command_t>("EDSP_LEG_COMMAND");
@@ -108,6 +124,11 @@ int Run(int argc, char** argv) {
 
   const ChannelCounters& in = bus.Counters("EDSP_SETPOINT");
   std::int64_t next_config = 0;
+  if (const calibration::CalibrationModel* c = kinematics.calibration()) {
+    std::fprintf(stderr, "edsp-kinematics: calibration %s\n", c->Describe().c_str());
+    reporting.Fault(MakeFault("kinematics", "", FaultCode::kCalibration, fault_t::SEVERITY_INFO,
+                              "calibration " + c->Describe(), UtimeNow()));
+  }
   while (!StopRequested()) {
     bus.Handle(std::chrono::milliseconds(100));
     const std::int64_t now = UtimeNow();

@@ -1,6 +1,7 @@
 #include "edsp/kinematics/config.h"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <initializer_list>
 #include <sstream>
@@ -122,6 +123,10 @@ PlatformConfig ParseConfig(const std::string& toml_text, const std::string& orig
           "missing key [observation] point_m (no preset gives a default)");
   config.p_MoA_M = observation.Vector(
       "point_m", Vector3(Huang2021Dimensions{}.platform_radius_m, 0.0, 0.0));
+  const SectionReader calibration(root, "calibration", origin);
+  calibration.RejectUnknownKeys({"model", "apply_ambiguous"});
+  config.calibration_model = calibration.String("model", "");
+  config.calibration_apply_ambiguous = calibration.Bool("apply_ambiguous", false);
   ValidateConfig(config, origin);
   return config;
 }
@@ -134,6 +139,13 @@ std::string ReadConfigText(const std::string& path) {
   return text.str();
 }
 
-PlatformConfig LoadConfigFile(const std::string& path) { return ParseConfig(ReadConfigText(path), path); }
+PlatformConfig LoadConfigFile(const std::string& path) {
+  PlatformConfig config = ParseConfig(ReadConfigText(path), path);
+  const std::filesystem::path model(config.calibration_model);
+  if (!config.calibration_model.empty() && model.is_relative()) {
+    config.calibration_model = (std::filesystem::path(path).parent_path() / model).string();
+  }
+  return config;
+}
 
 }  // namespace edsp

@@ -28,6 +28,9 @@ KinematicsNode::KinematicsNode(PlatformModel model, KinematicsNodeOptions option
     : model_(std::move(model)), options_(std::move(options)),
       last_target_(model_.home_pose()), last_estimate_(model_.home_pose()) {
   last_weights_[static_cast<std::size_t>(options_.pr_mode)] = 1.0;
+  if (options_.calibration) {
+    compensator_ = std::make_unique<calibration::LegCompensator>(model_, *options_.calibration);
+  }
 }
 
 fault_t KinematicsNode::Fault(FaultCode code, std::string reason, std::int64_t now_utime,
@@ -78,9 +81,9 @@ bool KinematicsNode::HandleSetpoint(const pose_setpoint_t& sp, std::int64_t now_
                    now_utime, kChannel);
     return false;
   }
-  if (!AllFinite(sp.pose) || !AllFinite(sp.velocity)) {
+  if (!AllFinite(sp.pose) || !AllFinite(sp.velocity) || !AllFinite(sp.acceleration)) {
     *fault = Fault(FaultCode::kNonFinite,
-                   fmt::format("setpoint seq {} has a non-finite pose or velocity", sp.seq),
+                   fmt::format("setpoint seq {} has a non-finite pose, velocity or acceleration", sp.seq),
                    now_utime, kChannel);
     return false;
   }
@@ -112,6 +115,16 @@ bool KinematicsNode::HandleSetpoint(const pose_setpoint_t& sp, std::int64_t now_
   }
   const LegSolution legs = model_.Solve(target);
   const Vector6 pr = BlendedPrError(legs, sp.utime);
+  const Vector6 nominal = legs.length_m - pr;
+  Vector6 calibrated = nominal;
+  if (compensator_) {
+    Vector6 velocity, acceleration;
+    for (int k = 0; k < 6; ++k) velocity(k) = sp.velocity[k], acceleration(k) = sp.acceleration[k];
+    const calibration::LegCompensator::Correction c =
+        compensator_->Step(static_cast<double>(sp.utime) * 1e-6, target, velocity, acceleration, nominal);
+    calibrated -= c.command_m;
+    encoder_correction_ = c.encoder_m;
+  }
   *command = leg_command_t{};
   command->utime = now_utime;
   command->seq = ++command_seq_;
@@ -122,7 +135,7 @@ bool KinematicsNode::HandleSetpoint(const pose_setpoint_t& sp, std::int64_t now_
   for (int i = 0; i < kNumLegs; ++i) {
     command->ik_length_m[i] = legs.length_m(i);
     command->pr_correction_m[i] = pr(i);
-    command->command_length_m[i] = legs.length_m(i) - pr(i);
+    command->command_length_m[i] = calibrated(i);
     command->motor_angle_rad[i] = model_.MotorAngleFromLength(i, command->command_length_m[i]);
   }
   last_target_ = target;
@@ -139,7 +152,7 @@ bool KinematicsNode::HandleLegState(const leg_state_t& legs, std::int64_t now_ut
     return false;
   }
   Vector6 lengths;
-  for (int i = 0; i < kNumLegs; ++i) lengths(i) = legs.encoder_length_m[i];
+  for (int i = 0; i < kNumLegs; ++i) lengths(i) = legs.encoder_length_m[i] + encoder_correction_(i);
   const FkResult fk = SolveForward(model_, lengths, last_estimate_);
   if (!fk.ok()) {
     *fault = Fault(FaultCode::kForwardKinematics,

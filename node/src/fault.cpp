@@ -17,6 +17,7 @@ const char* FaultCodeName(FaultCode code) {
     case FaultCode::kOperatorAction: return "operator action";
     case FaultCode::kStorage: return "storage";
     case FaultCode::kProcess: return "process";
+    case FaultCode::kCalibration: return "calibration";
   }
   return "unknown";
 }

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "edsp/rig/platform_loads.h"
+#include "edsp/kinematics/platform_loads.h"
 
 namespace edsp {
 

@@ -4,6 +4,7 @@
 //   edsp-sim stack-table --config FILE LOG... [--plots DIR] [--json]
 //       the same table measured by the tracker in logs of the live stack
 //   edsp-sim rig --config FILE --out DIR [--motions Lz,Lx,Rz,Ry] [--pr-mode signed]
+//                [--calibration MODEL [--apply-ambiguous]]
 //                [--stops 5] [--dwell-s 1] [--tracker-noise-m 0] [--seed 1] [--per-effect] [--json]
 //       the virtual rig with the config's [rig.effects] through the motions,
 //       offline: DIR/run.lcmlog and DIR/measurement.csv
@@ -186,7 +187,8 @@ int RunRig(const std::string& config_path, OfflineRunOptions options, const std:
                                 {"cycles", r.cycles}, {"tracker_samples", r.tracker_samples},
                                 {"faults", r.faults}, {"simulated_s", r.duration_s},
                                 {"max_error_m", r.max_error_m}, {"rms_error_m", r.rms_error_m},
-                                {"wall_s", wall_s}, {"faster_than_real_time", r.duration_s / wall_s}};
+                                {"wall_s", wall_s}, {"faster_than_real_time", r.duration_s / wall_s},
+                                {"calibration", r.calibration}};
     std::printf("%s\n", out.dump(2).c_str());
   } else {
     std::printf("%.1f s simulated in %.1f s (%.0fx real time): %lld tracker samples, %lld faults\n"
@@ -194,6 +196,7 @@ int RunRig(const std::string& config_path, OfflineRunOptions options, const std:
                 r.duration_s, wall_s, r.duration_s / wall_s, static_cast<long long>(r.tracker_samples),
                 static_cast<long long>(r.faults), r.max_error_m * 1e6, r.rms_error_m * 1e6,
                 r.log_path.c_str(), r.csv_path.c_str());
+    if (!r.calibration.empty()) std::printf("calibration: %s\n", r.calibration.c_str());
   }
   return r.faults == 0 ? 0 : 2;
 }
@@ -245,6 +248,10 @@ int main(int argc, char** argv) {
   rig->add_option("--tracker-rate-hz", offline.tracker.rate_hz)->check(CLI::Range(1.0, 1000.0));
   rig->add_option("--tracker-frame", frame_text, "pose of {B} in the tracker frame, x,y,z,roll,pitch,yaw");
   rig->add_option("--seed", offline.tracker.seed, "tracker noise seed");
+  rig->add_option("--calibration", offline.calibration_path,
+                  "edsp-gap model (diagnose --save-model) the kinematics applies; default: the config's "
+                  "[calibration] model");
+  rig->add_flag("--apply-ambiguous", offline.apply_ambiguous, "apply the model's ambiguous effects too");
   bool per_effect = false;
   rig->add_flag("--per-effect", per_effect, "one run per enabled effect alone: its point-A error");
   rig->add_flag("--json", json, "print JSON");

@@ -69,12 +69,19 @@ OfflineRunResult RunOffline(const std::string& config_path, const RigEffects& ef
   stack.pr_mode = options.pr_mode;
   stack.rig = rig;
   const PlatformModel model(nominal);
+  const std::string calibration_path =
+      options.calibration_path.empty() ? LoadConfigFile(config_path).calibration_model : options.calibration_path;
+  if (!calibration_path.empty()) {
+    stack.calibration = calibration::LoadCalibration(
+        calibration_path, model, options.apply_ambiguous || nominal.calibration_apply_ambiguous);
+  }
   StackSimulation sim(nominal, Motions(model, options), stack);
 
   std::error_code ec;
   std::filesystem::create_directories(options.out_dir, ec);
   if (ec) throw std::runtime_error(options.out_dir + ": cannot create directory (" + ec.message() + ")");
   OfflineRunResult result;
+  if (stack.calibration) result.calibration = stack.calibration->Describe();
   result.log_path = (std::filesystem::path(options.out_dir) / "run.lcmlog").string();
   result.csv_path = (std::filesystem::path(options.out_dir) / "measurement.csv").string();
   {

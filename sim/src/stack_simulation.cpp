@@ -15,6 +15,7 @@ KinematicsNodeOptions KinematicsOptions(const StackOptions& o) {
   KinematicsNodeOptions k;
   k.pr_mode = o.pr_mode;
   k.session_id = o.session_id;
+  k.calibration = o.calibration;
   return k;
 }
 

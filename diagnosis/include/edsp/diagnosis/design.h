@@ -15,16 +15,14 @@
 
 #include "edsp/diagnosis/effects.h"
 #include "edsp/diagnosis/measurement_data.h"
+#include "edsp/kinematics/leg_error_model.h"
 #include "edsp/kinematics/platform_model.h"
 
 namespace edsp::gap {
 
-struct DesignOptions {
-  double thermal_time_constant_s = 900.0;   // cooling of the screws
-  double backlash_width_m = 30e-6;          // play the backlash basis's operator assumes
-                                            // (Diagnose refits it to the estimate)
-  Vector3 gravity_B_m_s2 = Vector3(0.0, 0.0, -9.81);
-};
+// The error model's settings (Diagnose refits the backlash width and the
+// thermal time constant to their estimates).
+using DesignOptions = calibration::LegErrorOptions;
 
 struct ColumnRange {
   int begin = 0, count = 0;

@@ -85,6 +85,7 @@ struct Diagnosis {
   double applied_pr_ratio = 0.0;
   RobustFitSummary robust;
   double condition_number = 0.0;      // of the selected model's column-scaled Jacobian
+  std::string platform;               // calibration::PlatformFingerprint of the model it ran on
   Eigen::VectorXd frame;              // δt, δω around (R0, t0), with the selected effects
   Matrix3 R0 = Matrix3::Identity();
   Vector3 t0 = Vector3::Zero();

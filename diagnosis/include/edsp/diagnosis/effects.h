@@ -1,41 +1,30 @@
 #pragma once
-// The effect vocabulary of interfaces.md §4 as the diagnosis models it: each
-// effect is a parameterised leg-length error Δl(θ) added to the nominal
-// model, linear in its parameters θ (see docs/diagnosis.md for each basis).
+// The effect vocabulary of interfaces.md §4 (kinematics/leg_effects.h: a
+// parameterised leg-length error Δl(θ), linear in θ) and what the diagnosis
+// adds to it: which effects nest, their parameters named with units, and
+// the measurements that tell them apart.
 
 #include <string>
 #include <vector>
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "edsp/kinematics/leg_effects.h"
+
 namespace edsp::gap {
 
-enum class Effect {
-  kPassiveRotation,
-  kLegOffset,
-  kJointPosition,
-  kLeadError,
-  kPeriodicLeadError,
-  kBacklash,
-  kServoLag,
-  kCompliance,
-  kThermalDrift,
-};
-
-inline constexpr int kEffectCount = 9;
-
-const std::vector<Effect>& AllEffects();
-const char* EffectName(Effect effect);
-bool ParseEffect(const std::string& name, Effect* effect);
+using calibration::AllEffects;
+using calibration::Effect;
+using calibration::EffectName;
+using calibration::kEffectCount;
+using calibration::ParameterCount;
+using calibration::ParseEffect;
 
 // Whether `simple` is (nearly) a special case of `rich`, so that `rich` can
 // always do what `simple` does with more parameters: leg offsets are joint
 // centres moved along the legs at home. Such a pair is never ambiguous: the
 // simpler is chosen unless the richer is clearly better held out.
 bool IsNestedIn(Effect simple, Effect rich);
-
-// Number of parameters θ of the effect's leg-space basis.
-int ParameterCount(Effect effect);
 
 // Its parameters as JSON, named with units (e.g. {"backlash_m": [...]}).
 nlohmann::json ParametersJson(Effect effect, const double* theta);

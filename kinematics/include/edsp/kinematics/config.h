@@ -36,6 +36,10 @@ struct PlatformConfig {
   DriveParameters drive;
   Vector3 p_MoA_M = Vector3::Zero();  // observation point A in {M}, m
   WorkspaceLimits limits;
+  // [calibration]: an edsp-gap model the kinematics applies (calibration.h);
+  // relative paths are taken from the config file's directory. Empty: none.
+  std::string calibration_model;
+  bool calibration_apply_ambiguous = false;
 };
 
 // The whole text of a config file. Throws ConfigError naming it if unreadable.

@@ -2,14 +2,18 @@
 // The kinematics node's logic, free of any bus (the edsp-kinematics process
 // wires it to edsp::Bus): setpoint → leg command with PR compensation in the
 // configured (live-switchable) mode; encoder feedback → platform state by
-// forward kinematics with PR; the platform config message. A setpoint it
+// forward kinematics with PR; the platform config message; with a
+// calibration, the identified effects compensated in both. A setpoint it
 // cannot validate is never forwarded: it yields a fault instead.
 
 #include <array>
 #include <cstdint>
+#include <memory>
+#include <optional>
 #include <string>
 
 #include "edsp/node/fault.h"
+#include "edsp/kinematics/calibration.h"
 #include "edsp/kinematics/platform_model.h"
 #include "edsp/leg_command_t.hpp"
 #include "edsp/leg_state_t.hpp"
@@ -25,6 +29,9 @@ struct KinematicsNodeOptions {
   std::int64_t session_id = 0;   // setpoints from any other session are refused
   std::int64_t stale_us = 50000; // setpoints older than this are refused
   std::int64_t pr_blend_us = 500000;  // a live mode switch blends over this much setpoint time
+  // Applied to every command and to forward kinematics (calibration.h);
+  // none: the nominal model alone.
+  std::optional<calibration::CalibrationModel> calibration;
 };
 
 class KinematicsNode {
@@ -50,6 +57,10 @@ class KinematicsNode {
   PrMode pr_mode() const { return options_.pr_mode; }
   bool blending() const { return blending_; }
   const PlatformModel& model() const { return model_; }
+  // The calibration in force, or null.
+  const calibration::CalibrationModel* calibration() const {
+    return compensator_ ? &compensator_->calibration() : nullptr;
+  }
 
  private:
   fault_t Fault(FaultCode code, std::string reason, std::int64_t now_utime,
@@ -72,6 +83,8 @@ class KinematicsNode {
   std::int64_t blend_start_utime_ = -1;  // setpoint time the blend began; -1: next setpoint
   Pose last_target_;
   Pose last_estimate_;
+  std::unique_ptr<calibration::LegCompensator> compensator_;
+  Vector6 encoder_correction_ = Vector6::Zero();  // the calibration's, at the last command
 };
 
 }  // namespace edsp

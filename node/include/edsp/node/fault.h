@@ -25,6 +25,7 @@ enum class FaultCode : std::int32_t {
   kOperatorAction = 11,   // not a fault: an operator's action confirmed (severity info)
   kStorage = 12,          // the log's disk refused writes (info: it accepts them again)
   kProcess = 13,          // a group member froze, exited or restarted (the launcher)
+  kCalibration = 14,      // not a fault: the calibration a node applies (severity info)
 };
 
 const char* FaultCodeName(FaultCode code);

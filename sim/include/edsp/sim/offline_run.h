@@ -20,6 +20,10 @@ struct OfflineRunOptions {
   PrMode pr_mode = PrMode::kSigned;
   TrackerParameters tracker;       // frame, noise, rate, seed
   std::string out_dir = ".";
+  // An edsp-gap model the kinematics applies (empty: the config's
+  // [calibration] model, if any); ambiguous effects only if asked.
+  std::string calibration_path;
+  bool apply_ambiguous = false;
 };
 
 struct OfflineRunResult {
@@ -31,6 +35,7 @@ struct OfflineRunResult {
   double duration_s = 0.0;         // simulated
   double max_error_m = 0.0;        // |tracker A − target A| over every tracker sample
   double rms_error_m = 0.0;        //   (tracker frame taken as {B})
+  std::string calibration;         // what the kinematics applied (CalibrationModel::Describe), or empty
 };
 
 // Throws ConfigError for a bad config, std::invalid_argument for a motion

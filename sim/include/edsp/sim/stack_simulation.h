@@ -22,6 +22,7 @@ struct StackOptions {
   double cycle_s = 1e-3;                              // 1 kHz
   std::int64_t start_utime = 1700000000000000;        // fixed: runs are reproducible
   std::optional<RigParameters> rig;                   // default: IdealRig(nominal)
+  std::optional<calibration::CalibrationModel> calibration;  // the kinematics applies it
 };
 
 struct StackSample {

@@ -1,4 +1,4 @@
-#include "edsp/rig/platform_loads.h"
+#include "edsp/kinematics/platform_loads.h"
 
 #include <Eigen/LU>
 

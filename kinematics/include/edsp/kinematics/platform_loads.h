@@ -1,5 +1,6 @@
 #pragma once
-// The leg forces of a rigid platform (the compliance effect's loads): the six
+// The leg forces of a rigid platform (the compliance effect's loads, for the
+// rig, the diagnosis and the calibration alike): the six
 // legs hold the platform and its payload against gravity and accelerate it.
 // Quasi-static: the centre of mass's acceleration is given, rotational
 // inertia is neglected (small next to gravity at the rates a rig moves).

@@ -1,0 +1,79 @@
+#pragma once
+// A calibration: the effects edsp-gap identified (its `edsp-gap-model/1`
+// file, `diagnose --save-model`), checked against the platform it is to run
+// on, and applied to the leg commands so that the platform lands where the
+// nominal model says (docs/calibration.md).
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "edsp/kinematics/leg_error_model.h"
+
+namespace edsp::calibration {
+
+// A model file that cannot be read, or does not fit the platform; the
+// message names the file and the key.
+class CalibrationError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct CalibratedEffect {
+  Effect effect = Effect::kLegOffset;
+  Eigen::VectorXd theta;
+  std::string verdict;  // identified | ambiguous
+};
+
+struct CalibrationModel {
+  std::string origin;                   // the file
+  std::string hash;                     // FNV-1a 64 of its bytes, hex
+  LegErrorOptions options;              // thermal time constant, backlash width
+  std::vector<CalibratedEffect> applied;
+  std::vector<std::string> not_applied; // "name (why)"
+  // "<file> <hash>: applies a, b; not applied: c (ambiguous)"
+  std::string Describe() const;
+};
+
+// Reads and checks a model: its format, every effect's name, parameter
+// count and finiteness, each parameter within what a real platform can
+// have (docs/calibration.md), and, where the file records it, the platform
+// it was identified on against `model`. `ambiguous` effects are applied only
+// with `apply_ambiguous`. Throws CalibrationError.
+CalibrationModel LoadCalibration(const std::string& path, const PlatformModel& model, bool apply_ambiguous = false);
+CalibrationModel ParseCalibration(const std::string& text, const std::string& origin, const PlatformModel& model,
+                                  bool apply_ambiguous = false);
+
+// What a model file records of the platform it was identified on, so that
+// it is refused on another.
+std::string PlatformFingerprint(const PlatformModel& model);
+
+// Turns a calibration into command corrections, one control cycle at a
+// time: the leg error Δl the model predicts for the commanded state (its
+// play, heat and loads followed from command to command), which the
+// command subtracts. The command's rates come from the setpoint's
+// velocity and acceleration (no differencing of the command, so no steps).
+class LegCompensator {
+ public:
+  LegCompensator(PlatformModel model, CalibrationModel calibration);
+
+  struct Correction {
+    Vector6 command_m = Vector6::Zero();  // subtract from the command
+    Vector6 encoder_m = Vector6::Zero();  // add to the encoders' lengths for forward kinematics
+                                          // (every effect but the servo's lag, which the encoders see)
+  };
+  // `command_m`: the nominal command (IK length − PR correction).
+  Correction Step(double time_s, const Pose& pose, const Vector6& pose_velocity, const Vector6& pose_acceleration,
+                  const Vector6& command_m);
+  const CalibrationModel& calibration() const { return calibration_; }
+
+ private:
+  PlatformModel model_;
+  CalibrationModel calibration_;
+  LegErrorTracker tracker_;
+};
+
+}  // namespace edsp::calibration

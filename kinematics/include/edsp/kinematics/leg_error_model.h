@@ -1,0 +1,59 @@
+#pragma once
+// The leg-space error model that edsp-gap fits and a calibration applies:
+// at each instant, the state every effect's leg-length error depends on
+// (stroke, its derivatives, the gearbox play, the screws' heat, the legs'
+// loads) and each effect's basis B_e(state), so that the legs are longer
+// than the nominal model believes by Δl = Σ_e B_e·θ_e. One implementation
+// for both: a calibration compensates exactly what the diagnosis identified.
+
+#include <Eigen/Core>
+
+#include "edsp/kinematics/leg_effects.h"
+#include "edsp/kinematics/platform_model.h"
+
+namespace edsp::calibration {
+
+struct LegErrorOptions {
+  double thermal_time_constant_s = 900.0;  // cooling of the screws
+  double backlash_width_m = 30e-6;         // play the backlash basis's operator assumes
+  Vector3 gravity_B_m_s2 = Vector3(0.0, 0.0, -9.81);
+};
+
+// One instant as the error model needs it.
+struct LegErrorInputs {
+  double time_s = 0.0;
+  Pose pose;                          // commanded pose of {M} in {B}
+  Vector6 command_m = Vector6::Zero();  // leg command (encoder-length units)
+  Vector6 motor_m = Vector6::Zero();  // what drives the play: the encoders' length, or the command
+  Vector6 velocity = Vector6::Zero(), accel = Vector6::Zero(), jerk = Vector6::Zero();  // of the command
+  Vector3 platform_accel_B_m_s2 = Vector3::Zero();
+};
+
+struct LegErrorState {
+  LegSolution legs;
+  Vector6 stroke, velocity, accel, jerk, play, heat, pr_signed, compensation;
+  double warm = 0.0;                  // time under power, decayed with the screws' cooling (s)
+  Eigen::Matrix<double, 6, 4> load;   // leg forces per kg at {M}'s origin, then per kg·m of c.o.m. x, y, z
+};
+
+// Follows the state that carries over from instant to instant (the play
+// operator of each gearbox, homed extending; the screws' heat from travel
+// and from time under power), in time order.
+class LegErrorTracker {
+ public:
+  LegErrorTracker(PlatformModel model, LegErrorOptions options);
+  LegErrorState Advance(const LegErrorInputs& in);
+  const LegErrorOptions& options() const { return options_; }
+
+ private:
+  PlatformModel model_;
+  LegErrorOptions options_;
+  Vector6 driven_, heat_ = Vector6::Zero(), last_stroke_ = Vector6::Zero();
+  double warm_ = 0.0, last_time_s_ = 0.0;
+  bool first_ = true;
+};
+
+// Leg-space basis B_e (6 × ParameterCount(e)) of one effect at one state.
+Eigen::MatrixXd LegErrorBasis(Effect effect, const LegErrorState& state, const PlatformModel& model);
+
+}  // namespace edsp::calibration

@@ -1,0 +1,197 @@
+#include "edsp/kinematics/calibration.h"
+
+#include <array>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <utility>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+namespace edsp::calibration {
+
+namespace {
+
+// The largest |θ| a real platform of any size has, per effect (docs/calibration.md):
+// beyond it the file is not a calibration of a platform but a fit gone wrong.
+double ParameterLimit(Effect e) {
+  switch (e) {
+    case Effect::kPassiveRotation: return 3.0;   // PR scales
+    case Effect::kLegOffset: return 10e-3;       // m
+    case Effect::kJointPosition: return 10e-3;   // m
+    case Effect::kLeadError: return 0.01;        // 1% of the lead
+    case Effect::kPeriodicLeadError: return 1e-3;
+    case Effect::kBacklash: return 1e-3;
+    case Effect::kServoLag: return 1.0;          // s, s², s³
+    case Effect::kCompliance: return 0.01;       // m/k, s²
+    case Effect::kThermalDrift: return 0.1;
+  }
+  return 0.0;
+}
+
+std::string Fnv1a64Hex(const std::string& bytes) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : bytes) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  return fmt::format("{:016x}", h);
+}
+
+std::string ReadFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw CalibrationError(path + ": cannot open the calibration model");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+double PositiveNumber(const nlohmann::json& j, const char* key, double fallback, double max,
+                      const std::string& origin) {
+  if (!j.contains(key)) return fallback;
+  if (!j[key].is_number()) throw CalibrationError(fmt::format("{}: \"{}\" must be a number", origin, key));
+  const double v = j[key].get<double>();
+  if (!(v > 0.0 && v <= max)) {
+    throw CalibrationError(fmt::format("{}: \"{}\" = {} is not in (0, {}]", origin, key, v, max));
+  }
+  return v;
+}
+
+CalibratedEffect ParseEffectEntry(const nlohmann::json& entry, std::size_t index, const std::string& origin) {
+  const std::string where = fmt::format("{}: effects[{}]", origin, index);
+  if (!entry.is_object() || !entry.contains("name") || !entry["name"].is_string()) {
+    throw CalibrationError(where + ": needs a \"name\"");
+  }
+  CalibratedEffect out;
+  const std::string name = entry["name"].get<std::string>();
+  if (!ParseEffect(name, &out.effect)) throw CalibrationError(fmt::format("{}: unknown effect \"{}\"", where, name));
+  if (!entry.contains("theta") || !entry["theta"].is_array()) {
+    throw CalibrationError(fmt::format("{} ({}): needs a \"theta\" array", where, name));
+  }
+  std::vector<double> theta;
+  for (const auto& v : entry["theta"]) {
+    if (!v.is_number()) throw CalibrationError(fmt::format("{} ({}): \"theta\" holds a non-number", where, name));
+    theta.push_back(v.get<double>());
+  }
+  // Models saved before thermal drift had its time driver hold the travel term alone.
+  if (out.effect == Effect::kThermalDrift && theta.size() == 1) theta.resize(4, 0.0);
+  if (static_cast<int>(theta.size()) != ParameterCount(out.effect)) {
+    throw CalibrationError(fmt::format("{} ({}): needs {} parameters, has {}", where, name,
+                                       ParameterCount(out.effect), theta.size()));
+  }
+  for (std::size_t k = 0; k < theta.size(); ++k) {
+    if (!std::isfinite(theta[k]) || std::abs(theta[k]) > ParameterLimit(out.effect)) {
+      throw CalibrationError(fmt::format("{} ({}): theta[{}] = {} is not a real platform's (|θ| ≤ {})", where,
+                                         name, k, theta[k], ParameterLimit(out.effect)));
+    }
+  }
+  out.theta = Eigen::Map<const Eigen::VectorXd>(theta.data(), static_cast<Eigen::Index>(theta.size()));
+  out.verdict = entry.value("verdict", std::string("identified"));
+  if (out.verdict != "identified" && out.verdict != "ambiguous") {
+    throw CalibrationError(fmt::format("{} ({}): verdict \"{}\" is neither identified nor ambiguous", where, name,
+                                       out.verdict));
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string PlatformFingerprint(const PlatformModel& model) {
+  const Vector6& l = model.home_length_m();
+  const DriveParameters& d = model.config().drive;
+  return fmt::format("home_length_m={:.9f},{:.9f},{:.9f},{:.9f},{:.9f},{:.9f};lead_m={:.9g};pr_sign={};gear_ratio={:.9g}",
+                     l(0), l(1), l(2), l(3), l(4), l(5), d.lead_m, d.pr_sign, d.gear_ratio);
+}
+
+std::string CalibrationModel::Describe() const {
+  std::string applies;
+  for (const CalibratedEffect& e : applied) applies += (applies.empty() ? "" : ", ") + std::string(EffectName(e.effect));
+  std::string text = fmt::format("{} ({}): applies {}", origin, hash, applies.empty() ? "nothing" : applies);
+  if (!not_applied.empty()) {
+    text += "; not applied: ";
+    for (std::size_t k = 0; k < not_applied.size(); ++k) text += (k ? ", " : "") + not_applied[k];
+  }
+  return text;
+}
+
+CalibrationModel ParseCalibration(const std::string& text, const std::string& origin, const PlatformModel& model,
+                                  bool apply_ambiguous) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw CalibrationError(fmt::format("{}: not JSON at byte {}", origin, e.byte));
+  }
+  if (!j.is_object() || j.value("format", "") != "edsp-gap-model/1") {
+    throw CalibrationError(origin + ": not an edsp-gap model (key \"format\" must be \"edsp-gap-model/1\")");
+  }
+  if (j.contains("platform")) {
+    const std::string expected = PlatformFingerprint(model);
+    if (!j["platform"].is_string() || j["platform"].get<std::string>() != expected) {
+      throw CalibrationError(fmt::format("{}: identified on another platform (\"platform\": {}; this config: \"{}\")",
+                                         origin, j["platform"].dump(), expected));
+    }
+  }
+  CalibrationModel out;
+  out.origin = origin;
+  out.hash = Fnv1a64Hex(text);
+  out.options.thermal_time_constant_s =
+      PositiveNumber(j, "thermal_time_constant_s", out.options.thermal_time_constant_s, 1e6, origin);
+  out.options.backlash_width_m = PositiveNumber(j, "backlash_width_m", out.options.backlash_width_m, 1e-3, origin);
+  if (!j.contains("effects") || !j["effects"].is_array()) throw CalibrationError(origin + ": no \"effects\" array");
+  std::array<bool, kEffectCount> seen{};
+  for (std::size_t k = 0; k < j["effects"].size(); ++k) {
+    CalibratedEffect e = ParseEffectEntry(j["effects"][k], k, origin);
+    bool& twice = seen[static_cast<std::size_t>(e.effect)];
+    if (twice) throw CalibrationError(fmt::format("{}: effect \"{}\" listed twice", origin, EffectName(e.effect)));
+    twice = true;
+    if (e.verdict == "ambiguous" && !apply_ambiguous) {
+      out.not_applied.push_back(std::string(EffectName(e.effect)) + " (ambiguous)");
+      continue;
+    }
+    out.applied.push_back(std::move(e));
+  }
+  return out;
+}
+
+CalibrationModel LoadCalibration(const std::string& path, const PlatformModel& model, bool apply_ambiguous) {
+  return ParseCalibration(ReadFile(path), path, model, apply_ambiguous);
+}
+
+LegCompensator::LegCompensator(PlatformModel model, CalibrationModel calibration)
+    : model_(model), calibration_(std::move(calibration)), tracker_(std::move(model), calibration_.options) {}
+
+LegCompensator::Correction LegCompensator::Step(double time_s, const Pose& pose, const Vector6& pose_velocity,
+                                                const Vector6& pose_acceleration, const Vector6& command_m) {
+  // The command's rates from the pose's: l̇ = M·q̇, l̈ = M·q̈ + (dM/dt)·q̇,
+  // M = ∂(IK − PR)/∂q, its change along q̇ by a central difference.
+  const Vector6 q = pose.ToVector();
+  const Matrix6 M = model_.LengthJacobian(pose) - model_.PrLengthErrorJacobian(pose);
+  LegErrorInputs in;
+  in.time_s = time_s;
+  in.pose = pose;
+  in.command_m = command_m;
+  in.motor_m = command_m;  // the motor follows the command
+  in.velocity = M * pose_velocity;
+  in.accel = M * pose_acceleration;
+  if (pose_velocity.norm() > 0.0) {
+    constexpr double h = 1e-4;  // s
+    const Pose ahead = Pose::FromVector(q + h * pose_velocity), behind = Pose::FromVector(q - h * pose_velocity);
+    const Matrix6 dM = (model_.LengthJacobian(ahead) - model_.PrLengthErrorJacobian(ahead) -
+                        model_.LengthJacobian(behind) + model_.PrLengthErrorJacobian(behind)) / (2.0 * h);
+    in.accel += dM * pose_velocity;
+  }
+  in.jerk = Vector6::Zero();  // not fed forward: a trapezoid's corners would make it a spike
+  in.platform_accel_B_m_s2 = pose_acceleration.head<3>();
+  const LegErrorState state = tracker_.Advance(in);
+  Correction c;
+  for (const CalibratedEffect& e : calibration_.applied) {
+    const Vector6 dl = LegErrorBasis(e.effect, state, model_) * e.theta;
+    c.command_m += dl;
+    if (e.effect != Effect::kServoLag) c.encoder_m += dl;
+  }
+  return c;
+}
+
+}  // namespace edsp::calibration

@@ -1,0 +1,94 @@
+// A calibration model read as the kinematics reads it: every wrong input
+// named with the file and key, ambiguous effects held back unless asked,
+// another platform's model refused; and its corrections against an
+// independent computation (the inverse kinematics of the moved geometry).
+#include <gtest/gtest.h>
+
+#include "edsp/kinematics/calibration.h"
+#include "edsp/kinematics/config.h"
+
+namespace edsp::calibration {
+namespace {
+
+PlatformModel Nominal() { return PlatformModel(Huang2021Config()); }
+
+std::string Model(const std::string& effects, const std::string& extra = "") {
+  return R"({"format": "edsp-gap-model/1", )" + extra + R"("effects": [)" + effects + "]}";
+}
+
+std::string Refusal(const std::string& text) {
+  try {
+    ParseCalibration(text, "m.json", Nominal());
+  } catch (const CalibrationError& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+
+TEST(Calibration, WrongModelsAreRefusedNamingFileAndKey) {
+  EXPECT_NE(Refusal("{").find("m.json: not JSON"), std::string::npos);
+  EXPECT_NE(Refusal(R"({"format": "x"})").find("\"format\""), std::string::npos);
+  EXPECT_NE(Refusal(Model(R"({"name": "wobble", "theta": []})")).find("unknown effect \"wobble\""), std::string::npos);
+  EXPECT_NE(Refusal(Model(R"({"name": "leg_offset", "theta": [1e-4]})")).find("needs 6 parameters, has 1"),
+            std::string::npos);
+  // 5 cm of leg offset is not a platform's calibration but a fit gone wrong.
+  EXPECT_NE(Refusal(Model(R"({"name": "leg_offset", "theta": [0.05, 0, 0, 0, 0, 0]})")).find("theta[0] = 0.05"),
+            std::string::npos);
+  EXPECT_NE(Refusal(Model(R"({"name": "leg_offset", "theta": [0, 0, 0, 0, 0, "x"]})")).find("non-number"),
+            std::string::npos);
+  EXPECT_NE(Refusal(Model(R"({"name": "leg_offset", "theta": [0,0,0,0,0,0]}, {"name": "leg_offset", "theta": [0,0,0,0,0,0]})"))
+                .find("listed twice"),
+            std::string::npos);
+  EXPECT_NE(Refusal(Model("", R"("thermal_time_constant_s": -1, )")).find("thermal_time_constant_s"), std::string::npos);
+  EXPECT_NE(Refusal(Model("", R"("platform": "home_length_m=2,2,2,2,2,2", )")).find("another platform"),
+            std::string::npos);
+  EXPECT_EQ(Refusal(Model("")), "accepted");  // an empty model is valid
+  EXPECT_EQ(Refusal(Model("", "\"platform\": \"" + PlatformFingerprint(Nominal()) + "\", ")), "accepted");
+}
+
+TEST(Calibration, AmbiguousEffectsAreAppliedOnlyWhenAsked) {
+  const std::string text = Model(R"({"name": "leg_offset", "verdict": "identified", "theta": [1e-4,0,0,0,0,0]},
+                                     {"name": "lead_error", "verdict": "ambiguous", "theta": [1e-4,0,0,0,0,0]})");
+  const CalibrationModel strict = ParseCalibration(text, "m.json", Nominal());
+  ASSERT_EQ(strict.applied.size(), 1u);
+  EXPECT_EQ(strict.applied[0].effect, Effect::kLegOffset);
+  EXPECT_NE(strict.Describe().find("not applied: lead_error (ambiguous)"), std::string::npos) << strict.Describe();
+  EXPECT_EQ(ParseCalibration(text, "m.json", Nominal(), true).applied.size(), 2u);
+  EXPECT_EQ(strict.hash.size(), 16u);
+  EXPECT_NE(strict.hash, ParseCalibration(text + " ", "m.json", Nominal()).hash);
+}
+
+// Joint centres moved: the command correction is what the inverse
+// kinematics of the moved geometry says the legs must change by (to first
+// order in the µm-sized move), at poses away from home.
+TEST(Calibration, JointCentreCorrectionIsTheMovedGeometrysInverseKinematics) {
+  Eigen::VectorXd theta = Eigen::VectorXd::Zero(36);
+  for (int k = 0; k < 36; ++k) theta(k) = 1e-4 * std::sin(1.0 + 0.7 * k);
+  CalibrationModel m;
+  m.applied.push_back({Effect::kJointPosition, theta, "identified"});
+  PlatformConfig moved = Huang2021Config();
+  for (int i = 0; i < 6; ++i) {
+    for (int a = 0; a < 3; ++a) {
+      moved.geometry.p_BoBi_B(a, i) += theta(3 * i + a);
+      moved.geometry.p_MoPi_M(a, i) += theta(18 + 3 * i + a);
+    }
+  }
+  const PlatformModel nominal = Nominal(), truth(moved);
+  LegCompensator compensator(nominal, m);
+  const Vector6 home = nominal.home_pose().ToVector();
+  for (const Vector6& dq : {Vector6((Vector6() << 0.1, -0.05, 0.2, 0.05, -0.1, 0.3).finished()),
+                            Vector6((Vector6() << -0.2, 0.1, -0.1, 0.0, 0.1, -0.2).finished())}) {
+    const Pose pose = Pose::FromVector(home + dq);
+    const Vector6 command = nominal.Solve(pose).length_m;
+    const Vector6 correction = compensator.Step(0.0, pose, Vector6::Zero(), Vector6::Zero(), command).command_m;
+    // The nominal model must reach `pose` with the moved geometry's lengths:
+    // the command subtracts (nominal − moved) IK length.
+    const Vector6 expected = nominal.Solve(pose).length_m - truth.Solve(pose).length_m;
+    EXPECT_LT((correction - expected).cwiseAbs().maxCoeff(), 1e-8) << correction.transpose() << "\n"
+                                                                    << expected.transpose();
+    EXPECT_GT(expected.cwiseAbs().maxCoeff(), 1e-5);  // a correction worth checking
+  }
+}
+
+}  // namespace
+}  // namespace edsp::calibration
