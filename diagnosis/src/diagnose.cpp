@@ -102,14 +102,6 @@ class Evaluator {
       const std::size_t k = static_cast<std::size_t>(f);
       gain.push_back(std::log(std::max(b[k], 1e-300) / std::max(a[k], 1e-300)));
     }
-    if (std::getenv("EDSP_DEBUG_SIG")) {
-      std::string t;
-      for (Effect e : with) t += std::string(EffectName(e)) + ",";
-      t += " vs ";
-      for (Effect e : without) t += std::string(EffectName(e)) + ",";
-      for (double g : gain) t += fmt::format(" {:.3g}", g);
-      std::fprintf(stderr, "%s -> %d\n", t.c_str(), PairedGainIsSignificant(gain, alpha));
-    }
     return PairedGainIsSignificant(gain, alpha);
   }
 

@@ -7,7 +7,7 @@
 //                   [--calibration MODEL [--apply-ambiguous]]
 // --calibration (or [calibration] model in the config): an edsp-gap model
 // (diagnose --save-model) applied to every command and to the forward
-// kinematics; the node says which on EDSP_FAULT (info) and in its status.
+// kinematics; the node says which on EDSP_FAULT (info) and on stderr at start.
 // --replay: the setpoints come from a log (lcm-logplayer), so they are judged
 // by their own clock, not the wall clock, and reproduce the recorded commands.
 // EDSP_PR_MODE (pr_mode_t, e.g. from `edsp-ctl pr-mode signed`) switches the

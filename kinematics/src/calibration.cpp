@@ -1,5 +1,6 @@
 #include "edsp/kinematics/calibration.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <fstream>
@@ -23,7 +24,7 @@ double ParameterLimit(Effect e) {
     case Effect::kLeadError: return 0.01;        // 1% of the lead
     case Effect::kPeriodicLeadError: return 1e-3;
     case Effect::kBacklash: return 1e-3;
-    case Effect::kServoLag: return 1.0;          // s, s², s³
+    case Effect::kServoLag: return 0.1;          // s, s², s³: a 1.6 Hz loop at most
     case Effect::kCompliance: return 0.01;       // m/k, s²
     case Effect::kThermalDrift: return 0.1;
   }
@@ -87,6 +88,9 @@ CalibratedEffect ParseEffectEntry(const nlohmann::json& entry, std::size_t index
     }
   }
   out.theta = Eigen::Map<const Eigen::VectorXd>(theta.data(), static_cast<Eigen::Index>(theta.size()));
+  if (entry.contains("verdict") && !entry["verdict"].is_string()) {
+    throw CalibrationError(fmt::format("{} ({}): \"verdict\" must be a string", where, name));
+  }
   out.verdict = entry.value("verdict", std::string("identified"));
   if (out.verdict != "identified" && out.verdict != "ambiguous") {
     throw CalibrationError(fmt::format("{} ({}): verdict \"{}\" is neither identified nor ambiguous", where, name,
@@ -123,7 +127,8 @@ CalibrationModel ParseCalibration(const std::string& text, const std::string& or
   } catch (const nlohmann::json::parse_error& e) {
     throw CalibrationError(fmt::format("{}: not JSON at byte {}", origin, e.byte));
   }
-  if (!j.is_object() || j.value("format", "") != "edsp-gap-model/1") {
+  if (!j.is_object() || !j.contains("format") || !j["format"].is_string() ||
+      j["format"].get<std::string>() != "edsp-gap-model/1") {
     throw CalibrationError(origin + ": not an edsp-gap model (key \"format\" must be \"edsp-gap-model/1\")");
   }
   if (j.contains("platform")) {
@@ -191,6 +196,15 @@ LegCompensator::Correction LegCompensator::Step(double time_s, const Pose& pose,
     c.command_m += dl;
     if (e.effect != Effect::kServoLag) c.encoder_m += dl;
   }
+  // A setpoint stream whose velocity jumps (a CSV trajectory's rows, a
+  // start from rest) would make the feed-forward step: the correction
+  // moves at most kMaxCorrectionRate_m_s, so no step reaches the drives.
+  if (last_time_s_) {
+    const double max_step = kMaxCorrectionRate_m_s * std::max(0.0, time_s - *last_time_s_);
+    c.command_m = last_command_m_ + (c.command_m - last_command_m_).cwiseMax(-max_step).cwiseMin(max_step);
+  }
+  last_time_s_ = time_s;
+  last_command_m_ = c.command_m;
   return c;
 }
 

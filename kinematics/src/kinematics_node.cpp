@@ -122,6 +122,13 @@ bool KinematicsNode::HandleSetpoint(const pose_setpoint_t& sp, std::int64_t now_
     for (int k = 0; k < 6; ++k) velocity(k) = sp.velocity[k], acceleration(k) = sp.acceleration[k];
     const calibration::LegCompensator::Correction c =
         compensator_->Step(static_cast<double>(sp.utime) * 1e-6, target, velocity, acceleration, nominal);
+    if (!c.command_m.allFinite() || !c.encoder_m.allFinite()) {
+      *fault = Fault(FaultCode::kNonFinite,
+                     fmt::format("setpoint seq {} ({}): the calibration's correction is not finite; not forwarded",
+                                 sp.seq, DescribePose(target)),
+                     now_utime, kChannel);
+      return false;
+    }
     calibrated -= c.command_m;
     encoder_correction_ = c.encoder_m;
   }

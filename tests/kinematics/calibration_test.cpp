@@ -2,6 +2,8 @@
 // named with the file and key, ambiguous effects held back unless asked,
 // another platform's model refused; and its corrections against an
 // independent computation (the inverse kinematics of the moved geometry).
+#include <algorithm>
+
 #include <gtest/gtest.h>
 
 #include "edsp/kinematics/calibration.h"
@@ -28,6 +30,9 @@ std::string Refusal(const std::string& text) {
 TEST(Calibration, WrongModelsAreRefusedNamingFileAndKey) {
   EXPECT_NE(Refusal("{").find("m.json: not JSON"), std::string::npos);
   EXPECT_NE(Refusal(R"({"format": "x"})").find("\"format\""), std::string::npos);
+  EXPECT_NE(Refusal(R"({"format": 1})").find("\"format\""), std::string::npos);
+  EXPECT_NE(Refusal(Model(R"({"name": "leg_offset", "verdict": 3, "theta": [0,0,0,0,0,0]})")).find("\"verdict\""),
+            std::string::npos);
   EXPECT_NE(Refusal(Model(R"({"name": "wobble", "theta": []})")).find("unknown effect \"wobble\""), std::string::npos);
   EXPECT_NE(Refusal(Model(R"({"name": "leg_offset", "theta": [1e-4]})")).find("needs 6 parameters, has 1"),
             std::string::npos);
@@ -74,12 +79,12 @@ TEST(Calibration, JointCentreCorrectionIsTheMovedGeometrysInverseKinematics) {
     }
   }
   const PlatformModel nominal = Nominal(), truth(moved);
-  LegCompensator compensator(nominal, m);
   const Vector6 home = nominal.home_pose().ToVector();
   for (const Vector6& dq : {Vector6((Vector6() << 0.1, -0.05, 0.2, 0.05, -0.1, 0.3).finished()),
                             Vector6((Vector6() << -0.2, 0.1, -0.1, 0.0, 0.1, -0.2).finished())}) {
     const Pose pose = Pose::FromVector(home + dq);
     const Vector6 command = nominal.Solve(pose).length_m;
+    LegCompensator compensator(nominal, m);  // its first step: no rate limit to start from
     const Vector6 correction = compensator.Step(0.0, pose, Vector6::Zero(), Vector6::Zero(), command).command_m;
     // The nominal model must reach `pose` with the moved geometry's lengths:
     // the command subtracts (nominal − moved) IK length.
@@ -88,6 +93,33 @@ TEST(Calibration, JointCentreCorrectionIsTheMovedGeometrysInverseKinematics) {
                                                                     << expected.transpose();
     EXPECT_GT(expected.cwiseAbs().maxCoeff(), 1e-5);  // a correction worth checking
   }
+}
+
+// A setpoint velocity that jumps (a CSV trajectory's rows) with a servo-lag
+// model: the feed-forward follows, but never faster than 0.05 m/s, so the
+// command cannot step; once the rate is steady the full correction is there.
+TEST(Calibration, FeedForwardOfAJumpingVelocityNeverSteps) {
+  Eigen::VectorXd theta = Eigen::VectorXd::Zero(13);
+  theta.head(6).setConstant(0.013);  // a 13 ms lag
+  CalibrationModel m;
+  m.applied.push_back({Effect::kServoLag, theta, "identified"});
+  const PlatformModel nominal = Nominal();
+  LegCompensator compensator(nominal, m);
+  const Pose home = nominal.home_pose();
+  const Vector6 command = nominal.Solve(home).length_m;
+  Vector6 velocity = Vector6::Zero();
+  Vector6 last = compensator.Step(0.0, home, velocity, Vector6::Zero(), command).command_m;
+  velocity(2) = 0.1;  // 0.1 m/s up at once: 1.3 mm of lag to feed forward
+  double largest_step = 0.0;
+  for (int k = 1; k <= 100; ++k) {
+    const Vector6 c = compensator.Step(k * 1e-3, home, velocity, Vector6::Zero(), command).command_m;
+    largest_step = std::max(largest_step, (c - last).cwiseAbs().maxCoeff());
+    last = c;
+  }
+  EXPECT_LE(largest_step, LegCompensator::kMaxCorrectionRate_m_s * 1e-3 * (1 + 1e-9));
+  const Vector6 full = -0.013 * (nominal.LengthJacobian(home) - nominal.PrLengthErrorJacobian(home)) * velocity;
+  EXPECT_LT((last - full).cwiseAbs().maxCoeff(), 1e-9) << last.transpose() << "\n" << full.transpose();
+  EXPECT_GT(full.cwiseAbs().maxCoeff(), 1e-3);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 // nominal model says (docs/calibration.md).
 
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -55,7 +56,9 @@ std::string PlatformFingerprint(const PlatformModel& model);
 // time: the leg error Δl the model predicts for the commanded state (its
 // play, heat and loads followed from command to command), which the
 // command subtracts. The command's rates come from the setpoint's
-// velocity and acceleration (no differencing of the command, so no steps).
+// velocity and acceleration (no differencing of the command); the
+// correction changes at most kMaxCorrectionRate_m_s, so a jump in the
+// setpoint's rates cannot make the command step.
 class LegCompensator {
  public:
   LegCompensator(PlatformModel model, CalibrationModel calibration);
@@ -70,10 +73,14 @@ class LegCompensator {
                   const Vector6& command_m);
   const CalibrationModel& calibration() const { return calibration_; }
 
+  static constexpr double kMaxCorrectionRate_m_s = 0.05;
+
  private:
   PlatformModel model_;
   CalibrationModel calibration_;
   LegErrorTracker tracker_;
+  std::optional<double> last_time_s_;
+  Vector6 last_command_m_ = Vector6::Zero();
 };
 
 }  // namespace edsp::calibration
