@@ -3,11 +3,11 @@
 //       re-arm the actuator bridge after it latched a hold (EDSP_ARM)
 //   edsp-ctl pr-mode none|unsigned|signed|asin [same options]
 //       switch the kinematics node's PR compensation live (EDSP_PR_MODE)
-// --session-id auto (the default) listens for up to 2 s for the group's leg
-// commands or setpoints and takes their session; several sessions on the bus
-// (two groups) is an error naming them. The command then waits up to 2 s
-// for the node's confirmation on EDSP_FAULT and prints it; exit 0 only if
-// confirmed, 2 if refused or unanswered.
+// --session-id auto (the default) listens for up to --timeout-s (2 s) for
+// the group's leg commands or setpoints and takes their session; several
+// sessions on the bus (two groups) is an error naming them. The command then
+// waits up to --timeout-s for the node's confirmation on EDSP_FAULT and
+// prints it; exit 0 only if confirmed, 2 if refused or unanswered.
 #include <unistd.h>
 
 #include <chrono>
@@ -33,14 +33,18 @@ namespace edsp {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-constexpr auto kListen = std::chrono::seconds(2);
 
 struct CtlOptions {
   std::string session = "auto";
   std::string operator_name;
   std::string group_file;
   std::string lcm_url;
+  double timeout_s = 2.0;  // each wait: for the group's traffic, for the answer
 };
+
+Clock::time_point Deadline(const CtlOptions& o) {
+  return Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.timeout_s));
+}
 
 TransportConfig Transport(const CtlOptions& o) {
   TransportConfig config = o.group_file.empty() ? TransportConfig{} : LoadTransportConfig(o.group_file);
@@ -52,17 +56,17 @@ TransportConfig Transport(const CtlOptions& o) {
 // The session of the group commanding the platform, from its own traffic.
 // The handlers stay subscribed for the bus's life (Bus has no unsubscribe),
 // so they share ownership of what they write to.
-std::int64_t DiscoverSession(Bus& bus) {
+std::int64_t DiscoverSession(Bus& bus, const CtlOptions& o) {
   auto seen = std::make_shared<std::set<std::int64_t>>();
   bus.Subscribe<leg_command_t>("EDSP_LEG_COMMAND", [seen](const leg_command_t& c) { seen->insert(c.session_id); });
   bus.Subscribe<pose_setpoint_t>("EDSP_SETPOINT", [seen](const pose_setpoint_t& s) { seen->insert(s.session_id); });
   const std::set<std::int64_t>& sessions = *seen;
-  const auto until = Clock::now() + kListen;
+  const auto until = Deadline(o);
   while (Clock::now() < until && sessions.empty()) bus.Handle(std::chrono::milliseconds(50));
   bus.Handle(std::chrono::milliseconds(50));  // one more round: a second group shows itself
   if (sessions.empty()) {
-    throw std::runtime_error(fmt::format("no leg commands or setpoints on {} within 2 s: is the group running "
-                                         "on this network? (or give --session-id)", bus.config().lcm_url));
+    throw std::runtime_error(fmt::format("no leg commands or setpoints on {} within {} s: is the group running "
+                                         "on this network? (or give --session-id)", bus.config().lcm_url, o.timeout_s));
   }
   if (sessions.size() > 1) {
     std::string list;
@@ -73,7 +77,7 @@ std::int64_t DiscoverSession(Bus& bus) {
 }
 
 std::int64_t SessionId(Bus& bus, const CtlOptions& o) {
-  if (o.session == "auto") return DiscoverSession(bus);
+  if (o.session == "auto") return DiscoverSession(bus, o);
   try {
     std::size_t used = 0;
     const std::int64_t id = std::stoll(o.session, &used);
@@ -85,7 +89,7 @@ std::int64_t SessionId(Bus& bus, const CtlOptions& o) {
 
 // Waits for the node's answer on EDSP_FAULT about `channel`; prints it.
 // Called last: nothing handles the bus after it returns.
-int AwaitConfirmation(Bus& bus, const std::string& node, const std::string& channel) {
+int AwaitConfirmation(Bus& bus, const std::string& node, const std::string& channel, const CtlOptions& o) {
   struct Answer {
     bool given = false;
     int status = 2;
@@ -97,9 +101,9 @@ int AwaitConfirmation(Bus& bus, const std::string& node, const std::string& chan
     answer->status = f.code == static_cast<std::int32_t>(FaultCode::kOperatorAction) ? 0 : 2;
     std::printf("%s: %s\n", node.c_str(), f.reason.c_str());
   });
-  const auto until = Clock::now() + kListen;
+  const auto until = Deadline(o);
   while (!answer->given && Clock::now() < until) bus.Handle(std::chrono::milliseconds(50));
-  if (!answer->given) std::fprintf(stderr, "edsp-ctl: no answer from %s within 2 s\n", node.c_str());
+  if (!answer->given) std::fprintf(stderr, "edsp-ctl: no answer from %s within %g s\n", node.c_str(), o.timeout_s);
   return answer->status;
 }
 
@@ -121,7 +125,7 @@ int SendAndConfirm(const CtlOptions& o, const std::string& channel, Msg request,
   request.operator_name = o.operator_name.empty() ? DefaultOperator() : o.operator_name;
   bus.Subscribe<fault_t>("EDSP_FAULT", [](const fault_t&) {});  // listening before we send
   if (!bus.Publish(channel, request)) throw std::runtime_error(channel + " could not be sent");
-  return AwaitConfirmation(bus, node, channel);
+  return AwaitConfirmation(bus, node, channel, o);
 }
 
 int Arm(const CtlOptions& o) { return SendAndConfirm(o, "EDSP_ARM", arm_t{}, "actuator_bridge"); }
@@ -141,6 +145,8 @@ void AddCommon(CLI::App* cmd, CtlOptions* o) {
   cmd->add_option("--operator", o->operator_name, "who does it, for the log");
   cmd->add_option("--group", o->group_file, "take the LCM URL from this group file");
   cmd->add_option("--lcm-url", o->lcm_url, "LCM URL (default: the edsp default, host-only)");
+  cmd->add_option("--timeout-s", o->timeout_s, "how long to wait for the group's traffic and for the answer")
+      ->check(CLI::Range(0.1, 600.0));
 }
 
 }  // namespace

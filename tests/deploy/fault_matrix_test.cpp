@@ -119,7 +119,7 @@ int Arm(const std::string& dir) {
   int status = -1;
   // Retried as an operator would: a multicast burst on this VM can drop one.
   for (int attempt = 0; attempt < 3 && status != 0; ++attempt) {
-    status = std::system(fmt::format("{} arm --operator fault-matrix --group {}/group.toml >>{}/ctl.out 2>&1",
+    status = std::system(fmt::format("{} arm --operator fault-matrix --timeout-s 30 --group {}/group.toml >>{}/ctl.out 2>&1",
                                      EDSP_CTL_BINARY, dir, dir)
                              .c_str());
   }
