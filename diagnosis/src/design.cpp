@@ -4,7 +4,6 @@
 #include <map>
 
 #include <Eigen/Geometry>
-#include <Eigen/LU>
 #include <fmt/format.h>
 
 #include "edsp/kinematics/leg_error_model.h"
@@ -12,26 +11,6 @@
 namespace edsp::gap {
 
 namespace {
-
-Matrix3 Skew(const Vector3& v) {
-  Matrix3 s;
-  s << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return s;
-}
-
-// ∂A/∂q by central differences (A is a smooth, cheap function of the pose).
-Eigen::Matrix<double, 3, 6> PointJacobian(const PlatformModel& model, const Vector6& q) {
-  Eigen::Matrix<double, 3, 6> J;
-  constexpr double h = 1e-6;
-  for (int k = 0; k < 6; ++k) {
-    Vector6 plus = q, minus = q;
-    plus(k) += h;
-    minus(k) -= h;
-    J.col(k) = (model.ObservationPoint(Pose::FromVector(plus)) -
-                model.ObservationPoint(Pose::FromVector(minus))) / (2.0 * h);
-  }
-  return J;
-}
 
 // Central difference of a per-row quantity within one run (one-sided at its ends).
 template <typename Get>
@@ -98,13 +77,12 @@ Design BuildDesign(const PlatformModel& model, const MeasurementData& data, cons
     for (std::size_t k = 0; k < rows.size(); ++k) {
       const MeasurementRow& row = data.rows[static_cast<std::size_t>(rows[k])];
       const Pose pose = Pose::FromVector(row.pose_cmd);
-      const Matrix6 M = model.LengthJacobian(pose) - model.PrLengthErrorJacobian(pose);
-      Eigen::FullPivLU<Matrix6> lu(M);
-      if (!pose.IsFinite() || !lu.isInvertible()) {
+      calibration::PointSensitivity at;
+      if (!calibration::PointSensitivityAt(model, pose, &at)) {
         throw MeasurementError(fmt::format("{}: run \"{}\" at time_s {}: commanded pose {} is singular for the model",
                                            data.source, data.runs[run], row.time_s, DescribePose(pose)));
       }
-      G.push_back(PointJacobian(model, row.pose_cmd) * lu.inverse());
+      G.push_back(at.per_leg);
       calibration::LegErrorInputs in;
       in.time_s = row.time_s;
       in.pose = pose;
@@ -167,7 +145,7 @@ Design BuildDesign(const PlatformModel& model, const MeasurementData& data, cons
     const std::size_t s = static_cast<std::size_t>(k);
     d.residual.segment<3>(3 * k) = measured[s] - (d.R0 * model_points[s] + d.t0);
     d.columns.block<3, 3>(3 * k, 0) = Matrix3::Identity();
-    d.columns.block<3, 3>(3 * k, 3) = -d.R0 * Skew(model_points[s]);
+    d.columns.block<3, 3>(3 * k, 3) = -d.R0 * calibration::Skew(model_points[s]);
     const Eigen::Matrix<double, 3, 6> RG = d.R0 * G[s];
     d.point_per_leg[s] = RG;
     for (Effect e : AllEffects()) {

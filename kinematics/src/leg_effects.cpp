@@ -60,4 +60,45 @@ bool ParseEffect(const std::string& name, Effect* effect) {
 
 int ParameterCount(Effect effect) { return RowOf(effect).parameters; }
 
+namespace {
+
+// Parameters [first, next row's first) of an effect share one size.
+struct TypicalSize {
+  Effect effect;
+  int first;
+  double size;
+};
+
+// Orders of magnitude of a mid-size electric hexapod (docs/calibration.md):
+// joint centres and leg zeros known to 0.1 mm, a lead to 100 ppm, a 40 Hz
+// position loop, 20 N/µm legs under 800 kg, a screw warming 1 K per metre of
+// travel and 2 K per quarter hour under power.
+constexpr std::array<TypicalSize, 15> kTypicalSizes = {{
+    {Effect::kPassiveRotation, 0, 0.1},
+    {Effect::kLegOffset, 0, 100e-6},
+    {Effect::kJointPosition, 0, 100e-6},
+    {Effect::kLeadError, 0, 1e-4},
+    {Effect::kPeriodicLeadError, 0, 10e-6},
+    {Effect::kBacklash, 0, 20e-6},
+    {Effect::kServoLag, 0, 4e-3},     // s: 1/(2π·40 Hz)
+    {Effect::kServoLag, 6, 1.6e-5},   // s²
+    {Effect::kServoLag, 12, 6e-8},    // s³
+    {Effect::kCompliance, 0, 4e-5},   // m/k per leg, s²
+    {Effect::kCompliance, 6, 4e-6},   // m·c/k̄, s²·m
+    {Effect::kThermalDrift, 0, 7e-6},  // per metre of travel heat
+    {Effect::kThermalDrift, 1, 1.2e-5},
+    {Effect::kThermalDrift, 2, 1.5e-8},  // per second under power
+    {Effect::kThermalDrift, 3, 2.5e-8},
+}};
+
+}  // namespace
+
+double TypicalParameterSize(Effect effect, int k) {
+  double size = 0.0;
+  for (const TypicalSize& t : kTypicalSizes) {
+    if (t.effect == effect && t.first <= k) size = t.size;
+  }
+  return size;
+}
+
 }  // namespace edsp::calibration

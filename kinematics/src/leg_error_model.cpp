@@ -4,6 +4,8 @@
 #include <cmath>
 #include <utility>
 
+#include <Eigen/LU>
+
 #include "edsp/kinematics/platform_loads.h"
 
 namespace edsp::calibration {
@@ -61,6 +63,32 @@ LegErrorState LegErrorTracker::Advance(const LegErrorInputs& in) {
   s.compensation = s.legs.length_m - in.command_m;
   s.load = LoadColumns(model_, in.pose, in.platform_accel_B_m_s2, options_);
   return s;
+}
+
+Matrix3 Skew(const Vector3& v) {
+  Matrix3 s;
+  s << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return s;
+}
+
+bool PointSensitivityAt(const PlatformModel& model, const Pose& pose, PointSensitivity* out) {
+  const Matrix6 M = model.LengthJacobian(pose) - model.PrLengthErrorJacobian(pose);
+  const Eigen::FullPivLU<Matrix6> lu(M);
+  if (!pose.IsFinite() || !lu.isInvertible()) return false;
+  // ∂A/∂q by central differences (A is a smooth, cheap function of the pose).
+  const Vector6 q = pose.ToVector();
+  Eigen::Matrix<double, 3, 6> J;
+  constexpr double h = 1e-6;
+  for (int k = 0; k < 6; ++k) {
+    Vector6 plus = q, minus = q;
+    plus(k) += h;
+    minus(k) -= h;
+    J.col(k) = (model.ObservationPoint(Pose::FromVector(plus)) - model.ObservationPoint(Pose::FromVector(minus))) /
+               (2.0 * h);
+  }
+  out->point = model.ObservationPoint(pose);
+  out->per_leg = J * lu.inverse();
+  return true;
 }
 
 Eigen::MatrixXd LegErrorBasis(Effect effect, const LegErrorState& s, const PlatformModel& model) {

@@ -1,15 +1,22 @@
 // edsp-planner: publishes EDSP_SETPOINT at 1 kHz on an absolute clock. The
 // whole trajectory is checked against the workspace before the first
 // setpoint; after it ends the final pose is held until SIGINT/SIGTERM.
-//   edsp-planner [--motions Lz,Lx,Rz,Ry] [--csv FILE] [--dwell-s 1] [--stops 5]
+//   edsp-planner [--motions Lz,Lx,Rz,Ry|calibration] [--csv FILE] [--dwell-s 1] [--stops 5]
 //                [--exit-after-hold-s S] [--config FILE] [--group FILE] [--session-id N]
+//   edsp-planner --motions calibration --identifiability [--json]
+//                how well the motions let edsp-gap identify each effect,
+//                beside the paper's four motions; publishes nothing
 #include <cstdio>
+#include <iostream>
+
+#include <nlohmann/json.hpp>
 
 #include "edsp/kinematics/config.h"
 #include "edsp/node/node_options.h"
 #include "edsp/node/runtime.h"
 #include "edsp/planner/csv_trajectory.h"
-#include "edsp/planner/paper_motions.h"
+#include "edsp/planner/identifiability.h"
+#include "edsp/planner/motion_library.h"
 #include "edsp/planner/planner.h"
 #include "edsp/transport/bus.h"
 #include "edsp/node_status_t.hpp"
@@ -35,8 +42,9 @@ std::unique_ptr<TrajectorySequence> BuildTrajectory(const PlatformModel& model,
                                                     const std::string& motions,
                                                     const std::string& csv,
                                                     const PaperMotionOptions& options) {
+  if (csv.empty()) return MotionSequence(model, SplitList(motions), options);
   auto sequence = std::make_unique<TrajectorySequence>();
-  if (!csv.empty()) {
+  {
     auto file = std::make_unique<CsvTrajectory>(CsvTrajectory::Load(csv));
     const Vector6 start = file->Sample(0.0).pose;
     const Vector6 home = model.home_pose().ToVector();
@@ -45,12 +53,43 @@ std::unique_ptr<TrajectorySequence> BuildTrajectory(const PlatformModel& model,
                                        home, start, options.max_speed_m_s, options.max_speed_rad_s)));
     }
     sequence->Append(csv, std::move(file));
-    return sequence;
-  }
-  for (const std::string& name : SplitList(motions)) {
-    AppendPaperMotion(name, model.home_pose().ToVector(), options, sequence.get());
   }
   return sequence;
+}
+
+nlohmann::json ToJson(const Identifiability& row) {
+  return {{"effects", row.effects}, {"parameters", row.parameters}, {"samples", row.samples},
+          {"condition", row.condition}, {"o1", row.o1}, {"o3", row.o3}};
+}
+
+// The motions' identifiability beside the paper's four (identifiability.h).
+int ReportIdentifiability(const PlatformModel& model, const TrajectorySequence& motions,
+                          const PaperMotionOptions& paper, const IdentifiabilityOptions& options, bool json) {
+  const auto reference = MotionSequence(model, PaperMotionNames(), paper);
+  const std::vector<Identifiability> ours = AssessIdentifiability(model, motions, options);
+  const std::vector<Identifiability> theirs = AssessIdentifiability(model, *reference, options);
+  if (json) {
+    nlohmann::json out = {{"rate_hz", options.rate_hz}, {"noise_sigma_m", options.noise_sigma_m}};
+    out["motions"] = {{"duration_s", motions.duration_s()}, {"effects", nlohmann::json::array()}};
+    out["paper"] = {{"duration_s", reference->duration_s()}, {"effects", nlohmann::json::array()}};
+    for (const Identifiability& row : ours) out["motions"]["effects"].push_back(ToJson(row));
+    for (const Identifiability& row : theirs) out["paper"]["effects"].push_back(ToJson(row));
+    std::cout << out.dump(2) << "\n";
+    return 0;
+  }
+  std::printf("identifiability at %.0f Hz, tracker noise %.1f um per axis; parameters in typical sizes\n",
+              options.rate_hz, options.noise_sigma_m * 1e6);
+  std::printf("these motions %.1f s, the paper's four (Lz Lx Rz Ry) %.1f s\n\n", motions.duration_s(),
+              reference->duration_s());
+  std::printf("%-20s %4s | %10s %9s %9s | %10s %9s %9s\n", "effects", "par", "condition", "O1", "O3",
+              "paper cond", "O1", "O3");
+  for (std::size_t k = 0; k < ours.size(); ++k) {
+    const Identifiability& a = ours[k];
+    const Identifiability& b = theirs[k];
+    std::printf("%-20s %4d | %10.3g %9.3g %9.3g | %10.3g %9.3g %9.3g\n", a.effects.c_str(), a.parameters,
+                a.condition, a.o1, a.o3, b.condition, b.o1, b.o3);
+  }
+  return 0;
 }
 
 int Run(int argc, char** argv) {
@@ -59,7 +98,8 @@ int Run(int argc, char** argv) {
   AddNodeOptions(&app, &node);
   std::string motions = "Lz,Lx,Rz,Ry", csv;
   PaperMotionOptions paper;
-  app.add_option("--motions", motions, "paper motions to run in order (Lx Ly Lz Rx Ry Rz)");
+  app.add_option("--motions", motions,
+                 "motions to run in order (Lx Ly Lz Rx Ry Rz, M1…M999 mixed, calibration)");
   app.add_option("--csv", csv, "play a trajectory CSV instead (time_s,x_m,...,yaw_rad)");
   app.add_option("--stops", paper.stops, "stops across each motion's range")->check(CLI::Range(2, 1000));
   app.add_option("--dwell-s", paper.dwell_s, "dwell at each stop")->check(CLI::Range(0.0, 3600.0));
@@ -68,9 +108,20 @@ int Run(int argc, char** argv) {
   double exit_after_hold_s = -1.0;
   app.add_option("--exit-after-hold-s", exit_after_hold_s,
                  "exit after holding the final pose this long (default: hold until stopped)");
+  bool identifiability = false, json = false;
+  IdentifiabilityOptions assess;
+  app.add_flag("--identifiability", identifiability,
+               "print how well the motions identify each effect beside the paper's four, and exit");
+  app.add_flag("--json", json, "with --identifiability: JSON on stdout");
+  app.add_option("--tracker-rate-hz", assess.rate_hz, "with --identifiability")->check(CLI::Range(1.0, 10000.0));
+  app.add_option("--tracker-noise-m", assess.noise_sigma_m, "with --identifiability: per axis")
+      ->check(CLI::Range(1e-9, 1e-2));
   CLI11_PARSE(app, argc, argv);
 
   const PlatformModel model(LoadConfigFile(node.config_path));
+  if (identifiability) {
+    return ReportIdentifiability(model, *BuildTrajectory(model, motions, csv, paper), paper, assess, json);
+  }
   Planner planner(model, BuildTrajectory(model, motions, csv, paper), node.session_id);
   InstallStopSignals();
   Bus bus(TransportFor(node));

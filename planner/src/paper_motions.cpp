@@ -17,7 +17,7 @@ int AxisOf(const std::string& name) {
     if (name == kNames[axis]) return axis;
   }
   throw std::invalid_argument(
-      fmt::format("unknown motion \"{}\" (known: Lx Ly Lz Rx Ry Rz, and M1…M999 mixed)", name));
+      fmt::format("unknown motion \"{}\" (known: Lx Ly Lz Rx Ry Rz, M1…M999 mixed, calibration)", name));
 }
 
 // "M<k>" (k = 1…999): a mixed motion, every axis at once.

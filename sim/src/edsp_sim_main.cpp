@@ -3,7 +3,7 @@
 //   edsp-sim paper-table --config FILE [--poses N] [--json]
 //   edsp-sim stack-table --config FILE LOG... [--plots DIR] [--json]
 //       the same table measured by the tracker in logs of the live stack
-//   edsp-sim rig --config FILE --out DIR [--motions Lz,Lx,Rz,Ry] [--pr-mode signed]
+//   edsp-sim rig --config FILE --out DIR [--motions Lz,Lx,Rz,Ry|calibration] [--pr-mode signed]
 //                [--calibration MODEL [--apply-ambiguous]]
 //                [--stops 5] [--dwell-s 1] [--tracker-noise-m 0] [--seed 1] [--per-effect] [--json]
 //       the virtual rig with the config's [rig.effects] through the motions,
@@ -238,7 +238,7 @@ int main(int argc, char** argv) {
   std::string mode_text = "signed", frame_text;
   rig->add_option("--config", config_path, "platform config (TOML) with [rig.effects]")->required();
   rig->add_option("--out", offline.out_dir, "directory for run.lcmlog and measurement.csv")->required();
-  rig->add_option("--motions", offline.motions, "paper motions in order (Lx Ly Lz Rx Ry Rz)")->delimiter(',');
+  rig->add_option("--motions", offline.motions, "motions in order (Lx Ly Lz Rx Ry Rz, M1…M999 mixed, calibration)")->delimiter(',');
   rig->add_option("--pr-mode", mode_text, "compensation the kinematics node runs");
   rig->add_option("--stops", offline.paper.stops)->check(CLI::Range(2, 1000));
   rig->add_option("--dwell-s", offline.paper.dwell_s)->check(CLI::Range(0.0, 3600.0));

@@ -10,6 +10,7 @@
 
 #include "edsp/kinematics/config.h"
 #include "edsp/kinematics/kinematics_node.h"
+#include "edsp/planner/motion_library.h"
 #include "edsp/logger/measurement_export.h"
 #include "edsp/rig/rig_effects.h"
 #include "edsp/sim/stack_simulation.h"
@@ -44,14 +45,6 @@ class SimLog {
   std::int64_t events_ = 0;
 };
 
-std::unique_ptr<TrajectorySequence> Motions(const PlatformModel& model, const OfflineRunOptions& o) {
-  auto sequence = std::make_unique<TrajectorySequence>();
-  for (const std::string& name : o.motions) {
-    AppendPaperMotion(name, model.home_pose().ToVector(), o.paper, sequence.get());
-  }
-  return sequence;
-}
-
 }  // namespace
 
 OfflineRunResult RunOffline(const std::string& config_path, const OfflineRunOptions& options) {
@@ -75,7 +68,9 @@ OfflineRunResult RunOffline(const std::string& config_path, const RigEffects& ef
     stack.calibration = calibration::LoadCalibration(
         calibration_path, model, options.apply_ambiguous || nominal.calibration_apply_ambiguous);
   }
-  StackSimulation sim(nominal, Motions(model, options), stack);
+  CalibrationMotionOptions design;
+  design.identifiability.pr_mode = options.pr_mode;
+  StackSimulation sim(nominal, MotionSequence(model, options.motions, options.paper, design), stack);
 
   std::error_code ec;
   std::filesystem::create_directories(options.out_dir, ec);

@@ -31,4 +31,10 @@ bool ParseEffect(const std::string& name, Effect* effect);
 // Number of parameters θ of the effect's leg-space basis.
 int ParameterCount(Effect effect);
 
+// What parameter k of the effect amounts to on a real rig (in its own unit:
+// m, s, s², per metre of travel, ...): the scale at which a motion set's
+// identifiability is judged (planner/identifiability.h), so that columns of
+// metres, seconds and ratios meet on equal terms.
+double TypicalParameterSize(Effect effect, int k);
+
 }  // namespace edsp::calibration

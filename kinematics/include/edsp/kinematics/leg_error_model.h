@@ -53,6 +53,19 @@ class LegErrorTracker {
   bool first_ = true;
 };
 
+// Where the tracker's point A is at a pose and how it moves with the legs'
+// lengths, ∂A/∂q · (∂l/∂q)⁻¹ with the screws following the true signed PR:
+// what turns a leg-space error into a point-A error.
+struct PointSensitivity {
+  Vector3 point = Vector3::Zero();
+  Eigen::Matrix<double, 3, 6> per_leg = Eigen::Matrix<double, 3, 6>::Zero();
+};
+// False (and *out untouched) where the pose is singular for the model.
+bool PointSensitivityAt(const PlatformModel& model, const Pose& pose, PointSensitivity* out);
+
+// [v]×: the cross product with v as a matrix.
+Matrix3 Skew(const Vector3& v);
+
 // Leg-space basis B_e (6 × ParameterCount(e)) of one effect at one state.
 Eigen::MatrixXd LegErrorBasis(Effect effect, const LegErrorState& state, const PlatformModel& model);
 

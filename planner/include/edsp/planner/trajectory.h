@@ -80,6 +80,7 @@ class TrajectorySequence final : public Trajectory {
   // Index and name of the segment playing at t (the last one after the end).
   int SegmentAt(double t_s) const;
   const std::string& SegmentName(int index) const { return segments_[index].name; }
+  double SegmentStart(int index) const { return segments_[index].start_s; }
   int size() const { return static_cast<int>(segments_.size()); }
   Vector6 EndPose() const;
 

@@ -1,0 +1,24 @@
+#pragma once
+// Every motion edsp plans by name: the paper's single-axis motions and the
+// mixed ones (paper_motions.h), and "calibration", the motion set designed
+// for identification (calibration_motions.h).
+
+#include <string>
+#include <vector>
+
+#include "edsp/kinematics/platform_model.h"
+#include "edsp/planner/calibration_motions.h"
+#include "edsp/planner/paper_motions.h"
+
+namespace edsp {
+
+// Throws std::invalid_argument naming an unknown motion and the known ones.
+void AppendMotion(const PlatformModel& model, const std::string& name, const PaperMotionOptions& paper,
+                  TrajectorySequence* sequence, const CalibrationMotionOptions& calibration = {});
+
+// The named motions one after another, from home.
+std::unique_ptr<TrajectorySequence> MotionSequence(const PlatformModel& model, const std::vector<std::string>& names,
+                                                   const PaperMotionOptions& paper,
+                                                   const CalibrationMotionOptions& calibration = {});
+
+}  // namespace edsp
