@@ -65,6 +65,8 @@ nlohmann::json ToJson(const Identifiability& row) {
 // The motions' identifiability beside the paper's four (identifiability.h).
 int ReportIdentifiability(const PlatformModel& model, const TrajectorySequence& motions,
                           const PaperMotionOptions& paper, const IdentifiabilityOptions& options, bool json) {
+  // A motion set the planner would refuse is not one to judge.
+  CheckTrajectory(model, motions);
   const auto reference = MotionSequence(model, PaperMotionNames(), paper);
   const std::vector<Identifiability> ours = AssessIdentifiability(model, motions, options);
   const std::vector<Identifiability> theirs = AssessIdentifiability(model, *reference, options);
@@ -110,12 +112,16 @@ int Run(int argc, char** argv) {
                  "exit after holding the final pose this long (default: hold until stopped)");
   bool identifiability = false, json = false;
   IdentifiabilityOptions assess;
-  app.add_flag("--identifiability", identifiability,
-               "print how well the motions identify each effect beside the paper's four, and exit");
-  app.add_flag("--json", json, "with --identifiability: JSON on stdout");
-  app.add_option("--tracker-rate-hz", assess.rate_hz, "with --identifiability")->check(CLI::Range(1.0, 10000.0));
+  CLI::Option* assess_flag = app.add_flag(
+      "--identifiability", identifiability,
+      "print how well the motions identify each effect beside the paper's four, and exit");
+  app.add_flag("--json", json, "with --identifiability: JSON on stdout")->needs(assess_flag);
+  app.add_option("--tracker-rate-hz", assess.rate_hz, "with --identifiability")
+      ->check(CLI::Range(1.0, 10000.0))
+      ->needs(assess_flag);
   app.add_option("--tracker-noise-m", assess.noise_sigma_m, "with --identifiability: per axis")
-      ->check(CLI::Range(1e-9, 1e-2));
+      ->check(CLI::Range(1e-9, 1e-2))
+      ->needs(assess_flag);
   CLI11_PARSE(app, argc, argv);
 
   const PlatformModel model(LoadConfigFile(node.config_path));

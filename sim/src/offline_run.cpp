@@ -68,9 +68,9 @@ OfflineRunResult RunOffline(const std::string& config_path, const RigEffects& ef
     stack.calibration = calibration::LoadCalibration(
         calibration_path, model, options.apply_ambiguous || nominal.calibration_apply_ambiguous);
   }
-  CalibrationMotionOptions design;
-  design.identifiability.pr_mode = options.pr_mode;
-  StackSimulation sim(nominal, MotionSequence(model, options.motions, options.paper, design), stack);
+  // The same motions as the live planner plans for this platform, whatever
+  // the compensation this run applies.
+  StackSimulation sim(nominal, MotionSequence(model, options.motions, options.paper), stack);
 
   std::error_code ec;
   std::filesystem::create_directories(options.out_dir, ec);

@@ -8,22 +8,13 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "command_output.h"
+
 namespace {
 
-struct Output {
-  int status = -1;
-  std::string text;
-};
+using Output = edsp::test_support::CommandOutput;
 
-Output Gap(const std::string& args) {
-  Output out;
-  const std::string command = fmt::format("{} {} 2>&1", EDSP_GAP_BINARY, args);
-  FILE* pipe = popen(command.c_str(), "r");
-  char buffer[4096];
-  while (pipe && fgets(buffer, sizeof buffer, pipe)) out.text += buffer;
-  out.status = pipe ? pclose(pipe) : -1;
-  return out;
-}
+Output Gap(const std::string& args) { return edsp::test_support::RunCommand(fmt::format("{} {}", EDSP_GAP_BINARY, args)); }
 
 std::string Dir() { return fmt::format("{}/edsp_gap_cli_{}", testing::TempDir(), ::getpid()); }
 
@@ -43,7 +34,7 @@ TEST(EdspGapCli, DiagnoseJsonHasTheInterfaceKeysAndAModelThatEvaluates) {
   const std::string model = Dir() + "/model.json", report = Dir() + "/report";
   const Output out = Gap(fmt::format("diagnose --config {}/config/huang2021.toml --data {} --json --save-model {} --report {}",
                                      EDSP_SOURCE_DIR, csv, model, report));
-  ASSERT_EQ(out.status, 0) << out.text;
+  ASSERT_EQ(out.exit_code, 0) << out.text;
   const nlohmann::json j = nlohmann::json::parse(out.text);
   for (const char* key : {"rms_m", "max_m", "by_run", "by_leg_m", "where"}) EXPECT_TRUE(j["gap"].contains(key)) << key;
   EXPECT_EQ(j["gap"]["by_leg_m"].size(), 6u);
@@ -58,7 +49,7 @@ TEST(EdspGapCli, DiagnoseJsonHasTheInterfaceKeysAndAModelThatEvaluates) {
 
   const Output ev = Gap(fmt::format("evaluate --config {}/config/huang2021.toml --model {} --data {} --json",
                                     EDSP_SOURCE_DIR, model, csv));
-  ASSERT_EQ(ev.status, 0) << ev.text;
+  ASSERT_EQ(ev.exit_code, 0) << ev.text;
   const nlohmann::json e = nlohmann::json::parse(ev.text);
   EXPECT_GT(e["shrink"].get<double>(), 0.9);
   EXPECT_LT(e["after"]["rms_m"].get<double>(), e["before"]["rms_m"].get<double>());
@@ -73,27 +64,27 @@ TEST(EdspGapCli, WrongInputsAreNamedWithANonZeroExit) {
                         "0,Lz,0,0,1.511,0,0,0,1.9,1.9,1.9,1.9,1.9,1.9,1.2,0,1.5\n"
                         "0.01,Lz,0,0,1.511,0,0,0,1.9,1.9,x1.9,1.9,1.9,1.9,1.2,0,1.5\n";
   Output out = Gap(fmt::format("diagnose --config {}/config/huang2021.toml --data {}", EDSP_SOURCE_DIR, bad));
-  EXPECT_NE(out.status, 0);
+  EXPECT_NE(out.exit_code, 0);
   EXPECT_NE(out.text.find(bad + ":3:"), std::string::npos) << out.text;
   EXPECT_NE(out.text.find("\"x1.9\" is not a number"), std::string::npos) << out.text;
 
   out = Gap(fmt::format("diagnose --config {}/config/huang2021.toml --data /nonexistent.csv", EDSP_SOURCE_DIR));
-  EXPECT_NE(out.status, 0);
+  EXPECT_NE(out.exit_code, 0);
   EXPECT_NE(out.text.find("/nonexistent.csv: cannot open"), std::string::npos) << out.text;
 
   const std::string model = Dir() + "/broken_model.json";
   std::ofstream(model) << "{\"format\": \"edsp-gap-model/1\", \"effects\": [{\"name\": \"gremlins\", \"theta\": []}]}";
   out = Gap(fmt::format("evaluate --config {}/config/huang2021.toml --model {} --data {}", EDSP_SOURCE_DIR, model, bad));
-  EXPECT_NE(out.status, 0);
+  EXPECT_NE(out.exit_code, 0);
   std::ofstream(model) << "{not json";
   out = Gap(fmt::format("evaluate --config {}/config/huang2021.toml --model {} --data {}", EDSP_SOURCE_DIR, model,
                         SimulatedCsv()));
-  EXPECT_NE(out.status, 0);
+  EXPECT_NE(out.exit_code, 0);
   EXPECT_NE(out.text.find("not JSON"), std::string::npos) << out.text;
   std::ofstream(model) << "{\"format\": \"edsp-gap-model/1\", \"effects\": [{\"name\": \"gremlins\", \"theta\": []}]}";
   out = Gap(fmt::format("evaluate --config {}/config/huang2021.toml --model {} --data {}", EDSP_SOURCE_DIR, model,
                         SimulatedCsv()));
-  EXPECT_NE(out.status, 0);
+  EXPECT_NE(out.exit_code, 0);
   EXPECT_NE(out.text.find("unknown effect \"gremlins\""), std::string::npos) << out.text;
 }
 
@@ -107,7 +98,7 @@ namespace {
 // refused by name.
 TEST(EdspGapCli, BenchmarkOnTheBlindRigScoresEveryKindWithItsTargets) {
   const Output out = Gap("benchmark --generator blind --scenarios 5 --seed 31 --motions Lz,Rz,M1,M2 --json");
-  ASSERT_EQ(out.status, 0) << out.text;
+  ASSERT_EQ(out.exit_code, 0) << out.text;
   const nlohmann::json j = nlohmann::json::parse(out.text);
   EXPECT_EQ(j["generator"], "blind");
   const std::vector<std::string> kinds = {"none", "single", "single", "pair", "out_of_vocabulary"};
@@ -128,7 +119,7 @@ TEST(EdspGapCli, BenchmarkOnTheBlindRigScoresEveryKindWithItsTargets) {
     for (const char* key : {"score", "measured", "target", "met"}) EXPECT_TRUE(t.contains(key)) << t.dump();
   }
   const Output bad = Gap("benchmark --generator sim --scenarios 1");
-  EXPECT_NE(bad.status, 0);
+  EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.text.find("sim"), std::string::npos) << bad.text;
 }
 

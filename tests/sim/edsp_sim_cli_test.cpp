@@ -1,6 +1,5 @@
 // edsp-sim as a user runs it: JSON outputs match the library, bad input gets
 // a non-zero exit and a message naming what is wrong.
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <array>
@@ -12,33 +11,23 @@
 
 #include "edsp/kinematics/config.h"
 #include "edsp/sim/paper_table.h"
+#include "command_output.h"
 
 namespace edsp {
 namespace {
 
-struct CommandRun {
-  int exit_code;
-  std::string output;  // stdout and stderr
-};
+using CommandRun = test_support::CommandOutput;
 
 CommandRun RunSim(const std::string& arguments) {
-  const std::string command = std::string(EDSP_SIM_BINARY) + " " + arguments + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  EXPECT_NE(pipe, nullptr);
-  CommandRun run{-1, ""};
-  std::array<char, 4096> buffer{};
-  while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) run.output += buffer.data();
-  const int status = pclose(pipe);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
+  return test_support::RunCommand(std::string(EDSP_SIM_BINARY) + " " + arguments);
 }
 
 const std::string kConfig = std::string("--config ") + EDSP_SOURCE_DIR + "/config/huang2021.toml";
 
 TEST(EdspSimCli, PrJsonMatchesTheLibrary) {
   const CommandRun run = RunSim("pr " + kConfig + " --pose=0.1,-0.05,1.6,0.05,-0.1,0.2 --json");
-  ASSERT_EQ(run.exit_code, 0) << run.output;
-  const auto out = nlohmann::json::parse(run.output);
+  ASSERT_EQ(run.exit_code, 0) << run.text;
+  const auto out = nlohmann::json::parse(run.text);
   const PlatformModel model(LoadConfigFile(EDSP_SOURCE_DIR "/config/huang2021.toml"));
   Pose pose;
   pose.p_BoMo_B << 0.1, -0.05, 1.6;
@@ -54,8 +43,8 @@ TEST(EdspSimCli, PrJsonMatchesTheLibrary) {
 
 TEST(EdspSimCli, PaperTableJsonHasEveryMotionAndMode) {
   const CommandRun run = RunSim("paper-table " + kConfig + " --json");
-  ASSERT_EQ(run.exit_code, 0) << run.output;
-  const auto out = nlohmann::json::parse(run.output);
+  ASSERT_EQ(run.exit_code, 0) << run.text;
+  const auto out = nlohmann::json::parse(run.text);
   for (const char* motion : {"Lz", "Lx", "Rz", "Ry"}) {
     for (const char* key : {"none_max_m", "unsigned_max_m", "signed_max_m", "asin_max_m"}) {
       ASSERT_TRUE(out["motions"][motion][key].is_number()) << motion << " " << key;
@@ -67,17 +56,17 @@ TEST(EdspSimCli, PaperTableJsonHasEveryMotionAndMode) {
 
 TEST(EdspSimCli, PaperTableTextLooksLikeTable1) {
   const CommandRun run = RunSim("paper-table " + kConfig);
-  ASSERT_EQ(run.exit_code, 0) << run.output;
+  ASSERT_EQ(run.exit_code, 0) << run.text;
   for (const char* part : {"Lz", "Lx", "Rz", "Ry", "unsigned Eq.(9)", "signed (edsp)"}) {
-    EXPECT_NE(run.output.find(part), std::string::npos) << part;
+    EXPECT_NE(run.text.find(part), std::string::npos) << part;
   }
 }
 
 void ExpectFailure(const std::string& arguments, const std::string& fragment) {
   const CommandRun run = RunSim(arguments);
   EXPECT_NE(run.exit_code, 0) << arguments;
-  EXPECT_NE(run.output.find(fragment), std::string::npos)
-      << arguments << "\nprinted: " << run.output;
+  EXPECT_NE(run.text.find(fragment), std::string::npos)
+      << arguments << "\nprinted: " << run.text;
 }
 
 TEST(EdspSimCli, BadInputFailsWithAMessageNamingIt) {
