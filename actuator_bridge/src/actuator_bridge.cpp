@@ -52,6 +52,15 @@ bool ActuatorBridge::Rearm(std::string* error) {
 }
 
 fault_t ActuatorBridge::HandleArm(const arm_t& arm, std::int64_t now_utime) {
+  return arm_answers_.Answer(
+      arm, [&] { return ActOnArm(arm, now_utime); },
+      [&](std::string reason) {
+        return MakeFault(options_.node_name, "EDSP_ARM", FaultCode::kBadRequest, fault_t::SEVERITY_WARNING,
+                         "re-arm " + reason, now_utime);
+      });
+}
+
+fault_t ActuatorBridge::ActOnArm(const arm_t& arm, std::int64_t now_utime) {
   if (arm.session_id != options_.session_id) {
     return MakeFault(options_.node_name, "EDSP_ARM", FaultCode::kForeignSession, fault_t::SEVERITY_WARNING,
                      fmt::format("re-arm from session {} ignored (this group is session {})", arm.session_id,

@@ -7,7 +7,10 @@
 // the group's leg commands or setpoints and takes their session; several
 // sessions on the bus (two groups) is an error naming them. The command then
 // waits up to --timeout-s for the node's confirmation on EDSP_FAULT and
-// prints it; exit 0 only if confirmed, 2 if refused or unanswered.
+// prints it; exit 0 only if confirmed, 2 if refused or unanswered. Request
+// and answer are single UDP datagrams among the group's kHz traffic, so the
+// same request goes out again every 0.5 s until answered: the node acts on
+// it once and answers every copy alike (node/operator_requests.h).
 #include <unistd.h>
 
 #include <chrono>
@@ -87,9 +90,13 @@ std::int64_t SessionId(Bus& bus, const CtlOptions& o) {
   throw std::runtime_error("--session-id " + o.session + ": give a non-negative integer or auto");
 }
 
-// Waits for the node's answer on EDSP_FAULT about `channel`; prints it.
-// Called last: nothing handles the bus after it returns.
-int AwaitConfirmation(Bus& bus, const std::string& node, const std::string& channel, const CtlOptions& o) {
+// Waits for the node's answer on EDSP_FAULT about `channel`, calling
+// `send` at once and again every kResend until it comes; prints it. Called
+// last: nothing handles the bus after it returns.
+template <typename Send>
+int AwaitConfirmation(Bus& bus, const std::string& node, const std::string& channel, const CtlOptions& o,
+                      Send send) {
+  constexpr auto kResend = std::chrono::milliseconds(500);
   struct Answer {
     bool given = false;
     int status = 2;
@@ -102,7 +109,14 @@ int AwaitConfirmation(Bus& bus, const std::string& node, const std::string& chan
     std::printf("%s: %s\n", node.c_str(), f.reason.c_str());
   });
   const auto until = Deadline(o);
-  while (!answer->given && Clock::now() < until) bus.Handle(std::chrono::milliseconds(50));
+  auto next_send = Clock::now();
+  while (!answer->given && Clock::now() < until) {
+    if (Clock::now() >= next_send) {
+      send();
+      next_send = Clock::now() + kResend;
+    }
+    bus.Handle(std::chrono::milliseconds(50));
+  }
   if (!answer->given) std::fprintf(stderr, "edsp-ctl: no answer from %s within %g s\n", node.c_str(), o.timeout_s);
   return answer->status;
 }
@@ -123,9 +137,9 @@ int SendAndConfirm(const CtlOptions& o, const std::string& channel, Msg request,
   request.utime = UtimeNow();
   request.seq = 1;
   request.operator_name = o.operator_name.empty() ? DefaultOperator() : o.operator_name;
-  bus.Subscribe<fault_t>("EDSP_FAULT", [](const fault_t&) {});  // listening before we send
-  if (!bus.Publish(channel, request)) throw std::runtime_error(channel + " could not be sent");
-  return AwaitConfirmation(bus, node, channel, o);
+  return AwaitConfirmation(bus, node, channel, o, [&] {
+    if (!bus.Publish(channel, request)) throw std::runtime_error(channel + " could not be sent");
+  });
 }
 
 int Arm(const CtlOptions& o) { return SendAndConfirm(o, "EDSP_ARM", arm_t{}, "actuator_bridge"); }

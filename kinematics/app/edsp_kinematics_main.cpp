@@ -82,32 +82,7 @@ int Run(int argc, char** argv) {
     status.RecordLoop(std::chrono::steady_clock::now() - start);
   });
   bus.Subscribe<pr_mode_t>("EDSP_PR_MODE", [&](const pr_mode_t& request) {
-    const std::int64_t now = UtimeNow();
-    if (request.session_id != node.session_id) {
-      reporting.Fault(MakeFault("kinematics", "EDSP_PR_MODE", FaultCode::kForeignSession,
-                                fault_t::SEVERITY_WARNING,
-                                fmt::format("PR mode request from session {} ignored (this group is session {})",
-                                            request.session_id, node.session_id),
-                                now));
-      return;
-    }
-    PrMode mode;
-    const std::string text = std::to_string(request.pr_mode);
-    if (!ParsePrMode(text.c_str(), &mode)) {
-      reporting.Fault(MakeFault("kinematics", "EDSP_PR_MODE", FaultCode::kBadRequest,
-                                fault_t::SEVERITY_WARNING,
-                                fmt::format("PR mode {} from {} is not 0..3; mode stays {}", text,
-                                            request.operator_name, PrModeName(kinematics.pr_mode())),
-                                now));
-      return;
-    }
-    const PrMode before = kinematics.pr_mode();
-    kinematics.SwitchPrMode(mode);
-    reporting.Fault(MakeFault("kinematics", "EDSP_PR_MODE", FaultCode::kOperatorAction, fault_t::SEVERITY_INFO,
-                              fmt::format("PR mode {} → {} (requested by {}), blended over {} ms",
-                                          PrModeName(before), PrModeName(mode), request.operator_name,
-                                          options.pr_blend_us / 1000),
-                              now));
+    reporting.Fault(kinematics.HandlePrModeRequest(request, UtimeNow()));
   });
   std::int64_t leg_states = 0;
   bus.Subscribe<leg_state_t>("EDSP_LEG_STATE", [&](const leg_state_t& legs) {

@@ -39,6 +39,39 @@ fault_t KinematicsNode::Fault(FaultCode code, std::string reason, std::int64_t n
                    fault_t::SEVERITY_ERROR, std::move(reason), now_utime);
 }
 
+fault_t KinematicsNode::HandlePrModeRequest(const pr_mode_t& request, std::int64_t now_utime) {
+  return pr_mode_answers_.Answer(
+      request, [&] { return ActOnPrModeRequest(request, now_utime); },
+      [&](std::string reason) {
+        return MakeFault(options_.node_name, "EDSP_PR_MODE", FaultCode::kBadRequest, fault_t::SEVERITY_WARNING,
+                         fmt::format("PR mode {}; mode stays {}", reason, PrModeName(options_.pr_mode)), now_utime);
+      });
+}
+
+fault_t KinematicsNode::ActOnPrModeRequest(const pr_mode_t& request, std::int64_t now_utime) {
+  const std::string& node = options_.node_name;
+  if (request.session_id != options_.session_id) {
+    return MakeFault(node, "EDSP_PR_MODE", FaultCode::kForeignSession, fault_t::SEVERITY_WARNING,
+                     fmt::format("PR mode request from session {} ignored (this group is session {})",
+                                 request.session_id, options_.session_id),
+                     now_utime);
+  }
+  PrMode mode;
+  const std::string text = std::to_string(request.pr_mode);
+  if (!ParsePrMode(text.c_str(), &mode)) {
+    return MakeFault(node, "EDSP_PR_MODE", FaultCode::kBadRequest, fault_t::SEVERITY_WARNING,
+                     fmt::format("PR mode {} from {} is not 0..3; mode stays {}", text, request.operator_name,
+                                 PrModeName(options_.pr_mode)),
+                     now_utime);
+  }
+  const PrMode before = options_.pr_mode;
+  SwitchPrMode(mode);
+  return MakeFault(node, "EDSP_PR_MODE", FaultCode::kOperatorAction, fault_t::SEVERITY_INFO,
+                   fmt::format("PR mode {} → {} (requested by {}), blended over {} ms", PrModeName(before),
+                               PrModeName(mode), request.operator_name, options_.pr_blend_us / 1000),
+                   now_utime);
+}
+
 void KinematicsNode::SwitchPrMode(PrMode mode) {
   if (mode == options_.pr_mode) return;  // already there, or on the way: carry on
   blend_from_ = last_weights_;

@@ -177,8 +177,12 @@ TEST_F(BridgeTour, ARestartedBridgeLeavesItsStartupHoldOnlyByAReArm) {
   EXPECT_EQ(State(), "rejoining");
 }
 
+// Each call a new request, as edsp-ctl makes them (its own utime).
 arm_t Arm(std::int64_t session_id) {
+  static std::int64_t utime = 0;
   arm_t arm{};
+  arm.utime = ++utime;
+  arm.seq = 1;
   arm.session_id = session_id;
   arm.operator_name = "tester";
   return arm;
@@ -208,6 +212,27 @@ TEST_F(BridgeTour, AnArmFromTheGroupReArmsALatchedBridgeAndConfirms) {
   EXPECT_EQ(answer.severity, fault_t::SEVERITY_INFO);
   EXPECT_NE(answer.reason.find("re-armed by tester; rejoining the command stream at 0.020 m/s"),
             std::string::npos) << answer.reason;
+  EXPECT_EQ(State(), "armed");
+}
+
+// edsp-ctl sends its request again until it hears the answer: a copy of a
+// re-arm is answered as the re-arm was (not "was not latched"), and nothing
+// is re-armed twice; a late copy of an older request changes nothing.
+TEST_F(BridgeTour, ACopyOfAReArmGetsTheSameAnswerAndReArmsNothingMore) {
+  ASSERT_TRUE(Send(0.0));
+  Cycles(60);
+  ASSERT_EQ(State(), "latched");
+  const arm_t older = Arm(9);
+  const arm_t arm = Arm(9);
+  const fault_t answer = bridge_.HandleArm(arm, t_);
+  ASSERT_NE(answer.reason.find("rejoining the command stream"), std::string::npos) << answer.reason;
+  const fault_t copy = bridge_.HandleArm(arm, t_ + 500000);
+  EXPECT_EQ(copy.reason, answer.reason);
+  EXPECT_EQ(copy.utime, answer.utime);
+  EXPECT_EQ(State(), "armed");
+  const fault_t late = bridge_.HandleArm(older, t_ + 600000);
+  EXPECT_EQ(late.code, static_cast<std::int32_t>(FaultCode::kBadRequest));
+  EXPECT_NE(late.reason.find("older than the one acted on"), std::string::npos) << late.reason;
   EXPECT_EQ(State(), "armed");
 }
 

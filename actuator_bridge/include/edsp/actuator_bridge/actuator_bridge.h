@@ -11,6 +11,7 @@
 #include "edsp/actuator_bridge/bridge_state.h"
 #include "edsp/actuator_bridge/drive_backend.h"
 #include "edsp/node/fault.h"
+#include "edsp/node/operator_requests.h"
 #include "edsp/kinematics/platform_model.h"
 #include "edsp/arm_t.hpp"
 #include "edsp/leg_command_t.hpp"
@@ -58,7 +59,9 @@ class ActuatorBridge {
   // An operator's EDSP_ARM: re-arms if it comes from this group's session.
   // Returns what to publish on EDSP_FAULT, which edsp-ctl waits for: the
   // confirmation (info), a foreign session ignored (warning), or drives that
-  // could not be reset (error, still latched).
+  // could not be reset (error, still latched). A copy of the last request
+  // (edsp-ctl sends it again until answered) gets the same answer and is not
+  // acted on again.
   fault_t HandleArm(const arm_t& arm, std::int64_t now_utime);
   BridgeState state() const { return state_; }
   bool rejoining() const { return IsRejoining(state_); }
@@ -68,6 +71,8 @@ class ActuatorBridge {
   std::int64_t rejected() const { return rejected_; }
 
  private:
+  fault_t ActOnArm(const arm_t& arm, std::int64_t now_utime);
+  OperatorRequestAnswers arm_answers_;
   fault_t Fault(FaultCode code, std::string reason, std::int64_t now_utime) const;
   bool Reject(FaultCode code, std::string reason, std::int64_t now_utime, fault_t* fault);
   // The target this command allows: itself, or while rejoining a bounded

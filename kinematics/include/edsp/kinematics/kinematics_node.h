@@ -13,6 +13,8 @@
 #include <string>
 
 #include "edsp/node/fault.h"
+#include "edsp/node/operator_requests.h"
+#include "edsp/pr_mode_t.hpp"
 #include "edsp/kinematics/calibration.h"
 #include "edsp/kinematics/platform_model.h"
 #include "edsp/leg_command_t.hpp"
@@ -54,6 +56,11 @@ class KinematicsNode {
   // next setpoint: switching none → signed at Rz 30° is a 1.4 mm change,
   // which in one step the bridge would (rightly) refuse as a jump.
   void SwitchPrMode(PrMode mode);
+  // An operator's EDSP_PR_MODE: switches (blended) if it comes from this
+  // group's session. Returns what to publish on EDSP_FAULT, which edsp-ctl
+  // waits for: the confirmation (info), or why it was ignored (warning). A
+  // copy of the last request gets the same answer and switches nothing.
+  fault_t HandlePrModeRequest(const pr_mode_t& request, std::int64_t now_utime);
   PrMode pr_mode() const { return options_.pr_mode; }
   bool blending() const { return blending_; }
   const PlatformModel& model() const { return model_; }
@@ -66,6 +73,8 @@ class KinematicsNode {
   fault_t Fault(FaultCode code, std::string reason, std::int64_t now_utime,
                 const char* channel) const;
   Vector6 BlendedPrError(const LegSolution& legs, std::int64_t setpoint_utime);
+  fault_t ActOnPrModeRequest(const pr_mode_t& request, std::int64_t now_utime);
+  OperatorRequestAnswers pr_mode_answers_;
 
   PlatformModel model_;
   KinematicsNodeOptions options_;
