@@ -1,5 +1,6 @@
 #include "edsp/diagnosis/report.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -9,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "edsp/diagnosis/linear_fit.h"
+#include "edsp/diagnosis/parameter_table.h"
 
 namespace edsp::gap {
 
@@ -194,6 +196,88 @@ nlohmann::json ToJson(const Evaluation& e) {
 
 namespace {
 
+// The verdict: the conclusion, the ranking and what held-out runs say.
+std::string VerdictMarkdown(const Diagnosis& d) {
+  std::string md = "## Verdict\n\n";
+  if (d.conclusion == "none") md += "**none**: the measurement agrees with the model within the tracker's noise.\n\n";
+  else if (d.structure.structured) md += "**" + d.conclusion + "**: " + d.unexplained_note + ".\n\n";
+  else md += "**" + d.conclusion + "**\n\n";
+  md += "| rank | effect | verdict | explained | held-out gain | with | next measurement |\n|---|---|---|---|---|---|---|\n";
+  for (std::size_t k = 0; k < d.effects.size(); ++k) {
+    const EffectResult& r = d.effects[k];
+    md += fmt::format("| {} | `{}` | {} | {:.1f}% | {:.1f}% | {} | {} |\n", k + 1, EffectName(r.effect), r.verdict,
+                      100 * r.explained_fraction, 100 * r.cv_gain, fmt::join(r.ambiguous_with, ", "), r.next_measurement);
+  }
+  md += fmt::format("\nOn runs held out of every fit: {:.1f} µm RMS ({:.1f} max) before, {:.1f} µm RMS ({:.1f} max) "
+                    "after the selected effects, shrink {:.0f}%; the tracker's noise floor is {:.1f} µm.\n\n",
+                    d.holdout_before.rms_m * 1e6, d.holdout_before.max_m * 1e6, d.holdout_after.rms_m * 1e6,
+                    d.holdout_after.max_m * 1e6, 100 * d.shrink, d.noise_floor_rms_m * 1e6);
+  return md;
+}
+
+std::string ParametersMarkdown(const Diagnosis& d) {
+  std::string md = "## Parameters of the effects found\n\nEach value ± its 1-σ from the Ceres fit.\n\n";
+  bool any = false;
+  for (const EffectResult& r : d.effects) {
+    if (r.verdict == "rejected" || r.theta.size() == 0) continue;
+    any = true;
+    md += ParameterTableMarkdown(r);
+    if (!r.correlated_with.empty()) {
+      md += fmt::format("\nStrongest correlation of a parameter: {:.2f}, with {}.\n", r.max_correlation,
+                        r.correlated_with);
+    }
+    md += "\n";
+  }
+  if (!any) md += "None.\n\n";
+  return md;
+}
+
+std::string WhereMarkdown(const Diagnosis& d) {
+  std::string md = "## Where the gap lies\n\n" + d.gap.where + "\n\n";
+  md += fmt::format("Before any effect: {:.1f} µm RMS, {:.1f} µm max at A.\n\n", d.gap.overall.rms_m * 1e6,
+                    d.gap.overall.max_m * 1e6);
+  md += "| run | RMS (µm) | max (µm) |\n|---|---|---|\n";
+  for (const auto& [run, s] : d.gap.by_run) md += fmt::format("| {} | {:.1f} | {:.1f} |\n", run, s.rms_m * 1e6, s.max_m * 1e6);
+  md += "\n![gap against time](gap_vs_time.png)\n\n![gap against displacement](gap_vs_displacement.png)\n\n"
+        "![legs](legs.png)\n\n![after the selected effects](after_vs_time.png)\n\n";
+  return md;
+}
+
+// What a rig team does with the result: apply, measure, or look further.
+std::string NextStepsMarkdown(const Diagnosis& d) {
+  std::string md = "## What to do next\n\n";
+  std::vector<std::string> apply, measure;
+  for (const EffectResult& r : d.effects) {
+    const bool selected = std::find(d.selected.begin(), d.selected.end(), r.effect) != d.selected.end();
+    if (selected && r.verdict == "identified") apply.push_back(fmt::format("`{}`", EffectName(r.effect)));
+    if (r.verdict == "ambiguous" && !r.next_measurement.empty()) {
+      measure.push_back(fmt::format("- `{}` (ambiguous with {}): {}", EffectName(r.effect),
+                                    fmt::join(r.ambiguous_with, ", "), r.next_measurement));
+    }
+  }
+  if (!apply.empty()) {
+    md += fmt::format("- Apply {}: save the model (`edsp-gap diagnose … --save-model MODEL`) and run "
+                      "`edsp-kinematics --calibration MODEL` (or `[calibration] model` in the config).\n",
+                      fmt::join(apply, ", "));
+  }
+  md += "- PR compensation: " + Compensation(d)["note"].get<std::string>() + ".\n";
+  if (!measure.empty()) md += "- Separate the ambiguous effects with one more measurement:\n" + fmt::format("  {}\n", fmt::join(measure, "\n  "));
+  if (d.structure.structured) md += "- Look beyond the vocabulary: " + d.unexplained_note + ".\n";
+  else md += "- What is left: " + d.unexplained_note + ".\n";
+  return md;
+}
+
+}  // namespace
+
+std::string ReportMarkdown(const Diagnosis& d) {
+  std::string md = "# Gap diagnosis\n\n";
+  md += fmt::format("{} samples in {} runs ({}), diagnosed in {:.1f} s.\n\n", d.samples, d.runs.size(),
+                    fmt::join(d.runs, ", "), d.seconds);
+  return md + VerdictMarkdown(d) + ParametersMarkdown(d) + WhereMarkdown(d) + NextStepsMarkdown(d);
+}
+
+namespace {
+
 void Plot(const std::string& dir, const std::string& png, const std::string& script) {
   const std::string path = dir + "/" + png + ".gp";
   std::ofstream(path) << "set terminal pngcairo size 900,500\nset output '" << dir << "/" << png << "'\n"
@@ -244,42 +328,7 @@ std::vector<std::string> WriteReport(const Diagnosis& d, const std::string& dir)
   }
 
   std::ofstream md(dir + "/report.md");
-  md << "# Gap diagnosis\n\n";
-  md << fmt::format("{} samples in {} runs ({}), diagnosed in {:.1f} s.\n\n", d.samples, d.runs.size(),
-                    fmt::join(d.runs, ", "), d.seconds);
-  md << "## Verdict\n\n";
-  if (d.conclusion == "none") md << "**none**: the measurement agrees with the model within the tracker's noise.\n\n";
-  if (d.structure.structured) md << "**" << d.conclusion << "**: " << d.unexplained_note << ".\n\n";
-  md << "| rank | effect | verdict | explained | held-out gain | with | next measurement |\n|---|---|---|---|---|---|---|\n";
-  for (std::size_t k = 0; k < d.effects.size(); ++k) {
-    const EffectResult& r = d.effects[k];
-    md << fmt::format("| {} | `{}` | {} | {:.1f}% | {:.1f}% | {} | {} |\n", k + 1, EffectName(r.effect), r.verdict,
-                      100 * r.explained_fraction, 100 * r.cv_gain, fmt::join(r.ambiguous_with, ", "), r.next_measurement);
-  }
-  md << "\n## Parameters of the effects found (1-σ from the Ceres fit)\n\n";
-  for (const EffectResult& r : d.effects) {
-    if (r.verdict == "rejected" || r.theta.size() == 0) continue;
-    const nlohmann::json j = EffectJson(r);
-    md << fmt::format("- `{}`: {}", EffectName(r.effect), j["params"].dump());
-    if (j.contains("sigma")) md << fmt::format("; σ {}", j["sigma"].dump());
-    if (!r.correlated_with.empty()) {
-      md << fmt::format(" (strongest correlation {:.2f}, with {})", r.max_correlation, r.correlated_with);
-    }
-    md << "\n";
-  }
-  md << "\nCompensation to run next: " << Compensation(d)["note"].get<std::string>() << ".\n";
-  md << "\n## Where the gap lies\n\n" << d.gap.where << "\n\n";
-  md << fmt::format("Before any effect: {:.1f} µm RMS, {:.1f} µm max at A.\n\n", d.gap.overall.rms_m * 1e6,
-                    d.gap.overall.max_m * 1e6);
-  md << "| run | RMS (µm) | max (µm) |\n|---|---|---|\n";
-  for (const auto& [run, s] : d.gap.by_run) md << fmt::format("| {} | {:.1f} | {:.1f} |\n", run, s.rms_m * 1e6, s.max_m * 1e6);
-  md << "\n![gap against time](gap_vs_time.png)\n\n![gap against displacement](gap_vs_displacement.png)\n\n![legs](legs.png)\n\n";
-  md << "## How far it shrinks (runs held out of every fit)\n\n";
-  md << fmt::format("Before: {:.1f} µm RMS ({:.1f} max); after the selected effects: {:.1f} µm RMS ({:.1f} max); "
-                    "shrink {:.0f}%. Noise floor {:.1f} µm.\n\n",
-                    d.holdout_before.rms_m * 1e6, d.holdout_before.max_m * 1e6, d.holdout_after.rms_m * 1e6,
-                    d.holdout_after.max_m * 1e6, 100 * d.shrink, d.noise_floor_rms_m * 1e6);
-  md << "![after](after_vs_time.png)\n\n## What is left\n\n" << d.unexplained_note << ".\n";
+  md << ReportMarkdown(d);
   files.push_back(dir + "/report.md");
   return files;
 }

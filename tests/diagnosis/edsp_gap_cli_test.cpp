@@ -3,6 +3,7 @@
 // a message that names the file, line and column, and a non-zero exit.
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -44,8 +45,19 @@ TEST(EdspGapCli, DiagnoseJsonHasTheInterfaceKeysAndAModelThatEvaluates) {
   for (const char* key : {"runs", "before", "after", "shrink"}) EXPECT_TRUE(j["holdout"].contains(key)) << key;
   EXPECT_TRUE(j["unexplained"].contains("rms_m"));
   EXPECT_TRUE(j["unexplained"].contains("note"));
+  // report.md for people: the verdict first, then the parameters (in
+  // engineering units, not JSON), where, and what to do next.
   std::ifstream md(report + "/report.md");
-  EXPECT_TRUE(md.good());
+  ASSERT_TRUE(md.good());
+  const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  const std::size_t verdict = text.find("## Verdict"), parameters = text.find("## Parameters"),
+                    where = text.find("## Where the gap lies"), next = text.find("## What to do next");
+  ASSERT_NE(next, std::string::npos) << text;
+  EXPECT_LT(verdict, parameters);
+  EXPECT_LT(parameters, where);
+  EXPECT_LT(where, next);
+  EXPECT_NE(text.find("### `passive_rotation`"), std::string::npos) << text;
+  EXPECT_EQ(text.find("{\""), std::string::npos) << "JSON in report.md:\n" << text;
 
   const Output ev = Gap(fmt::format("evaluate --config {}/config/huang2021.toml --model {} --data {} --json",
                                     EDSP_SOURCE_DIR, model, csv));

@@ -30,6 +30,11 @@ Evaluation Evaluate(const PlatformModel& model, const MeasurementData& data, con
 
 nlohmann::json ToJson(const Evaluation& evaluation);
 
+// report.md for people: the verdict first (ranking, held-out shrink), the
+// found effects' parameters in engineering units, where the gap lies, then
+// what to do next. The PNGs it names are written by WriteReport.
+std::string ReportMarkdown(const Diagnosis& diagnosis);
+
 // Markdown report with PNG plots (gnuplot) in `dir`; returns the files written.
 std::vector<std::string> WriteReport(const Diagnosis& diagnosis, const std::string& dir);
 

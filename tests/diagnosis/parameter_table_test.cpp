@@ -1,0 +1,109 @@
+// report.md's parameter tables: each θ (SI, as fitted) in the unit a rig
+// team quotes, in the right leg's row and column, with its σ. The expected
+// cells are worked out by hand from the basis' units (leg_error_model.cpp).
+#include <cmath>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "edsp/diagnosis/parameter_table.h"
+
+namespace edsp::gap {
+namespace {
+
+EffectResult Fitted(Effect effect) {
+  EffectResult r;
+  r.effect = effect;
+  r.verdict = "identified";
+  r.theta = Eigen::VectorXd::Zero(ParameterCount(effect));
+  r.sigma = Eigen::VectorXd::Zero(ParameterCount(effect));
+  return r;
+}
+
+// The row of leg `leg` (1-based) in a per-leg table.
+std::string Row(const std::string& table, int leg) {
+  const std::string start = "\n| " + std::to_string(leg) + " |";
+  const std::size_t at = table.find(start);
+  if (at == std::string::npos) return "";
+  return table.substr(at + 1, table.find('\n', at + 1) - at - 1);
+}
+
+TEST(ParameterTable, ValueWithSigmaRoundsBothAndOmitsAMissingSigma) {
+  EXPECT_EQ(ValueWithSigma(12.345, 0.44, 1), "12.3 ± 0.4");
+  EXPECT_EQ(ValueWithSigma(12.345, std::nan(""), 1), "12.3");
+  EXPECT_EQ(ValueWithSigma(12.345, 0.0, 2), "12.35");
+  EXPECT_EQ(ValueWithSigma(std::nan(""), 0.1, 1), "–");
+}
+
+TEST(ParameterTable, LeadErrorIsInPpmPerLeg) {
+  EffectResult r = Fitted(Effect::kLeadError);
+  r.theta(2) = 12.3e-6;
+  r.sigma(2) = 0.4e-6;
+  const std::string t = ParameterTableMarkdown(r);
+  EXPECT_NE(t.find("lead error (ppm)"), std::string::npos) << t;
+  EXPECT_EQ(Row(t, 3), "| 3 | 12.3 ± 0.4 |") << t;
+  EXPECT_EQ(Row(t, 1), "| 1 | 0.0 |") << t;
+}
+
+TEST(ParameterTable, JointCentresPutEachCoordinateInItsLegAndColumn) {
+  EffectResult r = Fitted(Effect::kJointPosition);
+  r.theta(3 * 1 + 0) = 25e-6;        // base x of leg 2
+  r.theta(18 + 3 * 4 + 2) = -40e-6;  // platform z of leg 5
+  r.sigma(18 + 3 * 4 + 2) = 3e-6;
+  const std::string t = ParameterTableMarkdown(r);
+  EXPECT_EQ(Row(t, 2), "| 2 | 25.0 | 0.0 | 0.0 | 0.0 | 0.0 | 0.0 |") << t;
+  EXPECT_EQ(Row(t, 5), "| 5 | 0.0 | 0.0 | 0.0 | 0.0 | 0.0 | -40.0 ± 3.0 |") << t;
+}
+
+TEST(ParameterTable, ServoLagInMillisecondsAndTheJerkTermOnce) {
+  EffectResult r = Fitted(Effect::kServoLag);
+  r.theta(0) = 4e-3;      // s
+  r.theta(6 + 5) = 2e-5;  // s², leg 6
+  r.theta(12) = 6e-8;     // s³
+  const std::string t = ParameterTableMarkdown(r);
+  EXPECT_EQ(Row(t, 1), "| 1 | 4.00 | 0.00 |") << t;
+  EXPECT_EQ(Row(t, 6), "| 6 | 0.00 | 20.00 |") << t;
+  EXPECT_NE(t.find("| jerk lag, all legs | 60.0 | ms³ |"), std::string::npos) << t;
+}
+
+TEST(ParameterTable, ComplianceIsTheShorteningPerGOfLoad) {
+  EffectResult r = Fitted(Effect::kCompliance);
+  r.theta(0) = 4e-5;  // m/k in s²: 4e-5 s² × 9.80665 m/s² = 392.3 µm at 1 g
+  const std::string t = ParameterTableMarkdown(r);
+  EXPECT_EQ(Row(t, 1), "| 1 | 392.27 |") << t;
+}
+
+TEST(ParameterTable, PassiveRotationScalesReadAsFactors) {
+  EffectResult r = Fitted(Effect::kPassiveRotation);
+  r.theta << 0.05, -0.25;  // the applied compensation's scale is 1 + θ1
+  r.sigma << 0.002, 0.01;
+  const std::string t = ParameterTableMarkdown(r);
+  EXPECT_NE(t.find("| 0.050 ± 0.002 | × |"), std::string::npos) << t;
+  EXPECT_NE(t.find("| 0.750 ± 0.010 | × |"), std::string::npos) << t;
+}
+
+TEST(ParameterTable, ThermalDriftPerMetreOfTravelAndPerHourUnderPower) {
+  EffectResult r = Fitted(Effect::kThermalDrift);
+  r.theta(0) = 7e-6;   // m per m of travel
+  r.theta(2) = 1e-9;   // m per s powered: 3.6 µm per hour
+  const std::string t = ParameterTableMarkdown(r);
+  EXPECT_NE(t.find("| with recent travel | 7.00 | µm per m of travel |"), std::string::npos) << t;
+  EXPECT_NE(t.find("| with time under power | 3.60 | µm per hour |"), std::string::npos) << t;
+}
+
+TEST(ParameterTable, PeriodicLeadErrorAsAmplitudeAndPhase) {
+  EffectResult r = Fitted(Effect::kPeriodicLeadError);
+  r.theta(2) = 3e-6;  // leg 2: sin part
+  r.theta(3) = 4e-6;  //        cos part
+  const std::string t = ParameterTableMarkdown(r);
+  EXPECT_EQ(Row(t, 2), "| 2 | 5.0 | 53 |") << t;
+}
+
+TEST(ParameterTable, AnEffectWithoutParametersHasNoTable) {
+  EffectResult r;
+  r.effect = Effect::kBacklash;
+  EXPECT_EQ(ParameterTableMarkdown(r), "");
+}
+
+}  // namespace
+}  // namespace edsp::gap
