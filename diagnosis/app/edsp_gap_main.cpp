@@ -1,10 +1,12 @@
 // edsp-gap: diagnose the sim-to-real gap (docs/diagnosis.md).
 //   edsp-gap diagnose --config C --data D [--data D2 …] [--json] [--save-model M] [--report DIR]
 //   edsp-gap evaluate --config C --model M --data T [--json]
+//   edsp-gap compare --config C --before B --after A [--model M] [--plot DIR] [--json]
 //   edsp-gap benchmark --scenarios N --seed S [--generator rig|blind] [--motions Lz,…] [--json] [--noise-m 5e-6] [--keep DIR]
 #include <unistd.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 
@@ -13,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "edsp/diagnosis/benchmark.h"
+#include "edsp/diagnosis/calibration_check.h"
 #include "edsp/diagnosis/report.h"
 #include "edsp/kinematics/config.h"
 #include "edsp/node/runtime.h"
@@ -24,6 +27,21 @@ MeasurementData LoadAll(const std::vector<std::string>& paths) {
   MeasurementData data;
   for (const std::string& path : paths) AppendMeasurement(&data, LoadMeasurement(path));
   return data;
+}
+
+nlohmann::json LoadModelFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw MeasurementError(path + ": cannot open");
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw MeasurementError(fmt::format("{}: not JSON at byte {}: {}", path, e.byte, e.what()));
+  }
+}
+
+const nlohmann::json& NoModel() {
+  static const nlohmann::json none = {{"format", "edsp-gap-model/1"}, {"effects", nlohmann::json::array()}};
+  return none;
 }
 
 void PrintText(const Diagnosis& d) {
@@ -69,6 +87,18 @@ int Run(int argc, char** argv) {
   evaluate->add_option("--data", data_paths, "measurement CSV or edsp LCM log; repeatable")->required();
   evaluate->add_flag("--json", json, "print JSON");
 
+  std::vector<std::string> before_paths, after_paths;
+  std::string plot_dir;
+  CLI::App* compare = app.add_subcommand(
+      "compare", "the same motions measured without and with a calibration: point A's error per motion");
+  compare->add_option("--config", config_path, "platform config (TOML)")->required();
+  compare->add_option("--before", before_paths, "measurement without the calibration (CSV or LCM log); repeatable")
+      ->required();
+  compare->add_option("--after", after_paths, "the same motions with the calibration applied; repeatable")->required();
+  compare->add_option("--model", model_path, "the calibration's model: its prediction from --before, beside");
+  compare->add_option("--plot", plot_dir, "write calibration.png (and its data and gnuplot script) here");
+  compare->add_flag("--json", json, "print JSON");
+
   BenchmarkOptions bench;
   CLI::App* benchmark = app.add_subcommand("benchmark", "score the diagnosis blind on virtual-rig scenarios");
   benchmark->add_option("--scenarios", bench.scenarios, "how many")->check(CLI::Range(1, 100000));
@@ -94,17 +124,24 @@ int Run(int argc, char** argv) {
     return 0;
   }
   const PlatformModel model(LoadConfigFile(config_path));
+  if (*compare) {
+    const bool predicted = !model_path.empty();
+    const Evaluation without = Evaluate(model, LoadAll(before_paths), predicted ? LoadModelFile(model_path) : NoModel(),
+                                        predicted ? model_path : "no model");
+    const Evaluation with = Evaluate(model, LoadAll(after_paths), NoModel(), "no model");
+    const CalibrationCheck check = CheckCalibration(without, with, predicted);
+    if (!plot_dir.empty()) {
+      std::filesystem::create_directories(plot_dir);
+      const std::string png = WriteCheckPlot(check, plot_dir);
+      if (!json) std::printf("%s\n", png.empty() ? "gnuplot wrote no plot" : png.c_str());
+    }
+    if (json) std::printf("%s\n", ToJson(check).dump(2).c_str());
+    else std::printf("%s", CheckTable(check).c_str());
+    return 0;
+  }
   const MeasurementData data = LoadAll(data_paths);
   if (*evaluate) {
-    std::ifstream in(model_path);
-    if (!in) throw MeasurementError(model_path + ": cannot open");
-    nlohmann::json saved;
-    try {
-      saved = nlohmann::json::parse(in);
-    } catch (const nlohmann::json::parse_error& e) {
-      throw MeasurementError(fmt::format("{}: not JSON at byte {}: {}", model_path, e.byte, e.what()));
-    }
-    const Evaluation ev = Evaluate(model, data, saved, model_path);
+    const Evaluation ev = Evaluate(model, data, LoadModelFile(model_path), model_path);
     if (json) {
       std::printf("%s\n", ToJson(ev).dump(2).c_str());
     } else {

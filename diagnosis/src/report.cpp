@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "edsp/diagnosis/gnuplot.h"
 #include "edsp/diagnosis/linear_fit.h"
 #include "edsp/diagnosis/parameter_table.h"
 
@@ -184,14 +185,26 @@ Evaluation Evaluate(const PlatformModel& model, const MeasurementData& data, con
   };
   Evaluation ev;
   ev.samples = d.samples();
-  ev.before = PointStats(frame_fit(d.residual), 0, d.samples());
-  ev.after = PointStats(frame_fit(d.residual - predicted), 0, d.samples());
+  const Eigen::VectorXd before = frame_fit(d.residual), after = frame_fit(d.residual - predicted);
+  ev.before = PointStats(before, 0, d.samples());
+  ev.after = PointStats(after, 0, d.samples());
   ev.shrink = ev.before.rms_m > 0.0 ? 1.0 - ev.after.rms_m / ev.before.rms_m : 0.0;
+  for (std::size_t k = 0; k < d.runs.size(); ++k) {
+    const ColumnRange& samples = d.run_samples[k];
+    ev.by_run.push_back({d.runs[k], PointStats(before, samples.begin, samples.count),
+                         PointStats(after, samples.begin, samples.count)});
+  }
+  ev.noise_floor_rms_m = NoiseFloorRms(d);
   return ev;
 }
 
 nlohmann::json ToJson(const Evaluation& e) {
-  return {{"before", StatsJson(e.before)}, {"after", StatsJson(e.after)}, {"shrink", e.shrink}, {"samples", e.samples}};
+  nlohmann::json by_run = nlohmann::json::array();
+  for (const RunEvaluation& r : e.by_run) {
+    by_run.push_back({{"run", r.run}, {"before", StatsJson(r.before)}, {"after", StatsJson(r.after)}});
+  }
+  return {{"before", StatsJson(e.before)}, {"after", StatsJson(e.after)}, {"shrink", e.shrink}, {"samples", e.samples},
+          {"by_run", by_run}, {"noise_floor_rms_m", e.noise_floor_rms_m}};
 }
 
 namespace {
@@ -276,16 +289,6 @@ std::string ReportMarkdown(const Diagnosis& d) {
   return md + VerdictMarkdown(d) + ParametersMarkdown(d) + WhereMarkdown(d) + NextStepsMarkdown(d);
 }
 
-namespace {
-
-void Plot(const std::string& dir, const std::string& png, const std::string& script) {
-  const std::string path = dir + "/" + png + ".gp";
-  std::ofstream(path) << "set terminal pngcairo size 900,500\nset output '" << dir << "/" << png << "'\n"
-                      << "set grid\n" << script;
-  std::system(fmt::format("gnuplot '{}' 2>/dev/null", path).c_str());
-}
-
-}  // namespace
 
 std::vector<std::string> WriteReport(const Diagnosis& d, const std::string& dir) {
   std::filesystem::create_directories(dir);
@@ -317,10 +320,10 @@ std::vector<std::string> WriteReport(const Diagnosis& d, const std::string& dir)
     }
     return t;
   };
-  Plot(dir, "gap_vs_time.png", "set xlabel 'time (s)'\nset ylabel '|gap at A| (µm)'\nset title 'Gap against time, before any effect'\nplot " + per_run("1", 3) + "\n");
-  Plot(dir, "gap_vs_displacement.png", "set xlabel 'displacement from home (m + rad)'\nset ylabel '|gap at A| (µm)'\nset title 'Gap against displacement, before any effect'\nplot " + per_run("2", 3) + "\n");
-  Plot(dir, "after_vs_time.png", "set xlabel 'time (s)'\nset ylabel '|residual at A| (µm)'\nset title 'After the selected effects'\nplot " + per_run("1", 4) + "\n");
-  Plot(dir, "legs.png", fmt::format("set style data histograms\nset style fill solid 0.6\nset xlabel 'leg'\nset ylabel 'µm'\n"
+  GnuplotPng(dir, "gap_vs_time.png", "set xlabel 'time (s)'\nset ylabel '|gap at A| (µm)'\nset title 'Gap against time, before any effect'\nplot " + per_run("1", 3) + "\n");
+  GnuplotPng(dir, "gap_vs_displacement.png", "set xlabel 'displacement from home (m + rad)'\nset ylabel '|gap at A| (µm)'\nset title 'Gap against displacement, before any effect'\nplot " + per_run("2", 3) + "\n");
+  GnuplotPng(dir, "after_vs_time.png", "set xlabel 'time (s)'\nset ylabel '|residual at A| (µm)'\nset title 'After the selected effects'\nplot " + per_run("1", 4) + "\n");
+  GnuplotPng(dir, "legs.png", fmt::format("set style data histograms\nset style fill solid 0.6\nset xlabel 'leg'\nset ylabel 'µm'\n"
                                     "set title 'Leg-space gap: RMS, and mean while extending / retracting'\n"
                                     "plot '{0}/legs.dat' using 2:xtic(1) title 'RMS', '' using 3 title 'extending mean', '' using 4 title 'retracting mean'\n", dir));
   for (const char* png : {"gap_vs_time.png", "gap_vs_displacement.png", "after_vs_time.png", "legs.png"}) {

@@ -1,6 +1,7 @@
 // edsp-gap as users run it: the report JSON keys of interfaces.md §4, a
 // saved model evaluated, the report directory, and wrong inputs refused with
 // a message that names the file, line and column, and a non-zero exit.
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
@@ -19,13 +20,15 @@ Output Gap(const std::string& args) { return edsp::test_support::RunCommand(fmt:
 
 std::string Dir() { return fmt::format("{}/edsp_gap_cli_{}", testing::TempDir(), ::getpid()); }
 
-std::string SimulatedCsv() {
-  const std::string dir = Dir() + "/sim";
+// The paper's platform measured with the controller in `pr_mode` (unsigned:
+// a gap the diagnosis finds as passive_rotation).
+std::string SimulatedCsv(const std::string& pr_mode = "unsigned", const std::string& motions = "Lz,Rz,M1") {
+  const std::string dir = Dir() + "/sim_" + pr_mode + "_" + motions;
   const std::string command =
-      fmt::format("{} rig --config {}/config/huang2021.toml --out {} --motions Lz,Rz,M1 --pr-mode unsigned "
+      fmt::format("{} rig --config {}/config/huang2021.toml --out {} --motions {} --pr-mode {} "
                   "--stops 3 --dwell-s 0.3 --max-speed-m-s 0.25 --max-speed-rad-s 0.5 --tracker-noise-m 5e-6 "
                   "--tracker-rate-hz 100 >/dev/null",
-                  EDSP_SIM_BINARY, EDSP_SOURCE_DIR, dir);
+                  EDSP_SIM_BINARY, EDSP_SOURCE_DIR, dir, motions, pr_mode);
   EXPECT_EQ(std::system(command.c_str()), 0);
   return dir + "/measurement.csv";
 }
@@ -65,6 +68,57 @@ TEST(EdspGapCli, DiagnoseJsonHasTheInterfaceKeysAndAModelThatEvaluates) {
   const nlohmann::json e = nlohmann::json::parse(ev.text);
   EXPECT_GT(e["shrink"].get<double>(), 0.9);
   EXPECT_LT(e["after"]["rms_m"].get<double>(), e["before"]["rms_m"].get<double>());
+}
+
+// compare: the same motions without and with the correction (here the
+// signed PR compensation the diagnosis asks for, run by the controller), per
+// motion; each side's figures are what `evaluate` with no model says of
+// that measurement alone, and the model's prediction is evaluate's `after`.
+TEST(EdspGapCli, CompareGivesEachMotionBeforeAndAfterTheCorrection) {
+  const std::string before = SimulatedCsv("unsigned"), after = SimulatedCsv("signed");
+  const std::string model = Dir() + "/pr_model.json", plot = Dir() + "/compare";
+  const std::string config = fmt::format("{}/config/huang2021.toml", EDSP_SOURCE_DIR);
+  ASSERT_EQ(Gap(fmt::format("diagnose --config {} --data {} --save-model {}", config, before, model)).exit_code, 0);
+  const Output out = Gap(fmt::format("compare --config {} --before {} --after {} --model {} --plot {} --json", config,
+                                     before, after, model, plot));
+  ASSERT_EQ(out.exit_code, 0) << out.text;
+  const nlohmann::json c = nlohmann::json::parse(out.text);
+  const std::string none = Dir() + "/no_model.json";
+  std::ofstream(none) << R"({"format": "edsp-gap-model/1", "effects": []})";
+  auto evaluate = [&](const std::string& data, const std::string& m) {
+    const Output e = Gap(fmt::format("evaluate --config {} --model {} --data {} --json", config, m, data));
+    EXPECT_EQ(e.exit_code, 0) << e.text;
+    return nlohmann::json::parse(e.text);
+  };
+  const nlohmann::json without = evaluate(before, model), with = evaluate(after, none);
+  EXPECT_DOUBLE_EQ(c["before"]["rms_m"].get<double>(), without["before"]["rms_m"].get<double>());
+  EXPECT_DOUBLE_EQ(c["predicted"]["rms_m"].get<double>(), without["after"]["rms_m"].get<double>());
+  EXPECT_DOUBLE_EQ(c["after"]["rms_m"].get<double>(), with["before"]["rms_m"].get<double>());
+  ASSERT_EQ(c["motions"].size(), 3u);
+  double largest = 0.0;
+  for (std::size_t k = 0; k < 3; ++k) {
+    const nlohmann::json& m = c["motions"][k];
+    EXPECT_EQ(m["run"], without["by_run"][k]["run"]);
+    EXPECT_DOUBLE_EQ(m["after"]["rms_m"].get<double>(), with["by_run"][k]["before"]["rms_m"].get<double>());
+    // The unsigned PR misses by hundreds of µm on Rz; the signed one by the noise.
+    EXPECT_LT(m["after"]["rms_m"].get<double>(), m["before"]["rms_m"].get<double>()) << m.dump();
+    largest = std::max(largest, m["before"]["max_m"].get<double>());
+  }
+  EXPECT_DOUBLE_EQ(largest, c["before"]["max_m"].get<double>());  // the motions partition the samples
+  EXPECT_TRUE(c["target_met"].get<bool>()) << c.dump(2);
+  std::ifstream dat(plot + "/calibration.dat");
+  std::string line;
+  int rows = 0;
+  while (std::getline(dat, line)) rows += line.empty() || line[0] == '#' ? 0 : 1;
+  EXPECT_EQ(rows, 3);
+  EXPECT_TRUE(std::ifstream(plot + "/calibration.png").good());
+
+  // The same motions or nothing: a run missing from one side is named.
+  const Output mismatch = Gap(fmt::format("compare --config {} --before {} --after {}", config, before,
+                                          SimulatedCsv("signed", "Lz,Rz")));
+  EXPECT_NE(mismatch.exit_code, 0);
+  EXPECT_NE(mismatch.text.find("run M1 is in the measurement without the calibration"), std::string::npos)
+      << mismatch.text;
 }
 
 TEST(EdspGapCli, WrongInputsAreNamedWithANonZeroExit) {

@@ -16,10 +16,18 @@ nlohmann::json ToJson(const Diagnosis& diagnosis);
 // The selected effects with their parameters: what `evaluate` applies.
 nlohmann::json ModelJson(const Diagnosis& diagnosis);
 
+// One run (motion) of the evaluated data.
+struct RunEvaluation {
+  std::string run;
+  RmsMax before, after;
+};
+
 struct Evaluation {
   RmsMax before, after;  // frame re-estimated on the data in both
   double shrink = 0.0;
   int samples = 0;
+  std::vector<RunEvaluation> by_run;  // the same, per run (one frame for all)
+  double noise_floor_rms_m = 0.0;     // the tracker's noise at A, from the data (NoiseFloorRms)
 };
 
 // Applies a saved model (ModelJson) to data it has never seen: the tracker
