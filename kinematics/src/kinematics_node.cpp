@@ -241,6 +241,11 @@ platform_config_t KinematicsNode::ConfigMessage(std::int64_t now_utime,
   msg.joint_angle_max_rad = c.limits.joint_angle_max_rad;
   for (int k = 0; k < 3; ++k) msg.observation_point_m[k] = c.p_MoA_M(k);
   msg.config_toml = config_toml;
+  // The calibration in force travels with the latched config, so a log (and
+  // a late listener) says which model shaped its commands.
+  if (const calibration::CalibrationModel* in_force = calibration()) {
+    msg.config_toml += "\n# edsp-kinematics applies the calibration " + in_force->Describe() + "\n";
+  }
   return msg;
 }
 

@@ -212,6 +212,27 @@ TEST(KinematicsNode, ConfigMessageDescribesThePlatform) {
   EXPECT_EQ(c.lead_m, 0.010);
   EXPECT_EQ(c.observation_point_m[0], 1.2);
   EXPECT_NE(c.config_toml.find("huang2021"), std::string::npos);
+  EXPECT_EQ(c.config_toml.find("calibration"), std::string::npos);  // none in force
+}
+
+// The calibration in force (file, hash, what it applies) is latched with the
+// config on EDSP_CONFIG, as a TOML comment that leaves the config readable.
+TEST(KinematicsNode, ConfigMessageNamesTheCalibrationInForce) {
+  KinematicsNodeOptions options;
+  options.session_id = 9;
+  const PlatformModel model(Huang2021Config());
+  options.calibration = calibration::ParseCalibration(
+      R"({"format": "edsp-gap-model/1", "effects": [{"name": "leg_offset", "verdict": "identified",
+          "theta": [1e-5, 0, 0, 0, 0, 0]}]})",
+      "rig7.json", model);
+  KinematicsNode node(model, options);
+  const std::string text = "[geometry]\npreset = \"huang2021\"\n";
+  const platform_config_t c = node.ConfigMessage(kNow, text);
+  EXPECT_NE(c.config_toml.find("# edsp-kinematics applies the calibration rig7.json (" + options.calibration->hash +
+                               "): applies leg_offset"),
+            std::string::npos)
+      << c.config_toml;
+  EXPECT_EQ(ParseConfig(c.config_toml, "EDSP_CONFIG").preset, "huang2021");
 }
 
 }  // namespace
