@@ -202,6 +202,7 @@ bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utim
     target_.motor_angle_rad[i] = angle;
     target_length_m_(i) = next(i);
   }
+  target_.utime = basis;
   target_utime_ = now_utime;
   last_basis_utime_ = basis;
   last_command_seq_ = c.seq;
@@ -212,7 +213,10 @@ bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utim
   return true;
 }
 
-void ActuatorBridge::HoldAtRest() { target_.motor_velocity_rad_s.fill(0.0); }
+void ActuatorBridge::HoldAtRest() {
+  target_.motor_velocity_rad_s.fill(0.0);
+  target_.utime = 0;
+}
 
 void ActuatorBridge::HoldWhereTheDrivesAre() {
   for (int i = 0; i < kNumLegs; ++i) {
@@ -220,6 +224,7 @@ void ActuatorBridge::HoldWhereTheDrivesAre() {
     target_.motor_velocity_rad_s[i] = 0.0;
     target_length_m_(i) = model_.LengthFromMotorAngle(i, feedback_.motor_angle_rad[i]);
   }
+  target_.utime = 0;
   stream_length_m_ = target_length_m_;
 }
 

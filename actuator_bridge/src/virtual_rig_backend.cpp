@@ -61,7 +61,7 @@ void VirtualRigBackend::Deactivate() {
 
 bool VirtualRigBackend::Publish(std::int64_t now_utime, const DriveSetpoint& s, bool enable) {
   DriveImageCommand c{};
-  c.utime = now_utime;
+  c.utime = s.utime != 0 ? s.utime : now_utime;  // the instant the target is for
   c.cycle = ++cycle_;
   c.enable = enable ? 1 : 0;
   std::memcpy(c.motor_angle_rad, s.motor_angle_rad.data(), sizeof c.motor_angle_rad);

@@ -19,6 +19,7 @@
 #include "edsp/node/fault.h"
 #include "edsp/node/node_options.h"
 #include "edsp/node/runtime.h"
+#include "edsp/rig/rig_cycle.h"
 #include "edsp/rig/virtual_rig.h"
 #include "edsp/sim/pose_text.h"
 #include "edsp/transport/bus.h"
@@ -160,35 +161,36 @@ int Run(int argc, char** argv) {
   }
   status.SetState(node_status_t::STATE_RUNNING);
   RateClock clock(std::chrono::milliseconds(1));
-  std::int64_t cycle = 0;
-  bool watchdog_reported = false;
+  // A command is continued by at most one cycle: the most the bridge's
+  // cycle can lead the rig's. Later than that it is stale, and held as the
+  // drives' watchdog holds it.
+  RigCycle cycle(&rig, 1e-3, 1e-3);
+  std::int64_t cycles = 0;
   while (!StopRequested()) {
     clock.WaitNext();
     const auto start = std::chrono::steady_clock::now();
-    DriveImageCommand command;
-    if (image.LatestCommand(&command)) {
-      DriveSetpoint setpoint;
-      for (int i = 0; i < 6; ++i) {
-        setpoint.motor_angle_rad[i] = command.motor_angle_rad[i];
-        setpoint.motor_velocity_rad_s[i] = command.motor_velocity_rad_s[i];
-      }
-      rig.SetTarget(setpoint, command.enable != 0);
-      status.CountIn();
-    }
     const std::int64_t now = UtimeNow();
-    if (rig.watchdog_tripped() != watchdog_reported) {
-      watchdog_reported = rig.watchdog_tripped();
-      faults.Publish(WatchdogFault(command_segment, watchdog_reported, rig.since_command_s(), now));
+    DriveImageCommand command{};
+    const bool commanded = image.LatestCommand(&command);
+    DriveSetpoint setpoint;
+    setpoint.utime = command.utime;
+    for (int i = 0; i < 6; ++i) {
+      setpoint.motor_angle_rad[i] = command.motor_angle_rad[i];
+      setpoint.motor_velocity_rad_s[i] = command.motor_velocity_rad_s[i];
     }
-    if (!rig.Advance(1e-3)) {
+    const RigCycleReport report = cycle.Step(now, commanded ? &setpoint : nullptr, command.enable != 0);
+    image.PublishFeedback(report.feedback, now, ++cycles);
+    truth_out.Publish(report.truth);
+    if (report.tracker_due && tracker_out.Publish(report.tracker)) status.CountOut();
+    if (commanded) status.CountIn();
+    if (report.watchdog_changed) {
+      faults.Publish(WatchdogFault(command_segment, rig.watchdog_tripped(), rig.since_command_s(), now));
+    }
+    if (report.physics_failed) {
       faults.Publish(MakeFault("rig", "", FaultCode::kForwardKinematics, fault_t::SEVERITY_ERROR,
                                "the virtual platform's pose could not be found", now));
       status.SetState(node_status_t::STATE_FAULT);
     }
-    image.PublishFeedback(rig.Feedback(), now, ++cycle);
-    truth_out.Publish(rig.Truth(now));
-    tracker_point_t point;
-    if (rig.TrackerSample(now, &point) && tracker_out.Publish(point)) status.CountOut();
     status.RecordLoop(std::chrono::steady_clock::now() - start);
     if (status.Due(now)) status_out.Publish(status.Report(now, clock.missed()));
   }
