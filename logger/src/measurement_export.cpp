@@ -1,6 +1,12 @@
 #include "edsp/transport/decode.h"
 #include "edsp/logger/measurement_export.h"
 
+#include <algorithm>
+#include <array>
+#include <deque>
+#include <iterator>
+#include <map>
+
 #include <fmt/format.h>
 
 #include "edsp/leg_command_t.hpp"
@@ -12,6 +18,11 @@
 namespace edsp {
 
 namespace {
+
+// How late a message may reach the logger and still be paired by its own
+// stamp (processes on one host deliver within milliseconds; a descheduled
+// logger reads its socket backlog later, but in order of arrival).
+constexpr std::int64_t kReorderWindowUs = 500'000;
 
 template <typename Msg>
 bool Decode(const LogEvent& event, Msg* msg) {
@@ -26,44 +37,139 @@ void WriteHeader(std::ostream& out) {
   out << ",point_x_m,point_y_m,point_z_m\n";
 }
 
+struct Stamped6 {
+  std::int64_t utime = 0;
+  std::array<double, 6> values{};
+};
+
+struct Setpoint {
+  std::int64_t utime = 0;
+  std::array<double, 6> pose{};
+  std::string run;
+};
+
+struct PendingSample {
+  std::int64_t received_utime = 0;
+  tracker_point_t point;
+};
+
+// Keeps `items` in order of utime as they arrive (nearly in order already);
+// equal stamps keep their order of arrival.
+template <typename T>
+void InsertByUtime(std::deque<T>* items, T item) {
+  auto at = items->end();
+  while (at != items->begin() && std::prev(at)->utime > item.utime) --at;
+  items->insert(at, std::move(item));
+}
+
+// The last item stamped at or before `utime`, or null.
+template <typename T>
+const T* LastAtOrBefore(const std::deque<T>& items, std::int64_t utime) {
+  auto after = std::upper_bound(items.begin(), items.end(), utime,
+                                [](std::int64_t t, const T& item) { return t < item.utime; });
+  return after == items.begin() ? nullptr : &*std::prev(after);
+}
+
+// Drops what no later sample can use: everything before the last item
+// stamped at or before `utime` (tracker samples come in order of their stamps).
+template <typename T>
+void TrimBefore(std::deque<T>* items, std::int64_t utime) {
+  while (items->size() > 1 && (*items)[1].utime <= utime) items->pop_front();
+}
+
+// Pairs each tracker sample (the platform at its stamp) with what the
+// controller commanded for that instant: the last setpoint stamped at or
+// before it, the leg command answering that setpoint, and the last encoder
+// reading at or before it (the offline stack logs each step so; the live
+// rig stamps a sample with the instant it describes). By the messages' own stamps, not by their order of
+// arrival at the logger, which interleaves processes by a cycle or more.
+class Pairing {
+ public:
+  explicit Pairing(std::ostream& out) : out_(out) {}
+
+  void Add(const pose_setpoint_t& s) {
+    InsertByUtime(&setpoints_, Setpoint{s.utime, ToArray(s.pose), s.trajectory.substr(0, s.trajectory.find('/'))});
+  }
+  void Add(const leg_command_t& c) { commands_[c.setpoint_utime] = ToArray(c.command_length_m); }
+  void Add(const leg_state_t& l) { InsertByUtime(&legs_, Stamped6{l.utime, ToArray(l.encoder_length_m)}); }
+  void Add(std::int64_t received_utime, const tracker_point_t& p) { pending_.push_back({received_utime, p}); }
+
+  // Writes the samples received before `received_utime` − the window.
+  void WriteUpTo(std::int64_t received_utime, MeasurementExport* result) {
+    while (!pending_.empty() && pending_.front().received_utime + kReorderWindowUs < received_utime) {
+      Write(pending_.front().point, result);
+      pending_.pop_front();
+    }
+  }
+  void WriteAll(MeasurementExport* result) { WriteUpTo(INT64_MAX - kReorderWindowUs, result); }
+
+ private:
+  template <typename A>
+  static std::array<double, 6> ToArray(const A& a) {
+    std::array<double, 6> v{};
+    std::copy(std::begin(a), std::begin(a) + 6, v.begin());
+    return v;
+  }
+
+  void Write(const tracker_point_t& point, MeasurementExport* result) {
+    const Setpoint* setpoint = LastAtOrBefore(setpoints_, point.utime);
+    // The command answering that setpoint; if it never came (refused,
+    // lost), the last one answering an earlier setpoint.
+    auto command = setpoint ? commands_.upper_bound(setpoint->utime) : commands_.begin();
+    if (!point.valid || setpoint == nullptr || command == commands_.begin()) {
+      ++result->skipped;
+      return;
+    }
+    --command;
+    const Stamped6* legs = LastAtOrBefore(legs_, point.utime);
+    if (first_utime_ < 0) first_utime_ = point.utime;
+    out_ << fmt::format("{:.6f},{}", static_cast<double>(point.utime - first_utime_) * 1e-6, setpoint->run);
+    for (double v : setpoint->pose) out_ << fmt::format(",{:.17g}", v);
+    for (double v : command->second) out_ << fmt::format(",{:.17g}", v);
+    for (int i = 0; i < 6; ++i) {
+      out_ << (legs ? fmt::format(",{:.17g}", legs->values[static_cast<std::size_t>(i)]) : std::string(","));
+    }
+    out_ << fmt::format(",{:.17g},{:.17g},{:.17g}\n", point.point_m[0], point.point_m[1], point.point_m[2]);
+    ++result->rows;
+    TrimBefore(&setpoints_, point.utime);
+    TrimBefore(&legs_, point.utime);
+    commands_.erase(commands_.begin(), command);
+  }
+
+  std::ostream& out_;
+  std::deque<Setpoint> setpoints_;
+  std::deque<Stamped6> legs_;
+  std::map<std::int64_t, std::array<double, 6>> commands_;  // by the setpoint utime they answer
+  std::deque<PendingSample> pending_;
+  std::int64_t first_utime_ = -1;
+};
+
 }  // namespace
 
 MeasurementExport ExportMeasurementCsv(const std::string& log_path, std::ostream& out) {
   LogReader reader(log_path);
   MeasurementExport result;
-  pose_setpoint_t setpoint{};
-  leg_command_t command{};
-  leg_state_t legs{};
-  bool have_setpoint = false, have_command = false, have_legs = false;
-  std::int64_t first_utime = -1;
+  Pairing pairing(out);
   WriteHeader(out);
   LogEvent event;
   while (reader.Next(&event)) {
     if (event.channel == "EDSP_SETPOINT") {
-      have_setpoint = Decode(event, &setpoint) || have_setpoint;
+      pose_setpoint_t setpoint;
+      if (Decode(event, &setpoint)) pairing.Add(setpoint);
     } else if (event.channel == "EDSP_LEG_COMMAND") {
-      have_command = Decode(event, &command) || have_command;
+      leg_command_t command;
+      if (Decode(event, &command)) pairing.Add(command);
     } else if (event.channel == "EDSP_LEG_STATE") {
-      have_legs = Decode(event, &legs) || have_legs;
+      leg_state_t legs;
+      if (Decode(event, &legs)) pairing.Add(legs);
     } else if (event.channel == "EDSP_TRACKER") {
       tracker_point_t point{};
-      if (!Decode(event, &point) || !point.valid || !have_setpoint || !have_command) {
-        ++result.skipped;
-        continue;
-      }
-      if (first_utime < 0) first_utime = point.utime;
-      const std::string run = setpoint.trajectory.substr(0, setpoint.trajectory.find('/'));
-      out << fmt::format("{:.6f},{}", static_cast<double>(point.utime - first_utime) * 1e-6, run);
-      for (double v : setpoint.pose) out << fmt::format(",{:.17g}", v);
-      for (double v : command.command_length_m) out << fmt::format(",{:.17g}", v);
-      for (int i = 0; i < 6; ++i) {
-        out << (have_legs ? fmt::format(",{:.17g}", legs.encoder_length_m[i]) : std::string(","));
-      }
-      out << fmt::format(",{:.17g},{:.17g},{:.17g}\n", point.point_m[0], point.point_m[1],
-                         point.point_m[2]);
-      ++result.rows;
+      if (Decode(event, &point)) pairing.Add(event.timestamp_utime, point);
+      else ++result.skipped;
     }
+    pairing.WriteUpTo(event.timestamp_utime, &result);
   }
+  pairing.WriteAll(&result);
   result.damaged = reader.damaged();
   result.damage_offset = reader.damage_offset();
   return result;

@@ -33,8 +33,9 @@ tracker_point_t Point(std::int64_t utime, double x, bool valid = true) {
   return p;
 }
 
-pose_setpoint_t Setpoint(const char* trajectory, double z) {
+pose_setpoint_t Setpoint(const char* trajectory, double z, std::int64_t utime = 150) {
   pose_setpoint_t s{};
+  s.utime = utime;
   s.pose[2] = z;
   s.pose[5] = 0.1 + 1e-17;
   s.trajectory = trajectory;
@@ -61,6 +62,7 @@ void WriteLog() {
   b.Add("EDSP_TRACKER", Point(100, 9.0));  // before any command: skipped
   b.Add("EDSP_SETPOINT", Setpoint("Lz/move 1", 1.4));
   leg_command_t c{};
+  c.setpoint_utime = 150;
   for (int i = 0; i < 6; ++i) c.command_length_m[i] = 1.9 + 0.001 * i + 1e-13;
   b.Add("EDSP_LEG_COMMAND", c);
   leg_state_t s{};
@@ -68,7 +70,7 @@ void WriteLog() {
   b.Add("EDSP_LEG_STATE", s);
   b.Add("EDSP_TRACKER", Point(200, 1.2 + 1e-12));
   b.Add("EDSP_TRACKER", Point(300, 5.0, false));  // beam broken: skipped
-  b.Add("EDSP_SETPOINT", Setpoint("Rz/dwell 2", 1.5));
+  b.Add("EDSP_SETPOINT", Setpoint("Rz/dwell 2", 1.5, 1500000));  // no command answers it: the last one
   b.Add("EDSP_TRACKER", Point(1500200, 1.3));
 }
 
@@ -97,6 +99,43 @@ TEST(MeasurementExport, OneRowPerValidTrackerSampleWithTheLatestCommands) {
   EXPECT_EQ(std::stod(rows[1][20]), 1.2 + 1e-12);
   EXPECT_EQ(std::stod(rows[1][21]), 1.0 / 3.0);
   EXPECT_EQ(std::stod(rows[2][4]), 1.5);
+  ::unlink(kPath.c_str());
+}
+
+// The logger hears the processes interleaved: here the tracker sample
+// arrives before the setpoint, command and encoders stamped at or before it. Each
+// sample is paired by the stamps (the platform at t against what was
+// commanded before t), not by what happened to arrive first.
+TEST(MeasurementExport, SamplesArePairedByTheirStampsNotByArrival) {
+  {
+    LogBuilder b(kPath);
+    auto command = [&](std::int64_t setpoint_utime, double length) {
+      leg_command_t c{};
+      c.setpoint_utime = setpoint_utime;
+      for (double& l : c.command_length_m) l = length;
+      b.Add("EDSP_LEG_COMMAND", c);
+    };
+    b.Add("EDSP_SETPOINT", Setpoint("A/move 1", 1.0, 1000));
+    command(1000, 1.0);
+    b.Add("EDSP_TRACKER", Point(2000, 0.5));
+    b.Add("EDSP_SETPOINT", Setpoint("A/move 1", 1.5, 1500));
+    command(1500, 1.5);
+    b.Add("EDSP_SETPOINT", Setpoint("A/move 1", 2.0, 2000));  // for the sample's instant
+    command(2000, 2.0);
+    b.Add("EDSP_SETPOINT", Setpoint("A/move 1", 2.5, 2001));  // after it
+    command(2001, 2.5);
+    leg_state_t legs{};
+    legs.utime = 1900;
+    for (double& l : legs.encoder_length_m) l = 1.9;
+    b.Add("EDSP_LEG_STATE", legs);
+  }
+  std::ostringstream csv;
+  const MeasurementExport e = ExportMeasurementCsv(kPath, csv);
+  ASSERT_EQ(e.rows, 1);
+  const auto rows = Rows(csv.str());
+  EXPECT_EQ(std::stod(rows[1][4]), 2.0);   // pose_cmd_z: the setpoint stamped 2000
+  EXPECT_EQ(std::stod(rows[1][8]), 2.0);   // leg_cmd_1: the command answering it
+  EXPECT_EQ(std::stod(rows[1][14]), 1.9);  // leg_enc_1: stamped 1900
   ::unlink(kPath.c_str());
 }
 

@@ -1,8 +1,13 @@
 #pragma once
 // The measurement CSV of interfaces.md §3 from an edsp log: one row per valid
-// tracker sample, with the setpoint, leg command and encoder lengths most
-// recently seen before it. `run` is the motion the setpoint belongs to (its
-// trajectory name up to the first '/'), so hold-out splits can be by run.
+// tracker sample (the platform at its stamp), with what the controller
+// commanded for that instant: the last setpoint stamped at or before it, the
+// leg command answering that setpoint (leg_command_t.setpoint_utime), the
+// last encoder reading stamped at or before it. Paired by the messages' own
+// stamps, not by their order of arrival at the logger, which interleaves the
+// processes by a cycle or more (messages up to 0.5 s late are still paired).
+// `run` is the motion the setpoint belongs to (its trajectory name up to the
+// first '/'), so hold-out splits can be by run.
 
 #include <cstdint>
 #include <ostream>
