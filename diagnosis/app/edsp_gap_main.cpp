@@ -3,6 +3,7 @@
 //   edsp-gap evaluate --config C --model M --data T [--json]
 //   edsp-gap compare --config C --before B --after A [--model M] [--plot DIR] [--json]
 //   edsp-gap benchmark --scenarios N --seed S [--generator rig|blind] [--motions Lz,…] [--json] [--noise-m 5e-6] [--keep DIR]
+//                      [--closed-loop-motions Ly,Rx,M9|none]
 #include <unistd.h>
 
 #include <cstdio>
@@ -37,11 +38,6 @@ nlohmann::json LoadModelFile(const std::string& path) {
   } catch (const nlohmann::json::parse_error& e) {
     throw MeasurementError(fmt::format("{}: not JSON at byte {}: {}", path, e.byte, e.what()));
   }
-}
-
-const nlohmann::json& NoModel() {
-  static const nlohmann::json none = {{"format", "edsp-gap-model/1"}, {"effects", nlohmann::json::array()}};
-  return none;
 }
 
 void PrintText(const Diagnosis& d) {
@@ -110,6 +106,9 @@ int Run(int argc, char** argv) {
                         "out-of-vocabulary scenarios and its own tracker draws")
       ->check(CLI::IsMember({"rig", "blind"}));
   benchmark->add_option("--motions", bench.motions, "motions of every scenario, comma-separated")->delimiter(',');
+  benchmark->add_option("--closed-loop-motions", bench.closed_loop_motions,
+                        "rig generator: motions no fit saw, run without and with the model applied (\"none\": skip)")
+      ->delimiter(',');
   benchmark->add_option("--keep", keep_dir, "keep each scenario's data and report here");
   benchmark->add_flag("--json", json, "print JSON");
   CLI11_PARSE(app, argc, argv);
@@ -117,6 +116,7 @@ int Run(int argc, char** argv) {
 
   if (*benchmark) {
     bench.keep_dir = keep_dir;
+    if (bench.closed_loop_motions == std::vector<std::string>{"none"}) bench.closed_loop_motions.clear();
     bench.progress = !json || isatty(fileno(stderr));
     const BenchmarkResult result = RunBenchmark(bench);
     if (json) std::printf("%s\n", ToJson(result).dump(2).c_str());
@@ -126,9 +126,9 @@ int Run(int argc, char** argv) {
   const PlatformModel model(LoadConfigFile(config_path));
   if (*compare) {
     const bool predicted = !model_path.empty();
-    const Evaluation without = Evaluate(model, LoadAll(before_paths), predicted ? LoadModelFile(model_path) : NoModel(),
+    const Evaluation without = Evaluate(model, LoadAll(before_paths), predicted ? LoadModelFile(model_path) : EmptyModelJson(),
                                         predicted ? model_path : "no model");
-    const Evaluation with = Evaluate(model, LoadAll(after_paths), NoModel(), "no model");
+    const Evaluation with = Evaluate(model, LoadAll(after_paths), EmptyModelJson(), "no model");
     const CalibrationCheck check = CheckCalibration(without, with, predicted);
     if (!plot_dir.empty()) {
       std::filesystem::create_directories(plot_dir);

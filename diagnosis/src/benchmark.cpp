@@ -7,12 +7,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <random>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "edsp/blindrig/blind_setup.h"
+#include "edsp/diagnosis/closed_loop.h"
 #include "edsp/diagnosis/report.h"
 #include "edsp/kinematics/config.h"
 #include "edsp/sim/offline_run.h"
@@ -134,6 +136,9 @@ struct Drawn {
   std::string description;
   std::string csv_path;
   double simulate_s = 0.0;
+  // On edsp's rig: how it ran, for the closed loop.
+  std::optional<OfflineRunOptions> run;
+  RigEffects effects;
 };
 
 std::string KindOf(std::size_t effects) { return effects == 0 ? "none" : effects == 1 ? "single" : "pair"; }
@@ -198,6 +203,8 @@ Drawn DrawOnRig(const BenchmarkOptions& options, const std::string& config, Rng&
   drawn.kind = KindOf(s.truth.size());
   for (Effect e : s.truth) drawn.truth.push_back(EffectName(e));
   drawn.description = s.description;
+  drawn.run = run;
+  drawn.effects = s.effects;
   const auto t0 = std::chrono::steady_clock::now();
   try {
     drawn.csv_path = RunOffline(config, s.effects, run).csv_path;
@@ -214,7 +221,11 @@ Drawn DrawOnBlindRig(const BenchmarkOptions& options, const PlatformConfig& conf
   const blind::BlindScenario s = blind::DrawBlindScenario(options.seed, k);
   blind::BlindRigSetup setup = blind::SetupFromConfig(config);
   setup.motions = options.motions;
-  Drawn drawn{s.kind, s.truth, s.description, dir + "/measurement.csv", 0.0};
+  Drawn drawn;
+  drawn.kind = s.kind;
+  drawn.truth = s.truth;
+  drawn.description = s.description;
+  drawn.csv_path = dir + "/measurement.csv";
   const auto t0 = std::chrono::steady_clock::now();
   std::string csv;
   try {
@@ -261,6 +272,16 @@ void Tally(BenchmarkResult* r) {
   r->median_shrink = Median(shrinks);
   r->median_after_over_noise = Median(ratios);
   r->median_diagnose_s = Median(seconds);
+  std::vector<double> measured, predicted;
+  for (const ScenarioScore& s : r->scores) {
+    if (!s.closed_loop || s.kind == "none" || s.kind == "out_of_vocabulary") continue;
+    ++r->closed_loop;
+    measured.push_back(s.closed_shrink);
+    predicted.push_back(s.closed_predicted_shrink);
+    if (std::abs(s.closed_shrink - s.closed_predicted_shrink) >= 0.10) r->closed_disagree.push_back(s.index);
+  }
+  r->median_closed_shrink = Median(measured);
+  r->median_closed_predicted_shrink = Median(predicted);
 }
 
 double Rate(int a, int b) { return b ? static_cast<double>(a) / b : 0.0; }
@@ -333,6 +354,23 @@ BenchmarkResult RunBenchmark(const BenchmarkOptions& options) {
     ScenarioScore score = Score(drawn, d);
     score.index = k;
     score.simulate_s = drawn.simulate_s;
+    if (drawn.run && !options.closed_loop_motions.empty()) {
+      Progress(options, k, options.scenarios, fmt::format("scenario {}: closed loop", k));
+      const auto t0 = std::chrono::steady_clock::now();
+      try {
+        const MotionCheck loop =
+            MeasureClosedLoop(model, config, drawn.effects, *drawn.run, ModelJson(d), options.closed_loop_motions, dir);
+        score.closed_loop = true;
+        score.closed_before_rms_m = loop.before.rms_m;
+        score.closed_after_rms_m = loop.after.rms_m;
+        score.closed_predicted_rms_m = loop.predicted ? loop.predicted->rms_m : 0.0;
+        score.closed_shrink = loop.shrink;
+        score.closed_predicted_shrink = loop.before.rms_m > 0.0 ? 1.0 - score.closed_predicted_rms_m / loop.before.rms_m : 0.0;
+      } catch (const std::exception& e) {
+        throw std::runtime_error(fmt::format("scenario {} ({}), closed loop: {}", k, drawn.description, e.what()));
+      }
+      score.closed_loop_s = SecondsSince(t0);
+    }
     if (!options.keep_dir.empty()) {
       std::ofstream(dir + "/diagnosis.json") << ToJson(d).dump(2) << "\n";
       std::ofstream(dir + "/truth.txt") << drawn.kind << ": " << drawn.description << "\n";
@@ -371,6 +409,10 @@ nlohmann::json ToJson(const BenchmarkResult& r) {
   j["median_shrink"] = r.median_shrink;
   j["median_after_over_noise_floor"] = r.median_after_over_noise;
   j["median_diagnose_s"] = r.median_diagnose_s;
+  j["closed_loop"] = {{"motions", r.options.generator == "rig" ? r.options.closed_loop_motions : std::vector<std::string>{}},
+                      {"scenarios", r.closed_loop}, {"median_measured_shrink", r.median_closed_shrink},
+                      {"median_predicted_shrink", r.median_closed_predicted_shrink},
+                      {"disagree_by_10_points", r.closed_disagree}};
   j["targets"] = nlohmann::json::array();
   for (const Target& t : Targets(r)) {
     j["targets"].push_back({{"score", t.name}, {"measured", t.rate}, {"target", t.target},
@@ -386,6 +428,12 @@ nlohmann::json ToJson(const BenchmarkResult& r) {
                             {"holdout_before_rms_m", s.before_rms_m}, {"holdout_after_rms_m", s.after_rms_m},
                             {"shrink", s.shrink}, {"noise_floor_rms_m", s.noise_floor_m},
                             {"simulate_s", s.simulate_s}, {"diagnose_s", s.diagnose_s}});
+    if (s.closed_loop) {
+      j["results"].back()["closed_loop"] = {
+          {"before_rms_m", s.closed_before_rms_m}, {"after_rms_m", s.closed_after_rms_m},
+          {"predicted_after_rms_m", s.closed_predicted_rms_m}, {"shrink", s.closed_shrink},
+          {"predicted_shrink", s.closed_predicted_shrink}, {"seconds", s.closed_loop_s}};
+    }
   }
   return j;
 }
@@ -410,6 +458,22 @@ void PrintBenchmark(const BenchmarkResult& r) {
               "after/noise floor %.2f, median diagnosis %.2f s\n",
               r.single_top_true, r.single, r.pairs_both, r.pairs, r.clean_nothing_identified, r.clean, r.extra_identified,
               100 * r.median_shrink, r.median_after_over_noise, r.median_diagnose_s);
+  if (r.closed_loop > 0) {
+    std::printf("\nclosed loop on %s (the model applied by the kinematics, rig with its effects), %d scenarios with "
+                "effects:\n%-3s %-40s %8s %8s %8s %8s %10s\n",
+                fmt::format("{}", fmt::join(r.options.closed_loop_motions, ",")).c_str(), r.closed_loop, "#", "truth",
+                "before", "after", "shrink", "predicted", "pred.shrink");
+    for (const ScenarioScore& s : r.scores) {
+      if (!s.closed_loop || s.kind == "none") continue;
+      std::printf("%-3d %-40s %6.1fµm %6.1fµm %7.0f%% %6.1fµm %9.0f%%\n", s.index,
+                  fmt::format("{}", fmt::join(s.truth, ",")).c_str(), s.closed_before_rms_m * 1e6,
+                  s.closed_after_rms_m * 1e6, 100 * s.closed_shrink, s.closed_predicted_rms_m * 1e6,
+                  100 * s.closed_predicted_shrink);
+    }
+    std::printf("median shrink measured %.0f%%, predicted %.0f%%; 10 points or more apart in %zu: %s\n",
+                100 * r.median_closed_shrink, 100 * r.median_closed_predicted_shrink, r.closed_disagree.size(),
+                fmt::format("{}", fmt::join(r.closed_disagree, ", ")).c_str());
+  }
 }
 
 }  // namespace edsp::gap

@@ -144,6 +144,10 @@ nlohmann::json ModelJson(const Diagnosis& d) {
   return j;
 }
 
+nlohmann::json EmptyModelJson() {
+  return {{"format", "edsp-gap-model/1"}, {"effects", nlohmann::json::array()}};
+}
+
 Evaluation Evaluate(const PlatformModel& model, const MeasurementData& data, const nlohmann::json& saved,
                     const std::string& origin) {
   if (!saved.is_object() || saved.value("format", "") != "edsp-gap-model/1") {

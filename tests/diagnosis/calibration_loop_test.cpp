@@ -44,8 +44,7 @@ OfflineRunOptions Run(const std::string& dir, std::vector<std::string> motions, 
 
 // RMS of point A's error after the best rigid alignment of the run.
 double AlignedRms(const std::string& csv) {
-  const nlohmann::json no_effects = {{"format", "edsp-gap-model/1"}, {"effects", nlohmann::json::array()}};
-  return Evaluate(PlatformModel(LoadConfigFile(Config())), LoadMeasurement(csv), no_effects, "none").before.rms_m;
+  return Evaluate(PlatformModel(LoadConfigFile(Config())), LoadMeasurement(csv), EmptyModelJson(), "none").before.rms_m;
 }
 
 struct LoopResult {

@@ -30,6 +30,10 @@ struct BenchmarkOptions {
   std::vector<std::string> motions = {"Lz", "Lx", "Rz", "Ry", "M1", "M2", "M3", "M4"};
   std::string generator = "rig";     // rig | blind (the blind rig draws its own tracker: rate 10–1000 Hz,
                                      // σ 2–20 µm, with or without encoders; noise and rate above are the rig's)
+  // The closed loop (rig generator only): after the diagnosis, these motions,
+  // which no fit saw, run without and with the saved model applied by the
+  // kinematics; empty: not run.
+  std::vector<std::string> closed_loop_motions = {"Ly", "Rx", "M9"};
   std::string keep_dir;              // empty: scenarios in a temporary directory, removed
   bool progress = true;              // a progress bar on stderr
 };
@@ -59,6 +63,12 @@ struct ScenarioScore {
   bool all_identified = false;       // every true effect `identified`
   double before_rms_m = 0.0, after_rms_m = 0.0, shrink = 0.0, noise_floor_m = 0.0;
   double simulate_s = 0.0, diagnose_s = 0.0;
+  // Measured on the rig with the calibration applied (closed_loop_motions),
+  // beside the model's own prediction from the uncalibrated run.
+  bool closed_loop = false;
+  double closed_before_rms_m = 0.0, closed_after_rms_m = 0.0, closed_predicted_rms_m = 0.0;
+  double closed_shrink = 0.0, closed_predicted_shrink = 0.0;
+  double closed_loop_s = 0.0;
 };
 
 struct BenchmarkResult {
@@ -75,6 +85,10 @@ struct BenchmarkResult {
   double median_shrink = 0.0;           // scenarios with effects of the vocabulary
   double median_after_over_noise = 0.0;
   double median_diagnose_s = 0.0;
+  // Scenarios with effects of the vocabulary, run in closed loop.
+  int closed_loop = 0;
+  double median_closed_shrink = 0.0, median_closed_predicted_shrink = 0.0;
+  std::vector<int> closed_disagree;     // measured and predicted shrink 10 points or more apart
 };
 
 BenchmarkResult RunBenchmark(const BenchmarkOptions& options);

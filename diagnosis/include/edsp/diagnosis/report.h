@@ -16,6 +16,9 @@ nlohmann::json ToJson(const Diagnosis& diagnosis);
 // The selected effects with their parameters: what `evaluate` applies.
 nlohmann::json ModelJson(const Diagnosis& diagnosis);
 
+// A model of no effect: `Evaluate` with it aligns the data and measures.
+nlohmann::json EmptyModelJson();
+
 // One run (motion) of the evaluated data.
 struct RunEvaluation {
   std::string run;

@@ -1,0 +1,25 @@
+#include "edsp/diagnosis/closed_loop.h"
+
+#include <fstream>
+
+namespace edsp::gap {
+
+MotionCheck MeasureClosedLoop(const PlatformModel& model, const std::string& config_path, const RigEffects& effects,
+                              OfflineRunOptions run, const nlohmann::json& saved_model,
+                              const std::vector<std::string>& motions, const std::string& dir) {
+  const std::string model_path = dir + "/model.json";
+  std::ofstream(model_path) << saved_model.dump(2) << "\n";
+  run.motions = motions;
+  run.calibration_path.clear();
+  run.apply_ambiguous = false;
+  run.out_dir = dir + "/closed_loop_without";
+  const OfflineRunResult without = RunOffline(config_path, effects, run);
+  run.calibration_path = model_path;
+  run.out_dir = dir + "/closed_loop_with";
+  const OfflineRunResult with = RunOffline(config_path, effects, run);
+  const Evaluation predicted = Evaluate(model, LoadMeasurement(without.csv_path), saved_model, model_path);
+  const Evaluation measured = Evaluate(model, LoadMeasurement(with.csv_path), EmptyModelJson(), "no model");
+  return CheckCalibration(predicted, measured, true).overall;
+}
+
+}  // namespace edsp::gap
