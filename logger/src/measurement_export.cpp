@@ -44,7 +44,7 @@ struct Stamped6 {
 
 struct Setpoint {
   std::int64_t utime = 0;
-  std::array<double, 6> pose{};
+  std::array<double, 6> pose{}, velocity{};
   std::string run;
 };
 
@@ -88,7 +88,8 @@ class Pairing {
   explicit Pairing(std::ostream& out) : out_(out) {}
 
   void Add(const pose_setpoint_t& s) {
-    InsertByUtime(&setpoints_, Setpoint{s.utime, ToArray(s.pose), s.trajectory.substr(0, s.trajectory.find('/'))});
+    InsertByUtime(&setpoints_, Setpoint{s.utime, ToArray(s.pose), ToArray(s.velocity),
+                                        s.trajectory.substr(0, s.trajectory.find('/'))});
   }
   void Add(const leg_command_t& c) { commands_[c.setpoint_utime] = ToArray(c.command_length_m); }
   void Add(const leg_state_t& l) { InsertByUtime(&legs_, Stamped6{l.utime, ToArray(l.encoder_length_m)}); }
@@ -124,8 +125,16 @@ class Pairing {
     const Stamped6* legs = LastAtOrBefore(legs_, point.utime);
     if (first_utime_ < 0) first_utime_ = point.utime;
     out_ << fmt::format("{:.6f},{}", static_cast<double>(point.utime - first_utime_) * 1e-6, setpoint->run);
-    for (double v : setpoint->pose) out_ << fmt::format(",{:.17g}", v);
-    for (double v : command->second) out_ << fmt::format(",{:.17g}", v);
+    // At the sample's instant, which falls up to a cycle after the setpoint's
+    // (the processes' cycles are not in phase): the pose along its velocity,
+    // the legs between the commands answering this setpoint and the next.
+    const double since_s = static_cast<double>(point.utime - setpoint->utime) * 1e-6;
+    for (int i = 0; i < 6; ++i) {
+      const std::size_t k = static_cast<std::size_t>(i);
+      out_ << fmt::format(",{:.17g}", since_s > 0.0 ? setpoint->pose[k] + setpoint->velocity[k] * since_s : setpoint->pose[k]);
+    }
+    const std::array<double, 6> legs_cmd = CommandAt(point.utime, *setpoint, command);
+    for (double v : legs_cmd) out_ << fmt::format(",{:.17g}", v);
     for (int i = 0; i < 6; ++i) {
       out_ << (legs ? fmt::format(",{:.17g}", legs->values[static_cast<std::size_t>(i)]) : std::string(","));
     }
@@ -134,6 +143,19 @@ class Pairing {
     TrimBefore(&setpoints_, point.utime);
     TrimBefore(&legs_, point.utime);
     commands_.erase(commands_.begin(), command);
+  }
+
+  // The leg command at `utime`: between the one answering `setpoint` and
+  // the one answering the next setpoint, if both came; else the first.
+  std::array<double, 6> CommandAt(std::int64_t utime, const Setpoint& setpoint,
+                                  std::map<std::int64_t, std::array<double, 6>>::const_iterator command) const {
+    if (utime <= setpoint.utime || command->first != setpoint.utime) return command->second;
+    const auto next = std::next(command);
+    if (next == commands_.end() || next->first <= utime) return command->second;
+    const double w = static_cast<double>(utime - command->first) / static_cast<double>(next->first - command->first);
+    std::array<double, 6> legs{};
+    for (std::size_t i = 0; i < 6; ++i) legs[i] = command->second[i] + w * (next->second[i] - command->second[i]);
+    return legs;
   }
 
   std::ostream& out_;

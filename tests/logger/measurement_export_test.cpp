@@ -117,8 +117,11 @@ TEST(MeasurementExport, SamplesArePairedByTheirStampsNotByArrival) {
     };
     b.Add("EDSP_SETPOINT", Setpoint("A/move 1", 1.0, 1000));
     command(1000, 1.0);
+    b.Add("EDSP_TRACKER", Point(1750, 0.4));
     b.Add("EDSP_TRACKER", Point(2000, 0.5));
-    b.Add("EDSP_SETPOINT", Setpoint("A/move 1", 1.5, 1500));
+    pose_setpoint_t moving = Setpoint("A/move 1", 1.5, 1500);
+    moving.velocity[2] = 1000.0;  // m/s: 0.25 m in the 250 µs to the first sample
+    b.Add("EDSP_SETPOINT", moving);
     command(1500, 1.5);
     b.Add("EDSP_SETPOINT", Setpoint("A/move 1", 2.0, 2000));  // for the sample's instant
     command(2000, 2.0);
@@ -131,11 +134,16 @@ TEST(MeasurementExport, SamplesArePairedByTheirStampsNotByArrival) {
   }
   std::ostringstream csv;
   const MeasurementExport e = ExportMeasurementCsv(kPath, csv);
-  ASSERT_EQ(e.rows, 1);
+  ASSERT_EQ(e.rows, 2);
   const auto rows = Rows(csv.str());
-  EXPECT_EQ(std::stod(rows[1][4]), 2.0);   // pose_cmd_z: the setpoint stamped 2000
-  EXPECT_EQ(std::stod(rows[1][8]), 2.0);   // leg_cmd_1: the command answering it
-  EXPECT_EQ(std::stod(rows[1][14]), 1.9);  // leg_enc_1: stamped 1900
+  // At 1750, between the setpoints stamped 1500 and 2000: the pose along
+  // the 1500 one's velocity, the legs between the two commands; no encoders yet.
+  EXPECT_DOUBLE_EQ(std::stod(rows[1][4]), 1.75);
+  EXPECT_DOUBLE_EQ(std::stod(rows[1][8]), 1.75);
+  EXPECT_EQ(rows[1][14], "");
+  EXPECT_EQ(std::stod(rows[2][4]), 2.0);   // pose_cmd_z: the setpoint stamped 2000
+  EXPECT_EQ(std::stod(rows[2][8]), 2.0);   // leg_cmd_1: the command answering it
+  EXPECT_EQ(std::stod(rows[2][14]), 1.9);  // leg_enc_1: stamped 1900
   ::unlink(kPath.c_str());
 }
 

@@ -3,9 +3,12 @@
 // tracker sample (the platform at its stamp), with what the controller
 // commanded for that instant: the last setpoint stamped at or before it, the
 // leg command answering that setpoint (leg_command_t.setpoint_utime), the
-// last encoder reading stamped at or before it. Paired by the messages' own
-// stamps, not by their order of arrival at the logger, which interleaves the
-// processes by a cycle or more (messages up to 0.5 s late are still paired).
+// last encoder reading stamped at or before it; the pose carried along the
+// setpoint's velocity, and the legs between that command and the next, to
+// the sample's instant (a live tracker samples up to a cycle after the
+// setpoint; offline the two coincide and nothing moves). Paired by the
+// messages' own stamps, not by their order of arrival at the logger, which
+// interleaves the processes by a cycle or more (up to 0.5 s late is paired).
 // `run` is the motion the setpoint belongs to (its trajectory name up to the
 // first '/'), so hold-out splits can be by run.
 
