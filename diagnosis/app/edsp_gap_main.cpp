@@ -1,7 +1,7 @@
 // edsp-gap: diagnose the sim-to-real gap (docs/diagnosis.md).
 //   edsp-gap diagnose --config C --data D [--data D2 …] [--json] [--save-model M] [--report DIR]
 //   edsp-gap evaluate --config C --model M --data T [--json]
-//   edsp-gap compare --config C --before B --after A [--model M] [--plot DIR] [--json]
+//   edsp-gap compare --config C --before B --after A [--model M [--apply-ambiguous]] [--plot DIR] [--json]
 //   edsp-gap benchmark --scenarios N --seed S [--generator rig|blind] [--motions Lz,…] [--json] [--noise-m 5e-6] [--keep DIR]
 //                      [--closed-loop-motions Ly,Rx,M9|none]
 #include <unistd.h>
@@ -92,6 +92,9 @@ int Run(int argc, char** argv) {
       ->required();
   compare->add_option("--after", after_paths, "the same motions with the calibration applied; repeatable")->required();
   compare->add_option("--model", model_path, "the calibration's model: its prediction from --before, beside");
+  bool apply_ambiguous = false;
+  compare->add_flag("--apply-ambiguous", apply_ambiguous,
+                    "the controller applied the model's ambiguous effects too (predict with them)");
   compare->add_option("--plot", plot_dir, "write calibration.png (and its data and gnuplot script) here");
   compare->add_flag("--json", json, "print JSON");
 
@@ -126,8 +129,12 @@ int Run(int argc, char** argv) {
   const PlatformModel model(LoadConfigFile(config_path));
   if (*compare) {
     const bool predicted = !model_path.empty();
-    const Evaluation without = Evaluate(model, LoadAll(before_paths), predicted ? LoadModelFile(model_path) : EmptyModelJson(),
-                                        predicted ? model_path : "no model");
+    // Predicted from what the kinematics applied: identified effects, the
+    // ambiguous ones only with --apply-ambiguous.
+    const Evaluation without =
+        Evaluate(model, LoadAll(before_paths),
+                 predicted ? AppliedModelJson(LoadModelFile(model_path), apply_ambiguous) : EmptyModelJson(),
+                 predicted ? model_path : "no model");
     const Evaluation with = Evaluate(model, LoadAll(after_paths), EmptyModelJson(), "no model");
     const CalibrationCheck check = CheckCalibration(without, with, predicted);
     if (!plot_dir.empty()) {

@@ -367,7 +367,10 @@ BenchmarkResult RunBenchmark(const BenchmarkOptions& options) {
         score.closed_shrink = loop.shrink;
         score.closed_predicted_shrink = loop.before.rms_m > 0.0 ? 1.0 - score.closed_predicted_rms_m / loop.before.rms_m : 0.0;
       } catch (const std::exception& e) {
-        throw std::runtime_error(fmt::format("scenario {} ({}), closed loop: {}", k, drawn.description, e.what()));
+        // One scenario's model the kinematics refuses (or a run that fails)
+        // is that scenario's result, not the benchmark's end.
+        std::fprintf(stderr, "edsp-gap benchmark: scenario %d (%s), closed loop not run: %s\n", k,
+                     drawn.description.c_str(), e.what());
       }
       score.closed_loop_s = SecondsSince(t0);
     }

@@ -148,6 +148,17 @@ nlohmann::json EmptyModelJson() {
   return {{"format", "edsp-gap-model/1"}, {"effects", nlohmann::json::array()}};
 }
 
+nlohmann::json AppliedModelJson(const nlohmann::json& saved, bool apply_ambiguous) {
+  nlohmann::json applied = saved;
+  if (!saved.is_object() || !saved.contains("effects") || !saved["effects"].is_array()) return applied;
+  applied["effects"] = nlohmann::json::array();
+  for (const auto& e : saved["effects"]) {
+    const std::string verdict = e.is_object() ? e.value("verdict", "identified") : "identified";
+    if (verdict == "identified" || (apply_ambiguous && verdict == "ambiguous")) applied["effects"].push_back(e);
+  }
+  return applied;
+}
+
 Evaluation Evaluate(const PlatformModel& model, const MeasurementData& data, const nlohmann::json& saved,
                     const std::string& origin) {
   if (!saved.is_object() || saved.value("format", "") != "edsp-gap-model/1") {

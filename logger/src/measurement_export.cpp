@@ -23,6 +23,10 @@ namespace {
 // stamp (processes on one host deliver within milliseconds; a descheduled
 // logger reads its socket backlog later, but in order of arrival).
 constexpr std::int64_t kReorderWindowUs = 500'000;
+// How far after its setpoint a sample may be and the command still be
+// carried along to it: the bridge stops the drives' feed-forward after
+// 2.5 ms without a command (kFeedForwardLapseUs).
+constexpr double kLongestCarryS = 0.0025;
 
 template <typename Msg>
 bool Decode(const LogEvent& event, Msg* msg) {
@@ -87,22 +91,34 @@ class Pairing {
  public:
   explicit Pairing(std::ostream& out) : out_(out) {}
 
+  // With no sample waiting, nothing stamped more than two windows before
+  // the newest message can be needed: memory stays bounded even in a log
+  // without a tracker (or with a long beam break).
   void Add(const pose_setpoint_t& s) {
     InsertByUtime(&setpoints_, Setpoint{s.utime, ToArray(s.pose), ToArray(s.velocity),
                                         s.trajectory.substr(0, s.trajectory.find('/'))});
+    if (pending_.empty()) {
+      TrimBefore(&setpoints_, s.utime - 2 * kReorderWindowUs);
+      commands_.erase(commands_.begin(), commands_.lower_bound(setpoints_.front().utime));
+    }
   }
   void Add(const leg_command_t& c) { commands_[c.setpoint_utime] = ToArray(c.command_length_m); }
-  void Add(const leg_state_t& l) { InsertByUtime(&legs_, Stamped6{l.utime, ToArray(l.encoder_length_m)}); }
+  void Add(const leg_state_t& l) {
+    InsertByUtime(&legs_, Stamped6{l.utime, ToArray(l.encoder_length_m)});
+    if (pending_.empty()) TrimBefore(&legs_, l.utime - 2 * kReorderWindowUs);
+  }
   void Add(std::int64_t received_utime, const tracker_point_t& p) { pending_.push_back({received_utime, p}); }
 
   // Writes the samples received before `received_utime` − the window.
   void WriteUpTo(std::int64_t received_utime, MeasurementExport* result) {
-    while (!pending_.empty() && pending_.front().received_utime + kReorderWindowUs < received_utime) {
+    while (!pending_.empty() && received_utime - pending_.front().received_utime > kReorderWindowUs) {
       Write(pending_.front().point, result);
       pending_.pop_front();
     }
   }
-  void WriteAll(MeasurementExport* result) { WriteUpTo(INT64_MAX - kReorderWindowUs, result); }
+  void WriteAll(MeasurementExport* result) {
+    for (; !pending_.empty(); pending_.pop_front()) Write(pending_.front().point, result);
+  }
 
  private:
   template <typename A>
@@ -128,7 +144,10 @@ class Pairing {
     // At the sample's instant, which falls up to a cycle after the setpoint's
     // (the processes' cycles are not in phase): the pose along its velocity,
     // the legs between the commands answering this setpoint and the next.
-    const double since_s = static_cast<double>(point.utime - setpoint->utime) * 1e-6;
+    // At most a few cycles: a setpoint stream that stopped (a planner frozen
+    // or gone) leaves the pose where it was, as the bridge then holds it.
+    double since_s = static_cast<double>(point.utime - setpoint->utime) * 1e-6;
+    if (since_s > kLongestCarryS) since_s = 0.0;
     for (int i = 0; i < 6; ++i) {
       const std::size_t k = static_cast<std::size_t>(i);
       out_ << fmt::format(",{:.17g}", since_s > 0.0 ? setpoint->pose[k] + setpoint->velocity[k] * since_s : setpoint->pose[k]);

@@ -161,9 +161,10 @@ int Run(int argc, char** argv) {
   }
   status.SetState(node_status_t::STATE_RUNNING);
   RateClock clock(std::chrono::milliseconds(1));
-  // A command is continued by at most one cycle: the most the bridge's
-  // cycle can lead the rig's. Later than that it is stale, and held as the
-  // drives' watchdog holds it.
+  // A command is continued by at most one cycle (the phase between the
+  // bridge's cycle and the rig's); one later than that is continued by one
+  // cycle only. The bridge stops the feed-forward after 2.5 ms without a
+  // command, and the drives' watchdog holds them after 20 ms.
   RigCycle cycle(&rig, 1e-3, 1e-3);
   std::int64_t cycles = 0;
   while (!StopRequested()) {

@@ -83,6 +83,7 @@ OfflineRunResult RunOffline(const std::string& config_path, const RigEffects& ef
     SimLog log(result.log_path);
     KinematicsNodeOptions config_options;
     config_options.session_id = stack.session_id;
+    config_options.calibration = stack.calibration;  // named on EDSP_CONFIG, as live
     KinematicsNode config_source(model, config_options);  // the same latched config message
     std::int64_t utime = stack.start_utime;
     log.Write("EDSP_CONFIG", config_source.ConfigMessage(utime, config_text), utime);

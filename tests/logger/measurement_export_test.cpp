@@ -1,5 +1,5 @@
 // The measurement export on a log written here: rows only for valid tracker
-// samples after a command, the latest setpoint/command/encoders beside each,
+// samples after a command, the setpoint/command/encoders of its instant beside each,
 // the run from the trajectory name, every double exact, and a damaged log
 // exported up to its damage.
 #include <unistd.h>

@@ -3,7 +3,8 @@
 // runs motions the fit never saw twice, without and with the saved model
 // applied by the kinematics (edsp-sim rig's offline stack, the rig keeping
 // its own physics of every effect); point A's measured shrink is set beside
-// the shrink the model predicts offline from the first of the two runs.
+// the shrink the applied part of the model (AppliedModelJson) predicts
+// offline from the first of the two runs.
 
 #include <string>
 #include <vector>

@@ -19,6 +19,12 @@ nlohmann::json ModelJson(const Diagnosis& diagnosis);
 // A model of no effect: `Evaluate` with it aligns the data and measures.
 nlohmann::json EmptyModelJson();
 
+// The part of a saved model the kinematics applies: its `identified`
+// effects (and those saved without a verdict), the `ambiguous` ones only
+// when asked, as kinematics/calibration.h reads it. A prediction to set
+// beside a measurement with the calibration applied must use this.
+nlohmann::json AppliedModelJson(const nlohmann::json& saved, bool apply_ambiguous);
+
 // One run (motion) of the evaluated data.
 struct RunEvaluation {
   std::string run;
