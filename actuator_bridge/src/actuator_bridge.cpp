@@ -116,8 +116,7 @@ bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utim
     const std::int64_t silent_us = now_utime - target_utime_;
     Apply(BridgeEvent::kStale);
     HoldAtRest();
-    if (backend_->Read(now_utime, &feedback_)) HoldWhereTheDrivesAre();
-    backend_->Write(now_utime, target_);
+    hold_where_the_drives_are_ = true;  // at the next cycle's read
     return Reject(FaultCode::kStale,
                   fmt::format("leg command seq {} refused: no valid leg command for {} us before it "
                               "(limit {} us); holding the last valid position (command seq {}) until "
@@ -207,9 +206,23 @@ bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utim
   last_basis_utime_ = basis;
   last_command_seq_ = c.seq;
   ++accepted_;
-  // To the drives now, not at the next cycle: the command's latency is the
-  // transport's, not the cycle's phase. A failed write shows in Cycle().
-  backend_->Write(now_utime, target_);
+  return true;  // to the drives at the next cycle's write
+}
+
+bool ActuatorBridge::LoseDrives(std::int64_t now_utime, fault_t* fault) {
+  // Drives that do not answer may not have followed: nothing the stream
+  // says next can be checked against where they are. Hold and latch.
+  const bool was_moving = Moving();
+  Apply(BridgeEvent::kDrivesLost);
+  HoldAtRest();
+  const std::string detail = backend_->Detail();
+  *fault = Fault(FaultCode::kBackend,
+                 fmt::format("drive backend failed a cycle (drives silent or not active){}{}",
+                             detail.empty() ? std::string() : " [" + detail + "]",
+                             was_moving ? fmt::format(": holding the last valid position (command "
+                                                      "seq {}) until re-armed", last_command_seq_)
+                                        : std::string()),
+                 now_utime);
   return true;
 }
 
@@ -230,6 +243,13 @@ void ActuatorBridge::HoldWhereTheDrivesAre() {
 
 bool ActuatorBridge::Cycle(std::int64_t now_utime, leg_state_t* state, fault_t* fault) {
   bool raised = false;
+  // The read phase: where the drives are at the cycle's start.
+  // This bridge not cycling for longer than the stale limit (frozen,
+  // descheduled): the drives stopped on their own watchdog, wherever that
+  // was; hold them there rather than pull them back to the last command.
+  const bool self_starved = last_cycle_utime_ >= 0 && now_utime - last_cycle_utime_ > options_.stale_us;
+  last_cycle_utime_ = now_utime;
+  const bool read_ok = backend_->Read(now_utime, &feedback_);
   // A command overdue by more than a couple of cycles: the velocity
   // feed-forward no longer describes any motion, and a drive given it with a
   // fixed target settles past that target (by kd/kp · v): hold it at rest.
@@ -246,34 +266,19 @@ bool ActuatorBridge::Cycle(std::int64_t now_utime, leg_state_t* state, fault_t* 
                    now_utime);
     raised = true;
   }
-  // Read first: drives that answer again after an outage are held where
-  // they are now (a restarted rig, or drives that moved while unobserved),
-  // not driven back to a target from before it.
-  // This bridge not cycling for longer than the stale limit (frozen,
-  // descheduled): the drives stopped on their own watchdog, wherever that
-  // was; hold them there rather than pull them back to the last command.
-  const bool self_starved = last_cycle_utime_ >= 0 && now_utime - last_cycle_utime_ > options_.stale_us;
-  last_cycle_utime_ = now_utime;
-  const bool read_ok = backend_->Read(now_utime, &feedback_);
-  if (read_ok && !Moving() && (!backend_ok_ || self_starved)) HoldWhereTheDrivesAre();
-  const bool backend_ok = backend_->Write(now_utime, target_) && read_ok;
-  if (!backend_ok && backend_ok_) {
-    // Drives that do not answer may not have followed: nothing the stream
-    // says next can be checked against where they are. Hold and latch.
-    const bool was_moving = Moving();
-    Apply(BridgeEvent::kDrivesLost);
-    HoldAtRest();
-    backend_->Write(now_utime, target_);  // at rest now, should the drives still listen
-    const std::string detail = backend_->Detail();
-    *fault = Fault(FaultCode::kBackend,
-                   fmt::format("drive backend failed a cycle (drives silent or not active){}{}",
-                               detail.empty() ? std::string() : " [" + detail + "]",
-                               was_moving ? fmt::format(": holding the last valid position (command "
-                                                        "seq {}) until re-armed", last_command_seq_)
-                                          : std::string()),
-                   now_utime);
-    raised = true;
-  } else if (backend_ok && !backend_ok_ && !raised) {
+  // Drives that answer again after an outage are held where they are now (a
+  // restarted rig, or drives that moved while unobserved), not driven back
+  // to a target from before it.
+  if (read_ok && !Moving() && (!backend_ok_ || self_starved || hold_where_the_drives_are_)) {
+    HoldWhereTheDrivesAre();
+    hold_where_the_drives_are_ = false;
+  }
+  if (!read_ok && backend_ok_) raised = LoseDrives(now_utime, fault);  // this cycle writes at rest
+  // The write phase: the cycle's one setpoint.
+  const bool write_ok = backend_->Write(now_utime, target_);
+  if (read_ok && !write_ok && backend_ok_) raised = LoseDrives(now_utime, fault);  // at rest from the next write
+  const bool backend_ok = read_ok && write_ok;
+  if (backend_ok && !backend_ok_ && !raised) {
     *fault = Fault(FaultCode::kBackend,
                    latched() ? "drive backend answers again; holding until re-armed"
                             : "drive backend answers again",

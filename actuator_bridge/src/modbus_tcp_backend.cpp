@@ -140,25 +140,42 @@ void ModbusTcpBackend::Deactivate() {
   state_ = BackendState::kInactive;
 }
 
-bool ModbusTcpBackend::Write(std::int64_t, const DriveSetpoint& setpoint) {
+// The cycle's one request: this setpoint out, the drives' answer in (kept
+// for the next cycle's Read, as a fieldbus master's inputs are).
+bool ModbusTcpBackend::Write(std::int64_t now_utime, const DriveSetpoint& setpoint) {
   if (state_ != BackendState::kActive) return false;  // motion only while active
   std::array<std::optional<std::int32_t>, 6> targets;
   std::array<std::int32_t, 6> velocities{};
-  for (std::size_t d = 0; d < 6; ++d) {
+  std::string unfit;
+  for (std::size_t d = 0; d < 6 && unfit.empty(); ++d) {
     targets[d] = config_.scaling[d].ToCounts(setpoint.motor_angle_rad[d]);
     const auto v = config_.scaling[d].ToCountsPerSecond(setpoint.motor_velocity_rad_s[d]);
     if (!targets[d] || !v) {
-      detail_ = fmt::format("leg {}: motor angle {} rad does not fit the drive's counts: not sent", d + 1,
-                            setpoint.motor_angle_rad[d]);
-      return false;  // the previous targets stay in force
+      unfit = fmt::format("leg {}: motor angle {} rad does not fit the drive's counts: not sent", d + 1,
+                          setpoint.motor_angle_rad[d]);
+    } else {
+      velocities[d] = *v;
     }
-    velocities[d] = *v;
   }
-  target_counts_ = targets;
-  velocity_counts_ = velocities;
-  return true;
+  if (unfit.empty()) {  // else the previous targets stay in force, and still go out
+    target_counts_ = targets;
+    velocity_counts_ = velocities;
+  }
+  if (!master_.connected()) return false;  // Read reconnects
+  std::string error;
+  if (!Exchange(Enabling::kNone, &error)) {
+    detail_ = error;
+    last_connect_utime_ = now_utime;
+    return false;
+  }
+  DriveFeedback answer;
+  Describe(&answer);
+  if (!unfit.empty()) detail_ = unfit;
+  return detail_.empty();
 }
 
+// The drives' answer to the last cycle's request (or, after a reconnect, to
+// a read that wrote nothing).
 bool ModbusTcpBackend::Read(std::int64_t now_utime, DriveFeedback* feedback) {
   if (!master_.connected()) {
     if (last_connect_utime_ >= 0 && now_utime - last_connect_utime_ < kReconnectEveryUs) {
@@ -172,13 +189,6 @@ bool ModbusTcpBackend::Read(std::int64_t now_utime, DriveFeedback* feedback) {
       Describe(feedback);
       return false;
     }
-  }
-  std::string error;
-  if (!Exchange(Enabling::kNone, &error)) {
-    detail_ = error;
-    last_connect_utime_ = now_utime;
-    Describe(feedback);
-    return false;
   }
   Describe(feedback);
   return detail_.empty();

@@ -54,6 +54,15 @@ std::int64_t UtimeNow() {
 RateClock::RateClock(std::chrono::nanoseconds period)
     : period_(period), next_ns_(MonotonicNs() + period.count()) {}
 
+RateClock::RateClock(std::chrono::nanoseconds period, std::chrono::nanoseconds phase)
+    : period_(period), next_ns_(NextGridTick(MonotonicNs(), period.count(), phase.count())) {}
+
+std::int64_t NextGridTick(std::int64_t now_ns, std::int64_t period_ns, std::int64_t phase_ns) {
+  const std::int64_t shift = ((phase_ns % period_ns) + period_ns) % period_ns;
+  const std::int64_t base = now_ns - shift;
+  return (base / period_ns + 1) * period_ns + shift;
+}
+
 void RateClock::WaitNext() {
   timespec deadline{static_cast<time_t>(next_ns_ / 1000000000),
                     static_cast<long>(next_ns_ % 1000000000)};

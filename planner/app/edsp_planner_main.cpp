@@ -135,7 +135,8 @@ int Run(int argc, char** argv) {
   auto status_out = bus.Advertise<node_status_t>("EDSP_STATUS");
   NodeStatus status("planner");
   status.SetState(node_status_t::STATE_RUNNING);
-  RateClock clock(std::chrono::milliseconds(1));
+  // On the host's millisecond grid: the bridge ticks a fixed phase after it.
+  RateClock clock(std::chrono::milliseconds(1), std::chrono::microseconds(0));
   const std::int64_t planner_start = UtimeNow();
   planner.Start(planner_start);
   std::fprintf(stderr, "edsp-planner: %.1f s of motion, session %lld\n",

@@ -67,10 +67,13 @@ TEST(ActuatorBridge, ValidCommandsReachTheDrivesAsMotorAngles) {
   for (int k = 1; k <= 100; ++k, t += 1000) {  // 0.1 mm per ms = 0.1 m/s
     const leg_command_t c = f.Command(1e-4 * k, t, k);
     ASSERT_TRUE(f.bridge.HandleCommand(c, t, &fault)) << fault.reason;
-    // At the drives on arrival, before the cycle: latency is the transport's.
-    EXPECT_NEAR(f.backend.written.motor_angle_rad[2], f.model.MotorAngleFromLength(2, c.command_length_m[2]), 1e-12);
     EXPECT_FALSE(f.bridge.Cycle(t, &state, &fault));
+    EXPECT_NEAR(f.backend.written.motor_angle_rad[2], f.model.MotorAngleFromLength(2, c.command_length_m[2]), 1e-12);
+    EXPECT_EQ(f.bridge.written_setpoint_utime(), c.setpoint_utime);
   }
+  // The cycle reads before it writes: the drives' answer to the last command
+  // is in the next cycle's state.
+  f.bridge.Cycle(t, &state, &fault);
   const leg_command_t last = f.Command(1e-2, t - 1000, 100);
   for (int i = 0; i < kNumLegs; ++i) {
     EXPECT_NEAR(f.backend.written.motor_angle_rad[i],
@@ -81,6 +84,40 @@ TEST(ActuatorBridge, ValidCommandsReachTheDrivesAsMotorAngles) {
   }
   EXPECT_EQ(state.command_seq, 100);
   EXPECT_FALSE(f.bridge.holding());
+}
+
+// A cyclic fieldbus master sees one Read and then one Write per cycle, and
+// nothing in between: commands, refusals, holds, lost drives and re-arms
+// only change what the next cycle writes.
+TEST(ActuatorBridge, EveryCycleIsOneReadThenOneWriteAndNothingElseTouchesTheDrives) {
+  Fixture f;
+  fault_t fault;
+  leg_state_t state;
+  std::int64_t t = kStart;
+  f.backend.exchanges.clear();  // the constructor's read of where the drives start
+  int cycles = 0;
+  auto cycle = [&] {
+    f.bridge.Cycle(t, &state, &fault);
+    ++cycles;
+    t += 1000;
+  };
+  for (int k = 1; k <= 30; ++k) {  // moving, with a burst of two commands in one cycle
+    f.bridge.HandleCommand(f.Command(1e-4 * k, t, k), t, &fault);
+    if (k % 10 == 0) f.bridge.HandleCommand(f.Command(1e-4 * k, t, k), t, &fault);
+    cycle();
+  }
+  for (int k = 0; k < 80; ++k) cycle();  // stale: holds and latches
+  EXPECT_TRUE(f.bridge.latched());
+  f.bridge.HandleCommand(f.Command(0.0, t, 99), t, &fault);  // refused while latched
+  f.backend.answering = false;  // drives lost
+  cycle();
+  f.backend.answering = true;
+  cycle();
+  EXPECT_TRUE(f.bridge.Rearm());
+  cycle();
+  std::string expected;
+  for (int k = 0; k < cycles; ++k) expected += "RW";
+  EXPECT_EQ(f.backend.exchanges, expected);
 }
 
 void ExpectRejected(Fixture& f, const leg_command_t& c, FaultCode code, const std::string& text,
@@ -191,6 +228,7 @@ std::int64_t LatchAtHome(Fixture& f) {
 TEST(ActuatorBridge, AReArmedBridgeRejoinsAMovedStreamAtTheRejoinSpeed) {
   Fixture f;
   fault_t fault;
+  leg_state_t state;
   std::int64_t t = LatchAtHome(f);
   const Vector6 held = WrittenLengths(f);
   f.bridge.Rearm();
@@ -202,6 +240,7 @@ TEST(ActuatorBridge, AReArmedBridgeRejoinsAMovedStreamAtTheRejoinSpeed) {
   for (; k < 3000 && (k == 0 || f.bridge.rejoining()); ++k, t += 1000) {
     const double dz = 0.02 + 1e-5 * k;
     ASSERT_TRUE(f.bridge.HandleCommand(f.Command(dz, t, 2 + k), t, &fault)) << k << ": " << fault.reason;
+    f.bridge.Cycle(t, &state, &fault);
     const Vector6 now = WrittenLengths(f);
     largest_step = std::max(largest_step, (now - previous).cwiseAbs().maxCoeff());
     // A straight line in leg space: every leg's step is the same fraction of its gap.
@@ -212,6 +251,7 @@ TEST(ActuatorBridge, AReArmedBridgeRejoinsAMovedStreamAtTheRejoinSpeed) {
   EXPECT_GT(k, static_cast<int>(0.015 / (speed * 1e-3)));  // so it took its time
   // Caught up: the drives follow the stream exactly again.
   ASSERT_TRUE(f.bridge.HandleCommand(f.Command(0.02 + 1e-5 * k, t, 5000), t, &fault)) << fault.reason;
+  f.bridge.Cycle(t, &state, &fault);
   const Vector6 expected = [&] {
     leg_command_t c = f.Command(0.02 + 1e-5 * k, t, 5000);
     Vector6 l;
@@ -254,12 +294,15 @@ TEST(ActuatorBridge, WhileRejoiningAJumpInTheStreamIsStillRefused) {
   fault_t fault;
   std::int64_t t = LatchAtHome(f);
   f.bridge.Rearm();
+  leg_state_t state;
   ASSERT_TRUE(f.bridge.HandleCommand(f.Command(0.05, t, 2), t, &fault));
+  f.bridge.Cycle(t, &state, &fault);
   const Vector6 after_first = WrittenLengths(f);
   t += 1000;
   EXPECT_FALSE(f.bridge.HandleCommand(f.Command(0.10, t, 3), t, &fault));  // 50 mm in 1 ms
   EXPECT_EQ(fault.code, static_cast<std::int32_t>(FaultCode::kJump));
   EXPECT_NE(fault.reason.find("previous command"), std::string::npos) << fault.reason;
+  f.bridge.Cycle(t, &state, &fault);
   EXPECT_EQ(WrittenLengths(f), after_first);
   EXPECT_TRUE(f.bridge.rejoining());
 }
@@ -337,9 +380,9 @@ TEST(ActuatorBridge, AFreshCommandAfterTheBridgesOwnFreezeIsRefusedAndLatches) {
   EXPECT_EQ(fault.code, static_cast<std::int32_t>(FaultCode::kStale));
   EXPECT_NE(fault.reason.find("until re-armed"), std::string::npos) << fault.reason;
   EXPECT_TRUE(f.bridge.latched());
+  EXPECT_FALSE(f.bridge.Cycle(t, &state, &fault)) << "reported once, by the refusal: " << fault.reason;
   EXPECT_EQ(f.backend.written.motor_angle_rad, past) << "held where the drives stopped, not pulled back";
   for (double v : f.backend.written.motor_velocity_rad_s) EXPECT_EQ(v, 0.0);
-  EXPECT_FALSE(f.bridge.Cycle(t, &state, &fault)) << "reported once, by the refusal: " << fault.reason;
 }
 
 // Frozen while the drives went on interpolating for a few cycles and then

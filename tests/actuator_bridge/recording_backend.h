@@ -15,12 +15,14 @@ class RecordingBackend final : public DriveBackend {
   bool Activate(std::string*) override { return true; }
   void Deactivate() override {}
   bool Read(std::int64_t, DriveFeedback* feedback) override {
+    exchanges += 'R';
     if (!answering) return false;  // drives silent (a frozen rig, a lost fieldbus)
     feedback->motor_angle_rad = stopped_at ? *stopped_at : written.motor_angle_rad;  // a perfect drive
     feedback->status.fill(DriveStatus::kEnabled);
     return true;
   }
   bool Write(std::int64_t, const DriveSetpoint& setpoint) override {
+    exchanges += 'W';
     written = setpoint;
     ++writes;
     return true;
@@ -33,6 +35,7 @@ class RecordingBackend final : public DriveBackend {
   DriveSetpoint written;
   bool resettable = true;
   int writes = 0;
+  std::string exchanges;  // 'R' per Read, 'W' per Write, in order
   bool answering = true;
   std::optional<std::array<double, 6>> stopped_at;  // drives that stopped elsewhere
 };

@@ -36,13 +36,17 @@ class ActuatorBridge {
   // The backend must outlive the bridge. Starts holding the current position.
   ActuatorBridge(PlatformModel model, DriveBackend* backend, BridgeOptions options);
 
-  // True: the command becomes the target and is written to the drives at
-  // once. False: *fault says why it was refused.
+  // True: the command becomes the target, which the next cycle writes to
+  // the drives (it touches no drive itself). False: *fault says why it was
+  // refused.
   bool HandleCommand(const leg_command_t& command, std::int64_t now_utime, fault_t* fault);
 
-  // One drive cycle: hold if the target went stale, write it, read the drives.
-  // Returns true and fills *fault when a new fault arose this cycle.
+  // One drive cycle: one Read, then hold if the target went stale or the
+  // drives were lost, then one Write (drive_backend.h). Returns true and
+  // fills *fault when a new fault arose this cycle.
   bool Cycle(std::int64_t now_utime, leg_state_t* state, fault_t* fault);
+  // The setpoint instant of what the last cycle wrote (0: a hold at rest).
+  std::int64_t written_setpoint_utime() const { return target_.utime; }
 
   // After a stale hold, or drives that stopped answering, the bridge refuses
   // every command until an operator re-arms it (the stream may come back anywhere; resuming by itself when the
@@ -86,6 +90,7 @@ class ActuatorBridge {
   bool Moving() const { return !IsHolding(state_); }
   void HoldAtRest();             // the last valid position, at rest
   void HoldWhereTheDrivesAre();  // after drives answer again
+  bool LoseDrives(std::int64_t now_utime, fault_t* fault);  // hold at rest, latch; the fault
 
   PlatformModel model_;
   DriveBackend* backend_;
@@ -98,6 +103,9 @@ class ActuatorBridge {
   std::int64_t last_basis_utime_ = 0; // its planner time (setpoint_utime)
   std::int64_t last_command_seq_ = 0;
   bool backend_ok_ = true;           // drive health, an input: faults are raised on its changes
+  // Set when a command found this bridge starved past the stale limit (it
+  // was frozen): the next cycle holds the drives where its read finds them.
+  bool hold_where_the_drives_are_ = false;
   Vector6 stream_length_m_;          // the last valid command (= target unless rejoining)
   std::int64_t state_seq_ = 0;
   std::int64_t accepted_ = 0;

@@ -2,13 +2,18 @@
 // The one door to the drives (ros2_control's SystemInterface, edsp-sized):
 // configure → activate → read/write each cycle → deactivate. The bridge never
 // knows which backend is behind it; backends are siblings chosen by
-// configuration (the virtual rig now, a CiA 402 fieldbus drive later).
+// configuration ([drives] backend: the virtual rig's image, Modbus TCP).
+//
+// A cycle is one Read and then one Write, both at the cycle's start (a
+// cyclic fieldbus master's fixed phases): nothing else in the bridge touches
+// the drives between them, so a master sees exactly one exchange per period.
 
 #include <array>
 #include <cstdint>
 #include <string>
 
 #include "edsp/kinematics/config.h"
+#include "edsp/node/runtime.h"
 
 namespace edsp {
 
@@ -49,6 +54,10 @@ class DriveBackend {
   virtual bool Reset(std::string* /*error*/) { return true; }
   // Why the last cycle failed (which drive, its error), "" when unknown.
   virtual std::string Detail() const { return ""; }
+  // A backend that owns the cycle's clock (an EtherCAT master whose
+  // distributed clock sets the period) returns it, and the bridge's loop
+  // ticks on it; null: the bridge's own clock on the host's grid.
+  virtual CycleClock* Clock() { return nullptr; }
 };
 
 }  // namespace edsp

@@ -1,9 +1,9 @@
 #pragma once
 // DriveBackend for six CiA 402 drives behind a Modbus TCP server (edsp's
 // register map, docs/drives.md): `edsp-drive-sim`, or a gateway in front of
-// real drives. One request per cycle, in Read: it writes the latest
-// setpoint Write stored (a cyclic master's single exchange, one cycle of
-// latency) and reads the six feedbacks. Activate enables the drives through
+// real drives. One request per cycle, in Write: the cycle's setpoint out
+// and the six feedbacks in (function 23), which the next cycle's Read
+// returns, as a fieldbus master's inputs are one exchange old. Activate enables the drives through
 // the state machine without moving them. A drive that leaves operation (a
 // fault, a quick stop) is reported and left without power, never reset or
 // re-enabled on the backend's own: only a fresh Activate (the operator's

@@ -24,24 +24,43 @@ int RunMain(const char* program, int (*run)(int, char**), int argc, char** argv,
 // Microseconds since the epoch (LCM's utime).
 std::int64_t UtimeNow();
 
+// What a cyclic loop waits on: the bridge's own steady clock, or a clock a
+// drive backend owns (an EtherCAT master on distributed clocks). The loop
+// handles input for UntilNext(), then calls WaitNext() to start a cycle.
+class CycleClock {
+ public:
+  virtual ~CycleClock() = default;
+  virtual void WaitNext() = 0;
+  // Time left until the next tick (<= 0 once it is due).
+  virtual std::chrono::nanoseconds UntilNext() const = 0;
+  virtual std::int64_t missed() const = 0;
+  virtual std::chrono::nanoseconds period() const = 0;
+};
+
 // Ticks at a fixed period on CLOCK_MONOTONIC with absolute deadlines. A
 // cycle that starts more than one period late counts as missed, and the
-// clock skips ahead rather than bursting.
-class RateClock {
+// clock skips ahead rather than bursting. With a phase, the ticks fall on
+// the host's grid (multiples of the period since CLOCK_MONOTONIC's origin)
+// plus that phase, so two loops on one host keep a fixed phase between them
+// (the planner at 0, the bridge after it: a cyclic master's shift time).
+class RateClock final : public CycleClock {
  public:
   explicit RateClock(std::chrono::nanoseconds period);
-  void WaitNext();
-  // Time left until the next tick (≤ 0 once it is due): event-driven loops
-  // handle input until then, then call WaitNext() to advance.
-  std::chrono::nanoseconds UntilNext() const;
-  std::int64_t missed() const { return missed_; }
-  std::chrono::nanoseconds period() const { return period_; }
+  RateClock(std::chrono::nanoseconds period, std::chrono::nanoseconds phase);
+  void WaitNext() override;
+  std::chrono::nanoseconds UntilNext() const override;
+  std::int64_t missed() const override { return missed_; }
+  std::chrono::nanoseconds period() const override { return period_; }
 
  private:
   std::chrono::nanoseconds period_;
   std::int64_t next_ns_;
   std::int64_t missed_ = 0;
 };
+
+// The first tick after `now_ns` on the grid of `period_ns` shifted by
+// `phase_ns` (both > 0; the phase taken modulo the period).
+std::int64_t NextGridTick(std::int64_t now_ns, std::int64_t period_ns, std::int64_t phase_ns);
 
 // Loop-time percentiles and message counters for EDSP_STATUS.
 class NodeStatus {
