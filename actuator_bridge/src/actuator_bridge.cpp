@@ -124,6 +124,16 @@ bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utim
                               c.seq, silent_us, options_.stale_us, last_command_seq_),
                   now_utime, fault);
   }
+  if (hold_where_the_drives_are_) {
+    // Frozen, then re-armed before a cycle read where the drives' watchdog
+    // stopped them: a stream started now would rejoin from the last command
+    // and pull them back. The next cycle reads them (1 ms).
+    return Reject(FaultCode::kStale,
+                  fmt::format("leg command seq {} refused: where the drives stopped during this "
+                              "bridge's freeze is not read yet (next cycle)",
+                              c.seq),
+                  now_utime, fault);
+  }
   if (!backend_ok_) {
     return Reject(FaultCode::kBackend,
                   fmt::format("leg command seq {} refused: the drives do not answer", c.seq),

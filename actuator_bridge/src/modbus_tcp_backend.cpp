@@ -170,7 +170,7 @@ bool ModbusTcpBackend::Write(std::int64_t now_utime, const DriveSetpoint& setpoi
   }
   DriveFeedback answer;
   Describe(&answer);
-  if (!unfit.empty()) detail_ = unfit;
+  if (!unfit.empty()) detail_ = detail_.empty() ? unfit : unfit + "; " + detail_;
   return detail_.empty();
 }
 

@@ -160,12 +160,14 @@ int Run(int argc, char** argv) {
                              UtimeNow()));
   }
   status.SetState(node_status_t::STATE_RUNNING);
-  RateClock clock(std::chrono::milliseconds(1));
-  // A command is continued by at most one cycle (the phase between the
-  // bridge's cycle and the rig's); one later than that is continued by one
-  // cycle only. The bridge stops the feed-forward after 2.5 ms without a
-  // command, and the drives' watchdog holds them after 20 ms.
-  RigCycle cycle(&rig, 1e-3, 1e-3);
+  // The drives' cycle on the host's grid, 100 µs after the bridge's write
+  // (drives on their master's distributed clock): a setpoint reaches them
+  // 0.5 ms after the planner's tick, or a cycle later when the bridge wrote
+  // it late. A command is continued by at most 2.5 ms, where the bridge stops
+  // the feed-forward of a command it has not renewed (kFeedForwardLapseUs);
+  // the drives' watchdog holds them after 20 ms.
+  RateClock clock(std::chrono::milliseconds(1), std::chrono::microseconds(500));
+  RigCycle cycle(&rig, 1e-3, 2.5e-3);
   std::int64_t cycles = 0;
   while (!StopRequested()) {
     clock.WaitNext();

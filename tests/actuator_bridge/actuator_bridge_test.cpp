@@ -111,13 +111,14 @@ TEST(ActuatorBridge, EveryCycleIsOneReadThenOneWriteAndNothingElseTouchesTheDriv
   f.bridge.HandleCommand(f.Command(0.0, t, 99), t, &fault);  // refused while latched
   f.backend.answering = false;  // drives lost
   cycle();
-  f.backend.answering = true;
-  cycle();
-  EXPECT_TRUE(f.bridge.Rearm());
-  cycle();
   std::string expected;
   for (int k = 0; k < cycles; ++k) expected += "RW";
   EXPECT_EQ(f.backend.exchanges, expected);
+  // A re-arm of lost drives resets them (acyclic, between cycles), once.
+  EXPECT_TRUE(f.bridge.Rearm());
+  f.backend.answering = true;
+  cycle();
+  EXPECT_EQ(f.backend.exchanges, expected + "XRW");
 }
 
 void ExpectRejected(Fixture& f, const leg_command_t& c, FaultCode code, const std::string& text,
@@ -383,6 +384,46 @@ TEST(ActuatorBridge, AFreshCommandAfterTheBridgesOwnFreezeIsRefusedAndLatches) {
   EXPECT_FALSE(f.bridge.Cycle(t, &state, &fault)) << "reported once, by the refusal: " << fault.reason;
   EXPECT_EQ(f.backend.written.motor_angle_rad, past) << "held where the drives stopped, not pulled back";
   for (double v : f.backend.written.motor_velocity_rad_s) EXPECT_EQ(v, 0.0);
+}
+
+// The same freeze shorter than the stale limit as seen by the cycle (it ran
+// 45 ms before the command came 51 ms after the last one): the cycle's own
+// starvation check cannot see it, the command's refusal must leave the
+// hold where the drives are to the next cycle's read. Re-armed in between
+// (an operator's EDSP_ARM queued with the commands), the stream must wait
+// for that read, not rejoin from the last command.
+TEST(ActuatorBridge, AfterAFreezeTheHoldWaitsForTheNextReadEvenWhenReArmedFirst) {
+  Fixture f;
+  fault_t fault;
+  leg_state_t state;
+  std::int64_t t = kStart;
+  MoveUp(f, &t, 3e-5, 20);
+  const std::int64_t last_command = t - 1000;
+  f.bridge.Cycle(last_command + 45000, &state, &fault);  // the last cycle before the freeze
+  ASSERT_FALSE(f.bridge.holding());
+  std::array<double, 6> past = f.backend.written.motor_angle_rad;
+  for (double& a : past) a += 0.05;  // where the drives' interpolator left them
+  f.backend.stopped_at = past;
+  t = last_command + 51000;
+  EXPECT_FALSE(f.bridge.HandleCommand(f.Command(3e-5 * 70, t, 70), t, &fault));
+  EXPECT_TRUE(f.bridge.latched());
+  EXPECT_TRUE(f.bridge.Rearm());
+  EXPECT_FALSE(f.bridge.HandleCommand(f.Command(3e-5 * 71, t, 71), t, &fault));
+  EXPECT_NE(fault.reason.find("not read yet"), std::string::npos) << fault.reason;
+  f.bridge.Cycle(t, &state, &fault);
+  EXPECT_EQ(f.backend.written.motor_angle_rad, past) << "held where the drives stopped, not pulled back";
+  for (double v : f.backend.written.motor_velocity_rad_s) EXPECT_EQ(v, 0.0);
+  // Read: the stream rejoins from there.
+  t += 1000;
+  ASSERT_TRUE(f.bridge.HandleCommand(f.Command(3e-5 * 72, t, 72), t, &fault)) << fault.reason;
+  f.bridge.Cycle(t, &state, &fault);
+  EXPECT_TRUE(f.bridge.rejoining());
+  for (int i = 0; i < kNumLegs; ++i) {
+    EXPECT_LE(std::abs(f.backend.written.motor_angle_rad[i] - past[i]),
+              f.model.MotorAngleFromLength(i, 1.5 + Fixture::Options().rejoin_speed_m_s * 1e-3) -
+                  f.model.MotorAngleFromLength(i, 1.5) + 1e-9)
+        << "leg " << i + 1 << ": one rejoin step from where the drives stopped";
+  }
 }
 
 // Frozen while the drives went on interpolating for a few cycles and then

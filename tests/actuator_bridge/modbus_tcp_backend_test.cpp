@@ -154,7 +154,12 @@ TEST(ModbusTcpBackend, ASetpointThatDoesNotFitTheCountsIsRefusedAndTheLastStays)
   bad.motor_angle_rad[2] = 1e6;  // far beyond 2^31 counts
   EXPECT_FALSE(backend.Write(Now(), bad));
   DriveFeedback f;
-  for (int k = 0; k < 20; ++k) backend.Read(Now(), &f);
+  for (int k = 0; k < 20; ++k) {  // cycles carrying the bad target: each refused, the good one in force
+    backend.Read(Now(), &f);
+    EXPECT_FALSE(backend.Write(Now(), bad));
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  backend.Read(Now(), &f);
   for (int i = 0; i < 6; ++i) EXPECT_NEAR(f.motor_angle_rad[i], 1.0, 1e-5) << "leg " << i + 1;
 }
 

@@ -28,6 +28,7 @@ class RecordingBackend final : public DriveBackend {
     return true;
   }
   bool Reset(std::string* error) override {
+    exchanges += 'X';
     if (!resettable) *error = "drive 3: fault 7500h (communication) persists";
     return resettable;
   }
@@ -35,7 +36,7 @@ class RecordingBackend final : public DriveBackend {
   DriveSetpoint written;
   bool resettable = true;
   int writes = 0;
-  std::string exchanges;  // 'R' per Read, 'W' per Write, in order
+  std::string exchanges;  // 'R' per Read, 'W' per Write, 'X' per Reset, in order
   bool answering = true;
   std::optional<std::array<double, 6>> stopped_at;  // drives that stopped elsewhere
 };

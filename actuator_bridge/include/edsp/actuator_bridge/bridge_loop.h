@@ -28,6 +28,10 @@ class BridgeLoop {
   // Set-up: subscribes and advertises on `bus` (may throw TransportError).
   // The bus and the bridge must outlive the loop.
   BridgeLoop(Bus& bus, ActuatorBridge& bridge);
+  // The bus's handlers point at this loop: no copy, no move, and no
+  // Bus::Handle after it is gone.
+  BridgeLoop(const BridgeLoop&) = delete;
+  BridgeLoop& operator=(const BridgeLoop&) = delete;
 
   // Until stop() is true: input until the clock's next tick, then a cycle.
   void Run(CycleClock& clock, const std::function<bool()>& stop);
@@ -37,7 +41,7 @@ class BridgeLoop {
 
   // Setpoint utime → the bridge accepting its command (the transport's share).
   const LatencyRecorder& arrival_latency() const { return arrival_; }
-  // Setpoint utime → the cycle that wrote it to the drives.
+  // Setpoint utime → the start of the cycle that wrote it to the drives.
   const LatencyRecorder& write_latency() const { return written_; }
   const ChannelCounters& commands_in() const { return commands_in_; }
 

@@ -5,8 +5,11 @@
 // configuration ([drives] backend: the virtual rig's image, Modbus TCP).
 //
 // A cycle is one Read and then one Write, both at the cycle's start (a
-// cyclic fieldbus master's fixed phases): nothing else in the bridge touches
-// the drives between them, so a master sees exactly one exchange per period.
+// cyclic fieldbus master's fixed phases): commands only change what the next
+// Write carries, so a master sees one exchange per period. The lifecycle
+// calls (Configure, Activate, Reset, Deactivate) are acyclic, as a master's
+// mailbox/SDO requests are: Reset runs on the operator's re-arm, between
+// cycles, and may take several exchanges.
 
 #include <array>
 #include <cstdint>

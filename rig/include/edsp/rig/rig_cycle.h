@@ -24,7 +24,7 @@ struct RigCycleReport {
 
 // A drive command taken at `now`, later than the instant it is for
 // (command.utime): the target continued along its velocity feed-forward to
-// `now`, by at most `horizon_s` (edsp-rig: one cycle). The
+// `now`, by at most `horizon_s` (edsp-rig: 2.5 ms, the bridge's feed-forward lapse). The
 // drives then follow the setpoints' clock whatever the phase between the
 // bridge's cycle and theirs, as drives synchronised to the master's clock
 // do. A command without a stamp (utime 0) is taken as it is.
