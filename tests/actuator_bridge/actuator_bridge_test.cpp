@@ -214,6 +214,16 @@ Vector6 WrittenLengths(const Fixture& f) {
   return l;
 }
 
+// The drives' interpolator ran on past the last target and stopped there
+// (0.05 rad further on every motor) while the bridge was frozen: where they
+// now are.
+std::array<double, 6> StopDrivesAhead(Fixture& f) {
+  std::array<double, 6> past = f.backend.written.motor_angle_rad;
+  for (double& a : past) a += 0.05;
+  f.backend.stopped_at = past;
+  return past;
+}
+
 // One command at home, then 100 ms of silence (the link is gone): latched.
 // Returns the time after it.
 std::int64_t LatchAtHome(Fixture& f) {
@@ -373,9 +383,7 @@ TEST(ActuatorBridge, AFreshCommandAfterTheBridgesOwnFreezeIsRefusedAndLatches) {
   leg_state_t state;
   std::int64_t t = kStart;
   MoveUp(f, &t, 3e-5, 20);  // moving up at 0.03 m/s
-  std::array<double, 6> past = f.backend.written.motor_angle_rad;
-  for (double& a : past) a += 0.05;  // where the drives' interpolator left them
-  f.backend.stopped_at = past;
+  const std::array<double, 6> past = StopDrivesAhead(f);
   t += 500000;  // frozen for 0.5 s; the stream went on 15 mm
   EXPECT_FALSE(f.bridge.HandleCommand(f.Command(3e-5 * 520, t, 520), t, &fault));
   EXPECT_EQ(fault.code, static_cast<std::int32_t>(FaultCode::kStale));
@@ -401,9 +409,7 @@ TEST(ActuatorBridge, AfterAFreezeTheHoldWaitsForTheNextReadEvenWhenReArmedFirst)
   const std::int64_t last_command = t - 1000;
   f.bridge.Cycle(last_command + 45000, &state, &fault);  // the last cycle before the freeze
   ASSERT_FALSE(f.bridge.holding());
-  std::array<double, 6> past = f.backend.written.motor_angle_rad;
-  for (double& a : past) a += 0.05;  // where the drives' interpolator left them
-  f.backend.stopped_at = past;
+  const std::array<double, 6> past = StopDrivesAhead(f);
   t = last_command + 51000;
   EXPECT_FALSE(f.bridge.HandleCommand(f.Command(3e-5 * 70, t, 70), t, &fault));
   EXPECT_TRUE(f.bridge.latched());
@@ -435,9 +441,7 @@ TEST(ActuatorBridge, AfterItsOwnFreezeTheBridgeHoldsTheDrivesWhereTheyStopped) {
   leg_state_t state;
   std::int64_t t = kStart;
   MoveUp(f, &t, 3e-5, 20);
-  std::array<double, 6> past = f.backend.written.motor_angle_rad;
-  for (double& a : past) a += 0.05;  // where the drives' interpolator left them
-  f.backend.stopped_at = past;
+  const std::array<double, 6> past = StopDrivesAhead(f);
   t += 500000;
   ASSERT_TRUE(f.bridge.Cycle(t, &state, &fault));
   EXPECT_EQ(fault.code, static_cast<std::int32_t>(FaultCode::kStale));

@@ -1,7 +1,5 @@
 // The bridge on a bus (memq://, in process): commands and re-arms in, leg
 // states and faults out, the drive cycle on a clock the test owns.
-#include <unistd.h>
-
 #include <string>
 #include <vector>
 
@@ -9,17 +7,11 @@
 
 #include "edsp/actuator_bridge/bridge_loop.h"
 #include "edsp/kinematics/config.h"
+#include "memq_bus.h"  // tests/support
 #include "recording_backend.h"
 
 namespace edsp {
 namespace {
-
-TransportConfig MemqConfig() {
-  TransportConfig config;
-  config.lcm_url = "memq://";
-  config.shm_prefix = "edsp.bridgeloop." + std::to_string(::getpid());
-  return config;
-}
 
 // A clock that ticks `ticks` times, at once, then says the loop is due no more.
 class CountingClock final : public CycleClock {
@@ -39,7 +31,7 @@ struct Fixture {
   PlatformModel model{Huang2021Config()};
   RecordingBackend backend;
   ActuatorBridge bridge{model, &backend, Options()};
-  Bus bus{MemqConfig()};
+  Bus bus{test_support::MemqConfig("bridgeloop")};
   BridgeLoop loop{bus, bridge};
   std::vector<leg_state_t> states;
   std::vector<fault_t> faults;

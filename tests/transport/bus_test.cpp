@@ -10,17 +10,13 @@
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/leg_command_t.hpp"
 #include "edsp/transport/bus.h"
+#include "memq_bus.h"  // tests/support
 #include "edsp/transport/seq_gap.h"
 
 namespace edsp {
 namespace {
 
-TransportConfig MemqConfig() {
-  TransportConfig config;
-  config.lcm_url = "memq://";
-  config.shm_prefix = "edsp.bustest." + std::to_string(::getpid());
-  return config;
-}
+TransportConfig MemqConfig() { return test_support::MemqConfig("bustest"); }
 
 TransportConfig Routed(const std::string& channel, ChannelPath path, std::uint32_t mirror_every = 1) {
   TransportConfig config = MemqConfig();

@@ -59,7 +59,7 @@ class RateClock final : public CycleClock {
 };
 
 // The first tick after `now_ns` on the grid of `period_ns` shifted by
-// `phase_ns` (both > 0; the phase taken modulo the period).
+// `phase_ns` (period > 0; any phase, taken modulo the period).
 std::int64_t NextGridTick(std::int64_t now_ns, std::int64_t period_ns, std::int64_t phase_ns);
 
 // Loop-time percentiles and message counters for EDSP_STATUS.
