@@ -27,6 +27,9 @@ constexpr std::int64_t kReorderWindowUs = 500'000;
 // carried along to it: the bridge stops the drives' feed-forward after
 // 2.5 ms without a command (kFeedForwardLapseUs).
 constexpr double kLongestCarryS = 0.0025;
+// Setpoints further apart than this in the log are a stream that stopped,
+// not ticks missing from it: nothing is interpolated across.
+constexpr std::int64_t kLongestGapUs = 50'000;
 
 template <typename Msg>
 bool Decode(const LogEvent& event, Msg* msg) {
@@ -146,12 +149,7 @@ class Pairing {
     // the legs between the commands answering this setpoint and the next.
     // At most a few cycles: a setpoint stream that stopped (a planner frozen
     // or gone) leaves the pose where it was, as the bridge then holds it.
-    double since_s = static_cast<double>(point.utime - setpoint->utime) * 1e-6;
-    if (since_s > kLongestCarryS) since_s = 0.0;
-    for (int i = 0; i < 6; ++i) {
-      const std::size_t k = static_cast<std::size_t>(i);
-      out_ << fmt::format(",{:.17g}", since_s > 0.0 ? setpoint->pose[k] + setpoint->velocity[k] * since_s : setpoint->pose[k]);
-    }
+    for (double q : PoseAt(point.utime, *setpoint)) out_ << fmt::format(",{:.17g}", q);
     const std::array<double, 6> legs_cmd = CommandAt(point.utime, *setpoint, command);
     for (double v : legs_cmd) out_ << fmt::format(",{:.17g}", v);
     for (int i = 0; i < 6; ++i) {
@@ -164,13 +162,36 @@ class Pairing {
     commands_.erase(commands_.begin(), command);
   }
 
+  // The commanded pose at `utime`, after `setpoint`: carried along its
+  // velocity for up to kLongestCarryS; later than that (setpoints missing
+  // from the log: the planner skipped ticks or the logger lost them), between
+  // it and the next setpoint if one came within kLongestGapS; else where it
+  // was (the stream stopped, and the bridge holds).
+  std::array<double, 6> PoseAt(std::int64_t utime, const Setpoint& setpoint) const {
+    const double since_s = static_cast<double>(utime - setpoint.utime) * 1e-6;
+    std::array<double, 6> pose = setpoint.pose;
+    if (since_s <= 0.0) return pose;
+    if (since_s <= kLongestCarryS) {
+      for (std::size_t k = 0; k < 6; ++k) pose[k] += setpoint.velocity[k] * since_s;
+      return pose;
+    }
+    const auto next = std::upper_bound(setpoints_.begin(), setpoints_.end(), utime,
+                                       [](std::int64_t t, const Setpoint& s) { return t < s.utime; });
+    if (next == setpoints_.end() || next->utime - setpoint.utime > kLongestGapUs) return pose;
+    const double w = static_cast<double>(utime - setpoint.utime) / static_cast<double>(next->utime - setpoint.utime);
+    for (std::size_t k = 0; k < 6; ++k) pose[k] += w * (next->pose[k] - setpoint.pose[k]);
+    return pose;
+  }
+
   // The leg command at `utime`: between the one answering `setpoint` and
   // the one answering the next setpoint, if both came; else the first.
   std::array<double, 6> CommandAt(std::int64_t utime, const Setpoint& setpoint,
                                   std::map<std::int64_t, std::array<double, 6>>::const_iterator command) const {
     if (utime <= setpoint.utime || command->first != setpoint.utime) return command->second;
     const auto next = std::next(command);
-    if (next == commands_.end() || next->first <= utime) return command->second;
+    if (next == commands_.end() || next->first <= utime || next->first - command->first > kLongestGapUs) {
+      return command->second;
+    }
     const double w = static_cast<double>(utime - command->first) / static_cast<double>(next->first - command->first);
     std::array<double, 6> legs{};
     for (std::size_t i = 0; i < 6; ++i) legs[i] = command->second[i] + w * (next->second[i] - command->second[i]);

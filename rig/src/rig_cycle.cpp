@@ -1,6 +1,7 @@
 #include "edsp/rig/rig_cycle.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace edsp {
 
@@ -15,8 +16,21 @@ DriveSetpoint AtCycleStart(const DriveSetpoint& command, std::int64_t now, doubl
   return at;
 }
 
+bool RigCycle::CatchUp(std::int64_t now) {
+  if (state_utime_ < 0 || now <= state_utime_) return true;
+  double left_s = std::min(static_cast<double>(now - state_utime_) * 1e-6, kLongestCatchUpS);
+  bool ok = true;
+  while (ok && left_s > 1e-9) {
+    const double dt = std::min(left_s, cycle_s_);
+    ok = rig_->Advance(dt);
+    left_s -= dt;
+  }
+  return ok;
+}
+
 RigCycleReport RigCycle::Step(std::int64_t now, const DriveSetpoint* command, bool enable) {
   RigCycleReport report;
+  report.physics_failed = !CatchUp(now);
   report.feedback = rig_->Feedback();
   report.truth = rig_->Truth(now);
   report.tracker_due = rig_->TrackerSample(now, &report.tracker);
@@ -25,7 +39,8 @@ RigCycleReport RigCycle::Step(std::int64_t now, const DriveSetpoint* command, bo
     watchdog_reported_ = rig_->watchdog_tripped();
     report.watchdog_changed = true;
   }
-  report.physics_failed = !rig_->Advance(cycle_s_);
+  report.physics_failed = !rig_->Advance(cycle_s_) || report.physics_failed;
+  state_utime_ = now + static_cast<std::int64_t>(std::llround(cycle_s_ * 1e6));
   return report;
 }
 

@@ -147,6 +147,39 @@ TEST(MeasurementExport, SamplesArePairedByTheirStampsNotByArrival) {
   ::unlink(kPath.c_str());
 }
 
+// Setpoints missing from the log (the planner skipped ticks, the logger lost
+// them): a sample past the carry lies between the setpoints around it, not
+// at the last one's pose (which showed as a spike of speed × gap); across a
+// gap longer than a stopped stream's, the pose stays where it was.
+TEST(MeasurementExport, ASampleInAGapOfSetpointsLiesBetweenTheSetpointsAroundIt) {
+  {
+    LogBuilder b(kPath);
+    auto setpoint = [&](std::int64_t utime, double z) {
+      pose_setpoint_t s = Setpoint("A/move 1", z, utime);
+      s.velocity[2] = 100.0;  // m/s: would carry the pose 0.4 m in 4 ms
+      b.Add("EDSP_SETPOINT", s);
+      leg_command_t c{};
+      c.setpoint_utime = utime;
+      for (double& l : c.command_length_m) l = z;
+      b.Add("EDSP_LEG_COMMAND", c);
+    };
+    setpoint(1'000'000, 1.0);
+    b.Add("EDSP_TRACKER", Point(1'004'000, 0.1));  // 4 ms into a 10 ms gap
+    setpoint(1'010'000, 2.0);
+    b.Add("EDSP_TRACKER", Point(1'060'000, 0.2));  // 50 ms into a 100 ms gap: a stopped stream
+    setpoint(1'110'000, 3.0);
+  }
+  std::ostringstream csv;
+  const MeasurementExport e = ExportMeasurementCsv(kPath, csv);
+  ASSERT_EQ(e.rows, 2);
+  const auto rows = Rows(csv.str());
+  EXPECT_NEAR(std::stod(rows[1][4]), 1.4, 1e-12);  // pose_cmd_z between 1.0 and 2.0
+  EXPECT_NEAR(std::stod(rows[1][8]), 1.4, 1e-12);  // leg_cmd_1 between the commands
+  EXPECT_EQ(std::stod(rows[2][4]), 2.0);           // held where the stream stopped
+  EXPECT_EQ(std::stod(rows[2][8]), 2.0);
+  ::unlink(kPath.c_str());
+}
+
 TEST(MeasurementExport, DamagedLogIsExportedUpToTheDamageAndSaysWhere) {
   WriteLog();
   const long size = [] {

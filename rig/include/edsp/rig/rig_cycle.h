@@ -5,7 +5,10 @@
 // reached, then the drives take the newest command and the physics advance
 // one cycle. A report stamped t thus describes the platform at t, as the
 // offline stack's (StackSimulation) does; and a command taken a little after
-// the instant it is for continues from that instant (AtCycleStart).
+// the instant it is for continues from that instant (AtCycleStart). A cycle
+// that starts late first advances the physics, on the last command, by the
+// time it came late (bounded by kLongestCatchUpS): the platform a real rig
+// would have moved meanwhile.
 
 #include <cstdint>
 
@@ -30,6 +33,10 @@ struct RigCycleReport {
 // do. A command without a stamp (utime 0) is taken as it is.
 DriveSetpoint AtCycleStart(const DriveSetpoint& command, std::int64_t now, double horizon_s);
 
+// A rig cycle later than this is a frozen emulator, not a late one: the
+// emulated hardware stood with it (the drives' watchdog is 20 ms).
+inline constexpr double kLongestCatchUpS = 0.02;
+
 class RigCycle {
  public:
   // `horizon_s`: how late a command may be continued (AtCycleStart).
@@ -45,6 +52,10 @@ class RigCycle {
   double cycle_s_;
   double horizon_s_;
   bool watchdog_reported_ = false;
+  std::int64_t state_utime_ = -1;  // the instant the physics' state describes
+  // Advances the physics on the current target from state_utime_ to `now`
+  // in steps of at most a cycle (the drives' watchdog sees each).
+  bool CatchUp(std::int64_t now);
 };
 
 }  // namespace edsp
