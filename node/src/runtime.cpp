@@ -51,6 +51,11 @@ std::int64_t UtimeNow() {
   return std::int64_t{ts.tv_sec} * 1000000 + ts.tv_nsec / 1000;
 }
 
+std::int64_t UtimeOfMonotonic(std::int64_t monotonic_ns) {
+  const std::int64_t offset_ns = UtimeNow() * 1000 - MonotonicNs();
+  return (monotonic_ns + offset_ns) / 1000;
+}
+
 RateClock::RateClock(std::chrono::nanoseconds period)
     : period_(period), next_ns_(MonotonicNs() + period.count()) {}
 
@@ -69,6 +74,7 @@ void RateClock::WaitNext() {
   while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &deadline, nullptr) == EINTR &&
          !StopRequested()) {
   }
+  tick_ns_ = next_ns_;
   next_ns_ += period_.count();
   const std::int64_t now = MonotonicNs();
   if (now > next_ns_) {  // this cycle already overran the next deadline

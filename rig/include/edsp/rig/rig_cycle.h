@@ -1,14 +1,17 @@
 #pragma once
 // One millisecond of the virtual rig as edsp-rig runs it (and a test or the
 // in-process stack can): first what the drives and the instruments report
-// at the cycle's start, which is the state the previous cycle's physics
+// at the cycle's instant, which is the state the previous cycle's physics
 // reached, then the drives take the newest command and the physics advance
-// one cycle. A report stamped t thus describes the platform at t, as the
-// offline stack's (StackSimulation) does; and a command taken a little after
-// the instant it is for continues from that instant (AtCycleStart). A cycle
-// that starts late first advances the physics, on the last command, by the
-// time it came late (bounded by kLongestCatchUpS): the platform a real rig
-// would have moved meanwhile.
+// one cycle. The physics run on their own exact clock of whole cycles,
+// anchored at the first: a cycle's instant is the one of that clock nearest
+// the wall clock's `now`, and everything it reports is stamped with it, so a
+// report stamped t describes the platform at t, as the offline stack's
+// (StackSimulation) does. A cycle that starts one or more cycles late first
+// advances the physics, on the last command, by the cycles it missed
+// (at most kLongestCatchUpS): the platform a real rig would have moved
+// meanwhile. A command taken after the instant it is for continues from
+// that instant (AtCycleStart).
 
 #include <cstdint>
 
@@ -17,8 +20,9 @@
 namespace edsp {
 
 struct RigCycleReport {
-  DriveFeedback feedback;        // the drives at `now`
-  rig_truth_t truth{};           // the platform at `now`
+  std::int64_t utime = 0;        // the cycle's instant on the physics' clock (within half a cycle of `now`)
+  DriveFeedback feedback;        // the drives at `utime`
+  rig_truth_t truth{};           // the platform at `utime`
   bool tracker_due = false;      // the tracker's rate decides
   tracker_point_t tracker{};
   bool watchdog_changed = false; // the drives started or stopped holding (rig.watchdog_tripped() says which)
@@ -53,9 +57,10 @@ class RigCycle {
   double horizon_s_;
   bool watchdog_reported_ = false;
   std::int64_t state_utime_ = -1;  // the instant the physics' state describes
-  // Advances the physics on the current target from state_utime_ to `now`
-  // in steps of at most a cycle (the drives' watchdog sees each).
-  bool CatchUp(std::int64_t now);
+  // Advances the physics on the current target, whole cycles at a time (the
+  // drives' watchdog sees each), to the instant of the physics' clock
+  // nearest `now`, and returns it; *failed when a pose was lost.
+  std::int64_t CatchUp(std::int64_t now, bool* failed);
 };
 
 }  // namespace edsp
