@@ -18,7 +18,7 @@ class RecordingBackend final : public DriveBackend {
     exchanges += 'R';
     if (!answering) return false;  // drives silent (a frozen rig, a lost fieldbus)
     feedback->motor_angle_rad = stopped_at ? *stopped_at : written.motor_angle_rad;  // a perfect drive
-    feedback->status.fill(DriveStatus::kEnabled);
+    feedback->status = status;
     return true;
   }
   bool Write(std::int64_t, const DriveSetpoint& setpoint) override {
@@ -39,6 +39,8 @@ class RecordingBackend final : public DriveBackend {
   std::string exchanges;  // 'R' per Read, 'W' per Write, 'X' per Reset, in order
   bool answering = true;
   std::optional<std::array<double, 6>> stopped_at;  // drives that stopped elsewhere
+  std::array<DriveStatus, 6> status{DriveStatus::kEnabled, DriveStatus::kEnabled, DriveStatus::kEnabled,
+                                    DriveStatus::kEnabled, DriveStatus::kEnabled, DriveStatus::kEnabled};
 };
 
 }  // namespace edsp

@@ -48,6 +48,7 @@ name = "rig"
 command = "edsp-rig"
 args = ["--tracker-noise-m", "0"]
 start_delay_ms = 200
+{13}
 [[member]]
 name = "actuator_bridge"
 command = "edsp-actuator-bridge"
@@ -71,7 +72,8 @@ restart = "never"
 )",
                                                     name, EDSP_SOURCE_DIR, ::getpid(), pr_mode,
                                                     run.log_path, planner_args, session_id, config, stale_ms,
-                                                    extras.bridge_args, extras.logger_args, extras.toml, kGroupLcmUrl);
+                                                    extras.bridge_args, extras.logger_args, extras.toml, kGroupLcmUrl,
+                                                    extras.after_rig);
   const std::string command = fmt::format("{} {}/group.toml --until-exit planner --duration-s 120 2>{}/launch.err",
                                           EDSP_LAUNCH_BINARY, dir, dir);
   std::thread action;

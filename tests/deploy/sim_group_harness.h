@@ -38,10 +38,12 @@ inline constexpr int kShippedStaleMs = 50;
 inline constexpr int kStallTolerantStaleMs = 250;
 
 // What some tests change beyond the planner: TOML appended to the group file
-// (e.g. [transport.channels.X]), more arguments (each quoted, comma-led:
+// (e.g. [transport.channels.X]), members between the rig and the bridge
+// (edsp-drive-sim in front of the rig), more arguments (each quoted, comma-led:
 // `, "--x", "1"`) for the bridge and the logger, and where the log goes.
 struct SimGroupExtras {
   std::string toml;
+  std::string after_rig;  // [[member]] tables started after the rig, before the bridge (drives)
   std::string bridge_args;
   std::string logger_args;
   std::string log_path;  // default <dir>/run.lcmlog

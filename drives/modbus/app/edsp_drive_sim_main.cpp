@@ -1,20 +1,46 @@
 // edsp-drive-sim: six simulated CiA 402 drives (cyclic synchronous
 // position) behind a Modbus TCP server at edsp's register map
 // (docs/drives.md), for the bridge's Modbus backend and its tests.
+//   edsp-drive-sim [--host 127.0.0.1] [--port 1502] [--cycle-ms 1]
+//                  [--following-window-counts N] [--fieldbus-timeout-ms 20]
+//                  [--axes own|rig] [--image-prefix P] [--config FILE] [--group FILE]
+// --axes own: each drive moves its own axis at a bounded speed.
+// --axes rig: the drives move the virtual rig's legs through its process
+// image (edsp-rig computes the physics and the tracker), counts scaled by
+// the config's [drives] section: the sim-modbus group.
 #include <cstdio>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "edsp/actuator_bridge/drives_config.h"
+#include "edsp/actuator_bridge/virtual_rig_backend.h"
+#include "edsp/drives/backend_axes.h"
 #include "edsp/drives/modbus_drive_server.h"
+#include "edsp/node/node_options.h"
 #include "edsp/node/runtime.h"
 
+namespace edsp {
 namespace {
 
+// The rig's legs behind the drives, through the image the bridge's
+// virtual backend would otherwise write.
+std::unique_ptr<cia402::CspAxes> RigAxes(const NodeOptions& node, const std::string& image_prefix) {
+  const PlatformConfig config = LoadConfigFile(node.config_path);
+  const DrivesConfig drives = LoadDrivesConfig(node.config_path, config);
+  const TransportConfig transport = TransportFor(node);
+  auto image = std::make_unique<VirtualRigBackend>(image_prefix.empty() ? transport.shm_prefix : image_prefix,
+                                                   transport.shm_permissions);
+  return std::make_unique<cia402::BackendAxes>(std::move(image), config, drives.scaling);
+}
+
 int Run(int argc, char** argv) {
-  edsp::cia402::DriveServerOptions options;
+  cia402::DriveServerOptions options;
   double cycle_ms = 1.0, fieldbus_timeout_ms = 20.0;
+  std::string axes = "own", image_prefix;
+  NodeOptions node;
   CLI::App app{"Six simulated CiA 402 drives (CSP) behind a Modbus TCP server"};
+  AddNodeOptions(&app, &node);
   app.add_option("--host", options.host, "address to listen on")->capture_default_str();
   app.add_option("--port", options.port, "TCP port (0: any free one, printed)")->capture_default_str()
       ->check(CLI::Range(0, 65535));
@@ -22,22 +48,27 @@ int Run(int argc, char** argv) {
   app.add_option("--following-window-counts", options.drive.following_error_window,
                  "6065h: following error beyond this faults the drive (8611h)")
       ->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--max-speed-counts-s", options.drive.max_speed_counts_s, "the axes' speed limit")
+  app.add_option("--max-speed-counts-s", options.drive.max_speed_counts_s, "the own axes' speed limit")
       ->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--fieldbus-timeout-ms", fieldbus_timeout_ms,
                  "no command for this long while enabled faults the drive (8130h)")
       ->capture_default_str()->check(CLI::Range(1.0, 10000.0));
+  app.add_option("--axes", axes, "own: each drive's own axis; rig: the virtual rig's legs (its process image)")
+      ->capture_default_str()->check(CLI::IsMember({"own", "rig"}));
+  app.add_option("--image-prefix", image_prefix, "the rig's process image prefix (default: shm_prefix)");
   CLI11_PARSE(app, argc, argv);
   options.cycle_s = cycle_ms * 1e-3;
   options.drive.fieldbus_timeout_s = fieldbus_timeout_ms * 1e-3;
-  edsp::InstallStopSignals();
-  edsp::cia402::ModbusDriveServer server(options);
-  std::printf("edsp-drive-sim: 6 drives on modbus-tcp %s:%d\n", options.host.c_str(), server.port());
+  InstallStopSignals();
+  cia402::ModbusDriveServer server(options, axes == "rig" ? RigAxes(node, image_prefix) : nullptr);
+  std::printf("edsp-drive-sim: 6 drives (%s axes) on modbus-tcp %s:%d\n", axes.c_str(), options.host.c_str(),
+              server.port());
   std::fflush(stdout);
-  server.Run([] { return edsp::StopRequested(); });
+  server.Run([] { return StopRequested(); });
   return 0;
 }
 
 }  // namespace
+}  // namespace edsp
 
-int main(int argc, char** argv) { return edsp::RunMain("edsp-drive-sim", Run, argc, argv); }
+int main(int argc, char** argv) { return edsp::RunMain("edsp-drive-sim", edsp::Run, argc, argv); }

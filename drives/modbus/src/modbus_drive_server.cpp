@@ -20,6 +20,11 @@ constexpr int kFunctionWriteMultiple = 0x10;
 constexpr int kFunctionReadWriteMultiple = 0x17;
 constexpr int kFunctionOffset = 7;  // after the MBAP header
 
+std::int64_t WallUtime() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(
+             std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
 int BoundPort(int socket) {
   sockaddr_in address{};
   socklen_t length = sizeof(address);
@@ -29,8 +34,9 @@ int BoundPort(int socket) {
 
 }  // namespace
 
-ModbusDriveServer::ModbusDriveServer(const DriveServerOptions& options)
-    : options_(options), drives_(modbus_map::kDrives, SimulatedCspDrive(options.drive)) {
+ModbusDriveServer::ModbusDriveServer(const DriveServerOptions& options, std::unique_ptr<CspAxes> axes)
+    : options_(options), cabinet_(options.drive, std::move(axes)) {
+  static_assert(modbus_map::kDrives == kCabinetDrives, "one cabinet drive per drive of the map");
   const std::string where = fmt::format("{}:{}", options.host, options.port);
   if (!(options.cycle_s > 0.0 && options.cycle_s <= 0.1)) {
     throw std::runtime_error(fmt::format("drive cycle {} s: must be in (0, 0.1]", options.cycle_s));
@@ -65,11 +71,12 @@ void ModbusDriveServer::InjectFault(int index, std::uint16_t error_code) {
 
 void ModbusDriveServer::Tick(double dt_s) {
   for (int d = 0; d < modbus_map::kDrives; ++d) {
-    SimulatedCspDrive& drive = drives_[static_cast<std::size_t>(d)];
     const std::uint16_t fault = pending_faults_[static_cast<std::size_t>(d)].exchange(0);
-    if (fault != 0) drive.InjectFault(fault);
-    drive.Step(dt_s);
-    const modbus_map::DriveRegisters r = modbus_map::EncodeFeedback(drive.Feedback());
+    if (fault != 0) cabinet_.InjectFault(d, fault);
+  }
+  cabinet_.Tick(dt_s);
+  for (int d = 0; d < modbus_map::kDrives; ++d) {
+    const modbus_map::DriveRegisters r = modbus_map::EncodeFeedback(cabinet_.Feedback(d));
     std::copy(r.begin(), r.end(), mapping_->tab_registers + modbus_map::kFeedbackAddress + d * modbus_map::kRegistersPerDrive);
   }
 }
@@ -94,10 +101,12 @@ void ModbusDriveServer::Serve(int client) {
   ++requests_;
   const int function = query[kFunctionOffset];
   if (function == kFunctionWriteSingle || function == kFunctionWriteMultiple || function == kFunctionReadWriteMultiple) {
+    std::array<CspCommand, kCabinetDrives> commands;
     for (int d = 0; d < modbus_map::kDrives; ++d) {
-      drives_[static_cast<std::size_t>(d)].Command(modbus_map::DecodeCommand(
-          mapping_->tab_registers + modbus_map::kCommandAddress + d * modbus_map::kRegistersPerDrive));
+      commands[static_cast<std::size_t>(d)] = modbus_map::DecodeCommand(
+          mapping_->tab_registers + modbus_map::kCommandAddress + d * modbus_map::kRegistersPerDrive);
     }
+    cabinet_.Command(commands, WallUtime());
   }
 }
 

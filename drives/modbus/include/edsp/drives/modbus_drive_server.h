@@ -3,7 +3,8 @@
 // the register map of modbus_register_map.h: what edsp-drive-sim serves,
 // and what a test talks to over loopback. The drives run on their own
 // clock; requests are answered as they come, one client at a time (a new
-// connection replaces the old one, as a restarted master's does).
+// connection replaces the old one, as a restarted master's does). Their
+// axes are the simulator's own or another's physics (csp_axes.h).
 
 #include <array>
 #include <atomic>
@@ -12,8 +13,11 @@
 #include <string>
 #include <vector>
 
+#include <memory>
+
+#include "edsp/drives/csp_axes.h"
+#include "edsp/drives/drive_cabinet.h"
 #include "edsp/drives/modbus_register_map.h"
-#include "edsp/drives/simulated_csp_drive.h"
 
 typedef struct _modbus modbus_t;
 typedef struct _modbus_mapping_t modbus_mapping_t;
@@ -30,7 +34,8 @@ struct DriveServerOptions {
 class ModbusDriveServer {
  public:
   // Binds and listens; throws std::runtime_error naming host:port and why.
-  explicit ModbusDriveServer(const DriveServerOptions& options);
+  // Null `axes`: six bounded-speed axes at count 0 (options.drive's speed).
+  explicit ModbusDriveServer(const DriveServerOptions& options, std::unique_ptr<CspAxes> axes = nullptr);
   ~ModbusDriveServer();
   ModbusDriveServer(const ModbusDriveServer&) = delete;
   ModbusDriveServer& operator=(const ModbusDriveServer&) = delete;
@@ -53,7 +58,7 @@ class ModbusDriveServer {
   int listener_ = -1;
   int client_ = -1;
   int port_ = 0;
-  std::vector<SimulatedCspDrive> drives_;
+  DriveCabinet cabinet_;
   std::array<std::atomic<std::uint16_t>, modbus_map::kDrives> pending_faults_{};
   std::atomic<std::int64_t> requests_{0};
 };
