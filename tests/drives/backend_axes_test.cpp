@@ -97,14 +97,21 @@ TEST_F(BackendAxesTest, ADriveOutOfOperationHoldsItsLegWhereItStoppedFollowing) 
   std::array<std::optional<std::int32_t>, kCabinetDrives> wanted;
   for (int d = 0; d < kCabinetDrives; ++d) wanted[static_cast<std::size_t>(d)] = cabinet_->Feedback(d).position_actual + 900;
   Cycle(wanted);
-  const double stood = backend_->written.motor_angle_rad[2];
+  // The leg stands a little short of its target (a real axis lags): the
+  // brake holds it there, not at the target.
+  std::array<double, 6> actual = backend_->written.motor_angle_rad;
+  actual[2] -= 0.002;
+  backend_->stopped_at = actual;
+  Cycle(wanted);
+  const double stood = actual[2];
+  ASSERT_NE(backend_->written.motor_angle_rad[2], stood);
   cabinet_->InjectFault(2, 0x2310);
   // The leg drifts in the backend's feedback meanwhile (another load on it).
   std::array<double, 6> drifting = backend_->written.motor_angle_rad;
   for (int k = 0; k < 5; ++k) {
     for (int d = 0; d < kCabinetDrives; ++d) wanted[static_cast<std::size_t>(d)] = *wanted[static_cast<std::size_t>(d)] + 10;
     Cycle(wanted, 2);
-    drifting = backend_->written.motor_angle_rad;
+    drifting = actual;
     drifting[2] = stood + 0.001 * (k + 1);
     backend_->stopped_at = drifting;
     EXPECT_EQ(cabinet_->state(2), State::kFault);
@@ -136,6 +143,18 @@ TEST_F(BackendAxesTest, ASilentBackendIsALostEncoderOnEveryDriveAndALegInFaultIs
   backend_->status[4] = DriveStatus::kEnabled;
   for (int k = 0; k < 12 && !AllOperating(); ++k) Cycle(hold);
   EXPECT_TRUE(AllOperating());
+}
+
+TEST(BackendAxes, ADriveWithoutAScalingIsRefusedByName) {
+  auto scaling = Scaling();
+  scaling[3].counts_per_rad = 0.0;  // a config without [drives] counts_per_m
+  try {
+    BackendAxes axes(std::make_unique<RecordingBackend>(), Huang2021Config(), scaling);
+    FAIL() << "a zero scaling would send NaN targets to the legs";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("drive 4"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("counts_per_m"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

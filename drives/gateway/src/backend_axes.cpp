@@ -9,6 +9,12 @@ namespace edsp::cia402 {
 BackendAxes::BackendAxes(std::unique_ptr<DriveBackend> backend, const PlatformConfig& config,
                          const std::array<DriveScaling, kCabinetDrives>& scaling)
     : backend_(std::move(backend)), scaling_(scaling) {
+  for (std::size_t d = 0; d < scaling_.size(); ++d) {
+    if (const std::string problem = scaling_[d].Problem(); !problem.empty()) {
+      throw std::runtime_error("the drives' axes: drive " + std::to_string(d + 1) + ": " + problem +
+                               " (the config's [drives] counts_per_m, offset_counts, direction)");
+    }
+  }
   std::string error;
   if (!backend_->Configure(config, &error) || !backend_->Activate(&error)) {
     throw std::runtime_error("the drives' axes: " + error);

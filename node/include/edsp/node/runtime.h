@@ -53,8 +53,9 @@ class RateClock final : public CycleClock {
   std::chrono::nanoseconds UntilNext() const override;
   std::int64_t missed() const override { return missed_; }
   std::chrono::nanoseconds period() const override { return period_; }
-  // The deadline of the tick WaitNext last returned for (CLOCK_MONOTONIC,
-  // ns): the cycle's instant, whatever its wake-up latency.
+  // The tick WaitNext last returned for (CLOCK_MONOTONIC, ns): the newest
+  // deadline not after the wake, so the cycle's instant whatever its
+  // wake-up latency, and after missed ticks the latest of them.
   std::int64_t tick_ns() const { return tick_ns_; }
 
  private:

@@ -5,7 +5,8 @@
 // reached, then the drives take the newest command and the physics advance
 // one cycle. The physics run on their own exact clock of whole cycles,
 // anchored at the first: a cycle's instant is the one of that clock nearest
-// the wall clock's `now`, and everything it reports is stamped with it, so a
+// the wall clock's `now` (edsp-rig: its tick's), and the drives, the truth
+// and the tracker it reports are stamped with it, so a
 // report stamped t describes the platform at t, as the offline stack's
 // (StackSimulation) does. A cycle that starts one or more cycles late first
 // advances the physics, on the last command, by the cycles it missed
@@ -20,7 +21,9 @@
 namespace edsp {
 
 struct RigCycleReport {
-  std::int64_t utime = 0;        // the cycle's instant on the physics' clock (within half a cycle of `now`)
+  // The cycle's instant on the physics' clock: within half a cycle of
+  // `now` (up to a cycle ahead after the wall clock stepped back by less).
+  std::int64_t utime = 0;
   DriveFeedback feedback;        // the drives at `utime`
   rig_truth_t truth{};           // the platform at `utime`
   bool tracker_due = false;      // the tracker's rate decides
