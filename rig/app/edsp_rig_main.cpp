@@ -172,8 +172,7 @@ int Run(int argc, char** argv) {
   while (!StopRequested()) {
     clock.WaitNext();
     const auto start = std::chrono::steady_clock::now();
-    // The tick's instant, not the wake's: the physics' clock stays on the grid.
-    const std::int64_t now = UtimeOfMonotonic(clock.tick_ns());
+    const std::int64_t now = UtimeNow();
     DriveImageCommand command{};
     const bool commanded = image.LatestCommand(&command);
     DriveSetpoint setpoint;
@@ -183,7 +182,7 @@ int Run(int argc, char** argv) {
       setpoint.motor_velocity_rad_s[i] = command.motor_velocity_rad_s[i];
     }
     const RigCycleReport report = cycle.Step(now, commanded ? &setpoint : nullptr, command.enable != 0);
-    image.PublishFeedback(report.feedback, report.utime, ++cycles);
+    image.PublishFeedback(report.feedback, now, ++cycles);
     truth_out.Publish(report.truth);
     if (report.tracker_due && tracker_out.Publish(report.tracker)) status.CountOut();
     if (commanded) status.CountIn();

@@ -1,18 +1,11 @@
 #pragma once
 // One millisecond of the virtual rig as edsp-rig runs it (and a test or the
 // in-process stack can): first what the drives and the instruments report
-// at the cycle's instant, which is the state the previous cycle's physics
+// at the cycle's start, which is the state the previous cycle's physics
 // reached, then the drives take the newest command and the physics advance
-// one cycle. The physics run on their own exact clock of whole cycles,
-// anchored at the first: a cycle's instant is the one of that clock nearest
-// the wall clock's `now` (edsp-rig: its tick's), and the drives, the truth
-// and the tracker it reports are stamped with it, so a
-// report stamped t describes the platform at t, as the offline stack's
-// (StackSimulation) does. A cycle that starts one or more cycles late first
-// advances the physics, on the last command, by the cycles it missed
-// (at most kLongestCatchUpS): the platform a real rig would have moved
-// meanwhile. A command taken after the instant it is for continues from
-// that instant (AtCycleStart).
+// one cycle. A report stamped t thus describes the platform at t, as the
+// offline stack's (StackSimulation) does; and a command taken a little after
+// the instant it is for continues from that instant (AtCycleStart).
 
 #include <cstdint>
 
@@ -21,11 +14,8 @@
 namespace edsp {
 
 struct RigCycleReport {
-  // The cycle's instant on the physics' clock: within half a cycle of
-  // `now` (up to a cycle ahead after the wall clock stepped back by less).
-  std::int64_t utime = 0;
-  DriveFeedback feedback;        // the drives at `utime`
-  rig_truth_t truth{};           // the platform at `utime`
+  DriveFeedback feedback;        // the drives at `now`
+  rig_truth_t truth{};           // the platform at `now`
   bool tracker_due = false;      // the tracker's rate decides
   tracker_point_t tracker{};
   bool watchdog_changed = false; // the drives started or stopped holding (rig.watchdog_tripped() says which)
@@ -39,10 +29,6 @@ struct RigCycleReport {
 // bridge's cycle and theirs, as drives synchronised to the master's clock
 // do. A command without a stamp (utime 0) is taken as it is.
 DriveSetpoint AtCycleStart(const DriveSetpoint& command, std::int64_t now, double horizon_s);
-
-// A rig cycle later than this is a frozen emulator, not a late one: the
-// emulated hardware stood with it (the drives' watchdog is 20 ms).
-inline constexpr double kLongestCatchUpS = 0.02;
 
 class RigCycle {
  public:
@@ -59,11 +45,6 @@ class RigCycle {
   double cycle_s_;
   double horizon_s_;
   bool watchdog_reported_ = false;
-  std::int64_t state_utime_ = -1;  // the instant the physics' state describes
-  // Advances the physics on the current target, whole cycles at a time (the
-  // drives' watchdog sees each), to the instant of the physics' clock
-  // nearest `now`, and returns it; *failed when a pose was lost.
-  std::int64_t CatchUp(std::int64_t now, bool* failed);
 };
 
 }  // namespace edsp
