@@ -51,26 +51,6 @@ std::int64_t UtimeNow() {
   return std::int64_t{ts.tv_sec} * 1000000 + ts.tv_nsec / 1000;
 }
 
-std::int64_t UtimeOfMonotonic(std::int64_t monotonic_ns) {
-  // The wall clock read between two monotonic reads, against their middle;
-  // a pair preempted apart (> 20 µs) is read again, so a deschedule between
-  // the reads cannot shift the offset by its length.
-  std::int64_t offset_ns = 0, spread_ns = 0;
-  for (int attempt = 0; attempt < 5; ++attempt) {
-    const std::int64_t before = MonotonicNs();
-    timespec wall{};
-    clock_gettime(CLOCK_REALTIME, &wall);
-    const std::int64_t after = MonotonicNs();
-    const std::int64_t wall_ns = std::int64_t{wall.tv_sec} * 1000000000 + wall.tv_nsec;
-    if (attempt == 0 || after - before < spread_ns) {
-      spread_ns = after - before;
-      offset_ns = wall_ns - (before + spread_ns / 2);
-    }
-    if (spread_ns < 20000) break;
-  }
-  return (monotonic_ns + offset_ns) / 1000;
-}
-
 RateClock::RateClock(std::chrono::nanoseconds period)
     : period_(period), next_ns_(MonotonicNs() + period.count()) {}
 
@@ -96,10 +76,6 @@ void RateClock::WaitNext() {
     missed_ += late;
     next_ns_ += late * period_.count();
   }
-  // The newest tick not after the wake: after missed ticks, the cycle is
-  // the latest one's (a late wake stamped with the tick it waited for ran
-  // the newest command as if it were that old).
-  tick_ns_ = next_ns_ - period_.count();
 }
 
 std::chrono::nanoseconds RateClock::UntilNext() const {

@@ -196,15 +196,9 @@ bool VirtualRig::UpdateLoads(double dt_s) {
   const FkResult rigid = SolveForward(model_, lengths_, rigid_pose_, fk_options_);
   if (!rigid.ok()) return false;
   Vector3 accel = Vector3::Zero();
-  // Steps of unequal length (a caller's choice): the second difference over
-  // both, not over this step's length squared (a 7 µs step after a 1 ms one
-  // was an acceleration of thousands of g).
-  if (rigid_history_ >= 2 && dt_s > 0.0 && rigid_previous_dt_s_ > 0.0) {
-    const Vector3 v_now = (rigid.pose.p_BoMo_B - rigid_pose_.p_BoMo_B) / dt_s;
-    const Vector3 v_before = (rigid_pose_.p_BoMo_B - rigid_previous_.p_BoMo_B) / rigid_previous_dt_s_;
-    accel = 2.0 * (v_now - v_before) / (dt_s + rigid_previous_dt_s_);
+  if (rigid_history_ >= 2 && dt_s > 0.0) {
+    accel = (rigid.pose.p_BoMo_B - 2.0 * rigid_pose_.p_BoMo_B + rigid_previous_.p_BoMo_B) / (dt_s * dt_s);
   }
-  rigid_previous_dt_s_ = dt_s;
   rigid_previous_ = rigid_pose_;
   rigid_pose_ = rigid.pose;
   ++rigid_history_;

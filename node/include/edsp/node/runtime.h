@@ -23,8 +23,6 @@ int RunMain(const char* program, int (*run)(int, char**), int argc, char** argv,
 
 // Microseconds since the epoch (LCM's utime).
 std::int64_t UtimeNow();
-// A CLOCK_MONOTONIC instant (ns) as a utime (µs on the wall clock).
-std::int64_t UtimeOfMonotonic(std::int64_t monotonic_ns);
 
 // What a cyclic loop waits on: the bridge's own steady clock, or a clock a
 // drive backend owns (an EtherCAT master on distributed clocks). The loop
@@ -53,15 +51,10 @@ class RateClock final : public CycleClock {
   std::chrono::nanoseconds UntilNext() const override;
   std::int64_t missed() const override { return missed_; }
   std::chrono::nanoseconds period() const override { return period_; }
-  // The tick WaitNext last returned for (CLOCK_MONOTONIC, ns): the newest
-  // deadline not after the wake, so the cycle's instant whatever its
-  // wake-up latency, and after missed ticks the latest of them.
-  std::int64_t tick_ns() const { return tick_ns_; }
 
  private:
   std::chrono::nanoseconds period_;
   std::int64_t next_ns_;
-  std::int64_t tick_ns_ = 0;
   std::int64_t missed_ = 0;
 };
 

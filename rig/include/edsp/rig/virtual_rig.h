@@ -91,7 +91,6 @@ class VirtualRig {
   Vector6 lengths_ = Vector6::Zero();    // drive-train lengths (before deflection)
   Pose rigid_pose_, rigid_previous_;     // the undeflected platform, for its acceleration
   int rigid_history_ = 0;
-  double rigid_previous_dt_s_ = 0.0;     // the step from rigid_previous_ to rigid_pose_
   Vector6 leg_forces_ = Vector6::Zero();         // with the platform's acceleration (compliance)
   Vector6 static_leg_forces_ = Vector6::Zero();  // its weight alone (the motors' load torque)
   double load_mass_per_leg_kg_ = 0.0;            // reflected to each motor as inertia
