@@ -34,13 +34,7 @@ std::unique_ptr<DriveBackend> MakeBackend(const std::string& name, const DrivesC
     return std::make_unique<VirtualRigBackend>(
         image_prefix.empty() ? transport.shm_prefix : image_prefix, transport.shm_permissions);
   }
-  if (name == "modbus-tcp") {
-    if (!(drives.scaling[0].counts_per_rad > 0.0)) {
-      throw std::runtime_error("--backend modbus-tcp needs the config's [drives] counts_per_m (encoder counts "
-                               "per metre of leg travel; docs/drives.md)");
-    }
-    return std::make_unique<ModbusTcpBackend>(drives);
-  }
+  if (name == "modbus-tcp") return std::make_unique<ModbusTcpBackend>(drives);
   throw std::runtime_error("--backend " + name + ": known backends: virtual-rig, modbus-tcp");
 }
 

@@ -27,13 +27,10 @@ ModbusTcpBackend::ModbusTcpBackend(const DrivesConfig& config)
     : config_(config), master_(config.host, config.port, config.response_timeout_s) {}
 
 bool ModbusTcpBackend::Configure(const PlatformConfig&, std::string* error) {
-  for (std::size_t i = 0; i < config_.scaling.size(); ++i) {
-    const std::string problem = config_.scaling[i].Problem();
-    if (!problem.empty()) {
-      *error = fmt::format("[drives] leg {}: {}", i + 1, problem);
-      state_ = BackendState::kFault;
-      return false;
-    }
+  if (const std::string problem = ScalingProblem(config_.scaling); !problem.empty()) {
+    *error = problem;
+    state_ = BackendState::kFault;
+    return false;
   }
   state_ = BackendState::kInactive;
   return true;

@@ -28,12 +28,16 @@ std::string DriveScaling::Problem() const {
   return "";
 }
 
-std::optional<std::int32_t> DriveScaling::ToCounts(double angle_rad) const {
-  return ToInt32(static_cast<double>(offset_counts) + direction * counts_per_rad * angle_rad);
+double DriveScaling::Counts(double angle_rad) const {
+  return static_cast<double>(offset_counts) + direction * counts_per_rad * angle_rad;
 }
 
+double DriveScaling::CountRate(double rate_rad_s) const { return direction * counts_per_rad * rate_rad_s; }
+
+std::optional<std::int32_t> DriveScaling::ToCounts(double angle_rad) const { return ToInt32(Counts(angle_rad)); }
+
 std::optional<std::int32_t> DriveScaling::ToCountsPerSecond(double rate_rad_s) const {
-  return ToInt32(direction * counts_per_rad * rate_rad_s);
+  return ToInt32(CountRate(rate_rad_s));
 }
 
 double DriveScaling::ToAngle(std::int32_t counts) const {

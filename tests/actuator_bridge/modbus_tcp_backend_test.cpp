@@ -33,6 +33,20 @@ DrivesConfig ConfigFor(int port) {
   return c;
 }
 
+// --backend modbus-tcp over a config whose [drives] declares no encoder
+// counts: refused at configure, naming the leg and the key to set, never
+// sending NaN targets.
+TEST(ModbusTcpBackend, ADriveWithoutAScalingIsRefusedByNameAtConfigure) {
+  DrivesConfig c = ConfigFor(1502);
+  c.scaling[2].counts_per_rad = 0.0;
+  ModbusTcpBackend backend(c);
+  std::string error;
+  EXPECT_FALSE(backend.Configure(Huang2021Config(), &error));
+  EXPECT_NE(error.find("[drives] leg 3"), std::string::npos) << error;
+  EXPECT_NE(error.find("counts_per_m"), std::string::npos) << error;
+  EXPECT_EQ(backend.state(), BackendState::kFault);
+}
+
 std::size_t Backend_Detail_Disabled(const ModbusTcpBackend& backend) {
   return backend.Detail().find("drive 1 in switch on disabled");
 }

@@ -28,6 +28,11 @@ struct DrivesConfig {
   std::array<cia402::DriveScaling, 6> scaling{};
 };
 
+// "" when every drive's scaling is usable, else which leg and why, naming
+// the [drives] keys it comes from (a backend given counts by --backend
+// while the config's [drives] declares none has a scaling of 0).
+std::string ScalingProblem(const std::array<cia402::DriveScaling, 6>& scaling);
+
 // Throws ConfigError naming the file, line and key.
 DrivesConfig ParseDrivesConfig(const std::string& toml_text, const std::string& origin,
                                const DriveParameters& drive);

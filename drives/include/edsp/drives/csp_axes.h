@@ -2,7 +2,7 @@
 // What stands behind a drive cabinet's six CiA 402 state machines: the axes
 // they move. The simulator's own (each follows its target at a bounded
 // speed) or another process's physics (the virtual rig's legs behind its
-// process image: drives/gateway). A drive cycle asks each axis for what its
+// process image: drive_sim/). A drive cycle asks each axis for what its
 // drive demands and reads back where it stands, in the drive's counts.
 
 #include <array>

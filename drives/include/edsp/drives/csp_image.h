@@ -37,6 +37,10 @@ struct DriveScaling {
 
   // "" when usable, else what is wrong (for config errors naming the drive).
   std::string Problem() const;
+  // The count of `angle_rad` (counts/s of `rate_rad_s`) before rounding:
+  // where an axis stands, for a reading; never a target.
+  double Counts(double angle_rad) const;
+  double CountRate(double rate_rad_s) const;
   // The count for `angle_rad`; nullopt when it is not finite or does not
   // fit the drive's 32-bit position (never a wrapped target).
   std::optional<std::int32_t> ToCounts(double angle_rad) const;

@@ -10,10 +10,8 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
-#include <string>
-#include <vector>
-
 #include <memory>
+#include <string>
 
 #include "edsp/drives/csp_axes.h"
 #include "edsp/drives/drive_cabinet.h"

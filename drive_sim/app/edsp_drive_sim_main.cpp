@@ -15,7 +15,7 @@
 
 #include "edsp/actuator_bridge/drives_config.h"
 #include "edsp/actuator_bridge/virtual_rig_backend.h"
-#include "edsp/drives/backend_axes.h"
+#include "edsp/drive_sim/backend_axes.h"
 #include "edsp/drives/modbus_drive_server.h"
 #include "edsp/node/node_options.h"
 #include "edsp/node/runtime.h"

@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "../actuator_bridge/recording_backend.h"
-#include "edsp/drives/backend_axes.h"
+#include "edsp/drive_sim/backend_axes.h"
 #include "edsp/drives/csp_master.h"
 #include "edsp/drives/drive_cabinet.h"
 #include "edsp/kinematics/config.h"
@@ -152,7 +152,7 @@ TEST(BackendAxes, ADriveWithoutAScalingIsRefusedByName) {
     BackendAxes axes(std::make_unique<RecordingBackend>(), Huang2021Config(), scaling);
     FAIL() << "a zero scaling would send NaN targets to the legs";
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("drive 4"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("leg 4"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("counts_per_m"), std::string::npos) << e.what();
   }
 }

@@ -1,7 +1,8 @@
-#include "edsp/drives/backend_axes.h"
+#include "edsp/drive_sim/backend_axes.h"
 
 #include <stdexcept>
 
+#include "edsp/actuator_bridge/drives_config.h"
 #include "edsp/node/runtime.h"
 
 namespace edsp::cia402 {
@@ -9,11 +10,8 @@ namespace edsp::cia402 {
 BackendAxes::BackendAxes(std::unique_ptr<DriveBackend> backend, const PlatformConfig& config,
                          const std::array<DriveScaling, kCabinetDrives>& scaling)
     : backend_(std::move(backend)), scaling_(scaling) {
-  for (std::size_t d = 0; d < scaling_.size(); ++d) {
-    if (const std::string problem = scaling_[d].Problem(); !problem.empty()) {
-      throw std::runtime_error("the drives' axes: drive " + std::to_string(d + 1) + ": " + problem +
-                               " (the config's [drives] counts_per_m, offset_counts, direction)");
-    }
+  if (const std::string problem = ScalingProblem(scaling_); !problem.empty()) {
+    throw std::runtime_error("the drives' axes: " + problem);
   }
   std::string error;
   if (!backend_->Configure(config, &error) || !backend_->Activate(&error)) {
@@ -30,9 +28,8 @@ void BackendAxes::Sense(std::int64_t now_utime) {
   feedback_ok_ = backend_->Read(now_utime, &feedback_);
   for (std::size_t d = 0; d < readings_.size(); ++d) {
     AxisReading& r = readings_[d];
-    r.position = static_cast<double>(scaling_[d].offset_counts) +
-                 scaling_[d].direction * scaling_[d].counts_per_rad * feedback_.motor_angle_rad[d];
-    r.velocity = scaling_[d].direction * scaling_[d].counts_per_rad * feedback_.motor_velocity_rad_s[d];
+    r.position = scaling_[d].Counts(feedback_.motor_angle_rad[d]);
+    r.velocity = scaling_[d].CountRate(feedback_.motor_velocity_rad_s[d]);
     r.error_code = !feedback_ok_ ? kErrorPositionSensor
                    : feedback_.status[d] == DriveStatus::kFault ? kErrorDeviceHardware
                                                                 : 0;
