@@ -35,8 +35,8 @@ TEST(SimModbusGroup, OverModbusTcpPointASettlesWithin5umAtEveryDwell) {
   const GroupRun run = LaunchSimGroup("modbus", "signed", test_support::kDefaultPlannerArgs, {}, 77,
                                       test_support::kDefaultConfig, test_support::kStallTolerantStaleMs, extras);
   test_support::ExpectCleanRun(run);
-  // The drives were the simulator's, in front of the rig (not the bridge
-  // writing the rig's image itself).
+  // The drive simulator ran: the bridge, a Modbus master here, has no other
+  // way to the rig's legs.
   EXPECT_NE(ReadTextFile(run.dir + "/launch.err").find("drive_sim        started"), std::string::npos);
   const PlatformModel model(Huang2021Config());
   const std::vector<DwellEnd> ends = DwellEnds(run.log_path, model);
