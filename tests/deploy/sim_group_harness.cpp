@@ -38,7 +38,7 @@ GroupRun LaunchSimGroup(const std::string& name, const std::string& pr_mode,
   std::ofstream(dir + "/group.toml") << fmt::format(R"(
 [group]
 name = "{0}"
-config = "{1}/{7}"
+config = "{7}"
 session_id = {6}
 [transport]
 lcm_url = "{12}"
@@ -71,7 +71,9 @@ restart = "never"
 {11}
 )",
                                                     name, EDSP_SOURCE_DIR, ::getpid(), pr_mode,
-                                                    run.log_path, planner_args, session_id, config, stale_ms,
+                                                    run.log_path, planner_args, session_id,
+                                                    config.front() == '/' ? config : std::string(EDSP_SOURCE_DIR) + "/" + config,
+                                                    stale_ms,
                                                     extras.bridge_args, extras.logger_args, extras.toml, kGroupLcmUrl,
                                                     extras.after_rig);
   const std::string command = fmt::format("{} {}/group.toml --until-exit planner --duration-s 120 2>{}/launch.err",

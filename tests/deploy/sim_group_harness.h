@@ -28,7 +28,8 @@ inline constexpr const char* kDefaultPlannerArgs =
 // loopback, ttl 0), for a GroupWatch.
 inline constexpr const char* kGroupLcmUrl = "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304";
 
-inline constexpr const char* kDefaultConfig = "config/huang2021.toml";  // in the checkout
+// Relative to the checkout, or an absolute path (a test's own config).
+inline constexpr const char* kDefaultConfig = "config/huang2021.toml";
 
 // The nodes' stale limit as shipped: what the hold tests exercise.
 inline constexpr int kShippedStaleMs = 50;
