@@ -25,6 +25,7 @@
 #include "edsp/pr_mode_t.hpp"
 #include "edsp/transport/bus.h"
 #include "edsp/sim/dwell_errors.h"
+#include "scratch_dir.h"
 
 namespace edsp {
 namespace {
@@ -170,7 +171,7 @@ TEST(OperatorCommands, LatchedBridgeResumesOnlyWhenReArmed) {
   int ctl_status = -1;
   bool successor_seen = false;
   std::string ctl_out;
-  const std::string csv = HomeCsv(fmt::format("/tmp/edsp_group_test_{}_arm", ::getpid()));
+  const std::string csv = HomeCsv(test_support::ScratchDir("arm"));
   const GroupRun run = LaunchSimGroup(
       "arm", "signed", fmt::format(R"("--csv", "{}", "--exit-after-hold-s", "5")", csv),
       [&](const std::string& dir) {

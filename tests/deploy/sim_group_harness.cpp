@@ -18,11 +18,12 @@
 #include "edsp/tracker_point_t.hpp"
 #include "edsp/node_status_t.hpp"
 #include "edsp/node/runtime.h"
+#include "scratch_dir.h"
 
 namespace edsp::test_support {
 
 std::string SimGroupDir(const std::string& name) {
-  return fmt::format("/tmp/edsp_group_test_{}_{}", ::getpid(), name);
+  return ScratchDir("group_" + name);
 }
 
 GroupRun LaunchSimGroup(const std::string& name, const std::string& pr_mode,

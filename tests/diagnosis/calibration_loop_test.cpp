@@ -20,6 +20,7 @@
 #include "edsp/diagnosis/report.h"
 #include "edsp/kinematics/config.h"
 #include "edsp/sim/offline_run.h"
+#include "scratch_dir.h"
 
 namespace edsp::gap {
 namespace {
@@ -54,7 +55,7 @@ struct LoopResult {
 
 // Calibration motions → diagnosis → model → held-out motions without and with it.
 LoopResult CloseTheLoop(const RigEffects& effects, const std::string& name, bool apply_ambiguous = false) {
-  const std::string dir = fmt::format("{}/edsp_calibration_loop_{}_{}", testing::TempDir(), ::getpid(), name);
+  const std::string dir = test_support::ScratchDir("calibration_loop_" + name);
   std::filesystem::remove_all(dir);
   const OfflineRunResult fit = RunOffline(Config(), effects, Run(dir + "/fit", {"Lz", "Lx", "Rz", "Ry", "M1", "M2"}, 1));
   const Diagnosis d = Diagnose(PlatformModel(LoadConfigFile(Config())), LoadMeasurement(fit.csv_path));

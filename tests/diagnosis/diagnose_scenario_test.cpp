@@ -16,6 +16,7 @@
 #include "edsp/diagnosis/report.h"
 #include "edsp/kinematics/config.h"
 #include "edsp/sim/offline_run.h"
+#include "scratch_dir.h"
 
 namespace edsp::gap {
 namespace {
@@ -50,7 +51,7 @@ Simulated Simulate(const std::string& name, const RigEffects& fx, PrMode compens
   o.tracker.rate_hz = 100.0;
   o.tracker.seed = seed;
   o.tracker.X_TB = Pose::FromVector(frame);
-  o.out_dir = fmt::format("{}/edsp_gap_{}_{}", testing::TempDir(), ::getpid(), name);
+  o.out_dir = test_support::ScratchDir("gap_" + name);
   return {RunOffline(kConfig, fx, o).csv_path};
 }
 

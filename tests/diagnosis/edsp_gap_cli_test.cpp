@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command_output.h"
+#include "scratch_dir.h"
 
 namespace {
 
@@ -18,7 +19,7 @@ using Output = edsp::test_support::CommandOutput;
 
 Output Gap(const std::string& args) { return edsp::test_support::RunCommand(fmt::format("{} {}", EDSP_GAP_BINARY, args)); }
 
-std::string Dir() { return fmt::format("{}/edsp_gap_cli_{}", testing::TempDir(), ::getpid()); }
+std::string Dir() { return edsp::test_support::ScratchDir("gap_cli"); }
 
 // The paper's platform measured with the controller in `pr_mode` (unsigned:
 // a gap the diagnosis finds as passive_rotation).

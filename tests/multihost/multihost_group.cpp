@@ -17,6 +17,7 @@
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/rig_truth_t.hpp"
 #include "edsp/transport/seq_gap.h"
+#include "scratch_dir.h"
 
 namespace edsp::test_support {
 
@@ -40,7 +41,7 @@ void ForEach(const std::string& log_path, const std::string& channel, Fn fn) {
 MultiHostGroup::MultiHostGroup(const VirtualNetwork& network, const std::string& name,
                                MultiHostOptions options)
     : network_(network), options_(std::move(options)),
-      dir_(fmt::format("/tmp/edsp_multihost_test_{}_{}", ::getpid(), name)) {
+      dir_(test_support::ScratchDir("multihost_" + name)) {
   std::system(("rm -rf " + dir_ + " && mkdir -p " + dir_).c_str());
   std::ofstream(group_path()) << fmt::format(R"([group]
 name = "{0}"

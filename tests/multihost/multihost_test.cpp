@@ -20,6 +20,7 @@
 #include "edsp/node/runtime.h"
 #include "late_cycles.h"
 #include "multihost_group.h"
+#include "scratch_dir.h"
 
 namespace edsp::test_support {
 namespace {
@@ -266,7 +267,7 @@ TEST(MultiHost, AnUnrelatedGroupOnTheSameNetworkCannotCommandThisRig) {
 
 TEST(MultiHost, ALauncherRefusesAHostWhoseMulticastLeavesByAnotherInterface) {
   VirtualNetwork network({"solo"});
-  const std::string dir = fmt::format("/tmp/edsp_multihost_test_{}_interface", ::getpid());
+  const std::string dir = test_support::ScratchDir("multihost_interface");
   std::system(("rm -rf " + dir + " && mkdir -p " + dir).c_str());
   std::ofstream(dir + "/group.toml") << "[group]\nname = \"iface\"\n[hosts.solo]\ninterface = \"eth9\"\n"
                                         "[[member]]\nname = \"rig\"\nhost = \"solo\"\ncommand = \"edsp-rig\"\n";
