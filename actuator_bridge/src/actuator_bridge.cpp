@@ -35,7 +35,13 @@ bool ActuatorBridge::Reject(FaultCode code, std::string reason, std::int64_t now
 
 void ActuatorBridge::Apply(BridgeEvent event) {
   const BridgeTransition t = NextBridgeState(state_, event);
-  state_ = t.allowed ? t.next : BridgeState::kLatched;
+  const BridgeState next = t.allowed ? t.next : BridgeState::kLatched;
+  if (next == BridgeState::kLatched && state_ != BridgeState::kLatched) {
+    latch_cause_ = !t.allowed                            ? "an unexpected event"
+                   : event == BridgeEvent::kDrivesLost ? "a drive outage"
+                                                         : "stale input";
+  }
+  state_ = next;
 }
 
 bool ActuatorBridge::Rearm(std::string* error) {
@@ -101,9 +107,9 @@ bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utim
                                    fault_t* fault) {
   if (state_ == BridgeState::kLatched) {
     return Reject(FaultCode::kStale,
-                  fmt::format("leg command seq {} refused: holding after stale input since command "
+                  fmt::format("leg command seq {} refused: holding after {} since command "
                               "seq {}; re-arm required (EDSP_ARM)",
-                              c.seq, last_command_seq_),
+                              c.seq, latch_cause_, last_command_seq_),
                   now_utime, fault);
   }
   if (Moving() && now_utime - target_utime_ > options_.stale_us) {
@@ -226,12 +232,23 @@ bool ActuatorBridge::LoseDrives(std::int64_t now_utime, fault_t* fault) {
   Apply(BridgeEvent::kDrivesLost);
   HoldAtRest();
   const std::string detail = backend_->Detail();
+  reported_detail_ = detail;
   *fault = Fault(FaultCode::kBackend,
                  fmt::format("drive backend failed a cycle (drives silent or not active){}{}",
                              detail.empty() ? std::string() : " [" + detail + "]",
                              was_moving ? fmt::format(": holding the last valid position (command "
                                                       "seq {}) until re-armed", last_command_seq_)
                                         : std::string()),
+                 now_utime);
+  return true;
+}
+
+bool ActuatorBridge::ReportNewReason(std::int64_t now_utime, fault_t* fault) {
+  const std::string detail = backend_->Detail();
+  if (detail.empty() || detail == reported_detail_) return false;
+  reported_detail_ = detail;
+  *fault = Fault(FaultCode::kBackend,
+                 fmt::format("drive backend still failing [{}]: holding until it answers and is re-armed", detail),
                  now_utime);
   return true;
 }
@@ -296,6 +313,8 @@ bool ActuatorBridge::Cycle(std::int64_t now_utime, leg_state_t* state, fault_t* 
     fault->severity = fault_t::SEVERITY_INFO;
     raised = true;
   }
+  if (!backend_ok && !backend_ok_ && !raised) raised = ReportNewReason(now_utime, fault);
+  if (backend_ok) reported_detail_.clear();
   backend_ok_ = backend_ok;
   *state = leg_state_t{};
   state->utime = now_utime;

@@ -3,12 +3,18 @@
 // (docs/drives.md), for the bridge's Modbus backend and its tests.
 //   edsp-drive-sim [--host 127.0.0.1] [--port 1502] [--cycle-ms 1]
 //                  [--following-window-counts N] [--fieldbus-timeout-ms 20]
-//                  [--axes own|rig] [--image-prefix P] [--config FILE] [--group FILE]
+//                  [--axes own|rig] [--image-prefix P] [--fault-drive N] [--fault-code HEX]
+//                  [--config FILE] [--group FILE]
 // --axes own: each drive moves its own axis at a bounded speed.
 // --axes rig: the drives move the virtual rig's legs through its process
 // image (edsp-rig computes the physics and the tracker), counts scaled by
 // the config's [drives] section: the sim-modbus group.
+// SIGUSR1 faults one drive (--fault-drive, error code --fault-code) as a
+// real drive's own fault would: a drill of the master's fault handling.
+#include <csignal>
 #include <cstdio>
+
+#include <atomic>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -22,6 +28,16 @@
 
 namespace edsp {
 namespace {
+
+std::atomic<bool> g_fault_requested{false};
+void OnFaultSignal(int) { g_fault_requested.store(true); }
+
+void InstallFaultSignal() {
+  struct sigaction action {};
+  action.sa_handler = OnFaultSignal;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGUSR1, &action, nullptr);
+}
 
 // The rig's legs behind the drives, through the image the bridge's
 // virtual backend would otherwise write.
@@ -38,6 +54,8 @@ int Run(int argc, char** argv) {
   cia402::DriveServerOptions options;
   double cycle_ms = 1.0, fieldbus_timeout_ms = 20.0;
   std::string axes = "own", image_prefix;
+  int fault_drive = 1;
+  std::uint16_t fault_code = 0xFF01;
   NodeOptions node;
   CLI::App app{"Six simulated CiA 402 drives (CSP) behind a Modbus TCP server"};
   AddNodeOptions(&app, &node);
@@ -56,15 +74,25 @@ int Run(int argc, char** argv) {
   app.add_option("--axes", axes, "own: each drive's own axis; rig: the virtual rig's legs (its process image)")
       ->capture_default_str()->check(CLI::IsMember({"own", "rig"}));
   app.add_option("--image-prefix", image_prefix, "the rig's process image prefix (default: shm_prefix)");
+  app.add_option("--fault-drive", fault_drive, "the drive SIGUSR1 faults")->capture_default_str()->check(CLI::Range(1, 6));
+  app.add_option("--fault-code", fault_code, "its error code (603Fh), e.g. 0x2310; default FF01h (manufacturer-specific)")
+      ->check(CLI::Range(1, 0xFFFF));
   CLI11_PARSE(app, argc, argv);
   options.cycle_s = cycle_ms * 1e-3;
   options.drive.fieldbus_timeout_s = fieldbus_timeout_ms * 1e-3;
   InstallStopSignals();
+  InstallFaultSignal();
   cia402::ModbusDriveServer server(options, axes == "rig" ? RigAxes(node, image_prefix) : nullptr);
   std::printf("edsp-drive-sim: 6 drives (%s axes) on modbus-tcp %s:%d\n", axes.c_str(), options.host.c_str(),
               server.port());
   std::fflush(stdout);
-  server.Run([] { return StopRequested(); });
+  server.Run([&] {
+    if (g_fault_requested.exchange(false)) {
+      server.InjectFault(fault_drive - 1, fault_code);
+      std::fprintf(stderr, "edsp-drive-sim: drive %d faulted (error code %04Xh) on SIGUSR1\n", fault_drive, fault_code);
+    }
+    return StopRequested();
+  });
   return 0;
 }
 

@@ -200,6 +200,7 @@ TEST(ActuatorBridge, HoldsTheLastValidPositionWithin50msOfSilence) {
   EXPECT_TRUE(f.bridge.latched());
   EXPECT_FALSE(f.bridge.HandleCommand(f.Command(2e-3 + 1e-5, t, 21), t, &fault));
   EXPECT_NE(fault.reason.find("re-arm required"), std::string::npos) << fault.reason;
+  EXPECT_NE(fault.reason.find("holding after stale input"), std::string::npos) << fault.reason;
   f.bridge.Rearm();
   // Re-armed: a command continuing from the hold is simply followed.
   EXPECT_TRUE(f.bridge.HandleCommand(f.Command(2e-3 + 1e-5, t, 22), t, &fault)) << fault.reason;
@@ -338,6 +339,7 @@ TEST(ActuatorBridge, DrivesThatStopAnsweringLatchAHoldUntilReArmed) {
   const Vector6 held = WrittenLengths(f);
   t += 1000;
   EXPECT_FALSE(f.bridge.HandleCommand(f.Command(1e-4 * seq, t, seq), t, &fault));
+  EXPECT_NE(fault.reason.find("holding after a drive outage"), std::string::npos) << fault.reason;
   ++seq;
   f.bridge.Rearm();  // the operator tries while the drives are still silent
   EXPECT_FALSE(f.bridge.HandleCommand(f.Command(1e-4 * seq, t, seq), t, &fault));
@@ -350,6 +352,44 @@ TEST(ActuatorBridge, DrivesThatStopAnsweringLatchAHoldUntilReArmed) {
   EXPECT_NE(fault.reason.find("answers again"), std::string::npos) << fault.reason;
   t += 1000;
   ASSERT_TRUE(f.bridge.HandleCommand(f.Command(1e-4 * seq, t, seq), t, &fault)) << fault.reason;
+}
+
+// An outage whose reason changes (the link refused, then the drives back in
+// fault) tells the operator each reason once, not every cycle.
+TEST(ActuatorBridge, DrivesStillLostReportEachNewReasonOnce) {
+  Fixture f;
+  fault_t fault;
+  leg_state_t state;
+  std::int64_t t = kStart;
+  MoveUp(f, &t, 1e-4, 20);
+  f.backend.answering = false;
+  f.backend.detail = "modbus-tcp 127.0.0.1:1502: cannot connect: Connection refused";
+  ASSERT_TRUE(f.bridge.Cycle(t, &state, &fault));
+  EXPECT_NE(fault.reason.find("Connection refused"), std::string::npos) << fault.reason;
+  for (int k = 0; k < 5; ++k) {
+    t += 1000;
+    EXPECT_FALSE(f.bridge.Cycle(t, &state, &fault)) << "the same reason again: " << fault.reason;
+  }
+  f.backend.detail = "drive 3 in fault (error code 8130h)";
+  t += 1000;
+  ASSERT_TRUE(f.bridge.Cycle(t, &state, &fault));
+  EXPECT_EQ(fault.code, static_cast<std::int32_t>(FaultCode::kBackend));
+  EXPECT_GE(fault.severity, fault_t::SEVERITY_WARNING);
+  EXPECT_NE(fault.reason.find("drive 3 in fault (error code 8130h)"), std::string::npos) << fault.reason;
+  t += 1000;
+  EXPECT_FALSE(f.bridge.Cycle(t, &state, &fault)) << fault.reason;
+  EXPECT_TRUE(f.bridge.latched());
+  // Back, and lost again for the first reason: a new outage, reported anew.
+  f.backend.answering = true;
+  f.backend.detail.clear();
+  t += 1000;
+  ASSERT_TRUE(f.bridge.Cycle(t, &state, &fault));
+  EXPECT_NE(fault.reason.find("answers again"), std::string::npos) << fault.reason;
+  f.backend.answering = false;
+  f.backend.detail = "drive 3 in fault (error code 8130h)";
+  t += 1000;
+  ASSERT_TRUE(f.bridge.Cycle(t, &state, &fault));
+  EXPECT_NE(fault.reason.find("8130h"), std::string::npos) << fault.reason;
 }
 
 // A bridge restarted while the stream is elsewhere (its predecessor was

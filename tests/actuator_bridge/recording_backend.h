@@ -33,6 +33,8 @@ class RecordingBackend final : public DriveBackend {
     return resettable;
   }
   BackendState state() const override { return BackendState::kActive; }
+  std::string Detail() const override { return detail; }
+  std::string detail;  // why it fails, as a backend would say
   DriveSetpoint written;
   bool resettable = true;
   int writes = 0;

@@ -1,5 +1,6 @@
 // Every node of a moving sim group frozen (SIGSTOP for 0.5 s, then SIGCONT)
-// and killed (SIGKILL; the launcher restarts it), one fault per run (label
+// and killed (SIGKILL; the launcher restarts it), and over Modbus TCP the
+// drive simulator frozen, killed, and one of its drives faulted, one fault per run (label
 // multiprocess, private network namespace). For each: the platform never
 // jumps and is at rest within the hold time, the fault is on EDSP_FAULT (the
 // launcher names the member; the bridge or the drives say what they did) and
@@ -46,15 +47,21 @@ using test_support::GroupRun;
 using test_support::LaunchSimGroup;
 using test_support::SimGroupExtras;
 
+// SIGSTOP for 0.5 s then SIGCONT; SIGKILL (the launcher restarts it); or
+// SIGUSR1 to edsp-drive-sim, which faults its drive 1 (error code FF01h)
+// as a drive's own fault would, the process running on.
+enum class Action { kFreeze, kKill, kDriveFault };
+
 struct FaultCase {
   std::string member;   // group member name
   std::string program;  // its executable, for pgrep
-  bool kill;            // SIGKILL (restart) or SIGSTOP/SIGCONT
+  Action action;
   std::string output;   // an LCM channel only it publishes: its successor is back ("" = none)
+  bool over_modbus = false;  // the group as sim-modbus: the bridge a Modbus TCP master of edsp-drive-sim
 };
 
 std::string CaseName(const FaultCase& c) {
-  return c.member + (c.kill ? "_killed" : "_frozen");
+  return c.member + (c.action == Action::kKill ? "_killed" : c.action == Action::kFreeze ? "_frozen" : "_drive_fault");
 }
 void PrintTo(const FaultCase& c, std::ostream* os) { *os << CaseName(c); }
 
@@ -161,6 +168,7 @@ struct Analysis {
   std::optional<std::int64_t> restarted_utime;    // launcher: member restarted
   std::optional<std::int64_t> hold_report_utime;  // bridge or drives: holding
   std::string hold_report;
+  std::string bridge_reports;                      // what the bridge said from the fault on, a line each
   std::int64_t resumed_utime = 0;                  // the first event after the log's gap
   bool bridge_status_holding = false;             // EDSP_STATUS after the fault
   bool launcher_status_fault = false;
@@ -231,6 +239,7 @@ Analysis Analyse(const std::string& log_path, const Timeline& t) {
         a.hold_report_utime = f.utime;
         a.hold_report = f.node + ": " + f.reason;
       }
+      if (f.node == "actuator_bridge" && f.utime >= t.fault_utime) a.bridge_reports += f.reason + "\n";
       if (f.node == "logger" && f.reason.find("resumed after") != std::string::npos) a.logger_resumed = f.reason;
     } else if (e.channel == "EDSP_STATUS") {
       node_status_t s;
@@ -337,7 +346,8 @@ class FaultMatrix : public ::testing::TestWithParam<FaultCase> {};
 
 TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
   const FaultCase c = GetParam();
-  const std::string name = "matrix_" + c.member + (c.kill ? "_kill" : "_stop");
+  const bool kill = c.action == Action::kKill, drive_fault = c.action == Action::kDriveFault;
+  const std::string name = "matrix_" + CaseName(c);
   const std::string dir = test_support::SimGroupDir(name);
   std::system(("mkdir -p " + dir).c_str());
   const std::string csv = TrajectoryCsv(dir + "/trajectory.csv");
@@ -347,6 +357,15 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
   // The leg commands on shared memory: a killed kinematics leaves its
   // segment behind, and its successor must take it over (stale segment).
   extras.toml = "[transport.channels.EDSP_LEG_COMMAND]\npath = \"both\"\n";
+  std::string config = test_support::kDefaultConfig;
+  if (c.over_modbus) {
+    // The drives' fieldbus timeout and the master's response timeout at the
+    // stale limit: the bridge's and drives' watchdogs over the wire.
+    const SimGroupExtras modbus = test_support::OverModbus(dir, test_support::kShippedStaleMs, &config);
+    ASSERT_FALSE(config.empty()) << "config/huang2021.toml declares no [drives] counts_per_m";
+    extras.after_rig = modbus.after_rig;
+    extras.bridge_args = modbus.bridge_args;
+  }
   const GroupRun run = LaunchSimGroup(
       name, "signed", fmt::format(R"("--csv", "{}", "--exit-after-hold-s", "0.5")", csv),
       [&](const std::string& d) {
@@ -360,12 +379,17 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
         if (pid <= 0) return;
         const int restarts = c.output.empty() ? 0 : watch.Restarts(c.output);
         t.fault_utime = UtimeNow();
-        ::kill(pid, c.kill ? SIGKILL : SIGSTOP);
-        t.taken_effect_utime = TakenEffectUtime(pid, c.kill);
-        if (c.kill) {
+        ::kill(pid, kill ? SIGKILL : drive_fault ? SIGUSR1 : SIGSTOP);
+        t.taken_effect_utime = drive_fault ? t.fault_utime : TakenEffectUtime(pid, kill);
+        if (drive_fault) {
+          t.end_utime = t.fault_utime;  // the process runs on; the drive stays faulted until re-armed
+        } else if (kill) {
           // The launcher restarts it: its successor publishes (its seq
           // starts again), however long a cold or sanitized start takes.
-          if (c.output.empty()) {
+          if (c.over_modbus) {
+            // The bridge reads the successor's drives (out of operation until re-armed).
+            t.successor_seen = watch.WaitForFault("actuator_bridge", "drive 1 in", std::chrono::seconds(30));
+          } else if (c.output.empty()) {
             std::this_thread::sleep_for(std::chrono::milliseconds(800));
             t.successor_seen = true;
           } else {
@@ -383,7 +407,7 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
           t.extra_arms = ReArmWhileLatched(&watch, d);
         }
       },
-      77, test_support::kDefaultConfig, test_support::kShippedStaleMs, extras);
+      77, config, test_support::kShippedStaleMs, extras);
   std::ifstream launch_err(dir + "/launch.err");
   std::ostringstream launch_text;
   launch_text << launch_err.rdbuf();
@@ -392,11 +416,11 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
   const std::int64_t sent_utime = t.fault_utime;
   if (!c.output.empty()) t.fault_utime = SilencedFrom(run.log_path, c.output, sent_utime);
   const Analysis a = Analyse(run.log_path, t);
-  const bool logger_killed = c.member == "logger" && c.kill;
-  if (c.kill) {
+  const bool logger_killed = c.member == "logger" && kill;
+  if (kill) {
     EXPECT_TRUE(t.successor_seen) << "no successor of " << c.member << " published within 30 s";
   }
-  if (c.kill && !logger_killed) {
+  if (kill && !logger_killed) {
     ASSERT_TRUE(a.restarted_utime.has_value()) << "the launcher never restarted " << c.member << "\n" << launch_text.str();
     t.end_utime = *a.restarted_utime;
   }
@@ -442,13 +466,17 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
   // frozen: what arrives meanwhile may overflow when it thaws), so for it
   // the launcher's stderr is the evidence.
   if (c.member == "logger") {
-    const std::string said = c.kill ? "logger           exited   (signal 9)" : "logger           frozen";
+    const std::string said = kill ? "logger           exited   (signal 9)" : "logger           frozen";
     EXPECT_NE(launch_text.str().find(said), std::string::npos) << launch_text.str();
+  } else if (drive_fault) {
+    // The member runs on: nothing for the launcher to say. The bridge is
+    // the first to (checked below: which drive, its error code).
+    EXPECT_FALSE(a.launcher_report_utime.has_value()) << "the launcher reported a member that ran on";
   } else if (!a.launcher_report_utime && a.logger_drops > 0) {
     // The logger counted datagrams it lost (a sanitized logger on a loaded
     // machine): the launcher's fault may be among them, so its stderr is
     // the evidence that it reported; its timing is not measurable then.
-    const std::string said = fmt::format("edsp-launch: {:<16} {}", c.member, c.kill ? "exited" : "frozen");
+    const std::string said = fmt::format("edsp-launch: {:<16} {}", c.member, kill ? "exited" : "frozen");
     const std::string text = launch_text.str();
     EXPECT_NE(text.find(said), std::string::npos)
         << "no launcher report for " << c.member << " in the log (the logger lost " << a.logger_drops
@@ -459,6 +487,18 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
     // launcher cannot see it earlier.
     EXPECT_LT(*a.launcher_report_utime - std::max(t.fault_utime, t.taken_effect_utime), 50000 + late_us);
     EXPECT_TRUE(a.launcher_status_fault) << "the launcher's EDSP_STATUS never said fault";
+  }
+  if (c.over_modbus) {
+    // Over the wire the bridge says which link failed and why, then, once
+    // it reads the drives again, which drive is out of operation and why
+    // (the frozen simulator's drives: their fieldbus timeout, 8130h). A
+    // drive's own fault leaves the link up: the drive and its code.
+    if (!drive_fault) {
+      EXPECT_NE(a.bridge_reports.find("modbus-tcp 127.0.0.1:1502"), std::string::npos) << a.bridge_reports;
+    }
+    std::printf("the bridge said, from the fault on:\n%s", a.bridge_reports.c_str());
+    const char* why = kill ? "drive 1 in" : drive_fault ? "drive 1 in fault (error code FF01h)" : "error code 8130h";
+    EXPECT_NE(a.bridge_reports.find(why), std::string::npos) << a.bridge_reports;
   }
   const double report_ms =
       a.first_report_utime ? static_cast<double>(*a.first_report_utime - t.fault_utime) * 1e-3 : -1.0;
@@ -486,7 +526,7 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
     // move until it (or its successor) runs again, so its hold is timed
     // from its first cycle after the fault, not from its start-up time.
     const std::int64_t from = c.member != "rig" ? t.fault_utime
-                              : c.kill          ? FirstRestartedTruth(a.truth, t.fault_utime)
+                              : kill            ? FirstRestartedTruth(a.truth, t.fault_utime)
                                                 : FirstTruthFrom(a.truth, t.end_utime);
     const auto rest = AtRestFrom(a.truth, from, *a.armed_utime);
     ASSERT_TRUE(rest.has_value());
@@ -510,7 +550,7 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
     // The logger: the platform never stopped; a freeze loses nothing (the
     // socket buffer holds 0.5 s), a kill loses its restart time and no more.
     EXPECT_FALSE(a.rejoined_utime.has_value());
-    if (!c.kill) {
+    if (!kill) {
       // 0.5 s of the group's ~5 000 packets a second overflow the socket and
       // LCM's receive ring when the logger thaws: lost, but counted and
       // reported (EDSP_STATUS drops), never more than the freeze.
@@ -550,7 +590,7 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
               late_ms, static_cast<double>(t.fault_utime - sent_utime) * 1e-3,
               static_cast<double>(t.taken_effect_utime - sent_utime) * 1e-3, t.extra_arms);
   std::printf("FAULT_ROW | %s | %s | %s | %s | %s | %s | %.0f | %s | %lld | %.2f | %s | %s\n", c.member.c_str(),
-              c.kill ? "SIGKILL + restart" : "SIGSTOP 0.5 s", ms(report_ms).c_str(), ms(hold_report_ms).c_str(),
+              kill ? "SIGKILL + restart" : drive_fault ? "SIGUSR1: drive 1 fault FF01h" : "SIGSTOP 0.5 s", ms(report_ms).c_str(), ms(hold_report_ms).c_str(),
               motion_stops ? ms(hold_ms).c_str() : "no hold", motion_stops ? fmt::format("{:.0f}", overrun_um).c_str() : "-",
               end_ms, ms(rejoin_ms).c_str(), static_cast<long long>(a.tracker_gaps), final_um, a.first_report.c_str(),
               a.hold_report.c_str());
@@ -561,15 +601,27 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
 
 INSTANTIATE_TEST_SUITE_P(
     EveryNode, FaultMatrix,
-    ::testing::Values(FaultCase{"planner", "edsp-planner", false, "EDSP_SETPOINT"},
-                      FaultCase{"kinematics", "edsp-kinematics", false, "EDSP_LEG_COMMAND"},
-                      FaultCase{"kinematics", "edsp-kinematics", true, "EDSP_LEG_COMMAND"},
-                      FaultCase{"actuator_bridge", "edsp-actuator-bridge", false, "EDSP_LEG_STATE"},
-                      FaultCase{"actuator_bridge", "edsp-actuator-bridge", true, "EDSP_LEG_STATE"},
-                      FaultCase{"rig", "edsp-rig", false, "EDSP_RIG_TRUTH"},
-                      FaultCase{"rig", "edsp-rig", true, "EDSP_RIG_TRUTH"},
-                      FaultCase{"logger", "edsp-logger", false, ""},
-                      FaultCase{"logger", "edsp-logger", true, ""}),
+    ::testing::Values(FaultCase{"planner", "edsp-planner", Action::kFreeze, "EDSP_SETPOINT"},
+                      FaultCase{"kinematics", "edsp-kinematics", Action::kFreeze, "EDSP_LEG_COMMAND"},
+                      FaultCase{"kinematics", "edsp-kinematics", Action::kKill, "EDSP_LEG_COMMAND"},
+                      FaultCase{"actuator_bridge", "edsp-actuator-bridge", Action::kFreeze, "EDSP_LEG_STATE"},
+                      FaultCase{"actuator_bridge", "edsp-actuator-bridge", Action::kKill, "EDSP_LEG_STATE"},
+                      FaultCase{"rig", "edsp-rig", Action::kFreeze, "EDSP_RIG_TRUTH"},
+                      FaultCase{"rig", "edsp-rig", Action::kKill, "EDSP_RIG_TRUTH"},
+                      FaultCase{"logger", "edsp-logger", Action::kFreeze, ""},
+                      FaultCase{"logger", "edsp-logger", Action::kKill, ""}),
+    [](const ::testing::TestParamInfo<FaultCase>& param_info) { return CaseName(param_info.param); });
+
+// The drives over Modbus TCP (the sim-modbus group): the drive simulator
+// frozen (the master's response timeout, then the drives' own fieldbus
+// timeout), killed (the connection reset, then refused until the
+// launcher's restart serves drives out of operation), and one drive
+// raising a fault of its own.
+INSTANTIATE_TEST_SUITE_P(
+    OverModbus, FaultMatrix,
+    ::testing::Values(FaultCase{"drive_sim", "edsp-drive-sim", Action::kFreeze, "", true},
+                      FaultCase{"drive_sim", "edsp-drive-sim", Action::kKill, "", true},
+                      FaultCase{"drive_sim", "edsp-drive-sim", Action::kDriveFault, "", true}),
     [](const ::testing::TestParamInfo<FaultCase>& param_info) { return CaseName(param_info.param); });
 
 }  // namespace

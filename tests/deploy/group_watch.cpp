@@ -44,11 +44,11 @@ std::int64_t SeqOf(const lcm::ReceiveBuffer* buffer) {
   return static_cast<std::int64_t>(seq);
 }
 
-bool AsksForReArm(const std::string& channel, const lcm::ReceiveBuffer* buffer) {
-  fault_t fault;
-  if (channel != "EDSP_FAULT" || fault.decode(buffer->data, 0, static_cast<int>(buffer->data_size)) < 0) {
-    return false;
-  }
+bool DecodeFault(const std::string& channel, const lcm::ReceiveBuffer* buffer, fault_t* fault) {
+  return channel == "EDSP_FAULT" && fault->decode(buffer->data, 0, static_cast<int>(buffer->data_size)) >= 0;
+}
+
+bool AsksForReArm(const fault_t& fault) {
   return fault.node == "actuator_bridge" && fault.severity == fault_t::SEVERITY_ERROR &&
          (fault.reason.find("until re-armed") != std::string::npos ||
           fault.reason.find("re-arm required") != std::string::npos);
@@ -72,7 +72,11 @@ void GroupWatch::OnMessage(const lcm::ReceiveBuffer* buffer, const std::string& 
       self->setpoint_ = setpoint;
       self->have_setpoint_ = true;
     }
-    if (AsksForReArm(channel, buffer)) self->last_rearm_request_utime_ = now;
+    fault_t fault;
+    if (DecodeFault(channel, buffer, &fault)) {
+      if (AsksForReArm(fault)) self->last_rearm_request_utime_ = now;
+      self->faults_.emplace_back(fault.node, fault.reason);
+    }
   }
   self->changed_.notify_all();
 }
@@ -96,6 +100,16 @@ bool GroupWatch::WaitForRestart(const std::string& channel, int seen, std::chron
 std::int64_t GroupWatch::LastReArmRequestUtime() {
   std::lock_guard<std::mutex> lock(mutex_);
   return last_rearm_request_utime_;
+}
+
+bool GroupWatch::WaitForFault(const std::string& node, const std::string& text, std::chrono::milliseconds timeout) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  return changed_.wait_for(lock, timeout, [&] {
+    for (const auto& [from, reason] : faults_) {
+      if (from == node && reason.find(text) != std::string::npos) return true;
+    }
+    return false;
+  });
 }
 
 bool GroupWatch::WaitForMessage(const std::string& channel, std::int64_t after_utime,

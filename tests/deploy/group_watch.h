@@ -12,6 +12,8 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include <lcm/lcm-cpp.hpp>
 
@@ -45,6 +47,9 @@ class GroupWatch {
   // command refused for it, which it repeats every 100 ms while latched),
   // on this process's clock; 0: never.
   std::int64_t LastReArmRequestUtime();
+  // Waits until `node` has said something containing `text` on EDSP_FAULT
+  // (since this watch started); false on timeout.
+  bool WaitForFault(const std::string& node, const std::string& text, std::chrono::milliseconds timeout);
 
  private:
   static void OnMessage(const lcm::ReceiveBuffer* buffer, const std::string& channel, GroupWatch* self);
@@ -57,6 +62,7 @@ class GroupWatch {
   std::map<std::string, std::int64_t> last_seq_;
   std::map<std::string, int> restarts_;
   std::int64_t last_rearm_request_utime_ = 0;
+  std::vector<std::pair<std::string, std::string>> faults_;  // node, reason
   pose_setpoint_t setpoint_{};
   bool have_setpoint_ = false;
   bool stop_ = false;

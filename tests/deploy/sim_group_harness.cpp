@@ -17,6 +17,7 @@
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/tracker_point_t.hpp"
 #include "edsp/node_status_t.hpp"
+#include "edsp/node/node_options.h"
 #include "edsp/node/runtime.h"
 #include "scratch_dir.h"
 
@@ -24,6 +25,27 @@ namespace edsp::test_support {
 
 std::string SimGroupDir(const std::string& name) {
   return ScratchDir("group_" + name);
+}
+
+SimGroupExtras OverModbus(const std::string& dir, int stall_ms, std::string* config) {
+  constexpr double kCountsPerM = 104857600.0, kLegSpeedMS = 0.5;
+  SimGroupExtras extras;
+  extras.after_rig = fmt::format(R"([[member]]
+name = "drive_sim"
+command = "edsp-drive-sim"
+args = ["--axes", "rig", "--fieldbus-timeout-ms", "{}", "--following-window-counts", "{:.0f}"]
+start_delay_ms = 200)",
+                                 stall_ms, kLegSpeedMS * stall_ms * 1e-3 * kCountsPerM);
+  extras.bridge_args = R"(, "--backend", "modbus-tcp")";
+  std::string text = ReadTextFile(std::string(EDSP_SOURCE_DIR) + "/" + kDefaultConfig);
+  const std::string key = fmt::format("counts_per_m = {:.0f}", kCountsPerM);
+  const std::size_t at = text.find(key);
+  config->clear();
+  if (at == std::string::npos) return extras;
+  text.insert(at + key.size(), fmt::format("\nresponse_timeout_ms = {}", stall_ms));
+  *config = dir + "/modbus.toml";
+  std::ofstream(*config) << text;
+  return extras;
 }
 
 GroupRun LaunchSimGroup(const std::string& name, const std::string& pr_mode,

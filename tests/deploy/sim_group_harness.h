@@ -50,6 +50,17 @@ struct SimGroupExtras {
   std::string log_path;  // default <dir>/run.lcmlog
 };
 
+// The group over Modbus TCP, as deploy/groups/sim-modbus.toml: edsp-drive-sim
+// after the rig and the bridge its Modbus master, in a copy of the shipped
+// config written to `dir`, returned in *config ("" if the shipped config
+// declares no [drives] counts_per_m). A stall of `stall_ms` is tolerated:
+// the master's response timeout and the drives' fieldbus timeout are that
+// long, and their following-error window is a leg's travel at 0.5 m/s
+// meanwhile (a drive simulator descheduled for 10 ms while the rig moves
+// the legs at 0.25 m/s falls 2.5 mm behind its target: past the shipped
+// 1.9 mm window, a fault on a fresh-clone test run).
+SimGroupExtras OverModbus(const std::string& dir, int stall_ms, std::string* config);
+
 // `during(dir)` runs on a thread while the group does. `stale_ms` goes to the
 // kinematics node and the actuator bridge.
 GroupRun LaunchSimGroup(const std::string& name, const std::string& pr_mode,

@@ -30,7 +30,10 @@ bool ModbusDriveMaster::Connect(std::string* error) {
   modbus_set_response_timeout(ctx_, sec, usec);
   modbus_set_byte_timeout(ctx_, sec, usec);
   if (modbus_connect(ctx_) != 0) {
-    *error = fmt::format("{}: cannot connect: {}", endpoint(), modbus_strerror(errno));
+    // libmodbus leaves EINPROGRESS when its connect timed out (a server
+    // that does not accept: frozen, or its backlog full).
+    *error = fmt::format("{}: cannot connect: {}", endpoint(),
+                         errno == EINPROGRESS ? "no answer within the response timeout" : modbus_strerror(errno));
     Disconnect();
     return false;
   }
@@ -61,7 +64,7 @@ bool ModbusDriveMaster::ReadFeedback(CspFeedbacks* feedback, std::string* error)
   if (!Connected(error)) return false;
   std::uint16_t in[modbus_map::kBlockRegisters];
   const int read = modbus_read_registers(ctx_, modbus_map::kFeedbackAddress, modbus_map::kBlockRegisters, in);
-  return TakeFeedback(read, in, "reading the drives' feedback (", feedback, error);
+  return TakeFeedback(read, in, "reading the drives' feedback (read of", feedback, error);
 }
 
 bool ModbusDriveMaster::Connected(std::string* error) const {

@@ -91,6 +91,9 @@ class ActuatorBridge {
   void HoldAtRest();             // the last valid position, at rest
   void HoldWhereTheDrivesAre();  // after drives answer again
   bool LoseDrives(std::int64_t now_utime, fault_t* fault);  // hold at rest, latch; the fault
+  // While the drives stay lost, a new reason from the backend (refused →
+  // timed out → drive 3 in fault 8130h) is reported once.
+  bool ReportNewReason(std::int64_t now_utime, fault_t* fault);
 
   PlatformModel model_;
   DriveBackend* backend_;
@@ -98,11 +101,13 @@ class ActuatorBridge {
   DriveSetpoint target_;             // what the drives are told
   Vector6 target_length_m_;
   BridgeState state_ = BridgeState::kStartupHold;
+  const char* latch_cause_ = "";     // why it is latched, for the refusals that follow
   std::int64_t target_utime_ = -1;   // receipt time of the last valid command (-1: none yet)
   std::int64_t last_cycle_utime_ = -1;
   std::int64_t last_basis_utime_ = 0; // its planner time (setpoint_utime)
   std::int64_t last_command_seq_ = 0;
   bool backend_ok_ = true;           // drive health, an input: faults are raised on its changes
+  std::string reported_detail_;      // the backend's reason last reported while it failed
   // Set when a command found this bridge starved past the stale limit (it
   // was frozen): the next cycle holds the drives where its read finds them.
   bool hold_where_the_drives_are_ = false;
