@@ -8,6 +8,13 @@
 #include "edsp/node/fault.h"
 
 namespace edsp {
+namespace {
+
+// FaultThrottle's interval: a second fault of the same channel and code
+// sooner would be swallowed, though marked reported here.
+constexpr std::int64_t kNewReasonSpacingUs = 100000;
+
+}  // namespace
 
 ActuatorBridge::ActuatorBridge(PlatformModel model, DriveBackend* backend, BridgeOptions options)
     : model_(std::move(model)), backend_(backend), options_(std::move(options)) {
@@ -232,7 +239,8 @@ bool ActuatorBridge::LoseDrives(std::int64_t now_utime, fault_t* fault) {
   Apply(BridgeEvent::kDrivesLost);
   HoldAtRest();
   const std::string detail = backend_->Detail();
-  reported_detail_ = detail;
+  reported_reasons_ = {detail};
+  backend_report_utime_ = now_utime;
   *fault = Fault(FaultCode::kBackend,
                  fmt::format("drive backend failed a cycle (drives silent or not active){}{}",
                              detail.empty() ? std::string() : " [" + detail + "]",
@@ -245,8 +253,12 @@ bool ActuatorBridge::LoseDrives(std::int64_t now_utime, fault_t* fault) {
 
 bool ActuatorBridge::ReportNewReason(std::int64_t now_utime, fault_t* fault) {
   const std::string detail = backend_->Detail();
-  if (detail.empty() || detail == reported_detail_) return false;
-  reported_detail_ = detail;
+  if (detail.empty() || reported_reasons_.count(detail) > 0 ||
+      now_utime - backend_report_utime_ < kNewReasonSpacingUs) {
+    return false;
+  }
+  reported_reasons_.insert(detail);
+  backend_report_utime_ = now_utime;
   *fault = Fault(FaultCode::kBackend,
                  fmt::format("drive backend still failing [{}]: holding until it answers and is re-armed", detail),
                  now_utime);
@@ -314,7 +326,6 @@ bool ActuatorBridge::Cycle(std::int64_t now_utime, leg_state_t* state, fault_t* 
     raised = true;
   }
   if (!backend_ok && !backend_ok_ && !raised) raised = ReportNewReason(now_utime, fault);
-  if (backend_ok) reported_detail_.clear();
   backend_ok_ = backend_ok;
   *state = leg_state_t{};
   state->utime = now_utime;

@@ -16,12 +16,12 @@
 
 #include "edsp/actuator_bridge/drive_process_image.h"
 #include "edsp/kinematics/config.h"
+#include "edsp/kinematics/pose_text.h"
 #include "edsp/node/fault.h"
 #include "edsp/node/node_options.h"
 #include "edsp/node/runtime.h"
 #include "edsp/rig/rig_cycle.h"
 #include "edsp/rig/virtual_rig.h"
-#include "edsp/sim/pose_text.h"
 #include "edsp/transport/bus.h"
 
 namespace edsp {

@@ -21,7 +21,7 @@
 #include "edsp/kinematics/config.h"
 #include "edsp/kinematics/workspace.h"
 #include "edsp/sim/paper_table.h"
-#include "edsp/sim/pose_text.h"
+#include "edsp/kinematics/pose_text.h"
 #include "edsp/sim/offline_run.h"
 #include "edsp/sim/stack_report.h"
 

@@ -388,7 +388,8 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
           // starts again), however long a cold or sanitized start takes.
           if (c.over_modbus) {
             // The bridge reads the successor's drives (out of operation until re-armed).
-            t.successor_seen = watch.WaitForFault("actuator_bridge", "drive 1 in", std::chrono::seconds(30));
+            t.successor_seen = watch.WaitForFault("actuator_bridge", "drive 1 in switch on disabled",
+                                                  t.fault_utime, std::chrono::seconds(30));
           } else if (c.output.empty()) {
             std::this_thread::sleep_for(std::chrono::milliseconds(800));
             t.successor_seen = true;
@@ -444,7 +445,10 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
   const std::int64_t fault_over = std::max(t.end_utime, t.fault_utime);
   std::int64_t late_us = 0;
   for (const char* channel : {"EDSP_RIG_TRUTH", "EDSP_LEG_STATE", "EDSP_SETPOINT"}) {
-    const bool own = c.output == channel;
+    // Over Modbus the bridge's own cycle blocks in the exchange with the
+    // faulted simulator (a response timeout, a reconnect): its lateness
+    // then is the fault's, not the machine's, and loosens no limit.
+    const bool own = c.output == channel || (c.over_modbus && std::string(channel) == "EDSP_LEG_STATE");
     late_us = std::max(late_us, test_support::LargestLateCycleUs(
                                     run.log_path, channel, 1000, own ? t.fault_utime : 0, own ? fault_over + 100000 : -1,
                                     t.fault_utime - 2000000, fault_over + 2000000));
@@ -497,7 +501,7 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
       EXPECT_NE(a.bridge_reports.find("modbus-tcp 127.0.0.1:1502"), std::string::npos) << a.bridge_reports;
     }
     std::printf("the bridge said, from the fault on:\n%s", a.bridge_reports.c_str());
-    const char* why = kill ? "drive 1 in" : drive_fault ? "drive 1 in fault (error code FF01h)" : "error code 8130h";
+    const char* why = kill ? "drive 1 in switch on disabled" : drive_fault ? "drive 1 in fault (error code FF01h)" : "error code 8130h";
     EXPECT_NE(a.bridge_reports.find(why), std::string::npos) << a.bridge_reports;
   }
   const double report_ms =

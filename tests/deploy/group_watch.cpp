@@ -75,7 +75,7 @@ void GroupWatch::OnMessage(const lcm::ReceiveBuffer* buffer, const std::string& 
     fault_t fault;
     if (DecodeFault(channel, buffer, &fault)) {
       if (AsksForReArm(fault)) self->last_rearm_request_utime_ = now;
-      self->faults_.emplace_back(fault.node, fault.reason);
+      self->faults_.push_back(fault);
     }
   }
   self->changed_.notify_all();
@@ -102,11 +102,12 @@ std::int64_t GroupWatch::LastReArmRequestUtime() {
   return last_rearm_request_utime_;
 }
 
-bool GroupWatch::WaitForFault(const std::string& node, const std::string& text, std::chrono::milliseconds timeout) {
+bool GroupWatch::WaitForFault(const std::string& node, const std::string& text, std::int64_t after_utime,
+                              std::chrono::milliseconds timeout) {
   std::unique_lock<std::mutex> lock(mutex_);
   return changed_.wait_for(lock, timeout, [&] {
-    for (const auto& [from, reason] : faults_) {
-      if (from == node && reason.find(text) != std::string::npos) return true;
+    for (const fault_t& f : faults_) {
+      if (f.node == node && f.utime >= after_utime && f.reason.find(text) != std::string::npos) return true;
     }
     return false;
   });

@@ -17,6 +17,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "edsp/fault_t.hpp"
 #include "edsp/pose_setpoint_t.hpp"
 
 namespace edsp::test_support {
@@ -47,9 +48,10 @@ class GroupWatch {
   // command refused for it, which it repeats every 100 ms while latched),
   // on this process's clock; 0: never.
   std::int64_t LastReArmRequestUtime();
-  // Waits until `node` has said something containing `text` on EDSP_FAULT
-  // (since this watch started); false on timeout.
-  bool WaitForFault(const std::string& node, const std::string& text, std::chrono::milliseconds timeout);
+  // Waits until `node` has said something containing `text` on EDSP_FAULT,
+  // stamped at or after `after_utime`; false on timeout.
+  bool WaitForFault(const std::string& node, const std::string& text, std::int64_t after_utime,
+                    std::chrono::milliseconds timeout);
 
  private:
   static void OnMessage(const lcm::ReceiveBuffer* buffer, const std::string& channel, GroupWatch* self);
@@ -62,7 +64,7 @@ class GroupWatch {
   std::map<std::string, std::int64_t> last_seq_;
   std::map<std::string, int> restarts_;
   std::int64_t last_rearm_request_utime_ = 0;
-  std::vector<std::pair<std::string, std::string>> faults_;  // node, reason
+  std::vector<fault_t> faults_;
   pose_setpoint_t setpoint_{};
   bool have_setpoint_ = false;
   bool stop_ = false;

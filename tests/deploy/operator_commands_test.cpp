@@ -70,8 +70,7 @@ TEST(OperatorCommands, EdspCtlSendsTheRequestAgainUntilItIsAnswered) {
   });
   std::string out;
   std::atomic<int> status{-1};
-  const std::string dir = fmt::format("{}/edsp_ctlresend_{}", testing::TempDir(), ::getpid());
-  std::filesystem::create_directories(dir);
+  const std::string dir = test_support::ScratchDir("ctlresend");
   std::thread ctl([&] {
     std::ofstream(dir + "/group.toml") << fmt::format("[group]\nname = \"ctlresend\"\n[transport]\nlcm_url = \"{}\"\n",
                                                      test_support::kGroupLcmUrl);

@@ -40,21 +40,7 @@ using test_support::ExpectCleanRun;
 using test_support::DwellEnd;
 using test_support::DwellEnds;
 
-// One signed run serves several tests.
-class SignedSimGroup : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() { 
-    run_ = new GroupRun(LaunchSimGroup("signed", "signed", test_support::kDefaultPlannerArgs, {}, 77,
-                                       test_support::kDefaultConfig, test_support::kStallTolerantStaleMs));
-  }
-  static void TearDownTestSuite() { delete run_; }
-  static GroupRun* run_;
-};
-GroupRun* SignedSimGroup::run_ = nullptr;
-
-TEST_F(SignedSimGroup, SignedCompensationSettlesPointAWithin5umAtEveryDwell) {
-  const GroupRun& run = *run_;
-  ExpectCleanRun(run);
+void ExpectEveryDwellWithin5um(const GroupRun& run) {
   const PlatformModel model(Huang2021Config());
   const std::vector<DwellEnd> ends = DwellEnds(run.log_path, model);
   ASSERT_GE(ends.size(), 5u);  // Lz: 3 stops + home, Rz: 3 stops (+ home at the end)
@@ -75,18 +61,18 @@ std::map<std::int64_t, leg_command_t> CommandsBySetpoint(const std::string& log_
   return commands;
 }
 
-TEST_F(SignedSimGroup, ReplayedThroughLcmLogplayerAFreshKinematicsNodeReproducesTheCommands) {
-  ASSERT_EQ(run_->exit_code, 0);
-  const std::string dir = run_->log_path.substr(0, run_->log_path.rfind('/'));
+// Replayed through lcm-logplayer, a fresh kinematics node reproduces the commands.
+void ExpectReplayReproducesTheCommands(const GroupRun& run) {
+  const std::string dir = run.dir;
   const std::string replayed = dir + "/replayed.lcmlog";
   // The replay group as users run it: a fresh kinematics node and a logger on
   // their own port, fed the recorded setpoints by lcm-logplayer (a member).
   const std::string command = fmt::format(
       "cd {0} && EDSP_REPLAY_LOG={1} EDSP_LOG={2} {3} deploy/groups/replay.toml --session-id 77 "
       "--until-exit player --duration-s 120 2>{4}/replay.err",
-      EDSP_SOURCE_DIR, run_->log_path, replayed, EDSP_LAUNCH_BINARY, dir);
+      EDSP_SOURCE_DIR, run.log_path, replayed, EDSP_LAUNCH_BINARY, dir);
   ASSERT_EQ(std::system(command.c_str()), 0) << "see " << dir << "/replay.err";
-  const auto recorded = CommandsBySetpoint(run_->log_path);
+  const auto recorded = CommandsBySetpoint(run.log_path);
   const auto reproduced = CommandsBySetpoint(replayed);
   ASSERT_GT(recorded.size(), 10000u);
   std::size_t matched = 0, different = 0;
@@ -104,6 +90,17 @@ TEST_F(SignedSimGroup, ReplayedThroughLcmLogplayerAFreshKinematicsNodeReproduces
   }
   EXPECT_EQ(different, 0u) << "replayed commands must be bit-identical";
   EXPECT_GE(matched, recorded.size() * 99 / 100) << "replay lost more than 1% of the setpoints";
+}
+
+// One signed run checked twice, in one test: ctest runs each test in a
+// process of its own, and the run takes 30 s of the suite.
+TEST(SignedSimGroup, SettlesPointAWithin5umAtEveryDwellAndItsReplayReproducesTheCommands) {
+  const GroupRun run = LaunchSimGroup("signed", "signed", test_support::kDefaultPlannerArgs, {}, 77,
+                                      test_support::kDefaultConfig, test_support::kStallTolerantStaleMs);
+  ExpectCleanRun(run);
+  ASSERT_EQ(run.exit_code, 0);
+  ExpectEveryDwellWithin5um(run);
+  ExpectReplayReproducesTheCommands(run);
 }
 
 TEST(SimGroup, WithoutCompensationMissesByThePredictedPrError) {

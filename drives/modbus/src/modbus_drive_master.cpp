@@ -30,8 +30,8 @@ bool ModbusDriveMaster::Connect(std::string* error) {
   modbus_set_response_timeout(ctx_, sec, usec);
   modbus_set_byte_timeout(ctx_, sec, usec);
   if (modbus_connect(ctx_) != 0) {
-    // libmodbus leaves EINPROGRESS when its connect timed out (a server
-    // that does not accept: frozen, or its backlog full).
+    // libmodbus leaves EINPROGRESS when its connect timed out: a server
+    // whose backlog (of 1) is full, as a frozen one's soon is.
     *error = fmt::format("{}: cannot connect: {}", endpoint(),
                          errno == EINPROGRESS ? "no answer within the response timeout" : modbus_strerror(errno));
     Disconnect();

@@ -6,6 +6,7 @@
 // valid position and stays latched there until explicitly re-armed.
 
 #include <cstdint>
+#include <set>
 #include <string>
 
 #include "edsp/actuator_bridge/bridge_state.h"
@@ -91,8 +92,9 @@ class ActuatorBridge {
   void HoldAtRest();             // the last valid position, at rest
   void HoldWhereTheDrivesAre();  // after drives answer again
   bool LoseDrives(std::int64_t now_utime, fault_t* fault);  // hold at rest, latch; the fault
-  // While the drives stay lost, a new reason from the backend (refused →
-  // timed out → drive 3 in fault 8130h) is reported once.
+  // While the drives stay lost, each new reason from the backend (refused →
+  // timed out → drive 3 in fault 8130h) is reported once per outage, the
+  // latest one, at most every 100 ms (FaultThrottle would swallow one sooner).
   bool ReportNewReason(std::int64_t now_utime, fault_t* fault);
 
   PlatformModel model_;
@@ -107,7 +109,8 @@ class ActuatorBridge {
   std::int64_t last_basis_utime_ = 0; // its planner time (setpoint_utime)
   std::int64_t last_command_seq_ = 0;
   bool backend_ok_ = true;           // drive health, an input: faults are raised on its changes
-  std::string reported_detail_;      // the backend's reason last reported while it failed
+  std::set<std::string> reported_reasons_;  // the backend's reasons reported in this outage
+  std::int64_t backend_report_utime_ = 0;   // when the last of them was
   // Set when a command found this bridge starved past the stale limit (it
   // was frozen): the next cycle holds the drives where its read finds them.
   bool hold_where_the_drives_are_ = false;

@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "edsp/sim/pose_text.h"
+#include "edsp/kinematics/pose_text.h"
 
 namespace edsp {
 namespace {

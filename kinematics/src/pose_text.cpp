@@ -1,4 +1,4 @@
-#include "edsp/sim/pose_text.h"
+#include "edsp/kinematics/pose_text.h"
 
 #include <cmath>
 #include <cstdlib>
