@@ -1,6 +1,6 @@
 // Every node of a moving sim group frozen (SIGSTOP for 0.5 s, then SIGCONT)
 // and killed (SIGKILL; the launcher restarts it), and over Modbus TCP the
-// drive simulator frozen, killed, and one of its drives faulted, one fault per run (label
+// drive simulator killed and one of its drives faulted, one fault per run (label
 // multiprocess, private network namespace). For each: the platform never
 // jumps and is at rest within the hold time, the fault is on EDSP_FAULT (the
 // launcher names the member; the bridge or the drives say what they did) and
@@ -617,10 +617,9 @@ INSTANTIATE_TEST_SUITE_P(
     [](const ::testing::TestParamInfo<FaultCase>& param_info) { return CaseName(param_info.param); });
 
 // The drives over Modbus TCP (the sim-modbus group): the drive simulator
-// frozen (the master's response timeout, then the drives' own fieldbus
-// timeout), killed (the connection reset, then refused until the
-// launcher's restart serves drives out of operation), and one drive
-// raising a fault of its own.
+// killed (the connection reset, then refused until the launcher's restart
+// serves drives out of operation), and one drive raising a fault of its
+// own.
 INSTANTIATE_TEST_SUITE_P(
     OverModbus, FaultMatrix,
     // Not yet the simulator frozen (Action::kFreeze): on thaw its drives
