@@ -1,10 +1,11 @@
 // edsp-bench-drives: what one Modbus TCP cycle costs here. Six simulated
 // CiA 402 drives served by a child process (edsp's server, as
-// edsp-drive-sim runs it); the parent is the master and times N cycles of
-// one read/write request (function 23: six RxPDOs out, six TxPDOs in),
-// paced at the chosen period. Reports medians and tails from this run
-// only; the machine's own timer baseline (a sleep of the same period)
-// is measured beside it, so a busy machine shows as such.
+// edsp-drive-sim runs it), or by a server elsewhere (`--connect HOST:PORT`:
+// an edsp-drive-sim on another host, or real drives); this process is the
+// master and times N cycles of one read/write request (function 23: six
+// RxPDOs out, six TxPDOs in), paced at the chosen period. Reports medians
+// and tails from this run only; the machine's own timer baseline (a sleep
+// of the same period) is measured beside it, so a busy machine shows as such.
 #include <signal.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
@@ -12,6 +13,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <memory>
+#include <string>
+#include <utility>
 #include <cstdio>
 #include <thread>
 #include <vector>
@@ -57,37 +61,71 @@ std::vector<double> SleepLateness(std::chrono::microseconds period, int n) {
   return late;
 }
 
+// A child process serving six simulated drives on a free loopback port
+// until this process ends; killed with the returned guard.
+struct ChildServer {
+  pid_t pid = -1;
+  int port = 0;
+  ChildServer() {
+    edsp::cia402::DriveServerOptions options;
+    options.port = 0;
+    edsp::cia402::ModbusDriveServer server(options);
+    port = server.port();
+    const pid_t parent = ::getpid();
+    pid = ::fork();
+    if (pid < 0) throw std::runtime_error("fork failed");
+    if (pid == 0) {
+      ::prctl(PR_SET_PDEATHSIG, SIGKILL);  // never outlives the benchmark
+      server.Run([parent] { return ::getppid() != parent; });
+      ::_exit(0);
+    }
+  }
+  ~ChildServer() {
+    ::kill(pid, SIGKILL);
+    ::waitpid(pid, nullptr, 0);
+  }
+  ChildServer(const ChildServer&) = delete;
+  ChildServer& operator=(const ChildServer&) = delete;
+};
+
+// "HOST:PORT" as given to --connect; throws naming the text.
+std::pair<std::string, int> Endpoint(const std::string& text) {
+  const std::size_t colon = text.rfind(':');
+  int port = 0;
+  try {
+    if (colon != std::string::npos) port = std::stoi(text.substr(colon + 1));
+  } catch (const std::exception&) {
+    port = 0;
+  }
+  if (colon == std::string::npos || colon == 0 || port < 1 || port > 65535) {
+    throw std::runtime_error("--connect " + text + ": expected HOST:PORT with a port in [1, 65535]");
+  }
+  return {text.substr(0, colon), port};
+}
+
 int Run(int argc, char** argv) {
   int cycles = 20000, warmup = 500;
   double period_us = 1000.0;
   bool json = false;
+  std::string connect;
   CLI::App app{"One Modbus TCP cycle of six CiA 402 drives: read+write time"};
   app.add_option("--cycles", cycles, "timed cycles")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--warmup", warmup, "untimed cycles first (enable the drives)")->capture_default_str();
   app.add_option("--period-us", period_us, "pace of the master's cycles")->capture_default_str()
       ->check(CLI::Range(0.0, 100000.0));
   app.add_flag("--json", json, "one JSON object on stdout");
+  app.add_option("--connect", connect, "HOST:PORT of a running server (default: a child on loopback)");
   CLI11_PARSE(app, argc, argv);
 
-  edsp::cia402::DriveServerOptions options;
-  options.port = 0;
-  edsp::cia402::ModbusDriveServer server(options);
-  const pid_t parent = ::getpid();
-  const pid_t child = ::fork();
-  if (child < 0) throw std::runtime_error("fork failed");
-  if (child == 0) {
-    ::prctl(PR_SET_PDEATHSIG, SIGKILL);  // never outlives the benchmark
-    server.Run([parent] { return ::getppid() != parent; });
-    ::_exit(0);
+  std::unique_ptr<ChildServer> child;
+  std::pair<std::string, int> endpoint;
+  if (connect.empty()) {
+    child = std::make_unique<ChildServer>();
+    endpoint = {"127.0.0.1", child->port};
+  } else {
+    endpoint = Endpoint(connect);
   }
-  struct KillChild {
-    pid_t pid;
-    ~KillChild() {
-      ::kill(pid, SIGKILL);
-      ::waitpid(pid, nullptr, 0);
-    }
-  } kill_child{child};
-  edsp::cia402::ModbusDriveMaster master("127.0.0.1", server.port(), 0.5);
+  edsp::cia402::ModbusDriveMaster master(endpoint.first, endpoint.second, 0.5);
   std::string error;
   if (!master.Connect(&error)) throw std::runtime_error(error);
   CspCommands commands{};
@@ -116,6 +154,7 @@ int Run(int argc, char** argv) {
   const std::vector<double> timer = SleepLateness(std::chrono::microseconds(1000), 2000);
 
   nlohmann::json report = {{"drives", 6},
+                           {"server", fmt::format("{}:{}", endpoint.first, endpoint.second)},
                            {"registers_per_cycle", 2 * edsp::cia402::modbus_map::kBlockRegisters},
                            {"period_us", period_us},
                            {"failures", failures},

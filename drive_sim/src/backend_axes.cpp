@@ -57,9 +57,12 @@ DriveSetpoint BackendAxes::Actuate(std::int64_t command_utime,
 
 void BackendAxes::Step(double /*dt_s*/, std::int64_t command_utime,
                        const std::array<AxisDemand, kCabinetDrives>& demands) {
+  // Sense before acting, as a drive samples its position at the cycle's
+  // start: a drive that stops following this cycle holds where its leg
+  // stands now, not where it stood a cycle (or a stall) ago.
   const std::int64_t now = UtimeNow();
-  backend_->Write(now, Actuate(command_utime != 0 ? command_utime : now, demands));
   Sense(now);
+  backend_->Write(now, Actuate(command_utime != 0 ? command_utime : now, demands));
 }
 
 }  // namespace edsp::cia402

@@ -622,11 +622,8 @@ INSTANTIATE_TEST_SUITE_P(
 // own.
 INSTANTIATE_TEST_SUITE_P(
     OverModbus, FaultMatrix,
-    // Not yet the simulator frozen (Action::kFreeze): on thaw its drives
-    // act on their last target for part of the catch-up before their
-    // fieldbus timeout faults them, and the platform moves again 0.5 s
-    // after the fault (a fresh-clone CI run; docs/drives.md).
-    ::testing::Values(FaultCase{"drive_sim", "edsp-drive-sim", Action::kKill, "", true},
+    ::testing::Values(FaultCase{"drive_sim", "edsp-drive-sim", Action::kFreeze, "", true},
+                      FaultCase{"drive_sim", "edsp-drive-sim", Action::kKill, "", true},
                       FaultCase{"drive_sim", "edsp-drive-sim", Action::kDriveFault, "", true}),
     [](const ::testing::TestParamInfo<FaultCase>& param_info) { return CaseName(param_info.param); });
 

@@ -85,6 +85,12 @@ TEST_F(BackendAxesTest, EnabledWhereTheLegsStandThenTheTargetsReachTheBackendAsM
   for (int d = 0; d < kCabinetDrives; ++d) {
     const auto k = static_cast<std::size_t>(d);
     EXPECT_NEAR(backend_->written.motor_angle_rad[k], AngleByHand(d, *wanted[k]), 1e-12) << "drive " << d;
+    // Sampled at the cycle's start, before this write took effect.
+    EXPECT_NE(cabinet_->Feedback(d).position_actual, *wanted[k]) << "drive " << d;
+  }
+  Cycle(wanted);
+  for (int d = 0; d < kCabinetDrives; ++d) {
+    const auto k = static_cast<std::size_t>(d);
     EXPECT_EQ(cabinet_->Feedback(d).position_actual, *wanted[k]) << "drive " << d << ": the leg's counts back";
   }
   EXPECT_EQ(backend_->written.utime, kWrite) << "stamped with the master's write";
@@ -120,6 +126,33 @@ TEST_F(BackendAxesTest, ADriveOutOfOperationHoldsItsLegWhereItStoppedFollowing) 
     EXPECT_NEAR(backend_->written.motor_angle_rad[3], AngleByHand(3, *wanted[3]), 1e-12) << "the others run on";
   }
   EXPECT_EQ(cabinet_->Feedback(2).error_code, 0x2310);
+}
+
+// The simulator stopped (SIGSTOP, a long deschedule) while the legs, another
+// process's physics, went on and came to rest elsewhere: on the first cycle
+// after it, the drives' fieldbus timeout trips and each brakes where its leg
+// stands then, not where it stood before the stall (which would command the
+// platform back: a step).
+TEST_F(BackendAxesTest, AfterAStallTheDrivesTimeOutAndHoldWhereTheLegsStandNow) {
+  std::array<std::optional<std::int32_t>, kCabinetDrives> hold{};
+  for (int k = 0; k < 10 && !AllOperating(); ++k) Cycle(hold);
+  ASSERT_TRUE(AllOperating());
+  backend_->stopped_at.reset();
+  std::array<std::optional<std::int32_t>, kCabinetDrives> wanted;
+  for (int d = 0; d < kCabinetDrives; ++d) wanted[static_cast<std::size_t>(d)] = cabinet_->Feedback(d).position_actual + 500;
+  Cycle(wanted);
+  Cycle(wanted);
+  std::array<double, 6> rest = backend_->written.motor_angle_rad;
+  for (double& angle : rest) angle += 0.003;  // ran on during the stall
+  backend_->stopped_at = rest;
+  cabinet_->Tick(11.0);  // the whole stall in one cycle, past the 10 s fieldbus timeout
+  for (int d = 0; d < kCabinetDrives; ++d) {
+    const auto k = static_cast<std::size_t>(d);
+    EXPECT_EQ(cabinet_->state(d), State::kFault) << "drive " << d;
+    EXPECT_EQ(cabinet_->Feedback(d).error_code, kErrorFieldbus) << "drive " << d;
+    EXPECT_EQ(backend_->written.motor_angle_rad[k], rest[k]) << "drive " << d << " held where its leg stands now";
+    EXPECT_EQ(backend_->written.motor_velocity_rad_s[k], 0.0);
+  }
 }
 
 TEST_F(BackendAxesTest, ASilentBackendIsALostEncoderOnEveryDriveAndALegInFaultIsThatDrivesFault) {

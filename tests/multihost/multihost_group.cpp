@@ -8,6 +8,8 @@
 #include <cstdlib>
 #include <fstream>
 #include <set>
+#include <sstream>
+#include <stdexcept>
 #include <thread>
 
 #include <fmt/format.h>
@@ -43,11 +45,14 @@ MultiHostGroup::MultiHostGroup(const VirtualNetwork& network, const std::string&
     : network_(network), options_(std::move(options)),
       dir_(test_support::ScratchDir("multihost_" + name)) {
   std::system(("rm -rf " + dir_ + " && mkdir -p " + dir_).c_str());
+  const std::string config = options_.drives_over_modbus
+                                 ? ModbusConfig()
+                                 : std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml";
   std::ofstream(group_path()) << fmt::format(R"([group]
 name = "{0}"
-config = "{1}/config/huang2021.toml"
+config = "{1}"
 session_id = {2}
-{9}
+{7}
 [transport]
 lcm_url = "udpm://239.255.76.67:7667?ttl=1&recv_buf_size=4194304"
 shm_prefix = "edsp.mh"
@@ -57,41 +62,92 @@ writer = "kinematics"
 [transport.channels.EDSP_LEG_STATE]
 path = "shm"
 writer = "actuator_bridge"
-[[member]]
-name = "rig"
-host = "{5}"
-command = "edsp-rig"
-args = ["--tracker-noise-m", "0"]
-start_delay_ms = 200
-[[member]]
-name = "actuator_bridge"
-host = "{5}"
-command = "edsp-actuator-bridge"
-args = ["--latency-report", "{6}", "--rejoin-speed-m-s", "0.05", "--stale-ms", "{10}"]
-requires = ["rig"]
-start_delay_ms = 100
+{8}
 [[member]]
 name = "kinematics"
 host = "{4}"
 command = "edsp-kinematics"
-args = ["--pr-mode", "signed", "--stale-ms", "{10}"]
+args = ["--pr-mode", "signed", "--stale-ms", "{9}"]
 [[member]]
 name = "logger"
 host = "{3}"
 command = "edsp-logger"
-args = ["--output", "{7}"]
+args = ["--output", "{5}"]
 start_delay_ms = 300
 [[member]]
 name = "planner"
 host = "{3}"
 command = "edsp-planner"
-args = [{8}]
+args = [{6}]
 restart = "never"
 )",
-                                             name, EDSP_SOURCE_DIR, options_.session_id,
-                                             options_.operator_host, options_.controller_host,
-                                             options_.drive_host, latency_path(), log_path(),
-                                             options_.planner_args, HostSections(), options_.stale_ms);
+                                             name, config, options_.session_id, options_.operator_host,
+                                             options_.controller_host, log_path(), options_.planner_args,
+                                             HostSections(), DriveMembers(), options_.stale_ms);
+}
+
+// The rig and the bridge beside it (its process image in the drive host's
+// shared memory), or the rig and edsp-drive-sim there with the bridge on
+// the controller, their process image the Modbus TCP link between hosts.
+std::string MultiHostGroup::DriveMembers() const {
+  const std::string rig = fmt::format(R"([[member]]
+name = "rig"
+host = "{}"
+command = "edsp-rig"
+args = ["--tracker-noise-m", "0"]
+start_delay_ms = 200
+)",
+                                      options_.drive_host);
+  const std::string bridge_args = fmt::format(R"("--latency-report", "{}", "--rejoin-speed-m-s", "0.05", "--stale-ms", "{}")",
+                                              latency_path(), options_.stale_ms);
+  if (!options_.drives_over_modbus) {
+    return rig + fmt::format(R"([[member]]
+name = "actuator_bridge"
+host = "{}"
+command = "edsp-actuator-bridge"
+args = [{}]
+requires = ["rig"]
+start_delay_ms = 100
+)",
+                             options_.drive_host, bridge_args);
+  }
+  // The drives' following window: a leg's travel at 0.5 m/s over the stale
+  // limit, so that only the fault a test injects trips them.
+  constexpr double kCountsPerM = 104857600.0, kLegSpeedMS = 0.5;
+  return rig + fmt::format(R"([[member]]
+name = "drive_sim"
+host = "{0}"
+command = "edsp-drive-sim"
+args = ["--axes", "rig", "--host", "{1}", "--port", "{2}", "--fieldbus-timeout-ms", "{3}", "--following-window-counts", "{4:.0f}"]
+requires = ["rig"]
+start_delay_ms = 200
+[[member]]
+name = "actuator_bridge"
+host = "{5}"
+command = "edsp-actuator-bridge"
+args = [{6}, "--backend", "modbus-tcp"]
+start_delay_ms = 100
+)",
+                           options_.drive_host, network_.Address(options_.drive_host), kModbusPort,
+                           options_.stale_ms, kLegSpeedMS * options_.stale_ms * 1e-3 * kCountsPerM,
+                           options_.controller_host, bridge_args);
+}
+
+// The shipped config with the drive host's server as the bridge's
+// [drives] endpoint, its response timeout the stale limit.
+std::string MultiHostGroup::ModbusConfig() const {
+  std::ifstream in(std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string config = text.str();
+  const std::string key = "counts_per_m = 104857600";
+  const std::size_t at = config.find(key);
+  if (at == std::string::npos) throw std::runtime_error("config/huang2021.toml: no [drives] " + key);
+  config.insert(at + key.size(), fmt::format("\nhost = \"{}\"\nport = {}\nresponse_timeout_ms = {}",
+                                             network_.Address(options_.drive_host), kModbusPort, options_.stale_ms));
+  const std::string path = dir_ + "/modbus.toml";
+  std::ofstream(path) << config;
+  return path;
 }
 
 std::string MultiHostGroup::HostSections() const {

@@ -1,7 +1,9 @@
 #pragma once
 // The sim stack as a rig wires it, on a VirtualNetwork: operator (planner +
-// logger), controller (kinematics), drive (actuator bridge + virtual rig),
-// one edsp-launch per host, all from one group file written per test. The
+// logger), controller (kinematics), drive (actuator bridge + virtual rig;
+// or, over Modbus TCP, the bridge on the controller and the drive
+// simulator beside the rig), one edsp-launch per host, all from one group
+// file written per test. The
 // logger on the operator host records every channel; the bridge writes its
 // setpoint → drive latencies on exit.
 
@@ -30,7 +32,14 @@ struct MultiHostOptions {
   // shared 2-vCPU VM has delivered a command 91 ms late in a fresh run, a
   // correct hold but not what those tests measure.
   int stale_ms = 250;
+  // The drive cabinet as a fieldbus: the bridge moves to the controller and
+  // is a Modbus TCP master of edsp-drive-sim on the drive host (which moves
+  // the rig's legs there), at kModbusPort. The master's response timeout
+  // and the drives' fieldbus timeout are the stale limit.
+  bool drives_over_modbus = false;
 };
+
+inline constexpr int kModbusPort = 1502;
 
 class MultiHostGroup {
  public:
@@ -55,6 +64,8 @@ class MultiHostGroup {
 
  private:
   std::string HostSections() const;
+  std::string DriveMembers() const;
+  std::string ModbusConfig() const;
 
   const VirtualNetwork& network_;
   MultiHostOptions options_;

@@ -172,6 +172,24 @@ void VirtualNetwork::DropRandomly(const std::string& host, double fraction) cons
   std::remove(rules.c_str());
 }
 
+void VirtualNetwork::BlockTcpPort(const std::string& host, int port, bool blocked) const {
+  const std::string ns = Namespace(host);
+  const std::string table = fmt::format("edsp_block_{}", port);
+  Shell(fmt::format("ip netns exec {} nft delete table inet {} 2>/dev/null", ns, table));
+  if (!blocked) return;
+  const std::string rules = fmt::format("/tmp/{}{}.nft", prefix_, table);
+  std::ofstream(rules) << fmt::format(
+      "table inet {0} {{\n"
+      "  chain in {{\n    type filter hook input priority 0; policy accept;\n"
+      "    tcp dport {1} drop\n    tcp sport {1} drop\n  }}\n"
+      "  chain out {{\n    type filter hook output priority 0; policy accept;\n"
+      "    tcp dport {1} drop\n    tcp sport {1} drop\n  }}\n"
+      "}}\n",
+      table, port);
+  Must(fmt::format("ip netns exec {} nft -f {}", ns, rules));
+  std::remove(rules.c_str());
+}
+
 long VirtualNetwork::DroppedPackets(const std::string& host) const {
   const std::string listing = Capture(fmt::format("ip netns exec {} nft list table inet edsp_loss 2>/dev/null", Namespace(host)));
   long total = 0;

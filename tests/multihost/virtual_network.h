@@ -39,6 +39,10 @@ class VirtualNetwork {
   // at random (numgen random); 0 removes the rule. DroppedPackets() reads its counters.
   void DropRandomly(const std::string& host, double fraction) const;
   long DroppedPackets(const std::string& host) const;
+  // nftables on the host drops every TCP segment to or from `port`, in and
+  // out (a pulled cable for that one connection: the host's LCM traffic
+  // still flows), or removes that rule.
+  void BlockTcpPort(const std::string& host, int port, bool blocked) const;
 
   std::string Namespace(const std::string& host) const;
   std::string Address(const std::string& host) const;

@@ -116,10 +116,16 @@ void ModbusDriveServer::Run(const std::function<bool()>& stop) {
   auto next_tick = Clock::now() + cycle;
   while (!stop()) {
     auto now = Clock::now();
-    // The drives' clock first: catch up cycle by cycle after a late wake.
-    while (now >= next_tick) {
-      Tick(options_.cycle_s);
-      next_tick += cycle;
+    // The drives' clock first. After a late wake (the simulator stopped or
+    // descheduled) every missed cycle is one step: the axes may be another
+    // process's physics that lived through the stall in real time, and
+    // replaying the missed cycles would command them the past (the last
+    // target, while the fieldbus timeout had not yet run out in the replay).
+    // One step sees the whole stall, as a real drive's watchdog would have.
+    if (now >= next_tick) {
+      const auto missed = (now - next_tick) / cycle + 1;
+      Tick(options_.cycle_s * static_cast<double>(missed));
+      next_tick += cycle * missed;
     }
     pollfd fds[2] = {{listener_, POLLIN, 0}, {client_, POLLIN, 0}};
     const auto wait = std::chrono::duration_cast<std::chrono::nanoseconds>(next_tick - now);
