@@ -87,6 +87,7 @@ int Run(int argc, char** argv) {
   CycleClock* clock = backend->Clock() != nullptr ? backend->Clock() : &own_clock;
   loop.Run(*clock, [] { return StopRequested(); });
   backend->Deactivate();
+  backend->Cleanup();
   if (!latency_report.empty()) WriteLatencyReport(latency_report, LatencyReport(loop, clock->missed()));
   return 0;
 }

@@ -56,7 +56,10 @@ bool ActuatorBridge::Rearm(std::string* error) {
   // started into refuses as a jump (a restarted bridge): rejoin it.
   if (Moving()) return true;
   std::string why;
-  if (!backend_ok_ && !backend_->Reset(&why)) {
+  // A backend in fault before any cycle saw it (a drive found faulted at
+  // start-up) is reset too.
+  const bool needs_reset = !backend_ok_ || backend_->state() == BackendState::kFault;
+  if (needs_reset && !backend_->Reset(&why)) {
     if (error != nullptr) *error = why;
     return false;
   }

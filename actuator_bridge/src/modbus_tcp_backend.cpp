@@ -27,13 +27,12 @@ ModbusTcpBackend::ModbusTcpBackend(const DrivesConfig& config)
     : config_(config), master_(config.host, config.port, config.response_timeout_s) {}
 
 bool ModbusTcpBackend::Configure(const PlatformConfig&, std::string* error) {
+  if (!lifecycle_.Allows(BackendTransition::kConfigure, error)) return false;
   if (const std::string problem = ScalingProblem(config_.scaling); !problem.empty()) {
     *error = problem;
-    state_ = BackendState::kFault;
     return false;
   }
-  state_ = BackendState::kInactive;
-  return true;
+  return lifecycle_.Take(BackendTransition::kConfigure, error);
 }
 
 bool ModbusTcpBackend::Exchange(Enabling enabling, std::string* error) {
@@ -96,10 +95,7 @@ bool ModbusTcpBackend::EnableDrives(Enabling enabling, std::string* error) {
 }
 
 bool ModbusTcpBackend::Activate(std::string* error) {
-  if (state_ != BackendState::kInactive) {
-    *error = "activate needs a configured, inactive backend";
-    return false;
-  }
+  if (!lifecycle_.Allows(BackendTransition::kActivate, error)) return false;
   const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(5);
   while (!ConnectAndRead(error)) {
     if (std::chrono::steady_clock::now() > give_up) return false;
@@ -109,38 +105,57 @@ bool ModbusTcpBackend::Activate(std::string* error) {
   // Start-up enables the drives where they stand but resets no fault: a
   // drive found in fault (a predecessor's outage) stays so, the first
   // cycle fails on it, and the bridge holds until the operator re-arms.
-  if (!EnableDrives(Enabling::kNotFaulted, error)) return false;
-  state_ = BackendState::kActive;
+  if (!EnableDrives(Enabling::kNotFaulted, error)) {
+    PowerDown();  // those it did enable: inactive means without power
+    master_.Disconnect();
+    return false;
+  }
+  lifecycle_.Take(BackendTransition::kActivate);
   detail_.clear();
+  fault_cause_.clear();
   return true;
 }
 
 bool ModbusTcpBackend::Reset(std::string* error) {
-  if (state_ != BackendState::kActive) {
-    *error = "reset needs an active backend";
-    return false;
-  }
+  if (!lifecycle_.Allows(BackendTransition::kRecover, error)) return false;
   if (!master_.connected() && !ConnectAndRead(error)) return false;
   // Only the drives out of operation are reset and enabled (where they
   // stand); the others keep power and their targets throughout.
   if (!EnableDrives(Enabling::kResetFaults, error)) return false;
+  lifecycle_.Take(BackendTransition::kRecover);
   detail_.clear();
+  fault_cause_.clear();
   return true;
 }
 
+void ModbusTcpBackend::PowerDown() {
+  if (!master_.connected()) return;
+  for (cia402::CspCommand& c : commands_) c.controlword = cia402::ControlwordFor(cia402::Command::kShutdown);
+  std::string ignored;
+  master_.Exchange(commands_, &feedback_, &ignored);
+}
+
 void ModbusTcpBackend::Deactivate() {
-  if (master_.connected()) {
-    for (cia402::CspCommand& c : commands_) c.controlword = cia402::ControlwordFor(cia402::Command::kShutdown);
-    std::string ignored;
-    master_.Exchange(commands_, &feedback_, &ignored);
-  }
-  state_ = BackendState::kInactive;
+  if (!lifecycle_.Allows(BackendTransition::kDeactivate)) return;  // not cycling: nothing to stop
+  PowerDown();
+  lifecycle_.Take(BackendTransition::kDeactivate);
+}
+
+void ModbusTcpBackend::Cleanup() {
+  if (lifecycle_.Take(BackendTransition::kCleanup)) master_.Disconnect();
+}
+
+void ModbusTcpBackend::Fail(const std::string& why) {
+  detail_ = why;
+  if (lifecycle_.state() == BackendState::kActive) fault_cause_ = why;
+  lifecycle_.Take(BackendTransition::kError);
 }
 
 // The cycle's one request: this setpoint out, the drives' answer in (kept
 // for the next cycle's Read, as a fieldbus master's inputs are).
 bool ModbusTcpBackend::Write(std::int64_t now_utime, const DriveSetpoint& setpoint) {
-  if (state_ != BackendState::kActive) return false;  // motion only while active
+  const BackendState state = lifecycle_.state();
+  if (state != BackendState::kActive && state != BackendState::kFault) return false;  // not cycling
   std::array<std::optional<std::int32_t>, 6> targets;
   std::array<std::int32_t, 6> velocities{};
   std::string unfit;
@@ -154,26 +169,34 @@ bool ModbusTcpBackend::Write(std::int64_t now_utime, const DriveSetpoint& setpoi
       velocities[d] = *v;
     }
   }
-  if (unfit.empty()) {  // else the previous targets stay in force, and still go out
+  if (state == BackendState::kFault) {
+    // Motion only while active: the drives hold the last target taken, at rest.
+    velocity_counts_.fill(0);
+  } else if (unfit.empty()) {  // else the previous targets stay in force, and still go out
     target_counts_ = targets;
     velocity_counts_ = velocities;
   }
   if (!master_.connected()) return false;  // Read reconnects
   std::string error;
   if (!Exchange(Enabling::kNone, &error)) {
-    detail_ = error;
+    Fail(error);
     last_connect_utime_ = now_utime;
     return false;
   }
   DriveFeedback answer;
   Describe(&answer);
   if (!unfit.empty()) detail_ = detail_.empty() ? unfit : unfit + "; " + detail_;
-  return detail_.empty();
+  return detail_.empty() && lifecycle_.state() == BackendState::kActive;
 }
 
 // The drives' answer to the last cycle's request (or, after a reconnect, to
 // a read that wrote nothing).
 bool ModbusTcpBackend::Read(std::int64_t now_utime, DriveFeedback* feedback) {
+  const BackendState state = lifecycle_.state();
+  if (state != BackendState::kActive && state != BackendState::kFault) {  // not cycling: no reconnect
+    Describe(feedback);
+    return false;
+  }
   if (!master_.connected()) {
     if (last_connect_utime_ >= 0 && now_utime - last_connect_utime_ < kReconnectEveryUs) {
       Describe(feedback);
@@ -182,28 +205,36 @@ bool ModbusTcpBackend::Read(std::int64_t now_utime, DriveFeedback* feedback) {
     last_connect_utime_ = now_utime;
     std::string error;
     if (!ConnectAndRead(&error)) {
-      detail_ = error;
+      Fail(error);
       Describe(feedback);
       return false;
     }
   }
   Describe(feedback);
-  return detail_.empty();
+  return detail_.empty() && lifecycle_.state() == BackendState::kActive;
 }
 
 void ModbusTcpBackend::Describe(DriveFeedback* feedback) {
+  const bool cycling = lifecycle_.state() == BackendState::kActive || lifecycle_.state() == BackendState::kFault;
   std::string faults;
   for (std::size_t d = 0; d < 6; ++d) {
     const cia402::State s = cia402::StateOfStatusword(feedback_[d].statusword);
     feedback->motor_angle_rad[d] = config_.scaling[d].ToAngle(feedback_[d].position_actual);
     feedback->motor_velocity_rad_s[d] = config_.scaling[d].ToRate(feedback_[d].velocity_actual);
     feedback->status[d] = master_.connected() ? StatusOf(s) : DriveStatus::kDisabled;
-    if (master_.connected() && state_ == BackendState::kActive && s != cia402::State::kOperationEnabled) {
+    if (master_.connected() && cycling && s != cia402::State::kOperationEnabled) {
       faults += fmt::format("{}drive {} in {} (error code {:04X}h)", faults.empty() ? "" : "; ", d + 1,
                             cia402::StateName(s), feedback_[d].error_code);
     }
   }
-  if (master_.connected()) detail_ = faults;
+  if (!master_.connected() || !cycling) return;
+  if (!faults.empty()) {
+    Fail(faults);
+  } else if (lifecycle_.state() == BackendState::kFault) {
+    detail_ = "every drive answers and is in operation; in fault until re-armed (since: " + fault_cause_ + ")";
+  } else {
+    detail_.clear();
+  }
 }
 
 }  // namespace edsp

@@ -10,24 +10,20 @@ VirtualRigBackend::VirtualRigBackend(std::string segment_prefix, mode_t permissi
     : prefix_(std::move(segment_prefix)), permissions_(permissions), timeout_us_(timeout_us) {}
 
 bool VirtualRigBackend::Configure(const PlatformConfig&, std::string* error) {
+  if (!lifecycle_.Allows(BackendTransition::kConfigure, error)) return false;
   ShmChannelSpec spec{DriveCommandSegment(prefix_), kDriveImageCommandFingerprint, 16,
                       sizeof(DriveImageCommand), permissions_};
   auto writer = ShmWriter::Open(spec);
   if (!writer.ok()) {
     *error = writer.message;
-    state_ = BackendState::kFault;
     return false;
   }
   commands_ = std::move(writer.value);
-  state_ = BackendState::kInactive;
-  return true;
+  return lifecycle_.Take(BackendTransition::kConfigure, error);
 }
 
 bool VirtualRigBackend::Activate(std::string* error) {
-  if (state_ != BackendState::kInactive) {
-    *error = "activate needs a configured, inactive backend";
-    return false;
-  }
+  if (!lifecycle_.Allows(BackendTransition::kActivate, error)) return false;
   ShmChannelSpec spec{DriveFeedbackSegment(prefix_), kDriveImageFeedbackFingerprint, 16,
                       sizeof(DriveImageFeedback), permissions_};
   for (int attempt = 0; attempt < 500 && feedback_ == nullptr; ++attempt) {
@@ -50,13 +46,18 @@ bool VirtualRigBackend::Activate(std::string* error) {
     *error = "the drives publish no feedback on " + spec.segment_name;
     return false;
   }
-  state_ = BackendState::kActive;
-  return true;
+  return lifecycle_.Take(BackendTransition::kActivate, error);
 }
 
 void VirtualRigBackend::Deactivate() {
-  if (commands_ != nullptr) Publish(0, DriveSetpoint{}, false);
-  state_ = BackendState::kInactive;
+  if (!lifecycle_.Take(BackendTransition::kDeactivate)) return;  // not active: nothing to stop
+  Publish(0, DriveSetpoint{}, false);
+}
+
+void VirtualRigBackend::Cleanup() {
+  if (!lifecycle_.Take(BackendTransition::kCleanup)) return;
+  feedback_.reset();
+  commands_.reset();
 }
 
 bool VirtualRigBackend::Publish(std::int64_t now_utime, const DriveSetpoint& s, bool enable) {
@@ -73,7 +74,7 @@ bool VirtualRigBackend::Publish(std::int64_t now_utime, const DriveSetpoint& s, 
 }
 
 bool VirtualRigBackend::Write(std::int64_t now_utime, const DriveSetpoint& setpoint) {
-  if (state_ != BackendState::kActive) return false;  // motion only while active
+  if (lifecycle_.state() != BackendState::kActive) return false;  // motion only while active
   return Publish(now_utime, setpoint, true);
 }
 

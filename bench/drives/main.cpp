@@ -114,7 +114,7 @@ int Run(int argc, char** argv) {
   app.add_option("--period-us", period_us, "pace of the master's cycles")->capture_default_str()
       ->check(CLI::Range(0.0, 100000.0));
   app.add_flag("--json", json, "one JSON object on stdout");
-  app.add_option("--connect", connect, "HOST:PORT of a running server (default: a child on loopback)");
+  app.add_option("--connect", connect, "HOST:PORT of a server elsewhere, waited for up to 5 s (default: a child on loopback)");
   CLI11_PARSE(app, argc, argv);
 
   std::unique_ptr<ChildServer> child;
@@ -127,7 +127,12 @@ int Run(int argc, char** argv) {
   }
   edsp::cia402::ModbusDriveMaster master(endpoint.first, endpoint.second, 0.5);
   std::string error;
-  if (!master.Connect(&error)) throw std::runtime_error(error);
+  // A server elsewhere may still be starting: try for 5 s.
+  const auto give_up = Clock::now() + std::chrono::seconds(connect.empty() ? 0 : 5);
+  while (!master.Connect(&error)) {
+    if (Clock::now() >= give_up) throw std::runtime_error(error);
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
   CspCommands commands{};
   CspFeedbacks feedback{};
   std::vector<double> exchange_us;

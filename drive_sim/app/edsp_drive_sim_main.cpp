@@ -41,13 +41,15 @@ void InstallFaultSignal() {
 
 // The rig's legs behind the drives, through the image the bridge's
 // virtual backend would otherwise write.
-std::unique_ptr<cia402::CspAxes> RigAxes(const NodeOptions& node, const std::string& image_prefix) {
+std::unique_ptr<cia402::CspAxes> RigAxes(const NodeOptions& node, const std::string& image_prefix,
+                                         double fieldbus_timeout_s) {
   const PlatformConfig config = LoadConfigFile(node.config_path);
   const DrivesConfig drives = LoadDrivesConfig(node.config_path, config);
   const TransportConfig transport = TransportFor(node);
   auto image = std::make_unique<VirtualRigBackend>(image_prefix.empty() ? transport.shm_prefix : image_prefix,
                                                    transport.shm_permissions);
-  return std::make_unique<cia402::BackendAxes>(std::move(image), config, drives.scaling);
+  return std::make_unique<cia402::BackendAxes>(std::move(image), config, drives.scaling,
+                                               static_cast<std::int64_t>(fieldbus_timeout_s * 1e6));
 }
 
 int Run(int argc, char** argv) {
@@ -82,7 +84,7 @@ int Run(int argc, char** argv) {
   options.drive.fieldbus_timeout_s = fieldbus_timeout_ms * 1e-3;
   InstallStopSignals();
   InstallFaultSignal();
-  cia402::ModbusDriveServer server(options, axes == "rig" ? RigAxes(node, image_prefix) : nullptr);
+  cia402::ModbusDriveServer server(options, axes == "rig" ? RigAxes(node, image_prefix, options.drive.fieldbus_timeout_s) : nullptr);
   std::printf("edsp-drive-sim: 6 drives (%s axes) on modbus-tcp %s:%d\n", axes.c_str(), options.host.c_str(),
               server.port());
   std::fflush(stdout);

@@ -8,8 +8,8 @@
 namespace edsp::cia402 {
 
 BackendAxes::BackendAxes(std::unique_ptr<DriveBackend> backend, const PlatformConfig& config,
-                         const std::array<DriveScaling, kCabinetDrives>& scaling)
-    : backend_(std::move(backend)), scaling_(scaling) {
+                         const std::array<DriveScaling, kCabinetDrives>& scaling, std::int64_t fieldbus_timeout_us)
+    : backend_(std::move(backend)), scaling_(scaling), fieldbus_timeout_us_(fieldbus_timeout_us) {
   if (const std::string problem = ScalingProblem(scaling_); !problem.empty()) {
     throw std::runtime_error("the drives' axes: " + problem);
   }
@@ -22,7 +22,10 @@ BackendAxes::BackendAxes(std::unique_ptr<DriveBackend> backend, const PlatformCo
   for (std::size_t d = 0; d < held_rad_.size(); ++d) held_rad_[d] = feedback_.motor_angle_rad[d];
 }
 
-BackendAxes::~BackendAxes() { backend_->Deactivate(); }
+BackendAxes::~BackendAxes() {
+  backend_->Deactivate();
+  backend_->Cleanup();
+}
 
 void BackendAxes::Sense(std::int64_t now_utime) {
   feedback_ok_ = backend_->Read(now_utime, &feedback_);
@@ -36,12 +39,14 @@ void BackendAxes::Sense(std::int64_t now_utime) {
   }
 }
 
-DriveSetpoint BackendAxes::Actuate(std::int64_t command_utime,
+DriveSetpoint BackendAxes::Actuate(std::int64_t now_utime, std::int64_t command_utime,
                                    const std::array<AxisDemand, kCabinetDrives>& demands) {
   DriveSetpoint setpoint;
   setpoint.utime = command_utime;
+  const bool command_expired = now_utime - command_utime > fieldbus_timeout_us_;
   for (std::size_t d = 0; d < demands.size(); ++d) {
-    if (demands[d].follow) {
+    const bool follow = demands[d].follow && !command_expired;
+    if (follow) {
       setpoint.motor_angle_rad[d] = scaling_[d].ToAngle(demands[d].target);
       setpoint.motor_velocity_rad_s[d] = scaling_[d].ToRate(demands[d].velocity_offset);
     } else {
@@ -50,7 +55,7 @@ DriveSetpoint BackendAxes::Actuate(std::int64_t command_utime,
       setpoint.motor_angle_rad[d] = held_rad_[d];
       setpoint.motor_velocity_rad_s[d] = 0.0;
     }
-    followed_[d] = demands[d].follow;
+    followed_[d] = follow;
   }
   return setpoint;
 }
@@ -62,7 +67,7 @@ void BackendAxes::Step(double /*dt_s*/, std::int64_t command_utime,
   // stands now, not where it stood a cycle (or a stall) ago.
   const std::int64_t now = UtimeNow();
   Sense(now);
-  backend_->Write(now, Actuate(command_utime != 0 ? command_utime : now, demands));
+  backend_->Write(now, Actuate(now, command_utime != 0 ? command_utime : now, demands));
 }
 
 }  // namespace edsp::cia402

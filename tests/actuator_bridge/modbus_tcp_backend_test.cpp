@@ -1,8 +1,9 @@
 // The bridge's Modbus TCP backend against six simulated drives on loopback
 // (edsp's server on a thread): enabled where they stand, following the
 // setpoints it is given within a count, a drive's fault reported with its
-// code and never reset but by a new activation, an unfit setpoint refused,
-// and a server that goes away reported and reached again once it is back.
+// code and never reset but by the operator's re-arm (Reset: the lifecycle's
+// recovery from fault), an unfit setpoint refused, and a server that goes
+// away reported and reached again once it is back.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -44,7 +45,7 @@ TEST(ModbusTcpBackend, ADriveWithoutAScalingIsRefusedByNameAtConfigure) {
   EXPECT_FALSE(backend.Configure(Huang2021Config(), &error));
   EXPECT_NE(error.find("[drives] leg 3"), std::string::npos) << error;
   EXPECT_NE(error.find("counts_per_m"), std::string::npos) << error;
-  EXPECT_EQ(backend.state(), BackendState::kFault);
+  EXPECT_EQ(backend.state(), BackendState::kUnconfigured) << "a failed configure leaves it as it was";
 }
 
 std::size_t Backend_Detail_Disabled(const ModbusTcpBackend& backend) {
@@ -104,7 +105,7 @@ TEST(ModbusTcpBackend, EnablesTheDrivesAndFollowsTheSetpointsWithinACount) {
   EXPECT_EQ(backend.Detail(), "");
 }
 
-TEST(ModbusTcpBackend, ADrivesFaultIsReportedAndResetOnlyByTheNextActivation) {
+TEST(ModbusTcpBackend, ADrivesFaultIsReportedAndResetOnlyByAReArm) {
   ServedDrives drives;
   ModbusTcpBackend backend(ConfigFor(drives.port()));
   std::string error;
@@ -114,15 +115,71 @@ TEST(ModbusTcpBackend, ADrivesFaultIsReportedAndResetOnlyByTheNextActivation) {
   DriveFeedback f = Cycles(&backend, home, [](const DriveFeedback& fb) { return fb.status[3] == DriveStatus::kFault; });
   EXPECT_EQ(f.status[3], DriveStatus::kFault);
   EXPECT_NE(backend.Detail().find("drive 4 in fault (error code 7500h)"), std::string::npos) << backend.Detail();
+  EXPECT_EQ(backend.state(), BackendState::kFault);
   // Many cycles later it is still in fault: the backend never resets it.
   f = Cycles(&backend, home, [](const DriveFeedback&) { return false; }, 50);
   EXPECT_EQ(f.status[3], DriveStatus::kFault);
   EXPECT_EQ(f.status[2], DriveStatus::kEnabled) << "the others run on";
   EXPECT_FALSE(backend.Read(Now(), &f)) << "a drive out of operation fails the cycle: the bridge holds";
   ASSERT_TRUE(backend.Reset(&error)) << error;  // the operator's re-arm
+  EXPECT_EQ(backend.state(), BackendState::kActive) << "recovered";
   f = Cycles(&backend, home, [](const DriveFeedback& fb) { return fb.status[3] == DriveStatus::kEnabled; });
   EXPECT_EQ(f.status[3], DriveStatus::kEnabled);
   EXPECT_EQ(backend.Detail(), "");
+}
+
+// In fault the backend keeps cycling but takes no new target: the drives
+// still in operation hold the last one it took, at rest, whatever the
+// setpoints say, until a re-arm recovers it.
+TEST(ModbusTcpBackend, InFaultItTakesNoNewTargetUntilAReArmRecoversIt) {
+  ServedDrives drives;
+  ModbusTcpBackend backend(ConfigFor(drives.port()));
+  std::string error;
+  ASSERT_TRUE(backend.Configure(PlatformConfig{}, &error) && backend.Activate(&error)) << error;
+  DriveSetpoint held = Ramp(&backend, {0.2, 0.2, 0.2, 0.2, 0.2, 0.2});
+  Cycles(&backend, held, [&](const DriveFeedback& fb) { return std::abs(fb.motor_angle_rad[0] - 0.2) < 1e-5; });
+  drives.server().InjectFault(5, 0x7500);
+  Cycles(&backend, held, [&](const DriveFeedback&) { return backend.state() == BackendState::kFault; });
+  ASSERT_EQ(backend.state(), BackendState::kFault) << backend.Detail();
+  DriveSetpoint further = held;
+  further.motor_angle_rad.fill(0.21);  // within the following window
+  further.motor_velocity_rad_s.fill(1.0);
+  DriveFeedback f = Cycles(&backend, further, [](const DriveFeedback&) { return false; }, 50);
+  for (int i = 0; i < 5; ++i) {
+    EXPECT_NEAR(f.motor_angle_rad[i], 0.2, 1e-5) << "leg " << i + 1 << " moved while the backend was in fault";
+    EXPECT_EQ(f.status[i], DriveStatus::kEnabled) << "leg " << i + 1;
+  }
+  EXPECT_FALSE(backend.Write(Now(), further));
+  ASSERT_TRUE(backend.Reset(&error)) << error;
+  EXPECT_EQ(backend.state(), BackendState::kActive);
+  further.motor_velocity_rad_s.fill(0.0);
+  f = Cycles(&backend, further, [](const DriveFeedback& fb) { return std::abs(fb.motor_angle_rad[0] - 0.21) < 1e-5; });
+  EXPECT_NEAR(f.motor_angle_rad[0], 0.21, 1e-5) << "recovered, it takes targets again";
+}
+
+// The lifecycle's other ends: a re-arm needs a cycling backend; deactivate
+// and cleanup let the drives and the link go, and it can be configured
+// and activated again.
+TEST(ModbusTcpBackend, DeactivatedAndCleanedUpItStartsAgainAndRefusesAReArmMeanwhile) {
+  ServedDrives drives;
+  ModbusTcpBackend backend(ConfigFor(drives.port()));
+  std::string error;
+  EXPECT_FALSE(backend.Reset(&error));
+  EXPECT_EQ(error, "cannot recover a backend that is unconfigured");
+  ASSERT_TRUE(backend.Configure(PlatformConfig{}, &error) && backend.Activate(&error)) << error;
+  EXPECT_FALSE(backend.Configure(PlatformConfig{}, &error));
+  EXPECT_EQ(error, "cannot configure a backend that is active");
+  backend.Deactivate();
+  EXPECT_EQ(backend.state(), BackendState::kInactive);
+  EXPECT_FALSE(backend.Write(Now(), DriveSetpoint{})) << "no cycle while inactive";
+  EXPECT_FALSE(backend.Reset(&error));
+  EXPECT_EQ(error, "cannot recover a backend that is inactive");
+  backend.Cleanup();
+  EXPECT_EQ(backend.state(), BackendState::kUnconfigured);
+  ASSERT_TRUE(backend.Configure(PlatformConfig{}, &error) && backend.Activate(&error)) << error;
+  DriveFeedback f;
+  EXPECT_TRUE(backend.Read(Now(), &f)) << backend.Detail();
+  EXPECT_TRUE(backend.Write(Now(), DriveSetpoint{})) << backend.Detail();
 }
 
 TEST(ModbusTcpBackend, AStartUpResetsNoFaultAndAReArmResetsOnlyTheFaultedDrive) {
@@ -254,6 +311,27 @@ TEST(ModbusTcpBackend, ADriveFaultLatchesTheBridgeAndItsReArmResetsTheDrive) {
   }
   EXPECT_TRUE(answers) << fault.reason;
   EXPECT_EQ(state.drive_status[1], leg_state_t::DRIVE_HOLDING) << "enabled, holding until the stream rejoins";
+}
+
+// A drive found in fault at start-up puts the backend in fault at the
+// bridge's first read, before any cycle: an operator's re-arm right then
+// must reset it, not confirm a bridge that "was not latched".
+TEST(ModbusTcpBackend, AReArmBeforeTheFirstCycleResetsADriveFoundInFault) {
+  ServedDrives drives;
+  drives.server().InjectFault(2, 0x7500);
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));  // a drive cycle raises it
+  ModbusTcpBackend backend(ConfigFor(drives.port()));
+  std::string error;
+  ASSERT_TRUE(backend.Configure(PlatformConfig{}, &error) && backend.Activate(&error)) << error;
+  BridgeOptions options;
+  options.session_id = 7;
+  ActuatorBridge bridge(PlatformModel(Huang2021Config()), &backend, options);
+  ASSERT_EQ(backend.state(), BackendState::kFault) << backend.Detail();
+  ASSERT_TRUE(bridge.Rearm(&error)) << error;
+  EXPECT_EQ(backend.state(), BackendState::kActive) << "the re-arm reset the drive";
+  DriveFeedback f;
+  EXPECT_TRUE(backend.Read(Now(), &f)) << backend.Detail();
+  EXPECT_EQ(f.status[2], DriveStatus::kEnabled);
 }
 
 }  // namespace

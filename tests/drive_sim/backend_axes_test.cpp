@@ -11,12 +11,13 @@
 #include "edsp/drives/csp_master.h"
 #include "edsp/drives/drive_cabinet.h"
 #include "edsp/kinematics/config.h"
+#include "edsp/node/runtime.h"
 
 namespace edsp::cia402 {
 namespace {
 
 constexpr double kCycle = 0.001;
-constexpr std::int64_t kWrite = 1'700'000'000'000'000;
+constexpr std::int64_t kFieldbusTimeoutUs = 10'000'000;
 
 // Drive d: 1000 counts per rad, offset 100·d, drives 1 and 4 mounted the other way.
 std::array<DriveScaling, kCabinetDrives> Scaling() {
@@ -40,7 +41,7 @@ class BackendAxesTest : public ::testing::Test {
     options.fieldbus_timeout_s = 10.0;
     options.following_error_window = 5000;
     cabinet_ = std::make_unique<DriveCabinet>(
-        options, std::make_unique<BackendAxes>(std::move(backend), Huang2021Config(), Scaling()));
+        options, std::make_unique<BackendAxes>(std::move(backend), Huang2021Config(), Scaling(), kFieldbusTimeoutUs));
   }
   // One master cycle wanting `wanted` (counts per drive; nullopt: hold).
   // Drive `unattended` keeps its last controlword (nobody resets its fault).
@@ -52,7 +53,8 @@ class BackendAxesTest : public ::testing::Test {
       if (d == unattended) commands[k].controlword = controlwords_[k];
       controlwords_[k] = commands[k].controlword;
     }
-    cabinet_->Command(commands, kWrite);
+    last_write_utime_ = UtimeNow();  // when the master's write arrived (the clock edsp-drive-sim stamps with)
+    cabinet_->Command(commands, last_write_utime_);
     cabinet_->Tick(kCycle);
   }
   bool AllOperating() const {
@@ -64,6 +66,7 @@ class BackendAxesTest : public ::testing::Test {
   RecordingBackend* backend_ = nullptr;
   std::unique_ptr<DriveCabinet> cabinet_;
   std::array<std::uint16_t, kCabinetDrives> controlwords_{};
+  std::int64_t last_write_utime_ = 0;
 };
 
 TEST_F(BackendAxesTest, EnabledWhereTheLegsStandThenTheTargetsReachTheBackendAsMotorAngles) {
@@ -93,7 +96,7 @@ TEST_F(BackendAxesTest, EnabledWhereTheLegsStandThenTheTargetsReachTheBackendAsM
     const auto k = static_cast<std::size_t>(d);
     EXPECT_EQ(cabinet_->Feedback(d).position_actual, *wanted[k]) << "drive " << d << ": the leg's counts back";
   }
-  EXPECT_EQ(backend_->written.utime, kWrite) << "stamped with the master's write";
+  EXPECT_EQ(backend_->written.utime, last_write_utime_) << "stamped with the master's write";
 }
 
 TEST_F(BackendAxesTest, ADriveOutOfOperationHoldsItsLegWhereItStoppedFollowing) {
@@ -155,6 +158,35 @@ TEST_F(BackendAxesTest, AfterAStallTheDrivesTimeOutAndHoldWhereTheLegsStandNow) 
   }
 }
 
+// The simulator stopped in the middle of a cycle, after its drives had
+// decided to follow but before they wrote: on waking, that cycle's write
+// would carry a target from before the stall. A command older than the
+// drives' fieldbus timeout is not followed: each leg is held where it
+// stands, as the drive would have stopped it then.
+TEST_F(BackendAxesTest, ACommandOlderThanTheFieldbusTimeoutIsNeverFollowed) {
+  std::array<std::optional<std::int32_t>, kCabinetDrives> hold{};
+  for (int k = 0; k < 10 && !AllOperating(); ++k) Cycle(hold);
+  ASSERT_TRUE(AllOperating());
+  backend_->stopped_at.reset();
+  std::array<CspCommand, kCabinetDrives> commands;
+  for (int d = 0; d < kCabinetDrives; ++d) {
+    const auto k = static_cast<std::size_t>(d);
+    commands[k] = NextCspCommand(cabinet_->Feedback(d), controlwords_[k], cabinet_->Feedback(d).position_actual + 500);
+  }
+  cabinet_->Command(commands, UtimeNow());
+  cabinet_->Tick(kCycle);
+  std::array<double, 6> rest = backend_->written.motor_angle_rad;
+  for (double& angle : rest) angle += 0.003;  // where the legs came to rest meanwhile
+  backend_->stopped_at = rest;
+  cabinet_->Command(commands, UtimeNow() - kFieldbusTimeoutUs - 1000);  // written before the stall
+  cabinet_->Tick(kCycle);  // the drives' own clock saw one cycle pass
+  for (int d = 0; d < kCabinetDrives; ++d) {
+    const auto k = static_cast<std::size_t>(d);
+    EXPECT_EQ(backend_->written.motor_angle_rad[k], rest[k]) << "drive " << d << " followed a command from before the stall";
+    EXPECT_EQ(backend_->written.motor_velocity_rad_s[k], 0.0);
+  }
+}
+
 TEST_F(BackendAxesTest, ASilentBackendIsALostEncoderOnEveryDriveAndALegInFaultIsThatDrivesFault) {
   std::array<std::optional<std::int32_t>, kCabinetDrives> hold{};
   for (int k = 0; k < 10 && !AllOperating(); ++k) Cycle(hold);
@@ -182,7 +214,7 @@ TEST(BackendAxes, ADriveWithoutAScalingIsRefusedByName) {
   auto scaling = Scaling();
   scaling[3].counts_per_rad = 0.0;  // a config without [drives] counts_per_m
   try {
-    BackendAxes axes(std::make_unique<RecordingBackend>(), Huang2021Config(), scaling);
+    BackendAxes axes(std::make_unique<RecordingBackend>(), Huang2021Config(), scaling, kFieldbusTimeoutUs);
     FAIL() << "a zero scaling would send NaN targets to the legs";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("leg 4"), std::string::npos) << e.what();

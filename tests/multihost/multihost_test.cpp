@@ -241,7 +241,10 @@ TEST(MultiHost, DrivesLinkPulledOverModbusHoldsNamesTheDrivesAndResumesOnlyAfter
   // turns back during the re-arm, so the rejoin is short).
   MultiHostOptions options{R"("--motions", "Lz", "--stops", "2", "--dwell-s", "1", "--max-speed-m-s", "0.1",
                                "--exit-after-hold-s", "1")"};
-  options.stale_ms = 50;  // as shipped: this test is about the hold
+  // The stale limit, response and fieldbus timeouts at 250 ms (the shipped
+  // 50 ms hold is the link-down test's): a 2-vCPU CI machine stalls a node
+  // for over 50 ms now and then, and a second latch after the re-arm is not
+  // what this test is about.
   options.drives_over_modbus = true;
   MultiHostGroup group(network, "modbus_pulled", options);
   group.Start();
@@ -275,7 +278,7 @@ TEST(MultiHost, DrivesLinkPulledOverModbusHoldsNamesTheDrivesAndResumesOnlyAfter
     if (timeout_fault_utime < 0 && f.reason.find(endpoint) != std::string::npos) timeout_fault_utime = f.utime;
     if (f.utime >= back_utime && f.reason.find("(error code 8130h)") != std::string::npos) fieldbus_timeout_named = true;
     if (f.code == static_cast<std::int32_t>(FaultCode::kOperatorAction) && armed_utime < 0) armed_utime = f.utime;
-    if (f.reason.find("re-arm required") != std::string::npos) {
+    if (f.reason.find("re-arm required") != std::string::npos && f.utime >= back_utime) {
       (armed_utime < 0 ? refused_before_arm : refused_after_arm) += 1;
     }
   }
@@ -290,7 +293,7 @@ TEST(MultiHost, DrivesLinkPulledOverModbusHoldsNamesTheDrivesAndResumesOnlyAfter
   const std::int64_t late_us =
       std::max(LargestLateCycleUs(group.log_path(), "EDSP_RIG_TRUTH", 1000),
                LargestLateCycleUs(group.log_path(), "EDSP_LEG_STATE", 1000, cut_utime, armed_utime + 1000000));
-  const std::int64_t limit_us = 50000 + 2000 + late_us;
+  const std::int64_t limit_us = options.stale_ms * 1000 + 2000 + late_us;
   EXPECT_GT(timeout_fault_utime, 0) << "the bridge never named " << endpoint << ":\n" << Describe(faults);
   EXPECT_LE(first_utime - cut_done_utime, limit_us) << Describe(faults);
   EXPECT_TRUE(fieldbus_timeout_named) << "the drives' own fieldbus timeout (8130h) was never reported:\n"
@@ -339,8 +342,7 @@ TEST(MultiHost, ModbusCycleBetweenHostsAgainstLoopback) {
   const std::string endpoint = fmt::format("{}:{}", network.Address("drive"), kModbusPort);
   const pid_t server = network.Spawn(
       "drive", fmt::format("{} --host {} --port {}", EDSP_DRIVE_SIM_BINARY, network.Address("drive"), kModbusPort),
-      dir + "/drive_sim.out");
-  Pause(500);
+      dir + "/drive_sim.out");  // the benchmark waits up to 5 s for it to listen
   constexpr int kCycles = 3000;
   auto bench = [&](const std::string& host, const std::string& extra, const std::string& name) {
     const int exit = network.Run(host, fmt::format("{} --cycles {} --json {} >{}/{}.json 2>{}/{}.err",

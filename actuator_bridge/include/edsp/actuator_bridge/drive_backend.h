@@ -1,6 +1,8 @@
 #pragma once
 // The one door to the drives (ros2_control's SystemInterface, edsp-sized):
-// configure → activate → read/write each cycle → deactivate. The bridge never
+// configure → activate → read/write each cycle → deactivate → cleanup, and
+// from a failed cycle to a fault that the operator's re-arm recovers from
+// (backend_lifecycle.h has the table). The bridge never
 // knows which backend is behind it; backends are siblings chosen by
 // configuration ([drives] backend: the virtual rig's image, Modbus TCP).
 //
@@ -47,13 +49,17 @@ class DriveBackend {
   virtual bool Configure(const PlatformConfig& config, std::string* error) = 0;
   virtual bool Activate(std::string* error) = 0;
   virtual void Deactivate() = 0;
+  // Inactive → unconfigured: lets go of what Configure took (a link, a
+  // segment). Backends that hold nothing have nothing to do.
+  virtual void Cleanup() {}
   // Cyclic; never throw. Motion setpoints are accepted only while kActive.
   virtual bool Read(std::int64_t now_utime, DriveFeedback* feedback) = 0;
   virtual bool Write(std::int64_t now_utime, const DriveSetpoint& setpoint) = 0;
   virtual BackendState state() const = 0;
   // The operator's re-arm: drives that left operation (a fault, a quick
-  // stop) are reset and enabled again where they stand. Backends whose
-  // drives need nothing of the kind have nothing to do.
+  // stop) are reset and enabled again where they stand, and a backend in
+  // fault recovers (active again). Backends whose drives need nothing of
+  // the kind have nothing to do.
   virtual bool Reset(std::string* /*error*/) { return true; }
   // Why the last cycle failed (which drive, its error), "" when unknown.
   virtual std::string Detail() const { return ""; }

@@ -4,10 +4,12 @@
 // real drives. One request per cycle, in Write: the cycle's setpoint out
 // and the six feedbacks in (function 23), which the next cycle's Read
 // returns, as a fieldbus master's inputs are one exchange old. Activate enables the drives through
-// the state machine without moving them. A drive that leaves operation (a
-// fault, a quick stop) is reported and left without power, never reset or
-// re-enabled on the backend's own: only a fresh Activate (the operator's
-// re-arm) does that. A lost connection is retried every 100 ms.
+// the state machine without moving them. A failed exchange or a drive that
+// leaves operation (a fault, a quick stop) puts the backend in fault
+// (backend_lifecycle.h): it reports why, keeps cycling with the last
+// targets it took, leaves the drives out of operation without power, and
+// resets or re-enables none on its own: only Reset (the operator's re-arm)
+// does that and recovers. A lost connection is retried every 100 ms.
 
 #include <array>
 #include <cstdint>
@@ -15,6 +17,7 @@
 #include <optional>
 #include <string>
 
+#include "edsp/actuator_bridge/backend_lifecycle.h"
 #include "edsp/actuator_bridge/drive_backend.h"
 #include "edsp/actuator_bridge/drives_config.h"
 #include "edsp/drives/modbus_drive_master.h"
@@ -29,13 +32,15 @@ class ModbusTcpBackend final : public DriveBackend {
   // stands; a faulted one stays so until Reset (the operator's re-arm).
   bool Activate(std::string* error) override;
   void Deactivate() override;
+  void Cleanup() override;
   // False also when a drive has left operation (the bridge then holds and
   // latches, as for silent drives).
   bool Read(std::int64_t now_utime, DriveFeedback* feedback) override;
   bool Write(std::int64_t now_utime, const DriveSetpoint& setpoint) override;
-  BackendState state() const override { return state_; }
+  BackendState state() const override { return lifecycle_.state(); }
   // The operator's re-arm: fault reset and enable of the drives out of
   // operation, where they stand; the others keep power and their targets.
+  // In fault, recovers once every drive is in operation again.
   bool Reset(std::string* error) override;
   // Why the last cycle failed, or which drive is out of operation and why.
   std::string Detail() const override { return detail_; }
@@ -48,10 +53,15 @@ class ModbusTcpBackend final : public DriveBackend {
   bool EnableDrives(Enabling enabling, std::string* error);
   bool ConnectAndRead(std::string* error);
   void Describe(DriveFeedback* feedback);
+  // Shutdown (6040h) to every drive: ready to switch on, no power.
+  void PowerDown();
+  // An active backend's cycle failed: in fault, remembering why.
+  void Fail(const std::string& why);
 
   DrivesConfig config_;
   cia402::ModbusDriveMaster master_;
-  BackendState state_ = BackendState::kUnconfigured;
+  BackendLifecycle lifecycle_;
+  std::string fault_cause_;  // what put it in fault
   cia402::CspCommands commands_{};
   cia402::CspFeedbacks feedback_{};
   std::array<std::optional<std::int32_t>, 6> target_counts_{};

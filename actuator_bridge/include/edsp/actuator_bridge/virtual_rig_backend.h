@@ -2,10 +2,13 @@
 // DriveBackend for drives behind the shared-memory process image (the
 // edsp-rig process today; the same image could front a fieldbus master).
 // Read() reports failure when the drives have been silent for `timeout_us`.
+// Its drives have no fault to reset (the rig's watchdog holds them on its
+// own), so it is never in fault: their silence is the bridge's to latch.
 
 #include <memory>
 #include <string>
 
+#include "edsp/actuator_bridge/backend_lifecycle.h"
 #include "edsp/actuator_bridge/drive_process_image.h"
 #include "edsp/transport/shm_channel.h"
 
@@ -19,9 +22,10 @@ class VirtualRigBackend final : public DriveBackend {
   // Waits up to 5 s for the drives' feedback channel to appear.
   bool Activate(std::string* error) override;
   void Deactivate() override;
+  void Cleanup() override;
   bool Read(std::int64_t now_utime, DriveFeedback* feedback) override;
   bool Write(std::int64_t now_utime, const DriveSetpoint& setpoint) override;
-  BackendState state() const override { return state_; }
+  BackendState state() const override { return lifecycle_.state(); }
 
  private:
   bool Publish(std::int64_t now_utime, const DriveSetpoint& setpoint, bool enable);
@@ -29,7 +33,7 @@ class VirtualRigBackend final : public DriveBackend {
   std::string prefix_;
   mode_t permissions_;
   std::int64_t timeout_us_;
-  BackendState state_ = BackendState::kUnconfigured;
+  BackendLifecycle lifecycle_;
   std::unique_ptr<ShmWriter> commands_;
   std::unique_ptr<ShmReader> feedback_;
   DriveFeedback last_;

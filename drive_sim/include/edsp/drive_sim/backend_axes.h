@@ -10,7 +10,9 @@
 //   feed-forward, stamped with the instant the master wrote it.
 // - A drive that does not follow (any state but operation enabled) holds its
 //   leg where it stood when it stopped following (the brake), never at its
-//   drifting actual.
+//   drifting actual. Nor does a drive follow a command older than its
+//   fieldbus timeout, even before its watchdog has seen that time pass (the
+//   simulator stopped in the middle of a cycle): it would have stopped then.
 // - Where the legs stand comes back in counts. The backend's feedback
 //   silent (the rig gone, frozen) or a leg the rig reports in fault is the
 //   drive's own error: 7300h (position sensor) on every drive, 5000h on that
@@ -32,9 +34,10 @@ inline constexpr std::uint16_t kErrorDeviceHardware = 0x5000;
 class BackendAxes final : public CspAxes {
  public:
   // Configures and activates `backend` (waiting for its first feedback);
-  // throws std::runtime_error saying why it cannot.
+  // throws std::runtime_error saying why it cannot. `fieldbus_timeout_us`:
+  // the drives' (a command older than this is not followed).
   BackendAxes(std::unique_ptr<DriveBackend> backend, const PlatformConfig& config,
-              const std::array<DriveScaling, kCabinetDrives>& scaling);
+              const std::array<DriveScaling, kCabinetDrives>& scaling, std::int64_t fieldbus_timeout_us);
   ~BackendAxes() override;
   BackendAxes(const BackendAxes&) = delete;
   BackendAxes& operator=(const BackendAxes&) = delete;
@@ -45,10 +48,12 @@ class BackendAxes final : public CspAxes {
 
  private:
   void Sense(std::int64_t now_utime);
-  DriveSetpoint Actuate(std::int64_t command_utime, const std::array<AxisDemand, kCabinetDrives>& demands);
+  DriveSetpoint Actuate(std::int64_t now_utime, std::int64_t command_utime,
+                        const std::array<AxisDemand, kCabinetDrives>& demands);
 
   std::unique_ptr<DriveBackend> backend_;
   std::array<DriveScaling, kCabinetDrives> scaling_;
+  std::int64_t fieldbus_timeout_us_;
   DriveFeedback feedback_;
   bool feedback_ok_ = false;
   std::array<bool, kCabinetDrives> followed_{};      // last cycle
