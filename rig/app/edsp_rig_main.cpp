@@ -14,7 +14,7 @@
 
 #include <fmt/format.h>
 
-#include "edsp/actuator_bridge/drive_process_image.h"
+#include "edsp/drive_io/drive_process_image.h"
 #include "edsp/kinematics/config.h"
 #include "edsp/kinematics/pose_text.h"
 #include "edsp/node/fault.h"

@@ -1,6 +1,6 @@
 // A DriveBackend's lifecycle: the table against its specification, one
 // expectation per (state, transition) pair, and the refusal's words.
-#include "edsp/actuator_bridge/backend_lifecycle.h"
+#include "edsp/drive_io/backend_lifecycle.h"
 
 #include <array>
 #include <set>

@@ -5,7 +5,7 @@
 #include <optional>
 #include <string>
 
-#include "edsp/actuator_bridge/drive_backend.h"
+#include "edsp/drive_io/drive_backend.h"
 
 namespace edsp {
 

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "edsp/actuator_bridge/bridge_state.h"
-#include "edsp/actuator_bridge/drive_backend.h"
+#include "edsp/drive_io/drive_backend.h"
 #include "edsp/node/fault.h"
 #include "edsp/node/operator_requests.h"
 #include "edsp/kinematics/platform_model.h"

@@ -17,8 +17,8 @@
 #include <optional>
 #include <string>
 
-#include "edsp/actuator_bridge/backend_lifecycle.h"
-#include "edsp/actuator_bridge/drive_backend.h"
+#include "edsp/drive_io/backend_lifecycle.h"
+#include "edsp/drive_io/drive_backend.h"
 #include "edsp/actuator_bridge/drives_config.h"
 #include "edsp/drives/modbus_drive_master.h"
 

@@ -8,8 +8,8 @@
 #include <memory>
 #include <string>
 
-#include "edsp/actuator_bridge/backend_lifecycle.h"
-#include "edsp/actuator_bridge/drive_process_image.h"
+#include "edsp/drive_io/backend_lifecycle.h"
+#include "edsp/drive_io/drive_process_image.h"
 #include "edsp/transport/shm_channel.h"
 
 namespace edsp {

@@ -22,7 +22,7 @@
 #include <memory>
 #include <string>
 
-#include "edsp/actuator_bridge/drive_backend.h"
+#include "edsp/drive_io/drive_backend.h"
 #include "edsp/drives/csp_axes.h"
 #include "edsp/drives/csp_image.h"
 

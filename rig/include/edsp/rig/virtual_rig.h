@@ -13,7 +13,7 @@
 #include <random>
 #include <vector>
 
-#include "edsp/actuator_bridge/drive_backend.h"
+#include "edsp/drive_io/drive_backend.h"
 #include "edsp/kinematics/forward_kinematics.h"
 #include "edsp/kinematics/platform_model.h"
 #include "edsp/rig/leg_transmission.h"

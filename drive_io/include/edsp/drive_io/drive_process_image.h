@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <string>
 
-#include "edsp/actuator_bridge/drive_backend.h"
+#include "edsp/drive_io/drive_backend.h"
 
 namespace edsp {
 

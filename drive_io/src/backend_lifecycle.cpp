@@ -1,4 +1,4 @@
-#include "edsp/actuator_bridge/backend_lifecycle.h"
+#include "edsp/drive_io/backend_lifecycle.h"
 
 namespace edsp {
 
