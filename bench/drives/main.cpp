@@ -13,11 +13,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <memory>
 #include <string>
-#include <utility>
-#include <cstdio>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -61,8 +61,8 @@ std::vector<double> SleepLateness(std::chrono::microseconds period, int n) {
   return late;
 }
 
-// A child process serving six simulated drives on a free loopback port
-// until this process ends; killed with the returned guard.
+// A child process serving six simulated drives on a free loopback port;
+// killed when this object goes (and with this process, whatever happens).
 struct ChildServer {
   pid_t pid = -1;
   int port = 0;
