@@ -622,9 +622,10 @@ INSTANTIATE_TEST_SUITE_P(
     [](const ::testing::TestParamInfo<FaultCase>& param_info) { return CaseName(param_info.param); });
 
 // The drives over Modbus TCP (the sim-modbus group): the drive simulator
-// killed (the connection reset, then refused until the launcher's restart
-// serves drives out of operation), and one drive raising a fault of its
-// own.
+// frozen (the master's response timeout, then the drives' own fieldbus
+// timeout), killed (the connection reset, then refused until the
+// launcher's restart serves drives out of operation), and one drive
+// raising a fault of its own.
 INSTANTIATE_TEST_SUITE_P(
     OverModbus, FaultMatrix,
     ::testing::Values(FaultCase{"drive_sim", "edsp-drive-sim", Action::kFreeze, "", true},
