@@ -279,6 +279,13 @@ TEST(ModbusTcpBackend, NobodyListeningFailsActivationWithTheEndpoint) {
   EXPECT_NE(error.find("127.0.0.1:" + std::to_string(port)), std::string::npos) << error;
 }
 
+// The bridge these tests run over the drives (session 7).
+std::unique_ptr<ActuatorBridge> BridgeOver(ModbusTcpBackend* backend) {
+  BridgeOptions options;
+  options.session_id = 7;
+  return std::make_unique<ActuatorBridge>(PlatformModel(Huang2021Config()), backend, options);
+}
+
 // The bridge over Modbus drives: a drive's fault holds and latches the
 // bridge with the drive and its code in the fault, and the operator's
 // re-arm resets the drive and lets the stream through again.
@@ -287,9 +294,8 @@ TEST(ModbusTcpBackend, ADriveFaultLatchesTheBridgeAndItsReArmResetsTheDrive) {
   ModbusTcpBackend backend(ConfigFor(drives.port()));
   std::string error;
   ASSERT_TRUE(backend.Configure(PlatformConfig{}, &error) && backend.Activate(&error)) << error;
-  BridgeOptions options;
-  options.session_id = 7;
-  ActuatorBridge bridge(PlatformModel(Huang2021Config()), &backend, options);
+  std::unique_ptr<ActuatorBridge> bridge_owner = BridgeOver(&backend);
+  ActuatorBridge& bridge = *bridge_owner;
   leg_state_t state;
   fault_t fault;
   std::int64_t t = Now();
@@ -323,9 +329,8 @@ TEST(ModbusTcpBackend, AReArmBeforeTheFirstCycleResetsADriveFoundInFault) {
   ModbusTcpBackend backend(ConfigFor(drives.port()));
   std::string error;
   ASSERT_TRUE(backend.Configure(PlatformConfig{}, &error) && backend.Activate(&error)) << error;
-  BridgeOptions options;
-  options.session_id = 7;
-  ActuatorBridge bridge(PlatformModel(Huang2021Config()), &backend, options);
+  std::unique_ptr<ActuatorBridge> bridge_owner = BridgeOver(&backend);
+  ActuatorBridge& bridge = *bridge_owner;
   ASSERT_EQ(backend.state(), BackendState::kFault) << backend.Detail();
   ASSERT_TRUE(bridge.Rearm(&error)) << error;
   EXPECT_EQ(backend.state(), BackendState::kActive) << "the re-arm reset the drive";
