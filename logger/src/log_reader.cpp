@@ -17,12 +17,16 @@ std::int64_t ReadBigEndian64(const std::uint8_t* p) {
 
 }  // namespace
 
-bool ParseEdspHeader(const std::vector<std::uint8_t>& data, EdspHeader* header) {
-  if (data.size() < 24) return false;
-  header->fingerprint = ReadBigEndian64(data.data());
-  header->utime = ReadBigEndian64(data.data() + 8);
-  header->seq = ReadBigEndian64(data.data() + 16);
+bool ParseEdspHeader(const std::uint8_t* data, std::size_t size, EdspHeader* header) {
+  if (size < 24) return false;
+  header->fingerprint = ReadBigEndian64(data);
+  header->utime = ReadBigEndian64(data + 8);
+  header->seq = ReadBigEndian64(data + 16);
   return true;
+}
+
+bool ParseEdspHeader(const std::vector<std::uint8_t>& data, EdspHeader* header) {
+  return ParseEdspHeader(data.data(), data.size(), header);
 }
 
 struct LogReader::Impl {

@@ -426,7 +426,8 @@ TEST(MultiHost, ALauncherRefusesAHostWhoseMulticastLeavesByAnotherInterface) {
 }
 
 TEST(MultiHost, OneHostAgainstThreeHosts) {
-  const std::string motions = R"("--motions", "Lz,Rz", "--stops", "3", "--dwell-s", "0.5", "--max-speed-m-s",
+  // One motion (~14 k cycles per group) is enough for a p99 of each path.
+  const std::string motions = R"("--motions", "Lz", "--stops", "3", "--dwell-s", "0.5", "--max-speed-m-s",
                                  "0.25", "--max-speed-rad-s", "0.5", "--exit-after-hold-s", "1")";
   nlohmann::json one, three;
   {

@@ -3,7 +3,9 @@
 #include <poll.h>
 
 #include <algorithm>
+#include <regex>
 #include <thread>
+#include <unordered_set>
 
 #include <fmt/format.h>
 
@@ -118,6 +120,43 @@ int Bus::DrainShm() {
     }
   }
   return delivered;
+}
+
+std::vector<std::string> Bus::SubscribeRaw(const std::string& pattern, RawHandler handler) {
+  std::regex whole_name;
+  try {
+    whole_name = std::regex(pattern, std::regex::extended);
+  } catch (const std::regex_error& e) {
+    throw TransportError(fmt::format("channel pattern '{}' is not a POSIX extended regex: {}", pattern, e.what()));
+  }
+  auto on_shm = std::make_shared<std::unordered_set<std::string>>();
+  for (const auto& [channel, route] : config_.channels) {
+    if (route.path == ChannelPath::kLcm || !std::regex_match(channel, whole_name)) continue;
+    on_shm->insert(channel);
+    auto bytes = std::make_shared<std::vector<std::uint8_t>>();
+    ChannelCounters* counters = &counters_[channel];
+    AddShmSubscription(channel, kAnyTypeFingerprint,
+                       [channel, bytes, counters, handler](ShmReader& reader) {
+                         const TakeStatus status = reader.TryTake([&](const std::uint8_t* data, std::uint32_t size) {
+                           bytes->assign(data, data + size);  // a torn read is retried, never handed over
+                           return true;
+                         });
+                         if (status == TakeStatus::kMessage) {
+                           ++counters->received;
+                           handler(channel, bytes->data(), static_cast<std::uint32_t>(bytes->size()));
+                         }
+                         return status;
+                       });
+  }
+  lcm_.SubscribePattern(pattern, [this, on_shm, handler](const std::string& channel, const std::uint8_t* data,
+                                                          std::uint32_t size) {
+    if (on_shm->count(channel) != 0) return;  // its mirror: the whole stream comes from shared memory
+    ++counters_[channel].received;
+    handler(channel, data, size);
+  });
+  std::vector<std::string> channels(on_shm->begin(), on_shm->end());
+  std::sort(channels.begin(), channels.end());
+  return channels;
 }
 
 void Bus::Fail(std::exception_ptr error) {

@@ -150,7 +150,7 @@ ShmResult<ShmSegment> Validate(const ShmSegmentHeader& h, std::uint64_t mapped_b
                 fmt::format("{}: header geometry inconsistent with its {} bytes", name,
                             mapped_bytes));
   }
-  if (h.type_fingerprint != spec.type_fingerprint) {
+  if (h.type_fingerprint != spec.type_fingerprint && (check_geometry || spec.type_fingerprint != kAnyTypeFingerprint)) {
     return Fail(ShmError::kTypeMismatch,
                 fmt::format("{}: carries type fingerprint {:#x}, expected {:#x}", name,
                             static_cast<std::uint64_t>(h.type_fingerprint),

@@ -3,6 +3,7 @@
 // lcm-logplayer use), up to the first damage, saying where it is: every
 // whole event before the damage is read.
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -23,6 +24,7 @@ struct EdspHeader {
   std::int64_t utime = 0;
   std::int64_t seq = 0;
 };
+bool ParseEdspHeader(const std::uint8_t* data, std::size_t size, EdspHeader* header);
 bool ParseEdspHeader(const std::vector<std::uint8_t>& data, EdspHeader* header);
 
 // Channels every node publishes on (EDSP_STATUS, EDSP_FAULT): their `seq`

@@ -35,13 +35,6 @@ struct ChannelCounters {
   std::string last_error;              // newest problem, for EDSP_FAULT
 };
 
-// The last `seq` seen per sending session: two groups on one network (one
-// of them foreign, refused downstream) interleave their streams on a
-// channel, and counting gaps across them would report millions of losses.
-struct SeqTracker {
-  std::unordered_map<std::int64_t, std::int64_t> last_by_session;  // messages without a session: key 0
-};
-
 class Bus {
   struct PublisherState;
 
@@ -82,6 +75,17 @@ class Bus {
   // type, truncated) is counted and dropped, never handed over.
   template <typename Msg>
   void Subscribe(const std::string& channel, std::function<void(const Msg&)> handler);
+
+  // For a recorder (the logger): the bytes of every channel whose whole name
+  // matches `pattern` (a POSIX extended regex, as LCM's own), undecoded. A
+  // channel this process reads on shared memory (its route, as
+  // RoutesForMember gave it) is taken there, every message; its LCM copy, at
+  // most a decimated mirror, is skipped. The others come from LCM. Counts
+  // `received` (and `overruns` on shared memory) per channel; seq gaps need
+  // the message's header and are the caller's. Returns the shared-memory
+  // channels it reads.
+  using RawHandler = LcmTransport::RawHandler;
+  std::vector<std::string> SubscribeRaw(const std::string& pattern, RawHandler handler);
 
   // Waits up to `timeout` for the first message, then dispatches everything
   // pending. Returns the number dispatched. Rethrows a handler's exception.
@@ -193,10 +197,7 @@ void Bus::Delivered(ChannelCounters& counters, const Msg& msg, SeqTracker* seqs)
   if constexpr (detail::HasSeq<Msg>::value) {
     std::int64_t session = 0;
     if constexpr (detail::HasSessionId<Msg>::value) session = msg.session_id;
-    if (seqs->last_by_session.size() > 64) seqs->last_by_session.clear();  // a flood of sessions: start over
-    std::int64_t* last_seq = &seqs->last_by_session.try_emplace(session, -1).first->second;
-    counters.seq_gaps += static_cast<std::uint64_t>(SeqGap(*last_seq, msg.seq));
-    *last_seq = msg.seq;  // a restarted publisher (seq going back) is not a gap
+    counters.seq_gaps += static_cast<std::uint64_t>(seqs->Count(session, msg.seq));
   }
 }
 

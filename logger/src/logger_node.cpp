@@ -1,0 +1,82 @@
+#include "edsp/logger/logger_node.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include <fmt/format.h>
+
+#include "edsp/logger/log_reader.h"
+#include "edsp/node/fault.h"
+
+namespace edsp {
+
+namespace {
+constexpr auto kPollInterval = std::chrono::milliseconds(20);
+}  // namespace
+
+LoggerNode::LoggerNode(Bus& bus, LoggerOptions options)
+    : bus_(bus),
+      writer_(options.writer),
+      status_out_(bus.Advertise<node_status_t>("EDSP_STATUS")),
+      faults_(bus.Advertise<fault_t>("EDSP_FAULT")) {
+  status_.SetState(node_status_t::STATE_RUNNING);
+  shm_channels_ = bus.SubscribeRaw(options.channels, [this](const std::string& channel, const std::uint8_t* data,
+                                                             std::uint32_t size) { Record(channel, data, size); });
+  // After subscribing: the logger records its own report (multicast loops back).
+  ReportOpened();
+}
+
+void LoggerNode::Record(const std::string& channel, const std::uint8_t* data, std::uint32_t size) {
+  status_.CountIn();
+  if (writer_.Enqueue(channel, data, size, UtimeNow())) status_.CountOut();
+  // EDSP_STATUS/EDSP_FAULT: several publishers' seq numbers interleave there.
+  if (IsSharedEdspChannel(channel) || IsOnSharedMemory(channel)) return;
+  EdspHeader header;
+  if (ParseEdspHeader(data, size, &header)) lcm_seq_gaps_ += seqs_[channel].Count(0, header.seq);
+}
+
+bool LoggerNode::IsOnSharedMemory(const std::string& channel) const {
+  return std::binary_search(shm_channels_.begin(), shm_channels_.end(), channel);
+}
+
+std::int64_t LoggerNode::lost() const {
+  std::int64_t lost = lcm_seq_gaps_;
+  for (const std::string& channel : shm_channels_) lost += static_cast<std::int64_t>(bus_.Counters(channel).overruns);
+  return lost;
+}
+
+void LoggerNode::ReportOpened() {
+  const LogWriterStats w = writer_.stats();
+  std::fprintf(stderr, "edsp-logger: recording to %s\n", w.path.c_str());
+  for (const std::string& channel : shm_channels_) {
+    std::fprintf(stderr, "edsp-logger: %s read on shared memory\n", channel.c_str());
+  }
+  if (w.resumed_events == 0 && w.torn_bytes_cut == 0) return;
+  const std::string reason =
+      fmt::format("{}: resumed after {} events already recorded{}", w.path, w.resumed_events,
+                  w.torn_bytes_cut > 0 ? fmt::format("; cut a torn last event of {} bytes", w.torn_bytes_cut)
+                                       : std::string());
+  std::fprintf(stderr, "edsp-logger: %s\n", reason.c_str());
+  faults_.Publish(MakeFault("logger", "", FaultCode::kStorage, fault_t::SEVERITY_INFO, reason, UtimeNow()));
+}
+
+void LoggerNode::Poll(std::int64_t now) {
+  const LogWriterStats w = writer_.stats();
+  fault_t fault;
+  const bool changed = disk_.Update(w, now, &fault);
+  if (changed) faults_.Publish(fault);
+  if (status_.Due(now) || changed) {
+    status_.SetDrops(lost() + w.dropped);
+    status_.SetState(disk_.failing() ? node_status_t::STATE_FAULT : node_status_t::STATE_RUNNING);
+    status_out_.Publish(status_.Report(now, 0));
+  }
+}
+
+void LoggerNode::Run(const std::function<bool()>& stop) {
+  while (!stop()) {
+    bus_.Handle(kPollInterval);
+    Poll(UtimeNow());
+  }
+}
+
+}  // namespace edsp

@@ -1,0 +1,185 @@
+// LoggerNode and DiskHealth in process: what edsp-logger records, from LCM
+// and from shared memory, what it counts as lost, and what it reports.
+#include "edsp/logger/logger_node.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "edsp/leg_command_t.hpp"
+#include "edsp/logger/log_reader.h"
+#include "memq_bus.h"
+#include "scratch_dir.h"
+
+namespace edsp {
+namespace {
+
+using test_support::MemqConfig;
+using test_support::ScratchDir;
+
+leg_command_t Command(std::int64_t seq) {
+  leg_command_t c{};
+  c.utime = 1000 + seq;
+  c.seq = seq;
+  c.session_id = 7;
+  c.command_length_m[0] = 0.5 + 1e-6 * static_cast<double>(seq);
+  return c;
+}
+
+// The seq numbers recorded on `channel`, read back from the closed log.
+std::vector<std::int64_t> RecordedSeqs(const std::string& path, const std::string& channel) {
+  std::vector<std::int64_t> seqs;
+  LogReader reader(path);
+  LogEvent event;
+  while (reader.Next(&event)) {
+    if (event.channel != channel) continue;
+    leg_command_t c;
+    EXPECT_GE(c.decode(event.data.data(), 0, static_cast<int>(event.data.size())), 0) << "recorded bytes decode";
+    seqs.push_back(c.seq);
+  }
+  EXPECT_FALSE(reader.damaged());
+  return seqs;
+}
+
+void HandleAll(Bus& bus, LoggerNode& logger) {
+  while (bus.Handle(std::chrono::milliseconds(0)) > 0) {
+  }
+  logger.Poll(UtimeNow());
+}
+
+LoggerOptions OptionsFor(const std::string& name) {
+  LoggerOptions options;
+  options.writer.output = ScratchDir("logger_node") + "/" + name + ".lcmlog";
+  return options;
+}
+
+TEST(LoggerNode, RecordsLcmChannelsAndCountsWhatEachLostBySeq) {
+  Bus bus(MemqConfig("logger_lcm"));
+  const LoggerOptions options = OptionsFor("lcm");
+  std::int64_t lost = 0;
+  {
+    LoggerNode logger(bus, options);
+    EXPECT_TRUE(logger.shm_channels().empty());
+    for (std::int64_t seq = 0; seq < 100; ++seq) {
+      if (seq == 40 || seq == 41 || seq == 77) continue;  // three lost on the way
+      bus.Publish("EDSP_LEG_COMMAND", Command(seq));
+    }
+    bus.Publish("OTHER_CHANNEL", Command(0));  // not EDSP_.*: not recorded
+    HandleAll(bus, logger);
+    lost = logger.lost();
+  }
+  EXPECT_EQ(lost, 3);
+  const std::vector<std::int64_t> seqs = RecordedSeqs(options.writer.output, "EDSP_LEG_COMMAND");
+  ASSERT_EQ(seqs.size(), 97u);
+  EXPECT_EQ(seqs.front(), 0);
+  EXPECT_EQ(seqs.back(), 99);
+  EXPECT_TRUE(RecordedSeqs(options.writer.output, "OTHER_CHANNEL").empty());
+}
+
+// A channel routed only on shared memory never reaches LCM: the logger must
+// read it there, every message, and one routed both ways (a decimated LCM
+// mirror) once, not once more per mirrored message.
+TEST(LoggerNode, RecordsEveryMessageOfChannelsRoutedOnSharedMemory) {
+  TransportConfig config = MemqConfig("logger_shm");
+  config.channels["EDSP_LEG_COMMAND"].path = ChannelPath::kShm;
+  ChannelRoute& both = config.channels["EDSP_LEG_STATE"];
+  both.path = ChannelPath::kBoth;
+  both.mirror_every = 10;
+  Bus bus(config);
+  const LoggerOptions options = OptionsFor("shm");
+  std::int64_t lost = -1;
+  // The writers first: a reader that finds no segment retries every 100 ms.
+  auto commands = bus.Advertise<leg_command_t>("EDSP_LEG_COMMAND");
+  auto states = bus.Advertise<leg_command_t>("EDSP_LEG_STATE");  // any type: the logger never decodes
+  {
+    LoggerNode logger(bus, options);
+    EXPECT_EQ(logger.shm_channels(), (std::vector<std::string>{"EDSP_LEG_COMMAND", "EDSP_LEG_STATE"}));
+    for (std::int64_t seq = 0; seq < 1000; ++seq) {
+      ASSERT_TRUE(commands.Publish(Command(seq)));
+      ASSERT_TRUE(states.Publish(Command(seq)));
+      if (seq % 16 == 15) HandleAll(bus, logger);  // well inside the 64-slot rings
+    }
+    HandleAll(bus, logger);
+    EXPECT_EQ(bus.Counters("EDSP_LEG_STATE").mirrored, 100u) << "the mirror went out on LCM";
+    lost = logger.lost();
+  }
+  EXPECT_EQ(lost, 0);
+  for (const char* channel : {"EDSP_LEG_COMMAND", "EDSP_LEG_STATE"}) {
+    const std::vector<std::int64_t> seqs = RecordedSeqs(options.writer.output, channel);
+    ASSERT_EQ(seqs.size(), 1000u) << channel;
+    for (std::size_t i = 0; i < seqs.size(); ++i) ASSERT_EQ(seqs[i], static_cast<std::int64_t>(i)) << channel;
+  }
+}
+
+// A logger that falls more than a ring behind loses the oldest messages: it
+// records what is left, in order, and counts the rest as lost.
+TEST(LoggerNode, CountsWhatALappedSharedMemoryReadLost) {
+  TransportConfig config = MemqConfig("logger_lapped");
+  config.channels["EDSP_LEG_COMMAND"].path = ChannelPath::kShm;
+  Bus bus(config);
+  const LoggerOptions options = OptionsFor("lapped");
+  std::int64_t lost = -1;
+  auto commands = bus.Advertise<leg_command_t>("EDSP_LEG_COMMAND");
+  {
+    LoggerNode logger(bus, options);
+    for (std::int64_t seq = 0; seq < 200; ++seq) ASSERT_TRUE(commands.Publish(Command(seq)));
+    HandleAll(bus, logger);
+    lost = logger.lost();
+  }
+  const std::vector<std::int64_t> seqs = RecordedSeqs(options.writer.output, "EDSP_LEG_COMMAND");
+  ASSERT_EQ(seqs.size(), 64u);
+  EXPECT_EQ(seqs.front(), 136);
+  EXPECT_EQ(seqs.back(), 199);
+  EXPECT_EQ(lost, 136);
+}
+
+TEST(LoggerNode, APatternThatIsNoRegexIsRefusedNamingIt) {
+  Bus bus(MemqConfig("logger_bad_pattern"));
+  LoggerOptions options = OptionsFor("bad_pattern");
+  options.channels = "EDSP_(";
+  try {
+    LoggerNode logger(bus, options);
+    FAIL() << "accepted " << options.channels;
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("EDSP_("), std::string::npos) << e.what();
+  }
+}
+
+LogWriterStats Disk(bool failing, std::int64_t dropped) {
+  LogWriterStats w;
+  w.path = "/rig/log.lcmlog";
+  w.disk_failing = failing;
+  w.dropped = dropped;
+  w.last_error = "/rig/log.lcmlog: No space left on device";
+  return w;
+}
+
+TEST(DiskHealth, ReportsAFullDiskOnceAndItsRecoveryWithWhatWasDropped) {
+  DiskHealth disk;
+  fault_t fault;
+  EXPECT_FALSE(disk.Update(Disk(false, 0), 1, &fault));
+  ASSERT_TRUE(disk.Update(Disk(true, 5), 2, &fault));
+  EXPECT_EQ(fault.severity, fault_t::SEVERITY_ERROR);
+  EXPECT_NE(fault.reason.find("No space left on device"), std::string::npos) << fault.reason;
+  EXPECT_TRUE(disk.failing());
+  EXPECT_FALSE(disk.Update(Disk(true, 50), 3, &fault)) << "one error per episode";
+  ASSERT_TRUE(disk.Update(Disk(false, 80), 4, &fault));
+  EXPECT_EQ(fault.severity, fault_t::SEVERITY_INFO);
+  EXPECT_NE(fault.reason.find("75 events dropped"), std::string::npos) << fault.reason;
+  EXPECT_FALSE(disk.failing());
+  EXPECT_FALSE(disk.Update(Disk(false, 80), 5, &fault));
+}
+
+TEST(DiskHealth, ReportsADiskThatCannotKeepUpOnce) {
+  DiskHealth disk;
+  fault_t fault;
+  ASSERT_TRUE(disk.Update(Disk(false, 12), 1, &fault));
+  EXPECT_EQ(fault.severity, fault_t::SEVERITY_ERROR);
+  EXPECT_NE(fault.reason.find("12 events dropped: the disk cannot keep up"), std::string::npos) << fault.reason;
+  EXPECT_FALSE(disk.Update(Disk(false, 40), 2, &fault));
+}
+
+}  // namespace
+}  // namespace edsp
