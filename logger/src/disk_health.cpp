@@ -26,7 +26,7 @@ bool DiskHealth::Update(const LogWriterStats& w, std::int64_t now, fault_t* faul
   if (w.dropped > accounted_dropped_ && !failing_ && !lag_reported_) {
     lag_reported_ = true;  // once: a disk that cannot keep up
     *fault = MakeFault("logger", "", FaultCode::kStorage, fault_t::SEVERITY_ERROR,
-                       fmt::format("{} events dropped: the disk cannot keep up", w.dropped), now);
+                       fmt::format("{} events dropped: the disk cannot keep up", w.dropped - accounted_dropped_), now);
     return true;
   }
   return false;

@@ -60,7 +60,22 @@ void LoggerNode::ReportOpened() {
   faults_.Publish(MakeFault("logger", "", FaultCode::kStorage, fault_t::SEVERITY_INFO, reason, UtimeNow()));
 }
 
+void LoggerNode::ReportUnreadableRings(std::int64_t now) {
+  for (const std::string& channel : shm_channels_) {
+    const std::string& error = bus_.Counters(channel).last_error;
+    std::string& reported = reported_ring_errors_[channel];
+    if (error.empty() || error == reported) continue;
+    reported = error;
+    faults_.Publish(MakeFault("logger", channel, FaultCode::kTransport, fault_t::SEVERITY_WARNING,
+                              fmt::format("{}: cannot read its shared memory ({}); recording its LCM copy, which may "
+                                          "be a decimated mirror",
+                                          channel, error),
+                              now));
+  }
+}
+
 void LoggerNode::Poll(std::int64_t now) {
+  ReportUnreadableRings(now);
   const LogWriterStats w = writer_.stats();
   fault_t fault;
   const bool changed = disk_.Update(w, now, &fault);

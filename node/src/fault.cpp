@@ -18,6 +18,7 @@ const char* FaultCodeName(FaultCode code) {
     case FaultCode::kStorage: return "storage";
     case FaultCode::kProcess: return "process";
     case FaultCode::kCalibration: return "calibration";
+    case FaultCode::kTransport: return "transport";
   }
   return "unknown";
 }

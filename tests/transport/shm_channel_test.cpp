@@ -168,6 +168,45 @@ TEST(ShmChannel, ReaderOfAnotherTypeIsRefusedByName) {
   EXPECT_NE(reader.message.find("fingerprint"), std::string::npos) << reader.message;
 }
 
+// The logger's reader copies bytes and never decodes them: it opts in to
+// any type. Only a reader may: a writer always names its type, and a typed
+// reader is still refused another type.
+TEST(ShmChannel, OnlyAReaderThatOptsInTakesAnyTypeAndAWriterNeverMay) {
+  const ShmChannelSpec spec = TestSpec("any_type");
+  auto writer = OpenWriter(spec);
+  ShmChannelSpec raw = spec;
+  raw.type_fingerprint = 0;
+  EXPECT_EQ(ShmReader::Open(raw).error, ShmError::kTypeMismatch) << "fingerprint 0 alone is no opt-in";
+  raw.any_type = true;
+  auto reader = OpenReader(raw);
+  ASSERT_NE(reader, nullptr);
+  Publish(*writer, 5);
+  Decoded d;
+  EXPECT_EQ(Take(*reader, &d), TakeStatus::kMessage);
+  EXPECT_EQ(d.number, 5u);
+
+  ShmChannelSpec any_writer = TestSpec("any_type_writer");
+  any_writer.any_type = true;
+  const auto refused = ShmWriter::Open(any_writer);
+  EXPECT_EQ(refused.error, ShmError::kBadSpec);
+  EXPECT_NE(refused.message.find("must name its type"), std::string::npos) << refused.message;
+}
+
+// A recorder that subscribed before the ring existed reads it from its
+// first message; what the ring no longer holds is counted, not lost unseen.
+TEST(ShmChannel, RewindToFirstReadsEverythingTheRingStillHoldsAndCountsTheRest) {
+  const ShmChannelSpec spec = TestSpec("rewind_first", 8);
+  auto writer = OpenWriter(spec);
+  for (std::uint64_t n = 1; n <= 12; ++n) Publish(*writer, n);
+  auto reader = OpenReader(spec);
+  reader->RewindToFirst();
+  Decoded d;
+  std::vector<std::uint64_t> numbers;
+  while (Take(*reader, &d) == TakeStatus::kMessage) numbers.push_back(d.number);
+  EXPECT_EQ(numbers, (std::vector<std::uint64_t>{5, 6, 7, 8, 9, 10, 11, 12}));
+  EXPECT_EQ(reader->stats().overruns, 4u);
+}
+
 TEST(ShmChannel, CorruptOrForeignHeadersAreRefused) {
   const ShmChannelSpec spec = TestSpec("corrupt");
   auto writer = OpenWriter(spec);

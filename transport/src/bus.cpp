@@ -3,11 +3,11 @@
 #include <poll.h>
 
 #include <algorithm>
-#include <regex>
 #include <thread>
-#include <unordered_set>
 
 #include <fmt/format.h>
+
+#include "edsp/transport/channel_pattern.h"
 
 namespace edsp {
 
@@ -66,19 +66,21 @@ void Bus::Mirror(PublisherState& s, std::uint64_t n) noexcept {
   }
 }
 
-void Bus::AddShmSubscription(const std::string& channel, std::int64_t fingerprint,
-                             std::function<TakeStatus(ShmReader&)> take) {
+Bus::ShmSubscription& Bus::AddShmSubscription(const std::string& channel, std::int64_t fingerprint,
+                                              std::function<TakeStatus(ShmReader&)> take, bool recorder) {
   auto subscription = std::make_unique<ShmSubscription>();
   const ChannelRoute& route = config_.Route(channel);
   subscription->spec = ShmChannelSpec{config_.SegmentName(channel), fingerprint, route.slots,
-                                      route.slot_size_bytes, config_.shm_permissions};
+                                      route.slot_size_bytes, config_.shm_permissions, recorder};
   subscription->take = std::move(take);
   subscription->counters = &counters_[channel];
-  Attach(*subscription);  // the writer may not be up yet: retried in Handle
+  subscription->recorder = recorder;
+  Attach(*subscription, true);  // the writer may not be up yet: retried in Handle
   shm_subscriptions_.push_back(std::move(subscription));
+  return *shm_subscriptions_.back();
 }
 
-bool Bus::Attach(ShmSubscription& s) {
+bool Bus::Attach(ShmSubscription& s, bool at_subscribe) {
   const auto now = std::chrono::steady_clock::now();
   if (now < s.next_attach) return false;
   s.next_attach = now + kAttachRetry;
@@ -90,6 +92,8 @@ bool Bus::Attach(ShmSubscription& s) {
     return false;
   }
   s.reader = std::move(reader.value);
+  if (s.recorder && !at_subscribe) s.reader->RewindToFirst();  // all of it came after we subscribed
+  s.counters->last_error.clear();
   return true;
 }
 
@@ -116,46 +120,45 @@ int Bus::DrainShm() {
     if (!s->reader->WriterAlive() && std::chrono::steady_clock::now() >= s->next_attach) {
       s->next_attach = std::chrono::steady_clock::now() + kAttachRetry;
       ShmResult<ShmReader> fresh = ShmReader::Open(s->spec);
-      if (fresh.ok() && fresh.value->WriterAlive()) s->reader = std::move(fresh.value);
+      if (fresh.ok() && fresh.value->WriterAlive()) {
+        s->reader = std::move(fresh.value);
+        if (s->recorder) s->reader->RewindToFirst();  // the new writer's first messages too
+      }
     }
   }
   return delivered;
 }
 
 std::vector<std::string> Bus::SubscribeRaw(const std::string& pattern, RawHandler handler) {
-  std::regex whole_name;
-  try {
-    whole_name = std::regex(pattern, std::regex::extended);
-  } catch (const std::regex_error& e) {
-    throw TransportError(fmt::format("channel pattern '{}' is not a POSIX extended regex: {}", pattern, e.what()));
-  }
-  auto on_shm = std::make_shared<std::unordered_set<std::string>>();
-  for (const auto& [channel, route] : config_.channels) {
-    if (route.path == ChannelPath::kLcm || !std::regex_match(channel, whole_name)) continue;
-    on_shm->insert(channel);
-    auto bytes = std::make_shared<std::vector<std::uint8_t>>();
-    ChannelCounters* counters = &counters_[channel];
-    AddShmSubscription(channel, kAnyTypeFingerprint,
-                       [channel, bytes, counters, handler](ShmReader& reader) {
-                         const TakeStatus status = reader.TryTake([&](const std::uint8_t* data, std::uint32_t size) {
-                           bytes->assign(data, data + size);  // a torn read is retried, never handed over
-                           return true;
-                         });
-                         if (status == TakeStatus::kMessage) {
-                           ++counters->received;
-                           handler(channel, bytes->data(), static_cast<std::uint32_t>(bytes->size()));
-                         }
-                         return status;
-                       });
-  }
-  lcm_.SubscribePattern(pattern, [this, on_shm, handler](const std::string& channel, const std::uint8_t* data,
-                                                          std::uint32_t size) {
-    if (on_shm->count(channel) != 0) return;  // its mirror: the whole stream comes from shared memory
+  const ChannelPattern names(pattern);
+  // Channel → its ring, for the LCM side to skip what the ring delivers.
+  auto rings = std::make_shared<std::unordered_map<std::string, const ShmSubscription*>>();
+  lcm_.SubscribePattern(names.ForLcm(), [this, rings, handler](const std::string& channel, const std::uint8_t* data,
+                                                               std::uint32_t size) {
+    const auto ring = rings->find(channel);
+    if (ring != rings->end() && ring->second->reader != nullptr) return;  // its mirror: the ring has all of it
     ++counters_[channel].received;
     handler(channel, data, size);
   });
-  std::vector<std::string> channels(on_shm->begin(), on_shm->end());
-  std::sort(channels.begin(), channels.end());
+  std::vector<std::string> channels;
+  for (const auto& [channel, route] : config_.channels) {
+    if (route.path == ChannelPath::kLcm || !names.Matches(channel)) continue;
+    channels.push_back(channel);  // config_.channels is a std::map: sorted
+    auto bytes = std::make_shared<std::vector<std::uint8_t>>();
+    ChannelCounters* counters = &counters_[channel];
+    auto take = [channel, bytes, counters, handler](ShmReader& reader) {
+      const TakeStatus status = reader.TryTake([&](const std::uint8_t* data, std::uint32_t size) {
+        bytes->assign(data, data + size);  // a slot rewritten meanwhile is skipped, counted as an overrun
+        return true;
+      });
+      if (status == TakeStatus::kMessage) {
+        ++counters->received;
+        handler(channel, bytes->data(), static_cast<std::uint32_t>(bytes->size()));
+      }
+      return status;
+    };
+    (*rings)[channel] = &AddShmSubscription(channel, 0, std::move(take), /*recorder=*/true);
+  }
   return channels;
 }
 

@@ -118,8 +118,8 @@ ShmResult<ShmSegment> CheckSpec(const ShmChannelSpec& spec) {
   return {};
 }
 
-// Checks a mapped header. `check_geometry`: writers require the spec's slot
-// geometry; readers adopt the writer's.
+// Checks a mapped header. `check_geometry` (a writer's check): the spec's
+// slot geometry is required; readers adopt the writer's.
 ShmResult<ShmSegment> Validate(const ShmSegmentHeader& h, std::uint64_t mapped_bytes,
                                const ShmChannelSpec& spec, bool check_geometry) {
   const std::string& name = spec.segment_name;
@@ -150,7 +150,8 @@ ShmResult<ShmSegment> Validate(const ShmSegmentHeader& h, std::uint64_t mapped_b
                 fmt::format("{}: header geometry inconsistent with its {} bytes", name,
                             mapped_bytes));
   }
-  if (h.type_fingerprint != spec.type_fingerprint && (check_geometry || spec.type_fingerprint != kAnyTypeFingerprint)) {
+  const bool reader_takes_any_type = spec.any_type && !check_geometry;
+  if (h.type_fingerprint != spec.type_fingerprint && !reader_takes_any_type) {
     return Fail(ShmError::kTypeMismatch,
                 fmt::format("{}: carries type fingerprint {:#x}, expected {:#x}", name,
                             static_cast<std::uint64_t>(h.type_fingerprint),
@@ -217,6 +218,11 @@ bool OwnerAlive(const ShmSegmentHeader& h) {
 
 ShmResult<ShmSegment> AttachSegmentAsWriter(const ShmChannelSpec& spec) {
   if (auto bad = CheckSpec(spec); !bad.ok()) return bad;
+  if (spec.any_type) {
+    return Fail(ShmError::kBadSpec,
+                fmt::format("{}: a writer must name its type (any_type is for readers that never decode)",
+                            spec.segment_name));
+  }
   const std::string& name = spec.segment_name;
   for (int attempt = 0; attempt < 50; ++attempt) {
     try {

@@ -30,11 +30,14 @@ class LoggerNode {
  public:
   // Opens (or resumes) the log and subscribes; reports on EDSP_FAULT what it
   // found in a resumed file. Throws if the log cannot be opened or the
-  // pattern is no regex.
+  // pattern is no regex. `bus` outlives the node and is not handled once the
+  // node is gone (the Bus keeps its handler).
   LoggerNode(Bus& bus, LoggerOptions options);
 
-  // Looks at the disk (an episode is reported at once) and publishes the
-  // status when due. Call at least every 20 ms.
+  // Looks at the disk (an episode is reported at once) and at the rings it
+  // cannot read (each new reason once, a warning: the channel's LCM copy is
+  // recorded meanwhile), and publishes the status when due. Call at least
+  // every 20 ms.
   void Poll(std::int64_t now);
   // Handles the bus and polls until `stop` says so; the writer then drains.
   void Run(const std::function<bool()>& stop);
@@ -49,6 +52,7 @@ class LoggerNode {
  private:
   void Record(const std::string& channel, const std::uint8_t* data, std::uint32_t size);
   void ReportOpened();
+  void ReportUnreadableRings(std::int64_t now);
   bool IsOnSharedMemory(const std::string& channel) const;
 
   Bus& bus_;
@@ -60,6 +64,7 @@ class LoggerNode {
   std::map<std::string, SeqTracker> seqs_;  // LCM channels with one publisher
   std::int64_t lcm_seq_gaps_ = 0;
   std::vector<std::string> shm_channels_;
+  std::map<std::string, std::string> reported_ring_errors_;
 };
 
 }  // namespace edsp

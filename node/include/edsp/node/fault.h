@@ -26,6 +26,7 @@ enum class FaultCode : std::int32_t {
   kStorage = 12,          // the log's disk refused writes (info: it accepts them again)
   kProcess = 13,          // a group member froze, exited or restarted (the launcher)
   kCalibration = 14,      // not a fault: the calibration a node applies (severity info)
+  kTransport = 15,        // a channel's shared-memory ring cannot be read (permissions, layout, type)
 };
 
 const char* FaultCodeName(FaultCode code);

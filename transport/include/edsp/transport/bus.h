@@ -77,13 +77,18 @@ class Bus {
   void Subscribe(const std::string& channel, std::function<void(const Msg&)> handler);
 
   // For a recorder (the logger): the bytes of every channel whose whole name
-  // matches `pattern` (a POSIX extended regex, as LCM's own), undecoded. A
-  // channel this process reads on shared memory (its route, as
-  // RoutesForMember gave it) is taken there, every message; its LCM copy, at
-  // most a decimated mirror, is skipped. The others come from LCM. Counts
-  // `received` (and `overruns` on shared memory) per channel; seq gaps need
-  // the message's header and are the caller's. Returns the shared-memory
-  // channels it reads.
+  // matches `pattern` (a POSIX extended regex, anchored at both ends as a
+  // whole: `A|B` is A or B), undecoded. A channel this process reads on
+  // shared memory (its route, as RoutesForMember gave it) is taken there,
+  // every message, and its LCM copy (at most a decimated mirror) is skipped
+  // while the ring is attached; a ring it cannot attach (not written yet,
+  // refused: `last_error` says why) leaves it the LCM copy. A ring found
+  // only after subscribing, or made anew by a restarted writer, is read from
+  // its first message. The others come from LCM. Counts `received` (and
+  // `overruns` on shared memory) per channel; seq gaps need the message's
+  // header and are the caller's. Returns the shared-memory channels. The
+  // Bus has no unsubscribe: it must not be handled once `handler` is gone.
+  // Throws TransportError naming a pattern that is no regex.
   using RawHandler = LcmTransport::RawHandler;
   std::vector<std::string> SubscribeRaw(const std::string& pattern, RawHandler handler);
 
@@ -113,15 +118,18 @@ class Bus {
     std::function<TakeStatus(ShmReader&)> take;  // decode + dispatch one message
     ChannelCounters* counters = nullptr;
     std::chrono::steady_clock::time_point next_attach{};
+    // A raw recorder's (SubscribeRaw): any type, and a segment it finds
+    // only after subscribing is read from its first message.
+    bool recorder = false;
   };
 
   PublisherState& StateFor(const std::string& channel, std::int64_t fingerprint);
   template <typename Msg>
   bool PublishEncoded(PublisherState& state, const Msg& msg) noexcept;
   void Mirror(PublisherState& state, std::uint64_t message_number) noexcept;
-  void AddShmSubscription(const std::string& channel, std::int64_t fingerprint,
-                          std::function<TakeStatus(ShmReader&)> take);
-  bool Attach(ShmSubscription& subscription);
+  ShmSubscription& AddShmSubscription(const std::string& channel, std::int64_t fingerprint,
+                                      std::function<TakeStatus(ShmReader&)> take, bool recorder = false);
+  bool Attach(ShmSubscription& subscription, bool at_subscribe = false);
   int DrainShm();
   bool WaitShm(std::chrono::steady_clock::duration timeout, FdDoorbell* lcm_bell);
   void Fail(std::exception_ptr error);

@@ -72,6 +72,11 @@ class ShmReader {
   // reading the last state its dead predecessor published.
   void RewindToLatest() noexcept;
 
+  // Back to the segment's first message: a reader that subscribed before
+  // this writer's segment existed (a recorder) takes everything it
+  // published; what the ring no longer holds counts as overruns.
+  void RewindToFirst() noexcept { next_ = 1; }
+
   // Waits until a message is available or `timeout` passes: spins for
   // `spin` first, then sleeps on the futex. Returns true if one is available.
   bool Wait(std::chrono::nanoseconds timeout,

@@ -12,18 +12,16 @@
 
 namespace edsp {
 
-// A reader's fingerprint that takes whatever type the segment carries: for
-// a recorder that copies bytes and never decodes them (the logger). A writer
-// always names its type.
-inline constexpr std::int64_t kAnyTypeFingerprint = 0;
-
 // What a channel's segment must look like.
 struct ShmChannelSpec {
   std::string segment_name;      // e.g. "edsp.EDSP_LEG_COMMAND" (in /dev/shm)
-  std::int64_t type_fingerprint = kAnyTypeFingerprint;
+  std::int64_t type_fingerprint = 0;
   std::uint32_t slot_count = 64;          // power of two, 2..65536
   std::uint32_t slot_size_bytes = 4096;   // largest encoded message, ≤ 16 MiB
   mode_t permissions = 0600;              // the segment file's mode
+  // A reader that copies bytes and never decodes them (the logger): takes
+  // whatever type the segment carries. A writer always names its type.
+  bool any_type = false;
 };
 
 enum class ShmError {
