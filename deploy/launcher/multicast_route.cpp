@@ -10,6 +10,10 @@
 #include <cstring>
 #include <stdexcept>
 
+#include <fmt/format.h>
+
+#include "edsp/transport/transport_config.h"
+
 namespace edsp {
 
 std::string MulticastAddress(const std::string& lcm_url) {
@@ -59,6 +63,23 @@ std::string MulticastRouteInterface(const std::string& group_address, std::strin
     *error = std::string("the route to ") + group_address + " leaves from " + text + ", which no interface holds";
   }
   return name;
+}
+
+void CheckMulticastInterface(const GroupSpec& group, const std::string& host) {
+  const auto it = group.hosts.find(host);
+  if (it == group.hosts.end() || it->second.interface.empty()) return;
+  const std::string url = LoadTransportConfig(group.path).lcm_url;
+  const std::string address = MulticastAddress(url);
+  if (address.empty()) return;
+  std::string error;
+  const std::string interface = MulticastRouteInterface(address, &error);
+  if (interface != it->second.interface) {
+    throw std::runtime_error(fmt::format(
+        "{}: [hosts.{}] interface = \"{}\", but the route to the LCM group {} {}; add one with "
+        "`ip route add 224.0.0.0/4 dev {}` (docs/multihost.md)",
+        group.path, host, it->second.interface, address, interface.empty() ? error : "leaves by " + interface,
+        it->second.interface));
+  }
 }
 
 }  // namespace edsp

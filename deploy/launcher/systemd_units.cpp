@@ -2,10 +2,15 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <stdexcept>
 
 #include <fmt/format.h>
+
+#include "edsp/node/node_options.h"
 
 namespace edsp {
 
@@ -90,6 +95,24 @@ std::vector<UnitFile> MemberUnits(const GroupSpec& group, const std::string& hos
                                "[Install]\nWantedBy=multi-user.target\n",
                                group_file, group.name, host, wants.substr(1))});
   return units;
+}
+
+void WriteMemberUnits(const GroupSpec& group, const std::string& host, const std::string& dir,
+                      const std::string& root, const std::string& bin_dir) {
+  if (host.empty()) throw std::runtime_error("--write-units needs --host: units are written per machine");
+  namespace fs = std::filesystem;
+  const fs::path template_path = fs::path(root) / "deploy/systemd/edsp@.service";
+  if (!fs::exists(template_path)) throw std::runtime_error(template_path.string() + ": no unit template there (--root)");
+  std::vector<UnitFile> units = MemberUnits(group, host, root, bin_dir);
+  units.push_back({"edsp@.service", ReadTextFile(template_path.string())});
+  for (const UnitFile& unit : units) {
+    const fs::path path = fs::path(dir) / unit.path;
+    fs::create_directories(path.parent_path());
+    std::ofstream out(path);
+    out << unit.text;
+    if (!out) throw std::runtime_error(path.string() + ": cannot write");
+    std::printf("%s\n", path.c_str());
+  }
 }
 
 }  // namespace edsp

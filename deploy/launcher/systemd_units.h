@@ -24,6 +24,12 @@ struct UnitFile {
 std::vector<UnitFile> MemberUnits(const GroupSpec& group, const std::string& host,
                                   const std::string& root, const std::string& bin_dir);
 
+// Writes MemberUnits and the template (from `root`) into `dir`, printing
+// each path on stdout. Throws std::runtime_error naming what is missing
+// (--host, the template) or the file it cannot write.
+void WriteMemberUnits(const GroupSpec& group, const std::string& host, const std::string& dir,
+                      const std::string& root, const std::string& bin_dir);
+
 // The instance name of a member: "<group>.<member>".
 std::string MemberInstance(const GroupSpec& group, const MemberSpec& member);
 

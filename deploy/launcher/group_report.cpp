@@ -1,0 +1,39 @@
+#include "group_report.h"
+
+#include <fmt/format.h>
+
+#include "edsp/node/fault.h"
+#include "edsp/transport/transport_config.h"
+
+namespace edsp {
+
+namespace {
+TransportConfig LcmOnly(const std::string& path) {
+  TransportConfig config = LoadTransportConfig(path);
+  config.channels.clear();
+  return config;
+}
+}  // namespace
+
+GroupReport::GroupReport(const GroupSpec& group, const std::string& host)
+    : node_(host.empty() ? "launcher" : "launcher@" + host),
+      bus_(LcmOnly(group.path)),
+      faults_(bus_.Advertise<fault_t>("EDSP_FAULT")),
+      status_out_(bus_.Advertise<node_status_t>("EDSP_STATUS")),
+      status_(node_) {
+  status_.SetState(node_status_t::STATE_RUNNING);
+}
+
+void GroupReport::Fault(const std::string& member, std::int8_t severity, const std::string& reason) {
+  faults_.Publish(
+      MakeFault(node_, "", FaultCode::kProcess, severity, fmt::format("member {}: {}", member, reason), UtimeNow()));
+  status_.CountOut();
+}
+
+void GroupReport::Tick(bool healthy) {
+  status_.SetState(healthy ? node_status_t::STATE_RUNNING : node_status_t::STATE_FAULT);
+  const std::int64_t now = UtimeNow();
+  if (status_.Due(now)) status_out_.Publish(status_.Report(now, 0));
+}
+
+}  // namespace edsp
