@@ -12,17 +12,13 @@
 // by their own clock, not the wall clock, and reproduce the recorded commands.
 // EDSP_PR_MODE (pr_mode_t, e.g. from `edsp-ctl pr-mode signed`) switches the
 // mode live, blended over 0.5 s; the switch is confirmed on EDSP_FAULT (info).
-#include <cstdio>
-
+// The node on its bus: KinematicsLoop (edsp/kinematics/kinematics_loop.h).
 #include "edsp/kinematics/config.h"
+#include "edsp/kinematics/kinematics_loop.h"
 #include "edsp/kinematics/kinematics_node.h"
 #include "edsp/node/node_options.h"
-#include "edsp/node/node_reporting.h"
 #include "edsp/node/runtime.h"
 #include "edsp/transport/bus.h"
-#include "edsp/pr_mode_t.hpp"
-
-#include <fmt/format.h>
 
 namespace edsp {
 namespace {
@@ -61,61 +57,11 @@ int Run(int argc, char** argv) {
   KinematicsNode kinematics(model, options);
   InstallStopSignals();
   Bus bus(TransportFor(node));
-  auto commands = bus.Advertise<leg_command_t>("EDSP_LEG_COMMAND");
-  auto states = bus.Advertise<platform_state_t>("EDSP_PLATFORM_STATE");
-  auto config_out = bus.Advertise<platform_config_t>("EDSP_CONFIG");
-  NodeReporting reporting(bus, "kinematics");
-  NodeStatus& status = reporting.status();
-
-  bus.Subscribe<pose_setpoint_t>("EDSP_SETPOINT", [&](const pose_setpoint_t& sp) {
-    const auto start = std::chrono::steady_clock::now();
-    status.CountIn();
-    leg_command_t command;
-    fault_t fault;
-    const std::int64_t now = replay ? sp.utime : UtimeNow();
-    if (kinematics.HandleSetpoint(sp, now, &command, &fault)) {
-      if (commands.Publish(command)) status.CountOut();
-    } else {
-      status.CountRejected();
-      reporting.Fault(fault);
-    }
-    status.RecordLoop(std::chrono::steady_clock::now() - start);
-  });
-  bus.Subscribe<pr_mode_t>("EDSP_PR_MODE", [&](const pr_mode_t& request) {
-    reporting.Fault(kinematics.HandlePrModeRequest(request, UtimeNow()));
-  });
-  std::int64_t leg_states = 0;
-  bus.Subscribe<leg_state_t>("EDSP_LEG_STATE", [&](const leg_state_t& legs) {
-    status.CountIn();
-    if (++leg_states % 10 != 0) return;  // 1 kHz in, 100 Hz out
-    platform_state_t state;
-    fault_t fault;
-    if (kinematics.HandleLegState(legs, UtimeNow(), &state, &fault)) {
-      states.Publish(state);
-    } else {
-      reporting.Fault(fault);
-    }
-  });
-
-  const ChannelCounters& in = bus.Counters("EDSP_SETPOINT");
-  std::int64_t next_config = 0;
-  if (const calibration::CalibrationModel* c = kinematics.calibration()) {
-    std::fprintf(stderr, "edsp-kinematics: calibration %s\n", c->Describe().c_str());
-    reporting.Fault(MakeFault("kinematics", "", FaultCode::kCalibration, fault_t::SEVERITY_INFO,
-                              "calibration " + c->Describe(), UtimeNow()));
-  }
-  while (!StopRequested()) {
-    bus.Handle(std::chrono::milliseconds(100));
-    const std::int64_t now = UtimeNow();
-    if (now >= next_config) {
-      config_out.Publish(kinematics.ConfigMessage(now, config_text));
-      next_config = now + 1000000;
-    }
-    status.SetDrops(static_cast<std::int64_t>(in.seq_gaps + in.overruns));
-    reporting.ReportUndecodable("EDSP_SETPOINT", in, now);
-    reporting.ReportUndecodable("EDSP_LEG_STATE", bus.Counters("EDSP_LEG_STATE"), now);
-    reporting.StatusTick(now, 0);
-  }
+  KinematicsLoopOptions loop_options;
+  loop_options.config_text = config_text;
+  loop_options.replay = replay;
+  KinematicsLoop loop(bus, kinematics, loop_options);
+  loop.Run(StopRequested);
   return 0;
 }
 

@@ -1,0 +1,86 @@
+#include "edsp/kinematics/kinematics_loop.h"
+
+#include <chrono>
+#include <cstdio>
+
+#include "edsp/node/runtime.h"
+
+namespace edsp {
+
+namespace {
+constexpr std::int64_t kConfigPeriod_us = 1000000;
+constexpr auto kPollInterval = std::chrono::milliseconds(100);
+}  // namespace
+
+KinematicsLoop::KinematicsLoop(Bus& bus, KinematicsNode& kinematics, KinematicsLoopOptions options)
+    : bus_(bus),
+      kinematics_(kinematics),
+      options_(std::move(options)),
+      commands_(bus.Advertise<leg_command_t>("EDSP_LEG_COMMAND")),
+      states_(bus.Advertise<platform_state_t>("EDSP_PLATFORM_STATE")),
+      config_out_(bus.Advertise<platform_config_t>("EDSP_CONFIG")),
+      reporting_(bus, "kinematics"),
+      setpoints_in_(bus.Counters("EDSP_SETPOINT")) {
+  bus.Subscribe<pose_setpoint_t>("EDSP_SETPOINT", [this](const pose_setpoint_t& sp) { OnSetpoint(sp); });
+  bus.Subscribe<pr_mode_t>("EDSP_PR_MODE", [this](const pr_mode_t& request) {
+    reporting_.Fault(kinematics_.HandlePrModeRequest(request, UtimeNow()));
+  });
+  bus.Subscribe<leg_state_t>("EDSP_LEG_STATE", [this](const leg_state_t& legs) { OnLegState(legs); });
+  ReportCalibration();
+}
+
+void KinematicsLoop::OnSetpoint(const pose_setpoint_t& setpoint) {
+  const auto start = std::chrono::steady_clock::now();
+  NodeStatus& status = reporting_.status();
+  status.CountIn();
+  leg_command_t command;
+  fault_t fault;
+  const std::int64_t now = options_.replay ? setpoint.utime : UtimeNow();
+  if (kinematics_.HandleSetpoint(setpoint, now, &command, &fault)) {
+    if (commands_.Publish(command)) status.CountOut();
+  } else {
+    status.CountRejected();
+    reporting_.Fault(fault);
+  }
+  status.RecordLoop(std::chrono::steady_clock::now() - start);
+}
+
+void KinematicsLoop::OnLegState(const leg_state_t& legs) {
+  reporting_.status().CountIn();
+  if (++leg_states_ % options_.leg_state_decimation != 0) return;
+  platform_state_t state;
+  fault_t fault;
+  if (kinematics_.HandleLegState(legs, UtimeNow(), &state, &fault)) {
+    states_.Publish(state);
+  } else {
+    reporting_.Fault(fault);
+  }
+}
+
+void KinematicsLoop::ReportCalibration() {
+  const calibration::CalibrationModel* c = kinematics_.calibration();
+  if (c == nullptr) return;
+  std::fprintf(stderr, "edsp-kinematics: calibration %s\n", c->Describe().c_str());
+  reporting_.Fault(MakeFault("kinematics", "", FaultCode::kCalibration, fault_t::SEVERITY_INFO,
+                             "calibration " + c->Describe(), UtimeNow()));
+}
+
+void KinematicsLoop::Poll(std::int64_t now) {
+  if (now >= next_config_utime_) {
+    config_out_.Publish(kinematics_.ConfigMessage(now, options_.config_text));
+    next_config_utime_ = now + kConfigPeriod_us;
+  }
+  reporting_.status().SetDrops(static_cast<std::int64_t>(setpoints_in_.seq_gaps + setpoints_in_.overruns));
+  reporting_.ReportUndecodable("EDSP_SETPOINT", setpoints_in_, now);
+  reporting_.ReportUndecodable("EDSP_LEG_STATE", bus_.Counters("EDSP_LEG_STATE"), now);
+  reporting_.StatusTick(now, 0);
+}
+
+void KinematicsLoop::Run(const std::function<bool()>& stop) {
+  while (!stop()) {
+    bus_.Handle(kPollInterval);
+    Poll(UtimeNow());
+  }
+}
+
+}  // namespace edsp

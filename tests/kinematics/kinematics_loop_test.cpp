@@ -1,0 +1,153 @@
+// The kinematics node on a bus (memq://, in process): what edsp-kinematics
+// publishes for what it receives, with the node's own logic underneath.
+#include "edsp/kinematics/kinematics_loop.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "edsp/kinematics/config.h"
+#include "edsp/node/runtime.h"
+#include "memq_bus.h"  // tests/support
+
+namespace edsp {
+namespace {
+
+constexpr std::int64_t kSession = 9;
+
+struct Fixture {
+  explicit Fixture(bool replay = false) : loop(bus, node, Options(replay)) {
+    bus.Subscribe<leg_command_t>("EDSP_LEG_COMMAND", [this](const leg_command_t& c) { commands.push_back(c); });
+    bus.Subscribe<platform_state_t>("EDSP_PLATFORM_STATE",
+                                    [this](const platform_state_t& s) { states.push_back(s); });
+    bus.Subscribe<platform_config_t>("EDSP_CONFIG", [this](const platform_config_t& c) { configs.push_back(c); });
+    bus.Subscribe<fault_t>("EDSP_FAULT", [this](const fault_t& f) { faults.push_back(f); });
+  }
+  static KinematicsNodeOptions NodeOptions() {
+    KinematicsNodeOptions o;
+    o.session_id = kSession;
+    return o;
+  }
+  static KinematicsLoopOptions Options(bool replay) {
+    KinematicsLoopOptions o;
+    o.config_text = "[geometry]\npreset = \"huang2021\"\n";
+    o.replay = replay;
+    return o;
+  }
+  void HandleAll() {
+    while (bus.Handle(std::chrono::milliseconds(0)) > 0) {
+    }
+  }
+  pose_setpoint_t Setpoint(double z_m, std::int64_t utime) const {
+    pose_setpoint_t sp{};
+    sp.utime = utime;
+    sp.seq = 1;
+    sp.session_id = kSession;
+    const Vector6 home = node.model().home_pose().ToVector();
+    for (int k = 0; k < 6; ++k) sp.pose[k] = home(k);
+    sp.pose[2] += z_m;
+    return sp;
+  }
+
+  Bus bus{test_support::MemqConfig("kinematics_loop")};
+  KinematicsNode node{PlatformModel(Huang2021Config()), NodeOptions()};
+  KinematicsLoop loop;
+  std::vector<leg_command_t> commands;
+  std::vector<platform_state_t> states;
+  std::vector<platform_config_t> configs;
+  std::vector<fault_t> faults;
+};
+
+TEST(KinematicsLoop, ASetpointBecomesTheModelsCompensatedLegCommand) {
+  Fixture f;
+  const pose_setpoint_t sp = f.Setpoint(0.01, UtimeNow());
+  f.bus.Publish("EDSP_SETPOINT", sp);
+  f.HandleAll();
+  ASSERT_EQ(f.commands.size(), 1u);
+  Vector6 q;
+  for (int k = 0; k < 6; ++k) q(k) = sp.pose[k];
+  const Vector6 expected = f.node.model().CompensatedLengths(Pose::FromVector(q), PrMode::kSigned);
+  for (int i = 0; i < kNumLegs; ++i) EXPECT_NEAR(f.commands[0].command_length_m[i], expected(i), 1e-12) << "leg " << i;
+  EXPECT_EQ(f.commands[0].setpoint_utime, sp.utime);
+}
+
+TEST(KinematicsLoop, ASetpointItCannotValidateIsAFaultAndNeverForwarded) {
+  Fixture f;
+  pose_setpoint_t sp = f.Setpoint(0.0, UtimeNow());
+  sp.pose[3] = std::nan("");
+  f.bus.Publish("EDSP_SETPOINT", sp);
+  f.HandleAll();
+  EXPECT_TRUE(f.commands.empty());
+  ASSERT_EQ(f.faults.size(), 1u);
+  EXPECT_EQ(f.faults[0].code, static_cast<std::int32_t>(FaultCode::kNonFinite));
+  EXPECT_EQ(f.faults[0].channel, "EDSP_SETPOINT");
+}
+
+// A replayed log's setpoints are seconds old by the wall clock: judged by
+// their own stamps they reproduce the recorded commands, judged by the wall
+// clock they are stale.
+TEST(KinematicsLoop, AReplayJudgesSetpointsByTheirOwnClock) {
+  const std::int64_t recorded = UtimeNow() - 10000000;
+  Fixture live;
+  live.bus.Publish("EDSP_SETPOINT", live.Setpoint(0.0, recorded));
+  live.HandleAll();
+  EXPECT_TRUE(live.commands.empty());
+  ASSERT_EQ(live.faults.size(), 1u);
+  EXPECT_EQ(live.faults[0].code, static_cast<std::int32_t>(FaultCode::kStale));
+
+  Fixture replay(true);
+  replay.bus.Publish("EDSP_SETPOINT", replay.Setpoint(0.0, recorded));
+  replay.HandleAll();
+  EXPECT_EQ(replay.commands.size(), 1u);
+  EXPECT_TRUE(replay.faults.empty());
+}
+
+TEST(KinematicsLoop, EveryTenthLegStateBecomesAPlatformState) {
+  Fixture f;
+  const Pose pose = f.node.model().home_pose();
+  const Vector6 encoders = f.node.model().EncoderLengths(pose);
+  for (int n = 1; n <= 25; ++n) {
+    leg_state_t legs{};
+    legs.utime = UtimeNow();
+    legs.seq = n;
+    for (int i = 0; i < kNumLegs; ++i) legs.encoder_length_m[i] = encoders(i);
+    f.bus.Publish("EDSP_LEG_STATE", legs);
+  }
+  f.HandleAll();
+  ASSERT_EQ(f.states.size(), 2u) << "1 kHz in, 100 Hz out";
+  for (int k = 0; k < 6; ++k) EXPECT_NEAR(f.states[1].pose[k], pose.ToVector()(k), 1e-9);
+}
+
+TEST(KinematicsLoop, AnOperatorsPrModeRequestSwitchesTheModeAndIsConfirmed) {
+  Fixture f;
+  pr_mode_t request{};
+  request.utime = UtimeNow();
+  request.seq = 1;
+  request.session_id = kSession;
+  request.pr_mode = leg_command_t::PR_NONE;
+  request.operator_name = "tester";
+  f.bus.Publish("EDSP_PR_MODE", request);
+  f.HandleAll();
+  EXPECT_EQ(f.node.pr_mode(), PrMode::kNone);
+  ASSERT_EQ(f.faults.size(), 1u);
+  EXPECT_EQ(f.faults[0].severity, fault_t::SEVERITY_INFO);
+  EXPECT_EQ(f.faults[0].code, static_cast<std::int32_t>(FaultCode::kOperatorAction));
+}
+
+TEST(KinematicsLoop, TheConfigIsPublishedOnceASecondWithTheFilesText) {
+  Fixture f;
+  const std::int64_t t0 = UtimeNow();
+  f.loop.Poll(t0);
+  f.loop.Poll(t0 + 500000);
+  f.HandleAll();
+  ASSERT_EQ(f.configs.size(), 1u);
+  EXPECT_NE(f.configs[0].config_toml.find("huang2021"), std::string::npos);
+  f.loop.Poll(t0 + 1000000);
+  f.HandleAll();
+  EXPECT_EQ(f.configs.size(), 2u);
+}
+
+}  // namespace
+}  // namespace edsp
