@@ -1,0 +1,83 @@
+#include "edsp/rig/rig_loop.h"
+
+#include <cstdio>
+
+#include <fmt/format.h>
+
+#include "edsp/node/fault.h"
+
+namespace edsp {
+
+namespace {
+
+fault_t WatchdogFault(const std::string& segment, bool tripped, double since_command_s, std::int64_t now) {
+  if (tripped) {
+    return MakeFault("rig", segment, FaultCode::kStale, fault_t::SEVERITY_ERROR,
+                     fmt::format("drive watchdog: no drive command for {:.1f} ms; the drives hold "
+                                 "their position",
+                                 since_command_s * 1e3),
+                     now);
+  }
+  return MakeFault("rig", segment, FaultCode::kStale, fault_t::SEVERITY_INFO,
+                   "drive watchdog: drive commands again; the drives follow them", now);
+}
+
+DriveSetpoint SetpointOf(const DriveImageCommand& command) {
+  DriveSetpoint setpoint;
+  setpoint.utime = command.utime;
+  for (int i = 0; i < 6; ++i) {
+    setpoint.motor_angle_rad[i] = command.motor_angle_rad[i];
+    setpoint.motor_velocity_rad_s[i] = command.motor_velocity_rad_s[i];
+  }
+  return setpoint;
+}
+
+}  // namespace
+
+RigLoop::RigLoop(Bus& bus, VirtualRig& rig, DriveImageServer& image, const ImageRestore& restore)
+    : rig_(rig),
+      image_(image),
+      cycle_(&rig, std::chrono::duration<double>(kRigPeriod).count(), kRigCommandHorizon_s),
+      tracker_out_(bus.Advertise<tracker_point_t>("EDSP_TRACKER")),
+      truth_out_(bus.Advertise<rig_truth_t>("EDSP_RIG_TRUTH")),
+      faults_(bus.Advertise<fault_t>("EDSP_FAULT")),
+      status_out_(bus.Advertise<node_status_t>("EDSP_STATUS")) {
+  if (!restore.note.empty()) {
+    std::fprintf(stderr, "edsp-rig: %s\n", restore.note.c_str());
+    faults_.Publish(MakeFault("rig", image.feedback_segment(), FaultCode::kProcess,
+                              restore.restored ? fault_t::SEVERITY_INFO : fault_t::SEVERITY_WARNING, restore.note,
+                              UtimeNow()));
+  }
+  status_.SetState(node_status_t::STATE_RUNNING);
+}
+
+void RigLoop::RunCycle(std::int64_t now, std::int64_t deadline_misses) {
+  const auto start = std::chrono::steady_clock::now();
+  DriveImageCommand command{};
+  const bool commanded = image_.LatestCommand(&command);
+  const DriveSetpoint setpoint = SetpointOf(command);
+  const RigCycleReport report = cycle_.Step(now, commanded ? &setpoint : nullptr, command.enable != 0);
+  image_.PublishFeedback(report.feedback, now, ++cycles_);
+  truth_out_.Publish(report.truth);
+  if (report.tracker_due && tracker_out_.Publish(report.tracker)) status_.CountOut();
+  if (commanded) status_.CountIn();
+  if (report.watchdog_changed) {
+    faults_.Publish(WatchdogFault(image_.command_segment(), rig_.watchdog_tripped(), rig_.since_command_s(), now));
+  }
+  if (report.physics_failed) {
+    faults_.Publish(MakeFault("rig", "", FaultCode::kForwardKinematics, fault_t::SEVERITY_ERROR,
+                              "the virtual platform's pose could not be found", now));
+    status_.SetState(node_status_t::STATE_FAULT);
+  }
+  status_.RecordLoop(std::chrono::steady_clock::now() - start);
+  if (status_.Due(now)) status_out_.Publish(status_.Report(now, deadline_misses));
+}
+
+void RigLoop::Run(CycleClock& clock, const std::function<bool()>& stop) {
+  while (!stop()) {
+    clock.WaitNext();
+    RunCycle(UtimeNow(), clock.missed());
+  }
+}
+
+}  // namespace edsp
