@@ -141,8 +141,9 @@ std::vector<std::string> Bus::SubscribeRaw(const std::string& pattern, RawHandle
     handler(channel, data, size);
   });
   std::vector<std::string> channels;
-  for (const auto& [channel, route] : config_.channels) {
-    if (route.path == ChannelPath::kLcm || !names.Matches(channel)) continue;
+  for (const auto& entry : config_.channels) {
+    const std::string& channel = entry.first;  // a named variable: lambdas capture it (C++17)
+    if (entry.second.path == ChannelPath::kLcm || !names.Matches(channel)) continue;
     channels.push_back(channel);  // config_.channels is a std::map: sorted
     auto bytes = std::make_shared<std::vector<std::uint8_t>>();
     ChannelCounters* counters = &counters_[channel];
