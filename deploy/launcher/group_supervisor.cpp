@@ -15,22 +15,34 @@
 
 namespace edsp {
 
-GroupSupervisor::GroupSupervisor(const GroupSpec& group, SupervisorOptions options)
-    : group_(group), options_(std::move(options)), report_(group, options_.host) {
-  for (const MemberSpec& spec : group_.members) {
-    if (!options_.host.empty() && spec.host != options_.host) continue;
+// The host's members, checked before anything opens: a wrong --host or
+// --until-exit is said as such, whatever the network.
+std::vector<GroupSupervisor::Member> GroupSupervisor::SelectMembers(const GroupSpec& group,
+                                                                   const SupervisorOptions& options) {
+  std::vector<Member> members;
+  for (const MemberSpec& spec : group.members) {
+    if (!options.host.empty() && spec.host != options.host) continue;
     Member m;
     m.spec = spec;
-    members_.push_back(std::move(m));
+    members.push_back(std::move(m));
   }
-  if (members_.empty()) throw std::runtime_error(group_.path + ": no member on host " + options_.host);
-  if (!options_.until_exit.empty() && std::none_of(members_.begin(), members_.end(), [&](const Member& m) {
-        return m.spec.name == options_.until_exit;
+  if (members.empty()) throw std::runtime_error(group.path + ": no member on host " + options.host);
+  if (!options.until_exit.empty() && std::none_of(members.begin(), members.end(), [&](const Member& m) {
+        return m.spec.name == options.until_exit;
       })) {
-    throw std::runtime_error("--until-exit " + options_.until_exit + ": no such member");
+    throw std::runtime_error("--until-exit " + options.until_exit + ": no such member");
   }
+  return members;
 }
 
+GroupSupervisor::GroupSupervisor(const GroupSpec& group, SupervisorOptions options)
+    : group_(group),
+      options_(std::move(options)),
+      members_(SelectMembers(group_, options_)),
+      report_(group, options_.host) {}
+
+// An exception out of Run (the bus, memory) still stops the members in
+// order rather than leaving them to the launcher's death signal.
 GroupSupervisor::~GroupSupervisor() { StopAll(); }
 
 void GroupSupervisor::Start(Member& m) {

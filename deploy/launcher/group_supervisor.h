@@ -30,10 +30,10 @@ struct SupervisorOptions {
 class GroupSupervisor {
  public:
   // Throws std::runtime_error naming the file when no member runs on the
-  // host or --until-exit names no member there; TransportError if LCM
-  // cannot be opened for the report.
+  // host or --until-exit names no member there (checked first); then
+  // TransportError if LCM cannot be opened for the report.
   GroupSupervisor(const GroupSpec& group, SupervisorOptions options);
-  ~GroupSupervisor();  // stops whatever still runs
+  ~GroupSupervisor();  // stops whatever still runs, in reverse order
   GroupSupervisor(const GroupSupervisor&) = delete;
   GroupSupervisor& operator=(const GroupSupervisor&) = delete;
 
@@ -66,6 +66,7 @@ class GroupSupervisor {
     FreezeWatch freeze;
   };
 
+  static std::vector<Member> SelectMembers(const GroupSpec& group, const SupervisorOptions& options);
   void Start(Member& m);
   void OnExit(Member& m, int status);
   void WatchFreezes();

@@ -81,9 +81,14 @@ void ExecMember(const MemberSpec& spec, std::vector<std::string> argv) {
 pid_t StartMember(const MemberSpec& spec, std::vector<std::string> argv) {
   const pid_t pid = ::fork();
   if (pid == 0) {
-    ::setpgid(0, 0);
-    ::prctl(PR_SET_PDEATHSIG, SIGTERM);
-    ExecMember(spec, std::move(argv));
+    // The child never unwinds into the launcher's stack (its destructors
+    // would stop the siblings): whatever happens, it execs or exits here.
+    try {
+      ::setpgid(0, 0);
+      ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+      ExecMember(spec, std::move(argv));
+    } catch (...) {
+    }
     ::_exit(127);
   }
   return pid;

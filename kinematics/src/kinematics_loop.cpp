@@ -2,6 +2,8 @@
 
 #include <chrono>
 #include <cstdio>
+#include <stdexcept>
+#include <string>
 
 #include "edsp/node/runtime.h"
 
@@ -21,6 +23,10 @@ KinematicsLoop::KinematicsLoop(Bus& bus, KinematicsNode& kinematics, KinematicsL
       config_out_(bus.Advertise<platform_config_t>("EDSP_CONFIG")),
       reporting_(bus, "kinematics"),
       setpoints_in_(bus.Counters("EDSP_SETPOINT")) {
+  if (options_.leg_state_decimation < 1) {
+    throw std::invalid_argument("leg_state_decimation " + std::to_string(options_.leg_state_decimation) +
+                                ": one platform state per N >= 1 leg states");
+  }
   bus.Subscribe<pose_setpoint_t>("EDSP_SETPOINT", [this](const pose_setpoint_t& sp) { OnSetpoint(sp); });
   bus.Subscribe<pr_mode_t>("EDSP_PR_MODE", [this](const pr_mode_t& request) {
     reporting_.Fault(kinematics_.HandlePrModeRequest(request, UtimeNow()));

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "scratch_dir.h"
 
@@ -64,10 +65,40 @@ TEST(GroupSupervisor, TheUntilExitMembersCleanExitStopsTheGroupWithoutFailure) {
   EXPECT_LT(seconds, 15.0) << "the run did not end with the --until-exit member";
 }
 
+std::string RefusalOf(const GroupSpec& group, const SupervisorOptions& options) {
+  try {
+    GroupSupervisor supervisor(group, options);
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
 TEST(GroupSupervisor, RefusesAHostWithoutMembersAndAnUnknownUntilExitMember) {
   const GroupSpec group = ShGroup("refused", ShMember("steady", "exec sleep 30", "always", 10));
-  EXPECT_THROW(GroupSupervisor(group, SupervisorOptions{"elsewhere", 1, "/nonexistent", ""}), std::runtime_error);
-  EXPECT_THROW(GroupSupervisor(group, SupervisorOptions{"", 1, "/nonexistent", "nobody"}), std::runtime_error);
+  EXPECT_NE(RefusalOf(group, SupervisorOptions{"elsewhere", 1, "/nonexistent", ""}).find("no member on host elsewhere"),
+            std::string::npos);
+  EXPECT_NE(RefusalOf(group, SupervisorOptions{"", 1, "/nonexistent", "nobody"}).find("--until-exit nobody"),
+            std::string::npos);
+}
+
+// Members stop in reverse start order (the rig, first up, last down: what
+// feeds the drives goes before the drives): each notes its SIGINT.
+TEST(GroupSupervisor, StopsTheMembersInReverseOrder) {
+  const std::string order = test_support::ScratchDir("supervisor") + "/stop_order";
+  auto member = [&](const std::string& name) {
+    return ShMember(name, "trap 'echo " + name + " >> " + order + "; exit 0' INT; while :; do sleep 0.05; done",
+                    "never", 0);
+  };
+  const GroupSpec group = ShGroup("order", member("first") + member("second") + member("third"));
+  GroupSupervisor supervisor(group, SupervisorOptions{"", 1, "/nonexistent", ""});
+  int exit_code = -1;
+  RunSeconds(supervisor, &exit_code, 0.5);
+  EXPECT_EQ(exit_code, 0);
+  std::ifstream in(order);
+  std::vector<std::string> stopped;
+  for (std::string line; std::getline(in, line);) stopped.push_back(line);
+  EXPECT_EQ(stopped, (std::vector<std::string>{"third", "second", "first"}));
 }
 
 }  // namespace

@@ -36,6 +36,9 @@ class RigLoop {
   // `restore` (a restarted rig's start) when it says anything. The bus, the
   // rig and the image must outlive the loop.
   RigLoop(Bus& bus, VirtualRig& rig, DriveImageServer& image, const ImageRestore& restore);
+  // One rig, one cycle count, one status: no copy.
+  RigLoop(const RigLoop&) = delete;
+  RigLoop& operator=(const RigLoop&) = delete;
 
   // Until stop() is true: wait for the clock's tick, then a cycle.
   void Run(CycleClock& clock, const std::function<bool()>& stop);
