@@ -7,25 +7,14 @@
 
 #include "edsp/actuator_bridge/bridge_loop.h"
 #include "edsp/kinematics/config.h"
-#include "memq_bus.h"  // tests/support
+#include "counting_clock.h"  // tests/support
+#include "memq_bus.h"
 #include "recording_backend.h"
 
 namespace edsp {
 namespace {
 
-// A clock that ticks `ticks` times, at once, then says the loop is due no more.
-class CountingClock final : public CycleClock {
- public:
-  explicit CountingClock(int ticks) : left_(ticks) {}
-  void WaitNext() override { --left_; }
-  std::chrono::nanoseconds UntilNext() const override { return std::chrono::nanoseconds(0); }
-  std::int64_t missed() const override { return 0; }
-  std::chrono::nanoseconds period() const override { return std::chrono::milliseconds(1); }
-  bool done() const { return left_ <= 0; }
-
- private:
-  int left_;
-};
+using test_support::CountingClock;
 
 struct Fixture {
   PlatformModel model{Huang2021Config()};

@@ -14,7 +14,8 @@
 
 #include "edsp/kinematics/config.h"
 #include "edsp/node/fault.h"
-#include "memq_bus.h"  // tests/support
+#include "counting_clock.h"  // tests/support
+#include "memq_bus.h"
 
 namespace edsp {
 namespace {
@@ -188,24 +189,11 @@ TEST(RigLoop, ARestartedRigContinuesFromItsKilledPredecessorsLastFeedback) {
 }
 
 // Run: a cycle per tick of the clock, its missed cycles on EDSP_STATUS.
-class TickingClock final : public CycleClock {
- public:
-  explicit TickingClock(int ticks) : left_(ticks) {}
-  void WaitNext() override { --left_; }
-  std::chrono::nanoseconds UntilNext() const override { return std::chrono::nanoseconds(0); }
-  std::int64_t missed() const override { return 7; }
-  std::chrono::nanoseconds period() const override { return std::chrono::milliseconds(1); }
-  bool done() const { return left_ <= 0; }
-
- private:
-  int left_;
-};
-
 TEST(RigLoop, RunStepsOnceATickAndReportsTheClocksMissedCycles) {
   Fixture f("run");
   std::vector<node_status_t> statuses;
   f.bus.Subscribe<node_status_t>("EDSP_STATUS", [&](const node_status_t& s) { statuses.push_back(s); });
-  TickingClock clock(25);
+  test_support::CountingClock clock(25, 7);
   f.loop.Run(clock, [&] { return clock.done(); });
   while (f.bus.Handle(std::chrono::milliseconds(0)) > 0) {
   }
