@@ -71,23 +71,43 @@ bool ModbusTcpBackend::ConnectAndRead(std::string* error) {
   return master_.ReadFeedback(&feedback_, error);
 }
 
+bool ModbusTcpBackend::Enabled(Enabling enabling) const {
+  for (const cia402::CspFeedback& f : feedback_) {
+    const cia402::State s = cia402::StateOfStatusword(f.statusword);
+    const bool left_faulted = enabling == Enabling::kNotFaulted && s == cia402::State::kFault;
+    if (s != cia402::State::kOperationEnabled && !left_faulted) return false;
+  }
+  return true;
+}
+
+// Judged only on feedback the drives latched after the previous exchange's
+// commands (a new cycle count): an older image may still show a state the
+// drives have since left (operation enabled, before a deactivation's
+// shutdown reached them), and the first cycle would find them out of it.
 bool ModbusTcpBackend::EnableDrives(Enabling enabling, std::string* error) {
-  for (int cycle = 0; cycle < 50; ++cycle) {
+  constexpr int kLatchedCycles = 50;
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  int latched = 0;
+  while (latched < kLatchedCycles && std::chrono::steady_clock::now() < give_up) {
+    const std::uint16_t before = feedback_[0].cycle_count;
     if (!Exchange(enabling, error)) return false;
-    bool done = true;
-    for (const cia402::CspFeedback& f : feedback_) {
-      const cia402::State s = cia402::StateOfStatusword(f.statusword);
-      const bool left_faulted = enabling == Enabling::kNotFaulted && s == cia402::State::kFault;
-      done = done && (s == cia402::State::kOperationEnabled || left_faulted);
+    if (feedback_[0].cycle_count != before) {
+      if (Enabled(enabling)) return true;
+      ++latched;
     }
-    if (done) return true;
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  if (latched == 0) {
+    *error = fmt::format("{}: the drives latched no feedback in 5 s of enabling (cycle count stays {}): "
+                         "they are not cycling",
+                         master_.endpoint(), feedback_[0].cycle_count);
+    return false;
   }
   for (std::size_t d = 0; d < feedback_.size(); ++d) {
     const cia402::State s = cia402::StateOfStatusword(feedback_[d].statusword);
     if (s != cia402::State::kOperationEnabled) {
-      *error = fmt::format("{}: drive {} stays in {} (error code {:04X}h) after 50 cycles of enabling",
-                           master_.endpoint(), d + 1, cia402::StateName(s), feedback_[d].error_code);
+      *error = fmt::format("{}: drive {} stays in {} (error code {:04X}h) after {} of its cycles of enabling",
+                           master_.endpoint(), d + 1, cia402::StateName(s), feedback_[d].error_code, latched);
       break;
     }
   }

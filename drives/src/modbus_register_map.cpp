@@ -29,7 +29,7 @@ CspCommand DecodeCommand(const std::uint16_t* r) {
 
 DriveRegisters EncodeFeedback(const CspFeedback& f) {
   return {f.statusword,           FromInt8(f.mode_display), High(f.position_actual), Low(f.position_actual),
-          High(f.velocity_actual), Low(f.velocity_actual),   f.error_code,            0};
+          High(f.velocity_actual), Low(f.velocity_actual),   f.error_code,            f.cycle_count};
 }
 
 CspFeedback DecodeFeedback(const std::uint16_t* r) {
@@ -39,6 +39,7 @@ CspFeedback DecodeFeedback(const std::uint16_t* r) {
   f.position_actual = Join(r[2], r[3]);
   f.velocity_actual = Join(r[4], r[5]);
   f.error_code = r[6];
+  f.cycle_count = r[7];
   return f;
 }
 

@@ -182,6 +182,32 @@ TEST(ModbusTcpBackend, DeactivatedAndCleanedUpItStartsAgainAndRefusesAReArmMeanw
   EXPECT_TRUE(backend.Write(Now(), DriveSetpoint{})) << backend.Detail();
 }
 
+// The TxPDO a request reads was latched at the drives' last cycle, before
+// the commands it carries: drives on a clock 20× slower than the master's
+// requests still answer "operation enabled" for a while after the
+// deactivation's shutdown. Activation must not take that for its own
+// drives enabled; it waits for feedback latched after its commands (the
+// drives' cycle count, register 7), so the first cycle finds them in
+// operation.
+TEST(ModbusTcpBackend, ActivationTrustsOnlyFeedbackLatchedAfterItsCommands) {
+  ServedDrives drives(0, 0.02);
+  ModbusTcpBackend backend(ConfigFor(drives.port()));
+  std::string error;
+  for (int activation = 1; activation <= 3; ++activation) {
+    ASSERT_TRUE(backend.Configure(PlatformConfig{}, &error) && backend.Activate(&error))
+        << "activation " << activation << ": " << error;
+    std::this_thread::sleep_for(std::chrono::milliseconds(45));  // two of the drives' cycles
+    DriveFeedback f;
+    EXPECT_TRUE(backend.Read(Now(), &f)) << "activation " << activation << ": " << backend.Detail();
+    EXPECT_TRUE(backend.Write(Now(), DriveSetpoint{})) << "activation " << activation << ": " << backend.Detail();
+    std::this_thread::sleep_for(std::chrono::milliseconds(45));
+    EXPECT_TRUE(backend.Read(Now(), &f)) << "activation " << activation << ": " << backend.Detail();
+    for (int i = 0; i < 6; ++i) EXPECT_EQ(f.status[i], DriveStatus::kEnabled) << "leg " << i + 1;
+    backend.Deactivate();
+    backend.Cleanup();
+  }
+}
+
 TEST(ModbusTcpBackend, AStartUpResetsNoFaultAndAReArmResetsOnlyTheFaultedDrive) {
   ServedDrives drives;
   {

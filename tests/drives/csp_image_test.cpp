@@ -77,8 +77,9 @@ TEST(ModbusRegisterMap, CommandsAndFeedbackAsEncodedByHand) {
   f.position_actual = 65536;
   f.velocity_actual = -65536;
   f.error_code = 0x8611;
+  f.cycle_count = 0xBEEF;
   EXPECT_EQ(modbus_map::EncodeFeedback(f),
-            (modbus_map::DriveRegisters{0x0237, 0xFFFF, 0x0001, 0x0000, 0xFFFF, 0x0000, 0x8611, 0}));
+            (modbus_map::DriveRegisters{0x0237, 0xFFFF, 0x0001, 0x0000, 0xFFFF, 0x0000, 0x8611, 0xBEEF}));
 }
 
 TEST(ModbusRegisterMap, EveryValueRoundTrips) {
@@ -103,12 +104,14 @@ TEST(ModbusRegisterMap, EveryValueRoundTrips) {
     f.position_actual = any32(random);
     f.velocity_actual = any32(random);
     f.error_code = static_cast<std::uint16_t>(any16(random));
+    f.cycle_count = static_cast<std::uint16_t>(any16(random));
     const CspFeedback f2 = modbus_map::DecodeFeedback(modbus_map::EncodeFeedback(f).data());
     ASSERT_EQ(f2.statusword, f.statusword);
     ASSERT_EQ(f2.mode_display, f.mode_display);
     ASSERT_EQ(f2.position_actual, f.position_actual);
     ASSERT_EQ(f2.velocity_actual, f.velocity_actual);
     ASSERT_EQ(f2.error_code, f.error_code);
+    ASSERT_EQ(f2.cycle_count, f.cycle_count);
   }
 }
 

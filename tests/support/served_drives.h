@@ -13,9 +13,12 @@ namespace edsp::test_support {
 
 class ServedDrives {
  public:
-  explicit ServedDrives(int port = 0) {
+  // `cycle_s`: the drives' own clock (a slow one makes every TxPDO the
+  // master reads many of its requests old).
+  explicit ServedDrives(int port = 0, double cycle_s = 0.001) {
     cia402::DriveServerOptions options;
     options.port = port;
+    options.cycle_s = cycle_s;
     options.drive.fieldbus_timeout_s = 2.0;  // the tests' cycles are paced by a busy machine, not 1 ms
     server_ = std::make_unique<cia402::ModbusDriveServer>(options);
     thread_ = std::thread([this] { server_->Run([this] { return stop_.load(); }); });

@@ -75,8 +75,11 @@ void ModbusDriveServer::Tick(double dt_s) {
     if (fault != 0) cabinet_.InjectFault(d, fault);
   }
   cabinet_.Tick(dt_s);
+  ++cycles_;  // wraps at 2^16, as the register does
   for (int d = 0; d < modbus_map::kDrives; ++d) {
-    const modbus_map::DriveRegisters r = modbus_map::EncodeFeedback(cabinet_.Feedback(d));
+    CspFeedback latched = cabinet_.Feedback(d);
+    latched.cycle_count = cycles_;
+    const modbus_map::DriveRegisters r = modbus_map::EncodeFeedback(latched);
     std::copy(r.begin(), r.end(), mapping_->tab_registers + modbus_map::kFeedbackAddress + d * modbus_map::kRegistersPerDrive);
   }
 }

@@ -50,7 +50,10 @@ class ModbusTcpBackend final : public DriveBackend {
   enum class Enabling { kNone, kNotFaulted, kResetFaults };
   // One exchange: each drive's next command carrying its held target.
   bool Exchange(Enabling enabling, std::string* error);
+  // Exchanges until every drive the call may enable is in operation.
   bool EnableDrives(Enabling enabling, std::string* error);
+  // Every drive in operation, but those `enabling` leaves in fault.
+  bool Enabled(Enabling enabling) const;
   bool ConnectAndRead(std::string* error);
   void Describe(DriveFeedback* feedback);
   // Shutdown (6040h) to every drive: ready to switch on, no power.

@@ -26,6 +26,11 @@ struct CspFeedback {
   std::int32_t position_actual = 0;      // 6064h, counts
   std::int32_t velocity_actual = 0;      // 606Ch, counts/s
   std::uint16_t error_code = 0;          // 603Fh
+  // edsp's: the drive cycle (mod 2^16) that latched this image. A request
+  // reads what the drives' last cycle latched, before the commands it
+  // carries took effect; a master that waits for a state it commanded
+  // trusts only an image latched after its command (a new count).
+  std::uint16_t cycle_count = 0;
 };
 
 // Motor angle (rad from the leg's home) ↔ drive counts:

@@ -26,7 +26,7 @@ using DriveRegisters = std::array<std::uint16_t, kRegistersPerDrive>;
 DriveRegisters EncodeCommand(const CspCommand& command);
 CspCommand DecodeCommand(const std::uint16_t* registers);
 // TxPDO: statusword, mode display, position actual (hi, lo), velocity
-// actual (hi, lo), error code, one reserved (0).
+// actual (hi, lo), error code, the drives' cycle count.
 DriveRegisters EncodeFeedback(const CspFeedback& feedback);
 CspFeedback DecodeFeedback(const std::uint16_t* registers);
 

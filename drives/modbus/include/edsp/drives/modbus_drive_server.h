@@ -57,6 +57,7 @@ class ModbusDriveServer {
   int client_ = -1;
   int port_ = 0;
   DriveCabinet cabinet_;
+  std::uint16_t cycles_ = 0;  // the TxPDOs' cycle count
   std::array<std::atomic<std::uint16_t>, modbus_map::kDrives> pending_faults_{};
   std::atomic<std::int64_t> requests_{0};
 };
