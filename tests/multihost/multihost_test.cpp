@@ -59,10 +59,12 @@ void ExpectSettledOnTheLastSetpoint(const std::string& log_path, double toleranc
   for (int k = 3; k < 6; ++k) EXPECT_NEAR(last.pose[k], target[k], 5e-6) << "angle " << k;
 }
 
+// Two of the paper's motions, a translation and a rotation (about 28 000
+// cycles; the single-host groups run all four).
 TEST(MultiHost, PaperMotionsRunAcrossThreeHostsAndTheOperatorLogsEveryMessage) {
   VirtualNetwork network(kHosts);
   MultiHostGroup group(network, "paper",
-                       {R"("--motions", "Lz,Lx,Rz,Ry", "--stops", "3", "--dwell-s", "0.5", "--max-speed-m-s",
+                       {R"("--motions", "Lz,Rz", "--stops", "3", "--dwell-s", "0.5", "--max-speed-m-s",
                            "0.25", "--max-speed-rad-s", "0.5", "--exit-after-hold-s", "1")"});
   group.Start();
   ASSERT_EQ(group.Finish(), 0) << LaunchLogs(group);
@@ -140,9 +142,10 @@ TEST(MultiHost, TwoPercentLossOnTheControllersLinkIsCountedAndNeverMakesAJump) {
 
 TEST(MultiHost, ControllerLinkDownHoldsWithin50msAndResumesOnlyAfterReArm) {
   VirtualNetwork network(kHosts);
-  // Lz: 0 → +0.5 m → −0.5 m → 0 at 0.1 m/s, dwelling 2 s at each stop.
-  MultiHostOptions options{R"("--motions", "Lz", "--stops", "3", "--dwell-s", "2", "--max-speed-m-s", "0.1",
-                               "--exit-after-hold-s", "4")"};
+  // Lz: 0 → +0.5 m → −0.5 m → 0 at 0.15 m/s, dwelling 1 s at each stop
+  // (the link goes down a few seconds in, mid-way up the first move).
+  MultiHostOptions options{R"("--motions", "Lz", "--stops", "3", "--dwell-s", "1", "--max-speed-m-s", "0.15",
+                               "--exit-after-hold-s", "2")"};
   options.stale_ms = 50;  // as shipped: this test is about the hold
   MultiHostGroup group(network, "linkdown", options);
   group.Start();
