@@ -2,6 +2,8 @@
 
 #include <memory>
 
+#include "edsp/planner/csv_trajectory.h"
+
 namespace edsp {
 
 void AppendMotion(const PlatformModel& model, const std::string& name, const PaperMotionOptions& paper,
@@ -18,6 +20,35 @@ std::unique_ptr<TrajectorySequence> MotionSequence(const PlatformModel& model, c
                                                    const CalibrationMotionOptions& calibration) {
   auto sequence = std::make_unique<TrajectorySequence>();
   for (const std::string& name : names) AppendMotion(model, name, paper, sequence.get(), calibration);
+  return sequence;
+}
+
+std::vector<std::string> MotionNames(const std::string& list) {
+  std::vector<std::string> names;
+  std::string name;
+  for (char c : list + ",") {
+    if (c != ',') {
+      name += c;
+    } else if (!name.empty()) {
+      names.push_back(name);
+      name.clear();
+    }
+  }
+  return names;
+}
+
+std::unique_ptr<TrajectorySequence> PlannedTrajectory(const PlatformModel& model, const std::string& motions,
+                                                      const std::string& csv_path, const PaperMotionOptions& paper) {
+  if (csv_path.empty()) return MotionSequence(model, MotionNames(motions), paper);
+  auto sequence = std::make_unique<TrajectorySequence>();
+  auto file = std::make_unique<CsvTrajectory>(CsvTrajectory::Load(csv_path));
+  const Vector6 start = file->Sample(0.0).pose;
+  const Vector6 home = model.home_pose().ToVector();
+  if ((start - home).cwiseAbs().maxCoeff() > 1e-9) {
+    sequence->Append("approach", std::make_unique<QuinticMove>(QuinticMove::WithinLimits(
+                                     home, start, paper.max_speed_m_s, paper.max_speed_rad_s)));
+  }
+  sequence->Append(csv_path, std::move(file));
   return sequence;
 }
 

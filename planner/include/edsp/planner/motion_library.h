@@ -21,4 +21,15 @@ std::unique_ptr<TrajectorySequence> MotionSequence(const PlatformModel& model, c
                                                    const PaperMotionOptions& paper,
                                                    const CalibrationMotionOptions& calibration = {});
 
+// "Lz,Lx,Rz" → {"Lz", "Lx", "Rz"}; empty names are dropped.
+std::vector<std::string> MotionNames(const std::string& list);
+
+// What edsp-planner plays: the trajectory CSV `csv_path` (approached from
+// home by a quintic move within the speed limits when it starts
+// elsewhere), or without one the motions named in `motions` (a list as
+// above). Throws std::runtime_error / std::invalid_argument naming a bad
+// file or an unknown motion.
+std::unique_ptr<TrajectorySequence> PlannedTrajectory(const PlatformModel& model, const std::string& motions,
+                                                      const std::string& csv_path, const PaperMotionOptions& paper);
+
 }  // namespace edsp

@@ -1,0 +1,107 @@
+// The planner on a bus (memq://, in process): what edsp-planner publishes
+// for the clock it is given: each cycle the trajectory's pose at that time,
+// the status running then holding, and the end of the hold it was told.
+#include "edsp/planner/planner_loop.h"
+
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <vector>
+
+#include "counting_clock.h"  // tests/support
+#include "edsp/kinematics/config.h"
+#include "edsp/planner/motion_library.h"
+#include "memq_bus.h"        // tests/support
+
+namespace edsp {
+namespace {
+
+constexpr std::int64_t kSession = 4;
+constexpr std::int64_t kT0 = 1'700'000'000'000'000;  // the motion's time zero, µs
+
+// Up 10 mm in 0.5 s, then held: the trajectory the tests play.
+std::unique_ptr<TrajectorySequence> Rise(const PlatformModel& model) {
+  Vector6 top = model.home_pose().ToVector();
+  top(2) += 0.01;
+  auto sequence = std::make_unique<TrajectorySequence>();
+  sequence->Append("rise", std::make_unique<QuinticMove>(model.home_pose().ToVector(), top, 0.5));
+  return sequence;
+}
+
+struct Fixture {
+  explicit Fixture(double exit_after_hold_s = -1.0) : loop(bus, planner, PlannerLoopOptions{exit_after_hold_s}) {
+    bus.Subscribe<pose_setpoint_t>("EDSP_SETPOINT", [this](const pose_setpoint_t& s) { setpoints.push_back(s); });
+    bus.Subscribe<node_status_t>("EDSP_STATUS", [this](const node_status_t& s) { statuses.push_back(s); });
+  }
+  void HandleAll() {
+    while (bus.Handle(std::chrono::milliseconds(0)) > 0) {
+    }
+  }
+
+  Bus bus{test_support::MemqConfig("planner_loop")};
+  PlatformModel model{Huang2021Config()};
+  Planner planner{model, Rise(model), kSession};
+  PlannerLoop loop;
+  std::vector<pose_setpoint_t> setpoints;
+  std::vector<node_status_t> statuses;
+};
+
+TEST(PlannerLoop, EachCycleIsTheTrajectorysPoseAtItsTime) {
+  Fixture f;
+  const auto reference = Rise(f.model);  // the same motion, sampled apart from the loop
+  f.loop.Start(kT0);
+  for (std::int64_t ms : {0, 1, 2, 250, 251, 499}) ASSERT_TRUE(f.loop.RunCycle(kT0 + ms * 1000, 0));
+  f.HandleAll();
+  ASSERT_EQ(f.setpoints.size(), 6u);
+  std::int64_t seq = 0;
+  for (const pose_setpoint_t& s : f.setpoints) {
+    const PoseSample expected = reference->Sample(static_cast<double>(s.utime - kT0) * 1e-6);
+    for (int k = 0; k < 6; ++k) {
+      EXPECT_DOUBLE_EQ(s.pose[k], expected.pose(k)) << "axis " << k << " at " << s.utime - kT0 << " µs";
+      EXPECT_DOUBLE_EQ(s.velocity[k], expected.velocity(k));
+    }
+    EXPECT_EQ(s.session_id, kSession);
+    EXPECT_EQ(s.seq, ++seq);
+  }
+  // A late cycle (2 → 250 ms) takes the pose of its own time: no drift.
+  EXPECT_EQ(f.setpoints[3].utime, kT0 + 250000);
+}
+
+TEST(PlannerLoop, RunningThenHoldingTheFinalPoseOnEdspStatus) {
+  Fixture f;
+  f.loop.Start(kT0);
+  for (std::int64_t ms = 0; ms <= 1600; ++ms) ASSERT_TRUE(f.loop.RunCycle(kT0 + ms * 1000, 0));
+  f.HandleAll();
+  ASSERT_GE(f.statuses.size(), 2u);
+  EXPECT_EQ(f.statuses.front().state, node_status_t::STATE_RUNNING);
+  EXPECT_EQ(f.statuses.front().node, "planner");
+  EXPECT_EQ(f.statuses.back().state, node_status_t::STATE_HOLDING);
+  // The motion ended at 0.5 s: the held pose is its last.
+  const Vector6 top = Rise(f.model)->Sample(0.5).pose;
+  EXPECT_DOUBLE_EQ(f.setpoints.back().pose[2], top(2));
+  EXPECT_EQ(f.setpoints.size(), 1601u) << "one setpoint a cycle, held ones too";
+}
+
+TEST(PlannerLoop, ItStopsOnceTheFinalPoseIsHeldAsLongAsItWasTold) {
+  Fixture f(0.25);
+  f.loop.Start(kT0);
+  std::int64_t ms = 0;
+  while (f.loop.RunCycle(kT0 + ms * 1000, 0) && ms < 10000) ++ms;
+  EXPECT_EQ(ms, 750) << "0.5 s of motion, then 0.25 s held";
+  Fixture forever;
+  forever.loop.Start(kT0);
+  for (ms = 0; ms <= 5000; ++ms) ASSERT_TRUE(forever.loop.RunCycle(kT0 + ms * 1000, 0)) << "without a limit it holds";
+}
+
+TEST(PlannerLoop, RunPublishesOneSetpointPerTickOfItsClockUntilStopped) {
+  Fixture f;
+  test_support::CountingClock clock(40, 3);
+  f.loop.Run(clock, [&] { return clock.done(); });
+  f.HandleAll();
+  EXPECT_EQ(f.setpoints.size(), 40u);
+  ASSERT_FALSE(f.statuses.empty());
+  EXPECT_EQ(f.statuses.front().deadline_misses, 3) << "the clock's missed cycles reach EDSP_STATUS";
+}
+
+}  // namespace
+}  // namespace edsp
