@@ -1,5 +1,5 @@
 // libFuzzer: the LCM message decoders as the nodes use them. The first byte
-// picks the type; the rest is the packet, whatever it is: a wrong
+// picks the type (its index in message_types.h, modulo their count); the rest is the packet, whatever it is: a wrong
 // fingerprint, truncated, oversized, or garbage. A packet that decodes must
 // re-encode to a packet that decodes to the same bytes again (round trip).
 // (lcm-gen's getEncodedSize() counts a string's embedded NUL and what
@@ -8,17 +8,7 @@
 #include <cstdlib>
 #include <vector>
 
-#include "edsp/arm_t.hpp"
-#include "edsp/fault_t.hpp"
-#include "edsp/leg_command_t.hpp"
-#include "edsp/leg_state_t.hpp"
-#include "edsp/node_status_t.hpp"
-#include "edsp/platform_config_t.hpp"
-#include "edsp/platform_state_t.hpp"
-#include "edsp/pose_setpoint_t.hpp"
-#include "edsp/pr_mode_t.hpp"
-#include "edsp/rig_truth_t.hpp"
-#include "edsp/tracker_point_t.hpp"
+#include "edsp/message_types.h"
 #include "edsp/transport/decode.h"
 
 namespace {
@@ -51,18 +41,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (size < 1 || size > (1u << 20)) return 0;
   const std::uint8_t* packet = data + 1;
   const std::size_t n = size - 1;
-  switch (data[0] % 11) {
-    case 0: DecodeAsANodeDoes<edsp::pose_setpoint_t>(packet, n); break;
-    case 1: DecodeAsANodeDoes<edsp::leg_command_t>(packet, n); break;
-    case 2: DecodeAsANodeDoes<edsp::leg_state_t>(packet, n); break;
-    case 3: DecodeAsANodeDoes<edsp::platform_state_t>(packet, n); break;
-    case 4: DecodeAsANodeDoes<edsp::platform_config_t>(packet, n); break;
-    case 5: DecodeAsANodeDoes<edsp::tracker_point_t>(packet, n); break;
-    case 6: DecodeAsANodeDoes<edsp::rig_truth_t>(packet, n); break;
-    case 7: DecodeAsANodeDoes<edsp::node_status_t>(packet, n); break;
-    case 8: DecodeAsANodeDoes<edsp::fault_t>(packet, n); break;
-    case 9: DecodeAsANodeDoes<edsp::arm_t>(packet, n); break;
-    default: DecodeAsANodeDoes<edsp::pr_mode_t>(packet, n); break;
-  }
+  edsp::VisitMessageType(data[0] % edsp::kMessageTypeCount,
+                         [&](auto tag) { DecodeAsANodeDoes<typename decltype(tag)::type>(packet, n); });
   return 0;
 }

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "edsp/node/fault.h"
+#include "edsp/channels.h"
 
 namespace edsp {
 namespace {
@@ -29,7 +30,7 @@ ActuatorBridge::ActuatorBridge(PlatformModel model, DriveBackend* backend, Bridg
 }
 
 fault_t ActuatorBridge::Fault(FaultCode code, std::string reason, std::int64_t now_utime) const {
-  return MakeFault(options_.node_name, "EDSP_LEG_COMMAND", code, fault_t::SEVERITY_ERROR,
+  return MakeFault(options_.node_name, channel::kLegCommand, code, fault_t::SEVERITY_ERROR,
                    std::move(reason), now_utime);
 }
 
@@ -71,14 +72,14 @@ fault_t ActuatorBridge::HandleArm(const arm_t& arm, std::int64_t now_utime) {
   return arm_answers_.Answer(
       arm, [&] { return ActOnArm(arm, now_utime); },
       [&](std::string reason) {
-        return MakeFault(options_.node_name, "EDSP_ARM", FaultCode::kBadRequest, fault_t::SEVERITY_WARNING,
+        return MakeFault(options_.node_name, channel::kArm, FaultCode::kBadRequest, fault_t::SEVERITY_WARNING,
                          "re-arm " + reason, now_utime);
       });
 }
 
 fault_t ActuatorBridge::ActOnArm(const arm_t& arm, std::int64_t now_utime) {
   if (arm.session_id != options_.session_id) {
-    return MakeFault(options_.node_name, "EDSP_ARM", FaultCode::kForeignSession, fault_t::SEVERITY_WARNING,
+    return MakeFault(options_.node_name, channel::kArm, FaultCode::kForeignSession, fault_t::SEVERITY_WARNING,
                      fmt::format("re-arm from session {} ignored (this group is session {})", arm.session_id,
                                  options_.session_id),
                      now_utime);
@@ -86,12 +87,12 @@ fault_t ActuatorBridge::ActOnArm(const arm_t& arm, std::int64_t now_utime) {
   const bool was_latched = latched();
   std::string error;
   if (!Rearm(&error)) {
-    return MakeFault(options_.node_name, "EDSP_ARM", FaultCode::kBackend, fault_t::SEVERITY_ERROR,
+    return MakeFault(options_.node_name, channel::kArm, FaultCode::kBackend, fault_t::SEVERITY_ERROR,
                      fmt::format("re-arm by {} failed: the drives cannot be enabled: {}", arm.operator_name,
                                  error),
                      now_utime);
   }
-  return MakeFault(options_.node_name, "EDSP_ARM", FaultCode::kOperatorAction, fault_t::SEVERITY_INFO,
+  return MakeFault(options_.node_name, channel::kArm, FaultCode::kOperatorAction, fault_t::SEVERITY_INFO,
                    fmt::format("re-armed by {}{}", arm.operator_name,
                                was_latched ? fmt::format("; rejoining the command stream at {:.3f} m/s",
                                                          options_.rejoin_speed_m_s)

@@ -1,4 +1,5 @@
 #include "edsp/actuator_bridge/bridge_loop.h"
+#include "edsp/channels.h"
 
 #include <cstdio>
 
@@ -9,11 +10,11 @@ namespace edsp {
 BridgeLoop::BridgeLoop(Bus& bus, ActuatorBridge& bridge)
     : bus_(bus),
       bridge_(bridge),
-      states_(bus.Advertise<leg_state_t>("EDSP_LEG_STATE")),
+      states_(bus.Advertise<leg_state_t>(channel::kLegState)),
       reporting_(bus, "actuator_bridge"),
-      commands_in_(bus.Counters("EDSP_LEG_COMMAND")) {
-  bus.Subscribe<leg_command_t>("EDSP_LEG_COMMAND", [this](const leg_command_t& c) { OnCommand(c); });
-  bus.Subscribe<arm_t>("EDSP_ARM", [this](const arm_t& arm) { OnArm(arm); });
+      commands_in_(bus.Counters(channel::kLegCommand)) {
+  bus.Subscribe<leg_command_t>(channel::kLegCommand, [this](const leg_command_t& c) { OnCommand(c); });
+  bus.Subscribe<arm_t>(channel::kArm, [this](const arm_t& arm) { OnArm(arm); });
 }
 
 void BridgeLoop::OnCommand(const leg_command_t& command) {
@@ -27,7 +28,7 @@ void BridgeLoop::OnCommand(const leg_command_t& command) {
     return;
   }
   if (was_rejoining && !bridge_.rejoining()) {  // the hold is over
-    reporting_.Fault(MakeFault("actuator_bridge", "EDSP_LEG_COMMAND", FaultCode::kStale, fault_t::SEVERITY_INFO,
+    reporting_.Fault(MakeFault("actuator_bridge", channel::kLegCommand, FaultCode::kStale, fault_t::SEVERITY_INFO,
                                fmt::format("rejoined the command stream at seq {}: following it again", command.seq),
                                now));
   }
@@ -57,7 +58,7 @@ void BridgeLoop::RunCycle(std::int64_t now_utime, std::int64_t deadline_misses) 
   status.SetState(bridge_.holding() ? node_status_t::STATE_HOLDING : node_status_t::STATE_RUNNING);
   status.RecordLoop(std::chrono::steady_clock::now() - start);
   status.SetDrops(static_cast<std::int64_t>(commands_in_.seq_gaps + commands_in_.overruns));
-  reporting_.ReportUndecodable("EDSP_LEG_COMMAND", commands_in_, now_utime);
+  reporting_.ReportUndecodable(channel::kLegCommand, commands_in_, now_utime);
   reporting_.StatusTick(now_utime, deadline_misses);
 }
 

@@ -31,6 +31,7 @@
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/pr_mode_t.hpp"
 #include "edsp/transport/bus.h"
+#include "edsp/channels.h"
 
 namespace edsp {
 namespace {
@@ -61,8 +62,8 @@ TransportConfig Transport(const CtlOptions& o) {
 // so they share ownership of what they write to.
 std::int64_t DiscoverSession(Bus& bus, const CtlOptions& o) {
   auto seen = std::make_shared<std::set<std::int64_t>>();
-  bus.Subscribe<leg_command_t>("EDSP_LEG_COMMAND", [seen](const leg_command_t& c) { seen->insert(c.session_id); });
-  bus.Subscribe<pose_setpoint_t>("EDSP_SETPOINT", [seen](const pose_setpoint_t& s) { seen->insert(s.session_id); });
+  bus.Subscribe<leg_command_t>(channel::kLegCommand, [seen](const leg_command_t& c) { seen->insert(c.session_id); });
+  bus.Subscribe<pose_setpoint_t>(channel::kSetpoint, [seen](const pose_setpoint_t& s) { seen->insert(s.session_id); });
   const std::set<std::int64_t>& sessions = *seen;
   const auto until = Deadline(o);
   while (Clock::now() < until && sessions.empty()) bus.Handle(std::chrono::milliseconds(50));
@@ -102,7 +103,7 @@ int AwaitConfirmation(Bus& bus, const std::string& node, const std::string& chan
     int status = 2;
   };
   auto answer = std::make_shared<Answer>();
-  bus.Subscribe<fault_t>("EDSP_FAULT", [answer, node, channel](const fault_t& f) {
+  bus.Subscribe<fault_t>(channel::kFault, [answer, node, channel](const fault_t& f) {
     if (answer->given || f.node != node || f.channel != channel) return;
     answer->given = true;
     answer->status = f.code == static_cast<std::int32_t>(FaultCode::kOperatorAction) ? 0 : 2;
@@ -142,7 +143,7 @@ int SendAndConfirm(const CtlOptions& o, const std::string& channel, Msg request,
   });
 }
 
-int Arm(const CtlOptions& o) { return SendAndConfirm(o, "EDSP_ARM", arm_t{}, "actuator_bridge"); }
+int Arm(const CtlOptions& o) { return SendAndConfirm(o, channel::kArm, arm_t{}, "actuator_bridge"); }
 
 int SetPrMode(const CtlOptions& o, const std::string& mode_text) {
   PrMode mode;
@@ -151,7 +152,7 @@ int SetPrMode(const CtlOptions& o, const std::string& mode_text) {
   }
   pr_mode_t request{};
   request.pr_mode = static_cast<std::int8_t>(mode);
-  return SendAndConfirm(o, "EDSP_PR_MODE", request, "kinematics");
+  return SendAndConfirm(o, channel::kPrMode, request, "kinematics");
 }
 
 void AddCommon(CLI::App* cmd, CtlOptions* o) {

@@ -4,6 +4,7 @@
 
 #include "edsp/node/fault.h"
 #include "edsp/transport/transport_config.h"
+#include "edsp/channels.h"
 
 namespace edsp {
 
@@ -18,8 +19,8 @@ TransportConfig LcmOnly(const std::string& path) {
 GroupReport::GroupReport(const GroupSpec& group, const std::string& host)
     : node_(host.empty() ? "launcher" : "launcher@" + host),
       bus_(LcmOnly(group.path)),
-      faults_(bus_.Advertise<fault_t>("EDSP_FAULT")),
-      status_out_(bus_.Advertise<node_status_t>("EDSP_STATUS")),
+      faults_(bus_.Advertise<fault_t>(channel::kFault)),
+      status_out_(bus_.Advertise<node_status_t>(channel::kStatus)),
       status_(node_) {
   status_.SetState(node_status_t::STATE_RUNNING);
 }

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "edsp/node/runtime.h"
+#include "edsp/channels.h"
 
 namespace edsp {
 
@@ -18,20 +19,20 @@ KinematicsLoop::KinematicsLoop(Bus& bus, KinematicsNode& kinematics, KinematicsL
     : bus_(bus),
       kinematics_(kinematics),
       options_(std::move(options)),
-      commands_(bus.Advertise<leg_command_t>("EDSP_LEG_COMMAND")),
-      states_(bus.Advertise<platform_state_t>("EDSP_PLATFORM_STATE")),
-      config_out_(bus.Advertise<platform_config_t>("EDSP_CONFIG")),
+      commands_(bus.Advertise<leg_command_t>(channel::kLegCommand)),
+      states_(bus.Advertise<platform_state_t>(channel::kPlatformState)),
+      config_out_(bus.Advertise<platform_config_t>(channel::kConfig)),
       reporting_(bus, "kinematics"),
-      setpoints_in_(bus.Counters("EDSP_SETPOINT")) {
+      setpoints_in_(bus.Counters(channel::kSetpoint)) {
   if (options_.leg_state_decimation < 1) {
     throw std::invalid_argument("leg_state_decimation " + std::to_string(options_.leg_state_decimation) +
                                 ": one platform state per N >= 1 leg states");
   }
-  bus.Subscribe<pose_setpoint_t>("EDSP_SETPOINT", [this](const pose_setpoint_t& sp) { OnSetpoint(sp); });
-  bus.Subscribe<pr_mode_t>("EDSP_PR_MODE", [this](const pr_mode_t& request) {
+  bus.Subscribe<pose_setpoint_t>(channel::kSetpoint, [this](const pose_setpoint_t& sp) { OnSetpoint(sp); });
+  bus.Subscribe<pr_mode_t>(channel::kPrMode, [this](const pr_mode_t& request) {
     reporting_.Fault(kinematics_.HandlePrModeRequest(request, UtimeNow()));
   });
-  bus.Subscribe<leg_state_t>("EDSP_LEG_STATE", [this](const leg_state_t& legs) { OnLegState(legs); });
+  bus.Subscribe<leg_state_t>(channel::kLegState, [this](const leg_state_t& legs) { OnLegState(legs); });
   ReportCalibration();
 }
 
@@ -77,8 +78,8 @@ void KinematicsLoop::Poll(std::int64_t now) {
     next_config_utime_ = now + kConfigPeriod_us;
   }
   reporting_.status().SetDrops(static_cast<std::int64_t>(setpoints_in_.seq_gaps + setpoints_in_.overruns));
-  reporting_.ReportUndecodable("EDSP_SETPOINT", setpoints_in_, now);
-  reporting_.ReportUndecodable("EDSP_LEG_STATE", bus_.Counters("EDSP_LEG_STATE"), now);
+  reporting_.ReportUndecodable(channel::kSetpoint, setpoints_in_, now);
+  reporting_.ReportUndecodable(channel::kLegState, bus_.Counters(channel::kLegState), now);
   reporting_.StatusTick(now, 0);
 }
 

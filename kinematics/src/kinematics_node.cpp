@@ -9,6 +9,7 @@
 #include "edsp/kinematics/forward_kinematics.h"
 #include "edsp/kinematics/workspace.h"
 #include "edsp/node/fault.h"
+#include "edsp/channels.h"
 
 namespace edsp {
 
@@ -43,7 +44,7 @@ fault_t KinematicsNode::HandlePrModeRequest(const pr_mode_t& request, std::int64
   return pr_mode_answers_.Answer(
       request, [&] { return ActOnPrModeRequest(request, now_utime); },
       [&](std::string reason) {
-        return MakeFault(options_.node_name, "EDSP_PR_MODE", FaultCode::kBadRequest, fault_t::SEVERITY_WARNING,
+        return MakeFault(options_.node_name, channel::kPrMode, FaultCode::kBadRequest, fault_t::SEVERITY_WARNING,
                          fmt::format("PR mode {}; mode stays {}", reason, PrModeName(options_.pr_mode)), now_utime);
       });
 }
@@ -51,7 +52,7 @@ fault_t KinematicsNode::HandlePrModeRequest(const pr_mode_t& request, std::int64
 fault_t KinematicsNode::ActOnPrModeRequest(const pr_mode_t& request, std::int64_t now_utime) {
   const std::string& node = options_.node_name;
   if (request.session_id != options_.session_id) {
-    return MakeFault(node, "EDSP_PR_MODE", FaultCode::kForeignSession, fault_t::SEVERITY_WARNING,
+    return MakeFault(node, channel::kPrMode, FaultCode::kForeignSession, fault_t::SEVERITY_WARNING,
                      fmt::format("PR mode request from session {} ignored (this group is session {})",
                                  request.session_id, options_.session_id),
                      now_utime);
@@ -59,14 +60,14 @@ fault_t KinematicsNode::ActOnPrModeRequest(const pr_mode_t& request, std::int64_
   PrMode mode;
   const std::string text = std::to_string(request.pr_mode);
   if (!ParsePrMode(text.c_str(), &mode)) {
-    return MakeFault(node, "EDSP_PR_MODE", FaultCode::kBadRequest, fault_t::SEVERITY_WARNING,
+    return MakeFault(node, channel::kPrMode, FaultCode::kBadRequest, fault_t::SEVERITY_WARNING,
                      fmt::format("PR mode {} from {} is not 0..3; mode stays {}", text, request.operator_name,
                                  PrModeName(options_.pr_mode)),
                      now_utime);
   }
   const PrMode before = options_.pr_mode;
   SwitchPrMode(mode);
-  return MakeFault(node, "EDSP_PR_MODE", FaultCode::kOperatorAction, fault_t::SEVERITY_INFO,
+  return MakeFault(node, channel::kPrMode, FaultCode::kOperatorAction, fault_t::SEVERITY_INFO,
                    fmt::format("PR mode {} → {} (requested by {}), blended over {} ms", PrModeName(before),
                                PrModeName(mode), request.operator_name, options_.pr_blend_us / 1000),
                    now_utime);
@@ -106,7 +107,7 @@ Vector6 KinematicsNode::BlendedPrError(const LegSolution& legs, std::int64_t set
 
 bool KinematicsNode::HandleSetpoint(const pose_setpoint_t& sp, std::int64_t now_utime,
                                     leg_command_t* command, fault_t* fault) {
-  constexpr const char* kChannel = "EDSP_SETPOINT";
+  constexpr const char* kChannel = channel::kSetpoint;
   if (sp.session_id != options_.session_id) {
     *fault = Fault(FaultCode::kForeignSession,
                    fmt::format("setpoint seq {} from session {}, this group is session {}", sp.seq,
@@ -184,7 +185,7 @@ bool KinematicsNode::HandleSetpoint(const pose_setpoint_t& sp, std::int64_t now_
 
 bool KinematicsNode::HandleLegState(const leg_state_t& legs, std::int64_t now_utime,
                                     platform_state_t* state, fault_t* fault) {
-  constexpr const char* kChannel = "EDSP_LEG_STATE";
+  constexpr const char* kChannel = channel::kLegState;
   if (!AllFinite(legs.encoder_length_m)) {
     *fault = Fault(FaultCode::kNonFinite,
                    fmt::format("leg state seq {} has a non-finite encoder length", legs.seq),

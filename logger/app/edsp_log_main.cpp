@@ -21,6 +21,7 @@
 #include "edsp/logger/channel_csv_export.h"
 #include "edsp/logger/log_summary.h"
 #include "edsp/logger/measurement_export.h"
+#include "edsp/channels.h"
 
 namespace edsp {
 namespace {
@@ -69,7 +70,7 @@ int Faults(const std::string& path) {
   std::int64_t first = -1, count = 0;
   while (reader.Next(&event)) {
     if (first < 0) first = event.timestamp_utime;
-    if (event.channel != "EDSP_FAULT") continue;
+    if (event.channel != channel::kFault) continue;
     fault_t fault;
     if (!DecodeUntrusted(&fault, event.data.data(), event.data.size())) {
       std::printf("%10.3f s  (undecodable EDSP_FAULT, %zu bytes)\n",

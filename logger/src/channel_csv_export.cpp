@@ -12,17 +12,8 @@
 
 #include <fmt/format.h>
 
-#include "edsp/arm_t.hpp"
-#include "edsp/fault_t.hpp"
-#include "edsp/leg_command_t.hpp"
-#include "edsp/leg_state_t.hpp"
 #include "edsp/logger/log_reader.h"
-#include "edsp/node_status_t.hpp"
-#include "edsp/platform_config_t.hpp"
-#include "edsp/platform_state_t.hpp"
-#include "edsp/pose_setpoint_t.hpp"
-#include "edsp/rig_truth_t.hpp"
-#include "edsp/tracker_point_t.hpp"
+#include "edsp/message_types.h"
 
 namespace edsp {
 
@@ -119,6 +110,10 @@ void Fields(const arm_t& m, CsvRow* r) {
   r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("session_id", m.session_id);
   r->Add("operator_name", m.operator_name);
 }
+void Fields(const pr_mode_t& m, CsvRow* r) {
+  r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("session_id", m.session_id);
+  r->Add("pr_mode", m.pr_mode), r->Add("operator_name", m.operator_name);
+}
 
 struct MessageType {
   std::int64_t fingerprint;
@@ -127,8 +122,8 @@ struct MessageType {
 };
 
 template <typename Msg>
-MessageType Describe(const char* name) {
-  return {Msg::getHash(), name, [](const LogEvent& e, CsvRow* row) {
+MessageType Describe() {
+  return {Msg::getHash(), std::string("edsp.") + Msg::getTypeName(), [](const LogEvent& e, CsvRow* row) {
             Msg msg;
             if (!DecodeUntrusted(&msg, e.data.data(), e.data.size())) return false;
             Fields(msg, row);
@@ -136,19 +131,14 @@ MessageType Describe(const char* name) {
           }};
 }
 
+// Every edsp message type (message_types.h): one without Fields() above does
+// not compile.
 const std::vector<MessageType>& KnownTypes() {
-  static const std::vector<MessageType> types = {
-      Describe<pose_setpoint_t>("edsp.pose_setpoint_t"),
-      Describe<leg_command_t>("edsp.leg_command_t"),
-      Describe<leg_state_t>("edsp.leg_state_t"),
-      Describe<platform_state_t>("edsp.platform_state_t"),
-      Describe<platform_config_t>("edsp.platform_config_t"),
-      Describe<tracker_point_t>("edsp.tracker_point_t"),
-      Describe<rig_truth_t>("edsp.rig_truth_t"),
-      Describe<node_status_t>("edsp.node_status_t"),
-      Describe<fault_t>("edsp.fault_t"),
-      Describe<arm_t>("edsp.arm_t"),
-  };
+  static const std::vector<MessageType> types = [] {
+    std::vector<MessageType> all;
+    ForEachMessageType([&all](auto tag) { all.push_back(Describe<typename decltype(tag)::type>()); });
+    return all;
+  }();
   return types;
 }
 

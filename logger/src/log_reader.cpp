@@ -80,8 +80,4 @@ bool LogReader::ReadEventAt(LogEvent* event) {
   return true;
 }
 
-bool IsSharedEdspChannel(const std::string& channel) {
-  return channel == "EDSP_STATUS" || channel == "EDSP_FAULT";
-}
-
 }  // namespace edsp

@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "edsp/channels.h"
 #include "edsp/logger/log_reader.h"
 #include "edsp/node/fault.h"
 
@@ -17,8 +18,8 @@ constexpr auto kPollInterval = std::chrono::milliseconds(20);
 LoggerNode::LoggerNode(Bus& bus, LoggerOptions options)
     : bus_(bus),
       writer_(options.writer),
-      status_out_(bus.Advertise<node_status_t>("EDSP_STATUS")),
-      faults_(bus.Advertise<fault_t>("EDSP_FAULT")) {
+      status_out_(bus.Advertise<node_status_t>(channel::kStatus)),
+      faults_(bus.Advertise<fault_t>(channel::kFault)) {
   status_.SetState(node_status_t::STATE_RUNNING);
   shm_channels_ = bus.SubscribeRaw(options.channels, [this](const std::string& channel, const std::uint8_t* data,
                                                              std::uint32_t size) { Record(channel, data, size); });
@@ -30,7 +31,7 @@ void LoggerNode::Record(const std::string& channel, const std::uint8_t* data, st
   status_.CountIn();
   if (writer_.Enqueue(channel, data, size, UtimeNow())) status_.CountOut();
   // EDSP_STATUS/EDSP_FAULT: several publishers' seq numbers interleave there.
-  if (IsSharedEdspChannel(channel) || IsOnSharedMemory(channel)) return;
+  if (channel::HasManyPublishers(channel) || IsOnSharedMemory(channel)) return;
   EdspHeader header;
   if (ParseEdspHeader(data, size, &header)) lcm_seq_gaps_ += seqs_[channel].Count(0, header.seq);
 }

@@ -14,6 +14,7 @@
 #include "edsp/logger/log_reader.h"
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/tracker_point_t.hpp"
+#include "edsp/channels.h"
 
 namespace edsp {
 
@@ -215,16 +216,16 @@ MeasurementExport ExportMeasurementCsv(const std::string& log_path, std::ostream
   WriteHeader(out);
   LogEvent event;
   while (reader.Next(&event)) {
-    if (event.channel == "EDSP_SETPOINT") {
+    if (event.channel == channel::kSetpoint) {
       pose_setpoint_t setpoint;
       if (Decode(event, &setpoint)) pairing.Add(setpoint);
-    } else if (event.channel == "EDSP_LEG_COMMAND") {
+    } else if (event.channel == channel::kLegCommand) {
       leg_command_t command;
       if (Decode(event, &command)) pairing.Add(command);
-    } else if (event.channel == "EDSP_LEG_STATE") {
+    } else if (event.channel == channel::kLegState) {
       leg_state_t legs;
       if (Decode(event, &legs)) pairing.Add(legs);
-    } else if (event.channel == "EDSP_TRACKER") {
+    } else if (event.channel == channel::kTracker) {
       tracker_point_t point{};
       if (Decode(event, &point)) pairing.Add(event.timestamp_utime, point);
       else ++result.skipped;

@@ -1,12 +1,13 @@
 #include "edsp/node/node_reporting.h"
+#include "edsp/channels.h"
 
 #include <fmt/format.h>
 
 namespace edsp {
 
 NodeReporting::NodeReporting(Bus& bus, const std::string& node)
-    : faults_(bus.Advertise<fault_t>("EDSP_FAULT")),
-      status_out_(bus.Advertise<node_status_t>("EDSP_STATUS")),
+    : faults_(bus.Advertise<fault_t>(channel::kFault)),
+      status_out_(bus.Advertise<node_status_t>(channel::kStatus)),
       status_(node),
       node_(node) {
   status_.SetState(node_status_t::STATE_RUNNING);

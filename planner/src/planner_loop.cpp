@@ -1,12 +1,13 @@
 #include "edsp/planner/planner_loop.h"
+#include "edsp/channels.h"
 
 namespace edsp {
 
 PlannerLoop::PlannerLoop(Bus& bus, Planner& planner, PlannerLoopOptions options)
     : planner_(planner),
       options_(options),
-      setpoints_(bus.Advertise<pose_setpoint_t>("EDSP_SETPOINT")),
-      status_out_(bus.Advertise<node_status_t>("EDSP_STATUS")) {
+      setpoints_(bus.Advertise<pose_setpoint_t>(channel::kSetpoint)),
+      status_out_(bus.Advertise<node_status_t>(channel::kStatus)) {
   status_.SetState(node_status_t::STATE_RUNNING);
 }
 

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "edsp/node/fault.h"
+#include "edsp/channels.h"
 
 namespace edsp {
 
@@ -38,10 +39,10 @@ RigLoop::RigLoop(Bus& bus, VirtualRig& rig, DriveImageServer& image, const Image
     : rig_(rig),
       image_(image),
       cycle_(&rig, std::chrono::duration<double>(kRigPeriod).count(), kRigCommandHorizon_s),
-      tracker_out_(bus.Advertise<tracker_point_t>("EDSP_TRACKER")),
-      truth_out_(bus.Advertise<rig_truth_t>("EDSP_RIG_TRUTH")),
-      faults_(bus.Advertise<fault_t>("EDSP_FAULT")),
-      status_out_(bus.Advertise<node_status_t>("EDSP_STATUS")) {
+      tracker_out_(bus.Advertise<tracker_point_t>(channel::kTracker)),
+      truth_out_(bus.Advertise<rig_truth_t>(channel::kRigTruth)),
+      faults_(bus.Advertise<fault_t>(channel::kFault)),
+      status_out_(bus.Advertise<node_status_t>(channel::kStatus)) {
   if (!restore.note.empty()) {
     std::fprintf(stderr, "edsp-rig: %s\n", restore.note.c_str());
     faults_.Publish(MakeFault("rig", image.feedback_segment(), FaultCode::kProcess,

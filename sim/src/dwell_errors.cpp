@@ -5,6 +5,7 @@
 #include "edsp/logger/log_reader.h"
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/tracker_point_t.hpp"
+#include "edsp/channels.h"
 
 namespace edsp {
 
@@ -79,15 +80,15 @@ DwellErrors DwellErrorsFromLog(const std::string& log_path, const PlatformModel&
   };
   LogEvent event;
   while (reader.Next(&event)) {
-    if (event.channel == "EDSP_LEG_COMMAND") {
+    if (event.channel == channel::kLegCommand) {
       leg_command_t c;
       if (Decode(event, &c)) pr_mode = c.pr_mode;
-    } else if (event.channel == "EDSP_TRACKER") {
+    } else if (event.channel == channel::kTracker) {
       tracker_point_t t;
       if (in_dwell && Decode(event, &t) && t.valid) {
         open.samples.push_back({t.utime, Vector3(t.point_m[0], t.point_m[1], t.point_m[2])});
       }
-    } else if (event.channel == "EDSP_SETPOINT") {
+    } else if (event.channel == channel::kSetpoint) {
       pose_setpoint_t sp;
       if (!Decode(event, &sp)) continue;
       const bool same = in_dwell && sp.segment == open.setpoint.segment &&

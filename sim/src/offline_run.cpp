@@ -14,6 +14,7 @@
 #include "edsp/logger/measurement_export.h"
 #include "edsp/rig/rig_effects.h"
 #include "edsp/sim/stack_simulation.h"
+#include "edsp/channels.h"
 
 namespace edsp {
 
@@ -86,7 +87,7 @@ OfflineRunResult RunOffline(const std::string& config_path, const RigEffects& ef
     config_options.calibration = stack.calibration;  // named on EDSP_CONFIG, as live
     KinematicsNode config_source(model, config_options);  // the same latched config message
     std::int64_t utime = stack.start_utime;
-    log.Write("EDSP_CONFIG", config_source.ConfigMessage(utime, config_text), utime);
+    log.Write(channel::kConfig, config_source.ConfigMessage(utime, config_text), utime);
     std::size_t faults_seen = 0;
     // A step commands time t and leaves the rig (truth, tracker) at t + 1 ms,
     // the time of the next setpoint: they are logged after it, so each
@@ -96,9 +97,9 @@ OfflineRunResult RunOffline(const std::string& config_path, const RigEffects& ef
     bool have_previous = false;
     double sum_sq = 0.0;
     auto write_rig = [&](const StackSample& s, const pose_setpoint_t& now) {
-      log.Write("EDSP_RIG_TRUTH", s.truth, s.truth.utime);
+      log.Write(channel::kRigTruth, s.truth, s.truth.utime);
       if (!s.tracker_due) return;
-      log.Write("EDSP_TRACKER", s.tracker, s.tracker.utime);
+      log.Write(channel::kTracker, s.tracker, s.tracker.utime);
       ++result.tracker_samples;
       Vector6 q;
       for (int k = 0; k < 6; ++k) q(k) = now.pose[k];
@@ -110,11 +111,11 @@ OfflineRunResult RunOffline(const std::string& config_path, const RigEffects& ef
     while (!sim.Finished()) {
       const StackSample s = sim.Step();
       utime = s.setpoint.utime;
-      log.Write("EDSP_SETPOINT", s.setpoint, utime);
-      if (s.command_valid) log.Write("EDSP_LEG_COMMAND", s.command, utime);
-      log.Write("EDSP_LEG_STATE", s.legs, utime);
+      log.Write(channel::kSetpoint, s.setpoint, utime);
+      if (s.command_valid) log.Write(channel::kLegCommand, s.command, utime);
+      log.Write(channel::kLegState, s.legs, utime);
       if (have_previous) write_rig(previous, s.setpoint);
-      for (; faults_seen < sim.faults().size(); ++faults_seen) log.Write("EDSP_FAULT", sim.faults()[faults_seen], utime);
+      for (; faults_seen < sim.faults().size(); ++faults_seen) log.Write(channel::kFault, sim.faults()[faults_seen], utime);
       previous = s;
       have_previous = true;
       ++result.cycles;

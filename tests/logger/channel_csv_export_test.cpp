@@ -14,7 +14,9 @@
 #include "log_builder.h"  // tests/support
 #include "edsp/fault_t.hpp"
 #include "edsp/leg_command_t.hpp"
+#include "edsp/channels.h"
 #include "edsp/logger/channel_csv_export.h"
+#include "edsp/message_types.h"
 #include "edsp/platform_config_t.hpp"
 #include "edsp/pose_setpoint_t.hpp"
 
@@ -173,6 +175,42 @@ TEST_F(ChannelCsvExportTest, ErrorsNameWhatIsWrong) {
             std::string::npos);
   EXPECT_NE(message([&] { ExportChannelCsvs(log_, "/proc/edsp_no/such"); }).find("/proc/edsp_no/such"),
             std::string::npos);
+}
+
+// Every channel of the table (channels.h) exports, with its own type: a
+// channel or type added without what the export needs fails here.
+TEST(ChannelCsvExport, EveryChannelOfTheTableExportsItsType) {
+  const std::string stem = "/tmp/edsp_csv_every_" + std::to_string(::getpid());
+  {
+    LogBuilder b(stem + ".lcmlog");
+    for (const channel::Channel& c : channel::kChannels) {
+      bool written = false;
+      ForEachMessageType([&](auto tag) {
+        using Msg = typename decltype(tag)::type;
+        if (written || c.type != Msg::getTypeName()) return;
+        Msg msg{};
+        msg.utime = 7;
+        msg.seq = 3;
+        b.Add(std::string(c.name), msg);
+        written = true;
+      });
+      EXPECT_TRUE(written) << c.name << ": its type " << c.type << " is not in message_types.h";
+    }
+  }
+  const ChannelCsvExport e = ExportChannelCsvs(stem + ".lcmlog", stem + "_csv");
+  EXPECT_TRUE(e.unknown.empty());
+  for (const channel::Channel& c : channel::kChannels) {
+    const std::string name(c.name);
+    ASSERT_EQ(e.channels.count(name), 1u) << name << " was not exported";
+    EXPECT_EQ(e.channels.at(name).type, "edsp." + std::string(c.type));
+    EXPECT_EQ(e.channels.at(name).rows, 1);
+    const auto rows = ReadCsv(e.channels.at(name).path);
+    ASSERT_EQ(rows.size(), 2u) << name;
+    EXPECT_EQ(rows[1][Column(rows[0], "utime")], "7") << name;
+    EXPECT_EQ(rows[1][Column(rows[0], "seq")], "3") << name;
+  }
+  std::filesystem::remove_all(stem + "_csv");
+  std::filesystem::remove(stem + ".lcmlog");
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "edsp/leg_command_t.hpp"
+#include "edsp/leg_state_t.hpp"
 #include "edsp/logger/log_reader.h"
 #include "edsp/node/fault.h"
 #include "memq_bus.h"
@@ -39,9 +40,9 @@ std::vector<std::int64_t> RecordedSeqs(const std::string& path, const std::strin
   LogEvent event;
   while (reader.Next(&event)) {
     if (event.channel != channel) continue;
-    leg_command_t c;
-    EXPECT_GE(c.decode(event.data.data(), 0, static_cast<int>(event.data.size())), 0) << "recorded bytes decode";
-    seqs.push_back(c.seq);
+    EdspHeader header;  // any edsp type: utime and seq lead every message
+    EXPECT_TRUE(ParseEdspHeader(event.data, &header)) << "recorded bytes hold a message";
+    seqs.push_back(header.seq);
   }
   EXPECT_FALSE(reader.damaged());
   return seqs;
@@ -96,13 +97,15 @@ TEST(LoggerNode, RecordsEveryMessageOfChannelsRoutedOnSharedMemory) {
   std::int64_t lost = -1;
   // The writers first: a reader that finds no segment retries every 100 ms.
   auto commands = bus.Advertise<leg_command_t>("EDSP_LEG_COMMAND");
-  auto states = bus.Advertise<leg_command_t>("EDSP_LEG_STATE");  // any type: the logger never decodes
+  auto states = bus.Advertise<leg_state_t>("EDSP_LEG_STATE");
   {
     LoggerNode logger(bus, options);
     EXPECT_EQ(logger.shm_channels(), (std::vector<std::string>{"EDSP_LEG_COMMAND", "EDSP_LEG_STATE"}));
     for (std::int64_t seq = 0; seq < 1000; ++seq) {
       ASSERT_TRUE(commands.Publish(Command(seq)));
-      ASSERT_TRUE(states.Publish(Command(seq)));
+      leg_state_t state{};
+      state.seq = seq;
+      ASSERT_TRUE(states.Publish(state));
       if (seq % 16 == 15) HandleAll(bus, logger);  // well inside the 64-slot rings
     }
     HandleAll(bus, logger);

@@ -184,12 +184,12 @@ TEST(Bus, ShmPathDeliversTypedMessages) {
 }
 
 TEST(Bus, BothPathMirrorsEveryNthMessageOnLcm) {
-  Bus bus(Routed("EDSP_LEG_COMMAND", ChannelPath::kBoth, 3));
-  auto publisher = bus.Advertise<pose_setpoint_t>("EDSP_LEG_COMMAND");
+  Bus bus(Routed("TEST_MIRRORED", ChannelPath::kBoth, 3));
+  auto publisher = bus.Advertise<pose_setpoint_t>("TEST_MIRRORED");
   std::vector<std::int64_t> shm_seqs, lcm_seqs;
-  bus.Subscribe<pose_setpoint_t>("EDSP_LEG_COMMAND",
+  bus.Subscribe<pose_setpoint_t>("TEST_MIRRORED",
                                  [&](const pose_setpoint_t& m) { shm_seqs.push_back(m.seq); });
-  bus.lcm().Subscribe("EDSP_LEG_COMMAND", [&](const std::string&, const std::uint8_t* data,
+  bus.lcm().Subscribe("TEST_MIRRORED", [&](const std::string&, const std::uint8_t* data,
                                               std::uint32_t size) {
     pose_setpoint_t m;
     ASSERT_GE(m.decode(data, 0, static_cast<int>(size)), 0);
@@ -220,6 +220,21 @@ TEST(Bus, SecondWriterOfAChannelIsRefusedNamingIt) {
   } catch (const TransportError& e) {
     EXPECT_NE(std::string(e.what()).find("EDSP_SETPOINT"), std::string::npos) << e.what();
   }
+}
+
+// The channel table fixes each EDSP_* channel's type: a node that would
+// publish or subscribe another is refused at set-up, naming both.
+TEST(Bus, AnEdspChannelTakesOnlyItsTablesType) {
+  Bus bus(Routed("EDSP_SETPOINT", ChannelPath::kLcm));
+  try {
+    bus.Advertise<leg_command_t>("EDSP_SETPOINT");
+    FAIL() << "no error";
+  } catch (const TransportError& e) {
+    EXPECT_STREQ(e.what(), "EDSP_SETPOINT carries pose_setpoint_t (channels.h), not leg_command_t");
+  }
+  EXPECT_THROW(bus.Subscribe<leg_command_t>("EDSP_SETPOINT", [](const leg_command_t&) {}), TransportError);
+  EXPECT_NO_THROW(bus.Advertise<pose_setpoint_t>("EDSP_SETPOINT"));
+  EXPECT_NO_THROW(bus.Advertise<leg_command_t>("MY_APP_COMMANDS")) << "other channels are the user's";
 }
 
 TEST(Bus, BadLcmUrlIsNamed) {
@@ -312,13 +327,13 @@ namespace {
 // its timeout, and an LCM message still gets through.
 TEST(Bus, MixedInputsWakeOnAnyShmChannelAndStillServeLcm) {
   TransportConfig config = Routed("EDSP_SETPOINT", ChannelPath::kShm);
-  config.channels["EDSP_LEG_STATE"] = config.channels["EDSP_SETPOINT"];
+  config.channels["TEST_STATES"] = config.channels["EDSP_SETPOINT"];
   Bus writer_bus(config);
   auto setpoints = writer_bus.Advertise<pose_setpoint_t>("EDSP_SETPOINT");
-  auto states = writer_bus.Advertise<pose_setpoint_t>("EDSP_LEG_STATE");
+  auto states = writer_bus.Advertise<pose_setpoint_t>("TEST_STATES");
   Bus bus(config);
   std::vector<std::string> got;
-  for (const char* channel : {"EDSP_SETPOINT", "EDSP_LEG_STATE", "EDSP_ARM"}) {
+  for (const char* channel : {"EDSP_SETPOINT", "TEST_STATES", "TEST_REQUESTS"}) {
     bus.Subscribe<pose_setpoint_t>(channel, [&got, channel](const pose_setpoint_t&) { got.push_back(channel); });
   }
   for (int k = 0; k < 3; ++k) bus.Handle(std::chrono::milliseconds(5));  // attach
@@ -330,24 +345,24 @@ TEST(Bus, MixedInputsWakeOnAnyShmChannelAndStillServeLcm) {
   EXPECT_EQ(bus.Handle(std::chrono::seconds(3)), 1);
   EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(2));
   publisher.join();
-  EXPECT_EQ(got, std::vector<std::string>{"EDSP_LEG_STATE"});
+  EXPECT_EQ(got, std::vector<std::string>{"TEST_STATES"});
   // memq:// delivers to the publishing instance only: publish on `bus` itself.
-  bus.Publish("EDSP_ARM", Setpoint(2));
+  bus.Publish("TEST_REQUESTS", Setpoint(2));
   EXPECT_EQ(bus.Handle(std::chrono::milliseconds(100)), 1);
-  EXPECT_EQ(got.back(), "EDSP_ARM");
+  EXPECT_EQ(got.back(), "TEST_REQUESTS");
   (void)setpoints;
 }
 
 TEST(Bus, MixedInputsWakeOnLcmAtOnceNotAtTheNextSlice) {
   // A node with shm and LCM inputs sleeps on both: an LCM message wakes it
   // (through the socket's FdDoorbell), not the 1 s safety slice.
-  TransportConfig config = Routed("EDSP_LEG_STATE", ChannelPath::kShm);
+  TransportConfig config = Routed("TEST_STATES", ChannelPath::kShm);
   Bus writer_bus(config);
-  auto states = writer_bus.Advertise<pose_setpoint_t>("EDSP_LEG_STATE");
+  auto states = writer_bus.Advertise<pose_setpoint_t>("TEST_STATES");
   Bus bus(config);
   int lcm_messages = 0;
-  bus.Subscribe<pose_setpoint_t>("EDSP_LEG_STATE", [](const pose_setpoint_t&) {});
-  bus.Subscribe<pose_setpoint_t>("EDSP_ARM", [&](const pose_setpoint_t&) { ++lcm_messages; });
+  bus.Subscribe<pose_setpoint_t>("TEST_STATES", [](const pose_setpoint_t&) {});
+  bus.Subscribe<pose_setpoint_t>("TEST_REQUESTS", [&](const pose_setpoint_t&) { ++lcm_messages; });
   for (int k = 0; k < 3; ++k) bus.Handle(std::chrono::milliseconds(5));  // attach
   const pose_setpoint_t msg = Setpoint(3);
   std::vector<std::uint8_t> bytes(static_cast<std::size_t>(msg.getEncodedSize()));
@@ -355,7 +370,7 @@ TEST(Bus, MixedInputsWakeOnLcmAtOnceNotAtTheNextSlice) {
   for (int round = 0; round < 3; ++round) {  // the doorbell re-arms after each drain
     std::thread publisher([&] {
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
-      bus.lcm().Publish("EDSP_ARM", bytes.data(), static_cast<std::uint32_t>(bytes.size()));  // LCM publish is thread-safe
+      bus.lcm().Publish("TEST_REQUESTS", bytes.data(), static_cast<std::uint32_t>(bytes.size()));  // LCM publish is thread-safe
     });
     const auto start = std::chrono::steady_clock::now();
     EXPECT_EQ(bus.Handle(std::chrono::seconds(5)), 1) << round;

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "edsp/channels.h"
 #include "edsp/transport/channel_pattern.h"
 
 namespace edsp {
@@ -25,6 +26,13 @@ constexpr auto kMixedPollSlice = std::chrono::microseconds(500);
 Bus::Bus(TransportConfig config) : config_(std::move(config)), lcm_(config_.lcm_url) {}
 
 Bus::~Bus() = default;
+
+void Bus::CheckChannelType(const std::string& channel, const char* type_name) {
+  const channel::Channel* row = channel::Find(channel);
+  if (row != nullptr && row->type != type_name) {
+    throw TransportError(fmt::format("{} carries {} (channels.h), not {}", channel, row->type, type_name));
+  }
+}
 
 const ChannelCounters& Bus::Counters(const std::string& channel) { return counters_[channel]; }
 

@@ -27,10 +27,6 @@ struct EdspHeader {
 bool ParseEdspHeader(const std::uint8_t* data, std::size_t size, EdspHeader* header);
 bool ParseEdspHeader(const std::vector<std::uint8_t>& data, EdspHeader* header);
 
-// Channels every node publishes on (EDSP_STATUS, EDSP_FAULT): their `seq`
-// numbers interleave several counters, so losses cannot be told from them.
-bool IsSharedEdspChannel(const std::string& channel);
-
 class LogReader {
  public:
   // Throws std::runtime_error naming the file if it cannot be opened.

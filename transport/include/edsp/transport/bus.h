@@ -124,6 +124,9 @@ class Bus {
   };
 
   PublisherState& StateFor(const std::string& channel, std::int64_t fingerprint);
+  // A channel of edsp's table (channels.h) carries its one type: another is
+  // a programming error, refused at set-up with a TransportError.
+  static void CheckChannelType(const std::string& channel, const char* type_name);
   template <typename Msg>
   bool PublishEncoded(PublisherState& state, const Msg& msg) noexcept;
   void Mirror(PublisherState& state, std::uint64_t message_number) noexcept;
@@ -165,6 +168,7 @@ const ChannelCounters& Bus::Publisher<Msg>::counters() const {
 
 template <typename Msg>
 Bus::Publisher<Msg> Bus::Advertise(const std::string& channel) {
+  CheckChannelType(channel, Msg::getTypeName());
   return Publisher<Msg>(this, &StateFor(channel, Msg::getHash()));
 }
 
@@ -211,6 +215,7 @@ void Bus::Delivered(ChannelCounters& counters, const Msg& msg, SeqTracker* seqs)
 
 template <typename Msg>
 void Bus::Subscribe(const std::string& channel, std::function<void(const Msg&)> handler) {
+  CheckChannelType(channel, Msg::getTypeName());
   const ChannelRoute& route = config_.Route(channel);
   ChannelCounters* counters = &counters_[channel];
   auto last_seq = std::make_shared<SeqTracker>();

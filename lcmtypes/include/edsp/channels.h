@@ -1,0 +1,68 @@
+#pragma once
+// Every EDSP_* channel, once: its name, message type, publisher and rate
+// (docs/interfaces.md §1, which a test holds to this table). The nodes
+// publish and subscribe by these names; what needs the whole list is driven
+// from kChannels and from the message types' list (message_types.h): the
+// log summary's loss accounting, the CSV export, the decoders' fuzz target.
+// A new channel is one row here (and its type there, if new).
+
+#include <array>
+#include <cstddef>
+#include <string_view>
+
+namespace edsp::channel {
+
+inline constexpr char kConfig[] = "EDSP_CONFIG";
+inline constexpr char kSetpoint[] = "EDSP_SETPOINT";
+inline constexpr char kLegCommand[] = "EDSP_LEG_COMMAND";
+inline constexpr char kLegState[] = "EDSP_LEG_STATE";
+inline constexpr char kPlatformState[] = "EDSP_PLATFORM_STATE";
+inline constexpr char kTracker[] = "EDSP_TRACKER";
+inline constexpr char kRigTruth[] = "EDSP_RIG_TRUTH";
+inline constexpr char kStatus[] = "EDSP_STATUS";
+inline constexpr char kFault[] = "EDSP_FAULT";
+inline constexpr char kArm[] = "EDSP_ARM";
+inline constexpr char kPrMode[] = "EDSP_PR_MODE";
+
+// Whose seq numbers a channel carries: one publisher's (a gap is a lost
+// message), or several publishers' interleaved (every node's status and
+// faults: gaps are counted per publisher, never across).
+enum class Publishers { kOne, kMany };
+
+struct Channel {
+  std::string_view name;
+  std::string_view type;       // the LCM type, package edsp (getTypeName())
+  std::string_view publisher;  // the node (or tool) that publishes it
+  double rate_hz;              // nominal; 0: on event or on request
+  Publishers publishers;
+};
+
+inline constexpr std::array<Channel, 11> kChannels = {{
+    {kConfig, "platform_config_t", "kinematics", 1.0, Publishers::kOne},
+    {kSetpoint, "pose_setpoint_t", "planner", 1000.0, Publishers::kOne},
+    {kLegCommand, "leg_command_t", "kinematics", 1000.0, Publishers::kOne},
+    {kLegState, "leg_state_t", "actuator_bridge", 1000.0, Publishers::kOne},
+    {kPlatformState, "platform_state_t", "kinematics", 100.0, Publishers::kOne},
+    {kTracker, "tracker_point_t", "rig", 1000.0, Publishers::kOne},
+    {kRigTruth, "rig_truth_t", "rig", 1000.0, Publishers::kOne},
+    {kStatus, "node_status_t", "every node", 1.0, Publishers::kMany},
+    {kFault, "fault_t", "any node", 0.0, Publishers::kMany},
+    {kArm, "arm_t", "edsp-ctl", 0.0, Publishers::kOne},
+    {kPrMode, "pr_mode_t", "edsp-ctl", 0.0, Publishers::kOne},
+}};
+
+// The row of `name`, or null for a channel that is not edsp's.
+constexpr const Channel* Find(std::string_view name) {
+  for (const Channel& c : kChannels) {
+    if (c.name == name) return &c;
+  }
+  return nullptr;
+}
+
+// Several publishers' seq numbers interleave on it (EDSP_STATUS, EDSP_FAULT).
+constexpr bool HasManyPublishers(std::string_view name) {
+  const Channel* c = Find(name);
+  return c != nullptr && c->publishers == Publishers::kMany;
+}
+
+}  // namespace edsp::channel

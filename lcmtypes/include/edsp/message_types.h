@@ -1,0 +1,59 @@
+#pragma once
+// Every edsp message type (lcmtypes/*.lcm), as a list code can iterate at
+// compile time: the CSV export's decoders and the fuzz target's are driven
+// from it, and a test holds it to the channel table (channels.h) and to
+// lcmtypes/CMakeLists.txt.
+
+#include <cstddef>
+#include <tuple>
+#include <utility>
+
+#include "edsp/arm_t.hpp"
+#include "edsp/fault_t.hpp"
+#include "edsp/leg_command_t.hpp"
+#include "edsp/leg_state_t.hpp"
+#include "edsp/node_status_t.hpp"
+#include "edsp/platform_config_t.hpp"
+#include "edsp/platform_state_t.hpp"
+#include "edsp/pose_setpoint_t.hpp"
+#include "edsp/pr_mode_t.hpp"
+#include "edsp/rig_truth_t.hpp"
+#include "edsp/tracker_point_t.hpp"
+
+namespace edsp {
+
+// The order is the fuzz corpus's: a seed's first byte picks the type by index.
+using MessageTypes = std::tuple<pose_setpoint_t, leg_command_t, leg_state_t, platform_state_t, platform_config_t,
+                                tracker_point_t, rig_truth_t, node_status_t, fault_t, arm_t, pr_mode_t>;
+inline constexpr std::size_t kMessageTypeCount = std::tuple_size_v<MessageTypes>;
+
+// A message type as a value, for the visitors below.
+template <typename Msg>
+struct TypeTag {
+  using type = Msg;
+};
+
+namespace detail {
+template <typename F, std::size_t... I>
+void ForEachMessageType(F&& f, std::index_sequence<I...>) {
+  (f(TypeTag<std::tuple_element_t<I, MessageTypes>>{}), ...);
+}
+template <typename F, std::size_t... I>
+void VisitMessageType(std::size_t index, F&& f, std::index_sequence<I...>) {
+  ((index == I ? (f(TypeTag<std::tuple_element_t<I, MessageTypes>>{}), 0) : 0), ...);
+}
+}  // namespace detail
+
+// f(TypeTag<Msg>{}) for every message type, in MessageTypes' order.
+template <typename F>
+void ForEachMessageType(F&& f) {
+  detail::ForEachMessageType(std::forward<F>(f), std::make_index_sequence<kMessageTypeCount>{});
+}
+
+// f(TypeTag<Msg>{}) for the type at `index` (< kMessageTypeCount; else nothing).
+template <typename F>
+void VisitMessageType(std::size_t index, F&& f) {
+  detail::VisitMessageType(index, std::forward<F>(f), std::make_index_sequence<kMessageTypeCount>{});
+}
+
+}  // namespace edsp

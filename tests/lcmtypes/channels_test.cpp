@@ -1,0 +1,82 @@
+// The channel table (channels.h) against what it must agree with: the
+// message types (message_types.h, lcmtypes/CMakeLists.txt) and the contract
+// users read (docs/interfaces.md §1). Each is parsed here on its own, so a
+// channel or a type added in one place and not the others fails.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+
+#include "edsp/channels.h"
+#include "edsp/message_types.h"
+
+namespace edsp {
+namespace {
+
+std::string Slurp(const std::string& path) {
+  std::ifstream in(path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  EXPECT_FALSE(text.str().empty()) << path << " is empty or missing";
+  return text.str();
+}
+
+std::set<std::string> MessageTypeNames() {
+  std::set<std::string> names;
+  ForEachMessageType([&](auto tag) { names.insert(decltype(tag)::type::getTypeName()); });
+  return names;
+}
+
+TEST(ChannelTable, EveryChannelCarriesAKnownTypeAndEveryTypeHasAChannel) {
+  const std::set<std::string> types = MessageTypeNames();
+  EXPECT_EQ(types.size(), kMessageTypeCount) << "a type listed twice";
+  std::set<std::string> carried, names;
+  for (const channel::Channel& c : channel::kChannels) {
+    EXPECT_EQ(types.count(std::string(c.type)), 1u) << c.name << ": " << c.type << " is not in message_types.h";
+    EXPECT_TRUE(names.insert(std::string(c.name)).second) << c.name << " listed twice";
+    EXPECT_EQ(c.name.rfind("EDSP_", 0), 0u) << c.name;
+    EXPECT_GE(c.rate_hz, 0.0) << c.name;
+    carried.insert(std::string(c.type));
+  }
+  EXPECT_EQ(carried, types) << "a message type no channel carries";
+}
+
+TEST(ChannelTable, TheMessageTypesAreTheOnesLcmGenBuilds) {
+  const std::string cmake = Slurp(EDSP_SOURCE_DIR "/lcmtypes/CMakeLists.txt");
+  std::smatch list;
+  ASSERT_TRUE(std::regex_search(cmake, list, std::regex(R"(set\(EDSP_LCM_TYPES([^)]*)\))")));
+  std::set<std::string> built;
+  std::istringstream words(list[1].str());
+  for (std::string word; words >> word;) built.insert(word);
+  EXPECT_EQ(built, MessageTypeNames());
+}
+
+TEST(ChannelTable, InterfacesMdListsEveryChannelWithItsType) {
+  const std::string doc = Slurp(EDSP_SOURCE_DIR "/docs/interfaces.md");
+  const std::regex row(R"(\n\| `(EDSP_[A-Z_]+)` \| `([a-z_]+_t)` \|)");
+  std::map<std::string, std::string> documented;
+  for (auto it = std::sregex_iterator(doc.begin(), doc.end(), row); it != std::sregex_iterator(); ++it) {
+    documented[(*it)[1].str()] = (*it)[2].str();
+  }
+  std::map<std::string, std::string> table;
+  for (const channel::Channel& c : channel::kChannels) table[std::string(c.name)] = std::string(c.type);
+  EXPECT_EQ(documented, table);
+}
+
+TEST(ChannelTable, OnlyStatusAndFaultInterleaveSeveralPublishers) {
+  std::set<std::string> many;
+  for (const channel::Channel& c : channel::kChannels) {
+    if (channel::HasManyPublishers(c.name)) many.insert(std::string(c.name));
+  }
+  EXPECT_EQ(many, (std::set<std::string>{"EDSP_STATUS", "EDSP_FAULT"}));
+  EXPECT_FALSE(channel::HasManyPublishers("OTHER_APP"));
+  EXPECT_EQ(channel::Find("EDSP_NOPE"), nullptr);
+  static_assert(channel::Find(channel::kLegCommand)->rate_hz == 1000.0, "usable at compile time");
+}
+
+}  // namespace
+}  // namespace edsp
