@@ -80,27 +80,38 @@ bool ModbusTcpBackend::Enabled(Enabling enabling) const {
   return true;
 }
 
-// Judged only on feedback the drives latched after the previous exchange's
-// commands (a new cycle count): an older image may still show a state the
+bool ModbusTcpBackend::LatchedSince(const CycleCounts& before) const {
+  for (std::size_t d = 0; d < feedback_.size(); ++d) {
+    if (feedback_[d].cycle_count == before[d]) return false;
+  }
+  return true;
+}
+
+// Judged only on feedback every drive latched after this call's previous
+// exchange (a new cycle count): an older image may still show a state the
 // drives have since left (operation enabled, before a deactivation's
 // shutdown reached them), and the first cycle would find them out of it.
-bool ModbusTcpBackend::EnableDrives(Enabling enabling, std::string* error) {
+// The first exchange's answer is never judged: it may show the last
+// commands of a predecessor, not this call's.
+bool ModbusTcpBackend::EnableDrives(Enabling enabling, std::chrono::milliseconds budget, std::string* error) {
   constexpr int kLatchedCycles = 50;
-  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  const auto give_up = std::chrono::steady_clock::now() + budget;
+  if (!Exchange(enabling, error)) return false;
   int latched = 0;
   while (latched < kLatchedCycles && std::chrono::steady_clock::now() < give_up) {
-    const std::uint16_t before = feedback_[0].cycle_count;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    CycleCounts before;
+    for (std::size_t d = 0; d < feedback_.size(); ++d) before[d] = feedback_[d].cycle_count;
     if (!Exchange(enabling, error)) return false;
-    if (feedback_[0].cycle_count != before) {
+    if (LatchedSince(before)) {
       if (Enabled(enabling)) return true;
       ++latched;
     }
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
   if (latched == 0) {
-    *error = fmt::format("{}: the drives latched no feedback in 5 s of enabling (cycle count stays {}): "
+    *error = fmt::format("{}: the drives latched no new feedback in {} ms of enabling (cycle count stays {}): "
                          "they are not cycling",
-                         master_.endpoint(), feedback_[0].cycle_count);
+                         master_.endpoint(), budget.count(), feedback_[0].cycle_count);
     return false;
   }
   for (std::size_t d = 0; d < feedback_.size(); ++d) {
@@ -125,7 +136,7 @@ bool ModbusTcpBackend::Activate(std::string* error) {
   // Start-up enables the drives where they stand but resets no fault: a
   // drive found in fault (a predecessor's outage) stays so, the first
   // cycle fails on it, and the bridge holds until the operator re-arms.
-  if (!EnableDrives(Enabling::kNotFaulted, error)) {
+  if (!EnableDrives(Enabling::kNotFaulted, kActivateBudget, error)) {
     PowerDown();  // those it did enable: inactive means without power
     master_.Disconnect();
     return false;
@@ -141,7 +152,7 @@ bool ModbusTcpBackend::Reset(std::string* error) {
   if (!master_.connected() && !ConnectAndRead(error)) return false;
   // Only the drives out of operation are reset and enabled (where they
   // stand); the others keep power and their targets throughout.
-  if (!EnableDrives(Enabling::kResetFaults, error)) return false;
+  if (!EnableDrives(Enabling::kResetFaults, kReArmBudget, error)) return false;
   lifecycle_.Take(BackendTransition::kRecover);
   detail_.clear();
   fault_cause_.clear();

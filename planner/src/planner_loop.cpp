@@ -1,4 +1,6 @@
 #include "edsp/planner/planner_loop.h"
+
+#include <cmath>
 #include "edsp/channels.h"
 
 namespace edsp {
@@ -22,8 +24,10 @@ bool PlannerLoop::RunCycle(std::int64_t now_utime, std::int64_t deadline_misses)
   bool go_on = true;
   if (planner_.Finished(now_utime)) {
     status_.SetState(node_status_t::STATE_HOLDING);
-    const double held_s = static_cast<double>(now_utime - start_utime_) * 1e-6 - planner_.sequence().duration_s();
-    go_on = options_.exit_after_hold_s < 0.0 || held_s < options_.exit_after_hold_s;
+    // In whole microseconds, as the clock: the last cycle is the one the sum says.
+    const std::int64_t end_utime =
+        start_utime_ + std::llround((planner_.sequence().duration_s() + options_.exit_after_hold_s) * 1e6);
+    go_on = options_.exit_after_hold_s < 0.0 || now_utime < end_utime;
   }
   status_.RecordLoop(std::chrono::steady_clock::now() - began);
   if (status_.Due(now_utime)) status_out_.Publish(status_.Report(now_utime, deadline_misses));

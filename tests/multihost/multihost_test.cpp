@@ -142,8 +142,8 @@ TEST(MultiHost, TwoPercentLossOnTheControllersLinkIsCountedAndNeverMakesAJump) {
 
 TEST(MultiHost, ControllerLinkDownHoldsWithin50msAndResumesOnlyAfterReArm) {
   VirtualNetwork network(kHosts);
-  // Lz: 0 → +0.5 m → −0.5 m → 0 at 0.15 m/s, dwelling 1 s at each stop
-  // (the link goes down a few seconds in, mid-way up the first move).
+  // Lz through its three stops and home at 0.15 m/s, dwelling 1 s at each
+  // (the link goes down 3 s in, mid-way through the first move).
   MultiHostOptions options{R"("--motions", "Lz", "--stops", "3", "--dwell-s", "1", "--max-speed-m-s", "0.15",
                                "--exit-after-hold-s", "2")"};
   options.stale_ms = 50;  // as shipped: this test is about the hold

@@ -127,7 +127,7 @@ void ModbusDriveServer::Run(const std::function<bool()>& stop) {
     // One step sees the whole stall, as a real drive's watchdog would have.
     if (now >= next_tick) {
       const auto missed = (now - next_tick) / cycle + 1;
-      Tick(options_.cycle_s * static_cast<double>(missed));
+      if (!clock_stopped_.load()) Tick(options_.cycle_s * static_cast<double>(missed));
       next_tick += cycle * missed;
     }
     pollfd fds[2] = {{listener_, POLLIN, 0}, {client_, POLLIN, 0}};

@@ -12,6 +12,7 @@
 // does that and recovers. A lost connection is retried every 100 ms.
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -50,10 +51,18 @@ class ModbusTcpBackend final : public DriveBackend {
   enum class Enabling { kNone, kNotFaulted, kResetFaults };
   // One exchange: each drive's next command carrying its held target.
   bool Exchange(Enabling enabling, std::string* error);
-  // Exchanges until every drive the call may enable is in operation.
-  bool EnableDrives(Enabling enabling, std::string* error);
+  using CycleCounts = std::array<std::uint16_t, 6>;
+  // How long enabling may take: at start-up, and in a re-arm (between two
+  // of the bridge's cycles, which it holds up meanwhile).
+  static constexpr std::chrono::milliseconds kActivateBudget{5000};
+  static constexpr std::chrono::milliseconds kReArmBudget{250};
+  // Exchanges until every drive the call may enable is in operation, or
+  // `budget` has passed.
+  bool EnableDrives(Enabling enabling, std::chrono::milliseconds budget, std::string* error);
   // Every drive in operation, but those `enabling` leaves in fault.
   bool Enabled(Enabling enabling) const;
+  // Every drive's feedback was latched after the exchange that read `before`.
+  bool LatchedSince(const CycleCounts& before) const;
   bool ConnectAndRead(std::string* error);
   void Describe(DriveFeedback* feedback);
   // Shutdown (6040h) to every drive: ready to switch on, no power.

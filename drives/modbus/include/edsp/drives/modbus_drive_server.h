@@ -43,6 +43,10 @@ class ModbusDriveServer {
   void Run(const std::function<bool()>& stop);
   // From any thread: drive `index` (0-5) raises `error_code` at its next cycle.
   void InjectFault(int index, std::uint16_t error_code);
+  // From any thread: the drives stop cycling (true) while the server goes
+  // on answering with what they last latched, as a gateway whose drives'
+  // clock stopped; false lets them cycle again.
+  void StopDrivesClock(bool stopped) { clock_stopped_.store(stopped); }
   std::int64_t requests() const { return requests_.load(); }
 
  private:
@@ -60,6 +64,7 @@ class ModbusDriveServer {
   std::uint16_t cycles_ = 0;  // the TxPDOs' cycle count
   std::array<std::atomic<std::uint16_t>, modbus_map::kDrives> pending_faults_{};
   std::atomic<std::int64_t> requests_{0};
+  std::atomic<bool> clock_stopped_{false};
 };
 
 }  // namespace edsp::cia402
