@@ -62,9 +62,9 @@ TEST(ShmChannel, DeliversInOrderFromTheFirstMessageAfterAttach) {
   EXPECT_EQ(reader->stats().overruns, 0u);
 }
 
-// Regression (fuzz_shm_segment): slots whose sequence runs ahead of the
-// writer's own `published` count (a corrupt or foreign ring) used to make
-// TryTake skip forward one message at a time, for ever. Now it waits.
+// Found by fuzz_shm_segment: slots whose sequence runs ahead of the
+// writer's own `published` count (a corrupt or foreign ring) must not make
+// TryTake skip forward one message at a time, for ever: it waits.
 TEST(ShmChannel, ASlotAheadOfWhatTheWriterPublishedIsNotChasedForever) {
   const ShmChannelSpec spec = TestSpec("corrupt_ring");
   auto writer = OpenWriter(spec);
