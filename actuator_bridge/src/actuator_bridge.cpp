@@ -5,8 +5,8 @@
 
 #include <fmt/format.h>
 
-#include "edsp/node/fault.h"
 #include "edsp/channels.h"
+#include "edsp/node/fault.h"
 
 namespace edsp {
 namespace {

@@ -23,6 +23,7 @@
 #include <fmt/format.h>
 
 #include "edsp/arm_t.hpp"
+#include "edsp/channels.h"
 #include "edsp/fault_t.hpp"
 #include "edsp/kinematics/passive_rotation.h"
 #include "edsp/leg_command_t.hpp"
@@ -31,7 +32,6 @@
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/pr_mode_t.hpp"
 #include "edsp/transport/bus.h"
-#include "edsp/channels.h"
 
 namespace edsp {
 namespace {

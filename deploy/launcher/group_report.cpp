@@ -2,9 +2,9 @@
 
 #include <fmt/format.h>
 
+#include "edsp/channels.h"
 #include "edsp/node/fault.h"
 #include "edsp/transport/transport_config.h"
-#include "edsp/channels.h"
 
 namespace edsp {
 

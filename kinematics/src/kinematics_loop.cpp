@@ -5,8 +5,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "edsp/node/runtime.h"
 #include "edsp/channels.h"
+#include "edsp/node/runtime.h"
 
 namespace edsp {
 

@@ -6,10 +6,10 @@
 
 #include <fmt/format.h>
 
+#include "edsp/channels.h"
 #include "edsp/kinematics/forward_kinematics.h"
 #include "edsp/kinematics/workspace.h"
 #include "edsp/node/fault.h"
-#include "edsp/channels.h"
 
 namespace edsp {
 

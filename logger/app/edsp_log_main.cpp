@@ -18,10 +18,10 @@
 #include "edsp/fault_t.hpp"
 #include <fstream>
 
+#include "edsp/channels.h"
 #include "edsp/logger/channel_csv_export.h"
 #include "edsp/logger/log_summary.h"
 #include "edsp/logger/measurement_export.h"
-#include "edsp/channels.h"
 
 namespace edsp {
 namespace {

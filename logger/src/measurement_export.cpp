@@ -9,12 +9,12 @@
 
 #include <fmt/format.h>
 
+#include "edsp/channels.h"
 #include "edsp/leg_command_t.hpp"
 #include "edsp/leg_state_t.hpp"
 #include "edsp/logger/log_reader.h"
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/tracker_point_t.hpp"
-#include "edsp/channels.h"
 
 namespace edsp {
 

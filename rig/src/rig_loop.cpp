@@ -4,8 +4,8 @@
 
 #include <fmt/format.h>
 
-#include "edsp/node/fault.h"
 #include "edsp/channels.h"
+#include "edsp/node/fault.h"
 
 namespace edsp {
 

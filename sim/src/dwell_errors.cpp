@@ -1,11 +1,11 @@
 #include "edsp/transport/decode.h"
 #include "edsp/sim/dwell_errors.h"
 
+#include "edsp/channels.h"
 #include "edsp/leg_command_t.hpp"
 #include "edsp/logger/log_reader.h"
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/tracker_point_t.hpp"
-#include "edsp/channels.h"
 
 namespace edsp {
 

@@ -8,13 +8,13 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "edsp/channels.h"
 #include "edsp/kinematics/config.h"
 #include "edsp/kinematics/kinematics_node.h"
-#include "edsp/planner/motion_library.h"
 #include "edsp/logger/measurement_export.h"
+#include "edsp/planner/motion_library.h"
 #include "edsp/rig/rig_effects.h"
 #include "edsp/sim/stack_simulation.h"
-#include "edsp/channels.h"
 
 namespace edsp {
 

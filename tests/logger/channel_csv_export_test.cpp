@@ -11,14 +11,14 @@
 
 #include <gtest/gtest.h>
 
-#include "log_builder.h"  // tests/support
+#include "edsp/channels.h"
 #include "edsp/fault_t.hpp"
 #include "edsp/leg_command_t.hpp"
-#include "edsp/channels.h"
 #include "edsp/logger/channel_csv_export.h"
 #include "edsp/message_types.h"
 #include "edsp/platform_config_t.hpp"
 #include "edsp/pose_setpoint_t.hpp"
+#include "log_builder.h"  // tests/support
 
 namespace edsp {
 namespace {
