@@ -116,12 +116,22 @@ Vector6 ActuatorBridge::NextTarget(const Vector6& command_m, double max_step_m, 
 
 bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utime,
                                    fault_t* fault) {
+  std::optional<Refusal> refusal = WhyNotListening(c, now_utime);
+  const StepLimit step = StepLimitFor(c);
+  Vector6 command_m;
+  if (!refusal) refusal = WhyNotTheseLengths(c, step, &command_m);
+  if (refusal) return Reject(refusal->code, std::move(refusal->reason), now_utime, fault);
+  Accept(c, command_m, step, now_utime);
+  return true;  // to the drives at the next cycle's write
+}
+
+std::optional<ActuatorBridge::Refusal> ActuatorBridge::WhyNotListening(const leg_command_t& c,
+                                                                       std::int64_t now_utime) {
   if (state_ == BridgeState::kLatched) {
-    return Reject(FaultCode::kStale,
-                  fmt::format("leg command seq {} refused: holding after {} since command "
-                              "seq {}; re-arm required (EDSP_ARM)",
-                              c.seq, latch_cause_, last_command_seq_),
-                  now_utime, fault);
+    return Refusal{FaultCode::kStale,
+                   fmt::format("leg command seq {} refused: holding after {} since command "
+                               "seq {}; re-arm required (EDSP_ARM)",
+                               c.seq, latch_cause_, last_command_seq_)};
   }
   if (Moving() && now_utime - target_utime_ > options_.stale_us) {
     // Starved longer than the stale limit and no cycle noticed (this process
@@ -134,106 +144,109 @@ bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utim
     Apply(BridgeEvent::kStale);
     HoldAtRest();
     hold_where_the_drives_are_ = true;  // at the next cycle's read
-    return Reject(FaultCode::kStale,
-                  fmt::format("leg command seq {} refused: no valid leg command for {} us before it "
-                              "(limit {} us); holding the last valid position (command seq {}) until "
-                              "re-armed",
-                              c.seq, silent_us, options_.stale_us, last_command_seq_),
-                  now_utime, fault);
+    return Refusal{FaultCode::kStale,
+                   fmt::format("leg command seq {} refused: no valid leg command for {} us before it "
+                               "(limit {} us); holding the last valid position (command seq {}) until "
+                               "re-armed",
+                               c.seq, silent_us, options_.stale_us, last_command_seq_)};
   }
   if (hold_where_the_drives_are_) {
     // Frozen, then re-armed before a cycle read where the drives' watchdog
     // stopped them: a stream started now would rejoin from the last command
     // and pull them back. The next cycle reads them (1 ms).
-    return Reject(FaultCode::kStale,
-                  fmt::format("leg command seq {} refused: where the drives stopped during this "
-                              "bridge's freeze is not read yet (next cycle)",
-                              c.seq),
-                  now_utime, fault);
+    return Refusal{FaultCode::kStale,
+                   fmt::format("leg command seq {} refused: where the drives stopped during this "
+                               "bridge's freeze is not read yet (next cycle)",
+                               c.seq)};
   }
   if (!backend_ok_) {
-    return Reject(FaultCode::kBackend,
-                  fmt::format("leg command seq {} refused: the drives do not answer", c.seq),
-                  now_utime, fault);
+    return Refusal{FaultCode::kBackend, fmt::format("leg command seq {} refused: the drives do not answer", c.seq)};
   }
   if (c.session_id != options_.session_id) {
-    return Reject(FaultCode::kForeignSession,
-                  fmt::format("leg command seq {} from session {}, this group is session {}",
-                              c.seq, c.session_id, options_.session_id),
-                  now_utime, fault);
+    return Refusal{FaultCode::kForeignSession,
+                   fmt::format("leg command seq {} from session {}, this group is session {}", c.seq, c.session_id,
+                               options_.session_id)};
   }
   if (now_utime - c.utime > options_.stale_us) {
-    return Reject(FaultCode::kStale,
-                  fmt::format("leg command seq {} is {} us old (limit {} us)", c.seq,
-                              now_utime - c.utime, options_.stale_us),
-                  now_utime, fault);
+    return Refusal{FaultCode::kStale, fmt::format("leg command seq {} is {} us old (limit {} us)", c.seq,
+                                                  now_utime - c.utime, options_.stale_us)};
   }
   if (c.utime - now_utime > options_.stale_us) {
-    return Reject(FaultCode::kStale,
-                  fmt::format("leg command seq {} is stamped {} us in the future (limit {} us): the "
-                              "clocks of its host and this one disagree (docs/multihost.md)",
-                              c.seq, c.utime - now_utime, options_.stale_us),
-                  now_utime, fault);
+    return Refusal{FaultCode::kStale,
+                   fmt::format("leg command seq {} is stamped {} us in the future (limit {} us): the "
+                               "clocks of its host and this one disagree (docs/multihost.md)",
+                               c.seq, c.utime - now_utime, options_.stale_us)};
   }
-  const WorkspaceLimits& limits = model_.config().limits;
-  // A step longer than the legs could travel at full speed in the planner
-  // time between the two setpoints is a jump. Planner time, not arrival time:
-  // a late cycle or a burst of queued commands is not motion. After a hold
-  // (or at start) only a one-cycle step continues from the held position.
-  const std::int64_t basis = c.setpoint_utime != 0 ? c.setpoint_utime : c.utime;
-  double elapsed_s = 1e-3;
+  return std::nullopt;
+}
+
+// A step longer than the legs could travel at full speed in the planner
+// time between the two setpoints is a jump. Planner time, not arrival time:
+// a late cycle or a burst of queued commands is not motion. After a hold
+// (or at start) only a one-cycle step continues from the held position.
+ActuatorBridge::StepLimit ActuatorBridge::StepLimitFor(const leg_command_t& c) const {
+  StepLimit step;
+  step.basis_utime = c.setpoint_utime != 0 ? c.setpoint_utime : c.utime;
+  step.elapsed_s = 1e-3;
   if (Moving()) {
-    elapsed_s = std::clamp(static_cast<double>(basis - last_basis_utime_) * 1e-6, 1e-3,
-                           static_cast<double>(options_.stale_us) * 1e-6);
+    step.elapsed_s = std::clamp(static_cast<double>(step.basis_utime - last_basis_utime_) * 1e-6, 1e-3,
+                                static_cast<double>(options_.stale_us) * 1e-6);
   }
-  const double max_step_m = options_.max_leg_speed_m_s * elapsed_s + 1e-6;
+  step.max_step_m = options_.max_leg_speed_m_s * step.elapsed_s + 1e-6;
+  return step;
+}
+
+std::optional<ActuatorBridge::Refusal> ActuatorBridge::WhyNotTheseLengths(const leg_command_t& c,
+                                                                          const StepLimit& step,
+                                                                          Vector6* command_m) const {
+  const WorkspaceLimits& limits = model_.config().limits;
   // Rejoining: the first command after the re-arm starts the stream anew;
   // the ones after it must continue from it.
   const bool stream_starts = state_ == BridgeState::kArmed;
   const Vector6& reference = IsRejoining(state_) ? stream_length_m_ : target_length_m_;
-  Vector6 command_m;
   for (int i = 0; i < kNumLegs; ++i) {
     const double length = c.command_length_m[i];
     if (!std::isfinite(length)) {
-      return Reject(FaultCode::kNonFinite,
-                    fmt::format("leg command seq {}: leg {} length is not finite", c.seq, i + 1),
-                    now_utime, fault);
+      return Refusal{FaultCode::kNonFinite,
+                     fmt::format("leg command seq {}: leg {} length is not finite", c.seq, i + 1)};
     }
     if (length < limits.leg_min_m || length > limits.leg_max_m) {
-      return Reject(FaultCode::kOutOfStroke,
-                    fmt::format("leg command seq {}: leg {} length {:.6f} m outside {:.3f}..{:.3f} m",
-                                c.seq, i + 1, length, limits.leg_min_m, limits.leg_max_m),
-                    now_utime, fault);
+      return Refusal{FaultCode::kOutOfStroke,
+                     fmt::format("leg command seq {}: leg {} length {:.6f} m outside {:.3f}..{:.3f} m", c.seq,
+                                 i + 1, length, limits.leg_min_m, limits.leg_max_m)};
     }
-    if (!stream_starts && std::abs(length - reference(i)) > max_step_m) {
-      return Reject(FaultCode::kJump,
-                    fmt::format("leg command seq {}: leg {} jumps {:.6f} m from the {} {:.6f} m "
-                                "(at most {:.6f} m in {:.1f} ms)",
-                                c.seq, i + 1, length - reference(i),
-                                IsRejoining(state_) ? "previous command" : "held", reference(i),
-                                max_step_m, elapsed_s * 1e3),
-                    now_utime, fault);
+    if (!stream_starts && std::abs(length - reference(i)) > step.max_step_m) {
+      return Refusal{FaultCode::kJump,
+                     fmt::format("leg command seq {}: leg {} jumps {:.6f} m from the {} {:.6f} m "
+                                 "(at most {:.6f} m in {:.1f} ms)",
+                                 c.seq, i + 1, length - reference(i),
+                                 IsRejoining(state_) ? "previous command" : "held", reference(i), step.max_step_m,
+                                 step.elapsed_s * 1e3)};
     }
-    command_m(i) = length;
+    (*command_m)(i) = length;
   }
+  return std::nullopt;
+}
+
+void ActuatorBridge::Accept(const leg_command_t& c, const Vector6& command_m, const StepLimit& step,
+                            std::int64_t now_utime) {
   stream_length_m_ = command_m;
   bool caught_up = false;
-  const Vector6 next = NextTarget(command_m, max_step_m, elapsed_s, &caught_up);
+  const Vector6 next = NextTarget(command_m, step.max_step_m, step.elapsed_s, &caught_up);
   Apply(BridgeEvent::kCommandAccepted);
   if (caught_up) Apply(BridgeEvent::kCaughtUp);
   for (int i = 0; i < kNumLegs; ++i) {
     const double angle = model_.MotorAngleFromLength(i, next(i));
     target_.motor_velocity_rad_s[i] =
-        target_utime_ < 0 ? 0.0 : (angle - target_.motor_angle_rad[i]) / elapsed_s;
+        target_utime_ < 0 ? 0.0 : (angle - target_.motor_angle_rad[i]) / step.elapsed_s;
     target_.motor_angle_rad[i] = angle;
     target_length_m_(i) = next(i);
   }
-  target_.utime = basis;
+  target_.utime = step.basis_utime;
   target_utime_ = now_utime;
-  last_basis_utime_ = basis;
+  last_basis_utime_ = step.basis_utime;
   last_command_seq_ = c.seq;
   ++accepted_;
-  return true;  // to the drives at the next cycle's write
 }
 
 bool ActuatorBridge::LoseDrives(std::int64_t now_utime, fault_t* fault) {

@@ -6,6 +6,7 @@
 // valid position and stays latched there until explicitly re-armed.
 
 #include <cstdint>
+#include <optional>
 #include <set>
 #include <string>
 
@@ -80,6 +81,31 @@ class ActuatorBridge {
   OperatorRequestAnswers arm_answers_;
   fault_t Fault(FaultCode code, std::string reason, std::int64_t now_utime) const;
   bool Reject(FaultCode code, std::string reason, std::int64_t now_utime, fault_t* fault);
+
+  // HandleCommand's steps. A refusal: the fault's code and reason.
+  struct Refusal {
+    FaultCode code;
+    std::string reason;
+  };
+  // How far a command may move a leg: the planner time since the last
+  // accepted command (`basis`: its setpoint's time), clamped to one cycle
+  // ... the stale limit, at the legs' top speed.
+  struct StepLimit {
+    std::int64_t basis_utime;
+    double elapsed_s;
+    double max_step_m;
+  };
+  // Why the bridge takes no command now, whatever its lengths: latched,
+  // starved past the stale limit (then it holds, as a cycle would have),
+  // drives not read or not answering, another session, a stale or future
+  // stamp. Nothing when it listens.
+  std::optional<Refusal> WhyNotListening(const leg_command_t& c, std::int64_t now_utime);
+  StepLimit StepLimitFor(const leg_command_t& c) const;
+  // Why these lengths cannot be commanded: not finite, out of stroke, a
+  // jump from the held target or the stream. Else the lengths in *command_m.
+  std::optional<Refusal> WhyNotTheseLengths(const leg_command_t& c, const StepLimit& step, Vector6* command_m) const;
+  // The command becomes the drives' target (while rejoining, a step towards it).
+  void Accept(const leg_command_t& c, const Vector6& command_m, const StepLimit& step, std::int64_t now_utime);
   // The target this command allows: itself, or while rejoining a bounded
   // step towards it. Ends the rejoin once the stream is within one rejoin step
   // (a stream moving faster than the rejoin speed is caught when it slows).
