@@ -7,6 +7,7 @@
 
 #include "edsp/channels.h"
 #include "edsp/node/fault.h"
+#include "edsp/node/stamp_check.h"
 
 namespace edsp {
 namespace {
@@ -116,11 +117,14 @@ Vector6 ActuatorBridge::NextTarget(const Vector6& command_m, double max_step_m, 
 
 bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utime,
                                    fault_t* fault) {
-  std::optional<Refusal> refusal = WhyNotListening(c, now_utime);
+  if (std::optional<Refusal> refusal = WhyNotListening(c, now_utime)) {
+    return Reject(refusal->code, std::move(refusal->reason), now_utime, fault);
+  }
   const StepLimit step = StepLimitFor(c);
   Vector6 command_m;
-  if (!refusal) refusal = WhyNotTheseLengths(c, step, &command_m);
-  if (refusal) return Reject(refusal->code, std::move(refusal->reason), now_utime, fault);
+  if (std::optional<Refusal> refusal = WhyNotTheseLengths(c, step, &command_m)) {
+    return Reject(refusal->code, std::move(refusal->reason), now_utime, fault);
+  }
   Accept(c, command_m, step, now_utime);
   return true;  // to the drives at the next cycle's write
 }
@@ -167,16 +171,8 @@ std::optional<ActuatorBridge::Refusal> ActuatorBridge::WhyNotListening(const leg
                    fmt::format("leg command seq {} from session {}, this group is session {}", c.seq, c.session_id,
                                options_.session_id)};
   }
-  if (now_utime - c.utime > options_.stale_us) {
-    return Refusal{FaultCode::kStale, fmt::format("leg command seq {} is {} us old (limit {} us)", c.seq,
-                                                  now_utime - c.utime, options_.stale_us)};
-  }
-  if (c.utime - now_utime > options_.stale_us) {
-    return Refusal{FaultCode::kStale,
-                   fmt::format("leg command seq {} is stamped {} us in the future (limit {} us): the "
-                               "clocks of its host and this one disagree (docs/multihost.md)",
-                               c.seq, c.utime - now_utime, options_.stale_us)};
-  }
+  std::string stamp = StampProblem(fmt::format("leg command seq {}", c.seq), c.utime, now_utime, options_.stale_us);
+  if (!stamp.empty()) return Refusal{FaultCode::kStale, std::move(stamp)};
   return std::nullopt;
 }
 
@@ -189,8 +185,9 @@ ActuatorBridge::StepLimit ActuatorBridge::StepLimitFor(const leg_command_t& c) c
   step.basis_utime = c.setpoint_utime != 0 ? c.setpoint_utime : c.utime;
   step.elapsed_s = 1e-3;
   if (Moving()) {
-    step.elapsed_s = std::clamp(static_cast<double>(step.basis_utime - last_basis_utime_) * 1e-6, 1e-3,
-                                static_cast<double>(options_.stale_us) * 1e-6);
+    // In double: setpoint_utime is the sender's word, and any int64 may come.
+    const double since_s = (static_cast<double>(step.basis_utime) - static_cast<double>(last_basis_utime_)) * 1e-6;
+    step.elapsed_s = std::clamp(since_s, 1e-3, static_cast<double>(options_.stale_us) * 1e-6);
   }
   step.max_step_m = options_.max_leg_speed_m_s * step.elapsed_s + 1e-6;
   return step;

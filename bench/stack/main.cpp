@@ -24,6 +24,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "edsp/channels.h"
 #include "edsp/transport/decode.h"
 #include "edsp/logger/log_reader.h"
 #include "edsp/node_status_t.hpp"
@@ -46,7 +47,7 @@ const std::map<std::string, Target> kTargets = {
 std::string Routes(const std::string& transport) {
   if (transport == "lcm") return "";
   std::string routes;
-  for (const char* channel : {"EDSP_SETPOINT", "EDSP_LEG_COMMAND", "EDSP_LEG_STATE"}) {
+  for (const char* channel : {channel::kSetpoint, channel::kLegCommand, channel::kLegState}) {
     routes += transport == "shm"
                   ? fmt::format("[transport.channels.{}]\npath = \"shm\"\n", channel)
                   : fmt::format("[transport.channels.{}]\npath = \"both\"\nmirror_every = 10\n", channel);
@@ -115,7 +116,7 @@ std::map<std::string, node_status_t> LastStatus(const std::string& log_path) {
   LogReader reader(log_path);
   LogEvent event;
   while (reader.Next(&event)) {
-    if (event.channel != "EDSP_STATUS") continue;
+    if (event.channel != channel::kStatus) continue;
     node_status_t s;
     if (DecodeUntrusted(&s, event.data.data(), event.data.size())) last[s.node] = s;
   }

@@ -10,6 +10,7 @@
 #include "edsp/kinematics/forward_kinematics.h"
 #include "edsp/kinematics/workspace.h"
 #include "edsp/node/fault.h"
+#include "edsp/node/stamp_check.h"
 
 namespace edsp {
 
@@ -121,19 +122,9 @@ bool KinematicsNode::HandleSetpoint(const pose_setpoint_t& sp, std::int64_t now_
                    now_utime, kChannel);
     return false;
   }
-  if (now_utime - sp.utime > options_.stale_us) {
-    *fault = Fault(FaultCode::kStale,
-                   fmt::format("setpoint seq {} is {} us old (limit {} us)", sp.seq,
-                               now_utime - sp.utime, options_.stale_us),
-                   now_utime, kChannel);
-    return false;
-  }
-  if (sp.utime - now_utime > options_.stale_us) {
-    *fault = Fault(FaultCode::kStale,
-                   fmt::format("setpoint seq {} is stamped {} us in the future (limit {} us): the "
-                               "clocks of its host and this one disagree (docs/multihost.md)",
-                               sp.seq, sp.utime - now_utime, options_.stale_us),
-                   now_utime, kChannel);
+  const std::string what = fmt::format("setpoint seq {}", sp.seq);
+  if (std::string stamp = StampProblem(what, sp.utime, now_utime, options_.stale_us); !stamp.empty()) {
+    *fault = Fault(FaultCode::kStale, std::move(stamp), now_utime, kChannel);
     return false;
   }
   Vector6 q;

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "edsp/actuator_bridge/actuator_bridge.h"
 #include "edsp/kinematics/config.h"
 #include "recording_backend.h"
@@ -169,6 +171,29 @@ TEST(ActuatorBridge, RefusesForeignNonFiniteOutOfStrokeAndJumpingCommands) {
   c = f.Command(0.0, kStart - 60000);
   ExpectRejected(f, c, FaultCode::kStale, "us old");
   EXPECT_EQ(f.bridge.rejected(), 5);
+}
+
+// setpoint_utime is the sender's word: any int64 may come, from this
+// session or another, while the bridge moves. No arithmetic on it may
+// overflow (UBSan in the sanitized stage), and the extremes allow no more
+// than the stale limit's step.
+TEST(ActuatorBridge, AnyPlannerTimeInACommandIsHandledWithoutOverflow) {
+  for (std::int64_t extreme : {std::numeric_limits<std::int64_t>::min(), std::numeric_limits<std::int64_t>::max()}) {
+    Fixture f;
+    std::int64_t t = kStart;
+    MoveUp(f, &t, 1e-5, 20);
+    fault_t fault;
+    leg_command_t c = f.Command(20e-5, t, 21);
+    c.setpoint_utime = extreme;
+    c.session_id = 6;
+    EXPECT_FALSE(f.bridge.HandleCommand(c, t, &fault));
+    EXPECT_EQ(fault.code, static_cast<std::int32_t>(FaultCode::kForeignSession)) << fault.reason;
+    c.session_id = 5;
+    EXPECT_TRUE(f.bridge.HandleCommand(c, t, &fault)) << fault.reason;  // no motion: within any step
+    c = f.Command(20e-5 + 0.06, t + 1000, 22);  // 60 mm up: legs beyond the stale limit's 25 mm
+    EXPECT_FALSE(f.bridge.HandleCommand(c, t + 1000, &fault));
+    EXPECT_EQ(fault.code, static_cast<std::int32_t>(FaultCode::kJump)) << fault.reason;
+  }
 }
 
 TEST(ActuatorBridge, HoldsTheLastValidPositionWithin50msOfSilence) {

@@ -67,12 +67,12 @@ TEST(ChannelTable, InterfacesMdListsEveryChannelWithItsType) {
   EXPECT_EQ(documented, table);
 }
 
-TEST(ChannelTable, OnlyStatusAndFaultInterleaveSeveralPublishers) {
+TEST(ChannelTable, OnlyStatusFaultsAndRequestsInterleaveSeveralSeqStreams) {
   std::set<std::string> many;
   for (const channel::Channel& c : channel::kChannels) {
     if (channel::HasManyPublishers(c.name)) many.insert(std::string(c.name));
   }
-  EXPECT_EQ(many, (std::set<std::string>{"EDSP_STATUS", "EDSP_FAULT"}));
+  EXPECT_EQ(many, (std::set<std::string>{"EDSP_STATUS", "EDSP_FAULT", "EDSP_ARM", "EDSP_PR_MODE"}));
   EXPECT_FALSE(channel::HasManyPublishers("OTHER_APP"));
   EXPECT_EQ(channel::Find("EDSP_NOPE"), nullptr);
   static_assert(channel::Find(channel::kLegCommand)->rate_hz == 1000.0, "usable at compile time");

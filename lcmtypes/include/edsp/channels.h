@@ -25,8 +25,9 @@ inline constexpr char kArm[] = "EDSP_ARM";
 inline constexpr char kPrMode[] = "EDSP_PR_MODE";
 
 // Whose seq numbers a channel carries: one publisher's (a gap is a lost
-// message), or several publishers' interleaved (every node's status and
-// faults: gaps are counted per publisher, never across).
+// message), or several interleaved (every node's status and faults; the
+// operator's requests, each edsp-ctl run numbering its own from 1 and
+// repeating them until answered): no loss can be told across them.
 enum class Publishers { kOne, kMany };
 
 struct Channel {
@@ -47,8 +48,8 @@ inline constexpr std::array<Channel, 11> kChannels = {{
     {kRigTruth, "rig_truth_t", "rig", 1000.0, Publishers::kOne},
     {kStatus, "node_status_t", "every node", 1.0, Publishers::kMany},
     {kFault, "fault_t", "any node", 0.0, Publishers::kMany},
-    {kArm, "arm_t", "edsp-ctl", 0.0, Publishers::kOne},
-    {kPrMode, "pr_mode_t", "edsp-ctl", 0.0, Publishers::kOne},
+    {kArm, "arm_t", "edsp-ctl", 0.0, Publishers::kMany},
+    {kPrMode, "pr_mode_t", "edsp-ctl", 0.0, Publishers::kMany},
 }};
 
 // The row of `name`, or null for a channel that is not edsp's.
@@ -59,7 +60,7 @@ constexpr const Channel* Find(std::string_view name) {
   return nullptr;
 }
 
-// Several publishers' seq numbers interleave on it (EDSP_STATUS, EDSP_FAULT).
+// Several seq streams interleave on it (status, faults, operator requests).
 constexpr bool HasManyPublishers(std::string_view name) {
   const Channel* c = Find(name);
   return c != nullptr && c->publishers == Publishers::kMany;

@@ -87,9 +87,9 @@ class ActuatorBridge {
     FaultCode code;
     std::string reason;
   };
-  // How far a command may move a leg: the planner time since the last
-  // accepted command (`basis`: its setpoint's time), clamped to one cycle
-  // ... the stale limit, at the legs' top speed.
+  // How far a command may move a leg: at the legs' top speed, for the
+  // planner time since the last accepted command (`basis`: its setpoint's
+  // time) clamped to [one cycle, the stale limit].
   struct StepLimit {
     std::int64_t basis_utime;
     double elapsed_s;
