@@ -1,6 +1,7 @@
 #pragma once
 // Every EDSP_* channel, once: its name, message type, publisher and rate
-// (docs/interfaces.md §1, which a test holds to this table). The nodes
+// (docs/interfaces.md §1; a test holds the names and types of both to each
+// other; publisher and rate are prose there, nominal here). The nodes
 // publish and subscribe by these names; what needs the whole list is driven
 // from kChannels and from the message types' list (message_types.h): the
 // log summary's loss accounting, the CSV export, the decoders' fuzz target.
