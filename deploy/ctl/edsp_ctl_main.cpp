@@ -3,6 +3,9 @@
 //       re-arm the actuator bridge after it latched a hold (EDSP_ARM)
 //   edsp-ctl pr-mode none|unsigned|signed|asin [same options]
 //       switch the kinematics node's PR compensation live (EDSP_PR_MODE)
+//   edsp-ctl calibration MODEL|off [--apply-ambiguous] [same options]
+//       switch the kinematics node's calibration live (EDSP_CALIBRATION): the
+//       edsp-gap-model/1 file MODEL (sent whole), or none; blended over 1 s
 // --session-id auto (the default) listens for up to --timeout-s (2 s) for
 // the group's leg commands or setpoints and takes their session; several
 // sessions on the bus (two groups) is an error naming them. The command then
@@ -16,13 +19,16 @@
 #include <chrono>
 #include <memory>
 #include <cstdio>
+#include <fstream>
 #include <set>
+#include <sstream>
 #include <string>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
 #include "edsp/arm_t.hpp"
+#include "edsp/calibration_t.hpp"
 #include "edsp/channels.h"
 #include "edsp/fault_t.hpp"
 #include "edsp/kinematics/passive_rotation.h"
@@ -155,6 +161,28 @@ int SetPrMode(const CtlOptions& o, const std::string& mode_text) {
   return SendAndConfirm(o, channel::kPrMode, request, "kinematics");
 }
 
+// The model file's text, read before anything goes on the bus: a file that
+// cannot be read is the operator's error, named here; what it says is the
+// kinematics node's to judge (against its platform), and it answers why.
+std::string ModelText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("calibration " + path + ": cannot read the file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (text.str().empty()) {
+    throw std::runtime_error("calibration " + path + ": the file is empty (to switch the calibration off, give off)");
+  }
+  return text.str();
+}
+
+int SetCalibration(const CtlOptions& o, const std::string& model, bool apply_ambiguous) {
+  calibration_t request{};
+  request.origin = model == "off" ? "off" : model;
+  request.model_json = model == "off" ? "" : ModelText(model);
+  request.apply_ambiguous = apply_ambiguous ? 1 : 0;
+  return SendAndConfirm(o, channel::kCalibration, request, "kinematics");
+}
+
 void AddCommon(CLI::App* cmd, CtlOptions* o) {
   cmd->add_option("--session-id", o->session, "the group's session, or auto (from its traffic)");
   cmd->add_option("--operator", o->operator_name, "who does it, for the log");
@@ -177,9 +205,18 @@ int main(int argc, char** argv) {
   CLI::App* pr = app.add_subcommand("pr-mode", "switch PR compensation live (blended over 0.5 s)");
   pr->add_option("mode", mode, "none, unsigned, signed or asin")->required();
   edsp::AddCommon(pr, &options);
+  std::string model;
+  bool apply_ambiguous = false;
+  CLI::App* calibration = app.add_subcommand("calibration", "switch the kinematics' calibration live (blended over 1 s)");
+  calibration->add_option("model", model, "an edsp-gap-model/1 file (edsp-gap diagnose --save-model), or off")
+      ->required();
+  calibration->add_flag("--apply-ambiguous", apply_ambiguous, "apply the model's ambiguous effects too");
+  edsp::AddCommon(calibration, &options);
   CLI11_PARSE(app, argc, argv);
   try {
-    return *arm ? edsp::Arm(options) : edsp::SetPrMode(options, mode);
+    if (*arm) return edsp::Arm(options);
+    if (*calibration) return edsp::SetCalibration(options, model, apply_ambiguous);
+    return edsp::SetPrMode(options, mode);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "edsp-ctl: error: %s\n", e.what());
     return 1;

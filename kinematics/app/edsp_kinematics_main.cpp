@@ -11,7 +11,9 @@
 // --replay: the setpoints come from a log (lcm-logplayer), so they are judged
 // by their own clock, not the wall clock, and reproduce the recorded commands.
 // EDSP_PR_MODE (pr_mode_t, e.g. from `edsp-ctl pr-mode signed`) switches the
-// mode live, blended over 0.5 s; the switch is confirmed on EDSP_FAULT (info).
+// mode live, blended over 0.5 s; EDSP_CALIBRATION (calibration_t, from
+// `edsp-ctl calibration MODEL|off`) switches the calibration live, blended
+// over 1 s. Both are confirmed, or refused with the reason, on EDSP_FAULT.
 // The node on its bus: KinematicsLoop (edsp/kinematics/kinematics_loop.h).
 #include "edsp/kinematics/config.h"
 #include "edsp/kinematics/kinematics_loop.h"

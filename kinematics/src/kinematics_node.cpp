@@ -24,15 +24,19 @@ bool AllFinite(const double (&values)[N]) {
   return true;
 }
 
+std::unique_ptr<calibration::LegCompensator> Compensator(const PlatformModel& model,
+                                                        std::optional<calibration::CalibrationModel> calibration) {
+  if (!calibration) return nullptr;
+  return std::make_unique<calibration::LegCompensator>(model, std::move(*calibration));
+}
+
 }  // namespace
 
 KinematicsNode::KinematicsNode(PlatformModel model, KinematicsNodeOptions options)
     : model_(std::move(model)), options_(std::move(options)),
-      last_target_(model_.home_pose()), last_estimate_(model_.home_pose()) {
+      last_target_(model_.home_pose()), last_estimate_(model_.home_pose()),
+      calibration_(Compensator(model_, options_.calibration), options_.calibration_blend_us) {
   last_weights_[static_cast<std::size_t>(options_.pr_mode)] = 1.0;
-  if (options_.calibration) {
-    compensator_ = std::make_unique<calibration::LegCompensator>(model_, *options_.calibration);
-  }
 }
 
 fault_t KinematicsNode::Fault(FaultCode code, std::string reason, std::int64_t now_utime,
@@ -72,6 +76,50 @@ fault_t KinematicsNode::ActOnPrModeRequest(const pr_mode_t& request, std::int64_
                    fmt::format("PR mode {} → {} (requested by {}), blended over {} ms", PrModeName(before),
                                PrModeName(mode), request.operator_name, options_.pr_blend_us / 1000),
                    now_utime);
+}
+
+fault_t KinematicsNode::HandleCalibrationRequest(const calibration_t& request, std::int64_t now_utime) {
+  return calibration_answers_.Answer(
+      request, [&] { return ActOnCalibrationRequest(request, now_utime); },
+      [&](std::string reason) {
+        return MakeFault(options_.node_name, channel::kCalibration, FaultCode::kBadRequest, fault_t::SEVERITY_WARNING,
+                         "calibration " + reason, now_utime);
+      });
+}
+
+fault_t KinematicsNode::ActOnCalibrationRequest(const calibration_t& request, std::int64_t now_utime) {
+  const std::string& node = options_.node_name;
+  auto refuse = [&](FaultCode code, const std::string& why) {
+    const calibration::CalibrationModel* in_force = calibration();
+    return MakeFault(node, channel::kCalibration, code, fault_t::SEVERITY_WARNING,
+                     fmt::format("calibration {} from {} refused: {}; in force stays {}", request.origin,
+                                 request.operator_name, why, in_force ? in_force->Describe() : "none"),
+                     now_utime);
+  };
+  if (request.session_id != options_.session_id) {
+    return refuse(FaultCode::kForeignSession, fmt::format("from session {} (this group is session {})",
+                                                          request.session_id, options_.session_id));
+  }
+  std::optional<calibration::CalibrationModel> next;
+  if (!request.model_json.empty()) {
+    try {
+      next = calibration::ParseCalibration(request.model_json, request.origin, model_, request.apply_ambiguous != 0);
+    } catch (const calibration::CalibrationError& e) {
+      return refuse(FaultCode::kBadRequest, e.what());
+    }
+  }
+  const std::string before = calibration() ? calibration()->Describe() : "none";
+  const std::string after = next ? next->Describe() : "none";
+  std::string why_not;
+  if (!SwitchCalibration(std::move(next), &why_not)) return refuse(FaultCode::kBadRequest, why_not);
+  return MakeFault(node, channel::kCalibration, FaultCode::kOperatorAction, fault_t::SEVERITY_INFO,
+                   fmt::format("calibration {} → {} (requested by {}), blended over {} ms", before, after,
+                               request.operator_name, calibration_.blend_us() / 1000),
+                   now_utime);
+}
+
+bool KinematicsNode::SwitchCalibration(std::optional<calibration::CalibrationModel> next, std::string* why_not) {
+  return calibration_.SwitchTo(Compensator(model_, std::move(next)), why_not);
 }
 
 void KinematicsNode::SwitchPrMode(PrMode mode) {
@@ -142,11 +190,11 @@ bool KinematicsNode::HandleSetpoint(const pose_setpoint_t& sp, std::int64_t now_
   const Vector6 pr = BlendedPrError(legs, sp.utime);
   const Vector6 nominal = legs.length_m - pr;
   Vector6 calibrated = nominal;
-  if (compensator_) {
+  {
     Vector6 velocity, acceleration;
     for (int k = 0; k < 6; ++k) velocity(k) = sp.velocity[k], acceleration(k) = sp.acceleration[k];
     const calibration::LegCompensator::Correction c =
-        compensator_->Step(static_cast<double>(sp.utime) * 1e-6, target, velocity, acceleration, nominal);
+        calibration_.Step(sp.utime, target, velocity, acceleration, nominal);
     if (!c.command_m.allFinite() || !c.encoder_m.allFinite()) {
       *fault = Fault(FaultCode::kNonFinite,
                      fmt::format("setpoint seq {} ({}): the calibration's correction is not finite; not forwarded",

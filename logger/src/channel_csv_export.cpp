@@ -114,6 +114,11 @@ void Fields(const pr_mode_t& m, CsvRow* r) {
   r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("session_id", m.session_id);
   r->Add("pr_mode", m.pr_mode), r->Add("operator_name", m.operator_name);
 }
+void Fields(const calibration_t& m, CsvRow* r) {
+  r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("session_id", m.session_id);
+  r->Add("operator_name", m.operator_name), r->Add("origin", m.origin), r->Add("model_json", m.model_json);
+  r->Add("apply_ambiguous", m.apply_ambiguous);
+}
 
 struct MessageType {
   std::int64_t fingerprint;

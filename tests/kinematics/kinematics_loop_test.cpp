@@ -136,6 +136,33 @@ TEST(KinematicsLoop, AnOperatorsPrModeRequestSwitchesTheModeAndIsConfirmed) {
   EXPECT_EQ(f.faults[0].code, static_cast<std::int32_t>(FaultCode::kOperatorAction));
 }
 
+// EDSP_CALIBRATION carries the model file's text: the node switches to it
+// (blended), confirms naming it, and the latched config then names it too.
+TEST(KinematicsLoop, AnOperatorsCalibrationRequestSwitchesTheCalibrationAndIsConfirmed) {
+  Fixture f;
+  calibration_t request{};
+  request.utime = UtimeNow();
+  request.seq = 1;
+  request.session_id = kSession;
+  request.operator_name = "tester";
+  request.origin = "rig7.json";
+  request.model_json = R"({"format": "edsp-gap-model/1", "effects": [{"name": "leg_offset",
+      "verdict": "identified", "theta": [1e-4, 0, 0, 0, 0, 0]}]})";
+  f.bus.Publish("EDSP_CALIBRATION", request);
+  f.HandleAll();
+  const calibration::CalibrationModel* in_force = f.node.calibration();
+  ASSERT_NE(in_force, nullptr);
+  EXPECT_EQ(in_force->origin, "rig7.json");
+  ASSERT_EQ(f.faults.size(), 1u);
+  EXPECT_EQ(f.faults[0].severity, fault_t::SEVERITY_INFO);
+  EXPECT_EQ(f.faults[0].channel, "EDSP_CALIBRATION");
+  EXPECT_EQ(f.faults[0].code, static_cast<std::int32_t>(FaultCode::kOperatorAction));
+  f.loop.Poll(UtimeNow());
+  f.HandleAll();
+  ASSERT_FALSE(f.configs.empty());
+  EXPECT_NE(f.configs.back().config_toml.find("applies the calibration rig7.json"), std::string::npos);
+}
+
 TEST(KinematicsLoop, TheConfigIsPublishedOnceASecondWithTheFilesText) {
   Fixture f;
   const std::int64_t t0 = UtimeNow();

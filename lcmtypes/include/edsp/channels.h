@@ -24,6 +24,7 @@ inline constexpr char kStatus[] = "EDSP_STATUS";
 inline constexpr char kFault[] = "EDSP_FAULT";
 inline constexpr char kArm[] = "EDSP_ARM";
 inline constexpr char kPrMode[] = "EDSP_PR_MODE";
+inline constexpr char kCalibration[] = "EDSP_CALIBRATION";
 
 // Whose seq numbers a channel carries: one publisher's (a gap is a lost
 // message), or several interleaved (every node's status and faults; the
@@ -39,7 +40,7 @@ struct Channel {
   Publishers publishers;
 };
 
-inline constexpr std::array<Channel, 11> kChannels = {{
+inline constexpr std::array<Channel, 12> kChannels = {{
     {kConfig, "platform_config_t", "kinematics", 1.0, Publishers::kOne},
     {kSetpoint, "pose_setpoint_t", "planner", 1000.0, Publishers::kOne},
     {kLegCommand, "leg_command_t", "kinematics", 1000.0, Publishers::kOne},
@@ -51,6 +52,7 @@ inline constexpr std::array<Channel, 11> kChannels = {{
     {kFault, "fault_t", "any node", 0.0, Publishers::kMany},
     {kArm, "arm_t", "edsp-ctl", 0.0, Publishers::kMany},
     {kPrMode, "pr_mode_t", "edsp-ctl", 0.0, Publishers::kMany},
+    {kCalibration, "calibration_t", "edsp-ctl", 0.0, Publishers::kMany},
 }};
 
 // The row of `name`, or null for a channel that is not edsp's.

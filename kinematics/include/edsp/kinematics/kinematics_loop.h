@@ -1,9 +1,10 @@
 #pragma once
-// The kinematics node on a bus: EDSP_SETPOINT, EDSP_LEG_STATE and
-// EDSP_PR_MODE in; EDSP_LEG_COMMAND, EDSP_PLATFORM_STATE (every 10th leg
-// state: 1 kHz in, 100 Hz out), EDSP_CONFIG (latched, once a second),
-// EDSP_FAULT and EDSP_STATUS out. The process's main only parses options,
-// builds the KinematicsNode and runs this; tests run it on an in-process bus.
+// The kinematics node on a bus: EDSP_SETPOINT, EDSP_LEG_STATE and the
+// operator's EDSP_PR_MODE and EDSP_CALIBRATION in; EDSP_LEG_COMMAND,
+// EDSP_PLATFORM_STATE (every 10th leg state: 1 kHz in, 100 Hz out),
+// EDSP_CONFIG (latched, once a second), EDSP_FAULT and EDSP_STATUS out. The
+// process's main only parses options, builds the KinematicsNode and runs
+// this; tests run it on an in-process bus.
 
 #include <cstdint>
 #include <functional>

@@ -14,8 +14,10 @@
 
 #include "edsp/node/fault.h"
 #include "edsp/node/operator_requests.h"
+#include "edsp/calibration_t.hpp"
 #include "edsp/pr_mode_t.hpp"
 #include "edsp/kinematics/calibration.h"
+#include "edsp/kinematics/calibration_blend.h"
 #include "edsp/kinematics/platform_model.h"
 #include "edsp/leg_command_t.hpp"
 #include "edsp/leg_state_t.hpp"
@@ -34,6 +36,8 @@ struct KinematicsNodeOptions {
   // Applied to every command and to forward kinematics (calibration.h);
   // none: the nominal model alone.
   std::optional<calibration::CalibrationModel> calibration;
+  // A calibration switched live blends over this much setpoint time.
+  std::int64_t calibration_blend_us = 1000000;
 };
 
 class KinematicsNode {
@@ -61,20 +65,32 @@ class KinematicsNode {
   // waits for: the confirmation (info), or why it was ignored (warning). A
   // copy of the last request gets the same answer and switches nothing.
   fault_t HandlePrModeRequest(const pr_mode_t& request, std::int64_t now_utime);
+  // Switches the calibration live (null: the nominal model alone), blended
+  // over calibration_blend_us of setpoint time from the next setpoint on.
+  // False, *why_not saying so, while the last switch still blends.
+  bool SwitchCalibration(std::optional<calibration::CalibrationModel> next, std::string* why_not);
+  // An operator's EDSP_CALIBRATION: the model in the request is checked
+  // against this platform as at start-up (calibration.h) and switched to,
+  // blended, if it comes from this group's session. Returns what to
+  // publish on EDSP_FAULT: the confirmation naming file, hash and effects
+  // (info), or why it was refused (warning; the calibration in force
+  // stays). A copy of the last request gets the same answer.
+  fault_t HandleCalibrationRequest(const calibration_t& request, std::int64_t now_utime);
   PrMode pr_mode() const { return options_.pr_mode; }
   bool blending() const { return blending_; }
   const PlatformModel& model() const { return model_; }
-  // The calibration in force, or null.
-  const calibration::CalibrationModel* calibration() const {
-    return compensator_ ? &compensator_->calibration() : nullptr;
-  }
+  // The calibration in force (or being blended to), or null.
+  const calibration::CalibrationModel* calibration() const { return calibration_.in_force(); }
+  bool calibration_blending() const { return calibration_.blending(); }
 
  private:
   fault_t Fault(FaultCode code, std::string reason, std::int64_t now_utime,
                 const char* channel) const;
   Vector6 BlendedPrError(const LegSolution& legs, std::int64_t setpoint_utime);
   fault_t ActOnPrModeRequest(const pr_mode_t& request, std::int64_t now_utime);
+  fault_t ActOnCalibrationRequest(const calibration_t& request, std::int64_t now_utime);
   OperatorRequestAnswers pr_mode_answers_;
+  OperatorRequestAnswers calibration_answers_;
 
   PlatformModel model_;
   KinematicsNodeOptions options_;
@@ -92,7 +108,7 @@ class KinematicsNode {
   std::int64_t blend_start_utime_ = -1;  // setpoint time the blend began; -1: next setpoint
   Pose last_target_;
   Pose last_estimate_;
-  std::unique_ptr<calibration::LegCompensator> compensator_;
+  calibration::CalibrationBlend calibration_;
   Vector6 encoder_correction_ = Vector6::Zero();  // the calibration's, at the last command
 };
 

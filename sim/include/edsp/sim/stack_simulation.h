@@ -49,6 +49,9 @@ class StackSimulation {
   const PlatformModel& nominal_model() const { return kinematics_.model(); }
   const TrajectorySequence& trajectory() const { return planner_.sequence(); }
   VirtualRig& rig() { return rig_; }
+  // The kinematics node, for what an operator does to it while the stack
+  // runs (a live calibration switch, a PR mode switch).
+  KinematicsNode& kinematics() { return kinematics_; }
 
  private:
   StackOptions options_;

@@ -1,0 +1,214 @@
+// A calibration switched while the platform moves (EDSP_CALIBRATION,
+// `edsp-ctl calibration`): the command goes from the old calibration's to
+// the new one's linearly over the blend, checked cycle by cycle against
+// two nodes that ran each calibration from the start (no step, and after
+// the blend exactly the new calibration); requests the node must refuse
+// are refused naming why, and leave the calibration in force untouched.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <functional>
+
+#include <gtest/gtest.h>
+
+#include "edsp/kinematics/config.h"
+#include "edsp/kinematics/kinematics_node.h"
+
+namespace edsp {
+namespace {
+
+constexpr std::int64_t kStart = 2000000000;
+constexpr std::int64_t kBlendUs = 200000;
+
+PlatformModel Nominal() { return PlatformModel(Huang2021Config()); }
+
+// Leg offsets and lead errors: corrections that depend on the pose only, so
+// a compensator started mid-run agrees with one that ran from the start.
+const char kModelJson[] = R"({"format": "edsp-gap-model/1", "effects": [
+    {"name": "leg_offset", "verdict": "identified", "theta": [2e-4, -1.5e-4, 1e-4, -2.5e-4, 1.2e-4, -0.5e-4]},
+    {"name": "lead_error", "verdict": "identified", "theta": [1.5e-4, -1e-4, 2e-4, 0.5e-4, -1.5e-4, 1e-4]}]})";
+
+calibration::CalibrationModel Model() { return calibration::ParseCalibration(kModelJson, "rig7.json", Nominal()); }
+
+KinematicsNode MakeNode(std::optional<calibration::CalibrationModel> calibration) {
+  KinematicsNodeOptions options;
+  options.session_id = 9;
+  options.calibration = std::move(calibration);
+  options.calibration_blend_us = kBlendUs;
+  return KinematicsNode(Nominal(), options);
+}
+
+// Cycle k of a move up along z at 0.1 m/s, 1 kHz.
+pose_setpoint_t Setpoint(int k) {
+  pose_setpoint_t sp{};
+  sp.utime = kStart + 1000 * k;
+  sp.seq = k + 1;
+  sp.session_id = 9;
+  const double pose[6] = {0.05, -0.02, 1.45 + 1e-4 * k, 0.02, -0.03, 0.1};
+  std::copy(pose, pose + 6, sp.pose);
+  sp.velocity[2] = 0.1;
+  return sp;
+}
+
+leg_command_t Command(KinematicsNode& node, int k) {
+  leg_command_t c;
+  fault_t fault;
+  const pose_setpoint_t sp = Setpoint(k);
+  EXPECT_TRUE(node.HandleSetpoint(sp, sp.utime, &c, &fault)) << fault.reason;
+  return c;
+}
+
+calibration_t Request(const std::string& json, std::int64_t utime, std::int64_t session_id = 9) {
+  calibration_t r{};
+  r.utime = utime;
+  r.seq = 1;
+  r.session_id = session_id;
+  r.operator_name = "tester";
+  r.origin = json.empty() ? "off" : "rig7.json";
+  r.model_json = json;
+  return r;
+}
+
+// Runs `node` for cycles [0, n) beside one without and one with the model
+// from the start, switching it by `request` before cycle `at`; checks
+// every command against the blend of the two and returns the largest
+// per-cycle change of the switched node's correction.
+double RunSwitch(KinematicsNode& node, bool to_calibrated, int at, int n, const calibration_t& request) {
+  KinematicsNode without = MakeNode(std::nullopt), with = MakeNode(Model());
+  double largest_change = 0.0;
+  std::array<double, kNumLegs> last_correction{};  // switched − nominal, the cycle before
+  for (int k = 0; k < n; ++k) {
+    if (k == at) {
+      const fault_t answer = node.HandleCalibrationRequest(request, Setpoint(k).utime);
+      EXPECT_EQ(answer.code, static_cast<std::int32_t>(FaultCode::kOperatorAction)) << answer.reason;
+      EXPECT_TRUE(node.calibration_blending());
+    }
+    const leg_command_t c = Command(node, k), a = Command(without, k), b = Command(with, k);
+    // The blend starts at the first setpoint after the request.
+    const double w = k < at ? 0.0 : std::min(1.0, (k - at) * 1000.0 / kBlendUs);
+    const double weight_new = to_calibrated ? w : 1.0 - w;
+    for (int i = 0; i < kNumLegs; ++i) {
+      const double expected = (1.0 - weight_new) * a.command_length_m[i] + weight_new * b.command_length_m[i];
+      EXPECT_NEAR(c.command_length_m[i], expected, 1e-12) << "cycle " << k << " leg " << i;
+      const double correction = c.command_length_m[i] - a.command_length_m[i];
+      const auto leg = static_cast<std::size_t>(i);
+      if (k > 0) largest_change = std::max(largest_change, std::abs(correction - last_correction[leg]));
+      last_correction[leg] = correction;
+    }
+  }
+  return largest_change;
+}
+
+TEST(CalibrationSwitch, ACalibrationSwitchedOnMidMotionBlendsIntoItWithoutAStep) {
+  KinematicsNode node = MakeNode(std::nullopt);
+  const double largest = RunSwitch(node, true, 100, 400, Request(kModelJson, kStart));
+  EXPECT_FALSE(node.calibration_blending());
+  const calibration::CalibrationModel* in_force = node.calibration();
+  ASSERT_NE(in_force, nullptr);
+  EXPECT_EQ(in_force->origin, "rig7.json");
+  // The whole correction (up to 0.25 mm) would be one step unblended; over
+  // 200 cycles each is at most 1/200 of it.
+  EXPECT_LT(largest, 0.3e-3 / 200.0);
+  EXPECT_GT(largest, 0.1e-3 / 200.0);  // and the blend did move it
+}
+
+TEST(CalibrationSwitch, SwitchedOffItBlendsBackToTheNominalModel) {
+  KinematicsNode node = MakeNode(Model());
+  const double largest = RunSwitch(node, false, 100, 400, Request("", kStart));
+  EXPECT_EQ(node.calibration(), nullptr);
+  EXPECT_LT(largest, 0.3e-3 / 200.0);
+}
+
+// The forward kinematics on EDSP_PLATFORM_STATE uses the calibration in
+// force: after a switch, the same encoders give the pose the calibrated
+// node gives.
+TEST(CalibrationSwitch, ForwardKinematicsFollowsTheSwitch) {
+  KinematicsNode node = MakeNode(std::nullopt), with = MakeNode(Model());
+  ASSERT_EQ(node.HandleCalibrationRequest(Request(kModelJson, kStart), kStart).severity, fault_t::SEVERITY_INFO);
+  for (int k = 0; k < 250; ++k) Command(node, k), Command(with, k);
+  leg_state_t legs{};
+  const leg_command_t c = Command(with, 250);
+  Command(node, 250);
+  for (int i = 0; i < kNumLegs; ++i) legs.encoder_length_m[i] = c.command_length_m[i];
+  platform_state_t switched, reference, nominal;
+  fault_t fault;
+  ASSERT_TRUE(node.HandleLegState(legs, kStart, &switched, &fault)) << fault.reason;
+  ASSERT_TRUE(with.HandleLegState(legs, kStart, &reference, &fault)) << fault.reason;
+  KinematicsNode without = MakeNode(std::nullopt);
+  ASSERT_TRUE(without.HandleLegState(legs, kStart, &nominal, &fault)) << fault.reason;
+  double apart = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(switched.observation_point_m[k], reference.observation_point_m[k], 1e-9);
+    apart = std::max(apart, std::abs(nominal.observation_point_m[k] - reference.observation_point_m[k]));
+  }
+  EXPECT_GT(apart, 1e-5);  // the calibration does change the estimate
+}
+
+std::string Answer(KinematicsNode& node, const calibration_t& request) {
+  return node.HandleCalibrationRequest(request, request.utime).reason;
+}
+
+// The confirmation names what is switched from and to (file, hash,
+// effects); every copy of the request gets the same answer and switches
+// nothing; what cannot be applied is refused with the reason, and the
+// calibration in force stays.
+TEST(CalibrationSwitch, RequestsAreConfirmedNamingTheModelOrRefusedNamingWhy) {
+  KinematicsNode node = MakeNode(std::nullopt);
+  const calibration_t on = Request(kModelJson, kStart);
+  const fault_t confirmed = node.HandleCalibrationRequest(on, kStart);
+  EXPECT_EQ(confirmed.severity, fault_t::SEVERITY_INFO);
+  EXPECT_EQ(confirmed.channel, "EDSP_CALIBRATION");
+  EXPECT_NE(confirmed.reason.find("calibration none → rig7.json (" + Model().hash +
+                                  "): applies leg_offset, lead_error (requested by tester), blended over 200 ms"),
+            std::string::npos)
+      << confirmed.reason;
+  EXPECT_EQ(Answer(node, on), confirmed.reason);  // a copy: answered alike, not switched again
+  EXPECT_TRUE(node.calibration_blending());
+
+  // While the blend runs, another switch waits.
+  for (int k = 0; k < 50; ++k) Command(node, k);
+  const std::string busy = Answer(node, Request("", kStart + 100000));
+  EXPECT_NE(busy.find("still blending (151 of 200 ms"), std::string::npos) << busy;
+  for (int k = 50; k < 250; ++k) Command(node, k);
+  EXPECT_FALSE(node.calibration_blending());
+
+  const std::string in_force = "in force stays rig7.json (" + Model().hash + ")";
+  const std::string other_session = Answer(node, Request("", kStart + 300000, 4));
+  EXPECT_NE(other_session.find("from session 4 (this group is session 9)"), std::string::npos) << other_session;
+  EXPECT_NE(other_session.find(in_force), std::string::npos) << other_session;
+  const std::string not_json = Answer(node, Request("{", kStart + 400000));
+  EXPECT_NE(not_json.find("rig7.json: not JSON"), std::string::npos) << not_json;
+  const std::string absurd = Answer(
+      node, Request(R"({"format": "edsp-gap-model/1", "effects": [{"name": "leg_offset", "theta": [0.05,0,0,0,0,0]}]})",
+                    kStart + 500000));
+  EXPECT_NE(absurd.find("theta[0] = 0.05"), std::string::npos) << absurd;
+  const std::string elsewhere = Answer(
+      node, Request(R"({"format": "edsp-gap-model/1", "platform": "home_length_m=2,2,2,2,2,2", "effects": []})",
+                    kStart + 600000));
+  EXPECT_NE(elsewhere.find("another platform"), std::string::npos) << elsewhere;
+  const std::string late = Answer(node, Request("", kStart - 1));
+  EXPECT_NE(late.find("older than the one acted on"), std::string::npos) << late;
+  EXPECT_FALSE(node.calibration_blending());
+  const calibration::CalibrationModel* kept = node.calibration();
+  ASSERT_NE(kept, nullptr);
+  EXPECT_EQ(kept->hash, Model().hash);
+}
+
+// `ambiguous` effects are applied only when the request says so, as with
+// --apply-ambiguous at start-up.
+TEST(CalibrationSwitch, AmbiguousEffectsAreAppliedOnlyWhenTheRequestAsks) {
+  const std::string json = R"({"format": "edsp-gap-model/1", "effects": [
+      {"name": "leg_offset", "verdict": "ambiguous", "theta": [1e-4, 0, 0, 0, 0, 0]}]})";
+  KinematicsNode strict = MakeNode(std::nullopt), lenient = MakeNode(std::nullopt);
+  calibration_t request = Request(json, kStart);
+  EXPECT_NE(Answer(strict, request).find("not applied: leg_offset (ambiguous)"), std::string::npos);
+  request.apply_ambiguous = 1;
+  EXPECT_NE(Answer(lenient, request).find("applies leg_offset"), std::string::npos);
+  const calibration::CalibrationModel *held_back = strict.calibration(), *applied = lenient.calibration();
+  ASSERT_TRUE(held_back != nullptr && applied != nullptr);
+  EXPECT_TRUE(held_back->applied.empty());
+  EXPECT_EQ(applied->applied.size(), 1u);
+}
+
+}  // namespace
+}  // namespace edsp
