@@ -71,7 +71,7 @@ bool ActuatorBridge::Rearm(std::string* error) {
 
 fault_t ActuatorBridge::HandleArm(const arm_t& arm, std::int64_t now_utime) {
   return arm_answers_.Answer(
-      arm, [&] { return ActOnArm(arm, now_utime); },
+      arm, now_utime, [&] { return ActOnArm(arm, now_utime); },
       [&](std::string reason) {
         return MakeFault(options_.node_name, channel::kArm, FaultCode::kBadRequest, fault_t::SEVERITY_WARNING,
                          "re-arm " + reason, now_utime);

@@ -177,7 +177,7 @@ std::string ModelText(const std::string& path) {
 
 int SetCalibration(const CtlOptions& o, const std::string& model, bool apply_ambiguous) {
   calibration_t request{};
-  request.origin = model == "off" ? "off" : model;
+  request.origin = model;
   request.model_json = model == "off" ? "" : ModelText(model);
   request.apply_ambiguous = apply_ambiguous ? 1 : 0;
   return SendAndConfirm(o, channel::kCalibration, request, "kinematics");

@@ -1,6 +1,7 @@
 #include "edsp/kinematics/calibration_blend.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include <fmt/format.h>
 
@@ -19,44 +20,44 @@ CalibrationBlend::CalibrationBlend(std::unique_ptr<LegCompensator> in_force, std
 
 bool CalibrationBlend::SwitchTo(std::unique_ptr<LegCompensator> next, std::string* why_not) {
   if (blending_) {
-    const std::int64_t elapsed =
-        blend_start_utime_ < 0 ? 0 : std::max<std::int64_t>(0, last_setpoint_utime_ - blend_start_utime_);
-    *why_not = fmt::format("the last switch is still blending ({} of {} ms of setpoint time left)",
-                           (blend_us_ - elapsed + 999) / 1000, blend_us_ / 1000);
+    const double left_ms = (static_cast<double>(blend_us_) - elapsed_us_) * 1e-3;
+    *why_not = fmt::format("the last switch is still blending ({:.0f} of {} ms of setpoint time left)",
+                           std::ceil(left_ms), blend_us_ / 1000);
     return false;
   }
   previous_ = std::move(next_);
   next_ = std::move(next);
   blending_ = true;
-  blend_start_utime_ = -1;
+  elapsed_us_ = 0.0;
   return true;
 }
 
-double CalibrationBlend::Weight(std::int64_t setpoint_utime) {
+double CalibrationBlend::AdvanceBlend(std::int64_t setpoint_utime) {
+  // In double: the stamps may be any int64, and their difference overflow.
+  const double since_last =
+      last_setpoint_utime_ ? static_cast<double>(setpoint_utime) - static_cast<double>(*last_setpoint_utime_) : 0.0;
+  last_setpoint_utime_ = setpoint_utime;
   if (!blending_) return 1.0;
-  if (blend_start_utime_ < 0) blend_start_utime_ = setpoint_utime;
-  const double a = std::clamp(static_cast<double>(setpoint_utime - blend_start_utime_) /
-                                  static_cast<double>(blend_us_), 0.0, 1.0);
-  if (a >= 1.0) {
+  elapsed_us_ += std::clamp(since_last, 0.0, kMaxAdvance_us);
+  if (elapsed_us_ >= static_cast<double>(blend_us_)) {
     blending_ = false;
     previous_.reset();
+    return 1.0;
   }
-  return a;
+  return elapsed_us_ / static_cast<double>(blend_us_);
 }
 
 LegCompensator::Correction CalibrationBlend::Step(std::int64_t setpoint_utime, const Pose& pose,
                                                   const Vector6& pose_velocity, const Vector6& pose_acceleration,
                                                   const Vector6& command_m) {
-  last_setpoint_utime_ = setpoint_utime;
   const double time_s = static_cast<double>(setpoint_utime) * 1e-6;
   // Both run every cycle of a blend: each follows the commands (its play,
   // its heat) as if it were alone, and only their outputs are mixed.
-  LegCompensator* outgoing = blending_ ? previous_.get() : nullptr;
   const LegCompensator::Correction from =
-      StepOrZero(outgoing, time_s, pose, pose_velocity, pose_acceleration, command_m);
+      StepOrZero(blending_ ? previous_.get() : nullptr, time_s, pose, pose_velocity, pose_acceleration, command_m);
   const LegCompensator::Correction to =
       StepOrZero(next_.get(), time_s, pose, pose_velocity, pose_acceleration, command_m);
-  const double a = Weight(setpoint_utime);
+  const double a = AdvanceBlend(setpoint_utime);
   if (a >= 1.0) return to;
   LegCompensator::Correction mixed;
   mixed.command_m = (1.0 - a) * from.command_m + a * to.command_m;

@@ -34,7 +34,7 @@ KinematicsLoop::KinematicsLoop(Bus& bus, KinematicsNode& kinematics, KinematicsL
   });
   bus.Subscribe<calibration_t>(channel::kCalibration, [this](const calibration_t& request) {
     const fault_t answer = kinematics_.HandleCalibrationRequest(request, UtimeNow());
-    std::fprintf(stderr, "edsp-kinematics: %s\n", answer.reason.c_str());
+    if (answer.severity == fault_t::SEVERITY_INFO) std::fprintf(stderr, "edsp-kinematics: %s\n", answer.reason.c_str());
     reporting_.Fault(answer);
   });
   bus.Subscribe<leg_state_t>(channel::kLegState, [this](const leg_state_t& legs) { OnLegState(legs); });

@@ -47,7 +47,7 @@ fault_t KinematicsNode::Fault(FaultCode code, std::string reason, std::int64_t n
 
 fault_t KinematicsNode::HandlePrModeRequest(const pr_mode_t& request, std::int64_t now_utime) {
   return pr_mode_answers_.Answer(
-      request, [&] { return ActOnPrModeRequest(request, now_utime); },
+      request, now_utime, [&] { return ActOnPrModeRequest(request, now_utime); },
       [&](std::string reason) {
         return MakeFault(options_.node_name, channel::kPrMode, FaultCode::kBadRequest, fault_t::SEVERITY_WARNING,
                          fmt::format("PR mode {}; mode stays {}", reason, PrModeName(options_.pr_mode)), now_utime);
@@ -80,7 +80,7 @@ fault_t KinematicsNode::ActOnPrModeRequest(const pr_mode_t& request, std::int64_
 
 fault_t KinematicsNode::HandleCalibrationRequest(const calibration_t& request, std::int64_t now_utime) {
   return calibration_answers_.Answer(
-      request, [&] { return ActOnCalibrationRequest(request, now_utime); },
+      request, now_utime, [&] { return ActOnCalibrationRequest(request, now_utime); },
       [&](std::string reason) {
         return MakeFault(options_.node_name, channel::kCalibration, FaultCode::kBadRequest, fault_t::SEVERITY_WARNING,
                          "calibration " + reason, now_utime);
@@ -90,10 +90,9 @@ fault_t KinematicsNode::HandleCalibrationRequest(const calibration_t& request, s
 fault_t KinematicsNode::ActOnCalibrationRequest(const calibration_t& request, std::int64_t now_utime) {
   const std::string& node = options_.node_name;
   auto refuse = [&](FaultCode code, const std::string& why) {
-    const calibration::CalibrationModel* in_force = calibration();
     return MakeFault(node, channel::kCalibration, code, fault_t::SEVERITY_WARNING,
                      fmt::format("calibration {} from {} refused: {}; in force stays {}", request.origin,
-                                 request.operator_name, why, in_force ? in_force->Describe() : "none"),
+                                 request.operator_name, why, DescribeCalibration()),
                      now_utime);
   };
   if (request.session_id != options_.session_id) {
@@ -108,7 +107,7 @@ fault_t KinematicsNode::ActOnCalibrationRequest(const calibration_t& request, st
       return refuse(FaultCode::kBadRequest, e.what());
     }
   }
-  const std::string before = calibration() ? calibration()->Describe() : "none";
+  const std::string before = DescribeCalibration();
   const std::string after = next ? next->Describe() : "none";
   std::string why_not;
   if (!SwitchCalibration(std::move(next), &why_not)) return refuse(FaultCode::kBadRequest, why_not);
@@ -116,6 +115,13 @@ fault_t KinematicsNode::ActOnCalibrationRequest(const calibration_t& request, st
                    fmt::format("calibration {} → {} (requested by {}), blended over {} ms", before, after,
                                request.operator_name, calibration_.blend_us() / 1000),
                    now_utime);
+}
+
+std::string KinematicsNode::DescribeCalibration() const {
+  auto name = [](const calibration::CalibrationModel* c) { return c ? c->Describe() : std::string("none"); };
+  if (!calibration_.blending()) return name(calibration_.target());
+  return fmt::format("blending from {} to {} ({:.0f}% of {} ms)", name(calibration_.source()),
+                     name(calibration_.target()), 100.0 * calibration_.weight(), calibration_.blend_us() / 1000);
 }
 
 bool KinematicsNode::SwitchCalibration(std::optional<calibration::CalibrationModel> next, std::string* why_not) {
@@ -127,15 +133,16 @@ void KinematicsNode::SwitchPrMode(PrMode mode) {
   blend_from_ = last_weights_;
   options_.pr_mode = mode;
   blending_ = true;
-  blend_start_utime_ = -1;
+  blend_start_utime_.reset();
 }
 
 KinematicsNode::ModeWeights KinematicsNode::Weights(std::int64_t setpoint_utime) const {
   ModeWeights target{};
   target[static_cast<std::size_t>(options_.pr_mode)] = 1.0;
   if (!blending_) return target;
-  const std::int64_t start = blend_start_utime_ < 0 ? setpoint_utime : blend_start_utime_;
-  const double a = std::clamp(static_cast<double>(setpoint_utime - start) /
+  const std::int64_t start = blend_start_utime_.value_or(setpoint_utime);
+  // In double: setpoint stamps are the sender's word, any int64.
+  const double a = std::clamp((static_cast<double>(setpoint_utime) - static_cast<double>(start)) /
                                   static_cast<double>(std::max<std::int64_t>(options_.pr_blend_us, 1)),
                               0.0, 1.0);
   ModeWeights w{};
@@ -144,7 +151,7 @@ KinematicsNode::ModeWeights KinematicsNode::Weights(std::int64_t setpoint_utime)
 }
 
 Vector6 KinematicsNode::BlendedPrError(const LegSolution& legs, std::int64_t setpoint_utime) {
-  if (blending_ && blend_start_utime_ < 0) blend_start_utime_ = setpoint_utime;
+  if (blending_ && !blend_start_utime_) blend_start_utime_ = setpoint_utime;
   last_weights_ = Weights(setpoint_utime);
   if (blending_ && last_weights_[static_cast<std::size_t>(options_.pr_mode)] >= 1.0) blending_ = false;
   Vector6 pr = Vector6::Zero();
@@ -189,22 +196,8 @@ bool KinematicsNode::HandleSetpoint(const pose_setpoint_t& sp, std::int64_t now_
   const LegSolution legs = model_.Solve(target);
   const Vector6 pr = BlendedPrError(legs, sp.utime);
   const Vector6 nominal = legs.length_m - pr;
-  Vector6 calibrated = nominal;
-  {
-    Vector6 velocity, acceleration;
-    for (int k = 0; k < 6; ++k) velocity(k) = sp.velocity[k], acceleration(k) = sp.acceleration[k];
-    const calibration::LegCompensator::Correction c =
-        calibration_.Step(sp.utime, target, velocity, acceleration, nominal);
-    if (!c.command_m.allFinite() || !c.encoder_m.allFinite()) {
-      *fault = Fault(FaultCode::kNonFinite,
-                     fmt::format("setpoint seq {} ({}): the calibration's correction is not finite; not forwarded",
-                                 sp.seq, DescribePose(target)),
-                     now_utime, kChannel);
-      return false;
-    }
-    calibrated -= c.command_m;
-    encoder_correction_ = c.encoder_m;
-  }
+  Vector6 calibrated;
+  if (!ApplyCalibration(sp, target, nominal, now_utime, &calibrated, fault)) return false;
   *command = leg_command_t{};
   command->utime = now_utime;
   command->seq = ++command_seq_;
@@ -219,6 +212,23 @@ bool KinematicsNode::HandleSetpoint(const pose_setpoint_t& sp, std::int64_t now_
     command->motor_angle_rad[i] = model_.MotorAngleFromLength(i, command->command_length_m[i]);
   }
   last_target_ = target;
+  return true;
+}
+
+bool KinematicsNode::ApplyCalibration(const pose_setpoint_t& sp, const Pose& target, const Vector6& nominal,
+                                      std::int64_t now_utime, Vector6* calibrated, fault_t* fault) {
+  Vector6 velocity, acceleration;
+  for (int k = 0; k < 6; ++k) velocity(k) = sp.velocity[k], acceleration(k) = sp.acceleration[k];
+  const calibration::LegCompensator::Correction c = calibration_.Step(sp.utime, target, velocity, acceleration, nominal);
+  if (!c.command_m.allFinite() || !c.encoder_m.allFinite()) {
+    *fault = Fault(FaultCode::kNonFinite,
+                   fmt::format("setpoint seq {} ({}): the calibration's correction is not finite; not forwarded", sp.seq,
+                               DescribePose(target)),
+                   now_utime, channel::kSetpoint);
+    return false;
+  }
+  *calibrated = nominal - c.command_m;
+  encoder_correction_ = c.encoder_m;
   return true;
 }
 
@@ -283,7 +293,9 @@ platform_config_t KinematicsNode::ConfigMessage(std::int64_t now_utime,
   msg.config_toml = config_toml;
   // The calibration in force travels with the latched config, so a log (and
   // a late listener) says which model shaped its commands.
-  if (const calibration::CalibrationModel* in_force = calibration()) {
+  if (calibration_.blending()) {
+    msg.config_toml += "\n# edsp-kinematics switches the calibration: " + DescribeCalibration() + "\n";
+  } else if (const calibration::CalibrationModel* in_force = calibration()) {
     msg.config_toml += "\n# edsp-kinematics applies the calibration " + in_force->Describe() + "\n";
   }
   return msg;

@@ -84,8 +84,9 @@ double RunSwitch(KinematicsNode& node, bool to_calibrated, int at, int n, const 
       EXPECT_TRUE(node.calibration_blending());
     }
     const leg_command_t c = Command(node, k), a = Command(without, k), b = Command(with, k);
-    // The blend starts at the first setpoint after the request.
-    const double w = k < at ? 0.0 : std::min(1.0, (k - at) * 1000.0 / kBlendUs);
+    // The blend advances by the setpoint time since the last setpoint: the
+    // first setpoint after the request carries one cycle of it.
+    const double w = k < at ? 0.0 : std::min(1.0, (k - at + 1) * 1000.0 / kBlendUs);
     const double weight_new = to_calibrated ? w : 1.0 - w;
     for (int i = 0; i < kNumLegs; ++i) {
       const double expected = (1.0 - weight_new) * a.command_length_m[i] + weight_new * b.command_length_m[i];
@@ -119,29 +120,58 @@ TEST(CalibrationSwitch, SwitchedOffItBlendsBackToTheNominalModel) {
   EXPECT_LT(largest, 0.3e-3 / 200.0);
 }
 
-// The forward kinematics on EDSP_PLATFORM_STATE uses the calibration in
-// force: after a switch, the same encoders give the pose the calibrated
-// node gives.
-TEST(CalibrationSwitch, ForwardKinematicsFollowsTheSwitch) {
-  KinematicsNode node = MakeNode(std::nullopt), with = MakeNode(Model());
-  ASSERT_EQ(node.HandleCalibrationRequest(Request(kModelJson, kStart), kStart).severity, fault_t::SEVERITY_INFO);
-  for (int k = 0; k < 250; ++k) Command(node, k), Command(with, k);
+// Point A as `node` estimates it from the encoder lengths `lengths`.
+Vector3 EstimatedA(KinematicsNode& node, const leg_command_t& lengths) {
   leg_state_t legs{};
-  const leg_command_t c = Command(with, 250);
-  Command(node, 250);
-  for (int i = 0; i < kNumLegs; ++i) legs.encoder_length_m[i] = c.command_length_m[i];
-  platform_state_t switched, reference, nominal;
+  for (int i = 0; i < kNumLegs; ++i) legs.encoder_length_m[i] = lengths.command_length_m[i];
+  platform_state_t state;
   fault_t fault;
-  ASSERT_TRUE(node.HandleLegState(legs, kStart, &switched, &fault)) << fault.reason;
-  ASSERT_TRUE(with.HandleLegState(legs, kStart, &reference, &fault)) << fault.reason;
-  KinematicsNode without = MakeNode(std::nullopt);
-  ASSERT_TRUE(without.HandleLegState(legs, kStart, &nominal, &fault)) << fault.reason;
-  double apart = 0.0;
-  for (int k = 0; k < 3; ++k) {
-    EXPECT_NEAR(switched.observation_point_m[k], reference.observation_point_m[k], 1e-9);
-    apart = std::max(apart, std::abs(nominal.observation_point_m[k] - reference.observation_point_m[k]));
+  EXPECT_TRUE(node.HandleLegState(legs, kStart, &state, &fault)) << fault.reason;
+  return Vector3(state.observation_point_m[0], state.observation_point_m[1], state.observation_point_m[2]);
+}
+
+// The forward kinematics on EDSP_PLATFORM_STATE blends with the commands:
+// half-way, the same encoders give a point A half-way between the nominal
+// node's and the calibrated node's (µm changes: linear to 1%); after the
+// blend, the calibrated node's.
+TEST(CalibrationSwitch, ForwardKinematicsBlendsWithTheSwitch) {
+  KinematicsNode node = MakeNode(std::nullopt), with = MakeNode(Model()), without = MakeNode(std::nullopt);
+  ASSERT_EQ(node.HandleCalibrationRequest(Request(kModelJson, kStart), kStart).severity, fault_t::SEVERITY_INFO);
+  for (int k = 0; k <= 100; ++k) Command(node, k), Command(with, k), Command(without, k);  // 100 of 200 ms
+  const leg_command_t encoders = Command(without, 101);
+  Command(node, 101), Command(with, 101);  // 101 ms: w = 0.505
+  const Vector3 nominal = EstimatedA(without, encoders), calibrated = EstimatedA(with, encoders);
+  ASSERT_GT((calibrated - nominal).norm(), 1e-5);  // the calibration does change the estimate
+  const Vector3 half_way = EstimatedA(node, encoders);
+  EXPECT_NEAR((half_way - nominal).norm() / (calibrated - nominal).norm(), 0.505, 0.01);
+  for (int k = 102; k < 250; ++k) Command(node, k), Command(with, k);
+  EXPECT_LT((EstimatedA(node, encoders) - EstimatedA(with, encoders)).norm(), 1e-9);
+}
+
+// Setpoint stamps are the sender's word: a stream that goes back in time,
+// jumps ahead (a replayed log, a late planner) or sits at the int64 limits
+// moves the blend by at most 10 ms of it per setpoint, never back, and
+// never overflows (the sanitized build checks that).
+TEST(CalibrationSwitch, JumpsInSetpointTimeNeverJumpTheCorrection) {
+  KinematicsNode node = MakeNode(std::nullopt), without = MakeNode(std::nullopt), with = MakeNode(Model());
+  ASSERT_EQ(node.HandleCalibrationRequest(Request(kModelJson, kStart), kStart).severity, fault_t::SEVERITY_INFO);
+  const std::int64_t stamps[] = {kStart, kStart + 1000, kStart - 40000, kStart + 5000000, kStart + 5001000,
+                                 INT64_MIN + 1, INT64_MAX, INT64_MAX, kStart};
+  double last_weight = 0.0;
+  for (std::int64_t stamp : stamps) {
+    pose_setpoint_t sp = Setpoint(3);
+    sp.utime = stamp;
+    leg_command_t c, a, b;
+    fault_t fault;
+    ASSERT_TRUE(node.HandleSetpoint(sp, stamp, &c, &fault)) << fault.reason;  // judged by its own clock (replay)
+    ASSERT_TRUE(without.HandleSetpoint(sp, stamp, &a, &fault)) << fault.reason;
+    ASSERT_TRUE(with.HandleSetpoint(sp, stamp, &b, &fault)) << fault.reason;
+    const double weight = (c.command_length_m[3] - a.command_length_m[3]) / (b.command_length_m[3] - a.command_length_m[3]);
+    EXPECT_GE(weight, last_weight - 1e-9) << "stamp " << stamp;
+    EXPECT_LE(weight - last_weight, calibration::CalibrationBlend::kMaxAdvance_us / kBlendUs + 1e-9) << "stamp " << stamp;
+    last_weight = weight;
   }
-  EXPECT_GT(apart, 1e-5);  // the calibration does change the estimate
+  EXPECT_GT(last_weight, 0.0);
 }
 
 std::string Answer(KinematicsNode& node, const calibration_t& request) {
@@ -171,6 +201,13 @@ TEST(CalibrationSwitch, RequestsAreConfirmedNamingTheModelOrRefusedNamingWhy) {
   EXPECT_NE(busy.find("still blending (151 of 200 ms"), std::string::npos) << busy;
   for (int k = 50; k < 250; ++k) Command(node, k);
   EXPECT_FALSE(node.calibration_blending());
+
+  // A refusal holds nothing back: another session's request stamped later
+  // than the next genuine one does not make that one "older".
+  KinematicsNode fresh = MakeNode(std::nullopt);
+  EXPECT_NE(Answer(fresh, Request("", kStart + 2000000, 4)).find("from session 4"), std::string::npos);
+  EXPECT_EQ(fresh.HandleCalibrationRequest(Request(kModelJson, kStart + 1000000), kStart).severity,
+            fault_t::SEVERITY_INFO);
 
   const std::string in_force = "in force stays rig7.json (" + Model().hash + ")";
   const std::string other_session = Answer(node, Request("", kStart + 300000, 4));

@@ -157,10 +157,13 @@ TEST(KinematicsLoop, AnOperatorsCalibrationRequestSwitchesTheCalibrationAndIsCon
   EXPECT_EQ(f.faults[0].severity, fault_t::SEVERITY_INFO);
   EXPECT_EQ(f.faults[0].channel, "EDSP_CALIBRATION");
   EXPECT_EQ(f.faults[0].code, static_cast<std::int32_t>(FaultCode::kOperatorAction));
+  EXPECT_TRUE(f.node.calibration_blending());  // from the next setpoint on
   f.loop.Poll(UtimeNow());
   f.HandleAll();
   ASSERT_FALSE(f.configs.empty());
-  EXPECT_NE(f.configs.back().config_toml.find("applies the calibration rig7.json"), std::string::npos);
+  EXPECT_NE(f.configs.back().config_toml.find("switches the calibration: blending from none to rig7.json"),
+            std::string::npos)
+      << f.configs.back().config_toml;
 }
 
 TEST(KinematicsLoop, TheConfigIsPublishedOnceASecondWithTheFilesText) {

@@ -178,6 +178,43 @@ TEST(LoggerNode, RecordsAWritersFirstMessagesWhenItsRingAppearsAfterTheLoggerSub
   EXPECT_EQ(lost, 0);
 }
 
+// A channel routed `both`: its writer's LCM mirror (every 10th message) can
+// reach the logger before the logger finds the ring (the writer started
+// after it, as the planner does). Recording those copies and then the ring
+// from its first message would record them twice (a 10-minute sim run
+// logged setpoints 10, 20, 30, 40, 1, 2, ...: 27 "lost" that were not).
+// The ring has every message once: that is what is recorded, none lost.
+TEST(LoggerNode, AMirrorThatArrivesBeforeItsRingIsNotRecordedTwice) {
+  TransportConfig config = MemqConfig("logger_mirror_first");
+  config.channels["EDSP_LEG_COMMAND"].path = ChannelPath::kBoth;
+  config.channels["EDSP_LEG_COMMAND"].mirror_every = 10;
+  Bus logger_bus(config);
+  const LoggerOptions options = OptionsFor("mirror_first");
+  std::int64_t lost = -1;
+  {
+    LoggerNode logger(logger_bus, options);
+    for (std::int64_t seq : {10, 20}) {  // the mirror's copies, ahead of the ring
+      const leg_command_t c = Command(seq);
+      std::vector<std::uint8_t> bytes(static_cast<std::size_t>(c.getEncodedSize()));
+      c.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+      ASSERT_TRUE(logger_bus.lcm().Publish("EDSP_LEG_COMMAND", bytes.data(), static_cast<std::uint32_t>(bytes.size())));
+    }
+    HandleAll(logger_bus, logger);
+    Bus writer_bus(config);  // another process's Bus: its own memq, the same ring
+    auto commands = writer_bus.Advertise<leg_command_t>("EDSP_LEG_COMMAND");
+    for (std::int64_t seq = 1; seq <= 25; ++seq) ASSERT_TRUE(commands.Publish(Command(seq)));
+    for (int pass = 0; pass < 3; ++pass) {  // the logger retries a missing ring every 100 ms
+      std::this_thread::sleep_for(std::chrono::milliseconds(60));
+      HandleAll(logger_bus, logger);
+    }
+    lost = logger.lost();
+  }
+  std::vector<std::int64_t> expected;
+  for (std::int64_t seq = 1; seq <= 25; ++seq) expected.push_back(seq);
+  EXPECT_EQ(RecordedSeqs(options.writer.output, "EDSP_LEG_COMMAND"), expected);
+  EXPECT_EQ(lost, 0);
+}
+
 // A ring the logger cannot read (here: not an edsp segment at all) must not
 // silence the channel: its LCM copy is recorded, and the reason reported.
 TEST(LoggerNode, AChannelWhoseRingCannotBeReadIsRecordedFromLcmAndReported) {

@@ -96,10 +96,12 @@ bool Bus::Attach(ShmSubscription& s, bool at_subscribe) {
   if (!reader.ok()) {
     if (reader.error != ShmError::kNotFound && reader.error != ShmError::kNotReady) {
       s.counters->last_error = reader.message;  // wrong type, corrupt: say so, keep trying
+      s.refused = true;
     }
     return false;
   }
   s.reader = std::move(reader.value);
+  s.refused = false;
   if (s.recorder && !at_subscribe) s.reader->RewindToFirst();  // all of it came after we subscribed
   s.counters->last_error.clear();
   return true;
@@ -143,8 +145,10 @@ std::vector<std::string> Bus::SubscribeRaw(const std::string& pattern, RawHandle
   auto rings = std::make_shared<std::unordered_map<std::string, const ShmSubscription*>>();
   lcm_.SubscribePattern(names.ForLcm(), [this, rings, handler](const std::string& channel, const std::uint8_t* data,
                                                                std::uint32_t size) {
+    // Its mirror, or a copy from before the ring was written: the ring has
+    // (or, read from its first message once found, will have) all of it.
     const auto ring = rings->find(channel);
-    if (ring != rings->end() && ring->second->reader != nullptr) return;  // its mirror: the ring has all of it
+    if (ring != rings->end() && !ring->second->refused) return;
     ++counters_[channel].received;
     handler(channel, data, size);
   });

@@ -36,7 +36,8 @@ struct KinematicsNodeOptions {
   // Applied to every command and to forward kinematics (calibration.h);
   // none: the nominal model alone.
   std::optional<calibration::CalibrationModel> calibration;
-  // A calibration switched live blends over this much setpoint time.
+  // A calibration switched live blends over this much setpoint time (not a
+  // setting: a test's).
   std::int64_t calibration_blend_us = 1000000;
 };
 
@@ -79,9 +80,13 @@ class KinematicsNode {
   PrMode pr_mode() const { return options_.pr_mode; }
   bool blending() const { return blending_; }
   const PlatformModel& model() const { return model_; }
-  // The calibration in force (or being blended to), or null.
-  const calibration::CalibrationModel* calibration() const { return calibration_.in_force(); }
+  // The calibration switched to last, or null: the one in force once no
+  // blend runs (calibration_blending()).
+  const calibration::CalibrationModel* calibration() const { return calibration_.target(); }
   bool calibration_blending() const { return calibration_.blending(); }
+  // "none", the model in force (file, hash, effects), or "blending from A
+  // to B (40% of 1000 ms)".
+  std::string DescribeCalibration() const;
 
  private:
   fault_t Fault(FaultCode code, std::string reason, std::int64_t now_utime,
@@ -89,6 +94,10 @@ class KinematicsNode {
   Vector6 BlendedPrError(const LegSolution& legs, std::int64_t setpoint_utime);
   fault_t ActOnPrModeRequest(const pr_mode_t& request, std::int64_t now_utime);
   fault_t ActOnCalibrationRequest(const calibration_t& request, std::int64_t now_utime);
+  // The calibration's correction of the nominal command for `sp`; false
+  // (*fault) when it is not finite: never forwarded.
+  bool ApplyCalibration(const pose_setpoint_t& sp, const Pose& target, const Vector6& nominal,
+                        std::int64_t now_utime, Vector6* calibrated, fault_t* fault);
   OperatorRequestAnswers pr_mode_answers_;
   OperatorRequestAnswers calibration_answers_;
 
@@ -105,7 +114,7 @@ class KinematicsNode {
   ModeWeights blend_from_{};
   ModeWeights last_weights_{};
   bool blending_ = false;
-  std::int64_t blend_start_utime_ = -1;  // setpoint time the blend began; -1: next setpoint
+  std::optional<std::int64_t> blend_start_utime_;  // setpoint time the blend began; none: next setpoint
   Pose last_target_;
   Pose last_estimate_;
   calibration::CalibrationBlend calibration_;

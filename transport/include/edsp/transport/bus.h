@@ -81,10 +81,11 @@ class Bus {
   // whole: `A|B` is A or B), undecoded. A channel this process reads on
   // shared memory (its route, as RoutesForMember gave it) is taken there,
   // every message, and its LCM copy (at most a decimated mirror) is skipped
-  // while the ring is attached; a ring it cannot attach (not written yet,
-  // refused: `last_error` says why) leaves it the LCM copy. A ring found
-  // only after subscribing, or made anew by a restarted writer, is read from
-  // its first message. The others come from LCM. Counts `received` (and
+  // while the ring is attached or not written yet: a ring found only after
+  // subscribing, or made anew by a restarted writer, is read from its first
+  // message, so a mirror copy taken before would be recorded twice. A ring
+  // that is there but refused (`last_error` says why) leaves the channel its
+  // LCM copy. The others come from LCM. Counts `received` (and
   // `overruns` on shared memory) per channel; seq gaps need the message's
   // header and are the caller's. Returns the shared-memory channels. The
   // Bus has no unsubscribe: it must not be handled once `handler` is gone.
@@ -121,6 +122,9 @@ class Bus {
     // A raw recorder's (SubscribeRaw): any type, and a segment it finds
     // only after subscribing is read from its first message.
     bool recorder = false;
+    // The segment is there but cannot be read (another layout or type,
+    // permissions, not edsp's): its LCM copy is all there is.
+    bool refused = false;
   };
 
   PublisherState& StateFor(const std::string& channel, std::int64_t fingerprint);
