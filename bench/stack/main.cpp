@@ -18,6 +18,7 @@
 #include <fstream>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -25,6 +26,7 @@
 #include <nlohmann/json.hpp>
 
 #include "edsp/channels.h"
+#include "group_file_editor.h"
 #include "edsp/transport/decode.h"
 #include "edsp/logger/log_reader.h"
 #include "edsp/node_status_t.hpp"
@@ -44,15 +46,12 @@ const std::map<std::string, Target> kTargets = {
 // only; the logger records the other channels. shm-mirror: every 10th hot
 // message also goes out on LCM, so the logger sees the hot path at 100 Hz
 // (each mirror is a multicast send in the sender's loop).
-std::string Routes(const std::string& transport) {
-  if (transport == "lcm") return "";
-  std::string routes;
+void Route(const std::string& transport, GroupFileEditor* group) {
+  if (transport == "lcm") return;
   for (const char* channel : {channel::kSetpoint, channel::kLegCommand, channel::kLegState}) {
-    routes += transport == "shm"
-                  ? fmt::format("[transport.channels.{}]\npath = \"shm\"\n", channel)
-                  : fmt::format("[transport.channels.{}]\npath = \"both\"\nmirror_every = 10\n", channel);
+    group->SetChannel(channel, "path", transport == "shm" ? "shm" : "both");
+    if (transport != "shm") group->SetChannel(channel, "mirror_every", 10);
   }
-  return routes;
 }
 
 // rt: partitioned as on a rig controller. The hot path (planner → kinematics
@@ -60,50 +59,30 @@ std::string Routes(const std::string& transport) {
 // it (bridge 85 > kinematics 80 > planner 70), so a message wakes its reader
 // by preemption on the same CPU, never by waking an idle one. The rig (60)
 // and the logger (ordinary) run on CPU 0.
-std::string GroupFile(const std::string& transport, const std::string& dir, bool rt) {
-  return fmt::format(R"(# written by edsp-bench-stack
-[group]
-name = "bench-{0}"
-config = "{1}/config/huang2021.toml"
-[transport]
-lcm_url = "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304"
-shm_prefix = "edsp.bench.{2}.{0}"
-{3}
-[[member]]
-name = "rig"
-command = "edsp-rig"
-args = ["--tracker-noise-m", "10e-6"]
-realtime_priority = {5}
-cpus = [{9}]
-start_delay_ms = 200
-[[member]]
-name = "actuator_bridge"
-command = "edsp-actuator-bridge"
-args = ["--latency-report", "{4}/latency.json"]
-realtime_priority = {6}
-cpus = [{10}]
-start_delay_ms = 100
-[[member]]
-name = "kinematics"
-command = "edsp-kinematics"
-realtime_priority = {7}
-cpus = [{10}]
-[[member]]
-name = "logger"
-command = "edsp-logger"
-args = ["--output", "{4}/run.lcmlog"]
-start_delay_ms = 300
-cpus = [{9}]
-[[member]]
-name = "planner"
-command = "edsp-planner"
-args = ["--motions", "Lz,Lx,Rz,Ry", "--stops", "9", "--dwell-s", "0.5", "--max-speed-m-s", "0.35", "--max-speed-rad-s", "0.4"]
-realtime_priority = {8}
-cpus = [{10}]
-restart = "never"
-)",
-                     transport, EDSP_SOURCE_DIR, ::getpid(), Routes(transport),
-                     dir, rt ? 60 : 0, rt ? 85 : 0, rt ? 80 : 0, rt ? 70 : 0, rt ? "0" : "0, 1", rt ? "1" : "0, 1");
+void Partition(GroupFileEditor* group) {
+  const std::vector<std::int64_t> hot{1}, cold{0};
+  const std::pair<const char*, int> priorities[] = {
+      {"rig", 60}, {"actuator_bridge", 85}, {"kinematics", 80}, {"logger", 0}, {"planner", 70}};
+  for (const auto& [member, priority] : priorities) {
+    const bool is_hot = priority >= 70;
+    if (priority > 0) group->SetMember(member, "realtime_priority", priority);
+    group->SetMemberList(member, "cpus", is_hot ? hot : cold);
+  }
+}
+
+// The demo group (deploy/groups/demo.toml: the paper's four motions, 9
+// stops, tracker noise 10 µm at 1 kHz) as this benchmark runs it.
+void WriteGroupFile(const std::string& transport, const std::string& dir, bool rt) {
+  GroupFileEditor group = GroupFileEditor::Load(std::string(EDSP_SOURCE_DIR) + "/deploy/groups/demo.toml");
+  group.SetGroup("name", "bench-" + transport)
+      .SetGroup("config", std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml")
+      .SetTransport("shm_prefix", fmt::format("edsp.bench.{}.{}", ::getpid(), transport))
+      .SetArg("kinematics", "--pr-mode", "signed")
+      .SetArg("actuator_bridge", "--latency-report", dir + "/latency.json")
+      .SetArg("logger", "--output", dir + "/run.lcmlog");
+  Route(transport, &group);
+  if (rt) Partition(&group);
+  group.Write(dir + "/group.toml");
 }
 
 std::string BinDir() {
@@ -127,7 +106,7 @@ nlohmann::json RunOnce(const std::string& transport, double duration_s, bool rt)
   const std::string dir = fmt::format("/tmp/edsp_bench_stack_{}_{}", ::getpid(), transport);
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
-  std::ofstream(dir + "/group.toml") << GroupFile(transport, dir, rt);
+  WriteGroupFile(transport, dir, rt);
   const std::string command =
       fmt::format("cd {} && {}/edsp-launch {}/group.toml --bin-dir {} --duration-s {} 2>{}/launch.err",
                   EDSP_SOURCE_DIR, BinDir(), dir, BinDir(), duration_s, dir);

@@ -355,18 +355,19 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
   const bool motion_stops = c.member != "logger";
   Timeline t;
   SimGroupExtras extras;
-  // The leg commands on shared memory: a killed kinematics leaves its
-  // segment behind, and its successor must take it over (stale segment).
-  extras.toml = "[transport.channels.EDSP_LEG_COMMAND]\npath = \"both\"\n";
   std::string config = test_support::kDefaultConfig;
   if (c.over_modbus) {
     // The drives' fieldbus timeout and the master's response timeout at the
     // stale limit: the bridge's and drives' watchdogs over the wire.
-    const SimGroupExtras modbus = test_support::OverModbus(dir, test_support::kShippedStaleMs, &config);
+    extras = test_support::OverModbus(dir, test_support::kShippedStaleMs, &config);
     ASSERT_FALSE(config.empty()) << "config/huang2021.toml declares no [drives] counts_per_m";
-    extras.after_rig = modbus.after_rig;
-    extras.bridge_args = modbus.bridge_args;
   }
+  // The leg commands on shared memory: a killed kinematics leaves its
+  // segment behind, and its successor must take it over (stale segment).
+  extras.edit = [drives = extras.edit](GroupFileEditor& g) {
+    if (drives) drives(g);
+    g.SetChannel("EDSP_LEG_COMMAND", "path", "both");
+  };
   const GroupRun run = LaunchSimGroup(
       name, "signed", fmt::format(R"("--csv", "{}", "--exit-after-hold-s", "0.5")", csv),
       [&](const std::string& d) {

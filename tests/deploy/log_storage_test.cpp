@@ -87,7 +87,7 @@ TEST(LogStorage, AFullDiskIsReportedKeepsTheLogReadableAndRecoversWhenThereIsRoo
   const std::string log = disk + "/run.lcmlog";
   SimGroupExtras extras;
   extras.log_path = log;
-  extras.logger_args = R"(, "--max-queue-mb", "1", "--flush-ms", "50")";
+  extras.edit = [](GroupFileEditor& g) { g.AppendArgs("logger", {"--max-queue-mb", "1", "--flush-ms", "50"}); };
   std::int64_t full_utime = 0, freed_utime = 0, events_while_full = 0;
   bool whole_while_full = false;
   const GroupRun run = LaunchSimGroup(

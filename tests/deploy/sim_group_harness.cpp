@@ -30,13 +30,12 @@ std::string SimGroupDir(const std::string& name) {
 SimGroupExtras OverModbus(const std::string& dir, int stall_ms, std::string* config) {
   constexpr double kCountsPerM = 104857600.0, kLegSpeedMS = 0.5;
   SimGroupExtras extras;
-  extras.after_rig = fmt::format(R"([[member]]
-name = "drive_sim"
-command = "edsp-drive-sim"
-args = ["--axes", "rig", "--fieldbus-timeout-ms", "{}", "--following-window-counts", "{:.0f}"]
-start_delay_ms = 200)",
-                                 stall_ms, kLegSpeedMS * stall_ms * 1e-3 * kCountsPerM);
-  extras.bridge_args = R"(, "--backend", "modbus-tcp")";
+  extras.group = "sim-modbus";
+  extras.edit = [stall_ms](GroupFileEditor& g) {
+    g.SetArg("drive_sim", "--fieldbus-timeout-ms", std::to_string(stall_ms))
+        .SetArg("drive_sim", "--following-window-counts",
+                fmt::format("{:.0f}", kLegSpeedMS * stall_ms * 1e-3 * kCountsPerM));
+  };
   std::string text = ReadTextFile(std::string(EDSP_SOURCE_DIR) + "/" + kDefaultConfig);
   const std::string key = fmt::format("counts_per_m = {:.0f}", kCountsPerM);
   const std::size_t at = text.find(key);
@@ -58,47 +57,22 @@ GroupRun LaunchSimGroup(const std::string& name, const std::string& pr_mode,
   GroupRun run;
   run.dir = dir;
   run.log_path = extras.log_path.empty() ? dir + "/run.lcmlog" : extras.log_path;
-  std::ofstream(dir + "/group.toml") << fmt::format(R"(
-[group]
-name = "{0}"
-config = "{7}"
-session_id = {6}
-[transport]
-lcm_url = "{12}"
-shm_prefix = "edsp.test.{2}.{0}"
-[[member]]
-name = "rig"
-command = "edsp-rig"
-args = ["--tracker-noise-m", "0"]
-start_delay_ms = 200
-{13}
-[[member]]
-name = "actuator_bridge"
-command = "edsp-actuator-bridge"
-args = ["--stale-ms", "{8}"{9}]
-start_delay_ms = 100
-[[member]]
-name = "kinematics"
-command = "edsp-kinematics"
-args = ["--pr-mode", "{3}", "--stale-ms", "{8}"]
-[[member]]
-name = "logger"
-command = "edsp-logger"
-args = ["--output", "{4}"{10}]
-start_delay_ms = 300
-[[member]]
-name = "planner"
-command = "edsp-planner"
-args = [{5}]
-restart = "never"
-{11}
-)",
-                                                    name, EDSP_SOURCE_DIR, ::getpid(), pr_mode,
-                                                    run.log_path, planner_args, session_id,
-                                                    config.front() == '/' ? config : std::string(EDSP_SOURCE_DIR) + "/" + config,
-                                                    stale_ms,
-                                                    extras.bridge_args, extras.logger_args, extras.toml, kGroupLcmUrl,
-                                                    extras.after_rig);
+  const std::string stale = std::to_string(stale_ms);
+  GroupFileEditor group =
+      GroupFileEditor::Load(std::string(EDSP_SOURCE_DIR) + "/deploy/groups/" + extras.group + ".toml");
+  group.SetGroup("name", name)
+      .SetGroup("config", config.front() == '/' ? config : std::string(EDSP_SOURCE_DIR) + "/" + config)
+      .SetGroup("session_id", session_id)
+      .SetTransport("lcm_url", kGroupLcmUrl)
+      .SetTransport("shm_prefix", fmt::format("edsp.test.{}.{}", ::getpid(), name))
+      .SetArg("rig", "--tracker-noise-m", "0")
+      .SetArg("actuator_bridge", "--stale-ms", stale)
+      .SetArg("kinematics", "--pr-mode", pr_mode)
+      .SetArg("kinematics", "--stale-ms", stale)
+      .SetArg("logger", "--output", run.log_path)
+      .ReplaceArgs("planner", ParseArgList(planner_args));
+  if (extras.edit) extras.edit(group);
+  group.Write(dir + "/group.toml");
   const std::string command = fmt::format("{} {}/group.toml --until-exit planner --duration-s 120 2>{}/launch.err",
                                           EDSP_LAUNCH_BINARY, dir, dir);
   std::thread action;

@@ -1,8 +1,9 @@
 #pragma once
-// The sim group as real processes for the multi-process tests: a group file
-// written per test (noise-free tracker, the test's PR mode and planner
-// arguments, its own shm prefix and session), started by edsp-launch until
-// the planner exits, with an action run meanwhile; then the log's health.
+// The sim group as real processes for the multi-process tests: the shipped
+// group file (deploy/groups/sim.toml) with the test's changes (noise-free
+// tracker, its PR mode, stale limit and planner arguments, its own shm
+// prefix and session), started by edsp-launch until the planner exits,
+// with an action run meanwhile; then the log's health.
 
 #include <cstdint>
 #include <functional>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "edsp/kinematics/platform_model.h"
+#include "group_file_editor.h"
 
 namespace edsp::test_support {
 
@@ -38,20 +40,17 @@ inline constexpr int kShippedStaleMs = 50;
 // is a correct hold but not what those tests measure.
 inline constexpr int kStallTolerantStaleMs = 250;
 
-// What some tests change beyond the planner: TOML appended to the group file
-// (e.g. [transport.channels.X]), members between the rig and the bridge
-// (edsp-drive-sim in front of the rig), more arguments (each quoted, comma-led:
-// `, "--x", "1"`) for the bridge and the logger, and where the log goes.
+// What some tests change beyond the planner: the shipped group they start
+// from, anything else of the group file (a channel's route, a member's
+// arguments, through GroupFileEditor), and where the log goes.
 struct SimGroupExtras {
-  std::string toml;
-  std::string after_rig;  // [[member]] tables started after the rig, before the bridge (drives)
-  std::string bridge_args;
-  std::string logger_args;
+  std::string group = "sim";  // deploy/groups/<group>.toml
+  std::function<void(GroupFileEditor&)> edit;
   std::string log_path;  // default <dir>/run.lcmlog
 };
 
-// The group over Modbus TCP, as deploy/groups/sim-modbus.toml: edsp-drive-sim
-// after the rig and the bridge its Modbus master, in a copy of the shipped
+// The group over Modbus TCP, deploy/groups/sim-modbus.toml (edsp-drive-sim
+// after the rig, the bridge its Modbus master), in a copy of the shipped
 // config written to `dir`, returned in *config ("" if the shipped config
 // declares no [drives] counts_per_m). A stall of `stall_ms` is tolerated:
 // the master's response timeout and the drives' fieldbus timeout are that

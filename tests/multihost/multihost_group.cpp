@@ -48,89 +48,53 @@ MultiHostGroup::MultiHostGroup(const VirtualNetwork& network, const std::string&
   const std::string config = options_.drives_over_modbus
                                  ? ModbusConfig()
                                  : std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml";
-  std::ofstream(group_path()) << fmt::format(R"([group]
-name = "{0}"
-config = "{1}"
-session_id = {2}
-{7}
-[transport]
-lcm_url = "udpm://239.255.76.67:7667?ttl=1&recv_buf_size=4194304"
-shm_prefix = "edsp.mh"
-[transport.channels.EDSP_LEG_COMMAND]
-path = "shm"
-writer = "kinematics"
-[transport.channels.EDSP_LEG_STATE]
-path = "shm"
-writer = "actuator_bridge"
-{8}
-[[member]]
-name = "kinematics"
-host = "{4}"
-command = "edsp-kinematics"
-args = ["--pr-mode", "signed", "--stale-ms", "{9}"]
-[[member]]
-name = "logger"
-host = "{3}"
-command = "edsp-logger"
-args = ["--output", "{5}"]
-start_delay_ms = 300
-[[member]]
-name = "planner"
-host = "{3}"
-command = "edsp-planner"
-args = [{6}]
-restart = "never"
-)",
-                                             name, config, options_.session_id, options_.operator_host,
-                                             options_.controller_host, log_path(), options_.planner_args,
-                                             HostSections(), DriveMembers(), options_.stale_ms);
+  const std::string stale = std::to_string(options_.stale_ms);
+  GroupFileEditor group = GroupFileEditor::Load(std::string(EDSP_SOURCE_DIR) + "/deploy/groups/multihost.toml");
+  group.SetGroup("name", name)
+      .SetGroup("config", config)
+      .SetGroup("session_id", options_.session_id)
+      .SetTransport("shm_prefix", "edsp.mh")
+      .SetArg("rig", "--tracker-noise-m", "0")
+      .SetArg("actuator_bridge", "--latency-report", latency_path())
+      .SetArg("actuator_bridge", "--stale-ms", stale)
+      .SetArg("kinematics", "--stale-ms", stale)
+      .SetArg("logger", "--output", log_path())
+      .ReplaceArgs("planner", ParseArgList(options_.planner_args));
+  PlaceMembers(&group);
+  group.Write(group_path());
 }
 
-// The rig and the bridge beside it (its process image in the drive host's
-// shared memory), or the rig and edsp-drive-sim there with the bridge on
-// the controller, their process image the Modbus TCP link between hosts.
-std::string MultiHostGroup::DriveMembers() const {
-  const std::string rig = fmt::format(R"([[member]]
-name = "rig"
-host = "{}"
-command = "edsp-rig"
-args = ["--tracker-noise-m", "0"]
-start_delay_ms = 200
-)",
-                                      options_.drive_host);
-  const std::string bridge_args = fmt::format(R"("--latency-report", "{}", "--rejoin-speed-m-s", "0.05", "--stale-ms", "{}")",
-                                              latency_path(), options_.stale_ms);
-  if (!options_.drives_over_modbus) {
-    return rig + fmt::format(R"([[member]]
-name = "actuator_bridge"
-host = "{}"
-command = "edsp-actuator-bridge"
-args = [{}]
-requires = ["rig"]
-start_delay_ms = 100
-)",
-                             options_.drive_host, bridge_args);
+// The shipped hosts renamed to the test's (several may be one), and the
+// rig and the bridge beside it on the drive host (its process image in that
+// host's shared memory); or, over Modbus TCP, the rig and edsp-drive-sim
+// there with the bridge on the controller, their process image the Modbus
+// TCP link between hosts.
+void MultiHostGroup::PlaceMembers(GroupFileEditor* group) const {
+  group->RemoveHosts();
+  for (const std::string& host :
+       std::set<std::string>{options_.operator_host, options_.controller_host, options_.drive_host}) {
+    group->SetHost(host, "eth0");
   }
+  group->SetMember("rig", "host", options_.drive_host)
+      .SetMember("actuator_bridge", "host", options_.drive_host)
+      .SetMember("kinematics", "host", options_.controller_host)
+      .SetMember("logger", "host", options_.operator_host)
+      .SetMember("planner", "host", options_.operator_host);
+  if (!options_.drives_over_modbus) return;
   // The drives' following window: a leg's travel at 0.5 m/s over the stale
   // limit, so that only the fault a test injects trips them.
   constexpr double kCountsPerM = 104857600.0, kLegSpeedMS = 0.5;
-  return rig + fmt::format(R"([[member]]
-name = "drive_sim"
-host = "{0}"
-command = "edsp-drive-sim"
-args = ["--axes", "rig", "--host", "{1}", "--port", "{2}", "--fieldbus-timeout-ms", "{3}", "--following-window-counts", "{4:.0f}"]
-requires = ["rig"]
-start_delay_ms = 200
-[[member]]
-name = "actuator_bridge"
-host = "{5}"
-command = "edsp-actuator-bridge"
-args = [{6}, "--backend", "modbus-tcp"]
-start_delay_ms = 100
-)",
-                           options_.drive_host, network_.Address(options_.drive_host), kModbusPort,
-                           options_.stale_ms, kLegSpeedMS * options_.stale_ms * 1e-3 * kCountsPerM,
-                           options_.controller_host, bridge_args);
+  group->InsertMember("rig", "drive_sim", "edsp-drive-sim",
+                      {"--axes", "rig", "--host", network_.Address(options_.drive_host), "--port",
+                       std::to_string(kModbusPort), "--fieldbus-timeout-ms", std::to_string(options_.stale_ms),
+                       "--following-window-counts",
+                       fmt::format("{:.0f}", kLegSpeedMS * options_.stale_ms * 1e-3 * kCountsPerM)})
+      .SetMember("drive_sim", "host", options_.drive_host)
+      .SetMemberList("drive_sim", "requires", std::vector<std::string>{"rig"})
+      .SetMember("drive_sim", "start_delay_ms", 200)
+      .SetMember("actuator_bridge", "host", options_.controller_host)
+      .SetMemberList("actuator_bridge", "requires", std::vector<std::string>{})
+      .AppendArgs("actuator_bridge", {"--backend", "modbus-tcp"});
 }
 
 // The shipped config with the drive host's server as the bridge's
@@ -148,13 +112,6 @@ std::string MultiHostGroup::ModbusConfig() const {
   const std::string path = dir_ + "/modbus.toml";
   std::ofstream(path) << config;
   return path;
-}
-
-std::string MultiHostGroup::HostSections() const {
-  std::set<std::string> hosts{options_.operator_host, options_.controller_host, options_.drive_host};
-  std::string out;
-  for (const std::string& host : hosts) out += fmt::format("[hosts.{}]\ninterface = \"eth0\"\n", host);
-  return out;
 }
 
 void MultiHostGroup::Start() {

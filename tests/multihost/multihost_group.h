@@ -2,8 +2,8 @@
 // The sim stack as a rig wires it, on a VirtualNetwork: operator (planner +
 // logger), controller (kinematics), drive (actuator bridge + virtual rig;
 // or, over Modbus TCP, the bridge on the controller and the drive
-// simulator beside the rig), one edsp-launch per host, all from one group
-// file written per test. The
+// simulator beside the rig), one edsp-launch per host, all from the shipped
+// deploy/groups/multihost.toml with the test's changes. The
 // logger on the operator host records every channel; the bridge writes its
 // setpoint → drive latencies on exit.
 
@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "edsp/fault_t.hpp"
+#include "group_file_editor.h"
 #include "virtual_network.h"
 
 namespace edsp::test_support {
@@ -63,8 +64,7 @@ class MultiHostGroup {
   std::vector<int> background_exits() const { return background_exits_; }
 
  private:
-  std::string HostSections() const;
-  std::string DriveMembers() const;
+  void PlaceMembers(GroupFileEditor* group) const;
   std::string ModbusConfig() const;
 
   const VirtualNetwork& network_;

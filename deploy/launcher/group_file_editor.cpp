@@ -1,0 +1,230 @@
+#include "group_file_editor.h"
+
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <utility>
+
+#include <fmt/format.h>
+
+namespace edsp {
+
+namespace {
+
+template <typename T>
+toml::array ArrayOf(const std::vector<T>& values) {
+  toml::array array;
+  for (const T& v : values) array.push_back(v);
+  return array;
+}
+
+}  // namespace
+
+GroupFileEditor::GroupFileEditor(std::string origin, toml::table root)
+    : origin_(std::move(origin)), root_(std::move(root)) {}
+
+GroupFileEditor GroupFileEditor::Load(const std::string& path) {
+  try {
+    return GroupFileEditor(path, toml::parse_file(path));
+  } catch (const toml::parse_error& e) {
+    throw std::runtime_error(fmt::format("{}:{}:{}: {}", path, e.source().begin.line, e.source().begin.column,
+                                         e.description()));
+  }
+}
+
+toml::table& GroupFileEditor::Section(const std::string& name) {
+  if (!root_.contains(name)) root_.insert(name, toml::table{});
+  toml::table* section = root_[name].as_table();
+  if (section == nullptr) throw std::invalid_argument(origin_ + ": [" + name + "] is not a table");
+  return *section;
+}
+
+GroupFileEditor& GroupFileEditor::SetGroup(const std::string& key, const std::string& value) {
+  Section("group").insert_or_assign(key, value);
+  return *this;
+}
+
+GroupFileEditor& GroupFileEditor::SetGroup(const std::string& key, std::int64_t value) {
+  Section("group").insert_or_assign(key, value);
+  return *this;
+}
+
+GroupFileEditor& GroupFileEditor::SetTransport(const std::string& key, const std::string& value) {
+  Section("transport").insert_or_assign(key, value);
+  return *this;
+}
+
+GroupFileEditor& GroupFileEditor::SetChannel(const std::string& channel, const std::string& key,
+                                             const std::string& value) {
+  toml::table& transport = Section("transport");
+  if (!transport.contains("channels")) transport.insert("channels", toml::table{});
+  toml::table* channels = transport["channels"].as_table();
+  if (channels == nullptr) throw std::invalid_argument(origin_ + ": [transport.channels] is not a table");
+  if (!channels->contains(channel)) channels->insert(channel, toml::table{});
+  channels->get(channel)->as_table()->insert_or_assign(key, value);
+  return *this;
+}
+
+GroupFileEditor& GroupFileEditor::SetChannel(const std::string& channel, const std::string& key,
+                                             std::int64_t value) {
+  SetChannel(channel, key, std::string());  // makes the tables
+  Section("transport")["channels"][channel].as_table()->insert_or_assign(key, value);
+  return *this;
+}
+
+GroupFileEditor& GroupFileEditor::SetHost(const std::string& host, const std::string& interface) {
+  toml::table& hosts = Section("hosts");
+  if (!hosts.contains(host)) hosts.insert(host, toml::table{});
+  hosts.get(host)->as_table()->insert_or_assign("interface", interface);
+  return *this;
+}
+
+GroupFileEditor& GroupFileEditor::RemoveHosts() {
+  root_.erase("hosts");
+  return *this;
+}
+
+toml::array& GroupFileEditor::Members() {
+  toml::array* members = root_["member"].as_array();
+  if (members == nullptr) throw std::invalid_argument(origin_ + ": no [[member]] entries");
+  return *members;
+}
+
+std::size_t GroupFileEditor::MemberIndex(const std::string& member) const {
+  if (const toml::array* members = root_["member"].as_array()) {
+    for (std::size_t i = 0; i < members->size(); ++i) {
+      const toml::table* t = (*members)[i].as_table();
+      if (t != nullptr && t->get("name") != nullptr && t->get("name")->value_or(std::string()) == member) return i;
+    }
+  }
+  throw std::invalid_argument(origin_ + ": no member \"" + member + "\"");
+}
+
+toml::table& GroupFileEditor::Member(const std::string& member) {
+  return *Members()[MemberIndex(member)].as_table();
+}
+
+toml::array& GroupFileEditor::ArgsOf(const std::string& member) {
+  toml::table& m = Member(member);
+  if (!m.contains("args")) m.insert("args", toml::array{});
+  toml::array* args = m["args"].as_array();
+  if (args == nullptr) throw std::invalid_argument(origin_ + ": member \"" + member + "\" args is not a list");
+  return *args;
+}
+
+GroupFileEditor& GroupFileEditor::SetArg(const std::string& member, const std::string& flag,
+                                         const std::string& value) {
+  toml::array& args = ArgsOf(member);
+  for (std::size_t i = 0; i + 1 < args.size(); ++i) {
+    if (args[i].value_or(std::string()) == flag) {
+      args.replace(args.cbegin() + static_cast<std::ptrdiff_t>(i + 1), value);
+      return *this;
+    }
+  }
+  args.push_back(flag);
+  args.push_back(value);
+  return *this;
+}
+
+GroupFileEditor& GroupFileEditor::AppendArgs(const std::string& member, const std::vector<std::string>& more) {
+  toml::array& args = ArgsOf(member);
+  for (const std::string& a : more) args.push_back(a);
+  return *this;
+}
+
+GroupFileEditor& GroupFileEditor::ReplaceArgs(const std::string& member, const std::vector<std::string>& args) {
+  Member(member).insert_or_assign("args", ArrayOf(args));
+  return *this;
+}
+
+GroupFileEditor& GroupFileEditor::SetMember(const std::string& member, const std::string& key,
+                                            const std::string& value) {
+  Member(member).insert_or_assign(key, value);
+  return *this;
+}
+
+GroupFileEditor& GroupFileEditor::SetMember(const std::string& member, const std::string& key, std::int64_t value) {
+  Member(member).insert_or_assign(key, value);
+  return *this;
+}
+
+template <typename T>
+GroupFileEditor& GroupFileEditor::SetList(const std::string& member, const std::string& key,
+                                          const std::vector<T>& values) {
+  if (values.empty()) {
+    Member(member).erase(key);
+  } else {
+    Member(member).insert_or_assign(key, ArrayOf(values));
+  }
+  return *this;
+}
+
+GroupFileEditor& GroupFileEditor::SetMemberList(const std::string& member, const std::string& key,
+                                                const std::vector<std::int64_t>& values) {
+  return SetList(member, key, values);
+}
+
+GroupFileEditor& GroupFileEditor::SetMemberList(const std::string& member, const std::string& key,
+                                                const std::vector<std::string>& values) {
+  return SetList(member, key, values);
+}
+
+GroupFileEditor& GroupFileEditor::InsertMember(const std::string& after, const std::string& name,
+                                               const std::string& command, const std::vector<std::string>& args) {
+  const std::size_t at = MemberIndex(after) + 1;
+  toml::table member;
+  member.insert("name", name);
+  member.insert("command", command);
+  member.insert("args", ArrayOf(args));
+  toml::array& members = Members();
+  members.insert(members.cbegin() + static_cast<std::ptrdiff_t>(at), std::move(member));
+  return *this;
+}
+
+GroupFileEditor& GroupFileEditor::RemoveMember(const std::string& member) {
+  toml::array& members = Members();
+  members.erase(members.cbegin() + static_cast<std::ptrdiff_t>(MemberIndex(member)));
+  return *this;
+}
+
+std::vector<std::string> GroupFileEditor::Args(const std::string& member) const {
+  std::vector<std::string> out;
+  const toml::table* m = root_["member"].as_array()->at(MemberIndex(member)).as_table();
+  if (const toml::array* args = m->get_as<toml::array>("args")) {
+    for (const toml::node& a : *args) out.push_back(a.value_or(std::string()));
+  }
+  return out;
+}
+
+std::string GroupFileEditor::Text() const {
+  std::ostringstream out;
+  out << "# from " << origin_ << " (GroupFileEditor)\n" << root_ << "\n";
+  return out.str();
+}
+
+GroupSpec GroupFileEditor::Write(const std::string& path) const {
+  {
+    std::ofstream out(path);
+    out << Text();
+    if (!out) throw std::runtime_error(path + ": cannot write the group file");
+  }
+  return LoadGroupFile(path);
+}
+
+std::vector<std::string> ParseArgList(const std::string& items) {
+  toml::table parsed;
+  try {
+    parsed = toml::parse("args = [" + items + "]");
+  } catch (const toml::parse_error& e) {
+    throw std::invalid_argument("argument list [" + items + "]: " + std::string(e.description()));
+  }
+  std::vector<std::string> args;
+  for (const toml::node& a : *parsed["args"].as_array()) {
+    const std::optional<std::string> text = a.value<std::string>();
+    if (!text) throw std::invalid_argument("argument list [" + items + "]: every item must be a string");
+    args.push_back(*text);
+  }
+  return args;
+}
+
+}  // namespace edsp
