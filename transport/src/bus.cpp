@@ -13,7 +13,12 @@
 namespace edsp {
 
 namespace {
-constexpr auto kAttachRetry = std::chrono::milliseconds(100);
+// How often a reader looks again for a ring it has not found. A recorder
+// reads a ring it found late from its first message, which stays there for
+// slots / rate (64 ms at 1 kHz); a node starts from the newest and misses
+// what came before. At 100 ms a 10-minute sim run's logger lost the
+// planner's first 7 setpoints, and its kinematics answered from the 88th.
+constexpr auto kAttachRetry = std::chrono::milliseconds(10);
 // With both LCM and shared-memory inputs, an FdDoorbell turns LCM's socket
 // into one more futex word beside the segments' doorbells; this slice only
 // bounds a wait in case a wake-up were ever missed.
