@@ -13,10 +13,6 @@ namespace edsp {
 
 namespace {
 
-const char* const kEffects[] = {"leg_offset", "joint_position",      "passive_rotation", "lead_error",
-                                "periodic_lead_error", "backlash", "servo_lag", "compliance",
-                                "thermal_drift"};
-
 // Bounds that catch unit typos (mm for m, ppm for a fraction) on a platform
 // of metres: an effect this large is a mistake, not a rig.
 void RequireAll(const SectionReader& s, const LegValues& v, const char* key, double lo, double hi,
@@ -155,12 +151,56 @@ void ReadThermalDrift(const SectionReader& s, RigEffects::ThermalDrift* e) {
   require(e->screw_length_m > 0.0 && e->screw_length_m < 10.0, "screw_length_m", e->screw_length_m, "in (0, 10) m");
 }
 
+// The vocabulary, once: each effect's name (its [rig.effects.NAME] table),
+// its switch and its reader. Parsing, the enabled names, one effect alone
+// and any() are driven from here: a new effect is one row and its Read
+// function (and its physics).
+struct EffectRow {
+  const char* name;
+  bool& (*enabled)(RigEffects& e);
+  bool (*is_enabled)(const RigEffects& e);
+  void (*read)(const SectionReader& s, RigEffects* e);
+};
+
+template <typename Effect, Effect RigEffects::*kMember, void (*kRead)(const SectionReader&, Effect*)>
+constexpr EffectRow Row(const char* name) {
+  return {name, [](RigEffects& e) -> bool& { return (e.*kMember).enabled; },
+          [](const RigEffects& e) { return (e.*kMember).enabled; },
+          [](const SectionReader& s, RigEffects* e) { kRead(s, &(e->*kMember)); }};
+}
+
+using E = RigEffects;
+constexpr EffectRow kEffects[] = {
+    Row<E::LegOffset, &E::leg_offset, ReadLegOffset>("leg_offset"),
+    Row<E::JointPosition, &E::joint_position, ReadJointPosition>("joint_position"),
+    Row<E::PassiveRotation, &E::passive_rotation, ReadPassiveRotation>("passive_rotation"),
+    Row<E::LeadError, &E::lead_error, ReadLeadError>("lead_error"),
+    Row<E::PeriodicLeadError, &E::periodic_lead_error, ReadPeriodicLeadError>("periodic_lead_error"),
+    Row<E::Backlash, &E::backlash, ReadBacklash>("backlash"),
+    Row<E::ServoLag, &E::servo_lag, ReadServoLag>("servo_lag"),
+    Row<E::Compliance, &E::compliance, ReadCompliance>("compliance"),
+    Row<E::ThermalDrift, &E::thermal_drift, ReadThermalDrift>("thermal_drift"),
+};
+
+const EffectRow* FindEffect(const std::string& name) {
+  for (const EffectRow& row : kEffects) {
+    if (name == row.name) return &row;
+  }
+  return nullptr;
+}
+
+std::string KnownEffects() {
+  std::string known;
+  for (const EffectRow& row : kEffects) known += known.empty() ? row.name : fmt::format(", {}", row.name);
+  return known;
+}
+
 }  // namespace
 
 bool RigEffects::any() const {
-  return leg_offset.enabled || joint_position.enabled || passive_rotation.enabled ||
-         lead_error.enabled || periodic_lead_error.enabled || backlash.enabled || servo_lag.enabled ||
-         compliance.enabled || thermal_drift.enabled;
+  return std::any_of(std::begin(kEffects), std::end(kEffects), [this](const EffectRow& row) {
+    return row.is_enabled(*this);
+  });
 }
 
 RigEffects ParseRigEffects(const std::string& toml_text, const std::string& origin) {
@@ -174,20 +214,9 @@ RigEffects ParseRigEffects(const std::string& toml_text, const std::string& orig
   for (auto&& [key, node] : *all.table()) {
     const std::string name(key.str());
     const SectionReader s(&node, "rig.effects." + name, origin);
-    if (name == "leg_offset") ReadLegOffset(s, &effects.leg_offset);
-    else if (name == "joint_position") ReadJointPosition(s, &effects.joint_position);
-    else if (name == "passive_rotation") ReadPassiveRotation(s, &effects.passive_rotation);
-    else if (name == "lead_error") ReadLeadError(s, &effects.lead_error);
-    else if (name == "periodic_lead_error") ReadPeriodicLeadError(s, &effects.periodic_lead_error);
-    else if (name == "backlash") ReadBacklash(s, &effects.backlash);
-    else if (name == "servo_lag") ReadServoLag(s, &effects.servo_lag);
-    else if (name == "compliance") ReadCompliance(s, &effects.compliance);
-    else if (name == "thermal_drift") ReadThermalDrift(s, &effects.thermal_drift);
-    else {
-      std::string known;
-      for (const char* k : kEffects) known += known.empty() ? k : fmt::format(", {}", k);
-      all.Fail(node, fmt::format("unknown effect [rig.effects.{}] (known: {})", name, known));
-    }
+    const EffectRow* row = FindEffect(name);
+    if (row == nullptr) all.Fail(node, fmt::format("unknown effect [rig.effects.{}] (known: {})", name, KnownEffects()));
+    row->read(s, &effects);
   }
   return effects;
 }
@@ -196,32 +225,16 @@ RigEffects LoadRigEffects(const std::string& path) { return ParseRigEffects(Read
 
 std::vector<std::string> EnabledEffects(const RigEffects& e) {
   std::vector<std::string> names;
-  const std::pair<const char*, bool> all[] = {
-      {"leg_offset", e.leg_offset.enabled},         {"joint_position", e.joint_position.enabled},
-      {"passive_rotation", e.passive_rotation.enabled}, {"lead_error", e.lead_error.enabled},
-      {"periodic_lead_error", e.periodic_lead_error.enabled}, {"backlash", e.backlash.enabled},
-      {"servo_lag", e.servo_lag.enabled}, {"compliance", e.compliance.enabled},
-      {"thermal_drift", e.thermal_drift.enabled}};
-  for (const auto& [name, on] : all) {
-    if (on) names.emplace_back(name);
+  for (const EffectRow& row : kEffects) {
+    if (row.is_enabled(e)) names.emplace_back(row.name);
   }
   return names;
 }
 
 RigEffects OnlyEffect(const RigEffects& e, const std::string& name) {
+  if (FindEffect(name) == nullptr) throw std::invalid_argument("no effect named " + name + " (known: " + KnownEffects() + ")");
   RigEffects only = e;
-  only.leg_offset.enabled = name == "leg_offset" && e.leg_offset.enabled;
-  only.joint_position.enabled = name == "joint_position" && e.joint_position.enabled;
-  only.passive_rotation.enabled = name == "passive_rotation" && e.passive_rotation.enabled;
-  only.lead_error.enabled = name == "lead_error" && e.lead_error.enabled;
-  only.periodic_lead_error.enabled = name == "periodic_lead_error" && e.periodic_lead_error.enabled;
-  only.backlash.enabled = name == "backlash" && e.backlash.enabled;
-  only.servo_lag.enabled = name == "servo_lag" && e.servo_lag.enabled;
-  only.compliance.enabled = name == "compliance" && e.compliance.enabled;
-  only.thermal_drift.enabled = name == "thermal_drift" && e.thermal_drift.enabled;
-  if (std::find(std::begin(kEffects), std::end(kEffects), name) == std::end(kEffects)) {
-    throw std::invalid_argument("no effect named " + name);
-  }
+  for (const EffectRow& row : kEffects) row.enabled(only) = name == row.name && row.is_enabled(e);
   return only;
 }
 

@@ -91,6 +91,34 @@ time_constant_s = 900
   EXPECT_NEAR(truth.geometry.p_BoBi_B(0, 0) - Huang2021Config().geometry.p_BoBi_B(0, 0), 1e-4, 1e-15);
 }
 
+// The vocabulary is one table (rig_effects.cpp): every effect's table name
+// parses into its own switch, is listed by EnabledEffects, stands alone
+// with OnlyEffect, and is named among the known ones when a name is wrong.
+TEST(RigEffectsConfig, EveryEffectIsParsedListedAndSwitchedAloneByItsName) {
+  const std::vector<std::string> vocabulary = {"leg_offset", "joint_position", "passive_rotation",
+                                               "lead_error", "periodic_lead_error", "backlash",
+                                               "servo_lag", "compliance", "thermal_drift"};
+  auto section = [](const std::string& name, bool enabled) {
+    std::string text = "[rig.effects." + name + "]\nenabled = " + (enabled ? "true" : "false") + "\n";
+    if (name == "compliance") text += "stiffness_N_m = 2e7\nmass_kg = 800\n";  // no defaults: a rig's own
+    return text;
+  };
+  std::string text = kNominal;
+  for (const std::string& name : vocabulary) text += section(name, true);
+  const RigEffects all = ParseRigEffects(text, "rig.toml");
+  EXPECT_EQ(EnabledEffects(all), vocabulary);
+  for (const std::string& name : vocabulary) {
+    const RigEffects alone = OnlyEffect(all, name);
+    EXPECT_EQ(EnabledEffects(alone), std::vector<std::string>{name});
+    EXPECT_TRUE(alone.any()) << name;
+    EXPECT_EQ(EnabledEffects(ParseRigEffects(kNominal + section(name, false), "rig.toml")).size(),
+              name == "servo_lag" ? 0u : 1u)  // servo_lag is on unless switched off
+        << name;
+  }
+  const std::string unknown = ErrorOf(kNominal + "[rig.effects.wobble]\nenabled = true\n");
+  for (const std::string& name : vocabulary) EXPECT_NE(unknown.find(name), std::string::npos) << unknown;
+}
+
 TEST(RigEffectsConfig, ErrorsNameFileLineAndKey) {
   EXPECT_NE(ErrorOf(kNominal + "[rig.effects.wobble]\nx = 1\n").find("rig.toml:3: unknown effect [rig.effects.wobble]"),
             std::string::npos);
