@@ -79,7 +79,8 @@ void WriteGroupFile(const std::string& transport, const std::string& dir, bool r
       .SetTransport("shm_prefix", fmt::format("edsp.bench.{}.{}", ::getpid(), transport))
       .SetArg("kinematics", "--pr-mode", "signed")
       .SetArg("actuator_bridge", "--latency-report", dir + "/latency.json")
-      .SetArg("logger", "--output", dir + "/run.lcmlog");
+      .SetArg("logger", "--output", dir + "/run.lcmlog")
+      .RemoveArg("planner", "--exit-after-hold-s");  // it holds the last pose for as long as the run lasts
   Route(transport, &group);
   if (rt) Partition(&group);
   group.Write(dir + "/group.toml");

@@ -61,13 +61,15 @@ GroupFileEditor& GroupFileEditor::SetChannel(const std::string& channel, const s
   toml::table* channels = transport["channels"].as_table();
   if (channels == nullptr) throw std::invalid_argument(origin_ + ": [transport.channels] is not a table");
   if (!channels->contains(channel)) channels->insert(channel, toml::table{});
-  channels->get(channel)->as_table()->insert_or_assign(key, value);
+  toml::table* route = channels->get_as<toml::table>(channel);
+  if (route == nullptr) throw std::invalid_argument(origin_ + ": [transport.channels." + channel + "] is not a table");
+  route->insert_or_assign(key, value);
   return *this;
 }
 
 GroupFileEditor& GroupFileEditor::SetChannel(const std::string& channel, const std::string& key,
                                              std::int64_t value) {
-  SetChannel(channel, key, std::string());  // makes the tables
+  SetChannel(channel, key, std::string());  // makes and checks the tables
   Section("transport")["channels"][channel].as_table()->insert_or_assign(key, value);
   return *this;
 }
@@ -75,7 +77,9 @@ GroupFileEditor& GroupFileEditor::SetChannel(const std::string& channel, const s
 GroupFileEditor& GroupFileEditor::SetHost(const std::string& host, const std::string& interface) {
   toml::table& hosts = Section("hosts");
   if (!hosts.contains(host)) hosts.insert(host, toml::table{});
-  hosts.get(host)->as_table()->insert_or_assign("interface", interface);
+  toml::table* section = hosts.get_as<toml::table>(host);
+  if (section == nullptr) throw std::invalid_argument(origin_ + ": [hosts." + host + "] is not a table");
+  section->insert_or_assign("interface", interface);
   return *this;
 }
 
@@ -115,14 +119,28 @@ toml::array& GroupFileEditor::ArgsOf(const std::string& member) {
 GroupFileEditor& GroupFileEditor::SetArg(const std::string& member, const std::string& flag,
                                          const std::string& value) {
   toml::array& args = ArgsOf(member);
-  for (std::size_t i = 0; i + 1 < args.size(); ++i) {
-    if (args[i].value_or(std::string()) == flag) {
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    if (args[i].value_or(std::string()) != flag) continue;
+    if (i + 1 < args.size()) {
       args.replace(args.cbegin() + static_cast<std::ptrdiff_t>(i + 1), value);
-      return *this;
+    } else {
+      args.push_back(value);  // the flag ended the list without its value
     }
+    return *this;
   }
   args.push_back(flag);
   args.push_back(value);
+  return *this;
+}
+
+GroupFileEditor& GroupFileEditor::RemoveArg(const std::string& member, const std::string& flag) {
+  toml::array& args = ArgsOf(member);
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    if (args[i].value_or(std::string()) != flag) continue;
+    const auto at = args.cbegin() + static_cast<std::ptrdiff_t>(i);
+    args.erase(at, i + 1 < args.size() ? at + 2 : at + 1);
+    return *this;
+  }
   return *this;
 }
 
@@ -189,8 +207,9 @@ GroupFileEditor& GroupFileEditor::RemoveMember(const std::string& member) {
 
 std::vector<std::string> GroupFileEditor::Args(const std::string& member) const {
   std::vector<std::string> out;
-  const toml::table* m = root_["member"].as_array()->at(MemberIndex(member)).as_table();
-  if (const toml::array* args = m->get_as<toml::array>("args")) {
+  const std::size_t index = MemberIndex(member);  // throws unless the member is there
+  const toml::table* m = root_["member"][index].as_table();
+  if (const toml::array* args = m != nullptr ? m->get_as<toml::array>("args") : nullptr) {
     for (const toml::node& a : *args) out.push_back(a.value_or(std::string()));
   }
   return out;

@@ -42,6 +42,8 @@ class GroupFileEditor {
   // the whole list. Every member call throws std::invalid_argument naming
   // a member the file does not have.
   GroupFileEditor& SetArg(const std::string& member, const std::string& flag, const std::string& value);
+  // The flag and the value after it, if the member has the flag.
+  GroupFileEditor& RemoveArg(const std::string& member, const std::string& flag);
   GroupFileEditor& AppendArgs(const std::string& member, const std::vector<std::string>& args);
   GroupFileEditor& ReplaceArgs(const std::string& member, const std::vector<std::string>& args);
   // A member's other keys: host, restart (strings); start_delay_ms,

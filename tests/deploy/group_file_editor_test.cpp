@@ -81,6 +81,8 @@ TEST(GroupFileEditor, EachEditChangesWhatItSaysAndNothingElse) {
       .SetChannel("EDSP_LEG_COMMAND", "mirror_every", 10)
       .SetArg("kinematics", "--pr-mode", "none")     // replaces the value after the flag
       .SetArg("kinematics", "--stale-ms", "250")     // appends flag and value
+      .SetArg("actuator_bridge", "--stale-ms", "50")
+      .RemoveArg("actuator_bridge", "--stale-ms")   // both go
       .AppendArgs("logger", {"--flush-ms", "50"})
       .ReplaceArgs("planner", {"--motions", "Lz"})
       .SetMember("rig", "start_delay_ms", 500)
@@ -104,6 +106,7 @@ TEST(GroupFileEditor, EachEditChangesWhatItSaysAndNothingElse) {
   EXPECT_EQ(member(spec, "kinematics").args,
             (std::vector<std::string>{"--pr-mode", "none", "--stale-ms", "250"}));
   EXPECT_EQ(member(spec, "planner").args, (std::vector<std::string>{"--motions", "Lz"}));
+  EXPECT_EQ(member(spec, "actuator_bridge").args, member(shipped, "actuator_bridge").args);
   EXPECT_EQ(member(spec, "rig").start_delay_ms, 500);
   EXPECT_EQ(member(spec, "rig").cpus, (std::vector<int>{0}));
   EXPECT_EQ(member(spec, "rig").args, member(shipped, "rig").args);  // untouched
@@ -130,6 +133,16 @@ TEST(GroupFileEditor, AnEditTheLauncherWouldRefuseIsRefusedAtWrite) {
   GroupFileEditor g = GroupFileEditor::Load(Shipped("sim"));
   g.SetMember("rig", "restart", "sometimes");
   EXPECT_THROW(g.Write(Scratch("refused.toml")), std::runtime_error);
+}
+
+// A flag that ends the list without its value gets the value, not a
+// second flag.
+TEST(GroupFileEditor, AFlagThatEndsTheListGetsItsValue) {
+  GroupFileEditor g = GroupFileEditor::Load(Shipped("sim"));
+  g.ReplaceArgs("planner", {"--motions"}).SetArg("planner", "--motions", "Lz");
+  EXPECT_EQ(g.Args("planner"), (std::vector<std::string>{"--motions", "Lz"}));
+  g.ReplaceArgs("planner", {"--csv", "a.csv", "--dry-run"}).RemoveArg("planner", "--dry-run");
+  EXPECT_EQ(g.Args("planner"), (std::vector<std::string>{"--csv", "a.csv"}));
 }
 
 TEST(ParseArgList, TomlItemsBecomeArguments) {

@@ -48,6 +48,28 @@ std::vector<std::int64_t> RecordedSeqs(const std::string& path, const std::strin
   return seqs;
 }
 
+// What a writer's LCM mirror (or a writer elsewhere) puts on the bus.
+void PublishOnLcm(Bus& bus, const leg_command_t& c) {
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(c.getEncodedSize()));
+  c.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  ASSERT_TRUE(bus.lcm().Publish("EDSP_LEG_COMMAND", bytes.data(), static_cast<std::uint32_t>(bytes.size())));
+}
+
+// The reasons of the transport faults the logger recorded of itself.
+std::vector<std::string> TransportFaults(const std::string& path) {
+  LogReader reader(path);
+  LogEvent event;
+  std::vector<std::string> reasons;
+  while (reader.Next(&event)) {
+    fault_t fault;
+    if (event.channel != "EDSP_FAULT" || fault.decode(event.data.data(), 0, static_cast<int>(event.data.size())) < 0) {
+      continue;
+    }
+    if (fault.code == static_cast<std::int32_t>(FaultCode::kTransport)) reasons.push_back(fault.reason);
+  }
+  return reasons;
+}
+
 void HandleAll(Bus& bus, LoggerNode& logger) {
   while (bus.Handle(std::chrono::milliseconds(0)) > 0) {
   }
@@ -193,12 +215,7 @@ TEST(LoggerNode, AMirrorThatArrivesBeforeItsRingIsNotRecordedTwice) {
   std::int64_t lost = -1;
   {
     LoggerNode logger(logger_bus, options);
-    for (std::int64_t seq : {10, 20}) {  // the mirror's copies, ahead of the ring
-      const leg_command_t c = Command(seq);
-      std::vector<std::uint8_t> bytes(static_cast<std::size_t>(c.getEncodedSize()));
-      c.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
-      ASSERT_TRUE(logger_bus.lcm().Publish("EDSP_LEG_COMMAND", bytes.data(), static_cast<std::uint32_t>(bytes.size())));
-    }
+    for (std::int64_t seq : {10, 20}) PublishOnLcm(logger_bus, Command(seq));  // the mirror's, ahead of the ring
     HandleAll(logger_bus, logger);
     Bus writer_bus(config);  // another process's Bus: its own memq, the same ring
     auto commands = writer_bus.Advertise<leg_command_t>("EDSP_LEG_COMMAND");
@@ -213,6 +230,31 @@ TEST(LoggerNode, AMirrorThatArrivesBeforeItsRingIsNotRecordedTwice) {
   for (std::int64_t seq = 1; seq <= 25; ++seq) expected.push_back(seq);
   EXPECT_EQ(RecordedSeqs(options.writer.output, "EDSP_LEG_COMMAND"), expected);
   EXPECT_EQ(lost, 0);
+}
+
+// A `both` channel whose ring never comes to this host while its LCM
+// copies do (a writer on another host that the group file does not say,
+// or one that publishes on LCM only): waiting for the ring must not lose
+// the channel silently. After 1 s of copies they are recorded, and said.
+TEST(LoggerNode, LcmCopiesOfARingThatNeverComesAreRecordedAfterAGraceAndSaid) {
+  TransportConfig config = MemqConfig("logger_no_ring");
+  config.channels["EDSP_LEG_COMMAND"].path = ChannelPath::kBoth;
+  Bus bus(config);
+  const LoggerOptions options = OptionsFor("no_ring");
+  {
+    LoggerNode logger(bus, options);
+    PublishOnLcm(bus, Command(1));  // within the grace: the ring may be coming
+    HandleAll(bus, logger);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1100));
+    for (std::int64_t seq : {2, 3}) PublishOnLcm(bus, Command(seq));
+    HandleAll(bus, logger);
+    HandleAll(bus, logger);  // the fault it published, recorded
+  }
+  EXPECT_EQ(RecordedSeqs(options.writer.output, "EDSP_LEG_COMMAND"), (std::vector<std::int64_t>{2, 3}));
+  const std::vector<std::string> reasons = TransportFaults(options.writer.output);
+  ASSERT_EQ(reasons.size(), 1u);
+  EXPECT_NE(reasons[0].find("no ring written on this host after 1 s of LCM copies (1 skipped)"), std::string::npos)
+      << reasons[0];
 }
 
 // A writer that starts after the logger fills its ring (64 slots, 64 ms at
@@ -255,25 +297,13 @@ TEST(LoggerNode, AChannelWhoseRingCannotBeReadIsRecordedFromLcmAndReported) {
   const LoggerOptions options = OptionsFor("bad_ring");
   {
     LoggerNode logger(bus, options);
-    const leg_command_t c = Command(5);
-    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(c.getEncodedSize()));
-    c.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
-    ASSERT_TRUE(bus.lcm().Publish("EDSP_LEG_COMMAND", bytes.data(), static_cast<std::uint32_t>(bytes.size())));
+    PublishOnLcm(bus, Command(5));
     HandleAll(bus, logger);
     HandleAll(bus, logger);  // the fault it published, recorded
   }
   std::remove(segment.c_str());
   EXPECT_EQ(RecordedSeqs(options.writer.output, "EDSP_LEG_COMMAND"), (std::vector<std::int64_t>{5}));
-  LogReader reader(options.writer.output);
-  LogEvent event;
-  std::vector<std::string> reasons;
-  while (reader.Next(&event)) {
-    fault_t fault;
-    if (event.channel != "EDSP_FAULT" || fault.decode(event.data.data(), 0, static_cast<int>(event.data.size())) < 0) {
-      continue;
-    }
-    if (fault.code == static_cast<std::int32_t>(FaultCode::kTransport)) reasons.push_back(fault.reason);
-  }
+  const std::vector<std::string> reasons = TransportFaults(options.writer.output);
   ASSERT_EQ(reasons.size(), 1u) << "one report per reason";
   EXPECT_NE(reasons[0].find("EDSP_LEG_COMMAND: cannot read its shared memory"), std::string::npos) << reasons[0];
   EXPECT_NE(reasons[0].find("recording its LCM copy"), std::string::npos) << reasons[0];

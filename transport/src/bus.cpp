@@ -13,12 +13,21 @@
 namespace edsp {
 
 namespace {
-// How often a reader looks again for a ring it has not found. A recorder
-// reads a ring it found late from its first message, which stays there for
-// slots / rate (64 ms at 1 kHz); a node starts from the newest and misses
-// what came before. At 100 ms a 10-minute sim run's logger lost the
-// planner's first 7 setpoints, and its kinematics answered from the 88th.
-constexpr auto kAttachRetry = std::chrono::milliseconds(10);
+// How often a reader looks again for a ring it has not found. A node
+// starts from the newest message; every look that finds nothing costs an
+// exception inside Boost.Interprocess, which a SCHED_FIFO node should not
+// pay 100 times a second. A recorder reads a ring it found late from its
+// first message, which stays there for slots / rate (64 ms at 1 kHz): it
+// looks well within that (at 100 ms a 10-minute sim run's logger lost the
+// planner's first 7 setpoints).
+constexpr auto kAttachRetry = std::chrono::milliseconds(100);
+constexpr auto kRecorderAttachRetry = std::chrono::milliseconds(10);
+// A recorder skips the LCM copies of a channel whose ring is not written
+// yet (its writer on this host is starting: the ring, read from its first
+// message, will hold them all). Copies that keep coming this long with no
+// ring mean the writer is not on this host (or publishes on LCM only): they
+// are recorded from then on, and it is said.
+constexpr auto kRingGrace = std::chrono::seconds(1);
 // With both LCM and shared-memory inputs, an FdDoorbell turns LCM's socket
 // into one more futex word beside the segments' doorbells; this slice only
 // bounds a wait in case a wake-up were ever missed.
@@ -96,7 +105,7 @@ Bus::ShmSubscription& Bus::AddShmSubscription(const std::string& channel, std::i
 bool Bus::Attach(ShmSubscription& s, bool at_subscribe) {
   const auto now = std::chrono::steady_clock::now();
   if (now < s.next_attach) return false;
-  s.next_attach = now + kAttachRetry;
+  s.next_attach = now + (s.recorder ? kRecorderAttachRetry : kAttachRetry);
   ShmResult<ShmReader> reader = ShmReader::Open(s.spec);
   if (!reader.ok()) {
     if (reader.error != ShmError::kNotFound && reader.error != ShmError::kNotReady) {
@@ -137,23 +146,43 @@ int Bus::DrainShm() {
       ShmResult<ShmReader> fresh = ShmReader::Open(s->spec);
       if (fresh.ok() && fresh.value->WriterAlive()) {
         s->reader = std::move(fresh.value);
+        s->refused = false;
         if (s->recorder) s->reader->RewindToFirst();  // the new writer's first messages too
+      } else if (!fresh.ok() && fresh.error != ShmError::kNotFound && fresh.error != ShmError::kNotReady) {
+        s->counters->last_error = fresh.message;  // the new writer's ring cannot be read
+        s->refused = true;
       }
     }
   }
   return delivered;
 }
 
+bool Bus::SkipsLcmCopy(ShmSubscription& ring) {
+  if (ring.reader != nullptr) return true;  // its mirror: the ring has all of it
+  if (ring.refused) return false;
+  // Not written yet: read from its first message once found, the ring will
+  // have this copy too.
+  const auto now = std::chrono::steady_clock::now();
+  if (!ring.first_copy_without_ring) ring.first_copy_without_ring = now;
+  if (now - *ring.first_copy_without_ring < kRingGrace) {
+    ++ring.counters->copies_awaiting_ring;
+    return true;
+  }
+  ring.refused = true;
+  ring.counters->last_error = fmt::format("no ring written on this host after {} s of LCM copies ({} skipped)",
+                                          std::chrono::duration<double>(kRingGrace).count(),
+                                          ring.counters->copies_awaiting_ring);
+  return false;
+}
+
 std::vector<std::string> Bus::SubscribeRaw(const std::string& pattern, RawHandler handler) {
   const ChannelPattern names(pattern);
   // Channel → its ring, for the LCM side to skip what the ring delivers.
-  auto rings = std::make_shared<std::unordered_map<std::string, const ShmSubscription*>>();
+  auto rings = std::make_shared<std::unordered_map<std::string, ShmSubscription*>>();
   lcm_.SubscribePattern(names.ForLcm(), [this, rings, handler](const std::string& channel, const std::uint8_t* data,
                                                                std::uint32_t size) {
-    // Its mirror, or a copy from before the ring was written: the ring has
-    // (or, read from its first message once found, will have) all of it.
     const auto ring = rings->find(channel);
-    if (ring != rings->end() && !ring->second->refused) return;
+    if (ring != rings->end() && SkipsLcmCopy(*ring->second)) return;
     ++counters_[channel].received;
     handler(channel, data, size);
   });

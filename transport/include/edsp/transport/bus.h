@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <unordered_map>
@@ -32,6 +33,7 @@ struct ChannelCounters {
   std::uint64_t decode_errors = 0;     // truncated or foreign packets
   std::uint64_t overruns = 0;          // shm messages lost to a lapping writer
   std::uint64_t seq_gaps = 0;          // messages missing by their `seq` field
+  std::uint64_t copies_awaiting_ring = 0;  // a recorder's LCM copies skipped: the ring not written yet
   std::string last_error;              // newest problem, for EDSP_FAULT
 };
 
@@ -84,8 +86,9 @@ class Bus {
   // while the ring is attached or not written yet: a ring found only after
   // subscribing, or made anew by a restarted writer, is read from its first
   // message, so a mirror copy taken before would be recorded twice. A ring
-  // that is there but refused (`last_error` says why) leaves the channel its
-  // LCM copy. The others come from LCM. Counts `received` (and
+  // that is there but refused, or that has not come 1 s after the first LCM
+  // copy did (its writer is on another host, or LCM only), leaves the
+  // channel its LCM copy, and `last_error` says why. The others come from LCM. Counts `received` (and
   // `overruns` on shared memory) per channel; seq gaps need the message's
   // header and are the caller's. Returns the shared-memory channels. The
   // Bus has no unsubscribe: it must not be handled once `handler` is gone.
@@ -123,8 +126,11 @@ class Bus {
     // only after subscribing is read from its first message.
     bool recorder = false;
     // The segment is there but cannot be read (another layout or type,
-    // permissions, not edsp's): its LCM copy is all there is.
+    // permissions, not edsp's), or never came while LCM copies did: its
+    // LCM copy is all there is.
     bool refused = false;
+    // A recorder's: when the first LCM copy came with no ring yet.
+    std::optional<std::chrono::steady_clock::time_point> first_copy_without_ring;
   };
 
   PublisherState& StateFor(const std::string& channel, std::int64_t fingerprint);
@@ -137,6 +143,10 @@ class Bus {
   ShmSubscription& AddShmSubscription(const std::string& channel, std::int64_t fingerprint,
                                       std::function<TakeStatus(ShmReader&)> take, bool recorder = false);
   bool Attach(ShmSubscription& subscription, bool at_subscribe = false);
+  // A recorder's LCM copy of a shared-memory channel: skipped while its ring
+  // has (or, not written yet, will have) it; recorded when the ring is
+  // refused, or never came within a grace while copies did.
+  bool SkipsLcmCopy(ShmSubscription& ring);
   int DrainShm();
   bool WaitShm(std::chrono::steady_clock::duration timeout, FdDoorbell* lcm_bell);
   void Fail(std::exception_ptr error);
