@@ -309,6 +309,40 @@ TEST(LoggerNode, AChannelWhoseRingCannotBeReadIsRecordedFromLcmAndReported) {
   EXPECT_NE(reasons[0].find("recording its LCM copy"), std::string::npos) << reasons[0];
 }
 
+// A writer exits in order (its ring removed) and what takes the ring's
+// place cannot be read: the logger says so and records the LCM copy, not
+// nothing from a dead ring.
+TEST(LoggerNode, ARestartedWritersUnreadableRingLeavesTheChannelItsLcmCopy) {
+  TransportConfig config = MemqConfig("logger_bad_successor");
+  config.channels["EDSP_LEG_COMMAND"].path = ChannelPath::kBoth;
+  const std::string segment = "/dev/shm/" + config.SegmentName("EDSP_LEG_COMMAND");
+  Bus logger_bus(config);
+  const LoggerOptions options = OptionsFor("bad_successor");
+  {
+    LoggerNode logger(logger_bus, options);
+    {
+      Bus writer_bus(config);
+      auto commands = writer_bus.Advertise<leg_command_t>("EDSP_LEG_COMMAND");
+      ASSERT_TRUE(commands.Publish(Command(1)));
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      HandleAll(logger_bus, logger);
+    }  // exits in order: the ring is removed
+    std::ofstream(segment) << std::string(8192, '\xab');  // not an edsp segment
+    for (int pass = 0; pass < 3; ++pass) {  // the dead ring noticed, the new one refused
+      std::this_thread::sleep_for(std::chrono::milliseconds(40));
+      HandleAll(logger_bus, logger);
+    }
+    PublishOnLcm(logger_bus, Command(2));
+    HandleAll(logger_bus, logger);
+    HandleAll(logger_bus, logger);
+  }
+  std::remove(segment.c_str());
+  EXPECT_EQ(RecordedSeqs(options.writer.output, "EDSP_LEG_COMMAND"), (std::vector<std::int64_t>{1, 2}));
+  const std::vector<std::string> reasons = TransportFaults(options.writer.output);
+  ASSERT_EQ(reasons.size(), 1u);
+  EXPECT_NE(reasons[0].find("cannot read its shared memory"), std::string::npos) << reasons[0];
+}
+
 TEST(LoggerNode, APatternThatIsNoRegexIsRefusedNamingIt) {
   Bus bus(MemqConfig("logger_bad_pattern"));
   LoggerOptions options = OptionsFor("bad_pattern");

@@ -158,8 +158,8 @@ int Bus::DrainShm() {
 }
 
 bool Bus::SkipsLcmCopy(ShmSubscription& ring) {
+  if (ring.refused) return false;  // (a restarted writer's ring refused: the old reader stays, dead)
   if (ring.reader != nullptr) return true;  // its mirror: the ring has all of it
-  if (ring.refused) return false;
   // Not written yet: read from its first message once found, the ring will
   // have this copy too.
   const auto now = std::chrono::steady_clock::now();
