@@ -1,4 +1,5 @@
-// edsp-sim: offline kinematics and simulation commands (docs/edsp-sim.md).
+// edsp-sim: offline kinematics and simulation commands (README "Usage";
+// `rig`: docs/rig.md, `stack-table`: docs/stack.md).
 //   edsp-sim pr --config FILE --pose x,y,z,roll,pitch,yaw [--json]
 //   edsp-sim paper-table --config FILE [--poses N] [--json]
 //   edsp-sim stack-table --config FILE LOG... [--plots DIR] [--json]
