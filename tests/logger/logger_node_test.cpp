@@ -70,6 +70,13 @@ std::vector<std::string> TransportFaults(const std::string& path) {
   return reasons;
 }
 
+// first, first + 1, ..., last: what a writer published, every one.
+std::vector<std::int64_t> Seqs(std::int64_t first, std::int64_t last) {
+  std::vector<std::int64_t> seqs;
+  for (std::int64_t seq = first; seq <= last; ++seq) seqs.push_back(seq);
+  return seqs;
+}
+
 void HandleAll(Bus& bus, LoggerNode& logger) {
   while (bus.Handle(std::chrono::milliseconds(0)) > 0) {
   }
@@ -226,9 +233,7 @@ TEST(LoggerNode, AMirrorThatArrivesBeforeItsRingIsNotRecordedTwice) {
     }
     lost = logger.lost();
   }
-  std::vector<std::int64_t> expected;
-  for (std::int64_t seq = 1; seq <= 25; ++seq) expected.push_back(seq);
-  EXPECT_EQ(RecordedSeqs(options.writer.output, "EDSP_LEG_COMMAND"), expected);
+  EXPECT_EQ(RecordedSeqs(options.writer.output, "EDSP_LEG_COMMAND"), Seqs(1, 25));
   EXPECT_EQ(lost, 0);
 }
 
@@ -280,9 +285,7 @@ TEST(LoggerNode, FindsALateRingBeforeItsFirstMessagesAreOverwritten) {
     HandleAll(logger_bus, logger);
     lost = logger.lost();
   }
-  std::vector<std::int64_t> expected;
-  for (std::int64_t seq = 1; seq <= 80; ++seq) expected.push_back(seq);
-  EXPECT_EQ(RecordedSeqs(options.writer.output, "EDSP_LEG_COMMAND"), expected);
+  EXPECT_EQ(RecordedSeqs(options.writer.output, "EDSP_LEG_COMMAND"), Seqs(1, 80));
   EXPECT_EQ(lost, 0);
 }
 
