@@ -25,93 +25,6 @@ namespace {
 
 using Rng = std::mt19937_64;
 
-double Uniform(Rng& rng, double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
-double Signed(Rng& rng, double lo, double hi) { return Uniform(rng, lo, hi) * (Uniform(rng, 0, 1) < 0.5 ? -1 : 1); }
-
-// Realistic magnitudes for a platform of the paper's size (docs/rig.md).
-void Enable(Effect e, Rng& rng, Scenario* s) {
-  RigEffects& fx = s->effects;
-  switch (e) {
-    case Effect::kPassiveRotation: {
-      const int variant = static_cast<int>(Uniform(rng, 0, 4));
-      if (variant == 0) {
-        s->compensation = PrMode::kUnsigned;  // the paper's Eq. (9)
-        s->description += "PR compensated unsigned; ";
-      } else if (variant == 1) {
-        s->compensation = PrMode::kNone;
-        s->description += "PR not compensated; ";
-      } else if (variant == 2) {
-        fx.passive_rotation.enabled = true;
-        fx.passive_rotation.pr_sign = -1;     // the other thread hand
-        s->description += "screws of the other hand (PR sign −1); ";
-      } else {
-        fx.passive_rotation.enabled = true;
-        const double scale = Uniform(rng, 0, 1) < 0.5 ? Uniform(rng, 0.6, 0.85) : Uniform(rng, 1.15, 1.4);
-        fx.passive_rotation.pr_lead_m = 0.010 * scale;
-        s->description += fmt::format("PR through a {:.2f}× lead; ", scale);
-      }
-      break;
-    }
-    case Effect::kLegOffset:
-      fx.leg_offset.enabled = true;
-      for (double& v : fx.leg_offset.offset_m) v = Signed(rng, 30e-6, 150e-6);
-      s->description += "leg offsets 30–150 µm; ";
-      break;
-    case Effect::kJointPosition: {
-      fx.joint_position.enabled = true;
-      std::normal_distribution<double> n(0.0, 100e-6);
-      for (int i = 0; i < 6; ++i) {
-        for (int a = 0; a < 3; ++a) {
-          fx.joint_position.base_m(a, i) = n(rng);
-          fx.joint_position.platform_m(a, i) = n(rng);
-        }
-      }
-      s->description += "joint centres σ 100 µm; ";
-      break;
-    }
-    case Effect::kLeadError:
-      fx.lead_error.enabled = true;
-      for (double& v : fx.lead_error.epsilon) v = Signed(rng, 80e-6, 300e-6);
-      s->description += "lead errors 80–300 ppm; ";
-      break;
-    case Effect::kPeriodicLeadError:
-      fx.periodic_lead_error.enabled = true;
-      for (int i = 0; i < 6; ++i) {
-        fx.periodic_lead_error.amplitude_m[static_cast<std::size_t>(i)] = Uniform(rng, 5e-6, 12e-6);
-        fx.periodic_lead_error.phase_rad[static_cast<std::size_t>(i)] = Uniform(rng, 0, 6.283185307179586);
-      }
-      s->description += "periodic lead error 5–12 µm; ";
-      break;
-    case Effect::kBacklash:
-      fx.backlash.enabled = true;
-      for (double& v : fx.backlash.backlash_m) v = Uniform(rng, 15e-6, 60e-6);
-      s->description += "backlash 15–60 µm; ";
-      break;
-    case Effect::kServoLag:
-      fx.servo_lag.bandwidth_hz = Uniform(rng, 8.0, 20.0);  // a soft loop without integral action
-      fx.servo_lag.integral_time_s = 0.0;
-      s->description += fmt::format("servo loop {:.1f} Hz; ", fx.servo_lag.bandwidth_hz);
-      break;
-    case Effect::kCompliance:
-      fx.compliance.enabled = true;
-      {
-        const double k0 = Uniform(rng, 1e7, 3e7);  // legs of one design, ±15% from assembly
-        for (double& v : fx.compliance.stiffness_N_m) v = k0 * Uniform(rng, 0.85, 1.15);
-      }
-      fx.compliance.mass_kg = Uniform(rng, 400, 1200);
-      fx.compliance.com_m = Vector3(0, 0, Uniform(rng, 0.0, 0.3));
-      s->description += fmt::format("compliance, {:.0f} kg (c.o.m. {:.2f} m up) on {:.1f} N/µm legs ±15%; ",
-                                    fx.compliance.mass_kg, fx.compliance.com_m.z(), fx.compliance.stiffness_N_m[0] * 1e-6);
-      break;
-    case Effect::kThermalDrift:
-      fx.thermal_drift.enabled = true;
-      fx.thermal_drift.heating_K_per_m = Uniform(rng, 3.0, 8.0);
-      fx.thermal_drift.time_constant_s = Uniform(rng, 600, 1800);
-      s->description += fmt::format("thermal drift {:.1f} K/m; ", fx.thermal_drift.heating_K_per_m);
-      break;
-  }
-}
-
 double Median(std::vector<double> v) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
@@ -194,10 +107,7 @@ Drawn DrawOnRig(const BenchmarkOptions& options, const std::string& config, Rng&
   run.tracker.noise_sigma_m = options.tracker_noise_m;
   run.tracker.rate_hz = options.tracker_rate_hz;
   run.tracker.seed = options.seed * 7919 + static_cast<std::uint64_t>(k);
-  // The tracker stands somewhere on the floor, turned any way.
-  run.tracker.X_TB = Pose::FromVector((Vector6() << Uniform(frames, -3, 3), Uniform(frames, -3, 3),
-                                       Uniform(frames, -0.5, 0.5), Uniform(frames, -0.03, 0.03),
-                                       Uniform(frames, -0.03, 0.03), Uniform(frames, -3.14, 3.14)).finished());
+  run.tracker.X_TB = DrawTrackerStand(frames);
   run.out_dir = dir;
   Drawn drawn;
   drawn.kind = KindOf(s.truth.size());
@@ -309,25 +219,6 @@ std::vector<Target> Targets(const BenchmarkResult& r) {
 bool Met(const Target& t) { return t.scenarios == 0 || (t.at_most ? t.rate <= t.target : t.rate >= t.target); }
 
 }  // namespace
-
-Scenario DrawScenario(std::uint64_t seed, int index) {
-  Rng rng(seed * 1000003ull + static_cast<std::uint64_t>(index));
-  Scenario s;
-  // Every rig has a drive loop; a well-tuned one (integral action) leaves
-  // no lag worth the name: the effect-free baseline.
-  s.effects.servo_lag.integral_time_s = 0.05;
-  s.effects.servo_lag.torque_limit_N_m = 15.0;  // motors sized for the heaviest payload drawn
-  const int kind = index % 5;
-  const int count = kind == 0 ? 0 : (kind <= 2 ? 1 : 2);
-  std::vector<Effect> pool = AllEffects();
-  std::shuffle(pool.begin(), pool.end(), rng);
-  for (int k = 0; k < count; ++k) {
-    s.truth.push_back(pool[static_cast<std::size_t>(k)]);
-    Enable(pool[static_cast<std::size_t>(k)], rng, &s);
-  }
-  if (s.truth.empty()) s.description = "no effect (the rig's stiff default drive loop only)";
-  return s;
-}
 
 BenchmarkResult RunBenchmark(const BenchmarkOptions& options) {
   if (options.generator != "rig" && options.generator != "blind") {

@@ -21,23 +21,6 @@ namespace edsp::gap {
 
 namespace {
 
-// Prior 1-σ of each effect's parameters: far wider than any real rig's
-// value; it only pins directions the data cannot see (ridge regression).
-double PriorSigma(Effect e) {
-  switch (e) {
-    case Effect::kPassiveRotation: return 10.0;
-    case Effect::kLegOffset: return 5e-3;
-    case Effect::kJointPosition: return 3e-4;
-    case Effect::kLeadError: return 1e-2;
-    case Effect::kPeriodicLeadError: return 1e-3;
-    case Effect::kBacklash: return 5e-3;
-    case Effect::kServoLag: return 1.0;
-    case Effect::kCompliance: return 1e-2;
-    case Effect::kThermalDrift: return 1e-3;
-  }
-  return 1.0;
-}
-
 Eigen::VectorXd PriorWeights(const Design& d, double sigma2) {
   Eigen::VectorXd w = Eigen::VectorXd::Zero(d.parameters());
   for (Effect e : AllEffects()) {

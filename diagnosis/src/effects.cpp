@@ -17,45 +17,40 @@ bool IsNestedIn(Effect simple, Effect rich) {
 
 namespace {
 
-nlohmann::json Slice(const double* theta, int begin, int count) {
-  nlohmann::json a = nlohmann::json::array();
-  for (int k = 0; k < count; ++k) a.push_back(theta[begin + k]);
-  return a;
-}
+using calibration::ParameterLayout;
 
-nlohmann::json Rows3(const double* theta, int begin) {
-  nlohmann::json rows = nlohmann::json::array();
-  for (int i = 0; i < 6; ++i) rows.push_back(Slice(theta, begin + 3 * i, 3));
-  return rows;
+// One group's values as JSON: a number, an xyz array, an array per leg, or
+// per leg an xyz array.
+template <typename Read>
+nlohmann::json GroupJson(const ParameterGroup& g, Read read) {
+  const int count = calibration::ValueCount(g);
+  if (count == 1) return read(0);
+  nlohmann::json values = nlohmann::json::array();
+  if (g.layout == ParameterLayout::kPerLegXyz) {
+    for (int leg = 0; leg < 6; ++leg) values.push_back({read(3 * leg), read(3 * leg + 1), read(3 * leg + 2)});
+    return values;
+  }
+  for (int k = 0; k < count; ++k) values.push_back(read(k));
+  return values;
 }
 
 }  // namespace
 
-nlohmann::json ParametersJson(Effect effect, const double* t) {
-  switch (effect) {
-    case Effect::kPassiveRotation:
-      return {{"signed_pr_scale", t[0]}, {"applied_compensation_scale", 1.0 + t[1]}};
-    case Effect::kLegOffset: return {{"offset_m", Slice(t, 0, 6)}};
-    case Effect::kJointPosition: return {{"base_m", Rows3(t, 0)}, {"platform_m", Rows3(t, 18)}};
-    case Effect::kLeadError: return {{"epsilon", Slice(t, 0, 6)}};
-    case Effect::kPeriodicLeadError: {
-      nlohmann::json amplitude = nlohmann::json::array(), phase = nlohmann::json::array();
-      for (int i = 0; i < 6; ++i) {
-        amplitude.push_back(std::hypot(t[2 * i], t[2 * i + 1]));
-        phase.push_back(std::atan2(t[2 * i + 1], t[2 * i]));
-      }
-      return {{"amplitude_m", amplitude}, {"phase_rad", phase}};
-    }
-    case Effect::kBacklash: return {{"backlash_m", Slice(t, 0, 6)}};
-    case Effect::kServoLag:
-      return {{"lag_s", Slice(t, 0, 6)}, {"acceleration_lag_s2", Slice(t, 6, 6)}, {"jerk_lag_s3", t[12]}};
-    case Effect::kCompliance:
-      return {{"mass_over_stiffness_s2", Slice(t, 0, 6)}, {"moment_over_stiffness_s2_m", Slice(t, 6, 3)}};
-    case Effect::kThermalDrift:
-      return {{"growth_per_travel", t[0]}, {"growth_per_travel_stroke_per_m", t[1]},
-              {"growth_powered_m_per_s", t[2]}, {"growth_powered_stroke_per_s", t[3]}};
+nlohmann::json ParametersJson(Effect effect, const double* theta) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const ParameterGroup& g : ParameterGroups(effect)) {
+    j[g.key] = GroupJson(g, [&](int k) { return calibration::GroupValue(g, theta, k); });
   }
-  return {};
+  return j;
+}
+
+nlohmann::json SigmaJson(Effect effect, const double* sigma) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const ParameterGroup& g : ParameterGroups(effect)) {
+    if (!calibration::HasSigma(g)) continue;
+    j[g.key] = GroupJson(g, [&](int k) { return sigma[calibration::ThetaIndex(g, k)]; });
+  }
+  return j;
 }
 
 std::string SeparatingMeasurement(Effect a, Effect b) {

@@ -23,11 +23,11 @@ nlohmann::json EffectJson(const EffectResult& r) {
   nlohmann::json j;
   j["name"] = EffectName(r.effect);
   j["params"] = r.theta.size() ? ParametersJson(r.effect, r.theta.data()) : nlohmann::json::object();
-  j["sigma"] = r.sigma.size() ? ParametersJson(r.effect, r.sigma.data()) : nlohmann::json::object();
-  if (r.effect == Effect::kPassiveRotation && r.sigma.size() == 2) {
-    j["sigma"]["applied_compensation_scale"] = r.sigma(1);  // σ of 1 + b is σ of b
+  const auto groups = ParameterGroups(r.effect);
+  // An effect none of whose values has a σ of its own (amplitude, phase) gets no "sigma".
+  if (std::any_of(groups.begin(), groups.end(), calibration::HasSigma)) {
+    j["sigma"] = r.sigma.size() ? SigmaJson(r.effect, r.sigma.data()) : nlohmann::json::object();
   }
-  if (r.effect == Effect::kPeriodicLeadError) j.erase("sigma");  // amplitude/phase σ are not the θ σ
   j["explained_fraction"] = r.explained_fraction;
   j["cv_gain"] = r.cv_gain;
   j["verdict"] = r.verdict;

@@ -14,23 +14,6 @@ namespace edsp::calibration {
 
 namespace {
 
-// The largest |θ| a real platform of any size has, per effect (docs/calibration.md):
-// beyond it the file is not a calibration of a platform but a fit gone wrong.
-double ParameterLimit(Effect e) {
-  switch (e) {
-    case Effect::kPassiveRotation: return 3.0;   // PR scales
-    case Effect::kLegOffset: return 10e-3;       // m
-    case Effect::kJointPosition: return 10e-3;   // m
-    case Effect::kLeadError: return 0.01;        // 1% of the lead
-    case Effect::kPeriodicLeadError: return 1e-3;
-    case Effect::kBacklash: return 1e-3;
-    case Effect::kServoLag: return 0.1;          // s, s², s³: a 1.6 Hz loop at most
-    case Effect::kCompliance: return 0.01;       // m/k, s²
-    case Effect::kThermalDrift: return 0.1;
-  }
-  return 0.0;
-}
-
 std::string Fnv1a64Hex(const std::string& bytes) {
   std::uint64_t h = 1469598103934665603ull;
   for (unsigned char c : bytes) {

@@ -15,7 +15,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "edsp/diagnosis/diagnose.h"
-#include "edsp/rig/rig_effects.h"
+#include "edsp/diagnosis/rig_scenarios.h"
 
 namespace edsp::gap {
 
@@ -37,17 +37,6 @@ struct BenchmarkOptions {
   std::string keep_dir;              // empty: scenarios in a temporary directory, removed
   bool progress = true;              // a progress bar on stderr
 };
-
-// One drawn scenario: what the rig really does, and how the controller compensates.
-struct Scenario {
-  std::vector<Effect> truth;
-  RigEffects effects;
-  PrMode compensation = PrMode::kSigned;
-  std::string description;
-};
-
-// Scenario k of a seed: k % 5 == 0 effect-free, 1–2 one effect, 3–4 two.
-Scenario DrawScenario(std::uint64_t seed, int index);
 
 // Scored, whichever generator drew it.
 struct ScenarioScore {

@@ -17,8 +17,12 @@ using calibration::AllEffects;
 using calibration::Effect;
 using calibration::EffectName;
 using calibration::kEffectCount;
+using calibration::EffectTitle;
 using calibration::ParameterCount;
+using calibration::ParameterGroup;
+using calibration::ParameterGroups;
 using calibration::ParseEffect;
+using calibration::PriorSigma;
 
 // Whether `simple` is (nearly) a special case of `rich`, so that `rich` can
 // always do what `simple` does with more parameters: leg offsets are joint
@@ -26,8 +30,13 @@ using calibration::ParseEffect;
 // simpler is chosen unless the richer is clearly better held out.
 bool IsNestedIn(Effect simple, Effect rich);
 
-// Its parameters as JSON, named with units (e.g. {"backlash_m": [...]}).
+// Its parameters as JSON, named with units (e.g. {"backlash_m": [...]}),
+// read from θ by the vocabulary's parameter groups (leg_effects.h).
 nlohmann::json ParametersJson(Effect effect, const double* theta);
+// The 1-σ of the same values, under the same keys; a value read from two θ
+// (a periodic error's amplitude and phase) has none and is left out, so the
+// object is empty for an effect whose every value is such.
+nlohmann::json SigmaJson(Effect effect, const double* sigma);
 
 // The measurement that would tell `a` from `b` apart when the data cannot.
 std::string SeparatingMeasurement(Effect a, Effect b);

@@ -1,0 +1,34 @@
+#pragma once
+// The benchmark's scenarios on edsp's own rig: which effects of the
+// vocabulary a scenario's rig has, drawn with realistic magnitudes for a
+// platform of the paper's size (docs/rig.md), and how its controller
+// compensates the passive rotation.
+
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "edsp/diagnosis/effects.h"
+#include "edsp/kinematics/passive_rotation.h"
+#include "edsp/kinematics/pose.h"
+#include "edsp/rig/rig_effects.h"
+
+namespace edsp::gap {
+
+// One drawn scenario: what the rig really does, and how the controller compensates.
+struct Scenario {
+  std::vector<Effect> truth;
+  RigEffects effects;
+  PrMode compensation = PrMode::kSigned;
+  std::string description;
+};
+
+// Scenario k of a seed: k % 5 == 0 effect-free, 1–2 one effect, 3–4 two.
+Scenario DrawScenario(std::uint64_t seed, int index);
+
+// Where the tracker stands, X_TB: anywhere on the floor within 3 m, turned
+// any way about z, tilted up to 0.03 rad.
+Pose DrawTrackerStand(std::mt19937_64& rng);
+
+}  // namespace edsp::gap

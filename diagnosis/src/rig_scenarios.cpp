@@ -1,0 +1,140 @@
+#include "edsp/diagnosis/rig_scenarios.h"
+
+#include <algorithm>
+#include <array>
+#include <random>
+
+#include <fmt/format.h>
+
+namespace edsp::gap {
+
+namespace {
+
+using Rng = std::mt19937_64;
+
+double Uniform(Rng& rng, double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
+double Signed(Rng& rng, double lo, double hi) { return Uniform(rng, lo, hi) * (Uniform(rng, 0, 1) < 0.5 ? -1 : 1); }
+
+// A wrong PR compensation in the controller, or screws whose PR is not the model's.
+void DrawPassiveRotation(Rng& rng, Scenario* s) {
+  RigEffects& fx = s->effects;
+  const int variant = static_cast<int>(Uniform(rng, 0, 4));
+  if (variant == 0) {
+    s->compensation = PrMode::kUnsigned;  // the paper's Eq. (9)
+    s->description += "PR compensated unsigned; ";
+  } else if (variant == 1) {
+    s->compensation = PrMode::kNone;
+    s->description += "PR not compensated; ";
+  } else if (variant == 2) {
+    fx.passive_rotation.enabled = true;
+    fx.passive_rotation.pr_sign = -1;  // the other thread hand
+    s->description += "screws of the other hand (PR sign −1); ";
+  } else {
+    fx.passive_rotation.enabled = true;
+    const double scale = Uniform(rng, 0, 1) < 0.5 ? Uniform(rng, 0.6, 0.85) : Uniform(rng, 1.15, 1.4);
+    fx.passive_rotation.pr_lead_m = 0.010 * scale;
+    s->description += fmt::format("PR through a {:.2f}× lead; ", scale);
+  }
+}
+
+void DrawLegOffset(Rng& rng, Scenario* s) {
+  s->effects.leg_offset.enabled = true;
+  for (double& v : s->effects.leg_offset.offset_m) v = Signed(rng, 30e-6, 150e-6);
+  s->description += "leg offsets 30–150 µm; ";
+}
+
+void DrawJointPosition(Rng& rng, Scenario* s) {
+  RigEffects::JointPosition& joints = s->effects.joint_position;
+  joints.enabled = true;
+  std::normal_distribution<double> n(0.0, 100e-6);
+  for (int i = 0; i < 6; ++i) {
+    for (int a = 0; a < 3; ++a) {
+      joints.base_m(a, i) = n(rng);
+      joints.platform_m(a, i) = n(rng);
+    }
+  }
+  s->description += "joint centres σ 100 µm; ";
+}
+
+void DrawLeadError(Rng& rng, Scenario* s) {
+  s->effects.lead_error.enabled = true;
+  for (double& v : s->effects.lead_error.epsilon) v = Signed(rng, 80e-6, 300e-6);
+  s->description += "lead errors 80–300 ppm; ";
+}
+
+void DrawPeriodicLeadError(Rng& rng, Scenario* s) {
+  RigEffects::PeriodicLeadError& periodic = s->effects.periodic_lead_error;
+  periodic.enabled = true;
+  for (std::size_t i = 0; i < 6; ++i) {
+    periodic.amplitude_m[i] = Uniform(rng, 5e-6, 12e-6);
+    periodic.phase_rad[i] = Uniform(rng, 0, 6.283185307179586);
+  }
+  s->description += "periodic lead error 5–12 µm; ";
+}
+
+void DrawBacklash(Rng& rng, Scenario* s) {
+  s->effects.backlash.enabled = true;
+  for (double& v : s->effects.backlash.backlash_m) v = Uniform(rng, 15e-6, 60e-6);
+  s->description += "backlash 15–60 µm; ";
+}
+
+void DrawServoLag(Rng& rng, Scenario* s) {
+  s->effects.servo_lag.bandwidth_hz = Uniform(rng, 8.0, 20.0);  // a soft loop without integral action
+  s->effects.servo_lag.integral_time_s = 0.0;
+  s->description += fmt::format("servo loop {:.1f} Hz; ", s->effects.servo_lag.bandwidth_hz);
+}
+
+void DrawCompliance(Rng& rng, Scenario* s) {
+  RigEffects::Compliance& compliance = s->effects.compliance;
+  compliance.enabled = true;
+  const double k0 = Uniform(rng, 1e7, 3e7);  // legs of one design, ±15% from assembly
+  for (double& v : compliance.stiffness_N_m) v = k0 * Uniform(rng, 0.85, 1.15);
+  compliance.mass_kg = Uniform(rng, 400, 1200);
+  compliance.com_m = Vector3(0, 0, Uniform(rng, 0.0, 0.3));
+  s->description += fmt::format("compliance, {:.0f} kg (c.o.m. {:.2f} m up) on {:.1f} N/µm legs ±15%; ",
+                                compliance.mass_kg, compliance.com_m.z(), compliance.stiffness_N_m[0] * 1e-6);
+}
+
+void DrawThermalDrift(Rng& rng, Scenario* s) {
+  s->effects.thermal_drift.enabled = true;
+  s->effects.thermal_drift.heating_K_per_m = Uniform(rng, 3.0, 8.0);
+  s->effects.thermal_drift.time_constant_s = Uniform(rng, 600, 1800);
+  s->description += fmt::format("thermal drift {:.1f} K/m; ", s->effects.thermal_drift.heating_K_per_m);
+}
+
+// How each effect of the vocabulary is put on the rig, in the order of the enum.
+using Draw = void (*)(Rng&, Scenario*);
+constexpr std::array<Draw, kEffectCount> kDraws = {
+    DrawPassiveRotation, DrawLegOffset,  DrawJointPosition, DrawLeadError,   DrawPeriodicLeadError,
+    DrawBacklash,        DrawServoLag,   DrawCompliance,    DrawThermalDrift,
+};
+
+}  // namespace
+
+Scenario DrawScenario(std::uint64_t seed, int index) {
+  Rng rng(seed * 1000003ull + static_cast<std::uint64_t>(index));
+  Scenario s;
+  // Every rig has a drive loop; a well-tuned one (integral action) leaves
+  // no lag worth the name: the effect-free baseline.
+  s.effects.servo_lag.integral_time_s = 0.05;
+  s.effects.servo_lag.torque_limit_N_m = 15.0;  // motors sized for the heaviest payload drawn
+  const int kind = index % 5;
+  const int count = kind == 0 ? 0 : (kind <= 2 ? 1 : 2);
+  std::vector<Effect> pool = AllEffects();
+  std::shuffle(pool.begin(), pool.end(), rng);
+  for (int k = 0; k < count; ++k) {
+    const Effect e = pool[static_cast<std::size_t>(k)];
+    s.truth.push_back(e);
+    kDraws[static_cast<std::size_t>(e)](rng, &s);
+  }
+  if (s.truth.empty()) s.description = "no effect (the rig's stiff default drive loop only)";
+  return s;
+}
+
+Pose DrawTrackerStand(std::mt19937_64& rng) {
+  return Pose::FromVector((Vector6() << Uniform(rng, -3, 3), Uniform(rng, -3, 3), Uniform(rng, -0.5, 0.5),
+                           Uniform(rng, -0.03, 0.03), Uniform(rng, -0.03, 0.03), Uniform(rng, -3.14, 3.14))
+                              .finished());
+}
+
+}  // namespace edsp::gap
