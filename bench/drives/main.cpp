@@ -103,81 +103,103 @@ std::pair<std::string, int> Endpoint(const std::string& text) {
   return {text.substr(0, colon), port};
 }
 
-int Run(int argc, char** argv) {
+struct Options {
   int cycles = 20000, warmup = 500;
   double period_us = 1000.0;
   bool json = false;
   std::string connect;
-  CLI::App app{"One Modbus TCP cycle of six CiA 402 drives: read+write time"};
-  app.add_option("--cycles", cycles, "timed cycles")->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--warmup", warmup, "untimed cycles first (enable the drives)")->capture_default_str();
-  app.add_option("--period-us", period_us, "pace of the master's cycles")->capture_default_str()
-      ->check(CLI::Range(0.0, 100000.0));
-  app.add_flag("--json", json, "one JSON object on stdout");
-  app.add_option("--connect", connect, "HOST:PORT of a server elsewhere, waited for up to 5 s (default: a child on loopback)");
-  CLI11_PARSE(app, argc, argv);
+};
 
-  std::unique_ptr<ChildServer> child;
-  std::pair<std::string, int> endpoint;
-  if (connect.empty()) {
-    child = std::make_unique<ChildServer>();
-    endpoint = {"127.0.0.1", child->port};
-  } else {
-    endpoint = Endpoint(connect);
-  }
-  edsp::cia402::ModbusDriveMaster master(endpoint.first, endpoint.second, 0.5);
+// Connected to the server; one elsewhere may still be starting: tried for 5 s.
+void ConnectMaster(edsp::cia402::ModbusDriveMaster* master, bool remote) {
   std::string error;
-  // A server elsewhere may still be starting: try for 5 s.
-  const auto give_up = Clock::now() + std::chrono::seconds(connect.empty() ? 0 : 5);
-  while (!master.Connect(&error)) {
+  const auto give_up = Clock::now() + std::chrono::seconds(remote ? 5 : 0);
+  while (!master->Connect(&error)) {
     if (Clock::now() >= give_up) throw std::runtime_error(error);
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
+}
+
+struct CycleTimes {
+  std::vector<double> exchange_us;  // the timed cycles' read+write
+  int failures = 0;
+};
+
+// Warm-up cycles enable the drives through the CiA 402 state machine; the
+// timed ones ramp the target, paced at the period.
+CycleTimes RunCycles(edsp::cia402::ModbusDriveMaster* master, const Options& o) {
+  CycleTimes out;
+  out.exchange_us.reserve(static_cast<std::size_t>(o.cycles));
   CspCommands commands{};
   CspFeedbacks feedback{};
-  std::vector<double> exchange_us;
-  exchange_us.reserve(static_cast<std::size_t>(cycles));
-  const auto period = std::chrono::microseconds(static_cast<long>(period_us));
+  std::string error;
+  const auto period = std::chrono::microseconds(static_cast<long>(o.period_us));
   auto next = Clock::now();
   std::int32_t target = 0;
-  int failures = 0;
-  for (int k = 0; k < warmup + cycles; ++k) {
-    if (k >= warmup) target += 100;  // a ramp once enabled
+  for (int k = 0; k < o.warmup + o.cycles; ++k) {
+    if (k >= o.warmup) target += 100;  // a ramp once enabled
     for (std::size_t d = 0; d < commands.size(); ++d) {
       commands[d] = edsp::cia402::NextCspCommand(feedback[d], commands[d].controlword, target);
     }
     const auto start = Clock::now();
-    if (!master.Exchange(commands, &feedback, &error)) {
-      ++failures;
-      if (!master.Connect(&error)) break;
+    if (!master->Exchange(commands, &feedback, &error)) {
+      ++out.failures;
+      if (!master->Connect(&error)) break;
       continue;
     }
-    if (k >= warmup) exchange_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - start).count());
+    if (k >= o.warmup) out.exchange_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - start).count());
     next += period;
     if (period.count() > 0) std::this_thread::sleep_until(next);
   }
+  return out;
+}
+
+void PrintText(const nlohmann::json& report, std::size_t cycles, int failures) {
+  const auto& e = report["exchange"];
+  const auto& t = report["timer_baseline_late"];
+  std::printf("modbus-tcp cycle (6 drives, 1 request): p50 %.1f us, p99 %.1f us, p99.9 %.1f us, max %.1f us "
+              "(%zu cycles, %d failed)\n",
+              e["p50_us"].get<double>(), e["p99_us"].get<double>(), e["p999_us"].get<double>(),
+              e["max_us"].get<double>(), cycles, failures);
+  std::printf("timer baseline (1 ms sleep, late by): p50 %.1f us, p99 %.1f us, max %.1f us\n",
+              t["p50_us"].get<double>(), t["p99_us"].get<double>(), t["max_us"].get<double>());
+}
+
+int Run(int argc, char** argv) {
+  Options o;
+  CLI::App app{"One Modbus TCP cycle of six CiA 402 drives: read+write time"};
+  app.add_option("--cycles", o.cycles, "timed cycles")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--warmup", o.warmup, "untimed cycles first (enable the drives)")->capture_default_str();
+  app.add_option("--period-us", o.period_us, "pace of the master's cycles")->capture_default_str()
+      ->check(CLI::Range(0.0, 100000.0));
+  app.add_flag("--json", o.json, "one JSON object on stdout");
+  app.add_option("--connect", o.connect,
+                 "HOST:PORT of a server elsewhere, waited for up to 5 s (default: a child on loopback)");
+  CLI11_PARSE(app, argc, argv);
+
+  std::unique_ptr<ChildServer> child;
+  std::pair<std::string, int> endpoint;
+  if (o.connect.empty()) {
+    child = std::make_unique<ChildServer>();
+    endpoint = {"127.0.0.1", child->port};
+  } else {
+    endpoint = Endpoint(o.connect);
+  }
+  edsp::cia402::ModbusDriveMaster master(endpoint.first, endpoint.second, 0.5);
+  ConnectMaster(&master, !o.connect.empty());
+  const CycleTimes cycles = RunCycles(&master, o);
   const std::vector<double> timer = SleepLateness(std::chrono::microseconds(1000), 2000);
 
-  nlohmann::json report = {{"drives", 6},
-                           {"server", fmt::format("{}:{}", endpoint.first, endpoint.second)},
-                           {"registers_per_cycle", 2 * edsp::cia402::modbus_map::kBlockRegisters},
-                           {"period_us", period_us},
-                           {"failures", failures},
-                           {"exchange", Summary(exchange_us)},
-                           {"timer_baseline_late", Summary(timer)}};
-  if (json) {
-    std::printf("%s\n", report.dump().c_str());
-  } else {
-    const auto& e = report["exchange"];
-    const auto& t = report["timer_baseline_late"];
-    std::printf("modbus-tcp cycle (6 drives, 1 request): p50 %.1f us, p99 %.1f us, p99.9 %.1f us, max %.1f us "
-                "(%zu cycles, %d failed)\n",
-                e["p50_us"].get<double>(), e["p99_us"].get<double>(), e["p999_us"].get<double>(),
-                e["max_us"].get<double>(), exchange_us.size(), failures);
-    std::printf("timer baseline (1 ms sleep, late by): p50 %.1f us, p99 %.1f us, max %.1f us\n",
-                t["p50_us"].get<double>(), t["p99_us"].get<double>(), t["max_us"].get<double>());
-  }
-  return failures == 0 ? 0 : 1;
+  const nlohmann::json report = {{"drives", 6},
+                                 {"server", fmt::format("{}:{}", endpoint.first, endpoint.second)},
+                                 {"registers_per_cycle", 2 * edsp::cia402::modbus_map::kBlockRegisters},
+                                 {"period_us", o.period_us},
+                                 {"failures", cycles.failures},
+                                 {"exchange", Summary(cycles.exchange_us)},
+                                 {"timer_baseline_late", Summary(timer)}};
+  if (o.json) std::printf("%s\n", report.dump().c_str());
+  else PrintText(report, cycles.exchange_us.size(), cycles.failures);
+  return cycles.failures == 0 ? 0 : 1;
 }
 
 }  // namespace

@@ -323,98 +323,123 @@ void PrintTable(const nlohmann::json& out) {
   }
 }
 
-}  // namespace
-}  // namespace edsp::bench
-
-int main(int argc, char** argv) {
-  using namespace edsp::bench;
-  CLI::App app{"edsp-bench-transport: shm vs LCM vs iceoryx ping-pong and throughput"};
+struct Options {
   bool json = false;
   int round_trips = 20000, warmup = 1000;
   double throughput_seconds = 1.0;
-  std::string payloads_text = "64,4096,65536";
-  std::string transports_text =
-      "shm-spin,shm-block,shm-hybrid,lcm-udpm,iceoryx-spin,iceoryx-waitset";
-  app.add_flag("--json", json, "print JSON");
-  app.add_option("--round-trips", round_trips, "measured round trips per run")->check(CLI::Range(10, 10000000));
-  app.add_option("--warmup", warmup, "round trips before measuring")->check(CLI::Range(0, 1000000));
-  app.add_option("--payloads", payloads_text, "payload sizes in bytes, comma-separated");
-  app.add_option("--transports", transports_text, "comma-separated subset");
-  app.add_option("--throughput-seconds", throughput_seconds)->check(CLI::Range(0.1, 60.0));
-  CLI11_PARSE(app, argc, argv);
-
   std::vector<std::uint32_t> payloads;
-  for (const std::string& p : Split(payloads_text)) {
+  std::vector<std::string> transports;
+};
+
+bool IsIceoryx(const std::string& transport) { return transport.rfind("iceoryx", 0) == 0; }
+
+// Payload sizes from "64,4096,…"; false (and the error said) for a size out of 8..1 MiB.
+bool ParsePayloads(const std::string& text, std::vector<std::uint32_t>* payloads) {
+  for (const std::string& p : Split(text)) {
     char* end = nullptr;
     const unsigned long value = std::strtoul(p.c_str(), &end, 10);
     if (p.empty() || *end != '\0' || value < 8 || value > (1u << 20)) {
       std::fprintf(stderr, "edsp-bench-transport: error: --payloads: \"%s\" must be 8..1048576\n", p.c_str());
-      return 2;
+      return false;
     }
-    payloads.push_back(static_cast<std::uint32_t>(value));
+    payloads->push_back(static_cast<std::uint32_t>(value));
   }
-  const std::vector<std::string> transports = Split(transports_text);
-  for (const std::string& t : transports) {
-    if (t != "shm-spin" && t != "shm-block" && t != "shm-hybrid" && t != "lcm-udpm" &&
-        t != "iceoryx-spin" && t != "iceoryx-waitset") {
+  return true;
+}
+
+bool ParseTransports(const std::string& text, std::vector<std::string>* transports) {
+  static const std::vector<std::string> kKnown = {"shm-spin",   "shm-block",    "shm-hybrid",
+                                                  "lcm-udpm",   "iceoryx-spin", "iceoryx-waitset"};
+  *transports = Split(text);
+  for (const std::string& t : *transports) {
+    if (std::find(kKnown.begin(), kKnown.end(), t) == kKnown.end()) {
       std::fprintf(stderr, "edsp-bench-transport: error: --transports: unknown \"%s\"\n", t.c_str());
-      return 2;
+      return false;
     }
   }
+  return true;
+}
+
+// Every transport × payload ping-pong, iox-roudi started for the iceoryx ones.
+nlohmann::json RunPingPongs(const Options& o) {
+  const bool iceoryx = std::any_of(o.transports.begin(), o.transports.end(), IsIceoryx);
+  const pid_t roudi = iceoryx ? StartRouDi() : 0;
+  nlohmann::json results = nlohmann::json::array();
+  int run = 0;
+  for (const std::string& transport : o.transports) {
+    for (std::uint32_t payload : o.payloads) {
+      nlohmann::json r{{"transport", transport}, {"payload_bytes", payload}, {"round_trips", o.round_trips}};
+      if (IsIceoryx(transport) && roudi <= 0) {
+        r["error"] = "iox-roudi could not be started";
+      } else {
+        const RunResult result = RunPingPong(transport, payload, o.warmup, o.round_trips, run++);
+        if (result.error.empty()) {
+          r["rtt_us"] = Summary(result.rtt_us);
+          r["cpu_s"] = result.cpu_s;
+          r["cpu_us_per_round_trip"] = result.cpu_s * 1e6 / (o.round_trips + o.warmup);
+        } else {
+          r["error"] = result.error;
+        }
+      }
+      if (!o.json) std::fprintf(stderr, "%s %u done\n", transport.c_str(), payload);
+      results.push_back(r);
+    }
+  }
+  StopRouDi(roudi);
+  return results;
+}
+
+// The shm throughput at 64 KiB and the 64 B latency ratios, measured in this run.
+void AddThroughputAndRatios(const Options& o, nlohmann::json* out) {
+  const Throughput t = RunShmThroughput(65536, o.throughput_seconds);
+  (*out)["throughput_GBps_64KiB"] = t.gb_per_s;
+  (*out)["throughput_64KiB"] = {{"received", t.received}, {"overruns", t.overruns}, {"seconds", t.seconds}};
+  const nlohmann::json& results = (*out)["results"];
+  auto ratio = [&](const char* a, const char* b) {
+    const double pb = P50(results, b, 64);
+    return pb > 0.0 ? P50(results, a, 64) / pb : 0.0;
+  };
+  (*out)["ratios_p50_64B"] = {{"shm-spin/iceoryx-spin", ratio("shm-spin", "iceoryx-spin")},
+                              {"shm-block/iceoryx-waitset", ratio("shm-block", "iceoryx-waitset")},
+                              {"lcm-udpm/shm-spin", ratio("lcm-udpm", "shm-spin")},
+                              {"lcm-udpm/shm-block", ratio("lcm-udpm", "shm-block")},
+                              {"lcm-udpm/shm-hybrid", ratio("lcm-udpm", "shm-hybrid")}};
+}
+
+bool AnyRunFailed(const nlohmann::json& out) {
+  const nlohmann::json& results = out["results"];
+  return std::any_of(results.begin(), results.end(), [](const nlohmann::json& r) { return r.contains("error"); });
+}
+
+int Run(int argc, char** argv) {
+  CLI::App app{"edsp-bench-transport: shm vs LCM vs iceoryx ping-pong and throughput"};
+  Options o;
+  std::string payloads_text = "64,4096,65536";
+  std::string transports_text = "shm-spin,shm-block,shm-hybrid,lcm-udpm,iceoryx-spin,iceoryx-waitset";
+  app.add_flag("--json", o.json, "print JSON");
+  app.add_option("--round-trips", o.round_trips, "measured round trips per run")->check(CLI::Range(10, 10000000));
+  app.add_option("--warmup", o.warmup, "round trips before measuring")->check(CLI::Range(0, 1000000));
+  app.add_option("--payloads", payloads_text, "payload sizes in bytes, comma-separated");
+  app.add_option("--transports", transports_text, "comma-separated subset");
+  app.add_option("--throughput-seconds", o.throughput_seconds)->check(CLI::Range(0.1, 60.0));
+  CLI11_PARSE(app, argc, argv);
+  if (!ParsePayloads(payloads_text, &o.payloads) || !ParseTransports(transports_text, &o.transports)) return 2;
   try {
     edsp::EnterPrivateNetworkNamespace();
   } catch (const std::exception& e) {
     std::fprintf(stderr, "edsp-bench-transport: error: %s\n", e.what());
     return 1;
   }
-  const bool iceoryx = std::any_of(transports.begin(), transports.end(),
-                                   [](const std::string& t) { return t.rfind("iceoryx", 0) == 0; });
-  const pid_t roudi = iceoryx ? StartRouDi() : 0;
-
   nlohmann::json out;
-  out["results"] = nlohmann::json::array();
-  int run = 0;
-  for (const std::string& transport : transports) {
-    for (std::uint32_t payload : payloads) {
-      nlohmann::json r{{"transport", transport}, {"payload_bytes", payload}, {"round_trips", round_trips}};
-      if (transport.rfind("iceoryx", 0) == 0 && roudi <= 0) {
-        r["error"] = "iox-roudi could not be started";
-      } else {
-        const RunResult result = RunPingPong(transport, payload, warmup, round_trips, run++);
-        if (result.error.empty()) {
-          r["rtt_us"] = Summary(result.rtt_us);
-          r["cpu_s"] = result.cpu_s;
-          r["cpu_us_per_round_trip"] = result.cpu_s * 1e6 / (round_trips + warmup);
-        } else {
-          r["error"] = result.error;
-        }
-      }
-      if (!json) std::fprintf(stderr, "%s %u done\n", transport.c_str(), payload);
-      out["results"].push_back(r);
-    }
-  }
-  StopRouDi(roudi);
-  const Throughput t = RunShmThroughput(65536, throughput_seconds);
-  out["throughput_GBps_64KiB"] = t.gb_per_s;
-  out["throughput_64KiB"] = {{"received", t.received}, {"overruns", t.overruns}, {"seconds", t.seconds}};
-  const auto& results = out["results"];
-  auto ratio = [&](const char* a, const char* b) {
-    const double pb = P50(results, b, 64);
-    return pb > 0.0 ? P50(results, a, 64) / pb : 0.0;
-  };
-  out["ratios_p50_64B"] = {{"shm-spin/iceoryx-spin", ratio("shm-spin", "iceoryx-spin")},
-                           {"shm-block/iceoryx-waitset", ratio("shm-block", "iceoryx-waitset")},
-                           {"lcm-udpm/shm-spin", ratio("lcm-udpm", "shm-spin")},
-                           {"lcm-udpm/shm-block", ratio("lcm-udpm", "shm-block")},
-                           {"lcm-udpm/shm-hybrid", ratio("lcm-udpm", "shm-hybrid")}};
+  out["results"] = RunPingPongs(o);
+  AddThroughputAndRatios(o, &out);
   out["machine"] = {{"cpus", std::thread::hardware_concurrency()}};
-  if (json) {
-    std::printf("%s\n", out.dump(2).c_str());
-  } else {
-    PrintTable(out);
-  }
-  for (const auto& r : results) {
-    if (r.contains("error")) return 1;
-  }
-  return 0;
+  if (o.json) std::printf("%s\n", out.dump(2).c_str());
+  else PrintTable(out);
+  return AnyRunFailed(out) ? 1 : 0;
 }
+
+}  // namespace
+}  // namespace edsp::bench
+
+int main(int argc, char** argv) { return edsp::bench::Run(argc, argv); }

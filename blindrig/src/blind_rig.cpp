@@ -1,5 +1,7 @@
 #include "edsp/blindrig/blind_rig.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 
@@ -116,78 +118,127 @@ void WriteHeader(bool encoders, std::string* csv) {
   *csv += ",point_x_m,point_y_m,point_z_m\n";
 }
 
-}  // namespace
+// The platform through one session of motions: the controller's commands,
+// the drive trains, the true pose, and the tracker reading it.
+class Session {
+ public:
+  Session(const BlindRigSetup& setup, const BlindEffects& e, const TrackerOptions& tracker)
+      : setup_(setup),
+        e_(e),
+        tracker_(tracker),
+        truth_(TrueGeometry(setup.geometry, e)),
+        home_(HomePose(setup.geometry)),
+        encoder_zero_(LegLengths(setup.geometry, home_)),
+        nominal_home_twist_(LegBodyTwist(setup.geometry, home_)),
+        true_home_twist_(LegBodyTwist(truth_, home_)),
+        true_sign_(e.pr_override ? e.true_pr_sign : setup.pr_sign),
+        tracker_R_(Rotation(tracker.frame)),
+        tracker_t_(tracker.frame.head<3>()),
+        draw_(tracker.seed),
+        noise_(0.0, tracker.noise_m),
+        floor_direction_(e.floor_direction.normalized()),
+        q_true_(home_) {}
 
-std::string GenerateMeasurementCsv(const BlindRigSetup& setup, const BlindEffects& e, const TrackerOptions& tracker) {
-  const BlindGeometry& nominal = setup.geometry;
-  const BlindGeometry truth = TrueGeometry(nominal, e);
-  const Vec6 home = HomePose(nominal);
-  const Vec6 encoder_zero = LegLengths(nominal, home);
-  const Vec6 nominal_home_twist = LegBodyTwist(nominal, home), true_home_twist = LegBodyTwist(truth, home);
-  const int true_sign = e.pr_override ? e.true_pr_sign : setup.pr_sign;
-  const Mat3 tracker_R = Rotation(tracker.frame);
-  const Vec3 tracker_t = tracker.frame.head<3>();
-  std::mt19937_64 draw(tracker.seed);
-  std::normal_distribution<double> noise(0.0, tracker.noise_m);
-  const Vec3 floor_direction = e.floor_direction.normalized();
-
-  std::string csv = "# written by edsp-blind-rig (blindrig/): an independent virtual rig\n";
-  WriteHeader(tracker.encoders, &csv);
-  const double dt = 1.0 / setup.control_rate_hz, sample_period = 1.0 / tracker.rate_hz;
-  std::array<LegDrive, 6> legs;
-  Sway sway;
-  Vec6 q_true = home;
-  double session_s = 0.0;
-  for (const std::string& name : setup.motions) {
-    const BlindMotion motion(name, home, setup.limits);
+  // Appends the rows of one motion, sampled at the tracker's rate.
+  void Run(const std::string& name, std::string* csv) {
+    const BlindMotion motion(name, home_, setup_.limits);
+    const double dt = 1.0 / setup_.control_rate_hz, sample_period = 1.0 / tracker_.rate_hz;
     const int steps = static_cast<int>(std::ceil(motion.duration_s() / dt));
     double next_sample_s = 0.0;
     for (int k = 0; k <= steps; ++k) {
       const double t = k * dt;
       const Vec6 q_cmd = motion.Pose(t);
-      // The controller: nominal IK, signed PR compensated with its s.
-      const Vec6 leg_cmd = LegLengths(nominal, q_cmd) -
-                           PassiveRotation(nominal, q_cmd, nominal_home_twist, setup.pr_sign, setup.lead_m);
-      const Vec3 point_accel = PointAcceleration(motion, nominal.point_M, t, dt);
-      for (int i = 0; i < 6; ++i) legs[static_cast<std::size_t>(i)].Step(leg_cmd(i) - encoder_zero(i), dt, e, e.backlash_m(i));
-      sway.Step(point_accel, dt, e);
+      const Vec6 leg_cmd = ControllerCommand(q_cmd);
+      for (int i = 0; i < 6; ++i) legs_[static_cast<std::size_t>(i)].Step(leg_cmd(i) - encoder_zero_(i), dt, e_, e_.backlash_m(i));
+      sway_.Step(PointAcceleration(motion, setup_.geometry.point_M, t, dt), dt, e_);
       if (t + 1e-12 < next_sample_s) continue;
       next_sample_s += sample_period;
-
-      Vec6 target = encoder_zero + e.leg_offset_m;
-      for (int i = 0; i < 6; ++i) target(i) += legs[static_cast<std::size_t>(i)].Extension(e, i, setup.lead_m);
-      if (e.mass_kg > 0.0 && e.stiffness_N_m.minCoeff() > 0.0) {
-        const Vec3 com_accel = motion.Acceleration(t).head<3>();
-        target += LegTensions(truth, q_cmd, e.mass_kg, e.com_M, com_accel).cwiseQuotient(e.stiffness_N_m);
-      }
-      q_true = SolvePose(
+      const Vec6 lengths = TrueLengths(motion, q_cmd, t);
+      q_true_ = SolvePose(
           [&](const Vec6& q) {
-            return Vec6(LegLengths(truth, q) - PassiveRotation(truth, q, true_home_twist, true_sign, setup.lead_m) -
-                        target);
+            return Vec6(LegLengths(truth_, q) - PassiveRotation(truth_, q, true_home_twist_, true_sign_, setup_.lead_m) -
+                        lengths);
           },
-          q_true);
-      Vec3 point = q_true.head<3>() + Rotation(q_true) * nominal.point_M + sway.x;
-      if (e.base_tilt_rad_per_N_m > 0.0) {
-        const Vec3 com = q_cmd.head<3>() + Rotation(q_cmd) * e.com_M;
-        const Vec3 moment = com.cross(Vec3(0.0, 0.0, -kGravity * std::max(e.mass_kg, 1.0)));
-        const Vec3 tilt = e.base_tilt_rad_per_N_m * moment;
-        point = Eigen::AngleAxisd(tilt.norm(), tilt.norm() > 0.0 ? Vec3(tilt.normalized()) : Vec3::UnitZ()) * point;
-      }
-      const double time_s = session_s + t;
-      Vec3 measured = tracker_R * point + tracker_t;
-      measured += e.floor_amplitude_m * std::sin(2.0 * kPi * e.floor_hz * time_s) * floor_direction;
-      for (int a = 0; a < 3; ++a) measured(a) += noise(draw);
-
-      csv += fmt::format("{:.6f},{}", time_s, name);
-      for (int a = 0; a < 6; ++a) csv += fmt::format(",{:.9f}", q_cmd(a));
-      for (int i = 0; i < 6; ++i) csv += fmt::format(",{:.9f}", leg_cmd(i));
-      if (tracker.encoders) {
-        for (int i = 0; i < 6; ++i) csv += fmt::format(",{:.9f}", encoder_zero(i) + legs[static_cast<std::size_t>(i)].motor);
-      }
-      csv += fmt::format(",{:.9f},{:.9f},{:.9f}\n", measured(0), measured(1), measured(2));
+          q_true_);
+      const double time_s = session_s_ + t;
+      AppendRow(time_s, name, q_cmd, leg_cmd, Reading(TruePoint(q_cmd), time_s), csv);
     }
-    session_s += motion.duration_s() + 1.0;
+    session_s_ += motion.duration_s() + 1.0;
   }
+
+ private:
+  // The controller: nominal IK, signed PR compensated with its s.
+  Vec6 ControllerCommand(const Vec6& q_cmd) const {
+    const BlindGeometry& nominal = setup_.geometry;
+    return LegLengths(nominal, q_cmd) - PassiveRotation(nominal, q_cmd, nominal_home_twist_, setup_.pr_sign, setup_.lead_m);
+  }
+
+  // The legs' true lengths: drive trains, offsets, and the legs' give under load.
+  Vec6 TrueLengths(const BlindMotion& motion, const Vec6& q_cmd, double t) const {
+    Vec6 target = encoder_zero_ + e_.leg_offset_m;
+    for (int i = 0; i < 6; ++i) target(i) += legs_[static_cast<std::size_t>(i)].Extension(e_, i, setup_.lead_m);
+    if (e_.mass_kg > 0.0 && e_.stiffness_N_m.minCoeff() > 0.0) {
+      const Vec3 com_accel = motion.Acceleration(t).head<3>();
+      target += LegTensions(truth_, q_cmd, e_.mass_kg, e_.com_M, com_accel).cwiseQuotient(e_.stiffness_N_m);
+    }
+    return target;
+  }
+
+  // Point A in {B} at the true pose, with the structure's sway and the base's tilt.
+  Vec3 TruePoint(const Vec6& q_cmd) const {
+    Vec3 point = q_true_.head<3>() + Rotation(q_true_) * setup_.geometry.point_M + sway_.x;
+    if (e_.base_tilt_rad_per_N_m > 0.0) {
+      const Vec3 com = q_cmd.head<3>() + Rotation(q_cmd) * e_.com_M;
+      const Vec3 moment = com.cross(Vec3(0.0, 0.0, -kGravity * std::max(e_.mass_kg, 1.0)));
+      const Vec3 tilt = e_.base_tilt_rad_per_N_m * moment;
+      point = Eigen::AngleAxisd(tilt.norm(), tilt.norm() > 0.0 ? Vec3(tilt.normalized()) : Vec3::UnitZ()) * point;
+    }
+    return point;
+  }
+
+  // What the tracker reads: its frame, its stand's vibration, its noise.
+  Vec3 Reading(const Vec3& point, double time_s) {
+    Vec3 measured = tracker_R_ * point + tracker_t_;
+    measured += e_.floor_amplitude_m * std::sin(2.0 * kPi * e_.floor_hz * time_s) * floor_direction_;
+    for (int a = 0; a < 3; ++a) measured(a) += noise_(draw_);
+    return measured;
+  }
+
+  void AppendRow(double time_s, const std::string& name, const Vec6& q_cmd, const Vec6& leg_cmd, const Vec3& measured,
+                 std::string* csv) const {
+    *csv += fmt::format("{:.6f},{}", time_s, name);
+    for (int a = 0; a < 6; ++a) *csv += fmt::format(",{:.9f}", q_cmd(a));
+    for (int i = 0; i < 6; ++i) *csv += fmt::format(",{:.9f}", leg_cmd(i));
+    if (tracker_.encoders) {
+      for (int i = 0; i < 6; ++i) *csv += fmt::format(",{:.9f}", encoder_zero_(i) + legs_[static_cast<std::size_t>(i)].motor);
+    }
+    *csv += fmt::format(",{:.9f},{:.9f},{:.9f}\n", measured(0), measured(1), measured(2));
+  }
+
+  const BlindRigSetup& setup_;
+  const BlindEffects& e_;
+  const TrackerOptions& tracker_;
+  const BlindGeometry truth_;
+  const Vec6 home_, encoder_zero_, nominal_home_twist_, true_home_twist_;
+  const int true_sign_;
+  const Mat3 tracker_R_;
+  const Vec3 tracker_t_;
+  std::mt19937_64 draw_;
+  std::normal_distribution<double> noise_;
+  const Vec3 floor_direction_;
+  std::array<LegDrive, 6> legs_;
+  Sway sway_;
+  Vec6 q_true_;
+  double session_s_ = 0.0;
+};
+
+}  // namespace
+
+std::string GenerateMeasurementCsv(const BlindRigSetup& setup, const BlindEffects& e, const TrackerOptions& tracker) {
+  std::string csv = "# written by edsp-blind-rig (blindrig/): an independent virtual rig\n";
+  WriteHeader(tracker.encoders, &csv);
+  Session session(setup, e, tracker);
+  for (const std::string& name : setup.motions) session.Run(name, &csv);
   return csv;
 }
 

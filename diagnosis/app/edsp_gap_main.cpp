@@ -56,117 +56,166 @@ void PrintText(const Diagnosis& d) {
   std::printf("left: %s\n", d.unexplained_note.c_str());
 }
 
+// Each subcommand: its arguments, how they are declared, and what it does.
+
+struct DiagnoseArgs {
+  std::string config, save_model, report_dir;
+  std::vector<std::string> data;
+  bool json = false;
+  DiagnoseOptions options;
+  CLI::Option* thermal_tau = nullptr;
+};
+
+struct EvaluateArgs {
+  std::string config, model;
+  std::vector<std::string> data;
+  bool json = false;
+};
+
+struct CompareArgs {
+  std::string config, model, plot_dir;
+  std::vector<std::string> before, after;
+  bool apply_ambiguous = false, json = false;
+};
+
+struct BenchmarkArgs {
+  BenchmarkOptions bench;
+  std::string keep_dir;
+  bool json = false;
+};
+
+CLI::App* AddDiagnose(CLI::App& app, DiagnoseArgs* a) {
+  CLI::App* c = app.add_subcommand("diagnose", "diagnose measured data against the config's model");
+  c->add_option("--config", a->config, "platform config (TOML)")->required();
+  c->add_option("--data", a->data, "measurement CSV (interfaces.md §3) or edsp LCM log; repeatable")->required();
+  c->add_flag("--json", a->json, "print the JSON report (interfaces.md §4)");
+  c->add_option("--save-model", a->save_model, "write the selected effects for `evaluate`");
+  c->add_option("--report", a->report_dir, "write report.md with PNG plots here");
+  c->add_option("--max-rate-hz", a->options.max_rate_hz, "thin each run to this rate")->check(CLI::Range(1.0, 10000.0));
+  a->thermal_tau = c->add_option("--thermal-time-constant-s", a->options.design.thermal_time_constant_s,
+                                 "the screws' cooling time, fixed (default: estimated when thermal drift is found)")
+                       ->check(CLI::Range(1.0, 1e6));
+  return c;
+}
+
+CLI::App* AddEvaluate(CLI::App& app, EvaluateArgs* a) {
+  CLI::App* c = app.add_subcommand("evaluate", "apply a saved model to data it has never seen");
+  c->add_option("--config", a->config, "platform config (TOML)")->required();
+  c->add_option("--model", a->model, "model saved by diagnose --save-model")->required();
+  c->add_option("--data", a->data, "measurement CSV or edsp LCM log; repeatable")->required();
+  c->add_flag("--json", a->json, "print JSON");
+  return c;
+}
+
+CLI::App* AddCompare(CLI::App& app, CompareArgs* a) {
+  CLI::App* c = app.add_subcommand(
+      "compare", "the same motions measured without and with a calibration: point A's error per motion");
+  c->add_option("--config", a->config, "platform config (TOML)")->required();
+  c->add_option("--before", a->before, "measurement without the calibration (CSV or LCM log); repeatable")->required();
+  c->add_option("--after", a->after, "the same motions with the calibration applied; repeatable")->required();
+  c->add_option("--model", a->model, "the calibration's model: its prediction from --before, beside");
+  c->add_flag("--apply-ambiguous", a->apply_ambiguous,
+              "the controller applied the model's ambiguous effects too (predict with them)");
+  c->add_option("--plot", a->plot_dir, "write calibration.png (and its data and gnuplot script) here");
+  c->add_flag("--json", a->json, "print JSON");
+  return c;
+}
+
+CLI::App* AddBenchmark(CLI::App& app, BenchmarkArgs* a) {
+  BenchmarkOptions& bench = a->bench;
+  CLI::App* c = app.add_subcommand("benchmark", "score the diagnosis blind on virtual-rig scenarios");
+  c->add_option("--scenarios", bench.scenarios, "how many")->check(CLI::Range(1, 100000));
+  c->add_option("--seed", bench.seed, "scenario draw seed");
+  c->add_option("--config", bench.config_path, "nominal platform config");
+  c->add_option("--noise-m", bench.tracker_noise_m, "tracker noise, 1-σ per axis")->check(CLI::Range(0.0, 1e-3));
+  c->add_option("--generator", bench.generator,
+                "rig: edsp's own virtual rig; blind: the independently written rig (blindrig/), "
+                "out-of-vocabulary scenarios and its own tracker draws")
+      ->check(CLI::IsMember({"rig", "blind"}));
+  c->add_option("--motions", bench.motions, "motions of every scenario, comma-separated")->delimiter(',');
+  c->add_option("--closed-loop-motions", bench.closed_loop_motions,
+                "rig generator: motions no fit saw, run without and with the model applied (\"none\": skip)")
+      ->delimiter(',');
+  c->add_option("--keep", a->keep_dir, "keep each scenario's data and report here");
+  c->add_flag("--json", a->json, "print JSON");
+  return c;
+}
+
+int RunDiagnose(DiagnoseArgs a) {
+  if (a.thermal_tau->count() > 0) a.options.thermal_time_constants_s.clear();
+  const PlatformModel model(LoadConfigFile(a.config));
+  const Diagnosis d = Diagnose(model, LoadAll(a.data), a.options);
+  if (!a.save_model.empty()) {
+    std::ofstream out(a.save_model);
+    out << ModelJson(d).dump(2) << "\n";
+    if (!out) throw std::runtime_error(a.save_model + ": cannot write the model");
+  }
+  if (!a.report_dir.empty()) WriteReport(d, a.report_dir);
+  if (a.json) std::printf("%s\n", ToJson(d).dump(2).c_str());
+  else PrintText(d);
+  return 0;
+}
+
+int RunEvaluate(const EvaluateArgs& a) {
+  const PlatformModel model(LoadConfigFile(a.config));
+  const MeasurementData data = LoadAll(a.data);
+  const Evaluation ev = Evaluate(model, data, LoadModelFile(a.model), a.model);
+  if (a.json) {
+    std::printf("%s\n", ToJson(ev).dump(2).c_str());
+  } else {
+    std::printf("before %.1f µm RMS (%.1f max), after %.1f µm RMS (%.1f max), shrink %.0f%%\n", ev.before.rms_m * 1e6,
+                ev.before.max_m * 1e6, ev.after.rms_m * 1e6, ev.after.max_m * 1e6, 100 * ev.shrink);
+  }
+  return 0;
+}
+
+int RunCompare(const CompareArgs& a) {
+  const PlatformModel model(LoadConfigFile(a.config));
+  const bool predicted = !a.model.empty();
+  // Predicted from what the kinematics applied: identified effects, the
+  // ambiguous ones only with --apply-ambiguous.
+  const MeasurementData before = LoadAll(a.before);
+  const nlohmann::json applied = predicted ? AppliedModelJson(LoadModelFile(a.model), a.apply_ambiguous) : EmptyModelJson();
+  const Evaluation without = Evaluate(model, before, applied, predicted ? a.model : "no model");
+  const Evaluation with = Evaluate(model, LoadAll(a.after), EmptyModelJson(), "no model");
+  const CalibrationCheck check = CheckCalibration(without, with, predicted);
+  if (!a.plot_dir.empty()) {
+    std::filesystem::create_directories(a.plot_dir);
+    const std::string png = WriteCheckPlot(check, a.plot_dir);
+    if (!a.json) std::printf("%s\n", png.empty() ? "gnuplot wrote no plot" : png.c_str());
+  }
+  if (a.json) std::printf("%s\n", ToJson(check).dump(2).c_str());
+  else std::printf("%s", CheckTable(check).c_str());
+  return 0;
+}
+
+int RunBenchmarkCommand(BenchmarkArgs a) {
+  a.bench.keep_dir = a.keep_dir;
+  if (a.bench.closed_loop_motions == std::vector<std::string>{"none"}) a.bench.closed_loop_motions.clear();
+  a.bench.progress = !a.json || isatty(fileno(stderr));
+  const BenchmarkResult result = RunBenchmark(a.bench);
+  if (a.json) std::printf("%s\n", ToJson(result).dump(2).c_str());
+  else PrintBenchmark(result);
+  return 0;
+}
+
 int Run(int argc, char** argv) {
   CLI::App app{"edsp-gap: where the model and the measured platform part, which effect causes it, how far "
                "the gap shrinks once it is modelled"};
   app.require_subcommand(1);
-  std::string config_path, model_path, report_dir, keep_dir;
-  std::vector<std::string> data_paths;
-  bool json = false;
-  DiagnoseOptions options;
-
-  CLI::App* diagnose = app.add_subcommand("diagnose", "diagnose measured data against the config's model");
-  diagnose->add_option("--config", config_path, "platform config (TOML)")->required();
-  diagnose->add_option("--data", data_paths, "measurement CSV (interfaces.md §3) or edsp LCM log; repeatable")->required();
-  diagnose->add_flag("--json", json, "print the JSON report (interfaces.md §4)");
-  diagnose->add_option("--save-model", model_path, "write the selected effects for `evaluate`");
-  diagnose->add_option("--report", report_dir, "write report.md with PNG plots here");
-  diagnose->add_option("--max-rate-hz", options.max_rate_hz, "thin each run to this rate")->check(CLI::Range(1.0, 10000.0));
-  CLI::Option* thermal_tau =
-      diagnose->add_option("--thermal-time-constant-s", options.design.thermal_time_constant_s,
-                           "the screws' cooling time, fixed (default: estimated when thermal drift is found)")
-          ->check(CLI::Range(1.0, 1e6));
-
-  CLI::App* evaluate = app.add_subcommand("evaluate", "apply a saved model to data it has never seen");
-  evaluate->add_option("--config", config_path, "platform config (TOML)")->required();
-  evaluate->add_option("--model", model_path, "model saved by diagnose --save-model")->required();
-  evaluate->add_option("--data", data_paths, "measurement CSV or edsp LCM log; repeatable")->required();
-  evaluate->add_flag("--json", json, "print JSON");
-
-  std::vector<std::string> before_paths, after_paths;
-  std::string plot_dir;
-  CLI::App* compare = app.add_subcommand(
-      "compare", "the same motions measured without and with a calibration: point A's error per motion");
-  compare->add_option("--config", config_path, "platform config (TOML)")->required();
-  compare->add_option("--before", before_paths, "measurement without the calibration (CSV or LCM log); repeatable")
-      ->required();
-  compare->add_option("--after", after_paths, "the same motions with the calibration applied; repeatable")->required();
-  compare->add_option("--model", model_path, "the calibration's model: its prediction from --before, beside");
-  bool apply_ambiguous = false;
-  compare->add_flag("--apply-ambiguous", apply_ambiguous,
-                    "the controller applied the model's ambiguous effects too (predict with them)");
-  compare->add_option("--plot", plot_dir, "write calibration.png (and its data and gnuplot script) here");
-  compare->add_flag("--json", json, "print JSON");
-
-  BenchmarkOptions bench;
-  CLI::App* benchmark = app.add_subcommand("benchmark", "score the diagnosis blind on virtual-rig scenarios");
-  benchmark->add_option("--scenarios", bench.scenarios, "how many")->check(CLI::Range(1, 100000));
-  benchmark->add_option("--seed", bench.seed, "scenario draw seed");
-  benchmark->add_option("--config", bench.config_path, "nominal platform config");
-  benchmark->add_option("--noise-m", bench.tracker_noise_m, "tracker noise, 1-σ per axis")->check(CLI::Range(0.0, 1e-3));
-  benchmark->add_option("--generator", bench.generator,
-                        "rig: edsp's own virtual rig; blind: the independently written rig (blindrig/), "
-                        "out-of-vocabulary scenarios and its own tracker draws")
-      ->check(CLI::IsMember({"rig", "blind"}));
-  benchmark->add_option("--motions", bench.motions, "motions of every scenario, comma-separated")->delimiter(',');
-  benchmark->add_option("--closed-loop-motions", bench.closed_loop_motions,
-                        "rig generator: motions no fit saw, run without and with the model applied (\"none\": skip)")
-      ->delimiter(',');
-  benchmark->add_option("--keep", keep_dir, "keep each scenario's data and report here");
-  benchmark->add_flag("--json", json, "print JSON");
+  DiagnoseArgs diagnose;
+  EvaluateArgs evaluate;
+  CompareArgs compare;
+  BenchmarkArgs benchmark;
+  const CLI::App* diagnose_command = AddDiagnose(app, &diagnose);
+  const CLI::App* evaluate_command = AddEvaluate(app, &evaluate);
+  const CLI::App* compare_command = AddCompare(app, &compare);
+  AddBenchmark(app, &benchmark);
   CLI11_PARSE(app, argc, argv);
-  if (thermal_tau->count() > 0) options.thermal_time_constants_s.clear();
-
-  if (*benchmark) {
-    bench.keep_dir = keep_dir;
-    if (bench.closed_loop_motions == std::vector<std::string>{"none"}) bench.closed_loop_motions.clear();
-    bench.progress = !json || isatty(fileno(stderr));
-    const BenchmarkResult result = RunBenchmark(bench);
-    if (json) std::printf("%s\n", ToJson(result).dump(2).c_str());
-    else PrintBenchmark(result);
-    return 0;
-  }
-  const PlatformModel model(LoadConfigFile(config_path));
-  if (*compare) {
-    const bool predicted = !model_path.empty();
-    // Predicted from what the kinematics applied: identified effects, the
-    // ambiguous ones only with --apply-ambiguous.
-    const Evaluation without =
-        Evaluate(model, LoadAll(before_paths),
-                 predicted ? AppliedModelJson(LoadModelFile(model_path), apply_ambiguous) : EmptyModelJson(),
-                 predicted ? model_path : "no model");
-    const Evaluation with = Evaluate(model, LoadAll(after_paths), EmptyModelJson(), "no model");
-    const CalibrationCheck check = CheckCalibration(without, with, predicted);
-    if (!plot_dir.empty()) {
-      std::filesystem::create_directories(plot_dir);
-      const std::string png = WriteCheckPlot(check, plot_dir);
-      if (!json) std::printf("%s\n", png.empty() ? "gnuplot wrote no plot" : png.c_str());
-    }
-    if (json) std::printf("%s\n", ToJson(check).dump(2).c_str());
-    else std::printf("%s", CheckTable(check).c_str());
-    return 0;
-  }
-  const MeasurementData data = LoadAll(data_paths);
-  if (*evaluate) {
-    const Evaluation ev = Evaluate(model, data, LoadModelFile(model_path), model_path);
-    if (json) {
-      std::printf("%s\n", ToJson(ev).dump(2).c_str());
-    } else {
-      std::printf("before %.1f µm RMS (%.1f max), after %.1f µm RMS (%.1f max), shrink %.0f%%\n", ev.before.rms_m * 1e6,
-                  ev.before.max_m * 1e6, ev.after.rms_m * 1e6, ev.after.max_m * 1e6, 100 * ev.shrink);
-    }
-    return 0;
-  }
-  const Diagnosis d = Diagnose(model, data, options);
-  if (!model_path.empty()) {
-    std::ofstream out(model_path);
-    out << ModelJson(d).dump(2) << "\n";
-    if (!out) throw std::runtime_error(model_path + ": cannot write the model");
-  }
-  if (!report_dir.empty()) WriteReport(d, report_dir);
-  if (json) std::printf("%s\n", ToJson(d).dump(2).c_str());
-  else PrintText(d);
-  return 0;
+  if (*diagnose_command) return RunDiagnose(diagnose);
+  if (*evaluate_command) return RunEvaluate(evaluate);
+  if (*compare_command) return RunCompare(compare);
+  return RunBenchmarkCommand(benchmark);
 }
 
 }  // namespace

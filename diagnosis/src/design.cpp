@@ -48,32 +48,53 @@ void EstimateFrame(const std::vector<Vector3>& model_points, const std::vector<V
   *t = T.topRightCorner<3, 1>();
 }
 
-Design BuildDesign(const PlatformModel& model, const MeasurementData& data, const DesignOptions& o) {
-  Design d;
-  d.runs = data.runs;
-  const std::vector<std::vector<int>> by_run = RowsByRun(data);
-  const int n = static_cast<int>(data.rows.size());
-  d.frame = {0, 6};
+namespace {
+
+// The leg-space state at every sample, in run order, and what the columns need of it.
+struct Samples {
+  std::vector<calibration::LegErrorState> states;
+  std::vector<Eigen::Matrix<double, 3, 6>> G;  // ∂A/∂l at each sample, {B}
+  std::vector<Vector3> model_points, measured;
+};
+
+// Places every effect's θ after the frame's 6 columns and sizes the rows.
+void LayOutColumns(int samples, Design* d) {
+  d->frame = {0, 6};
   int column = 6;
   for (Effect e : AllEffects()) {
-    d.effect[static_cast<std::size_t>(e)] = {column, ParameterCount(e)};
+    d->effect[static_cast<std::size_t>(e)] = {column, ParameterCount(e)};
     column += ParameterCount(e);
   }
-  d.residual.resize(3 * n);
-  d.columns.setZero(3 * n, column);
-  d.has_encoder = !data.rows.empty();
-  for (const MeasurementRow& row : data.rows) d.has_encoder = d.has_encoder && row.has_encoder;
+  d->residual.resize(3 * samples);
+  d->columns.setZero(3 * samples, column);
+}
 
-  // Pass 1: the model's point and the leg-space state of every sample, in
-  // run order (play and heat carry over from run to run, as on the rig).
-  std::vector<Vector3> model_points, measured;
-  std::vector<Eigen::Matrix<double, 3, 6>> G;
-  std::vector<calibration::LegErrorState> states;
-  model_points.reserve(static_cast<std::size_t>(n));
+// Leg velocity, acceleration and the platform's acceleration at row k of a
+// run, from the commands (central differences; none at a run's ends).
+void CommandRates(const MeasurementData& data, const std::vector<int>& rows, std::size_t k,
+                  calibration::LegErrorInputs* in) {
+  in->velocity = Derivative(rows, k, data, [](const MeasurementRow& r) { return r.leg_cmd_m; });
+  const std::size_t lo = k == 0 ? 0 : k - 1, hi = k + 1 < rows.size() ? k + 1 : k;
+  const MeasurementRow& a = data.rows[static_cast<std::size_t>(rows[lo])];
+  const MeasurementRow& row = data.rows[static_cast<std::size_t>(rows[k])];
+  const MeasurementRow& b = data.rows[static_cast<std::size_t>(rows[hi])];
+  const double span = b.time_s - a.time_s;
+  if (lo + 1 == k && hi == k + 1 && span > 0.0) {
+    const double h = 0.5 * span;
+    in->accel = (b.leg_cmd_m - 2.0 * row.leg_cmd_m + a.leg_cmd_m) / (h * h);
+    in->platform_accel_B_m_s2 = (b.pose_cmd.head<3>() - 2.0 * row.pose_cmd.head<3>() + a.pose_cmd.head<3>()) / (h * h);
+  }
+}
+
+// Pass 1: the model's point and the leg-space state of every sample, in run
+// order (play and heat carry over from run to run, as on the rig).
+Samples TrackSamples(const PlatformModel& model, const MeasurementData& data, const DesignOptions& o, Design* d) {
+  Samples out;
   calibration::LegErrorTracker tracker(model, o);
+  const std::vector<std::vector<int>> by_run = RowsByRun(data);
   for (std::size_t run = 0; run < by_run.size(); ++run) {
     const std::vector<int>& rows = by_run[run];
-    d.run_samples.push_back({static_cast<int>(d.sample_run.size()), static_cast<int>(rows.size())});
+    d->run_samples.push_back({static_cast<int>(d->sample_run.size()), static_cast<int>(rows.size())});
     for (std::size_t k = 0; k < rows.size(); ++k) {
       const MeasurementRow& row = data.rows[static_cast<std::size_t>(rows[k])];
       const Pose pose = Pose::FromVector(row.pose_cmd);
@@ -82,77 +103,92 @@ Design BuildDesign(const PlatformModel& model, const MeasurementData& data, cons
         throw MeasurementError(fmt::format("{}: run \"{}\" at time_s {}: commanded pose {} is singular for the model",
                                            data.source, data.runs[run], row.time_s, DescribePose(pose)));
       }
-      G.push_back(at.per_leg);
+      out.G.push_back(at.per_leg);
       calibration::LegErrorInputs in;
       in.time_s = row.time_s;
       in.pose = pose;
       in.command_m = row.leg_cmd_m;
       // With encoder data the motor's own motion drives the play.
       in.motor_m = row.has_encoder ? row.leg_enc_m : row.leg_cmd_m;
-      in.velocity = Derivative(rows, k, data, [](const MeasurementRow& r) { return r.leg_cmd_m; });
-      const std::size_t lo = k == 0 ? 0 : k - 1, hi = k + 1 < rows.size() ? k + 1 : k;
-      const MeasurementRow& a = data.rows[static_cast<std::size_t>(rows[lo])];
-      const MeasurementRow& b = data.rows[static_cast<std::size_t>(rows[hi])];
-      const double span = b.time_s - a.time_s;
-      if (lo + 1 == k && hi == k + 1 && span > 0.0) {
-        const double h = 0.5 * span;
-        in.accel = (b.leg_cmd_m - 2.0 * row.leg_cmd_m + a.leg_cmd_m) / (h * h);
-        in.platform_accel_B_m_s2 = (b.pose_cmd.head<3>() - 2.0 * row.pose_cmd.head<3>() + a.pose_cmd.head<3>()) / (h * h);
-      }
+      CommandRates(data, rows, k, &in);
       const calibration::LegErrorState s = tracker.Advance(in);
-      states.push_back(s);
-      model_points.push_back(model.ObservationPoint(pose));
-      measured.push_back(row.point_m);
-      d.sample_run.push_back(static_cast<int>(run));
-      d.source_row.push_back(rows[k]);
-      d.time_s.push_back(row.time_s);
-      d.leg_velocity_m_s.push_back(s.velocity);
-      d.leg_accel_m_s2.push_back(s.accel);
-      d.servo_error_m.push_back(d.has_encoder ? Vector6(row.leg_cmd_m - row.leg_enc_m) : Vector6::Zero());
-      Vector6 from_home = row.pose_cmd - model.home_pose().ToVector();
-      d.displacement.push_back(from_home.norm());
+      out.states.push_back(s);
+      out.model_points.push_back(model.ObservationPoint(pose));
+      out.measured.push_back(row.point_m);
+      d->sample_run.push_back(static_cast<int>(run));
+      d->source_row.push_back(rows[k]);
+      d->time_s.push_back(row.time_s);
+      d->leg_velocity_m_s.push_back(s.velocity);
+      d->leg_accel_m_s2.push_back(s.accel);
+      d->servo_error_m.push_back(d->has_encoder ? Vector6(row.leg_cmd_m - row.leg_enc_m) : Vector6::Zero());
+      d->displacement.push_back((row.pose_cmd - model.home_pose().ToVector()).norm());
     }
   }
+  return out;
+}
 
-  // Jerk: the central difference of the acceleration within each run.
+// Jerk: the central difference of the acceleration within each run.
+void AddJerk(const Design& d, std::vector<calibration::LegErrorState>* states) {
   for (const ColumnRange& run : d.run_samples) {
     for (int k = run.begin; k < run.begin + run.count; ++k) {
-      calibration::LegErrorState& s = states[static_cast<std::size_t>(k)];
+      calibration::LegErrorState& s = (*states)[static_cast<std::size_t>(k)];
       s.jerk = Vector6::Zero();
       if (k == run.begin || k + 1 == run.begin + run.count) continue;
       const double span = d.time_s[static_cast<std::size_t>(k + 1)] - d.time_s[static_cast<std::size_t>(k - 1)];
-      if (span > 0.0) s.jerk = (states[static_cast<std::size_t>(k + 1)].accel - states[static_cast<std::size_t>(k - 1)].accel) / span;
+      if (span > 0.0) {
+        s.jerk = ((*states)[static_cast<std::size_t>(k + 1)].accel - (*states)[static_cast<std::size_t>(k - 1)].accel) / span;
+      }
     }
   }
+}
 
+// The PR compensation the data's controller applied, against the signed PR model.
+void ClassifyAppliedPr(const PlatformModel& model, const std::vector<calibration::LegErrorState>& states, Design* d) {
   double cp = 0.0, pp = 0.0, cc = 0.0, unsigned_misfit = 0.0;
   for (const calibration::LegErrorState& s : states) {
     cp += s.compensation.dot(s.pr_signed), pp += s.pr_signed.squaredNorm(), cc += s.compensation.squaredNorm();
     unsigned_misfit += (s.compensation - model.PrLengthError(s.legs, PrMode::kUnsigned)).squaredNorm();
   }
-  d.applied_pr_ratio = pp > 0.0 ? cp / pp : 0.0;
-  const double misfit = cc - 2.0 * d.applied_pr_ratio * cp + d.applied_pr_ratio * d.applied_pr_ratio * pp;
-  if (cc <= 1e-6 * std::max(pp, 1e-30)) d.applied_pr = "none";
-  else if (misfit <= 1e-4 * cc && std::abs(d.applied_pr_ratio - 1.0) < 1e-3) d.applied_pr = "signed";
-  else if (unsigned_misfit <= 1e-4 * cc) d.applied_pr = "unsigned";  // the paper's Eq. (9)
-  else d.applied_pr = "other";
+  d->applied_pr_ratio = pp > 0.0 ? cp / pp : 0.0;
+  const double misfit = cc - 2.0 * d->applied_pr_ratio * cp + d->applied_pr_ratio * d->applied_pr_ratio * pp;
+  if (cc <= 1e-6 * std::max(pp, 1e-30)) d->applied_pr = "none";
+  else if (misfit <= 1e-4 * cc && std::abs(d->applied_pr_ratio - 1.0) < 1e-3) d->applied_pr = "signed";
+  else if (unsigned_misfit <= 1e-4 * cc) d->applied_pr = "unsigned";  // the paper's Eq. (9)
+  else d->applied_pr = "other";
+}
 
-  // Pass 2: the frame estimate, then the linear columns around it.
-  EstimateFrame(model_points, measured, &d.R0, &d.t0);
-  d.model_point = model_points;
-  d.point_per_leg.resize(static_cast<std::size_t>(n));
+// Pass 2: the frame estimate, then the linear columns around it.
+void FillColumns(const PlatformModel& model, const Samples& samples, Design* d) {
+  EstimateFrame(samples.model_points, samples.measured, &d->R0, &d->t0);
+  d->model_point = samples.model_points;
+  const int n = static_cast<int>(samples.states.size());
+  d->point_per_leg.resize(static_cast<std::size_t>(n));
   for (int k = 0; k < n; ++k) {
     const std::size_t s = static_cast<std::size_t>(k);
-    d.residual.segment<3>(3 * k) = measured[s] - (d.R0 * model_points[s] + d.t0);
-    d.columns.block<3, 3>(3 * k, 0) = Matrix3::Identity();
-    d.columns.block<3, 3>(3 * k, 3) = -d.R0 * calibration::Skew(model_points[s]);
-    const Eigen::Matrix<double, 3, 6> RG = d.R0 * G[s];
-    d.point_per_leg[s] = RG;
+    d->residual.segment<3>(3 * k) = samples.measured[s] - (d->R0 * samples.model_points[s] + d->t0);
+    d->columns.block<3, 3>(3 * k, 0) = Matrix3::Identity();
+    d->columns.block<3, 3>(3 * k, 3) = -d->R0 * calibration::Skew(samples.model_points[s]);
+    const Eigen::Matrix<double, 3, 6> RG = d->R0 * samples.G[s];
+    d->point_per_leg[s] = RG;
     for (Effect e : AllEffects()) {
-      const ColumnRange& range = d.Of(e);
-      d.columns.block(3 * k, range.begin, 3, range.count) = RG * calibration::LegErrorBasis(e, states[s], model);
+      const ColumnRange& range = d->Of(e);
+      d->columns.block(3 * k, range.begin, 3, range.count) = RG * calibration::LegErrorBasis(e, samples.states[s], model);
     }
   }
+}
+
+}  // namespace
+
+Design BuildDesign(const PlatformModel& model, const MeasurementData& data, const DesignOptions& o) {
+  Design d;
+  d.runs = data.runs;
+  LayOutColumns(static_cast<int>(data.rows.size()), &d);
+  d.has_encoder = !data.rows.empty();
+  for (const MeasurementRow& row : data.rows) d.has_encoder = d.has_encoder && row.has_encoder;
+  Samples samples = TrackSamples(model, data, o, &d);
+  AddJerk(d, &samples.states);
+  ClassifyAppliedPr(model, samples.states, &d);
+  FillColumns(model, samples, &d);
   return d;
 }
 
