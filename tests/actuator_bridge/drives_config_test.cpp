@@ -1,22 +1,19 @@
 // [drives] of the platform config: defaults, a Modbus TCP rig's drives with
 // their scaling (checked against the lead and gear by hand), and every bad
 // value refused with the file, line and key.
-#include <gtest/gtest.h>
-
 #include <cmath>
 
+#include <gtest/gtest.h>
+
 #include "edsp/actuator_bridge/drives_config.h"
+#include "thrown_message.h"  // tests/support
 
 namespace edsp {
 namespace {
 
 std::string ErrorOf(const std::string& text) {
-  try {
-    ParseDrivesConfig(text, "rig.toml", DriveParameters{});
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "no error";
+  return test_support::ThrownMessage<ConfigError>([&] { ParseDrivesConfig(text, "rig.toml", DriveParameters{}); },
+                                                  "no error");
 }
 
 const std::string kModbus =

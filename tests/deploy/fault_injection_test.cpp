@@ -22,10 +22,7 @@
 namespace edsp {
 namespace {
 
-using test_support::DwellEnd;
-using test_support::DwellEnds;
-using test_support::GroupRun;
-using test_support::LaunchSimGroup;
+using namespace test_support;  // sim_group_harness.h
 
 // Garbage, and packets that start like the real type (right fingerprint)
 // but are truncated or carry a corrupt string length, on every channel the

@@ -43,9 +43,7 @@
 namespace edsp {
 namespace {
 
-using test_support::GroupRun;
-using test_support::LaunchSimGroup;
-using test_support::SimGroupExtras;
+using namespace test_support;  // sim_group_harness.h
 
 // SIGSTOP for 0.5 s then SIGCONT; SIGKILL (the launcher restarts it); or
 // SIGUSR1 to edsp-drive-sim, which faults its drive 1 (error code FF01h)

@@ -35,11 +35,7 @@
 namespace edsp {
 namespace {
 
-using test_support::DwellEnd;
-using test_support::DwellEnds;
-using test_support::GroupRun;
-using test_support::LaunchSimGroup;
-using test_support::SimGroupExtras;
+using namespace test_support;  // sim_group_harness.h
 
 // A small tmpfs of this test's own (a private mount namespace: the launcher
 // and the nodes see it, nobody else does, and it vanishes with the test).

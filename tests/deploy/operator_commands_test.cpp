@@ -32,9 +32,7 @@
 namespace edsp {
 namespace {
 
-using test_support::GroupRun;
-using test_support::LaunchSimGroup;
-using test_support::RunDir;
+using namespace test_support;  // sim_group_harness.h
 
 // Runs edsp-ctl with the group's LCM URL; returns its exit status, output in *out.
 // What is tested is the node's answer, not how fast a loaded machine gives it:

@@ -34,11 +34,7 @@
 namespace edsp {
 namespace {
 
-using test_support::GroupRun;
-using test_support::LaunchSimGroup;
-using test_support::ExpectCleanRun;
-using test_support::DwellEnd;
-using test_support::DwellEnds;
+using namespace test_support;  // sim_group_harness.h
 
 void ExpectEveryDwellWithin5um(const GroupRun& run) {
   const PlatformModel model(Huang2021Config());

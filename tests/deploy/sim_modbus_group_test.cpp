@@ -18,11 +18,7 @@
 namespace edsp {
 namespace {
 
-using test_support::DwellEnd;
-using test_support::DwellEnds;
-using test_support::GroupRun;
-using test_support::LaunchSimGroup;
-using test_support::SimGroupExtras;
+using namespace test_support;  // sim_group_harness.h
 
 // For a test of accuracy, not of holding (as kStallTolerantStaleMs): on
 // this shared 2-core VM a drive simulator descheduled past the shipped

@@ -5,6 +5,8 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "thrown_message.h"
+
 #include "edsp/kinematics/config.h"
 #include "edsp/kinematics/platform_model.h"
 
@@ -32,12 +34,7 @@ std::string ExplicitGeometry(const PlatformGeometry& g) {
 
 // Parses `text` and returns the ConfigError message ("" if none was thrown).
 std::string ErrorOf(const std::string& text) {
-  try {
-    ParseConfig(text, "rig.toml");
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "";
+  return test_support::ThrownMessage<ConfigError>([&] { ParseConfig(text, "rig.toml"); });
 }
 
 #define EXPECT_CONFIG_ERROR(text, ...)                                 \

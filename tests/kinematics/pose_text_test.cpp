@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include "thrown_message.h"
+
 #include "edsp/kinematics/pose_text.h"
 
 namespace edsp {
@@ -11,12 +13,7 @@ TEST(PoseText, ParsesSixNumbersInOrder) {
 }
 
 std::string ErrorOf(const std::string& text) {
-  try {
-    ParsePoseText(text);
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
+  return test_support::ThrownMessage<std::invalid_argument>([&] { ParsePoseText(text); });
 }
 
 TEST(PoseText, RejectsWhatIsNotSixFiniteNumbers) {

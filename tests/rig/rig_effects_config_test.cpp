@@ -3,6 +3,8 @@
 // the file, line and key for unknown effects, unknown keys and absurd values.
 #include <gtest/gtest.h>
 
+#include "thrown_message.h"
+
 #include "edsp/kinematics/config.h"
 #include "edsp/rig/rig_effects.h"
 
@@ -12,12 +14,7 @@ namespace {
 const std::string kNominal = "[geometry]\npreset = \"huang2021\"\n";
 
 std::string ErrorOf(const std::string& text) {
-  try {
-    ParseRigEffects(text, "rig.toml");
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "no error";
+  return test_support::ThrownMessage<ConfigError>([&] { ParseRigEffects(text, "rig.toml"); }, "no error");
 }
 
 TEST(RigEffectsConfig, NoSectionMeansEveryEffectOffButTheDriveLoop) {

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "thrown_message.h"
+
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/leg_command_t.hpp"
 #include "edsp/transport/bus.h"
@@ -294,12 +296,7 @@ path = "shm"
 }
 
 std::string TransportErrorOf(const std::string& text) {
-  try {
-    ParseTransportConfig(text, "group.toml");
-  } catch (const TransportError& e) {
-    return e.what();
-  }
-  return "";
+  return test_support::ThrownMessage<TransportError>([&] { ParseTransportConfig(text, "group.toml"); });
 }
 
 TEST(TransportConfig, ErrorsNameFileLineAndKey) {

@@ -3,6 +3,8 @@
 // a multi-host group from starting with a host-only LCM or an unowned segment.
 #include <gtest/gtest.h>
 
+#include "thrown_message.h"
+
 #include "edsp/transport/error.h"
 #include "edsp/transport/host_routes.h"
 
@@ -40,12 +42,7 @@ host = "drive"
 constexpr const char* kTtl1 = "udpm://239.255.76.67:7667?ttl=1";
 
 std::string ErrorOf(const std::string& text) {
-  try {
-    ParseTransportConfig(text, "g.toml");
-  } catch (const TransportError& e) {
-    return e.what();
-  }
-  return "no error";
+  return test_support::ThrownMessage<TransportError>([&] { ParseTransportConfig(text, "g.toml"); }, "no error");
 }
 
 TEST(HostRoutes, WriterPublishesBothWhenAReaderIsElsewhereAndRemoteReadersUseLcm) {
