@@ -16,6 +16,7 @@
 #include "edsp/diagnosis/linear_fit.h"
 #include "edsp/kinematics/calibration.h"
 #include "edsp/diagnosis/robust_fit.h"
+#include "edsp/diagnosis/structure_nuisance.h"
 
 namespace edsp::gap {
 
@@ -280,8 +281,8 @@ Selection SelectEffects(Evaluator& eval, const DiagnoseOptions& o, double n_res)
 }
 
 // Verdicts: a selected effect that another could replace for most of its
-// gain (and that would pass selection itself) is ambiguous, and both are
-// named; the others are rejected.
+// gain, and that does not beat that other run by run, is ambiguous, and
+// both are named; the others are rejected.
 std::map<Effect, EffectResult> Verdicts(Evaluator& eval, const Selection& s, const DiagnoseOptions& o) {
   std::map<Effect, EffectResult> results;
   for (Effect e : AllEffects()) {
@@ -306,6 +307,10 @@ std::map<Effect, EffectResult> Verdicts(Evaluator& eval, const Selection& s, con
       if (Contains(s.effects, alt) || Nested(e, alt)) continue;
       const double alt_gain = (base - eval.Cv(With(rest, alt))) / base;
       if (alt_gain < std::max(o.min_cv_gain, o.ambiguity_ratio * gain)) continue;
+      // A tie only where the runs cannot tell the two apart: an effect that
+      // predicts the held-out runs better than its alternative run by run
+      // (the paired test of selection) is not ambiguous with it.
+      if (eval.SignificantlyBetter(s.effects, With(rest, alt), o.significance)) continue;
       for (auto [a, b] : {std::pair{e, alt}, std::pair{alt, e}}) {
         EffectResult& r = results[a];
         r.verdict = "ambiguous";
@@ -381,6 +386,66 @@ void DescribeRest(const Design& d, const Eigen::VectorXd& residual, const Eigen:
                         100 * out->structure.structured_share);
 }
 
+// A design with the residual's structure as a nuisance: a lightly damped mode
+// at `hz` (and a vibration of the tracker) beside the frame
+// (structure_nuisance.h), and the prior of the effects' columns kept.
+struct WithMode {
+  WithMode(const Design& d, const Eigen::VectorXd& effect_prior, double hz)
+      : design(WithNuisance(d, StructureColumns(d, hz, kAssumedDamping))),
+        gram(design, MakeFolds(design)),
+        prior(Eigen::VectorXd::Zero(design.parameters())) {
+    const Eigen::Index effect_columns = d.parameters() - (d.frame.begin + d.frame.count);
+    prior.tail(effect_columns) = effect_prior.tail(effect_columns);
+  }
+  Design design;
+  GramSet gram;
+  Eigen::VectorXd prior;
+};
+
+// Selected effects whose held-out gain the residual's structure could also
+// explain. The structure is modelled as a mode at the candidate frequency
+// that predicts the held-out runs best; if that mode cuts the selected
+// model's held-out error by min_cv_gain, an effect that then no longer does
+// so itself, or no longer beats the model without it run by run, is one the
+// structure explains as well.
+std::vector<Effect> ExplainedByStructure(const Design& d, const Eigen::VectorXd& prior, Evaluator& plain,
+                                         const std::vector<Effect>& selected, const ResidualStructure& structure,
+                                         const DiagnoseOptions& o) {
+  std::vector<Effect> explained;
+  if (!structure.structured || selected.empty()) return explained;
+  double best_cv = plain.Cv(selected) * (1.0 - o.min_cv_gain), best_hz = 0.0;
+  for (double hz : CandidateModeFrequencies(structure)) {
+    const WithMode mode(d, prior, hz);
+    const double cv = Evaluator(mode.design, mode.gram, mode.prior).Cv(selected);
+    if (cv < best_cv) best_cv = cv, best_hz = hz;
+  }
+  if (best_hz == 0.0) return explained;  // no mode is what is left
+  const WithMode mode(d, prior, best_hz);
+  Evaluator eval(mode.design, mode.gram, mode.prior);
+  for (Effect e : selected) {
+    const std::vector<Effect> rest = Without(selected, e);
+    const double base = eval.Cv(rest);
+    const bool gains = base > 0.0 && (base - best_cv) / base >= o.min_cv_gain;
+    if (!gains || !eval.SignificantlyBetter(selected, rest, o.significance)) explained.push_back(e);
+  }
+  return explained;
+}
+
+// Such an effect is not identified (so no calibration applies it by
+// default): ambiguous with the unknown structure. With every selected
+// effect so explained, the conclusion is `unknown`.
+void MarkExplainedByStructure(const std::vector<Effect>& explained, Diagnosis* out) {
+  if (explained.empty()) return;
+  for (EffectResult& r : out->effects) {
+    if (!Contains(explained, r.effect)) continue;
+    r.verdict = "ambiguous";
+    r.ambiguous_with.push_back("unknown");
+    r.next_measurement = "what causes the unexplained structure (" + out->structure.Describe() +
+                         "): a mode of it predicts the held-out runs as well as this effect does";
+  }
+  if (explained.size() == out->selected.size()) out->conclusion = "unknown";
+}
+
 // Before (frame only) and after (frame and the selected effects) on each run
 // held out of the fit, pooled; returns the held-out residual after (3 per sample).
 Eigen::VectorXd HoldOut(const Design& d, const GramSet& gram, const Eigen::VectorXd& prior, const Columns& cols,
@@ -453,6 +518,7 @@ Diagnosis DiagnoseOnce(const PlatformModel& model, const MeasurementData& data, 
   out.effects = Ranked(results, out.selected);
   const Eigen::VectorXd heldout = HoldOut(d, gram, prior, ColumnsOf(d, out.selected), &out);
   DescribeRest(d, residual, heldout, o, &out);
+  MarkExplainedByStructure(ExplainedByStructure(d, prior, eval, out.selected, out.structure, o), &out);
   for (int k = 0; k < d.samples(); ++k) {
     const std::size_t s = static_cast<std::size_t>(k);
     out.series.push_back({d.sample_run[s], d.time_s[s], d.displacement[s], baseline.segment<3>(3 * k).norm(),

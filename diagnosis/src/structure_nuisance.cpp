@@ -1,0 +1,88 @@
+#include "edsp/diagnosis/structure_nuisance.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace edsp::gap {
+
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586;
+
+// A's acceleration at each sample of a run in {B}: central differences of
+// the model's point along the commands (none at the run's ends).
+std::vector<Vector3> PointAcceleration(const Design& d, const ColumnRange& run) {
+  std::vector<Vector3> a(static_cast<std::size_t>(run.count), Vector3::Zero());
+  for (int k = 1; k + 1 < run.count; ++k) {
+    const std::size_t i = static_cast<std::size_t>(run.begin + k);
+    const double h1 = d.time_s[i] - d.time_s[i - 1], h2 = d.time_s[i + 1] - d.time_s[i];
+    if (!(h1 > 0.0 && h2 > 0.0)) continue;
+    const Vector3 v1 = (d.model_point[i] - d.model_point[i - 1]) / h1;
+    const Vector3 v2 = (d.model_point[i + 1] - d.model_point[i]) / h2;
+    a[static_cast<std::size_t>(k)] = (v2 - v1) / (0.5 * (h1 + h2));
+  }
+  return a;
+}
+
+// The response x of ẍ + 2ζωẋ + ω²x = a (per axis) at each sample of a run,
+// at rest at its start; the acceleration held between samples, integrated
+// in steps of at most 1/40 of the mode's period.
+std::vector<Vector3> ModeResponse(const Design& d, const ColumnRange& run, double omega, double zeta) {
+  const std::vector<Vector3> accel = PointAcceleration(d, run);
+  std::vector<Vector3> x(static_cast<std::size_t>(run.count), Vector3::Zero());
+  Vector3 pos = Vector3::Zero(), vel = Vector3::Zero();
+  const double max_step = kTwoPi / omega / 40.0;
+  for (int k = 1; k < run.count; ++k) {
+    const std::size_t i = static_cast<std::size_t>(run.begin + k);
+    const double span = d.time_s[i] - d.time_s[i - 1];
+    const int steps = span > 0.0 ? static_cast<int>(std::ceil(span / max_step)) : 0;
+    const Vector3& a = accel[static_cast<std::size_t>(k - 1)];
+    for (int s = 0; s < steps; ++s) {
+      const double h = span / steps;
+      vel += h * (a - omega * omega * pos - 2.0 * zeta * omega * vel);
+      pos += h * vel;
+    }
+    x[static_cast<std::size_t>(k)] = pos;
+  }
+  return x;
+}
+
+}  // namespace
+
+std::vector<double> CandidateModeFrequencies(const ResidualStructure& structure) {
+  std::vector<double> hz = {1.5, 2.5, 4.0, 6.0, 9.0, 13.0};
+  if (structure.dominant_hz > 1.0) hz.push_back(structure.dominant_hz);
+  return hz;
+}
+
+Eigen::MatrixXd StructureColumns(const Design& d, double hz, double zeta) {
+  const double omega = kTwoPi * hz;
+  Eigen::MatrixXd c = Eigen::MatrixXd::Zero(3 * d.samples(), 9);
+  for (const ColumnRange& run : d.run_samples) {
+    const std::vector<Vector3> sway = ModeResponse(d, run, omega, zeta);
+    for (int k = 0; k < run.count; ++k) {
+      const int n = run.begin + k;
+      const double t = d.time_s[static_cast<std::size_t>(n)];
+      for (int axis = 0; axis < 3; ++axis) {
+        c.block<3, 1>(3 * n, axis) = d.R0.col(axis) * sway[static_cast<std::size_t>(k)](axis);
+        c(3 * n + axis, 3 + axis) = std::sin(omega * t);
+        c(3 * n + axis, 6 + axis) = std::cos(omega * t);
+      }
+    }
+  }
+  return c;
+}
+
+Design WithNuisance(const Design& d, const Eigen::MatrixXd& extra) {
+  Design out = d;
+  const Eigen::Index m = extra.cols(), frame_end = d.frame.begin + d.frame.count;
+  out.columns.resize(d.columns.rows(), d.columns.cols() + m);
+  out.columns.leftCols(frame_end) = d.columns.leftCols(frame_end);
+  out.columns.middleCols(frame_end, m) = extra;
+  out.columns.rightCols(d.columns.cols() - frame_end) = d.columns.rightCols(d.columns.cols() - frame_end);
+  out.frame.count += static_cast<int>(m);
+  for (ColumnRange& r : out.effect) r.begin += static_cast<int>(m);
+  return out;
+}
+
+}  // namespace edsp::gap
