@@ -6,6 +6,7 @@
 #include <limits>
 #include <string>
 #include <map>
+#include <memory>
 #include <numeric>
 #include <set>
 
@@ -413,15 +414,15 @@ std::vector<Effect> ExplainedByStructure(const Design& d, const Eigen::VectorXd&
                                          const DiagnoseOptions& o) {
   std::vector<Effect> explained;
   if (!structure.structured || selected.empty()) return explained;
-  double best_cv = plain.Cv(selected) * (1.0 - o.min_cv_gain), best_hz = 0.0;
+  double best_cv = plain.Cv(selected) * (1.0 - o.min_cv_gain);
+  std::unique_ptr<WithMode> best;
   for (double hz : CandidateModeFrequencies(structure)) {
-    const WithMode mode(d, prior, hz);
-    const double cv = Evaluator(mode.design, mode.gram, mode.prior).Cv(selected);
-    if (cv < best_cv) best_cv = cv, best_hz = hz;
+    auto mode = std::make_unique<WithMode>(d, prior, hz);
+    const double cv = Evaluator(mode->design, mode->gram, mode->prior).Cv(selected);
+    if (cv < best_cv) best_cv = cv, best = std::move(mode);
   }
-  if (best_hz == 0.0) return explained;  // no mode is what is left
-  const WithMode mode(d, prior, best_hz);
-  Evaluator eval(mode.design, mode.gram, mode.prior);
+  if (best == nullptr) return explained;  // no mode is what is left
+  Evaluator eval(best->design, best->gram, best->prior);
   for (Effect e : selected) {
     const std::vector<Effect> rest = Without(selected, e);
     const double base = eval.Cv(rest);
@@ -440,8 +441,9 @@ void MarkExplainedByStructure(const std::vector<Effect>& explained, Diagnosis* o
     if (!Contains(explained, r.effect)) continue;
     r.verdict = "ambiguous";
     r.ambiguous_with.push_back("unknown");
-    r.next_measurement = "what causes the unexplained structure (" + out->structure.Describe() +
-                         "): a mode of it predicts the held-out runs as well as this effect does";
+    if (!r.next_measurement.empty()) r.next_measurement += "; ";
+    r.next_measurement += "what causes the unexplained structure (" + out->structure.Describe() +
+                          "): a mode of it predicts the held-out runs as well as this effect does";
   }
   if (explained.size() == out->selected.size()) out->conclusion = "unknown";
 }

@@ -148,6 +148,7 @@ Eigen::MatrixXd GramSet::Covariance(const Columns& columns, const std::vector<in
 Columns ColumnsOf(const Design& d, const std::vector<Effect>& effects) {
   Columns c;
   for (int k = 0; k < d.frame.count; ++k) c.push_back(d.frame.begin + k);
+  for (int k = 0; k < d.nuisance.count; ++k) c.push_back(d.nuisance.begin + k);
   for (Effect e : effects) {
     const ColumnRange& r = d.Of(e);
     for (int k = 0; k < r.count; ++k) c.push_back(r.begin + k);

@@ -103,11 +103,29 @@ void DrawThermalDrift(Rng& rng, Scenario* s) {
 }
 
 // How each effect of the vocabulary is put on the rig, in the order of the enum.
-using Draw = void (*)(Rng&, Scenario*);
-constexpr std::array<Draw, kEffectCount> kDraws = {
-    DrawPassiveRotation, DrawLegOffset,  DrawJointPosition, DrawLeadError,   DrawPeriodicLeadError,
-    DrawBacklash,        DrawServoLag,   DrawCompliance,    DrawThermalDrift,
+struct EffectDraw {
+  Effect effect;
+  void (*draw)(Rng&, Scenario*);
 };
+constexpr std::array<EffectDraw, kEffectCount> kDraws = {{
+    {Effect::kPassiveRotation, DrawPassiveRotation},
+    {Effect::kLegOffset, DrawLegOffset},
+    {Effect::kJointPosition, DrawJointPosition},
+    {Effect::kLeadError, DrawLeadError},
+    {Effect::kPeriodicLeadError, DrawPeriodicLeadError},
+    {Effect::kBacklash, DrawBacklash},
+    {Effect::kServoLag, DrawServoLag},
+    {Effect::kCompliance, DrawCompliance},
+    {Effect::kThermalDrift, DrawThermalDrift},
+}};
+
+constexpr bool InEnumOrder() {
+  for (std::size_t k = 0; k < kDraws.size(); ++k) {
+    if (static_cast<std::size_t>(kDraws[k].effect) != k) return false;
+  }
+  return true;
+}
+static_assert(InEnumOrder(), "kDraws must list the effects in the order of the enum");
 
 }  // namespace
 
@@ -125,7 +143,7 @@ Scenario DrawScenario(std::uint64_t seed, int index) {
   for (int k = 0; k < count; ++k) {
     const Effect e = pool[static_cast<std::size_t>(k)];
     s.truth.push_back(e);
-    kDraws[static_cast<std::size_t>(e)](rng, &s);
+    kDraws[static_cast<std::size_t>(e)].draw(rng, &s);
   }
   if (s.truth.empty()) s.description = "no effect (the rig's stiff default drive loop only)";
   return s;

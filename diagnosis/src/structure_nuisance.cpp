@@ -8,6 +8,9 @@ namespace edsp::gap {
 namespace {
 
 constexpr double kTwoPi = 6.283185307179586;
+// A gap between samples longer than this many of the mode's periods ends its
+// ringing (at ζ 0.03 it has decayed to e^(−2π·0.03·50) ≈ 1e-4 of itself).
+constexpr double kForgetAfterPeriods = 50.0;
 
 // A's acceleration at each sample of a run in {B}: central differences of
 // the model's point along the commands (none at the run's ends).
@@ -35,6 +38,10 @@ std::vector<Vector3> ModeResponse(const Design& d, const ColumnRange& run, doubl
   for (int k = 1; k < run.count; ++k) {
     const std::size_t i = static_cast<std::size_t>(run.begin + k);
     const double span = d.time_s[i] - d.time_s[i - 1];
+    if (!(span <= kForgetAfterPeriods * kTwoPi / omega)) {  // a gap (or no clock): the mode has rung out
+      pos.setZero(), vel.setZero();
+      continue;
+    }
     const int steps = span > 0.0 ? static_cast<int>(std::ceil(span / max_step)) : 0;
     const Vector3& a = accel[static_cast<std::size_t>(k - 1)];
     for (int s = 0; s < steps; ++s) {
@@ -74,14 +81,36 @@ Eigen::MatrixXd StructureColumns(const Design& d, double hz, double zeta) {
 }
 
 Design WithNuisance(const Design& d, const Eigen::MatrixXd& extra) {
-  Design out = d;
-  const Eigen::Index m = extra.cols(), frame_end = d.frame.begin + d.frame.count;
+  // Every member but the columns copied as it is (the columns, the large
+  // part, are built once, not copied and then rebuilt).
+  Design out;
+  out.residual = d.residual;
+  out.frame = d.frame;
+  out.effect = d.effect;
+  out.sample_run = d.sample_run;
+  out.run_samples = d.run_samples;
+  out.runs = d.runs;
+  out.source_row = d.source_row;
+  out.point_per_leg = d.point_per_leg;
+  out.model_point = d.model_point;
+  out.leg_velocity_m_s = d.leg_velocity_m_s;
+  out.leg_accel_m_s2 = d.leg_accel_m_s2;
+  out.servo_error_m = d.servo_error_m;
+  out.time_s = d.time_s;
+  out.displacement = d.displacement;
+  out.has_encoder = d.has_encoder;
+  out.applied_pr_ratio = d.applied_pr_ratio;
+  out.applied_pr = d.applied_pr;
+  out.R0 = d.R0;
+  out.t0 = d.t0;
+  const int m = static_cast<int>(extra.cols()), first = d.frame.begin + d.frame.count + d.nuisance.count;
+  const Eigen::Index rest = d.columns.cols() - first;
   out.columns.resize(d.columns.rows(), d.columns.cols() + m);
-  out.columns.leftCols(frame_end) = d.columns.leftCols(frame_end);
-  out.columns.middleCols(frame_end, m) = extra;
-  out.columns.rightCols(d.columns.cols() - frame_end) = d.columns.rightCols(d.columns.cols() - frame_end);
-  out.frame.count += static_cast<int>(m);
-  for (ColumnRange& r : out.effect) r.begin += static_cast<int>(m);
+  out.columns.leftCols(first) = d.columns.leftCols(first);
+  out.columns.middleCols(first, m) = extra;
+  out.columns.rightCols(rest) = d.columns.rightCols(rest);
+  out.nuisance = {d.nuisance.count > 0 ? d.nuisance.begin : first, d.nuisance.count + m};
+  for (ColumnRange& r : out.effect) r.begin += m;
   return out;
 }
 

@@ -1,4 +1,4 @@
-// The vocabulary table (kinematics/leg_effects.h): every parameter of every
+// The vocabulary table (kinematics/src/leg_effects.cpp): every parameter of every
 // effect read once, by a named group; sizes, limits and priors in the order
 // that keeps a real rig's calibration both fittable and accepted.
 #include <cmath>
@@ -30,6 +30,16 @@ TEST(LegEffects, EveryParameterOfEveryEffectIsReadByExactlyOneGroup) {
   for (Effect e : AllEffects()) {
     for (int k = 0; k < ParameterCount(e); ++k) EXPECT_EQ(Readers(e, k), 1) << EffectName(e) << " θ[" << k << "]";
     EXPECT_EQ(Readers(e, ParameterCount(e)), 0) << EffectName(e) << ": a group reads past its θ";
+  }
+}
+
+// A periodic error's amplitude and phase read the same (sin, cos − 1) pairs.
+TEST(LegEffects, ThePhaseOfAPairReadsTheSameThetaAsItsAmplitude) {
+  const std::vector<ParameterGroup> periodic = ParameterGroups(Effect::kPeriodicLeadError);
+  ASSERT_EQ(periodic.size(), 2u);
+  ASSERT_EQ(ValueCount(periodic[0]), ValueCount(periodic[1]));
+  for (int k = 0; k < ValueCount(periodic[0]); ++k) {
+    EXPECT_EQ(ThetaIndex(periodic[0], k), ThetaIndex(periodic[1], k)) << "leg " << k + 1;
   }
 }
 

@@ -31,8 +31,9 @@ struct ColumnRange {
 struct Design {
   // Rows (3 per sample), grouped by run.
   Eigen::VectorXd residual;          // r, m
-  Eigen::MatrixXd columns;           // [frame (6) | every effect's θ columns]
+  Eigen::MatrixXd columns;           // [frame (6) | nuisance | every effect's θ columns]
   ColumnRange frame;                 // δt (3), δω (3)
+  ColumnRange nuisance;              // estimated with the frame in every fit (none unless WithNuisance)
   std::array<ColumnRange, kEffectCount> effect;  // by static_cast<int>(Effect)
   std::vector<int> sample_run;       // run of each sample
   std::vector<ColumnRange> run_samples;  // samples of each run (contiguous)

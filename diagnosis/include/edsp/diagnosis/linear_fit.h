@@ -56,7 +56,7 @@ class GramSet {
   std::vector<int> n_;              // residuals
 };
 
-// Every column of the frame and of the listed effects.
+// Every column of the frame, of the nuisance and of the listed effects.
 Columns ColumnsOf(const Design& design, const std::vector<Effect>& effects);
 
 }  // namespace edsp::gap

@@ -7,7 +7,9 @@
 //     structure carrying A): per axis of {B}, the mode's response to A's
 //     acceleration on that axis;
 //   - a sinusoid at the same frequency in the tracker's frame (the
-//     tracker's stand vibrating), in phase and quadrature per axis.
+//     tracker's stand vibrating), in phase and quadrature per axis, on the
+//     data's clock: it predicts a held-out run only for a vibration that
+//     keeps its phase over the session, as a stand ringing steadily does.
 
 #include <vector>
 
@@ -18,19 +20,22 @@
 
 namespace edsp::gap {
 
-// Modes tried: the structure's own peak (when above the motions' rates)
-// and a grid over the band where platforms and their mounts ring; the
-// tracker's rate need not resolve them (the quasi-static response to
-// acceleration is what a slow tracker sees).
+// Modes tried: the structure's own peak when it lies above 1 Hz (below, it
+// is the motions' own rate) and a grid over the band where platforms and
+// their mounts ring; the tracker's rate need not resolve them (the
+// quasi-static response to acceleration is what a slow tracker sees).
 std::vector<double> CandidateModeFrequencies(const ResidualStructure& structure);
+// A light damping, whatever the spectrum's peak says: its half-power width
+// is often unresolved, and the mode's response below resonance hardly
+// depends on it.
 inline constexpr double kAssumedDamping = 0.03;
 
 // 9 columns, 3 rows per sample of `d`: the mode at `hz` with damping `zeta`.
 Eigen::MatrixXd StructureColumns(const Design& d, double hz, double zeta);
 
-// `d` with `extra` as nuisance beside the frame: the columns are
-// [frame | extra | effects], and the frame's range covers both, so every fit
-// of the design estimates them with the frame.
+// `d` with `extra` as its nuisance: the columns are [frame | extra |
+// effects], and every fit of the design (linear_fit.h) estimates them with
+// the frame.
 Design WithNuisance(const Design& d, const Eigen::MatrixXd& extra);
 
 }  // namespace edsp::gap

@@ -81,7 +81,8 @@ double GroupValue(const ParameterGroup& group, const double* theta, int k);
 // What parameter k of the effect amounts to on a real rig (in its own unit:
 // m, s, s², per metre of travel, ...): the scale at which a motion set's
 // identifiability is judged (planner/identifiability.h), so that columns of
-// metres, seconds and ratios meet on equal terms.
+// metres, seconds and ratios meet on equal terms. 0 for a k the effect does
+// not have.
 double TypicalParameterSize(Effect effect, int k);
 
 }  // namespace edsp::calibration
