@@ -77,6 +77,7 @@ void VirtualRig::SetTarget(const DriveSetpoint& setpoint, bool enabled) {
   target_ = setpoint;
   enabled_ = enabled;
   since_command_s_ = 0.0;
+  since_target_s_ = 0.0;
 }
 
 bool VirtualRig::RestoreDrives(const std::array<double, 6>& motor_angle_rad) {
@@ -166,10 +167,11 @@ bool VirtualRig::Advance(double dt_s) {
   const double loop_dt = 1.0 / parameters_.effects.servo_lag.loop_rate_hz;
   const int steps = std::max(1, static_cast<int>(std::lround(dt_s / loop_dt)));
   // No new target for a few cycles: stop interpolating, hold at rest.
-  if (since_command_s_ >= parameters_.watchdog.interpolation_horizon_s - 1e-9) {
+  if (since_target_s_ >= parameters_.watchdog.interpolation_horizon_s - 1e-9) {
     target_.motor_velocity_rad_s.fill(0.0);
   }
   since_command_s_ += dt_s;
+  since_target_s_ += dt_s;
   for (int k = 0; k < steps; ++k) {
     for (int i = 0; i < kNumLegs; ++i) {
       if (servo) StepServo(i, dt_s / steps);

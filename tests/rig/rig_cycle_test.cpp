@@ -99,5 +99,39 @@ TEST(RigCycle, ACommandTakenLateContinuesFromTheInstantItIsFor) {
   EXPECT_EQ(live.Feedback().motor_angle_rad[0], reference.Feedback().motor_angle_rad[0]);
 }
 
+// A master that keeps re-sending its last frame (a drive simulator whose
+// fieldbus went quiet) is alive to the drives' watchdog, but its stale
+// command is not a new one: the target stops at the interpolation horizon
+// as it does for a rig left without commands, instead of starting over along
+// the stale feed-forward every cycle (a sawtooth the servo turned into a
+// jitter of micrometres while the drives should have been holding).
+TEST(RigCycle, AStaleCommandReSentEveryCycleHoldsAsOneThatStopped) {
+  RigParameters p = IdealRig(Huang2021Config());
+  VirtualRig resent(p), stopped(p);
+  RigCycle resent_cycle(&resent, 1e-3, 0.0025), stopped_cycle(&stopped, 1e-3, 0.0025);
+  DriveSetpoint command = Moving(0.010);
+  command.utime = kStart - 300;
+  std::int64_t now = kStart;
+  resent_cycle.Step(now, &command, true);
+  stopped_cycle.Step(now, &command, true);
+  const double first = resent.Feedback().motor_angle_rad[0];
+  for (int k = 1; k < 60; ++k) {
+    now += 1000;
+    resent_cycle.Step(now, &command, true);
+    stopped_cycle.Step(now, nullptr, true);
+    ASSERT_EQ(resent.Feedback().motor_angle_rad, stopped.Feedback().motor_angle_rad) << "cycle " << k;
+    ASSERT_FALSE(resent.watchdog_tripped()) << "cycle " << k;
+  }
+  EXPECT_TRUE(stopped.watchdog_tripped());
+  // It ran on along the feed-forward for the horizon, and stood there.
+  EXPECT_NEAR(resent.Feedback().motor_angle_rad[0], 20.0 * (0.010 + 300e-6 + 0.004), 1e-6);  // the servo settled on it
+  EXPECT_GT(resent.Feedback().motor_angle_rad[0], first);
+  // A new command (another stamp) is taken as one, and held the same way.
+  command = Moving(0.020);
+  command.utime = now;
+  for (int k = 0; k < 60; ++k) resent_cycle.Step(now += 1000, &command, true);
+  EXPECT_NEAR(resent.Feedback().motor_angle_rad[0], 20.0 * (0.020 + 0.001 + 0.004), 1e-6);
+}
+
 }  // namespace
 }  // namespace edsp

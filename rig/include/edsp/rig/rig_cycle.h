@@ -37,14 +37,21 @@ class RigCycle {
       : rig_(rig), cycle_s_(cycle_s), horizon_s_(horizon_s) {}
 
   // `now`: the wall clock at the cycle's start; `command`: the newest drive
-  // command since the last cycle, or null when none came.
+  // command since the last cycle, or null when none came. A command equal to
+  // the last one taken (stamp, targets, feed-forward, enable) only keeps the
+  // drives' watchdog quiet (VirtualRig::KeepAlive).
   RigCycleReport Step(std::int64_t now, const DriveSetpoint* command, bool enable);
 
  private:
+  void Take(std::int64_t now, const DriveSetpoint& command, bool enable);
+
   VirtualRig* rig_;
   double cycle_s_;
   double horizon_s_;
   bool watchdog_reported_ = false;
+  bool taken_any_ = false;
+  DriveSetpoint last_taken_;
+  bool last_enable_ = false;
 };
 
 }  // namespace edsp

@@ -55,6 +55,11 @@ class VirtualRig {
   explicit VirtualRig(RigParameters parameters);
 
   void SetTarget(const DriveSetpoint& setpoint, bool enabled);
+  // The same command again (a master that re-sends its last frame, a drive
+  // simulator between the fieldbus and the rig): the drives' watchdog sees a
+  // live master, but the interpolator does not start over: a stale command
+  // re-sent is not a new one, and the target stays where the horizon left it.
+  void KeepAlive() { since_command_s_ = 0.0; }
   // The motors where they are (absolute encoders): a rig emulator restarted
   // after a crash continues from its predecessor's last drive feedback, as
   // real hardware does not move when its controller restarts. Drives off,
@@ -100,7 +105,8 @@ class VirtualRig {
   std::array<double, 6> angle_{}, velocity_{};
   DriveSetpoint target_;
   bool enabled_ = false;
-  double since_command_s_ = 0.0;         // since the last SetTarget
+  double since_command_s_ = 0.0;         // since the last SetTarget or KeepAlive (the watchdog)
+  double since_target_s_ = 0.0;          // since the last SetTarget (the interpolation horizon)
   Pose pose_;
   double time_s_ = 0.0;
   double next_tracker_s_ = 0.0;
