@@ -1,7 +1,7 @@
 // edsp-actuator-bridge: EDSP_LEG_COMMAND → drive setpoints through a
 // DriveBackend, encoders → EDSP_LEG_STATE, at 1 kHz. Holds the last valid
 // position when commands go stale (50 ms) and reports it on EDSP_FAULT.
-//   edsp-actuator-bridge [--backend virtual-rig|modbus-tcp] [--image-prefix edsp]
+//   edsp-actuator-bridge [--backend virtual-rig|modbus-tcp|cia402-shm] [--image-prefix edsp]
 //                        [--config FILE] [--group FILE] [--session-id N]
 //                        [--latency-report FILE] [--rejoin-speed-m-s V] [--cycle-phase-us P]
 // Each 1 kHz cycle reads the drives once, checks staleness and writes the
@@ -15,8 +15,10 @@
 #include "edsp/actuator_bridge/actuator_bridge.h"
 #include "edsp/actuator_bridge/bridge_loop.h"
 #include "edsp/actuator_bridge/drives_config.h"
-#include "edsp/actuator_bridge/modbus_tcp_backend.h"
+#include "edsp/actuator_bridge/cia402_backend.h"
 #include "edsp/actuator_bridge/virtual_rig_backend.h"
+#include "edsp/drives/csp_shm_master.h"
+#include "edsp/drives/modbus_drive_master.h"
 #include "edsp/kinematics/config.h"
 #include "edsp/node/node_options.h"
 #include "edsp/node/runtime.h"
@@ -31,11 +33,19 @@ namespace {
 std::unique_ptr<DriveBackend> MakeBackend(const std::string& name, const DrivesConfig& drives,
                                           const TransportConfig& transport, const std::string& image_prefix) {
   if (name == "virtual-rig") {
-    return std::make_unique<VirtualRigBackend>(
-        image_prefix.empty() ? transport.shm_prefix : image_prefix, transport.shm_permissions);
+    return std::make_unique<VirtualRigBackend>(image_prefix.empty() ? transport.shm_prefix : image_prefix,
+                                               transport.shm_permissions);
   }
-  if (name == "modbus-tcp") return std::make_unique<ModbusTcpBackend>(drives);
-  throw std::runtime_error("--backend " + name + ": known backends: virtual-rig, modbus-tcp");
+  const std::string prefix = image_prefix.empty() ? transport.shm_prefix : image_prefix;
+  if (name == "modbus-tcp") {
+    return std::make_unique<Cia402Backend>(
+        drives, std::make_unique<cia402::ModbusDriveMaster>(drives.host, drives.port, drives.response_timeout_s));
+  }
+  if (name == "cia402-shm") {
+    return std::make_unique<Cia402Backend>(drives, std::make_unique<cia402::CspShmMaster>(
+                                                       prefix, transport.shm_permissions, drives.response_timeout_s));
+  }
+  throw std::runtime_error("--backend " + name + ": known backends: virtual-rig, modbus-tcp, cia402-shm");
 }
 
 void WriteLatencyReport(const std::string& path, const nlohmann::json& report) {
@@ -50,7 +60,7 @@ int Run(int argc, char** argv) {
   AddNodeOptions(&app, &node);
   std::string backend_name, image_prefix;
   int stale_ms = 50;
-  app.add_option("--backend", backend_name, "drive backend: virtual-rig or modbus-tcp (default: [drives] backend)");
+  app.add_option("--backend", backend_name, "drive backend: virtual-rig, modbus-tcp or cia402-shm (default: [drives] backend)");
   app.add_option("--image-prefix", image_prefix, "process image segment prefix (default: shm_prefix)");
   app.add_option("--stale-ms", stale_ms, "hold when no valid command for this long")
       ->check(CLI::Range(1, 10000));

@@ -22,9 +22,10 @@ DrivesConfig ParseDrivesConfig(const std::string& toml_text, const std::string& 
   if (!s.present()) return config;
   s.RejectUnknownKeys({"backend", "host", "port", "response_timeout_ms", "counts_per_m", "offset_counts", "direction"});
   config.backend = s.String("backend", config.backend);
-  if (config.backend != "virtual" && config.backend != "modbus-tcp") {
+  if (config.backend != "virtual" && config.backend != "modbus-tcp" && config.backend != "cia402-shm") {
     s.Fail(NodeOf(s, "backend"),
-           fmt::format("[drives] backend = \"{}\": known backends are \"virtual\" and \"modbus-tcp\"", config.backend));
+           fmt::format("[drives] backend = \"{}\": known backends are \"virtual\", \"modbus-tcp\" and \"cia402-shm\"",
+                       config.backend));
   }
   config.host = s.String("host", config.host);
   // As a number: an integer cast first would wrap 4294968798 to 1502.

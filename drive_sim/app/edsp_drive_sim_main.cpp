@@ -1,7 +1,8 @@
 // edsp-drive-sim: six simulated CiA 402 drives (cyclic synchronous
-// position) behind a Modbus TCP server at edsp's register map
-// (docs/drives.md), for the bridge's Modbus backend and its tests.
-//   edsp-drive-sim [--host 127.0.0.1] [--port 1502] [--cycle-ms 1]
+// position) behind a Modbus TCP server at edsp's register map, or serving
+// the CSP image in shared memory (--serve shm, docs/drives.md), for the
+// bridge's CiA 402 backends and their tests.
+//   edsp-drive-sim [--serve modbus|shm] [--host 127.0.0.1] [--port 1502] [--cycle-ms 1]
 //                  [--following-window-counts N] [--fieldbus-timeout-ms 20]
 //                  [--axes own|rig] [--image-prefix P] [--fault-drive N] [--fault-code HEX]
 //                  [--config FILE] [--group FILE]
@@ -9,6 +10,9 @@
 // --axes rig: the drives move the virtual rig's legs through its process
 // image (edsp-rig computes the physics and the tracker), counts scaled by
 // the config's [drives] section: the sim-modbus group.
+// --serve shm: the image's segments are <shm_prefix>.cia402.rxpdo/.txpdo
+// (the group's transport, or --csp-prefix), as an EtherCAT master process
+// would serve them for real drives.
 // SIGUSR1 faults one drive (--fault-drive, error code --fault-code) as a
 // real drive's own fault would: a drill of the master's fault handling.
 #include <csignal>
@@ -22,6 +26,7 @@
 #include "edsp/actuator_bridge/drives_config.h"
 #include "edsp/actuator_bridge/virtual_rig_backend.h"
 #include "edsp/drive_sim/backend_axes.h"
+#include "edsp/drives/csp_shm_server.h"
 #include "edsp/drives/modbus_drive_server.h"
 #include "edsp/node/node_options.h"
 #include "edsp/node/runtime.h"
@@ -52,15 +57,30 @@ std::unique_ptr<cia402::CspAxes> RigAxes(const NodeOptions& node, const std::str
                                                static_cast<std::int64_t>(fieldbus_timeout_s * 1e6));
 }
 
+// Serves until stopped, SIGUSR1 faulting `fault_drive` (1-6) with `fault_code`.
+template <typename Server>
+void Serve(Server& server, int fault_drive, std::uint16_t fault_code) {
+  server.Run([&] {
+    if (g_fault_requested.exchange(false)) {
+      server.InjectFault(fault_drive - 1, fault_code);
+      std::fprintf(stderr, "edsp-drive-sim: drive %d faulted (error code %04Xh) on SIGUSR1\n", fault_drive, fault_code);
+    }
+    return StopRequested();
+  });
+}
+
 int Run(int argc, char** argv) {
   cia402::DriveServerOptions options;
   double cycle_ms = 1.0, fieldbus_timeout_ms = 20.0;
-  std::string axes = "own", image_prefix;
+  std::string axes = "own", image_prefix, serve = "modbus", csp_prefix;
   int fault_drive = 1;
   std::uint16_t fault_code = 0xFF01;
   NodeOptions node;
-  CLI::App app{"Six simulated CiA 402 drives (CSP) behind a Modbus TCP server"};
+  CLI::App app{"Six simulated CiA 402 drives (CSP) behind a Modbus TCP server or a shared-memory image"};
   AddNodeOptions(&app, &node);
+  app.add_option("--serve", serve, "modbus: a Modbus TCP server; shm: the CSP image in shared memory")
+      ->capture_default_str()->check(CLI::IsMember({"modbus", "shm"}));
+  app.add_option("--csp-prefix", csp_prefix, "--serve shm: the image's segment prefix (default: shm_prefix)");
   app.add_option("--host", options.host, "address to listen on")->capture_default_str();
   app.add_option("--port", options.port, "TCP port (0: any free one, printed)")->capture_default_str()
       ->check(CLI::Range(0, 65535));
@@ -84,17 +104,24 @@ int Run(int argc, char** argv) {
   options.drive.fieldbus_timeout_s = fieldbus_timeout_ms * 1e-3;
   InstallStopSignals();
   InstallFaultSignal();
-  cia402::ModbusDriveServer server(options, axes == "rig" ? RigAxes(node, image_prefix, options.drive.fieldbus_timeout_s) : nullptr);
+  auto axes_of = [&] { return axes == "rig" ? RigAxes(node, image_prefix, options.drive.fieldbus_timeout_s) : nullptr; };
+  if (serve == "shm") {
+    cia402::ShmDriveServerOptions shm;
+    shm.prefix = csp_prefix.empty() ? TransportFor(node).shm_prefix : csp_prefix;
+    shm.permissions = TransportFor(node).shm_permissions;
+    shm.cycle_s = options.cycle_s;
+    shm.drive = options.drive;
+    cia402::CspShmServer server(shm, axes_of());
+    std::printf("edsp-drive-sim: 6 drives (%s axes) on %s\n", axes.c_str(), server.endpoint().c_str());
+    std::fflush(stdout);
+    Serve(server, fault_drive, fault_code);
+    return 0;
+  }
+  cia402::ModbusDriveServer server(options, axes_of());
   std::printf("edsp-drive-sim: 6 drives (%s axes) on modbus-tcp %s:%d\n", axes.c_str(), options.host.c_str(),
               server.port());
   std::fflush(stdout);
-  server.Run([&] {
-    if (g_fault_requested.exchange(false)) {
-      server.InjectFault(fault_drive - 1, fault_code);
-      std::fprintf(stderr, "edsp-drive-sim: drive %d faulted (error code %04Xh) on SIGUSR1\n", fault_drive, fault_code);
-    }
-    return StopRequested();
-  });
+  Serve(server, fault_drive, fault_code);
   return 0;
 }
 

@@ -70,7 +70,7 @@ TEST_P(ShippedGroup, WrittenBackUnchangedItIsTheSameGroupAndTheSameRoutes) {
 }
 
 INSTANTIATE_TEST_SUITE_P(DeployGroups, ShippedGroup,
-                         testing::Values("sim", "sim-modbus", "demo", "calibrate", "replay", "multihost"));
+                         testing::Values("sim", "sim-modbus", "sim-cia402", "demo", "calibrate", "replay", "multihost"));
 
 TEST(GroupFileEditor, EachEditChangesWhatItSaysAndNothingElse) {
   GroupFileEditor g = GroupFileEditor::Load(Shipped("sim"));

@@ -27,10 +27,10 @@ std::string SimGroupDir(const std::string& name) {
   return ScratchDir("group_" + name);
 }
 
-SimGroupExtras OverModbus(const std::string& dir, int stall_ms, std::string* config) {
+SimGroupExtras OverModbus(const std::string& dir, int stall_ms, std::string* config, const std::string& group) {
   constexpr double kCountsPerM = 104857600.0, kLegSpeedMS = 0.5;
   SimGroupExtras extras;
-  extras.group = "sim-modbus";
+  extras.group = group;
   extras.edit = [stall_ms](GroupFileEditor& g) {
     g.SetArg("drive_sim", "--fieldbus-timeout-ms", std::to_string(stall_ms))
         .SetArg("drive_sim", "--following-window-counts",

@@ -57,8 +57,10 @@ struct SimGroupExtras {
 // long, and their following-error window is a leg's travel at 0.5 m/s
 // meanwhile (a drive simulator descheduled for 10 ms while the rig moves
 // the legs at 0.25 m/s falls 2.5 mm behind its target: past the shipped
-// 1.9 mm window, a fault on a fresh-clone test run).
-SimGroupExtras OverModbus(const std::string& dir, int stall_ms, std::string* config);
+// 1.9 mm window, a fault on a fresh-clone test run). `group`: sim-modbus,
+// or sim-cia402 (the same drives over the shared-memory CSP image).
+SimGroupExtras OverModbus(const std::string& dir, int stall_ms, std::string* config,
+                          const std::string& group = "sim-modbus");
 
 // `during(dir)` runs on a thread while the group does. `stale_ms` goes to the
 // kinematics node and the actuator bridge.

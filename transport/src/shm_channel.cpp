@@ -182,6 +182,10 @@ bool ShmReader::WriterAlive() const {
                       h->writer_start_ticks.load(std::memory_order_acquire));
 }
 
+bool ShmReader::WriterLeft() const noexcept {
+  return segment_->header()->writer_pid.load(std::memory_order_acquire) == 0;
+}
+
 std::uint32_t ShmReader::writer_generation() const {
   return segment_->header()->writer_generation.load(std::memory_order_acquire);
 }

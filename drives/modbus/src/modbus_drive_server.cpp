@@ -54,8 +54,7 @@ ModbusDriveServer::ModbusDriveServer(const DriveServerOptions& options, std::uni
   port_ = BoundPort(listener_);
   // A client that sends half a request must not stop the drives' clock.
   modbus_set_indication_timeout(ctx_, 0, 100000);
-  for (auto& pending : pending_faults_) pending.store(0);
-  Tick(0.0);  // the feedback block holds the drives' state before the first request
+  Latch();  // the feedback block holds the drives' state before the first request
 }
 
 ModbusDriveServer::~ModbusDriveServer() {
@@ -65,21 +64,9 @@ ModbusDriveServer::~ModbusDriveServer() {
   modbus_free(ctx_);
 }
 
-void ModbusDriveServer::InjectFault(int index, std::uint16_t error_code) {
-  if (index >= 0 && index < modbus_map::kDrives) pending_faults_[static_cast<std::size_t>(index)].store(error_code);
-}
-
-void ModbusDriveServer::Tick(double dt_s) {
+void ModbusDriveServer::Latch() {
   for (int d = 0; d < modbus_map::kDrives; ++d) {
-    const std::uint16_t fault = pending_faults_[static_cast<std::size_t>(d)].exchange(0);
-    if (fault != 0) cabinet_.InjectFault(d, fault);
-  }
-  cabinet_.Tick(dt_s);
-  ++cycles_;  // wraps at 2^16, as the register does
-  for (int d = 0; d < modbus_map::kDrives; ++d) {
-    CspFeedback latched = cabinet_.Feedback(d);
-    latched.cycle_count = cycles_;
-    const modbus_map::DriveRegisters r = modbus_map::EncodeFeedback(latched);
+    const modbus_map::DriveRegisters r = modbus_map::EncodeFeedback(cabinet_.latched()[static_cast<std::size_t>(d)]);
     std::copy(r.begin(), r.end(), mapping_->tab_registers + modbus_map::kFeedbackAddress + d * modbus_map::kRegistersPerDrive);
   }
 }
@@ -104,7 +91,7 @@ void ModbusDriveServer::Serve(int client) {
   ++requests_;
   const int function = query[kFunctionOffset];
   if (function == kFunctionWriteSingle || function == kFunctionWriteMultiple || function == kFunctionReadWriteMultiple) {
-    std::array<CspCommand, kCabinetDrives> commands;
+    CspCommands commands;
     for (int d = 0; d < modbus_map::kDrives; ++d) {
       commands[static_cast<std::size_t>(d)] = modbus_map::DecodeCommand(
           mapping_->tab_registers + modbus_map::kCommandAddress + d * modbus_map::kRegistersPerDrive);
@@ -114,24 +101,14 @@ void ModbusDriveServer::Serve(int client) {
 }
 
 void ModbusDriveServer::Run(const std::function<bool()>& stop) {
-  using Clock = std::chrono::steady_clock;
-  const auto cycle = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options_.cycle_s));
-  auto next_tick = Clock::now() + cycle;
+  CycleSchedule schedule(options_.cycle_s);
   while (!stop()) {
-    auto now = Clock::now();
-    // The drives' clock first. After a late wake (the simulator stopped or
-    // descheduled) every missed cycle is one step: the axes may be another
-    // process's physics that lived through the stall in real time, and
-    // replaying the missed cycles would command them the past (the last
-    // target, while the fieldbus timeout had not yet run out in the replay).
-    // One step sees the whole stall, as a real drive's watchdog would have.
-    if (now >= next_tick) {
-      const auto missed = (now - next_tick) / cycle + 1;
-      if (!clock_stopped_.load()) Tick(options_.cycle_s * static_cast<double>(missed));
-      next_tick += cycle * missed;
-    }
+    const auto now = CycleSchedule::Clock::now();
+    // The drives' clock first (CycleSchedule: one step for a late wake).
+    const std::int64_t due = schedule.Due(now);
+    if (due > 0 && cabinet_.Tick(options_.cycle_s * static_cast<double>(due))) Latch();
     pollfd fds[2] = {{listener_, POLLIN, 0}, {client_, POLLIN, 0}};
-    const auto wait = std::chrono::duration_cast<std::chrono::nanoseconds>(next_tick - now);
+    const auto wait = std::chrono::duration_cast<std::chrono::nanoseconds>(schedule.next_tick() - now);
     const timespec timeout{static_cast<time_t>(wait.count() / 1000000000), static_cast<long>(wait.count() % 1000000000)};
     const int ready = ::ppoll(fds, client_ >= 0 ? 2 : 1, &timeout, nullptr);
     if (ready <= 0) continue;

@@ -3,10 +3,11 @@
 // for real drives, where they are and how their counts map to the legs.
 //
 //   [drives]
-//   backend = "modbus-tcp"         # or "virtual" (the rig's process image; the default)
+//   backend = "modbus-tcp"         # or "cia402-shm" (the CSP image in shared memory on this
+//                                  # host), or "virtual" (the rig's process image; the default)
 //   host = "127.0.0.1"             # the Modbus TCP server of the six drives
 //   port = 1502
-//   response_timeout_ms = 5
+//   response_timeout_ms = 5        # an exchange's answer (cia402-shm: a newly latched image)
 //   counts_per_m = 104857600       # encoder counts per metre of leg travel: a number or 6
 //   offset_counts = 0              # each drive's count at the leg's home: a number or 6
 //   direction = 1                  # +1 or -1 (a motor mounted the other way): a number or 6

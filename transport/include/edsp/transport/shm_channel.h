@@ -94,6 +94,9 @@ class ShmReader {
 
   bool Available() const noexcept;
   bool WriterAlive() const;
+  // The writer closed the ring (a clean exit): one atomic load, where
+  // WriterAlive also looks a killed writer up in /proc (tens of µs).
+  bool WriterLeft() const noexcept;
   std::uint32_t writer_generation() const;
   const ShmReaderStats& stats() const { return stats_; }
   std::uint64_t next_message() const { return next_; }

@@ -8,31 +8,28 @@
 #include <cstdint>
 #include <string>
 
+#include "edsp/drives/csp_link.h"
 #include "edsp/drives/modbus_register_map.h"
 
 typedef struct _modbus modbus_t;
 
 namespace edsp::cia402 {
 
-using CspCommands = std::array<CspCommand, modbus_map::kDrives>;
-using CspFeedbacks = std::array<CspFeedback, modbus_map::kDrives>;
+static_assert(modbus_map::kDrives == kCabinetDrives, "one register block per drive of a cabinet");
 
-class ModbusDriveMaster {
+class ModbusDriveMaster final : public CspLink {
  public:
   ModbusDriveMaster(std::string host, int port, double response_timeout_s);
-  ~ModbusDriveMaster();
+  ~ModbusDriveMaster() override;
   ModbusDriveMaster(const ModbusDriveMaster&) = delete;
   ModbusDriveMaster& operator=(const ModbusDriveMaster&) = delete;
 
-  bool Connect(std::string* error);
-  bool connected() const { return ctx_ != nullptr; }
-  // One cycle; false with *error (and disconnected) when the exchange failed.
-  bool Exchange(const CspCommands& commands, CspFeedbacks* feedback, std::string* error);
-  // The feedback alone, writing nothing (what the drives are after a
-  // reconnect, before any command is built on it).
-  bool ReadFeedback(CspFeedbacks* feedback, std::string* error);
-  void Disconnect();
-  std::string endpoint() const;
+  bool Connect(std::string* error) override;
+  bool connected() const override { return ctx_ != nullptr; }
+  bool Exchange(const CspCommands& commands, CspFeedbacks* feedback, std::string* error) override;
+  bool ReadFeedback(CspFeedbacks* feedback, std::string* error) override;
+  void Disconnect() override;
+  std::string endpoint() const override;
 
  private:
   bool Connected(std::string* error) const;

@@ -14,7 +14,7 @@
 #include <string>
 
 #include "edsp/drives/csp_axes.h"
-#include "edsp/drives/drive_cabinet.h"
+#include "edsp/drives/served_cabinet.h"
 #include "edsp/drives/modbus_register_map.h"
 
 typedef struct _modbus modbus_t;
@@ -42,15 +42,15 @@ class ModbusDriveServer {
   // Serves until `stop()` says so.
   void Run(const std::function<bool()>& stop);
   // From any thread: drive `index` (0-5) raises `error_code` at its next cycle.
-  void InjectFault(int index, std::uint16_t error_code);
+  void InjectFault(int index, std::uint16_t error_code) { cabinet_.InjectFault(index, error_code); }
   // From any thread: the drives stop cycling (true) while the server goes
   // on answering with what they last latched, as a gateway whose drives'
   // clock stopped; false lets them cycle again.
-  void StopDrivesClock(bool stopped) { clock_stopped_.store(stopped); }
+  void StopDrivesClock(bool stopped) { cabinet_.StopDrivesClock(stopped); }
   std::int64_t requests() const { return requests_.load(); }
 
  private:
-  void Tick(double dt_s);
+  void Latch();  // the cabinet's latched feedbacks into the feedback block
   void Serve(int client);
   void CloseClient();
 
@@ -60,11 +60,8 @@ class ModbusDriveServer {
   int listener_ = -1;
   int client_ = -1;
   int port_ = 0;
-  DriveCabinet cabinet_;
-  std::uint16_t cycles_ = 0;  // the TxPDOs' cycle count
-  std::array<std::atomic<std::uint16_t>, modbus_map::kDrives> pending_faults_{};
+  ServedCabinet cabinet_;
   std::atomic<std::int64_t> requests_{0};
-  std::atomic<bool> clock_stopped_{false};
 };
 
 }  // namespace edsp::cia402

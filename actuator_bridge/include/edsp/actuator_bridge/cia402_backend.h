@@ -1,9 +1,12 @@
 #pragma once
-// DriveBackend for six CiA 402 drives behind a Modbus TCP server (edsp's
-// register map, docs/drives.md): `edsp-drive-sim`, or a gateway in front of
-// real drives. One request per cycle, in Write: the cycle's setpoint out
-// and the six feedbacks in (function 23), which the next cycle's Read
-// returns, as a fieldbus master's inputs are one exchange old. Activate enables the drives through
+// DriveBackend for six CiA 402 drives (CSP), whatever carries their process
+// image (CspLink): a Modbus TCP server at edsp's register map (modbus-tcp:
+// `edsp-drive-sim`, or a gateway in front of real drives), or the
+// shared-memory image on this host (cia402-shm: `edsp-drive-sim --serve
+// shm`, or an EtherCAT master process; docs/drives.md). One exchange per
+// cycle, in Write: the cycle's setpoint out and the six feedbacks in, which
+// the next cycle's Read returns, as a fieldbus master's inputs are one
+// exchange old. Activate enables the drives through
 // the state machine without moving them. A failed exchange or a drive that
 // leaves operation (a fault, a quick stop) puts the backend in fault
 // (backend_lifecycle.h): it reports why, keeps cycling with the last
@@ -21,13 +24,13 @@
 #include "edsp/drive_io/backend_lifecycle.h"
 #include "edsp/drive_io/drive_backend.h"
 #include "edsp/actuator_bridge/drives_config.h"
-#include "edsp/drives/modbus_drive_master.h"
+#include "edsp/drives/csp_link.h"
 
 namespace edsp {
 
-class ModbusTcpBackend final : public DriveBackend {
+class Cia402Backend final : public DriveBackend {
  public:
-  explicit ModbusTcpBackend(const DrivesConfig& config);
+  Cia402Backend(const DrivesConfig& config, std::unique_ptr<cia402::CspLink> link);
   bool Configure(const PlatformConfig& config, std::string* error) override;
   // Connects (5 s at most) and enables every drive not in fault where it
   // stands; a faulted one stays so until Reset (the operator's re-arm).
@@ -71,7 +74,7 @@ class ModbusTcpBackend final : public DriveBackend {
   void Fail(const std::string& why);
 
   DrivesConfig config_;
-  cia402::ModbusDriveMaster master_;
+  std::unique_ptr<cia402::CspLink> link_;
   BackendLifecycle lifecycle_;
   std::string fault_cause_;  // what put it in fault
   cia402::CspCommands commands_{};

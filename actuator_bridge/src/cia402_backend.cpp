@@ -1,4 +1,4 @@
-#include "edsp/actuator_bridge/modbus_tcp_backend.h"
+#include "edsp/actuator_bridge/cia402_backend.h"
 
 #include <chrono>
 #include <thread>
@@ -23,10 +23,10 @@ DriveStatus StatusOf(cia402::State state) {
 
 }  // namespace
 
-ModbusTcpBackend::ModbusTcpBackend(const DrivesConfig& config)
-    : config_(config), master_(config.host, config.port, config.response_timeout_s) {}
+Cia402Backend::Cia402Backend(const DrivesConfig& config, std::unique_ptr<cia402::CspLink> link)
+    : config_(config), link_(std::move(link)) {}
 
-bool ModbusTcpBackend::Configure(const PlatformConfig&, std::string* error) {
+bool Cia402Backend::Configure(const PlatformConfig&, std::string* error) {
   if (!lifecycle_.Allows(BackendTransition::kConfigure, error)) return false;
   if (const std::string problem = ScalingProblem(config_.scaling); !problem.empty()) {
     *error = problem;
@@ -35,7 +35,7 @@ bool ModbusTcpBackend::Configure(const PlatformConfig&, std::string* error) {
   return lifecycle_.Take(BackendTransition::kConfigure, error);
 }
 
-bool ModbusTcpBackend::Exchange(Enabling enabling, std::string* error) {
+bool Cia402Backend::Exchange(Enabling enabling, std::string* error) {
   for (std::size_t d = 0; d < commands_.size(); ++d) {
     const cia402::State state = cia402::StateOfStatusword(feedback_[d].statusword);
     cia402::CspCommand& c = commands_[d];
@@ -61,17 +61,17 @@ bool ModbusTcpBackend::Exchange(Enabling enabling, std::string* error) {
     if (state != cia402::State::kOperationEnabled) target_counts_[d].reset();
     c = cia402::NextCspCommand(feedback_[d], c.controlword, target_counts_[d], velocity_counts_[d]);
   }
-  return master_.Exchange(commands_, &feedback_, error);
+  return link_->Exchange(commands_, &feedback_, error);
 }
 
-bool ModbusTcpBackend::ConnectAndRead(std::string* error) {
+bool Cia402Backend::ConnectAndRead(std::string* error) {
   // What the drives are now, read before any command is built on it: after
   // an outage a drive may have stopped, faulted or moved.
-  if (!master_.Connect(error)) return false;
-  return master_.ReadFeedback(&feedback_, error);
+  if (!link_->Connect(error)) return false;
+  return link_->ReadFeedback(&feedback_, error);
 }
 
-bool ModbusTcpBackend::Enabled(Enabling enabling) const {
+bool Cia402Backend::Enabled(Enabling enabling) const {
   for (const cia402::CspFeedback& f : feedback_) {
     const cia402::State s = cia402::StateOfStatusword(f.statusword);
     const bool left_faulted = enabling == Enabling::kNotFaulted && s == cia402::State::kFault;
@@ -80,7 +80,7 @@ bool ModbusTcpBackend::Enabled(Enabling enabling) const {
   return true;
 }
 
-bool ModbusTcpBackend::LatchedSince(const CycleCounts& before) const {
+bool Cia402Backend::LatchedSince(const CycleCounts& before) const {
   for (std::size_t d = 0; d < feedback_.size(); ++d) {
     if (feedback_[d].cycle_count == before[d]) return false;
   }
@@ -93,7 +93,7 @@ bool ModbusTcpBackend::LatchedSince(const CycleCounts& before) const {
 // shutdown reached them), and the first cycle would find them out of it.
 // The first exchange's answer is never judged: it may show the last
 // commands of a predecessor, not this call's.
-bool ModbusTcpBackend::EnableDrives(Enabling enabling, std::chrono::milliseconds budget, std::string* error) {
+bool Cia402Backend::EnableDrives(Enabling enabling, std::chrono::milliseconds budget, std::string* error) {
   constexpr int kLatchedCycles = 50;
   const auto give_up = std::chrono::steady_clock::now() + budget;
   if (!Exchange(enabling, error)) return false;
@@ -111,21 +111,21 @@ bool ModbusTcpBackend::EnableDrives(Enabling enabling, std::chrono::milliseconds
   if (latched == 0) {
     *error = fmt::format("{}: the drives latched no new feedback in {} ms of enabling (cycle count stays {}): "
                          "they are not cycling",
-                         master_.endpoint(), budget.count(), feedback_[0].cycle_count);
+                         link_->endpoint(), budget.count(), feedback_[0].cycle_count);
     return false;
   }
   for (std::size_t d = 0; d < feedback_.size(); ++d) {
     const cia402::State s = cia402::StateOfStatusword(feedback_[d].statusword);
     if (s != cia402::State::kOperationEnabled) {
       *error = fmt::format("{}: drive {} stays in {} (error code {:04X}h) after {} of its cycles of enabling",
-                           master_.endpoint(), d + 1, cia402::StateName(s), feedback_[d].error_code, latched);
+                           link_->endpoint(), d + 1, cia402::StateName(s), feedback_[d].error_code, latched);
       break;
     }
   }
   return false;
 }
 
-bool ModbusTcpBackend::Activate(std::string* error) {
+bool Cia402Backend::Activate(std::string* error) {
   if (!lifecycle_.Allows(BackendTransition::kActivate, error)) return false;
   const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(5);
   while (!ConnectAndRead(error)) {
@@ -138,7 +138,7 @@ bool ModbusTcpBackend::Activate(std::string* error) {
   // cycle fails on it, and the bridge holds until the operator re-arms.
   if (!EnableDrives(Enabling::kNotFaulted, kActivateBudget, error)) {
     PowerDown();  // those it did enable: inactive means without power
-    master_.Disconnect();
+    link_->Disconnect();
     return false;
   }
   lifecycle_.Take(BackendTransition::kActivate);
@@ -147,9 +147,9 @@ bool ModbusTcpBackend::Activate(std::string* error) {
   return true;
 }
 
-bool ModbusTcpBackend::Reset(std::string* error) {
+bool Cia402Backend::Reset(std::string* error) {
   if (!lifecycle_.Allows(BackendTransition::kRecover, error)) return false;
-  if (!master_.connected() && !ConnectAndRead(error)) return false;
+  if (!link_->connected() && !ConnectAndRead(error)) return false;
   // Only the drives out of operation are reset and enabled (where they
   // stand); the others keep power and their targets throughout.
   if (!EnableDrives(Enabling::kResetFaults, kReArmBudget, error)) return false;
@@ -159,24 +159,24 @@ bool ModbusTcpBackend::Reset(std::string* error) {
   return true;
 }
 
-void ModbusTcpBackend::PowerDown() {
-  if (!master_.connected()) return;
+void Cia402Backend::PowerDown() {
+  if (!link_->connected()) return;
   for (cia402::CspCommand& c : commands_) c.controlword = cia402::ControlwordFor(cia402::Command::kShutdown);
   std::string ignored;
-  master_.Exchange(commands_, &feedback_, &ignored);
+  link_->Exchange(commands_, &feedback_, &ignored);
 }
 
-void ModbusTcpBackend::Deactivate() {
+void Cia402Backend::Deactivate() {
   if (!lifecycle_.Allows(BackendTransition::kDeactivate)) return;  // not cycling: nothing to stop
   PowerDown();
   lifecycle_.Take(BackendTransition::kDeactivate);
 }
 
-void ModbusTcpBackend::Cleanup() {
-  if (lifecycle_.Take(BackendTransition::kCleanup)) master_.Disconnect();
+void Cia402Backend::Cleanup() {
+  if (lifecycle_.Take(BackendTransition::kCleanup)) link_->Disconnect();
 }
 
-void ModbusTcpBackend::Fail(const std::string& why) {
+void Cia402Backend::Fail(const std::string& why) {
   detail_ = why;
   if (lifecycle_.state() == BackendState::kActive) fault_cause_ = why;
   lifecycle_.Take(BackendTransition::kError);
@@ -184,7 +184,7 @@ void ModbusTcpBackend::Fail(const std::string& why) {
 
 // The cycle's one request: this setpoint out, the drives' answer in (kept
 // for the next cycle's Read, as a fieldbus master's inputs are).
-bool ModbusTcpBackend::Write(std::int64_t now_utime, const DriveSetpoint& setpoint) {
+bool Cia402Backend::Write(std::int64_t now_utime, const DriveSetpoint& setpoint) {
   const BackendState state = lifecycle_.state();
   if (state != BackendState::kActive && state != BackendState::kFault) return false;  // not cycling
   std::array<std::optional<std::int32_t>, 6> targets;
@@ -207,7 +207,7 @@ bool ModbusTcpBackend::Write(std::int64_t now_utime, const DriveSetpoint& setpoi
     target_counts_ = targets;
     velocity_counts_ = velocities;
   }
-  if (!master_.connected()) return false;  // Read reconnects
+  if (!link_->connected()) return false;  // Read reconnects
   std::string error;
   if (!Exchange(Enabling::kNone, &error)) {
     Fail(error);
@@ -222,13 +222,13 @@ bool ModbusTcpBackend::Write(std::int64_t now_utime, const DriveSetpoint& setpoi
 
 // The drives' answer to the last cycle's request (or, after a reconnect, to
 // a read that wrote nothing).
-bool ModbusTcpBackend::Read(std::int64_t now_utime, DriveFeedback* feedback) {
+bool Cia402Backend::Read(std::int64_t now_utime, DriveFeedback* feedback) {
   const BackendState state = lifecycle_.state();
   if (state != BackendState::kActive && state != BackendState::kFault) {  // not cycling: no reconnect
     Describe(feedback);
     return false;
   }
-  if (!master_.connected()) {
+  if (!link_->connected()) {
     if (last_connect_utime_ >= 0 && now_utime - last_connect_utime_ < kReconnectEveryUs) {
       Describe(feedback);
       return false;
@@ -245,20 +245,20 @@ bool ModbusTcpBackend::Read(std::int64_t now_utime, DriveFeedback* feedback) {
   return detail_.empty() && lifecycle_.state() == BackendState::kActive;
 }
 
-void ModbusTcpBackend::Describe(DriveFeedback* feedback) {
+void Cia402Backend::Describe(DriveFeedback* feedback) {
   const bool cycling = lifecycle_.state() == BackendState::kActive || lifecycle_.state() == BackendState::kFault;
   std::string faults;
   for (std::size_t d = 0; d < 6; ++d) {
     const cia402::State s = cia402::StateOfStatusword(feedback_[d].statusword);
     feedback->motor_angle_rad[d] = config_.scaling[d].ToAngle(feedback_[d].position_actual);
     feedback->motor_velocity_rad_s[d] = config_.scaling[d].ToRate(feedback_[d].velocity_actual);
-    feedback->status[d] = master_.connected() ? StatusOf(s) : DriveStatus::kDisabled;
-    if (master_.connected() && cycling && s != cia402::State::kOperationEnabled) {
+    feedback->status[d] = link_->connected() ? StatusOf(s) : DriveStatus::kDisabled;
+    if (link_->connected() && cycling && s != cia402::State::kOperationEnabled) {
       faults += fmt::format("{}drive {} in {} (error code {:04X}h)", faults.empty() ? "" : "; ", d + 1,
                             cia402::StateName(s), feedback_[d].error_code);
     }
   }
-  if (!master_.connected() || !cycling) return;
+  if (!link_->connected() || !cycling) return;
   if (!faults.empty()) {
     Fail(faults);
   } else if (lifecycle_.state() == BackendState::kFault) {

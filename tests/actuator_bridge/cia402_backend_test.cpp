@@ -1,9 +1,13 @@
-// The bridge's Modbus TCP backend against six simulated drives on loopback
-// (edsp's server on a thread): enabled where they stand, following the
+// The bridge's CiA 402 backend against six simulated drives served on a
+// thread, over each link that carries their image: Modbus TCP on loopback
+// (edsp's server) and the shared-memory CSP image (edsp-drive-sim --serve
+// shm's server). Over both: enabled where they stand, following the
 // setpoints it is given within a count, a drive's fault reported with its
 // code and never reset but by the operator's re-arm (Reset: the lifecycle's
-// recovery from fault), an unfit setpoint refused, and a server that goes
-// away reported and reached again once it is back.
+// recovery from fault), an unfit setpoint refused, and drives that go away
+// reported and reached again once they are back.
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,16 +18,22 @@
 #include <memory>
 #include <thread>
 
+#include <fmt/format.h>
+
 #include "edsp/actuator_bridge/actuator_bridge.h"
-#include "edsp/actuator_bridge/modbus_tcp_backend.h"
+#include "edsp/actuator_bridge/cia402_backend.h"
+#include "edsp/drives/csp_shm_master.h"
+#include "edsp/drives/csp_shm_server.h"
+#include "edsp/drives/modbus_drive_master.h"
 #include "edsp/node/fault.h"
-#include "edsp/drives/modbus_drive_server.h"
 #include "served_drives.h"
 
 namespace edsp {
 namespace {
 
 using test_support::ServedDrives;
+
+enum class Link { kModbus, kShm };
 
 DrivesConfig ConfigFor(int port) {
   DrivesConfig c;
@@ -34,13 +44,84 @@ DrivesConfig ConfigFor(int port) {
   return c;
 }
 
+// Six drives served over `link` on a thread while it lives (destroying it
+// is the simulator going away); a new one at the same port or prefix is
+// the simulator back.
+class Cabinet {
+ public:
+  explicit Cabinet(Link link, double cycle_s = 0.001, int port = 0, std::string prefix = "")
+      : link_(link), prefix_(prefix.empty() ? NewPrefix() : std::move(prefix)) {
+    if (link == Link::kModbus) {
+      modbus_ = std::make_unique<ServedDrives>(port, cycle_s);
+      port_ = modbus_->port();
+      return;
+    }
+    cia402::ShmDriveServerOptions options;
+    options.prefix = prefix_;
+    options.cycle_s = cycle_s;
+    options.drive.fieldbus_timeout_s = 2.0;  // the tests' cycles are paced by a busy machine, not 1 ms
+    shm_ = std::make_unique<cia402::CspShmServer>(options);
+    thread_ = std::thread([this] { shm_->Run([this] { return stop_.load(); }); });
+  }
+  ~Cabinet() {
+    if (!thread_.joinable()) return;
+    stop_ = true;
+    thread_.join();
+  }
+  Cabinet(const Cabinet&) = delete;
+  Cabinet& operator=(const Cabinet&) = delete;
+
+  void InjectFault(int index, std::uint16_t code) {
+    if (modbus_) modbus_->server().InjectFault(index, code);
+    else shm_->InjectFault(index, code);
+  }
+  void StopDrivesClock(bool stopped) {
+    if (modbus_) modbus_->server().StopDrivesClock(stopped);
+    else shm_->StopDrivesClock(stopped);
+  }
+  // What a report about these drives names.
+  std::string where() const { return link_ == Link::kModbus ? "127.0.0.1:" + std::to_string(port_) : prefix_; }
+  int port() const { return port_; }
+  const std::string& prefix() const { return prefix_; }
+
+ private:
+  static std::string NewPrefix() {
+    static int count = 0;
+    return fmt::format("edsp.test.{}.cia402.{}", ::getpid(), ++count);
+  }
+
+  Link link_;
+  std::string prefix_;
+  int port_ = 0;
+  std::unique_ptr<ServedDrives> modbus_;
+  std::unique_ptr<cia402::CspShmServer> shm_;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+// A backend over `link` to the drives at `port` (Modbus) or `prefix` (shm).
+std::unique_ptr<Cia402Backend> BackendTo(Link link, int port, const std::string& prefix) {
+  const DrivesConfig c = ConfigFor(port);
+  if (link == Link::kModbus) {
+    return std::make_unique<Cia402Backend>(
+        c, std::make_unique<cia402::ModbusDriveMaster>(c.host, c.port, c.response_timeout_s));
+  }
+  return std::make_unique<Cia402Backend>(c, std::make_unique<cia402::CspShmMaster>(prefix, 0600, c.response_timeout_s));
+}
+
+std::unique_ptr<Cia402Backend> BackendTo(Link link, const Cabinet& drives) {
+  return BackendTo(link, drives.port(), drives.prefix());
+}
+
+class Cia402Backends : public ::testing::TestWithParam<Link> {};
+
 // --backend modbus-tcp over a config whose [drives] declares no encoder
 // counts: refused at configure, naming the leg and the key to set, never
 // sending NaN targets.
-TEST(ModbusTcpBackend, ADriveWithoutAScalingIsRefusedByNameAtConfigure) {
+TEST(Cia402Backend, ADriveWithoutAScalingIsRefusedByNameAtConfigure) {
   DrivesConfig c = ConfigFor(1502);
   c.scaling[2].counts_per_rad = 0.0;
-  ModbusTcpBackend backend(c);
+  Cia402Backend backend(c, std::make_unique<cia402::ModbusDriveMaster>(c.host, c.port, c.response_timeout_s));
   std::string error;
   EXPECT_FALSE(backend.Configure(Huang2021Config(), &error));
   EXPECT_NE(error.find("[drives] leg 3"), std::string::npos) << error;
@@ -48,7 +129,7 @@ TEST(ModbusTcpBackend, ADriveWithoutAScalingIsRefusedByNameAtConfigure) {
   EXPECT_EQ(backend.state(), BackendState::kUnconfigured) << "a failed configure leaves it as it was";
 }
 
-std::size_t Backend_Detail_Disabled(const ModbusTcpBackend& backend) {
+std::size_t Backend_Detail_Disabled(const Cia402Backend& backend) {
   return backend.Detail().find("drive 1 in switch on disabled");
 }
 
@@ -60,7 +141,7 @@ std::int64_t Now() {
 // A ramp of every leg, 0.01 rad a cycle up to `to[leg]`, in the bridge's
 // order (read, then write): a jump beyond the drives' following window
 // would fault them, as it should. Returns the last setpoint written.
-DriveSetpoint Ramp(ModbusTcpBackend* backend, const std::array<double, 6>& to) {
+DriveSetpoint Ramp(Cia402Backend* backend, const std::array<double, 6>& to) {
   DriveSetpoint setpoint;
   DriveFeedback f;
   const double furthest = *std::max_element(to.begin(), to.end());
@@ -75,7 +156,7 @@ DriveSetpoint Ramp(ModbusTcpBackend* backend, const std::array<double, 6>& to) {
 
 // Cycles of the bridge's order (read, then write) until `until` or `limit`.
 template <typename Until>
-DriveFeedback Cycles(ModbusTcpBackend* backend, const DriveSetpoint& setpoint, Until until, int limit = 300) {
+DriveFeedback Cycles(Cia402Backend* backend, const DriveSetpoint& setpoint, Until until, int limit = 300) {
   DriveFeedback f;
   for (int k = 0; k < limit; ++k) {
     backend->Read(Now(), &f);
@@ -86,9 +167,10 @@ DriveFeedback Cycles(ModbusTcpBackend* backend, const DriveSetpoint& setpoint, U
   return f;
 }
 
-TEST(ModbusTcpBackend, EnablesTheDrivesAndFollowsTheSetpointsWithinACount) {
-  ServedDrives drives;
-  ModbusTcpBackend backend(ConfigFor(drives.port()));
+TEST_P(Cia402Backends, EnablesTheDrivesAndFollowsTheSetpointsWithinACount) {
+  Cabinet drives(GetParam());
+  auto backend_owner = BackendTo(GetParam(), drives);
+  Cia402Backend& backend = *backend_owner;
   std::string error;
   ASSERT_TRUE(backend.Configure(PlatformConfig{}, &error)) << error;
   ASSERT_TRUE(backend.Activate(&error)) << error;
@@ -105,13 +187,14 @@ TEST(ModbusTcpBackend, EnablesTheDrivesAndFollowsTheSetpointsWithinACount) {
   EXPECT_EQ(backend.Detail(), "");
 }
 
-TEST(ModbusTcpBackend, ADrivesFaultIsReportedAndResetOnlyByAReArm) {
-  ServedDrives drives;
-  ModbusTcpBackend backend(ConfigFor(drives.port()));
+TEST_P(Cia402Backends, ADrivesFaultIsReportedAndResetOnlyByAReArm) {
+  Cabinet drives(GetParam());
+  auto backend_owner = BackendTo(GetParam(), drives);
+  Cia402Backend& backend = *backend_owner;
   std::string error;
   ASSERT_TRUE(backend.Configure(PlatformConfig{}, &error) && backend.Activate(&error)) << error;
   DriveSetpoint home;
-  drives.server().InjectFault(3, 0x7500);
+  drives.InjectFault(3, 0x7500);
   DriveFeedback f = Cycles(&backend, home, [](const DriveFeedback& fb) { return fb.status[3] == DriveStatus::kFault; });
   EXPECT_EQ(f.status[3], DriveStatus::kFault);
   EXPECT_NE(backend.Detail().find("drive 4 in fault (error code 7500h)"), std::string::npos) << backend.Detail();
@@ -131,14 +214,15 @@ TEST(ModbusTcpBackend, ADrivesFaultIsReportedAndResetOnlyByAReArm) {
 // In fault the backend keeps cycling but takes no new target: the drives
 // still in operation hold the last one it took, at rest, whatever the
 // setpoints say, until a re-arm recovers it.
-TEST(ModbusTcpBackend, InFaultItTakesNoNewTargetUntilAReArmRecoversIt) {
-  ServedDrives drives;
-  ModbusTcpBackend backend(ConfigFor(drives.port()));
+TEST_P(Cia402Backends, InFaultItTakesNoNewTargetUntilAReArmRecoversIt) {
+  Cabinet drives(GetParam());
+  auto backend_owner = BackendTo(GetParam(), drives);
+  Cia402Backend& backend = *backend_owner;
   std::string error;
   ASSERT_TRUE(backend.Configure(PlatformConfig{}, &error) && backend.Activate(&error)) << error;
   DriveSetpoint held = Ramp(&backend, {0.2, 0.2, 0.2, 0.2, 0.2, 0.2});
   Cycles(&backend, held, [&](const DriveFeedback& fb) { return std::abs(fb.motor_angle_rad[0] - 0.2) < 1e-5; });
-  drives.server().InjectFault(5, 0x7500);
+  drives.InjectFault(5, 0x7500);
   Cycles(&backend, held, [&](const DriveFeedback&) { return backend.state() == BackendState::kFault; });
   ASSERT_EQ(backend.state(), BackendState::kFault) << backend.Detail();
   DriveSetpoint further = held;
@@ -160,9 +244,10 @@ TEST(ModbusTcpBackend, InFaultItTakesNoNewTargetUntilAReArmRecoversIt) {
 // The lifecycle's other ends: a re-arm needs a cycling backend; deactivate
 // and cleanup let the drives and the link go, and it can be configured
 // and activated again.
-TEST(ModbusTcpBackend, DeactivatedAndCleanedUpItStartsAgainAndRefusesAReArmMeanwhile) {
-  ServedDrives drives;
-  ModbusTcpBackend backend(ConfigFor(drives.port()));
+TEST_P(Cia402Backends, DeactivatedAndCleanedUpItStartsAgainAndRefusesAReArmMeanwhile) {
+  Cabinet drives(GetParam());
+  auto backend_owner = BackendTo(GetParam(), drives);
+  Cia402Backend& backend = *backend_owner;
   std::string error;
   EXPECT_FALSE(backend.Reset(&error));
   EXPECT_EQ(error, "cannot recover a backend that is unconfigured");
@@ -189,9 +274,10 @@ TEST(ModbusTcpBackend, DeactivatedAndCleanedUpItStartsAgainAndRefusesAReArmMeanw
 // drives enabled; it waits for feedback latched after its commands (the
 // drives' cycle count, register 7), so the first cycle finds them in
 // operation.
-TEST(ModbusTcpBackend, ActivationTrustsOnlyFeedbackLatchedAfterItsCommands) {
-  ServedDrives drives(0, 0.1);
-  ModbusTcpBackend backend(ConfigFor(drives.port()));
+TEST_P(Cia402Backends, ActivationTrustsOnlyFeedbackLatchedAfterItsCommands) {
+  Cabinet drives(GetParam(), 0.1);
+  auto backend_owner = BackendTo(GetParam(), drives);
+  Cia402Backend& backend = *backend_owner;
   std::string error;
   for (int activation = 1; activation <= 3; ++activation) {
     ASSERT_TRUE(backend.Configure(PlatformConfig{}, &error) && backend.Activate(&error))
@@ -211,37 +297,40 @@ TEST(ModbusTcpBackend, ActivationTrustsOnlyFeedbackLatchedAfterItsCommands) {
 // Drives that answer but no longer cycle (their clock stopped behind a
 // gateway): a re-arm cannot tell their state and fails within its budget,
 // naming it, and succeeds once they cycle again.
-TEST(ModbusTcpBackend, AReArmOfDrivesThatStoppedCyclingFailsNamingIt) {
-  ServedDrives drives;
-  ModbusTcpBackend backend(ConfigFor(drives.port()));
+TEST_P(Cia402Backends, AReArmOfDrivesThatStoppedCyclingFailsNamingIt) {
+  Cabinet drives(GetParam());
+  auto backend_owner = BackendTo(GetParam(), drives);
+  Cia402Backend& backend = *backend_owner;
   std::string error;
   ASSERT_TRUE(backend.Configure(PlatformConfig{}, &error) && backend.Activate(&error)) << error;
-  drives.server().InjectFault(1, 0x7500);
+  drives.InjectFault(1, 0x7500);
   Cycles(&backend, DriveSetpoint{}, [&](const DriveFeedback&) { return backend.state() == BackendState::kFault; });
   ASSERT_EQ(backend.state(), BackendState::kFault);
-  drives.server().StopDrivesClock(true);
+  drives.StopDrivesClock(true);
   const auto start = std::chrono::steady_clock::now();
   EXPECT_FALSE(backend.Reset(&error));
   EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(2)) << "a re-arm holds the cycle up";
   EXPECT_NE(error.find("not cycling"), std::string::npos) << error;
   EXPECT_EQ(backend.state(), BackendState::kFault);
-  drives.server().StopDrivesClock(false);
+  drives.StopDrivesClock(false);
   EXPECT_TRUE(backend.Reset(&error)) << error;
   EXPECT_EQ(backend.state(), BackendState::kActive);
 }
 
-TEST(ModbusTcpBackend, AStartUpResetsNoFaultAndAReArmResetsOnlyTheFaultedDrive) {
-  ServedDrives drives;
+TEST_P(Cia402Backends, AStartUpResetsNoFaultAndAReArmResetsOnlyTheFaultedDrive) {
+  Cabinet drives(GetParam());
   {
     // A predecessor left the drives enabled at 1 rad; then drive 5 faulted.
-    ModbusTcpBackend before(ConfigFor(drives.port()));
+    auto before_owner = BackendTo(GetParam(), drives);
+    Cia402Backend& before = *before_owner;
     std::string error;
     ASSERT_TRUE(before.Configure(PlatformConfig{}, &error) && before.Activate(&error)) << error;
     Ramp(&before, {1.0, 1.0, 1.0, 1.0, 1.0, 1.0});
-    drives.server().InjectFault(4, 0x8130);
+    drives.InjectFault(4, 0x8130);
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  ModbusTcpBackend backend(ConfigFor(drives.port()));
+  auto backend_owner = BackendTo(GetParam(), drives);
+  Cia402Backend& backend = *backend_owner;
   std::string error;
   ASSERT_TRUE(backend.Configure(PlatformConfig{}, &error) && backend.Activate(&error)) << error;
   DriveFeedback f;
@@ -258,9 +347,10 @@ TEST(ModbusTcpBackend, AStartUpResetsNoFaultAndAReArmResetsOnlyTheFaultedDrive) 
   }
 }
 
-TEST(ModbusTcpBackend, ASetpointThatDoesNotFitTheCountsIsRefusedAndTheLastStays) {
-  ServedDrives drives;
-  ModbusTcpBackend backend(ConfigFor(drives.port()));
+TEST_P(Cia402Backends, ASetpointThatDoesNotFitTheCountsIsRefusedAndTheLastStays) {
+  Cabinet drives(GetParam());
+  auto backend_owner = BackendTo(GetParam(), drives);
+  Cia402Backend& backend = *backend_owner;
   std::string error;
   ASSERT_TRUE(backend.Configure(PlatformConfig{}, &error) && backend.Activate(&error)) << error;
   DriveSetpoint good;
@@ -284,25 +374,27 @@ TEST(ModbusTcpBackend, ASetpointThatDoesNotFitTheCountsIsRefusedAndTheLastStays)
 
 // One cycle in the bridge's order, holding where the drives were enabled:
 // Read (the last exchange's answer, or a reconnect), then Write (the exchange).
-bool OneCycle(ModbusTcpBackend* backend, DriveFeedback* f) {
+bool OneCycle(Cia402Backend* backend, DriveFeedback* f) {
   const bool read = backend->Read(Now(), f);
   return backend->Write(Now(), DriveSetpoint{}) && read;
 }
 
-TEST(ModbusTcpBackend, AServerThatGoesAwayIsReportedAndReachedAgain) {
-  auto drives = std::make_unique<ServedDrives>();
+TEST_P(Cia402Backends, AServerThatGoesAwayIsReportedAndReachedAgain) {
+  auto drives = std::make_unique<Cabinet>(GetParam());
   const int port = drives->port();
-  ModbusTcpBackend backend(ConfigFor(port));
+  const std::string prefix = drives->prefix(), where = drives->where();
+  auto backend_owner = BackendTo(GetParam(), port, prefix);
+  Cia402Backend& backend = *backend_owner;
   std::string error;
   ASSERT_TRUE(backend.Configure(PlatformConfig{}, &error) && backend.Activate(&error)) << error;
   DriveFeedback f;
   EXPECT_TRUE(OneCycle(&backend, &f)) << backend.Detail();
   drives.reset();
   EXPECT_FALSE(OneCycle(&backend, &f)) << "the exchange fails on the wire";
-  EXPECT_NE(backend.Detail().find("127.0.0.1:" + std::to_string(port)), std::string::npos) << backend.Detail();
+  EXPECT_NE(backend.Detail().find(where), std::string::npos) << backend.Detail();
   EXPECT_FALSE(backend.Read(Now(), &f)) << "the next cycle's read: disconnected";
   for (int i = 0; i < 6; ++i) EXPECT_EQ(f.status[i], DriveStatus::kDisabled);
-  drives = std::make_unique<ServedDrives>(port);
+  drives = std::make_unique<Cabinet>(GetParam(), 0.001, port, prefix);
   // Reconnected within the 100 ms retry: the cycle then fails on the drives, not the wire.
   bool back = false;
   for (int k = 0; k < 100 && backend.Detail().find("switch on disabled") == std::string::npos; ++k) {
@@ -316,19 +408,24 @@ TEST(ModbusTcpBackend, AServerThatGoesAwayIsReportedAndReachedAgain) {
   EXPECT_TRUE(OneCycle(&backend, &f)) << backend.Detail();
 }
 
-TEST(ModbusTcpBackend, NobodyListeningFailsActivationWithTheEndpoint) {
+TEST_P(Cia402Backends, NobodyServingFailsActivationWithTheEndpoint) {
   int port = 0;
-  { ServedDrives gone; port = gone.port(); }
-  DrivesConfig config = ConfigFor(port);
-  ModbusTcpBackend backend(config);
+  std::string prefix, where;
+  {
+    Cabinet gone(GetParam());
+    port = gone.port();
+    prefix = gone.prefix();
+    where = gone.where();
+  }
+  auto backend = BackendTo(GetParam(), port, prefix);
   std::string error;
-  ASSERT_TRUE(backend.Configure(PlatformConfig{}, &error));
-  EXPECT_FALSE(backend.Activate(&error));
-  EXPECT_NE(error.find("127.0.0.1:" + std::to_string(port)), std::string::npos) << error;
+  ASSERT_TRUE(backend->Configure(PlatformConfig{}, &error));
+  EXPECT_FALSE(backend->Activate(&error));
+  EXPECT_NE(error.find(where), std::string::npos) << error;
 }
 
 // The bridge these tests run over the drives (session 7).
-std::unique_ptr<ActuatorBridge> BridgeOver(ModbusTcpBackend* backend) {
+std::unique_ptr<ActuatorBridge> BridgeOver(Cia402Backend* backend) {
   BridgeOptions options;
   options.session_id = 7;
   return std::make_unique<ActuatorBridge>(PlatformModel(Huang2021Config()), backend, options);
@@ -337,9 +434,10 @@ std::unique_ptr<ActuatorBridge> BridgeOver(ModbusTcpBackend* backend) {
 // The bridge over Modbus drives: a drive's fault holds and latches the
 // bridge with the drive and its code in the fault, and the operator's
 // re-arm resets the drive and lets the stream through again.
-TEST(ModbusTcpBackend, ADriveFaultLatchesTheBridgeAndItsReArmResetsTheDrive) {
-  ServedDrives drives;
-  ModbusTcpBackend backend(ConfigFor(drives.port()));
+TEST_P(Cia402Backends, ADriveFaultLatchesTheBridgeAndItsReArmResetsTheDrive) {
+  Cabinet drives(GetParam());
+  auto backend_owner = BackendTo(GetParam(), drives);
+  Cia402Backend& backend = *backend_owner;
   std::string error;
   ASSERT_TRUE(backend.Configure(PlatformConfig{}, &error) && backend.Activate(&error)) << error;
   std::unique_ptr<ActuatorBridge> bridge_owner = BridgeOver(&backend);
@@ -348,7 +446,7 @@ TEST(ModbusTcpBackend, ADriveFaultLatchesTheBridgeAndItsReArmResetsTheDrive) {
   fault_t fault;
   std::int64_t t = Now();
   for (int k = 0; k < 20; ++k, t += 1000) bridge.Cycle(t, &state, &fault);
-  drives.server().InjectFault(1, 0x2310);
+  drives.InjectFault(1, 0x2310);
   bool raised = false;
   for (int k = 0; k < 200 && !raised; ++k, t += 1000) {
     raised = bridge.Cycle(t, &state, &fault);
@@ -370,11 +468,12 @@ TEST(ModbusTcpBackend, ADriveFaultLatchesTheBridgeAndItsReArmResetsTheDrive) {
 // A drive found in fault at start-up puts the backend in fault at the
 // bridge's first read, before any cycle: an operator's re-arm right then
 // must reset it, not confirm a bridge that "was not latched".
-TEST(ModbusTcpBackend, AReArmBeforeTheFirstCycleResetsADriveFoundInFault) {
-  ServedDrives drives;
-  drives.server().InjectFault(2, 0x7500);
+TEST_P(Cia402Backends, AReArmBeforeTheFirstCycleResetsADriveFoundInFault) {
+  Cabinet drives(GetParam());
+  drives.InjectFault(2, 0x7500);
   std::this_thread::sleep_for(std::chrono::milliseconds(20));  // a drive cycle raises it
-  ModbusTcpBackend backend(ConfigFor(drives.port()));
+  auto backend_owner = BackendTo(GetParam(), drives);
+  Cia402Backend& backend = *backend_owner;
   std::string error;
   ASSERT_TRUE(backend.Configure(PlatformConfig{}, &error) && backend.Activate(&error)) << error;
   std::unique_ptr<ActuatorBridge> bridge_owner = BridgeOver(&backend);
@@ -386,6 +485,11 @@ TEST(ModbusTcpBackend, AReArmBeforeTheFirstCycleResetsADriveFoundInFault) {
   EXPECT_TRUE(backend.Read(Now(), &f)) << backend.Detail();
   EXPECT_EQ(f.status[2], DriveStatus::kEnabled);
 }
+
+INSTANTIATE_TEST_SUITE_P(Links, Cia402Backends, ::testing::Values(Link::kModbus, Link::kShm),
+                         [](const ::testing::TestParamInfo<Link>& link) {
+                           return link.param == Link::kModbus ? std::string("ModbusTcp") : std::string("SharedMemory");
+                         });
 
 }  // namespace
 }  // namespace edsp
