@@ -99,14 +99,16 @@ class Cabinet {
   std::thread thread_;
 };
 
+// `link` to the drives at `port` (Modbus) or `prefix` (shm).
+std::unique_ptr<cia402::CspLink> LinkTo(Link link, int port, const std::string& prefix) {
+  const DrivesConfig c = ConfigFor(port);
+  if (link == Link::kModbus) return std::make_unique<cia402::ModbusDriveMaster>(c.host, c.port, c.response_timeout_s);
+  return std::make_unique<cia402::CspShmMaster>(prefix, 0600, c.response_timeout_s);
+}
+
 // A backend over `link` to the drives at `port` (Modbus) or `prefix` (shm).
 std::unique_ptr<Cia402Backend> BackendTo(Link link, int port, const std::string& prefix) {
-  const DrivesConfig c = ConfigFor(port);
-  if (link == Link::kModbus) {
-    return std::make_unique<Cia402Backend>(
-        c, std::make_unique<cia402::ModbusDriveMaster>(c.host, c.port, c.response_timeout_s));
-  }
-  return std::make_unique<Cia402Backend>(c, std::make_unique<cia402::CspShmMaster>(prefix, 0600, c.response_timeout_s));
+  return std::make_unique<Cia402Backend>(ConfigFor(port), LinkTo(link, port, prefix));
 }
 
 std::unique_ptr<Cia402Backend> BackendTo(Link link, const Cabinet& drives) {
@@ -265,6 +267,31 @@ TEST_P(Cia402Backends, DeactivatedAndCleanedUpItStartsAgainAndRefusesAReArmMeanw
   DriveFeedback f;
   EXPECT_TRUE(backend.Read(Now(), &f)) << backend.Detail();
   EXPECT_TRUE(backend.Write(Now(), DriveSetpoint{})) << backend.Detail();
+}
+
+// A bridge that stops cleanly leaves its drives without power (shutdown:
+// ready to switch on), even when it exits the moment it has deactivated
+// them: its last RxPDOs are taken after it is gone.
+TEST_P(Cia402Backends, DeactivatedThenGoneItLeavesTheDrivesWithoutPower) {
+  Cabinet drives(GetParam());
+  {
+    auto backend = BackendTo(GetParam(), drives);
+    std::string error;
+    ASSERT_TRUE(backend->Configure(PlatformConfig{}, &error) && backend->Activate(&error)) << error;
+    DriveFeedback f;
+    EXPECT_TRUE(backend->Read(Now(), &f)) << backend->Detail();
+    backend->Deactivate();
+    backend->Cleanup();
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));  // 20 of the drives' cycles
+  auto observer = LinkTo(GetParam(), drives.port(), drives.prefix());
+  std::string error;
+  ASSERT_TRUE(observer->Connect(&error)) << error;
+  cia402::CspFeedbacks feedback{};
+  ASSERT_TRUE(observer->ReadFeedback(&feedback, &error)) << error;
+  for (std::size_t d = 0; d < feedback.size(); ++d) {
+    EXPECT_EQ(cia402::StateOfStatusword(feedback[d].statusword), cia402::State::kReadyToSwitchOn) << "drive " << d + 1;
+  }
 }
 
 // The TxPDO a request reads was latched at the drives' last cycle, before

@@ -55,7 +55,10 @@ struct FaultCase {
   std::string program;  // its executable, for pgrep
   Action action;
   std::string output;   // an LCM channel only it publishes: its successor is back ("" = none)
-  bool over_modbus = false;  // the group as sim-modbus: the bridge a Modbus TCP master of edsp-drive-sim
+  // "": the sim group; "sim-modbus" or "sim-cia402": the bridge a CiA 402
+  // master of edsp-drive-sim, over Modbus TCP or the shared-memory image.
+  std::string drives_group{};
+  bool over_drive_sim() const { return !drives_group.empty(); }
 };
 
 std::string CaseName(const FaultCase& c) {
@@ -354,10 +357,10 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
   Timeline t;
   SimGroupExtras extras;
   std::string config = test_support::kDefaultConfig;
-  if (c.over_modbus) {
+  if (c.over_drive_sim()) {
     // The drives' fieldbus timeout and the master's response timeout at the
-    // stale limit: the bridge's and drives' watchdogs over the wire.
-    extras = test_support::OverModbus(dir, test_support::kShippedStaleMs, &config);
+    // stale limit: the bridge's and drives' watchdogs over the link.
+    extras = test_support::OverModbus(dir, test_support::kShippedStaleMs, &config, c.drives_group);
     ASSERT_FALSE(config.empty()) << "config/huang2021.toml declares no [drives] counts_per_m";
   }
   // The leg commands on shared memory: a killed kinematics leaves its
@@ -386,7 +389,7 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
         } else if (kill) {
           // The launcher restarts it: its successor publishes (its seq
           // starts again), however long a cold or sanitized start takes.
-          if (c.over_modbus) {
+          if (c.over_drive_sim()) {
             // The bridge reads the successor's drives (out of operation until re-armed).
             t.successor_seen = watch.WaitForFault("actuator_bridge", "drive 1 in switch on disabled",
                                                   t.fault_utime, std::chrono::seconds(30));
@@ -452,7 +455,7 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
     // Over Modbus the bridge's own cycle blocks in the exchange with the
     // faulted simulator (a response timeout, a reconnect): its lateness
     // then is the fault's, not the machine's, and loosens no limit.
-    const bool own = c.output == channel || (c.over_modbus && std::string(channel) == "EDSP_LEG_STATE");
+    const bool own = c.output == channel || (c.over_drive_sim() && std::string(channel) == "EDSP_LEG_STATE");
     late_us = std::max(late_us, test_support::LargestLateCycleUs(
                                     run.log_path, channel, 1000, own ? t.fault_utime : 0, own ? fault_over + 100000 : -1,
                                     t.fault_utime - 2000000, fault_over + 2000000));
@@ -496,13 +499,14 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
     EXPECT_LT(*a.launcher_report_utime - std::max(t.fault_utime, t.taken_effect_utime), 50000 + late_us);
     EXPECT_TRUE(a.launcher_status_fault) << "the launcher's EDSP_STATUS never said fault";
   }
-  if (c.over_modbus) {
-    // Over the wire the bridge says which link failed and why, then, once
+  if (c.over_drive_sim()) {
+    // Over the link the bridge says which link failed and why, then, once
     // it reads the drives again, which drive is out of operation and why
     // (the frozen simulator's drives: their fieldbus timeout, 8130h). A
     // drive's own fault leaves the link up: the drive and its code.
     if (!drive_fault) {
-      EXPECT_NE(a.bridge_reports.find("modbus-tcp 127.0.0.1:1502"), std::string::npos) << a.bridge_reports;
+      const std::string link = c.drives_group == "sim-modbus" ? "modbus-tcp 127.0.0.1:1502" : "cia402-shm edsp.test.";
+      EXPECT_NE(a.bridge_reports.find(link), std::string::npos) << a.bridge_reports;
     }
     std::printf("the bridge said, from the fault on:\n%s", a.bridge_reports.c_str());
     const char* why = kill ? "drive 1 in switch on disabled" : drive_fault ? "drive 1 in fault (error code FF01h)" : "error code 8130h";
@@ -627,9 +631,21 @@ INSTANTIATE_TEST_SUITE_P(
 // raising a fault of its own.
 INSTANTIATE_TEST_SUITE_P(
     OverModbus, FaultMatrix,
-    ::testing::Values(FaultCase{"drive_sim", "edsp-drive-sim", Action::kFreeze, "", true},
-                      FaultCase{"drive_sim", "edsp-drive-sim", Action::kKill, "", true},
-                      FaultCase{"drive_sim", "edsp-drive-sim", Action::kDriveFault, "", true}),
+    ::testing::Values(FaultCase{"drive_sim", "edsp-drive-sim", Action::kFreeze, "", "sim-modbus"},
+                      FaultCase{"drive_sim", "edsp-drive-sim", Action::kKill, "", "sim-modbus"},
+                      FaultCase{"drive_sim", "edsp-drive-sim", Action::kDriveFault, "", "sim-modbus"}),
+    [](const ::testing::TestParamInfo<FaultCase>& param_info) { return CaseName(param_info.param); });
+
+// The same three over the drives' CSP image in shared memory (the
+// sim-cia402 group): frozen (the master sees no newly latched image for
+// its response timeout, then the drives' own fieldbus timeout), killed
+// (its side of the image gone, then a successor's drives out of
+// operation until re-armed), a drive's own fault.
+INSTANTIATE_TEST_SUITE_P(
+    OverSharedMemory, FaultMatrix,
+    ::testing::Values(FaultCase{"drive_sim", "edsp-drive-sim", Action::kFreeze, "", "sim-cia402"},
+                      FaultCase{"drive_sim", "edsp-drive-sim", Action::kKill, "", "sim-cia402"},
+                      FaultCase{"drive_sim", "edsp-drive-sim", Action::kDriveFault, "", "sim-cia402"}),
     [](const ::testing::TestParamInfo<FaultCase>& param_info) { return CaseName(param_info.param); });
 
 }  // namespace

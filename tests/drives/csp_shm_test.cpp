@@ -78,6 +78,8 @@ TEST(CspShmLink, DrivesThatStopLatchingAreSilentAfterTheResponseTimeoutNamed) {
   EXPECT_NE(error.find("silent"), std::string::npos) << error;
   EXPECT_NE(error.find(prefix), std::string::npos) << error;
   EXPECT_FALSE(master.connected());
+  EXPECT_FALSE(master.Connect(&error)) << "drives that do not cycle were connected";
+  EXPECT_NE(error.find("latched nothing"), std::string::npos) << error;
   drives.server().StopDrivesClock(false);
   EXPECT_TRUE(master.Connect(&error)) << error;
   EXPECT_TRUE(master.Exchange(AllShutdown(), &feedback, &error)) << error;

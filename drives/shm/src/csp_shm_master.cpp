@@ -56,17 +56,19 @@ bool CspShmMaster::Connect(std::string* error) {
     *error = fmt::format("{}: the drives' side of {} is gone (its process ended)", endpoint(), spec.segment_name);
     return false;
   }
-  // The newest image the drives latched, even one from before this master
-  // attached; none within the response timeout: they are not cycling.
-  reader.value->RewindToLatest();
+  // An image the drives latch after this master attached (a new reader
+  // starts past the ring's newest): what a frozen side left there is no
+  // answer. None within the response timeout: they are not cycling.
   if (!reader.value->Wait(std::chrono::microseconds(response_timeout_us_))) {
     *error = fmt::format("{}: the drives latched nothing on {} within the response timeout ({:.1f} ms)", endpoint(),
                          spec.segment_name, static_cast<double>(response_timeout_us_) * 1e-3);
     return false;
   }
   feedback_ = std::move(reader.value);
+  has_image_ = false;
   last_latched_utime_ = SteadyUs();
-  return true;
+  CspFeedbacks first;
+  return TakeLatest(&first, error);
 }
 
 bool CspShmMaster::Fail(const std::string& why, std::string* error) {
@@ -97,14 +99,17 @@ bool CspShmMaster::TakeLatest(CspFeedbacks* feedback, std::string* error) {
   if (status == TakeStatus::kMessage) {
     for (std::size_t d = 0; d < last_.size(); ++d) last_[d] = image.drives[d];
     last_latched_utime_ = now;
+    has_image_ = true;
     *feedback = last_;
     return true;
   }
+  if (!has_image_) return Fail(endpoint() + ": no image from the drives since connecting", error);
   if (now >= next_alive_check_utime_) {
     next_alive_check_utime_ = now + kAliveCheckEveryUs;
     if (!feedback_->WriterAlive()) return DrivesLeft(error);
   }
   if (now - last_latched_utime_ > response_timeout_us_) {
+    if (!feedback_->WriterAlive()) return DrivesLeft(error);  // killed, rather than silent
     return Fail(fmt::format("{}: the drives latched nothing for {:.1f} ms (response timeout {:.1f} ms): they are "
                             "silent",
                             endpoint(), static_cast<double>(now - last_latched_utime_) * 1e-3,

@@ -17,8 +17,9 @@ std::int64_t WallUs() {
       .count();
 }
 
-// Looking for an absent ring costs an exception inside Boost.Interprocess:
-// a master that is not there yet is looked for at this pace.
+// Looking for an absent ring costs an exception inside Boost.Interprocess,
+// and whether a silent master's process still runs a /proc lookup: both at
+// this pace, not at the drives' 1 kHz.
 constexpr std::int64_t kLookForMasterEveryUs = 10000;
 
 }  // namespace
@@ -35,27 +36,33 @@ CspShmServer::CspShmServer(const ShmDriveServerOptions& options, std::unique_ptr
 }
 
 void CspShmServer::TakeCommands() {
-  const std::int64_t now = WallUs();
-  if (commands_ == nullptr || !commands_->WriterAlive()) {
-    if (now < next_look_utime_) return;
-    next_look_utime_ = now + kLookForMasterEveryUs;
-    // A new reader starts after the ring's newest record: a dead master's
-    // last RxPDOs are never taken as a command.
-    auto reader = ShmReader::Open(CspRxSpec(options_.prefix, options_.permissions));
-    commands_ = reader.ok() ? std::move(reader.value) : nullptr;
-    if (commands_ == nullptr) return;
+  // The newest unread RxPDOs first, whether or not their master is still
+  // there: written while it was (a bridge's last act, the Shutdown of its
+  // deactivation, is followed at once by its exit).
+  if (commands_ != nullptr) {
+    commands_->SkipToLatest();
+    CspRxImage image{};
+    const TakeStatus status = commands_->TryTake([&](const std::uint8_t* data, std::uint32_t size) {
+      if (size != sizeof image) return false;
+      std::memcpy(&image, data, sizeof image);
+      return true;
+    });
+    if (status == TakeStatus::kMessage) {
+      CspCommands commands;
+      for (std::size_t d = 0; d < commands.size(); ++d) commands[d] = image.drives[d];
+      cabinet_.Command(commands, image.utime);  // the instant the master wrote them
+      return;  // a record just written: its master is there
+    }
   }
-  commands_->SkipToLatest();
-  CspRxImage image{};
-  const TakeStatus status = commands_->TryTake([&](const std::uint8_t* data, std::uint32_t size) {
-    if (size != sizeof image) return false;
-    std::memcpy(&image, data, sizeof image);
-    return true;
-  });
-  if (status != TakeStatus::kMessage) return;
-  CspCommands commands;
-  for (std::size_t d = 0; d < commands.size(); ++d) commands[d] = image.drives[d];
-  cabinet_.Command(commands, image.utime);  // the instant the master wrote them
+  const std::int64_t now = WallUs();
+  if (now < next_look_utime_) return;
+  next_look_utime_ = now + kLookForMasterEveryUs;
+  if (commands_ != nullptr && !commands_->WriterLeft() && commands_->WriterAlive()) return;
+  // No master, or a new one (a restarted bridge's ring): a new reader starts
+  // after the ring's newest record, so a dead master's last RxPDOs are
+  // never taken as a command.
+  auto reader = ShmReader::Open(CspRxSpec(options_.prefix, options_.permissions));
+  commands_ = reader.ok() ? std::move(reader.value) : nullptr;
 }
 
 void CspShmServer::Latch() {

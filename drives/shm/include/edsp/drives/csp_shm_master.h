@@ -4,7 +4,8 @@
 // latched last, never waiting for them (a fieldbus master's inputs are one
 // cycle old). Drives whose side is gone (its writer dead) or that latched
 // nothing new for the response timeout fail the exchange, named; the
-// image is looked for again at the next Connect.
+// image is looked for again at the next Connect, which takes only an
+// image latched after it (drives that do not cycle are not connected).
 
 #include <memory>
 #include <string>
@@ -40,6 +41,8 @@ class CspShmMaster final : public CspLink {
   CspFeedbacks last_{};
   std::int64_t last_latched_utime_ = -1;  // when the newest image was taken (steady clock)
   std::int64_t next_alive_check_utime_ = 0;
+  bool has_image_ = false;  // an image taken since Connect: last_ is the drives'
+
   std::int64_t cycle_ = 0;
 };
 
