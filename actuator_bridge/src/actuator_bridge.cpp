@@ -16,6 +16,18 @@ namespace {
 // sooner would be swallowed, though marked reported here.
 constexpr std::int64_t kNewReasonSpacingUs = 100000;
 
+// A leg state is stamped with the instant its reading describes, as every
+// message is (the rig's image latched it at its cycle's start, most of a
+// cycle before this read): paired with the tracker sample of that instant
+// by its stamp, not with one a cycle later, whose legs had moved on (0.25 mm
+// at 0.25 m/s). A reading the drives do not date, or older than two cycles
+// (drives that stopped publishing), is stamped with the read.
+std::int64_t DescribedInstant(const DriveFeedback& feedback, std::int64_t now_utime) {
+  constexpr std::int64_t kFreshestUs = 2000;
+  const bool dated = feedback.utime > 0 && feedback.utime <= now_utime && now_utime - feedback.utime <= kFreshestUs;
+  return dated ? feedback.utime : now_utime;
+}
+
 }  // namespace
 
 ActuatorBridge::ActuatorBridge(PlatformModel model, DriveBackend* backend, BridgeOptions options)
@@ -342,7 +354,7 @@ bool ActuatorBridge::Cycle(std::int64_t now_utime, leg_state_t* state, fault_t* 
   if (!backend_ok && !backend_ok_ && !raised) raised = ReportNewReason(now_utime, fault);
   backend_ok_ = backend_ok;
   *state = leg_state_t{};
-  state->utime = now_utime;
+  state->utime = DescribedInstant(feedback_, now_utime);
   state->seq = ++state_seq_;
   state->command_seq = last_command_seq_;
   for (int i = 0; i < kNumLegs; ++i) {

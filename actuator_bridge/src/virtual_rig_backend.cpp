@@ -93,6 +93,7 @@ bool VirtualRigBackend::Read(std::int64_t now_utime, DriveFeedback* feedback) {
         last_.motor_velocity_rad_s[i] = f.motor_velocity_rad_s[i];
         last_.status[i] = static_cast<DriveStatus>(f.status[i]);
       }
+      last_.utime = f.utime;
       last_feedback_utime_ = now_utime;
     }
   }

@@ -61,6 +61,28 @@ TEST(ActuatorBridge, StartUpHoldIsNotLatched) {
   EXPECT_TRUE(f.bridge.HandleCommand(f.Command(0.0, kStart), kStart, &fault)) << fault.reason;
 }
 
+// A leg state describes the drives when they latched their reading (the
+// rig's image: the start of its cycle, most of a cycle before the bridge
+// reads it), so the measurement export pairs it with the tracker sample of
+// that instant; undated or stale readings are stamped with the read.
+TEST(ActuatorBridge, ALegStateIsStampedWithTheInstantItsReadingDescribes) {
+  Fixture f;
+  fault_t fault;
+  leg_state_t state;
+  f.backend.latched_utime = kStart - 900;  // the rig's cycle 900 µs before this read
+  f.bridge.Cycle(kStart, &state, &fault);
+  EXPECT_EQ(state.utime, kStart - 900);
+  f.backend.latched_utime = 0;  // drives that do not date their reading
+  f.bridge.Cycle(kStart + 1000, &state, &fault);
+  EXPECT_EQ(state.utime, kStart + 1000);
+  f.backend.latched_utime = kStart - 900;  // the same reading, 2.9 ms on: stopped publishing
+  f.bridge.Cycle(kStart + 2000, &state, &fault);
+  EXPECT_EQ(state.utime, kStart + 2000);
+  f.backend.latched_utime = kStart + 3500;  // another host's clock ahead of this one
+  f.bridge.Cycle(kStart + 3000, &state, &fault);
+  EXPECT_EQ(state.utime, kStart + 3000);
+}
+
 TEST(ActuatorBridge, ValidCommandsReachTheDrivesAsMotorAngles) {
   Fixture f;
   fault_t fault;

@@ -19,6 +19,7 @@ class RecordingBackend final : public DriveBackend {
     if (!answering) return false;  // drives silent (a frozen rig, a lost fieldbus)
     feedback->motor_angle_rad = stopped_at ? *stopped_at : written.motor_angle_rad;  // a perfect drive
     feedback->status = status;
+    feedback->utime = latched_utime;
     return true;
   }
   bool Write(std::int64_t, const DriveSetpoint& setpoint) override {
@@ -40,6 +41,7 @@ class RecordingBackend final : public DriveBackend {
   int writes = 0;
   std::string exchanges;  // 'R' per Read, 'W' per Write, 'X' per Reset, in order
   bool answering = true;
+  std::int64_t latched_utime = 0;  // the instant the drives say their reading describes (0: none)
   std::optional<std::array<double, 6>> stopped_at;  // drives that stopped elsewhere
   std::array<DriveStatus, 6> status{DriveStatus::kEnabled, DriveStatus::kEnabled, DriveStatus::kEnabled,
                                     DriveStatus::kEnabled, DriveStatus::kEnabled, DriveStatus::kEnabled};

@@ -40,6 +40,9 @@ struct DriveFeedback {
   std::array<double, 6> motor_angle_rad{};
   std::array<double, 6> motor_velocity_rad_s{};
   std::array<DriveStatus, 6> status{};
+  // The instant the reading describes, when the drives say (the virtual
+  // rig's image: its cycle's start); 0: not said, taken as the read's.
+  std::int64_t utime = 0;
 };
 
 class DriveBackend {
