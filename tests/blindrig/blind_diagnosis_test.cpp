@@ -178,23 +178,32 @@ TEST(BlindDiagnosis, AnEffectBesideAStructuralSwayStaysIdentified) {
   EXPECT_NE(d.conclusion.find("unknown"), std::string::npos) << Describe(d);
 }
 
-// A base mount tilting under the platform's moment (outside the
-// vocabulary; scenario 49 of the development seed 7, tracker 205 Hz): the
-// legs' compliance and their joint centres both fit it, and the runs cannot
-// tell which does better. A true tie stays ambiguous, each named with the other.
+// Compliance of the development seed's scenario 1 (tracker 30 Hz, 17 µm),
+// measured on three runs only: a lead error explains the heave and the two
+// mixed motions nearly as well, and a paired test over three held-out runs
+// cannot tell the two apart. A true tie stays ambiguous, each named with the
+// other. (With the design's acceleration over uneven steps, the base tilt
+// this test used until 2026-11-26 no longer ties: compliance and joint
+// centres are both identified there, the benchmark's out-of-vocabulary miss.)
 TEST(BlindDiagnosis, TwoEffectsTheRunsCannotTellApartStayAmbiguous) {
-  const BlindScenario s = DrawBlindScenario(7, 49);
-  ASSERT_EQ(s.truth, std::vector<std::string>{"base_tilt"}) << s.description;
+  const BlindScenario s = DrawBlindScenario(7, 1);
+  ASSERT_EQ(s.truth, std::vector<std::string>{"compliance"}) << s.description;
   const PlatformConfig config = Huang2021Config();
-  const gap::Diagnosis d = gap::Diagnose(
-      PlatformModel(config),
-      gap::ParseMeasurementCsv(GenerateMeasurementCsv(SetupFromConfig(config), s.effects, s.tracker), "blind"));
-  for (const gap::EffectResult& r : d.effects) {
-    if (r.effect != gap::Effect::kCompliance) continue;
-    EXPECT_EQ(r.verdict, "ambiguous") << Describe(d);
-    EXPECT_NE(std::find(r.ambiguous_with.begin(), r.ambiguous_with.end(), "joint_position"), r.ambiguous_with.end())
-        << Describe(d);
-  }
+  BlindRigSetup setup = SetupFromConfig(config);
+  setup.motions = {"Lz", "M1", "M2"};
+  const gap::Diagnosis d =
+      gap::Diagnose(PlatformModel(config), gap::ParseMeasurementCsv(GenerateMeasurementCsv(setup, s.effects, s.tracker), "blind"));
+  EXPECT_TRUE(Identified(d).empty()) << Describe(d);
+  const auto named_with = [&](gap::Effect effect, const std::string& other) {
+    for (const gap::EffectResult& r : d.effects) {
+      if (r.effect != effect) continue;
+      return r.verdict == "ambiguous" &&
+             std::find(r.ambiguous_with.begin(), r.ambiguous_with.end(), other) != r.ambiguous_with.end();
+    }
+    return false;
+  };
+  EXPECT_TRUE(named_with(gap::Effect::kCompliance, "lead_error")) << Describe(d);
+  EXPECT_TRUE(named_with(gap::Effect::kLeadError, "compliance")) << Describe(d);
 }
 
 }  // namespace

@@ -58,6 +58,48 @@ TEST(Design, PointPerLegMatchesForwardKinematicsOfPerturbedLegs) {
   }
 }
 
+// Legs on a quadratic in time (constant acceleration), sampled at stamps
+// that jitter as a live tracker's do (±0.3 ms on a 10 ms spacing): the
+// acceleration the servo-lag and compliance columns use is the motion's,
+// not the jitter's (the evenly spaced second difference was off by ~1 m/s²
+// here), and so is the platform's.
+TEST(Design, AccelerationsOfUnevenlySpacedSamplesAreTheMotions) {
+  const PlatformModel model = Model();
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> jitter(-3e-4, 3e-4);
+  MeasurementData d;
+  d.runs = {"quadratic"};
+  d.source = "synthetic";
+  const Vector3 accel(0.4, -0.3, 1.2);  // m/s², the platform's, {B}
+  const Vector3 start_velocity(0.1, 0.05, -0.2);
+  for (int k = 0; k < 40; ++k) {
+    MeasurementRow row;
+    row.run = 0;
+    row.time_s = 0.01 * k + jitter(rng);
+    const double t = row.time_s;
+    row.pose_cmd = model.home_pose().ToVector();
+    row.pose_cmd.head<3>() += start_velocity * t + 0.5 * accel * t * t;
+    const Pose pose = Pose::FromVector(row.pose_cmd);
+    row.leg_cmd_m = model.CompensatedLengths(pose, PrMode::kSigned);
+    row.point_m = model.ObservationPoint(pose);
+    d.rows.push_back(row);
+  }
+  const Design design = BuildDesign(model, d);
+  // The legs' own acceleration, by a second difference 1 µs wide at the
+  // sample's instant (independent of the samples' spacing).
+  auto legs_at = [&](double t) {
+    Vector6 q = model.home_pose().ToVector();
+    q.head<3>() += start_velocity * t + 0.5 * accel * t * t;
+    return Vector6(model.CompensatedLengths(Pose::FromVector(q), PrMode::kSigned));
+  };
+  for (int k = 1; k + 1 < design.samples(); ++k) {
+    const double t = design.time_s[static_cast<std::size_t>(k)];
+    constexpr double kH = 1e-3;
+    const Vector6 expected = (legs_at(t + kH) - 2.0 * legs_at(t) + legs_at(t - kH)) / (kH * kH);
+    EXPECT_LT((design.leg_accel_m_s2[static_cast<std::size_t>(k)] - expected).norm(), 2e-3) << "sample " << k;
+  }
+}
+
 TEST(Design, TrackerFrameIsEstimatedAndExactDataLeavesNoResidual) {
   const PlatformModel model = Model();
   Pose X_TB;
