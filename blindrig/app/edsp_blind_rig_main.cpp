@@ -1,7 +1,7 @@
 // edsp-blind-rig: measurement CSVs from the second, independently written
 // virtual rig (docs/diagnosis.md, "The independent rig").
 //   edsp-blind-rig --seed S --index K --out data.csv [--truth truth.json] [--config C]
-//                  [--rate-hz R] [--noise-m σ] [--no-encoders] [--motions Lz,Lx,…]
+//                  [--rate-hz R] [--noise-m σ] [--no-encoders] [--time-offset-s δ] [--motions Lz,Lx,…]
 #include <fstream>
 #include <iostream>
 
@@ -26,7 +26,7 @@ int Run(int argc, char** argv) {
   std::string config_path = EDSP_DEFAULT_CONFIG, out_path, truth_path;
   std::uint64_t seed = 1;
   int index = 1;
-  double rate_hz = 0.0, noise_m = -1.0;
+  double rate_hz = 0.0, noise_m = -1.0, time_offset_s = 0.0;
   bool no_encoders = false;
   std::vector<std::string> motions;
   app.add_option("--config", config_path, "nominal platform config")->check(CLI::ExistingFile);
@@ -38,6 +38,8 @@ int Run(int argc, char** argv) {
   app.add_option("--rate-hz", rate_hz, "tracker rate instead of the drawn one")->check(CLI::Range(1.0, 10000.0));
   app.add_option("--noise-m", noise_m, "tracker 1-σ per axis instead of the drawn one")->check(CLI::Range(0.0, 1e-3));
   app.add_flag("--no-encoders", no_encoders, "leave out the leg_enc_* columns");
+  app.add_option("--time-offset-s", time_offset_s, "tracker clock behind the controller's: a row stamped t reads instant t - δ")
+      ->check(CLI::Range(-0.1, 0.1));
   app.add_option("--motions", motions, "motions, comma-separated")->delimiter(',');
   CLI11_PARSE(app, argc, argv);
 
@@ -47,6 +49,7 @@ int Run(int argc, char** argv) {
   if (rate_hz > 0.0) scenario.tracker.rate_hz = rate_hz;
   if (noise_m >= 0.0) scenario.tracker.noise_m = noise_m;
   if (no_encoders) scenario.tracker.encoders = false;
+  scenario.tracker.time_offset_s = time_offset_s;
   WriteFile(out_path, GenerateMeasurementCsv(setup, scenario.effects, scenario.tracker));
   if (!truth_path.empty()) {
     const nlohmann::json truth = {{"kind", scenario.kind},
@@ -54,7 +57,8 @@ int Run(int argc, char** argv) {
                                   {"description", scenario.description},
                                   {"tracker", {{"rate_hz", scenario.tracker.rate_hz},
                                                {"noise_m", scenario.tracker.noise_m},
-                                               {"encoders", scenario.tracker.encoders}}}};
+                                               {"encoders", scenario.tracker.encoders},
+                                               {"time_offset_s", scenario.tracker.time_offset_s}}}};
     WriteFile(truth_path, truth.dump(2) + "\n");
   }
   return 0;

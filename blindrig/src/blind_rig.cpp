@@ -139,31 +139,76 @@ class Session {
         floor_direction_(e.floor_direction.normalized()),
         q_true_(home_) {}
 
-  // Appends the rows of one motion, sampled at the tracker's rate.
+  // Appends the rows of one motion, sampled at the tracker's rate: each row
+  // the controller's command and encoders at its stamp, and the tracker's
+  // reading of the instant its clock's offset puts it at.
   void Run(const std::string& name, std::string* csv) {
     const BlindMotion motion(name, home_, setup_.limits);
-    const double dt = 1.0 / setup_.control_rate_hz, sample_period = 1.0 / tracker_.rate_hz;
-    const int steps = static_cast<int>(std::ceil(motion.duration_s() / dt));
+    const std::vector<Instant> instants = Simulate(motion);
+    const double sample_period = 1.0 / tracker_.rate_hz;
     double next_sample_s = 0.0;
-    for (int k = 0; k <= steps; ++k) {
-      const double t = k * dt;
-      const Vec6 q_cmd = motion.Pose(t);
-      const Vec6 leg_cmd = ControllerCommand(q_cmd);
-      for (int i = 0; i < 6; ++i) legs_[static_cast<std::size_t>(i)].Step(leg_cmd(i) - encoder_zero_(i), dt, e_, e_.backlash_m(i));
-      sway_.Step(PointAcceleration(motion, setup_.geometry.point_M, t, dt), dt, e_);
-      if (t + 1e-12 < next_sample_s) continue;
+    for (const Instant& now : instants) {
+      if (now.t + 1e-12 < next_sample_s) continue;
       next_sample_s += sample_period;
-      const Vec6 lengths = TrueLengths(motion, q_cmd, t);
+      const Instant read = At(instants, now.t - tracker_.time_offset_s);
       q_true_ = SolvePose(
           [&](const Vec6& q) {
             return Vec6(LegLengths(truth_, q) - PassiveRotation(truth_, q, true_home_twist_, true_sign_, setup_.lead_m) -
-                        lengths);
+                        read.lengths);
           },
           q_true_);
-      const double time_s = session_s_ + t;
-      AppendRow(time_s, name, q_cmd, leg_cmd, Reading(TruePoint(q_cmd), time_s), csv);
+      AppendRow(session_s_ + now.t, name, now, Reading(TruePoint(read), session_s_ + read.t), csv);
     }
     session_s_ += motion.duration_s() + 1.0;
+  }
+
+ private:
+  // The rig at one control step: what the controller commands and its
+  // encoders read, and what the legs and the structure really do.
+  struct Instant {
+    double t = 0.0;
+    Vec6 q_cmd, leg_cmd, motor, lengths;
+    Vec3 sway;
+  };
+
+  std::vector<Instant> Simulate(const BlindMotion& motion) {
+    const double dt = 1.0 / setup_.control_rate_hz;
+    const int steps = static_cast<int>(std::ceil(motion.duration_s() / dt));
+    std::vector<Instant> out;
+    out.reserve(static_cast<std::size_t>(steps) + 1);
+    for (int k = 0; k <= steps; ++k) {
+      Instant now;
+      now.t = k * dt;
+      now.q_cmd = motion.Pose(now.t);
+      now.leg_cmd = ControllerCommand(now.q_cmd);
+      for (int i = 0; i < 6; ++i) {
+        legs_[static_cast<std::size_t>(i)].Step(now.leg_cmd(i) - encoder_zero_(i), dt, e_, e_.backlash_m(i));
+        now.motor(i) = encoder_zero_(i) + legs_[static_cast<std::size_t>(i)].motor;
+      }
+      sway_.Step(PointAcceleration(motion, setup_.geometry.point_M, now.t, dt), dt, e_);
+      now.sway = sway_.x;
+      now.lengths = TrueLengths(motion, now.q_cmd, now.t);
+      out.push_back(now);
+    }
+    return out;
+  }
+
+  // The rig at time t of the motion, between control steps linearly; before
+  // the motion it rests where it began, after it where it ended.
+  Instant At(const std::vector<Instant>& instants, double t) const {
+    const double u = std::clamp(t * setup_.control_rate_hz, 0.0, static_cast<double>(instants.size() - 1));
+    const auto k = static_cast<std::size_t>(std::floor(u));
+    const double w = u - static_cast<double>(k);
+    if (w < 1e-9 || k + 1 >= instants.size()) return instants[std::min(k, instants.size() - 1)];
+    const Instant &a = instants[k], &b = instants[k + 1];
+    Instant out;
+    out.t = a.t + w * (b.t - a.t);
+    out.q_cmd = a.q_cmd + w * (b.q_cmd - a.q_cmd);
+    out.leg_cmd = a.leg_cmd + w * (b.leg_cmd - a.leg_cmd);
+    out.motor = a.motor + w * (b.motor - a.motor);
+    out.lengths = a.lengths + w * (b.lengths - a.lengths);
+    out.sway = a.sway + w * (b.sway - a.sway);
+    return out;
   }
 
  private:
@@ -185,10 +230,10 @@ class Session {
   }
 
   // Point A in {B} at the true pose, with the structure's sway and the base's tilt.
-  Vec3 TruePoint(const Vec6& q_cmd) const {
-    Vec3 point = q_true_.head<3>() + Rotation(q_true_) * setup_.geometry.point_M + sway_.x;
+  Vec3 TruePoint(const Instant& at) const {
+    Vec3 point = q_true_.head<3>() + Rotation(q_true_) * setup_.geometry.point_M + at.sway;
     if (e_.base_tilt_rad_per_N_m > 0.0) {
-      const Vec3 com = q_cmd.head<3>() + Rotation(q_cmd) * e_.com_M;
+      const Vec3 com = at.q_cmd.head<3>() + Rotation(at.q_cmd) * e_.com_M;
       const Vec3 moment = com.cross(Vec3(0.0, 0.0, -kGravity * std::max(e_.mass_kg, 1.0)));
       const Vec3 tilt = e_.base_tilt_rad_per_N_m * moment;
       point = Eigen::AngleAxisd(tilt.norm(), tilt.norm() > 0.0 ? Vec3(tilt.normalized()) : Vec3::UnitZ()) * point;
@@ -204,13 +249,13 @@ class Session {
     return measured;
   }
 
-  void AppendRow(double time_s, const std::string& name, const Vec6& q_cmd, const Vec6& leg_cmd, const Vec3& measured,
+  void AppendRow(double time_s, const std::string& name, const Instant& now, const Vec3& measured,
                  std::string* csv) const {
     *csv += fmt::format("{:.6f},{}", time_s, name);
-    for (int a = 0; a < 6; ++a) *csv += fmt::format(",{:.9f}", q_cmd(a));
-    for (int i = 0; i < 6; ++i) *csv += fmt::format(",{:.9f}", leg_cmd(i));
+    for (int a = 0; a < 6; ++a) *csv += fmt::format(",{:.9f}", now.q_cmd(a));
+    for (int i = 0; i < 6; ++i) *csv += fmt::format(",{:.9f}", now.leg_cmd(i));
     if (tracker_.encoders) {
-      for (int i = 0; i < 6; ++i) *csv += fmt::format(",{:.9f}", encoder_zero_(i) + legs_[static_cast<std::size_t>(i)].motor);
+      for (int i = 0; i < 6; ++i) *csv += fmt::format(",{:.9f}", now.motor(i));
     }
     *csv += fmt::format(",{:.9f},{:.9f},{:.9f}\n", measured(0), measured(1), measured(2));
   }

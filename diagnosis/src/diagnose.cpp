@@ -18,6 +18,7 @@
 #include "edsp/kinematics/calibration.h"
 #include "edsp/diagnosis/robust_fit.h"
 #include "edsp/diagnosis/structure_nuisance.h"
+#include "edsp/diagnosis/time_offset.h"
 
 namespace edsp::gap {
 
@@ -480,9 +481,12 @@ Eigen::VectorXd HoldOut(const Design& d, const GramSet& gram, const Eigen::Vecto
   return heldout;
 }
 
-Diagnosis DiagnoseOnce(const PlatformModel& model, const MeasurementData& data, const DiagnoseOptions& o) {
+// `clock`: the tracker's time offset when an earlier pass over the same
+// data estimated it (it does not depend on the bases' settings).
+Diagnosis DiagnoseOnce(const PlatformModel& model, const MeasurementData& data, const DiagnoseOptions& o,
+                       const TimeOffset* clock = nullptr) {
   const auto start = std::chrono::steady_clock::now();
-  const Design d = BuildDesign(model, Decimated(data, o.max_rate_hz), o.design);
+  Design d = BuildDesign(model, Decimated(data, o.max_rate_hz), o.design);
   Diagnosis out;
   out.design = o.design;
   out.samples = d.samples();
@@ -493,6 +497,9 @@ Diagnosis DiagnoseOnce(const PlatformModel& model, const MeasurementData& data, 
   out.applied_pr_ratio = d.applied_pr_ratio;
   out.platform = calibration::PlatformFingerprint(model);
   out.noise_floor_rms_m = NoiseFloorRms(d);
+  const double sigma_axis = std::max(out.noise_floor_rms_m / std::sqrt(3.0), 1e-8);
+  out.time_offset = clock != nullptr ? *clock : EstimateTimeOffset(d, PriorWeights(d, sigma_axis * sigma_axis));
+  if (out.time_offset.applied) RemoveTimeOffset(out.time_offset.offset_s, &d);
   const GramSet gram(d, MakeFolds(d));
   const std::vector<int> all = gram.AllFolds();
   const double n_res = gram.Residuals(all);
@@ -506,7 +513,6 @@ Diagnosis DiagnoseOnce(const PlatformModel& model, const MeasurementData& data, 
   // The prior's weight is set against what the model does not yet explain
   // (not only the noise): a systematic misfit must not push poorly excited
   // parameters (joint centres seen from a single axis) far beyond real rigs.
-  const double sigma_axis = std::max(out.noise_floor_rms_m / std::sqrt(3.0), 1e-8);
   const double mse0 = baseline.squaredNorm() / n_res;
   const Eigen::VectorXd prior = PriorWeights(d, std::max(sigma_axis * sigma_axis, mse0));
   Evaluator eval(d, gram, prior);
@@ -550,7 +556,7 @@ Diagnosis WithBacklashWidth(const PlatformModel& model, const MeasurementData& d
     DiagnoseOptions again = options;
     again.design.backlash_width_m = width;
     const double first_seconds = d.seconds;
-    d = DiagnoseOnce(model, data, again);
+    d = DiagnoseOnce(model, data, again, &d.time_offset);
     d.seconds += first_seconds;
     break;
   }
@@ -571,7 +577,7 @@ Diagnosis Diagnose(const PlatformModel& model, const MeasurementData& data, cons
     DiagnoseOptions at = options;
     at.design = d.design;
     at.design.thermal_time_constant_s = tau;
-    Diagnosis candidate = DiagnoseOnce(model, data, at);
+    Diagnosis candidate = DiagnoseOnce(model, data, at, &d.time_offset);
     seconds += candidate.seconds;
     if (Found(candidate, Effect::kThermalDrift) && candidate.holdout_after.rms_m < d.holdout_after.rms_m) {
       d = std::move(candidate);

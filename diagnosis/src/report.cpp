@@ -119,6 +119,13 @@ nlohmann::json ToJson(const Diagnosis& d) {
   }
   const Eigen::Quaterniond q(R);
   j["tracker_frame"] = {{"translation_m", {t.x(), t.y(), t.z()}}, {"quaternion_wxyz", {q.w(), q.x(), q.y(), q.z()}}};
+  // The tracker's clock (a nuisance, never an effect; time_offset.h).
+  j["time_offset"] = {{"estimated", d.time_offset.estimated}, {"applied", d.time_offset.applied},
+                      {"note", d.time_offset.note}};
+  if (d.time_offset.estimated) {
+    j["time_offset"]["offset_s"] = d.time_offset.offset_s;
+    j["time_offset"]["sigma_s"] = d.time_offset.sigma_s;
+  }
   j["fit"] = {{"solver", "ceres"}, {"loss", "huber"}, {"huber_m", d.robust.huber_m},
               {"iterations", d.robust.iterations}, {"converged", d.robust.converged},
               {"covariance", d.robust.covariance_ok}, {"cross_validation", "leave one run out"},
@@ -289,6 +296,7 @@ std::string NextStepsMarkdown(const Diagnosis& d) {
                       fmt::join(apply, ", "));
   }
   md += "- PR compensation: " + Compensation(d)["note"].get<std::string>() + ".\n";
+  md += "- Tracker clock: " + d.time_offset.note + ".\n";
   if (!measure.empty()) md += "- Separate the ambiguous effects with one more measurement:\n" + fmt::format("  {}\n", fmt::join(measure, "\n  "));
   if (d.structure.structured) md += "- Look beyond the vocabulary: " + d.unexplained_note + ".\n";
   else md += "- What is left: " + d.unexplained_note + ".\n";

@@ -51,6 +51,10 @@ struct TrackerOptions {
   bool encoders = true;              // write leg_enc_* columns
   Vec6 frame = (Vec6() << 1.8, -0.7, 0.3, 0.0, 0.0, 0.5).finished();  // tracker pose of {B}: x y z r p y
   std::uint64_t seed = 1;            // noise
+  // The tracker's clock behind the controller's (s): a row stamped t holds
+  // the reading of instant t − offset. A nuisance, not an effect: edsp-gap
+  // estimates it from encoder columns (docs/diagnosis.md).
+  double time_offset_s = 0.0;
 };
 
 struct BlindRigSetup {

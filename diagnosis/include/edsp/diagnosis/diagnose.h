@@ -12,6 +12,7 @@
 #include "edsp/diagnosis/design.h"
 #include "edsp/diagnosis/gap_summary.h"
 #include "edsp/diagnosis/residual_structure.h"
+#include "edsp/diagnosis/time_offset.h"
 #include "edsp/diagnosis/whiteness.h"
 
 namespace edsp::gap {
@@ -81,6 +82,7 @@ struct Diagnosis {
   ResidualStructure structure;        // of the held-out residual: decides unknown
   std::string unexplained_note;
   std::vector<SampleGap> series;
+  TimeOffset time_offset;             // the tracker's clock, a nuisance (time_offset.h)
   std::string applied_pr;             // the compensation found in the data: none | signed | unsigned | other
   double applied_pr_ratio = 0.0;
   RobustFitSummary robust;

@@ -1,0 +1,38 @@
+#pragma once
+// The tracker's clock against the controller's: a nuisance estimated like
+// the frame, reported and removed from the residual, never an effect.
+//
+// A reading stamped t but taken at t − δ is off by −δ·Ȧ, the signature of a
+// servo lag equal on every leg: from the tracker alone the two are one. The
+// encoders part them: a drive's lag lies between the command and the motor,
+// which the encoders read, while a clock offset lies between the tracker and
+// everything else. So δ is estimated on the residual with the encoders'
+// servo error taken out, beside every effect but servo_lag; without encoder
+// columns it is not estimated, and the report says why.
+
+#include <string>
+
+#include <Eigen/Core>
+
+#include "edsp/diagnosis/design.h"
+
+namespace edsp::gap {
+
+struct TimeOffset {
+  bool estimated = false;   // the data has encoder columns
+  double offset_s = 0.0;    // δ: the tracker's clock behind the controller's
+  double sigma_s = 0.0;     // 1-σ, from the fit's covariance
+  bool applied = false;     // |δ| > kTimeOffsetSignificance·σ: removed from the residual
+  std::string note;         // for the report, one sentence
+};
+
+inline constexpr double kTimeOffsetSignificance = 5.0;
+
+// δ from `design`; `prior_weight` is the effects' ridge (per design column,
+// as for the diagnosis's own fits).
+TimeOffset EstimateTimeOffset(const Design& design, const Eigen::VectorXd& prior_weight);
+
+// The design's residual as if the tracker's clock were the controller's.
+void RemoveTimeOffset(double offset_s, Design* design);
+
+}  // namespace edsp::gap

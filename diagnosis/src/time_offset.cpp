@@ -1,0 +1,86 @@
+#include "edsp/diagnosis/time_offset.h"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "edsp/diagnosis/linear_fit.h"
+#include "edsp/diagnosis/structure_nuisance.h"
+
+namespace edsp::gap {
+
+namespace {
+
+// −Ȧ per sample (3 rows each): what a reading δ late adds per second of δ.
+Eigen::MatrixXd OffsetColumn(const Design& d) {
+  Eigen::MatrixXd c(3 * d.samples(), 1);
+  for (int k = 0; k < d.samples(); ++k) {
+    const std::size_t s = static_cast<std::size_t>(k);
+    c.block<3, 1>(3 * k, 0) = -(d.point_per_leg[s] * d.leg_velocity_m_s[s]);
+  }
+  return c;
+}
+
+// The residual with the drives' own tracking error (command − encoder, seen
+// at A) taken out: what is left of a servo lag is nothing, of a clock
+// offset all of it.
+Eigen::VectorXd WithoutServoError(const Design& d) {
+  Eigen::VectorXd r = d.residual;
+  for (int k = 0; k < d.samples(); ++k) {
+    const std::size_t s = static_cast<std::size_t>(k);
+    r.segment<3>(3 * k) += d.point_per_leg[s] * d.servo_error_m[s];
+  }
+  return r;
+}
+
+std::vector<Effect> AllButServoLag() {
+  std::vector<Effect> effects;
+  for (Effect e : AllEffects()) {
+    if (e != Effect::kServoLag) effects.push_back(e);
+  }
+  return effects;
+}
+
+}  // namespace
+
+TimeOffset EstimateTimeOffset(const Design& design, const Eigen::VectorXd& prior_weight) {
+  TimeOffset out;
+  if (!design.has_encoder || design.samples() == 0) {
+    out.note =
+        "not estimated: without encoder columns a clock offset and a servo lag equal on every leg are one "
+        "(a servo_lag equal on all legs may be the clocks')";
+    return out;
+  }
+  Design e = WithNuisance(design, OffsetColumn(design));
+  e.residual = WithoutServoError(design);
+  const int offset_column = design.frame.begin + design.frame.count + design.nuisance.count;
+  Eigen::VectorXd prior(e.parameters());
+  prior << prior_weight.head(offset_column), 0.0, prior_weight.tail(prior_weight.size() - offset_column);
+
+  const GramSet gram(e, MakeFolds(e));
+  const std::vector<int> all = gram.AllFolds();
+  const Columns cols = ColumnsOf(e, AllButServoLag());
+  const Eigen::VectorXd theta = gram.Solve(cols, all, prior);
+  const auto at = static_cast<Eigen::Index>(std::find(cols.begin(), cols.end(), offset_column) - cols.begin());
+  const int n = gram.Residuals(all);
+  const double sigma2 = gram.Sse(cols, theta, all) / std::max(1, n - static_cast<int>(cols.size()));
+  const Eigen::MatrixXd cov = gram.Covariance(cols, all, prior, sigma2);
+
+  out.estimated = true;
+  out.offset_s = theta(at);
+  out.sigma_s = std::sqrt(std::max(0.0, cov(at, at)));
+  out.applied = std::abs(out.offset_s) > kTimeOffsetSignificance * out.sigma_s;
+  out.note = out.applied
+                 ? fmt::format("the tracker's clock is {:.3f} ms ± {:.3f} {} the controller's (from the encoder "
+                               "columns); removed like the frame",
+                               std::abs(out.offset_s) * 1e3, out.sigma_s * 1e3, out.offset_s > 0.0 ? "behind" : "ahead of")
+                 : fmt::format("the clocks agree within the data's resolution ({:+.3f} ms ± {:.3f})",
+                               out.offset_s * 1e3, out.sigma_s * 1e3);
+  return out;
+}
+
+void RemoveTimeOffset(double offset_s, Design* design) {
+  design->residual -= offset_s * OffsetColumn(*design);
+}
+
+}  // namespace edsp::gap
