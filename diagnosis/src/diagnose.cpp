@@ -14,6 +14,7 @@
 #include <boost/math/distributions/students_t.hpp>
 #include <fmt/format.h>
 
+#include "edsp/diagnosis/encoder_check.h"
 #include "edsp/diagnosis/linear_fit.h"
 #include "edsp/kinematics/calibration.h"
 #include "edsp/diagnosis/robust_fit.h"
@@ -449,6 +450,35 @@ void MarkExplainedByStructure(const std::vector<Effect>& explained, Diagnosis* o
   if (explained.size() == out->selected.size()) out->conclusion = "unknown";
 }
 
+// A selected servo_lag the encoders do not show is not the drives' lag
+// (encoder_check.h): not identified, and something outside the vocabulary
+// is at work.
+void MarkLagNotInTheDrives(const Design& d, Diagnosis* out) {
+  bool marked = false;
+  for (EffectResult& r : out->effects) {
+    if (r.effect != Effect::kServoLag || !Contains(out->selected, r.effect)) continue;
+    if (!d.has_encoder) return;
+    const double share = r.encoder_share = EncoderShareOfLag(d, r.theta);
+    r.encoder_checked = true;
+    if (share >= kMinEncoderShareOfLag) return;
+    r.verdict = "ambiguous";
+    if (std::find(r.ambiguous_with.begin(), r.ambiguous_with.end(), "unknown") == r.ambiguous_with.end()) {
+      r.ambiguous_with.push_back("unknown");
+    }
+    if (!r.next_measurement.empty()) r.next_measurement += "; ";
+    r.next_measurement += fmt::format(
+        "the encoders show {:.0f}% of this lag, so it lies after the motor: look for a structure swaying under the "
+        "platform's acceleration (an accelerometer on A's mount)",
+        100 * std::max(share, 0.0));
+    out->unexplained_note += fmt::format("; the tracker sees a lag the encoders do not ({:.0f}% of it)", 100 * std::max(share, 0.0));
+    marked = true;
+  }
+  if (!marked) return;
+  const bool any = std::any_of(out->effects.begin(), out->effects.end(),
+                               [](const EffectResult& r) { return r.verdict == "identified"; });
+  out->conclusion = any ? "effects+unknown" : "unknown";
+}
+
 // Before (frame only) and after (frame and the selected effects) on each run
 // held out of the fit, pooled; returns the held-out residual after (3 per sample).
 Eigen::VectorXd HoldOut(const Design& d, const GramSet& gram, const Eigen::VectorXd& prior, const Columns& cols,
@@ -527,6 +557,7 @@ Diagnosis DiagnoseOnce(const PlatformModel& model, const MeasurementData& data, 
   const Eigen::VectorXd heldout = HoldOut(d, gram, prior, ColumnsOf(d, out.selected), &out);
   DescribeRest(d, residual, heldout, o, &out);
   MarkExplainedByStructure(ExplainedByStructure(d, prior, eval, out.selected, out.structure, o), &out);
+  MarkLagNotInTheDrives(d, &out);
   for (int k = 0; k < d.samples(); ++k) {
     const std::size_t s = static_cast<std::size_t>(k);
     out.series.push_back({d.sample_run[s], d.time_s[s], d.displacement[s], baseline.segment<3>(3 * k).norm(),

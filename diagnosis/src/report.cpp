@@ -37,6 +37,7 @@ nlohmann::json EffectJson(const EffectResult& r) {
     j["correlated_with"] = r.correlated_with;
   }
   if (!r.ambiguous_with.empty()) j["ambiguous_with"] = r.ambiguous_with;
+  if (r.encoder_checked) j["encoder_share_of_lag"] = r.encoder_share;
   if (!r.next_measurement.empty()) j["next_measurement"] = r.next_measurement;
   return j;
 }

@@ -1,5 +1,6 @@
 #include "edsp/diagnosis/time_offset.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -31,6 +32,19 @@ Eigen::VectorXd WithoutServoError(const Design& d) {
     r.segment<3>(3 * k) += d.point_per_leg[s] * d.servo_error_m[s];
   }
   return r;
+}
+
+// A residual that is not white (a mode, a misfit) holds fewer independent
+// samples than rows: the variance of δ grows by (1 + ρ)/(1 − ρ), ρ its
+// lag-1 autocorrelation along each axis, as for an AR(1) series.
+double CorrelationInflation(const Eigen::VectorXd& r) {
+  double rr = 0.0, lag = 0.0;
+  for (Eigen::Index k = 0; k < r.size(); ++k) {
+    rr += r(k) * r(k);
+    if (k + 3 < r.size()) lag += r(k) * r(k + 3);
+  }
+  const double rho = rr > 0.0 ? std::clamp(lag / rr, 0.0, 0.99) : 0.0;
+  return (1.0 + rho) / (1.0 - rho);
 }
 
 std::vector<Effect> AllButServoLag() {
@@ -68,7 +82,7 @@ TimeOffset EstimateTimeOffset(const Design& design, const Eigen::VectorXd& prior
 
   out.estimated = true;
   out.offset_s = theta(at);
-  out.sigma_s = std::sqrt(std::max(0.0, cov(at, at)));
+  out.sigma_s = std::sqrt(std::max(0.0, cov(at, at)) * CorrelationInflation(e.residual - e.columns(Eigen::all, cols) * theta));
   out.applied = std::abs(out.offset_s) > kTimeOffsetSignificance * out.sigma_s;
   out.note = out.applied
                  ? fmt::format("the tracker's clock is {:.3f} ms ± {:.3f} {} the controller's (from the encoder "

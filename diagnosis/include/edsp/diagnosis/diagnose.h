@@ -49,6 +49,8 @@ struct EffectResult {
   double frame_overlap = 0.0;         // share of its signature the tracker frame can mimic
   double max_correlation = 0.0;       // strongest |correlation| of a parameter with another
   std::string correlated_with;        //   selected effect's or the frame's (selected effects)
+  bool encoder_checked = false;       // selected servo_lag with encoders:
+  double encoder_share = 0.0;         //   the share of it they show (encoder_check.h)
 };
 
 // One sample's gap at A before and after the selected effects (in-sample),
