@@ -38,7 +38,7 @@ int Run(int argc, char** argv) {
   app.add_option("--rate-hz", rate_hz, "tracker rate instead of the drawn one")->check(CLI::Range(1.0, 10000.0));
   app.add_option("--noise-m", noise_m, "tracker 1-σ per axis instead of the drawn one")->check(CLI::Range(0.0, 1e-3));
   app.add_flag("--no-encoders", no_encoders, "leave out the leg_enc_* columns");
-  app.add_option("--time-offset-s", time_offset_s, "tracker clock behind the controller's: a row stamped t reads instant t - δ")
+  app.add_option("--time-offset-s", time_offset_s, "tracker readings δ late (its clock ahead of the controller's): a row stamped t reads instant t - δ")
       ->check(CLI::Range(-0.1, 0.1));
   app.add_option("--motions", motions, "motions, comma-separated")->delimiter(',');
   CLI11_PARSE(app, argc, argv);

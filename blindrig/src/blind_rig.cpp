@@ -157,7 +157,7 @@ class Session {
                         read.lengths);
           },
           q_true_);
-      AppendRow(session_s_ + now.t, name, now, Reading(TruePoint(read), session_s_ + read.t), csv);
+      AppendRow(session_s_ + now.t, name, now, Reading(TruePoint(read), session_s_ + now.t - tracker_.time_offset_s), csv);
     }
     session_s_ += motion.duration_s() + 1.0;
   }
@@ -200,6 +200,7 @@ class Session {
     const auto k = static_cast<std::size_t>(std::floor(u));
     const double w = u - static_cast<double>(k);
     if (w < 1e-9 || k + 1 >= instants.size()) return instants[std::min(k, instants.size() - 1)];
+    if (w > 1.0 - 1e-9) return instants[k + 1];
     const Instant &a = instants[k], &b = instants[k + 1];
     Instant out;
     out.t = a.t + w * (b.t - a.t);

@@ -25,15 +25,6 @@ namespace edsp::gap {
 
 namespace {
 
-Eigen::VectorXd PriorWeights(const Design& d, double sigma2) {
-  Eigen::VectorXd w = Eigen::VectorXd::Zero(d.parameters());
-  for (Effect e : AllEffects()) {
-    const ColumnRange& r = d.Of(e);
-    w.segment(r.begin, r.count).setConstant(sigma2 / (PriorSigma(e) * PriorSigma(e)));
-  }
-  return w;
-}
-
 std::vector<Effect> With(std::vector<Effect> set, Effect e) {
   set.push_back(e);
   return set;
@@ -457,10 +448,10 @@ void MarkLagNotInTheDrives(const Design& d, Diagnosis* out) {
   bool marked = false;
   for (EffectResult& r : out->effects) {
     if (r.effect != Effect::kServoLag || !Contains(out->selected, r.effect)) continue;
-    if (!d.has_encoder) return;
+    if (!d.has_encoder) break;
     const double share = r.encoder_share = EncoderShareOfLag(d, r.theta);
     r.encoder_checked = true;
-    if (share >= kMinEncoderShareOfLag) return;
+    if (share >= kMinEncoderShareOfLag) break;
     r.verdict = "ambiguous";
     if (std::find(r.ambiguous_with.begin(), r.ambiguous_with.end(), "unknown") == r.ambiguous_with.end()) {
       r.ambiguous_with.push_back("unknown");
@@ -474,9 +465,13 @@ void MarkLagNotInTheDrives(const Design& d, Diagnosis* out) {
     marked = true;
   }
   if (!marked) return;
-  const bool any = std::any_of(out->effects.begin(), out->effects.end(),
-                               [](const EffectResult& r) { return r.verdict == "identified"; });
-  out->conclusion = any ? "effects+unknown" : "unknown";
+  // As for the structure's check: `unknown` when every selected effect could
+  // be the unknown's, else the effects and the unknown.
+  const bool all = std::all_of(out->effects.begin(), out->effects.end(), [&](const EffectResult& r) {
+    return !Contains(out->selected, r.effect) ||
+           std::find(r.ambiguous_with.begin(), r.ambiguous_with.end(), "unknown") != r.ambiguous_with.end();
+  });
+  out->conclusion = all ? "unknown" : "effects+unknown";
 }
 
 // Before (frame only) and after (frame and the selected effects) on each run

@@ -145,6 +145,15 @@ Eigen::MatrixXd GramSet::Covariance(const Columns& columns, const std::vector<in
   return sigma2 * PseudoInverse(NormalMatrix(columns, train, prior_weight));
 }
 
+Eigen::VectorXd PriorWeights(const Design& d, double sigma2) {
+  Eigen::VectorXd w = Eigen::VectorXd::Zero(d.parameters());
+  for (Effect e : AllEffects()) {
+    const ColumnRange& r = d.Of(e);
+    w.segment(r.begin, r.count).setConstant(sigma2 / (PriorSigma(e) * PriorSigma(e)));
+  }
+  return w;
+}
+
 Columns ColumnsOf(const Design& d, const std::vector<Effect>& effects) {
   Columns c;
   for (int k = 0; k < d.frame.count; ++k) c.push_back(d.frame.begin + k);

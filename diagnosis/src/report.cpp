@@ -19,6 +19,16 @@ namespace {
 
 nlohmann::json StatsJson(const RmsMax& s) { return {{"rms_m", s.rms_m}, {"max_m", s.max_m}}; }
 
+// The tracker's clock (a nuisance, never an effect; time_offset.h).
+nlohmann::json TimeOffsetJson(const TimeOffset& t) {
+  nlohmann::json j = {{"estimated", t.estimated}, {"applied", t.applied}, {"note", t.note}};
+  if (t.estimated) {
+    j["offset_s"] = t.offset_s;
+    j["sigma_s"] = t.sigma_s;
+  }
+  return j;
+}
+
 nlohmann::json EffectJson(const EffectResult& r) {
   nlohmann::json j;
   j["name"] = EffectName(r.effect);
@@ -120,13 +130,7 @@ nlohmann::json ToJson(const Diagnosis& d) {
   }
   const Eigen::Quaterniond q(R);
   j["tracker_frame"] = {{"translation_m", {t.x(), t.y(), t.z()}}, {"quaternion_wxyz", {q.w(), q.x(), q.y(), q.z()}}};
-  // The tracker's clock (a nuisance, never an effect; time_offset.h).
-  j["time_offset"] = {{"estimated", d.time_offset.estimated}, {"applied", d.time_offset.applied},
-                      {"note", d.time_offset.note}};
-  if (d.time_offset.estimated) {
-    j["time_offset"]["offset_s"] = d.time_offset.offset_s;
-    j["time_offset"]["sigma_s"] = d.time_offset.sigma_s;
-  }
+  j["time_offset"] = TimeOffsetJson(d.time_offset);
   j["fit"] = {{"solver", "ceres"}, {"loss", "huber"}, {"huber_m", d.robust.huber_m},
               {"iterations", d.robust.iterations}, {"converged", d.robust.converged},
               {"covariance", d.robust.covariance_ok}, {"cross_validation", "leave one run out"},
@@ -179,7 +183,12 @@ Evaluation Evaluate(const PlatformModel& model, const MeasurementData& data, con
   if (!(o.backlash_width_m > 0.0 && o.backlash_width_m < 0.01)) {
     throw MeasurementError(origin + ": backlash_width_m must be in (0, 0.01) m");
   }
-  const Design d = BuildDesign(model, Decimated(data, 100.0), o);
+  Design d = BuildDesign(model, Decimated(data, 100.0), o);
+  // The tracker's clock is the data's nuisance, as its frame is: estimated
+  // on this data, never carried over from the model.
+  const double sigma_axis = std::max(NoiseFloorRms(d) / std::sqrt(3.0), 1e-8);
+  const TimeOffset clock = EstimateTimeOffset(d, PriorWeights(d, sigma_axis * sigma_axis));
+  if (clock.applied) RemoveTimeOffset(clock.offset_s, &d);
   Eigen::VectorXd predicted = Eigen::VectorXd::Zero(d.residual.size());
   if (!saved.contains("effects") || !saved["effects"].is_array()) throw MeasurementError(origin + ": no \"effects\" array");
   for (const auto& entry : saved["effects"]) {
@@ -218,6 +227,7 @@ Evaluation Evaluate(const PlatformModel& model, const MeasurementData& data, con
                          PointStats(after, samples.begin, samples.count)});
   }
   ev.noise_floor_rms_m = NoiseFloorRms(d);
+  ev.time_offset = clock;
   return ev;
 }
 
@@ -227,7 +237,7 @@ nlohmann::json ToJson(const Evaluation& e) {
     by_run.push_back({{"run", r.run}, {"before", StatsJson(r.before)}, {"after", StatsJson(r.after)}});
   }
   return {{"before", StatsJson(e.before)}, {"after", StatsJson(e.after)}, {"shrink", e.shrink}, {"samples", e.samples},
-          {"by_run", by_run}, {"noise_floor_rms_m", e.noise_floor_rms_m}};
+          {"by_run", by_run}, {"noise_floor_rms_m", e.noise_floor_rms_m}, {"time_offset", TimeOffsetJson(e.time_offset)}};
 }
 
 namespace {

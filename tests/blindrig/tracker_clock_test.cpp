@@ -61,6 +61,13 @@ TEST(TrackerClock, AServoLagBesideAnOffsetIsStillTheServos) {
   EXPECT_TRUE(d.time_offset.applied) << d.time_offset.note;
   EXPECT_LT(std::abs(d.time_offset.offset_s + 2e-3), 5.0 * d.time_offset.sigma_s) << d.time_offset.note;
   EXPECT_EQ(d.selected, std::vector<gap::Effect>{gap::Effect::kServoLag});
+  for (const gap::EffectResult& r : d.effects) {
+    if (r.effect != gap::Effect::kServoLag) continue;
+    EXPECT_EQ(r.verdict, "identified") << r.next_measurement;
+    EXPECT_TRUE(r.encoder_checked);
+    EXPECT_GT(r.encoder_share, 0.9);  // the encoders show the drives' lag
+  }
+  EXPECT_EQ(d.conclusion, "effects") << d.unexplained_note;
   EXPECT_LT(d.holdout_after.rms_m, 1.2 * d.noise_floor_rms_m);
 }
 

@@ -62,7 +62,7 @@ TEST(Design, PointPerLegMatchesForwardKinematicsOfPerturbedLegs) {
 // that jitter as a live tracker's do (±0.3 ms on a 10 ms spacing): the
 // acceleration the servo-lag and compliance columns use is the motion's,
 // not the jitter's (the evenly spaced second difference was off by ~1 m/s²
-// here), and so is the platform's.
+// here).
 TEST(Design, AccelerationsOfUnevenlySpacedSamplesAreTheMotions) {
   const PlatformModel model = Model();
   std::mt19937_64 rng(3);
@@ -85,7 +85,7 @@ TEST(Design, AccelerationsOfUnevenlySpacedSamplesAreTheMotions) {
     d.rows.push_back(row);
   }
   const Design design = BuildDesign(model, d);
-  // The legs' own acceleration, by a second difference 1 µs wide at the
+  // The legs' own acceleration, by a second difference 1 ms wide at the
   // sample's instant (independent of the samples' spacing).
   auto legs_at = [&](double t) {
     Vector6 q = model.home_pose().ToVector();

@@ -13,8 +13,10 @@
 namespace edsp::gap {
 
 // Share of the fitted servo_lag's motion of A (its columns × θ) that the
-// encoders' tracking error accounts for: 1 − |fit − encoders|² / |fit|²,
-// at most 1; 1 without encoder columns (nothing to check against).
+// encoders' tracking error accounts for: its projection on the fit,
+// fit·encoders / |fit|², at most 1 (encoders that show more lag than the
+// fit recovered are the drives' all the same); 1 without encoder columns
+// (nothing to check against).
 double EncoderShareOfLag(const Design& design, const Eigen::VectorXd& servo_lag_theta);
 
 // Below this share the lag is not the drives'.

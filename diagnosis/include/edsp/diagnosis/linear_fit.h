@@ -56,6 +56,11 @@ class GramSet {
   std::vector<int> n_;              // residuals
 };
 
+// The effects' ridge for a measurement σ² per axis: σ²/σ_prior² on each
+// effect's columns (calibration::PriorSigma), none on the frame's and the
+// nuisance's.
+Eigen::VectorXd PriorWeights(const Design& design, double sigma2);
+
 // Every column of the frame, of the nuisance and of the listed effects.
 Columns ColumnsOf(const Design& design, const std::vector<Effect>& effects);
 

@@ -37,6 +37,7 @@ struct Evaluation {
   int samples = 0;
   std::vector<RunEvaluation> by_run;  // the same, per run (one frame for all)
   double noise_floor_rms_m = 0.0;     // the tracker's noise at A, from the data (NoiseFloorRms)
+  TimeOffset time_offset;             // the data's tracker clock, removed as the frame is
 };
 
 // Applies a saved model (ModelJson) to data it has never seen: the tracker

@@ -20,7 +20,7 @@ namespace edsp::gap {
 
 struct TimeOffset {
   bool estimated = false;   // the data has encoder columns
-  double offset_s = 0.0;    // δ: the tracker's clock behind the controller's
+  double offset_s = 0.0;    // δ: how late the readings are (a row stamped t reads t − δ: the tracker's clock ahead)
   double sigma_s = 0.0;     // 1-σ, from the fit's covariance
   bool applied = false;     // |δ| > kTimeOffsetSignificance·σ: removed from the residual
   std::string note;         // for the report, one sentence
