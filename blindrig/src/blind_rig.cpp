@@ -212,7 +212,6 @@ class Session {
     return out;
   }
 
- private:
   // The controller: nominal IK, signed PR compensated with its s.
   Vec6 ControllerCommand(const Vec6& q_cmd) const {
     const BlindGeometry& nominal = setup_.geometry;

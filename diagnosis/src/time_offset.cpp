@@ -85,10 +85,10 @@ TimeOffset EstimateTimeOffset(const Design& design, const Eigen::VectorXd& prior
   out.sigma_s = std::sqrt(std::max(0.0, cov(at, at)) * CorrelationInflation(e.residual - e.columns(Eigen::all, cols) * theta));
   out.applied = std::abs(out.offset_s) > kTimeOffsetSignificance * out.sigma_s;
   out.note = out.applied
-                 ? fmt::format("the tracker's readings are {:.3f} ms ± {:.3f} {} than their stamps say (its clock {} of "
+                 ? fmt::format("the tracker's readings are {:.3f} ms ± {:.3f} {} than their stamps say (its clock {} "
                                "the controller's; from the encoder columns); removed like the frame",
                                std::abs(out.offset_s) * 1e3, out.sigma_s * 1e3, out.offset_s > 0.0 ? "older" : "newer",
-                               out.offset_s > 0.0 ? "ahead" : "behind")
+                               out.offset_s > 0.0 ? "ahead of" : "behind")
                  : fmt::format("the clocks agree within the data's resolution ({:+.3f} ms ± {:.3f})",
                                out.offset_s * 1e3, out.sigma_s * 1e3);
   return out;
