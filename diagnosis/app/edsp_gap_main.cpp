@@ -43,6 +43,10 @@ nlohmann::json LoadModelFile(const std::string& path) {
 void PrintText(const Diagnosis& d) {
   std::printf("gap before any effect: %.1f µm RMS, %.1f µm max over %d samples in %zu runs\n",
               d.gap.overall.rms_m * 1e6, d.gap.overall.max_m * 1e6, d.samples, d.runs.size());
+  if (d.timing_excluded > 0) {
+    std::printf("left out: %lld samples the data flags timing_event (near a stall of its controller)\n",
+                static_cast<long long>(d.timing_excluded));
+  }
   std::printf("%s\n\n", d.gap.where.c_str());
   std::printf("%-4s %-20s %-11s %9s %9s  %s\n", "rank", "effect", "verdict", "explained", "cv gain", "with");
   for (std::size_t k = 0; k < d.effects.size(); ++k) {

@@ -59,6 +59,10 @@ CalibrationCheck CheckCalibration(const Evaluation& without, const Evaluation& w
   c.overall = {"all", without.before, with.before, std::nullopt, Shrink(without.before, with.before)};
   if (predicted) c.overall.predicted = without.after;
   c.noise_floor_rms_m = with.noise_floor_rms_m;
+  c.timing_excluded_before = without.timing_excluded;
+  c.timing_excluded_after = with.timing_excluded;
+  c.timing_share_before = without.timing_excluded_share;
+  c.timing_share_after = with.timing_excluded_share;
   c.target_met = c.overall.after.rms_m <= kFloorFactor * c.noise_floor_rms_m || c.overall.shrink >= kTargetShrink;
   return c;
 }
@@ -70,6 +74,7 @@ nlohmann::json ToJson(const CalibrationCheck& c) {
   j.erase("run");
   j["motions"] = motions;
   j["noise_floor_rms_m"] = c.noise_floor_rms_m;
+  j["timing_excluded_samples"] = {{"before", c.timing_excluded_before}, {"after", c.timing_excluded_after}};
   j["target"] = fmt::format("RMS <= {} x noise floor or shrink >= {:.0f}%", kFloorFactor, 100 * kTargetShrink);
   j["target_met"] = c.target_met;
   return j;
@@ -85,6 +90,12 @@ std::string CheckTable(const CalibrationCheck& c) {
   t += fmt::format("tracker noise floor {:.1f} µm RMS; target (≤ {:.1f} µm or ≥ {:.0f}% lower): {}\n",
                    c.noise_floor_rms_m * 1e6, kFloorFactor * c.noise_floor_rms_m * 1e6, 100 * kTargetShrink,
                    c.target_met ? "met" : "NOT met");
+  if (c.timing_excluded_before + c.timing_excluded_after > 0) {
+    t += fmt::format("left out near stalls of the controller (timing_event): {} samples before ({:.1f}%), {} after "
+                     "({:.1f}%)\n",
+                     c.timing_excluded_before, 100 * c.timing_share_before, c.timing_excluded_after,
+                     100 * c.timing_share_after);
+  }
   return t;
 }
 

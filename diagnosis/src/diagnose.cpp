@@ -515,6 +515,7 @@ Diagnosis DiagnoseOnce(const PlatformModel& model, const MeasurementData& data, 
   Diagnosis out;
   out.design = o.design;
   out.samples = d.samples();
+  out.timing_excluded = data.timing_excluded;
   out.runs = d.runs;
   out.R0 = d.R0;
   out.t0 = d.t0;

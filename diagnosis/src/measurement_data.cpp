@@ -49,6 +49,7 @@ struct Columns {
   int time = -1, run = -1;
   int pose[6] = {}, leg_cmd[6] = {}, leg_enc[6] = {-1, -1, -1, -1, -1, -1}, point[3] = {};
   bool has_encoder = false;
+  int timing_event = -1;  // optional
 };
 
 Columns FindColumns(const std::vector<Field>& header, const std::string& origin, int line) {
@@ -77,6 +78,8 @@ Columns FindColumns(const std::vector<Field>& header, const std::string& origin,
   c.has_encoder = encoders == 6;
   const char* point_names[3] = {"point_x_m", "point_y_m", "point_z_m"};
   for (int k = 0; k < 3; ++k) c.point[k] = required(point_names[k]);
+  const auto timing = index.find("timing_event");
+  c.timing_event = timing == index.end() ? -1 : timing->second;
   return c;
 }
 
@@ -108,6 +111,8 @@ class RowParser {
     return true;
   }
 
+  [[noreturn]] void Fail(int index, const char* what, const std::string& why) const { throw Error(At(index, what), why); }
+
   std::string Text(int index, const char* what) const {
     const std::string text = Trim(At(index, what).text);
     if (text.empty()) throw Error(At(index, what), fmt::format("{} is empty", what));
@@ -130,6 +135,14 @@ class RowParser {
   int line_;
   const std::vector<Field>& fields_;
 };
+
+// `timing_event`: empty or 0 a sample like any other, 1 one to leave out.
+bool FlaggedTimingEvent(const RowParser& p, int column) {
+  double flag = 0.0;
+  if (!p.OptionalNumber(column, "timing_event", &flag)) return false;
+  if (flag != 0.0 && flag != 1.0) p.Fail(column, "timing_event", fmt::format("timing_event {} is neither 0 nor 1", flag));
+  return flag == 1.0;
+}
 
 }  // namespace
 
@@ -154,6 +167,10 @@ MeasurementData ParseMeasurementCsv(const std::string& text, const std::string& 
       continue;
     }
     const RowParser p(origin, line_number, fields);
+    if (FlaggedTimingEvent(p, columns.timing_event)) {
+      ++data.timing_excluded;
+      continue;
+    }
     MeasurementRow row;
     row.time_s = p.Number(columns.time, "time_s");
     const std::string run = p.Text(columns.run, "run");
@@ -180,7 +197,12 @@ MeasurementData ParseMeasurementCsv(const std::string& text, const std::string& 
     data.rows.push_back(row);
   }
   if (!have_header) throw MeasurementError(origin + ": no header row (empty file?)");
-  if (data.rows.empty()) throw MeasurementError(origin + ": a header but no data rows");
+  if (data.rows.empty()) {
+    throw MeasurementError(data.timing_excluded > 0
+                               ? fmt::format("{}: every one of its {} rows is flagged timing_event", origin,
+                                             data.timing_excluded)
+                               : origin + ": a header but no data rows");
+  }
   return data;
 }
 
@@ -217,6 +239,7 @@ void AppendMeasurement(MeasurementData* data, MeasurementData more) {
     row.run += offset;
     data->rows.push_back(row);
   }
+  data->timing_excluded += more.timing_excluded;
   data->source += ", " + more.source;
 }
 
@@ -224,6 +247,7 @@ MeasurementData Decimated(const MeasurementData& data, double max_rate_hz) {
   MeasurementData out;
   out.runs = data.runs;
   out.source = data.source;
+  out.timing_excluded = data.timing_excluded;
   std::map<int, double> last_kept;
   const double min_spacing = 1.0 / max_rate_hz - 1e-9;
   for (const MeasurementRow& row : data.rows) {

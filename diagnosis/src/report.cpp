@@ -136,6 +136,7 @@ nlohmann::json ToJson(const Diagnosis& d) {
               {"covariance", d.robust.covariance_ok}, {"cross_validation", "leave one run out"},
               {"condition_number", std::isfinite(d.condition_number) ? nlohmann::json(d.condition_number) : nlohmann::json("inf")}};
   j["samples"] = d.samples;
+  j["timing_excluded_samples"] = d.timing_excluded;
   j["seconds"] = d.seconds;
   return j;
 }
@@ -217,6 +218,9 @@ Evaluation Evaluate(const PlatformModel& model, const MeasurementData& data, con
   };
   Evaluation ev;
   ev.samples = d.samples();
+  ev.timing_excluded = data.timing_excluded;
+  ev.timing_excluded_share = static_cast<double>(data.timing_excluded) /
+                             static_cast<double>(data.timing_excluded + static_cast<std::int64_t>(data.rows.size()));
   const Eigen::VectorXd before = frame_fit(d.residual), after = frame_fit(d.residual - predicted);
   ev.before = PointStats(before, 0, d.samples());
   ev.after = PointStats(after, 0, d.samples());
@@ -237,6 +241,7 @@ nlohmann::json ToJson(const Evaluation& e) {
     by_run.push_back({{"run", r.run}, {"before", StatsJson(r.before)}, {"after", StatsJson(r.after)}});
   }
   return {{"before", StatsJson(e.before)}, {"after", StatsJson(e.after)}, {"shrink", e.shrink}, {"samples", e.samples},
+          {"timing_excluded_samples", e.timing_excluded},
           {"by_run", by_run}, {"noise_floor_rms_m", e.noise_floor_rms_m}, {"time_offset", TimeOffsetJson(e.time_offset)}};
 }
 
@@ -320,6 +325,11 @@ std::string ReportMarkdown(const Diagnosis& d) {
   std::string md = "# Gap diagnosis\n\n";
   md += fmt::format("{} samples in {} runs ({}), diagnosed in {:.1f} s.\n\n", d.samples, d.runs.size(),
                     fmt::join(d.runs, ", "), d.seconds);
+  if (d.timing_excluded > 0) {
+    md += fmt::format("{} samples left out: the data flags them `timing_event` (near a stall of its controller, "
+                      "a transient no effect models).\n\n",
+                      d.timing_excluded);
+  }
   return md + VerdictMarkdown(d) + ParametersMarkdown(d) + WhereMarkdown(d) + NextStepsMarkdown(d);
 }
 

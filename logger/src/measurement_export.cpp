@@ -31,6 +31,15 @@ constexpr double kLongestCarryS = 0.0025;
 // Setpoints further apart than this in the log are a stream that stopped,
 // not ticks missing from it: nothing is interpolated across.
 constexpr std::int64_t kLongestGapUs = 50'000;
+// A stall of the real-time system, as the drives saw it: longer than this
+// without a new command (the bridge's feed-forward lapse; a command a cycle
+// late is not one), or between two readings of the drives (their host, or
+// the rig emulator's, stalled). The samples from a little before it to the
+// drives' recovery after it are flagged `timing_event` (a torque-limited
+// servo needs ~70 ms to catch up with a command stream that jumped).
+constexpr std::int64_t kStallUs = 2'500;
+constexpr std::int64_t kFlagBeforeUs = 2'000;
+constexpr std::int64_t kFlagAfterUs = 100'000;
 
 template <typename Msg>
 bool Decode(const LogEvent& event, Msg* msg) {
@@ -42,7 +51,7 @@ void WriteHeader(std::ostream& out) {
          "pose_cmd_yaw_rad";
   for (int i = 1; i <= 6; ++i) out << ",leg_cmd_" << i << "_m";
   for (int i = 1; i <= 6; ++i) out << ",leg_enc_" << i << "_m";
-  out << ",point_x_m,point_y_m,point_z_m\n";
+  out << ",point_x_m,point_y_m,point_z_m,timing_event\n";
 }
 
 struct Stamped6 {
@@ -108,6 +117,7 @@ class Pairing {
   }
   void Add(const leg_command_t& c) { commands_[c.setpoint_utime] = ToArray(c.command_length_m); }
   void Add(const leg_state_t& l) {
+    NoteCommandStream(l);
     InsertByUtime(&legs_, Stamped6{l.utime, ToArray(l.encoder_length_m)});
     if (pending_.empty()) TrimBefore(&legs_, l.utime - 2 * kReorderWindowUs);
   }
@@ -156,11 +166,39 @@ class Pairing {
     for (int i = 0; i < 6; ++i) {
       out_ << (legs ? fmt::format(",{:.17g}", legs->values[static_cast<std::size_t>(i)]) : std::string(","));
     }
-    out_ << fmt::format(",{:.17g},{:.17g},{:.17g}\n", point.point_m[0], point.point_m[1], point.point_m[2]);
+    const bool stalled = NearStall(point.utime);
+    out_ << fmt::format(",{:.17g},{:.17g},{:.17g},{}\n", point.point_m[0], point.point_m[1], point.point_m[2],
+                        stalled ? 1 : 0);
     ++result->rows;
+    result->timing_events += stalled ? 1 : 0;
     TrimBefore(&setpoints_, point.utime);
     TrimBefore(&legs_, point.utime);
     commands_.erase(commands_.begin(), command);
+  }
+
+  // The drives' view of the real-time system (each leg state says which
+  // command they run and the instant of their reading, in the bridge's
+  // order): an interval over kStallUs between new commands, or between
+  // readings, is a stall, whether the planner, the kinematics, the bridge or
+  // the drives stalled, or the logger lost the states.
+  void NoteCommandStream(const leg_state_t& l) {
+    if (l.command_seq == 0) return;  // no command yet
+    if (last_reading_ != 0 && l.utime - last_reading_ > kStallUs) stalls_.push_back({last_reading_, l.utime});
+    last_reading_ = std::max(last_reading_, l.utime);
+    if (l.command_seq == last_command_seq_) return;
+    if (last_command_seq_ != 0 && l.utime - command_since_ > kStallUs) stalls_.push_back({command_since_, l.utime});
+    last_command_seq_ = l.command_seq;
+    command_since_ = l.utime;
+  }
+
+  // Whether `utime` lies from kFlagBeforeUs before a stall to kFlagAfterUs
+  // after it (samples come in order of their stamps).
+  bool NearStall(std::int64_t utime) {
+    while (!stalls_.empty() && stalls_.front().second + kFlagAfterUs < utime) stalls_.pop_front();
+    for (const auto& [from, to] : stalls_) {
+      if (from - kFlagBeforeUs <= utime && utime <= to + kFlagAfterUs) return true;
+    }
+    return false;
   }
 
   // The commanded pose at `utime`, after `setpoint`: carried along its
@@ -205,6 +243,8 @@ class Pairing {
   std::map<std::int64_t, std::array<double, 6>> commands_;  // by the setpoint utime they answer
   std::deque<PendingSample> pending_;
   std::int64_t first_utime_ = -1;
+  std::int64_t last_command_seq_ = 0, command_since_ = 0, last_reading_ = 0;
+  std::deque<std::pair<std::int64_t, std::int64_t>> stalls_;  // [from, to] utime
 };
 
 }  // namespace

@@ -69,6 +69,27 @@ TEST(MeasurementCsv, EncodersAreOptionalPerFile) {
   EXPECT_FALSE(d.rows[1].has_encoder);
 }
 
+// `timing_event` (edsp-log's export: near a stall of the controller): a
+// row flagged 1 is left out and counted, 0 or empty is kept; anything else
+// is named, and a file of nothing but flagged rows is no measurement.
+TEST(MeasurementCsv, RowsFlaggedTimingEventAreLeftOutAndCounted) {
+  const std::string header = std::string(kHeader).insert(std::string(kHeader).size() - 1, ",timing_event");
+  auto row = [](double t, const char* flag) {
+    std::string r = Row(t, "Lz");
+    return r.insert(r.size() - 1, std::string(",") + flag);
+  };
+  const MeasurementData d = ParseMeasurementCsv(header + row(0.0, "0") + row(0.1, "1") + row(0.2, "") +
+                                                    row(0.3, "1"),
+                                                "t.csv");
+  ASSERT_EQ(d.rows.size(), 2u);
+  EXPECT_DOUBLE_EQ(d.rows[1].time_s, 0.2);
+  EXPECT_EQ(d.timing_excluded, 2);
+  EXPECT_EQ(Decimated(d, 100.0).timing_excluded, 2);
+  ExpectError(header + row(0.0, "2"), "bad.csv:2:68: timing_event 2 is neither 0 nor 1");
+  ExpectError(header + row(0.0, "yes"), "timing_event \"yes\" is not a number");
+  ExpectError(header + row(0.0, "1"), "every one of its 1 rows is flagged timing_event");
+}
+
 TEST(MeasurementCsv, DecimationKeepsEveryRunAtMostAtTheRate) {
   std::string text = kHeader;
   for (int k = 0; k < 100; ++k) text += Row(k * 0.001, "Lz");

@@ -83,10 +83,12 @@ TEST(MeasurementExport, OneRowPerValidTrackerSampleWithTheLatestCommands) {
   EXPECT_FALSE(e.damaged);
   const auto rows = Rows(csv.str());
   ASSERT_EQ(rows.size(), 3u);
-  ASSERT_EQ(rows[0].size(), 23u);
+  ASSERT_EQ(rows[0].size(), 24u);
   EXPECT_EQ(rows[0][0], "time_s");
   EXPECT_EQ(rows[0][8], "leg_cmd_1_m");
   EXPECT_EQ(rows[0][22], "point_z_m");
+  EXPECT_EQ(rows[0][23], "timing_event");
+  EXPECT_EQ(rows[1][23], "0");
   EXPECT_EQ(rows[1][1], "Lz");
   EXPECT_EQ(rows[2][1], "Rz");
   EXPECT_EQ(std::stod(rows[1][0]), 0.0);
@@ -177,6 +179,47 @@ TEST(MeasurementExport, ASampleInAGapOfSetpointsLiesBetweenTheSetpointsAroundIt)
   EXPECT_NEAR(std::stod(rows[1][8]), 1.4, 1e-12);  // leg_cmd_1 between the commands
   EXPECT_EQ(std::stod(rows[2][4]), 2.0);           // held where the stream stopped
   EXPECT_EQ(std::stod(rows[2][8]), 2.0);
+  ::unlink(kPath.c_str());
+}
+
+// The drives took a new command every millisecond but for 6 ms from 50 ms
+// on (the controller stalled, as EDSP_LEG_STATE's command_seq shows), and
+// their readings stopped for 4 ms from 250 ms on (their host stalled): the
+// samples from 2 ms before each to 100 ms after it are flagged
+// timing_event, the rest not; a command or a reading a cycle late (2 ms
+// apart) is no stall.
+TEST(MeasurementExport, SamplesNearAStallOfTheControllerAreFlagged) {
+  {
+    LogBuilder b(kPath);
+    b.Add("EDSP_SETPOINT", Setpoint("A/move 1", 1.0, 1000));
+    leg_command_t c{};
+    c.setpoint_utime = 1000;
+    b.Add("EDSP_LEG_COMMAND", c);
+    std::int64_t seq = 0;
+    for (std::int64_t t = 1000; t <= 500'000; t += 1000) {
+      if (t % 5000 == 0) b.Add("EDSP_TRACKER", Point(t, 0.1));
+      const bool stalled = t > 50'000 && t < 56'000;
+      const bool a_cycle_late = t == 400'000;
+      if ((t > 250'000 && t < 254'000) || t == 450'000) continue;  // no reading
+      leg_state_t s{};
+      s.utime = t;
+      s.command_seq = stalled || a_cycle_late ? seq : ++seq;
+      b.Add("EDSP_LEG_STATE", s);
+    }
+  }
+  std::ostringstream csv;
+  const MeasurementExport e = ExportMeasurementCsv(kPath, csv);
+  const auto rows = Rows(csv.str());
+  ASSERT_EQ(e.rows, 100);
+  std::int64_t flagged = 0;
+  for (std::size_t k = 1; k < rows.size(); ++k) {
+    const std::int64_t t = 5000 * static_cast<std::int64_t>(k);  // the k-th sample's stamp
+    const bool near = (t >= 48'000 && t <= 156'000) || (t >= 248'000 && t <= 354'000);
+    EXPECT_EQ(rows[k][23], near ? "1" : "0") << "sample at " << t << " µs";
+    flagged += near;
+  }
+  EXPECT_EQ(e.timing_events, flagged);
+  EXPECT_EQ(flagged, 43);  // 50 ms … 155 ms and 250 ms … 350 ms
   ::unlink(kPath.c_str());
 }
 

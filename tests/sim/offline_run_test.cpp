@@ -32,10 +32,12 @@ CsvStats ReadMeasurement(const std::string& path, const PlatformModel& model) {
     std::vector<std::string> cells;
     std::stringstream row(line);
     for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
-    if (cells.size() != 23) {
+    if (cells.size() != 24) {
       ADD_FAILURE() << "row of " << cells.size() << " cells: " << line;
       continue;
     }
+    // The offline stack's deterministic clock never stalls the drives.
+    EXPECT_EQ(cells[23], "0") << "a timing_event offline: " << line;
     Vector6 q;
     for (int k = 0; k < 6; ++k) q(k) = std::stod(cells[static_cast<std::size_t>(2 + k)]);
     const Vector3 point(std::stod(cells[20]), std::stod(cells[21]), std::stod(cells[22]));

@@ -26,6 +26,11 @@ struct CalibrationCheck {
   std::vector<MotionCheck> motions;
   MotionCheck overall;
   double noise_floor_rms_m = 0.0;  // of the calibrated measurement
+  // Samples each measurement flagged timing_event (near a stall of the
+  // controller), left out of both: the calibration is judged on what it can
+  // change, and how much was left out is said beside it.
+  std::int64_t timing_excluded_before = 0, timing_excluded_after = 0;
+  double timing_share_before = 0.0, timing_share_after = 0.0;  // of each measurement's samples
   // The target of a calibration: RMS within 1.5× the tracker's noise floor,
   // or 90% lower than without it.
   bool target_met = false;

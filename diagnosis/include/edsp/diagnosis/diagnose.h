@@ -70,6 +70,7 @@ struct RobustFitSummary {
 struct Diagnosis {
   DesignOptions design;               // the bases' settings the result holds for
   int samples = 0;
+  std::int64_t timing_excluded = 0;   // samples the data flagged timing_event, left out
   std::vector<std::string> runs;
   GapSummary gap;                     // before any effect (frame estimated)
   std::vector<EffectResult> effects;  // ranked: selected first, then rejected by gain

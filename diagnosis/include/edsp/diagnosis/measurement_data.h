@@ -26,6 +26,9 @@ struct MeasurementData {
   std::vector<std::string> runs;     // in order of first appearance
   std::vector<MeasurementRow> rows;  // in file order
   std::string source;                // the file(s) it came from
+  // Rows the source flagged `timing_event` = 1 (near a stall of its
+  // controller: a transient no effect models), left out of `rows`.
+  std::int64_t timing_excluded = 0;
 };
 
 // Bad data error: names the file, line and column (1-based) and what is wrong.

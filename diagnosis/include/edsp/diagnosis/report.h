@@ -35,6 +35,8 @@ struct Evaluation {
   RmsMax before, after;  // frame re-estimated on the data in both
   double shrink = 0.0;
   int samples = 0;
+  std::int64_t timing_excluded = 0;   // samples the data flagged timing_event, left out
+  double timing_excluded_share = 0.0; //   of all its samples (before any decimation)
   std::vector<RunEvaluation> by_run;  // the same, per run (one frame for all)
   double noise_floor_rms_m = 0.0;     // the tracker's noise at A, from the data (NoiseFloorRms)
   TimeOffset time_offset;             // the data's tracker clock, removed as the frame is

@@ -10,7 +10,10 @@
 // messages' own stamps, not by their order of arrival at the logger, which
 // interleaves the processes by a cycle or more (up to 0.5 s late is paired).
 // `run` is the motion the setpoint belongs to (its trajectory name up to the
-// first '/'), so hold-out splits can be by run.
+// first '/'), so hold-out splits can be by run. `timing_event` is 1 for a
+// sample from 2 ms before to 100 ms after a stall of the controller: the
+// drives more than 2.5 ms without a new command (EDSP_LEG_STATE's
+// command_seq), which no calibration can model (docs/calibration.md).
 
 #include <cstdint>
 #include <ostream>
@@ -21,6 +24,7 @@ namespace edsp {
 struct MeasurementExport {
   std::int64_t rows = 0;
   std::int64_t skipped = 0;       // tracker samples invalid or before any command
+  std::int64_t timing_events = 0; // rows flagged timing_event (near a stall of the controller)
   bool damaged = false;           // the log ended in damage; rows before it are written
   std::int64_t damage_offset = -1;
 };
