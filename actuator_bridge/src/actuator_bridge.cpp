@@ -196,10 +196,12 @@ ActuatorBridge::StepLimit ActuatorBridge::StepLimitFor(const leg_command_t& c) c
   StepLimit step;
   step.basis_utime = c.setpoint_utime != 0 ? c.setpoint_utime : c.utime;
   step.elapsed_s = 1e-3;
+  step.since_s = 1e-3;
   if (Moving()) {
     // In double: setpoint_utime is the sender's word, and any int64 may come.
     const double since_s = (static_cast<double>(step.basis_utime) - static_cast<double>(last_basis_utime_)) * 1e-6;
     step.elapsed_s = std::clamp(since_s, 1e-3, static_cast<double>(options_.stale_us) * 1e-6);
+    step.since_s = std::min(since_s, step.elapsed_s);
   }
   step.max_step_m = options_.max_leg_speed_m_s * step.elapsed_s + 1e-6;
   return step;
@@ -241,13 +243,22 @@ void ActuatorBridge::Accept(const leg_command_t& c, const Vector6& command_m, co
                             std::int64_t now_utime) {
   stream_length_m_ = command_m;
   bool caught_up = false;
+  const bool rejoining = IsRejoining(state_);
   const Vector6 next = NextTarget(command_m, step.max_step_m, step.elapsed_s, &caught_up);
   Apply(BridgeEvent::kCommandAccepted);
   if (caught_up) Apply(BridgeEvent::kCaughtUp);
+  // The feed-forward over the planner time the step took: a setpoint 0.3 ms
+  // after a late one moved 0.3 ms worth, and over a whole cycle it was a
+  // third of the speed, a kick the servo turned into ±0.4 mm at 0.25 m/s
+  // (docs/calibration.md). Stamps closer than kShortestFeedForwardBasisS (a
+  // repeated or reordered setpoint) keep the last feed-forward. A rejoin's
+  // step is the rejoin speed over the clamped time, and so is its velocity.
+  const double basis_s = rejoining && !caught_up ? step.elapsed_s : step.since_s;
+  const bool resolvable = basis_s >= kShortestFeedForwardBasisS;
   for (int i = 0; i < kNumLegs; ++i) {
     const double angle = model_.MotorAngleFromLength(i, next(i));
-    target_.motor_velocity_rad_s[i] =
-        target_utime_ < 0 ? 0.0 : (angle - target_.motor_angle_rad[i]) / step.elapsed_s;
+    if (target_utime_ < 0) target_.motor_velocity_rad_s[i] = 0.0;
+    else if (resolvable) target_.motor_velocity_rad_s[i] = (angle - target_.motor_angle_rad[i]) / basis_s;
     target_.motor_angle_rad[i] = angle;
     target_length_m_(i) = next(i);
   }

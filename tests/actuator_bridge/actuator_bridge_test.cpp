@@ -178,6 +178,39 @@ TEST(ActuatorBridge, LateOrBurstyDeliveryIsNotMistakenForAJump) {
   EXPECT_EQ(f.bridge.rejected(), 0);
 }
 
+// A planner tick 0.7 ms late, the next on time (setpoints 1.676 ms then
+// 0.327 ms apart, as the live planner's were): the drives' velocity
+// feed-forward stays the motion's own at every command. Over a whole cycle
+// the short step's feed-forward was a third of the speed, a kick the
+// servo turned into ±0.4 mm at 0.25 m/s. A repeated stamp keeps the last.
+TEST(ActuatorBridge, TheFeedForwardIsTheStepOverThePlannerTimeItTook) {
+  Fixture f;
+  fault_t fault;
+  leg_state_t state;
+  const double speed = 0.1;  // m/s up
+  std::int64_t planner = kStart;
+  int seq = 0;
+  auto take = [&](std::int64_t setpoint_utime) {
+    const double dz = speed * static_cast<double>(setpoint_utime - kStart) * 1e-6;
+    leg_command_t c = f.Command(dz, setpoint_utime, ++seq);
+    ASSERT_TRUE(f.bridge.HandleCommand(c, setpoint_utime + 200, &fault)) << fault.reason;
+    f.bridge.Cycle(setpoint_utime + 300, &state, &fault);
+  };
+  for (int k = 0; k < 20; ++k) take(planner += 1000);
+  // The motor speed of a rise at `speed`: the angle's finite difference.
+  const double expected = (f.model.MotorAngleFromLength(0, f.Command(speed * 1e-3, 0).command_length_m[0]) -
+                           f.model.MotorAngleFromLength(0, f.Command(0.0, 0).command_length_m[0])) / 1e-3;
+  ASSERT_GT(expected, 1.0);
+  for (std::int64_t gap : {1676, 327, 1000, 1114, 946, 924}) {
+    take(planner += gap);
+    EXPECT_NEAR(f.backend.written.motor_velocity_rad_s[0], expected, 0.01 * expected) << "after a " << gap << " µs step";
+  }
+  // The same setpoint stamp again (a reordered or repeated setpoint).
+  const double before = f.backend.written.motor_velocity_rad_s[0];
+  take(planner);
+  EXPECT_EQ(f.backend.written.motor_velocity_rad_s[0], before);
+}
+
 TEST(ActuatorBridge, RefusesForeignNonFiniteOutOfStrokeAndJumpingCommands) {
   Fixture f;
   leg_command_t c = f.Command(0.0, kStart);

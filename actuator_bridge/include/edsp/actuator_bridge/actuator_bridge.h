@@ -23,6 +23,8 @@ namespace edsp {
 
 // No new command for this long: the drives get no velocity feed-forward.
 inline constexpr std::int64_t kFeedForwardLapseUs = 2500;
+// Setpoints closer than this in planner time give no velocity of their own.
+inline constexpr double kShortestFeedForwardBasisS = 2e-4;
 
 struct BridgeOptions {
   std::string node_name = "actuator_bridge";
@@ -89,11 +91,13 @@ class ActuatorBridge {
   };
   // How far a command may move a leg: at the legs' top speed, for the
   // planner time since the last accepted command (`basis`: its setpoint's
-  // time) clamped to [one cycle, the stale limit].
+  // time) clamped to [one cycle, the stale limit]. `since_s` is that time
+  // unclamped below: the velocity feed-forward is the step over it.
   struct StepLimit {
     std::int64_t basis_utime;
     double elapsed_s;
     double max_step_m;
+    double since_s;
   };
   // Why the bridge takes no command now, whatever its lengths: latched,
   // starved past the stale limit (then it holds, as a cycle would have),
