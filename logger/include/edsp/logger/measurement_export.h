@@ -11,9 +11,10 @@
 // interleaves the processes by a cycle or more (up to 0.5 s late is paired).
 // `run` is the motion the setpoint belongs to (its trajectory name up to the
 // first '/'), so hold-out splits can be by run. `timing_event` is 1 for a
-// sample from 2 ms before to 100 ms after a stall of the controller: the
-// drives more than 2.5 ms without a new command (EDSP_LEG_STATE's
-// command_seq), which no calibration can model (docs/calibration.md).
+// sample from 2 ms before a stall of the real-time system to 100 ms + 10×
+// its length after it: the drives more than 2.5 ms without a new command
+// (EDSP_LEG_STATE's command_seq) or a reading, a transient no calibration
+// can model (docs/calibration.md).
 
 #include <cstdint>
 #include <ostream>
