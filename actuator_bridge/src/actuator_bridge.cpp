@@ -252,8 +252,13 @@ void ActuatorBridge::Accept(const leg_command_t& c, const Vector6& command_m, co
   // third of the speed, a kick the servo turned into ±0.4 mm at 0.25 m/s
   // (docs/calibration.md). Stamps closer than kShortestFeedForwardBasisS (a
   // repeated or reordered setpoint) keep the last feed-forward. A rejoin's
-  // step is the rejoin speed over the clamped time, and so is its velocity.
-  const double basis_s = rejoining && !caught_up ? step.elapsed_s : step.since_s;
+  // step (and its last, the rest of the gap) is the rejoin speed over the
+  // clamped time, and so is its velocity; so is a step the jump check let
+  // through that the time since the last setpoint does not explain (faster
+  // than the legs go), which over that time would be a kick of its own.
+  const bool explained = (next - target_length_m_).cwiseAbs().maxCoeff() <=
+                         options_.max_leg_speed_m_s * step.since_s + 1e-6;
+  const double basis_s = rejoining || !explained ? step.elapsed_s : step.since_s;
   const bool resolvable = basis_s >= kShortestFeedForwardBasisS;
   for (int i = 0; i < kNumLegs; ++i) {
     const double angle = model_.MotorAngleFromLength(i, next(i));

@@ -170,6 +170,10 @@ int RunEvaluate(const EvaluateArgs& a) {
   } else {
     std::printf("before %.1f µm RMS (%.1f max), after %.1f µm RMS (%.1f max), shrink %.0f%%\n", ev.before.rms_m * 1e6,
                 ev.before.max_m * 1e6, ev.after.rms_m * 1e6, ev.after.max_m * 1e6, 100 * ev.shrink);
+    if (ev.timing_excluded > 0) {
+      std::printf("left out: %lld samples the data flags timing_event (%.1f%%)\n",
+                  static_cast<long long>(ev.timing_excluded), 100 * ev.timing_excluded_share);
+    }
   }
   return 0;
 }

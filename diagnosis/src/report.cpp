@@ -219,8 +219,8 @@ Evaluation Evaluate(const PlatformModel& model, const MeasurementData& data, con
   Evaluation ev;
   ev.samples = d.samples();
   ev.timing_excluded = data.timing_excluded;
-  ev.timing_excluded_share = static_cast<double>(data.timing_excluded) /
-                             static_cast<double>(data.timing_excluded + static_cast<std::int64_t>(data.rows.size()));
+  const std::int64_t all_rows = data.timing_excluded + static_cast<std::int64_t>(data.rows.size());
+  ev.timing_excluded_share = all_rows > 0 ? static_cast<double>(data.timing_excluded) / static_cast<double>(all_rows) : 0.0;
   const Eigen::VectorXd before = frame_fit(d.residual), after = frame_fit(d.residual - predicted);
   ev.before = PointStats(before, 0, d.samples());
   ev.after = PointStats(after, 0, d.samples());

@@ -24,14 +24,31 @@ struct Series {
   double variance = 0.0;
 };
 
+// The mean step, not the median: a tracker stamped on a controller's tick
+// alternates between two steps, and the median would pick one. Without the
+// holes (steps over 3× the median: rows the data flagged timing_event, a
+// beam break), which would lower every frequency found by their share.
+double MeanStep(const Design& d, const ColumnRange& run) {
+  std::vector<double> steps;
+  for (int k = run.begin + 1; k < run.begin + run.count; ++k) {
+    steps.push_back(d.time_s[static_cast<std::size_t>(k)] - d.time_s[static_cast<std::size_t>(k - 1)]);
+  }
+  std::vector<double> sorted = steps;
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  double sum = 0.0;
+  int n = 0;
+  for (double s : steps) {
+    if (s <= 3.0 * median) sum += s, ++n;
+  }
+  return n > 0 ? sum / n : 0.0;
+}
+
 std::vector<Series> SeriesOf(const Design& d, const Eigen::VectorXd& residual) {
   std::vector<Series> all;
   for (const ColumnRange& run : d.run_samples) {
     if (run.count < 64) continue;
-    // The mean step, not the median: a tracker stamped on a controller's
-    // tick alternates between two steps, and the median would pick one.
-    const double dt = (d.time_s[static_cast<std::size_t>(run.begin + run.count - 1)] -
-                       d.time_s[static_cast<std::size_t>(run.begin)]) / (run.count - 1);
+    const double dt = MeanStep(d, run);
     if (!(dt > 0.0)) continue;
     for (int axis = 0; axis < 3; ++axis) {
       Series s;

@@ -14,6 +14,7 @@
 #include "edsp/leg_state_t.hpp"
 #include "edsp/logger/log_reader.h"
 #include "edsp/pose_setpoint_t.hpp"
+#include "edsp/rig_truth_t.hpp"
 #include "edsp/tracker_point_t.hpp"
 
 namespace edsp {
@@ -31,19 +32,81 @@ constexpr double kLongestCarryS = 0.0025;
 // Setpoints further apart than this in the log are a stream that stopped,
 // not ticks missing from it: nothing is interpolated across.
 constexpr std::int64_t kLongestGapUs = 50'000;
-// A stall of the real-time system, as the drives saw it: longer than this
-// without a new command (the bridge's feed-forward lapse; a command a cycle
-// late is not one), or between two readings of the drives (their host, or
-// the rig emulator's, stalled). The samples from a little before it to the
+// A stall of the real-time system: longer than this without a new command
+// for the drives (the bridge's feed-forward lapse; a command a cycle late is
+// not one), between two readings of the drives, or between two cycles of the
+// rig emulator (EDSP_RIG_TRUTH: the bridge stamps a stale image's readings
+// with its own reads after 2 ms, so the readings alone show its stalls as
+// ~3 ms whatever their length). The samples from a little before it to the
 // drives' recovery after it are flagged `timing_event`: the drives braked
 // while the commands ran on, and a torque-limited servo catches up over a
 // time that grows with the distance lost (measured live at 0.25 m/s: ~70 ms
 // after a 6 ms stall, ~190 ms after an 18.8 ms one, the platform 6 mm off
 // 90 ms after that stall had ended).
-constexpr std::int64_t kStallUs = 2'500;
-constexpr std::int64_t kFlagBeforeUs = 2'000;
-constexpr std::int64_t kFlagAfterUs = 100'000;
-constexpr std::int64_t kFlagAfterPerStalledUs = 10;  // and 10 ms more per ms stalled
+constexpr double kStallUs = 2'500;
+constexpr double kFlagBeforeUs = 2'000;
+constexpr double kFlagAfterUs = 100'000;
+constexpr double kFlagAfterPerStalled = 10.0;       // and 10 ms more per ms stalled,
+constexpr double kLongestFlagExtensionUs = 1e6;     //   at most 1 s more (a latch)
+
+// The stalls of a log, found as its messages come, and whether a sample
+// lies near one: from kFlagBeforeUs before it to the drives' recovery after
+// it, or after the start of one still open (the drives' commands or
+// readings stopped and never came again before the sample was written).
+// Stamps are the senders' word: the arithmetic is in double.
+class StallWatch {
+ public:
+  // A leg state: the drives' reading at `utime`, running command `seq`
+  // (0: none yet). Older than the newest (reordered, repeated): ignored.
+  void Reading(std::int64_t utime, std::int64_t seq) {
+    if (seq == 0 || utime < newest_reading_) return;
+    if (newest_reading_ != 0) Gap(newest_reading_, utime);
+    newest_reading_ = utime;
+    if (seq == command_seq_) return;
+    if (command_seq_ != 0) Gap(command_since_, utime);
+    command_seq_ = seq;
+    command_since_ = utime;
+  }
+  // A cycle of the rig emulator at `utime`.
+  void RigCycle(std::int64_t utime) {
+    if (utime <= newest_cycle_) return;
+    if (newest_cycle_ != 0) Gap(newest_cycle_, utime);
+    newest_cycle_ = utime;
+  }
+  // Any other instant the log vouches for (a tracker sample's): readings
+  // that stopped before it stopped for good, so far.
+  void Heard(std::int64_t utime) { newest_heard_ = std::max(newest_heard_, utime); }
+  // Samples come in order of their stamps.
+  bool Near(std::int64_t utime) {
+    const double t = static_cast<double>(utime);
+    while (!stalls_.empty() && RecoveredBy(stalls_.front()) < t) stalls_.pop_front();
+    for (const Stall& s : stalls_) {
+      if (s.from - kFlagBeforeUs <= t && t <= RecoveredBy(s)) return true;
+    }
+    const double since_command = static_cast<double>(command_since_);
+    const double newest = static_cast<double>(newest_reading_);
+    return Open(since_command, newest, t) || Open(newest, static_cast<double>(newest_heard_), t);
+  }
+
+ private:
+  struct Stall {
+    double from, to;
+  };
+  void Gap(std::int64_t from, std::int64_t to) {
+    const Stall s{static_cast<double>(from), static_cast<double>(to)};
+    if (s.to - s.from > kStallUs) stalls_.push_back(s);
+  }
+  static double RecoveredBy(const Stall& s) {
+    return s.to + kFlagAfterUs + std::min(kFlagAfterPerStalled * (s.to - s.from), kLongestFlagExtensionUs);
+  }
+  // Nothing new since `since` by `newest` (0: never anything): open from it.
+  static bool Open(double since, double newest, double t) {
+    return since != 0.0 && newest - since > kStallUs && t >= since - kFlagBeforeUs;
+  }
+
+  std::deque<Stall> stalls_;
+  std::int64_t newest_reading_ = 0, command_seq_ = 0, command_since_ = 0, newest_cycle_ = 0, newest_heard_ = 0;
+};
 
 template <typename Msg>
 bool Decode(const LogEvent& event, Msg* msg) {
@@ -120,12 +183,16 @@ class Pairing {
     }
   }
   void Add(const leg_command_t& c) { commands_[c.setpoint_utime] = ToArray(c.command_length_m); }
+  void Add(const rig_truth_t& t) { stalls_.RigCycle(t.utime); }
   void Add(const leg_state_t& l) {
-    NoteCommandStream(l);
+    stalls_.Reading(l.utime, l.command_seq);
     InsertByUtime(&legs_, Stamped6{l.utime, ToArray(l.encoder_length_m)});
     if (pending_.empty()) TrimBefore(&legs_, l.utime - 2 * kReorderWindowUs);
   }
-  void Add(std::int64_t received_utime, const tracker_point_t& p) { pending_.push_back({received_utime, p}); }
+  void Add(std::int64_t received_utime, const tracker_point_t& p) {
+    stalls_.Heard(p.utime);
+    pending_.push_back({received_utime, p});
+  }
 
   // Writes the samples received before `received_utime` − the window.
   void WriteUpTo(std::int64_t received_utime, MeasurementExport* result) {
@@ -170,7 +237,7 @@ class Pairing {
     for (int i = 0; i < 6; ++i) {
       out_ << (legs ? fmt::format(",{:.17g}", legs->values[static_cast<std::size_t>(i)]) : std::string(","));
     }
-    const bool stalled = NearStall(point.utime);
+    const bool stalled = stalls_.Near(point.utime);
     out_ << fmt::format(",{:.17g},{:.17g},{:.17g},{}\n", point.point_m[0], point.point_m[1], point.point_m[2],
                         stalled ? 1 : 0);
     ++result->rows;
@@ -178,34 +245,6 @@ class Pairing {
     TrimBefore(&setpoints_, point.utime);
     TrimBefore(&legs_, point.utime);
     commands_.erase(commands_.begin(), command);
-  }
-
-  // The drives' view of the real-time system (each leg state says which
-  // command they run and the instant of their reading, in the bridge's
-  // order): an interval over kStallUs between new commands, or between
-  // readings, is a stall, whether the planner, the kinematics, the bridge or
-  // the drives stalled, or the logger lost the states.
-  void NoteCommandStream(const leg_state_t& l) {
-    if (l.command_seq == 0) return;  // no command yet
-    if (last_reading_ != 0 && l.utime - last_reading_ > kStallUs) stalls_.push_back({last_reading_, l.utime});
-    last_reading_ = std::max(last_reading_, l.utime);
-    if (l.command_seq == last_command_seq_) return;
-    if (last_command_seq_ != 0 && l.utime - command_since_ > kStallUs) stalls_.push_back({command_since_, l.utime});
-    last_command_seq_ = l.command_seq;
-    command_since_ = l.utime;
-  }
-
-  // Whether `utime` lies from kFlagBeforeUs before a stall to the drives'
-  // recovery after it (samples come in order of their stamps).
-  static std::int64_t RecoveredBy(const std::pair<std::int64_t, std::int64_t>& stall) {
-    return stall.second + kFlagAfterUs + kFlagAfterPerStalledUs * (stall.second - stall.first);
-  }
-  bool NearStall(std::int64_t utime) {
-    while (!stalls_.empty() && RecoveredBy(stalls_.front()) < utime) stalls_.pop_front();
-    for (const auto& stall : stalls_) {
-      if (stall.first - kFlagBeforeUs <= utime && utime <= RecoveredBy(stall)) return true;
-    }
-    return false;
   }
 
   // The commanded pose at `utime`, after `setpoint`: carried along its
@@ -250,8 +289,7 @@ class Pairing {
   std::map<std::int64_t, std::array<double, 6>> commands_;  // by the setpoint utime they answer
   std::deque<PendingSample> pending_;
   std::int64_t first_utime_ = -1;
-  std::int64_t last_command_seq_ = 0, command_since_ = 0, last_reading_ = 0;
-  std::deque<std::pair<std::int64_t, std::int64_t>> stalls_;  // [from, to] utime
+  StallWatch stalls_;
 };
 
 }  // namespace
@@ -272,6 +310,9 @@ MeasurementExport ExportMeasurementCsv(const std::string& log_path, std::ostream
     } else if (event.channel == channel::kLegState) {
       leg_state_t legs;
       if (Decode(event, &legs)) pairing.Add(legs);
+    } else if (event.channel == channel::kRigTruth) {
+      rig_truth_t truth;
+      if (Decode(event, &truth)) pairing.Add(truth);
     } else if (event.channel == channel::kTracker) {
       tracker_point_t point{};
       if (Decode(event, &point)) pairing.Add(event.timestamp_utime, point);

@@ -16,6 +16,7 @@
 #include "edsp/logger/log_summary.h"
 #include "edsp/logger/measurement_export.h"
 #include "edsp/pose_setpoint_t.hpp"
+#include "edsp/rig_truth_t.hpp"
 #include "edsp/tracker_point_t.hpp"
 
 namespace edsp {
@@ -182,13 +183,16 @@ TEST(MeasurementExport, ASampleInAGapOfSetpointsLiesBetweenTheSetpointsAroundIt)
   ::unlink(kPath.c_str());
 }
 
-// The drives took a new command every millisecond but for 6 ms from 50 ms
-// on (the controller stalled, as EDSP_LEG_STATE's command_seq shows), and
-// their readings stopped for 4 ms from 250 ms on (their host stalled): the
-// samples from 2 ms before each to the drives' recovery after it (100 ms
-// and 10 ms per ms stalled) are flagged timing_event, the rest not; a
-// command or a reading a cycle late (2 ms apart) is no stall.
-TEST(MeasurementExport, SamplesNearAStallOfTheControllerAreFlagged) {
+// Stalls of the real-time system, each seen one way only, and a tracker
+// sample every millisecond: the drives' commands stop for 6 ms from 50 ms
+// on (command_seq), the rig emulator's cycles for 10 ms from 249 ms on
+// (EDSP_RIG_TRUTH; the readings go on, as the bridge stamps its own reads),
+// a leg state from before arrives late at 600 ms (no stall), and from
+// 800 ms on the drives' readings stop for good (a stall still open when the
+// samples are written). Flagged: from 2 ms before each to 100 ms + 10 ms
+// per ms stalled after it, and everything from 2 ms before the open one;
+// the edges pinned to the millisecond.
+TEST(MeasurementExport, SamplesNearAStallOfTheRealTimeSystemAreFlagged) {
   {
     LogBuilder b(kPath);
     b.Add("EDSP_SETPOINT", Setpoint("A/move 1", 1.0, 1000));
@@ -196,30 +200,42 @@ TEST(MeasurementExport, SamplesNearAStallOfTheControllerAreFlagged) {
     c.setpoint_utime = 1000;
     b.Add("EDSP_LEG_COMMAND", c);
     std::int64_t seq = 0;
-    for (std::int64_t t = 1000; t <= 500'000; t += 1000) {
-      if (t % 5000 == 0) b.Add("EDSP_TRACKER", Point(t, 0.1));
-      const bool stalled = t > 50'000 && t < 56'000;
-      const bool a_cycle_late = t == 400'000;
-      if ((t > 250'000 && t < 254'000) || t == 450'000) continue;  // no reading
-      leg_state_t s{};
-      s.utime = t;
-      s.command_seq = stalled || a_cycle_late ? seq : ++seq;
-      b.Add("EDSP_LEG_STATE", s);
+    for (std::int64_t t = 1000; t <= 900'000; t += 1000) {
+      const bool commands_stalled = t > 50'000 && t < 56'000;
+      const bool rig_stalled = t > 249'000 && t < 259'000;
+      if (!rig_stalled) {
+        rig_truth_t truth{};
+        truth.utime = t;
+        b.Add("EDSP_RIG_TRUTH", truth);
+      }
+      if (t <= 800'000) {
+        leg_state_t s{};
+        s.utime = t;
+        s.command_seq = commands_stalled ? seq : ++seq;
+        b.Add("EDSP_LEG_STATE", s);
+      }
+      if (t == 600'000) {
+        leg_state_t late{};
+        late.utime = t - 10'000;
+        late.command_seq = seq - 10;
+        b.Add("EDSP_LEG_STATE", late);
+      }
+      b.Add("EDSP_TRACKER", Point(t, 0.1));
     }
   }
   std::ostringstream csv;
   const MeasurementExport e = ExportMeasurementCsv(kPath, csv);
   const auto rows = Rows(csv.str());
-  ASSERT_EQ(e.rows, 100);
+  ASSERT_EQ(e.rows, 900);
   std::int64_t flagged = 0;
   for (std::size_t k = 1; k < rows.size(); ++k) {
-    const std::int64_t t = 5000 * static_cast<std::int64_t>(k);  // the k-th sample's stamp
-    const bool near = (t >= 48'000 && t <= 216'000) || (t >= 248'000 && t <= 394'000);
-    EXPECT_EQ(rows[k][23], near ? "1" : "0") << "sample at " << t << " µs";
+    const std::int64_t ms = static_cast<std::int64_t>(k);  // the k-th sample's stamp
+    const bool near = (ms >= 48 && ms <= 50 + 6 + 100 + 60) || (ms >= 247 && ms <= 249 + 10 + 100 + 100) || ms >= 798;
+    EXPECT_EQ(rows[k][23], near ? "1" : "0") << "sample at " << ms << " ms";
     flagged += near;
   }
   EXPECT_EQ(e.timing_events, flagged);
-  EXPECT_EQ(flagged, 63);  // 50 ms … 215 ms and 250 ms … 390 ms
+  EXPECT_EQ(flagged, (216 - 48 + 1) + (459 - 247 + 1) + (900 - 798 + 1));
   ::unlink(kPath.c_str());
 }
 
