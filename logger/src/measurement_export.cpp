@@ -44,6 +44,11 @@ constexpr std::int64_t kLongestGapUs = 50'000;
 // after a 6 ms stall, ~190 ms after an 18.8 ms one, the platform 6 mm off
 // 90 ms after that stall had ended).
 constexpr double kStallUs = 2'500;
+// The rig emulator's physics advance one cycle per cycle however late it
+// runs: a cycle 1.5 cycles after the last lost half a cycle's motion (at
+// 0.25 m/s, 125 µm), and a run of such cycles lost more (three ~2.4 ms
+// late put the platform 1.4 mm off).
+constexpr double kRigLateUs = 1'500;
 constexpr double kFlagBeforeUs = 2'000;
 constexpr double kFlagAfterUs = 100'000;
 constexpr double kFlagAfterPerStalled = 10.0;       // and 10 ms more per ms stalled,
@@ -70,7 +75,7 @@ class StallWatch {
   // A cycle of the rig emulator at `utime`.
   void RigCycle(std::int64_t utime) {
     if (utime <= newest_cycle_) return;
-    if (newest_cycle_ != 0) Gap(newest_cycle_, utime);
+    if (newest_cycle_ != 0) Gap(newest_cycle_, utime, kRigLateUs);
     newest_cycle_ = utime;
   }
   // Any other instant the log vouches for (a tracker sample's): readings
@@ -92,9 +97,9 @@ class StallWatch {
   struct Stall {
     double from, to;
   };
-  void Gap(std::int64_t from, std::int64_t to) {
+  void Gap(std::int64_t from, std::int64_t to, double longest_us = kStallUs) {
     const Stall s{static_cast<double>(from), static_cast<double>(to)};
-    if (s.to - s.from > kStallUs) stalls_.push_back(s);
+    if (s.to - s.from > longest_us) stalls_.push_back(s);
   }
   static double RecoveredBy(const Stall& s) {
     return s.to + kFlagAfterUs + std::min(kFlagAfterPerStalled * (s.to - s.from), kLongestFlagExtensionUs);
