@@ -1,7 +1,8 @@
 // edsp-gap: diagnose the sim-to-real gap (docs/diagnosis.md).
 //   edsp-gap diagnose --config C --data D [--data D2 …] [--json] [--save-model M] [--report DIR]
-//   edsp-gap evaluate --config C --model M --data T [--json]
+//   edsp-gap evaluate --config C --model M --data T [--json] [--keep-timing-events]
 //   edsp-gap compare --config C --before B --after A [--model M [--apply-ambiguous]] [--plot DIR] [--json]
+//                    [--keep-timing-events]
 //   edsp-gap benchmark --scenarios N --seed S [--generator rig|blind] [--motions Lz,…] [--json] [--noise-m 5e-6] [--keep DIR]
 //                      [--closed-loop-motions Ly,Rx,M9|none]
 #include <unistd.h>
@@ -24,9 +25,9 @@
 namespace edsp::gap {
 namespace {
 
-MeasurementData LoadAll(const std::vector<std::string>& paths) {
+MeasurementData LoadAll(const std::vector<std::string>& paths, TimingEvents timing = TimingEvents::kLeaveOut) {
   MeasurementData data;
-  for (const std::string& path : paths) AppendMeasurement(&data, LoadMeasurement(path));
+  for (const std::string& path : paths) AppendMeasurement(&data, LoadMeasurement(path, timing));
   return data;
 }
 
@@ -74,14 +75,16 @@ struct DiagnoseArgs {
 struct EvaluateArgs {
   std::string config, model;
   std::vector<std::string> data;
-  bool json = false;
+  bool json = false, keep_timing_events = false;
 };
 
 struct CompareArgs {
   std::string config, model, plot_dir;
   std::vector<std::string> before, after;
-  bool apply_ambiguous = false, json = false;
+  bool apply_ambiguous = false, json = false, keep_timing_events = false;
 };
+
+TimingEvents TimingOf(bool keep) { return keep ? TimingEvents::kKeep : TimingEvents::kLeaveOut; }
 
 struct BenchmarkArgs {
   BenchmarkOptions bench;
@@ -103,12 +106,16 @@ CLI::App* AddDiagnose(CLI::App& app, DiagnoseArgs* a) {
   return c;
 }
 
+constexpr char kKeepTimingEventsHelp[] =
+    "keep the rows flagged timing_event (near a stall of the real-time system; left out by default)";
+
 CLI::App* AddEvaluate(CLI::App& app, EvaluateArgs* a) {
   CLI::App* c = app.add_subcommand("evaluate", "apply a saved model to data it has never seen");
   c->add_option("--config", a->config, "platform config (TOML)")->required();
   c->add_option("--model", a->model, "model saved by diagnose --save-model")->required();
   c->add_option("--data", a->data, "measurement CSV or edsp LCM log; repeatable")->required();
   c->add_flag("--json", a->json, "print JSON");
+  c->add_flag("--keep-timing-events", a->keep_timing_events, kKeepTimingEventsHelp);
   return c;
 }
 
@@ -123,6 +130,7 @@ CLI::App* AddCompare(CLI::App& app, CompareArgs* a) {
               "the controller applied the model's ambiguous effects too (predict with them)");
   c->add_option("--plot", a->plot_dir, "write calibration.png (and its data and gnuplot script) here");
   c->add_flag("--json", a->json, "print JSON");
+  c->add_flag("--keep-timing-events", a->keep_timing_events, kKeepTimingEventsHelp);
   return c;
 }
 
@@ -163,7 +171,7 @@ int RunDiagnose(DiagnoseArgs a) {
 
 int RunEvaluate(const EvaluateArgs& a) {
   const PlatformModel model(LoadConfigFile(a.config));
-  const MeasurementData data = LoadAll(a.data);
+  const MeasurementData data = LoadAll(a.data, TimingOf(a.keep_timing_events));
   const Evaluation ev = Evaluate(model, data, LoadModelFile(a.model), a.model);
   if (a.json) {
     std::printf("%s\n", ToJson(ev).dump(2).c_str());
@@ -183,10 +191,10 @@ int RunCompare(const CompareArgs& a) {
   const bool predicted = !a.model.empty();
   // Predicted from what the kinematics applied: identified effects, the
   // ambiguous ones only with --apply-ambiguous.
-  const MeasurementData before = LoadAll(a.before);
+  const MeasurementData before = LoadAll(a.before, TimingOf(a.keep_timing_events));
   const nlohmann::json applied = predicted ? AppliedModelJson(LoadModelFile(a.model), a.apply_ambiguous) : EmptyModelJson();
   const Evaluation without = Evaluate(model, before, applied, predicted ? a.model : "no model");
-  const Evaluation with = Evaluate(model, LoadAll(a.after), EmptyModelJson(), "no model");
+  const Evaluation with = Evaluate(model, LoadAll(a.after, TimingOf(a.keep_timing_events)), EmptyModelJson(), "no model");
   const CalibrationCheck check = CheckCalibration(without, with, predicted);
   if (!a.plot_dir.empty()) {
     std::filesystem::create_directories(a.plot_dir);

@@ -146,7 +146,7 @@ bool FlaggedTimingEvent(const RowParser& p, int column) {
 
 }  // namespace
 
-MeasurementData ParseMeasurementCsv(const std::string& text, const std::string& origin) {
+MeasurementData ParseMeasurementCsv(const std::string& text, const std::string& origin, TimingEvents timing) {
   MeasurementData data;
   data.source = origin;
   std::istringstream in(text);
@@ -167,7 +167,7 @@ MeasurementData ParseMeasurementCsv(const std::string& text, const std::string& 
       continue;
     }
     const RowParser p(origin, line_number, fields);
-    if (FlaggedTimingEvent(p, columns.timing_event)) {
+    if (FlaggedTimingEvent(p, columns.timing_event) && timing == TimingEvents::kLeaveOut) {
       ++data.timing_excluded;
       continue;
     }
@@ -206,7 +206,7 @@ MeasurementData ParseMeasurementCsv(const std::string& text, const std::string& 
   return data;
 }
 
-MeasurementData LoadMeasurement(const std::string& path) {
+MeasurementData LoadMeasurement(const std::string& path, TimingEvents timing) {
   std::ifstream file(path, std::ios::binary);
   if (!file) throw MeasurementError(path + ": cannot open");
   unsigned char magic[4] = {0, 0, 0, 0};
@@ -216,14 +216,14 @@ MeasurementData LoadMeasurement(const std::string& path) {
     std::ostringstream csv;
     const MeasurementExport exported = ExportMeasurementCsv(path, csv);
     if (exported.rows == 0) throw MeasurementError(path + ": the log has no tracker samples with commands");
-    MeasurementData data = ParseMeasurementCsv(csv.str(), path + " (exported)");
+    MeasurementData data = ParseMeasurementCsv(csv.str(), path + " (exported)", timing);
     data.source = path;
     return data;
   }
   file.seekg(0);
   std::ostringstream text;
   text << file.rdbuf();
-  return ParseMeasurementCsv(text.str(), path);
+  return ParseMeasurementCsv(text.str(), path, timing);
 }
 
 void AppendMeasurement(MeasurementData* data, MeasurementData more) {

@@ -37,11 +37,16 @@ class MeasurementError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// What to do with rows flagged `timing_event` = 1: leave them out (and
+// count them), or keep them like any other (to see the figure they change).
+enum class TimingEvents { kLeaveOut, kKeep };
+
 // Parses CSV text; `origin` names it in errors.
-MeasurementData ParseMeasurementCsv(const std::string& text, const std::string& origin);
+MeasurementData ParseMeasurementCsv(const std::string& text, const std::string& origin,
+                                    TimingEvents timing = TimingEvents::kLeaveOut);
 
 // A measurement CSV, or an edsp LCM log (recognised by its sync word).
-MeasurementData LoadMeasurement(const std::string& path);
+MeasurementData LoadMeasurement(const std::string& path, TimingEvents timing = TimingEvents::kLeaveOut);
 
 // Appends `more` to `data` (runs of the same name from another file get the
 // file's name as a suffix, so each file's runs stay apart).
