@@ -45,7 +45,7 @@ void PrintText(const Diagnosis& d) {
   std::printf("gap before any effect: %.1f µm RMS, %.1f µm max over %d samples in %zu runs\n",
               d.gap.overall.rms_m * 1e6, d.gap.overall.max_m * 1e6, d.samples, d.runs.size());
   if (d.timing_excluded > 0) {
-    std::printf("left out: %lld samples the data flags timing_event (near a stall of its controller)\n",
+    std::printf("left out: %lld samples the data flags timing_event (near a stall of its real-time system)\n",
                 static_cast<long long>(d.timing_excluded));
   }
   std::printf("%s\n\n", d.gap.where.c_str());

@@ -91,7 +91,7 @@ std::string CheckTable(const CalibrationCheck& c) {
                    c.noise_floor_rms_m * 1e6, kFloorFactor * c.noise_floor_rms_m * 1e6, 100 * kTargetShrink,
                    c.target_met ? "met" : "NOT met");
   if (c.timing_excluded_before + c.timing_excluded_after > 0) {
-    t += fmt::format("left out near stalls of the controller (timing_event): {} samples before ({:.1f}%), {} after "
+    t += fmt::format("left out near stalls of the real-time system (timing_event): {} samples before ({:.1f}%), {} after "
                      "({:.1f}%)\n",
                      c.timing_excluded_before, 100 * c.timing_share_before, c.timing_excluded_after,
                      100 * c.timing_share_after);

@@ -326,7 +326,7 @@ std::string ReportMarkdown(const Diagnosis& d) {
   md += fmt::format("{} samples in {} runs ({}), diagnosed in {:.1f} s.\n\n", d.samples, d.runs.size(),
                     fmt::join(d.runs, ", "), d.seconds);
   if (d.timing_excluded > 0) {
-    md += fmt::format("{} samples left out: the data flags them `timing_event` (near a stall of its controller, "
+    md += fmt::format("{} samples left out: the data flags them `timing_event` (near a stall of its real-time system, "
                       "a transient no effect models).\n\n",
                       d.timing_excluded);
   }
