@@ -241,10 +241,11 @@ class Session {
     return point;
   }
 
-  // What the tracker reads: its frame, its stand's vibration, its noise.
+  // What the tracker reads: its frame, its stand's vibration and settling, its noise.
   Vec3 Reading(const Vec3& point, double time_s) {
     Vec3 measured = tracker_R_ * point + tracker_t_;
     measured += e_.floor_amplitude_m * std::sin(2.0 * kPi * e_.floor_hz * time_s) * floor_direction_;
+    measured += e_.stand_drift_m_per_s * e_.stand_settle_s * (1.0 - std::exp(-time_s / e_.stand_settle_s));
     for (int a = 0; a < 3; ++a) measured(a) += noise_(draw_);
     return measured;
   }

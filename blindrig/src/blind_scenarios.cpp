@@ -46,7 +46,8 @@ class Draw {
 const std::vector<std::string>& Vocabulary() {
   static const std::vector<std::string> names = {"passive_rotation", "leg_offset", "joint_position",
                                                  "lead_error", "periodic_lead_error", "backlash",
-                                                 "servo_lag", "compliance", "thermal_drift"};
+                                                 "servo_lag", "compliance", "thermal_drift",
+                                                 "structural_resonance"};
   return names;
 }
 
@@ -89,6 +90,12 @@ std::string AddEffect(const std::string& name, Draw& d, BlindEffects* e) {
     e->com_M = Vec3(d.Signed(0.0, 0.1), d.Signed(0.0, 0.1), d.Uniform(0.05, 0.3));
     return fmt::format("legs 20-60 N/um, platform {:.0f} kg", e->mass_kg);
   }
+  if (name == "structural_resonance") {
+    e->resonance_hz = d.Uniform(3.0, 8.0);
+    e->resonance_damping = d.Uniform(0.01, 0.05);
+    e->resonance_gain = d.Uniform(0.4, 1.0);
+    return fmt::format("structure sways at {:.1f} Hz, damping {:.3f}", e->resonance_hz, e->resonance_damping);
+  }
   // thermal_drift: by travel or by time under power, time constant drawn.
   e->alpha_per_K = 11.7e-6;
   e->thermal_tau_s = d.Uniform(300.0, 1500.0);
@@ -101,17 +108,19 @@ std::string AddEffect(const std::string& name, Draw& d, BlindEffects* e) {
 }
 
 std::string AddOutOfVocabulary(const std::string& kind, Draw& d, BlindEffects* e) {
-  if (kind == "structural_resonance") {
-    e->resonance_hz = d.Uniform(3.0, 8.0);
-    e->resonance_damping = d.Uniform(0.01, 0.05);
-    e->resonance_gain = d.Uniform(0.4, 1.0);
-    return fmt::format("structure sways at {:.1f} Hz, damping {:.3f}", e->resonance_hz, e->resonance_damping);
-  }
   if (kind == "floor_vibration") {
     e->floor_hz = d.Uniform(2.0, 15.0);
     e->floor_amplitude_m = d.Uniform(15e-6, 40e-6);
     e->floor_direction = Vec3(d.Signed(0.2, 1.0), d.Signed(0.2, 1.0), d.Signed(0.0, 0.5));
     return fmt::format("tracker stand vibrates at {:.1f} Hz, {:.0f} um", e->floor_hz, e->floor_amplitude_m * 1e6);
+  }
+  if (kind == "stand_drift") {
+    // The stand settles sideways (a tripod's feet, its own warming): 50-130 um over a session.
+    const double angle = d.Uniform(0.0, 2.0 * kPi);
+    e->stand_drift_m_per_s = d.Uniform(0.15e-6, 0.4e-6) * Vec3(std::cos(angle), std::sin(angle), d.Signed(0.0, 0.3));
+    e->stand_settle_s = d.Uniform(200.0, 800.0);
+    return fmt::format("tracker stand settles {:.2f} um/s, tau {:.0f} s", e->stand_drift_m_per_s.norm() * 1e6,
+                       e->stand_settle_s);
   }
   // base_tilt: the base mount gives under the platform's moment.
   e->mass_kg = d.Uniform(400.0, 900.0);
@@ -122,7 +131,7 @@ std::string AddOutOfVocabulary(const std::string& kind, Draw& d, BlindEffects* e
 
 }  // namespace
 
-std::vector<std::string> OutOfVocabularyKinds() { return {"structural_resonance", "floor_vibration", "base_tilt"}; }
+std::vector<std::string> OutOfVocabularyKinds() { return {"floor_vibration", "base_tilt", "stand_drift"}; }
 
 BlindScenario DrawBlindScenario(std::uint64_t seed, int index) {
   Draw d(seed * 0x9e3779b97f4a7c15ULL + static_cast<std::uint64_t>(index) * 7919ULL + 1);

@@ -103,6 +103,12 @@ CLI::App* AddDiagnose(CLI::App& app, DiagnoseArgs* a) {
   a->thermal_tau = c->add_option("--thermal-time-constant-s", a->options.design.thermal_time_constant_s,
                                  "the screws' cooling time, fixed (default: estimated when thermal drift is found)")
                        ->check(CLI::Range(1.0, 1e6));
+  c->add_option("--structural-mode-hz", a->options.design.structural_mode_hz,
+                "the structural mode's frequency, fixed (a tap test's; default: searched 1-25 Hz)")
+      ->check(CLI::Range(0.5, 100.0));
+  c->add_option("--structural-mode-damping", a->options.design.structural_mode_damping,
+                "its damping ratio with --structural-mode-hz (default 0.03)")
+      ->check(CLI::Range(0.001, 1.0));
   return c;
 }
 

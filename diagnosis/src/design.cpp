@@ -79,10 +79,10 @@ V SecondDerivative(const V& before, const V& at, const V& after, double h1, doub
   return (2.0 / (h1 + h2)) * ((after - at) / h2 - (at - before) / h1);
 }
 
-// Leg velocity, acceleration and the platform's acceleration at row k of a
-// run, from the commands (central differences; none at a run's ends).
-void CommandRates(const MeasurementData& data, const std::vector<int>& rows, std::size_t k,
-                  calibration::LegErrorInputs* in) {
+// Leg velocity, acceleration and the platform's and A's acceleration at
+// row k of a run, from the commands (central differences; none at a run's ends).
+void CommandRates(const PlatformModel& model, const MeasurementData& data, const std::vector<int>& rows,
+                  std::size_t k, calibration::LegErrorInputs* in) {
   in->velocity = Derivative(rows, k, data, [](const MeasurementRow& r) { return r.leg_cmd_m; });
   const std::size_t lo = k == 0 ? 0 : k - 1, hi = k + 1 < rows.size() ? k + 1 : k;
   const MeasurementRow& a = data.rows[static_cast<std::size_t>(rows[lo])];
@@ -93,6 +93,8 @@ void CommandRates(const MeasurementData& data, const std::vector<int>& rows, std
     in->accel = SecondDerivative<Vector6>(a.leg_cmd_m, row.leg_cmd_m, b.leg_cmd_m, h1, h2);
     in->platform_accel_B_m_s2 =
         SecondDerivative<Vector3>(a.pose_cmd.head<3>(), row.pose_cmd.head<3>(), b.pose_cmd.head<3>(), h1, h2);
+    auto point = [&](const MeasurementRow& r) { return model.ObservationPoint(Pose::FromVector(r.pose_cmd)); };
+    in->point_accel_B_m_s2 = SecondDerivative<Vector3>(point(a), point(row), point(b), h1, h2);
   }
 }
 
@@ -120,7 +122,7 @@ Samples TrackSamples(const PlatformModel& model, const MeasurementData& data, co
       in.command_m = row.leg_cmd_m;
       // With encoder data the motor's own motion drives the play.
       in.motor_m = row.has_encoder ? row.leg_enc_m : row.leg_cmd_m;
-      CommandRates(data, rows, k, &in);
+      CommandRates(model, data, rows, k, &in);
       const calibration::LegErrorState s = tracker.Advance(in);
       out.states.push_back(s);
       out.model_points.push_back(model.ObservationPoint(pose));

@@ -18,6 +18,7 @@
 #include "edsp/diagnosis/linear_fit.h"
 #include "edsp/kinematics/calibration.h"
 #include "edsp/diagnosis/robust_fit.h"
+#include "edsp/diagnosis/structural_mode_fit.h"
 #include "edsp/diagnosis/structure_nuisance.h"
 #include "edsp/diagnosis/time_offset.h"
 
@@ -417,6 +418,7 @@ std::vector<Effect> ExplainedByStructure(const Design& d, const Eigen::VectorXd&
   if (best == nullptr) return explained;  // no mode is what is left
   Evaluator eval(best->design, best->gram, best->prior);
   for (Effect e : selected) {
+    if (e == Effect::kStructuralResonance) continue;  // the mode is that effect's own signature
     const std::vector<Effect> rest = Without(selected, e);
     const double base = eval.Cv(rest);
     const bool gains = base > 0.0 && (base - best_cv) / base >= o.min_cv_gain;
@@ -592,8 +594,37 @@ Diagnosis WithBacklashWidth(const PlatformModel& model, const MeasurementData& d
 
 }  // namespace
 
+// The structural mode's frequency and damping are not linear parameters:
+// the first pass runs without the mode (its columns zero), then the mode
+// that best predicts the held-out runs beside what that pass selected is
+// found (structural_mode_fit.h), and if it cuts their error by
+// min_cv_gain the diagnosis runs again with it, where selection decides
+// whether structural_resonance is in. Kept if it is.
+Diagnosis WithStructuralMode(const PlatformModel& model, const MeasurementData& data, const DiagnoseOptions& options,
+                             Diagnosis d) {
+  if (!options.fit_structural_mode || d.design.structural_mode_hz > 0.0) return d;
+  Design design = BuildDesign(model, Decimated(data, options.max_rate_hz), d.design);
+  if (d.time_offset.applied) RemoveTimeOffset(d.time_offset.offset_s, &design);
+  const double sigma2 = std::max(d.noise_floor_rms_m * d.noise_floor_rms_m, d.holdout_before.rms_m * d.holdout_before.rms_m) / 3.0;
+  const double peak_hz = d.structure.structured ? d.structure.dominant_hz : 0.0;
+  const StructuralModeChoice mode = ChooseStructuralMode(design, d.selected, sigma2, peak_hz);
+  if (mode.cv_gain < options.min_cv_gain) return d;
+  DiagnoseOptions again = options;
+  again.design = d.design;
+  again.design.structural_mode_hz = mode.hz;
+  again.design.structural_mode_damping = mode.damping;
+  Diagnosis candidate = DiagnoseOnce(model, data, again, &d.time_offset);
+  candidate.seconds += d.seconds;
+  if (!Found(candidate, Effect::kStructuralResonance)) {
+    d.seconds = candidate.seconds;
+    return d;
+  }
+  return candidate;
+}
+
 Diagnosis Diagnose(const PlatformModel& model, const MeasurementData& data, const DiagnoseOptions& options) {
-  Diagnosis d = WithBacklashWidth(model, data, options, DiagnoseOnce(model, data, options));
+  Diagnosis d = WithStructuralMode(model, data, options,
+                                   WithBacklashWidth(model, data, options, DiagnoseOnce(model, data, options)));
   // The screws' cooling time is the thermal basis's one non-linear
   // parameter: once thermal drift is found, the diagnosis is repeated over a
   // grid of time constants and the one that predicts the held-out runs best kept.

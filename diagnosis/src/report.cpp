@@ -85,7 +85,8 @@ nlohmann::json StructureJson(const ResidualStructure& s) {
           {"dominant_hz", s.dominant_hz}, {"damping", s.damping}, {"follows", s.follows},
           {"follows_r2", s.follows_r2}, {"largest_in", s.largest_in},
           {"in_sample_share_above_white", s.in_sample_share}, {"in_sample_ljung_box_q", s.in_sample_whiteness.q},
-          {"note", s.Describe()}};
+          {"runs_apart", s.runs_apart}, {"run_offset_share", s.run_offset_share},
+          {"in_sample_run_offset_share", s.in_sample_run_offset_share}, {"note", s.Describe()}};
 }
 
 }  // namespace
@@ -100,6 +101,10 @@ nlohmann::json ToJson(const Diagnosis& d) {
   }
   for (std::size_t k = 0; k < d.effects.size(); ++k) {
     j["effects"].push_back(EffectJson(d.effects[k]));
+    if (d.effects[k].effect == Effect::kStructuralResonance && d.design.structural_mode_hz > 0.0) {
+      j["effects"].back()["params"]["frequency_hz"] = d.design.structural_mode_hz;  // chosen, not fitted:
+      j["effects"].back()["params"]["damping"] = d.design.structural_mode_damping;  // no σ
+    }
     if (k + 1 == d.selected.size() && d.structure.structured) {
       j["effects"].push_back(UnknownJson(d));
     }
@@ -147,6 +152,10 @@ nlohmann::json ModelJson(const Diagnosis& d) {
   if (!d.platform.empty()) j["platform"] = d.platform;  // a calibration refuses another platform
   j["thermal_time_constant_s"] = d.design.thermal_time_constant_s;
   j["backlash_width_m"] = d.design.backlash_width_m;
+  if (d.design.structural_mode_hz > 0.0) {
+    j["structural_mode_hz"] = d.design.structural_mode_hz;
+    j["structural_mode_damping"] = d.design.structural_mode_damping;
+  }
   j["effects"] = nlohmann::json::array();
   for (const EffectResult& r : d.effects) {
     if (r.verdict == "rejected" || std::find(d.selected.begin(), d.selected.end(), r.effect) == d.selected.end()) continue;
@@ -183,6 +192,12 @@ Evaluation Evaluate(const PlatformModel& model, const MeasurementData& data, con
   if (!(o.thermal_time_constant_s > 0.0)) throw MeasurementError(origin + ": thermal_time_constant_s must be > 0");
   if (!(o.backlash_width_m > 0.0 && o.backlash_width_m < 0.01)) {
     throw MeasurementError(origin + ": backlash_width_m must be in (0, 0.01) m");
+  }
+  o.structural_mode_hz = saved.value("structural_mode_hz", 0.0);
+  o.structural_mode_damping = saved.value("structural_mode_damping", o.structural_mode_damping);
+  if (!(o.structural_mode_hz >= 0.0 && o.structural_mode_hz <= 1e3 && o.structural_mode_damping >= 0.0 &&
+        o.structural_mode_damping <= 10.0)) {
+    throw MeasurementError(origin + ": structural_mode_hz must be in [0, 1000] Hz, structural_mode_damping in [0, 10]");
   }
   Design d = BuildDesign(model, Decimated(data, 100.0), o);
   // The tracker's clock is the data's nuisance, as its frame is: estimated
@@ -273,6 +288,10 @@ std::string ParametersMarkdown(const Diagnosis& d) {
     if (r.verdict == "rejected" || r.theta.size() == 0) continue;
     any = true;
     md += ParameterTableMarkdown(r);
+    if (r.effect == Effect::kStructuralResonance && d.design.structural_mode_hz > 0.0) {
+      md += fmt::format("| mode frequency (the held-out runs' best) | {:.3f} | Hz |\n| damping ratio ζ | {:.3f} | |\n",
+                        d.design.structural_mode_hz, d.design.structural_mode_damping);
+    }
     if (!r.correlated_with.empty()) {
       md += fmt::format("\nStrongest correlation of a parameter: {:.2f}, with {}.\n", r.max_correlation,
                         r.correlated_with);

@@ -6,6 +6,7 @@
 #include <map>
 
 #include <Eigen/QR>
+#include <boost/math/distributions/chi_squared.hpp>
 #include <fmt/format.h>
 #include <unsupported/Eigen/FFT>
 
@@ -16,6 +17,7 @@ namespace {
 constexpr double kBandHz = 0.05;     // the pooled spectrum's resolution
 constexpr double kDriftHz = 0.2;     // below: drift, not a mode
 constexpr double kPeakOverMedian = 8.0;
+constexpr double kRunsApartLevel = 0.999;  // χ² quantile the runs' means must exceed
 
 // One run's samples on one axis, mean removed.
 struct Series {
@@ -134,6 +136,42 @@ void FindPeak(const std::vector<Series>& series, ResidualStructure* out) {
   if (hi - lo >= 2) out->damping = (hi - lo + 1) * kBandHz / (2.0 * out->dominant_hz);
 }
 
+// The runs' means against the scatter white noise gives them. Each run's
+// mean on each axis has variance σ²·(1 + ρ)/(1 − ρ)/n under the run's own
+// scatter σ² and lag-1 autocorrelation ρ (a structured run holds fewer
+// independent samples); the global frame takes up one mean per axis. Returns
+// the share of the residual's variance in the means beyond that scatter,
+// 0 unless the sum of their squared z-scores exceeds χ² at `level`.
+double RunOffsetShare(const Design& d, const Eigen::VectorXd& residual, double level) {
+  double chi2 = 0.0, excess = 0.0;
+  int dof = -3;
+  for (const ColumnRange& run : d.run_samples) {
+    if (run.count < 16) continue;
+    for (int axis = 0; axis < 3; ++axis) {
+      double mean = 0.0;
+      for (int k = run.begin; k < run.begin + run.count; ++k) mean += residual(3 * k + axis);
+      mean /= run.count;
+      double var = 0.0, lag1 = 0.0;
+      for (int k = run.begin; k < run.begin + run.count; ++k) {
+        const double v = residual(3 * k + axis) - mean;
+        var += v * v;
+        if (k > run.begin) lag1 += v * (residual(3 * (k - 1) + axis) - mean);
+      }
+      if (!(var > 0.0)) continue;
+      const double rho = std::clamp(lag1 / var, 0.0, 0.95);
+      const double mean_var = var / run.count * (1.0 + rho) / (1.0 - rho) / run.count;
+      chi2 += mean * mean / mean_var;
+      excess += run.count * std::max(0.0, mean * mean - mean_var);
+      ++dof;
+    }
+  }
+  const double total = residual.squaredNorm();
+  if (dof < 1 || !(total > 0.0)) return 0.0;
+  const boost::math::chi_squared chi(dof);
+  if (chi2 <= boost::math::quantile(chi, level)) return 0.0;
+  return std::clamp(excess / total, 0.0, 1.0);
+}
+
 // Per-sample drivers the structure may follow, from the model's point A.
 struct Drivers {
   std::map<std::string, std::vector<Eigen::VectorXd>> features;  // per driver, per sample
@@ -224,8 +262,14 @@ ResidualStructure AnalyseStructure(const Design& d, const Eigen::VectorXd& in_sa
   const std::vector<Series> series = SeriesOf(d, residual);
   out.structured_share = ShareAboveWhite(series);
   out.in_sample_share = ShareAboveWhite(SeriesOf(d, in_sample));
-  out.structured = !out.whiteness.white && out.structured_share >= o.min_share && !out.in_sample_whiteness.white &&
-                   out.in_sample_share >= o.min_share;
+  out.run_offset_share = RunOffsetShare(d, residual, kRunsApartLevel);
+  out.in_sample_run_offset_share = RunOffsetShare(d, in_sample, kRunsApartLevel);
+  out.runs_apart = out.run_offset_share >= o.min_share && out.in_sample_run_offset_share >= o.min_share;
+  const bool within_runs = !out.whiteness.white && out.structured_share >= o.min_share &&
+                           !out.in_sample_whiteness.white && out.in_sample_share >= o.min_share;
+  out.structured = within_runs || out.runs_apart;
+  // The within-run share is of the variance about each run's mean.
+  out.structured_share = out.run_offset_share + (1.0 - out.run_offset_share) * out.structured_share;
   const double mean_square = d.samples() > 0 ? residual.squaredNorm() / d.samples() : 0.0;
   out.structured_rms_m = std::sqrt(out.structured_share * mean_square);
   FindPeak(series, &out);
@@ -245,6 +289,11 @@ std::string ResidualStructure::Describe() const {
       "{:.0f}% of the held-out residual's variance ({:.1f} µm RMS) is structure above the white level "
       "(Ljung-Box Q {:.0f} against {:.0f}, lag-1 autocorrelation {:.2f})",
       100 * structured_share, structured_rms_m * 1e6, whiteness.q, whiteness.threshold, whiteness.lag1);
+  if (runs_apart) {
+    text += fmt::format("; the runs sit apart ({:.0f}% of the variance in their means, beyond the noise's "
+                        "scatter: a tracker stand or a mount that moved between them?)",
+                        100 * run_offset_share);
+  }
   if (dominant_hz > 0.0) {
     text += damping > 0.0 ? fmt::format("; a spectral peak at {:.2f} Hz, damping ≈ {:.3f}", dominant_hz, damping)
                           : fmt::format("; a spectral peak at {:.2f} Hz", dominant_hz);

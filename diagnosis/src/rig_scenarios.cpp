@@ -102,6 +102,18 @@ void DrawThermalDrift(Rng& rng, Scenario* s) {
   s->description += fmt::format("thermal drift {:.1f} K/m; ", s->effects.thermal_drift.heating_K_per_m);
 }
 
+// The mount of the tracker's reflector (a mast on the platform) sways at a
+// few hertz, more sideways than up.
+void DrawStructuralResonance(Rng& rng, Scenario* s) {
+  RigEffects::StructuralResonance& mode = s->effects.structural_resonance;
+  mode.enabled = true;
+  mode.frequency_hz = Uniform(rng, 3.0, 10.0);
+  mode.damping = Uniform(rng, 0.01, 0.05);
+  mode.gain = Vector3(Uniform(rng, 0.1, 0.5), Uniform(rng, 0.1, 0.5), Uniform(rng, 0.0, 0.2));
+  s->description += fmt::format("structure sways at {:.1f} Hz (ζ {:.3f}, gains {:.2f} {:.2f} {:.2f}); ",
+                                mode.frequency_hz, mode.damping, mode.gain.x(), mode.gain.y(), mode.gain.z());
+}
+
 // How each effect of the vocabulary is put on the rig, in the order of the enum.
 struct EffectDraw {
   Effect effect;
@@ -117,6 +129,7 @@ constexpr std::array<EffectDraw, kEffectCount> kDraws = {{
     {Effect::kServoLag, DrawServoLag},
     {Effect::kCompliance, DrawCompliance},
     {Effect::kThermalDrift, DrawThermalDrift},
+    {Effect::kStructuralResonance, DrawStructuralResonance},
 }};
 
 constexpr bool InEnumOrder() {

@@ -3,14 +3,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "edsp/kinematics/structural_mode.h"
+
 namespace edsp::gap {
 
 namespace {
 
 constexpr double kTwoPi = 6.283185307179586;
-// A gap between samples longer than this many of the mode's periods ends its
-// ringing (at ζ 0.03 it has decayed to e^(−2π·0.03·50) ≈ 1e-4 of itself).
-constexpr double kForgetAfterPeriods = 50.0;
 
 // A's acceleration at each sample of a run in {B}: central differences of
 // the model's point along the commands (none at the run's ends).
@@ -27,29 +26,21 @@ std::vector<Vector3> PointAcceleration(const Design& d, const ColumnRange& run) 
   return a;
 }
 
-// The response x of ẍ + 2ζωẋ + ω²x = a (per axis) at each sample of a run,
-// at rest at its start; the acceleration held between samples, integrated
-// in steps of at most 1/40 of the mode's period.
-std::vector<Vector3> ModeResponse(const Design& d, const ColumnRange& run, double omega, double zeta) {
-  const std::vector<Vector3> accel = PointAcceleration(d, run);
-  std::vector<Vector3> x(static_cast<std::size_t>(run.count), Vector3::Zero());
-  Vector3 pos = Vector3::Zero(), vel = Vector3::Zero();
-  const double max_step = kTwoPi / omega / 40.0;
-  for (int k = 1; k < run.count; ++k) {
-    const std::size_t i = static_cast<std::size_t>(run.begin + k);
-    const double span = d.time_s[i] - d.time_s[i - 1];
-    if (!(span <= kForgetAfterPeriods * kTwoPi / omega)) {  // a gap (or no clock): the mode has rung out
-      pos.setZero(), vel.setZero();
-      continue;
+// The mode's response at unit gain (structural_mode.h) at every sample, in
+// the order of the design's samples and carried from run to run as the
+// leg-error model's is (design.cpp), so that these columns are the
+// structural_resonance effect's at the same frequency and damping.
+std::vector<Vector3> ModeResponse(const Design& d, double hz, double zeta) {
+  std::vector<Vector3> x(static_cast<std::size_t>(d.samples()), Vector3::Zero());
+  StructuralMode mode(hz, zeta);
+  double last_t = 0.0;
+  for (const ColumnRange& run : d.run_samples) {
+    const std::vector<Vector3> accel = PointAcceleration(d, run);
+    for (int k = 0; k < run.count; ++k) {
+      const std::size_t i = static_cast<std::size_t>(run.begin + k);
+      x[i] = mode.Advance(d.time_s[i] - last_t, accel[static_cast<std::size_t>(k)]);
+      last_t = d.time_s[i];
     }
-    const int steps = span > 0.0 ? static_cast<int>(std::ceil(span / max_step)) : 0;
-    const Vector3& a = accel[static_cast<std::size_t>(k - 1)];
-    for (int s = 0; s < steps; ++s) {
-      const double h = span / steps;
-      vel += h * (a - omega * omega * pos - 2.0 * zeta * omega * vel);
-      pos += h * vel;
-    }
-    x[static_cast<std::size_t>(k)] = pos;
   }
   return x;
 }
@@ -62,19 +53,24 @@ std::vector<double> CandidateModeFrequencies(const ResidualStructure& structure)
   return hz;
 }
 
+Eigen::MatrixXd SwayColumns(const Design& d, double hz, double zeta) {
+  Eigen::MatrixXd c = Eigen::MatrixXd::Zero(3 * d.samples(), 3);
+  const std::vector<Vector3> sway = ModeResponse(d, hz, zeta);
+  for (int n = 0; n < d.samples(); ++n) {
+    for (int axis = 0; axis < 3; ++axis) c.block<3, 1>(3 * n, axis) = d.R0.col(axis) * sway[static_cast<std::size_t>(n)](axis);
+  }
+  return c;
+}
+
 Eigen::MatrixXd StructureColumns(const Design& d, double hz, double zeta) {
   const double omega = kTwoPi * hz;
   Eigen::MatrixXd c = Eigen::MatrixXd::Zero(3 * d.samples(), 9);
-  for (const ColumnRange& run : d.run_samples) {
-    const std::vector<Vector3> sway = ModeResponse(d, run, omega, zeta);
-    for (int k = 0; k < run.count; ++k) {
-      const int n = run.begin + k;
-      const double t = d.time_s[static_cast<std::size_t>(n)];
-      for (int axis = 0; axis < 3; ++axis) {
-        c.block<3, 1>(3 * n, axis) = d.R0.col(axis) * sway[static_cast<std::size_t>(k)](axis);
-        c(3 * n + axis, 3 + axis) = std::sin(omega * t);
-        c(3 * n + axis, 6 + axis) = std::cos(omega * t);
-      }
+  c.leftCols(3) = SwayColumns(d, hz, zeta);
+  for (int n = 0; n < d.samples(); ++n) {
+    const double t = d.time_s[static_cast<std::size_t>(n)];
+    for (int axis = 0; axis < 3; ++axis) {
+      c(3 * n + axis, 3 + axis) = std::sin(omega * t);
+      c(3 * n + axis, 6 + axis) = std::cos(omega * t);
     }
   }
   return c;

@@ -42,6 +42,30 @@ double PositiveNumber(const nlohmann::json& j, const char* key, double fallback,
   return v;
 }
 
+double NonNegativeNumber(const nlohmann::json& j, const char* key, double fallback, double max,
+                         const std::string& origin) {
+  if (!j.contains(key)) return fallback;
+  if (!j[key].is_number()) throw CalibrationError(fmt::format("{}: \"{}\" must be a number", origin, key));
+  const double v = j[key].get<double>();
+  if (!(v >= 0.0 && v <= max)) {
+    throw CalibrationError(fmt::format("{}: \"{}\" = {} is not in [0, {}]", origin, key, v, max));
+  }
+  return v;
+}
+
+// A's acceleration along the commanded path: the second difference of A
+// over the pose's quadratic about now (exact to O(h²); the pose's angles
+// are not an angular velocity, so differencing A is simpler than the
+// rigid-body formula).
+Vector3 PointAcceleration(const PlatformModel& model, const Vector6& q, const Vector6& velocity,
+                          const Vector6& acceleration) {
+  constexpr double h = 1e-3;  // s
+  const Vector6 ahead = q + h * velocity + 0.5 * h * h * acceleration;
+  const Vector6 behind = q - h * velocity + 0.5 * h * h * acceleration;
+  return (model.ObservationPoint(Pose::FromVector(ahead)) - 2.0 * model.ObservationPoint(Pose::FromVector(q)) +
+          model.ObservationPoint(Pose::FromVector(behind))) / (h * h);
+}
+
 CalibratedEffect ParseEffectEntry(const nlohmann::json& entry, std::size_t index, const std::string& origin) {
   const std::string where = fmt::format("{}: effects[{}]", origin, index);
   if (!entry.is_object() || !entry.contains("name") || !entry["name"].is_string()) {
@@ -127,6 +151,9 @@ CalibrationModel ParseCalibration(const std::string& text, const std::string& or
   out.options.thermal_time_constant_s =
       PositiveNumber(j, "thermal_time_constant_s", out.options.thermal_time_constant_s, 1e6, origin);
   out.options.backlash_width_m = PositiveNumber(j, "backlash_width_m", out.options.backlash_width_m, 1e-3, origin);
+  out.options.structural_mode_hz = NonNegativeNumber(j, "structural_mode_hz", 0.0, 1e3, origin);
+  out.options.structural_mode_damping =
+      NonNegativeNumber(j, "structural_mode_damping", out.options.structural_mode_damping, 10.0, origin);
   if (!j.contains("effects") || !j["effects"].is_array()) throw CalibrationError(origin + ": no \"effects\" array");
   std::array<bool, kEffectCount> seen{};
   for (std::size_t k = 0; k < j["effects"].size(); ++k) {
@@ -137,6 +164,9 @@ CalibrationModel ParseCalibration(const std::string& text, const std::string& or
     if (e.verdict == "ambiguous" && !apply_ambiguous) {
       out.not_applied.push_back(std::string(EffectName(e.effect)) + " (ambiguous)");
       continue;
+    }
+    if (e.effect == Effect::kStructuralResonance && !(out.options.structural_mode_hz > 0.0)) {
+      throw CalibrationError(origin + ": effect \"structural_resonance\" needs \"structural_mode_hz\" > 0");
     }
     out.applied.push_back(std::move(e));
   }
@@ -172,10 +202,12 @@ LegCompensator::Correction LegCompensator::Step(double time_s, const Pose& pose,
   }
   in.jerk = Vector6::Zero();  // not fed forward: a trapezoid's corners would make it a spike
   in.platform_accel_B_m_s2 = pose_acceleration.head<3>();
+  in.point_accel_B_m_s2 = PointAcceleration(model_, q, pose_velocity, pose_acceleration);
   const LegErrorState state = tracker_.Advance(in);
   Correction c;
   for (const CalibratedEffect& e : calibration_.applied) {
-    const Vector6 dl = LegErrorBasis(e.effect, state, model_) * e.theta;
+    const Vector6 dl = e.effect == Effect::kStructuralResonance ? StructuralSway(e, time_s, in, state)
+                                                                : Vector6(LegErrorBasis(e.effect, state, model_) * e.theta);
     c.command_m += dl;
     if (e.effect != Effect::kServoLag) c.encoder_m += dl;
   }
@@ -189,6 +221,21 @@ LegCompensator::Correction LegCompensator::Step(double time_s, const Pose& pose,
   last_time_s_ = time_s;
   last_command_m_ = c.command_m;
   return c;
+}
+
+Vector6 LegCompensator::StructuralSway(const CalibratedEffect& e, double time_s, const LegErrorInputs& in,
+                                       const LegErrorState& state) {
+  // The legs that cancel the sway move the platform, and so the base the
+  // mode hangs from: with the command corrected by c, the sway s follows
+  // s̈ + 2ζωṡ + ω²s = −g·(a − s̈), i.e. the mode with mass 1 − g.
+  const Vector3 gain = e.theta.head<3>();
+  if (!inverse_mode_) {
+    const Vector3 mass = (Vector3::Ones() - gain).cwiseMax(kMinModeMass);
+    inverse_mode_.emplace(calibration_.options.structural_mode_hz, calibration_.options.structural_mode_damping, mass);
+  }
+  const Vector3& x = inverse_mode_->Advance(time_s - last_mode_time_s_, in.point_accel_B_m_s2);
+  last_mode_time_s_ = time_s;
+  return state.translation * gain.cwiseProduct(x);
 }
 
 }  // namespace edsp::calibration

@@ -32,6 +32,9 @@ constexpr std::array<Row, kEffectCount> kVocabulary = {{
     {Effect::kServoLag, "servo_lag", 13, "the drives' following error", 0.1, 1.0},
     {Effect::kCompliance, "compliance", 9, "leg shortening under the moving mass' load", 0.01, 1e-2},
     {Effect::kThermalDrift, "thermal_drift", 4, "thermal drift (screw growth)", 0.1, 1e-3},
+    // A gain of 1 is a point on a free mass; beyond 2 no structure carries A.
+    {Effect::kStructuralResonance, "structural_resonance", 3,
+     "a lightly damped mode of the structure carrying A, driven by its acceleration", 2.0, 1.0},
 }};
 
 constexpr bool InEnumOrder() {
@@ -70,6 +73,7 @@ constexpr ParameterGroup kParameterGroups[] = {
     {Effect::kThermalDrift,      "growth_per_travel_stroke_per_m", L::kScalar,          1,  0, 0.0, 1.2e-5,  "with recent travel, per m of stroke",                   "µm per m of travel per m", 1e6,               2},
     {Effect::kThermalDrift,      "growth_powered_m_per_s",         L::kScalar,          2,  0, 0.0, 1.5e-8,  "with time under power",                                 "µm per hour",              3.6e9,             2},
     {Effect::kThermalDrift,      "growth_powered_stroke_per_s",    L::kScalar,          3,  0, 0.0, 2.5e-8,  "with time under power, per m of stroke",                "µm per hour per m",        3.6e9,             2},
+    {Effect::kStructuralResonance, "gain",                         L::kXyz,             0,  0, 0.0, 0.2,     "modal gain (1: A on a free mass), along",              "×",                        1.0,               4},
 };
 // clang-format on
 

@@ -29,7 +29,9 @@ Eigen::Matrix<double, 6, 4> LoadColumns(const PlatformModel& model, const Pose& 
 }  // namespace
 
 LegErrorTracker::LegErrorTracker(PlatformModel model, LegErrorOptions options)
-    : model_(std::move(model)), options_(options), driven_(-options.backlash_width_m * Vector6::Ones()) {}
+    : model_(std::move(model)), options_(options), driven_(-options.backlash_width_m * Vector6::Ones()) {
+  if (options_.structural_mode_hz > 0.0) mode_.emplace(options_.structural_mode_hz, options_.structural_mode_damping);
+}
 
 LegErrorState LegErrorTracker::Advance(const LegErrorInputs& in) {
   LegErrorState s;
@@ -48,6 +50,7 @@ LegErrorState LegErrorTracker::Advance(const LegErrorInputs& in) {
     if (driven_(i) > x) driven_(i) = x;
     s.play(i) = 1.0 - (x - driven_(i)) / w;
   }
+  if (mode_) s.sway = mode_->Advance(in.time_s - last_time_s_, in.point_accel_B_m_s2);
   if (!first_) {
     const double dt = std::max(0.0, in.time_s - last_time_s_);
     const double cooling = std::exp(-dt / options_.thermal_time_constant_s);
@@ -62,7 +65,12 @@ LegErrorState LegErrorTracker::Advance(const LegErrorInputs& in) {
   s.pr_signed = model_.PrLengthError(s.legs, PrMode::kSigned);
   s.compensation = s.legs.length_m - in.command_m;
   s.load = LoadColumns(model_, in.pose, in.platform_accel_B_m_s2, options_);
+  s.translation = mode_ ? TranslationToLegs(model_, in.pose) : Eigen::Matrix<double, 6, 3>::Zero();
   return s;
+}
+
+Eigen::Matrix<double, 6, 3> TranslationToLegs(const PlatformModel& model, const Pose& pose) {
+  return (model.LengthJacobian(pose) - model.PrLengthErrorJacobian(pose)).leftCols<3>();
 }
 
 Matrix3 Skew(const Vector3& v) {
@@ -147,6 +155,11 @@ Eigen::MatrixXd LegErrorBasis(Effect effect, const LegErrorState& s, const Platf
       B.col(1) = s.heat.cwiseProduct(s.stroke);
       B.col(2).setConstant(s.warm);
       B.col(3) = s.warm * s.stroke;
+      break;
+    case Effect::kStructuralResonance:
+      // A sways by g ⊙ x relative to the platform: the legs that would move
+      // the platform (and A with it) by as much.
+      for (int axis = 0; axis < 3; ++axis) B.col(axis) = s.translation.col(axis) * s.sway(axis);
       break;
   }
   return B;

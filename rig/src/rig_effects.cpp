@@ -151,6 +151,21 @@ void ReadThermalDrift(const SectionReader& s, RigEffects::ThermalDrift* e) {
   require(e->screw_length_m > 0.0 && e->screw_length_m < 10.0, "screw_length_m", e->screw_length_m, "in (0, 10) m");
 }
 
+void ReadStructuralResonance(const SectionReader& s, RigEffects::StructuralResonance* e) {
+  s.RejectUnknownKeys({"enabled", "frequency_hz", "damping", "gain"});
+  e->enabled = s.Bool("enabled", true);
+  e->frequency_hz = s.Number("frequency_hz", e->frequency_hz);
+  e->damping = s.Number("damping", e->damping);
+  e->gain = s.Vector("gain", e->gain);
+  auto require = [&](bool ok, const char* key, double value, const char* range) {
+    if (!ok) s.Fail(*s.table(), fmt::format("[{}] {} = {} must be {}", s.name(), key, value, range));
+  };
+  require(e->frequency_hz >= 0.5 && e->frequency_hz <= 100.0, "frequency_hz", e->frequency_hz, "in [0.5, 100] Hz");
+  require(e->damping > 0.0 && e->damping < 1.0, "damping", e->damping, "in (0, 1)");
+  require(e->gain.cwiseAbs().maxCoeff() < 1.0, "gain", e->gain.cwiseAbs().maxCoeff(),
+          "below 1 on every axis (1: A on a free mass)");
+}
+
 // The vocabulary, once: each effect's name (its [rig.effects.NAME] table),
 // its switch and its reader. Parsing, the enabled names, one effect alone
 // and any() are driven from here: a new effect is one row and its Read
@@ -180,6 +195,7 @@ constexpr EffectRow kEffects[] = {
     Row<E::ServoLag, &E::servo_lag, ReadServoLag>("servo_lag"),
     Row<E::Compliance, &E::compliance, ReadCompliance>("compliance"),
     Row<E::ThermalDrift, &E::thermal_drift, ReadThermalDrift>("thermal_drift"),
+    Row<E::StructuralResonance, &E::structural_resonance, ReadStructuralResonance>("structural_resonance"),
 };
 
 const EffectRow* FindEffect(const std::string& name) {

@@ -63,6 +63,7 @@ VirtualRig::VirtualRig(RigParameters parameters)
   const double wn = kTwoPi * servo.bandwidth_hz;
   kp_ = servo.inertia_kg_m2 * wn * wn;
   kd_ = 2.0 * servo.inertia_kg_m2 * wn;
+  if (e.structural_resonance.enabled) mode_.emplace(e.structural_resonance.frequency_hz, e.structural_resonance.damping);
   ki_ = servo.integral_time_s > 0.0 ? kp_ / servo.integral_time_s : 0.0;
   // An integrating drive has been holding the platform before the run: its
   // integral already carries the weight (as after enabling and settling).
@@ -189,8 +190,27 @@ bool VirtualRig::Advance(double dt_s) {
   const FkResult fk = SolveForward(model_, lengths, pose_, fk_options_);
   if (!fk.ok()) return false;
   pose_ = fk.pose;
+  if (mode_) Sway(dt_s);
   return true;
 }
+
+void VirtualRig::Sway(double dt_s) {
+  // A's acceleration on the platform, from its last three places (the one a
+  // step ago, unequal steps allowed): what the mount it sits on feels.
+  const Vector3 point = model_.ObservationPoint(pose_);
+  Vector3 accel = Vector3::Zero();
+  const double h1 = last_dt_s_, h2 = dt_s;
+  if (point_steps_ >= 2 && h1 > 0.0 && h2 > 0.0) {
+    accel = (2.0 / (h1 + h2)) * ((point - point_history_[0]) / h2 - (point_history_[0] - point_history_[1]) / h1);
+  }
+  point_history_[1] = point_history_[0];
+  point_history_[0] = point;
+  last_dt_s_ = dt_s;
+  ++point_steps_;
+  sway_ = parameters_.effects.structural_resonance.gain.cwiseProduct(mode_->Advance(dt_s, accel));
+}
+
+Vector3 VirtualRig::ObservedPoint() const { return model_.ObservationPoint(pose_) + sway_; }
 
 bool VirtualRig::UpdateLoads(double dt_s) {
   // The loads come from the rigid platform's motion (the drive trains'), so
@@ -235,7 +255,7 @@ rig_truth_t VirtualRig::Truth(std::int64_t utime) {
   t.seq = ++truth_seq_;
   const LegSolution legs = model_.Solve(pose_);
   const Vector6 q = pose_.ToVector();
-  const Vector3 a = model_.ObservationPoint(pose_);
+  const Vector3 a = ObservedPoint();
   for (int i = 0; i < kNumLegs; ++i) {
     t.pose[i] = q(i);
     t.leg_length_m[i] = legs.length_m(i);
@@ -249,7 +269,7 @@ bool VirtualRig::TrackerSample(std::int64_t utime, tracker_point_t* point) {
   if (time_s_ + 1e-9 < next_tracker_s_) return false;
   next_tracker_s_ += 1.0 / parameters_.tracker.rate_hz;
   const TrackerParameters& tp = parameters_.tracker;
-  Vector3 p_T = PointInBase(tp.X_TB, model_.ObservationPoint(pose_));
+  Vector3 p_T = PointInBase(tp.X_TB, ObservedPoint());
   std::normal_distribution<double> noise(0.0, tp.noise_sigma_m);
   if (tp.noise_sigma_m > 0.0) {
     for (int k = 0; k < 3; ++k) p_T(k) += noise(rng_);

@@ -7,6 +7,7 @@
 
 #include "edsp/blindrig/blind_setup.h"
 #include "edsp/diagnosis/measurement_data.h"
+#include "edsp/kinematics/leg_effects.h"
 #include "edsp/kinematics/platform_model.h"
 
 namespace edsp::blind {
@@ -82,7 +83,7 @@ TEST(BlindRig, ScenariosCoverEveryKindAndTrackerSetting) {
     EXPECT_EQ(s.truth.empty(), s.kind == "none");
   }
   EXPECT_EQ(kinds, (std::set<std::string>{"none", "single", "pair", "out_of_vocabulary"}));
-  EXPECT_EQ(truths.size(), 9u + OutOfVocabularyKinds().size());
+  EXPECT_EQ(truths.size(), static_cast<std::size_t>(calibration::kEffectCount) + OutOfVocabularyKinds().size());
   EXPECT_LT(slowest, 20.0);
   EXPECT_GT(fastest, 500.0);
   EXPECT_LT(quietest, 4e-6);

@@ -144,12 +144,15 @@ const SingleCase kSingles[] = {
 INSTANTIATE_TEST_SUITE_P(EveryEffect, SingleEffect, testing::ValuesIn(kSingles),
                          [](const testing::TestParamInfo<SingleCase>& p) { return std::string(EffectName(p.param.effect)); });
 
-// Lead errors alone (the benchmark's scenario 1 of seed 101): compliance,
-// whose leg forces also grow with the stroke, fits most of the same gap
-// (≥ 70% of lead error's held-out gain), but lead error predicts the
-// held-out runs better run by run, so the two are no tie.
+// Lead errors alone (the first such scenario of the benchmark's seed 101):
+// compliance, whose leg forces also grow with the stroke, fits most of the
+// same gap, but lead error predicts the held-out runs better run by run, so
+// the two are no tie.
 TEST(Diagnose, AnEffectThatBeatsItsAlternativeRunByRunIsNotAmbiguousWithIt) {
-  const Scenario drawn = DrawScenario(101, 1);
+  Scenario drawn;
+  for (int index = 1; index < 200 && drawn.truth != std::vector<Effect>{Effect::kLeadError}; ++index) {
+    drawn = DrawScenario(101, index);
+  }
   ASSERT_EQ(drawn.truth, std::vector<Effect>{Effect::kLeadError}) << drawn.description;
   RigEffects fx = drawn.effects;
   const Diagnosis d = Diagnose(Model(), LoadMeasurement(Simulate("lead_vs_compliance", fx).csv));
@@ -175,8 +178,9 @@ TEST(Diagnose, BacklashAndLeadErrorAreRecoveredWithTheirSizes) {
   ExpectClosed(d);
 }
 
-// A platform sway at 1.3 Hz (a resonance the model knows nothing about),
-// added to clean measurements: structured, and no effect of the vocabulary.
+// A 1.3 Hz vibration of point A on the clock (not driven by the motion, so
+// not the structural mode of the vocabulary), added to clean measurements:
+// structured, and no effect of the vocabulary.
 TEST(Diagnose, AnEffectOutsideTheVocabularyIsUnknown) {
   const std::string csv = Simulate("sway", Baseline()).csv;
   std::ifstream in(csv);

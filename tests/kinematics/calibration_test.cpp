@@ -47,6 +47,13 @@ TEST(Calibration, WrongModelsAreRefusedNamingFileAndKey) {
   EXPECT_NE(Refusal(Model("", R"("thermal_time_constant_s": -1, )")).find("thermal_time_constant_s"), std::string::npos);
   EXPECT_NE(Refusal(Model("", R"("platform": "home_length_m=2,2,2,2,2,2", )")).find("another platform"),
             std::string::npos);
+  const std::string mode = R"({"name": "structural_resonance", "theta": [0.3, 0.2, 0.1]})";
+  EXPECT_NE(Refusal(Model(mode)).find("needs \"structural_mode_hz\" > 0"), std::string::npos);
+  EXPECT_NE(Refusal(Model(mode, R"("structural_mode_hz": -5, )")).find("\"structural_mode_hz\" = -5"), std::string::npos);
+  EXPECT_NE(Refusal(Model(mode, R"("structural_mode_hz": 5, "structural_mode_damping": "x", )"))
+                .find("\"structural_mode_damping\" must be a number"),
+            std::string::npos);
+  EXPECT_EQ(Refusal(Model(mode, R"("structural_mode_hz": 5, )")), "accepted");
   EXPECT_EQ(Refusal(Model("")), "accepted");  // an empty model is valid
   EXPECT_EQ(Refusal(Model("", "\"platform\": \"" + PlatformFingerprint(Nominal()) + "\", ")), "accepted");
 }

@@ -35,14 +35,16 @@ struct BlindEffects {
   double heating_K_per_s = 0.0;      //   heating by time under power (a motor warming its screw)
   double thermal_tau_s = 900.0;      //   cooling time constant
   double screw_length_m = 0.6;
-  // Outside edsp-gap's vocabulary:
-  double resonance_hz = 0.0;         // a lightly damped sway of the structure carrying A,
-  double resonance_damping = 0.02;   //   excited by A's acceleration (displacement per
+  double resonance_hz = 0.0;         // structural_resonance: a lightly damped sway of the structure
+  double resonance_damping = 0.02;   //   carrying A, excited by A's acceleration (displacement per
   double resonance_gain = 0.0;       //   acceleration: gain / ω² at low frequency)
+  // Outside edsp-gap's vocabulary:
   double floor_hz = 0.0;             // the tracker's stand vibrating on the floor
   double floor_amplitude_m = 0.0;
   Vec3 floor_direction = Vec3::UnitX();
   double base_tilt_rad_per_N_m = 0.0;  // the base mount's rotational give under the platform's moment
+  Vec3 stand_drift_m_per_s = Vec3::Zero();  // the tracker's stand settling: its readings creep
+  double stand_settle_s = 300.0;            //   at this rate, slowing with this time constant
 };
 
 struct TrackerOptions {

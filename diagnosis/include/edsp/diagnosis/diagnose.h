@@ -26,10 +26,13 @@ struct DiagnoseOptions {
   double significance = 0.05;     // and beat the model without it run by run (paired t-test, one-sided)
   double nested_gain = 0.05;      // a richer effect replaces the simpler one it contains only
                                   // if it cuts the held-out MSE by this fraction more
-  int max_effects = 9;
+  int max_effects = 10;
   // When thermal drift is found, its time constant is chosen among these by
   // the held-out error (empty: design.thermal_time_constant_s as given).
   std::vector<double> thermal_time_constants_s = {150.0, 300.0, 600.0, 1200.0, 2400.0, 4800.0};
+  // Whether to search for a structural mode (structural_mode_fit.h) when
+  // design.structural_mode_hz is 0; a given frequency is used as it is.
+  bool fit_structural_mode = true;
   StructureOptions structure;     // when what is left counts as structure (unknown)
 };
 

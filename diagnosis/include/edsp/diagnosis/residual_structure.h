@@ -7,7 +7,12 @@
 // the fit (what the model cannot take up) and on runs held out of every fit
 // (what it cannot predict). Held out alone is not enough: a rich model's
 // parameter error leaves smooth, predictable error on a run it never saw,
-// which the held-out shrink already reports. Then the structure is described: its
+// which the held-out shrink already reports. Structure between the runs
+// counts too: white noise leaves each run's mean within its own scatter of
+// zero, so runs that sit apart by more (a tracker stand settling, a mount
+// shifting between runs), beyond chance (χ², 99.9%) and with a clear share
+// of the variance, in and out of sample, are structure even where each run
+// alone is white. Then the structure is described: its
 // spectral peak (frequency, damping from the half-power width), what it
 // follows (acceleration, velocity, direction, pose, time) and where it is largest.
 
@@ -26,7 +31,11 @@ struct ResidualStructure {
   double structured_share = 0.0;    // of its variance above the white level
   Whiteness in_sample_whiteness;    // the same of the fit's own residual
   double in_sample_share = 0.0;
-  bool structured = false;          // whiteness fails and the share is clear, in and out of sample
+  double run_offset_share = 0.0;    // of its variance in the runs' means, beyond the noise's scatter
+  double in_sample_run_offset_share = 0.0;
+  bool runs_apart = false;          // the runs' means beyond chance, a clear share, in and out of sample
+  bool structured = false;          // whiteness fails and the share is clear (or the runs sit apart),
+                                    // in and out of sample
   double structured_rms_m = 0.0;    // point RMS of the structured part
   double dominant_hz = 0.0;         // the spectrum's peak (0: none)
   double damping = 0.0;             // from the peak's half-power width (0: not resolved)

@@ -30,7 +30,12 @@ std::vector<double> CandidateModeFrequencies(const ResidualStructure& structure)
 // depends on it.
 inline constexpr double kAssumedDamping = 0.03;
 
-// 9 columns, 3 rows per sample of `d`: the mode at `hz` with damping `zeta`.
+// 3 columns, 3 rows per sample of `d`: A's sway along x, y, z of {B} for a
+// mode at `hz` with damping `zeta` at unit gain, in the tracker's frame: the
+// structural_resonance effect's columns at that mode.
+Eigen::MatrixXd SwayColumns(const Design& d, double hz, double zeta);
+
+// 9 columns: the sway's, then the tracker's vibration at `hz`.
 Eigen::MatrixXd StructureColumns(const Design& d, double hz, double zeta);
 
 // `d` with `extra` as its nuisance: the columns are [frame | extra |

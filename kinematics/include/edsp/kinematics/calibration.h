@@ -74,11 +74,19 @@ class LegCompensator {
   const CalibrationModel& calibration() const { return calibration_; }
 
   static constexpr double kMaxCorrectionRate_m_s = 0.05;
+  // The structural mode's inverse (structural_mode.h) needs 1 − g > 0: a
+  // gain beyond 1 − kMinModeMass is compensated as if it were that.
+  static constexpr double kMinModeMass = 0.25;
 
  private:
+  Vector6 StructuralSway(const CalibratedEffect& e, double time_s, const LegErrorInputs& in,
+                         const LegErrorState& state);
+
   PlatformModel model_;
   CalibrationModel calibration_;
   LegErrorTracker tracker_;
+  std::optional<StructuralMode> inverse_mode_;  // the sway the command cancels
+  double last_mode_time_s_ = 0.0;
   std::optional<double> last_time_s_;
   Vector6 last_command_m_ = Vector6::Zero();
 };

@@ -21,9 +21,10 @@ enum class Effect {
   kServoLag,
   kCompliance,
   kThermalDrift,
+  kStructuralResonance,
 };
 
-inline constexpr int kEffectCount = 9;
+inline constexpr int kEffectCount = 10;
 
 const std::vector<Effect>& AllEffects();
 const char* EffectName(Effect effect);

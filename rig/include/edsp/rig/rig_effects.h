@@ -17,6 +17,7 @@
 //                                      torque_limit_N_m, loop_rate_hz   the drive loop's dynamics
 //   [rig.effects.compliance]           stiffness_N_m = [...], mass_kg, com_m = [x, y, z] in {M}
 //   [rig.effects.thermal_drift]        alpha_per_K, heating_K_per_m, time_constant_s, screw_length_m
+//   [rig.effects.structural_resonance] frequency_hz, damping, gain = [gx, gy, gz]   A's mount sways
 //
 // docs/rig.md gives each effect's physics, realistic magnitudes for a
 // platform of the paper's size, and the signature it leaves at point A.
@@ -93,6 +94,12 @@ struct RigEffects {
     double time_constant_s = 600.0; // cooling towards ambient
     double screw_length_m = 0.6;    // the length of screw that warms and grows
   } thermal_drift;
+  struct StructuralResonance {  // the structure carrying A sways under the platform's acceleration
+    bool enabled = false;       // (structural_mode.h): per axis of {B}, gain × the mode's response
+    double frequency_hz = 5.0;
+    double damping = 0.03;
+    Vector3 gain = Vector3::Zero();
+  } structural_resonance;
 
   bool any() const;
 };

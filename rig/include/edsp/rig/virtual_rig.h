@@ -10,12 +10,14 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <random>
 #include <vector>
 
 #include "edsp/drive_io/drive_backend.h"
 #include "edsp/kinematics/forward_kinematics.h"
 #include "edsp/kinematics/platform_model.h"
+#include "edsp/kinematics/structural_mode.h"
 #include "edsp/rig/leg_transmission.h"
 #include "edsp/rig/rig_effects.h"
 #include "edsp/rig_truth_t.hpp"
@@ -81,6 +83,8 @@ class VirtualRig {
   const PlatformModel& true_model() const { return model_; }
   const Vector6& drive_train_lengths() const { return lengths_; }
   const Vector6& leg_forces() const { return leg_forces_; }  // compliance: N, + compression
+  // Point A where it is: on the platform, plus the structure's sway.
+  Vector3 ObservedPoint() const;
 
  private:
   void StepServo(int leg, double dt);
@@ -88,6 +92,7 @@ class VirtualRig {
   bool UpdateLoads(double dt_s);          // leg forces of the platform's rigid-body motion
   double ScrewRatio() const;              // motor torque per newton of leg force
   void Deflect(Vector6* lengths) const;   // compliance: legs shortened under them
+  void Sway(double dt_s);                 // structural_resonance: A's mount under its acceleration
 
   RigParameters parameters_;
   PlatformModel model_;  // the true geometry; lead and sign of the true PR
@@ -108,6 +113,11 @@ class VirtualRig {
   double since_command_s_ = 0.0;         // since the last SetTarget or KeepAlive (the watchdog)
   double since_target_s_ = 0.0;          // since the last SetTarget (the interpolation horizon)
   Pose pose_;
+  std::optional<StructuralMode> mode_;   // structural_resonance
+  std::array<Vector3, 2> point_history_{};  // A on the platform a step and two steps ago
+  double last_dt_s_ = 0.0;
+  int point_steps_ = 0;
+  Vector3 sway_ = Vector3::Zero();
   double time_s_ = 0.0;
   double next_tracker_s_ = 0.0;
   std::mt19937_64 rng_;
