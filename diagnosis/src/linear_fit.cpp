@@ -49,6 +49,30 @@ GramSet::GramSet(const Design& d, std::vector<Fold> folds) : folds_(std::move(fo
   }
 }
 
+GramSet GramSet::WithAppendedColumns(const Design& d, const Eigen::MatrixXd& extra) const {
+  GramSet out = *this;
+  const Eigen::Index p = d.columns.cols(), m = extra.cols();
+  for (std::size_t k = 0; k < folds_.size(); ++k) {
+    Eigen::MatrixXd B = Eigen::MatrixXd::Zero(p, m), D = Eigen::MatrixXd::Zero(m, m);
+    Eigen::VectorXd e = Eigen::VectorXd::Zero(m);
+    for (const ColumnRange& s : folds_[k].samples) {
+      const auto C = d.columns.middleRows(3 * s.begin, 3 * s.count);
+      const auto X = extra.middleRows(3 * s.begin, 3 * s.count);
+      const auto r = d.residual.segment(3 * s.begin, 3 * s.count);
+      B.noalias() += C.transpose() * X;
+      D.noalias() += X.transpose() * X;
+      e.noalias() += X.transpose() * r;
+    }
+    Eigen::MatrixXd H(p + m, p + m);
+    H << H_[k], B, B.transpose(), D;
+    out.H_[k] = std::move(H);
+    Eigen::VectorXd g(p + m);
+    g << g_[k], e;
+    out.g_[k] = std::move(g);
+  }
+  return out;
+}
+
 std::vector<int> GramSet::AllFolds() const {
   std::vector<int> all;
   for (int k = 0; k < folds(); ++k) all.push_back(k);

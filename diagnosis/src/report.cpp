@@ -193,11 +193,16 @@ Evaluation Evaluate(const PlatformModel& model, const MeasurementData& data, con
   if (!(o.backlash_width_m > 0.0 && o.backlash_width_m < 0.01)) {
     throw MeasurementError(origin + ": backlash_width_m must be in (0, 0.01) m");
   }
-  o.structural_mode_hz = saved.value("structural_mode_hz", 0.0);
-  o.structural_mode_damping = saved.value("structural_mode_damping", o.structural_mode_damping);
-  if (!(o.structural_mode_hz >= 0.0 && o.structural_mode_hz <= 1e3 && o.structural_mode_damping >= 0.0 &&
-        o.structural_mode_damping <= 10.0)) {
-    throw MeasurementError(origin + ": structural_mode_hz must be in [0, 1000] Hz, structural_mode_damping in [0, 10]");
+  const auto number = [&](const char* key, double fallback) {
+    if (!saved.contains(key)) return fallback;
+    if (!saved[key].is_number()) throw MeasurementError(fmt::format("{}: \"{}\" must be a number", origin, key));
+    return saved[key].get<double>();
+  };
+  o.structural_mode_hz = number("structural_mode_hz", 0.0);
+  o.structural_mode_damping = number("structural_mode_damping", o.structural_mode_damping);
+  if (!(o.structural_mode_hz >= 0.0 && o.structural_mode_hz <= 100.0 && o.structural_mode_damping >= 0.0 &&
+        o.structural_mode_damping <= 1.0)) {
+    throw MeasurementError(origin + ": structural_mode_hz must be in [0, 100] Hz, structural_mode_damping in [0, 1]");
   }
   Design d = BuildDesign(model, Decimated(data, 100.0), o);
   // The tracker's clock is the data's nuisance, as its frame is: estimated
@@ -211,6 +216,9 @@ Evaluation Evaluate(const PlatformModel& model, const MeasurementData& data, con
     Effect e;
     const std::string name = entry.value("name", "");
     if (!ParseEffect(name, &e)) throw MeasurementError(fmt::format("{}: unknown effect \"{}\"", origin, name));
+    if (e == Effect::kStructuralResonance && !(o.structural_mode_hz > 0.0)) {
+      throw MeasurementError(origin + ": effect \"structural_resonance\" needs \"structural_mode_hz\" > 0");
+    }
     std::vector<double> theta = entry.value("theta", std::vector<double>{});
     // Models saved before thermal drift had its time driver and stroke terms
     // hold the travel term alone.

@@ -142,9 +142,11 @@ void FindPeak(const std::vector<Series>& series, ResidualStructure* out) {
 // independent samples); the global frame takes up one mean per axis. Returns
 // the share of the residual's variance in the means beyond that scatter,
 // 0 unless the sum of their squared z-scores exceeds χ² at `level`.
-double RunOffsetShare(const Design& d, const Eigen::VectorXd& residual, double level) {
+// `frame_fitted`: the residual's own frame was fitted on these runs (in
+// sample), which takes up one mean per axis; held out, it was not.
+double RunOffsetShare(const Design& d, const Eigen::VectorXd& residual, double level, bool frame_fitted) {
   double chi2 = 0.0, excess = 0.0;
-  int dof = -3;
+  int dof = frame_fitted ? -3 : 0;
   for (const ColumnRange& run : d.run_samples) {
     if (run.count < 16) continue;
     for (int axis = 0; axis < 3; ++axis) {
@@ -158,7 +160,7 @@ double RunOffsetShare(const Design& d, const Eigen::VectorXd& residual, double l
         if (k > run.begin) lag1 += v * (residual(3 * (k - 1) + axis) - mean);
       }
       if (!(var > 0.0)) continue;
-      const double rho = std::clamp(lag1 / var, 0.0, 0.95);
+      const double rho = std::clamp(lag1 / var, 0.0, 0.99);
       const double mean_var = var / run.count * (1.0 + rho) / (1.0 - rho) / run.count;
       chi2 += mean * mean / mean_var;
       excess += run.count * std::max(0.0, mean * mean - mean_var);
@@ -262,14 +264,15 @@ ResidualStructure AnalyseStructure(const Design& d, const Eigen::VectorXd& in_sa
   const std::vector<Series> series = SeriesOf(d, residual);
   out.structured_share = ShareAboveWhite(series);
   out.in_sample_share = ShareAboveWhite(SeriesOf(d, in_sample));
-  out.run_offset_share = RunOffsetShare(d, residual, kRunsApartLevel);
-  out.in_sample_run_offset_share = RunOffsetShare(d, in_sample, kRunsApartLevel);
+  out.run_offset_share = RunOffsetShare(d, residual, kRunsApartLevel, false);
+  out.in_sample_run_offset_share = RunOffsetShare(d, in_sample, kRunsApartLevel, true);
   out.runs_apart = out.run_offset_share >= o.min_share && out.in_sample_run_offset_share >= o.min_share;
   const bool within_runs = !out.whiteness.white && out.structured_share >= o.min_share &&
                            !out.in_sample_whiteness.white && out.in_sample_share >= o.min_share;
   out.structured = within_runs || out.runs_apart;
-  // The within-run share is of the variance about each run's mean.
-  out.structured_share = out.run_offset_share + (1.0 - out.run_offset_share) * out.structured_share;
+  // The within-run share is of the variance about each run's mean; with the
+  // runs apart, their means' share is structure too.
+  if (out.runs_apart) out.structured_share = out.run_offset_share + (1.0 - out.run_offset_share) * out.structured_share;
   const double mean_square = d.samples() > 0 ? residual.squaredNorm() / d.samples() : 0.0;
   out.structured_rms_m = std::sqrt(out.structured_share * mean_square);
   FindPeak(series, &out);

@@ -25,36 +25,43 @@ constexpr int kRefined = 4;          // the screen's best few, refined on held-o
 constexpr double kDampings[] = {0.005, 0.01, 0.02, 0.03, 0.05, 0.1, 0.2};
 constexpr int kGoldenSteps = 10;     // a bracket of two screen steps shrinks to 0.02%
 
-// Held-out MSE (leave one fold out, every column of the design fitted).
-double HeldOutMse(const Design& d, double sigma2) {
-  const GramSet gram(d, MakeFolds(d));
-  const Columns cols = ColumnsOf(d, AllEffects());
-  const Eigen::VectorXd prior = PriorWeights(d, sigma2);
+// Held-out MSE of `cols` (leave one fold out).
+double HeldOutMse(const GramSet& gram, const Columns& cols, const Eigen::VectorXd& prior) {
   double sse = 0.0;
   for (int f = 0; f < gram.folds(); ++f) sse += gram.Sse(cols, gram.Solve(cols, gram.AllBut(f), prior), {f});
   return sse / std::max(1, gram.Residuals(gram.AllFolds()));
 }
 
+// The frame and the selected effects, once; each candidate mode adds its
+// three columns to their Gram matrices (a few products over the rows, not
+// the whole design's Gram matrix again).
 class ModeScore {
  public:
   ModeScore(const Design& full, const std::vector<Effect>& selected, double sigma2)
-      : full_(full), kept_(KeepOnly(full, selected)), sigma2_(sigma2) {}
-  double Without() const { return HeldOutMse(kept_, sigma2_); }
+      : full_(full), kept_(KeepOnly(full, selected)), gram_(kept_, MakeFolds(kept_)),
+        cols_(ColumnsOf(kept_, AllEffects())), prior_(PriorWeights(kept_, sigma2)) {}
+  double Without() const { return HeldOutMse(gram_, cols_, prior_); }
   double With(double hz, double zeta) const {
-    return HeldOutMse(WithNuisance(kept_, SwayColumns(full_, hz, zeta)), sigma2_);
+    const GramSet with = gram_.WithAppendedColumns(kept_, SwayColumns(full_, hz, zeta));
+    Columns cols = cols_;
+    const int p = kept_.parameters();
+    for (int k = 0; k < 3; ++k) cols.push_back(p + k);
+    Eigen::VectorXd prior = Eigen::VectorXd::Zero(p + 3);
+    prior.head(p) = prior_;
+    return HeldOutMse(with, cols, prior);
   }
   // The in-sample residual of the frame and the selected effects.
   Eigen::VectorXd Residual() const {
-    const GramSet gram(kept_, MakeFolds(kept_));
-    const Columns cols = ColumnsOf(kept_, AllEffects());
-    const Eigen::VectorXd theta = gram.Solve(cols, gram.AllFolds(), PriorWeights(kept_, sigma2_));
-    return kept_.residual - kept_.columns(Eigen::all, cols) * theta;
+    const Eigen::VectorXd theta = gram_.Solve(cols_, gram_.AllFolds(), prior_);
+    return kept_.residual - kept_.columns(Eigen::all, cols_) * theta;
   }
 
  private:
   const Design& full_;
   Design kept_;
-  double sigma2_;
+  GramSet gram_;
+  Columns cols_;
+  Eigen::VectorXd prior_;
 };
 
 // How much of `residual` the mode's sway takes up (its three columns fitted
@@ -105,7 +112,9 @@ std::pair<double, double> Refine(const ModeScore& score, double hz, double zeta)
 }  // namespace
 
 Design KeepOnly(const Design& d, const std::vector<Effect>& keep) {
-  Design out = d;
+  Design out = WithoutColumns(d);
+  out.frame = d.frame;
+  out.nuisance = d.nuisance;
   const int first = d.frame.begin + d.frame.count + d.nuisance.count;
   std::vector<Eigen::Index> columns(static_cast<std::size_t>(first));
   std::iota(columns.begin(), columns.end(), Eigen::Index{0});

@@ -76,9 +76,7 @@ Eigen::MatrixXd StructureColumns(const Design& d, double hz, double zeta) {
   return c;
 }
 
-Design WithNuisance(const Design& d, const Eigen::MatrixXd& extra) {
-  // Every member but the columns copied as it is (the columns, the large
-  // part, are built once, not copied and then rebuilt).
+Design WithoutColumns(const Design& d) {
   Design out;
   out.residual = d.residual;
   out.frame = d.frame;
@@ -99,6 +97,11 @@ Design WithNuisance(const Design& d, const Eigen::MatrixXd& extra) {
   out.applied_pr = d.applied_pr;
   out.R0 = d.R0;
   out.t0 = d.t0;
+  return out;
+}
+
+Design WithNuisance(const Design& d, const Eigen::MatrixXd& extra) {
+  Design out = WithoutColumns(d);
   const int m = static_cast<int>(extra.cols()), first = d.frame.begin + d.frame.count + d.nuisance.count;
   const Eigen::Index rest = d.columns.cols() - first;
   out.columns.resize(d.columns.rows(), d.columns.cols() + m);

@@ -151,9 +151,9 @@ CalibrationModel ParseCalibration(const std::string& text, const std::string& or
   out.options.thermal_time_constant_s =
       PositiveNumber(j, "thermal_time_constant_s", out.options.thermal_time_constant_s, 1e6, origin);
   out.options.backlash_width_m = PositiveNumber(j, "backlash_width_m", out.options.backlash_width_m, 1e-3, origin);
-  out.options.structural_mode_hz = NonNegativeNumber(j, "structural_mode_hz", 0.0, 1e3, origin);
+  out.options.structural_mode_hz = NonNegativeNumber(j, "structural_mode_hz", 0.0, 100.0, origin);
   out.options.structural_mode_damping =
-      NonNegativeNumber(j, "structural_mode_damping", out.options.structural_mode_damping, 10.0, origin);
+      NonNegativeNumber(j, "structural_mode_damping", out.options.structural_mode_damping, 1.0, origin);
   if (!j.contains("effects") || !j["effects"].is_array()) throw CalibrationError(origin + ": no \"effects\" array");
   std::array<bool, kEffectCount> seen{};
   for (std::size_t k = 0; k < j["effects"].size(); ++k) {
@@ -209,7 +209,9 @@ LegCompensator::Correction LegCompensator::Step(double time_s, const Pose& pose,
     const Vector6 dl = e.effect == Effect::kStructuralResonance ? StructuralSway(e, time_s, in, state)
                                                                 : Vector6(LegErrorBasis(e.effect, state, model_) * e.theta);
     c.command_m += dl;
-    if (e.effect != Effect::kServoLag) c.encoder_m += dl;
+    // The encoders see the servo's lag themselves, and the structure's sway
+    // is not in the legs at all: forward kinematics finds the platform, not A.
+    if (e.effect != Effect::kServoLag && e.effect != Effect::kStructuralResonance) c.encoder_m += dl;
   }
   // A setpoint stream whose velocity jumps (a CSV trajectory's rows, a
   // start from rest) would make the feed-forward step: the correction
@@ -228,9 +230,9 @@ Vector6 LegCompensator::StructuralSway(const CalibratedEffect& e, double time_s,
   // The legs that cancel the sway move the platform, and so the base the
   // mode hangs from: with the command corrected by c, the sway s follows
   // s̈ + 2ζωṡ + ω²s = −g·(a − s̈), i.e. the mode with mass 1 − g.
-  const Vector3 gain = e.theta.head<3>();
+  const Vector3 gain = e.theta.head<3>().cwiseMin(1.0 - kMinModeMass);
   if (!inverse_mode_) {
-    const Vector3 mass = (Vector3::Ones() - gain).cwiseMax(kMinModeMass);
+    const Vector3 mass = Vector3::Ones() - gain;
     inverse_mode_.emplace(calibration_.options.structural_mode_hz, calibration_.options.structural_mode_damping, mass);
   }
   const Vector3& x = inverse_mode_->Advance(time_s - last_mode_time_s_, in.point_accel_B_m_s2);

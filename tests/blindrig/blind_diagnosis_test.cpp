@@ -174,9 +174,9 @@ TEST(BlindDiagnosis, ASlowStrongSwayIsTheStructuralModeWithItsFrequency) {
   EXPECT_GT(d.shrink, 0.85) << Describe(d);
 }
 
-// A 3 Hz sway seen by a 20 Hz tracker: the mode above the tracker's
-// Nyquist rate is still found from how its quasi-static part and its
-// aliased ringing follow A's acceleration, and nothing else is named.
+// A 3 Hz sway seen by a 20 Hz tracker (7 rows a period): the mode is still
+// found from how its quasi-static part and its ringing follow A's
+// acceleration, and nothing else is named.
 TEST(BlindDiagnosis, ASwaySeenByASlowTrackerIsTheStructuralMode) {
   BlindEffects e;
   e.resonance_hz = 3.0;

@@ -244,6 +244,23 @@ TEST(Evaluate, ASavedModelShrinksTheGapOnDataItNeverSaw) {
   nlohmann::json broken = saved;
   broken["effects"][0]["theta"] = {1.0};
   EXPECT_THROW(Evaluate(model, LoadMeasurement(Simulate("train", fx).csv), broken, "model.json"), MeasurementError);
+  // A structural mode without its frequency, or with a frequency that is not a number, is refused by name.
+  const MeasurementData data = LoadMeasurement(Simulate("train", fx).csv);
+  nlohmann::json mode = saved;
+  mode["effects"] = {{{"name", "structural_resonance"}, {"theta", {0.2, 0.2, 0.1}}}};
+  const auto refusal = [&](const nlohmann::json& m) {
+    try {
+      Evaluate(model, data, m, "model.json");
+    } catch (const MeasurementError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(refusal(mode).find("needs \"structural_mode_hz\" > 0"), std::string::npos) << refusal(mode);
+  mode["structural_mode_hz"] = "five";
+  EXPECT_NE(refusal(mode).find("\"structural_mode_hz\" must be a number"), std::string::npos) << refusal(mode);
+  mode["structural_mode_hz"] = 5.0;
+  EXPECT_EQ(refusal(mode), "accepted");
 }
 
 }  // namespace

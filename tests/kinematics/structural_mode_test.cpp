@@ -2,6 +2,7 @@
 // oscillator: its steady state under a sinusoidal acceleration, its free
 // ringing, and the inverse (mass 1 − g) a calibration applies.
 #include <cmath>
+#include <stdexcept>
 
 #include <gtest/gtest.h>
 
@@ -62,11 +63,23 @@ TEST(StructuralMode, RingsFreelyAtItsDampedFrequencyAndStartsAgainAfterAGap) {
   }
   const double damped_hz = 4.0 * std::sqrt(1.0 - 0.02 * 0.02);
   EXPECT_NEAR(1.0 / period, damped_hz, 0.002 * damped_hz);
-  mode.Advance(StructuralMode::kForgetAfterPeriods / 4.0 + 1.0, Vector3::UnitY());
+  mode.Advance(60.0, Vector3::UnitY());     // ζω = 0.5/s: rung out to 1e-4 in 18 s
   EXPECT_EQ(mode.sway(), Vector3::Zero());  // rung out over the gap
   mode.Advance(0.01, Vector3::UnitY());
   mode.Advance(-0.5, Vector3::UnitY());     // time went back: a new session
   EXPECT_EQ(mode.sway(), Vector3::Zero());
+}
+
+TEST(StructuralMode, RefusesAModeItCannotIntegrate) {
+  EXPECT_THROW(StructuralMode(0.0, 0.03), std::invalid_argument);
+  EXPECT_THROW(StructuralMode(std::nan(""), 0.03), std::invalid_argument);
+  EXPECT_THROW(StructuralMode(5.0, 2.0), std::invalid_argument);
+  EXPECT_THROW(StructuralMode(5.0, 0.03, Vector3(1.0, 0.0, 1.0)), std::invalid_argument);
+  // A light mass (a calibration's inverse of a gain of 0.75) stays stable at 1 kHz.
+  StructuralMode light(25.0, 1.0, Vector3::Constant(0.25));
+  for (int k = 0; k < 2000; ++k) light.Advance(k == 0 ? 0.0 : 1e-3, Vector3::Constant(k < 100 ? 1.0 : 0.0));
+  EXPECT_TRUE(light.sway().allFinite());
+  EXPECT_LT(light.sway().norm(), 1e-3);
 }
 
 }  // namespace

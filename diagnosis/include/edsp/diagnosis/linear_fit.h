@@ -27,6 +27,11 @@ std::vector<Fold> MakeFolds(const Design& design);
 class GramSet {
  public:
   GramSet(const Design& design, std::vector<Fold> folds);
+  // The same folds with `extra` (3 rows per sample of `design`, the design
+  // this set was built on) appended after the design's columns: their
+  // indices are design.parameters() onwards. Only the new blocks are
+  // computed, not the whole Gram matrix again.
+  GramSet WithAppendedColumns(const Design& design, const Eigen::MatrixXd& extra) const;
 
   int folds() const { return static_cast<int>(folds_.size()); }
   const Fold& fold(int k) const { return folds_[static_cast<std::size_t>(k)]; }

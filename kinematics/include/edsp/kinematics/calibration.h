@@ -75,7 +75,8 @@ class LegCompensator {
 
   static constexpr double kMaxCorrectionRate_m_s = 0.05;
   // The structural mode's inverse (structural_mode.h) needs 1 − g > 0: a
-  // gain beyond 1 − kMinModeMass is compensated as if it were that.
+  // gain beyond 1 − kMinModeMass is compensated as if it were that (the
+  // inverse of a mode with that gain: the sway in part).
   static constexpr double kMinModeMass = 0.25;
 
  private:

@@ -17,13 +17,13 @@ namespace edsp {
 
 class StructuralMode {
  public:
-  // `hz` > 0; `damping` ζ ≥ 0; `mass` per axis > 0.
+  // `hz` > 0; `damping` ζ in [0, 1]; `mass` per axis > 0 (std::invalid_argument otherwise).
   StructuralMode(double hz, double damping, const Vector3& mass = Vector3::Ones());
 
   // The sway at an instant `dt_s` after the last, given A's acceleration
   // there; the acceleration is taken as linear in between. A first call, a
-  // step back in time, or a gap of more than kForgetAfterPeriods periods
-  // (the mode has rung out) starts again from rest.
+  // step back in time, or a gap in which the mode has rung out (to 1e-4 of
+  // itself, and at least kForgetAfterPeriods periods) starts again from rest.
   const Vector3& Advance(double dt_s, const Vector3& accel);
   void Reset();
   const Vector3& sway() const { return x_; }
@@ -34,6 +34,7 @@ class StructuralMode {
  private:
   double omega_, damping_;
   Vector3 mass_;
+  double step_omega_ = 0.0, forget_after_s_ = 0.0;
   Vector3 x_ = Vector3::Zero(), v_ = Vector3::Zero(), last_accel_ = Vector3::Zero();
   bool started_ = false;
 };
