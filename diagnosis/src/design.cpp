@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <fmt/format.h>
 
+#include "edsp/kinematics/finite_difference.h"
 #include "edsp/kinematics/leg_error_model.h"
 
 namespace edsp::gap {
@@ -69,16 +70,6 @@ void LayOutColumns(int samples, Design* d) {
   d->columns.setZero(3 * samples, column);
 }
 
-// The second derivative at t from samples at t − h1, t, t + h2: exact for a
-// quadratic whatever the spacing. A live tracker's stamps jitter by a
-// fraction of the spacing (the rig's cycle wakes late by up to a few hundred
-// µs); the evenly spaced formula made that jitter accelerations as large as
-// the motion's own (1 m/s² at 0.25 m/s from 0.2 ms on a 10 ms spacing).
-template <typename V>
-V SecondDerivative(const V& before, const V& at, const V& after, double h1, double h2) {
-  return (2.0 / (h1 + h2)) * ((after - at) / h2 - (at - before) / h1);
-}
-
 // Leg velocity, acceleration and the platform's and A's acceleration at
 // row k of a run, from the commands (central differences; none at a run's ends).
 void CommandRates(const PlatformModel& model, const MeasurementData& data, const std::vector<int>& rows,
@@ -132,6 +123,7 @@ Samples TrackSamples(const PlatformModel& model, const MeasurementData& data, co
       d->time_s.push_back(row.time_s);
       d->leg_velocity_m_s.push_back(s.velocity);
       d->leg_accel_m_s2.push_back(s.accel);
+      d->point_accel_m_s2.push_back(in.point_accel_B_m_s2);
       d->servo_error_m.push_back(d->has_encoder ? Vector6(row.leg_cmd_m - row.leg_enc_m) : Vector6::Zero());
       d->displacement.push_back((row.pose_cmd - model.home_pose().ToVector()).norm());
     }

@@ -20,6 +20,7 @@
 #include "edsp/diagnosis/robust_fit.h"
 #include "edsp/diagnosis/structural_mode_fit.h"
 #include "edsp/diagnosis/structure_nuisance.h"
+#include "edsp/diagnosis/thermal_time_constant_fit.h"
 #include "edsp/diagnosis/time_offset.h"
 
 namespace edsp::gap {
@@ -622,19 +623,25 @@ Diagnosis WithStructuralMode(const PlatformModel& model, const MeasurementData& 
   return candidate;
 }
 
-Diagnosis Diagnose(const PlatformModel& model, const MeasurementData& data, const DiagnoseOptions& options) {
-  Diagnosis d = WithStructuralMode(model, data, options,
-                                   WithBacklashWidth(model, data, options, DiagnoseOnce(model, data, options)));
-  // The screws' cooling time is the thermal basis's one non-linear
-  // parameter: once thermal drift is found, the diagnosis is repeated over a
-  // grid of time constants and the one that predicts the held-out runs best kept.
+// The screws' cooling time is the thermal basis's one non-linear
+// parameter: once thermal drift is found, the time constant that predicts
+// the held-out runs best beside the selected effects is chosen from a grid
+// (thermal_time_constant_fit.h), and the diagnosis runs again at it, kept
+// if it still finds the drift and predicts the held-out runs better.
+Diagnosis WithThermalTimeConstant(const PlatformModel& model, const MeasurementData& data,
+                                  const DiagnoseOptions& options, Diagnosis d) {
   if (options.thermal_time_constants_s.empty() || !Found(d, Effect::kThermalDrift)) return d;
-  double seconds = d.seconds;
-  for (double tau : options.thermal_time_constants_s) {
-    if (tau == d.design.thermal_time_constant_s) continue;
+  const auto start = std::chrono::steady_clock::now();
+  const double sigma2 =
+      std::max(d.noise_floor_rms_m * d.noise_floor_rms_m, d.holdout_before.rms_m * d.holdout_before.rms_m) / 3.0;
+  const ThermalTimeConstantChoice tau = ChooseThermalTimeConstant(
+      model, Decimated(data, options.max_rate_hz), d.design, options.thermal_time_constants_s, d.selected, sigma2,
+      d.time_offset);
+  double seconds = d.seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (tau.tau_s != d.design.thermal_time_constant_s) {
     DiagnoseOptions at = options;
     at.design = d.design;
-    at.design.thermal_time_constant_s = tau;
+    at.design.thermal_time_constant_s = tau.tau_s;
     Diagnosis candidate = DiagnoseOnce(model, data, at, &d.time_offset);
     seconds += candidate.seconds;
     if (Found(candidate, Effect::kThermalDrift) && candidate.holdout_after.rms_m < d.holdout_after.rms_m) {
@@ -643,6 +650,12 @@ Diagnosis Diagnose(const PlatformModel& model, const MeasurementData& data, cons
   }
   d.seconds = seconds;
   return d;
+}
+
+Diagnosis Diagnose(const PlatformModel& model, const MeasurementData& data, const DiagnoseOptions& options) {
+  Diagnosis d = WithStructuralMode(model, data, options,
+                                   WithBacklashWidth(model, data, options, DiagnoseOnce(model, data, options)));
+  return WithThermalTimeConstant(model, data, options, std::move(d));
 }
 
 }  // namespace edsp::gap

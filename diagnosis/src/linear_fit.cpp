@@ -1,5 +1,7 @@
 #include "edsp/diagnosis/linear_fit.h"
 
+#include <algorithm>
+
 #include <Eigen/Eigenvalues>
 #include <fmt/format.h>
 
@@ -187,6 +189,12 @@ Columns ColumnsOf(const Design& d, const std::vector<Effect>& effects) {
     for (int k = 0; k < r.count; ++k) c.push_back(r.begin + k);
   }
   return c;
+}
+
+double HeldOutMse(const GramSet& gram, const Columns& columns, const Eigen::VectorXd& prior_weight) {
+  double sse = 0.0;
+  for (int f = 0; f < gram.folds(); ++f) sse += gram.Sse(columns, gram.Solve(columns, gram.AllBut(f), prior_weight), {f});
+  return sse / std::max(1, gram.Residuals(gram.AllFolds()));
 }
 
 }  // namespace edsp::gap

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numeric>
 #include <utility>
 
 #include "edsp/diagnosis/linear_fit.h"
@@ -24,13 +23,6 @@ constexpr double kScreenDamping = 0.02;
 constexpr int kRefined = 4;          // the screen's best few, refined on held-out runs
 constexpr double kDampings[] = {0.005, 0.01, 0.02, 0.03, 0.05, 0.1, 0.2};
 constexpr int kGoldenSteps = 10;     // a bracket of two screen steps shrinks to 0.02%
-
-// Held-out MSE of `cols` (leave one fold out).
-double HeldOutMse(const GramSet& gram, const Columns& cols, const Eigen::VectorXd& prior) {
-  double sse = 0.0;
-  for (int f = 0; f < gram.folds(); ++f) sse += gram.Sse(cols, gram.Solve(cols, gram.AllBut(f), prior), {f});
-  return sse / std::max(1, gram.Residuals(gram.AllFolds()));
-}
 
 // The frame and the selected effects, once; each candidate mode adds its
 // three columns to their Gram matrices (a few products over the rows, not
@@ -110,24 +102,6 @@ std::pair<double, double> Refine(const ModeScore& score, double hz, double zeta)
 }
 
 }  // namespace
-
-Design KeepOnly(const Design& d, const std::vector<Effect>& keep) {
-  Design out = WithoutColumns(d);
-  out.frame = d.frame;
-  out.nuisance = d.nuisance;
-  const int first = d.frame.begin + d.frame.count + d.nuisance.count;
-  std::vector<Eigen::Index> columns(static_cast<std::size_t>(first));
-  std::iota(columns.begin(), columns.end(), Eigen::Index{0});
-  for (Effect e : AllEffects()) {
-    ColumnRange& r = out.effect[static_cast<std::size_t>(e)];
-    const bool kept = std::find(keep.begin(), keep.end(), e) != keep.end();
-    const ColumnRange was = d.Of(e);
-    r = {static_cast<int>(columns.size()), kept ? was.count : 0};
-    for (int k = 0; kept && k < was.count; ++k) columns.push_back(was.begin + k);
-  }
-  out.columns = d.columns(Eigen::all, columns);
-  return out;
-}
 
 StructuralModeChoice ChooseStructuralMode(const Design& d, const std::vector<Effect>& selected, double sigma2,
                                           double peak_hz) {

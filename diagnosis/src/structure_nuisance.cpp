@@ -11,21 +11,6 @@ namespace {
 
 constexpr double kTwoPi = 6.283185307179586;
 
-// A's acceleration at each sample of a run in {B}: central differences of
-// the model's point along the commands (none at the run's ends).
-std::vector<Vector3> PointAcceleration(const Design& d, const ColumnRange& run) {
-  std::vector<Vector3> a(static_cast<std::size_t>(run.count), Vector3::Zero());
-  for (int k = 1; k + 1 < run.count; ++k) {
-    const std::size_t i = static_cast<std::size_t>(run.begin + k);
-    const double h1 = d.time_s[i] - d.time_s[i - 1], h2 = d.time_s[i + 1] - d.time_s[i];
-    if (!(h1 > 0.0 && h2 > 0.0)) continue;
-    const Vector3 v1 = (d.model_point[i] - d.model_point[i - 1]) / h1;
-    const Vector3 v2 = (d.model_point[i + 1] - d.model_point[i]) / h2;
-    a[static_cast<std::size_t>(k)] = (v2 - v1) / (0.5 * (h1 + h2));
-  }
-  return a;
-}
-
 // The mode's response at unit gain (structural_mode.h) at every sample, in
 // the order of the design's samples and carried from run to run as the
 // leg-error model's is (design.cpp), so that these columns are the
@@ -35,10 +20,9 @@ std::vector<Vector3> ModeResponse(const Design& d, double hz, double zeta) {
   StructuralMode mode(hz, zeta);
   double last_t = 0.0;
   for (const ColumnRange& run : d.run_samples) {
-    const std::vector<Vector3> accel = PointAcceleration(d, run);
     for (int k = 0; k < run.count; ++k) {
       const std::size_t i = static_cast<std::size_t>(run.begin + k);
-      x[i] = mode.Advance(d.time_s[i] - last_t, accel[static_cast<std::size_t>(k)]);
+      x[i] = mode.Advance(d.time_s[i] - last_t, d.point_accel_m_s2[i]);
       last_t = d.time_s[i];
     }
   }
@@ -74,30 +58,6 @@ Eigen::MatrixXd StructureColumns(const Design& d, double hz, double zeta) {
     }
   }
   return c;
-}
-
-Design WithoutColumns(const Design& d) {
-  Design out;
-  out.residual = d.residual;
-  out.frame = d.frame;
-  out.effect = d.effect;
-  out.sample_run = d.sample_run;
-  out.run_samples = d.run_samples;
-  out.runs = d.runs;
-  out.source_row = d.source_row;
-  out.point_per_leg = d.point_per_leg;
-  out.model_point = d.model_point;
-  out.leg_velocity_m_s = d.leg_velocity_m_s;
-  out.leg_accel_m_s2 = d.leg_accel_m_s2;
-  out.servo_error_m = d.servo_error_m;
-  out.time_s = d.time_s;
-  out.displacement = d.displacement;
-  out.has_encoder = d.has_encoder;
-  out.applied_pr_ratio = d.applied_pr_ratio;
-  out.applied_pr = d.applied_pr;
-  out.R0 = d.R0;
-  out.t0 = d.t0;
-  return out;
 }
 
 Design WithNuisance(const Design& d, const Eigen::MatrixXd& extra) {

@@ -10,6 +10,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "edsp/kinematics/finite_difference.h"
+
 namespace edsp::calibration {
 
 namespace {
@@ -31,24 +33,16 @@ std::string ReadFile(const std::string& path) {
   return text.str();
 }
 
-double PositiveNumber(const nlohmann::json& j, const char* key, double fallback, double max,
-                      const std::string& origin) {
+// `key` of `j` within its bounds (above 0, or from 0 where `zero_allowed`,
+// up to `max`), `fallback` when absent; the error names the key and value.
+double NumberIn(const nlohmann::json& j, const char* key, double fallback, bool zero_allowed, double max,
+                const std::string& origin) {
   if (!j.contains(key)) return fallback;
   if (!j[key].is_number()) throw CalibrationError(fmt::format("{}: \"{}\" must be a number", origin, key));
   const double v = j[key].get<double>();
-  if (!(v > 0.0 && v <= max)) {
-    throw CalibrationError(fmt::format("{}: \"{}\" = {} is not in (0, {}]", origin, key, v, max));
-  }
-  return v;
-}
-
-double NonNegativeNumber(const nlohmann::json& j, const char* key, double fallback, double max,
-                         const std::string& origin) {
-  if (!j.contains(key)) return fallback;
-  if (!j[key].is_number()) throw CalibrationError(fmt::format("{}: \"{}\" must be a number", origin, key));
-  const double v = j[key].get<double>();
-  if (!(v >= 0.0 && v <= max)) {
-    throw CalibrationError(fmt::format("{}: \"{}\" = {} is not in [0, {}]", origin, key, v, max));
+  if (!((zero_allowed ? v >= 0.0 : v > 0.0) && v <= max)) {
+    throw CalibrationError(
+        fmt::format("{}: \"{}\" = {} is not in {}0, {}]", origin, key, v, zero_allowed ? "[" : "(", max));
   }
   return v;
 }
@@ -62,8 +56,9 @@ Vector3 PointAcceleration(const PlatformModel& model, const Vector6& q, const Ve
   constexpr double h = 1e-3;  // s
   const Vector6 ahead = q + h * velocity + 0.5 * h * h * acceleration;
   const Vector6 behind = q - h * velocity + 0.5 * h * h * acceleration;
-  return (model.ObservationPoint(Pose::FromVector(ahead)) - 2.0 * model.ObservationPoint(Pose::FromVector(q)) +
-          model.ObservationPoint(Pose::FromVector(behind))) / (h * h);
+  return SecondDerivative<Vector3>(model.ObservationPoint(Pose::FromVector(behind)),
+                                  model.ObservationPoint(Pose::FromVector(q)),
+                                  model.ObservationPoint(Pose::FromVector(ahead)), h, h);
 }
 
 CalibratedEffect ParseEffectEntry(const nlohmann::json& entry, std::size_t index, const std::string& origin) {
@@ -149,11 +144,11 @@ CalibrationModel ParseCalibration(const std::string& text, const std::string& or
   out.origin = origin;
   out.hash = Fnv1a64Hex(text);
   out.options.thermal_time_constant_s =
-      PositiveNumber(j, "thermal_time_constant_s", out.options.thermal_time_constant_s, 1e6, origin);
-  out.options.backlash_width_m = PositiveNumber(j, "backlash_width_m", out.options.backlash_width_m, 1e-3, origin);
-  out.options.structural_mode_hz = NonNegativeNumber(j, "structural_mode_hz", 0.0, 100.0, origin);
+      NumberIn(j, "thermal_time_constant_s", out.options.thermal_time_constant_s, false, 1e6, origin);
+  out.options.backlash_width_m = NumberIn(j, "backlash_width_m", out.options.backlash_width_m, false, 1e-3, origin);
+  out.options.structural_mode_hz = NumberIn(j, "structural_mode_hz", 0.0, true, 100.0, origin);
   out.options.structural_mode_damping =
-      NonNegativeNumber(j, "structural_mode_damping", out.options.structural_mode_damping, 1.0, origin);
+      NumberIn(j, "structural_mode_damping", out.options.structural_mode_damping, true, 1.0, origin);
   if (!j.contains("effects") || !j["effects"].is_array()) throw CalibrationError(origin + ": no \"effects\" array");
   std::array<bool, kEffectCount> seen{};
   for (std::size_t k = 0; k < j["effects"].size(); ++k) {
@@ -177,8 +172,21 @@ CalibrationModel LoadCalibration(const std::string& path, const PlatformModel& m
   return ParseCalibration(ReadFile(path), path, model, apply_ambiguous);
 }
 
+namespace {
+
+// The compensator's tracker without the structural mode: the sway it
+// cancels follows the inverse mode (StructuralSway), not the fitted one.
+LegErrorOptions WithoutTheMode(LegErrorOptions options) {
+  options.structural_mode_hz = 0.0;
+  return options;
+}
+
+}  // namespace
+
 LegCompensator::LegCompensator(PlatformModel model, CalibrationModel calibration)
-    : model_(model), calibration_(std::move(calibration)), tracker_(std::move(model), calibration_.options) {}
+    : model_(model),
+      calibration_(std::move(calibration)),
+      tracker_(std::move(model), WithoutTheMode(calibration_.options)) {}
 
 LegCompensator::Correction LegCompensator::Step(double time_s, const Pose& pose, const Vector6& pose_velocity,
                                                 const Vector6& pose_acceleration, const Vector6& command_m) {
@@ -206,7 +214,7 @@ LegCompensator::Correction LegCompensator::Step(double time_s, const Pose& pose,
   const LegErrorState state = tracker_.Advance(in);
   Correction c;
   for (const CalibratedEffect& e : calibration_.applied) {
-    const Vector6 dl = e.effect == Effect::kStructuralResonance ? StructuralSway(e, time_s, in, state)
+    const Vector6 dl = e.effect == Effect::kStructuralResonance ? StructuralSway(e, time_s, in)
                                                                 : Vector6(LegErrorBasis(e.effect, state, model_) * e.theta);
     c.command_m += dl;
     // The encoders see the servo's lag themselves, and the structure's sway
@@ -225,8 +233,7 @@ LegCompensator::Correction LegCompensator::Step(double time_s, const Pose& pose,
   return c;
 }
 
-Vector6 LegCompensator::StructuralSway(const CalibratedEffect& e, double time_s, const LegErrorInputs& in,
-                                       const LegErrorState& state) {
+Vector6 LegCompensator::StructuralSway(const CalibratedEffect& e, double time_s, const LegErrorInputs& in) {
   // The legs that cancel the sway move the platform, and so the base the
   // mode hangs from: with the command corrected by c, the sway s follows
   // s̈ + 2ζωṡ + ω²s = −g·(a − s̈), i.e. the mode with mass 1 − g.
@@ -237,7 +244,7 @@ Vector6 LegCompensator::StructuralSway(const CalibratedEffect& e, double time_s,
   }
   const Vector3& x = inverse_mode_->Advance(time_s - last_mode_time_s_, in.point_accel_B_m_s2);
   last_mode_time_s_ = time_s;
-  return state.translation * gain.cwiseProduct(x);
+  return TranslationToLegs(model_, in.pose) * gain.cwiseProduct(x);
 }
 
 }  // namespace edsp::calibration

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "edsp/kinematics/finite_difference.h"
 #include "edsp/kinematics/platform_loads.h"
 
 namespace edsp {
@@ -58,11 +59,14 @@ VirtualRig::VirtualRig(RigParameters parameters)
   if (e.compliance.enabled) Deflect(&lengths);
   const FkResult fk = SolveForward(model_, lengths, pose_, fk_options_);
   if (fk.ok()) pose_ = fk.pose;
-  // Critically damped position loop at the requested bandwidth.
+  // Critically damped position loop at the requested bandwidth, tuned on
+  // the inertia the motor moves, the payload's included: a drive is
+  // commissioned with its load on (tuned on the bare motor, an 800 kg
+  // platform would halve the loop's bandwidth and lag every motion).
   const RigEffects::ServoLag& servo = parameters_.effects.servo_lag;
   const double wn = kTwoPi * servo.bandwidth_hz;
-  kp_ = servo.inertia_kg_m2 * wn * wn;
-  kd_ = 2.0 * servo.inertia_kg_m2 * wn;
+  kp_ = MovedInertia() * wn * wn;
+  kd_ = 2.0 * MovedInertia() * wn;
   if (e.structural_resonance.enabled) mode_.emplace(e.structural_resonance.frequency_hz, e.structural_resonance.damping);
   ki_ = servo.integral_time_s > 0.0 ? kp_ / servo.integral_time_s : 0.0;
   // An integrating drive has been holding the platform before the run: its
@@ -132,6 +136,12 @@ double VirtualRig::ScrewRatio() const {
                                             parameters_.effects.servo_lag.screw_efficiency);
 }
 
+double VirtualRig::MovedInertia() const {
+  const RigEffects::ServoLag& s = parameters_.effects.servo_lag;
+  const double screw = ScrewRatio();
+  return s.inertia_kg_m2 + load_mass_per_leg_kg_ * screw * screw * s.screw_efficiency;
+}
+
 void VirtualRig::StepServo(int i, double dt) {
   const RigEffects::ServoLag& s = parameters_.effects.servo_lag;
   const auto leg = static_cast<std::size_t>(i);
@@ -151,12 +161,10 @@ void VirtualRig::StepServo(int i, double dt) {
   // The platform's weight on this leg, at the motor (it resists extension),
   // and its mass as inertia the motor accelerates with it: in the motor's
   // own equation, not as a force a step late, which would make a loop.
-  const double screw = ScrewRatio();
-  const double load = static_leg_forces_(i) * screw;
-  const double inertia = s.inertia_kg_m2 + load_mass_per_leg_kg_ * screw * screw * s.screw_efficiency;
+  const double load = static_leg_forces_(i) * ScrewRatio();
   // Semi-implicit Euler: stable for the stiff loop at the drive's rate.
   velocity_[i] = VelocityWithCoulomb(velocity_[i], torque - s.viscous_N_m_s * velocity_[i] - load,
-                                     s.coulomb_N_m, inertia, dt);
+                                     s.coulomb_N_m, MovedInertia(), dt);
   angle_[i] += dt * velocity_[i];
   // Between bridge cycles the drive interpolates its target along the
   // velocity feed-forward, as a real drive's interpolator does.
@@ -201,7 +209,7 @@ void VirtualRig::Sway(double dt_s) {
   Vector3 accel = Vector3::Zero();
   const double h1 = last_dt_s_, h2 = dt_s;
   if (point_steps_ >= 2 && h1 > 0.0 && h2 > 0.0) {
-    accel = (2.0 / (h1 + h2)) * ((point - point_history_[0]) / h2 - (point_history_[0] - point_history_[1]) / h1);
+    accel = SecondDerivative<Vector3>(point_history_[1], point_history_[0], point, h1, h2);
   }
   point_history_[1] = point_history_[0];
   point_history_[0] = point;

@@ -173,7 +173,11 @@ TEST(VirtualRig, LoadedDriveSagsUnlessTheLoopIntegrates) {
     VirtualRig rig(p);
     rig.SetTarget(DriveSetpoint{}, true);  // hold home
     RunFor(rig, 3.0);
-    const double kp = p.effects.servo_lag.inertia_kg_m2 * std::pow(2.0 * M_PI * p.effects.servo_lag.bandwidth_hz, 2);
+    // The loop is tuned on what the motor moves: its inertia and a sixth of
+    // the load through the screw (leg metres per motor radian, efficiency 0.9).
+    const double screw = nominal.drive.lead_m / (2.0 * M_PI * nominal.drive.gear_ratio * 0.9);
+    const double inertia = p.effects.servo_lag.inertia_kg_m2 + m / 6.0 * screw * screw * 0.9;
+    const double kp = inertia * std::pow(2.0 * M_PI * p.effects.servo_lag.bandwidth_hz, 2);
     for (int i = 0; i < kNumLegs; ++i) {
       const double angle = rig.Feedback().motor_angle_rad[i];
       if (integral_time_s == 0.0) {

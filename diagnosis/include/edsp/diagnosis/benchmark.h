@@ -72,6 +72,10 @@ struct BenchmarkResult {
   int any_false_identified = 0;         // scenarios of any kind with an effect identified that is not there
   int extra_identified = 0;             // scenarios with effects where a false one was also identified
   double median_shrink = 0.0;           // scenarios with effects of the vocabulary
+  // What a perfect model would reach on them: the held-out gap down to the
+  // tracker's noise floor, 1 − floor/before. The median shrink cannot
+  // exceed it however good the diagnosis; draws near the floor bound it.
+  double median_attainable_shrink = 0.0;
   double median_after_over_noise = 0.0;
   double median_diagnose_s = 0.0;
   // Scenarios with effects of the vocabulary, run in closed loop.

@@ -45,6 +45,7 @@ struct Design {
   std::vector<Vector3> model_point;  // A_n in {B}
   std::vector<Vector6> leg_velocity_m_s;
   std::vector<Vector6> leg_accel_m_s2;
+  std::vector<Vector3> point_accel_m_s2;  // A's, in {B}, along the commands (0 at a run's ends)
   std::vector<Vector6> servo_error_m;  // leg_cmd − leg_enc, when the data has encoders
   std::vector<double> time_s;
   std::vector<double> displacement;    // |pose − home| (m, rad mixed: metres + 1 m per rad)
@@ -67,6 +68,14 @@ struct Design {
 // Throws MeasurementError if a commanded pose is outside what the model can
 // solve (names the run and time).
 Design BuildDesign(const PlatformModel& model, const MeasurementData& data, const DesignOptions& options = {});
+
+// Every member of `d` but its columns and its nuisance's range, copied: the
+// columns, the large part, are built for the new design, not copied and
+// then rebuilt.
+Design WithoutColumns(const Design& d);
+
+// `d` with only the frame, its nuisance and the listed effects' columns.
+Design KeepOnly(const Design& d, const std::vector<Effect>& keep);
 
 // Rigid frame (R, t) with measured ≈ R·model + t, least squares (Umeyama).
 void EstimateFrame(const std::vector<Vector3>& model_points, const std::vector<Vector3>& measured,

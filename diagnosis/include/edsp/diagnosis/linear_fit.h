@@ -69,4 +69,9 @@ Eigen::VectorXd PriorWeights(const Design& design, double sigma2);
 // Every column of the frame, of the nuisance and of the listed effects.
 Columns ColumnsOf(const Design& design, const std::vector<Effect>& effects);
 
+// Mean squared held-out residual per coordinate of `columns`, each fold
+// predicted by a fit on the others: what selection and the searches over
+// the bases' non-linear parameters compare.
+double HeldOutMse(const GramSet& gram, const Columns& columns, const Eigen::VectorXd& prior_weight);
+
 }  // namespace edsp::gap

@@ -24,7 +24,4 @@ struct StructuralModeChoice {
 StructuralModeChoice ChooseStructuralMode(const Design& d, const std::vector<Effect>& selected, double sigma2,
                                           double peak_hz);
 
-// `d` with only the frame, its nuisance and the listed effects' columns.
-Design KeepOnly(const Design& d, const std::vector<Effect>& keep);
-
 }  // namespace edsp::gap

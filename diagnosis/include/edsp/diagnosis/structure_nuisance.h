@@ -38,11 +38,6 @@ Eigen::MatrixXd SwayColumns(const Design& d, double hz, double zeta);
 // 9 columns: the sway's, then the tracker's vibration at `hz`.
 Eigen::MatrixXd StructureColumns(const Design& d, double hz, double zeta);
 
-// Every member of `d` but its columns and its nuisance's range, copied: the
-// columns, the large part, are built for the new design, not copied and
-// then rebuilt.
-Design WithoutColumns(const Design& d);
-
 // `d` with `extra` as its nuisance: the columns are [frame | extra |
 // effects], and every fit of the design (linear_fit.h) estimates them with
 // the frame.

@@ -80,12 +80,11 @@ class LegCompensator {
   static constexpr double kMinModeMass = 0.25;
 
  private:
-  Vector6 StructuralSway(const CalibratedEffect& e, double time_s, const LegErrorInputs& in,
-                         const LegErrorState& state);
+  Vector6 StructuralSway(const CalibratedEffect& e, double time_s, const LegErrorInputs& in);
 
   PlatformModel model_;
   CalibrationModel calibration_;
-  LegErrorTracker tracker_;
+  LegErrorTracker tracker_;  // without the structural mode (it integrates the inverse below)
   std::optional<StructuralMode> inverse_mode_;  // the sway the command cancels
   double last_mode_time_s_ = 0.0;
   std::optional<double> last_time_s_;

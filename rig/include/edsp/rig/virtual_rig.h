@@ -91,6 +91,7 @@ class VirtualRig {
   void StepIdeal(int leg, double dt);
   bool UpdateLoads(double dt_s);          // leg forces of the platform's rigid-body motion
   double ScrewRatio() const;              // motor torque per newton of leg force
+  double MovedInertia() const;            // motor, screw and its share of the payload, at the motor
   void Deflect(Vector6* lengths) const;   // compliance: legs shortened under them
   void Sway(double dt_s);                 // structural_resonance: A's mount under its acceleration
 
