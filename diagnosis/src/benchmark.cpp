@@ -15,6 +15,7 @@
 
 #include "edsp/blindrig/blind_setup.h"
 #include "edsp/diagnosis/closed_loop.h"
+#include "edsp/diagnosis/heldout_score.h"
 #include "edsp/diagnosis/report.h"
 #include "edsp/kinematics/config.h"
 #include "edsp/sim/offline_run.h"
@@ -87,7 +88,28 @@ ScenarioScore Score(const Drawn& s, const Diagnosis& d) {
   score.shrink = d.shrink;
   score.noise_floor_m = d.noise_floor_rms_m;
   score.diagnose_s = d.seconds;
+  const bool in_vocabulary = s.kind == "single" || s.kind == "pair";
+  score.miss = score.false_identified && s.kind != "out_of_vocabulary";
+  score.miss = score.miss || (s.kind == "single" && !score.top_identified_true) || (s.kind == "pair" && !score.all_identified);
+  score.miss = score.miss && (in_vocabulary || s.kind == "none");
   return score;
+}
+
+// Would the true effects have predicted the held-out runs better than the
+// selected ones? Both fitted the same way on the same data.
+void CompareWithTheTruth(const PlatformModel& model, const MeasurementData& data, const Diagnosis& d,
+                         ScenarioScore* score) {
+  std::vector<Effect> truth;
+  for (const std::string& name : score->truth) {
+    Effect e;
+    if (ParseEffect(name, &e)) truth.push_back(e);
+  }
+  const DiagnoseOptions options;
+  score->truth_heldout_rms_m = HeldOutRmsOf(model, data, options, d, truth);
+  score->found_heldout_rms_m = HeldOutRmsOf(model, data, options, d, d.selected);
+  const double truth2 = score->truth_heldout_rms_m * score->truth_heldout_rms_m;
+  const double found2 = score->found_heldout_rms_m * score->found_heldout_rms_m;
+  score->data_tell_apart = truth2 < (1.0 - kTellApartGain) * found2;
 }
 
 double SecondsSince(std::chrono::steady_clock::time_point t0) {
@@ -159,6 +181,8 @@ void Tally(BenchmarkResult* r) {
   std::vector<double> shrinks, attainable, ratios, seconds;
   for (const ScenarioScore& s : r->scores) {
     seconds.push_back(s.diagnose_s);
+    r->misses += s.miss;
+    r->misses_told_apart += s.miss && s.data_tell_apart;
     r->any_false_identified += s.false_identified;
     if (s.kind == "none") {
       ++r->clean;
@@ -248,8 +272,10 @@ BenchmarkResult RunBenchmark(const BenchmarkOptions& options) {
                                                      : DrawOnRig(options, config, frames, k, dir);
     Progress(options, k, options.scenarios, fmt::format("scenario {}: diagnosing", k));
     // Blind: the diagnosis sees the measurement CSV and the nominal model only.
-    const Diagnosis d = Diagnose(model, LoadMeasurement(drawn.csv_path));
+    const MeasurementData data = LoadMeasurement(drawn.csv_path);
+    const Diagnosis d = Diagnose(model, data);
     ScenarioScore score = Score(drawn, d);
+    if (score.miss) CompareWithTheTruth(model, data, d, &score);
     score.index = k;
     score.simulate_s = drawn.simulate_s;
     if (drawn.run && !options.closed_loop_motions.empty()) {
@@ -309,6 +335,7 @@ nlohmann::json ToJson(const BenchmarkResult& r) {
   j["with_effects_extra_identified"] = r.extra_identified;  // a false effect identified beside the true ones
   j["median_shrink"] = r.median_shrink;
   j["median_attainable_shrink"] = r.median_attainable_shrink;
+  j["misses"] = {{"scenarios", r.misses}, {"truth_predicts_better", r.misses_told_apart}};
   j["median_after_over_noise_floor"] = r.median_after_over_noise;
   j["median_diagnose_s"] = r.median_diagnose_s;
   j["closed_loop"] = {{"motions", r.options.generator == "rig" ? r.options.closed_loop_motions : std::vector<std::string>{}},
@@ -331,6 +358,11 @@ nlohmann::json ToJson(const BenchmarkResult& r) {
                             {"shrink", s.shrink}, {"attainable_shrink", AttainableShrink(s)},
                             {"noise_floor_rms_m", s.noise_floor_m},
                             {"simulate_s", s.simulate_s}, {"diagnose_s", s.diagnose_s}});
+    if (s.miss) {
+      j["results"].back()["miss"] = {{"truth_heldout_rms_m", s.truth_heldout_rms_m},
+                                     {"found_heldout_rms_m", s.found_heldout_rms_m},
+                                     {"truth_predicts_better", s.data_tell_apart}};
+    }
     if (s.closed_loop) {
       j["results"].back()["closed_loop"] = {
           {"before_rms_m", s.closed_before_rms_m}, {"after_rms_m", s.closed_after_rms_m},
@@ -361,6 +393,9 @@ void PrintBenchmark(const BenchmarkResult& r) {
               "%.0f%%: the gap down to the noise floor), median after/noise floor %.2f, median diagnosis %.2f s\n",
               r.single_top_true, r.single, r.pairs_both, r.pairs, r.clean_nothing_identified, r.clean, r.extra_identified,
               100 * r.median_shrink, 100 * r.median_attainable_shrink, r.median_after_over_noise, r.median_diagnose_s);
+  std::printf("misses (a true effect not identified, a false one identified): %d, of which the true effects "
+              "predict the held-out runs better in %d (the others the data cannot tell apart)\n",
+              r.misses, r.misses_told_apart);
   if (r.closed_loop > 0) {
     std::printf("\nclosed loop on %s (the model applied by the kinematics, rig with its effects), %d scenarios with "
                 "effects:\n%-3s %-40s %8s %8s %8s %8s %10s\n",

@@ -52,6 +52,15 @@ struct ScenarioScore {
   bool all_identified = false;       // every true effect `identified`
   double before_rms_m = 0.0, after_rms_m = 0.0, shrink = 0.0, noise_floor_m = 0.0;
   double simulate_s = 0.0, diagnose_s = 0.0;
+  // A miss (a true effect not identified first or at all, or a false one
+  // identified): the held-out RMS the true effects reach beside the one the
+  // selected effects reach, both fitted the same way (heldout_score.h). The
+  // data tell them apart when the truth's held-out MSE is at least
+  // kTellApartGain lower; otherwise the miss is one no selection on these
+  // runs could avoid.
+  bool miss = false;
+  double truth_heldout_rms_m = 0.0, found_heldout_rms_m = 0.0;
+  bool data_tell_apart = false;
   // Measured on the rig with the calibration applied (closed_loop_motions),
   // beside the model's own prediction from the uncalibrated run.
   bool closed_loop = false;
@@ -59,6 +68,10 @@ struct ScenarioScore {
   double closed_shrink = 0.0, closed_predicted_shrink = 0.0;
   double closed_loop_s = 0.0;
 };
+
+// The held-out MSE cut that counts as telling the truth from what was found:
+// selection's own min_cv_gain (diagnose.h).
+inline constexpr double kTellApartGain = 0.05;
 
 struct BenchmarkResult {
   BenchmarkOptions options;
@@ -76,6 +89,7 @@ struct BenchmarkResult {
   // tracker's noise floor, 1 − floor/before. The median shrink cannot
   // exceed it however good the diagnosis; draws near the floor bound it.
   double median_attainable_shrink = 0.0;
+  int misses = 0, misses_told_apart = 0;  // in-vocabulary and effect-free scenarios (ScenarioScore::miss)
   double median_after_over_noise = 0.0;
   double median_diagnose_s = 0.0;
   // Scenarios with effects of the vocabulary, run in closed loop.
