@@ -57,6 +57,16 @@ struct Drawn {
 
 std::string KindOf(std::size_t effects) { return effects == 0 ? "none" : effects == 1 ? "single" : "pair"; }
 
+// A scenario of the vocabulary (or effect-free) scored short of its truth:
+// a false effect identified, a single effect not identified first, a pair
+// not both identified. Out of vocabulary there is no truth to compare with.
+bool IsMiss(const ScenarioScore& s) {
+  if (s.kind == "none") return s.false_identified;
+  if (s.kind == "single") return s.false_identified || !s.top_identified_true;
+  if (s.kind == "pair") return s.false_identified || !s.all_identified;
+  return false;
+}
+
 ScenarioScore Score(const Drawn& s, const Diagnosis& d) {
   ScenarioScore score;
   score.kind = s.kind;
@@ -88,10 +98,7 @@ ScenarioScore Score(const Drawn& s, const Diagnosis& d) {
   score.shrink = d.shrink;
   score.noise_floor_m = d.noise_floor_rms_m;
   score.diagnose_s = d.seconds;
-  const bool in_vocabulary = s.kind == "single" || s.kind == "pair";
-  score.miss = score.false_identified && s.kind != "out_of_vocabulary";
-  score.miss = score.miss || (s.kind == "single" && !score.top_identified_true) || (s.kind == "pair" && !score.all_identified);
-  score.miss = score.miss && (in_vocabulary || s.kind == "none");
+  score.miss = IsMiss(score);
   return score;
 }
 
@@ -109,7 +116,7 @@ void CompareWithTheTruth(const PlatformModel& model, const MeasurementData& data
   score->found_heldout_rms_m = HeldOutRmsOf(model, data, options, d, d.selected);
   const double truth2 = score->truth_heldout_rms_m * score->truth_heldout_rms_m;
   const double found2 = score->found_heldout_rms_m * score->found_heldout_rms_m;
-  score->data_tell_apart = truth2 < (1.0 - kTellApartGain) * found2;
+  score->data_tell_apart = truth2 < (1.0 - options.min_cv_gain) * found2;
 }
 
 double SecondsSince(std::chrono::steady_clock::time_point t0) {

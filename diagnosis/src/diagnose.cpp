@@ -186,7 +186,7 @@ double SignedRankPValue(const std::vector<double>& gain) {
   if (n == 0) return 1.0;
   std::vector<int> order(static_cast<std::size_t>(n));
   std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
     return std::abs(nonzero[static_cast<std::size_t>(a)]) < std::abs(nonzero[static_cast<std::size_t>(b)]);
   });
   int w_plus = 0;
@@ -579,7 +579,8 @@ Diagnosis DiagnoseOnce(const PlatformModel& model, const MeasurementData& data, 
   // (not only the noise): a systematic misfit must not push poorly excited
   // parameters (joint centres seen from a single axis) far beyond real rigs.
   const double mse0 = baseline.squaredNorm() / n_res;
-  const Eigen::VectorXd prior = PriorWeights(d, std::max(sigma_axis * sigma_axis, mse0));
+  out.prior_sigma2 = std::max(sigma_axis * sigma_axis, mse0);
+  const Eigen::VectorXd prior = PriorWeights(d, out.prior_sigma2);
   Evaluator eval(d, gram, prior);
 
   const Selection selection = SelectEffects(eval, o, n_res);
@@ -629,8 +630,6 @@ Diagnosis WithBacklashWidth(const PlatformModel& model, const MeasurementData& d
   return d;
 }
 
-}  // namespace
-
 // The structural mode's frequency and damping are not linear parameters:
 // the first pass runs without the mode (its columns zero), then the mode
 // that best predicts the held-out runs beside what that pass selected is
@@ -642,7 +641,7 @@ Diagnosis WithStructuralMode(const PlatformModel& model, const MeasurementData& 
   if (!options.fit_structural_mode || d.design.structural_mode_hz > 0.0) return d;
   Design design = BuildDesign(model, Decimated(data, options.max_rate_hz), d.design);
   if (d.time_offset.applied) RemoveTimeOffset(d.time_offset.offset_s, &design);
-  const double sigma2 = std::max(d.noise_floor_rms_m * d.noise_floor_rms_m, d.holdout_before.rms_m * d.holdout_before.rms_m) / 3.0;
+  const double sigma2 = d.prior_sigma2;
   const double peak_hz = d.structure.structured ? d.structure.dominant_hz : 0.0;
   const StructuralModeChoice mode = ChooseStructuralMode(design, d.selected, sigma2, peak_hz);
   if (mode.cv_gain < options.min_cv_gain) return d;
@@ -668,11 +667,13 @@ Diagnosis WithThermalTimeConstant(const PlatformModel& model, const MeasurementD
                                   const DiagnoseOptions& options, Diagnosis d) {
   if (options.thermal_time_constants_s.empty() || !Found(d, Effect::kThermalDrift)) return d;
   const auto start = std::chrono::steady_clock::now();
-  const double sigma2 =
-      std::max(d.noise_floor_rms_m * d.noise_floor_rms_m, d.holdout_before.rms_m * d.holdout_before.rms_m) / 3.0;
+  // Scored beside the selected effects, the drift among them even where it
+  // was only named as an alternative (ambiguous) to one of them.
+  std::vector<Effect> scored = d.selected;
+  if (!Contains(scored, Effect::kThermalDrift)) scored.push_back(Effect::kThermalDrift);
   const ThermalTimeConstantChoice tau = ChooseThermalTimeConstant(
-      model, Decimated(data, options.max_rate_hz), d.design, options.thermal_time_constants_s, d.selected, sigma2,
-      d.time_offset);
+      model, Decimated(data, options.max_rate_hz), d.design, options.thermal_time_constants_s, scored,
+      d.prior_sigma2, d.time_offset);
   double seconds = d.seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (tau.tau_s != d.design.thermal_time_constant_s) {
     DiagnoseOptions at = options;
@@ -687,6 +688,8 @@ Diagnosis WithThermalTimeConstant(const PlatformModel& model, const MeasurementD
   d.seconds = seconds;
   return d;
 }
+
+}  // namespace
 
 Diagnosis Diagnose(const PlatformModel& model, const MeasurementData& data, const DiagnoseOptions& options) {
   Diagnosis d = WithStructuralMode(model, data, options,

@@ -33,13 +33,16 @@ std::string ReadFile(const std::string& path) {
   return text.str();
 }
 
-// `key` of `j` within its bounds (above 0, or from 0 where `zero_allowed`,
-// up to `max`), `fallback` when absent; the error names the key and value.
-double NumberIn(const nlohmann::json& j, const char* key, double fallback, bool zero_allowed, double max,
+enum class Lowest { kAboveZero, kZero };
+
+// `key` of `j` in (0, max] or [0, max], `fallback` when absent; the error
+// names the key and the value.
+double NumberIn(const nlohmann::json& j, const char* key, double fallback, Lowest lowest, double max,
                 const std::string& origin) {
   if (!j.contains(key)) return fallback;
   if (!j[key].is_number()) throw CalibrationError(fmt::format("{}: \"{}\" must be a number", origin, key));
   const double v = j[key].get<double>();
+  const bool zero_allowed = lowest == Lowest::kZero;
   if (!((zero_allowed ? v >= 0.0 : v > 0.0) && v <= max)) {
     throw CalibrationError(
         fmt::format("{}: \"{}\" = {} is not in {}0, {}]", origin, key, v, zero_allowed ? "[" : "(", max));
@@ -144,11 +147,12 @@ CalibrationModel ParseCalibration(const std::string& text, const std::string& or
   out.origin = origin;
   out.hash = Fnv1a64Hex(text);
   out.options.thermal_time_constant_s =
-      NumberIn(j, "thermal_time_constant_s", out.options.thermal_time_constant_s, false, 1e6, origin);
-  out.options.backlash_width_m = NumberIn(j, "backlash_width_m", out.options.backlash_width_m, false, 1e-3, origin);
-  out.options.structural_mode_hz = NumberIn(j, "structural_mode_hz", 0.0, true, 100.0, origin);
+      NumberIn(j, "thermal_time_constant_s", out.options.thermal_time_constant_s, Lowest::kAboveZero, 1e6, origin);
+  out.options.backlash_width_m =
+      NumberIn(j, "backlash_width_m", out.options.backlash_width_m, Lowest::kAboveZero, 1e-3, origin);
+  out.options.structural_mode_hz = NumberIn(j, "structural_mode_hz", 0.0, Lowest::kZero, 100.0, origin);
   out.options.structural_mode_damping =
-      NumberIn(j, "structural_mode_damping", out.options.structural_mode_damping, true, 1.0, origin);
+      NumberIn(j, "structural_mode_damping", out.options.structural_mode_damping, Lowest::kZero, 1.0, origin);
   if (!j.contains("effects") || !j["effects"].is_array()) throw CalibrationError(origin + ": no \"effects\" array");
   std::array<bool, kEffectCount> seen{};
   for (std::size_t k = 0; k < j["effects"].size(); ++k) {

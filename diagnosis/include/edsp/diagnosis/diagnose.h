@@ -42,11 +42,12 @@ struct DiagnoseOptions {
 // signed-rank test at kSignedRankLevel. Runs excite an effect unequally (a
 // sway rings in the rotations, hardly in the lifts): the t-test fails a
 // gain every run shows when its size scatters, the ranks do not. Their
-// level is strict (with eight folds: all gain, or all but the smallest),
-// so that they add only gains nearly every run shows; a gain one run
-// carries fails both (the other runs' signs are a coin toss).
-inline constexpr int kMinRunsForSignedRank = 5;
+// level is strict (seven folds: all gain; eight: all, or all but the
+// smallest change), so that they add only gains nearly every run shows; a
+// gain one run carries fails both (the other runs' signs are a coin toss).
+// Fewer than seven folds cannot reach 1% by ranks (2⁻⁶ = 1.6%).
 inline constexpr double kSignedRankLevel = 0.01;
+inline constexpr int kMinRunsForSignedRank = 7;
 bool PairedGainIsSignificant(const std::vector<double>& gain, double alpha);
 // Wilcoxon's signed-rank test, one-sided, exact: the chance that the ranks
 // of |gain| the positive gains hold sum to W⁺ or more when each sign is a
@@ -96,6 +97,10 @@ struct Diagnosis {
   RmsMax holdout_before, holdout_after;
   double shrink = 0.0;
   double noise_floor_rms_m = 0.0;     // point-A noise the tracker alone explains
+  // The effects' prior's measurement variance per coordinate (m²; linear_fit.h's
+  // PriorWeights): the larger of the floor's and the frame-only fit's. The
+  // searches over the bases' non-linear parameters use the same.
+  double prior_sigma2 = 0.0;
   RmsMax unexplained;                 // in-sample, after the selected effects
   Whiteness whiteness;                // of the in-sample residual
   ResidualStructure structure;        // of the held-out residual: decides unknown

@@ -22,9 +22,12 @@ double HeldOutMseOf(const PlatformModel& model, const MeasurementData& data, con
                     const std::vector<Effect>& effects, double sigma2, const TimeOffset& clock);
 
 // Held-out RMS at A (as Diagnosis::holdout_after) of `effects` on `data`,
-// with the bases' settings and the clock `d` found. A structural_resonance
-// among them that `d` has no mode for gets the mode that predicts the
-// held-out runs best beside the others (structural_mode_fit.h).
+// with the bases' settings, the clock and the prior `d` found. Effects `d`
+// did not select get their non-linear parameters searched as the diagnosis
+// would have: a structural_resonance the mode that predicts the held-out
+// runs best beside the others (structural_mode_fit.h), a thermal_drift its
+// time constant from the grid (thermal_time_constant_fit.h). A backlash `d`
+// did not find keeps the design's play width (its first guess).
 double HeldOutRmsOf(const PlatformModel& model, const MeasurementData& data, const DiagnoseOptions& options,
                     const Diagnosis& d, const std::vector<Effect>& effects);
 
