@@ -62,7 +62,7 @@ VirtualRig::VirtualRig(RigParameters parameters)
   // Critically damped position loop at the requested bandwidth, tuned on
   // the inertia the motor moves, the payload's included: a drive is
   // commissioned with its load on (tuned on the bare motor, an 800 kg
-  // platform would halve the loop's bandwidth and lag every motion).
+  // platform would cut the loop's bandwidth by 40% and lag every motion).
   const RigEffects::ServoLag& servo = parameters_.effects.servo_lag;
   const double wn = kTwoPi * servo.bandwidth_hz;
   kp_ = MovedInertia() * wn * wn;
