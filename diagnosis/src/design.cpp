@@ -89,6 +89,16 @@ void CommandRates(const PlatformModel& model, const MeasurementData& data, const
   }
 }
 
+// The moment about {B}'s origin of 1 kg at {M}'s origin under `force` per
+// kg (its weight and inertia), then per kg·m of c.o.m. offset along {M}'s axes.
+Eigen::Matrix<double, 3, 4> LoadMoment(const Pose& pose, const Vector3& force) {
+  Eigen::Matrix<double, 3, 4> moment;
+  const Matrix3 R = RotationFromRpy(pose.rpy_rad);
+  moment.col(0) = pose.p_BoMo_B.cross(force);
+  for (int a = 0; a < 3; ++a) moment.col(1 + a) = R.col(a).cross(force);
+  return moment;
+}
+
 // Pass 1: the model's point and the leg-space state of every sample, in run
 // order (play and heat carry over from run to run, as on the rig).
 Samples TrackSamples(const PlatformModel& model, const MeasurementData& data, const DesignOptions& o, Design* d) {
@@ -124,6 +134,7 @@ Samples TrackSamples(const PlatformModel& model, const MeasurementData& data, co
       d->leg_velocity_m_s.push_back(s.velocity);
       d->leg_accel_m_s2.push_back(s.accel);
       d->point_accel_m_s2.push_back(in.point_accel_B_m_s2);
+      d->load_moment_per_kg.push_back(LoadMoment(pose, o.gravity_B_m_s2 - in.platform_accel_B_m_s2));
       d->servo_error_m.push_back(d->has_encoder ? Vector6(row.leg_cmd_m - row.leg_enc_m) : Vector6::Zero());
       d->displacement.push_back((row.pose_cmd - model.home_pose().ToVector()).norm());
     }

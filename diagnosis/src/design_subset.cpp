@@ -19,6 +19,7 @@ Design WithoutColumns(const Design& d) {
   out.leg_velocity_m_s = d.leg_velocity_m_s;
   out.leg_accel_m_s2 = d.leg_accel_m_s2;
   out.point_accel_m_s2 = d.point_accel_m_s2;
+  out.load_moment_per_kg = d.load_moment_per_kg;
   out.servo_error_m = d.servo_error_m;
   out.time_s = d.time_s;
   out.displacement = d.displacement;

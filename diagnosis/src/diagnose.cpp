@@ -40,7 +40,19 @@ std::vector<Effect> Without(const std::vector<Effect>& set, Effect e) {
   return rest;
 }
 
-bool Contains(const std::vector<Effect>& set, Effect e) { return std::find(set.begin(), set.end(), e) != set.end(); }
+template <typename T>
+bool Contains(const std::vector<T>& set, const T& e) {
+  return std::find(set.begin(), set.end(), e) != set.end();
+}
+
+// Each fold's log ratio of its held-out squared error without and with.
+std::vector<double> LogGains(const std::vector<double>& with_sse, const std::vector<double>& without_sse) {
+  std::vector<double> gain;
+  for (std::size_t k = 0; k < with_sse.size(); ++k) {
+    gain.push_back(std::log(std::max(without_sse[k], 1e-300) / std::max(with_sse[k], 1e-300)));
+  }
+  return gain;
+}
 
 // Held-out and in-sample errors of effect sets, memoised (selection asks
 // for the same set again when it checks alternatives).
@@ -76,13 +88,7 @@ class Evaluator {
   // size (a rotation beside a lift) would otherwise drown the test in
   // their scale.
   bool SignificantlyBetter(const std::vector<Effect>& with, const std::vector<Effect>& without, double alpha) {
-    const std::vector<double> a = FoldSse(with), b = FoldSse(without);
-    std::vector<double> gain;
-    for (int f = 0; f < gram_.folds(); ++f) {
-      const std::size_t k = static_cast<std::size_t>(f);
-      gain.push_back(std::log(std::max(b[k], 1e-300) / std::max(a[k], 1e-300)));
-    }
-    return PairedGainIsSignificant(gain, alpha);
+    return PairedGainIsSignificant(LogGains(FoldSse(with), FoldSse(without)), alpha);
   }
 
   // In-sample sum of squared residuals, every fold fitted.
@@ -418,14 +424,12 @@ void DescribeRest(const Design& d, const Eigen::VectorXd& residual, const Eigen:
                         100 * out->structure.structured_share);
 }
 
-// A design with the residual's structure as a nuisance: a lightly damped mode
-// at `hz` (and a vibration of the tracker) beside the frame
-// (structure_nuisance.h), and the prior of the effects' columns kept.
-struct WithMode {
-  WithMode(const Design& d, const Eigen::VectorXd& effect_prior, double hz)
-      : design(WithNuisance(d, StructureColumns(d, hz, kAssumedDamping))),
-        gram(design, MakeFolds(design)),
-        prior(Eigen::VectorXd::Zero(design.parameters())) {
+// A design with structure outside the vocabulary as a nuisance beside the
+// frame (structure_nuisance.h), free as the frame is, and the prior of the
+// effects' columns kept.
+struct WithStructure {
+  WithStructure(const Design& d, const Eigen::VectorXd& effect_prior, const Eigen::MatrixXd& extra)
+      : design(WithNuisance(d, extra)), gram(design, MakeFolds(design)), prior(Eigen::VectorXd::Zero(design.parameters())) {
     const Eigen::Index effect_columns = d.parameters() - (d.frame.begin + d.frame.count);
     prior.tail(effect_columns) = effect_prior.tail(effect_columns);
   }
@@ -433,6 +437,23 @@ struct WithMode {
   GramSet gram;
   Eigen::VectorXd prior;
 };
+
+// The selected effects that no longer earn their place beside a structure
+// that predicts the held-out runs `cv` (MSE): an effect that no longer cuts
+// the error by min_cv_gain there, or no longer beats the model without it
+// run by run. structural_resonance is the mode's own signature and stays.
+std::vector<Effect> RedundantBeside(Evaluator& with_structure, double cv, const std::vector<Effect>& selected,
+                                    const DiagnoseOptions& o) {
+  std::vector<Effect> explained;
+  for (Effect e : selected) {
+    if (e == Effect::kStructuralResonance) continue;
+    const std::vector<Effect> rest = Without(selected, e);
+    const double base = with_structure.Cv(rest);
+    const bool gains = base > 0.0 && (base - cv) / base >= o.min_cv_gain;
+    if (!gains || !with_structure.SignificantlyBetter(selected, rest, o.significance)) explained.push_back(e);
+  }
+  return explained;
+}
 
 // Selected effects whose held-out gain the residual's structure could also
 // explain. The structure is modelled as a mode at the candidate frequency
@@ -446,71 +467,104 @@ std::vector<Effect> ExplainedByStructure(const Design& d, const Eigen::VectorXd&
   std::vector<Effect> explained;
   if (!structure.structured || selected.empty()) return explained;
   double best_cv = plain.Cv(selected) * (1.0 - o.min_cv_gain);
-  std::unique_ptr<WithMode> best;
+  std::unique_ptr<WithStructure> best;
   for (double hz : CandidateModeFrequencies(structure)) {
-    auto mode = std::make_unique<WithMode>(d, prior, hz);
+    auto mode = std::make_unique<WithStructure>(d, prior, StructureColumns(d, hz, kAssumedDamping));
     const double cv = Evaluator(mode->design, mode->gram, mode->prior).Cv(selected);
     if (cv < best_cv) best_cv = cv, best = std::move(mode);
   }
   if (best == nullptr) return explained;  // no mode is what is left
   Evaluator eval(best->design, best->gram, best->prior);
-  for (Effect e : selected) {
-    if (e == Effect::kStructuralResonance) continue;  // the mode is that effect's own signature
-    const std::vector<Effect> rest = Without(selected, e);
-    const double base = eval.Cv(rest);
-    const bool gains = base > 0.0 && (base - best_cv) / base >= o.min_cv_gain;
-    if (!gains || !eval.SignificantlyBetter(selected, rest, o.significance)) explained.push_back(e);
-  }
-  return explained;
+  return RedundantBeside(eval, best_cv, selected, o);
 }
 
-// Such an effect is not identified (so no calibration applies it by
-// default): ambiguous with the unknown structure. With every selected
-// effect so explained, the conclusion is `unknown`.
-void MarkExplainedByStructure(const std::vector<Effect>& explained, Diagnosis* out) {
+// Whether the base tilts under the payload's moment, beside the selected
+// effects: the tilt's terms (structure_nuisance.h) cut their held-out error
+// by min_cv_gain, and run by run. Then the selected effects that no longer
+// earn their place beside it (compliance and joint centres taking up the
+// tilt) go to `explained`.
+BaseTiltCheck TestBaseTilt(const Design& d, const Eigen::VectorXd& prior, Evaluator& plain,
+                           const std::vector<Effect>& selected, const DiagnoseOptions& o,
+                           std::vector<Effect>* explained) {
+  BaseTiltCheck c;
+  if (!Contains(selected, Effect::kCompliance) && !Contains(selected, Effect::kJointPosition)) return c;
+  c.tested = true;
+  WithStructure tilt(d, prior, BaseTiltColumns(d));
+  Evaluator eval(tilt.design, tilt.gram, tilt.prior);
+  const double before = plain.Cv(selected), after = eval.Cv(selected);
+  c.cv_gain = before > 0.0 ? (before - after) / before : 0.0;
+  c.tilts = c.cv_gain >= o.min_cv_gain &&
+            PairedGainIsSignificant(LogGains(eval.FoldSse(selected), plain.FoldSse(selected)), o.significance);
+  if (c.tilts) *explained = RedundantBeside(eval, after, selected, o);
+  return c;
+}
+
+// `unknown` when every selected effect could be the unknown's, else the
+// effects and the unknown.
+void ConcludeWithUnknown(Diagnosis* out) {
+  const bool all = std::all_of(out->effects.begin(), out->effects.end(), [&](const EffectResult& r) {
+    return !Contains(out->selected, r.effect) || Contains(r.ambiguous_with, std::string("unknown"));
+  });
+  out->conclusion = all ? "unknown" : "effects+unknown";
+}
+
+// An effect the unknown could explain is not identified (so no calibration
+// applies it by default): ambiguous with the unknown, `why` saying what the
+// unknown is.
+void MarkExplainedByUnknown(const std::vector<Effect>& explained, const std::string& why, Diagnosis* out) {
   if (explained.empty()) return;
   for (EffectResult& r : out->effects) {
     if (!Contains(explained, r.effect)) continue;
     r.verdict = "ambiguous";
-    r.ambiguous_with.push_back("unknown");
+    if (!Contains(r.ambiguous_with, std::string("unknown"))) r.ambiguous_with.push_back("unknown");
     if (!r.next_measurement.empty()) r.next_measurement += "; ";
-    r.next_measurement += "what causes the unexplained structure (" + out->structure.Describe() +
-                          "): a mode of it predicts the held-out runs as well as this effect does";
+    r.next_measurement += why;
   }
-  if (explained.size() == out->selected.size()) out->conclusion = "unknown";
+  ConcludeWithUnknown(out);
+}
+
+void MarkExplainedByStructure(const std::vector<Effect>& explained, Diagnosis* out) {
+  MarkExplainedByUnknown(explained,
+                         "what causes the unexplained structure (" + out->structure.Describe() +
+                             "): a mode of it predicts the held-out runs as well as this effect does",
+                         out);
+}
+
+// The base's tilt is outside the vocabulary: said in what is left, and an
+// effect it makes redundant is ambiguous with it.
+void MarkExplainedByBaseTilt(const std::vector<Effect>& explained, Diagnosis* out) {
+  if (!out->base_tilt.tilts) return;
+  const std::string what = fmt::format(
+      "the base tilts under the payload's moment (a rotational give of the base mount or floor beside the selected "
+      "effects predicts the held-out runs {:.0f}% better)",
+      100 * out->base_tilt.cv_gain);
+  out->unexplained_note += "; " + what;
+  MarkExplainedByUnknown(explained,
+                         what + "; an inclinometer on the base, or a second payload (the base's tilt scales with its "
+                                "moment, joint centres do not), tells them apart",
+                         out);
+  if (out->conclusion == "effects") out->conclusion = "effects+unknown";
 }
 
 // A selected servo_lag the encoders do not show is not the drives' lag
 // (encoder_check.h): not identified, and something outside the vocabulary
 // is at work.
 void MarkLagNotInTheDrives(const Design& d, Diagnosis* out) {
-  bool marked = false;
   for (EffectResult& r : out->effects) {
     if (r.effect != Effect::kServoLag || !Contains(out->selected, r.effect)) continue;
     if (!d.has_encoder) break;
     const double share = r.encoder_share = EncoderShareOfLag(d, r.theta);
     r.encoder_checked = true;
     if (share >= kMinEncoderShareOfLag) break;
-    r.verdict = "ambiguous";
-    if (std::find(r.ambiguous_with.begin(), r.ambiguous_with.end(), "unknown") == r.ambiguous_with.end()) {
-      r.ambiguous_with.push_back("unknown");
-    }
-    if (!r.next_measurement.empty()) r.next_measurement += "; ";
-    r.next_measurement += fmt::format(
-        "the encoders show {:.0f}% of this lag, so it lies after the motor: look for a structure swaying under the "
-        "platform's acceleration (an accelerometer on A's mount)",
-        100 * std::max(share, 0.0));
     out->unexplained_note += fmt::format("; the tracker sees a lag the encoders do not ({:.0f}% of it)", 100 * std::max(share, 0.0));
-    marked = true;
+    MarkExplainedByUnknown({Effect::kServoLag},
+                           fmt::format("the encoders show {:.0f}% of this lag, so it lies after the motor: look for a "
+                                       "structure swaying under the platform's acceleration (an accelerometer on A's "
+                                       "mount)",
+                                       100 * std::max(share, 0.0)),
+                           out);
+    break;
   }
-  if (!marked) return;
-  // As for the structure's check: `unknown` when every selected effect could
-  // be the unknown's, else the effects and the unknown.
-  const bool all = std::all_of(out->effects.begin(), out->effects.end(), [&](const EffectResult& r) {
-    return !Contains(out->selected, r.effect) ||
-           std::find(r.ambiguous_with.begin(), r.ambiguous_with.end(), "unknown") != r.ambiguous_with.end();
-  });
-  out->conclusion = all ? "unknown" : "effects+unknown";
 }
 
 // Before (frame only) and after (frame and the selected effects) on each run
@@ -593,6 +647,9 @@ Diagnosis DiagnoseOnce(const PlatformModel& model, const MeasurementData& data, 
   const Eigen::VectorXd heldout = HoldOut(d, gram, prior, ColumnsOf(d, out.selected), &out);
   DescribeRest(d, residual, heldout, o, &out);
   MarkExplainedByStructure(ExplainedByStructure(d, prior, eval, out.selected, out.structure, o), &out);
+  std::vector<Effect> tilt_explained;
+  out.base_tilt = TestBaseTilt(d, prior, eval, out.selected, o, &tilt_explained);
+  MarkExplainedByBaseTilt(tilt_explained, &out);
   MarkLagNotInTheDrives(d, &out);
   for (int k = 0; k < d.samples(); ++k) {
     const std::size_t s = static_cast<std::size_t>(k);

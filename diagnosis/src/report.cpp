@@ -70,6 +70,9 @@ nlohmann::json Compensation(const Diagnosis& d) {
           {"note", "no PR change indicated"}};
 }
 
+// Whether the conclusion says something outside the vocabulary is at work.
+bool NamesUnknown(const Diagnosis& d) { return d.conclusion.find("unknown") != std::string::npos; }
+
 // Structure no effect explains, as an entry of the ranking: its share of the
 // gap's variance (the held-out residual's part above its white level).
 nlohmann::json UnknownJson(const Diagnosis& d) {
@@ -105,11 +108,11 @@ nlohmann::json ToJson(const Diagnosis& d) {
       j["effects"].back()["params"]["frequency_hz"] = d.design.structural_mode_hz;  // chosen, not fitted:
       j["effects"].back()["params"]["damping"] = d.design.structural_mode_damping;  // no σ
     }
-    if (k + 1 == d.selected.size() && d.structure.structured) {
+    if (k + 1 == d.selected.size() && NamesUnknown(d)) {
       j["effects"].push_back(UnknownJson(d));
     }
   }
-  if (d.selected.empty() && d.structure.structured) {
+  if (d.selected.empty() && NamesUnknown(d)) {
     j["effects"].insert(j["effects"].begin(), UnknownJson(d));
   }
   j["selected"] = nlohmann::json::array();
@@ -123,7 +126,9 @@ nlohmann::json ToJson(const Diagnosis& d) {
                                      {"dof", d.whiteness.dof}, {"threshold_99", d.whiteness.threshold},
                                      {"lag1_autocorrelation", d.whiteness.lag1},
                                      {"outside_99_band", d.whiteness.outside_fraction}}},
-                      {"structure", StructureJson(d.structure)}};
+                      {"structure", StructureJson(d.structure)},
+                      {"base_tilt", {{"tested", d.base_tilt.tested}, {"cv_gain", d.base_tilt.cv_gain},
+                                     {"tilts", d.base_tilt.tilts}}}};
   j["compensation"] = Compensation(d);
   // The tracker frame (a nuisance, never an effect): point_T = R·A_B + t.
   Matrix3 R = d.R0;
@@ -274,7 +279,7 @@ namespace {
 std::string VerdictMarkdown(const Diagnosis& d) {
   std::string md = "## Verdict\n\n";
   if (d.conclusion == "none") md += "**none**: the measurement agrees with the model within the tracker's noise.\n\n";
-  else if (d.structure.structured) md += "**" + d.conclusion + "**: " + d.unexplained_note + ".\n\n";
+  else if (NamesUnknown(d)) md += "**" + d.conclusion + "**: " + d.unexplained_note + ".\n\n";
   else md += "**" + d.conclusion + "**\n\n";
   md += "| rank | effect | verdict | explained | held-out gain | with | next measurement |\n|---|---|---|---|---|---|---|\n";
   for (std::size_t k = 0; k < d.effects.size(); ++k) {
@@ -341,7 +346,7 @@ std::string NextStepsMarkdown(const Diagnosis& d) {
   md += "- PR compensation: " + Compensation(d)["note"].get<std::string>() + ".\n";
   md += "- Tracker clock: " + d.time_offset.note + ".\n";
   if (!measure.empty()) md += "- Separate the ambiguous effects with one more measurement:\n" + fmt::format("  {}\n", fmt::join(measure, "\n  "));
-  if (d.structure.structured) md += "- Look beyond the vocabulary: " + d.unexplained_note + ".\n";
+  if (NamesUnknown(d)) md += "- Look beyond the vocabulary: " + d.unexplained_note + ".\n";
   else md += "- What is left: " + d.unexplained_note + ".\n";
   return md;
 }

@@ -60,6 +60,27 @@ Eigen::MatrixXd StructureColumns(const Design& d, double hz, double zeta) {
   return c;
 }
 
+Eigen::MatrixXd BaseTiltColumns(const Design& d) {
+  Eigen::MatrixXd c = Eigen::MatrixXd::Zero(3 * d.samples(), 24);
+  for (int n = 0; n < d.samples(); ++n) {
+    const std::size_t s = static_cast<std::size_t>(n);
+    const Vector3& A = d.model_point[s];
+    int column = 0;
+    for (int m = 0; m < 4; ++m) {
+      const Vector3 M = d.load_moment_per_kg[s].col(m);
+      for (int i = 0; i < 3; ++i) {
+        for (int j = i; j < 3; ++j, ++column) {
+          Vector3 tilt = Vector3::Zero();
+          tilt(i) += M(j);
+          if (j != i) tilt(j) += M(i);
+          c.block<3, 1>(3 * n, column) = d.R0 * tilt.cross(A);
+        }
+      }
+    }
+  }
+  return c;
+}
+
 Design WithNuisance(const Design& d, const Eigen::MatrixXd& extra) {
   Design out = WithoutColumns(d);
   const int m = static_cast<int>(extra.cols()), first = d.frame.begin + d.frame.count + d.nuisance.count;

@@ -8,34 +8,16 @@
 #include "edsp/diagnosis/design.h"
 #include "edsp/kinematics/config.h"
 #include "edsp/kinematics/forward_kinematics.h"
+#include "random_pose_rows.h"
 
 namespace edsp::gap {
 namespace {
 
 PlatformModel Model() { return PlatformModel(LoadConfigFile(std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml")); }
 
-// Rows at random poses, commanded with signed compensation, measured exactly
-// in a tracker frame X_TB.
+// Rows at random poses, measured exactly in a tracker frame X_TB.
 MeasurementData ExactData(const PlatformModel& model, const Pose& X_TB, int rows, PrMode compensation) {
-  std::mt19937_64 rng(7);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  MeasurementData d;
-  d.runs = {"a", "b", "c"};
-  d.source = "synthetic";
-  const Matrix3 R = RotationFromRpy(X_TB.rpy_rad);
-  for (int k = 0; k < rows; ++k) {
-    MeasurementRow row;
-    row.run = k * 3 / rows;
-    row.time_s = 0.01 * k;
-    row.pose_cmd = model.home_pose().ToVector();
-    row.pose_cmd.head<3>() += 0.15 * Vector3(u(rng), u(rng), u(rng));
-    row.pose_cmd.tail<3>() += 0.15 * Vector3(u(rng), u(rng), u(rng));
-    const Pose pose = Pose::FromVector(row.pose_cmd);
-    row.leg_cmd_m = model.CompensatedLengths(pose, compensation);
-    row.point_m = R * model.ObservationPoint(pose) + X_TB.p_BoMo_B;
-    d.rows.push_back(row);
-  }
-  return d;
+  return RandomPoseRows(model, X_TB, rows, compensation, 0.15, 0.01, 7, [](const Pose&, const Vector3& A) { return A; });
 }
 
 TEST(Design, PointPerLegMatchesForwardKinematicsOfPerturbedLegs) {

@@ -77,6 +77,15 @@ struct SampleGap {
   double time_s = 0.0, displacement = 0.0, before_m = 0.0, after_m = 0.0;
 };
 
+// Whether the base tilts under the payload's moment (structure_nuisance.h's
+// BaseTiltColumns), which no effect of the vocabulary models: tested when
+// an effect it resembles is selected (compliance, joint_position).
+struct BaseTiltCheck {
+  bool tested = false;
+  double cv_gain = 0.0;   // the tilt's cut of the selected model's held-out MSE
+  bool tilts = false;     // by min_cv_gain and run by run: something beyond the vocabulary
+};
+
 // How the final Ceres fit went.
 struct RobustFitSummary {
   double huber_m = 0.0;
@@ -104,6 +113,7 @@ struct Diagnosis {
   RmsMax unexplained;                 // in-sample, after the selected effects
   Whiteness whiteness;                // of the in-sample residual
   ResidualStructure structure;        // of the held-out residual: decides unknown
+  BaseTiltCheck base_tilt;            // a base tilting under the payload: unknown as well
   std::string unexplained_note;
   std::vector<SampleGap> series;
   TimeOffset time_offset;             // the tracker's clock, a nuisance (time_offset.h)

@@ -1,8 +1,9 @@
 #pragma once
-// The residual's structure as a nuisance (residual_structure.h): columns
-// that can take up a mode at the structure's frequency, whatever drives it.
-// An effect whose held-out gain survives only without them is one the
-// structure could also explain, and is not called identified (diagnose.h).
+// Structure outside the vocabulary as a nuisance: columns that can take up
+// a mode at the residual's frequency (residual_structure.h), whatever drives
+// it, or a base that tilts under the payload's moment. An effect whose held-out
+// gain survives only without them is one the structure could also explain,
+// and is not called identified (diagnose.h).
 //   - a lightly damped mode driven by A's acceleration (a sway of the
 //     structure carrying A): per axis of {B}, the mode's response to A's
 //     acceleration on that axis;
@@ -37,6 +38,15 @@ Eigen::MatrixXd SwayColumns(const Design& d, double hz, double zeta);
 
 // 9 columns: the sway's, then the tracker's vibration at `hz`.
 Eigen::MatrixXd StructureColumns(const Design& d, double hz, double zeta);
+
+// 24 columns: the base tilting under the moment the payload's weight and
+// inertia put on it, δθ = C·M with C a symmetric rotational compliance and
+// M = m·(M₀ + Σ c_a·M_a) (design.h's load_moment_per_kg) for a payload of
+// unknown mass m and c.o.m. c: C·m and C·m·c_a as 4 × 6 free terms; A
+// turns with the base about {B}'s origin. A base mount or floor that gives
+// moves every leg at once, which the legs' own compliance (each leg under
+// its own load) and joint centres take up only in part.
+Eigen::MatrixXd BaseTiltColumns(const Design& d);
 
 // `d` with `extra` as its nuisance: the columns are [frame | extra |
 // effects], and every fit of the design (linear_fit.h) estimates them with
