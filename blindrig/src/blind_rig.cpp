@@ -150,14 +150,15 @@ class Session {
     for (const Instant& now : instants) {
       if (now.t + 1e-12 < next_sample_s) continue;
       next_sample_s += sample_period;
-      const Instant read = At(instants, now.t - tracker_.time_offset_s);
+      const double late_s = tracker_.time_offset_s + e_.clock_drift * (session_s_ + now.t);
+      const Instant read = At(instants, now.t - late_s);
       q_true_ = SolvePose(
           [&](const Vec6& q) {
             return Vec6(LegLengths(truth_, q) - PassiveRotation(truth_, q, true_home_twist_, true_sign_, setup_.lead_m) -
                         read.lengths);
           },
           q_true_);
-      AppendRow(session_s_ + now.t, name, now, Reading(TruePoint(read), session_s_ + now.t - tracker_.time_offset_s), csv);
+      AppendRow(session_s_ + now.t, name, now, Reading(TruePoint(read), session_s_ + now.t - late_s), csv);
     }
     session_s_ += motion.duration_s() + 1.0;
   }

@@ -122,6 +122,12 @@ std::string AddOutOfVocabulary(const std::string& kind, Draw& d, BlindEffects* e
     return fmt::format("tracker stand settles {:.2f} um/s, tau {:.0f} s", e->stand_drift_m_per_s.norm() * 1e6,
                        e->stand_settle_s);
   }
+  if (kind == "clock_drift") {
+    // The tracker's clock runs free of the controller's (no trigger, no
+    // PTP): a quartz 1-4 ppm apart, 0.3-1.3 ms over a session.
+    e->clock_drift = d.Uniform(1e-6, 4e-6);
+    return fmt::format("tracker clock gains {:.1f} ppm", e->clock_drift * 1e6);
+  }
   // base_tilt: the base mount gives under the platform's moment.
   e->mass_kg = d.Uniform(400.0, 900.0);
   e->com_M = Vec3(0.0, 0.0, 0.1);
@@ -131,7 +137,7 @@ std::string AddOutOfVocabulary(const std::string& kind, Draw& d, BlindEffects* e
 
 }  // namespace
 
-std::vector<std::string> OutOfVocabularyKinds() { return {"floor_vibration", "base_tilt", "stand_drift"}; }
+std::vector<std::string> OutOfVocabularyKinds() { return {"floor_vibration", "base_tilt", "stand_drift", "clock_drift"}; }
 
 BlindScenario DrawBlindScenario(std::uint64_t seed, int index) {
   Draw d(seed * 0x9e3779b97f4a7c15ULL + static_cast<std::uint64_t>(index) * 7919ULL + 1);

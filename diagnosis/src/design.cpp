@@ -90,7 +90,8 @@ void CommandRates(const PlatformModel& model, const MeasurementData& data, const
 }
 
 // The moment about {B}'s origin of 1 kg at {M}'s origin under `force` per
-// kg (its weight and inertia), then per kg·m of c.o.m. offset along {M}'s axes.
+// kg (its weight and translational inertia), then per kg·m of c.o.m. offset
+// along {M}'s axes: (p + R·c) × F expanded in c.
 Eigen::Matrix<double, 3, 4> LoadMoment(const Pose& pose, const Vector3& force) {
   Eigen::Matrix<double, 3, 4> moment;
   const Matrix3 R = RotationFromRpy(pose.rpy_rad);

@@ -8,6 +8,7 @@
 #include <map>
 #include <memory>
 #include <numeric>
+#include <optional>
 #include <set>
 
 #include <Eigen/Eigenvalues>
@@ -441,12 +442,12 @@ struct WithStructure {
 // The selected effects that no longer earn their place beside a structure
 // that predicts the held-out runs `cv` (MSE): an effect that no longer cuts
 // the error by min_cv_gain there, or no longer beats the model without it
-// run by run. structural_resonance is the mode's own signature and stays.
+// run by run. `own` (if any) is the structure's own effect and stays.
 std::vector<Effect> RedundantBeside(Evaluator& with_structure, double cv, const std::vector<Effect>& selected,
-                                    const DiagnoseOptions& o) {
+                                    const DiagnoseOptions& o, std::optional<Effect> own = std::nullopt) {
   std::vector<Effect> explained;
   for (Effect e : selected) {
-    if (e == Effect::kStructuralResonance) continue;
+    if (e == own) continue;
     const std::vector<Effect> rest = Without(selected, e);
     const double base = with_structure.Cv(rest);
     const bool gains = base > 0.0 && (base - cv) / base >= o.min_cv_gain;
@@ -475,7 +476,8 @@ std::vector<Effect> ExplainedByStructure(const Design& d, const Eigen::VectorXd&
   }
   if (best == nullptr) return explained;  // no mode is what is left
   Evaluator eval(best->design, best->gram, best->prior);
-  return RedundantBeside(eval, best_cv, selected, o);
+  // The mode is structural_resonance's own signature.
+  return RedundantBeside(eval, best_cv, selected, o, Effect::kStructuralResonance);
 }
 
 // Whether the base tilts under the payload's moment, beside the selected
@@ -530,6 +532,14 @@ void MarkExplainedByStructure(const std::vector<Effect>& explained, Diagnosis* o
                          out);
 }
 
+// What is left names an unknown that a check found beside a residual that
+// may itself look white: the first such unknown leads, then what the
+// residual is; a later one follows.
+void NoteUnknown(const std::string& what, Diagnosis* out) {
+  if (out->conclusion.find("unknown") != std::string::npos) out->unexplained_note += "; " + what;
+  else out->unexplained_note = what + "; the selected effects leave a residual " + out->unexplained_note;
+}
+
 // The base's tilt is outside the vocabulary: said in what is left, and an
 // effect it makes redundant is ambiguous with it.
 void MarkExplainedByBaseTilt(const std::vector<Effect>& explained, Diagnosis* out) {
@@ -538,10 +548,10 @@ void MarkExplainedByBaseTilt(const std::vector<Effect>& explained, Diagnosis* ou
       "the base tilts under the payload's moment (a rotational give of the base mount or floor beside the selected "
       "effects predicts the held-out runs {:.0f}% better)",
       100 * out->base_tilt.cv_gain);
-  out->unexplained_note += "; " + what;
+  NoteUnknown(what, out);
   MarkExplainedByUnknown(explained,
-                         what + "; an inclinometer on the base, or a second payload (the base's tilt scales with its "
-                                "moment, joint centres do not), tells them apart",
+                         what + ", and this effect no longer earns its place beside it; an inclinometer on the base "
+                                "tells the tilt apart",
                          out);
   if (out->conclusion == "effects") out->conclusion = "effects+unknown";
 }
@@ -556,7 +566,8 @@ void MarkLagNotInTheDrives(const Design& d, Diagnosis* out) {
     const double share = r.encoder_share = EncoderShareOfLag(d, r.theta);
     r.encoder_checked = true;
     if (share >= kMinEncoderShareOfLag) break;
-    out->unexplained_note += fmt::format("; the tracker sees a lag the encoders do not ({:.0f}% of it)", 100 * std::max(share, 0.0));
+    NoteUnknown(fmt::format("the tracker sees a lag the encoders do not ({:.0f}% of it)", 100 * std::max(share, 0.0)),
+                out);
     MarkExplainedByUnknown({Effect::kServoLag},
                            fmt::format("the encoders show {:.0f}% of this lag, so it lies after the motor: look for a "
                                        "structure swaying under the platform's acceleration (an accelerometer on A's "

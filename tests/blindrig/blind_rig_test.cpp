@@ -1,6 +1,7 @@
 // The blind rig without effects is the nominal platform (checked against
 // edsp's own kinematics), each effect leaves its signature, and the drawn
 // scenarios cover the kinds and tracker settings they promise.
+#include <cmath>
 #include <set>
 
 #include <gtest/gtest.h>
@@ -67,6 +68,35 @@ TEST(BlindRig, EachEffectMovesThePointByARealisticAmount) {
     EXPECT_GT(gap, 2e-6) << s.description;
     EXPECT_LT(gap, 10e-3) << s.description;
   }
+}
+
+// A tracker clock that gains on the controller's (the out-of-vocabulary
+// clock_drift) reads each instant as late as a constant offset equal to
+// its lateness then would: drift × session time.
+TEST(BlindRig, AFreeRunningClockReadsAsLateAsItsDriftHasMadeIt) {
+  BlindEffects drifting;
+  drifting.clock_drift = 2e-4;
+  const gap::MeasurementData data = Generate(drifting, IdealTracker());
+  // The row of the last run where the platform moves fastest.
+  const gap::MeasurementRow* late = nullptr;
+  double fastest = 0.0;
+  for (std::size_t k = 1; k + 1 < data.rows.size(); ++k) {
+    if (data.runs[static_cast<std::size_t>(data.rows[k].run)] != "M1") continue;
+    const double step = (data.rows[k + 1].pose_cmd - data.rows[k - 1].pose_cmd).norm();
+    if (step > fastest) fastest = step, late = &data.rows[k];
+  }
+  ASSERT_NE(late, nullptr);
+  const auto same_stamp = [&](const gap::MeasurementData& other) {
+    for (const gap::MeasurementRow& row : other.rows) {
+      if (std::abs(row.time_s - late->time_s) < 1e-9) return row.point_m;
+    }
+    ADD_FAILURE() << "no row at " << late->time_s;
+    return Vector3(Vector3::Zero());
+  };
+  TrackerOptions offset = IdealTracker();
+  offset.time_offset_s = drifting.clock_drift * late->time_s;
+  EXPECT_LT((same_stamp(Generate({}, offset)) - late->point_m).norm(), 1e-8);
+  EXPECT_GT((same_stamp(Generate({}, IdealTracker())) - late->point_m).norm(), 1e-6);
 }
 
 TEST(BlindRig, ScenariosCoverEveryKindAndTrackerSetting) {

@@ -42,9 +42,9 @@ TEST(Design, PointPerLegMatchesForwardKinematicsOfPerturbedLegs) {
 
 // Legs on a quadratic in time (constant acceleration), sampled at stamps
 // that jitter as a live tracker's do (±0.3 ms on a 10 ms spacing): the
-// acceleration the servo-lag and compliance columns use is the motion's,
-// not the jitter's (the evenly spaced second difference was off by ~1 m/s²
-// here).
+// acceleration the servo-lag and compliance columns and the base-tilt
+// check's load use is the motion's, not the jitter's (the evenly spaced
+// second difference was off by ~1 m/s² here).
 TEST(Design, AccelerationsOfUnevenlySpacedSamplesAreTheMotions) {
   const PlatformModel model = Model();
   std::mt19937_64 rng(3);
@@ -79,6 +79,13 @@ TEST(Design, AccelerationsOfUnevenlySpacedSamplesAreTheMotions) {
     constexpr double kH = 1e-3;
     const Vector6 expected = (legs_at(t + kH) - 2.0 * legs_at(t) + legs_at(t - kH)) / (kH * kH);
     EXPECT_LT((design.leg_accel_m_s2[static_cast<std::size_t>(k)] - expected).norm(), 2e-3) << "sample " << k;
+    // The payload's moment on the base: its weight less that acceleration
+    // (per kg at {M}'s origin; a c.o.m. offset along x, the platform level).
+    const Vector3 p = d.rows[static_cast<std::size_t>(design.source_row[static_cast<std::size_t>(k)])].pose_cmd.head<3>();
+    const Vector3 force = Vector3(0.0, 0.0, -9.81) - accel;
+    const Eigen::Matrix<double, 3, 4>& moment = design.load_moment_per_kg[static_cast<std::size_t>(k)];
+    EXPECT_LT((moment.col(0) - p.cross(force)).norm(), 2e-3 * p.norm()) << "sample " << k;
+    EXPECT_LT((moment.col(1) - Vector3::UnitX().cross(force)).norm(), 2e-3) << "sample " << k;
   }
 }
 

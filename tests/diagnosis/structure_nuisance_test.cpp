@@ -42,13 +42,14 @@ TEST(StructureNuisance, BaseTiltColumnsAreTheBaseTurningUnderThePayloadsWeight) 
   TiltingBase base;
   base.compliance_rad_per_N_m << 2.0, 0.5, 0.1, 0.5, 3.0, -0.2, 0.1, -0.2, 1.0;
   base.compliance_rad_per_N_m *= 1e-8;
-  // The design's residual is taken around the frame of the tilted points;
-  // the tilt is the measured points less the untilted ones, in that frame.
-  const Design tilted = BuildDesign(model, TiltedData(model, X_TB, base, 90));
+  // The tilt as the tracker sees it: the tilted points less the level ones.
+  // The design's frame R0 is estimated from the tilted points, within
+  // ~1e-5 rad of the true one, which the tolerances below allow.
+  const MeasurementData measured = TiltedData(model, X_TB, base, 90);
+  const Design tilted = BuildDesign(model, measured);
   TiltingBase level = base;
   level.compliance_rad_per_N_m.setZero();
   const MeasurementData untilted = TiltedData(model, X_TB, level, 90);
-  const MeasurementData measured = TiltedData(model, X_TB, base, 90);
   Eigen::VectorXd motion(3 * tilted.samples());
   for (int k = 0; k < tilted.samples(); ++k) {
     const std::size_t row = static_cast<std::size_t>(tilted.source_row[static_cast<std::size_t>(k)]);

@@ -45,6 +45,8 @@ struct BlindEffects {
   double base_tilt_rad_per_N_m = 0.0;  // the base mount's rotational give under the platform's moment
   Vec3 stand_drift_m_per_s = Vec3::Zero();  // the tracker's stand settling: its readings creep
   double stand_settle_s = 300.0;            //   at this rate, slowing with this time constant
+  double clock_drift = 0.0;          // the tracker's clock gains this fraction on the controller's:
+                                     //   its readings fall later and later over the session
 };
 
 struct TrackerOptions {

@@ -46,8 +46,9 @@ struct Design {
   std::vector<Vector6> leg_velocity_m_s;
   std::vector<Vector6> leg_accel_m_s2;
   std::vector<Vector3> point_accel_m_s2;  // A's, in {B}, along the commands (0 at a run's ends)
-  // The moment about {B}'s origin of 1 kg's weight and inertia at {M}'s
-  // origin, then per kg·m of c.o.m. offset along {M}'s x, y, z (N·m).
+  // The moment about {B}'s origin of 1 kg's weight and translational
+  // inertia at {M}'s origin (N·m/kg), then per kg·m of c.o.m. offset along
+  // {M}'s x, y, z (N/kg); the platform's rotational inertia is left out.
   std::vector<Eigen::Matrix<double, 3, 4>> load_moment_per_kg;
   std::vector<Vector6> servo_error_m;  // leg_cmd − leg_enc, when the data has encoders
   std::vector<double> time_s;

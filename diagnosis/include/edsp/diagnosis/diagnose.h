@@ -112,8 +112,8 @@ struct Diagnosis {
   double prior_sigma2 = 0.0;
   RmsMax unexplained;                 // in-sample, after the selected effects
   Whiteness whiteness;                // of the in-sample residual
-  ResidualStructure structure;        // of the held-out residual: decides unknown
-  BaseTiltCheck base_tilt;            // a base tilting under the payload: unknown as well
+  ResidualStructure structure;        // of the held-out residual: decides unknown, as do
+  BaseTiltCheck base_tilt;            //   a base tilting under the payload and a lag the encoders miss
   std::string unexplained_note;
   std::vector<SampleGap> series;
   TimeOffset time_offset;             // the tracker's clock, a nuisance (time_offset.h)

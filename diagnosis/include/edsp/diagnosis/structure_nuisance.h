@@ -40,10 +40,11 @@ Eigen::MatrixXd SwayColumns(const Design& d, double hz, double zeta);
 Eigen::MatrixXd StructureColumns(const Design& d, double hz, double zeta);
 
 // 24 columns: the base tilting under the moment the payload's weight and
-// inertia put on it, δθ = C·M with C a symmetric rotational compliance and
+// translational inertia put on it, δθ = C·M with C a symmetric rotational compliance and
 // M = m·(M₀ + Σ c_a·M_a) (design.h's load_moment_per_kg) for a payload of
 // unknown mass m and c.o.m. c: C·m and C·m·c_a as 4 × 6 free terms; A
-// turns with the base about {B}'s origin. A base mount or floor that gives
+// turns with the base about {B}'s origin (a mount pivoting elsewhere adds
+// a translation the frame does not take up). A base mount or floor that gives
 // moves every leg at once, which the legs' own compliance (each leg under
 // its own load) and joint centres take up only in part.
 Eigen::MatrixXd BaseTiltColumns(const Design& d);
