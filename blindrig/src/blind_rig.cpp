@@ -141,7 +141,8 @@ class Session {
 
   // Appends the rows of one motion, sampled at the tracker's rate: each row
   // the controller's command and encoders at its stamp, and the tracker's
-  // reading of the instant its clock's offset puts it at.
+  // reading of the instant its clock puts it at (its offset, and what its
+  // drift has added since the session began).
   void Run(const std::string& name, std::string* csv) {
     const BlindMotion motion(name, home_, setup_.limits);
     const std::vector<Instant> instants = Simulate(motion);

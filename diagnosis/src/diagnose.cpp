@@ -533,11 +533,15 @@ void MarkExplainedByStructure(const std::vector<Effect>& explained, Diagnosis* o
 }
 
 // What is left names an unknown that a check found beside a residual that
-// may itself look white: the first such unknown leads, then what the
-// residual is; a later one follows.
+// may itself look white: the unknowns the checks found lead, then what the
+// residual is; beside structure they follow its description.
 void NoteUnknown(const std::string& what, Diagnosis* out) {
-  if (out->conclusion.find("unknown") != std::string::npos) out->unexplained_note += "; " + what;
-  else out->unexplained_note = what + "; the selected effects leave a residual " + out->unexplained_note;
+  static const std::string kResidual = "; the selected effects leave a residual ";
+  std::string& note = out->unexplained_note;
+  const std::size_t residual = note.find(kResidual);
+  if (residual != std::string::npos) note.insert(residual, "; " + what);
+  else if (out->structure.structured) note += "; " + what;
+  else note = what + kResidual + note;
 }
 
 // The base's tilt is outside the vocabulary: said in what is left, and an

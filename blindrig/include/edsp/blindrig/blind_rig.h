@@ -56,9 +56,10 @@ struct TrackerOptions {
   Vec6 frame = (Vec6() << 1.8, -0.7, 0.3, 0.0, 0.0, 0.5).finished();  // tracker pose of {B}: x y z r p y
   std::uint64_t seed = 1;            // noise
   // How late the tracker's readings are (s; its clock ahead of the
-  // controller's by that much): a row stamped t holds
-  // the reading of instant t − offset. A nuisance, not an effect: edsp-gap
-  // estimates it from encoder columns (docs/diagnosis.md).
+  // controller's by that much): a row stamped t holds the reading of
+  // instant t − offset (− clock_drift·t with BlindEffects' drift). A
+  // nuisance, not an effect: edsp-gap estimates it from encoder columns
+  // (docs/diagnosis.md).
   double time_offset_s = 0.0;
 };
 
