@@ -58,7 +58,9 @@ int Run(int argc, char** argv) {
                                   {"tracker", {{"rate_hz", scenario.tracker.rate_hz},
                                                {"noise_m", scenario.tracker.noise_m},
                                                {"encoders", scenario.tracker.encoders},
-                                               {"time_offset_s", scenario.tracker.time_offset_s}}}};
+                                               {"time_offset_s", scenario.tracker.time_offset_s},
+                                               {"clock_drift", scenario.effects.clock_drift},
+                                               {"target_reseat_m", scenario.effects.target_reseat_m}}}};
     WriteFile(truth_path, truth.dump(2) + "\n");
   }
   return 0;

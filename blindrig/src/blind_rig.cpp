@@ -145,6 +145,7 @@ class Session {
   // drift has added since the session began).
   void Run(const std::string& name, std::string* csv) {
     const BlindMotion motion(name, home_, setup_.limits);
+    ReseatTarget();
     const std::vector<Instant> instants = Simulate(motion);
     const double sample_period = 1.0 / tracker_.rate_hz;
     double next_sample_s = 0.0;
@@ -231,9 +232,18 @@ class Session {
     return target;
   }
 
+  // An operator takes the target out of its nest between runs and puts it
+  // back: its centre lands a little apart each time (a nest's seat, a speck
+  // of dust under the ball).
+  void ReseatTarget() {
+    if (e_.target_reseat_m <= 0.0) return;
+    std::normal_distribution<double> seat(0.0, e_.target_reseat_m / std::sqrt(3.0));
+    for (int a = 0; a < 3; ++a) target_offset_(a) = seat(reseat_draw_);
+  }
+
   // Point A in {B} at the true pose, with the structure's sway and the base's tilt.
   Vec3 TruePoint(const Instant& at) const {
-    Vec3 point = q_true_.head<3>() + Rotation(q_true_) * setup_.geometry.point_M + at.sway;
+    Vec3 point = q_true_.head<3>() + Rotation(q_true_) * (setup_.geometry.point_M + target_offset_) + at.sway;
     if (e_.base_tilt_rad_per_N_m > 0.0) {
       const Vec3 com = at.q_cmd.head<3>() + Rotation(at.q_cmd) * e_.com_M;
       const Vec3 moment = com.cross(Vec3(0.0, 0.0, -kGravity * std::max(e_.mass_kg, 1.0)));
@@ -278,6 +288,8 @@ class Session {
   Sway sway_;
   Vec6 q_true_;
   double session_s_ = 0.0;
+  std::mt19937_64 reseat_draw_{tracker_.seed ^ 0x5ea7ULL};  // its own stream: the noise stays the same draw
+  Vec3 target_offset_ = Vec3::Zero();  // where the target sits in {M} this run, from its nominal centre
 };
 
 }  // namespace

@@ -128,6 +128,12 @@ std::string AddOutOfVocabulary(const std::string& kind, Draw& d, BlindEffects* e
     e->clock_drift = d.Uniform(1e-6, 4e-6);
     return fmt::format("tracker clock gains {:.1f} ppm", e->clock_drift * 1e6);
   }
+  if (kind == "target_reseat") {
+    // The target is taken out of its nest between runs and put back: a
+    // seat that is not clean moves its centre 10-30 um each time.
+    e->target_reseat_m = d.Uniform(10e-6, 30e-6);
+    return fmt::format("tracker target re-seated before each run, {:.0f} um RMS", e->target_reseat_m * 1e6);
+  }
   // base_tilt: the base mount gives under the platform's moment.
   e->mass_kg = d.Uniform(400.0, 900.0);
   e->com_M = Vec3(0.0, 0.0, 0.1);
@@ -137,7 +143,9 @@ std::string AddOutOfVocabulary(const std::string& kind, Draw& d, BlindEffects* e
 
 }  // namespace
 
-std::vector<std::string> OutOfVocabularyKinds() { return {"floor_vibration", "base_tilt", "stand_drift", "clock_drift"}; }
+std::vector<std::string> OutOfVocabularyKinds() {
+  return {"floor_vibration", "base_tilt", "stand_drift", "clock_drift", "target_reseat"};
+}
 
 BlindScenario DrawBlindScenario(std::uint64_t seed, int index) {
   Draw d(seed * 0x9e3779b97f4a7c15ULL + static_cast<std::uint64_t>(index) * 7919ULL + 1);

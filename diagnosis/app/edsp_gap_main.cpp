@@ -59,7 +59,7 @@ void PrintText(const Diagnosis& d) {
   std::printf("held-out runs: before %.1f µm RMS, after %.1f µm RMS, shrink %.0f%% (noise floor %.1f µm)\n",
               d.holdout_before.rms_m * 1e6, d.holdout_after.rms_m * 1e6, 100 * d.shrink, d.noise_floor_rms_m * 1e6);
   std::printf("left: %s\n", d.unexplained_note.c_str());
-  std::printf("tracker clock: %s\n", d.time_offset.note.c_str());
+  std::printf("tracker clock: %s\n", TrackerClockNote(d).c_str());
 }
 
 // Each subcommand: its arguments, how they are declared, and what it does.

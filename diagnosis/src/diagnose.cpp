@@ -501,6 +501,46 @@ BaseTiltCheck TestBaseTilt(const Design& d, const Eigen::VectorXd& prior, Evalua
   return c;
 }
 
+// Whether the tracker's clock drifts from the controller's, beside the
+// selected effects and a constant offset (time_offset.h). The drift ρ must
+// stand out of its own uncertainty (|ρ| > kTimeOffsetSignificance·σ, as the
+// offset must) and cut the held-out error run by run; then it drifts if
+// the cut is min_cv_gain, or if a selected effect no longer earns its place
+// beside the drifting clock (a servo lag equal on every leg that only the
+// clock's mean made: the constant offset beside it takes that up too, so
+// this arm rests on ρ's own evidence). Those effects go to `explained`.
+ClockDriftCheck TestClockDrift(const Design& d, const Eigen::VectorXd& prior, const std::vector<Effect>& selected,
+                               const DiagnoseOptions& o, std::vector<Effect>* explained) {
+  ClockDriftCheck c;
+  if (d.samples() == 0) return c;
+  c.tested = true;
+  const Eigen::MatrixXd clock = DriftingOffsetColumns(d);
+  WithStructure steady(d, prior, clock.leftCols(1));
+  WithStructure drifting(d, prior, clock);
+  Evaluator still(steady.design, steady.gram, steady.prior), eval(drifting.design, drifting.gram, drifting.prior);
+  const double before = still.Cv(selected), after = eval.Cv(selected);
+  c.cv_gain = before > 0.0 ? (before - after) / before : 0.0;
+
+  const Columns cols = ColumnsOf(drifting.design, selected);
+  const std::vector<int> all = drifting.gram.AllFolds();
+  const Eigen::VectorXd theta = drifting.gram.Solve(cols, all, drifting.prior);
+  const int at = drifting.design.frame.count + drifting.design.nuisance.count - 1;  // ρ: the nuisance's last column
+  const double sigma2 =
+      drifting.gram.Sse(cols, theta, all) / std::max(1, drifting.gram.Residuals(all) - static_cast<int>(cols.size()));
+  c.drift = theta(at);
+  const Eigen::VectorXd rest = drifting.design.residual - drifting.design.columns(Eigen::all, cols) * theta;
+  c.sigma = std::sqrt(std::max(0.0, drifting.gram.Covariance(cols, all, drifting.prior, sigma2)(at, at)) *
+                      CorrelationInflation(rest));
+
+  c.run_by_run = c.cv_gain > 0.0 && std::abs(c.drift) > kTimeOffsetSignificance * c.sigma &&
+                 PairedGainIsSignificant(LogGains(eval.FoldSse(selected), still.FoldSse(selected)), o.significance);
+  if (!c.run_by_run) return c;
+  *explained = RedundantBeside(eval, after, selected, o);
+  c.drifts = c.cv_gain >= o.min_cv_gain || !explained->empty();
+  if (!c.drifts) explained->clear();
+  return c;
+}
+
 // `unknown` when every selected effect could be the unknown's, else the
 // effects and the unknown.
 void ConcludeWithUnknown(Diagnosis* out) {
@@ -558,6 +598,24 @@ void MarkExplainedByBaseTilt(const std::vector<Effect>& explained, Diagnosis* ou
                                 "tells the tilt apart",
                          out);
   if (out->conclusion == "effects") out->conclusion = "effects+unknown";
+}
+
+// A drifting tracker clock is outside the vocabulary: said in what is left,
+// and an effect it makes redundant is ambiguous with it.
+void MarkExplainedByClockDrift(const std::vector<Effect>& explained, Diagnosis* out) {
+  if (!out->clock_drift.drifts) return;
+  const std::string what = fmt::format(
+      "the tracker's clock drifts from the controller's by {:+.2f} ppm ± {:.2f} (its readings grow {} over the "
+      "session; predicts the held-out runs {:.0f}% better)",
+      out->clock_drift.drift * 1e6, out->clock_drift.sigma * 1e6, out->clock_drift.drift > 0.0 ? "later" : "earlier",
+      100 * out->clock_drift.cv_gain);
+  NoteUnknown(what, out);
+  MarkExplainedByUnknown(explained,
+                         what + ", and this effect no longer earns its place beside it; trigger the tracker from the "
+                                "controller's clock (or PTP) and measure again",
+                         out);
+  if (out->conclusion == "effects") out->conclusion = "effects+unknown";
+  if (out->conclusion == "none") out->conclusion = "unknown";
 }
 
 // A selected servo_lag the encoders do not show is not the drives' lag
@@ -665,6 +723,9 @@ Diagnosis DiagnoseOnce(const PlatformModel& model, const MeasurementData& data, 
   std::vector<Effect> tilt_explained;
   out.base_tilt = TestBaseTilt(d, prior, eval, out.selected, o, &tilt_explained);
   MarkExplainedByBaseTilt(tilt_explained, &out);
+  std::vector<Effect> clock_explained;
+  out.clock_drift = TestClockDrift(d, prior, out.selected, o, &clock_explained);
+  MarkExplainedByClockDrift(clock_explained, &out);
   MarkLagNotInTheDrives(d, &out);
   for (int k = 0; k < d.samples(); ++k) {
     const std::size_t s = static_cast<std::size_t>(k);

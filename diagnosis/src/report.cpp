@@ -70,6 +70,20 @@ nlohmann::json Compensation(const Diagnosis& d) {
           {"note", "no PR change indicated"}};
 }
 
+}  // namespace
+
+std::string TrackerClockNote(const Diagnosis& d) {
+  const ClockDriftCheck& c = d.clock_drift;
+  if (!c.tested) return d.time_offset.note;
+  return d.time_offset.note +
+         fmt::format("; over the session it drifts {:+.3f} ppm ± {:.3f} ({}: the held-out runs {:.1f}% better with it)",
+                     c.drift * 1e6, c.sigma * 1e6,
+                     c.drifts ? "beyond the vocabulary" : c.run_by_run ? "shown, but too small to matter" : "not shown run by run",
+                     100 * c.cv_gain);
+}
+
+namespace {
+
 // Whether the conclusion says something outside the vocabulary is at work.
 bool NamesUnknown(const Diagnosis& d) { return d.conclusion.find("unknown") != std::string::npos; }
 
@@ -128,7 +142,10 @@ nlohmann::json ToJson(const Diagnosis& d) {
                                      {"outside_99_band", d.whiteness.outside_fraction}}},
                       {"structure", StructureJson(d.structure)},
                       {"base_tilt", {{"tested", d.base_tilt.tested}, {"cv_gain", d.base_tilt.cv_gain},
-                                     {"tilts", d.base_tilt.tilts}}}};
+                                     {"tilts", d.base_tilt.tilts}}},
+                      {"clock_drift", {{"tested", d.clock_drift.tested}, {"drift", d.clock_drift.drift},
+                                       {"sigma", d.clock_drift.sigma}, {"cv_gain", d.clock_drift.cv_gain},
+                                       {"run_by_run", d.clock_drift.run_by_run}, {"drifts", d.clock_drift.drifts}}}};
   j["compensation"] = Compensation(d);
   // The tracker frame (a nuisance, never an effect): point_T = R·A_B + t.
   Matrix3 R = d.R0;
@@ -344,7 +361,7 @@ std::string NextStepsMarkdown(const Diagnosis& d) {
                       fmt::join(apply, ", "));
   }
   md += "- PR compensation: " + Compensation(d)["note"].get<std::string>() + ".\n";
-  md += "- Tracker clock: " + d.time_offset.note + ".\n";
+  md += "- Tracker clock: " + TrackerClockNote(d) + ".\n";
   if (!measure.empty()) md += "- Separate the ambiguous effects with one more measurement:\n" + fmt::format("  {}\n", fmt::join(measure, "\n  "));
   if (NamesUnknown(d)) md += "- Look beyond the vocabulary: " + d.unexplained_note + ".\n";
   else md += "- What is left: " + d.unexplained_note + ".\n";

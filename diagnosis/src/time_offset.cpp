@@ -34,19 +34,6 @@ Eigen::VectorXd WithoutServoError(const Design& d) {
   return r;
 }
 
-// A residual that is not white (a mode, a misfit) holds fewer independent
-// samples than rows: the variance of δ grows by (1 + ρ)/(1 − ρ), ρ its
-// lag-1 autocorrelation along each axis, as for an AR(1) series.
-double CorrelationInflation(const Eigen::VectorXd& r) {
-  double rr = 0.0, lag = 0.0;
-  for (Eigen::Index k = 0; k < r.size(); ++k) {
-    rr += r(k) * r(k);
-    if (k + 3 < r.size()) lag += r(k) * r(k + 3);
-  }
-  const double rho = rr > 0.0 ? std::clamp(lag / rr, 0.0, 0.99) : 0.0;
-  return (1.0 + rho) / (1.0 - rho);
-}
-
 std::vector<Effect> AllButServoLag() {
   std::vector<Effect> effects;
   for (Effect e : AllEffects()) {
@@ -94,8 +81,29 @@ TimeOffset EstimateTimeOffset(const Design& design, const Eigen::VectorXd& prior
   return out;
 }
 
+double CorrelationInflation(const Eigen::VectorXd& r) {
+  double rr = 0.0, lag = 0.0;
+  for (Eigen::Index k = 0; k < r.size(); ++k) {
+    rr += r(k) * r(k);
+    if (k + 3 < r.size()) lag += r(k) * r(k + 3);
+  }
+  const double rho = rr > 0.0 ? std::clamp(lag / rr, 0.0, 0.99) : 0.0;
+  return (1.0 + rho) / (1.0 - rho);
+}
+
 void RemoveTimeOffset(double offset_s, Design* design) {
   design->residual -= offset_s * OffsetColumn(*design);
+}
+
+Eigen::MatrixXd DriftingOffsetColumns(const Design& d) {
+  Eigen::MatrixXd c(3 * d.samples(), 2);
+  c.col(0) = OffsetColumn(d);
+  if (d.samples() == 0) return c;
+  const double t0 = *std::min_element(d.time_s.begin(), d.time_s.end());
+  for (int k = 0; k < d.samples(); ++k) {
+    c.block<3, 1>(3 * k, 1) = c.block<3, 1>(3 * k, 0) * (d.time_s[static_cast<std::size_t>(k)] - t0);
+  }
+  return c;
 }
 
 }  // namespace edsp::gap

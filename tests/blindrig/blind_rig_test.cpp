@@ -104,11 +104,41 @@ TEST(BlindRig, AFreeRunningClockReadsAsLateAsItsDriftHasMadeIt) {
   EXPECT_GT((same_stamp(Generate(vibrating, IdealTracker())) - late->point_m).norm(), 1e-6);
 }
 
+// A target re-seated before each run (the out-of-vocabulary
+// target_reseat) moves A by an offset fixed in the platform's frame {M}
+// for the whole run, and another the next run: the readings' difference
+// from the target left in place, turned back into {M} with the commanded
+// pose's rotation, is one vector per run.
+TEST(BlindRig, AReseatedTargetSitsApartByOneOffsetInThePlatformPerRun) {
+  BlindEffects reseated;
+  reseated.target_reseat_m = 20e-6;
+  const std::vector<std::string> motions = {"Lz", "Ry", "M1", "Rx"};
+  const gap::MeasurementData moved = Generate(reseated, IdealTracker(), motions);
+  const gap::MeasurementData still = Generate({}, IdealTracker(), motions);
+  ASSERT_EQ(moved.rows.size(), still.rows.size());
+  std::vector<Vector3> first(motions.size(), Vector3::Constant(std::nan("")));
+  double spread = 0.0;
+  for (std::size_t k = 0; k < moved.rows.size(); ++k) {
+    const Pose pose = Pose::FromVector(moved.rows[k].pose_cmd);
+    const Vector3 in_M = RotationFromRpy(pose.rpy_rad).transpose() * (moved.rows[k].point_m - still.rows[k].point_m);
+    Vector3& seat = first[static_cast<std::size_t>(moved.rows[k].run)];
+    if (seat.hasNaN()) seat = in_M;
+    spread = std::max(spread, (in_M - seat).norm());
+  }
+  EXPECT_LT(spread, 1e-8);
+  for (std::size_t r = 0; r < first.size(); ++r) {
+    ASSERT_FALSE(first[r].hasNaN()) << motions[r];
+    EXPECT_LT(first[r].norm(), 5 * reseated.target_reseat_m) << motions[r];
+    if (r == 0) continue;
+    EXPECT_GT((first[r] - first[r - 1]).norm(), 1e-6) << motions[r] << " sits where " << motions[r - 1] << " did";
+  }
+}
+
 TEST(BlindRig, ScenariosCoverEveryKindAndTrackerSetting) {
   std::set<std::string> kinds, truths;
   double slowest = 1e9, fastest = 0.0, quietest = 1.0, noisiest = 0.0;
   std::set<bool> encoders;
-  for (int index = 0; index < 100; ++index) {
+  for (int index = 0; index < 200; ++index) {
     const BlindScenario s = DrawBlindScenario(3, index);
     kinds.insert(s.kind);
     truths.insert(s.truth.begin(), s.truth.end());

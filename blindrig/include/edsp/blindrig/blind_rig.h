@@ -47,6 +47,8 @@ struct BlindEffects {
   double stand_settle_s = 300.0;            //   at this rate, slowing with this time constant
   double clock_drift = 0.0;          // the tracker's clock gains this fraction on the controller's:
                                      //   its readings fall later and later over the session
+  double target_reseat_m = 0.0;      // the tracker's target re-seated in its nest before each run:
+                                     //   A sits this far (RMS) from its nominal centre, drawn anew each run, in {M}
 };
 
 struct TrackerOptions {

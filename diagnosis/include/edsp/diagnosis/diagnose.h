@@ -86,6 +86,18 @@ struct BaseTiltCheck {
   bool tilts = false;     // by min_cv_gain and run by run: something beyond the vocabulary
 };
 
+// Whether the tracker's clock drifts from the controller's
+// (time_offset.h's DriftingOffsetColumns), which no effect models: tested
+// in every diagnosis, beside the selected effects and a constant offset.
+struct ClockDriftCheck {
+  bool tested = false;
+  double drift = 0.0, sigma = 0.0;  // ρ (s/s; 1e-6 = 1 ppm, the tracker's clock gaining) and its 1-σ
+  double cv_gain = 0.0;   // the drift's cut of the held-out MSE beside the selected effects and a constant offset
+  bool run_by_run = false;  // |ρ| > 5σ and a cut every held-out run shows (the paired test)
+  bool drifts = false;    // and the cut is min_cv_gain or a selected effect no longer earns its place beside
+                          // the drifting clock: something beyond the vocabulary
+};
+
 // How the final Ceres fit went.
 struct RobustFitSummary {
   double huber_m = 0.0;
@@ -113,7 +125,8 @@ struct Diagnosis {
   RmsMax unexplained;                 // in-sample, after the selected effects
   Whiteness whiteness;                // of the in-sample residual
   ResidualStructure structure;        // of the held-out residual: decides unknown, as do
-  BaseTiltCheck base_tilt;            //   a base tilting under the payload and a lag the encoders miss
+  BaseTiltCheck base_tilt;            //   a base tilting under the payload,
+  ClockDriftCheck clock_drift;        //   a tracker clock drifting, and a lag the encoders miss
   std::string unexplained_note;
   std::vector<SampleGap> series;
   TimeOffset time_offset;             // the tracker's clock, a nuisance (time_offset.h)

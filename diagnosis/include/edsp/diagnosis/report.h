@@ -13,6 +13,10 @@ namespace edsp::gap {
 
 nlohmann::json ToJson(const Diagnosis& diagnosis);
 
+// The tracker's clock in one sentence: its offset (time_offset.h) and how
+// fast it drifts over the session (the clock check).
+std::string TrackerClockNote(const Diagnosis& diagnosis);
+
 // The selected effects with their parameters: what `evaluate` applies.
 nlohmann::json ModelJson(const Diagnosis& diagnosis);
 

@@ -8,7 +8,9 @@
 // which the encoders read, while a clock offset lies between the tracker and
 // everything else. So δ is estimated on the residual with the encoders'
 // servo error taken out, beside every effect but servo_lag; without encoder
-// columns it is not estimated, and the report says why.
+// columns it is not estimated, and the report says why. A clock that
+// drifts over the session is not removed: diagnose's clock check tests it
+// as something beyond the vocabulary (DriftingOffsetColumns).
 
 #include <string>
 
@@ -32,7 +34,21 @@ inline constexpr double kTimeOffsetSignificance = 5.0;
 // as for the diagnosis's own fits).
 TimeOffset EstimateTimeOffset(const Design& design, const Eigen::VectorXd& prior_weight);
 
+// A residual that is not white (a mode, a misfit) holds fewer independent
+// samples than rows: the variance of a fitted parameter grows by
+// (1 + ρ)/(1 − ρ), ρ the residual's lag-1 autocorrelation along each axis
+// (3 rows per sample), as for an AR(1) series.
+double CorrelationInflation(const Eigen::VectorXd& residual);
+
 // The design's residual as if the tracker's clock were the controller's.
 void RemoveTimeOffset(double offset_s, Design* design);
+
+// A tracker clock running free of the controller's: readings late by
+// δ₀ + ρ·(t − t₀), t₀ the session's first sample, ρ the clock's gain (s/s).
+// Two columns (3 rows per sample): −Ȧ and −Ȧ·(t − t₀), per second of δ₀
+// and per unit of ρ. A drive's lag is the same in every run; a drifting
+// clock's grows with the session, which is what parts the two without
+// encoders (diagnose.h's clock check).
+Eigen::MatrixXd DriftingOffsetColumns(const Design& design);
 
 }  // namespace edsp::gap
