@@ -6,111 +6,24 @@
 #include <limits>
 #include <string>
 #include <map>
-#include <memory>
 #include <numeric>
-#include <optional>
-#include <set>
 
 #include <Eigen/Eigenvalues>
 #include <boost/math/distributions/students_t.hpp>
 #include <fmt/format.h>
 
-#include "edsp/diagnosis/encoder_check.h"
+#include "edsp/diagnosis/beyond_vocabulary.h"
+#include "edsp/diagnosis/effect_sets.h"
 #include "edsp/diagnosis/linear_fit.h"
 #include "edsp/kinematics/calibration.h"
 #include "edsp/diagnosis/robust_fit.h"
 #include "edsp/diagnosis/structural_mode_fit.h"
-#include "edsp/diagnosis/structure_nuisance.h"
 #include "edsp/diagnosis/thermal_time_constant_fit.h"
 #include "edsp/diagnosis/time_offset.h"
 
 namespace edsp::gap {
 
 namespace {
-
-std::vector<Effect> With(std::vector<Effect> set, Effect e) {
-  set.push_back(e);
-  return set;
-}
-
-std::vector<Effect> Without(const std::vector<Effect>& set, Effect e) {
-  std::vector<Effect> rest;
-  for (Effect x : set) {
-    if (x != e) rest.push_back(x);
-  }
-  return rest;
-}
-
-template <typename T>
-bool Contains(const std::vector<T>& set, const T& e) {
-  return std::find(set.begin(), set.end(), e) != set.end();
-}
-
-// Each fold's log ratio of its held-out squared error without and with.
-std::vector<double> LogGains(const std::vector<double>& with_sse, const std::vector<double>& without_sse) {
-  std::vector<double> gain;
-  for (std::size_t k = 0; k < with_sse.size(); ++k) {
-    gain.push_back(std::log(std::max(without_sse[k], 1e-300) / std::max(with_sse[k], 1e-300)));
-  }
-  return gain;
-}
-
-// Held-out and in-sample errors of effect sets, memoised (selection asks
-// for the same set again when it checks alternatives).
-class Evaluator {
- public:
-  Evaluator(const Design& d, const GramSet& gram, Eigen::VectorXd prior)
-      : d_(d), gram_(gram), prior_(std::move(prior)) {}
-
-  // Mean squared held-out residual (per coordinate), leave-one-fold-out.
-  double Cv(const std::vector<Effect>& set) {
-    const std::vector<double>& sse = FoldSse(set);
-    return std::accumulate(sse.begin(), sse.end(), 0.0) / gram_.Residuals(gram_.AllFolds());
-  }
-
-  // Each fold's held-out sum of squared residuals, fitted on the others.
-  const std::vector<double>& FoldSse(const std::vector<Effect>& set) {
-    const std::string key = Key(set);
-    const auto it = fold_sse_.find(key);
-    if (it != fold_sse_.end()) return it->second;
-    const Columns cols = ColumnsOf(d_, set);
-    std::vector<double> sse;
-    for (int f = 0; f < gram_.folds(); ++f) {
-      sse.push_back(gram_.Sse(cols, gram_.Solve(cols, gram_.AllBut(f), prior_), {f}));
-    }
-    return fold_sse_[key] = std::move(sse);
-  }
-
-  // Whether `with` predicts the held-out runs better than `without` run by
-  // run, not only pooled: a one-sided paired t-test at level `alpha` of the
-  // log ratio of each fold's held-out squared error, so that a gain one run
-  // carries (a structure that happens to resemble the effect there) is not
-  // taken for the effect. Ratios, not differences: runs of very different
-  // size (a rotation beside a lift) would otherwise drown the test in
-  // their scale.
-  bool SignificantlyBetter(const std::vector<Effect>& with, const std::vector<Effect>& without, double alpha) {
-    return PairedGainIsSignificant(LogGains(FoldSse(with), FoldSse(without)), alpha);
-  }
-
-  // In-sample sum of squared residuals, every fold fitted.
-  double Rss(const std::vector<Effect>& set) {
-    const Columns cols = ColumnsOf(d_, set);
-    const std::vector<int> all = gram_.AllFolds();
-    return gram_.Sse(cols, gram_.Solve(cols, all, prior_), all);
-  }
-
- private:
-  static std::string Key(std::vector<Effect> set) {
-    std::sort(set.begin(), set.end());
-    std::string key;
-    for (Effect e : set) key += EffectName(e), key += ',';
-    return key;
-  }
-  const Design& d_;
-  const GramSet& gram_;
-  Eigen::VectorXd prior_;
-  std::map<std::string, std::vector<double>> fold_sse_;
-};
 
 // Share of an effect's signature the frame can reproduce: per column, the
 // part of its norm in the span of the frame's columns; the mean over columns.
@@ -425,220 +338,6 @@ void DescribeRest(const Design& d, const Eigen::VectorXd& residual, const Eigen:
                         100 * out->structure.structured_share);
 }
 
-// A design with structure outside the vocabulary as a nuisance beside the
-// frame (structure_nuisance.h), free as the frame is, and the prior of the
-// effects' columns kept.
-struct WithStructure {
-  WithStructure(const Design& d, const Eigen::VectorXd& effect_prior, const Eigen::MatrixXd& extra)
-      : design(WithNuisance(d, extra)), gram(design, MakeFolds(design)), prior(Eigen::VectorXd::Zero(design.parameters())) {
-    const Eigen::Index effect_columns = d.parameters() - (d.frame.begin + d.frame.count);
-    prior.tail(effect_columns) = effect_prior.tail(effect_columns);
-  }
-  Design design;
-  GramSet gram;
-  Eigen::VectorXd prior;
-};
-
-// The selected effects that no longer earn their place beside a structure
-// that predicts the held-out runs `cv` (MSE): an effect that no longer cuts
-// the error by min_cv_gain there, or no longer beats the model without it
-// run by run. `own` (if any) is the structure's own effect and stays.
-std::vector<Effect> RedundantBeside(Evaluator& with_structure, double cv, const std::vector<Effect>& selected,
-                                    const DiagnoseOptions& o, std::optional<Effect> own = std::nullopt) {
-  std::vector<Effect> explained;
-  for (Effect e : selected) {
-    if (e == own) continue;
-    const std::vector<Effect> rest = Without(selected, e);
-    const double base = with_structure.Cv(rest);
-    const bool gains = base > 0.0 && (base - cv) / base >= o.min_cv_gain;
-    if (!gains || !with_structure.SignificantlyBetter(selected, rest, o.significance)) explained.push_back(e);
-  }
-  return explained;
-}
-
-// Selected effects whose held-out gain the residual's structure could also
-// explain. The structure is modelled as a mode at the candidate frequency
-// that predicts the held-out runs best; if that mode cuts the selected
-// model's held-out error by min_cv_gain, an effect that then no longer does
-// so itself, or no longer beats the model without it run by run, is one the
-// structure explains as well.
-std::vector<Effect> ExplainedByStructure(const Design& d, const Eigen::VectorXd& prior, Evaluator& plain,
-                                         const std::vector<Effect>& selected, const ResidualStructure& structure,
-                                         const DiagnoseOptions& o) {
-  std::vector<Effect> explained;
-  if (!structure.structured || selected.empty()) return explained;
-  double best_cv = plain.Cv(selected) * (1.0 - o.min_cv_gain);
-  std::unique_ptr<WithStructure> best;
-  for (double hz : CandidateModeFrequencies(structure)) {
-    auto mode = std::make_unique<WithStructure>(d, prior, StructureColumns(d, hz, kAssumedDamping));
-    const double cv = Evaluator(mode->design, mode->gram, mode->prior).Cv(selected);
-    if (cv < best_cv) best_cv = cv, best = std::move(mode);
-  }
-  if (best == nullptr) return explained;  // no mode is what is left
-  Evaluator eval(best->design, best->gram, best->prior);
-  // The mode is structural_resonance's own signature.
-  return RedundantBeside(eval, best_cv, selected, o, Effect::kStructuralResonance);
-}
-
-// Whether the base tilts under the payload's moment, beside the selected
-// effects: the tilt's terms (structure_nuisance.h) cut their held-out error
-// by min_cv_gain, and run by run. Then the selected effects that no longer
-// earn their place beside it (compliance and joint centres taking up the
-// tilt) go to `explained`.
-BaseTiltCheck TestBaseTilt(const Design& d, const Eigen::VectorXd& prior, Evaluator& plain,
-                           const std::vector<Effect>& selected, const DiagnoseOptions& o,
-                           std::vector<Effect>* explained) {
-  BaseTiltCheck c;
-  if (!Contains(selected, Effect::kCompliance) && !Contains(selected, Effect::kJointPosition)) return c;
-  c.tested = true;
-  WithStructure tilt(d, prior, BaseTiltColumns(d));
-  Evaluator eval(tilt.design, tilt.gram, tilt.prior);
-  const double before = plain.Cv(selected), after = eval.Cv(selected);
-  c.cv_gain = before > 0.0 ? (before - after) / before : 0.0;
-  c.tilts = c.cv_gain >= o.min_cv_gain &&
-            PairedGainIsSignificant(LogGains(eval.FoldSse(selected), plain.FoldSse(selected)), o.significance);
-  if (c.tilts) *explained = RedundantBeside(eval, after, selected, o);
-  return c;
-}
-
-// Whether the tracker's clock drifts from the controller's, beside the
-// selected effects and a constant offset (time_offset.h). The drift ρ must
-// stand out of its own uncertainty (|ρ| > kTimeOffsetSignificance·σ, as the
-// offset must) and cut the held-out error run by run; then it drifts if
-// the cut is min_cv_gain, or if a selected effect no longer earns its place
-// beside the drifting clock (a servo lag equal on every leg that only the
-// clock's mean made: the constant offset beside it takes that up too, so
-// this arm rests on ρ's own evidence). Those effects go to `explained`.
-ClockDriftCheck TestClockDrift(const Design& d, const Eigen::VectorXd& prior, const std::vector<Effect>& selected,
-                               const DiagnoseOptions& o, std::vector<Effect>* explained) {
-  ClockDriftCheck c;
-  if (d.samples() == 0) return c;
-  c.tested = true;
-  const Eigen::MatrixXd clock = DriftingOffsetColumns(d);
-  WithStructure steady(d, prior, clock.leftCols(1));
-  WithStructure drifting(d, prior, clock);
-  Evaluator still(steady.design, steady.gram, steady.prior), eval(drifting.design, drifting.gram, drifting.prior);
-  const double before = still.Cv(selected), after = eval.Cv(selected);
-  c.cv_gain = before > 0.0 ? (before - after) / before : 0.0;
-
-  const Columns cols = ColumnsOf(drifting.design, selected);
-  const std::vector<int> all = drifting.gram.AllFolds();
-  const Eigen::VectorXd theta = drifting.gram.Solve(cols, all, drifting.prior);
-  const int at = drifting.design.frame.count + drifting.design.nuisance.count - 1;  // ρ: the nuisance's last column
-  const double sigma2 =
-      drifting.gram.Sse(cols, theta, all) / std::max(1, drifting.gram.Residuals(all) - static_cast<int>(cols.size()));
-  c.drift = theta(at);
-  const Eigen::VectorXd rest = drifting.design.residual - drifting.design.columns(Eigen::all, cols) * theta;
-  c.sigma = std::sqrt(std::max(0.0, drifting.gram.Covariance(cols, all, drifting.prior, sigma2)(at, at)) *
-                      CorrelationInflation(rest));
-
-  c.run_by_run = c.cv_gain > 0.0 && std::abs(c.drift) > kTimeOffsetSignificance * c.sigma &&
-                 PairedGainIsSignificant(LogGains(eval.FoldSse(selected), still.FoldSse(selected)), o.significance);
-  if (!c.run_by_run) return c;
-  *explained = RedundantBeside(eval, after, selected, o);
-  c.drifts = c.cv_gain >= o.min_cv_gain || !explained->empty();
-  if (!c.drifts) explained->clear();
-  return c;
-}
-
-// `unknown` when every selected effect could be the unknown's, else the
-// effects and the unknown.
-void ConcludeWithUnknown(Diagnosis* out) {
-  const bool all = std::all_of(out->effects.begin(), out->effects.end(), [&](const EffectResult& r) {
-    return !Contains(out->selected, r.effect) || Contains(r.ambiguous_with, std::string("unknown"));
-  });
-  out->conclusion = all ? "unknown" : "effects+unknown";
-}
-
-// An effect the unknown could explain is not identified (so no calibration
-// applies it by default): ambiguous with the unknown, `why` saying what the
-// unknown is.
-void MarkExplainedByUnknown(const std::vector<Effect>& explained, const std::string& why, Diagnosis* out) {
-  if (explained.empty()) return;
-  for (EffectResult& r : out->effects) {
-    if (!Contains(explained, r.effect)) continue;
-    r.verdict = "ambiguous";
-    if (!Contains(r.ambiguous_with, std::string("unknown"))) r.ambiguous_with.push_back("unknown");
-    if (!r.next_measurement.empty()) r.next_measurement += "; ";
-    r.next_measurement += why;
-  }
-  ConcludeWithUnknown(out);
-}
-
-void MarkExplainedByStructure(const std::vector<Effect>& explained, Diagnosis* out) {
-  MarkExplainedByUnknown(explained,
-                         "what causes the unexplained structure (" + out->structure.Describe() +
-                             "): a mode of it predicts the held-out runs as well as this effect does",
-                         out);
-}
-
-// What is left names an unknown that a check found beside a residual that
-// may itself look white: the unknowns the checks found lead, then what the
-// residual is; beside structure they follow its description.
-void NoteUnknown(const std::string& what, Diagnosis* out) {
-  static const std::string kResidual = "; the selected effects leave a residual ";
-  std::string& note = out->unexplained_note;
-  const std::size_t residual = note.find(kResidual);
-  if (residual != std::string::npos) note.insert(residual, "; " + what);
-  else if (out->structure.structured) note += "; " + what;
-  else note = what + kResidual + note;
-}
-
-// The base's tilt is outside the vocabulary: said in what is left, and an
-// effect it makes redundant is ambiguous with it.
-void MarkExplainedByBaseTilt(const std::vector<Effect>& explained, Diagnosis* out) {
-  if (!out->base_tilt.tilts) return;
-  const std::string what = fmt::format(
-      "the base tilts under the payload's moment (a rotational give of the base mount or floor beside the selected "
-      "effects predicts the held-out runs {:.0f}% better)",
-      100 * out->base_tilt.cv_gain);
-  NoteUnknown(what, out);
-  MarkExplainedByUnknown(explained,
-                         what + ", and this effect no longer earns its place beside it; an inclinometer on the base "
-                                "tells the tilt apart",
-                         out);
-  if (out->conclusion == "effects") out->conclusion = "effects+unknown";
-}
-
-// A drifting tracker clock is outside the vocabulary: said in what is left,
-// and an effect it makes redundant is ambiguous with it.
-void MarkExplainedByClockDrift(const std::vector<Effect>& explained, Diagnosis* out) {
-  if (!out->clock_drift.drifts) return;
-  const std::string what = fmt::format(
-      "the tracker's clock drifts from the controller's by {:+.2f} ppm ± {:.2f} (its readings grow {} over the "
-      "session; predicts the held-out runs {:.0f}% better)",
-      out->clock_drift.drift * 1e6, out->clock_drift.sigma * 1e6, out->clock_drift.drift > 0.0 ? "later" : "earlier",
-      100 * out->clock_drift.cv_gain);
-  NoteUnknown(what, out);
-  MarkExplainedByUnknown(explained,
-                         what + ", and this effect no longer earns its place beside it; trigger the tracker from the "
-                                "controller's clock (or PTP) and measure again",
-                         out);
-  if (out->conclusion == "effects") out->conclusion = "effects+unknown";
-  if (out->conclusion == "none") out->conclusion = "unknown";
-}
-
-// A selected servo_lag the encoders do not show is not the drives' lag
-// (encoder_check.h): not identified, and something outside the vocabulary
-// is at work.
-void MarkLagNotInTheDrives(const Design& d, Diagnosis* out) {
-  for (EffectResult& r : out->effects) {
-    if (r.effect != Effect::kServoLag || !Contains(out->selected, r.effect)) continue;
-    if (!d.has_encoder) break;
-    const double share = r.encoder_share = EncoderShareOfLag(d, r.theta);
-    r.encoder_checked = true;
-    if (share >= kMinEncoderShareOfLag) break;
-    NoteUnknown(fmt::format("the tracker sees a lag the encoders do not ({:.0f}% of it)", 100 * std::max(share, 0.0)),
-                out);
-    MarkExplainedByUnknown({Effect::kServoLag},
-                           fmt::format("the encoders show {:.0f}% of this lag, so it lies after the motor: look for a "
-                                       "structure swaying under the platform's acceleration (an accelerometer on A's "
-                                       "mount)",
-                                       100 * std::max(share, 0.0)),
-                           out);
-    break;
-  }
-}
 
 // Before (frame only) and after (frame and the selected effects) on each run
 // held out of the fit, pooled; returns the held-out residual after (3 per sample).
@@ -719,14 +418,7 @@ Diagnosis DiagnoseOnce(const PlatformModel& model, const MeasurementData& data, 
   out.effects = Ranked(results, out.selected);
   const Eigen::VectorXd heldout = HoldOut(d, gram, prior, ColumnsOf(d, out.selected), &out);
   DescribeRest(d, residual, heldout, o, &out);
-  MarkExplainedByStructure(ExplainedByStructure(d, prior, eval, out.selected, out.structure, o), &out);
-  std::vector<Effect> tilt_explained;
-  out.base_tilt = TestBaseTilt(d, prior, eval, out.selected, o, &tilt_explained);
-  MarkExplainedByBaseTilt(tilt_explained, &out);
-  std::vector<Effect> clock_explained;
-  out.clock_drift = TestClockDrift(d, prior, out.selected, o, &clock_explained);
-  MarkExplainedByClockDrift(clock_explained, &out);
-  MarkLagNotInTheDrives(d, &out);
+  CheckBeyondTheVocabulary(d, prior, eval, o, &out);
   for (int k = 0; k < d.samples(); ++k) {
     const std::size_t s = static_cast<std::size_t>(k);
     out.series.push_back({d.sample_run[s], d.time_s[s], d.displacement[s], baseline.segment<3>(3 * k).norm(),

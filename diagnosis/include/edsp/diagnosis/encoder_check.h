@@ -4,7 +4,7 @@
 // tracking error (command − encoder) must show it. A lag the encoders do not
 // show lies after the motor: a structure swaying under the platform's
 // acceleration looks, below its resonance, like the drives' acceleration
-// lag on every leg. Such a servo_lag is not identified (diagnose.h).
+// lag on every leg. Such a servo_lag is not identified (beyond_vocabulary.h).
 
 #include <Eigen/Core>
 

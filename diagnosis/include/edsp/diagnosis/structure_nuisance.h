@@ -3,7 +3,7 @@
 // a mode at the residual's frequency (residual_structure.h), whatever drives
 // it, or a base that tilts under the payload's moment. An effect whose held-out
 // gain survives only without them is one the structure could also explain,
-// and is not called identified (diagnose.h).
+// and is not called identified (beyond_vocabulary.h).
 //   - a lightly damped mode driven by A's acceleration (a sway of the
 //     structure carrying A): per axis of {B}, the mode's response to A's
 //     acceleration on that axis;

@@ -9,8 +9,8 @@
 // everything else. So δ is estimated on the residual with the encoders'
 // servo error taken out, beside every effect but servo_lag; without encoder
 // columns it is not estimated, and the report says why. A clock that
-// drifts over the session is not removed: diagnose's clock check tests it
-// as something beyond the vocabulary (DriftingOffsetColumns).
+// drifts over the session is not removed: the clock check tests it
+// as something beyond the vocabulary (DriftingOffsetColumns, beyond_vocabulary.h).
 
 #include <string>
 
@@ -48,7 +48,7 @@ void RemoveTimeOffset(double offset_s, Design* design);
 // Two columns (3 rows per sample): −Ȧ and −Ȧ·(t − t₀), per second of δ₀
 // and per unit of ρ. A drive's lag is the same in every run; a drifting
 // clock's grows with the session, which is what parts the two without
-// encoders (diagnose.h's clock check).
+// encoders (beyond_vocabulary.h's clock check).
 Eigen::MatrixXd DriftingOffsetColumns(const Design& design);
 
 }  // namespace edsp::gap
