@@ -88,11 +88,13 @@ struct BaseTiltCheck {
 
 // Whether the tracker's clock drifts from the controller's
 // (time_offset.h's DriftingOffsetColumns), which no effect models: tested
-// in every diagnosis, beside the selected effects and a constant offset.
+// in every diagnosis, beside the selected effects and, without encoders, a
+// constant offset (with them, the drift about the encoders' offset;
+// beyond_vocabulary.h).
 struct ClockDriftCheck {
   bool tested = false;
   double drift = 0.0, sigma = 0.0;  // ρ (s/s; 1e-6 = 1 ppm, the tracker's clock gaining) and its 1-σ
-  double cv_gain = 0.0;   // the drift's cut of the held-out MSE beside the selected effects and a constant offset
+  double cv_gain = 0.0;   // the drift's cut of the held-out MSE beside the selected effects (and the offset)
   bool run_by_run = false;  // |ρ| > 5σ and a cut every held-out run shows (the paired test)
   bool drifts = false;    // and the cut is min_cv_gain or a selected effect no longer earns its place beside
                           // the drifting clock: something beyond the vocabulary
