@@ -476,7 +476,9 @@ TEST(BlindDiagnosis, ADriveLagEqualOnEveryLegIsNotTakenForTheClock) {
   // With encoders the drift is fitted about the offset the encoders gave
   // (time_offset.h), which is not freed again: the drives' own lag, which
   // the encoders show, stays identified beside the drifting clock, whose
-  // drift is found as it is without them.
+  // drift is found as it is without them. (A lag this large would stay
+  // identified with the offset freed too; what the encoders' variant gets
+  // right is pinned by AClockDriftingUnderTheNoiseIsFoundBesideTheEncodersOffset.)
   const gap::Diagnosis seen = DiagnoseSession(both, motions, Tracker(15e-6, 100.0, 5, true));
   EXPECT_EQ(Identified(seen), std::vector<std::string>{"servo_lag"}) << Describe(seen);
   EXPECT_TRUE(seen.clock_drift.drifts) << seen.clock_drift.cv_gain;
