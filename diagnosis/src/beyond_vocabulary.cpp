@@ -99,29 +99,22 @@ struct ClockNuisance {
 // that only the clock's mean made; the constant offset beside it takes
 // that up too, so this arm rests on ρ's own evidence). Those effects go
 // to `explained`.
-ClockDriftCheck TestClockDrift(const Design& d, const Eigen::VectorXd& prior, Evaluator& plain,
-                               const std::vector<Effect>& selected, const DiagnoseOptions& o,
-                               std::vector<Effect>* explained) {
+ClockDriftCheck TestClockDrift(ClockNuisance& clock, Evaluator& plain, const std::vector<Effect>& selected,
+                               const DiagnoseOptions& o, std::vector<Effect>* explained) {
   ClockDriftCheck c;
-  if (d.samples() == 0) return c;
+  if (clock.drifting->design.samples() == 0) return c;
   c.tested = true;
-  ClockNuisance clock(d, prior);
   const WithStructure& drifting = *clock.drifting;
   Evaluator& still = clock.Still(plain);
   Evaluator eval(drifting.design, drifting.gram, drifting.prior);
   const double before = still.Cv(selected), after = eval.Cv(selected);
   c.cv_gain = before > 0.0 ? (before - after) / before : 0.0;
 
-  const Columns cols = ColumnsOf(drifting.design, selected);
-  const std::vector<int> all = drifting.gram.AllFolds();
-  const Eigen::VectorXd theta = drifting.gram.Solve(cols, all, drifting.prior);
-  const int at = drifting.design.frame.count + drifting.design.nuisance.count - 1;  // ρ: the nuisance's last column
-  const double sigma2 =
-      drifting.gram.Sse(cols, theta, all) / std::max(1, drifting.gram.Residuals(all) - static_cast<int>(cols.size()));
-  c.drift = theta(at);
-  const Eigen::VectorXd rest = drifting.design.residual - drifting.design.columns(Eigen::all, cols) * theta;
-  c.sigma = std::sqrt(std::max(0.0, drifting.gram.Covariance(cols, all, drifting.prior, sigma2)(at, at)) *
-                      CorrelationInflation(rest));
+  const ColumnRange& n = drifting.design.nuisance;  // ρ is its last column
+  const Coefficient rho = FitCoefficient(drifting.design, drifting.gram, ColumnsOf(drifting.design, selected),
+                                         n.begin + n.count - 1, drifting.prior);
+  c.drift = rho.value;
+  c.sigma = rho.sigma;
 
   c.run_by_run = c.cv_gain > 0.0 && std::abs(c.drift) > kTimeOffsetSignificance * c.sigma &&
                  PairedGainIsSignificant(LogGains(eval.FoldSse(selected), still.FoldSse(selected)), o.significance);
@@ -129,6 +122,27 @@ ClockDriftCheck TestClockDrift(const Design& d, const Eigen::VectorXd& prior, Ev
   *explained = RedundantBeside(eval, after, selected, o);
   c.drifts = c.cv_gain >= o.min_cv_gain || !explained->empty();
   if (!c.drifts) explained->clear();
+  return c;
+}
+
+// Without encoders, whether the selected servo_lag is the clock's constant
+// offset (ClockNuisance's `steady` design): it no longer earns its place
+// beside δ. δ is fitted beside the other selected effects, as it would
+// stand in for the lag.
+ClockOffsetCheck TestClockOffset(ClockNuisance& clock, const std::vector<Effect>& selected,
+                                 const DiagnoseOptions& o) {
+  ClockOffsetCheck c;
+  if (clock.steady == nullptr || !Contains(selected, Effect::kServoLag)) return c;
+  c.tested = true;
+  const WithStructure& steady = *clock.steady;
+  const ColumnRange& n = steady.design.nuisance;
+  const Coefficient offset = FitCoefficient(steady.design, steady.gram,
+                                            ColumnsOf(steady.design, Without(selected, Effect::kServoLag)),
+                                            n.begin + n.count - 1, steady.prior);
+  c.offset_s = offset.value;
+  c.sigma_s = offset.sigma;
+  Evaluator& eval = *clock.steady_eval;
+  c.replaces_lag = Contains(RedundantBeside(eval, eval.Cv(selected), selected, o), Effect::kServoLag);
   return c;
 }
 
@@ -209,6 +223,22 @@ void MarkExplainedByClockDrift(const std::vector<Effect>& explained, Diagnosis* 
   if (out->conclusion == "none") out->conclusion = "unknown";
 }
 
+// A lag only a clock offset could also be, from the tracker alone: said in
+// what is left, and servo_lag ambiguous with it.
+void MarkLagThatMayBeTheClocks(Diagnosis* out) {
+  const ClockOffsetCheck& c = out->clock_offset;
+  if (!c.replaces_lag || out->clock_drift.drifts) return;  // a drifting clock has said so already
+  const std::string what = fmt::format(
+      "the lag is equal on every leg and a pure delay: the tracker's clock {:.3f} ms ± {:.3f} {} the controller's "
+      "predicts the held-out runs as well, and without encoder columns the two are one",
+      std::abs(c.offset_s) * 1e3, c.sigma_s * 1e3, c.offset_s > 0.0 ? "ahead of" : "behind");
+  NoteUnknown(what, out);
+  MarkExplainedByUnknown({Effect::kServoLag},
+                         what + "; record the encoders (leg_enc_*) or trigger the tracker from the controller's "
+                                "clock and measure again",
+                         out);
+}
+
 // A selected servo_lag the encoders do not show is not the drives' lag
 // (encoder_check.h): not identified, and something outside the vocabulary
 // is at work.
@@ -240,8 +270,11 @@ void CheckBeyondTheVocabulary(const Design& d, const Eigen::VectorXd& prior, Eva
   out->base_tilt = TestBaseTilt(d, prior, plain, out->selected, o, &tilt_explained);
   MarkExplainedByBaseTilt(tilt_explained, out);
   std::vector<Effect> clock_explained;
-  out->clock_drift = TestClockDrift(d, prior, plain, out->selected, o, &clock_explained);
+  ClockNuisance clock(d, prior);
+  out->clock_drift = TestClockDrift(clock, plain, out->selected, o, &clock_explained);
   MarkExplainedByClockDrift(clock_explained, out);
+  out->clock_offset = TestClockOffset(clock, out->selected, o);
+  MarkLagThatMayBeTheClocks(out);
   MarkLagNotInTheDrives(d, out);
 }
 

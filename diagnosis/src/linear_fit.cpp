@@ -1,6 +1,8 @@
 #include "edsp/diagnosis/linear_fit.h"
 
 #include <algorithm>
+#include <cmath>
+#include <stdexcept>
 
 #include <Eigen/Eigenvalues>
 #include <fmt/format.h>
@@ -195,6 +197,30 @@ double HeldOutMse(const GramSet& gram, const Columns& columns, const Eigen::Vect
   double sse = 0.0;
   for (int f = 0; f < gram.folds(); ++f) sse += gram.Sse(columns, gram.Solve(columns, gram.AllBut(f), prior_weight), {f});
   return sse / std::max(1, gram.Residuals(gram.AllFolds()));
+}
+
+double CorrelationInflation(const Eigen::VectorXd& r) {
+  double rr = 0.0, lag = 0.0;
+  for (Eigen::Index k = 0; k < r.size(); ++k) {
+    rr += r(k) * r(k);
+    if (k + 3 < r.size()) lag += r(k) * r(k + 3);
+  }
+  const double rho = rr > 0.0 ? std::clamp(lag / rr, 0.0, 0.99) : 0.0;
+  return (1.0 + rho) / (1.0 - rho);
+}
+
+Coefficient FitCoefficient(const Design& d, const GramSet& gram, const Columns& columns, int column,
+                           const Eigen::VectorXd& prior_weight) {
+  const auto at = std::find(columns.begin(), columns.end(), column);
+  if (at == columns.end()) throw std::invalid_argument(fmt::format("column {} is not among those fitted", column));
+  const Eigen::Index k = at - columns.begin();
+  const std::vector<int> all = gram.AllFolds();
+  const Eigen::VectorXd theta = gram.Solve(columns, all, prior_weight);
+  const double sigma2 =
+      gram.Sse(columns, theta, all) / std::max(1, gram.Residuals(all) - static_cast<int>(columns.size()));
+  const double variance = gram.Covariance(columns, all, prior_weight, sigma2)(k, k);
+  const Eigen::VectorXd rest = d.residual - d.columns(Eigen::all, columns) * theta;
+  return {theta(k), std::sqrt(std::max(0.0, variance) * CorrelationInflation(rest))};
 }
 
 }  // namespace edsp::gap

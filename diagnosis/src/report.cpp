@@ -72,14 +72,32 @@ nlohmann::json Compensation(const Diagnosis& d) {
 
 }  // namespace
 
+namespace {
+
+// A held-out cut as people read it: "2.1% better", "0.4% worse", never "-0.0%".
+std::string HeldOutChange(double cv_gain) {
+  if (std::abs(cv_gain) < 0.0005) return "no better";
+  return fmt::format("{:.1f}% {}", 100 * std::abs(cv_gain), cv_gain > 0.0 ? "better" : "worse");
+}
+
+// Without encoders: whether the servo_lag found is one a clock offset makes.
+std::string ClockOffsetNote(const ClockOffsetCheck& c) {
+  if (!c.tested) return "";
+  return fmt::format("; a clock {:.3f} ms ± {:.3f} {} the controller's {} the selected servo_lag on the held-out runs",
+                     std::abs(c.offset_s) * 1e3, c.sigma_s * 1e3, c.offset_s > 0.0 ? "ahead of" : "behind",
+                     c.replaces_lag ? "does as well as" : "does not replace");
+}
+
+}  // namespace
+
 std::string TrackerClockNote(const Diagnosis& d) {
   const ClockDriftCheck& c = d.clock_drift;
-  if (!c.tested) return d.time_offset.note;
-  return d.time_offset.note +
-         fmt::format("; over the session it drifts {:+.3f} ppm ± {:.3f} ({}: the held-out runs {:.1f}% better with it)",
+  if (!c.tested) return d.time_offset.note + ClockOffsetNote(d.clock_offset);
+  return d.time_offset.note + ClockOffsetNote(d.clock_offset) +
+         fmt::format("; over the session it drifts {:+.3f} ppm ± {:.3f} ({}: the held-out runs {} with it)",
                      c.drift * 1e6, c.sigma * 1e6,
                      c.drifts ? "beyond the vocabulary" : c.run_by_run ? "shown, but too small to matter" : "not shown run by run",
-                     100 * c.cv_gain);
+                     HeldOutChange(c.cv_gain));
 }
 
 namespace {
@@ -145,7 +163,10 @@ nlohmann::json ToJson(const Diagnosis& d) {
                                      {"tilts", d.base_tilt.tilts}}},
                       {"clock_drift", {{"tested", d.clock_drift.tested}, {"drift", d.clock_drift.drift},
                                        {"sigma", d.clock_drift.sigma}, {"cv_gain", d.clock_drift.cv_gain},
-                                       {"run_by_run", d.clock_drift.run_by_run}, {"drifts", d.clock_drift.drifts}}}};
+                                       {"run_by_run", d.clock_drift.run_by_run}, {"drifts", d.clock_drift.drifts}}},
+                      {"clock_offset", {{"tested", d.clock_offset.tested}, {"offset_s", d.clock_offset.offset_s},
+                                        {"sigma_s", d.clock_offset.sigma_s},
+                                        {"replaces_lag", d.clock_offset.replaces_lag}}}};
   j["compensation"] = Compensation(d);
   // The tracker frame (a nuisance, never an effect): point_T = R·A_B + t.
   Matrix3 R = d.R0;

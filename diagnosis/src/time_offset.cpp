@@ -49,7 +49,7 @@ TimeOffset EstimateTimeOffset(const Design& design, const Eigen::VectorXd& prior
   if (!design.has_encoder || design.samples() == 0) {
     out.note =
         "not estimated: without encoder columns a clock offset and a servo lag equal on every leg are one "
-        "(a servo_lag equal on all legs may be the clocks')";
+        "(a selected servo_lag is checked against an offset instead)";
     return out;
   }
   Design e = WithNuisance(design, OffsetColumn(design));
@@ -58,18 +58,11 @@ TimeOffset EstimateTimeOffset(const Design& design, const Eigen::VectorXd& prior
   Eigen::VectorXd prior(e.parameters());
   prior << prior_weight.head(offset_column), 0.0, prior_weight.tail(prior_weight.size() - offset_column);
 
-  const GramSet gram(e, MakeFolds(e));
-  const std::vector<int> all = gram.AllFolds();
-  const Columns cols = ColumnsOf(e, AllButServoLag());
-  const Eigen::VectorXd theta = gram.Solve(cols, all, prior);
-  const auto at = static_cast<Eigen::Index>(std::find(cols.begin(), cols.end(), offset_column) - cols.begin());
-  const int n = gram.Residuals(all);
-  const double sigma2 = gram.Sse(cols, theta, all) / std::max(1, n - static_cast<int>(cols.size()));
-  const Eigen::MatrixXd cov = gram.Covariance(cols, all, prior, sigma2);
-
+  const Coefficient offset =
+      FitCoefficient(e, GramSet(e, MakeFolds(e)), ColumnsOf(e, AllButServoLag()), offset_column, prior);
   out.estimated = true;
-  out.offset_s = theta(at);
-  out.sigma_s = std::sqrt(std::max(0.0, cov(at, at)) * CorrelationInflation(e.residual - e.columns(Eigen::all, cols) * theta));
+  out.offset_s = offset.value;
+  out.sigma_s = offset.sigma;
   out.applied = std::abs(out.offset_s) > kTimeOffsetSignificance * out.sigma_s;
   out.note = out.applied
                  ? fmt::format("the tracker's readings are {:.3f} ms ± {:.3f} {} than their stamps say (its clock {} "
@@ -79,16 +72,6 @@ TimeOffset EstimateTimeOffset(const Design& design, const Eigen::VectorXd& prior
                  : fmt::format("the clocks agree within the data's resolution ({:+.3f} ms ± {:.3f})",
                                out.offset_s * 1e3, out.sigma_s * 1e3);
   return out;
-}
-
-double CorrelationInflation(const Eigen::VectorXd& r) {
-  double rr = 0.0, lag = 0.0;
-  for (Eigen::Index k = 0; k < r.size(); ++k) {
-    rr += r(k) * r(k);
-    if (k + 3 < r.size()) lag += r(k) * r(k + 3);
-  }
-  const double rho = rr > 0.0 ? std::clamp(lag / rr, 0.0, 0.99) : 0.0;
-  return (1.0 + rho) / (1.0 - rho);
 }
 
 void RemoveTimeOffset(double offset_s, Design* design) {

@@ -3,6 +3,9 @@
 // columns and removed like the frame, never named as an effect; a servo lag
 // beside it is still found; without encoders it is not estimated.
 #include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -78,6 +81,44 @@ TEST(TrackerClock, WithoutEncodersItIsNotEstimated) {
   EXPECT_FALSE(d.time_offset.estimated);
   EXPECT_FALSE(d.time_offset.applied);
   EXPECT_NE(d.time_offset.note.find("without encoder columns"), std::string::npos) << d.time_offset.note;
+}
+
+const gap::EffectResult& ServoLag(const gap::Diagnosis& d) {
+  for (const gap::EffectResult& r : d.effects) {
+    if (r.effect == gap::Effect::kServoLag) return r;
+  }
+  throw std::logic_error("no servo_lag row");
+}
+
+// What the tracker alone shows of a clock offset is a lag equal on every
+// leg and a pure delay. servo_lag takes it up, but a clock does as well:
+// not identified, and the offset it would be is the blind rig's own.
+TEST(TrackerClock, WithoutEncodersAnOffsetIsNotTakenForTheDrivesLag) {
+  const gap::Diagnosis d = DiagnoseWithClock({}, 3e-3, false);
+  ASSERT_TRUE(d.clock_offset.tested);
+  EXPECT_TRUE(d.clock_offset.replaces_lag);
+  EXPECT_LT(std::abs(d.clock_offset.offset_s - 3e-3), 5.0 * d.clock_offset.sigma_s);
+  EXPECT_EQ(ServoLag(d).verdict, "ambiguous");
+  EXPECT_EQ(ServoLag(d).ambiguous_with, std::vector<std::string>{"unknown"});
+  EXPECT_TRUE(NothingIdentified(d));
+  EXPECT_EQ(d.conclusion, "unknown") << d.unexplained_note;
+}
+
+// A drive's loop is no delay: its error follows acceleration otherwise
+// (the blind rig's critically damped loop, e = 2v/ω − 3a/ω² + …, against a
+// delay's δv − δ²a/2), which the clock cannot fit. So a loop stays
+// identified without encoders, alone and beside a clock offset.
+TEST(TrackerClock, WithoutEncodersADrivesLoopIsStillItsLag) {
+  BlindEffects e;
+  e.servo_bandwidth_hz = 15.0;
+  for (double offset_s : {0.0, -2e-3}) {
+    const gap::Diagnosis d = DiagnoseWithClock(e, offset_s, false);
+    ASSERT_TRUE(d.clock_offset.tested);
+    EXPECT_FALSE(d.clock_offset.replaces_lag) << d.unexplained_note;
+    EXPECT_EQ(d.selected, std::vector<gap::Effect>{gap::Effect::kServoLag});
+    EXPECT_EQ(ServoLag(d).verdict, "identified") << ServoLag(d).next_measurement;
+    EXPECT_EQ(d.conclusion, "effects") << d.unexplained_note;
+  }
 }
 
 }  // namespace

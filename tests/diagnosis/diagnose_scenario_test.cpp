@@ -160,6 +160,25 @@ TEST(Diagnose, AnEffectThatBeatsItsAlternativeRunByRunIsNotAmbiguousWithIt) {
   EXPECT_EQ(ResultFor(d, Effect::kCompliance).verdict, "rejected") << fmt::format("{}", fmt::join(Found(d), ", "));
 }
 
+// Without encoder columns a tracker clock offset is a lag equal on every
+// leg and a pure delay (docs/diagnosis.md, step 12). The rig's soft drive
+// runs velocity feed-forward, so its motor lags the command with the
+// acceleration, under each leg's own load: no delay fits that (δ comes out
+// 0.02 ± 0.03 ms), and the lag must stay the drives'. This guards against
+// leaving every lag seen without encoders to the clock; the blind rig's
+// tests (tracker_clock_test.cpp) guard the offset's own rule.
+TEST(Diagnose, WithoutEncodersADrivesLoopIsNotTakenForAClockOffset) {
+  RigEffects fx = Baseline();
+  fx.servo_lag.bandwidth_hz = 12.0, fx.servo_lag.integral_time_s = 0.0;
+  MeasurementData data = LoadMeasurement(Simulate("lag_without_encoders", fx).csv);
+  for (MeasurementRow& row : data.rows) row.has_encoder = false;
+  const Diagnosis d = Diagnose(Model(), data);
+  ASSERT_TRUE(d.clock_offset.tested);
+  EXPECT_FALSE(d.clock_offset.replaces_lag) << d.unexplained_note;
+  EXPECT_EQ(ResultFor(d, Effect::kServoLag).verdict, "identified") << ResultFor(d, Effect::kServoLag).next_measurement;
+  EXPECT_EQ(d.conclusion, "effects") << d.unexplained_note;
+}
+
 TEST(Diagnose, BacklashAndLeadErrorAreRecoveredWithTheirSizes) {
   RigEffects fx = Baseline();
   fx.backlash.enabled = true;

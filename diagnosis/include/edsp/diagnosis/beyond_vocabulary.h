@@ -5,11 +5,12 @@
 //   - a mode at the residual's structure (a sway, a stand ringing);
 //   - a base tilting under the payload's moment;
 //   - a tracker clock drifting from the controller's;
+//   - without encoders, a tracker clock offset instead of a servo lag;
 //   - and, with encoders, a servo lag the drives' own error does not show.
 // One that predicts the held-out runs better names `unknown` in the
 // conclusion and what is left (`unexplained_note`); each selected effect
 // that no longer earns its place beside it is `ambiguous` with `unknown`
-// (no calibration applies it by default). docs/diagnosis.md, steps 8-11.
+// (no calibration applies it by default). docs/diagnosis.md, steps 8-12.
 
 #include <Eigen/Core>
 

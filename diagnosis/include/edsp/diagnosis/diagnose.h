@@ -100,6 +100,20 @@ struct ClockDriftCheck {
                           // the drifting clock: something beyond the vocabulary
 };
 
+// Without encoders, whether a selected servo_lag is no more than the
+// tracker's clock running a constant δ ahead: the offset's column
+// (time_offset.h) beside the other selected effects predicts the held-out
+// runs as well, run by run (beyond_vocabulary.h). A drive's loop lags
+// acceleration differently from a delay, and legs differently; a clock
+// offset does neither, so only a lag equal on every leg and a pure delay
+// is taken for one.
+struct ClockOffsetCheck {
+  bool tested = false;        // no encoder columns and servo_lag selected
+  double offset_s = 0.0;      // δ that would do instead of the lag, beside the other selected effects
+  double sigma_s = 0.0;       // its 1-σ (grown for the residual's autocorrelation)
+  bool replaces_lag = false;  // servo_lag no longer earns its place beside δ
+};
+
 // How the final Ceres fit went.
 struct RobustFitSummary {
   double huber_m = 0.0;
@@ -128,7 +142,8 @@ struct Diagnosis {
   Whiteness whiteness;                // of the in-sample residual
   ResidualStructure structure;        // of the held-out residual: decides unknown, as do
   BaseTiltCheck base_tilt;            //   a base tilting under the payload,
-  ClockDriftCheck clock_drift;        //   a tracker clock drifting, and a lag the encoders miss
+  ClockDriftCheck clock_drift;        //   a tracker clock drifting,
+  ClockOffsetCheck clock_offset;      //   a lag that may be the clock's, and a lag the encoders miss
   std::string unexplained_note;
   std::vector<SampleGap> series;
   TimeOffset time_offset;             // the tracker's clock, a nuisance (time_offset.h)

@@ -13,8 +13,9 @@ namespace edsp::gap {
 
 nlohmann::json ToJson(const Diagnosis& diagnosis);
 
-// The tracker's clock in one sentence: its offset (time_offset.h) and how
-// fast it drifts over the session (the clock check).
+// The tracker's clock in one sentence: its offset (time_offset.h), whether
+// without encoders an offset does as well as the servo_lag found, and how
+// fast it drifts over the session (the clock checks).
 std::string TrackerClockNote(const Diagnosis& diagnosis);
 
 // The selected effects with their parameters: what `evaluate` applies.

@@ -34,12 +34,6 @@ inline constexpr double kTimeOffsetSignificance = 5.0;
 // as for the diagnosis's own fits).
 TimeOffset EstimateTimeOffset(const Design& design, const Eigen::VectorXd& prior_weight);
 
-// A residual that is not white (a mode, a misfit) holds fewer independent
-// samples than rows: the variance of a fitted parameter grows by
-// (1 + ρ)/(1 − ρ), ρ the residual's lag-1 autocorrelation along each axis
-// (3 rows per sample), as for an AR(1) series.
-double CorrelationInflation(const Eigen::VectorXd& residual);
-
 // The design's residual as if the tracker's clock were the controller's.
 void RemoveTimeOffset(double offset_s, Design* design);
 
