@@ -129,7 +129,7 @@ ClockDriftCheck TestClockDrift(ClockNuisance& clock, Evaluator& plain, const std
 // offset (ClockNuisance's `steady` design): it no longer earns its place
 // beside δ. δ is fitted beside the other selected effects, as it would
 // stand in for the lag.
-ClockOffsetCheck TestClockOffset(ClockNuisance& clock, const std::vector<Effect>& selected,
+ClockOffsetCheck TestClockOffset(const ClockNuisance& clock, const std::vector<Effect>& selected,
                                  const DiagnoseOptions& o) {
   ClockOffsetCheck c;
   if (clock.steady == nullptr || !Contains(selected, Effect::kServoLag)) return c;
@@ -227,11 +227,11 @@ void MarkExplainedByClockDrift(const std::vector<Effect>& explained, Diagnosis* 
 // what is left, and servo_lag ambiguous with it.
 void MarkLagThatMayBeTheClocks(Diagnosis* out) {
   const ClockOffsetCheck& c = out->clock_offset;
-  if (!c.replaces_lag || out->clock_drift.drifts) return;  // a drifting clock has said so already
+  if (!c.replaces_lag) return;
   const std::string what = fmt::format(
-      "the lag is equal on every leg and a pure delay: the tracker's clock {:.3f} ms ± {:.3f} {} the controller's "
-      "predicts the held-out runs as well, and without encoder columns the two are one",
-      std::abs(c.offset_s) * 1e3, c.sigma_s * 1e3, c.offset_s > 0.0 ? "ahead of" : "behind");
+      "the lag may be the tracker's clock running {}: it predicts the held-out runs as well, and without encoder "
+      "columns a lag equal on every leg and a pure delay is one with it",
+      ClockAhead(c.offset_s, c.sigma_s));
   NoteUnknown(what, out);
   MarkExplainedByUnknown({Effect::kServoLag},
                          what + "; record the encoders (leg_enc_*) or trigger the tracker from the controller's "
@@ -273,8 +273,10 @@ void CheckBeyondTheVocabulary(const Design& d, const Eigen::VectorXd& prior, Eva
   ClockNuisance clock(d, prior);
   out->clock_drift = TestClockDrift(clock, plain, out->selected, o, &clock_explained);
   MarkExplainedByClockDrift(clock_explained, out);
-  out->clock_offset = TestClockOffset(clock, out->selected, o);
-  MarkLagThatMayBeTheClocks(out);
+  if (!out->clock_drift.drifts) {  // a drifting clock has freed the offset already
+    out->clock_offset = TestClockOffset(clock, out->selected, o);
+    MarkLagThatMayBeTheClocks(out);
+  }
   MarkLagNotInTheDrives(d, out);
 }
 

@@ -70,22 +70,20 @@ nlohmann::json Compensation(const Diagnosis& d) {
           {"note", "no PR change indicated"}};
 }
 
-}  // namespace
-
-namespace {
-
 // A held-out cut as people read it: "2.1% better", "0.4% worse", never "-0.0%".
 std::string HeldOutChange(double cv_gain) {
   if (std::abs(cv_gain) < 0.0005) return "no better";
   return fmt::format("{:.1f}% {}", 100 * std::abs(cv_gain), cv_gain > 0.0 ? "better" : "worse");
 }
 
-// Without encoders: whether the servo_lag found is one a clock offset makes.
+// Without encoders: whether the servo_lag found is one a clock offset
+// makes. The offset is the one that would stand in for the lag, which is
+// the clock's only when it does as well.
 std::string ClockOffsetNote(const ClockOffsetCheck& c) {
   if (!c.tested) return "";
-  return fmt::format("; a clock {:.3f} ms ± {:.3f} {} the controller's {} the selected servo_lag on the held-out runs",
-                     std::abs(c.offset_s) * 1e3, c.sigma_s * 1e3, c.offset_s > 0.0 ? "ahead of" : "behind",
-                     c.replaces_lag ? "does as well as" : "does not replace");
+  return fmt::format("; the selected servo_lag {} a clock {} (the offset that would stand in for it) on the "
+                     "held-out runs",
+                     c.replaces_lag ? "predicts no better than" : "beats", ClockAhead(c.offset_s, c.sigma_s));
 }
 
 }  // namespace

@@ -65,13 +65,17 @@ TimeOffset EstimateTimeOffset(const Design& design, const Eigen::VectorXd& prior
   out.sigma_s = offset.sigma;
   out.applied = std::abs(out.offset_s) > kTimeOffsetSignificance * out.sigma_s;
   out.note = out.applied
-                 ? fmt::format("the tracker's readings are {:.3f} ms ± {:.3f} {} than their stamps say (its clock {} "
-                               "the controller's; from the encoder columns); removed like the frame",
-                               std::abs(out.offset_s) * 1e3, out.sigma_s * 1e3, out.offset_s > 0.0 ? "older" : "newer",
-                               out.offset_s > 0.0 ? "ahead of" : "behind")
+                 ? fmt::format("the tracker's clock runs {} (its readings {} than their stamps say; from the "
+                               "encoder columns); removed like the frame",
+                               ClockAhead(out.offset_s, out.sigma_s), out.offset_s > 0.0 ? "older" : "newer")
                  : fmt::format("the clocks agree within the data's resolution ({:+.3f} ms ± {:.3f})",
                                out.offset_s * 1e3, out.sigma_s * 1e3);
   return out;
+}
+
+std::string ClockAhead(double offset_s, double sigma_s) {
+  return fmt::format("{:.3f} ms ± {:.3f} {} the controller's", std::abs(offset_s) * 1e3, sigma_s * 1e3,
+                     offset_s > 0.0 ? "ahead of" : "behind");
 }
 
 void RemoveTimeOffset(double offset_s, Design* design) {

@@ -34,6 +34,10 @@ inline constexpr double kTimeOffsetSignificance = 5.0;
 // as for the diagnosis's own fits).
 TimeOffset EstimateTimeOffset(const Design& design, const Eigen::VectorXd& prior_weight);
 
+// "3.001 ms ± 0.001 ahead of the controller's" (behind for δ < 0): how the
+// report and the notes name a clock offset.
+std::string ClockAhead(double offset_s, double sigma_s);
+
 // The design's residual as if the tracker's clock were the controller's.
 void RemoveTimeOffset(double offset_s, Design* design);
 
