@@ -82,8 +82,9 @@ std::string HeldOutChange(double cv_gain) {
 std::string ClockOffsetNote(const ClockOffsetCheck& c) {
   if (!c.tested) return "";
   return fmt::format("; the selected servo_lag {} a clock {} (the offset that would stand in for it) on the "
-                     "held-out runs",
-                     c.replaces_lag ? "predicts no better than" : "beats", ClockAhead(c.offset_s, c.sigma_s));
+                     "held-out runs{}",
+                     c.replaces_lag ? "predicts no better than" : "beats", ClockAhead(c.offset_s, c.sigma_s),
+                     c.replaces_lag ? "" : ", though its velocity term may hold a clock offset beside the drives' lag");
 }
 
 }  // namespace
