@@ -69,7 +69,8 @@ BaseTiltCheck TestBaseTilt(const Design& d, const Eigen::VectorXd& prior, Evalua
 // With encoders the offset is theirs, already removed (time_offset.h), and
 // must not be freed again: the drift alone, about the offset's own epoch
 // (its column less its projection on the offset's), against the design as
-// it is.
+// it is. Without encoders the offset alone (`steady`) also tells whether a
+// selected servo_lag is no more than the clock's (TestClockOffset).
 struct ClockNuisance {
   ClockNuisance(const Design& d, const Eigen::VectorXd& prior) {
     const Eigen::MatrixXd clock = DriftingOffsetColumns(d);

@@ -91,8 +91,9 @@ std::string ClockOffsetNote(const ClockOffsetCheck& c) {
 
 std::string TrackerClockNote(const Diagnosis& d) {
   const ClockDriftCheck& c = d.clock_drift;
-  if (!c.tested) return d.time_offset.note + ClockOffsetNote(d.clock_offset);
-  return d.time_offset.note + ClockOffsetNote(d.clock_offset) +
+  const std::string offset = d.time_offset.note + ClockOffsetNote(d.clock_offset);
+  if (!c.tested) return offset;
+  return offset +
          fmt::format("; over the session it drifts {:+.3f} ppm ± {:.3f} ({}: the held-out runs {} with it)",
                      c.drift * 1e6, c.sigma * 1e6,
                      c.drifts ? "beyond the vocabulary" : c.run_by_run ? "shown, but too small to matter" : "not shown run by run",

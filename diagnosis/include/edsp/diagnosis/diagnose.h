@@ -108,7 +108,7 @@ struct ClockDriftCheck {
 // offset does neither, so only a lag equal on every leg and a pure delay
 // is taken for one.
 struct ClockOffsetCheck {
-  bool tested = false;        // no encoder columns and servo_lag selected
+  bool tested = false;        // no encoder columns, servo_lag selected, the clock not drifting
   double offset_s = 0.0;      // δ that would do instead of the lag, beside the other selected effects
   double sigma_s = 0.0;       // its 1-σ (grown for the residual's autocorrelation)
   bool replaces_lag = false;  // servo_lag no longer earns its place beside δ
