@@ -52,8 +52,9 @@ void PrintText(const Diagnosis& d) {
   std::printf("%-4s %-20s %-11s %9s %9s  %s\n", "rank", "effect", "verdict", "explained", "cv gain", "with");
   for (std::size_t k = 0; k < d.effects.size(); ++k) {
     const EffectResult& r = d.effects[k];
-    std::printf("%-4zu %-20s %-11s %8.1f%% %8.1f%%  %s\n", k + 1, EffectName(r.effect), r.verdict.c_str(),
-                100 * r.explained_fraction, 100 * r.cv_gain, fmt::format("{}", fmt::join(r.ambiguous_with, ", ")).c_str());
+    std::printf("%-4zu %-20s %-11s %9s %9s  %s\n", k + 1, EffectName(r.effect), r.verdict.c_str(),
+                Percent(r.explained_fraction).c_str(), Percent(r.cv_gain).c_str(),
+                fmt::format("{}", fmt::join(r.ambiguous_with, ", ")).c_str());
   }
   std::printf("\nconclusion: %s\n", d.conclusion.c_str());
   std::printf("held-out runs: before %.1f µm RMS, after %.1f µm RMS, shrink %.0f%% (noise floor %.1f µm)\n",

@@ -72,8 +72,8 @@ nlohmann::json Compensation(const Diagnosis& d) {
 
 // A held-out cut as people read it: "2.1% better", "0.4% worse", never "-0.0%".
 std::string HeldOutChange(double cv_gain) {
-  if (std::abs(cv_gain) < 0.0005) return "no better";
-  return fmt::format("{:.1f}% {}", 100 * std::abs(cv_gain), cv_gain > 0.0 ? "better" : "worse");
+  if (Percent(cv_gain) == "0.0%") return "no better";
+  return Percent(std::abs(cv_gain)) + (cv_gain > 0.0 ? " better" : " worse");
 }
 
 // Without encoders: whether the servo_lag found is one a clock offset
@@ -88,6 +88,11 @@ std::string ClockOffsetNote(const ClockOffsetCheck& c) {
 }
 
 }  // namespace
+
+std::string Percent(double fraction) {
+  const double percent = 100 * fraction;
+  return fmt::format("{:.1f}%", std::abs(percent) < 0.05 ? 0.0 : percent);
+}
 
 std::string TrackerClockNote(const Diagnosis& d) {
   const ClockDriftCheck& c = d.clock_drift;
@@ -322,8 +327,9 @@ std::string VerdictMarkdown(const Diagnosis& d) {
   md += "| rank | effect | verdict | explained | held-out gain | with | next measurement |\n|---|---|---|---|---|---|---|\n";
   for (std::size_t k = 0; k < d.effects.size(); ++k) {
     const EffectResult& r = d.effects[k];
-    md += fmt::format("| {} | `{}` | {} | {:.1f}% | {:.1f}% | {} | {} |\n", k + 1, EffectName(r.effect), r.verdict,
-                      100 * r.explained_fraction, 100 * r.cv_gain, fmt::join(r.ambiguous_with, ", "), r.next_measurement);
+    md += fmt::format("| {} | `{}` | {} | {} | {} | {} | {} |\n", k + 1, EffectName(r.effect), r.verdict,
+                      Percent(r.explained_fraction), Percent(r.cv_gain), fmt::join(r.ambiguous_with, ", "),
+                      r.next_measurement);
   }
   md += fmt::format("\nOn runs held out of every fit: {:.1f} µm RMS ({:.1f} max) before, {:.1f} µm RMS ({:.1f} max) "
                     "after the selected effects, shrink {:.0f}%; the tracker's noise floor is {:.1f} µm.\n\n",

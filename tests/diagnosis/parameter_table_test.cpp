@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "edsp/diagnosis/parameter_table.h"
+#include "edsp/diagnosis/report.h"
 
 namespace edsp::gap {
 namespace {
@@ -26,6 +27,15 @@ std::string Row(const std::string& table, int leg) {
   const std::size_t at = table.find(start);
   if (at == std::string::npos) return "";
   return table.substr(at + 1, table.find('\n', at + 1) - at - 1);
+}
+
+// An effect that gains nothing held out reads 0.0%, not -0.0%; a real
+// loss keeps its sign.
+TEST(ParameterTable, PercentNeverSaysMinusZero) {
+  EXPECT_EQ(Percent(-1e-6), "0.0%");
+  EXPECT_EQ(Percent(-0.0004), "0.0%");
+  EXPECT_EQ(Percent(-0.003), "-0.3%");
+  EXPECT_EQ(Percent(0.994), "99.4%");
 }
 
 TEST(ParameterTable, ValueWithSigmaRoundsBothAndOmitsAMissingSigma) {

@@ -13,6 +13,10 @@ namespace edsp::gap {
 
 nlohmann::json ToJson(const Diagnosis& diagnosis);
 
+// A fraction as a percentage with one decimal: "0.0%" for one that rounds
+// to zero, never "-0.0%" (an effect that gains nothing held out).
+std::string Percent(double fraction);
+
 // The tracker's clock in one sentence: its offset (time_offset.h), whether
 // without encoders an offset does as well as the servo_lag found, and how
 // fast it drifts over the session (the clock checks).
