@@ -130,7 +130,7 @@ ClockDriftCheck TestClockDrift(ClockNuisance& clock, Evaluator& plain, const std
 // offset (ClockNuisance's `steady` design): it no longer earns its place
 // beside δ. δ is fitted beside the other selected effects, as it would
 // stand in for the lag.
-ClockOffsetCheck TestClockOffset(const ClockNuisance& clock, const std::vector<Effect>& selected,
+ClockOffsetCheck TestClockOffset(ClockNuisance& clock, const std::vector<Effect>& selected,
                                  const DiagnoseOptions& o) {
   ClockOffsetCheck c;
   if (clock.steady == nullptr || !Contains(selected, Effect::kServoLag)) return c;
@@ -143,7 +143,7 @@ ClockOffsetCheck TestClockOffset(const ClockNuisance& clock, const std::vector<E
   c.offset_s = offset.value;
   c.sigma_s = offset.sigma;
   Evaluator& eval = *clock.steady_eval;
-  c.replaces_lag = Contains(RedundantBeside(eval, eval.Cv(selected), selected, o), Effect::kServoLag);
+  c.replaces_lag = !EarnsItsPlace(eval, eval.Cv(selected), selected, Effect::kServoLag, o);
   return c;
 }
 
@@ -190,6 +190,18 @@ void NoteUnknown(const std::string& what, Diagnosis* out) {
   else note = what + kResidual + note;
 }
 
+// Something outside the vocabulary that a check found: said in what is
+// left (`what`), each effect it makes redundant ambiguous with it (`what`,
+// then `advice`: the measurement that tells them apart), and the
+// conclusion naming `unknown`.
+void MarkUnknown(const std::string& what, const std::vector<Effect>& explained, const std::string& advice,
+                 Diagnosis* out) {
+  NoteUnknown(what, out);
+  MarkExplainedByUnknown(explained, what + advice, out);
+  if (out->conclusion == "effects") out->conclusion = "effects+unknown";
+  if (out->conclusion == "none") out->conclusion = "unknown";
+}
+
 // The base's tilt is outside the vocabulary: said in what is left, and an
 // effect it makes redundant is ambiguous with it.
 void MarkExplainedByBaseTilt(const std::vector<Effect>& explained, Diagnosis* out) {
@@ -198,12 +210,9 @@ void MarkExplainedByBaseTilt(const std::vector<Effect>& explained, Diagnosis* ou
       "the base tilts under the payload's moment (a rotational give of the base mount or floor beside the selected "
       "effects predicts the held-out runs {:.0f}% better)",
       100 * out->base_tilt.cv_gain);
-  NoteUnknown(what, out);
-  MarkExplainedByUnknown(explained,
-                         what + ", and this effect no longer earns its place beside it; an inclinometer on the base "
-                                "tells the tilt apart",
-                         out);
-  if (out->conclusion == "effects") out->conclusion = "effects+unknown";
+  MarkUnknown(what, explained,
+              ", and this effect no longer earns its place beside it; an inclinometer on the base tells the tilt apart",
+              out);
 }
 
 // A drifting tracker clock is outside the vocabulary: said in what is left,
@@ -215,13 +224,10 @@ void MarkExplainedByClockDrift(const std::vector<Effect>& explained, Diagnosis* 
       "session; predicts the held-out runs {:.0f}% better)",
       out->clock_drift.drift * 1e6, out->clock_drift.sigma * 1e6, out->clock_drift.drift > 0.0 ? "later" : "earlier",
       100 * out->clock_drift.cv_gain);
-  NoteUnknown(what, out);
-  MarkExplainedByUnknown(explained,
-                         what + ", and this effect no longer earns its place beside it; trigger the tracker from the "
-                                "controller's clock (or PTP) and measure again",
-                         out);
-  if (out->conclusion == "effects") out->conclusion = "effects+unknown";
-  if (out->conclusion == "none") out->conclusion = "unknown";
+  MarkUnknown(what, explained,
+              ", and this effect no longer earns its place beside it; trigger the tracker from the controller's clock "
+              "(or PTP) and measure again",
+              out);
 }
 
 // A lag only a clock offset could also be, from the tracker alone: said in
@@ -233,11 +239,9 @@ void MarkLagThatMayBeTheClocks(Diagnosis* out) {
       "the lag may be the tracker's clock running {}: it predicts the held-out runs as well, and without encoder "
       "columns a lag equal on every leg and a pure delay is one with it",
       ClockAhead(c.offset_s, c.sigma_s));
-  NoteUnknown(what, out);
-  MarkExplainedByUnknown({Effect::kServoLag},
-                         what + "; record the encoders (leg_enc_*) or trigger the tracker from the controller's "
-                                "clock and measure again",
-                         out);
+  MarkUnknown(what, {Effect::kServoLag},
+              "; record the encoders (leg_enc_*) or trigger the tracker from the controller's clock and measure again",
+              out);
 }
 
 // A selected servo_lag the encoders do not show is not the drives' lag

@@ -25,15 +25,19 @@ std::vector<double> LogGains(const std::vector<double>& with_sse, const std::vec
   return gain;
 }
 
+bool EarnsItsPlace(Evaluator& eval, double cv, const std::vector<Effect>& selected, Effect e,
+                   const DiagnoseOptions& o) {
+  const std::vector<Effect> rest = Without(selected, e);
+  const double base = eval.Cv(rest);
+  const bool gains = base > 0.0 && (base - cv) / base >= o.min_cv_gain;
+  return gains && eval.SignificantlyBetter(selected, rest, o.significance);
+}
+
 std::vector<Effect> RedundantBeside(Evaluator& with_structure, double cv, const std::vector<Effect>& selected,
                                     const DiagnoseOptions& o, std::optional<Effect> own) {
   std::vector<Effect> explained;
   for (Effect e : selected) {
-    if (e == own) continue;
-    const std::vector<Effect> rest = Without(selected, e);
-    const double base = with_structure.Cv(rest);
-    const bool gains = base > 0.0 && (base - cv) / base >= o.min_cv_gain;
-    if (!gains || !with_structure.SignificantlyBetter(selected, rest, o.significance)) explained.push_back(e);
+    if (e != own && !EarnsItsPlace(with_structure, cv, selected, e, o)) explained.push_back(e);
   }
   return explained;
 }

@@ -70,9 +70,12 @@ nlohmann::json Compensation(const Diagnosis& d) {
           {"note", "no PR change indicated"}};
 }
 
+// A fraction under 0.05% in size prints as 0.0%.
+constexpr double kRoundsToZero = 0.0005;
+
 // A held-out cut as people read it: "2.1% better", "0.4% worse", never "-0.0%".
 std::string HeldOutChange(double cv_gain) {
-  if (Percent(cv_gain) == "0.0%") return "no better";
+  if (std::abs(cv_gain) < kRoundsToZero) return "no better";
   return Percent(std::abs(cv_gain)) + (cv_gain > 0.0 ? " better" : " worse");
 }
 
@@ -90,8 +93,7 @@ std::string ClockOffsetNote(const ClockOffsetCheck& c) {
 }  // namespace
 
 std::string Percent(double fraction) {
-  const double percent = 100 * fraction;
-  return fmt::format("{:.1f}%", std::abs(percent) < 0.05 ? 0.0 : percent);
+  return fmt::format("{:.1f}%", std::abs(fraction) < kRoundsToZero ? 0.0 : 100 * fraction);
 }
 
 std::string TrackerClockNote(const Diagnosis& d) {

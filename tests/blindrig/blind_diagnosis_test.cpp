@@ -451,9 +451,11 @@ TEST(BlindDiagnosis, AClockDriftingUnderTheNoiseIsFoundBesideTheEncodersOffset) 
 }
 
 // A drive lag equal on every leg, read without encoders, is the same in
-// every run: no drift, servo_lag identified. Beside a drifting clock whose
-// growth the held-out runs show (15 µm of noise), a lag the clock's mean
-// cannot take up stays identified too.
+// every run: no drift, servo_lag identified (and, a loop being no delay,
+// not taken for the clock's offset either: step 12). Beside a drifting
+// clock whose growth the held-out runs show (15 µm of noise), a lag the
+// clock's mean cannot take up stays identified too, with or without
+// encoders.
 TEST(BlindDiagnosis, ADriveLagEqualOnEveryLegIsNotTakenForTheClock) {
   const std::vector<std::string> motions = {"Lz", "Lx", "Rz", "Ry", "M1", "M2", "M3", "M4"};
   BlindEffects lag;

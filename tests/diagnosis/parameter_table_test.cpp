@@ -31,7 +31,7 @@ std::string Row(const std::string& table, int leg) {
 
 // An effect that gains nothing held out reads 0.0%, not -0.0%; a real
 // loss keeps its sign.
-TEST(ParameterTable, PercentNeverSaysMinusZero) {
+TEST(ReportText, PercentNeverSaysMinusZero) {
   EXPECT_EQ(Percent(-1e-6), "0.0%");
   EXPECT_EQ(Percent(-0.0004), "0.0%");
   EXPECT_EQ(Percent(-0.003), "-0.3%");

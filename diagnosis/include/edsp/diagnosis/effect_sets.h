@@ -107,6 +107,12 @@ struct WithStructure {
   Eigen::VectorXd prior;
 };
 
+// Whether `e` earns its place among `selected` on `eval`, whose held-out
+// MSE for `selected` is `cv`: the set without it is min_cv_gain worse held
+// out, and `selected` beats it run by run (the paired test).
+bool EarnsItsPlace(Evaluator& eval, double cv, const std::vector<Effect>& selected, Effect e,
+                   const DiagnoseOptions& o);
+
 // The selected effects that no longer earn their place beside a structure
 // that predicts the held-out runs `cv` (MSE): an effect that no longer cuts
 // the error by min_cv_gain there, or no longer beats the model without it

@@ -74,15 +74,12 @@ Columns ColumnsOf(const Design& design, const std::vector<Effect>& effects);
 // the bases' non-linear parameters compare.
 double HeldOutMse(const GramSet& gram, const Columns& columns, const Eigen::VectorXd& prior_weight);
 
-// A residual that is not white (a mode, a misfit) holds fewer independent
-// samples than rows: the variance of a fitted parameter grows by
-// (1 + ρ)/(1 − ρ), ρ the residual's lag-1 autocorrelation along each axis
-// (3 rows per sample), as for an AR(1) series.
-double CorrelationInflation(const Eigen::VectorXd& residual);
-
 // One coefficient of a fit on every fold, and its 1-σ: the covariance's,
-// with σ² the fit's residual variance, grown by CorrelationInflation of
-// that residual. How the nuisances that are reported, not selected (the
+// with σ² the fit's residual variance, grown for that residual's
+// autocorrelation. A residual that is not white (a mode, a misfit) holds
+// fewer independent samples than rows: the variance grows by
+// (1 + ρ)/(1 − ρ), ρ its lag-1 autocorrelation along each axis (3 rows per
+// sample), as for an AR(1) series. How the nuisances that are reported, not selected (the
 // tracker's clock offset and drift), get their uncertainty.
 struct Coefficient {
   double value = 0.0;
