@@ -73,12 +73,6 @@ nlohmann::json Compensation(const Diagnosis& d) {
 // A fraction under 0.05% in size prints as 0.0%.
 constexpr double kRoundsToZero = 0.0005;
 
-// A held-out cut as people read it: "2.1% better", "0.4% worse", never "-0.0%".
-std::string HeldOutChange(double cv_gain) {
-  if (std::abs(cv_gain) < kRoundsToZero) return "no better";
-  return Percent(std::abs(cv_gain)) + (cv_gain > 0.0 ? " better" : " worse");
-}
-
 // Without encoders: whether the servo_lag found is one a clock offset
 // makes. The offset is the one that would stand in for the lag, which is
 // the clock's only when it does as well.
@@ -94,6 +88,11 @@ std::string ClockOffsetNote(const ClockOffsetCheck& c) {
 
 std::string Percent(double fraction) {
   return fmt::format("{:.1f}%", std::abs(fraction) < kRoundsToZero ? 0.0 : 100 * fraction);
+}
+
+std::string HeldOutChange(double cv_gain) {
+  if (std::abs(cv_gain) < kRoundsToZero) return "no better";
+  return Percent(std::abs(cv_gain)) + (cv_gain > 0.0 ? " better" : " worse");
 }
 
 std::string TrackerClockNote(const Diagnosis& d) {
@@ -167,7 +166,9 @@ nlohmann::json ToJson(const Diagnosis& d) {
                                      {"outside_99_band", d.whiteness.outside_fraction}}},
                       {"structure", StructureJson(d.structure)},
                       {"base_tilt", {{"tested", d.base_tilt.tested}, {"cv_gain", d.base_tilt.cv_gain},
-                                     {"tilts", d.base_tilt.tilts}}},
+                                     {"tilts", d.base_tilt.tilts},
+                                     {"in_place_cv_gain", d.base_tilt.in_place_cv_gain},
+                                     {"replaces", d.base_tilt.replaces}}},
                       {"clock_drift", {{"tested", d.clock_drift.tested}, {"drift", d.clock_drift.drift},
                                        {"sigma", d.clock_drift.sigma}, {"cv_gain", d.clock_drift.cv_gain},
                                        {"run_by_run", d.clock_drift.run_by_run}, {"drifts", d.clock_drift.drifts}}},

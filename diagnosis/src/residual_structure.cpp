@@ -266,7 +266,8 @@ ResidualStructure AnalyseStructure(const Design& d, const Eigen::VectorXd& in_sa
   out.in_sample_share = ShareAboveWhite(SeriesOf(d, in_sample));
   out.run_offset_share = RunOffsetShare(d, residual, kRunsApartLevel, false);
   out.in_sample_run_offset_share = RunOffsetShare(d, in_sample, kRunsApartLevel, true);
-  out.runs_apart = out.run_offset_share >= o.min_share && out.in_sample_run_offset_share >= o.min_share;
+  out.runs_apart = out.run_offset_share >= o.min_run_offset_share &&
+                   out.in_sample_run_offset_share >= o.min_run_offset_share;
   const bool within_runs = !out.whiteness.white && out.structured_share >= o.min_share &&
                            !out.in_sample_whiteness.white && out.in_sample_share >= o.min_share;
   out.structured = within_runs || out.runs_apart;

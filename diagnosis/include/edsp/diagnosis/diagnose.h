@@ -79,11 +79,14 @@ struct SampleGap {
 
 // Whether the base tilts under the payload's moment (structure_nuisance.h's
 // BaseTiltColumns), which no effect of the vocabulary models: tested when
-// an effect it resembles is selected (compliance, joint_position).
+// an effect it resembles is selected (compliance, joint_position), beside
+// the selected effects and in place of those it resembles.
 struct BaseTiltCheck {
   bool tested = false;
   double cv_gain = 0.0;   // the tilt's cut of the selected model's held-out MSE
   bool tilts = false;     // by min_cv_gain and run by run: something beyond the vocabulary
+  double in_place_cv_gain = 0.0;  // the same cut with the tilt in place of compliance and joint_position
+  bool replaces = false;  // not `tilts`, but in their place it predicts as well (a cut ≥ 0): a tie
 };
 
 // Whether the tracker's clock drifts from the controller's

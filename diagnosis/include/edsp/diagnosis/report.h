@@ -17,6 +17,9 @@ nlohmann::json ToJson(const Diagnosis& diagnosis);
 // to zero, never "-0.0%" (an effect that gains nothing held out).
 std::string Percent(double fraction);
 
+// A held-out cut as people read it: "2.1% better", "0.4% worse", "no better".
+std::string HeldOutChange(double cv_gain);
+
 // The tracker's clock in one sentence: its offset (time_offset.h), whether
 // without encoders an offset does as well as the servo_lag found, and how
 // fast it drifts over the session (the clock checks).

@@ -9,12 +9,13 @@
 // parameter error leaves smooth, predictable error on a run it never saw,
 // which the held-out shrink already reports. Structure between the runs
 // counts too: white noise leaves each run's mean within its own scatter of
-// zero, so runs that sit apart by more (a tracker stand settling, a mount
-// shifting between runs), beyond chance (χ², 99.9%) and with a clear share
-// of the variance, in and out of sample, are structure even where each run
-// alone is white. Then the structure is described: its
-// spectral peak (frequency, damping from the half-power width), what it
-// follows (acceleration, velocity, direction, pose, time) and where it is largest.
+// zero, so runs that sit apart by more (a tracker stand settling, a target
+// re-seated between runs), beyond chance (χ², 99.9%) and holding as much of
+// the variance as an effect must cut to be selected, in and out of sample,
+// are structure even where each run alone is white. Then the structure is
+// described: its spectral peak (frequency, damping from the half-power
+// width), what it follows (acceleration, velocity, direction, pose, time)
+// and where it is largest.
 
 #include <string>
 #include <vector>
@@ -48,6 +49,11 @@ struct ResidualStructure {
 
 struct StructureOptions {
   double min_share = 0.10;          // of the variance above the white level, to count
+  // Of the variance in the runs' means beyond the noise's scatter: the cut
+  // in MSE that knowing each run's offset would give, so the bar an effect
+  // must clear to be selected (DiagnoseOptions::min_cv_gain), not the
+  // spectral share's, whose white level is itself an estimate.
+  double min_run_offset_share = 0.05;
   double min_driver_r2 = 0.15;      // a driver must explain this share to be named
 };
 
