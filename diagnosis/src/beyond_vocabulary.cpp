@@ -11,7 +11,7 @@
 
 #include "edsp/diagnosis/encoder_check.h"
 #include "edsp/diagnosis/linear_fit.h"
-#include "edsp/diagnosis/report.h"
+#include "edsp/diagnosis/percent_text.h"
 #include "edsp/diagnosis/residual_structure.h"
 #include "edsp/diagnosis/structure_nuisance.h"
 #include "edsp/diagnosis/time_offset.h"
@@ -59,9 +59,10 @@ std::pair<std::vector<Effect>, std::vector<Effect>> SplitByTiltLikeness(const st
 // that no longer earn their place beside it go to `explained`. In place of
 // the effects it resembles (compliance, joint centres), which can take up
 // a tilt so far that nothing is left for it beside them: the two are
-// non-nested explanations, and if the tilt predicts the held-out runs at
-// least as well as they do, the data does not tell them apart, and they
-// go to `explained`.
+// non-nested explanations, and unless those effects predict the held-out
+// runs better than the tilt by min_cv_gain (the cut any effect must make
+// to be selected), the data does not tell them apart, and they go to
+// `explained`.
 BaseTiltCheck TestBaseTilt(const Design& d, const Eigen::VectorXd& prior, Evaluator& plain,
                            const std::vector<Effect>& selected, const DiagnoseOptions& o,
                            std::vector<Effect>* explained) {
@@ -77,7 +78,7 @@ BaseTiltCheck TestBaseTilt(const Design& d, const Eigen::VectorXd& prior, Evalua
   c.in_place_cv_gain = gain(in_place);
   c.tilts = c.cv_gain >= o.min_cv_gain &&
             PairedGainIsSignificant(LogGains(eval.FoldSse(selected), plain.FoldSse(selected)), o.significance);
-  c.replaces = !c.tilts && in_place <= before;
+  c.replaces = !c.tilts && before > 0.0 && c.in_place_cv_gain > -o.min_cv_gain;
   if (c.tilts) *explained = RedundantBeside(eval, after, selected, o);
   if (c.replaces) *explained = resembling;
   return c;
@@ -222,8 +223,17 @@ void MarkUnknown(const std::string& what, const std::vector<Effect>& explained, 
   if (out->conclusion == "none") out->conclusion = "unknown";
 }
 
+// The effects a base tilt can stand in for, as a note names them.
+std::string TiltLikeNames(const std::vector<Effect>& effects) {
+  std::string names;
+  for (Effect e : effects) {
+    names += (names.empty() ? "" : " and ") + std::string(e == Effect::kJointPosition ? "joint centres" : EffectName(e));
+  }
+  return names;
+}
+
 // The base's tilt is outside the vocabulary: said in what is left, and an
-// effect it makes redundant is ambiguous with it.
+// effect it makes redundant, or ties with, is ambiguous with it.
 void MarkExplainedByBaseTilt(const std::vector<Effect>& explained, Diagnosis* out) {
   const BaseTiltCheck& c = out->base_tilt;
   if (c.tilts) {
@@ -236,16 +246,11 @@ void MarkExplainedByBaseTilt(const std::vector<Effect>& explained, Diagnosis* ou
                 "apart",
                 out);
   } else if (c.replaces) {
-    std::string names;
-    for (Effect e : explained) names += (names.empty() ? "" : " and ") + std::string(EffectName(e));
     const std::string what = fmt::format(
-        "the base may tilt under the payload's moment (a rotational give of the base mount or floor in place of "
-        "{} predicts the held-out runs as well: {})",
-        names, HeldOutChange(c.in_place_cv_gain));
-    MarkUnknown(what, explained,
-                ", which a base tilting under the payload explains as well; an inclinometer on the base tells them "
-                "apart",
-                out);
+        "the base may tilt under the payload's moment (in place of {}, a rotational give of the base mount or floor "
+        "predicts the held-out runs {}: the data does not tell them apart)",
+        TiltLikeNames(explained), HeldOutChange(c.in_place_cv_gain));
+    MarkUnknown(what, explained, "; an inclinometer on the base tells them apart", out);
   }
 }
 

@@ -326,7 +326,9 @@ void DescribeRest(const Design& d, const Eigen::VectorXd& residual, const Eigen:
                   const DiagnoseOptions& o, Diagnosis* out) {
   out->unexplained = PointStats(residual, 0, d.samples());
   out->whiteness = TestWhiteness(d, residual);
-  out->structure = AnalyseStructure(d, residual, heldout, o.structure);
+  StructureOptions bars = o.structure;
+  bars.min_run_offset_share = o.min_cv_gain;  // runs apart matter as an effect's cut does
+  out->structure = AnalyseStructure(d, residual, heldout, bars);
   const bool effects = !out->selected.empty();
   out->conclusion = out->structure.structured ? (effects ? "effects+unknown" : "unknown") : (effects ? "effects" : "none");
   out->unexplained_note =

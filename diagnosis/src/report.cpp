@@ -70,9 +70,6 @@ nlohmann::json Compensation(const Diagnosis& d) {
           {"note", "no PR change indicated"}};
 }
 
-// A fraction under 0.05% in size prints as 0.0%.
-constexpr double kRoundsToZero = 0.0005;
-
 // Without encoders: whether the servo_lag found is one a clock offset
 // makes. The offset is the one that would stand in for the lag, which is
 // the clock's only when it does as well.
@@ -85,15 +82,6 @@ std::string ClockOffsetNote(const ClockOffsetCheck& c) {
 }
 
 }  // namespace
-
-std::string Percent(double fraction) {
-  return fmt::format("{:.1f}%", std::abs(fraction) < kRoundsToZero ? 0.0 : 100 * fraction);
-}
-
-std::string HeldOutChange(double cv_gain) {
-  if (std::abs(cv_gain) < kRoundsToZero) return "no better";
-  return Percent(std::abs(cv_gain)) + (cv_gain > 0.0 ? " better" : " worse");
-}
 
 std::string TrackerClockNote(const Diagnosis& d) {
   const ClockDriftCheck& c = d.clock_drift;

@@ -8,17 +8,11 @@
 #include <nlohmann/json.hpp>
 
 #include "edsp/diagnosis/diagnose.h"
+#include "edsp/diagnosis/percent_text.h"  // Percent, which the ranking tables use
 
 namespace edsp::gap {
 
 nlohmann::json ToJson(const Diagnosis& diagnosis);
-
-// A fraction as a percentage with one decimal: "0.0%" for one that rounds
-// to zero, never "-0.0%" (an effect that gains nothing held out).
-std::string Percent(double fraction);
-
-// A held-out cut as people read it: "2.1% better", "0.4% worse", "no better".
-std::string HeldOutChange(double cv_gain);
 
 // The tracker's clock in one sentence: its offset (time_offset.h), whether
 // without encoders an offset does as well as the servo_lag found, and how

@@ -51,8 +51,8 @@ struct StructureOptions {
   double min_share = 0.10;          // of the variance above the white level, to count
   // Of the variance in the runs' means beyond the noise's scatter: the cut
   // in MSE that knowing each run's offset would give, so the bar an effect
-  // must clear to be selected (DiagnoseOptions::min_cv_gain), not the
-  // spectral share's, whose white level is itself an estimate.
+  // must clear to be selected, not the spectral share's, whose white level
+  // is itself an estimate. Diagnose sets it to DiagnoseOptions::min_cv_gain.
   double min_run_offset_share = 0.05;
   double min_driver_r2 = 0.15;      // a driver must explain this share to be named
 };
