@@ -59,9 +59,9 @@ std::pair<std::vector<Effect>, std::vector<Effect>> SplitByTiltLikeness(const st
 // that no longer earn their place beside it go to `explained`. In place of
 // the effects it resembles (compliance, joint centres), which can take up
 // a tilt so far that nothing is left for it beside them: the two are
-// non-nested explanations, and unless those effects predict the held-out
-// runs better than the tilt by min_cv_gain (the cut any effect must make
-// to be selected), the data does not tell them apart, and they go to
+// non-nested explanations, tied as two effects are (diagnose.cpp's
+// Verdicts): the tilt takes up most of their gain, and they do not beat it
+// run by run. Then the data does not tell them apart, and they go to
 // `explained`.
 BaseTiltCheck TestBaseTilt(const Design& d, const Eigen::VectorXd& prior, Evaluator& plain,
                            const std::vector<Effect>& selected, const DiagnoseOptions& o,
@@ -78,7 +78,11 @@ BaseTiltCheck TestBaseTilt(const Design& d, const Eigen::VectorXd& prior, Evalua
   c.in_place_cv_gain = gain(in_place);
   c.tilts = c.cv_gain >= o.min_cv_gain &&
             PairedGainIsSignificant(LogGains(eval.FoldSse(selected), plain.FoldSse(selected)), o.significance);
-  c.replaces = !c.tilts && before > 0.0 && c.in_place_cv_gain > -o.min_cv_gain;
+  const double without = plain.Cv(rest);  // neither the tilt nor the effects it resembles
+  const double theirs = without > 0.0 ? (without - before) / without : 0.0;
+  const double tilts_instead = without > 0.0 ? (without - in_place) / without : 0.0;
+  c.replaces = !c.tilts && tilts_instead >= std::max(o.min_cv_gain, o.ambiguity_ratio * theirs) &&
+               !PairedGainIsSignificant(LogGains(plain.FoldSse(selected), eval.FoldSse(rest)), o.significance);
   if (c.tilts) *explained = RedundantBeside(eval, after, selected, o);
   if (c.replaces) *explained = resembling;
   return c;

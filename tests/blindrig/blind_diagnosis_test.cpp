@@ -414,19 +414,22 @@ TEST(BlindDiagnosis, ABaseTiltTheLegsTakeUpIsNotCalledCompliance) {
   EXPECT_NE(d.unexplained_note.find("the base may tilt"), std::string::npos) << d.unexplained_note;
 }
 
-// Legs that each give under their own load, through the same noise and
-// tracker: a tilt in place of compliance predicts the held-out runs far
-// worse (by about 10%), and compliance stays `identified`.
+// Legs that each give under their own load, a light platform on them, seen
+// through the same noise and tracker: a tilt in place of compliance does
+// only 3% worse held out, within the 5% an effect must gain, but worse on
+// every run, so the runs tell the two apart (the tie rule of effects) and
+// compliance stays `identified`.
 TEST(BlindDiagnosis, LegsGivingUnderTheSameNoiseAreStillCompliance) {
   BlindEffects e;
   e.stiffness_N_m << 2.2e7, 5.6e7, 3.0e7, 4.4e7, 2.6e7, 5.0e7;
-  e.mass_kg = 600.0;
+  e.mass_kg = 350.0;
   e.com_M = Vec3(0.03, -0.05, 0.15);
-  const gap::Diagnosis d = DiagnoseSession(e, kEveryMotion, Tracker(20e-6, 25.0, 7, false));
+  const gap::Diagnosis d = DiagnoseSession(e, kEveryMotion, Tracker(20e-6, 25.0, 6, false));
   EXPECT_EQ(Identified(d), std::vector<std::string>{"compliance"}) << Describe(d);
   EXPECT_TRUE(d.base_tilt.tested) << Describe(d);
   EXPECT_FALSE(d.base_tilt.replaces) << d.base_tilt.in_place_cv_gain;
-  EXPECT_LT(d.base_tilt.in_place_cv_gain, -gap::DiagnoseOptions{}.min_cv_gain) << Describe(d);
+  EXPECT_LT(d.base_tilt.in_place_cv_gain, 0.0) << Describe(d);
+  EXPECT_GT(d.base_tilt.in_place_cv_gain, -gap::DiagnoseOptions{}.min_cv_gain) << "no longer between the bars";
   EXPECT_EQ(d.conclusion, "effects") << Describe(d);
 }
 

@@ -86,7 +86,7 @@ struct BaseTiltCheck {
   double cv_gain = 0.0;   // the tilt's cut of the selected model's held-out MSE
   bool tilts = false;     // by min_cv_gain and run by run: something beyond the vocabulary
   double in_place_cv_gain = 0.0;  // the same cut with the tilt in place of compliance and joint_position
-  bool replaces = false;  // not `tilts`, but they do not beat it in their place by min_cv_gain: a tie
+  bool replaces = false;  // not `tilts`, but in their place it ties with them as effects tie (Verdicts)
 };
 
 // Whether the tracker's clock drifts from the controller's
