@@ -416,9 +416,9 @@ TEST(BlindDiagnosis, ABaseTiltTheLegsTakeUpIsNotCalledCompliance) {
 
 // Legs that each give under their own load, a light platform on them, seen
 // through the same noise and tracker: a tilt in place of compliance does
-// only 3% worse held out, within the 5% an effect must gain, but worse on
-// every run, so the runs tell the two apart (the tie rule of effects) and
-// compliance stays `identified`.
+// only 3% worse held out, within the 5% an effect must gain, but it takes
+// up less than 70% of what compliance gains, so the two do not tie (the
+// tie rule of effects) and compliance stays `identified`.
 TEST(BlindDiagnosis, LegsGivingUnderTheSameNoiseAreStillCompliance) {
   BlindEffects e;
   e.stiffness_N_m << 2.2e7, 5.6e7, 3.0e7, 4.4e7, 2.6e7, 5.0e7;
