@@ -147,7 +147,7 @@ std::vector<std::string> OutOfVocabularyKinds() {
   return {"floor_vibration", "base_tilt", "stand_drift", "clock_drift", "target_reseat"};
 }
 
-BlindScenario DrawBlindScenario(std::uint64_t seed, int index) {
+BlindScenario DrawBlindScenario(std::uint64_t seed, int index, std::optional<bool> encoders) {
   Draw d(seed * 0x9e3779b97f4a7c15ULL + static_cast<std::uint64_t>(index) * 7919ULL + 1);
   BlindScenario s;
   const int slot = index % 5;
@@ -172,6 +172,7 @@ BlindScenario DrawBlindScenario(std::uint64_t seed, int index) {
   s.tracker.rate_hz = d.LogUniform(10.0, 1000.0);
   s.tracker.noise_m = d.Uniform(2e-6, 20e-6);
   s.tracker.encoders = d.Index(2) == 0;
+  if (encoders) s.tracker.encoders = *encoders;
   s.tracker.seed = seed * 31 + static_cast<std::uint64_t>(index);
   s.tracker.frame << d.Uniform(-3.0, 3.0), d.Uniform(-3.0, 3.0), d.Uniform(-0.5, 0.5), d.Signed(0.0, 0.02),
       d.Signed(0.0, 0.02), d.Uniform(-kPi, kPi);

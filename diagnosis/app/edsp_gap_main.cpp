@@ -4,7 +4,7 @@
 //   edsp-gap compare --config C --before B --after A [--model M [--apply-ambiguous]] [--plot DIR] [--json]
 //                    [--keep-timing-events]
 //   edsp-gap benchmark --scenarios N --seed S [--generator rig|blind] [--motions Lz,…] [--json] [--noise-m 5e-6] [--keep DIR]
-//                      [--closed-loop-motions Ly,Rx,M9|none]
+//                      [--closed-loop-motions Ly,Rx,M9|none] [--encoders drawn|with|without]
 #include <unistd.h>
 
 #include <cstdio>
@@ -152,6 +152,9 @@ CLI::App* AddBenchmark(CLI::App& app, BenchmarkArgs* a) {
                 "rig: edsp's own virtual rig; blind: the independently written rig (blindrig/), "
                 "out-of-vocabulary scenarios and its own tracker draws")
       ->check(CLI::IsMember({"rig", "blind"}));
+  c->add_option("--encoders", bench.encoders,
+                "blind generator: encoder columns as drawn, in every scenario, or in none")
+      ->check(CLI::IsMember({"drawn", "with", "without"}));
   c->add_option("--motions", bench.motions, "motions of every scenario, comma-separated")->delimiter(',');
   c->add_option("--closed-loop-motions", bench.closed_loop_motions,
                 "rig generator: motions no fit saw, run without and with the model applied (\"none\": skip)")

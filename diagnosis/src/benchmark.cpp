@@ -157,7 +157,9 @@ Drawn DrawOnRig(const BenchmarkOptions& options, const std::string& config, Rng&
 // Scenario k on the blind rig (blindrig/): its own kinematics, effects,
 // motions and tracker draw; only the config's numbers are shared.
 Drawn DrawOnBlindRig(const BenchmarkOptions& options, const PlatformConfig& config, int k, const std::string& dir) {
-  const blind::BlindScenario s = blind::DrawBlindScenario(options.seed, k);
+  const std::optional<bool> encoders =
+      options.encoders == "drawn" ? std::nullopt : std::optional<bool>(options.encoders == "with");
+  const blind::BlindScenario s = blind::DrawBlindScenario(options.seed, k, encoders);
   blind::BlindRigSetup setup = blind::SetupFromConfig(config);
   setup.motions = options.motions;
   Drawn drawn;
@@ -262,6 +264,13 @@ BenchmarkResult RunBenchmark(const BenchmarkOptions& options) {
   if (options.generator != "rig" && options.generator != "blind") {
     throw std::invalid_argument("benchmark generator '" + options.generator + "': expected rig or blind");
   }
+  if (options.encoders != "drawn" && options.encoders != "with" && options.encoders != "without") {
+    throw std::invalid_argument("benchmark encoders '" + options.encoders + "': expected drawn, with or without");
+  }
+  if (options.encoders != "drawn" && options.generator != "blind") {
+    throw std::invalid_argument("benchmark encoders '" + options.encoders +
+                                "': only the blind generator draws them (the rig's tracker always has encoders)");
+  }
   BenchmarkResult result;
   result.options = options;
   const std::string config = options.config_path.empty() ? EDSP_DEFAULT_CONFIG : options.config_path;
@@ -322,6 +331,7 @@ BenchmarkResult RunBenchmark(const BenchmarkOptions& options) {
 nlohmann::json ToJson(const BenchmarkResult& r) {
   nlohmann::json j;
   j["generator"] = r.options.generator;
+  j["encoders"] = r.options.encoders;
   j["seed"] = r.options.seed;
   j["scenarios"] = r.scores.size();
   j["tracker_noise_m"] = r.options.tracker_noise_m;

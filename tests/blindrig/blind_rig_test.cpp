@@ -70,6 +70,30 @@ TEST(BlindRig, EachEffectMovesThePointByARealisticAmount) {
   }
 }
 
+// The benchmark's --encoders: forcing the encoder columns changes nothing
+// else of a draw (the same effects, truth and tracker), so a run without
+// encoders scores the same scenarios as the drawn one.
+TEST(BlindRig, ForcingTheEncodersLeavesTheRestOfTheDrawAlone) {
+  for (int index = 0; index < 10; ++index) {
+    const BlindScenario drawn = DrawBlindScenario(5, index);
+    for (const bool encoders : {true, false}) {
+      const BlindScenario forced = DrawBlindScenario(5, index, encoders);
+      EXPECT_EQ(forced.tracker.encoders, encoders);
+      EXPECT_EQ(forced.truth, drawn.truth);
+      EXPECT_EQ(forced.kind, drawn.kind);
+      EXPECT_EQ(forced.tracker.rate_hz, drawn.tracker.rate_hz);
+      EXPECT_EQ(forced.tracker.noise_m, drawn.tracker.noise_m);
+      EXPECT_EQ(forced.tracker.seed, drawn.tracker.seed);
+      EXPECT_EQ(forced.tracker.frame, drawn.tracker.frame);
+      const std::string says = encoders ? "with encoders" : "without encoders";
+      EXPECT_NE(forced.description.find(says), std::string::npos) << forced.description;
+      if (forced.tracker.encoders == drawn.tracker.encoders) {
+        EXPECT_EQ(forced.description, drawn.description);
+      }
+    }
+  }
+}
+
 // A tracker clock that gains on the controller's (the out-of-vocabulary
 // clock_drift) reads each instant as late as a constant offset equal to
 // its lateness then would: drift × session time. The tracker's stand

@@ -2,6 +2,8 @@
 // model would reach is the held-out gap down to the tracker's noise floor,
 // and the median shrink is measured on the same scenarios.
 #include <algorithm>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -41,6 +43,39 @@ TEST(Benchmark, TheAttainableShrinkIsTheGapDownToTheNoiseFloor) {
   EXPECT_DOUBLE_EQ(j.at("median_shrink").get<double>(), Median(shrink));
   // A found effect takes the gap to the floor: within a few points of what is attainable.
   EXPECT_GT(j.at("median_shrink").get<double>(), j.at("median_attainable_shrink").get<double>() - 0.05) << j.dump(1);
+}
+
+// --encoders without: every scenario's CSV lacks the encoder columns,
+// whatever was drawn, and the JSON says which choice it ran with.
+TEST(Benchmark, EncodersCanBeLeftOutOfEveryBlindScenario) {
+  BenchmarkOptions o;
+  o.generator = "blind";
+  o.encoders = "without";
+  o.scenarios = 1;
+  o.seed = 5;
+  o.progress = false;
+  const nlohmann::json j = ToJson(RunBenchmark(o));
+  EXPECT_EQ(j.at("encoders"), "without");
+  for (const nlohmann::json& s : j.at("results")) {
+    EXPECT_NE(s.at("description").get<std::string>().find("without encoders"), std::string::npos) << s.dump();
+  }
+}
+
+// The rig's tracker always has encoders: forcing them there, or a word
+// that is not a choice, is an error that names the value.
+TEST(Benchmark, AnEncoderChoiceTheGeneratorCannotHonourIsAnError) {
+  BenchmarkOptions o;
+  o.progress = false;
+  o.encoders = "without";
+  try {
+    RunBenchmark(o);
+    ADD_FAILURE() << "rig generator accepted --encoders without";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("'without'"), std::string::npos) << e.what();
+  }
+  o.generator = "blind";
+  o.encoders = "some";
+  EXPECT_THROW(RunBenchmark(o), std::invalid_argument);
 }
 
 }  // namespace

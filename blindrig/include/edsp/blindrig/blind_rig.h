@@ -7,6 +7,7 @@
 // by edsp's rig and its diagnosis cannot hide (docs/diagnosis.md).
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -91,8 +92,9 @@ struct BlindScenario {
 
 // Scenario `index` of a seed: index % 5 == 0 effect-free, 1–2 one effect,
 // 3 two, 4 out of the vocabulary; tracker rate 10–1000 Hz, σ 2–20 µm, with
-// or without encoder columns, all drawn.
-BlindScenario DrawBlindScenario(std::uint64_t seed, int index);
+// or without encoder columns, all drawn. `encoders`, if set, overrides the
+// last draw only: every other part of the scenario is the one drawn.
+BlindScenario DrawBlindScenario(std::uint64_t seed, int index, std::optional<bool> encoders = std::nullopt);
 
 // Names of the out-of-vocabulary kinds it draws.
 std::vector<std::string> OutOfVocabularyKinds();

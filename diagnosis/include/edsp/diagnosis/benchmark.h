@@ -30,6 +30,11 @@ struct BenchmarkOptions {
   std::vector<std::string> motions = {"Lz", "Lx", "Rz", "Ry", "M1", "M2", "M3", "M4"};
   std::string generator = "rig";     // rig | blind (the blind rig draws its own tracker: rate 10–1000 Hz,
                                      // σ 2–20 µm, with or without encoders; noise and rate above are the rig's)
+  // Blind generator: encoder columns as drawn, or in every scenario
+  // ("with") or none ("without"), so the checks that need their absence
+  // (the clock's offset, step 12) are exercised; the rest of each draw is
+  // the same.
+  std::string encoders = "drawn";    // drawn | with | without
   // The closed loop (rig generator only): after the diagnosis, these motions,
   // which no fit saw, run without and with the saved model applied by the
   // kinematics; empty: not run.
