@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -49,6 +50,7 @@ struct Drawn {
   std::vector<std::string> truth;
   std::string description;
   std::string csv_path;
+  double noise_sigma_m = 0.0;  // the tracker noise added, 1-σ per axis
   double simulate_s = 0.0;
   // On edsp's rig: how it ran, for the closed loop.
   std::optional<OfflineRunOptions> run;
@@ -97,6 +99,8 @@ ScenarioScore Score(const Drawn& s, const Diagnosis& d) {
   score.after_rms_m = d.holdout_after.rms_m;
   score.shrink = d.shrink;
   score.noise_floor_m = d.noise_floor_rms_m;
+  score.noise_sigma_m = s.noise_sigma_m;
+  score.gap_shrink = GapShrink(score.before_rms_m, score.after_rms_m, std::sqrt(3.0) * s.noise_sigma_m);
   score.diagnose_s = d.seconds;
   score.miss = IsMiss(score);
   return score;
@@ -142,6 +146,7 @@ Drawn DrawOnRig(const BenchmarkOptions& options, const std::string& config, Rng&
   drawn.kind = KindOf(s.truth.size());
   for (Effect e : s.truth) drawn.truth.push_back(EffectName(e));
   drawn.description = s.description;
+  drawn.noise_sigma_m = run.tracker.noise_sigma_m;
   drawn.run = run;
   drawn.effects = s.effects;
   const auto t0 = std::chrono::steady_clock::now();
@@ -166,6 +171,7 @@ Drawn DrawOnBlindRig(const BenchmarkOptions& options, const PlatformConfig& conf
   drawn.kind = s.kind;
   drawn.truth = s.truth;
   drawn.description = s.description;
+  drawn.noise_sigma_m = s.tracker.noise_m;
   drawn.csv_path = dir + "/measurement.csv";
   const auto t0 = std::chrono::steady_clock::now();
   std::string csv;
@@ -187,7 +193,7 @@ double AttainableShrink(const ScenarioScore& s) {
 }
 
 void Tally(BenchmarkResult* r) {
-  std::vector<double> shrinks, attainable, ratios, seconds;
+  std::vector<double> shrinks, attainable, gap_shrinks, ratios, seconds;
   for (const ScenarioScore& s : r->scores) {
     seconds.push_back(s.diagnose_s);
     r->misses += s.miss;
@@ -216,22 +222,28 @@ void Tally(BenchmarkResult* r) {
     }
     shrinks.push_back(s.shrink);
     attainable.push_back(AttainableShrink(s));
+    gap_shrinks.push_back(s.gap_shrink);
     ratios.push_back(s.noise_floor_m > 0 ? s.after_rms_m / s.noise_floor_m : 0.0);
   }
   r->median_shrink = Median(shrinks);
   r->median_attainable_shrink = Median(attainable);
+  r->median_gap_shrink = Median(gap_shrinks);
   r->median_after_over_noise = Median(ratios);
   r->median_diagnose_s = Median(seconds);
-  std::vector<double> measured, predicted;
+  std::vector<double> measured, predicted, measured_gap, predicted_gap;
   for (const ScenarioScore& s : r->scores) {
     if (!s.closed_loop || s.kind == "none" || s.kind == "out_of_vocabulary") continue;
     ++r->closed_loop;
     measured.push_back(s.closed_shrink);
     predicted.push_back(s.closed_predicted_shrink);
+    measured_gap.push_back(s.closed_gap_shrink);
+    predicted_gap.push_back(s.closed_predicted_gap_shrink);
     if (std::abs(s.closed_shrink - s.closed_predicted_shrink) >= 0.10) r->closed_disagree.push_back(s.index);
   }
   r->median_closed_shrink = Median(measured);
   r->median_closed_predicted_shrink = Median(predicted);
+  r->median_closed_gap_shrink = Median(measured_gap);
+  r->median_closed_predicted_gap_shrink = Median(predicted_gap);
 }
 
 double Rate(int a, int b) { return b ? static_cast<double>(a) / b : 0.0; }
@@ -253,12 +265,20 @@ std::vector<Target> Targets(const BenchmarkResult& r) {
            r.out_of_vocabulary},
           {"any_false_identified", Rate(r.any_false_identified, static_cast<int>(r.scores.size())), 0.05, true,
            static_cast<int>(r.scores.size())},
-          {"median_shrink", r.median_shrink, 0.85, false, r.single + r.pairs}};
+          {"median_shrink", r.median_shrink, 0.85, false, r.single + r.pairs},
+          {"median_gap_shrink", r.median_gap_shrink, 0.85, false, r.single + r.pairs}};
 }
 
 bool Met(const Target& t) { return t.scenarios == 0 || (t.at_most ? t.rate <= t.target : t.rate >= t.target); }
 
 }  // namespace
+
+double GapShrink(double before_rms_m, double after_rms_m, double noise_floor_rms_m) {
+  const double floor2 = noise_floor_rms_m * noise_floor_rms_m;
+  const double gap_before = std::sqrt(std::max(0.0, before_rms_m * before_rms_m - floor2));
+  const double gap_after = std::sqrt(std::max(0.0, after_rms_m * after_rms_m - floor2));
+  return gap_before > 0.0 ? 1.0 - gap_after / gap_before : 0.0;
+}
 
 BenchmarkResult RunBenchmark(const BenchmarkOptions& options) {
   if (options.generator != "rig" && options.generator != "blind") {
@@ -306,6 +326,9 @@ BenchmarkResult RunBenchmark(const BenchmarkOptions& options) {
         score.closed_predicted_rms_m = loop.predicted ? loop.predicted->rms_m : 0.0;
         score.closed_shrink = loop.shrink;
         score.closed_predicted_shrink = loop.before.rms_m > 0.0 ? 1.0 - score.closed_predicted_rms_m / loop.before.rms_m : 0.0;
+        const double floor = std::sqrt(3.0) * drawn.noise_sigma_m;
+        score.closed_gap_shrink = GapShrink(loop.before.rms_m, loop.after.rms_m, floor);
+        score.closed_predicted_gap_shrink = GapShrink(loop.before.rms_m, score.closed_predicted_rms_m, floor);
       } catch (const std::exception& e) {
         // One scenario's model the kinematics refuses (or a run that fails)
         // is that scenario's result, not the benchmark's end.
@@ -352,12 +375,15 @@ nlohmann::json ToJson(const BenchmarkResult& r) {
   j["with_effects_extra_identified"] = r.extra_identified;  // a false effect identified beside the true ones
   j["median_shrink"] = r.median_shrink;
   j["median_attainable_shrink"] = r.median_attainable_shrink;
+  j["median_gap_shrink"] = r.median_gap_shrink;
   j["misses"] = {{"scenarios", r.misses}, {"truth_predicts_better", r.misses_told_apart}};
   j["median_after_over_noise_floor"] = r.median_after_over_noise;
   j["median_diagnose_s"] = r.median_diagnose_s;
   j["closed_loop"] = {{"motions", r.options.generator == "rig" ? r.options.closed_loop_motions : std::vector<std::string>{}},
                       {"scenarios", r.closed_loop}, {"median_measured_shrink", r.median_closed_shrink},
                       {"median_predicted_shrink", r.median_closed_predicted_shrink},
+                      {"median_measured_gap_shrink", r.median_closed_gap_shrink},
+                      {"median_predicted_gap_shrink", r.median_closed_predicted_gap_shrink},
                       {"disagree_by_10_points", r.closed_disagree}};
   j["targets"] = nlohmann::json::array();
   for (const Target& t : Targets(r)) {
@@ -373,7 +399,8 @@ nlohmann::json ToJson(const BenchmarkResult& r) {
                             {"false_identified", s.false_identified},
                             {"holdout_before_rms_m", s.before_rms_m}, {"holdout_after_rms_m", s.after_rms_m},
                             {"shrink", s.shrink}, {"attainable_shrink", AttainableShrink(s)},
-                            {"noise_floor_rms_m", s.noise_floor_m},
+                            {"noise_floor_rms_m", s.noise_floor_m}, {"noise_sigma_m", s.noise_sigma_m},
+                            {"gap_shrink", s.gap_shrink},
                             {"simulate_s", s.simulate_s}, {"diagnose_s", s.diagnose_s}});
     if (s.miss) {
       j["results"].back()["miss"] = {{"truth_heldout_rms_m", s.truth_heldout_rms_m},
@@ -384,21 +411,22 @@ nlohmann::json ToJson(const BenchmarkResult& r) {
       j["results"].back()["closed_loop"] = {
           {"before_rms_m", s.closed_before_rms_m}, {"after_rms_m", s.closed_after_rms_m},
           {"predicted_after_rms_m", s.closed_predicted_rms_m}, {"shrink", s.closed_shrink},
-          {"predicted_shrink", s.closed_predicted_shrink}, {"seconds", s.closed_loop_s}};
+          {"predicted_shrink", s.closed_predicted_shrink}, {"gap_shrink", s.closed_gap_shrink},
+          {"predicted_gap_shrink", s.closed_predicted_gap_shrink}, {"seconds", s.closed_loop_s}};
     }
   }
   return j;
 }
 
 void PrintBenchmark(const BenchmarkResult& r) {
-  std::printf("generator %s, seed %llu\n%-3s %-18s %-40s %-40s %-16s %8s %8s %7s\n", r.options.generator.c_str(),
+  std::printf("generator %s, seed %llu\n%-3s %-18s %-40s %-40s %-16s %8s %8s %7s %7s\n", r.options.generator.c_str(),
               static_cast<unsigned long long>(r.options.seed), "#", "kind", "truth", "found (ranked)", "conclusion",
-              "before", "after", "shrink");
+              "before", "after", "shrink", "gap");
   for (const ScenarioScore& s : r.scores) {
-    std::printf("%-3d %-18s %-40s %-40s %-16s %6.1fµm %6.1fµm %6.0f%%\n", s.index, s.kind.c_str(),
+    std::printf("%-3d %-18s %-40s %-40s %-16s %6.1fµm %6.1fµm %6.0f%% %6.0f%%\n", s.index, s.kind.c_str(),
                 (s.truth.empty() ? std::string("-") : fmt::format("{}", fmt::join(s.truth, ","))).c_str(),
                 (s.found.empty() ? s.top : fmt::format("{}", fmt::join(s.found, ","))).c_str(), s.conclusion.c_str(),
-                s.before_rms_m * 1e6, s.after_rms_m * 1e6, 100 * s.shrink);
+                s.before_rms_m * 1e6, s.after_rms_m * 1e6, 100 * s.shrink, 100 * s.gap_shrink);
   }
   std::printf("\n%-28s %9s %8s %10s %s\n", "score", "measured", "target", "scenarios", "met");
   for (const Target& t : Targets(r)) {
@@ -407,9 +435,11 @@ void PrintBenchmark(const BenchmarkResult& r) {
   }
   std::printf("\nsingle effect: top-ranked true %d/%d; two effects: both found %d/%d; effect-free: nothing "
               "identified %d/%d; a false effect identified beside true ones in %d\nmedian shrink %.0f%% (a perfect model "
-              "%.0f%%: the gap down to the noise floor), median after/noise floor %.2f, median diagnosis %.2f s\n",
+              "%.0f%%: the gap down to the noise floor); of the gap above the tracker's noise %.0f%%; median "
+              "after/noise floor %.2f, median diagnosis %.2f s\n",
               r.single_top_true, r.single, r.pairs_both, r.pairs, r.clean_nothing_identified, r.clean, r.extra_identified,
-              100 * r.median_shrink, 100 * r.median_attainable_shrink, r.median_after_over_noise, r.median_diagnose_s);
+              100 * r.median_shrink, 100 * r.median_attainable_shrink, 100 * r.median_gap_shrink,
+              r.median_after_over_noise, r.median_diagnose_s);
   std::printf("misses (a true effect not identified, a false one identified): %d, of which the true effects "
               "predict the held-out runs better in %d (the others the data cannot tell apart)\n",
               r.misses, r.misses_told_apart);
@@ -425,8 +455,10 @@ void PrintBenchmark(const BenchmarkResult& r) {
                   s.closed_after_rms_m * 1e6, 100 * s.closed_shrink, s.closed_predicted_rms_m * 1e6,
                   100 * s.closed_predicted_shrink);
     }
-    std::printf("median shrink measured %.0f%%, predicted %.0f%%; 10 points or more apart in %zu: %s\n",
-                100 * r.median_closed_shrink, 100 * r.median_closed_predicted_shrink, r.closed_disagree.size(),
+    std::printf("median shrink measured %.0f%%, predicted %.0f%%; of the gap above the tracker's noise measured "
+                "%.0f%%, predicted %.0f%%; 10 points or more apart in %zu: %s\n",
+                100 * r.median_closed_shrink, 100 * r.median_closed_predicted_shrink, 100 * r.median_closed_gap_shrink,
+                100 * r.median_closed_predicted_gap_shrink, r.closed_disagree.size(),
                 fmt::format("{}", fmt::join(r.closed_disagree, ", ")).c_str());
   }
 }

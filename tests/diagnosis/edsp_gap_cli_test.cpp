@@ -2,6 +2,7 @@
 // saved model evaluated, the report directory, and wrong inputs refused with
 // a message that names the file, line and column, and a non-zero exit.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
@@ -11,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command_output.h"
+#include "edsp/diagnosis/benchmark.h"
 #include "scratch_dir.h"
 
 namespace {
@@ -181,7 +183,7 @@ TEST(EdspGapCli, BenchmarkOnTheBlindRigScoresEveryKindWithItsTargets) {
   EXPECT_EQ(j["out_of_vocabulary"]["scenarios"], 1);
   // The effect-free scenario: nothing there, nothing found.
   EXPECT_EQ(j["results"][0]["conclusion"], "none") << j["results"][0].dump();
-  ASSERT_EQ(j["targets"].size(), 6u);
+  ASSERT_EQ(j["targets"].size(), 7u);
   for (const auto& t : j["targets"]) {
     for (const char* key : {"score", "measured", "target", "met"}) EXPECT_TRUE(t.contains(key)) << t.dump();
   }
@@ -207,6 +209,12 @@ TEST(EdspGapCli, BenchmarkClosesTheLoopOnTheRigAndSetsTheMeasuredShrinkBesideThe
   EXPECT_LT(after, 0.5 * before) << loop.dump(2);
   EXPECT_NEAR(after, predicted, 0.1 * before) << loop.dump(2);
   EXPECT_DOUBLE_EQ(j["closed_loop"]["median_measured_shrink"].get<double>(), loop["shrink"].get<double>());
+  // The gap is what lies above the rig tracker's own noise, σ as set.
+  const double sigma = j["tracker_noise_m"];
+  EXPECT_EQ(j["results"][1]["noise_sigma_m"].get<double>(), sigma);
+  EXPECT_DOUBLE_EQ(loop["gap_shrink"].get<double>(), edsp::gap::GapShrink(before, after, std::sqrt(3.0) * sigma));
+  EXPECT_DOUBLE_EQ(loop["predicted_gap_shrink"].get<double>(), edsp::gap::GapShrink(before, predicted, std::sqrt(3.0) * sigma));
+  EXPECT_DOUBLE_EQ(j["closed_loop"]["median_measured_gap_shrink"].get<double>(), loop["gap_shrink"].get<double>());
 
   const Output off = Gap("benchmark --scenarios 1 --seed 77 --motions Lz,Rz --closed-loop-motions none --json");
   ASSERT_EQ(off.exit_code, 0) << off.text;

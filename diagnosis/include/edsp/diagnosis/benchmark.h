@@ -56,6 +56,8 @@ struct ScenarioScore {
   bool top_identified_true = false;  // the first `identified` effect is a true one
   bool all_identified = false;       // every true effect `identified`
   double before_rms_m = 0.0, after_rms_m = 0.0, shrink = 0.0, noise_floor_m = 0.0;
+  double noise_sigma_m = 0.0;        // the generator's tracker noise, 1-σ per axis (the truth, not estimated)
+  double gap_shrink = 0.0;           // GapShrink against that noise
   double simulate_s = 0.0, diagnose_s = 0.0;
   // A miss (a true effect not identified first or at all, or a false one
   // identified): the held-out RMS the true effects reach beside the one the
@@ -71,6 +73,7 @@ struct ScenarioScore {
   bool closed_loop = false;
   double closed_before_rms_m = 0.0, closed_after_rms_m = 0.0, closed_predicted_rms_m = 0.0;
   double closed_shrink = 0.0, closed_predicted_shrink = 0.0;
+  double closed_gap_shrink = 0.0, closed_predicted_gap_shrink = 0.0;  // GapShrink, the same tracker's noise
   double closed_loop_s = 0.0;
 };
 
@@ -91,14 +94,26 @@ struct BenchmarkResult {
   // it only by the floor estimate's error (a few per cent of the floor)
   // however good the diagnosis: draws near the floor bound it.
   double median_attainable_shrink = 0.0;
+  // The shrink target is read on the gap, the departure beyond the
+  // tracker's noise (GapShrink), over the same scenarios.
+  double median_gap_shrink = 0.0;
   int misses = 0, misses_told_apart = 0;  // in-vocabulary and effect-free scenarios (ScenarioScore::miss)
   double median_after_over_noise = 0.0;
   double median_diagnose_s = 0.0;
   // Scenarios with effects of the vocabulary, run in closed loop.
   int closed_loop = 0;
   double median_closed_shrink = 0.0, median_closed_predicted_shrink = 0.0;
+  double median_closed_gap_shrink = 0.0, median_closed_predicted_gap_shrink = 0.0;
   std::vector<int> closed_disagree;     // measured and predicted shrink 10 points or more apart
 };
+
+// The held-out gap is the platform's departure from the model beyond the
+// tracker's own noise, √(rms² − floor²); a model that leaves only the noise
+// closes it. Its shrink, 1 − gap after / gap before: 1 where the residual
+// is down to the floor (or below it, by the noise's own sampling), 0 where
+// the gap is as it was, and 0 where there was no gap above the floor.
+// floor: the RMS of the 3-D noise, √3·σ per axis.
+double GapShrink(double before_rms_m, double after_rms_m, double noise_floor_rms_m);
 
 BenchmarkResult RunBenchmark(const BenchmarkOptions& options);
 
