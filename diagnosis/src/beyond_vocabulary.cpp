@@ -81,8 +81,8 @@ BaseTiltCheck TestBaseTilt(const Design& d, const Eigen::VectorXd& prior, Evalua
   const double without = plain.Cv(rest);  // neither the tilt nor the effects it resembles
   const double theirs = without > 0.0 ? (without - before) / without : 0.0;
   const double tilts_instead = without > 0.0 ? (without - in_place) / without : 0.0;
-  c.replaces = !c.tilts && tilts_instead >= std::max(o.min_cv_gain, o.ambiguity_ratio * theirs) &&
-               !PairedGainIsSignificant(LogGains(plain.FoldSse(selected), eval.FoldSse(rest)), o.significance);
+  const auto theirs_over_tilt = [&] { return LogGains(plain.FoldSse(selected), eval.FoldSse(rest)); };
+  c.replaces = !c.tilts && Tied(tilts_instead, theirs, theirs_over_tilt, o);
   if (c.tilts) *explained = RedundantBeside(eval, after, selected, o);
   if (c.replaces) *explained = resembling;
   return c;

@@ -258,11 +258,11 @@ std::map<Effect, EffectResult> Verdicts(Evaluator& eval, const Selection& s, con
     for (Effect alt : AllEffects()) {
       if (Contains(s.effects, alt) || Nested(e, alt)) continue;
       const double alt_gain = (base - eval.Cv(With(rest, alt))) / base;
-      if (alt_gain < std::max(o.min_cv_gain, o.ambiguity_ratio * gain)) continue;
       // A tie only where the runs cannot tell the two apart: an effect that
       // predicts the held-out runs better than its alternative run by run
       // (the paired test of selection) is not ambiguous with it.
-      if (eval.SignificantlyBetter(s.effects, With(rest, alt), o.significance)) continue;
+      const auto e_over_alt = [&] { return LogGains(eval.FoldSse(s.effects), eval.FoldSse(With(rest, alt))); };
+      if (!Tied(alt_gain, gain, e_over_alt, o)) continue;
       for (auto [a, b] : {std::pair{e, alt}, std::pair{alt, e}}) {
         EffectResult& r = results[a];
         r.verdict = "ambiguous";

@@ -1,9 +1,13 @@
 // The paired test that keeps a gain one held-out run carries from making an
 // effect `identified`: Student's t against its table, Wilcoxon's signed
-// rank against its table and a brute-force count over every sign pattern.
+// rank against its table and a brute-force count over every sign pattern;
+// and the tie of two explanations it decides with the gains' ratio.
+#include <vector>
+
 #include <gtest/gtest.h>
 
 #include "edsp/diagnosis/diagnose.h"
+#include "edsp/diagnosis/effect_sets.h"
 
 namespace edsp::gap {
 namespace {
@@ -62,6 +66,40 @@ TEST(PairedGain, AGainEveryRunShowsIsSignificantHoweverUnequal) {
   EXPECT_FALSE(PairedGainIsSignificant({10.0, 0.2, 0.2, 0.2, 0.2, 0.2, -0.1, -0.12}, 0.05));
   // Six folds cannot reach the ranks' 1% (1/64 at best): the t-test decides (t = 1.08).
   EXPECT_FALSE(PairedGainIsSignificant({10.0, 0.1, 0.1, 0.2, 0.1, 0.15}, 0.05));
+}
+
+// Two explanations are tied only where both halves say so: the challenger
+// takes up most of the incumbent's gain, and the runs do not favour the
+// incumbent. Each half alone breaks the tie.
+TEST(Tie, TheGainsAndTheRunsMustBothTie) {
+  const DiagnoseOptions o;
+  const double incumbent = 0.20, most = 0.8 * incumbent, less = 0.5 * incumbent;
+  ASSERT_GE(most, o.ambiguity_ratio * incumbent);
+  ASSERT_LT(less, o.ambiguity_ratio * incumbent);
+  const std::vector<double> every_run_favours = {0.05, 0.04, 0.06, 0.05, 0.03, 0.05, 0.04, 0.06};
+  const std::vector<double> runs_split = {0.05, -0.04, 0.06, -0.05, 0.03, -0.05, 0.04, -0.06};
+  ASSERT_TRUE(PairedGainIsSignificant(every_run_favours, o.significance));
+  ASSERT_FALSE(PairedGainIsSignificant(runs_split, o.significance));
+  EXPECT_TRUE(Tied(most, incumbent, [&] { return runs_split; }, o));
+  EXPECT_FALSE(Tied(most, incumbent, [&] { return every_run_favours; }, o));  // the runs tell them apart
+  EXPECT_FALSE(Tied(less, incumbent, [&] { return runs_split; }, o));         // the gains do
+  // A challenger that gains less than an effect must is no alternative,
+  // however small the incumbent's own gain.
+  EXPECT_FALSE(Tied(0.8 * o.min_cv_gain, o.min_cv_gain, [&] { return runs_split; }, o));
+}
+
+// The run-by-run half fits every fold: it is asked for only when the gains tie.
+TEST(Tie, TheRunsAreAskedOnlyWhenTheGainsTie) {
+  const DiagnoseOptions o;
+  int asked = 0;
+  const auto runs = [&] {
+    ++asked;
+    return std::vector<double>{0.05, -0.04, 0.06, -0.05};
+  };
+  EXPECT_FALSE(Tied(0.01, 0.20, runs, o));
+  EXPECT_EQ(asked, 0);
+  EXPECT_TRUE(Tied(0.19, 0.20, runs, o));
+  EXPECT_EQ(asked, 1);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 // beyond_vocabulary.cpp). Internal to edsp-gap.
 //   - With, Without, Contains: effect sets;
 //   - LogGains: each held-out fold's log ratio, for the paired test;
+//   - Tied: two non-nested explanations the data do not tell apart;
 //   - Evaluator: a set's held-out error on a design, memoised;
 //   - WithStructure: a design with a nuisance beside the frame;
 //   - RedundantBeside: the selected effects a nuisance makes redundant.
@@ -35,6 +36,20 @@ bool Contains(const std::vector<T>& set, const T& e) {
 
 // Each fold's log ratio of its held-out squared error without and with.
 std::vector<double> LogGains(const std::vector<double>& with_sse, const std::vector<double>& without_sse);
+
+// Two non-nested explanations of one signature tied (diagnose.cpp's
+// Verdicts; a base tilt in place of the effects it resembles): the
+// challenger takes up ambiguity_ratio of the incumbent's held-out gain (and
+// min_cv_gain), and the incumbent does not beat it run by run (the paired
+// test). Gains are fractions of the held-out MSE both are added to;
+// `incumbent_over_challenger()` gives the folds' log ratios (LogGains), and
+// is asked for only when the gains tie, since it fits every fold.
+template <typename LogGainsOf>
+bool Tied(double challenger_gain, double incumbent_gain, LogGainsOf incumbent_over_challenger,
+          const DiagnoseOptions& o) {
+  return challenger_gain >= std::max(o.min_cv_gain, o.ambiguity_ratio * incumbent_gain) &&
+         !PairedGainIsSignificant(incumbent_over_challenger(), o.significance);
+}
 
 // Held-out and in-sample errors of effect sets, memoised (selection asks
 // for the same set again when it checks alternatives).
