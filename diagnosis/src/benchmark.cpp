@@ -273,13 +273,6 @@ bool Met(const Target& t) { return t.scenarios == 0 || (t.at_most ? t.rate <= t.
 
 }  // namespace
 
-double GapShrink(double before_rms_m, double after_rms_m, double noise_floor_rms_m) {
-  const double floor2 = noise_floor_rms_m * noise_floor_rms_m;
-  const double gap_before = std::sqrt(std::max(0.0, before_rms_m * before_rms_m - floor2));
-  const double gap_after = std::sqrt(std::max(0.0, after_rms_m * after_rms_m - floor2));
-  return gap_before > 0.0 ? 1.0 - gap_after / gap_before : 0.0;
-}
-
 BenchmarkResult RunBenchmark(const BenchmarkOptions& options) {
   if (options.generator != "rig" && options.generator != "blind") {
     throw std::invalid_argument("benchmark generator '" + options.generator + "': expected rig or blind");

@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "edsp/diagnosis/gap_shrink.h"
 #include "edsp/diagnosis/gnuplot.h"
 #include "edsp/diagnosis/linear_fit.h"
 #include "edsp/diagnosis/parameter_table.h"
@@ -145,7 +146,8 @@ nlohmann::json ToJson(const Diagnosis& d) {
   for (Effect e : d.selected) j["selected"].push_back(EffectName(e));
   j["conclusion"] = d.conclusion;
   j["holdout"] = {{"runs", d.holdout_runs}, {"before", StatsJson(d.holdout_before)},
-                  {"after", StatsJson(d.holdout_after)}, {"shrink", d.shrink}};
+                  {"after", StatsJson(d.holdout_after)}, {"shrink", d.shrink},
+                  {"gap_shrink", d.gap_shrink}};
   j["unexplained"] = {{"rms_m", d.unexplained.rms_m}, {"max_m", d.unexplained.max_m}, {"note", d.unexplained_note},
                       {"noise_floor_rms_m", d.noise_floor_rms_m},
                       {"whiteness", {{"white", d.whiteness.white}, {"ljung_box_q", d.whiteness.q},
@@ -293,6 +295,7 @@ Evaluation Evaluate(const PlatformModel& model, const MeasurementData& data, con
                          PointStats(after, samples.begin, samples.count)});
   }
   ev.noise_floor_rms_m = NoiseFloorRms(d);
+  ev.gap_shrink = GapShrink(ev.before.rms_m, ev.after.rms_m, ev.noise_floor_rms_m);
   ev.time_offset = clock;
   return ev;
 }
@@ -302,7 +305,8 @@ nlohmann::json ToJson(const Evaluation& e) {
   for (const RunEvaluation& r : e.by_run) {
     by_run.push_back({{"run", r.run}, {"before", StatsJson(r.before)}, {"after", StatsJson(r.after)}});
   }
-  return {{"before", StatsJson(e.before)}, {"after", StatsJson(e.after)}, {"shrink", e.shrink}, {"samples", e.samples},
+  return {{"before", StatsJson(e.before)}, {"after", StatsJson(e.after)}, {"shrink", e.shrink},
+          {"gap_shrink", e.gap_shrink}, {"samples", e.samples},
           {"timing_excluded_samples", e.timing_excluded},
           {"by_run", by_run}, {"noise_floor_rms_m", e.noise_floor_rms_m}, {"time_offset", TimeOffsetJson(e.time_offset)}};
 }
@@ -323,9 +327,10 @@ std::string VerdictMarkdown(const Diagnosis& d) {
                       r.next_measurement);
   }
   md += fmt::format("\nOn runs held out of every fit: {:.1f} µm RMS ({:.1f} max) before, {:.1f} µm RMS ({:.1f} max) "
-                    "after the selected effects, shrink {:.0f}%; the tracker's noise floor is {:.1f} µm.\n\n",
+                    "after the selected effects, shrink {:.0f}%; the tracker's noise floor is {:.1f} µm, and {:.0f}% of the gap "
+                    "above it is closed.\n\n",
                     d.holdout_before.rms_m * 1e6, d.holdout_before.max_m * 1e6, d.holdout_after.rms_m * 1e6,
-                    d.holdout_after.max_m * 1e6, 100 * d.shrink, d.noise_floor_rms_m * 1e6);
+                    d.holdout_after.max_m * 1e6, 100 * d.shrink, d.noise_floor_rms_m * 1e6, 100 * d.gap_shrink);
   return md;
 }
 

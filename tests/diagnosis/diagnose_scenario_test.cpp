@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "edsp/diagnosis/diagnose.h"
+#include "edsp/diagnosis/gap_shrink.h"
 #include "edsp/diagnosis/report.h"
 #include "edsp/diagnosis/rig_scenarios.h"
 #include "edsp/kinematics/config.h"
@@ -74,11 +75,9 @@ const EffectResult& ResultFor(const Diagnosis& d, Effect e) {
 // On held-out runs: down to within 1.5× the noise floor, and at least 80%
 // of the gap beyond the noise gone (a gap near the noise cannot shrink 80%).
 void ExpectClosed(const Diagnosis& d) {
-  const double noise2 = d.noise_floor_rms_m * d.noise_floor_rms_m;
-  const double before = std::sqrt(std::max(0.0, d.holdout_before.rms_m * d.holdout_before.rms_m - noise2));
-  const double after = std::sqrt(std::max(0.0, d.holdout_after.rms_m * d.holdout_after.rms_m - noise2));
-  EXPECT_LE(after, 0.2 * before) << "held-out gap " << d.holdout_before.rms_m << " → " << d.holdout_after.rms_m
-                                 << " m, noise floor " << d.noise_floor_rms_m << " m";
+  EXPECT_DOUBLE_EQ(d.gap_shrink, GapShrink(d.holdout_before.rms_m, d.holdout_after.rms_m, d.noise_floor_rms_m));
+  EXPECT_GE(d.gap_shrink, 0.8) << "held-out gap " << d.holdout_before.rms_m << " → " << d.holdout_after.rms_m
+                               << " m, noise floor " << d.noise_floor_rms_m << " m";
   EXPECT_LE(d.holdout_after.rms_m, 1.5 * d.noise_floor_rms_m);
 }
 

@@ -12,7 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command_output.h"
-#include "edsp/diagnosis/benchmark.h"
+#include "edsp/diagnosis/gap_shrink.h"
 #include "scratch_dir.h"
 
 namespace {
@@ -48,7 +48,9 @@ TEST(EdspGapCli, DiagnoseJsonHasTheInterfaceKeysAndAModelThatEvaluates) {
   ASSERT_FALSE(j["effects"].empty());
   for (const char* key : {"name", "params", "explained_fraction", "verdict"}) EXPECT_TRUE(j["effects"][0].contains(key)) << key;
   EXPECT_EQ(j["effects"][0]["name"], "passive_rotation");
-  for (const char* key : {"runs", "before", "after", "shrink"}) EXPECT_TRUE(j["holdout"].contains(key)) << key;
+  for (const char* key : {"runs", "before", "after", "shrink", "gap_shrink"}) {
+    EXPECT_TRUE(j["holdout"].contains(key)) << key;
+  }
   EXPECT_TRUE(j["unexplained"].contains("rms_m"));
   EXPECT_TRUE(j["unexplained"].contains("note"));
   // report.md for people: the verdict first, then the parameters (in
@@ -71,6 +73,10 @@ TEST(EdspGapCli, DiagnoseJsonHasTheInterfaceKeysAndAModelThatEvaluates) {
   const nlohmann::json e = nlohmann::json::parse(ev.text);
   EXPECT_GT(e["shrink"].get<double>(), 0.9);
   EXPECT_LT(e["after"]["rms_m"].get<double>(), e["before"]["rms_m"].get<double>());
+  // The gap above the noise the data show: closed at least as far as the RMS.
+  EXPECT_DOUBLE_EQ(e["gap_shrink"].get<double>(), edsp::gap::GapShrink(e["before"]["rms_m"], e["after"]["rms_m"],
+                                                                        e["noise_floor_rms_m"]));
+  EXPECT_GE(e["gap_shrink"].get<double>(), e["shrink"].get<double>());
 }
 
 // compare: the same motions without and with the correction (here the

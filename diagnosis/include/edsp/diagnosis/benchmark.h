@@ -15,6 +15,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "edsp/diagnosis/diagnose.h"
+#include "edsp/diagnosis/gap_shrink.h"
 #include "edsp/diagnosis/rig_scenarios.h"
 
 namespace edsp::gap {
@@ -106,14 +107,6 @@ struct BenchmarkResult {
   double median_closed_gap_shrink = 0.0, median_closed_predicted_gap_shrink = 0.0;
   std::vector<int> closed_disagree;     // measured and predicted shrink 10 points or more apart
 };
-
-// The held-out gap is the platform's departure from the model beyond the
-// tracker's own noise, √(rms² − floor²); a model that leaves only the noise
-// closes it. Its shrink, 1 − gap after / gap before: 1 where the residual
-// is down to the floor (or below it, by the noise's own sampling), 0 where
-// the gap is as it was, and 0 where there was no gap above the floor.
-// floor: the RMS of the 3-D noise, √3·σ per axis.
-double GapShrink(double before_rms_m, double after_rms_m, double noise_floor_rms_m);
 
 BenchmarkResult RunBenchmark(const BenchmarkOptions& options);
 

@@ -136,6 +136,7 @@ struct Diagnosis {
   std::vector<std::string> holdout_runs;
   RmsMax holdout_before, holdout_after;
   double shrink = 0.0;
+  double gap_shrink = 0.0;            // of the gap above the noise floor (gap_shrink.h)
   double noise_floor_rms_m = 0.0;     // point-A noise the tracker alone explains
   // The effects' prior's measurement variance per coordinate (m²; linear_fit.h's
   // PriorWeights): the larger of the floor's and the frame-only fit's. The

@@ -40,6 +40,7 @@ struct RunEvaluation {
 struct Evaluation {
   RmsMax before, after;  // frame re-estimated on the data in both
   double shrink = 0.0;
+  double gap_shrink = 0.0;  // of the gap above the noise floor (gap_shrink.h)
   int samples = 0;
   std::int64_t timing_excluded = 0;   // samples the data flagged timing_event, left out
   double timing_excluded_share = 0.0; //   of all its samples (before any decimation)
