@@ -18,6 +18,7 @@
 
 #include "edsp/diagnosis/benchmark.h"
 #include "edsp/diagnosis/calibration_check.h"
+#include "edsp/diagnosis/gap_shrink.h"
 #include "edsp/diagnosis/report.h"
 #include "edsp/kinematics/config.h"
 #include "edsp/node/runtime.h"
@@ -57,10 +58,9 @@ void PrintText(const Diagnosis& d) {
                 fmt::format("{}", fmt::join(r.ambiguous_with, ", ")).c_str());
   }
   std::printf("\nconclusion: %s\n", d.conclusion.c_str());
-  std::printf("held-out runs: before %.1f µm RMS, after %.1f µm RMS, shrink %.0f%% (noise floor %.1f µm; of the gap "
-              "above it %.0f%%)\n",
+  std::printf("held-out runs: before %.1f µm RMS, after %.1f µm RMS, shrink %.0f%% (noise floor %.1f µm, %s)\n",
               d.holdout_before.rms_m * 1e6, d.holdout_after.rms_m * 1e6, 100 * d.shrink, d.noise_floor_rms_m * 1e6,
-              100 * d.gap_shrink);
+              GapShrinkText(d.holdout_before.rms_m, d.noise_floor_rms_m, d.gap_shrink).c_str());
   std::printf("left: %s\n", d.unexplained_note.c_str());
   std::printf("tracker clock: %s\n", TrackerClockNote(d).c_str());
 }
@@ -188,10 +188,10 @@ int RunEvaluate(const EvaluateArgs& a) {
   if (a.json) {
     std::printf("%s\n", ToJson(ev).dump(2).c_str());
   } else {
-    std::printf("before %.1f µm RMS (%.1f max), after %.1f µm RMS (%.1f max), shrink %.0f%% (noise floor %.1f µm; of "
-                "the gap above it %.0f%%)\n",
+    std::printf("before %.1f µm RMS (%.1f max), after %.1f µm RMS (%.1f max), shrink %.0f%% (noise floor %.1f µm, %s)\n",
                 ev.before.rms_m * 1e6, ev.before.max_m * 1e6, ev.after.rms_m * 1e6, ev.after.max_m * 1e6,
-                100 * ev.shrink, ev.noise_floor_rms_m * 1e6, 100 * ev.gap_shrink);
+                100 * ev.shrink, ev.noise_floor_rms_m * 1e6,
+                GapShrinkText(ev.before.rms_m, ev.noise_floor_rms_m, ev.gap_shrink).c_str());
     if (ev.timing_excluded > 0) {
       std::printf("left out: %lld samples the data flags timing_event (%.1f%%)\n",
                   static_cast<long long>(ev.timing_excluded), 100 * ev.timing_excluded_share);

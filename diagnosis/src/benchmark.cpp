@@ -239,6 +239,7 @@ void Tally(BenchmarkResult* r) {
     measured_gap.push_back(s.closed_gap_shrink);
     predicted_gap.push_back(s.closed_predicted_gap_shrink);
     if (std::abs(s.closed_shrink - s.closed_predicted_shrink) >= 0.10) r->closed_disagree.push_back(s.index);
+    if (std::abs(s.closed_gap_shrink - s.closed_predicted_gap_shrink) >= 0.10) r->closed_gap_disagree.push_back(s.index);
   }
   r->median_closed_shrink = Median(measured);
   r->median_closed_predicted_shrink = Median(predicted);
@@ -377,7 +378,8 @@ nlohmann::json ToJson(const BenchmarkResult& r) {
                       {"median_predicted_shrink", r.median_closed_predicted_shrink},
                       {"median_measured_gap_shrink", r.median_closed_gap_shrink},
                       {"median_predicted_gap_shrink", r.median_closed_predicted_gap_shrink},
-                      {"disagree_by_10_points", r.closed_disagree}};
+                      {"disagree_by_10_points", r.closed_disagree},
+                      {"disagree_by_10_gap_points", r.closed_gap_disagree}};
   j["targets"] = nlohmann::json::array();
   for (const Target& t : Targets(r)) {
     j["targets"].push_back({{"score", t.name}, {"measured", t.rate}, {"target", t.target},
@@ -448,11 +450,13 @@ void PrintBenchmark(const BenchmarkResult& r) {
                   s.closed_after_rms_m * 1e6, 100 * s.closed_shrink, s.closed_predicted_rms_m * 1e6,
                   100 * s.closed_predicted_shrink);
     }
-    std::printf("median shrink measured %.0f%%, predicted %.0f%%; of the gap above the tracker's noise measured "
-                "%.0f%%, predicted %.0f%%; 10 points or more apart in %zu: %s\n",
-                100 * r.median_closed_shrink, 100 * r.median_closed_predicted_shrink, 100 * r.median_closed_gap_shrink,
-                100 * r.median_closed_predicted_gap_shrink, r.closed_disagree.size(),
-                fmt::format("{}", fmt::join(r.closed_disagree, ", ")).c_str());
+    std::printf("median shrink measured %.0f%%, predicted %.0f%%, 10 points or more apart in %zu: %s\n"
+                "of the gap above the tracker's noise measured %.0f%%, predicted %.0f%%, 10 points or more apart "
+                "in %zu: %s\n",
+                100 * r.median_closed_shrink, 100 * r.median_closed_predicted_shrink, r.closed_disagree.size(),
+                fmt::format("{}", fmt::join(r.closed_disagree, ", ")).c_str(), 100 * r.median_closed_gap_shrink,
+                100 * r.median_closed_predicted_gap_shrink, r.closed_gap_disagree.size(),
+                fmt::format("{}", fmt::join(r.closed_gap_disagree, ", ")).c_str());
   }
 }
 

@@ -81,6 +81,7 @@ BaseTiltCheck TestBaseTilt(const Design& d, const Eigen::VectorXd& prior, Evalua
   const double without = plain.Cv(rest);  // neither the tilt nor the effects it resembles
   const double theirs = without > 0.0 ? (without - before) / without : 0.0;
   const double tilts_instead = without > 0.0 ? (without - in_place) / without : 0.0;
+  c.in_place_share = theirs > 0.0 ? tilts_instead / theirs : 0.0;
   const auto theirs_over_tilt = [&] { return LogGains(plain.FoldSse(selected), eval.FoldSse(rest)); };
   c.replaces = !c.tilts && Tied(tilts_instead, theirs, theirs_over_tilt, o);
   if (c.tilts) *explained = RedundantBeside(eval, after, selected, o);

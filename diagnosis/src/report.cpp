@@ -158,6 +158,7 @@ nlohmann::json ToJson(const Diagnosis& d) {
                       {"base_tilt", {{"tested", d.base_tilt.tested}, {"cv_gain", d.base_tilt.cv_gain},
                                      {"tilts", d.base_tilt.tilts},
                                      {"in_place_cv_gain", d.base_tilt.in_place_cv_gain},
+                                     {"in_place_share", d.base_tilt.in_place_share},
                                      {"replaces", d.base_tilt.replaces}}},
                       {"clock_drift", {{"tested", d.clock_drift.tested}, {"drift", d.clock_drift.drift},
                                        {"sigma", d.clock_drift.sigma}, {"cv_gain", d.clock_drift.cv_gain},
@@ -327,10 +328,10 @@ std::string VerdictMarkdown(const Diagnosis& d) {
                       r.next_measurement);
   }
   md += fmt::format("\nOn runs held out of every fit: {:.1f} µm RMS ({:.1f} max) before, {:.1f} µm RMS ({:.1f} max) "
-                    "after the selected effects, shrink {:.0f}%; the tracker's noise floor is {:.1f} µm, and {:.0f}% of the gap "
-                    "above it is closed.\n\n",
+                    "after the selected effects, shrink {:.0f}%; the tracker's noise floor is {:.1f} µm, {}.\n\n",
                     d.holdout_before.rms_m * 1e6, d.holdout_before.max_m * 1e6, d.holdout_after.rms_m * 1e6,
-                    d.holdout_after.max_m * 1e6, 100 * d.shrink, d.noise_floor_rms_m * 1e6, 100 * d.gap_shrink);
+                    d.holdout_after.max_m * 1e6, 100 * d.shrink, d.noise_floor_rms_m * 1e6,
+                    GapShrinkText(d.holdout_before.rms_m, d.noise_floor_rms_m, d.gap_shrink));
   return md;
 }
 

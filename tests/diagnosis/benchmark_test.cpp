@@ -31,6 +31,10 @@ TEST(Benchmark, TheGapIsTheDepartureAboveTheTrackersNoise) {
   EXPECT_NEAR(GapShrink(before, std::hypot(floor, gap / 2), floor), 0.5, 1e-12);
   EXPECT_LT(GapShrink(before, 60e-6, floor), 0.0);            // a model that makes it worse says so
   EXPECT_DOUBLE_EQ(GapShrink(9e-6, 5e-6, floor), 0.0);        // no gap above the noise: nothing to shrink
+  // In words: a 0 with no gap to close is not a model that failed.
+  EXPECT_EQ(GapShrinkText(9e-6, floor, 0.0), "no gap above it");
+  EXPECT_EQ(GapShrinkText(before, floor, 0.0), "0.0% of the gap above it closed");
+  EXPECT_EQ(GapShrinkText(before, floor, 0.964), "96.4% of the gap above it closed");
 }
 
 // Blind seed 11's first three scenarios: effect-free, then two single
@@ -52,7 +56,8 @@ TEST(Benchmark, TheShrinkIsScoredAgainstTheTrackersNoise) {
     EXPECT_NEAR(s.at("attainable_shrink").get<double>(), std::max(0.0, 1.0 - floor / before), 1e-12);
     // A model can take the gap below the floor only by the floor estimate's error.
     EXPECT_LT(s.at("shrink").get<double>(), s.at("attainable_shrink").get<double>() + 0.03) << s.dump();
-    ASSERT_GE(sigma, 2e-6) << s.dump();  // the blind rig's draw, not the rig's default
+    ASSERT_GT(sigma, 0.0) << s.dump();
+    EXPECT_NE(sigma, o.tracker_noise_m) << "the rig's noise, not the blind rig's draw";
     EXPECT_NEAR(floor, std::sqrt(3.0) * sigma, 0.1 * std::sqrt(3.0) * sigma) << s.dump();
     EXPECT_DOUBLE_EQ(s.at("gap_shrink").get<double>(), GapShrink(before, after, std::sqrt(3.0) * sigma));
     if (s.at("kind") == "none") continue;

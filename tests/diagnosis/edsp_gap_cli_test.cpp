@@ -73,10 +73,9 @@ TEST(EdspGapCli, DiagnoseJsonHasTheInterfaceKeysAndAModelThatEvaluates) {
   const nlohmann::json e = nlohmann::json::parse(ev.text);
   EXPECT_GT(e["shrink"].get<double>(), 0.9);
   EXPECT_LT(e["after"]["rms_m"].get<double>(), e["before"]["rms_m"].get<double>());
-  // The gap above the noise the data show: closed at least as far as the RMS.
+  // The gap above the noise floor the data show.
   EXPECT_DOUBLE_EQ(e["gap_shrink"].get<double>(), edsp::gap::GapShrink(e["before"]["rms_m"], e["after"]["rms_m"],
                                                                         e["noise_floor_rms_m"]));
-  EXPECT_GE(e["gap_shrink"].get<double>(), e["shrink"].get<double>());
 }
 
 // compare: the same motions without and with the correction (here the
@@ -201,10 +200,13 @@ TEST(EdspGapCli, BenchmarkOnTheBlindRigScoresEveryKindWithItsTargets) {
 
 // The closed loop on edsp's rig: scenario 1 (one effect) is measured again
 // on motions no fit saw, without and with its saved model applied by the
-// kinematics. The calibration must make it better, as the model predicted
-// from the uncalibrated run; the effect-free scenario 0 does not count.
+// kinematics. The calibration must close most of the gap above the
+// tracker's noise (7 µm, not the default, so σ is read from the run), as
+// the model predicted from the uncalibrated run; the effect-free scenario 0
+// does not count.
 TEST(EdspGapCli, BenchmarkClosesTheLoopOnTheRigAndSetsTheMeasuredShrinkBesideThePrediction) {
-  const Output out = Gap("benchmark --scenarios 2 --seed 77 --motions Lz,Lx,Rz,Ry,M1,M2 --closed-loop-motions Ly,M9 --json");
+  const Output out = Gap(
+      "benchmark --scenarios 2 --seed 77 --motions Lz,Lx,Rz,Ry,M1,M2 --closed-loop-motions Ly,M9 --noise-m 7e-6 --json");
   ASSERT_EQ(out.exit_code, 0) << out.text;
   const nlohmann::json j = nlohmann::json::parse(out.text);
   EXPECT_EQ(j["closed_loop"]["motions"], (std::vector<std::string>{"Ly", "M9"}));
@@ -212,15 +214,20 @@ TEST(EdspGapCli, BenchmarkClosesTheLoopOnTheRigAndSetsTheMeasuredShrinkBesideThe
   const nlohmann::json& loop = j["results"][1]["closed_loop"];
   ASSERT_TRUE(loop.is_object()) << j["results"][1].dump(2);
   const double before = loop["before_rms_m"], after = loop["after_rms_m"], predicted = loop["predicted_after_rms_m"];
-  EXPECT_LT(after, 0.5 * before) << loop.dump(2);
   EXPECT_NEAR(after, predicted, 0.1 * before) << loop.dump(2);
   EXPECT_DOUBLE_EQ(j["closed_loop"]["median_measured_shrink"].get<double>(), loop["shrink"].get<double>());
   // The gap is what lies above the rig tracker's own noise, σ as set.
   const double sigma = j["tracker_noise_m"];
+  EXPECT_EQ(sigma, 7e-6);
   EXPECT_EQ(j["results"][1]["noise_sigma_m"].get<double>(), sigma);
   EXPECT_DOUBLE_EQ(loop["gap_shrink"].get<double>(), edsp::gap::GapShrink(before, after, std::sqrt(3.0) * sigma));
+  EXPECT_GT(loop["gap_shrink"].get<double>(), 0.8) << loop.dump(2);
   EXPECT_DOUBLE_EQ(loop["predicted_gap_shrink"].get<double>(), edsp::gap::GapShrink(before, predicted, std::sqrt(3.0) * sigma));
   EXPECT_DOUBLE_EQ(j["closed_loop"]["median_measured_gap_shrink"].get<double>(), loop["gap_shrink"].get<double>());
+  EXPECT_DOUBLE_EQ(j["closed_loop"]["median_predicted_gap_shrink"].get<double>(),
+                   loop["predicted_gap_shrink"].get<double>());
+  const bool apart = std::abs(loop["gap_shrink"].get<double>() - loop["predicted_gap_shrink"].get<double>()) >= 0.10;
+  EXPECT_EQ(j["closed_loop"]["disagree_by_10_gap_points"].size(), apart ? 1u : 0u) << j["closed_loop"].dump();
 
   const Output off = Gap("benchmark --scenarios 1 --seed 77 --motions Lz,Rz --closed-loop-motions none --json");
   ASSERT_EQ(off.exit_code, 0) << off.text;

@@ -106,6 +106,7 @@ struct BenchmarkResult {
   double median_closed_shrink = 0.0, median_closed_predicted_shrink = 0.0;
   double median_closed_gap_shrink = 0.0, median_closed_predicted_gap_shrink = 0.0;
   std::vector<int> closed_disagree;     // measured and predicted shrink 10 points or more apart
+  std::vector<int> closed_gap_disagree; //   the same of the gap above the noise
 };
 
 BenchmarkResult RunBenchmark(const BenchmarkOptions& options);

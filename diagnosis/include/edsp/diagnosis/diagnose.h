@@ -86,6 +86,7 @@ struct BaseTiltCheck {
   double cv_gain = 0.0;   // the tilt's cut of the selected model's held-out MSE
   bool tilts = false;     // by min_cv_gain and run by run: something beyond the vocabulary
   double in_place_cv_gain = 0.0;  // the same cut with the tilt in place of compliance and joint_position
+  double in_place_share = 0.0;    // of their held-out gain, the share the tilt takes up in their place
   bool replaces = false;  // not `tilts`, but in their place it ties with them as effects tie (Verdicts)
 };
 

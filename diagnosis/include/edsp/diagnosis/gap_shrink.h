@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 namespace edsp::gap {
 
@@ -19,5 +20,10 @@ inline double GapShrink(double before_rms_m, double after_rms_m, double noise_fl
   const double gap_after = std::sqrt(std::max(0.0, after_rms_m * after_rms_m - floor2));
   return gap_before > 0.0 ? 1.0 - gap_after / gap_before : 0.0;
 }
+
+// For people: "96.4% of the gap above it closed", or "no gap above it"
+// where the residual before was within the floor (GapShrink's 0 there is
+// not a model that failed).
+std::string GapShrinkText(double before_rms_m, double noise_floor_rms_m, double gap_shrink);
 
 }  // namespace edsp::gap
