@@ -11,6 +11,7 @@
 
 #include "edsp/diagnosis/encoder_check.h"
 #include "edsp/diagnosis/linear_fit.h"
+#include "edsp/diagnosis/paired_test.h"
 #include "edsp/diagnosis/percent_text.h"
 #include "edsp/diagnosis/residual_structure.h"
 #include "edsp/diagnosis/structure_nuisance.h"

@@ -1,13 +1,15 @@
-// The paired test that keeps a gain one held-out run carries from making an
-// effect `identified`: Student's t against its table, Wilcoxon's signed
-// rank against its table and a brute-force count over every sign pattern;
-// and the tie of two explanations it decides with the gains' ratio.
+// The paired test (paired_test.h) that keeps a gain one held-out run
+// carries from making an effect `identified`: Student's t against its
+// table, Wilcoxon's signed rank against its table and a brute-force count
+// over every sign pattern; and the tie of two explanations it decides with
+// the gains' ratio (effect_sets.h's Tied).
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "edsp/diagnosis/diagnose.h"
 #include "edsp/diagnosis/effect_sets.h"
+#include "edsp/diagnosis/paired_test.h"
 
 namespace edsp::gap {
 namespace {

@@ -22,6 +22,7 @@
 #include "edsp/diagnosis/design.h"
 #include "edsp/diagnosis/diagnose.h"
 #include "edsp/diagnosis/linear_fit.h"
+#include "edsp/diagnosis/paired_test.h"
 #include "edsp/diagnosis/structure_nuisance.h"
 
 namespace edsp::gap {
