@@ -189,7 +189,7 @@ Drawn DrawOnBlindRig(const BenchmarkOptions& options, const PlatformConfig& conf
 
 // A perfect model leaves the tracker's noise: 1 − floor/before.
 double AttainableShrink(const ScenarioScore& s) {
-  return s.before_rms_m > 0.0 ? std::max(0.0, 1.0 - s.noise_floor_m / s.before_rms_m) : 0.0;
+  return std::max(0.0, Shrink(s.before_rms_m, s.noise_floor_m));
 }
 
 void Tally(BenchmarkResult* r) {
@@ -319,7 +319,7 @@ BenchmarkResult RunBenchmark(const BenchmarkOptions& options) {
         score.closed_after_rms_m = loop.after.rms_m;
         score.closed_predicted_rms_m = loop.predicted ? loop.predicted->rms_m : 0.0;
         score.closed_shrink = loop.shrink;
-        score.closed_predicted_shrink = loop.before.rms_m > 0.0 ? 1.0 - score.closed_predicted_rms_m / loop.before.rms_m : 0.0;
+        score.closed_predicted_shrink = Shrink(loop.before.rms_m, score.closed_predicted_rms_m);
         const double floor = std::sqrt(3.0) * drawn.noise_sigma_m;
         score.closed_gap_shrink = GapShrink(loop.before.rms_m, loop.after.rms_m, floor);
         score.closed_predicted_gap_shrink = GapShrink(loop.before.rms_m, score.closed_predicted_rms_m, floor);

@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "edsp/diagnosis/gap_shrink.h"
 #include "edsp/diagnosis/gnuplot.h"
 #include "edsp/diagnosis/measurement_data.h"
 
@@ -13,10 +14,6 @@ namespace {
 
 constexpr double kFloorFactor = 1.5;    // after ≤ 1.5 × the tracker's noise floor, or
 constexpr double kTargetShrink = 0.90;  // 90% lower than without the calibration
-
-double Shrink(const RmsMax& before, const RmsMax& after) {
-  return before.rms_m > 0.0 ? 1.0 - after.rms_m / before.rms_m : 0.0;
-}
 
 const RunEvaluation* Find(const Evaluation& e, const std::string& run) {
   for (const RunEvaluation& r : e.by_run) {
@@ -47,7 +44,7 @@ CalibrationCheck CheckCalibration(const Evaluation& without, const Evaluation& w
   for (const RunEvaluation& b : without.by_run) {
     const RunEvaluation* a = Find(with, b.run);
     if (a == nullptr) throw MeasurementError("run " + b.run + " is in the measurement without the calibration, not in the one with it");
-    MotionCheck m{b.run, b.before, a->before, std::nullopt, Shrink(b.before, a->before)};
+    MotionCheck m{b.run, b.before, a->before, std::nullopt, Shrink(b.before.rms_m, a->before.rms_m)};
     if (predicted) m.predicted = b.after;
     c.motions.push_back(m);
   }
@@ -56,7 +53,7 @@ CalibrationCheck CheckCalibration(const Evaluation& without, const Evaluation& w
       throw MeasurementError("run " + a.run + " is in the measurement with the calibration, not in the one without it");
     }
   }
-  c.overall = {"all", without.before, with.before, std::nullopt, Shrink(without.before, with.before)};
+  c.overall = {"all", without.before, with.before, std::nullopt, Shrink(without.before.rms_m, with.before.rms_m)};
   if (predicted) c.overall.predicted = without.after;
   c.noise_floor_rms_m = with.noise_floor_rms_m;
   c.timing_excluded_before = without.timing_excluded;

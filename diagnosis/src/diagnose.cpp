@@ -13,9 +13,9 @@
 
 #include "edsp/diagnosis/beyond_vocabulary.h"
 #include "edsp/diagnosis/effect_sets.h"
-#include "edsp/diagnosis/paired_test.h"
 #include "edsp/diagnosis/gap_shrink.h"
 #include "edsp/diagnosis/linear_fit.h"
+#include "edsp/diagnosis/paired_test.h"
 #include "edsp/kinematics/calibration.h"
 #include "edsp/diagnosis/robust_fit.h"
 #include "edsp/diagnosis/structural_mode_fit.h"
@@ -320,7 +320,7 @@ Eigen::VectorXd HoldOut(const Design& d, const GramSet& gram, const Eigen::Vecto
   }
   out->holdout_before.rms_m = held ? std::sqrt(before2 / held) : 0.0;
   out->holdout_after.rms_m = held ? std::sqrt(after2 / held) : 0.0;
-  out->shrink = out->holdout_before.rms_m > 0.0 ? 1.0 - out->holdout_after.rms_m / out->holdout_before.rms_m : 0.0;
+  out->shrink = Shrink(out->holdout_before.rms_m, out->holdout_after.rms_m);
   out->gap_shrink = GapShrink(out->holdout_before.rms_m, out->holdout_after.rms_m, out->noise_floor_rms_m);
   return heldout;
 }

@@ -289,7 +289,7 @@ Evaluation Evaluate(const PlatformModel& model, const MeasurementData& data, con
   const Eigen::VectorXd before = frame_fit(d.residual), after = frame_fit(d.residual - predicted);
   ev.before = PointStats(before, 0, d.samples());
   ev.after = PointStats(after, 0, d.samples());
-  ev.shrink = ev.before.rms_m > 0.0 ? 1.0 - ev.after.rms_m / ev.before.rms_m : 0.0;
+  ev.shrink = Shrink(ev.before.rms_m, ev.after.rms_m);
   for (std::size_t k = 0; k < d.runs.size(); ++k) {
     const ColumnRange& samples = d.run_samples[k];
     ev.by_run.push_back({d.runs[k], PointStats(before, samples.begin, samples.count),

@@ -25,6 +25,9 @@ double Median(std::vector<double> v) {
 TEST(Benchmark, TheGapIsTheDepartureAboveTheTrackersNoise) {
   const double floor = 10e-6, before = 50e-6;
   const double gap = std::sqrt(before * before - floor * floor);
+  // The RMS's shrink stops at the floor: 1 − 10/50 however good the model.
+  EXPECT_DOUBLE_EQ(Shrink(before, floor), 0.8);
+  EXPECT_DOUBLE_EQ(Shrink(0.0, floor), 0.0);
   EXPECT_DOUBLE_EQ(GapShrink(before, floor, floor), 1.0);     // only the noise left
   EXPECT_DOUBLE_EQ(GapShrink(before, 6e-6, floor), 1.0);      // under it by the noise's own sampling
   EXPECT_NEAR(GapShrink(before, before, floor), 0.0, 1e-12);  // the gap as it was

@@ -1,14 +1,22 @@
 #pragma once
-// The held-out gap is the platform's departure from the model beyond the
-// tracker's own noise: on held-out runs the residual's mean square is the
-// gap's plus the noise's (the noise is independent of every model), so the
-// gap is √(rms² − floor²), and a model that leaves only the noise closes it.
+// How far a model shrinks the residual: its RMS (Shrink), and the gap
+// (GapShrink). The held-out gap is the platform's departure from the model
+// beyond the tracker's own noise: on held-out runs the residual's mean
+// square is the gap's plus the noise's (the noise is independent of every
+// model), so the gap is √(rms² − floor²), and a model that leaves only the
+// noise closes it.
 
 #include <algorithm>
 #include <cmath>
 #include <string>
 
 namespace edsp::gap {
+
+// 1 − after/before of the residual's RMS (0 where there was none): bounded
+// by the noise, 1 − floor/before however good the model.
+inline double Shrink(double before_rms_m, double after_rms_m) {
+  return before_rms_m > 0.0 ? 1.0 - after_rms_m / before_rms_m : 0.0;
+}
 
 // 1 − gap after / gap before: 1 where the residual is down to the floor (or
 // below it, by the noise's own sampling), 0 where the gap is as it was,
