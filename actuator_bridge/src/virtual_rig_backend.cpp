@@ -1,5 +1,7 @@
 #include "edsp/actuator_bridge/virtual_rig_backend.h"
 
+#include <algorithm>
+
 #include <cstring>
 #include <thread>
 
@@ -98,7 +100,11 @@ bool VirtualRigBackend::Read(std::int64_t now_utime, DriveFeedback* feedback) {
     }
   }
   *feedback = last_;
-  return last_feedback_utime_ >= 0 && now_utime - last_feedback_utime_ <= timeout_us_;
+  // A drive in fault (its following error past the window) has braked: the
+  // others must stop too, which the bridge does for drives it has lost.
+  const bool faulted = std::any_of(last_.status.begin(), last_.status.end(),
+                                   [](DriveStatus s) { return s == DriveStatus::kFault; });
+  return !faulted && last_feedback_utime_ >= 0 && now_utime - last_feedback_utime_ <= timeout_us_;
 }
 
 }  // namespace edsp

@@ -80,11 +80,13 @@ void ReadBacklash(const SectionReader& s, RigEffects::Backlash* e) {
 
 void ReadServoLag(const SectionReader& s, RigEffects::ServoLag* e) {
   s.RejectUnknownKeys({"enabled", "inertia_kg_m2", "viscous_N_m_s", "torque_limit_N_m", "bandwidth_hz",
-                       "loop_rate_hz", "coulomb_N_m", "integral_time_s", "screw_efficiency", "load_mass_kg"});
+                       "loop_rate_hz", "coulomb_N_m", "integral_time_s", "screw_efficiency", "load_mass_kg",
+                       "following_error_window_m"});
   e->coulomb_N_m = s.Number("coulomb_N_m", e->coulomb_N_m);
   e->integral_time_s = s.Number("integral_time_s", e->integral_time_s);
   e->screw_efficiency = s.Number("screw_efficiency", e->screw_efficiency);
   e->load_mass_kg = s.Number("load_mass_kg", e->load_mass_kg);
+  e->following_error_window_m = s.Number("following_error_window_m", e->following_error_window_m);
   e->enabled = s.Bool("enabled", true);
   e->inertia_kg_m2 = s.Number("inertia_kg_m2", e->inertia_kg_m2);
   e->viscous_N_m_s = s.Number("viscous_N_m_s", e->viscous_N_m_s);
@@ -109,6 +111,8 @@ void ReadServoLag(const SectionReader& s, RigEffects::ServoLag* e) {
           "integral_time_s", e->integral_time_s, "0 (none) or between 4/(2π·bandwidth_hz) and 100 s");
   require(e->screw_efficiency > 0.1 && e->screw_efficiency <= 1.0, "screw_efficiency", e->screw_efficiency, "in (0.1, 1]");
   require(e->load_mass_kg >= 0.0 && e->load_mass_kg <= 1e5, "load_mass_kg", e->load_mass_kg, "in [0, 1e5] kg");
+  require(e->following_error_window_m >= 0.0 && e->following_error_window_m <= 0.1, "following_error_window_m",
+          e->following_error_window_m, "in [0, 0.1] m (0: none)");
 }
 
 

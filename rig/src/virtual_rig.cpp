@@ -81,6 +81,7 @@ VirtualRig::VirtualRig(RigParameters parameters)
 void VirtualRig::SetTarget(const DriveSetpoint& setpoint, bool enabled) {
   target_ = setpoint;
   enabled_ = enabled;
+  if (!enabled) faulted_.fill(false);  // disabling the drives resets their faults
   since_command_s_ = 0.0;
   since_target_s_ = 0.0;
 }
@@ -99,6 +100,10 @@ bool VirtualRig::RestoreDrives(const std::array<double, 6>& motor_angle_rad) {
   pose_ = rigid_pose_ = rigid_previous_ = fk.pose;
   rigid_history_ = 0;
   return true;
+}
+
+bool VirtualRig::any_drive_faulted() const {
+  return std::any_of(faulted_.begin(), faulted_.end(), [](bool f) { return f; });
 }
 
 bool VirtualRig::watchdog_tripped() const {
@@ -145,14 +150,19 @@ double VirtualRig::MovedInertia() const {
 void VirtualRig::StepServo(int i, double dt) {
   const RigEffects::ServoLag& s = parameters_.effects.servo_lag;
   const auto leg = static_cast<std::size_t>(i);
-  if (!enabled_) {
-    // A disabled drive's holding brake: the platform's weight cannot
-    // back-drive the screw while nobody commands it.
+  if (!enabled_ || faulted_[leg]) {
+    // A disabled or faulted drive's holding brake: the platform's weight
+    // cannot back-drive the screw while nobody commands it.
     velocity_[i] = 0.0;
     target_.motor_angle_rad[i] += dt * target_.motor_velocity_rad_s[i];
     return;
   }
   const double error = target_.motor_angle_rad[i] - angle_[i];
+  if (s.following_error_window_m > 0.0 && std::abs(error) * ScrewRatio() * s.screw_efficiency > s.following_error_window_m) {
+    faulted_[leg] = true;
+    velocity_[i] = 0.0;
+    return;
+  }
   const double unclamped = kp_ * error + kd_ * (target_.motor_velocity_rad_s[i] - velocity_[i]) +
                            ki_ * (integral_[leg] + error * dt) +
                            s.viscous_N_m_s * target_.motor_velocity_rad_s[i];  // friction feed-forward
@@ -251,8 +261,10 @@ DriveFeedback VirtualRig::Feedback() const {
   for (int i = 0; i < kNumLegs; ++i) {
     f.motor_angle_rad[i] = angle_[i];
     f.motor_velocity_rad_s[i] = velocity_[i];
-    f.status[i] = !enabled_ ? DriveStatus::kDisabled
-                  : watchdog_tripped() ? DriveStatus::kHolding : DriveStatus::kEnabled;
+    f.status[i] = !enabled_                             ? DriveStatus::kDisabled
+                  : faulted_[static_cast<std::size_t>(i)] ? DriveStatus::kFault
+                  : watchdog_tripped()                    ? DriveStatus::kHolding
+                                                          : DriveStatus::kEnabled;
   }
   return f;
 }
@@ -312,6 +324,15 @@ void InProcessRigBackend::Deactivate() {
 
 bool InProcessRigBackend::Read(std::int64_t, DriveFeedback* feedback) {
   *feedback = rig_->Feedback();
+  return !rig_->any_drive_faulted();  // a braked drive: the bridge stops the others
+}
+
+bool InProcessRigBackend::Reset(std::string*) {
+  // Disabling the drives resets their faults; the next write enables them.
+  DriveSetpoint here;
+  const DriveFeedback now = rig_->Feedback();
+  here.motor_angle_rad = now.motor_angle_rad;
+  rig_->SetTarget(here, false);
   return true;
 }
 

@@ -133,7 +133,7 @@ TEST(RigEffectsConfig, ErrorsNameFileLineAndKey) {
             std::string::npos);
   EXPECT_NE(ErrorOf(kNominal + "[rig.effects.servo_lag]\nintegral_time_s = 0.001\n").find("integral_time_s = 0.001"),
             std::string::npos);  // faster than the loop can take
-  EXPECT_NE(ErrorOf(kNominal + "[rig.effects.servo_lag]\ncoulomb_N_m = 9\n").find("coulomb_N_m = 9"),
+  EXPECT_NE(ErrorOf(kNominal + "[rig.effects.servo_lag]\ncoulomb_N_m = 20\n").find("coulomb_N_m = 20"),
             std::string::npos);  // above the current limit
   EXPECT_NE(ErrorOf(kNominal + "[rig.effects.leg_offset]\noffset_m = nan\n").find("finite"), std::string::npos);
   EXPECT_NE(ErrorOf(kNominal + "[rig]\nfoo = 1\n").find("unknown key [rig] foo"), std::string::npos);

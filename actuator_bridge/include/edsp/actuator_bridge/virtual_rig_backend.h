@@ -1,9 +1,10 @@
 #pragma once
 // DriveBackend for drives behind the shared-memory process image (the
 // edsp-rig process today; the same image could front a fieldbus master).
-// Read() reports failure when the drives have been silent for `timeout_us`.
-// Its drives have no fault to reset (the rig's watchdog holds them on its
-// own), so it is never in fault: their silence is the bridge's to latch.
+// Read() reports failure when the drives have been silent for `timeout_us`,
+// or when one reports a fault (it braked: the rig's following-error window).
+// Its drives reset their faults when disabled, so it is never in fault
+// itself: their silence or a drive's fault is the bridge's to latch.
 
 #include <memory>
 #include <string>

@@ -14,7 +14,8 @@
 //   [rig.effects.periodic_lead_error]  amplitude_m = [...], phase_rad = [...]   once per screw turn
 //   [rig.effects.backlash]             backlash_m = [...]      lost motion, in leg travel
 //   [rig.effects.servo_lag]            bandwidth_hz, inertia_kg_m2, viscous_N_m_s,
-//                                      torque_limit_N_m, loop_rate_hz   the drive loop's dynamics
+//                                      torque_limit_N_m, loop_rate_hz, following_error_window_m
+//                                                                   the drive loop's dynamics
 //   [rig.effects.compliance]           stiffness_N_m = [...], mass_kg, com_m = [x, y, z] in {M}
 //   [rig.effects.thermal_drift]        alpha_per_K, heating_K_per_m, time_constant_s, screw_length_m
 //   [rig.effects.structural_resonance] frequency_hz, damping, gain = [gx, gy, gz]   A's mount sways
@@ -65,7 +66,8 @@ struct RigEffects {
     bool enabled = true;      // off: an ideal drive, the motor exactly on its target
     double inertia_kg_m2 = 2e-4;    // motor + reflected screw, at the motor
     double viscous_N_m_s = 1e-4;    // per rad/s
-    double torque_limit_N_m = 5.0;  // current limit × torque constant
+    double torque_limit_N_m = 15.0; // current limit × torque constant (holds 1.2 t over the
+                                    // preset's workspace with a third to spare: RatedPayloadKg)
     double bandwidth_hz = 50.0;     // position loop; gains follow from it
     double loop_rate_hz = 4000.0;   // drive loop and integration rate
     double coulomb_N_m = 0.0;       // dry friction in screw and bearings, at the motor
@@ -73,6 +75,12 @@ struct RigEffects {
     double screw_efficiency = 0.9;  // leg force → motor torque through the screw
     double load_mass_kg = 0.0;      // platform + payload the motors carry (compliance's
                                     // mass_kg and com_m when that effect is on)
+    // Following error (target − motor, in leg travel) past which a drive
+    // faults and its brake holds the motor where it is, as a CiA 402
+    // drive's following-error window does: an overloaded motor stops the
+    // platform instead of letting it fall through its legs. 0: no window
+    // (the rig's tests step its targets by centimetres on purpose).
+    double following_error_window_m = 0.0;
   } servo_lag;
   struct Compliance {         // quasi-static: legs deflect under the rigid-body leg forces
     bool enabled = false;

@@ -74,6 +74,11 @@ class VirtualRig {
   DriveFeedback Feedback() const;
   // Enabled drives without a command for longer than the watchdog timeout.
   bool watchdog_tripped() const;
+  // A drive whose following error passed its window (servo_lag's
+  // following_error_window_m): it reports kFault and its brake holds the
+  // motor until the drives are disabled (the fault reset).
+  bool drive_faulted(int leg) const { return faulted_[static_cast<std::size_t>(leg)]; }
+  bool any_drive_faulted() const;
   double since_command_s() const { return since_command_s_; }
   rig_truth_t Truth(std::int64_t utime);  // numbers each message (seq)
   // True (and *point filled) when a tracker sample is due at this step.
@@ -109,6 +114,7 @@ class VirtualRig {
   std::array<double, 6> integral_{};
   bool loaded_ = false;                  // leg forces needed (compliance, or a servo load)
   std::array<double, 6> angle_{}, velocity_{};
+  std::array<bool, 6> faulted_{};
   DriveSetpoint target_;
   bool enabled_ = false;
   double since_command_s_ = 0.0;         // since the last SetTarget or KeepAlive (the watchdog)
@@ -134,8 +140,10 @@ class InProcessRigBackend final : public DriveBackend {
   bool Configure(const PlatformConfig&, std::string*) override;
   bool Activate(std::string* error) override;
   void Deactivate() override;
+  // False while a drive is in fault (the bridge then holds every leg).
   bool Read(std::int64_t now_utime, DriveFeedback* feedback) override;
   bool Write(std::int64_t now_utime, const DriveSetpoint& setpoint) override;
+  bool Reset(std::string* error) override;
   BackendState state() const override { return state_; }
 
  private:
