@@ -5,6 +5,11 @@
 //                    [--keep-timing-events]
 //   edsp-gap benchmark --scenarios N --seed S [--generator rig|blind] [--motions Lz,…] [--json] [--noise-m 5e-6] [--keep DIR]
 //                      [--closed-loop-motions Ly,Rx,M9|none] [--encoders drawn|with|without]
+//   edsp-gap drift --config C --baseline M --data D [--data D2 …] [--recorded with|without] [--threshold-m X]
+//                  [--apply-ambiguous] [--json]
+//   edsp-gap benchmark --mode calibration --scenarios N --seed S [--held-out Ly,Rx,M3,M4] [--noise-m 5e-6]
+//                      [--json] [--keep DIR]   (whole rigs: docs/calibration.md)
+//   edsp-gap benchmark --mode drift --scenarios N --seed S [--noise-m 5e-6] [--json]   (drift on whole rigs)
 #include <unistd.h>
 
 #include <cstdio>
@@ -17,7 +22,10 @@
 #include <nlohmann/json.hpp>
 
 #include "edsp/diagnosis/benchmark.h"
+#include "edsp/diagnosis/calibration_benchmark.h"
 #include "edsp/diagnosis/calibration_check.h"
+#include "edsp/diagnosis/drift.h"
+#include "edsp/diagnosis/drift_benchmark.h"
 #include "edsp/diagnosis/gap_shrink.h"
 #include "edsp/diagnosis/report.h"
 #include "edsp/kinematics/config.h"
@@ -42,6 +50,12 @@ nlohmann::json LoadModelFile(const std::string& path) {
   }
 }
 
+std::string CalibrationEffectsText(const CalibrationResult& c) {
+  std::string text;
+  for (Effect e : c.effects) text += (text.empty() ? "" : ", ") + std::string(EffectName(e));
+  return text.empty() ? "nothing" : text;
+}
+
 void PrintText(const Diagnosis& d) {
   std::printf("gap before any effect: %.1f µm RMS, %.1f µm max over %d samples in %zu runs\n",
               d.gap.overall.rms_m * 1e6, d.gap.overall.max_m * 1e6, d.samples, d.runs.size());
@@ -61,6 +75,9 @@ void PrintText(const Diagnosis& d) {
   std::printf("held-out runs: before %.1f µm RMS, after %.1f µm RMS, shrink %.0f%% (noise floor %.1f µm, %s)\n",
               d.holdout_before.rms_m * 1e6, d.holdout_after.rms_m * 1e6, 100 * d.shrink, d.noise_floor_rms_m * 1e6,
               GapShrinkText(d.holdout_before.rms_m, d.noise_floor_rms_m, d.gap_shrink).c_str());
+  std::printf("calibration applies: %s (held out %.1f µm RMS; the identified effects alone %.1f µm; chosen: %s)\n",
+              CalibrationEffectsText(d.calibration).c_str(), d.calibration.heldout_rms_m * 1e6,
+              d.calibration.identified_heldout_rms_m * 1e6, d.calibration.chosen_by.c_str());
   std::printf("left: %s\n", d.unexplained_note.c_str());
   std::printf("tracker clock: %s\n", TrackerClockNote(d).c_str());
 }
@@ -81,6 +98,13 @@ struct EvaluateArgs {
   bool json = false, keep_timing_events = false;
 };
 
+struct DriftArgs {
+  std::string config, baseline, recorded = "with";
+  std::vector<std::string> data;
+  DriftOptions options;
+  bool json = false;
+};
+
 struct CompareArgs {
   std::string config, model, plot_dir;
   std::vector<std::string> before, after;
@@ -91,6 +115,8 @@ TimingEvents TimingOf(bool keep) { return keep ? TimingEvents::kKeep : TimingEve
 
 struct BenchmarkArgs {
   BenchmarkOptions bench;
+  std::string mode = "effects";
+  std::vector<std::string> held_out = CalibrationBenchmarkOptions{}.held_out;
   std::string keep_dir;
   bool json = false;
 };
@@ -128,6 +154,22 @@ CLI::App* AddEvaluate(CLI::App& app, EvaluateArgs* a) {
   return c;
 }
 
+CLI::App* AddDrift(CLI::App& app, DriftArgs* a) {
+  CLI::App* c = app.add_subcommand("drift", "what changed on the rig since a calibration, and whether to recalibrate");
+  c->add_option("--config", a->config, "platform config (TOML)")->required();
+  c->add_option("--baseline", a->baseline, "the calibration in force (diagnose --save-model)")->required();
+  c->add_option("--data", a->data, "a new session's measurement CSV or edsp LCM log; repeatable")->required();
+  c->add_option("--recorded", a->recorded, "with: the kinematics applied the baseline while it was recorded (usual); "
+                                           "without: it ran on the nominal model")
+      ->check(CLI::IsMember({"with", "without"}));
+  c->add_option("--threshold-m", a->options.threshold_m,
+                "recalibrate when the baseline leaves more than this RMS (default: 1.5× the data's noise floor)")
+      ->check(CLI::Range(0.0, 0.01));
+  c->add_flag("--apply-ambiguous", a->options.apply_ambiguous, "the kinematics applied the baseline's ambiguous effects too");
+  c->add_flag("--json", a->json, "print JSON");
+  return c;
+}
+
 CLI::App* AddCompare(CLI::App& app, CompareArgs* a) {
   CLI::App* c = app.add_subcommand(
       "compare", "the same motions measured without and with a calibration: point A's error per motion");
@@ -161,6 +203,12 @@ CLI::App* AddBenchmark(CLI::App& app, BenchmarkArgs* a) {
   c->add_option("--closed-loop-motions", bench.closed_loop_motions,
                 "rig generator: motions no fit saw, run without and with the model applied (\"none\": skip)")
       ->delimiter(',');
+  c->add_option("--mode", a->mode,
+                "effects: which effect the diagnosis names; calibration: the loop closed on whole rigs, "
+                "designed motions against six; drift: what edsp-gap drift names on rigs that changed or not "
+                "(--scenarios rigs)")
+      ->check(CLI::IsMember({"effects", "calibration", "drift"}));
+  c->add_option("--held-out", a->held_out, "calibration mode: motions no fit sees, comma-separated")->delimiter(',');
   c->add_option("--keep", a->keep_dir, "keep each scenario's data and report here");
   c->add_flag("--json", a->json, "print JSON");
   return c;
@@ -200,6 +248,15 @@ int RunEvaluate(const EvaluateArgs& a) {
   return 0;
 }
 
+int RunDrift(DriftArgs a) {
+  const PlatformModel model(LoadConfigFile(a.config));
+  a.options.recorded_with_baseline = a.recorded == "with";
+  const DriftReport r = Drift(model, LoadModelFile(a.baseline), a.baseline, LoadAll(a.data), a.options);
+  if (a.json) std::printf("%s\n", ToJson(r).dump(2).c_str());
+  else std::printf("%s", DriftText(r).c_str());
+  return 0;
+}
+
 int RunCompare(const CompareArgs& a) {
   const PlatformModel model(LoadConfigFile(a.config));
   const bool predicted = !a.model.empty();
@@ -220,7 +277,49 @@ int RunCompare(const CompareArgs& a) {
   return 0;
 }
 
+// The whole-rig modes close the loop through edsp's kinematics.
+void RequireEdspRig(const BenchmarkArgs& a) {
+  if (a.bench.generator == "rig") return;
+  throw std::invalid_argument("benchmark --mode " + a.mode + " --generator " + a.bench.generator +
+                              ": only edsp's rig takes a calibration (the blind rig has no controller to apply it)");
+}
+
+template <typename Result, typename Print>
+int Emit(const Result& result, bool json, Print print) {
+  if (json) std::printf("%s\n", ToJson(result).dump(2).c_str());
+  else print(result);
+  return 0;
+}
+
+// Whole rigs, each motion design's calibration closed on held-out motions.
+int RunCalibrationBenchmarkCommand(const BenchmarkArgs& a) {
+  RequireEdspRig(a);
+  CalibrationBenchmarkOptions o;
+  o.rigs = a.bench.scenarios;
+  o.seed = a.bench.seed;
+  o.config_path = a.bench.config_path;
+  o.tracker_noise_m = a.bench.tracker_noise_m;
+  o.held_out = a.held_out;
+  o.keep_dir = a.keep_dir;
+  o.progress = !a.json || isatty(fileno(stderr));
+  return Emit(RunCalibrationBenchmark(o), a.json, PrintCalibrationBenchmark);
+}
+
+// Whole rigs calibrated, then measured again unchanged and changed.
+int RunDriftBenchmarkCommand(const BenchmarkArgs& a) {
+  RequireEdspRig(a);
+  DriftBenchmarkOptions o;
+  o.rigs = a.bench.scenarios;
+  o.seed = a.bench.seed;
+  o.config_path = a.bench.config_path;
+  o.tracker_noise_m = a.bench.tracker_noise_m;
+  o.progress = !a.json || isatty(fileno(stderr));
+  return Emit(RunDriftBenchmark(o), a.json, PrintDriftBenchmark);
+}
+
 int RunBenchmarkCommand(BenchmarkArgs a) {
+  if (a.mode == "calibration") return RunCalibrationBenchmarkCommand(a);
+  if (a.mode == "drift") return RunDriftBenchmarkCommand(a);
   a.bench.keep_dir = a.keep_dir;
   if (a.bench.closed_loop_motions == std::vector<std::string>{"none"}) a.bench.closed_loop_motions.clear();
   a.bench.progress = !a.json || isatty(fileno(stderr));
@@ -237,15 +336,18 @@ int Run(int argc, char** argv) {
   DiagnoseArgs diagnose;
   EvaluateArgs evaluate;
   CompareArgs compare;
+  DriftArgs drift;
   BenchmarkArgs benchmark;
   const CLI::App* diagnose_command = AddDiagnose(app, &diagnose);
   const CLI::App* evaluate_command = AddEvaluate(app, &evaluate);
   const CLI::App* compare_command = AddCompare(app, &compare);
+  const CLI::App* drift_command = AddDrift(app, &drift);
   AddBenchmark(app, &benchmark);
   CLI11_PARSE(app, argc, argv);
   if (*diagnose_command) return RunDiagnose(diagnose);
   if (*evaluate_command) return RunEvaluate(evaluate);
   if (*compare_command) return RunCompare(compare);
+  if (*drift_command) return RunDrift(drift);
   return RunBenchmarkCommand(benchmark);
 }
 

@@ -7,11 +7,13 @@
 #include <string>
 #include <map>
 #include <numeric>
+#include <optional>
 
 #include <Eigen/Eigenvalues>
 #include <fmt/format.h>
 
 #include "edsp/diagnosis/beyond_vocabulary.h"
+#include "edsp/diagnosis/calibration_set.h"
 #include "edsp/diagnosis/effect_sets.h"
 #include "edsp/diagnosis/gap_shrink.h"
 #include "edsp/diagnosis/linear_fit.h"
@@ -258,6 +260,62 @@ Eigen::VectorXd FitSelected(const Design& d, const GramSet& gram, const Eigen::V
   return robust.residual;
 }
 
+// The calibration's effects fitted together on every run: the selected
+// effects' fit when they are the set, else the same robust fit of its own.
+CalibrationResult FitCalibration(const Design& d, const GramSet& gram, const Eigen::VectorXd& prior,
+                                 const CalibrationSet& set, const std::map<Effect, EffectResult>& results,
+                                 const std::vector<Effect>& selected, double noise_floor_rms_m) {
+  CalibrationResult out;
+  out.effects = set.effects;
+  out.chosen_by = set.chosen_by;
+  out.heldout_rms_m = std::sqrt(3.0 * set.cv_mse);
+  out.identified_heldout_rms_m = std::sqrt(3.0 * set.identified_cv_mse);
+  const bool is_selected = set.effects.size() == selected.size() &&
+                           std::all_of(set.effects.begin(), set.effects.end(),
+                                       [&](Effect e) { return Contains(selected, e); });
+  if (is_selected) {
+    for (Effect e : set.effects) out.theta.push_back(results.at(e).theta), out.sigma.push_back(results.at(e).sigma);
+    return out;
+  }
+  const Columns cols = ColumnsOf(d, set.effects);
+  const Eigen::VectorXd theta = gram.Solve(cols, gram.AllFolds(), prior);
+  const Columns effect_cols(cols.begin() + 6, cols.end());
+  const RobustFit robust = FitRobust(d, effect_cols, theta.tail(static_cast<Eigen::Index>(effect_cols.size())),
+                                     3.0 * std::max(noise_floor_rms_m, 1e-7), prior);
+  int at = 0;
+  for (Effect e : set.effects) {
+    out.theta.push_back(robust.theta.segment(at, ParameterCount(e)));
+    out.sigma.push_back(robust.sigma.segment(at, ParameterCount(e)));
+    at += ParameterCount(e);
+  }
+  return out;
+}
+
+// The first effect of a calibration whose fit is not a real platform's
+// (calibration::ParameterLimit: the kinematics would refuse the model).
+std::optional<Effect> BeyondAPlatform(const CalibrationResult& c) {
+  for (std::size_t k = 0; k < c.effects.size(); ++k) {
+    if (!(c.theta[k].cwiseAbs().maxCoeff() <= calibration::ParameterLimit(c.effects[k]))) return c.effects[k];
+  }
+  return std::nullopt;
+}
+
+// The calibration set (calibration_set.h) and its fit; an effect whose fit
+// beside the others a platform cannot have is left out and the set chosen
+// again without it.
+CalibrationResult CalibrationOf(const Design& d, const GramSet& gram, const Eigen::VectorXd& prior, Evaluator& eval,
+                                const std::vector<Effect>& identified, const std::map<Effect, EffectResult>& results,
+                                const std::vector<Effect>& selected, double noise_floor_rms_m) {
+  std::vector<Effect> excluded;
+  for (;;) {
+    CalibrationResult c = FitCalibration(d, gram, prior, ChooseCalibrationSet(eval, identified, selected, excluded),
+                                         results, selected, noise_floor_rms_m);
+    const std::optional<Effect> absurd = BeyondAPlatform(c);
+    if (!absurd || c.effects.empty()) return c;
+    excluded.push_back(*absurd);
+  }
+}
+
 // Selected effects in selection order, then the others by what they would add.
 std::vector<EffectResult> Ranked(const std::map<Effect, EffectResult>& results, const std::vector<Effect>& selected) {
   std::vector<EffectResult> ranked, others;
@@ -367,6 +425,11 @@ Diagnosis DiagnoseOnce(const PlatformModel& model, const MeasurementData& data, 
   out.selected = selection.effects;
   std::map<Effect, EffectResult> results = Verdicts(eval, selection, o);
   const Eigen::VectorXd residual = FitSelected(d, gram, prior, selection, &out, &results);
+  std::vector<Effect> identified;
+  for (Effect e : out.selected) {
+    if (results.at(e).verdict == "identified") identified.push_back(e);
+  }
+  out.calibration = CalibrationOf(d, gram, prior, eval, identified, results, out.selected, out.noise_floor_rms_m);
   for (auto& [e, r] : results) r.frame_overlap = FrameOverlap(d, gram, e);
   Identifiability(d, gram, prior, out.selected, &results, &out.condition_number);
   out.effects = Ranked(results, out.selected);

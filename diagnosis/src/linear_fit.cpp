@@ -199,9 +199,6 @@ double HeldOutMse(const GramSet& gram, const Columns& columns, const Eigen::Vect
   return sse / std::max(1, gram.Residuals(gram.AllFolds()));
 }
 
-namespace {
-
-// (1 + ρ)/(1 − ρ) for the residual `r` (linear_fit.h, FitCoefficient).
 double CorrelationInflation(const Eigen::VectorXd& r) {
   double rr = 0.0, lag = 0.0;
   for (Eigen::Index k = 0; k < r.size(); ++k) {
@@ -211,8 +208,6 @@ double CorrelationInflation(const Eigen::VectorXd& r) {
   const double rho = rr > 0.0 ? std::clamp(lag / rr, 0.0, 0.99) : 0.0;
   return (1.0 + rho) / (1.0 - rho);
 }
-
-}  // namespace
 
 Coefficient FitCoefficient(const Design& d, const GramSet& gram, const Columns& columns, int column,
                            const Eigen::VectorXd& prior_weight) {

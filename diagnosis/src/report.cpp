@@ -13,6 +13,8 @@
 #include "edsp/diagnosis/gnuplot.h"
 #include "edsp/diagnosis/linear_fit.h"
 #include "edsp/diagnosis/parameter_table.h"
+#include "edsp/diagnosis/saved_model.h"
+#include "edsp/kinematics/calibration.h"
 
 namespace edsp::gap {
 
@@ -119,6 +121,16 @@ nlohmann::json StructureJson(const ResidualStructure& s) {
           {"in_sample_run_offset_share", s.in_sample_run_offset_share}, {"note", s.Describe()}};
 }
 
+// What a calibration applies and how well it predicts the held-out runs.
+nlohmann::json CalibrationJson(const CalibrationResult& c) {
+  std::vector<std::string> names;
+  for (Effect e : c.effects) names.push_back(EffectName(e));
+  return {{"effects", names},
+          {"chosen_by", c.chosen_by},
+          {"heldout_rms_m", c.heldout_rms_m},
+          {"identified_heldout_rms_m", c.identified_heldout_rms_m}};
+}
+
 }  // namespace
 
 nlohmann::json ToJson(const Diagnosis& d) {
@@ -145,6 +157,7 @@ nlohmann::json ToJson(const Diagnosis& d) {
   j["selected"] = nlohmann::json::array();
   for (Effect e : d.selected) j["selected"].push_back(EffectName(e));
   j["conclusion"] = d.conclusion;
+  j["calibration"] = CalibrationJson(d.calibration);
   j["holdout"] = {{"runs", d.holdout_runs}, {"before", StatsJson(d.holdout_before)},
                   {"after", StatsJson(d.holdout_after)}, {"shrink", d.shrink},
                   {"gap_shrink", d.gap_shrink}};
@@ -198,13 +211,35 @@ nlohmann::json ModelJson(const Diagnosis& d) {
     j["structural_mode_hz"] = d.design.structural_mode_hz;
     j["structural_mode_damping"] = d.design.structural_mode_damping;
   }
+  // The calibration's effects, applied; then the named effects it leaves
+  // out, with their own fit, applied only if asked (--apply-ambiguous).
   j["effects"] = nlohmann::json::array();
+  const auto verdict = [&](Effect e) {
+    for (const EffectResult& r : d.effects) {
+      if (r.effect == e) return r.verdict;
+    }
+    return std::string("rejected");
+  };
+  const CalibrationResult& c = d.calibration;
+  const auto values = [](const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
+  for (std::size_t k = 0; k < c.effects.size(); ++k) {
+    j["effects"].push_back({{"name", EffectName(c.effects[k])},
+                            {"verdict", verdict(c.effects[k])},
+                            {"theta", values(c.theta[k])},
+                            {"sigma", values(c.sigma[k])},
+                            {"apply", true}});
+  }
   for (const EffectResult& r : d.effects) {
-    if (r.verdict == "rejected" || std::find(d.selected.begin(), d.selected.end(), r.effect) == d.selected.end()) continue;
+    const bool selected = std::find(d.selected.begin(), d.selected.end(), r.effect) != d.selected.end();
+    const bool calibrated = std::find(c.effects.begin(), c.effects.end(), r.effect) != c.effects.end();
+    if (r.verdict == "rejected" || !selected || calibrated) continue;
     j["effects"].push_back({{"name", EffectName(r.effect)},
                             {"verdict", r.verdict},
-                            {"theta", std::vector<double>(r.theta.data(), r.theta.data() + r.theta.size())}});
+                            {"theta", values(r.theta)},
+                            {"sigma", values(r.sigma)},
+                            {"apply", false}});
   }
+  j["calibration"] = CalibrationJson(c);
   return j;
 }
 
@@ -217,35 +252,19 @@ nlohmann::json AppliedModelJson(const nlohmann::json& saved, bool apply_ambiguou
   if (!saved.is_object() || !saved.contains("effects") || !saved["effects"].is_array()) return applied;
   applied["effects"] = nlohmann::json::array();
   for (const auto& e : saved["effects"]) {
-    const std::string verdict = e.is_object() ? e.value("verdict", "identified") : "identified";
-    if (verdict == "identified" || (apply_ambiguous && verdict == "ambiguous")) applied["effects"].push_back(e);
+    if (!e.is_object()) continue;
+    if (calibration::AppliesEntry(e.value("verdict", "identified"), e.contains("apply") && e["apply"].is_boolean(),
+                                  e.value("apply", false), apply_ambiguous)) {
+      applied["effects"].push_back(e);
+    }
   }
   return applied;
 }
 
 Evaluation Evaluate(const PlatformModel& model, const MeasurementData& data, const nlohmann::json& saved,
                     const std::string& origin) {
-  if (!saved.is_object() || saved.value("format", "") != "edsp-gap-model/1") {
-    throw MeasurementError(origin + ": not an edsp-gap model (key \"format\" must be \"edsp-gap-model/1\")");
-  }
-  DesignOptions o;
-  o.thermal_time_constant_s = saved.value("thermal_time_constant_s", o.thermal_time_constant_s);
-  o.backlash_width_m = saved.value("backlash_width_m", o.backlash_width_m);
-  if (!(o.thermal_time_constant_s > 0.0)) throw MeasurementError(origin + ": thermal_time_constant_s must be > 0");
-  if (!(o.backlash_width_m > 0.0 && o.backlash_width_m < 0.01)) {
-    throw MeasurementError(origin + ": backlash_width_m must be in (0, 0.01) m");
-  }
-  const auto number = [&](const char* key, double fallback) {
-    if (!saved.contains(key)) return fallback;
-    if (!saved[key].is_number()) throw MeasurementError(fmt::format("{}: \"{}\" must be a number", origin, key));
-    return saved[key].get<double>();
-  };
-  o.structural_mode_hz = number("structural_mode_hz", 0.0);
-  o.structural_mode_damping = number("structural_mode_damping", o.structural_mode_damping);
-  if (!(o.structural_mode_hz >= 0.0 && o.structural_mode_hz <= 100.0 && o.structural_mode_damping >= 0.0 &&
-        o.structural_mode_damping <= 1.0)) {
-    throw MeasurementError(origin + ": structural_mode_hz must be in [0, 100] Hz, structural_mode_damping in [0, 1]");
-  }
+  const DesignOptions o = SavedDesignOptions(saved, origin);
+  const std::vector<SavedEffect> effects = SavedAppliedEffects(saved, o, origin);
   Design d = BuildDesign(model, Decimated(data, 100.0), o);
   // The tracker's clock is the data's nuisance, as its frame is: estimated
   // on this data, never carried over from the model.
@@ -253,27 +272,9 @@ Evaluation Evaluate(const PlatformModel& model, const MeasurementData& data, con
   const TimeOffset clock = EstimateTimeOffset(d, PriorWeights(d, sigma_axis * sigma_axis));
   if (clock.applied) RemoveTimeOffset(clock.offset_s, &d);
   Eigen::VectorXd predicted = Eigen::VectorXd::Zero(d.residual.size());
-  if (!saved.contains("effects") || !saved["effects"].is_array()) throw MeasurementError(origin + ": no \"effects\" array");
-  for (const auto& entry : saved["effects"]) {
-    Effect e;
-    const std::string name = entry.value("name", "");
-    if (!ParseEffect(name, &e)) throw MeasurementError(fmt::format("{}: unknown effect \"{}\"", origin, name));
-    if (e == Effect::kStructuralResonance && !(o.structural_mode_hz > 0.0)) {
-      throw MeasurementError(origin + ": effect \"structural_resonance\" needs \"structural_mode_hz\" > 0");
-    }
-    std::vector<double> theta = entry.value("theta", std::vector<double>{});
-    // Models saved before thermal drift had its time driver and stroke terms
-    // hold the travel term alone.
-    if (e == Effect::kThermalDrift && theta.size() == 1) theta.resize(static_cast<std::size_t>(ParameterCount(e)), 0.0);
-    if (static_cast<int>(theta.size()) != ParameterCount(e)) {
-      throw MeasurementError(fmt::format("{}: effect {} needs {} parameters, has {}", origin, name,
-                                         ParameterCount(e), theta.size()));
-    }
-    for (double v : theta) {
-      if (!std::isfinite(v)) throw MeasurementError(fmt::format("{}: effect {} has a non-finite parameter", origin, name));
-    }
-    const ColumnRange& r = d.Of(e);
-    predicted += d.columns.middleCols(r.begin, r.count) * Eigen::Map<const Eigen::VectorXd>(theta.data(), r.count);
+  for (const SavedEffect& e : effects) {
+    const ColumnRange& r = d.Of(e.effect);
+    predicted += d.columns.middleCols(r.begin, r.count) * e.theta;
   }
   // Frame alone, before and after: only the effects are carried over.
   auto frame_fit = [&](const Eigen::VectorXd& r) {

@@ -162,6 +162,37 @@ Scenario DrawScenario(std::uint64_t seed, int index) {
   return s;
 }
 
+Scenario DrawWholeRig(std::uint64_t seed, int index, double rated_payload_kg) {
+  Rng rng(seed * 2000003ull + static_cast<std::uint64_t>(index));
+  Scenario s;
+  RigEffects& fx = s.effects;
+  fx.leg_offset.enabled = fx.joint_position.enabled = fx.lead_error.enabled = true;
+  fx.periodic_lead_error.enabled = fx.backlash.enabled = fx.compliance.enabled = true;
+  std::normal_distribution<double> joint(0.0, 100e-6);
+  const double k0 = Uniform(rng, 15e6, 30e6);  // legs of one design, ±10% from assembly
+  for (std::size_t i = 0; i < 6; ++i) {
+    fx.leg_offset.offset_m[i] = Uniform(rng, -120e-6, 120e-6);
+    fx.lead_error.epsilon[i] = Uniform(rng, -250e-6, 250e-6);
+    fx.periodic_lead_error.amplitude_m[i] = Uniform(rng, 2e-6, 8e-6);
+    fx.periodic_lead_error.phase_rad[i] = Uniform(rng, 0, 6.283185307179586);
+    fx.backlash.backlash_m[i] = Uniform(rng, 15e-6, 40e-6);
+    fx.compliance.stiffness_N_m[i] = k0 * Uniform(rng, 0.9, 1.1);
+    for (int a = 0; a < 3; ++a) {
+      fx.joint_position.base_m(a, static_cast<int>(i)) = joint(rng);
+      fx.joint_position.platform_m(a, static_cast<int>(i)) = joint(rng);
+    }
+  }
+  fx.compliance.mass_kg = Uniform(rng, 500.0, std::max(500.0, rated_payload_kg));
+  fx.compliance.com_m = Vector3(0, 0, Uniform(rng, 0.0, kWholeRigComHeightMaxM));
+  fx.servo_lag.bandwidth_hz = Uniform(rng, 30.0, 80.0);
+  fx.servo_lag.integral_time_s = 5.0 / (6.283185307179586 * fx.servo_lag.bandwidth_hz);
+  s.truth = {Effect::kLegOffset, Effect::kJointPosition, Effect::kLeadError, Effect::kPeriodicLeadError,
+             Effect::kBacklash, Effect::kCompliance};
+  s.description = fmt::format("whole rig: {:.0f} kg (c.o.m. {:.2f} m up) on {:.1f} N/µm legs, {:.0f} Hz drives",
+                              fx.compliance.mass_kg, fx.compliance.com_m.z(), k0 * 1e-6, fx.servo_lag.bandwidth_hz);
+  return s;
+}
+
 Pose DrawTrackerStand(std::mt19937_64& rng) {
   return Pose::FromVector((Vector6() << Uniform(rng, -3, 3), Uniform(rng, -3, 3), Uniform(rng, -0.5, 0.5),
                            Uniform(rng, -0.03, 0.03), Uniform(rng, -0.03, 0.03), Uniform(rng, -3.14, 3.14))

@@ -87,24 +87,36 @@ CalibratedEffect ParseEffectEntry(const nlohmann::json& entry, std::size_t index
                                        ParameterCount(out.effect), theta.size()));
   }
   for (std::size_t k = 0; k < theta.size(); ++k) {
-    if (!std::isfinite(theta[k]) || std::abs(theta[k]) > ParameterLimit(out.effect)) {
-      throw CalibrationError(fmt::format("{} ({}): theta[{}] = {} is not a real platform's (|θ| ≤ {})", where,
-                                         name, k, theta[k], ParameterLimit(out.effect)));
-    }
+    if (!std::isfinite(theta[k])) throw CalibrationError(fmt::format("{} ({}): theta[{}] is not finite", where, name, k));
   }
   out.theta = Eigen::Map<const Eigen::VectorXd>(theta.data(), static_cast<Eigen::Index>(theta.size()));
   if (entry.contains("verdict") && !entry["verdict"].is_string()) {
     throw CalibrationError(fmt::format("{} ({}): \"verdict\" must be a string", where, name));
   }
   out.verdict = entry.value("verdict", std::string("identified"));
-  if (out.verdict != "identified" && out.verdict != "ambiguous") {
-    throw CalibrationError(fmt::format("{} ({}): verdict \"{}\" is neither identified nor ambiguous", where, name,
-                                       out.verdict));
+  if (out.verdict != "identified" && out.verdict != "ambiguous" && out.verdict != "rejected") {
+    throw CalibrationError(fmt::format("{} ({}): verdict \"{}\" is not identified, ambiguous or rejected", where,
+                                       name, out.verdict));
   }
+  if (entry.contains("apply") && !entry["apply"].is_boolean()) {
+    throw CalibrationError(fmt::format("{} ({}): \"apply\" must be true or false", where, name));
+  }
+  out.has_apply = entry.contains("apply");
+  out.apply = out.has_apply && entry["apply"].get<bool>();
   return out;
 }
 
 }  // namespace
+
+std::vector<int> UnappliedParameters(Effect effect) {
+  if (effect == Effect::kServoLag) return {12};  // jerk_lag_s3 (leg_effects.cpp), not fed forward
+  return {};
+}
+
+bool AppliesEntry(const std::string& verdict, bool has_apply, bool apply, bool apply_ambiguous) {
+  if (apply_ambiguous && verdict == "ambiguous") return true;
+  return has_apply ? apply : verdict == "identified";
+}
 
 std::string PlatformFingerprint(const PlatformModel& model) {
   const Vector6& l = model.home_length_m();
@@ -160,9 +172,17 @@ CalibrationModel ParseCalibration(const std::string& text, const std::string& or
     bool& twice = seen[static_cast<std::size_t>(e.effect)];
     if (twice) throw CalibrationError(fmt::format("{}: effect \"{}\" listed twice", origin, EffectName(e.effect)));
     twice = true;
-    if (e.verdict == "ambiguous" && !apply_ambiguous) {
-      out.not_applied.push_back(std::string(EffectName(e.effect)) + " (ambiguous)");
+    if (!AppliesEntry(e.verdict, e.has_apply, e.apply, apply_ambiguous)) {
+      out.not_applied.push_back(std::string(EffectName(e.effect)) + " (" + e.verdict + ")");
       continue;
+    }
+    // What is applied must be a real platform's (an entry left out, a named
+    // effect beside the calibration set, commands nothing).
+    for (Eigen::Index t = 0; t < e.theta.size(); ++t) {
+      if (std::abs(e.theta(t)) > ParameterLimit(e.effect)) {
+        throw CalibrationError(fmt::format("{}: effects[{}] ({}): theta[{}] = {} is not a real platform's (|θ| ≤ {})",
+                                           origin, k, EffectName(e.effect), t, e.theta(t), ParameterLimit(e.effect)));
+      }
     }
     if (e.effect == Effect::kStructuralResonance && !(out.options.structural_mode_hz > 0.0)) {
       throw CalibrationError(origin + ": effect \"structural_resonance\" needs \"structural_mode_hz\" > 0");

@@ -46,6 +46,10 @@ class SimLog {
   std::int64_t events_ = 0;
 };
 
+// With a calibration, the rig's unrecorded hold at home before the motions.
+constexpr const char* kSettleSegment = "settle under the calibration";
+constexpr double kCalibrationSettle_s = 0.5;
+
 }  // namespace
 
 OfflineRunResult RunOffline(const std::string& config_path, const OfflineRunOptions& options) {
@@ -70,8 +74,15 @@ OfflineRunResult RunOffline(const std::string& config_path, const RigEffects& ef
         calibration_path, model, options.apply_ambiguous || nominal.calibration_apply_ambiguous);
   }
   // The same motions as the live planner plans for this platform, whatever
-  // the compensation this run applies.
-  StackSimulation sim(nominal, MotionSequence(model, options.motions, options.paper), stack);
+  // the compensation this run applies. With a calibration the rig first
+  // settles at home under it, unrecorded, as a rig team applies one and
+  // then measures: its first correction is not a transient of the run.
+  std::unique_ptr<TrajectorySequence> motions = std::make_unique<TrajectorySequence>();
+  if (stack.calibration) {
+    motions->Append(kSettleSegment, std::make_unique<Dwell>(model.home_pose().ToVector(), kCalibrationSettle_s));
+  }
+  for (const std::string& name : options.motions) AppendMotion(model, name, options.paper, motions.get());
+  StackSimulation sim(nominal, std::move(motions), stack);
 
   std::error_code ec;
   std::filesystem::create_directories(options.out_dir, ec);
@@ -110,6 +121,7 @@ OfflineRunResult RunOffline(const std::string& config_path, const RigEffects& ef
     };
     while (!sim.Finished()) {
       const StackSample s = sim.Step();
+      if (s.setpoint.trajectory == kSettleSegment) continue;
       utime = s.setpoint.utime;
       log.Write(channel::kSetpoint, s.setpoint, utime);
       if (s.command_valid) log.Write(channel::kLegCommand, s.command, utime);

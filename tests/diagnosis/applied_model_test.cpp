@@ -42,5 +42,21 @@ TEST(AppliedModel, TheEffectsThePredictionUsesAreThoseTheKinematicsApplies) {
   EXPECT_EQ(Names(AppliedModelJson(kModel, false)), (std::vector<std::string>{"leg_offset", "backlash"}));
 }
 
+// A calibration set saved by edsp-gap: its entries say "apply".
+TEST(AppliedModel, EntriesThatSayApplyAreThoseThePredictionUses) {
+  nlohmann::json model = kModel;
+  model["effects"][0]["apply"] = false;
+  model["effects"][1]["apply"] = true;
+  model["effects"].push_back(
+      {{"name", "compliance"}, {"verdict", "rejected"}, {"theta", {1e-8, 0, 0, 0, 0, 0, 0, 0, 0}}, {"apply", true}});
+  model["effects"][2]["apply"] = false;
+  EXPECT_EQ(Names(AppliedModelJson(model, false)), (std::vector<std::string>{"lead_error", "compliance"}));
+  const calibration::CalibrationModel m =
+      calibration::ParseCalibration(model.dump(), "m.json", PlatformModel(Huang2021Config()), false);
+  ASSERT_EQ(m.applied.size(), 2u);
+  EXPECT_EQ(m.applied[0].effect, calibration::Effect::kLeadError);
+  EXPECT_EQ(m.applied[1].effect, calibration::Effect::kCompliance);
+}
+
 }  // namespace
 }  // namespace edsp::gap

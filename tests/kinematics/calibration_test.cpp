@@ -70,6 +70,41 @@ TEST(Calibration, AmbiguousEffectsAreAppliedOnlyWhenAsked) {
   EXPECT_NE(strict.hash, ParseCalibration(text + " ", "m.json", Nominal()).hash);
 }
 
+// A model whose entries say "apply" (edsp-gap's calibration set: the best
+// predictor of held-out error, named or not) is applied as they say, an
+// effect the diagnosis rejected as a name included; ambiguous ones are
+// still added when asked.
+TEST(Calibration, EntriesThatSayApplyAreAppliedAsTheySay) {
+  const std::string text = Model(R"({"name": "leg_offset", "verdict": "identified", "theta": [1e-4,0,0,0,0,0], "apply": false},
+                                     {"name": "lead_error", "verdict": "ambiguous", "theta": [1e-4,0,0,0,0,0], "apply": true},
+                                     {"name": "backlash", "verdict": "rejected", "theta": [1e-5,1e-5,1e-5,1e-5,1e-5,1e-5], "apply": true},
+                                     {"name": "compliance", "verdict": "ambiguous", "theta": [1e-8,0,0,0,0,0,0,0,0], "apply": false})");
+  const auto names = [](const CalibrationModel& m) {
+    std::vector<Effect> out;
+    for (const CalibratedEffect& e : m.applied) out.push_back(e.effect);
+    return out;
+  };
+  const CalibrationModel as_saved = ParseCalibration(text, "m.json", Nominal());
+  EXPECT_EQ(names(as_saved), (std::vector<Effect>{Effect::kLeadError, Effect::kBacklash}));
+  EXPECT_NE(as_saved.Describe().find("not applied: leg_offset (identified), compliance (ambiguous)"), std::string::npos)
+      << as_saved.Describe();
+  EXPECT_EQ(names(ParseCalibration(text, "m.json", Nominal(), true)),
+            (std::vector<Effect>{Effect::kLeadError, Effect::kBacklash, Effect::kCompliance}));
+  // Without "apply", a rejected entry is not applied; a wrong "apply" is named.
+  EXPECT_TRUE(ParseCalibration(Model(R"({"name": "backlash", "verdict": "rejected", "theta": [0,0,0,0,0,0]})"), "m.json",
+                               Nominal())
+                  .applied.empty());
+  EXPECT_NE(Refusal(Model(R"({"name": "leg_offset", "theta": [0,0,0,0,0,0], "apply": "yes"})")).find("\"apply\" must be"),
+            std::string::npos);
+  EXPECT_NE(Refusal(Model(R"({"name": "leg_offset", "verdict": "maybe", "theta": [0,0,0,0,0,0]})")).find("\"maybe\""),
+            std::string::npos);
+  // A named effect the set leaves out commands nothing: beyond a platform's
+  // limits it is not applied, not a reason to refuse the set; applied, it is.
+  const std::string absurd = R"({"name": "leg_offset", "theta": [0.05, 0, 0, 0, 0, 0], "apply": )";
+  EXPECT_EQ(Refusal(Model(absurd + "false}")), "accepted");
+  EXPECT_NE(Refusal(Model(absurd + "true}")).find("theta[0] = 0.05"), std::string::npos);
+}
+
 // Joint centres moved: the command correction is what the inverse
 // kinematics of the moved geometry says the legs must change by (to first
 // order in the µm-sized move), at poses away from home.

@@ -106,6 +106,18 @@ struct RobustFitSummary {
   bool converged = false, covariance_ok = false;
 };
 
+// What a calibration applies (calibration_set.h): the effects that best
+// predict held-out error, whether or not the diagnosis can name each, and
+// their parameters fitted together on every run (the robust fit, as the
+// selected effects').
+struct CalibrationResult {
+  std::vector<Effect> effects;
+  std::vector<Eigen::VectorXd> theta, sigma;  // one per effect, in that order (sigma: 1-σ)
+  std::string chosen_by;               // identified | selected | forward | backward
+  double heldout_rms_m = 0.0;          // point A, √(3·held-out MSE per coordinate)
+  double identified_heldout_rms_m = 0.0;  //   of the identified effects alone
+};
+
 struct Diagnosis {
   DesignOptions design;               // the bases' settings the result holds for
   int samples = 0;
@@ -114,6 +126,7 @@ struct Diagnosis {
   GapSummary gap;                     // before any effect (frame estimated)
   std::vector<EffectResult> effects;  // ranked: selected first, then rejected by gain
   std::vector<Effect> selected;
+  CalibrationResult calibration;      // what a calibration applies
   std::string conclusion;             // "effects", "none", "unknown" or "effects+unknown"
   std::vector<std::string> holdout_runs;
   RmsMax holdout_before, holdout_after;

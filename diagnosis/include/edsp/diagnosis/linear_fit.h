@@ -81,6 +81,11 @@ double HeldOutMse(const GramSet& gram, const Columns& columns, const Eigen::Vect
 // (1 + ρ)/(1 − ρ), ρ its lag-1 autocorrelation along each axis (3 rows per
 // sample), as for an AR(1) series. How the nuisances that are reported, not selected (the
 // tracker's clock offset and drift), get their uncertainty.
+// (1 + ρ)/(1 − ρ), ρ the lag-1 autocorrelation of a residual of 3 rows per
+// sample (clamped to [0, 0.99]): how much a fit's variance grows when its
+// residual is not white.
+double CorrelationInflation(const Eigen::VectorXd& residual);
+
 struct Coefficient {
   double value = 0.0;
   double sigma = 0.0;

@@ -27,6 +27,16 @@ struct Scenario {
 // Scenario k of a seed: k % 5 == 0 effect-free, 1–2 one effect, 3–4 two.
 Scenario DrawScenario(std::uint64_t seed, int index);
 
+// Rig k of a seed with every static effect class at once, as a real rig
+// has them: leg offsets ±120 µm, joint centres σ 100 µm, leads ±250 ppm,
+// backlash 15–40 µm, periodic lead error 2–8 µm, legs of 15–30 N/µm under
+// a payload from 500 kg up to `rated_payload_kg` (centre of mass 0–0.3 m
+// above {M}), a drive loop of 30–80 Hz with integral action. `truth` lists
+// them all. RatePayload (rig/payload_rating.h) gives the rating; the draw
+// takes the centre of mass it was rated for, 0.3 m up (the worst drawn).
+Scenario DrawWholeRig(std::uint64_t seed, int index, double rated_payload_kg);
+inline constexpr double kWholeRigComHeightMaxM = 0.3;
+
 // Where the tracker stands, X_TB: anywhere on the floor within 3 m, turned
 // any way about z, tilted up to 0.03 rad.
 Pose DrawTrackerStand(std::mt19937_64& rng);

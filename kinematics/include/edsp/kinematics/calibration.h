@@ -26,7 +26,8 @@ class CalibrationError : public std::runtime_error {
 struct CalibratedEffect {
   Effect effect = Effect::kLegOffset;
   Eigen::VectorXd theta;
-  std::string verdict;  // identified | ambiguous
+  std::string verdict;  // identified | ambiguous | rejected (applied only as the file's "apply" says)
+  bool has_apply = false, apply = false;  // the file's "apply", if it has one
 };
 
 struct CalibrationModel {
@@ -42,11 +43,22 @@ struct CalibrationModel {
 // Reads and checks a model: its format, every effect's name, parameter
 // count and finiteness, each parameter within what a real platform can
 // have (docs/calibration.md), and, where the file records it, the platform
-// it was identified on against `model`. `ambiguous` effects are applied only
-// with `apply_ambiguous`. Throws CalibrationError.
+// it was identified on against `model`. Which entries are applied:
+// AppliesEntry. Throws CalibrationError.
 CalibrationModel LoadCalibration(const std::string& path, const PlatformModel& model, bool apply_ambiguous = false);
 CalibrationModel ParseCalibration(const std::string& text, const std::string& origin, const PlatformModel& model,
                                   bool apply_ambiguous = false);
+
+// Whether a model file's entry is applied: as its "apply" says when it has
+// one (edsp-gap's calibration set: the effects that best predict held-out
+// error, named or not), else when it is identified; an ambiguous entry also
+// when `apply_ambiguous`.
+bool AppliesEntry(const std::string& verdict, bool has_apply, bool apply, bool apply_ambiguous);
+
+// The θ of an effect the LegCompensator does not apply (the servo lag's
+// jerk term: a trapezoid's corners would make it a spike): data recorded
+// with a calibration in force still holds their part of the leg error.
+std::vector<int> UnappliedParameters(Effect effect);
 
 // What a model file records of the platform it was identified on, so that
 // it is refused on another.

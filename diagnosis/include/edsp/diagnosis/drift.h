@@ -1,0 +1,83 @@
+#pragma once
+// edsp-gap drift: what changed on a rig since a calibration. A rig lives:
+// screws wear (backlash grows), a joint is re-seated (a leg offset jumps),
+// the hall warms. Given the calibration in force (the baseline, a saved
+// model) and a new session's measurement, each of the baseline's applied
+// parameters is fitted again, its change sized with both fits'
+// uncertainties, effects that appeared or vanished are named, and the
+// held-out error the baseline leaves decides whether to recalibrate.
+//
+// The data may be recorded with the baseline applied by the kinematics (the
+// usual case: the residual against the nominal model is then what the
+// baseline no longer explains) or without it (the baseline is then applied
+// offline first). Either way the new fit estimates the change δ from the
+// baseline with the diagnosis's ridge towards "no change", and
+//   after = before + δ,   σ(change) = √(σ_δ² + σ_before²).
+// A change counts when |change| ≥ z·σ, z the larger of 3 and the
+// Bonferroni bound of a 5% chance that any parameter of an unchanged rig
+// passes it (so many parameters do not make noise a change), and when it
+// moves point A on the session by a quarter of the tracker's noise floor:
+// a whole rig's parameters differ between motion sets by more than their
+// σ (a periodic error's phase seen at other screw angles, a lag on other
+// speeds) without anything on the rig having changed.
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "edsp/diagnosis/diagnose.h"
+
+namespace edsp::gap {
+
+inline constexpr double kChangeAtAShare = 0.25;
+
+struct DriftOptions {
+  bool recorded_with_baseline = true;  // the data's commands carried the baseline's correction
+  bool apply_ambiguous = false;        // the baseline as the kinematics applied it (--apply-ambiguous)
+  double threshold_m = 0.0;            // recalibrate above this held-out RMS; 0: 1.5× the data's noise floor
+  DiagnoseOptions diagnose;            // for the effects that appeared
+};
+
+struct ParameterChange {
+  Effect effect = Effect::kLegOffset;
+  std::string parameter;  // its key in the model's JSON (e.g. "backlash_m"), "theta" for a polar pair's θ
+  int index = 0;          // the value's index in that group (per leg: leg − 1, or 3·(leg − 1) + axis)
+  int leg = 0;            // 1–6 for a per-leg value, 0 otherwise
+  double before = 0.0, after = 0.0, change = 0.0, sigma = 0.0;  // SI
+  double z = 0.0;         // change / sigma
+  double at_a_m = 0.0;    // how far the change moves point A on this session: RMS of its column × change
+  int theta_index = 0;    // of the effect's θ
+  bool applied = true;    // the kinematics applies it (calibration::UnappliedParameters): only such can count as changed
+};
+
+struct DriftReport {
+  bool recorded_with_baseline = true;
+  int samples = 0;
+  std::vector<ParameterChange> parameters;  // every parameter the baseline applies
+  std::vector<ParameterChange> changed;     // those the kinematics applies with |z| ≥ z_threshold
+                                            // that move A by kChangeAtAShare of the noise floor
+  double z_threshold = 3.0;
+  std::vector<Effect> appeared;             // identified now, not in the baseline
+  std::vector<Effect> vanished;             // in the baseline, now within z_threshold·σ of zero
+  double heldout_rms_m = 0.0;               // what the baseline leaves on this data (frame refitted)
+  double heldout_max_m = 0.0;
+  double noise_floor_rms_m = 0.0;
+  double threshold_m = 0.0;
+  bool recalibrate = false;
+};
+
+// Throws MeasurementError naming what is wrong with the baseline.
+DriftReport Drift(const PlatformModel& model, const nlohmann::json& baseline, const std::string& origin,
+                  const MeasurementData& data, const DriftOptions& options = {});
+
+// z such that N normal parameters all stay within ±z with probability 95%
+// (two-sided Bonferroni), and at least 3.
+double ChangeThreshold(int parameters);
+
+nlohmann::json ToJson(const DriftReport& report);
+// "backlash leg 3: 22.0 → 37.0 µm, +15.0 ± 2.0 µm" per change, then what
+// appeared, vanished, and the verdict.
+std::string DriftText(const DriftReport& report);
+
+}  // namespace edsp::gap

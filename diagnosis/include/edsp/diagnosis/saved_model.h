@@ -1,0 +1,30 @@
+#pragma once
+// A saved model (`edsp-gap-model/1`, report.h's ModelJson) read as edsp-gap
+// applies it to new data: the bases' settings it was fitted with and the
+// effects it applies (calibration::AppliesEntry without ambiguous ones:
+// what the kinematics applies by default), each with its parameters and,
+// where the file has them, their 1-σ. `evaluate` and `drift` read it so.
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json_fwd.hpp>
+
+#include "edsp/diagnosis/design.h"
+
+namespace edsp::gap {
+
+struct SavedEffect {
+  Effect effect = Effect::kLegOffset;
+  std::string verdict;
+  Eigen::VectorXd theta;
+  Eigen::VectorXd sigma;  // zeros when the file has none (saved before they were)
+};
+
+// Throws MeasurementError naming `origin` and the key that is wrong.
+DesignOptions SavedDesignOptions(const nlohmann::json& saved, const std::string& origin);
+std::vector<SavedEffect> SavedAppliedEffects(const nlohmann::json& saved, const DesignOptions& options,
+                                             const std::string& origin);
+
+}  // namespace edsp::gap

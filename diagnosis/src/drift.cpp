@@ -1,0 +1,242 @@
+#include "edsp/diagnosis/drift.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "edsp/diagnosis/effect_sets.h"
+#include "edsp/diagnosis/linear_fit.h"
+#include "edsp/diagnosis/report.h"
+#include "edsp/diagnosis/robust_fit.h"
+#include "edsp/diagnosis/saved_model.h"
+#include "edsp/diagnosis/time_offset.h"
+#include "edsp/kinematics/calibration.h"
+
+namespace edsp::gap {
+
+namespace {
+
+// The residual with the frame alone fitted (the frame is the data's own).
+Eigen::VectorXd WithoutFrame(const Design& d, const Eigen::VectorXd& r) {
+  const auto F = d.columns.leftCols(6);
+  const Eigen::VectorXd x = (F.transpose() * F).ldlt().solve(F.transpose() * r);
+  return r - F * x;
+}
+
+struct Fitted {
+  std::map<Effect, Eigen::VectorXd> delta, sigma;  // per effect: its change and that change's 1-σ
+};
+
+// δ of every effect the baseline applies, fitted together on what the
+// baseline leaves, with the diagnosis's ridge (towards no change) and its
+// robust fit: the new session's estimate of each parameter beside all the
+// others, so that a change one parameter cannot tell from another's shows
+// as a large σ, not as a change.
+Fitted FitChange(const Design& d, const std::vector<Effect>& baseline, double noise_floor_rms_m) {
+  Fitted fit;
+  if (baseline.empty()) return fit;
+  const GramSet gram(d, MakeFolds(d));
+  const std::vector<int> all = gram.AllFolds();
+  const double sigma_axis = std::max(noise_floor_rms_m / std::sqrt(3.0), 1e-8);
+  const double mse0 = WithoutFrame(d, d.residual).squaredNorm() / std::max(1, gram.Residuals(all));
+  const Eigen::VectorXd prior = PriorWeights(d, std::max(sigma_axis * sigma_axis, mse0));
+  const Columns cols = ColumnsOf(d, baseline);
+  const Eigen::VectorXd theta = gram.Solve(cols, all, prior);
+  const Columns effect_cols(cols.begin() + 6, cols.end());
+  const RobustFit robust = FitRobust(d, effect_cols, theta.tail(static_cast<Eigen::Index>(effect_cols.size())),
+                                     3.0 * std::max(noise_floor_rms_m, 1e-7), prior);
+  // A residual that is not white (what no effect models, the baseline's
+  // own misfit) holds fewer independent samples than rows: the σ grows as
+  // for an AR(1) series (linear_fit.h), or a rig's every small misfit would
+  // count as a change.
+  const double inflation = std::sqrt(CorrelationInflation(robust.residual));
+  int at = 0;
+  for (Effect e : baseline) {
+    fit.delta[e] = robust.theta.segment(at, ParameterCount(e));
+    fit.sigma[e] = inflation * robust.sigma.segment(at, ParameterCount(e));
+    at += ParameterCount(e);
+  }
+  return fit;
+}
+
+// Every parameter of one effect, named by the vocabulary's groups; θ a
+// group reads in pairs (a periodic error's amplitude and phase) as "theta".
+void Compare(const SavedEffect& e, const Eigen::VectorXd& delta, const Eigen::VectorXd& sigma_delta,
+             std::vector<ParameterChange>* out) {
+  const Eigen::VectorXd after = e.theta + delta;
+  const auto sigma_of = [&](int t) { return std::hypot(sigma_delta(t), e.sigma(t)); };
+  std::set<int> named;
+  for (const ParameterGroup& g : ParameterGroups(e.effect)) {
+    if (!calibration::HasSigma(g)) continue;
+    for (int k = 0; k < calibration::ValueCount(g); ++k) {
+      const int t = calibration::ThetaIndex(g, k);
+      ParameterChange c;
+      c.effect = e.effect;
+      c.parameter = g.key;
+      c.index = k;
+      c.leg = calibration::IsPerLeg(g) ? k / calibration::ValuesPerLeg(g) + 1 : 0;
+      c.before = calibration::GroupValue(g, e.theta.data(), k);
+      c.after = calibration::GroupValue(g, after.data(), k);
+      c.change = c.after - c.before;
+      c.sigma = sigma_of(t);
+      c.theta_index = t;
+      out->push_back(c);
+      named.insert(t);
+    }
+  }
+  for (int t = 0; t < e.theta.size(); ++t) {
+    if (named.count(t)) continue;
+    ParameterChange c;
+    c.effect = e.effect;
+    c.parameter = "theta";
+    c.index = c.theta_index = t;
+    c.before = e.theta(t);
+    c.after = after(t);
+    c.change = delta(t);
+    c.sigma = sigma_of(t);
+    out->push_back(c);
+  }
+  const std::vector<int> unapplied = calibration::UnappliedParameters(e.effect);
+  for (ParameterChange& c : *out) {
+    if (c.effect == e.effect) c.applied = std::find(unapplied.begin(), unapplied.end(), c.theta_index) == unapplied.end();
+  }
+}
+
+}  // namespace
+
+double ChangeThreshold(int parameters) {
+  const double p = 0.05 / std::max(1, parameters);
+  double lo = 0.0, hi = 40.0;
+  for (int k = 0; k < 100; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (std::erfc(mid / std::sqrt(2.0)) > p ? lo : hi) = mid;
+  }
+  return std::max(3.0, hi);
+}
+
+DriftReport Drift(const PlatformModel& model, const nlohmann::json& baseline, const std::string& origin,
+                  const MeasurementData& data, const DriftOptions& options) {
+  const DesignOptions o = SavedDesignOptions(baseline, origin);
+  const std::vector<SavedEffect> effects =
+      SavedAppliedEffects(AppliedModelJson(baseline, options.apply_ambiguous), o, origin);
+  Design d = BuildDesign(model, Decimated(data, options.diagnose.max_rate_hz), o);
+  DriftReport r;
+  r.recorded_with_baseline = options.recorded_with_baseline;
+  r.samples = d.samples();
+  r.noise_floor_rms_m = NoiseFloorRms(d);
+  const double sigma_axis = std::max(r.noise_floor_rms_m / std::sqrt(3.0), 1e-8);
+  const TimeOffset clock = EstimateTimeOffset(d, PriorWeights(d, sigma_axis * sigma_axis));
+  if (clock.applied) RemoveTimeOffset(clock.offset_s, &d);
+  // Recorded without the baseline: apply it here. With it: what the
+  // kinematics leaves out of a model is still in the data; take it out too.
+  for (const SavedEffect& e : effects) {
+    const ColumnRange& c = d.Of(e.effect);
+    if (!options.recorded_with_baseline) {
+      d.residual -= d.columns.middleCols(c.begin, c.count) * e.theta;
+      continue;
+    }
+    for (int t : calibration::UnappliedParameters(e.effect)) d.residual -= d.columns.col(c.begin + t) * e.theta(t);
+  }
+  const RmsMax left = PointStats(WithoutFrame(d, d.residual), 0, d.samples());
+  r.heldout_rms_m = left.rms_m;
+  r.heldout_max_m = left.max_m;
+  r.threshold_m = options.threshold_m > 0.0 ? options.threshold_m : 1.5 * r.noise_floor_rms_m;
+  r.recalibrate = r.heldout_rms_m > r.threshold_m;
+
+  std::vector<Effect> baseline_effects;
+  for (const SavedEffect& e : effects) baseline_effects.push_back(e.effect);
+  const Fitted fit = FitChange(d, baseline_effects, r.noise_floor_rms_m);
+  for (const SavedEffect& e : effects) Compare(e, fit.delta.at(e.effect), fit.sigma.at(e.effect), &r.parameters);
+  r.z_threshold = ChangeThreshold(static_cast<int>(r.parameters.size()));
+  const double samples = std::max(1, d.samples());
+  for (ParameterChange& c : r.parameters) {
+    c.z = c.sigma > 0.0 ? c.change / c.sigma : 0.0;
+    const int column = d.Of(c.effect).begin + c.theta_index;
+    c.at_a_m = std::abs(fit.delta.at(c.effect)(c.theta_index)) * d.columns.col(column).norm() / std::sqrt(samples);
+    if (c.applied && std::abs(c.z) >= r.z_threshold && c.at_a_m >= kChangeAtAShare * r.noise_floor_rms_m) {
+      r.changed.push_back(c);
+    }
+  }
+  for (const SavedEffect& e : effects) {
+    bool was = false, is = false;
+    for (int t = 0; t < e.theta.size(); ++t) {
+      const double before = e.theta(t), after = before + fit.delta.at(e.effect)(t);
+      was = was || (e.sigma(t) > 0.0 ? std::abs(before) >= r.z_threshold * e.sigma(t) : before != 0.0);
+      is = is || std::abs(after) >= r.z_threshold * std::max(fit.sigma.at(e.effect)(t), 1e-300);
+    }
+    if (was && !is) r.vanished.push_back(e.effect);
+  }
+  // What the baseline does not hold and the data now names: the diagnosis
+  // of the session (recorded with the baseline, of what it leaves).
+  const Diagnosis now = Diagnose(model, data, options.diagnose);
+  for (const EffectResult& e : now.effects) {
+    if (e.verdict == "identified" && !Contains(baseline_effects, e.effect)) r.appeared.push_back(e.effect);
+  }
+  return r;
+}
+
+nlohmann::json ToJson(const DriftReport& r) {
+  const auto entry = [](const ParameterChange& c) {
+    nlohmann::json j = {{"effect", EffectName(c.effect)}, {"parameter", c.parameter}, {"index", c.index},
+                        {"before", c.before},             {"after", c.after},         {"change", c.change},
+                        {"sigma", c.sigma},               {"z", c.z},
+                        {"at_a_m", c.at_a_m},             {"applied", c.applied}};
+    if (c.leg > 0) j["leg"] = c.leg;
+    return j;
+  };
+  const auto names = [](const std::vector<Effect>& effects) {
+    std::vector<std::string> out;
+    for (Effect e : effects) out.push_back(EffectName(e));
+    return out;
+  };
+  nlohmann::json j;
+  j["recorded_with_baseline"] = r.recorded_with_baseline;
+  j["samples"] = r.samples;
+  j["changed"] = nlohmann::json::array();
+  for (const ParameterChange& c : r.changed) j["changed"].push_back(entry(c));
+  j["parameters"] = nlohmann::json::array();
+  for (const ParameterChange& c : r.parameters) j["parameters"].push_back(entry(c));
+  j["z_threshold"] = r.z_threshold;
+  j["appeared"] = names(r.appeared);
+  j["vanished"] = names(r.vanished);
+  j["heldout_rms_m"] = r.heldout_rms_m;
+  j["heldout_max_m"] = r.heldout_max_m;
+  j["noise_floor_rms_m"] = r.noise_floor_rms_m;
+  j["threshold_m"] = r.threshold_m;
+  j["recalibrate"] = r.recalibrate;
+  return j;
+}
+
+std::string DriftText(const DriftReport& r) {
+  std::string text;
+  for (const ParameterChange& c : r.changed) {
+    std::string unit = "", label = c.parameter;
+    double scale = 1.0;
+    int decimals = 6;
+    for (const ParameterGroup& g : ParameterGroups(c.effect)) {
+      if (c.parameter == g.key) unit = g.unit, label = g.label, scale = g.unit_scale, decimals = g.decimals;
+    }
+    const std::string where = c.leg > 0 ? fmt::format(" leg {}", c.leg) : "";
+    text += fmt::format("{} {}{}: {:.{}f} → {:.{}f} {}, {:+.{}f} ± {:.{}f} {} ({:.1f}σ)\n", EffectName(c.effect), label,
+                        where, c.before * scale, decimals, c.after * scale, decimals, unit, c.change * scale,
+                        decimals, c.sigma * scale, decimals, unit, std::abs(c.z));
+  }
+  if (r.changed.empty()) text += fmt::format("no parameter changed beyond {:.1f}σ\n", r.z_threshold);
+  const auto list = [](const std::vector<Effect>& effects) {
+    std::string s;
+    for (Effect e : effects) s += (s.empty() ? "" : ", ") + std::string(EffectName(e));
+    return s.empty() ? std::string("none") : s;
+  };
+  text += fmt::format("appeared: {}; vanished: {}\n", list(r.appeared), list(r.vanished));
+  text += fmt::format("the baseline leaves {:.1f} µm RMS ({:.1f} max) on this data, noise floor {:.1f} µm; "
+                      "threshold {:.1f} µm: {}\n",
+                      r.heldout_rms_m * 1e6, r.heldout_max_m * 1e6, r.noise_floor_rms_m * 1e6, r.threshold_m * 1e6,
+                      r.recalibrate ? "recalibrate" : "no need to recalibrate");
+  return text;
+}
+
+}  // namespace edsp::gap

@@ -1,0 +1,215 @@
+#include "edsp/diagnosis/drift_benchmark.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "edsp/diagnosis/drift.h"
+#include "edsp/diagnosis/report.h"
+#include "edsp/diagnosis/rig_scenarios.h"
+#include "edsp/kinematics/config.h"
+#include "edsp/rig/payload_rating.h"
+#include "edsp/sim/offline_run.h"
+
+namespace edsp::gap {
+
+namespace {
+
+using Rng = std::mt19937_64;
+
+double Uniform(Rng& rng, double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
+
+OfflineRunOptions SessionRun(const DriftBenchmarkOptions& o, Rng& rng, std::uint64_t seed) {
+  OfflineRunOptions run;
+  run.paper.stops = 4;
+  run.paper.dwell_s = 0.3;
+  run.paper.max_speed_m_s = 0.25;
+  run.paper.max_speed_rad_s = 0.5;
+  run.tracker.noise_sigma_m = o.tracker_noise_m;
+  run.tracker.rate_hz = 100.0;
+  run.tracker.seed = seed;
+  run.tracker.X_TB = DrawTrackerStand(rng);  // set up anew for every session
+  return run;
+}
+
+// What changed between the calibration and the second session.
+RigEffects Changed(const RigEffects& before, int index, Rng& rng, DriftScenario* s) {
+  RigEffects after = before;
+  const int leg = static_cast<int>(Uniform(rng, 0, 6));
+  const auto l = static_cast<std::size_t>(leg);
+  switch (index % 3) {
+    case 0: {
+      s->kind = "backlash";
+      const double grown = Uniform(rng, 10e-6, 30e-6);
+      after.backlash.backlash_m[l] += grown;
+      s->truth.push_back({"backlash", leg + 1, grown});
+      s->description = fmt::format("backlash leg {} grown by {:.1f} µm", leg + 1, grown * 1e6);
+      break;
+    }
+    case 1: {
+      s->kind = "offset";
+      const double jump = Uniform(rng, 50e-6, 150e-6) * (Uniform(rng, 0, 1) < 0.5 ? -1 : 1);
+      after.leg_offset.offset_m[l] += jump;
+      s->truth.push_back({"leg_offset", leg + 1, jump});
+      s->description = fmt::format("leg {} re-seated: offset {:+.1f} µm", leg + 1, jump * 1e6);
+      break;
+    }
+    default: {
+      // Every screw longer by α·ΔT over the length that warms.
+      s->kind = "warmer_hall";
+      const double kelvin = Uniform(rng, 2.0, 5.0);
+      const double grown = 11.7e-6 * kelvin * 0.6;
+      for (std::size_t i = 0; i < 6; ++i) {
+        after.leg_offset.offset_m[i] += grown;
+        s->truth.push_back({"leg_offset", static_cast<int>(i) + 1, grown});
+      }
+      s->description = fmt::format("hall {:.1f} K warmer: every screw {:.1f} µm longer", kelvin, grown * 1e6);
+    }
+  }
+  return after;
+}
+
+const ParameterChange* Reported(const DriftReport& r, const std::string& effect, int leg,
+                                const std::vector<ParameterChange>& among) {
+  for (const ParameterChange& c : among) {
+    if (EffectName(c.effect) == effect && c.leg == leg) return &c;
+  }
+  (void)r;
+  return nullptr;
+}
+
+void Score(const DriftReport& changed, DriftScenario* s) {
+  for (TrueChange& t : s->truth) {
+    const ParameterChange* p = Reported(changed, t.effect, t.leg, changed.parameters);
+    if (p == nullptr) continue;  // the calibration does not apply that effect
+    t.reported = p->change;
+    t.sigma = p->sigma;
+    t.eligible = std::abs(t.change) >= 3.0 * p->sigma;
+    t.named = Reported(changed, t.effect, t.leg, changed.changed) != nullptr;
+    t.sized = std::abs(p->change - t.change) <= 3.0 * p->sigma;
+  }
+  for (const ParameterChange& c : changed.changed) {
+    const bool real = std::any_of(s->truth.begin(), s->truth.end(), [&](const TrueChange& t) {
+      return t.effect == EffectName(c.effect) && t.leg == c.leg;
+    });
+    s->false_changes += !real;
+  }
+}
+
+}  // namespace
+
+DriftBenchmarkResult RunDriftBenchmark(const DriftBenchmarkOptions& o) {
+  DriftBenchmarkResult result;
+  result.options = o;
+  const std::string config = o.config_path.empty() ? EDSP_DEFAULT_CONFIG : o.config_path;
+  const PlatformModel model(LoadConfigFile(config));
+  const double rating = RatePayload(model, RigEffects{}.servo_lag, Vector3(0, 0, kWholeRigComHeightMaxM)).payload_kg;
+  const std::string root = (std::filesystem::temp_directory_path() / fmt::format("edsp-gap-drift-bench-{}", ::getpid())).string();
+  Rng rng(o.seed);
+  for (int k = 0; k < o.rigs; ++k) {
+    if (o.progress) std::fprintf(stderr, "\rrig %d/%d", k, o.rigs), std::fflush(stderr);
+    const Scenario rig = DrawWholeRig(o.seed + 7, k, rating);
+    DriftScenario s;
+    s.index = k;
+    const RigEffects after = Changed(rig.effects, k, rng, &s);
+    const std::string dir = fmt::format("{}/rig-{:03d}", root, k);
+    try {
+      OfflineRunOptions fit = SessionRun(o, rng, o.seed * 7919 + static_cast<std::uint64_t>(3 * k));
+      fit.motions = o.fit_motions;
+      fit.out_dir = dir + "/fit";
+      const Diagnosis d = Diagnose(model, LoadMeasurement(RunOffline(config, rig.effects, fit).csv_path));
+      const nlohmann::json baseline = ModelJson(d);
+      const std::string model_path = dir + "/model.json";
+      std::ofstream(model_path) << baseline.dump();
+      const auto session = [&](const RigEffects& fx, const char* name, std::uint64_t seed) {
+        OfflineRunOptions run = SessionRun(o, rng, seed);
+        run.motions = o.session_motions;
+        run.calibration_path = model_path;
+        run.out_dir = dir + "/" + name;
+        return Drift(model, baseline, model_path, LoadMeasurement(RunOffline(config, fx, run).csv_path));
+      };
+      const DriftReport same = session(rig.effects, "same", o.seed * 7919 + static_cast<std::uint64_t>(3 * k + 1));
+      const DriftReport changed = session(after, "changed", o.seed * 7919 + static_cast<std::uint64_t>(3 * k + 2));
+      s.unchanged_named = static_cast<int>(same.changed.size());
+      s.unchanged_quiet = same.changed.empty();
+      s.recalibrate_unchanged = same.recalibrate;
+      s.recalibrate_changed = changed.recalibrate;
+      Score(changed, &s);
+    } catch (const std::exception& e) {
+      s.error = e.what();
+    }
+    std::filesystem::remove_all(dir);
+    result.unchanged += s.error.empty();
+    result.unchanged_quiet += s.unchanged_quiet;
+    result.false_changes += s.false_changes;
+    for (const TrueChange& t : s.truth) {
+      result.eligible += t.eligible;
+      result.named_and_sized += t.eligible && t.named && t.sized;
+    }
+    result.scenarios.push_back(s);
+  }
+  if (o.progress) std::fprintf(stderr, "\rrig %d/%d\n", o.rigs, o.rigs);
+  std::filesystem::remove_all(root);
+  return result;
+}
+
+nlohmann::json ToJson(const DriftBenchmarkResult& r) {
+  nlohmann::json j;
+  j["mode"] = "drift";
+  j["seed"] = r.options.seed;
+  j["tracker_noise_m"] = r.options.tracker_noise_m;
+  j["fit_motions"] = r.options.fit_motions;
+  j["session_motions"] = r.options.session_motions;
+  j["changes_of_3_sigma"] = r.eligible;
+  j["named_and_sized"] = r.named_and_sized;
+  j["named_and_sized_rate"] = r.eligible ? static_cast<double>(r.named_and_sized) / r.eligible : 0.0;
+  j["unchanged_sessions"] = r.unchanged;
+  j["unchanged_quiet"] = r.unchanged_quiet;
+  j["unchanged_quiet_rate"] = r.unchanged ? static_cast<double>(r.unchanged_quiet) / r.unchanged : 0.0;
+  j["false_changes"] = r.false_changes;
+  j["targets"] = {{"named_and_sized_rate", 0.90}, {"unchanged_quiet_rate", 0.95}};
+  j["scenarios"] = nlohmann::json::array();
+  for (const DriftScenario& s : r.scenarios) {
+    nlohmann::json truth = nlohmann::json::array();
+    for (const TrueChange& t : s.truth) {
+      truth.push_back({{"effect", t.effect}, {"leg", t.leg}, {"change", t.change}, {"reported", t.reported},
+                       {"sigma", t.sigma}, {"eligible", t.eligible}, {"named", t.named}, {"sized", t.sized}});
+    }
+    nlohmann::json js = {{"index", s.index},
+                         {"kind", s.kind},
+                         {"description", s.description},
+                         {"truth", truth},
+                         {"false_changes", s.false_changes},
+                         {"unchanged_quiet", s.unchanged_quiet},
+                         {"unchanged_named", s.unchanged_named},
+                         {"recalibrate_unchanged", s.recalibrate_unchanged},
+                         {"recalibrate_changed", s.recalibrate_changed}};
+    if (!s.error.empty()) js["error"] = s.error;
+    j["scenarios"].push_back(js);
+  }
+  return j;
+}
+
+void PrintDriftBenchmark(const DriftBenchmarkResult& r) {
+  for (const DriftScenario& s : r.scenarios) {
+    int eligible = 0, found = 0;
+    for (const TrueChange& t : s.truth) eligible += t.eligible, found += t.eligible && t.named && t.sized;
+    std::printf("%-3d %-50.50s named and sized %d of %d (≥ 3σ), false %d; unchanged session: %s%s\n", s.index,
+                s.description.c_str(), found, eligible, s.false_changes,
+                s.unchanged_quiet ? "no change" : fmt::format("{} named", s.unchanged_named).c_str(),
+                s.error.empty() ? "" : (" ERROR " + s.error).c_str());
+  }
+  std::printf("changes of ≥ 3σ named and sized: %d of %d (target 90%%); unchanged sessions quiet: %d of %d "
+              "(target 95%%); false changes: %d\n",
+              r.named_and_sized, r.eligible, r.unchanged_quiet, r.unchanged, r.false_changes);
+}
+
+}  // namespace edsp::gap

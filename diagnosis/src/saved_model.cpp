@@ -1,0 +1,89 @@
+#include "edsp/diagnosis/saved_model.h"
+
+#include <cmath>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "edsp/diagnosis/measurement_data.h"
+
+namespace edsp::gap {
+
+DesignOptions SavedDesignOptions(const nlohmann::json& saved, const std::string& origin) {
+  if (!saved.is_object() || saved.value("format", "") != "edsp-gap-model/1") {
+    throw MeasurementError(origin + ": not an edsp-gap model (key \"format\" must be \"edsp-gap-model/1\")");
+  }
+  const auto number = [&](const char* key, double fallback) {
+    if (!saved.contains(key)) return fallback;
+    if (!saved[key].is_number()) throw MeasurementError(fmt::format("{}: \"{}\" must be a number", origin, key));
+    return saved[key].get<double>();
+  };
+  DesignOptions o;
+  o.thermal_time_constant_s = number("thermal_time_constant_s", o.thermal_time_constant_s);
+  o.backlash_width_m = number("backlash_width_m", o.backlash_width_m);
+  if (!(o.thermal_time_constant_s > 0.0)) throw MeasurementError(origin + ": thermal_time_constant_s must be > 0");
+  if (!(o.backlash_width_m > 0.0 && o.backlash_width_m < 0.01)) {
+    throw MeasurementError(origin + ": backlash_width_m must be in (0, 0.01) m");
+  }
+  o.structural_mode_hz = number("structural_mode_hz", 0.0);
+  o.structural_mode_damping = number("structural_mode_damping", o.structural_mode_damping);
+  if (!(o.structural_mode_hz >= 0.0 && o.structural_mode_hz <= 100.0 && o.structural_mode_damping >= 0.0 &&
+        o.structural_mode_damping <= 1.0)) {
+    throw MeasurementError(origin + ": structural_mode_hz must be in [0, 100] Hz, structural_mode_damping in [0, 1]");
+  }
+  return o;
+}
+
+namespace {
+
+// `key` of an entry: ParameterCount(e) finite numbers, or none at all
+// (an empty vector) when `optional` and the key is absent.
+Eigen::VectorXd Numbers(const nlohmann::json& entry, const char* key, Effect e, bool optional,
+                        const std::string& origin) {
+  const std::string name = EffectName(e);
+  if (!entry.contains(key) && optional) return Eigen::VectorXd::Zero(ParameterCount(e));
+  if (!entry.contains(key) || !entry[key].is_array()) {
+    throw MeasurementError(fmt::format("{}: effect {} needs a \"{}\" array", origin, name, key));
+  }
+  std::vector<double> values;
+  for (const auto& v : entry[key]) {
+    if (!v.is_number()) throw MeasurementError(fmt::format("{}: effect {} \"{}\" holds a non-number", origin, name, key));
+    values.push_back(v.get<double>());
+  }
+  // Models saved before thermal drift had its time driver and stroke terms
+  // hold the travel term alone.
+  if (e == Effect::kThermalDrift && values.size() == 1) values.resize(static_cast<std::size_t>(ParameterCount(e)), 0.0);
+  if (static_cast<int>(values.size()) != ParameterCount(e)) {
+    throw MeasurementError(fmt::format("{}: effect {} needs {} parameters, has {}", origin, name, ParameterCount(e),
+                                       values.size()));
+  }
+  for (double v : values) {
+    if (!std::isfinite(v)) throw MeasurementError(fmt::format("{}: effect {} has a non-finite \"{}\"", origin, name, key));
+  }
+  return Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size()));
+}
+
+}  // namespace
+
+std::vector<SavedEffect> SavedAppliedEffects(const nlohmann::json& saved, const DesignOptions& options,
+                                             const std::string& origin) {
+  if (!saved.contains("effects") || !saved["effects"].is_array()) throw MeasurementError(origin + ": no \"effects\" array");
+  std::vector<SavedEffect> effects;
+  for (const auto& entry : saved["effects"]) {
+    SavedEffect s;
+    const std::string name = entry.is_object() ? entry.value("name", "") : "";
+    if (!ParseEffect(name, &s.effect)) throw MeasurementError(fmt::format("{}: unknown effect \"{}\"", origin, name));
+    // A named effect the calibration leaves out: its share is in those applied.
+    if (entry.contains("apply") && entry["apply"].is_boolean() && !entry["apply"].get<bool>()) continue;
+    if (s.effect == Effect::kStructuralResonance && !(options.structural_mode_hz > 0.0)) {
+      throw MeasurementError(origin + ": effect \"structural_resonance\" needs \"structural_mode_hz\" > 0");
+    }
+    s.verdict = entry.value("verdict", "identified");
+    s.theta = Numbers(entry, "theta", s.effect, false, origin);
+    s.sigma = Numbers(entry, "sigma", s.effect, true, origin);
+    effects.push_back(std::move(s));
+  }
+  return effects;
+}
+
+}  // namespace edsp::gap

@@ -1,0 +1,170 @@
+// edsp-gap drift on sessions of one rig after its calibration: nothing
+// changed, a screw's backlash grown and a leg's offset jumped (recorded with
+// the calibration applied, as a rig team records, and without it), and a
+// payload added. The truth is the rig's (rig/), the fit edsp-gap's.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "edsp/diagnosis/drift.h"
+#include "edsp/diagnosis/report.h"
+#include "edsp/kinematics/config.h"
+#include "edsp/sim/offline_run.h"
+#include "command_output.h"
+#include "scratch_dir.h"
+
+namespace edsp::gap {
+namespace {
+
+const std::string kConfig = std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml";
+
+PlatformModel Model() { return PlatformModel(LoadConfigFile(kConfig)); }
+
+RigEffects Rig() {
+  RigEffects fx;
+  fx.servo_lag.integral_time_s = 0.05;
+  fx.leg_offset.enabled = fx.backlash.enabled = fx.lead_error.enabled = true;
+  fx.leg_offset.offset_m = {80e-6, -60e-6, 40e-6, -100e-6, 50e-6, -20e-6};
+  fx.backlash.backlash_m = {20e-6, 25e-6, 22e-6, 30e-6, 18e-6, 26e-6};
+  fx.lead_error.epsilon = {1.5e-4, -1e-4, 2e-4, 0.5e-4, -1.5e-4, 1e-4};
+  return fx;
+}
+
+// A session: its motions on the rig, with the calibration `model` applied
+// by the kinematics (empty: none), the tracker set up anew.
+std::string Session(const std::string& name, const RigEffects& fx, const std::vector<std::string>& motions,
+                    const std::string& model, std::uint64_t seed) {
+  OfflineRunOptions o;
+  o.motions = motions;
+  o.paper.stops = 4;
+  o.paper.dwell_s = 0.3;
+  o.paper.max_speed_m_s = 0.25;
+  o.paper.max_speed_rad_s = 0.5;
+  o.tracker.noise_sigma_m = 5e-6;
+  o.tracker.rate_hz = 100.0;
+  o.tracker.seed = seed;
+  o.tracker.X_TB = Pose::FromVector((Vector6() << 1.0 + static_cast<double>(seed), -2.0, 0.2, 0.01, -0.01, 0.3 * static_cast<double>(seed)).finished());
+  o.calibration_path = model;
+  o.out_dir = test_support::ScratchDir("drift_" + name);
+  return RunOffline(kConfig, fx, o).csv_path;
+}
+
+// The calibration in force: diagnosed on six motions, saved as a user saves it.
+const std::string& Baseline() {
+  static const std::string path = [] {
+    const std::string csv = Session("fit", Rig(), {"Lz", "Lx", "Rz", "Ry", "M1", "M2"}, "", 1);
+    const Diagnosis d = Diagnose(Model(), LoadMeasurement(csv));
+    const std::string out = test_support::ScratchDir("drift_baseline") + "/model.json";
+    std::ofstream(out) << ModelJson(d).dump(2);
+    return out;
+  }();
+  return path;
+}
+
+nlohmann::json BaselineJson() { return nlohmann::json::parse(std::ifstream(Baseline())); }
+
+const std::vector<std::string> kSession = {"Lz", "Lx", "Ry", "M3"};
+
+const ParameterChange* Find(const std::vector<ParameterChange>& changes, Effect e, int leg) {
+  for (const ParameterChange& c : changes) {
+    if (c.effect == e && c.leg == leg) return &c;
+  }
+  return nullptr;
+}
+
+// The team's own bar: recalibrate when the calibration leaves more than
+// 11 µm RMS (the tracker's floor is 8.7 µm).
+DriftOptions Team() {
+  DriftOptions o;
+  o.threshold_m = 11e-6;
+  return o;
+}
+
+TEST(Drift, ARigThatDidNotChangeNeedsNoRecalibration) {
+  const DriftReport r =
+      Drift(Model(), BaselineJson(), Baseline(), LoadMeasurement(Session("same", Rig(), kSession, Baseline(), 2)), Team());
+  EXPECT_TRUE(r.changed.empty()) << DriftText(r);
+  EXPECT_TRUE(r.appeared.empty()) << DriftText(r);
+  EXPECT_TRUE(r.vanished.empty()) << DriftText(r);
+  EXPECT_FALSE(r.recalibrate) << DriftText(r);
+  EXPECT_FALSE(r.parameters.empty());
+}
+
+// Backlash of screw 3 grown by 20 µm, leg 2's offset jumped by 80 µm: both
+// named and sized within 3σ of the truth, nothing else, whether the
+// session ran with the calibration or without it.
+TEST(Drift, WornBacklashAndAJumpedOffsetAreNamedAndSized) {
+  RigEffects worn = Rig();
+  worn.backlash.backlash_m[2] += 20e-6;
+  worn.leg_offset.offset_m[1] += 80e-6;
+  for (const bool with : {true, false}) {
+    DriftOptions o = Team();
+    o.recorded_with_baseline = with;
+    const std::string csv = Session(with ? "worn_with" : "worn_without", worn, kSession, with ? Baseline() : "", 3);
+    const DriftReport r = Drift(Model(), BaselineJson(), Baseline(), LoadMeasurement(csv), o);
+    SCOPED_TRACE(DriftText(r));
+    const ParameterChange* backlash = Find(r.changed, Effect::kBacklash, 3);
+    const ParameterChange* offset = Find(r.changed, Effect::kLegOffset, 2);
+    ASSERT_NE(backlash, nullptr);
+    ASSERT_NE(offset, nullptr);
+    EXPECT_NEAR(backlash->change, 20e-6, 3.0 * backlash->sigma + 1e-6);
+    EXPECT_NEAR(offset->change, 80e-6, 3.0 * offset->sigma + 2e-6);
+    EXPECT_NEAR(backlash->after, backlash->before + backlash->change, 1e-15);
+    EXPECT_EQ(r.changed.size(), 2u);
+    EXPECT_TRUE(r.recalibrate);
+    EXPECT_EQ(r.recorded_with_baseline, with);
+  }
+}
+
+// A payload the calibration never saw: the legs give under it, an effect
+// the baseline does not hold.
+TEST(Drift, AnEffectTheBaselineDoesNotHoldAppears) {
+  RigEffects loaded = Rig();
+  loaded.compliance.enabled = true;
+  loaded.compliance.stiffness_N_m.fill(1.5e7);
+  loaded.compliance.mass_kg = 1200.0;
+  const DriftReport r = Drift(Model(), BaselineJson(), Baseline(),
+                              LoadMeasurement(Session("loaded", loaded, kSession, Baseline(), 4)), Team());
+  EXPECT_NE(std::find(r.appeared.begin(), r.appeared.end(), Effect::kCompliance), r.appeared.end()) << DriftText(r);
+  EXPECT_TRUE(r.recalibrate) << DriftText(r);
+}
+
+// The bound many parameters need, against the normal tail it stands for.
+TEST(Drift, TheChangeThresholdKeepsNoiseFromCountingAsChange) {
+  EXPECT_DOUBLE_EQ(ChangeThreshold(1), 3.0);
+  for (int n : {100, 1000}) {
+    const double z = ChangeThreshold(n);
+    EXPECT_NEAR(n * std::erfc(z / std::sqrt(2.0)), 0.05, 1e-6) << n;
+  }
+}
+
+TEST(Drift, TheCommandLineSaysWhatChangedAndRefusesABadBaseline) {
+  const std::string csv = Session("cli", Rig(), kSession, Baseline(), 5);
+  const auto ok = test_support::RunCommand(fmt::format("{} drift --config {} --baseline {} --data {} --json",
+                                                       EDSP_GAP_BINARY, kConfig, Baseline(), csv));
+  ASSERT_EQ(ok.exit_code, 0) << ok.text;
+  const nlohmann::json j = nlohmann::json::parse(ok.text.substr(ok.text.find('{')));
+  for (const char* key : {"changed", "appeared", "vanished", "heldout_rms_m", "recalibrate"}) EXPECT_TRUE(j.contains(key)) << key;
+  const std::string bad = test_support::ScratchDir("drift_bad") + "/bad.json";
+  std::ofstream(bad) << R"({"format": "edsp-gap-model/1", "effects": [{"name": "backlash", "theta": [1, 2]}]})";
+  const auto refused = test_support::RunCommand(
+      fmt::format("{} drift --config {} --baseline {} --data {}", EDSP_GAP_BINARY, kConfig, bad, csv));
+  EXPECT_EQ(refused.exit_code, 1) << refused.text;
+  EXPECT_NE(refused.text.find(bad), std::string::npos) << refused.text;
+  EXPECT_NE(refused.text.find("needs 6 parameters"), std::string::npos) << refused.text;
+  // The whole-rig modes need a rig that takes a calibration.
+  for (const char* mode : {"calibration", "drift"}) {
+    const auto blind = test_support::RunCommand(
+        fmt::format("{} benchmark --mode {} --generator blind --scenarios 1", EDSP_GAP_BINARY, mode));
+    EXPECT_EQ(blind.exit_code, 1) << blind.text;
+    EXPECT_NE(blind.text.find(fmt::format("--mode {} --generator blind", mode)), std::string::npos) << blind.text;
+  }
+}
+
+}  // namespace
+}  // namespace edsp::gap
