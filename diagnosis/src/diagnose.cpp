@@ -303,10 +303,21 @@ std::optional<Effect> BeyondAPlatform(const CalibrationResult& c) {
 // The calibration set (calibration_set.h) and its fit; an effect whose fit
 // beside the others a platform cannot have is left out and the set chosen
 // again without it.
+//
+// Chosen after the checks beyond the vocabulary: an effect they find
+// ambiguous with `unknown` (a lag the encoders do not show, a base tilt or
+// a drifting clock that does as well) is what no calibration applies, in
+// any set.
 CalibrationResult CalibrationOf(const Design& d, const GramSet& gram, const Eigen::VectorXd& prior, Evaluator& eval,
-                                const std::vector<Effect>& identified, const std::map<Effect, EffectResult>& results,
-                                const std::vector<Effect>& selected, double noise_floor_rms_m) {
-  std::vector<Effect> excluded;
+                                const Diagnosis& diagnosis, double noise_floor_rms_m) {
+  std::map<Effect, EffectResult> results;
+  std::vector<Effect> identified, excluded;
+  for (const EffectResult& r : diagnosis.effects) {
+    results[r.effect] = r;
+    if (r.verdict == "identified" && Contains(diagnosis.selected, r.effect)) identified.push_back(r.effect);
+    if (Contains(r.ambiguous_with, std::string("unknown"))) excluded.push_back(r.effect);
+  }
+  const std::vector<Effect>& selected = diagnosis.selected;
   for (;;) {
     CalibrationResult c = FitCalibration(d, gram, prior, ChooseCalibrationSet(eval, identified, selected, excluded),
                                          results, selected, noise_floor_rms_m);
@@ -425,17 +436,13 @@ Diagnosis DiagnoseOnce(const PlatformModel& model, const MeasurementData& data, 
   out.selected = selection.effects;
   std::map<Effect, EffectResult> results = Verdicts(eval, selection, o);
   const Eigen::VectorXd residual = FitSelected(d, gram, prior, selection, &out, &results);
-  std::vector<Effect> identified;
-  for (Effect e : out.selected) {
-    if (results.at(e).verdict == "identified") identified.push_back(e);
-  }
-  out.calibration = CalibrationOf(d, gram, prior, eval, identified, results, out.selected, out.noise_floor_rms_m);
   for (auto& [e, r] : results) r.frame_overlap = FrameOverlap(d, gram, e);
   Identifiability(d, gram, prior, out.selected, &results, &out.condition_number);
   out.effects = Ranked(results, out.selected);
   const Eigen::VectorXd heldout = HoldOut(d, gram, prior, ColumnsOf(d, out.selected), &out);
   DescribeRest(d, residual, heldout, o, &out);
   CheckBeyondTheVocabulary(d, prior, eval, o, &out);
+  out.calibration = CalibrationOf(d, gram, prior, eval, out, out.noise_floor_rms_m);
   for (int k = 0; k < d.samples(); ++k) {
     const std::size_t s = static_cast<std::size_t>(k);
     out.series.push_back({d.sample_run[s], d.time_s[s], d.displacement[s], baseline.segment<3>(3 * k).norm(),

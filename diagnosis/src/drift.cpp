@@ -151,7 +151,8 @@ DriftReport Drift(const PlatformModel& model, const nlohmann::json& baseline, co
   for (const SavedEffect& e : effects) baseline_effects.push_back(e.effect);
   const Fitted fit = FitChange(d, baseline_effects, r.noise_floor_rms_m);
   for (const SavedEffect& e : effects) Compare(e, fit.delta.at(e.effect), fit.sigma.at(e.effect), &r.parameters);
-  r.z_threshold = ChangeThreshold(static_cast<int>(r.parameters.size()));
+  r.z_threshold = ChangeThreshold(static_cast<int>(
+      std::count_if(r.parameters.begin(), r.parameters.end(), [](const ParameterChange& c) { return c.applied; })));
   const double samples = std::max(1, d.samples());
   for (ParameterChange& c : r.parameters) {
     c.z = c.sigma > 0.0 ? c.change / c.sigma : 0.0;
@@ -172,9 +173,16 @@ DriftReport Drift(const PlatformModel& model, const nlohmann::json& baseline, co
   }
   // What the baseline does not hold and the data now names: the diagnosis
   // of the session (recorded with the baseline, of what it leaves).
+  // Against every effect the baseline file names, applied or not: one it
+  // names but does not apply was there when it was made.
+  std::vector<Effect> named;
+  for (const auto& entry : baseline["effects"]) {
+    Effect e;
+    if (entry.is_object() && ParseEffect(entry.value("name", ""), &e)) named.push_back(e);
+  }
   const Diagnosis now = Diagnose(model, data, options.diagnose);
   for (const EffectResult& e : now.effects) {
-    if (e.verdict == "identified" && !Contains(baseline_effects, e.effect)) r.appeared.push_back(e.effect);
+    if (e.verdict == "identified" && !Contains(named, e.effect)) r.appeared.push_back(e.effect);
   }
   return r;
 }

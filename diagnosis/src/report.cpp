@@ -253,9 +253,12 @@ nlohmann::json AppliedModelJson(const nlohmann::json& saved, bool apply_ambiguou
   applied["effects"] = nlohmann::json::array();
   for (const auto& e : saved["effects"]) {
     if (!e.is_object()) continue;
-    if (calibration::AppliesEntry(e.value("verdict", "identified"), e.contains("apply") && e["apply"].is_boolean(),
-                                  e.value("apply", false), apply_ambiguous)) {
+    const bool has_apply = e.contains("apply") && e["apply"].is_boolean();
+    const std::string verdict = e.contains("verdict") && e["verdict"].is_string() ? e["verdict"].get<std::string>()
+                                                                                    : "identified";
+    if (calibration::AppliesEntry(verdict, has_apply, has_apply && e["apply"].get<bool>(), apply_ambiguous)) {
       applied["effects"].push_back(e);
+      applied["effects"].back()["apply"] = true;  // what it holds is applied, whatever the file said
     }
   }
   return applied;

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "edsp/diagnosis/report.h"
+#include "edsp/diagnosis/saved_model.h"
 #include "edsp/kinematics/calibration.h"
 #include "edsp/kinematics/config.h"
 
@@ -24,13 +25,15 @@ std::vector<std::string> Names(const nlohmann::json& model) {
   return names;
 }
 
-std::vector<std::string> KinematicsApplies(bool apply_ambiguous) {
+std::vector<std::string> KinematicsAppliesOf(const nlohmann::json& model, bool apply_ambiguous) {
   const calibration::CalibrationModel m = calibration::ParseCalibration(
-      kModel.dump(), "m.json", PlatformModel(Huang2021Config()), apply_ambiguous);
+      model.dump(), "m.json", PlatformModel(Huang2021Config()), apply_ambiguous);
   std::vector<std::string> names;
   for (const auto& e : m.applied) names.push_back(calibration::EffectName(e.effect));
   return names;
 }
+
+std::vector<std::string> KinematicsApplies(bool apply_ambiguous) { return KinematicsAppliesOf(kModel, apply_ambiguous); }
 
 TEST(AppliedModel, TheEffectsThePredictionUsesAreThoseTheKinematicsApplies) {
   for (bool ambiguous : {false, true}) {
@@ -56,6 +59,15 @@ TEST(AppliedModel, EntriesThatSayApplyAreThoseThePredictionUses) {
   ASSERT_EQ(m.applied.size(), 2u);
   EXPECT_EQ(m.applied[0].effect, calibration::Effect::kLeadError);
   EXPECT_EQ(m.applied[1].effect, calibration::Effect::kCompliance);
+  // Asked for the ambiguous ones too, the prediction's reader keeps what the
+  // kinematics then applies, an ambiguous entry the set left out included.
+  model["effects"][1]["apply"] = false;
+  const std::vector<SavedEffect> read =
+      SavedAppliedEffects(AppliedModelJson(model, true), DesignOptions{}, "m.json");
+  std::vector<std::string> names;
+  for (const SavedEffect& e : read) names.push_back(EffectName(e.effect));
+  EXPECT_EQ(names, (std::vector<std::string>{"lead_error", "compliance"}));
+  EXPECT_EQ(KinematicsAppliesOf(model, true), names);
 }
 
 }  // namespace

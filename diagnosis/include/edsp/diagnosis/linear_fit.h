@@ -74,6 +74,11 @@ Columns ColumnsOf(const Design& design, const std::vector<Effect>& effects);
 // the bases' non-linear parameters compare.
 double HeldOutMse(const GramSet& gram, const Columns& columns, const Eigen::VectorXd& prior_weight);
 
+// (1 + ρ)/(1 − ρ), ρ the lag-1 autocorrelation of a residual of 3 rows per
+// sample (clamped to [0, 0.99]): how much a fit's variance grows when its
+// residual is not white.
+double CorrelationInflation(const Eigen::VectorXd& residual);
+
 // One coefficient of a fit on every fold, and its 1-σ: the covariance's,
 // with σ² the fit's residual variance, grown for that residual's
 // autocorrelation. A residual that is not white (a mode, a misfit) holds
@@ -81,11 +86,6 @@ double HeldOutMse(const GramSet& gram, const Columns& columns, const Eigen::Vect
 // (1 + ρ)/(1 − ρ), ρ its lag-1 autocorrelation along each axis (3 rows per
 // sample), as for an AR(1) series. How the nuisances that are reported, not selected (the
 // tracker's clock offset and drift), get their uncertainty.
-// (1 + ρ)/(1 − ρ), ρ the lag-1 autocorrelation of a residual of 3 rows per
-// sample (clamped to [0, 0.99]): how much a fit's variance grows when its
-// residual is not white.
-double CorrelationInflation(const Eigen::VectorXd& residual);
-
 struct Coefficient {
   double value = 0.0;
   double sigma = 0.0;

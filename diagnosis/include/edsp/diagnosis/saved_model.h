@@ -1,9 +1,10 @@
 #pragma once
 // A saved model (`edsp-gap-model/1`, report.h's ModelJson) read as edsp-gap
-// applies it to new data: the bases' settings it was fitted with and the
-// effects it applies (calibration::AppliesEntry without ambiguous ones:
-// what the kinematics applies by default), each with its parameters and,
-// where the file has them, their 1-σ. `evaluate` and `drift` read it so.
+// applies it to new data: the bases' settings it was fitted with and every
+// effect not marked `"apply": false` (`evaluate`'s rule: an older file's
+// ambiguous entries too), each with its parameters and, where the file has
+// them, their 1-σ. `drift` and `compare`'s prediction pass it
+// AppliedModelJson's output: what the kinematics applies.
 
 #include <string>
 #include <vector>

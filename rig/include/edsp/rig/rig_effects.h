@@ -67,7 +67,7 @@ struct RigEffects {
     double inertia_kg_m2 = 2e-4;    // motor + reflected screw, at the motor
     double viscous_N_m_s = 1e-4;    // per rad/s
     double torque_limit_N_m = 15.0; // current limit × torque constant (holds 1.2 t over the
-                                    // preset's workspace with a third to spare: RatedPayloadKg)
+                                    // preset's workspace with a third to spare: RatePayload)
     double bandwidth_hz = 50.0;     // position loop; gains follow from it
     double loop_rate_hz = 4000.0;   // drive loop and integration rate
     double coulomb_N_m = 0.0;       // dry friction in screw and bearings, at the motor
