@@ -77,23 +77,21 @@ RigEffects Changed(const RigEffects& before, int index, Rng& rng, DriftScenario*
   return after;
 }
 
-const ParameterChange* Reported(const DriftReport& r, const std::string& effect, int leg,
-                                const std::vector<ParameterChange>& among) {
+const ParameterChange* Reported(const std::string& effect, int leg, const std::vector<ParameterChange>& among) {
   for (const ParameterChange& c : among) {
     if (EffectName(c.effect) == effect && c.leg == leg) return &c;
   }
-  (void)r;
   return nullptr;
 }
 
 void Score(const DriftReport& changed, DriftScenario* s) {
   for (TrueChange& t : s->truth) {
-    const ParameterChange* p = Reported(changed, t.effect, t.leg, changed.parameters);
+    const ParameterChange* p = Reported(t.effect, t.leg, changed.parameters);
     if (p == nullptr) continue;  // the calibration does not apply that effect
     t.reported = p->change;
     t.sigma = p->sigma;
     t.eligible = std::abs(t.change) >= 3.0 * p->sigma;
-    t.named = Reported(changed, t.effect, t.leg, changed.changed) != nullptr;
+    t.named = Reported(t.effect, t.leg, changed.changed) != nullptr;
     t.sized = std::abs(p->change - t.change) <= 3.0 * p->sigma;
   }
   for (const ParameterChange& c : changed.changed) {
