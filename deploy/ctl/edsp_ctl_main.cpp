@@ -1,4 +1,6 @@
 // edsp-ctl: an operator's commands to a running group, over LCM.
+//   edsp-ctl move|check|run|halt|stop|wait|status|frame|pivot|limits ...
+//       the planner's motion service (motion_commands.h, docs/operating.md)
 //   edsp-ctl arm [--operator NAME] [--session-id N|auto] [--group FILE | --lcm-url URL]
 //       re-arm the actuator bridge after it latched a hold (EDSP_ARM)
 //   edsp-ctl pr-mode none|unsigned|signed|asin [same options]
@@ -38,64 +40,17 @@
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/pr_mode_t.hpp"
 #include "edsp/transport/bus.h"
+#include "ctl_session.h"
+#include "motion_commands.h"
 
 namespace edsp {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-struct CtlOptions {
-  std::string session = "auto";
-  std::string operator_name;
-  std::string group_file;
-  std::string lcm_url;
-  double timeout_s = 2.0;  // each wait: for the group's traffic, for the answer
-};
-
-Clock::time_point Deadline(const CtlOptions& o) {
-  return Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.timeout_s));
-}
-
-TransportConfig Transport(const CtlOptions& o) {
-  TransportConfig config = o.group_file.empty() ? TransportConfig{} : LoadTransportConfig(o.group_file);
-  if (!o.lcm_url.empty()) config.lcm_url = o.lcm_url;
-  config.channels.clear();  // the operator's commands and the confirmations all travel on LCM
-  return config;
-}
-
-// The session of the group commanding the platform, from its own traffic.
-// The handlers stay subscribed for the bus's life (Bus has no unsubscribe),
-// so they share ownership of what they write to.
-std::int64_t DiscoverSession(Bus& bus, const CtlOptions& o) {
-  auto seen = std::make_shared<std::set<std::int64_t>>();
-  bus.Subscribe<leg_command_t>(channel::kLegCommand, [seen](const leg_command_t& c) { seen->insert(c.session_id); });
-  bus.Subscribe<pose_setpoint_t>(channel::kSetpoint, [seen](const pose_setpoint_t& s) { seen->insert(s.session_id); });
-  const std::set<std::int64_t>& sessions = *seen;
-  const auto until = Deadline(o);
-  while (Clock::now() < until && sessions.empty()) bus.Handle(std::chrono::milliseconds(50));
-  bus.Handle(std::chrono::milliseconds(50));  // one more round: a second group shows itself
-  if (sessions.empty()) {
-    throw std::runtime_error(fmt::format("no leg commands or setpoints on {} within {} s: is the group running "
-                                         "on this network? (or give --session-id)", bus.config().lcm_url, o.timeout_s));
-  }
-  if (sessions.size() > 1) {
-    std::string list;
-    for (std::int64_t s : sessions) list += (list.empty() ? "" : ", ") + std::to_string(s);
-    throw std::runtime_error("several groups on the bus (sessions " + list + "): give --session-id");
-  }
-  return *sessions.begin();
-}
-
-std::int64_t SessionId(Bus& bus, const CtlOptions& o) {
-  if (o.session == "auto") return DiscoverSession(bus, o);
-  try {
-    std::size_t used = 0;
-    const std::int64_t id = std::stoll(o.session, &used);
-    if (used == o.session.size() && id >= 0) return id;
-  } catch (const std::exception&) {
-  }
-  throw std::runtime_error("--session-id " + o.session + ": give a non-negative integer or auto");
-}
+using ctl::Clock;
+using ctl::CtlOptions;
+using ctl::Deadline;
+using ctl::SessionId;
+using ctl::Transport;
 
 // Waits for the node's answer on EDSP_FAULT about `channel`, calling
 // `send` at once and again every kResend until it comes; prints it. Called
@@ -115,7 +70,7 @@ int AwaitConfirmation(Bus& bus, const std::string& node, const std::string& chan
     answer->status = f.code == static_cast<std::int32_t>(FaultCode::kOperatorAction) ? 0 : 2;
     std::printf("%s: %s\n", node.c_str(), f.reason.c_str());
   });
-  const auto until = Deadline(o);
+  const auto until = Deadline(o.timeout_s);
   auto next_send = Clock::now();
   while (!answer->given && Clock::now() < until) {
     if (Clock::now() >= next_send) {
@@ -128,13 +83,6 @@ int AwaitConfirmation(Bus& bus, const std::string& node, const std::string& chan
   return answer->status;
 }
 
-std::string DefaultOperator() {
-  const char* user = std::getenv("USER");
-  char host[256] = {};
-  ::gethostname(host, sizeof(host) - 1);
-  return fmt::format("{}@{} (edsp-ctl)", user != nullptr ? user : "operator", host);
-}
-
 // Fills the request's session, time and operator, sends it, and waits for
 // `node`'s confirmation.
 template <typename Msg>
@@ -143,7 +91,7 @@ int SendAndConfirm(const CtlOptions& o, const std::string& channel, Msg request,
   request.session_id = SessionId(bus, o);
   request.utime = UtimeNow();
   request.seq = 1;
-  request.operator_name = o.operator_name.empty() ? DefaultOperator() : o.operator_name;
+  request.operator_name = ctl::OperatorName(o);
   return AwaitConfirmation(bus, node, channel, o, [&] {
     if (!bus.Publish(channel, request)) throw std::runtime_error(channel + " could not be sent");
   });
@@ -212,8 +160,11 @@ int main(int argc, char** argv) {
       ->required();
   calibration->add_flag("--apply-ambiguous", apply_ambiguous, "apply the model's ambiguous effects too");
   edsp::AddCommon(calibration, &options);
+  edsp::ctl::MotionArgs motion;
+  edsp::ctl::AddMotionCommands(&app, &options, &motion);
   CLI11_PARSE(app, argc, argv);
   try {
+    if (int code = 0; edsp::ctl::RunMotionCommand(app, options, motion, &code)) return code;
     if (*arm) return edsp::Arm(options);
     if (*calibration) return edsp::SetCalibration(options, model, apply_ambiguous);
     return edsp::SetPrMode(options, mode);

@@ -65,8 +65,45 @@ void ReadLimits(const SectionReader& s, WorkspaceLimits* limits) {
       s.Number("jacobian_condition_max", limits->jacobian_condition_max);
 }
 
+void ReadMotion(const SectionReader& s, MotionLimits* m) {
+  s.RejectUnknownKeys({"speed_max_m_s", "speed_max_rad_s", "accel_max_m_s2", "accel_max_rad_s2", "jerk_max_m_s3",
+                       "jerk_max_rad_s3", "leg_accel_max_m_s2", "on_target_tolerance_m",
+                       "on_target_tolerance_rad", "on_target_settle_s"});
+  m->speed_max_m_s = s.Number("speed_max_m_s", m->speed_max_m_s);
+  m->speed_max_rad_s = s.Number("speed_max_rad_s", m->speed_max_rad_s);
+  m->accel_max_m_s2 = s.Number("accel_max_m_s2", m->accel_max_m_s2);
+  m->accel_max_rad_s2 = s.Number("accel_max_rad_s2", m->accel_max_rad_s2);
+  m->jerk_max_m_s3 = s.Number("jerk_max_m_s3", m->jerk_max_m_s3);
+  m->jerk_max_rad_s3 = s.Number("jerk_max_rad_s3", m->jerk_max_rad_s3);
+  m->leg_accel_max_m_s2 = s.Number("leg_accel_max_m_s2", m->leg_accel_max_m_s2);
+  m->on_target_tolerance_m = s.Number("on_target_tolerance_m", m->on_target_tolerance_m);
+  m->on_target_tolerance_rad = s.Number("on_target_tolerance_rad", m->on_target_tolerance_rad);
+  m->on_target_settle_s = s.Number("on_target_settle_s", m->on_target_settle_s);
+}
+
 void Require(bool ok, const std::string& origin, const std::string& what) {
   if (!ok) throw ConfigError(fmt::format("{}: {}", origin, what));
+}
+
+// A motion limit must be a positive number no rig exceeds by orders of
+// magnitude: above `most` it is a unit typo (mm for m), not a platform.
+void RequireMotion(double value, double most, const char* key, const char* unit, const std::string& origin) {
+  Require(std::isfinite(value) && value > 0.0 && value <= most, origin,
+          fmt::format("[motion] {} = {} must be in (0, {}] {}", key, value, most, unit));
+}
+
+void ValidateMotion(const MotionLimits& m, const std::string& origin) {
+  RequireMotion(m.speed_max_m_s, 10.0, "speed_max_m_s", "m/s", origin);
+  RequireMotion(m.speed_max_rad_s, 10.0, "speed_max_rad_s", "rad/s", origin);
+  RequireMotion(m.accel_max_m_s2, 100.0, "accel_max_m_s2", "m/s^2", origin);
+  RequireMotion(m.accel_max_rad_s2, 100.0, "accel_max_rad_s2", "rad/s^2", origin);
+  RequireMotion(m.jerk_max_m_s3, 10000.0, "jerk_max_m_s3", "m/s^3", origin);
+  RequireMotion(m.jerk_max_rad_s3, 10000.0, "jerk_max_rad_s3", "rad/s^3", origin);
+  RequireMotion(m.leg_accel_max_m_s2, 100.0, "leg_accel_max_m_s2", "m/s^2", origin);
+  RequireMotion(m.on_target_tolerance_m, 0.01, "on_target_tolerance_m", "m", origin);
+  RequireMotion(m.on_target_tolerance_rad, 0.01, "on_target_tolerance_rad", "rad", origin);
+  Require(std::isfinite(m.on_target_settle_s) && m.on_target_settle_s >= 0.0 && m.on_target_settle_s <= 60.0, origin,
+          fmt::format("[motion] on_target_settle_s = {} must be in [0, 60] s", m.on_target_settle_s));
 }
 
 
@@ -106,6 +143,7 @@ void ValidateConfig(const PlatformConfig& c, const std::string& origin) {
   Require(l.jacobian_condition_max >= 1.0, origin,
           fmt::format("[limits] jacobian_condition_max = {} must be at least 1",
                       l.jacobian_condition_max));
+  ValidateMotion(c.motion, origin);
 }
 
 PlatformConfig ParseConfig(const std::string& toml_text, const std::string& origin) {
@@ -116,6 +154,7 @@ PlatformConfig ParseConfig(const std::string& toml_text, const std::string& orig
   ReadGeometry(geometry, origin, &config);
   ReadDrive(SectionReader(root, "drive", origin), &config.drive);
   ReadLimits(SectionReader(root, "limits", origin), &config.limits);
+  ReadMotion(SectionReader(root, "motion", origin), &config.motion);
   const SectionReader observation(root, "observation", origin);
   observation.RejectUnknownKeys({"point_m"});
   const bool preset_point = !config.preset.empty();

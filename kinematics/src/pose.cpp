@@ -1,5 +1,6 @@
 #include "edsp/kinematics/pose.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -56,6 +57,12 @@ Matrix3 RotationFromRpy(const Vector3& rpy_rad) {
       cp * sy, sr * sp * sy + cr * cy, cr * sp * sy - sr * cy,   //
       -sp, sr * cp, cr * cp;
   return R;
+}
+
+Vector3 RpyFromRotation(const Matrix3& R) {
+  // R = Rz(yaw)·Ry(pitch)·Rx(roll): R(2,0) = −sin(pitch), R(2,1)/R(2,2) = tan(roll), R(1,0)/R(0,0) = tan(yaw).
+  const double pitch = std::asin(std::clamp(-R(2, 0), -1.0, 1.0));
+  return Vector3(std::atan2(R(2, 1), R(2, 2)), pitch, std::atan2(R(1, 0), R(0, 0)));
 }
 
 std::array<Matrix3, 3> RotationRpyDerivatives(const Vector3& rpy_rad) {

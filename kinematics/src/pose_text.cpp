@@ -23,28 +23,40 @@ std::vector<std::string> SplitCommas(const std::string& text) {
   return fields;
 }
 
+// The comma-separated finite numbers `names` name, in order.
+std::vector<double> ParseNumbers(const std::string& text, const std::vector<const char*>& names, const char* what,
+                                 const char* want) {
+  const std::vector<std::string> fields = SplitCommas(text);
+  if (fields.size() != names.size()) {
+    throw std::invalid_argument(fmt::format("{} \"{}\": want exactly {} values {}, got {}", what, text,
+                                            names.size() == 6 ? "six" : "three", want, fields.size()));
+  }
+  std::vector<double> values;
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    char* end = nullptr;
+    const double value = std::strtod(fields[i].c_str(), &end);
+    if (fields[i].empty() || *end != '\0' || !std::isfinite(value)) {
+      throw std::invalid_argument(
+          fmt::format("{} \"{}\": {} = \"{}\" is not a finite number", what, text, names[i], fields[i]));
+    }
+    values.push_back(value);
+  }
+  return values;
+}
+
 }  // namespace
 
 Pose ParsePoseText(const std::string& text) {
-  static const char* kNames[] = {"x", "y", "z", "roll", "pitch", "yaw"};
-  const std::vector<std::string> fields = SplitCommas(text);
-  if (fields.size() != 6) {
-    throw std::invalid_argument(fmt::format(
-        "pose \"{}\": want exactly six values x,y,z,roll,pitch,yaw (m, rad), got {}", text,
-        fields.size()));
-  }
+  const std::vector<double> v =
+      ParseNumbers(text, {"x", "y", "z", "roll", "pitch", "yaw"}, "pose", "x,y,z,roll,pitch,yaw (m, rad)");
   Vector6 q;
-  for (int i = 0; i < 6; ++i) {
-    const std::string& field = fields[static_cast<std::size_t>(i)];
-    char* end = nullptr;
-    const double value = std::strtod(field.c_str(), &end);
-    if (field.empty() || *end != '\0' || !std::isfinite(value)) {
-      throw std::invalid_argument(fmt::format(
-          "pose \"{}\": {} = \"{}\" is not a finite number", text, kNames[i], field));
-    }
-    q(i) = value;
-  }
+  for (int i = 0; i < 6; ++i) q(i) = v[static_cast<std::size_t>(i)];
   return Pose::FromVector(q);
+}
+
+Vector3 ParsePointText(const std::string& text) {
+  const std::vector<double> v = ParseNumbers(text, {"x", "y", "z"}, "point", "x,y,z (m)");
+  return Vector3(v[0], v[1], v[2]);
 }
 
 }  // namespace edsp

@@ -120,6 +120,30 @@ void Fields(const calibration_t& m, CsvRow* r) {
   r->Add("apply_ambiguous", m.apply_ambiguous);
 }
 
+void Fields(const motion_request_t& m, CsvRow* r) {
+  r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("session_id", m.session_id);
+  r->Add("request_id", m.request_id), r->Add("client", m.client), r->Add("kind", m.kind);
+  r->Add("relative", m.relative), r->Add("frame", m.frame), r->Add("pose", m.pose), r->Add("point", m.point);
+  r->Add("speed_m_s", m.speed_m_s), r->Add("speed_rad_s", m.speed_rad_s);
+  r->Add("accel_m_s2", m.accel_m_s2), r->Add("accel_rad_s2", m.accel_rad_s2);
+  r->Add("motions", m.motions), r->Add("csv_text", m.csv_text), r->Add("csv_origin", m.csv_origin);
+}
+
+void Fields(const motion_reply_t& m, CsvRow* r) {
+  r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("session_id", m.session_id);
+  r->Add("request_id", m.request_id), r->Add("kind", m.kind), r->Add("accepted", m.accepted);
+  r->Add("reason", m.reason), r->Add("duration_s", m.duration_s), r->Add("start_delay_s", m.start_delay_s);
+}
+
+void Fields(const motion_status_t& m, CsvRow* r) {
+  r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("session_id", m.session_id);
+  r->Add("state", m.state), r->Add("request_id", m.request_id), r->Add("activity", m.activity);
+  r->Add("progress", m.progress), r->Add("queued", m.queued), r->Add("last_end", m.last_end);
+  r->Add("pose_commanded", m.pose_commanded), r->Add("pose_target", m.pose_target);
+  r->Add("pose_measured", m.pose_measured), r->Add("measured_valid", m.measured_valid);
+  r->Add("on_target", m.on_target), r->Add("frame", m.frame), r->Add("pivot", m.pivot), r->Add("reason", m.reason);
+}
+
 struct MessageType {
   std::int64_t fingerprint;
   std::string name;

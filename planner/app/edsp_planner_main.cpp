@@ -1,6 +1,8 @@
-// edsp-planner: publishes EDSP_SETPOINT at 1 kHz on an absolute clock. The
-// whole trajectory is checked against the workspace before the first
-// setpoint; after it ends the final pose is held until SIGINT/SIGTERM.
+// edsp-planner: publishes EDSP_SETPOINT at 1 kHz on an absolute clock and
+// serves motion requests (EDSP_MOTION_REQUEST, from edsp-ctl). Started with
+// a program (--motions or --csv) it plays it at once, checked whole before
+// the first setpoint, then holds its final pose; without one it holds home.
+// Either way it serves requests until SIGINT/SIGTERM.
 //   edsp-planner [--motions Lz,Lx,Rz,Ry|calibration] [--csv FILE] [--dwell-s 1] [--stops 5]
 //                [--exit-after-hold-s S] [--config FILE] [--group FILE] [--session-id N]
 //   edsp-planner --motions calibration --identifiability [--json]
@@ -23,10 +25,11 @@ int Run(int argc, char** argv) {
   CLI::App app{"edsp-planner: trajectories → EDSP_SETPOINT at 1 kHz"};
   NodeOptions node;
   AddNodeOptions(&app, &node);
-  std::string motions = "Lz,Lx,Rz,Ry", csv;
+  std::string motions, csv;
   PaperMotionOptions paper;
   app.add_option("--motions", motions,
-                 "motions to run in order (Lx Ly Lz Rx Ry Rz, M1…M999 mixed, calibration)");
+                 "motions to run at once, in order (Lx Ly Lz Rx Ry Rz, M1…M999 mixed, calibration); "
+                 "without them or --csv the planner holds home and serves requests");
   app.add_option("--csv", csv, "play a trajectory CSV instead (time_s,x_m,...,yaw_rad)");
   app.add_option("--stops", paper.stops, "stops across each motion's range")->check(CLI::Range(2, 1000));
   app.add_option("--dwell-s", paper.dwell_s, "dwell at each stop")->check(CLI::Range(0.0, 3600.0));
@@ -50,16 +53,29 @@ int Run(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   const PlatformModel model(LoadConfigFile(node.config_path));
+  const bool program = !motions.empty() || !csv.empty();
   if (identifiability) {
+    if (!program) throw std::invalid_argument("--identifiability: give --motions or --csv");
     ReportIdentifiability(model, *PlannedTrajectory(model, motions, csv, paper), paper, assess, json);
     return 0;
   }
-  Planner planner(model, PlannedTrajectory(model, motions, csv, paper), node.session_id);
+  MotionServiceOptions serve;
+  serve.session_id = node.session_id;
+  serve.programs = paper;
+  MotionService service(model, serve);
+  if (program) {
+    auto trajectory = PlannedTrajectory(model, motions, csv, paper);
+    const double duration_s = trajectory->duration_s();
+    service.StartProgram(std::move(trajectory), csv.empty() ? motions : csv);
+    std::fprintf(stderr, "edsp-planner: %.1f s of motion, session %lld\n", duration_s,
+                 static_cast<long long>(node.session_id));
+  } else {
+    std::fprintf(stderr, "edsp-planner: holding home, serving motion requests, session %lld\n",
+                 static_cast<long long>(node.session_id));
+  }
   InstallStopSignals();
   Bus bus(TransportFor(node));
-  PlannerLoop planner_loop(bus, planner, loop);
-  std::fprintf(stderr, "edsp-planner: %.1f s of motion, session %lld\n", planner.sequence().duration_s(),
-               static_cast<long long>(node.session_id));
+  PlannerLoop planner_loop(bus, service, loop);
   RateClock clock(kPlannerPeriod, std::chrono::microseconds(0));
   planner_loop.Run(clock, StopRequested);
   return 0;

@@ -1,33 +1,46 @@
 #include "edsp/planner/planner_loop.h"
 
 #include <cmath>
+
 #include "edsp/channels.h"
 
 namespace edsp {
 
-PlannerLoop::PlannerLoop(Bus& bus, Planner& planner, PlannerLoopOptions options)
-    : planner_(planner),
+PlannerLoop::PlannerLoop(Bus& bus, MotionService& service, PlannerLoopOptions options)
+    : bus_(bus),
+      service_(service),
       options_(options),
       setpoints_(bus.Advertise<pose_setpoint_t>(channel::kSetpoint)),
+      replies_(bus.Advertise<motion_reply_t>(channel::kMotionReply)),
+      motion_status_(bus.Advertise<motion_status_t>(channel::kMotionStatus)),
       status_out_(bus.Advertise<node_status_t>(channel::kStatus)) {
   status_.SetState(node_status_t::STATE_RUNNING);
-}
-
-void PlannerLoop::Start(std::int64_t start_utime) {
-  start_utime_ = start_utime;
-  planner_.Start(start_utime);
+  bus.Subscribe<motion_request_t>(channel::kMotionRequest, [this](const motion_request_t& request) {
+    status_.CountIn();
+    const motion_reply_t reply = service_.Handle(request, UtimeNow());
+    if (!reply.accepted) status_.CountRejected();
+    replies_.Publish(reply);
+  });
+  bus.Subscribe<leg_state_t>(channel::kLegState,
+                             [this](const leg_state_t& legs) { service_.OnLegState(legs, UtimeNow()); });
+  bus.Subscribe<platform_state_t>(channel::kPlatformState,
+                                  [this](const platform_state_t& state) { service_.OnPlatformState(state, UtimeNow()); });
 }
 
 bool PlannerLoop::RunCycle(std::int64_t now_utime, std::int64_t deadline_misses) {
   const auto began = std::chrono::steady_clock::now();
-  if (setpoints_.Publish(planner_.Step(now_utime))) status_.CountOut();
+  if (setpoints_.Publish(service_.Step(now_utime))) status_.CountOut();
+  if (service_.TakeChange() || now_utime >= next_motion_status_utime_) {
+    motion_status_.Publish(service_.Status(now_utime));
+    next_motion_status_utime_ = now_utime + std::llround(1e6 / options_.status_rate_hz);
+  }
   bool go_on = true;
-  if (planner_.Finished(now_utime)) {
+  if (!service_.busy() && service_.finished_any()) {
     status_.SetState(node_status_t::STATE_HOLDING);
-    // In whole microseconds, as the clock: the last cycle is the one the sum says.
-    const std::int64_t end_utime =
-        start_utime_ + std::llround((planner_.sequence().duration_s() + options_.exit_after_hold_s) * 1e6);
-    go_on = options_.exit_after_hold_s < 0.0 || now_utime < end_utime;
+    go_on = options_.exit_after_hold_s < 0.0 ||
+            now_utime < service_.ended_utime() + std::llround(options_.exit_after_hold_s * 1e6);
+  } else {
+    status_.SetState(node_status_t::STATE_RUNNING);
   }
   status_.RecordLoop(std::chrono::steady_clock::now() - began);
   if (status_.Due(now_utime)) status_out_.Publish(status_.Report(now_utime, deadline_misses));
@@ -35,8 +48,10 @@ bool PlannerLoop::RunCycle(std::int64_t now_utime, std::int64_t deadline_misses)
 }
 
 void PlannerLoop::Run(CycleClock& clock, const std::function<bool()>& stop) {
-  Start(UtimeNow());
   while (!stop()) {
+    for (auto left = clock.UntilNext(); left.count() > 0 && !stop(); left = clock.UntilNext()) {
+      bus_.Handle(std::chrono::duration_cast<std::chrono::microseconds>(left));
+    }
     clock.WaitNext();
     if (!RunCycle(UtimeNow(), clock.missed())) break;
   }

@@ -39,19 +39,31 @@ StackSimulation::StackSimulation(const PlatformConfig& nominal,
                                  std::unique_ptr<TrajectorySequence> trajectory,
                                  StackOptions options)
     : options_(std::move(options)),
-      planner_(PlatformModel(nominal), std::move(trajectory), options_.session_id),
+      planner_(std::in_place, PlatformModel(nominal), std::move(trajectory), options_.session_id),
       kinematics_(PlatformModel(nominal), KinematicsOptions(options_)),
       rig_(RigFor(nominal, options_)),
       backend_(&rig_),
       bridge_(PlatformModel(nominal), Activated(&backend_, nominal), BridgeOptionsFor(options_)),
       now_utime_(options_.start_utime) {
-  planner_.Start(now_utime_);
+  planner_->Start(now_utime_);
+}
+
+StackSimulation::StackSimulation(const PlatformConfig& nominal, StackOptions options)
+    : options_(std::move(options)),
+      kinematics_(PlatformModel(nominal), KinematicsOptions(options_)),
+      rig_(RigFor(nominal, options_)),
+      backend_(&rig_),
+      bridge_(PlatformModel(nominal), Activated(&backend_, nominal), BridgeOptionsFor(options_)),
+      now_utime_(options_.start_utime) {
+  MotionServiceOptions service;
+  service.session_id = options_.session_id;
+  service_.emplace(PlatformModel(nominal), service);
 }
 
 StackSample StackSimulation::Step() {
   StackSample s;
   fault_t fault;
-  s.setpoint = planner_.Step(now_utime_);
+  s.setpoint = planner_ ? planner_->Step(now_utime_) : service_->Step(now_utime_);
   s.command_valid = kinematics_.HandleSetpoint(s.setpoint, now_utime_, &s.command, &fault);
   if (!s.command_valid) {
     faults_.push_back(fault);
@@ -59,6 +71,7 @@ StackSample StackSimulation::Step() {
     faults_.push_back(fault);
   }
   if (bridge_.Cycle(now_utime_, &s.legs, &fault)) faults_.push_back(fault);
+  if (service_) InformService(s.legs);
   if (!rig_.Advance(options_.cycle_s)) {
     throw std::runtime_error("virtual rig: the platform pose could not be found");
   }
@@ -68,6 +81,16 @@ StackSample StackSimulation::Step() {
   return s;
 }
 
-bool StackSimulation::Finished() const { return planner_.Finished(now_utime_); }
+void StackSimulation::InformService(const leg_state_t& legs) {
+  // As the live group: leg states at 1 kHz, the measured pose at 100 Hz.
+  constexpr int kPlatformStateDecimation = 10;
+  service_->OnLegState(legs, now_utime_);
+  if (++cycles_ % kPlatformStateDecimation != 0) return;
+  platform_state_t state;
+  fault_t fault;
+  if (kinematics_.HandleLegState(legs, now_utime_, &state, &fault)) service_->OnPlatformState(state, now_utime_);
+}
+
+bool StackSimulation::Finished() const { return planner_ ? planner_->Finished(now_utime_) : !service_->busy(); }
 
 }  // namespace edsp

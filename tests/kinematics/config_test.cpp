@@ -151,6 +151,19 @@ TEST(Config, AbsurdValuesAreRejectedWithTheValue) {
   EXPECT_CONFIG_ERROR(p + "[limits]\nleg_speed_max_m_s = 0\n", "[limits] leg_speed_max_m_s = 0");
   EXPECT_CONFIG_ERROR(p + "[limits]\nleg_speed_max_m_s = 500\n", "leg_speed_max_m_s = 500");  // mm/s as m/s
   EXPECT_CONFIG_ERROR(p + "[observation]\npoint_m = [1e9, 0, 0]\n", "[observation] point_m");
+  EXPECT_CONFIG_ERROR(p + "[motion]\nspeed_max_m_s = 100\n", "[motion] speed_max_m_s = 100");  // mm/s as m/s
+  EXPECT_CONFIG_ERROR(p + "[motion]\naccel_max_rad_s2 = -1\n", "[motion] accel_max_rad_s2 = -1");
+  EXPECT_CONFIG_ERROR(p + "[motion]\njerk_max_m_s3 = nan\n", "[motion] jerk_max_m_s3");
+  EXPECT_CONFIG_ERROR(p + "[motion]\non_target_tolerance_m = 0\n", "[motion] on_target_tolerance_m = 0");
+  EXPECT_CONFIG_ERROR(p + "[motion]\non_target_settle_s = 100\n", "[motion] on_target_settle_s = 100");
+  EXPECT_CONFIG_ERROR(p + "[motion]\nspeed_m_s = 0.1\n", "unknown key [motion] speed_m_s");
+}
+
+TEST(Config, MotionLimitsAreReadAndDefaulted) {
+  const PlatformConfig c = ParseConfig(std::string(kPreset) + "[motion]\nspeed_max_m_s = 0.05\nleg_accel_max_m_s2 = 2\n", "t");
+  EXPECT_EQ(c.motion.speed_max_m_s, 0.05);
+  EXPECT_EQ(c.motion.leg_accel_max_m_s2, 2.0);
+  EXPECT_EQ(c.motion.speed_max_rad_s, MotionLimits{}.speed_max_rad_s);
 }
 
 TEST(Config, NonUnitAxisIsNamedByRow) {

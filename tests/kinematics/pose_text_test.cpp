@@ -28,3 +28,20 @@ TEST(PoseText, RejectsWhatIsNotSixFiniteNumbers) {
 
 }  // namespace
 }  // namespace edsp
+
+namespace edsp {
+namespace {
+
+TEST(PointText, ThreeFiniteNumbersOrTheFieldNamed) {
+  EXPECT_EQ(ParsePointText("0,-0.5,0.3"), Vector3(0.0, -0.5, 0.3));
+  for (const char* bad : {"0,0", "0,0,0,0", "0,x,0", "0,0,nan"}) EXPECT_THROW(ParsePointText(bad), std::invalid_argument) << bad;
+}
+
+TEST(RpyFromRotation, InvertsRotationFromRpyAwayFromGimbalLock) {
+  for (const Vector3& rpy : {Vector3(0.1, -0.2, 0.3), Vector3(-1.0, 1.2, 3.0), Vector3(0.0, 0.0, 0.0)}) {
+    EXPECT_LT((RpyFromRotation(RotationFromRpy(rpy)) - rpy).norm(), 1e-12) << rpy.transpose();
+  }
+}
+
+}  // namespace
+}  // namespace edsp

@@ -1,6 +1,8 @@
 // Each workspace limit bites where it should and says which limit it was.
 #include <gtest/gtest.h>
 
+#include <Eigen/SVD>
+
 #include "edsp/kinematics/config.h"
 #include "edsp/kinematics/workspace.h"
 
@@ -76,6 +78,27 @@ TEST(Workspace, ConditioningLimit) {
   EXPECT_EQ(check.limit, WorkspaceLimit::kConditioning);
   EXPECT_NEAR(check.value, condition, 1e-9 * condition);
   EXPECT_NE(check.Describe().find("jacobian_condition_max"), std::string::npos);
+}
+
+TEST(Workspace, TheConditionIsTheRatioOfTheExtremeSingularValues) {
+  // Against an SVD of the same normalised Jacobian (the check solves JᵀJ's eigenvalues).
+  const PlatformModel model(Huang2021Config());
+  for (const Vector6& q : {Vector6(Vector6::Zero()), (Vector6() << 0.3, -0.2, 0.0, 0.2, -0.3, 0.4).finished()}) {
+    Pose pose = Pose::FromVector(q);
+    pose.p_BoMo_B.z() += model.home_pose().p_BoMo_B.z();
+    Matrix6 J = model.TwistJacobian(pose);
+    J.rightCols<3>() /= model.config().geometry.p_MoPi_M.colwise().norm().mean();
+    const Eigen::JacobiSVD<Matrix6> svd(J);
+    EXPECT_NEAR(JacobianCondition(model, pose), svd.singularValues()(0) / svd.singularValues()(5), 1e-9);
+  }
+}
+
+TEST(Workspace, CheckLegsIsTheWorkspaceCheckWithoutTheConditioning) {
+  const PlatformModel model(Huang2021Config());
+  Pose far = model.home_pose();
+  far.p_BoMo_B.z() = 3.0;
+  EXPECT_EQ(CheckLegs(model, model.Solve(far)).limit, CheckWorkspace(model, far).limit);
+  EXPECT_TRUE(CheckLegs(model, model.Solve(model.home_pose())).ok());
 }
 
 TEST(Workspace, ConditionGrowsTowardsTheRotationalSingularity) {

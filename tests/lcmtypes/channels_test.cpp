@@ -72,7 +72,8 @@ TEST(ChannelTable, OnlyStatusFaultsAndRequestsInterleaveSeveralSeqStreams) {
   for (const channel::Channel& c : channel::kChannels) {
     if (channel::HasManyPublishers(c.name)) many.insert(std::string(c.name));
   }
-  EXPECT_EQ(many, (std::set<std::string>{"EDSP_STATUS", "EDSP_FAULT", "EDSP_ARM", "EDSP_PR_MODE", "EDSP_CALIBRATION"}));
+  EXPECT_EQ(many, (std::set<std::string>{"EDSP_STATUS", "EDSP_FAULT", "EDSP_ARM", "EDSP_PR_MODE", "EDSP_CALIBRATION",
+                                         "EDSP_MOTION_REQUEST"}));
   EXPECT_FALSE(channel::HasManyPublishers("OTHER_APP"));
   EXPECT_EQ(channel::Find("EDSP_NOPE"), nullptr);
   static_assert(channel::Find(channel::kLegCommand)->rate_hz == 1000.0, "usable at compile time");

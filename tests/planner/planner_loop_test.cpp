@@ -28,8 +28,19 @@ std::unique_ptr<TrajectorySequence> Rise(const PlatformModel& model) {
   return sequence;
 }
 
+MotionServiceOptions ServiceOptions() {
+  MotionServiceOptions options;
+  options.session_id = kSession;
+  return options;
+}
+
+MotionService& Started(MotionService& service, const PlatformModel& model) {
+  service.StartProgram(Rise(model), "rise");
+  return service;
+}
+
 struct Fixture {
-  explicit Fixture(double exit_after_hold_s = -1.0) : loop(bus, planner, PlannerLoopOptions{exit_after_hold_s}) {
+  explicit Fixture(double exit_after_hold_s = -1.0) : loop(bus, Started(service, model), PlannerLoopOptions{exit_after_hold_s}) {
     bus.Subscribe<pose_setpoint_t>("EDSP_SETPOINT", [this](const pose_setpoint_t& s) { setpoints.push_back(s); });
     bus.Subscribe<node_status_t>("EDSP_STATUS", [this](const node_status_t& s) { statuses.push_back(s); });
   }
@@ -40,7 +51,7 @@ struct Fixture {
 
   Bus bus{test_support::MemqConfig("planner_loop")};
   PlatformModel model{Huang2021Config()};
-  Planner planner{model, Rise(model), kSession};
+  MotionService service{model, ServiceOptions()};
   PlannerLoop loop;
   std::vector<pose_setpoint_t> setpoints;
   std::vector<node_status_t> statuses;
@@ -49,7 +60,6 @@ struct Fixture {
 TEST(PlannerLoop, EachCycleIsTheTrajectorysPoseAtItsTime) {
   Fixture f;
   const auto reference = Rise(f.model);  // the same motion, sampled apart from the loop
-  f.loop.Start(kT0);
   for (std::int64_t ms : {0, 1, 2, 250, 251, 499}) ASSERT_TRUE(f.loop.RunCycle(kT0 + ms * 1000, 0));
   f.HandleAll();
   ASSERT_EQ(f.setpoints.size(), 6u);
@@ -69,7 +79,6 @@ TEST(PlannerLoop, EachCycleIsTheTrajectorysPoseAtItsTime) {
 
 TEST(PlannerLoop, RunningThenHoldingTheFinalPoseOnEdspStatus) {
   Fixture f;
-  f.loop.Start(kT0);
   for (std::int64_t ms = 0; ms <= 1600; ++ms) ASSERT_TRUE(f.loop.RunCycle(kT0 + ms * 1000, 0));
   f.HandleAll();
   ASSERT_GE(f.statuses.size(), 2u);
@@ -84,12 +93,10 @@ TEST(PlannerLoop, RunningThenHoldingTheFinalPoseOnEdspStatus) {
 
 TEST(PlannerLoop, ItStopsOnceTheFinalPoseIsHeldAsLongAsItWasTold) {
   Fixture f(0.25);
-  f.loop.Start(kT0);
   std::int64_t ms = 0;
   while (f.loop.RunCycle(kT0 + ms * 1000, 0) && ms < 10000) ++ms;
   EXPECT_EQ(ms, 750) << "0.5 s of motion, then 0.25 s held";
   Fixture forever;
-  forever.loop.Start(kT0);
   for (ms = 0; ms <= 5000; ++ms) ASSERT_TRUE(forever.loop.RunCycle(kT0 + ms * 1000, 0)) << "without a limit it holds";
 }
 

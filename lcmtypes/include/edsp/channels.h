@@ -25,6 +25,9 @@ inline constexpr char kFault[] = "EDSP_FAULT";
 inline constexpr char kArm[] = "EDSP_ARM";
 inline constexpr char kPrMode[] = "EDSP_PR_MODE";
 inline constexpr char kCalibration[] = "EDSP_CALIBRATION";
+inline constexpr char kMotionRequest[] = "EDSP_MOTION_REQUEST";
+inline constexpr char kMotionReply[] = "EDSP_MOTION_REPLY";
+inline constexpr char kMotionStatus[] = "EDSP_MOTION_STATUS";
 
 // Whose seq numbers a channel carries: one publisher's (a gap is a lost
 // message), or several interleaved (every node's status and faults; the
@@ -40,7 +43,7 @@ struct Channel {
   Publishers publishers;
 };
 
-inline constexpr std::array<Channel, 12> kChannels = {{
+inline constexpr std::array<Channel, 15> kChannels = {{
     {kConfig, "platform_config_t", "kinematics", 1.0, Publishers::kOne},
     {kSetpoint, "pose_setpoint_t", "planner", 1000.0, Publishers::kOne},
     {kLegCommand, "leg_command_t", "kinematics", 1000.0, Publishers::kOne},
@@ -53,6 +56,9 @@ inline constexpr std::array<Channel, 12> kChannels = {{
     {kArm, "arm_t", "edsp-ctl", 0.0, Publishers::kMany},
     {kPrMode, "pr_mode_t", "edsp-ctl", 0.0, Publishers::kMany},
     {kCalibration, "calibration_t", "edsp-ctl", 0.0, Publishers::kMany},
+    {kMotionRequest, "motion_request_t", "edsp-ctl (any client)", 0.0, Publishers::kMany},
+    {kMotionReply, "motion_reply_t", "planner", 0.0, Publishers::kOne},
+    {kMotionStatus, "motion_status_t", "planner", 50.0, Publishers::kOne},
 }};
 
 // The row of `name`, or null for a channel that is not edsp's.

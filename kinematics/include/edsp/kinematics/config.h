@@ -30,12 +30,30 @@ struct WorkspaceLimits {
                                          // it, the bridge refuses faster steps as jumps
 };
 
+// [motion]: what the planner's motion service plans moves within (the
+// pivot's speed, acceleration and jerk, the rotation's, the legs'
+// acceleration) and when it calls a move on target. A move may ask for
+// less, never for more.
+struct MotionLimits {
+  double speed_max_m_s = 0.1;
+  double speed_max_rad_s = 0.2;
+  double accel_max_m_s2 = 0.5;
+  double accel_max_rad_s2 = 1.0;
+  double jerk_max_m_s3 = 5.0;
+  double jerk_max_rad_s3 = 10.0;
+  double leg_accel_max_m_s2 = 5.0;      // the drives' acceleration: checked along every path, sets stop's deceleration
+  double on_target_tolerance_m = 10e-6;   // measured pivot position within this of the target
+  double on_target_tolerance_rad = 50e-6; // and its rotation within this
+  double on_target_settle_s = 0.1;        // for this long
+};
+
 struct PlatformConfig {
   std::string preset;  // "huang2021" or empty
   PlatformGeometry geometry;
   DriveParameters drive;
   Vector3 p_MoA_M = Vector3::Zero();  // observation point A in {M}, m
   WorkspaceLimits limits;
+  MotionLimits motion;
   // [calibration]: an edsp-gap model the kinematics applies (calibration.h);
   // relative paths are taken from the config file's directory. Empty: none.
   std::string calibration_model;
@@ -55,7 +73,7 @@ PlatformConfig ParseConfig(const std::string& toml_text, const std::string& orig
 // `[geometry] preset = "huang2021"` file yields).
 PlatformConfig Huang2021Config();
 
-// Checks drive, limits and observation values. Throws ConfigError.
+// Checks drive, limits, motion and observation values. Throws ConfigError.
 void ValidateConfig(const PlatformConfig& config, const std::string& origin);
 
 }  // namespace edsp

@@ -21,6 +21,10 @@ struct Pose {
 // R_BM for the given roll, pitch, yaw.
 Matrix3 RotationFromRpy(const Vector3& rpy_rad);
 
+// The roll, pitch, yaw of R_BM (pitch in [−π/2, π/2]; the inverse of
+// RotationFromRpy away from pitch ±π/2, where roll and yaw are one axis).
+Vector3 RpyFromRotation(const Matrix3& R_BM);
+
 // dR_BM/droll, dR_BM/dpitch, dR_BM/dyaw at the given angles.
 std::array<Matrix3, 3> RotationRpyDerivatives(const Vector3& rpy_rad);
 

@@ -32,7 +32,15 @@ struct WorkspaceCheck {
 // columns divided by the platform's joint radius, so metres meet metres.
 double JacobianCondition(const PlatformModel& model, const Pose& X_BM);
 
+// Every limit, in the order above: what the kinematics node applies to each setpoint.
 WorkspaceCheck CheckWorkspace(const PlatformModel& model, const Pose& X_BM);
+
+// Its parts, for a caller that has the legs solved already or samples the
+// slowly varying conditioning less often (path_check.h):
+// strokes and joint angles of a solved pose,
+WorkspaceCheck CheckLegs(const PlatformModel& model, const LegSolution& legs);
+// and the distance from a singularity.
+WorkspaceCheck CheckConditioning(const PlatformModel& model, const Pose& X_BM);
 
 // Joint-angle check alone (cheap; used on forward-kinematics results).
 WorkspaceCheck CheckJointAngles(const PlatformModel& model, const LegSolution& legs);

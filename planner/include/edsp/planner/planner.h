@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 
+#include "edsp/kinematics/path_check.h"
 #include "edsp/kinematics/platform_model.h"
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/planner/trajectory.h"
@@ -18,6 +19,10 @@ namespace edsp {
 // naming the segment, the time and the limit of the first pose outside.
 void CheckTrajectory(const PlatformModel& model, const TrajectorySequence& sequence,
                      double rate_hz = 1000.0);
+
+// "trajectory segment \"Lx/move\" at t = … s leaves the workspace: …": the
+// first violation `check` found along `sequence`, for the operator.
+std::string TrajectoryViolation(const TrajectorySequence& sequence, const PathCheck& check);
 
 class Planner {
  public:

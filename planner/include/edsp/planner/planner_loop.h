@@ -1,17 +1,22 @@
 #pragma once
-// The planner on a bus: EDSP_SETPOINT every cycle of its clock (the
-// Planner's pose for the wall-clock time, so a late cycle never makes the
-// motion drift) and EDSP_STATUS (running, then holding the final pose).
-// edsp-planner's main only parses options, builds the Planner and runs
-// this; tests run it on an in-process bus with their own clock.
+// The planner on a bus: EDSP_SETPOINT every cycle of its clock (the motion
+// service's pose for the wall-clock time, so a late cycle never makes a
+// motion drift), EDSP_MOTION_REPLY to each EDSP_MOTION_REQUEST,
+// EDSP_MOTION_STATUS at 50 Hz and at once on a change, and EDSP_STATUS.
+// It listens to EDSP_LEG_STATE (is the bridge following?) and
+// EDSP_PLATFORM_STATE (the measured pose). edsp-planner's main only parses
+// options, builds the service and runs this; tests run it on an in-process
+// bus with their own clock.
 
 #include <chrono>
 #include <cstdint>
 #include <functional>
 
+#include "edsp/motion_reply_t.hpp"
+#include "edsp/motion_status_t.hpp"
 #include "edsp/node/runtime.h"
 #include "edsp/node_status_t.hpp"
-#include "edsp/planner/planner.h"
+#include "edsp/planner/motion_service.h"
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/transport/bus.h"
 
@@ -22,33 +27,36 @@ namespace edsp {
 inline constexpr std::chrono::microseconds kPlannerPeriod{1000};
 
 struct PlannerLoopOptions {
-  double exit_after_hold_s = -1.0;  // after the motion, hold this long and stop (< 0: until stopped)
+  double exit_after_hold_s = -1.0;  // after the launch program, hold this long and stop (< 0: until stopped)
+  double status_rate_hz = 50.0;     // EDSP_MOTION_STATUS
 };
 
 class PlannerLoop {
  public:
-  // Set-up: advertises on `bus` (may throw TransportError). The bus and the
-  // planner must outlive the loop.
-  PlannerLoop(Bus& bus, Planner& planner, PlannerLoopOptions options);
+  // Set-up: advertises and subscribes on `bus` (may throw TransportError).
+  // The bus and the service must outlive the loop.
+  PlannerLoop(Bus& bus, MotionService& service, PlannerLoopOptions options);
   PlannerLoop(const PlannerLoop&) = delete;
   PlannerLoop& operator=(const PlannerLoop&) = delete;
 
-  // The motion's time zero (wall clock, microseconds).
-  void Start(std::int64_t start_utime);
-  // One cycle at `now`: the setpoint and, once a second, the status. False
-  // once the final pose has been held for exit_after_hold_s.
+  // One cycle at `now`: the setpoint, the motion status when due, and once
+  // a second the node status. False once the launch program's final pose
+  // has been held for exit_after_hold_s.
   bool RunCycle(std::int64_t now_utime, std::int64_t deadline_misses);
-  // Starts now, then a cycle at each tick of `clock` until stop() is true
-  // or the hold is over.
+  // A cycle at each tick of `clock`, handling requests between ticks,
+  // until stop() is true or the hold is over.
   void Run(CycleClock& clock, const std::function<bool()>& stop);
 
  private:
-  Planner& planner_;
+  Bus& bus_;
+  MotionService& service_;
   PlannerLoopOptions options_;
   Bus::Publisher<pose_setpoint_t> setpoints_;
+  Bus::Publisher<motion_reply_t> replies_;
+  Bus::Publisher<motion_status_t> motion_status_;
   Bus::Publisher<node_status_t> status_out_;
   NodeStatus status_{"planner"};
-  std::int64_t start_utime_ = 0;
+  std::int64_t next_motion_status_utime_ = 0;
 };
 
 }  // namespace edsp

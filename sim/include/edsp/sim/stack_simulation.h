@@ -11,6 +11,7 @@
 
 #include "edsp/actuator_bridge/actuator_bridge.h"
 #include "edsp/kinematics/kinematics_node.h"
+#include "edsp/planner/motion_service.h"
 #include "edsp/planner/planner.h"
 #include "edsp/rig/virtual_rig.h"
 
@@ -40,27 +41,39 @@ class StackSimulation {
   // Throws std::invalid_argument if the trajectory leaves the workspace.
   StackSimulation(const PlatformConfig& nominal, std::unique_ptr<TrajectorySequence> trajectory,
                   StackOptions options);
+  // The planner's motion service instead of a trajectory: it holds home and
+  // moves as requests (motion()) ask, seeing the bridge's leg states and
+  // the kinematics' measured pose as the live planner does.
+  StackSimulation(const PlatformConfig& nominal, StackOptions options);
 
   // One cycle. Throws std::runtime_error if the rig's pose cannot be found.
   StackSample Step();
+  // The trajectory played, or (with the motion service) nothing moving.
   bool Finished() const;
+  std::int64_t now_utime() const { return now_utime_; }
 
   const std::vector<fault_t>& faults() const { return faults_; }
   const PlatformModel& nominal_model() const { return kinematics_.model(); }
-  const TrajectorySequence& trajectory() const { return planner_.sequence(); }
+  const TrajectorySequence& trajectory() const { return planner_->sequence(); }
+  // The motion service (the second constructor only).
+  MotionService& motion() { return *service_; }
   VirtualRig& rig() { return rig_; }
   // The kinematics node, for what an operator does to it while the stack
   // runs (a live calibration switch, a PR mode switch).
   KinematicsNode& kinematics() { return kinematics_; }
 
  private:
+  void InformService(const leg_state_t& legs);
+
   StackOptions options_;
-  Planner planner_;
+  std::optional<Planner> planner_;
+  std::optional<MotionService> service_;
   KinematicsNode kinematics_;
   VirtualRig rig_;
   InProcessRigBackend backend_;
   ActuatorBridge bridge_;
   std::int64_t now_utime_;
+  std::int64_t cycles_ = 0;
   std::vector<fault_t> faults_;
 };
 

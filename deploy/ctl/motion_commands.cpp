@@ -1,0 +1,325 @@
+#include "motion_commands.h"
+
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "edsp/channels.h"
+#include "edsp/kinematics/pose_text.h"
+#include "edsp/motion_reply_t.hpp"
+#include "edsp/motion_request_t.hpp"
+#include "edsp/motion_status_t.hpp"
+#include "edsp/node/runtime.h"
+
+namespace edsp::ctl {
+
+namespace {
+
+enum Exit { kDone = 0, kError = 1, kRefused = 2, kTimedOut = 3, kInterrupted = 4 };
+
+constexpr auto kResend = std::chrono::milliseconds(500);
+
+const char* StateName(std::int8_t state) {
+  switch (state) {
+    case motion_status_t::STATE_IDLE: return "idle";
+    case motion_status_t::STATE_MOVING: return "moving";
+    case motion_status_t::STATE_HALTING: return "halting";
+    case motion_status_t::STATE_HOLDING: return "holding";
+    case motion_status_t::STATE_REFUSED: return "refused";
+    case motion_status_t::STATE_FAULT: return "fault";
+  }
+  return "unknown";
+}
+
+const char* EndName(std::int8_t end) {
+  switch (end) {
+    case motion_status_t::END_COMPLETED: return "completed";
+    case motion_status_t::END_HALTED: return "halted";
+    case motion_status_t::END_STOPPED: return "stopped";
+  }
+  return "none";
+}
+
+template <std::size_t N>
+nlohmann::json Array(const double (&v)[N]) {
+  return nlohmann::json(std::vector<double>(v, v + N));
+}
+
+nlohmann::json StatusJson(const motion_status_t& s) {
+  return {{"state", StateName(s.state)},     {"on_target", s.on_target != 0},
+          {"request_id", s.request_id},      {"activity", s.activity},
+          {"progress", s.progress},          {"queued", s.queued},
+          {"last_end", EndName(s.last_end)}, {"pose_commanded", Array(s.pose_commanded)},
+          {"pose_target", Array(s.pose_target)}, {"pose_measured", Array(s.pose_measured)},
+          {"measured_valid", s.measured_valid != 0}, {"frame", s.frame},
+          {"pivot", Array(s.pivot)},         {"reason", s.reason},
+          {"session_id", s.session_id},      {"utime", s.utime}};
+}
+
+nlohmann::json ReplyJson(const motion_reply_t& r) {
+  return {{"accepted", r.accepted != 0},     {"reason", r.reason},       {"duration_s", r.duration_s},
+          {"start_delay_s", r.start_delay_s}, {"request_id", r.request_id}};
+}
+
+std::int64_t NewRequestId() {
+  std::random_device device;
+  std::uniform_int_distribution<std::int64_t> id(1, std::numeric_limits<std::int64_t>::max());
+  return id(device);
+}
+
+std::string FileText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("run --csv " + path + ": cannot read the file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// One conversation with the planner: the latest motion status of the
+// group's session, and the reply to a request sent until answered.
+class MotionLink {
+ public:
+  explicit MotionLink(const CtlOptions& o) : options_(o), bus_(Transport(o)), session_(SessionId(bus_, o)) {
+    bus_.Subscribe<motion_status_t>(channel::kMotionStatus, [state = state_, session = session_](const motion_status_t& s) {
+      if (s.session_id == session) state->status = s;
+    });
+    bus_.Subscribe<motion_reply_t>(channel::kMotionReply, [state = state_, session = session_](const motion_reply_t& r) {
+      if (r.session_id == session && r.request_id == state->awaited) state->reply = r;
+    });
+  }
+
+  motion_request_t Request(std::int8_t kind) const {
+    motion_request_t r{};
+    r.seq = 1;
+    r.session_id = session_;
+    r.request_id = NewRequestId();
+    r.client = OperatorName(options_);
+    r.kind = kind;
+    return r;
+  }
+
+  // Sends `r` (again every 0.5 s) until its reply comes or the timeout.
+  std::optional<motion_reply_t> Send(motion_request_t r) {
+    state_->awaited = r.request_id;
+    state_->reply.reset();
+    const auto until = Deadline(options_.timeout_s);
+    auto next = Clock::now();
+    while (!state_->reply && Clock::now() < until) {
+      if (Clock::now() >= next) {
+        r.utime = UtimeNow();
+        if (!bus_.Publish(channel::kMotionRequest, r)) throw std::runtime_error("EDSP_MOTION_REQUEST could not be sent");
+        next = Clock::now() + kResend;
+      }
+      bus_.Handle(std::chrono::milliseconds(20));
+    }
+    return state_->reply;
+  }
+
+  // The next status (after now) within `seconds`, or none.
+  std::optional<motion_status_t> NextStatus(double seconds) {
+    state_->status.reset();
+    const auto until = Deadline(seconds);
+    while (!state_->status && Clock::now() < until) bus_.Handle(std::chrono::milliseconds(20));
+    return state_->status;
+  }
+
+ private:
+  struct State {
+    std::int64_t awaited = 0;
+    std::optional<motion_reply_t> reply;
+    std::optional<motion_status_t> status;
+  };
+  CtlOptions options_;
+  Bus bus_;
+  std::int64_t session_;
+  std::shared_ptr<State> state_ = std::make_shared<State>();
+};
+
+// Until the motion `request_id` (0: whatever runs) is on target (0), ended
+// in a halt or stop (4), the bridge faults (1), or `timeout_s` (3).
+int Wait(MotionLink& link, std::int64_t request_id, double timeout_s) {
+  const auto until = Deadline(timeout_s);
+  bool seen = request_id == 0;
+  while (Clock::now() < until) {
+    const std::optional<motion_status_t> s = link.NextStatus(std::min(1.0, timeout_s));
+    if (!s) continue;
+    const bool ours = request_id == 0 || s->request_id == request_id;
+    seen = seen || ours;
+    const bool still = s->state != motion_status_t::STATE_MOVING && s->state != motion_status_t::STATE_HALTING;
+    if (s->state == motion_status_t::STATE_FAULT) {
+      std::fprintf(stderr, "edsp-ctl: %s\n", s->reason.c_str());
+      return kError;
+    }
+    if (!seen || !still) continue;
+    if (s->last_end == motion_status_t::END_HALTED || s->last_end == motion_status_t::END_STOPPED) {
+      std::fprintf(stderr, "edsp-ctl: the motion was %s\n", EndName(s->last_end));
+      return kInterrupted;
+    }
+    if (s->on_target) return kDone;
+  }
+  std::fprintf(stderr, "edsp-ctl: not on target within %g s\n", timeout_s);
+  return kTimedOut;
+}
+
+void FillPose(const std::string& text, motion_request_t* r) {
+  const Vector6 q = ParsePoseText(text).ToVector();
+  for (int k = 0; k < 6; ++k) r->pose[k] = q(k);
+}
+
+int SendAndReport(MotionLink& link, const motion_request_t& r, const MotionArgs& a, bool wait) {
+  const std::optional<motion_reply_t> reply = link.Send(r);
+  if (!reply) {
+    std::fprintf(stderr, "edsp-ctl: no reply from the planner within the timeout (is its motion service running?)\n");
+    return kError;
+  }
+  if (a.json) std::printf("%s\n", ReplyJson(*reply).dump().c_str());
+  if (!reply->accepted) {
+    std::fprintf(stderr, "edsp-ctl: refused: %s\n", reply->reason.c_str());
+    return kRefused;
+  }
+  if (!a.json) std::printf("planner: %s\n", reply->reason.c_str());
+  if (!wait) return kDone;
+  const double timeout = a.wait_timeout_s >= 0.0 ? a.wait_timeout_s : reply->start_delay_s + reply->duration_s + 30.0;
+  return Wait(link, r.request_id, timeout);
+}
+
+int Move(MotionLink& link, const MotionArgs& a, std::int8_t kind) {
+  motion_request_t r = link.Request(kind);
+  FillPose(a.pose, &r);
+  r.relative = a.relative;
+  r.frame = a.frame;
+  r.speed_m_s = a.speed_m_s;
+  r.speed_rad_s = a.speed_rad_s;
+  return SendAndReport(link, r, a, kind == motion_request_t::KIND_MOVE && !a.no_wait);
+}
+
+int RunProgram(MotionLink& link, const MotionArgs& a) {
+  motion_request_t r = link.Request(motion_request_t::KIND_RUN);
+  if (a.motions.empty() == a.csv.empty()) throw std::runtime_error("run: give --motions or --csv");
+  r.motions = a.motions;
+  if (!a.csv.empty()) {
+    r.csv_text = FileText(a.csv);
+    r.csv_origin = a.csv;
+  }
+  return SendAndReport(link, r, a, !a.no_wait);
+}
+
+int Status(MotionLink& link, const CtlOptions& o, const MotionArgs& a) {
+  const std::optional<motion_status_t> s = link.NextStatus(o.timeout_s);
+  if (!s) {
+    std::fprintf(stderr, "edsp-ctl: no EDSP_MOTION_STATUS within %g s (is the planner running?)\n", o.timeout_s);
+    return kError;
+  }
+  if (a.json) {
+    std::printf("%s\n", StatusJson(*s).dump().c_str());
+    return kDone;
+  }
+  std::printf("%s%s  request %lld (%s, %.0f%%, %d queued)  last end: %s  frame %s\n", StateName(s->state),
+              s->on_target ? " on target" : "", static_cast<long long>(s->request_id), s->activity.c_str(),
+              s->progress * 100.0, s->queued, EndName(s->last_end), s->frame.c_str());
+  std::printf("commanded %s\n", fmt::format("{:.6f}", fmt::join(s->pose_commanded, ",")).c_str());
+  std::printf("measured  %s%s\n", fmt::format("{:.6f}", fmt::join(s->pose_measured, ",")).c_str(),
+              s->measured_valid ? "" : " (not valid)");
+  if (!s->reason.empty()) std::printf("reason: %s\n", s->reason.c_str());
+  return kDone;
+}
+
+}  // namespace
+
+void AddMotionCommands(CLI::App* app, CtlOptions* o, MotionArgs* a) {
+  const auto common = [o](CLI::App* cmd) {
+    cmd->add_option("--session-id", o->session, "the group's session, or auto (from its traffic)");
+    cmd->add_option("--operator", o->operator_name, "who asks, for the log");
+    cmd->add_option("--group", o->group_file, "take the LCM URL from this group file");
+    cmd->add_option("--lcm-url", o->lcm_url, "LCM URL (default: the edsp default, host-only)");
+    cmd->add_option("--answer-timeout-s", o->timeout_s, "how long to wait for the group's traffic and the reply")
+        ->check(CLI::Range(0.1, 600.0));
+  };
+  const auto pose = [a](CLI::App* cmd) {
+    cmd->add_option("--pose", a->pose, "X,Y,Z,ROLL,PITCH,YAW (m, rad); --pose=-0.05,... for a leading minus")
+        ->required();
+    cmd->add_flag("--relative", a->relative, "an increment of the last target, in the frame, about the pivot");
+    cmd->add_option("--frame", a->frame, "the work frame the pose is given in (base, home, or one defined)");
+    cmd->add_option("--speed-m-s", a->speed_m_s, "the pivot's speed (default and most: [motion] speed_max_m_s)");
+    cmd->add_option("--speed-rad-s", a->speed_rad_s, "the rotation's speed (most: [motion] speed_max_rad_s)");
+    cmd->add_flag("--json", a->json, "print the reply as JSON");
+  };
+  const auto waits = [a](CLI::App* cmd) {
+    cmd->add_flag("--no-wait", a->no_wait, "return once accepted");
+    cmd->add_option("--timeout-s", a->wait_timeout_s, "give up waiting for on-target after this (exit 3)");
+  };
+  CLI::App* move = app->add_subcommand("move", "move to a pose (waits until on target)");
+  pose(move), waits(move), common(move);
+  CLI::App* check = app->add_subcommand("check", "check a move whole; nothing moves");
+  pose(check), common(check);
+  CLI::App* run = app->add_subcommand("run", "run named motions or a trajectory CSV (waits until on target)");
+  run->add_option("--motions", a->motions, "Lz,Lx,... M1…M999, calibration");
+  run->add_option("--csv", a->csv, "a trajectory CSV (sent whole)");
+  run->add_flag("--json", a->json, "print the reply as JSON");
+  waits(run), common(run);
+  common(app->add_subcommand("halt", "decelerate along the path within the acceleration limit, and hold"));
+  common(app->add_subcommand("stop", "the shortest stop the legs allow, and hold"));
+  CLI::App* wait = app->add_subcommand("wait", "wait until on target (0), halted or stopped (4), timed out (3)");
+  wait->add_option("--timeout-s", a->wait_timeout_s, "seconds (default 60)");
+  common(wait);
+  CLI::App* status = app->add_subcommand("status", "the motion service's state, poses, frame and pivot");
+  status->add_flag("--json", a->json, "as JSON");
+  common(status);
+  CLI::App* frame = app->add_subcommand("frame", "define a work frame: a pose in {B}");
+  frame->add_option("name", a->frame, "its name")->required();
+  frame->add_option("--pose", a->pose, "X,Y,Z,ROLL,PITCH,YAW of the frame in {B}")->required();
+  common(frame);
+  CLI::App* pivot = app->add_subcommand("pivot", "set the pivot point c in {M} that moves turn about");
+  pivot->add_option("--point", a->point, "X,Y,Z (m) in {M}")->required();
+  common(pivot);
+  CLI::App* limits = app->add_subcommand("limits", "set the moves' default speeds and accelerations (within [motion])");
+  limits->add_option("--speed-m-s", a->speed_m_s);
+  limits->add_option("--speed-rad-s", a->speed_rad_s);
+  limits->add_option("--accel-m-s2", a->accel_m_s2);
+  limits->add_option("--accel-rad-s2", a->accel_rad_s2);
+  common(limits);
+}
+
+bool RunMotionCommand(const CLI::App& app, const CtlOptions& o, const MotionArgs& a, int* exit_code) {
+  const auto given = [&](const char* name) { return app.got_subcommand(name); };
+  const char* kCommands[] = {"move", "check", "run", "halt", "stop", "wait", "status", "frame", "pivot", "limits"};
+  bool any = false;
+  for (const char* c : kCommands) any = any || given(c);
+  if (!any) return false;
+  MotionLink link(o);
+  MotionArgs quiet = a;
+  quiet.json = false;
+  if (given("move")) *exit_code = Move(link, a, motion_request_t::KIND_MOVE);
+  else if (given("check")) *exit_code = Move(link, a, motion_request_t::KIND_CHECK);
+  else if (given("run")) *exit_code = RunProgram(link, a);
+  else if (given("halt")) *exit_code = SendAndReport(link, link.Request(motion_request_t::KIND_HALT), quiet, false);
+  else if (given("stop")) *exit_code = SendAndReport(link, link.Request(motion_request_t::KIND_STOP), quiet, false);
+  else if (given("wait")) *exit_code = Wait(link, 0, a.wait_timeout_s >= 0.0 ? a.wait_timeout_s : 60.0);
+  else if (given("status")) *exit_code = Status(link, o, a);
+  else if (given("frame")) {
+    motion_request_t r = link.Request(motion_request_t::KIND_FRAME);
+    r.frame = a.frame;
+    FillPose(a.pose, &r);
+    *exit_code = SendAndReport(link, r, quiet, false);
+  } else if (given("pivot")) {
+    motion_request_t r = link.Request(motion_request_t::KIND_PIVOT);
+    const Vector3 c = ParsePointText(a.point);
+    for (int k = 0; k < 3; ++k) r.point[k] = c(k);
+    *exit_code = SendAndReport(link, r, quiet, false);
+  } else {
+    motion_request_t r = link.Request(motion_request_t::KIND_LIMITS);
+    r.speed_m_s = a.speed_m_s, r.speed_rad_s = a.speed_rad_s;
+    r.accel_m_s2 = a.accel_m_s2, r.accel_rad_s2 = a.accel_rad_s2;
+    *exit_code = SendAndReport(link, r, quiet, false);
+  }
+  return true;
+}
+
+}  // namespace edsp::ctl

@@ -1,0 +1,129 @@
+#pragma once
+// The planner's motion service, free of any bus: requests in
+// (EDSP_MOTION_REQUEST), a reply to each, a setpoint per cycle and the
+// motion status out. Moves run one after another (a move asked for while
+// another runs is queued behind it: it starts from rest where the one
+// before ends, so no velocity steps); halt and stop decelerate the motion
+// in progress along its own path and cancel the queue. Every path is
+// checked whole before its first setpoint. docs/operating.md.
+
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "edsp/kinematics/platform_model.h"
+#include "edsp/leg_state_t.hpp"
+#include "edsp/motion_reply_t.hpp"
+#include "edsp/motion_request_t.hpp"
+#include "edsp/motion_status_t.hpp"
+#include "edsp/planner/paper_motions.h"
+#include "edsp/planner/planned_motion.h"
+#include "edsp/platform_state_t.hpp"
+#include "edsp/pose_setpoint_t.hpp"
+
+namespace edsp {
+
+struct MotionServiceOptions {
+  std::int64_t session_id = 0;
+  double request_window_s = 5.0;  // a request stamped further from this clock is refused (replayed, or a clock off)
+  double bridge_stale_s = 0.5;    // no leg state this long: the bridge is not following
+  double measured_stale_s = 0.5;  // no platform state this long: no measured pose
+  std::size_t queue_max = 64;
+  double check_rate_hz = 1000.0;  // the planner's cycle: every path is checked at it
+  PaperMotionOptions programs;    // how named motions are planned for run requests
+};
+
+class MotionService {
+ public:
+  MotionService(const PlatformModel& model, MotionServiceOptions options);
+
+  // Plays `program` from home at once (edsp-planner --motions/--csv) and
+  // serves requests beside it. Throws std::invalid_argument naming the
+  // first violation if its path cannot be followed.
+  void StartProgram(std::unique_ptr<TrajectorySequence> program, const std::string& name);
+
+  motion_reply_t Handle(const motion_request_t& request, std::int64_t now_utime);
+  void OnLegState(const leg_state_t& legs, std::int64_t now_utime);
+  void OnPlatformState(const platform_state_t& state, std::int64_t now_utime);
+
+  // The setpoint for `now` (advances the motion; call once per cycle).
+  pose_setpoint_t Step(std::int64_t now_utime);
+  motion_status_t Status(std::int64_t now_utime) const;
+  // True once after each change of state, request or end (publish the status at once).
+  bool TakeChange();
+
+  bool busy() const { return current_.has_value() || !queue_.empty(); }
+  // Whether anything was ever played, and the time the last motion ended.
+  bool finished_any() const { return ended_utime_ != 0; }
+  std::int64_t ended_utime() const { return ended_utime_; }
+
+ private:
+  struct Running {
+    PlannedMotion motion;
+    std::int64_t start_utime = 0;  // 0: at the next Step
+    bool halting = false;
+    std::int8_t end = motion_status_t::END_COMPLETED;
+  };
+
+  motion_reply_t Act(const motion_request_t& r, std::int64_t now_utime);
+  motion_reply_t Reply(const motion_request_t& r, bool accepted, std::string reason, double duration_s = 0.0,
+                       double start_delay_s = 0.0) const;
+  motion_reply_t Move(const motion_request_t& r, bool check_only, std::int64_t now_utime);
+  motion_reply_t Run(const motion_request_t& r, std::int64_t now_utime);
+  motion_reply_t Decelerate(const motion_request_t& r, bool stop, std::int64_t now_utime);
+  motion_reply_t DefineFrame(const motion_request_t& r);
+  motion_reply_t SetPivot(const motion_request_t& r);
+  motion_reply_t SetLimits(const motion_request_t& r);
+  motion_reply_t Enqueue(const motion_request_t& r, std::deque<PlannedMotion> motions, std::int64_t now_utime);
+
+  std::string RequestProblem(const motion_request_t& r, std::int64_t now_utime) const;
+  std::string BridgeProblem(std::int64_t now_utime) const;
+  std::string LimitsProblem(const motion_request_t& r, MoveLimits* limits) const;
+  const WorkFrame* FindFrame(const std::string& name) const;
+  Transform PlannedEnd() const;
+  double TimeToIdle(std::int64_t now_utime) const;
+  void Advance(std::int64_t now_utime);
+  void Finish(std::int64_t end_utime);
+  std::int8_t State(std::int64_t now_utime) const;
+  bool OnTarget(std::int64_t now_utime) const;
+  void Changed() { changed_ = true; }
+
+  PlatformModel model_;
+  MotionServiceOptions options_;
+  MoveLimits config_limits_, default_limits_;
+  std::map<std::string, WorkFrame> frames_;
+  Vector3 pivot_M_ = Vector3::Zero();
+
+  std::optional<Running> current_;
+  std::deque<PlannedMotion> queue_;
+  Vector6 hold_pose_;              // where the platform holds when nothing runs
+  Vector6 commanded_pose_;         // the last setpoint's
+  std::int64_t request_id_ = 0;    // the motion in progress or the last one
+  std::string activity_ = "hold";
+  std::string hold_name_ = "hold";  // the setpoints' trajectory name: the last motion's while holding
+  std::int32_t hold_segment_ = 0;
+  std::string frame_ = "base";
+  std::int8_t last_end_ = motion_status_t::END_NONE;
+  std::int64_t ended_utime_ = 0;
+  bool ever_moved_ = false;
+  std::string refused_;            // the last request's refusal, until one is accepted
+  bool changed_ = true;
+  std::int64_t seq_ = 0;           // of the replies
+  std::int64_t setpoint_seq_ = 0;
+
+  std::map<std::int64_t, motion_reply_t> replies_;  // by request_id: every copy gets the same reply
+  std::deque<std::int64_t> reply_order_;
+
+  std::int64_t leg_state_utime_ = 0;
+  std::string bridge_holds_;       // "" while every drive follows
+  bool bridge_followed_ = false;   // seen following once
+  std::int64_t measured_utime_ = 0;
+  Vector6 measured_pose_ = Vector6::Zero();
+  bool measured_converged_ = false;
+  std::int64_t within_since_ = 0;  // measured within tolerance of the target since (0: not)
+};
+
+}  // namespace edsp

@@ -1,0 +1,523 @@
+#include "edsp/planner/motion_service.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "edsp/kinematics/workspace.h"
+#include "edsp/planner/csv_trajectory.h"
+#include "edsp/planner/motion_library.h"
+#include "edsp/planner/planner.h"
+
+namespace edsp {
+
+namespace {
+
+constexpr std::size_t kRepliesKept = 1024;
+constexpr double kMaxFrameOffset_m = 100.0;
+constexpr double kMaxPivotOffset_m = 10.0;
+
+std::int64_t Micros(double s) { return std::llround(s * 1e6); }
+
+bool AllFinite(const double* v, int n) {
+  for (int k = 0; k < n; ++k) {
+    if (!std::isfinite(v[k])) return false;
+  }
+  return true;
+}
+
+Vector6 PoseField(const motion_request_t& r) {
+  Vector6 q;
+  for (int k = 0; k < 6; ++k) q(k) = r.pose[k];
+  return q;
+}
+
+std::string Kind(std::int8_t kind) {
+  switch (kind) {
+    case motion_request_t::KIND_MOVE: return "move";
+    case motion_request_t::KIND_CHECK: return "check";
+    case motion_request_t::KIND_RUN: return "run";
+    case motion_request_t::KIND_HALT: return "halt";
+    case motion_request_t::KIND_STOP: return "stop";
+    case motion_request_t::KIND_FRAME: return "frame";
+    case motion_request_t::KIND_PIVOT: return "pivot";
+    case motion_request_t::KIND_LIMITS: return "limits";
+  }
+  return fmt::format("kind {}", kind);
+}
+
+std::string DescribeVector(const Vector6& q) {
+  return fmt::format("({:.6f}, {:.6f}, {:.6f} m; {:.6f}, {:.6f}, {:.6f} rad)", q(0), q(1), q(2), q(3), q(4), q(5));
+}
+
+// One requested limit: 0 keeps `current`; else it must be in (0, most].
+std::string TakeLimit(double asked, double most, const char* field, const char* key, double* current) {
+  if (asked == 0.0) return "";
+  if (!std::isfinite(asked) || asked < 0.0 || asked > most) {
+    return fmt::format("{} = {} is not in (0, {}] (the config's [motion] {})", field, asked, most, key);
+  }
+  *current = asked;
+  return "";
+}
+
+// The pivot's distance and the rotation's angle between two poses.
+std::pair<double, double> PoseError(const Vector6& a, const Vector6& b, const Vector3& pivot_M) {
+  const Transform A = TransformOf(Pose::FromVector(a)), B = TransformOf(Pose::FromVector(b));
+  const double distance = (A * pivot_M - B * pivot_M).norm();
+  const double angle = Eigen::AngleAxisd(Matrix3(A.linear().transpose() * B.linear())).angle();
+  return {distance, std::abs(angle)};
+}
+
+}  // namespace
+
+MotionService::MotionService(const PlatformModel& model, MotionServiceOptions options)
+    : model_(model),
+      options_(std::move(options)),
+      config_limits_(ConfigMoveLimits(model_)),
+      default_limits_(config_limits_),
+      hold_pose_(model_.home_pose().ToVector()),
+      commanded_pose_(hold_pose_) {
+  frames_["base"] = WorkFrame{};
+  frames_["home"] = WorkFrame{"home", TransformOf(model_.home_pose())};
+}
+
+void MotionService::StartProgram(std::unique_ptr<TrajectorySequence> program, const std::string& name) {
+  if (program == nullptr || program->size() == 0) throw std::invalid_argument("planner: empty trajectory");
+  const TrajectorySequence* sequence = program.get();
+  PlannedMotion m = PlanProgram(model_, std::move(program), default_limits_, options_.check_rate_hz);
+  if (!m.check.ok()) throw std::invalid_argument(TrajectoryViolation(*sequence, m.check));
+  m.activity = "run " + name;
+  queue_.push_back(std::move(m));
+  ever_moved_ = true;
+  Changed();
+}
+
+motion_reply_t MotionService::Handle(const motion_request_t& r, std::int64_t now_utime) {
+  if (const auto it = replies_.find(r.request_id); it != replies_.end() && r.request_id != 0) return it->second;
+  motion_reply_t reply;
+  if (std::string problem = RequestProblem(r, now_utime); !problem.empty()) {
+    reply = Reply(r, false, std::move(problem));  // another session's or a stale copy: our state is untouched
+  } else {
+    reply = Act(r, now_utime);
+    refused_ = reply.accepted ? "" : Kind(r.kind) + " refused: " + reply.reason;
+    Changed();
+  }
+  reply.utime = now_utime;
+  reply.seq = ++seq_;
+  replies_[r.request_id] = reply;
+  reply_order_.push_back(r.request_id);
+  if (reply_order_.size() > kRepliesKept) {
+    replies_.erase(reply_order_.front());
+    reply_order_.pop_front();
+  }
+  return reply;
+}
+
+std::string MotionService::RequestProblem(const motion_request_t& r, std::int64_t now_utime) const {
+  if (r.session_id != options_.session_id) {
+    return fmt::format("request {} from session {} ignored: this group is session {}", r.request_id, r.session_id,
+                       options_.session_id);
+  }
+  const double age_s = static_cast<double>(now_utime - r.utime) * 1e-6;
+  if (!(std::abs(age_s) <= options_.request_window_s)) {
+    return fmt::format("request {} stamped {:.1f} s {} this planner's clock ignored (a replayed log, or a clock "
+                       "off by more than {} s)",
+                       r.request_id, std::abs(age_s), age_s > 0 ? "before" : "after", options_.request_window_s);
+  }
+  if (r.request_id == 0) return "request_id 0: give each request a unique non-zero id";
+  return "";
+}
+
+motion_reply_t MotionService::Act(const motion_request_t& r, std::int64_t now_utime) {
+  switch (r.kind) {
+    case motion_request_t::KIND_MOVE: return Move(r, false, now_utime);
+    case motion_request_t::KIND_CHECK: return Move(r, true, now_utime);
+    case motion_request_t::KIND_RUN: return Run(r, now_utime);
+    case motion_request_t::KIND_HALT: return Decelerate(r, false, now_utime);
+    case motion_request_t::KIND_STOP: return Decelerate(r, true, now_utime);
+    case motion_request_t::KIND_FRAME: return DefineFrame(r);
+    case motion_request_t::KIND_PIVOT: return SetPivot(r);
+    case motion_request_t::KIND_LIMITS: return SetLimits(r);
+  }
+  return Reply(r, false, fmt::format("unknown request kind {} (1 move … 8 limits)", r.kind));
+}
+
+motion_reply_t MotionService::Reply(const motion_request_t& r, bool accepted, std::string reason, double duration_s,
+                                    double start_delay_s) const {
+  motion_reply_t reply{};
+  reply.session_id = options_.session_id;
+  reply.request_id = r.request_id;
+  reply.kind = r.kind;
+  reply.accepted = accepted;
+  reply.reason = std::move(reason);
+  reply.duration_s = duration_s;
+  reply.start_delay_s = start_delay_s;
+  return reply;
+}
+
+std::string MotionService::BridgeProblem(std::int64_t now_utime) const {
+  if (leg_state_utime_ == 0) return "no EDSP_LEG_STATE from the actuator bridge yet: is it running?";
+  const double silent_s = static_cast<double>(now_utime - leg_state_utime_) * 1e-6;
+  if (silent_s > options_.bridge_stale_s) {
+    return fmt::format("no EDSP_LEG_STATE from the actuator bridge for {:.2f} s: is it running?", silent_s);
+  }
+  if (!bridge_holds_.empty()) {
+    return "the actuator bridge holds the legs (" + bridge_holds_ + "): re-arm it first (edsp-ctl arm)";
+  }
+  return "";
+}
+
+std::string MotionService::LimitsProblem(const motion_request_t& r, MoveLimits* l) const {
+  *l = default_limits_;
+  std::string p = TakeLimit(r.speed_m_s, config_limits_.speed_m_s, "speed_m_s", "speed_max_m_s", &l->speed_m_s);
+  if (p.empty()) {
+    p = TakeLimit(r.speed_rad_s, config_limits_.speed_rad_s, "speed_rad_s", "speed_max_rad_s", &l->speed_rad_s);
+  }
+  return p;
+}
+
+const WorkFrame* MotionService::FindFrame(const std::string& name) const {
+  const auto it = frames_.find(name.empty() ? "base" : name);
+  return it == frames_.end() ? nullptr : &it->second;
+}
+
+Transform MotionService::PlannedEnd() const {
+  if (!queue_.empty()) return TransformOf(Pose::FromVector(queue_.back().end_pose()));
+  if (current_) return TransformOf(Pose::FromVector(current_->motion.end_pose()));
+  return TransformOf(Pose::FromVector(hold_pose_));
+}
+
+double MotionService::TimeToIdle(std::int64_t now_utime) const {
+  double left = 0.0;
+  if (current_) {
+    const double elapsed =
+        current_->start_utime == 0 ? 0.0 : static_cast<double>(now_utime - current_->start_utime) * 1e-6;
+    left += std::max(0.0, current_->motion.duration_s() - elapsed);
+  }
+  for (const PlannedMotion& m : queue_) left += m.duration_s();
+  return left;
+}
+
+motion_reply_t MotionService::Move(const motion_request_t& r, bool check_only, std::int64_t now_utime) {
+  if (!AllFinite(r.pose, 6)) return Reply(r, false, "pose has a non-finite value (NaN or infinity)");
+  const WorkFrame* frame = FindFrame(r.frame);
+  if (frame == nullptr) {
+    std::string known;
+    for (const auto& [name, f] : frames_) known += (known.empty() ? "" : ", ") + name;
+    return Reply(r, false, fmt::format("unknown frame \"{}\" (known: {}; define one with edsp-ctl frame)", r.frame,
+                                       known));
+  }
+  MoveLimits limits;
+  if (std::string p = LimitsProblem(r, &limits); !p.empty()) return Reply(r, false, p);
+  if (!check_only) {
+    if (std::string p = BridgeProblem(now_utime); !p.empty()) return Reply(r, false, p);
+    if (queue_.size() >= options_.queue_max) {
+      return Reply(r, false, fmt::format("{} moves already queued: wait, or halt", queue_.size()));
+    }
+  }
+  const Transform from = PlannedEnd();
+  FramedPose to = FramedPoseOf(PoseField(r));
+  if (r.relative) {
+    const FramedPose now = InFrame(*frame, pivot_M_, from);
+    to.t = now.t + to.t;
+    to.R = to.R * now.R;
+  }
+  const Vector6 target = PoseOf(PlatformPose(*frame, pivot_M_, to)).ToVector();
+  const WorkspaceCheck end = CheckWorkspace(model_, Pose::FromVector(target));
+  if (!end.ok()) {
+    return Reply(r, false, fmt::format("target {} (in {}) is outside the workspace: {}", DescribeVector(target),
+                                       frame->name, end.Describe()));
+  }
+  PlannedMotion m = PlanMove(model_, *frame, pivot_M_, from, to, limits, options_.check_rate_hz);
+  if (!m.check.ok()) {
+    return Reply(r, false, fmt::format("the path to {} crosses a limit (both ends are reachable) {}",
+                                       DescribeVector(target), m.check.Describe()));
+  }
+  m.request_id = r.request_id;
+  const std::string what = fmt::format("{} to {} in {} ({:.4f} m, {:.4f} rad about the pivot) in {:.3f} s, {}",
+                                       check_only ? "would move" : "moves", DescribeVector(target), frame->name,
+                                       std::static_pointer_cast<const PivotPath>(m.path)->distance_m(),
+                                       std::static_pointer_cast<const PivotPath>(m.path)->angle_rad(),
+                                       m.duration_s(), m.check.Describe());
+  if (check_only) return Reply(r, true, what, m.duration_s(), TimeToIdle(now_utime));
+  std::deque<PlannedMotion> motions;
+  motions.push_back(std::move(m));
+  motion_reply_t reply = Enqueue(r, std::move(motions), now_utime);
+  reply.reason = what;
+  return reply;
+}
+
+motion_reply_t MotionService::Run(const motion_request_t& r, std::int64_t now_utime) {
+  if (std::string p = BridgeProblem(now_utime); !p.empty()) return Reply(r, false, p);
+  if (r.motions.empty() == r.csv_text.empty()) return Reply(r, false, "give either motions or a CSV, not both");
+  std::unique_ptr<TrajectorySequence> program;
+  std::string name;
+  try {
+    if (!r.motions.empty()) {
+      program = MotionSequence(model_, MotionNames(r.motions), options_.programs);
+      name = r.motions;
+    } else {
+      name = r.csv_origin.empty() ? "csv" : r.csv_origin;
+      program = std::make_unique<TrajectorySequence>();
+      program->Append(name, std::make_unique<CsvTrajectory>(CsvTrajectory::Parse(r.csv_text, name)));
+    }
+  } catch (const std::exception& e) {
+    return Reply(r, false, e.what());
+  }
+  std::deque<PlannedMotion> motions;
+  const Transform from = PlannedEnd();
+  const Vector6 start = program->Sample(0.0).pose;
+  if ((PoseOf(from).ToVector() - start).cwiseAbs().maxCoeff() > 1e-9) {
+    PlannedMotion approach =
+        PlanMove(model_, frames_["base"], Vector3::Zero(), from, FramedPoseOf(start), default_limits_,
+                 options_.check_rate_hz);
+    if (!approach.check.ok()) {
+      return Reply(r, false, "the approach to the program's start " + approach.check.Describe());
+    }
+    approach.activity = "approach";
+    approach.request_id = r.request_id;
+    motions.push_back(std::move(approach));
+  }
+  const TrajectorySequence* sequence = program.get();
+  PlannedMotion played = PlanProgram(model_, std::move(program), default_limits_, options_.check_rate_hz);
+  if (!played.check.ok()) return Reply(r, false, TrajectoryViolation(*sequence, played.check));
+  played.activity = "run " + name;
+  played.request_id = r.request_id;
+  motions.push_back(std::move(played));
+  return Enqueue(r, std::move(motions), now_utime);
+}
+
+motion_reply_t MotionService::Enqueue(const motion_request_t& r, std::deque<PlannedMotion> motions,
+                                      std::int64_t now_utime) {
+  const double delay = TimeToIdle(now_utime);
+  double duration = 0.0;
+  for (PlannedMotion& m : motions) {
+    duration += m.duration_s();
+    queue_.push_back(std::move(m));
+  }
+  ever_moved_ = true;
+  return Reply(r, true, fmt::format("{} in {:.3f} s, starting in {:.3f} s", queue_.back().activity, duration, delay),
+               duration, delay);
+}
+
+motion_reply_t MotionService::Decelerate(const motion_request_t& r, bool stop, std::int64_t now_utime) {
+  const std::size_t cancelled = queue_.size();
+  queue_.clear();
+  const std::int8_t end = stop ? motion_status_t::END_STOPPED : motion_status_t::END_HALTED;
+  const std::string what = stop ? "stop" : "halt";
+  const std::string queued = cancelled == 0 ? "" : fmt::format("; {} queued motion(s) cancelled", cancelled);
+  if (!current_) return Reply(r, true, "nothing moving" + queued);
+  Running& c = *current_;
+  if (c.start_utime == 0 || c.start_utime > now_utime) {  // not started: it never will
+    current_.reset();
+    last_end_ = end;
+    return Reply(r, true, fmt::format("{}: the motion had not started{}", what, queued));
+  }
+  const double t = static_cast<double>(now_utime - c.start_utime) * 1e-6;
+  const ScalarState state = MotionState(c.motion, t);
+  const ScalarLimits& limits = stop ? c.motion.stop : c.motion.halt;
+  JerkProfile decelerate = JerkProfile::StopFrom(state, limits.acceleration, limits.jerk);
+  c.end = end;
+  c.halting = true;
+  if (decelerate.end().position < c.motion.path->length()) {  // else its own end is as near
+    c.motion.timing = std::move(decelerate);
+    c.start_utime = now_utime;
+  }
+  const double left = c.motion.duration_s() - static_cast<double>(now_utime - c.start_utime) * 1e-6;
+  return Reply(r, true, fmt::format("{}: at rest in {:.3f} s{}", what, left, queued), left);
+}
+
+motion_reply_t MotionService::DefineFrame(const motion_request_t& r) {
+  const std::string& name = r.frame;
+  if (name.empty() || name == "base" || name == "home") {
+    return Reply(r, false, fmt::format("frame name \"{}\": give a new name (base and home are built in)", name));
+  }
+  if (!AllFinite(r.pose, 6)) return Reply(r, false, fmt::format("frame {}: pose has a non-finite value", name));
+  const Pose pose = Pose::FromVector(PoseField(r));
+  if (pose.p_BoMo_B.norm() > kMaxFrameOffset_m) {
+    return Reply(r, false, fmt::format("frame {}: origin {:.3f} m from {{B}}, beyond {} m", name,
+                                       pose.p_BoMo_B.norm(), kMaxFrameOffset_m));
+  }
+  frames_[name] = WorkFrame{name, TransformOf(pose)};
+  return Reply(r, true, fmt::format("frame {} = {} in {{B}}", name, DescribeVector(PoseField(r))));
+}
+
+motion_reply_t MotionService::SetPivot(const motion_request_t& r) {
+  const Vector3 c(r.point[0], r.point[1], r.point[2]);
+  if (!c.allFinite() || c.norm() > kMaxPivotOffset_m) {
+    return Reply(r, false, fmt::format("pivot ({}, {}, {}) m: give a finite point within {} m of {{M}}'s origin",
+                                       c(0), c(1), c(2), kMaxPivotOffset_m));
+  }
+  pivot_M_ = c;
+  return Reply(r, true, fmt::format("pivot ({:.6f}, {:.6f}, {:.6f}) m in {{M}}: moves from now turn about it", c(0),
+                                    c(1), c(2)));
+}
+
+motion_reply_t MotionService::SetLimits(const motion_request_t& r) {
+  MoveLimits l = default_limits_;
+  std::string p = TakeLimit(r.speed_m_s, config_limits_.speed_m_s, "speed_m_s", "speed_max_m_s", &l.speed_m_s);
+  if (p.empty()) p = TakeLimit(r.speed_rad_s, config_limits_.speed_rad_s, "speed_rad_s", "speed_max_rad_s", &l.speed_rad_s);
+  if (p.empty()) p = TakeLimit(r.accel_m_s2, config_limits_.accel_m_s2, "accel_m_s2", "accel_max_m_s2", &l.accel_m_s2);
+  if (p.empty()) {
+    p = TakeLimit(r.accel_rad_s2, config_limits_.accel_rad_s2, "accel_rad_s2", "accel_max_rad_s2", &l.accel_rad_s2);
+  }
+  if (!p.empty()) return Reply(r, false, p);
+  default_limits_ = l;
+  return Reply(r, true, fmt::format("moves from now: {} m/s, {} rad/s, {} m/s^2, {} rad/s^2", l.speed_m_s,
+                                    l.speed_rad_s, l.accel_m_s2, l.accel_rad_s2));
+}
+
+void MotionService::OnLegState(const leg_state_t& legs, std::int64_t now_utime) {
+  leg_state_utime_ = now_utime;
+  std::string holds;
+  for (int i = 0; i < 6 && holds.empty(); ++i) {
+    switch (legs.drive_status[i]) {
+      case leg_state_t::DRIVE_ENABLED: break;
+      case leg_state_t::DRIVE_HOLDING: holds = fmt::format("drive {} holding", i + 1); break;
+      case leg_state_t::DRIVE_FAULT: holds = fmt::format("drive {} in fault", i + 1); break;
+      default: holds = fmt::format("drive {} disabled", i + 1); break;
+    }
+  }
+  if (holds.empty()) bridge_followed_ = true;
+  if (holds != bridge_holds_) Changed();
+  bridge_holds_ = std::move(holds);
+}
+
+void MotionService::OnPlatformState(const platform_state_t& state, std::int64_t now_utime) {
+  const bool was = OnTarget(now_utime);
+  measured_utime_ = now_utime;
+  for (int k = 0; k < 6; ++k) measured_pose_(k) = state.pose[k];
+  measured_converged_ = state.fk_status == 0 && measured_pose_.allFinite();
+  const MotionLimits& m = model_.config().motion;
+  bool within = false;
+  if (!busy() && measured_converged_) {
+    const auto [distance, angle] = PoseError(measured_pose_, hold_pose_, pivot_M_);
+    within = distance <= m.on_target_tolerance_m && angle <= m.on_target_tolerance_rad;
+  }
+  if (!within) within_since_ = 0;
+  else if (within_since_ == 0) within_since_ = now_utime;
+  if (OnTarget(now_utime) != was) Changed();
+}
+
+bool MotionService::OnTarget(std::int64_t now_utime) const {
+  if (busy() || within_since_ == 0) return false;
+  if (static_cast<double>(now_utime - measured_utime_) * 1e-6 > options_.measured_stale_s) return false;
+  return static_cast<double>(now_utime - within_since_) * 1e-6 >= model_.config().motion.on_target_settle_s;
+}
+
+void MotionService::Finish(std::int64_t end_utime) {
+  hold_pose_ = current_->motion.end_pose();
+  last_end_ = current_->end;
+  ended_utime_ = end_utime;
+  current_.reset();
+  within_since_ = 0;
+  Changed();
+}
+
+void MotionService::Advance(std::int64_t now_utime) {
+  if (!current_ && !queue_.empty()) {
+    current_ = Running{std::move(queue_.front()), 0};
+    queue_.pop_front();
+  }
+  while (current_) {
+    if (current_->start_utime == 0) {
+      current_->start_utime = now_utime;
+      request_id_ = current_->motion.request_id;
+      activity_ = current_->motion.activity;
+      frame_ = current_->motion.frame;
+      within_since_ = 0;
+      Changed();
+    }
+    const std::int64_t end_utime = current_->start_utime + Micros(current_->motion.duration_s());
+    if (now_utime < end_utime) return;
+    Finish(end_utime);
+    if (queue_.empty()) return;
+    current_ = Running{std::move(queue_.front()), end_utime};  // from rest where the last one ended
+    queue_.pop_front();
+    request_id_ = current_->motion.request_id;
+    activity_ = current_->motion.activity;
+    frame_ = current_->motion.frame;
+  }
+}
+
+pose_setpoint_t MotionService::Step(std::int64_t now_utime) {
+  Advance(now_utime);
+  pose_setpoint_t sp{};
+  sp.utime = now_utime;
+  sp.seq = ++setpoint_seq_;
+  sp.session_id = options_.session_id;
+  PoseSample sample;
+  sample.pose = hold_pose_;
+  if (current_) {
+    const double t = static_cast<double>(now_utime - current_->start_utime) * 1e-6;
+    sample = SampleMotion(current_->motion, t);
+    if (current_->motion.program) {
+      const auto& program = std::static_pointer_cast<const ProgramPath>(current_->motion.path)->program();
+      const double u = MotionState(current_->motion, t).position;
+      hold_segment_ = program.SegmentAt(u);
+      hold_name_ = program.SegmentName(hold_segment_);
+    } else {
+      hold_segment_ = 0;
+      hold_name_ = current_->motion.activity;
+    }
+  }
+  for (int k = 0; k < 6; ++k) {
+    sp.pose[k] = sample.pose(k);
+    sp.velocity[k] = sample.velocity(k);
+    sp.acceleration[k] = sample.acceleration(k);
+  }
+  sp.trajectory = hold_name_;
+  sp.segment = hold_segment_;
+  commanded_pose_ = sample.pose;
+  return sp;
+}
+
+std::int8_t MotionService::State(std::int64_t now_utime) const {
+  if (bridge_followed_ && !BridgeProblem(now_utime).empty()) return motion_status_t::STATE_FAULT;
+  if (current_) return current_->halting ? motion_status_t::STATE_HALTING : motion_status_t::STATE_MOVING;
+  if (!queue_.empty()) return motion_status_t::STATE_MOVING;
+  if (!refused_.empty()) return motion_status_t::STATE_REFUSED;
+  return ever_moved_ ? motion_status_t::STATE_HOLDING : motion_status_t::STATE_IDLE;
+}
+
+motion_status_t MotionService::Status(std::int64_t now_utime) const {
+  motion_status_t s{};
+  s.utime = now_utime;
+  s.session_id = options_.session_id;
+  s.state = State(now_utime);
+  s.request_id = request_id_;
+  s.activity = current_ ? current_->motion.activity : activity_;
+  if (current_ && current_->start_utime != 0) {
+    const double d = current_->motion.duration_s();
+    s.progress = d > 0.0 ? std::clamp(static_cast<double>(now_utime - current_->start_utime) * 1e-6 / d, 0.0, 1.0) : 1.0;
+  } else {
+    s.progress = last_end_ == motion_status_t::END_COMPLETED && !current_ ? 1.0 : 0.0;
+  }
+  s.queued = static_cast<std::int32_t>(queue_.size());
+  s.last_end = last_end_;
+  const Vector6 target = current_ ? current_->motion.end_pose() : hold_pose_;
+  for (int k = 0; k < 6; ++k) {
+    s.pose_commanded[k] = commanded_pose_(k);
+    s.pose_target[k] = target(k);
+    s.pose_measured[k] = measured_pose_(k);
+  }
+  s.measured_valid =
+      measured_converged_ && static_cast<double>(now_utime - measured_utime_) * 1e-6 <= options_.measured_stale_s;
+  s.on_target = OnTarget(now_utime);
+  s.frame = frame_;
+  for (int k = 0; k < 3; ++k) s.pivot[k] = pivot_M_(k);
+  if (s.state == motion_status_t::STATE_FAULT) s.reason = BridgeProblem(now_utime);
+  else if (s.state == motion_status_t::STATE_REFUSED) s.reason = refused_;
+  return s;
+}
+
+bool MotionService::TakeChange() {
+  const bool changed = changed_;
+  changed_ = false;
+  return changed;
+}
+
+}  // namespace edsp

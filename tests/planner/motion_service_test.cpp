@@ -1,0 +1,219 @@
+// The motion service alone (no bus, no stack): what it refuses and why,
+// that a refused or foreign request moves nothing, that copies of one
+// request are acted on once, and, over 1 000 random moves, that every
+// accepted path stays inside every limit in the setpoints it really sends
+// while every path refused for the workspace really leaves it (both
+// sampled here, apart from the planner's own check).
+#include "edsp/planner/motion_service.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <random>
+#include <string>
+
+#include "edsp/kinematics/config.h"
+#include "edsp/kinematics/workspace.h"
+#include "motion_requests.h"  // tests/support
+
+namespace edsp {
+namespace {
+
+constexpr std::int64_t kSession = 7;
+constexpr std::int64_t kT0 = 1'700'000'000'000'000;
+
+Vector6 Vec(double x, double y, double z, double roll = 0, double pitch = 0, double yaw = 0) {
+  Vector6 v;
+  v << x, y, z, roll, pitch, yaw;
+  return v;
+}
+
+class Served {
+ public:
+  explicit Served(const PlatformConfig& config = Huang2021Config())
+      : model_(config), service_(model_, Options()), requests_(kSession) {
+    Cycle();
+  }
+
+  static MotionServiceOptions Options() {
+    MotionServiceOptions o;
+    o.session_id = kSession;
+    return o;
+  }
+  // One planner cycle with a bridge whose drives all follow (or hold).
+  pose_setpoint_t Cycle(std::int8_t drives = leg_state_t::DRIVE_ENABLED) {
+    leg_state_t legs{};
+    for (auto& d : legs.drive_status) d = drives;
+    service_.OnLegState(legs, now_);
+    const pose_setpoint_t sp = service_.Step(now_);
+    now_ += 1000;
+    return sp;
+  }
+  motion_reply_t Ask(motion_request_t r) { return service_.Handle(r, now_); }
+  Vector6 Held() {
+    const pose_setpoint_t sp = Cycle();
+    return Eigen::Map<const Vector6>(sp.pose);
+  }
+
+  PlatformModel model_;
+  MotionService service_;
+  test_support::MotionRequests requests_;
+  std::int64_t now_ = kT0;
+};
+
+void ExpectRefused(const motion_reply_t& reply, const std::string& names) {
+  EXPECT_FALSE(reply.accepted);
+  EXPECT_NE(reply.reason.find(names), std::string::npos) << reply.reason;
+}
+
+TEST(MotionService, BadRequestsAreRefusedByNameAndMoveNothing) {
+  Served s;
+  auto& r = s.requests_;
+  const Vector6 home = s.Held();
+  ExpectRefused(s.Ask(r.Move(Vec(NAN, 0, 1.5), s.now_)), "non-finite");
+  ExpectRefused(s.Ask(r.Move(Vec(0, 0, 1.5), s.now_, false, "nowhere")), "unknown frame \"nowhere\"");
+  for (double speed : {1e6, -1.0, double(NAN), 0.11}) {
+    motion_request_t m = r.Move(Vec(0.01, 0, 1.5), s.now_);
+    m.speed_m_s = speed;
+    ExpectRefused(s.Ask(m), "speed_max_m_s");
+  }
+  ExpectRefused(s.Ask(r.Move(Vec(0, 0, 3.0), s.now_)), "outside the workspace");
+  motion_request_t foreign = r.Move(Vec(0.01, 0, 1.5), s.now_);
+  foreign.session_id = kSession + 1;
+  ExpectRefused(s.Ask(foreign), "from session 8");
+  motion_request_t replayed = r.Move(Vec(0.01, 0, 1.5), s.now_ - 60'000'000);
+  ExpectRefused(s.Ask(replayed), "replayed");
+  motion_request_t unnumbered = r.Move(Vec(0.01, 0, 1.5), s.now_);
+  unnumbered.request_id = 0;
+  ExpectRefused(s.Ask(unnumbered), "request_id 0");
+  ExpectRefused(s.Ask(r.Frame("base", Vec(0, 0, 0), s.now_)), "built in");
+  ExpectRefused(s.Ask(r.Pivot(Vector3(0, NAN, 0), s.now_)), "pivot");
+  for (int k = 0; k < 1000; ++k) ASSERT_EQ(s.Held(), home) << "something moved";
+  EXPECT_EQ(s.service_.Status(s.now_).state, motion_status_t::STATE_REFUSED);
+}
+
+TEST(MotionService, WhileTheBridgeHoldsAMoveIsRefusedNamingTheReArm) {
+  Served s;
+  auto& r = s.requests_;
+  s.Cycle(leg_state_t::DRIVE_HOLDING);
+  ExpectRefused(s.Ask(r.Move(Vec(0.01, 0, 1.5), s.now_)), "edsp-ctl arm");
+  EXPECT_EQ(s.service_.Status(s.now_).state, motion_status_t::STATE_FAULT);
+  EXPECT_TRUE(s.Ask(r.Make(motion_request_t::KIND_HALT, s.now_)).accepted) << "halt is always taken";
+  s.Cycle();
+  EXPECT_TRUE(s.Ask(r.Move(Vec(0.01, 0, 1.5), s.now_)).accepted) << "following again";
+}
+
+TEST(MotionService, CopiesOfOneRequestGetOneReplyAndOneMotion) {
+  Served s;
+  auto& r = s.requests_;
+  const motion_request_t move = r.Move(Vec(0.01, 0, 0), s.now_, true);
+  const motion_reply_t first = s.Ask(move);
+  s.Cycle();
+  const motion_reply_t copy = s.Ask(move);
+  EXPECT_TRUE(first.accepted);
+  EXPECT_EQ(copy.seq, first.seq) << "the same reply";
+  EXPECT_EQ(s.service_.Status(s.now_).queued, 0) << "acted on once";
+  while (s.service_.busy()) s.Cycle();
+  EXPECT_NEAR(s.Held()(0), 0.01, 1e-12) << "moved by 10 mm once, not twice";
+}
+
+TEST(MotionService, ACheckMovesNothingAndSaysWhatAMoveWould) {
+  Served s;
+  auto& r = s.requests_;
+  motion_request_t check = r.Move(Vec(0.05, 0, 0), s.now_, true);
+  check.kind = motion_request_t::KIND_CHECK;
+  const motion_reply_t reply = s.Ask(check);
+  EXPECT_TRUE(reply.accepted) << reply.reason;
+  EXPECT_GT(reply.duration_s, 0.5);
+  EXPECT_FALSE(s.service_.busy());
+  check = r.Move(Vec(0, 0, 3.0), s.now_);
+  check.kind = motion_request_t::KIND_CHECK;
+  ExpectRefused(s.Ask(check), "leg");
+}
+
+// The geometric path of a move, apart from PivotPath: the pivot on its
+// line, the rotation by quaternion slerp, the pose of {M} from both.
+bool PathLeavesTheWorkspace(const PlatformModel& model, const Vector6& from, const Vector6& to, const Vector3& c) {
+  const Pose a = Pose::FromVector(from), b = Pose::FromVector(to);
+  const Eigen::Quaterniond qa(RotationFromRpy(a.rpy_rad)), qb(RotationFromRpy(b.rpy_rad));
+  const Vector3 pa = PointInBase(a, c), pb = PointInBase(b, c);
+  for (int k = 0; k <= 4000; ++k) {
+    const double u = k / 4000.0;
+    const Matrix3 R = qa.slerp(u, qb).toRotationMatrix();
+    Pose p;
+    p.rpy_rad = RpyFromRotation(R);
+    p.p_BoMo_B = pa + u * (pb - pa) - R * c;
+    if (!CheckWorkspace(model, p).ok()) return true;
+  }
+  return false;
+}
+
+// Drives three times as fast as the default moves: short moves, and paths
+// whose legs would outrun the drives.
+PlatformConfig FastMoves() {
+  PlatformConfig c = Huang2021Config();
+  c.motion.speed_max_m_s = 0.3, c.motion.speed_max_rad_s = 0.6;
+  c.motion.accel_max_m_s2 = 1.5, c.motion.accel_max_rad_s2 = 3.0;
+  c.motion.jerk_max_m_s3 = 15.0, c.motion.jerk_max_rad_s3 = 30.0;
+  return c;
+}
+
+TEST(MotionService, OverRandomMovesEveryAcceptedPathStaysInsideAndEveryRefusalIsReal) {
+  Served s(FastMoves());
+  auto& r = s.requests_;
+  const PlatformModel& model = s.model_;
+  const double leg_speed_max = model.config().limits.leg_speed_max_m_s;
+  const double leg_accel_max = model.config().motion.leg_accel_max_m_s2;
+  std::mt19937 rng(20261127);
+  std::uniform_real_distribution<double> lin(-0.45, 0.45), height(1.15, 1.85), ang(-0.45, 0.45), piv(-0.4, 0.4);
+  int accepted = 0, refused_workspace = 0, refused_legs = 0, crossing = 0;
+  for (int n = 0; n < 1000; ++n) {
+    const Vector6 target = Vec(lin(rng), lin(rng), height(rng), ang(rng), ang(rng), ang(rng));
+    if (!CheckWorkspace(model, Pose::FromVector(target)).ok()) {
+      --n;  // reachable end poses only
+      continue;
+    }
+    const Vector3 c(piv(rng), piv(rng), piv(rng));
+    ASSERT_TRUE(s.Ask(r.Pivot(c, s.now_)).accepted);
+    // The target as the pose of {M}: with pivot c the request names t = p − c + R·c.
+    const Pose X = Pose::FromVector(target);
+    Vector6 asked = target;
+    asked.head<3>() = X.p_BoMo_B - c + RotationFromRpy(X.rpy_rad) * c;
+    const Vector6 from = s.Held();
+    const motion_reply_t reply = s.Ask(r.Move(asked, s.now_));
+    if (!reply.accepted) {
+      EXPECT_NE(reply.reason.find("at t = "), std::string::npos) << reply.reason;
+      if (reply.reason.find("leg_speed_max") != std::string::npos ||
+          reply.reason.find("leg_accel_max") != std::string::npos) {
+        ++refused_legs;
+      } else {
+        ++refused_workspace;
+        EXPECT_TRUE(PathLeavesTheWorkspace(model, from, target, c)) << reply.reason;
+      }
+      continue;
+    }
+    ++accepted;
+    crossing += PathLeavesTheWorkspace(model, from, target, c);
+    Vector6 before = model.LegLengths(Pose::FromVector(from)), speed_before = Vector6::Zero();
+    while (s.service_.busy()) {
+      const pose_setpoint_t sp = s.Cycle();
+      const Pose p = Pose::FromVector(Eigen::Map<const Vector6>(sp.pose));
+      ASSERT_TRUE(CheckWorkspace(model, p).ok()) << "move " << n << ": " << CheckWorkspace(model, p).Describe();
+      const Vector6 length = model.LegLengths(p);
+      const Vector6 speed = (length - before) / 1e-3;
+      ASSERT_LE(speed.cwiseAbs().maxCoeff(), leg_speed_max) << "move " << n;
+      ASSERT_LE(((speed - speed_before) / 1e-3).cwiseAbs().maxCoeff(), leg_accel_max * 1.01) << "move " << n;
+      before = length, speed_before = speed;
+    }
+    EXPECT_LT((s.Held() - target).norm(), 1e-9) << "move " << n << " ended where asked";
+  }
+  EXPECT_EQ(crossing, 0) << "accepted paths that leave the workspace between samples";
+  EXPECT_GT(accepted, 300);
+  EXPECT_GT(refused_workspace, 0) << "the draw must reach paths whose ends are reachable and middles not";
+  EXPECT_GT(refused_legs, 0) << "and paths whose legs would outrun the drives";
+  std::printf("random moves: %d accepted, %d refused for the workspace, %d for the legs\n", accepted,
+              refused_workspace, refused_legs);
+}
+
+}  // namespace
+}  // namespace edsp
