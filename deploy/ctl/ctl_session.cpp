@@ -3,15 +3,11 @@
 #include <unistd.h>
 
 #include <cstdlib>
-#include <memory>
-#include <set>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
-#include "edsp/channels.h"
-#include "edsp/leg_command_t.hpp"
-#include "edsp/pose_setpoint_t.hpp"
+#include "edsp/node/session_discovery.h"
 
 namespace edsp::ctl {
 
@@ -26,35 +22,8 @@ TransportConfig Transport(const CtlOptions& o) {
   return config;
 }
 
-// The session of the group commanding the platform, from its own traffic.
-// The handlers stay subscribed for the bus's life (Bus has no unsubscribe),
-// so they share ownership of what they write to.
-namespace {
-
-std::int64_t DiscoverSession(Bus& bus, const CtlOptions& o) {
-  auto seen = std::make_shared<std::set<std::int64_t>>();
-  bus.Subscribe<leg_command_t>(channel::kLegCommand, [seen](const leg_command_t& c) { seen->insert(c.session_id); });
-  bus.Subscribe<pose_setpoint_t>(channel::kSetpoint, [seen](const pose_setpoint_t& s) { seen->insert(s.session_id); });
-  const std::set<std::int64_t>& sessions = *seen;
-  const auto until = Deadline(o.timeout_s);
-  while (Clock::now() < until && sessions.empty()) bus.Handle(std::chrono::milliseconds(50));
-  bus.Handle(std::chrono::milliseconds(50));  // one more round: a second group shows itself
-  if (sessions.empty()) {
-    throw std::runtime_error(fmt::format("no leg commands or setpoints on {} within {} s: is the group running "
-                                         "on this network? (or give --session-id)", bus.config().lcm_url, o.timeout_s));
-  }
-  if (sessions.size() > 1) {
-    std::string list;
-    for (std::int64_t s : sessions) list += (list.empty() ? "" : ", ") + std::to_string(s);
-    throw std::runtime_error("several groups on the bus (sessions " + list + "): give --session-id");
-  }
-  return *sessions.begin();
-}
-
-}  // namespace
-
-std::int64_t SessionId(Bus& bus, const CtlOptions& o) {
-  if (o.session == "auto") return DiscoverSession(bus, o);
+std::optional<std::int64_t> GivenSession(const CtlOptions& o) {
+  if (o.session == "auto") return std::nullopt;
   try {
     std::size_t used = 0;
     const std::int64_t id = std::stoll(o.session, &used);
@@ -64,6 +33,10 @@ std::int64_t SessionId(Bus& bus, const CtlOptions& o) {
   throw std::runtime_error("--session-id " + o.session + ": give a non-negative integer or auto");
 }
 
+std::int64_t SessionId(Bus& bus, const CtlOptions& o) {
+  const std::optional<std::int64_t> given = GivenSession(o);
+  return given ? *given : DiscoverSession(bus, o.timeout_s);
+}
 
 std::string OperatorName(const CtlOptions& o) {
   if (!o.operator_name.empty()) return o.operator_name;

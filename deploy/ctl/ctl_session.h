@@ -4,6 +4,7 @@
 // and who the operator is, for the log.
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "edsp/transport/bus.h"
@@ -23,6 +24,8 @@ struct CtlOptions {
 Clock::time_point Deadline(double seconds);
 // The group's LCM: the operator's commands and the answers all travel on it.
 TransportConfig Transport(const CtlOptions& o);
+// --session-id as given (none for "auto"); throws naming a malformed one.
+std::optional<std::int64_t> GivenSession(const CtlOptions& o);
 // --session-id, or with "auto" the one session whose leg commands or
 // setpoints are on the bus within the timeout (none or several: an error).
 std::int64_t SessionId(Bus& bus, const CtlOptions& o);

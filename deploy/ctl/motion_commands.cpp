@@ -4,7 +4,6 @@
 #include <fstream>
 #include <memory>
 #include <optional>
-#include <random>
 #include <sstream>
 #include <stdexcept>
 
@@ -16,7 +15,7 @@
 #include "edsp/motion_reply_t.hpp"
 #include "edsp/motion_request_t.hpp"
 #include "edsp/motion_status_t.hpp"
-#include "edsp/node/runtime.h"
+#include "edsp/planner/motion_client.h"
 
 namespace edsp::ctl {
 
@@ -24,39 +23,16 @@ namespace {
 
 enum Exit { kDone = 0, kError = 1, kRefused = 2, kTimedOut = 3, kInterrupted = 4 };
 
-constexpr auto kResend = std::chrono::milliseconds(500);
-
-const char* StateName(std::int8_t state) {
-  switch (state) {
-    case motion_status_t::STATE_IDLE: return "idle";
-    case motion_status_t::STATE_MOVING: return "moving";
-    case motion_status_t::STATE_HALTING: return "halting";
-    case motion_status_t::STATE_HOLDING: return "holding";
-    case motion_status_t::STATE_REFUSED: return "refused";
-    case motion_status_t::STATE_FAULT: return "fault";
-  }
-  return "unknown";
-}
-
-const char* EndName(std::int8_t end) {
-  switch (end) {
-    case motion_status_t::END_COMPLETED: return "completed";
-    case motion_status_t::END_HALTED: return "halted";
-    case motion_status_t::END_STOPPED: return "stopped";
-  }
-  return "none";
-}
-
 template <std::size_t N>
 nlohmann::json Array(const double (&v)[N]) {
   return nlohmann::json(std::vector<double>(v, v + N));
 }
 
 nlohmann::json StatusJson(const motion_status_t& s) {
-  return {{"state", StateName(s.state)},     {"on_target", s.on_target != 0},
+  return {{"state", MotionStateName(s.state)},     {"on_target", s.on_target != 0},
           {"request_id", s.request_id},      {"activity", s.activity},
           {"progress", s.progress},          {"queued", s.queued},
-          {"last_end", EndName(s.last_end)}, {"pose_commanded", Array(s.pose_commanded)},
+          {"last_end", MotionEndName(s.last_end)}, {"pose_commanded", Array(s.pose_commanded)},
           {"pose_target", Array(s.pose_target)}, {"pose_measured", Array(s.pose_measured)},
           {"measured_valid", s.measured_valid != 0}, {"frame", s.frame},
           {"pivot", Array(s.pivot)},         {"reason", s.reason},
@@ -68,12 +44,6 @@ nlohmann::json ReplyJson(const motion_reply_t& r) {
           {"start_delay_s", r.start_delay_s}, {"request_id", r.request_id}};
 }
 
-std::int64_t NewRequestId() {
-  std::random_device device;
-  std::uniform_int_distribution<std::int64_t> id(1, std::numeric_limits<std::int64_t>::max());
-  return id(device);
-}
-
 std::string FileText(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error("run --csv " + path + ": cannot read the file");
@@ -82,90 +52,17 @@ std::string FileText(const std::string& path) {
   return text.str();
 }
 
-// One conversation with the planner: the latest motion status of the
-// group's session, and the reply to a request sent until answered.
-class MotionLink {
- public:
-  explicit MotionLink(const CtlOptions& o) : options_(o), bus_(Transport(o)), session_(SessionId(bus_, o)) {
-    bus_.Subscribe<motion_status_t>(channel::kMotionStatus, [state = state_, session = session_](const motion_status_t& s) {
-      if (s.session_id == session) state->status = s;
-    });
-    bus_.Subscribe<motion_reply_t>(channel::kMotionReply, [state = state_, session = session_](const motion_reply_t& r) {
-      if (r.session_id == session && r.request_id == state->awaited) state->reply = r;
-    });
+// Until motion `request_id` (0: whatever runs) ends, as the exit code.
+int Wait(MotionClient& link, std::int64_t request_id, double timeout_s) {
+  const WaitResult r = link.Wait(request_id, timeout_s);
+  if (r.outcome != WaitOutcome::kOnTarget) std::fprintf(stderr, "edsp-ctl: %s\n", r.message.c_str());
+  switch (r.outcome) {
+    case WaitOutcome::kOnTarget: return kDone;
+    case WaitOutcome::kHaltedOrStopped: return kInterrupted;
+    case WaitOutcome::kFault: return kError;
+    case WaitOutcome::kTimedOut: return kTimedOut;
   }
-
-  motion_request_t Request(std::int8_t kind) const {
-    motion_request_t r{};
-    r.seq = 1;
-    r.session_id = session_;
-    r.request_id = NewRequestId();
-    r.client = OperatorName(options_);
-    r.kind = kind;
-    return r;
-  }
-
-  // Sends `r` (again every 0.5 s) until its reply comes or the timeout.
-  std::optional<motion_reply_t> Send(motion_request_t r) {
-    state_->awaited = r.request_id;
-    state_->reply.reset();
-    const auto until = Deadline(options_.timeout_s);
-    auto next = Clock::now();
-    while (!state_->reply && Clock::now() < until) {
-      if (Clock::now() >= next) {
-        r.utime = UtimeNow();
-        if (!bus_.Publish(channel::kMotionRequest, r)) throw std::runtime_error("EDSP_MOTION_REQUEST could not be sent");
-        next = Clock::now() + kResend;
-      }
-      bus_.Handle(std::chrono::milliseconds(20));
-    }
-    return state_->reply;
-  }
-
-  // The next status (after now) within `seconds`, or none.
-  std::optional<motion_status_t> NextStatus(double seconds) {
-    state_->status.reset();
-    const auto until = Deadline(seconds);
-    while (!state_->status && Clock::now() < until) bus_.Handle(std::chrono::milliseconds(20));
-    return state_->status;
-  }
-
- private:
-  struct State {
-    std::int64_t awaited = 0;
-    std::optional<motion_reply_t> reply;
-    std::optional<motion_status_t> status;
-  };
-  CtlOptions options_;
-  Bus bus_;
-  std::int64_t session_;
-  std::shared_ptr<State> state_ = std::make_shared<State>();
-};
-
-// Until the motion `request_id` (0: whatever runs) is on target (0), ended
-// in a halt or stop (4), the bridge faults (1), or `timeout_s` (3).
-int Wait(MotionLink& link, std::int64_t request_id, double timeout_s) {
-  const auto until = Deadline(timeout_s);
-  bool seen = request_id == 0;
-  while (Clock::now() < until) {
-    const std::optional<motion_status_t> s = link.NextStatus(std::min(1.0, timeout_s));
-    if (!s) continue;
-    const bool ours = request_id == 0 || s->request_id == request_id;
-    seen = seen || ours;
-    const bool still = s->state != motion_status_t::STATE_MOVING && s->state != motion_status_t::STATE_HALTING;
-    if (s->state == motion_status_t::STATE_FAULT) {
-      std::fprintf(stderr, "edsp-ctl: %s\n", s->reason.c_str());
-      return kError;
-    }
-    if (!seen || !still) continue;
-    if (s->last_end == motion_status_t::END_HALTED || s->last_end == motion_status_t::END_STOPPED) {
-      std::fprintf(stderr, "edsp-ctl: the motion was %s\n", EndName(s->last_end));
-      return kInterrupted;
-    }
-    if (s->on_target) return kDone;
-  }
-  std::fprintf(stderr, "edsp-ctl: not on target within %g s\n", timeout_s);
-  return kTimedOut;
+  return kError;
 }
 
 void FillPose(const std::string& text, motion_request_t* r) {
@@ -173,7 +70,7 @@ void FillPose(const std::string& text, motion_request_t* r) {
   for (int k = 0; k < 6; ++k) r->pose[k] = q(k);
 }
 
-int SendAndReport(MotionLink& link, const motion_request_t& r, const MotionArgs& a, bool wait) {
+int SendAndReport(MotionClient& link, const motion_request_t& r, const MotionArgs& a, bool wait) {
   const std::optional<motion_reply_t> reply = link.Send(r);
   if (!reply) {
     std::fprintf(stderr, "edsp-ctl: no reply from the planner within the timeout (is its motion service running?)\n");
@@ -190,7 +87,7 @@ int SendAndReport(MotionLink& link, const motion_request_t& r, const MotionArgs&
   return Wait(link, r.request_id, timeout);
 }
 
-int Move(MotionLink& link, const MotionArgs& a, std::int8_t kind) {
+int Move(MotionClient& link, const MotionArgs& a, std::int8_t kind) {
   motion_request_t r = link.Request(kind);
   FillPose(a.pose, &r);
   r.relative = a.relative;
@@ -200,7 +97,7 @@ int Move(MotionLink& link, const MotionArgs& a, std::int8_t kind) {
   return SendAndReport(link, r, a, kind == motion_request_t::KIND_MOVE && !a.no_wait);
 }
 
-int RunProgram(MotionLink& link, const MotionArgs& a) {
+int RunProgram(MotionClient& link, const MotionArgs& a) {
   motion_request_t r = link.Request(motion_request_t::KIND_RUN);
   if (a.motions.empty() == a.csv.empty()) throw std::runtime_error("run: give --motions or --csv");
   r.motions = a.motions;
@@ -211,7 +108,7 @@ int RunProgram(MotionLink& link, const MotionArgs& a) {
   return SendAndReport(link, r, a, !a.no_wait);
 }
 
-int Status(MotionLink& link, const CtlOptions& o, const MotionArgs& a) {
+int Status(MotionClient& link, const CtlOptions& o, const MotionArgs& a) {
   const std::optional<motion_status_t> s = link.NextStatus(o.timeout_s);
   if (!s) {
     std::fprintf(stderr, "edsp-ctl: no EDSP_MOTION_STATUS within %g s (is the planner running?)\n", o.timeout_s);
@@ -221,9 +118,9 @@ int Status(MotionLink& link, const CtlOptions& o, const MotionArgs& a) {
     std::printf("%s\n", StatusJson(*s).dump().c_str());
     return kDone;
   }
-  std::printf("%s%s  request %lld (%s, %.0f%%, %d queued)  last end: %s  frame %s\n", StateName(s->state),
+  std::printf("%s%s  request %lld (%s, %.0f%%, %d queued)  last end: %s  frame %s\n", MotionStateName(s->state),
               s->on_target ? " on target" : "", static_cast<long long>(s->request_id), s->activity.c_str(),
-              s->progress * 100.0, s->queued, EndName(s->last_end), s->frame.c_str());
+              s->progress * 100.0, s->queued, MotionEndName(s->last_end), s->frame.c_str());
   std::printf("commanded %s\n", fmt::format("{:.6f}", fmt::join(s->pose_commanded, ",")).c_str());
   std::printf("measured  %s%s\n", fmt::format("{:.6f}", fmt::join(s->pose_measured, ",")).c_str(),
               s->measured_valid ? "" : " (not valid)");
@@ -293,7 +190,7 @@ bool RunMotionCommand(const CLI::App& app, const CtlOptions& o, const MotionArgs
   bool any = false;
   for (const char* c : kCommands) any = any || given(c);
   if (!any) return false;
-  MotionLink link(o);
+  MotionClient link(Transport(o), GivenSession(o), o.timeout_s, OperatorName(o));
   MotionArgs quiet = a;
   quiet.json = false;
   if (given("move")) *exit_code = Move(link, a, motion_request_t::KIND_MOVE);

@@ -1,0 +1,63 @@
+#pragma once
+// A client of the planner's motion service over edsp's Bus: what edsp-ctl
+// and the Python Platform share. It finds the group's session (unless
+// told), sends a request again every 0.5 s until the reply comes (one UDP
+// datagram among the group's kHz traffic can be lost; the planner acts on
+// a request_id once), follows EDSP_MOTION_STATUS, and waits for a motion
+// to end: on target, halted or stopped, a fault, or the timeout.
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "edsp/motion_reply_t.hpp"
+#include "edsp/motion_request_t.hpp"
+#include "edsp/motion_status_t.hpp"
+#include "edsp/transport/bus.h"
+
+namespace edsp {
+
+const char* MotionStateName(std::int8_t state);  // "idle", "moving", ...
+const char* MotionEndName(std::int8_t end);      // "none", "completed", "halted", "stopped"
+
+enum class WaitOutcome { kOnTarget, kHaltedOrStopped, kFault, kTimedOut };
+
+struct WaitResult {
+  WaitOutcome outcome = WaitOutcome::kTimedOut;
+  std::string message;                   // why, for anything but on target
+  std::optional<motion_status_t> status; // the last one seen
+};
+
+class MotionClient {
+ public:
+  // Throws std::runtime_error if the session cannot be found (none or
+  // several groups on the bus within answer_timeout_s).
+  MotionClient(const TransportConfig& transport, std::optional<std::int64_t> session_id, double answer_timeout_s,
+               std::string client_name);
+
+  std::int64_t session_id() const { return session_; }
+  // A request of `kind` with a fresh random request_id, this session and client.
+  motion_request_t Request(std::int8_t kind) const;
+  // Sends `request` until its reply comes or the answer timeout passes (none).
+  std::optional<motion_reply_t> Send(motion_request_t request);
+  // The next status of this session after now, within `seconds`.
+  std::optional<motion_status_t> NextStatus(double seconds);
+  // Until motion `request_id` (0: whatever runs now) is on target, ends
+  // halted or stopped, the bridge faults, or `timeout_s` passes.
+  WaitResult Wait(std::int64_t request_id, double timeout_s);
+
+ private:
+  struct Inbox {
+    std::int64_t awaited = 0;
+    std::optional<motion_reply_t> reply;
+    std::optional<motion_status_t> status;
+  };
+  Bus bus_;
+  std::int64_t session_;
+  double answer_timeout_s_;
+  std::string client_;
+  std::shared_ptr<Inbox> inbox_ = std::make_shared<Inbox>();
+};
+
+}  // namespace edsp

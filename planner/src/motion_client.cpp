@@ -1,0 +1,133 @@
+#include "edsp/planner/motion_client.h"
+
+#include <algorithm>
+#include <chrono>
+#include <limits>
+#include <random>
+#include <stdexcept>
+
+#include "edsp/channels.h"
+#include "edsp/node/runtime.h"
+#include "edsp/node/session_discovery.h"
+
+namespace edsp {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr auto kResend = std::chrono::milliseconds(500);
+
+Clock::time_point Deadline(double seconds) {
+  return Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+}
+
+std::int64_t NewRequestId() {
+  std::random_device device;
+  std::uniform_int_distribution<std::int64_t> id(1, std::numeric_limits<std::int64_t>::max());
+  return id(device);
+}
+
+}  // namespace
+
+const char* MotionStateName(std::int8_t state) {
+  switch (state) {
+    case motion_status_t::STATE_IDLE: return "idle";
+    case motion_status_t::STATE_MOVING: return "moving";
+    case motion_status_t::STATE_HALTING: return "halting";
+    case motion_status_t::STATE_HOLDING: return "holding";
+    case motion_status_t::STATE_REFUSED: return "refused";
+    case motion_status_t::STATE_FAULT: return "fault";
+  }
+  return "unknown";
+}
+
+const char* MotionEndName(std::int8_t end) {
+  switch (end) {
+    case motion_status_t::END_COMPLETED: return "completed";
+    case motion_status_t::END_HALTED: return "halted";
+    case motion_status_t::END_STOPPED: return "stopped";
+  }
+  return "none";
+}
+
+MotionClient::MotionClient(const TransportConfig& transport, std::optional<std::int64_t> session_id,
+                           double answer_timeout_s, std::string client_name)
+    : bus_(transport),
+      session_(session_id ? *session_id : DiscoverSession(bus_, answer_timeout_s)),
+      answer_timeout_s_(answer_timeout_s),
+      client_(std::move(client_name)) {
+  bus_.Subscribe<motion_status_t>(channel::kMotionStatus, [inbox = inbox_, session = session_](const motion_status_t& s) {
+    if (s.session_id == session) inbox->status = s;
+  });
+  bus_.Subscribe<motion_reply_t>(channel::kMotionReply, [inbox = inbox_, session = session_](const motion_reply_t& r) {
+    if (r.session_id == session && r.request_id == inbox->awaited) inbox->reply = r;
+  });
+}
+
+motion_request_t MotionClient::Request(std::int8_t kind) const {
+  motion_request_t r{};
+  r.seq = 1;
+  r.session_id = session_;
+  r.request_id = NewRequestId();
+  r.client = client_;
+  r.kind = kind;
+  return r;
+}
+
+std::optional<motion_reply_t> MotionClient::Send(motion_request_t r) {
+  inbox_->awaited = r.request_id;
+  inbox_->reply.reset();
+  const auto until = Deadline(answer_timeout_s_);
+  auto next = Clock::now();
+  while (!inbox_->reply && Clock::now() < until) {
+    if (Clock::now() >= next) {
+      r.utime = UtimeNow();
+      if (!bus_.Publish(channel::kMotionRequest, r)) throw std::runtime_error("EDSP_MOTION_REQUEST could not be sent");
+      next = Clock::now() + kResend;
+    }
+    bus_.Handle(std::chrono::milliseconds(20));
+  }
+  return inbox_->reply;
+}
+
+std::optional<motion_status_t> MotionClient::NextStatus(double seconds) {
+  inbox_->status.reset();
+  const auto until = Deadline(seconds);
+  while (!inbox_->status && Clock::now() < until) bus_.Handle(std::chrono::milliseconds(20));
+  return inbox_->status;
+}
+
+WaitResult MotionClient::Wait(std::int64_t request_id, double timeout_s) {
+  WaitResult result;
+  const auto until = Deadline(timeout_s);
+  // A status from before the motion started (still naming the one before)
+  // says nothing about it: only once it is named is its end awaited.
+  bool seen = request_id == 0;
+  while (Clock::now() < until) {
+    const std::optional<motion_status_t> s = NextStatus(std::min(1.0, std::max(0.05, timeout_s)));
+    if (!s) continue;
+    result.status = s;
+    seen = seen || s->request_id == request_id;
+    if (s->state == motion_status_t::STATE_FAULT) {
+      result.outcome = WaitOutcome::kFault;
+      result.message = s->reason;
+      return result;
+    }
+    const bool still = s->state != motion_status_t::STATE_MOVING && s->state != motion_status_t::STATE_HALTING;
+    if (!seen || !still) continue;
+    if (s->last_end == motion_status_t::END_HALTED || s->last_end == motion_status_t::END_STOPPED) {
+      result.outcome = WaitOutcome::kHaltedOrStopped;
+      result.message = std::string("the motion was ") + MotionEndName(s->last_end);
+      return result;
+    }
+    if (s->on_target) {
+      result.outcome = WaitOutcome::kOnTarget;
+      return result;
+    }
+  }
+  result.outcome = WaitOutcome::kTimedOut;
+  result.message = "not on target within " + std::to_string(timeout_s) + " s";
+  return result;
+}
+
+}  // namespace edsp

@@ -1,0 +1,188 @@
+"""edsp from Python: the kinematics on numpy arrays and a running group's
+motion service (docs/python.md).
+
+    import edsp
+    kin = edsp.Kinematics("config/huang2021.toml")
+    lengths = kin.ik(poses)                      # (N, 6) -> (N, 6), PR-compensated
+    rig = edsp.Platform("deploy/groups/sim.toml")
+    rig.move([0.02, 0, 1.53, 0, 0, 0])           # waits until on target
+"""
+from __future__ import annotations
+
+import math
+import os
+from typing import Optional, Sequence
+
+from . import _edsp
+
+__all__ = ["Kinematics", "Platform", "EdspError", "Refused", "Timeout", "Halted", "Fault"]
+
+
+class EdspError(Exception):
+    """Anything edsp refuses or cannot do; the message says why."""
+
+
+class Refused(EdspError):
+    """The planner refused the request (the reason is the message)."""
+
+
+class Timeout(EdspError):
+    """No reply, or not on target, within the timeout."""
+
+
+class Halted(EdspError):
+    """The motion ended in a halt or a stop requested by someone else."""
+
+
+class Fault(EdspError):
+    """The actuator bridge stopped following while waiting (re-arm it)."""
+
+
+class Kinematics:
+    """Inverse and forward kinematics of the platform a config file describes.
+
+    ik(poses, pr_mode="signed") -> leg lengths to command, (N, 6) m
+    fk(lengths, with_pr=True)   -> poses, (N, 6): x y z (m), roll pitch yaw (rad)
+    check(poses)                -> per pose None, or the workspace limit it crosses
+    Poses are the pose of {M} in {B}, as on EDSP_SETPOINT. Arrays of shape
+    (N, 6) or (6,); anything else, or a non-finite value, raises ValueError
+    or TypeError naming the argument. The loops run without the GIL.
+    """
+
+    def __init__(self, config: str):
+        if not isinstance(config, (str, os.PathLike)):
+            raise TypeError(f"config: want a path to a platform TOML file, got {type(config).__name__}")
+        self._k = _edsp.Kinematics(os.fspath(config))
+
+    def ik(self, poses, pr_mode: str = "signed"):
+        return self._k.ik(poses, pr_mode)
+
+    def fk(self, lengths, with_pr: bool = True):
+        return self._k.fk(lengths, with_pr)
+
+    def check(self, poses):
+        return self._k.check(poses)
+
+    @property
+    def home(self):
+        return self._k.home()
+
+
+def _six(name: str, values) -> list:
+    try:
+        out = [float(v) for v in values]
+    except TypeError:
+        raise TypeError(f"{name}: want six numbers x, y, z (m), roll, pitch, yaw (rad)") from None
+    if len(out) != 6:
+        raise ValueError(f"{name}: want six numbers x, y, z (m), roll, pitch, yaw (rad), got {len(out)}")
+    for k, v in enumerate(out):
+        if not math.isfinite(v):
+            raise ValueError(f"{name}[{k}] = {v}: every value must be finite")
+    return out
+
+
+def _speed(name: str, value: Optional[float]) -> float:
+    if value is None:
+        return 0.0
+    v = float(value)
+    if not math.isfinite(v) or v <= 0.0:
+        raise ValueError(f"{name} = {value}: want a positive finite speed (or None for the default)")
+    return v
+
+
+class Platform:
+    """A running group's platform, through the planner's motion service.
+
+    The same requests and semantics as edsp-ctl (docs/operating.md): every
+    method raises Refused with the planner's reason, Timeout, Halted or
+    Fault; none waits longer than its timeout.
+    """
+
+    def __init__(self, group_file: Optional[str] = None, session_id: Optional[int] = None,
+                 lcm_url: str = "", answer_timeout_s: float = 2.0, client: str = "python"):
+        if group_file is not None and not os.path.isfile(group_file):
+            raise FileNotFoundError(f"group_file: {group_file} does not exist")
+        if session_id is not None and (not isinstance(session_id, int) or session_id < 0):
+            raise ValueError(f"session_id = {session_id!r}: want a non-negative int, or None to find it")
+        try:
+            self._c = _edsp.Client(group_file or "", lcm_url, session_id, float(answer_timeout_s), client)
+        except RuntimeError as e:
+            raise Timeout(str(e)) from None
+
+    @property
+    def session_id(self) -> int:
+        return self._c.session_id
+
+    def _send(self, kind, pose=(), relative=False, frame="", point=(), speed_m_s=0.0, speed_rad_s=0.0,
+              accel_m_s2=0.0, accel_rad_s2=0.0, motions="", csv_text="", csv_origin=""):
+        reply = self._c.send(kind, list(pose), relative, frame or "", list(point), speed_m_s, speed_rad_s,
+                             accel_m_s2, accel_rad_s2, motions, csv_text, csv_origin)
+        if not reply:
+            raise Timeout("no reply from the planner (is the group running, its planner serving requests?)")
+        if not reply["accepted"]:
+            raise Refused(reply["reason"])
+        return reply
+
+    def _wait(self, request_id: int, timeout_s: Optional[float], reply: dict) -> dict:
+        limit = timeout_s if timeout_s is not None else reply["start_delay_s"] + reply["duration_s"] + 30.0
+        outcome, message = self._c.wait(request_id, float(limit))
+        if outcome == "halted":
+            raise Halted(message)
+        if outcome == "fault":
+            raise Fault(message)
+        if outcome == "timeout":
+            raise Timeout(message)
+        return reply
+
+    def move(self, pose: Sequence[float], frame: Optional[str] = None, relative: bool = False,
+             speed_m_s: Optional[float] = None, speed_rad_s: Optional[float] = None, wait: bool = True,
+             timeout_s: Optional[float] = None) -> dict:
+        """Move to `pose` (in `frame`, about the pivot); returns the reply."""
+        reply = self._send(_edsp.KIND_MOVE, _six("pose", pose), relative, frame or "",
+                           speed_m_s=_speed("speed_m_s", speed_m_s), speed_rad_s=_speed("speed_rad_s", speed_rad_s))
+        return self._wait(reply["request_id"], timeout_s, reply) if wait else reply
+
+    def check(self, pose: Sequence[float], frame: Optional[str] = None, relative: bool = False,
+              speed_m_s: Optional[float] = None, speed_rad_s: Optional[float] = None) -> dict:
+        """Whether a move would run (raises Refused naming why not); nothing moves."""
+        return self._send(_edsp.KIND_CHECK, _six("pose", pose), relative, frame or "",
+                          speed_m_s=_speed("speed_m_s", speed_m_s), speed_rad_s=_speed("speed_rad_s", speed_rad_s))
+
+    def run(self, motions: Optional[str] = None, csv: Optional[str] = None, wait: bool = True,
+            timeout_s: Optional[float] = None) -> dict:
+        """Run named motions ("Lz,Rz") or a trajectory CSV file."""
+        if (motions is None) == (csv is None):
+            raise ValueError("run: give motions or csv, not both")
+        text = ""
+        if csv is not None:
+            with open(csv, encoding="utf-8") as f:
+                text = f.read()
+        reply = self._send(_edsp.KIND_RUN, motions=motions or "", csv_text=text, csv_origin=csv or "")
+        return self._wait(reply["request_id"], timeout_s, reply) if wait else reply
+
+    def halt(self) -> dict:
+        return self._send(_edsp.KIND_HALT)
+
+    def stop(self) -> dict:
+        return self._send(_edsp.KIND_STOP)
+
+    def wait(self, timeout_s: float = 60.0) -> None:
+        """Until whatever runs is on target (raises Halted, Fault, Timeout)."""
+        self._wait(0, timeout_s, {"start_delay_s": 0.0, "duration_s": 0.0})
+
+    def status(self, timeout_s: float = 2.0) -> dict:
+        s = self._c.status(float(timeout_s))
+        if s is None:
+            raise Timeout(f"no EDSP_MOTION_STATUS within {timeout_s} s (is the planner running?)")
+        return s
+
+    def frame(self, name: str, pose: Sequence[float]) -> dict:
+        if not isinstance(name, str) or not name:
+            raise ValueError(f"frame name {name!r}: want a non-empty string")
+        return self._send(_edsp.KIND_FRAME, _six("pose", pose), frame=name)
+
+    def pivot(self, point: Sequence[float]) -> dict:
+        p = [float(v) for v in point]
+        if len(p) != 3 or not all(math.isfinite(v) for v in p):
+            raise ValueError(f"point {point!r}: want three finite numbers x, y, z (m) in {{M}}")
+        return self._send(_edsp.KIND_PIVOT, point=p)

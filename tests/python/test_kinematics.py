@@ -1,0 +1,108 @@
+"""edsp.Kinematics on numpy arrays: forward kinematics undoes inverse
+kinematics (two different algorithms: closed form against Newton), PR
+compensation changes the lengths by the twist's amount, the workspace check
+names the limit, and bad input raises naming the argument."""
+import math
+import os
+import threading
+
+import numpy as np
+import pytest
+
+import edsp
+
+CONFIG = os.path.join(os.environ.get("EDSP_SOURCE_DIR", "."), "config", "huang2021.toml")
+
+
+@pytest.fixture(scope="module")
+def kin():
+    return edsp.Kinematics(CONFIG)
+
+
+def random_poses(kin, n, seed=20261127):
+    rng = np.random.default_rng(seed)
+    poses = np.tile(kin.home, (n, 1))
+    poses[:, :3] += rng.uniform(-0.3, 0.3, (n, 3))
+    poses[:, 3:] += rng.uniform(-0.3, 0.3, (n, 3))
+    inside = np.array([c is None for c in kin.check(poses)])
+    return poses[inside]
+
+
+def test_forward_kinematics_undoes_inverse_kinematics(kin):
+    poses = random_poses(kin, 500)
+    assert len(poses) > 300
+    for mode, with_pr in (("signed", True), ("none", False)):
+        back = kin.fk(kin.ik(poses, pr_mode=mode), with_pr=with_pr)
+        assert np.abs(back - poses).max() < 1e-9, mode
+
+
+def test_compensation_moves_the_legs_by_the_passive_rotation(kin):
+    poses = random_poses(kin, 50)
+    nominal, signed = kin.ik(poses, pr_mode="none"), kin.ik(poses, pr_mode="signed")
+    difference = np.abs(signed - nominal)
+    assert difference.max() > 1e-5, "a yaw twists the screws: compensation changes the lengths"
+    assert difference.max() < 0.01, "by a fraction of a lead, never by a leg's stroke"
+    at_home = kin.ik(kin.home, pr_mode="signed") - kin.ik(kin.home, pr_mode="none")
+    assert np.abs(at_home).max() < 1e-12
+
+
+def test_a_single_pose_and_a_list_are_rows(kin):
+    one = kin.ik(list(kin.home))
+    assert one.shape == (1, 6)
+    assert np.allclose(one, kin.ik(np.array([kin.home])))
+
+
+def test_the_workspace_check_names_the_limit(kin):
+    far = kin.home.copy()
+    far[2] = 3.0
+    result = kin.check(np.array([kin.home, far]))
+    assert result[0] is None
+    assert "exceeds leg_max_m" in result[1]
+
+
+@pytest.mark.parametrize("bad, error, names", [
+    (np.zeros((3, 5)), ValueError, "shape (N, 6)"),
+    ([[0, 0, math.nan, 0, 0, 0]], ValueError, "row 0 column 2"),
+    ([[0, 0, math.inf, 0, 0, 0]], ValueError, "finite"),
+    (np.array([["a"] * 6]), TypeError, "numbers"),
+    ("abc", TypeError, "numbers"),
+    (None, TypeError, "poses"),
+])
+def test_bad_poses_raise_naming_the_argument(kin, bad, error, names):
+    with pytest.raises(error, match="poses"):
+        kin.ik(bad)
+    with pytest.raises(error) as caught:
+        kin.ik(bad)
+    assert names in str(caught.value)
+
+
+def test_unknown_pr_mode_and_missing_config_are_named(kin):
+    with pytest.raises(ValueError, match="pr_mode sideways"):
+        kin.ik(kin.home, pr_mode="sideways")
+    with pytest.raises(Exception, match="no_such.toml"):
+        edsp.Kinematics("no_such.toml")
+
+
+def test_unreachable_lengths_raise_naming_the_row(kin):
+    lengths = kin.ik(np.array([kin.home, kin.home]))
+    lengths[1] = [0.5, 5.0, 0.5, 5.0, 0.5, 5.0]
+    with pytest.raises(ValueError, match="lengths row 1"):
+        kin.fk(lengths)
+
+
+def test_the_loops_release_the_gil(kin):
+    # Two threads over one big array: with the GIL held they would take
+    # twice one thread's time; the test only asserts both finish with the
+    # same result (timing belongs in benchmarks).
+    poses = np.tile(kin.home, (200000, 1))
+    results = [None, None]
+
+    def work(k):
+        results[k] = kin.ik(poses)
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert np.array_equal(results[0], results[1])

@@ -1,0 +1,113 @@
+"""edsp.Platform on a live sim group (started here by edsp-launch, inside
+the private network namespace ctest gives this test): a script moves the
+platform through a work frame about a pivot, each move ending on target
+within the config's tolerance of where it was sent; refusals, a halt and
+bad input raise the exceptions that name them; a group that is not
+running raises Timeout instead of hanging."""
+import math
+import os
+import signal
+import subprocess
+import tempfile
+import time
+
+import numpy as np
+import pytest
+
+import edsp
+
+SOURCE = os.environ.get("EDSP_SOURCE_DIR", ".")
+BIN = os.environ.get("EDSP_BIN_DIR", os.path.join(SOURCE, "build", "bin"))
+SESSION = 4711
+
+
+@pytest.fixture(scope="module")
+def group():
+    work = tempfile.mkdtemp(prefix="edsp_python_live_")
+    with open(os.path.join(SOURCE, "deploy", "groups", "sim.toml"), encoding="utf-8") as f:
+        text = f.read()
+    # The shipped group with its own shared-memory prefix, an absolute
+    # config and a noise-free tracker (the rig's line already sets it).
+    text = text.replace('shm_prefix = "edsp.sim"', f'shm_prefix = "edsp.pytest.{os.getpid()}"')
+    text = text.replace('config = "config/huang2021.toml"', f'config = "{SOURCE}/config/huang2021.toml"')
+    path = os.path.join(work, "group.toml")
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(text)
+    launch = subprocess.Popen([os.path.join(BIN, "edsp-launch"), path, "--bin-dir", BIN, "--session-id",
+                               str(SESSION), "--duration-s", "240"], cwd=work,
+                              stdout=subprocess.DEVNULL, stderr=open(os.path.join(work, "launch.err"), "w"))
+    yield path
+    launch.send_signal(signal.SIGINT)
+    try:
+        launch.wait(timeout=30)
+    except subprocess.TimeoutExpired:
+        launch.kill()
+
+
+def connect(group):
+    # However long the machine takes to start the group: its planner's
+    # setpoints (the session), then a measured pose (the bridge's encoders
+    # through the kinematics: the legs follow).
+    deadline = time.monotonic() + 60
+    while True:
+        try:
+            rig = edsp.Platform(group, answer_timeout_s=5)
+            while not rig.status()["measured_valid"]:
+                assert time.monotonic() < deadline, "the group never measured its pose"
+            return rig
+        except edsp.Timeout:
+            if time.monotonic() > deadline:
+                raise
+
+
+def test_a_script_through_a_work_frame_lands_each_move_on_target(group):
+    rig = connect(group)
+    assert rig.session_id == SESSION
+    assert rig.status()["state"] == "idle"
+    rig.frame("fixture", [0.05, -0.02, 1.55, 0, 0, 0.3])
+    rig.pivot([0, 0, 0.3])
+    tolerance_m = 10e-6
+    for pose, frame, relative in [([0, 0, 0, 0, 0, 0], "fixture", False),
+                                  ([0, 0, 0, 0.02, 0, 0], "fixture", True),
+                                  ([0, 0.02, -0.01, 0, 0, 0], "fixture", True),
+                                  ([-0.01, 0.01, 0, 0, 0, 0.02], "home", False),
+                                  ([0.0, 0.0, 1.511, 0, 0, 0], None, False)]:
+        rig.move(pose, frame=frame, relative=relative, timeout_s=60)
+        s = rig.status()
+        assert s["on_target"], s
+        assert s["measured_valid"]
+        target, measured = np.array(s["pose_target"]), np.array(s["pose_measured"])
+        assert np.abs(measured[:3] - target[:3]).max() < tolerance_m, (pose, measured - target)
+    final = rig.status()
+    assert np.abs(np.array(final["pose_commanded"]) - [0, 0, 1.511, 0, 0, 0]).max() < 1e-12
+    assert final["frame"] == "base" and list(final["pivot"]) == [0, 0, 0.3]
+
+
+def test_refusals_halts_and_bad_input_raise_what_names_them(group):
+    rig = connect(group)
+    with pytest.raises(edsp.Refused, match="outside the workspace"):
+        rig.check([0, 0, 3.0, 0, 0, 0])
+    with pytest.raises(edsp.Refused, match='unknown frame "nowhere"'):
+        rig.move([0] * 6, frame="nowhere")
+    with pytest.raises(edsp.Refused, match="speed_max_m_s"):
+        rig.move([0.01, 0, 1.5, 0, 0, 0], speed_m_s=1000)
+    with pytest.raises(ValueError, match=r"pose\[0\] = nan"):
+        rig.move([math.nan, 0, 1.5, 0, 0, 0])
+    with pytest.raises(ValueError, match="six numbers"):
+        rig.move([0, 0, 1.5])
+    with pytest.raises(ValueError, match="speed_m_s"):
+        rig.move([0.01, 0, 1.5, 0, 0, 0], speed_m_s=-1)
+    reply = rig.move([0.2, 0, 1.5, 0, 0, 0], wait=False)
+    assert reply["accepted"] and reply["duration_s"] > 1.0
+    time.sleep(0.5)
+    rig.halt()
+    with pytest.raises(edsp.Halted):
+        rig.wait(timeout_s=30)
+    assert rig.status()["last_end"] == "halted"
+
+
+def test_a_group_that_is_not_running_raises_timeout_without_hanging():
+    began = time.monotonic()
+    with pytest.raises(edsp.Timeout, match="no leg commands or setpoints"):
+        edsp.Platform(lcm_url="udpm://239.255.76.99:7699?ttl=0", answer_timeout_s=0.5)
+    assert time.monotonic() - began < 10
