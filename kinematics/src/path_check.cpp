@@ -21,6 +21,8 @@ std::string PathCheck::Describe() const {
     case PathLimit::kLegSpeed:
       return fmt::format("at t = {:.3f} s: leg {} at {:.4f} m/s, {:.4f} m/s above [limits] leg_speed_max_m_s = {}",
                          t_s, leg + 1, value, value - bound, bound);
+    case PathLimit::kDuration:
+      return fmt::format("the path's duration {} s is not a finite time of at most {} s", value, bound);
     case PathLimit::kLegAcceleration:
       return fmt::format(
           "at t = {:.3f} s: leg {} accelerates at {:.3f} m/s^2, {:.3f} m/s^2 above [motion] leg_accel_max_m_s2 = {}",
@@ -46,6 +48,14 @@ double Largest(const Vector6& v, int* leg) {
 PathCheck CheckPath(const PlatformModel& model, const PathLimits& limits, const PathPoseAt& pose_at,
                     double duration_s, double rate_hz) {
   PathCheck result;
+  // A day of samples at most: beyond, a unit typo (or a NaN) and no path.
+  constexpr double kLongest_s = 86400.0;
+  if (!(duration_s >= 0.0 && duration_s <= kLongest_s)) {
+    result.limit = PathLimit::kDuration;
+    result.value = duration_s;
+    result.bound = kLongest_s;
+    return result;
+  }
   const long samples = static_cast<long>(std::ceil(std::max(0.0, duration_s) * rate_hz - 1e-9));
   Vector6 length_before = Vector6::Zero(), speed_before = Vector6::Zero(), length_conditioned = Vector6::Zero();
   double t_before = 0.0, dt_before = 0.0;

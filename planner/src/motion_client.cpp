@@ -114,8 +114,15 @@ WaitResult MotionClient::Wait(std::int64_t request_id, double timeout_s) {
       return result;
     }
     const bool still = s->state != motion_status_t::STATE_MOVING && s->state != motion_status_t::STATE_HALTING;
+    const bool halted = s->last_end == motion_status_t::END_HALTED || s->last_end == motion_status_t::END_STOPPED;
+    if (!seen && still && s->queued == 0 && halted) {
+      // Never started and nothing waits: a halt or stop cancelled it in the queue.
+      result.outcome = WaitOutcome::kHaltedOrStopped;
+      result.message = std::string("the motion was cancelled before it started (") + MotionEndName(s->last_end) + ")";
+      return result;
+    }
     if (!seen || !still) continue;
-    if (s->last_end == motion_status_t::END_HALTED || s->last_end == motion_status_t::END_STOPPED) {
+    if (halted) {
       result.outcome = WaitOutcome::kHaltedOrStopped;
       result.message = std::string("the motion was ") + MotionEndName(s->last_end);
       return result;

@@ -16,7 +16,15 @@ namespace edsp {
 
 namespace {
 
-constexpr std::size_t kRepliesKept = 1024;
+// Replies are kept for twice the window a copy of a request is taken in:
+// a client still resending always gets the reply it was given.
+constexpr double kReplyKeep_s = 10.0;
+constexpr std::size_t kRepliesMost = 100000;
+// A move asked to go slower than this share of the config's speed is a
+// typo; one that would last longer than kLongestMove_s, too (its check
+// would hold the planner's thread for a second).
+constexpr double kSlowestShare = 1e-3;
+constexpr double kLongestMove_s = 600.0;
 constexpr double kMaxFrameOffset_m = 100.0;
 constexpr double kMaxPivotOffset_m = 10.0;
 
@@ -53,11 +61,12 @@ std::string DescribeVector(const Vector6& q) {
   return fmt::format("({:.6f}, {:.6f}, {:.6f} m; {:.6f}, {:.6f}, {:.6f} rad)", q(0), q(1), q(2), q(3), q(4), q(5));
 }
 
-// One requested limit: 0 keeps `current`; else it must be in (0, most].
+// One requested limit: 0 keeps `current`; else it must be in [most/1000, most].
 std::string TakeLimit(double asked, double most, const char* field, const char* key, double* current) {
   if (asked == 0.0) return "";
-  if (!std::isfinite(asked) || asked < 0.0 || asked > most) {
-    return fmt::format("{} = {} is not in (0, {}] (the config's [motion] {})", field, asked, most, key);
+  if (!std::isfinite(asked) || asked < most * kSlowestShare || asked > most) {
+    return fmt::format("{} = {} is not in [{}, {}] (the config's [motion] {} and a thousandth of it)", field, asked,
+                       most * kSlowestShare, most, key);
   }
   *current = asked;
   return "";
@@ -85,6 +94,7 @@ MotionService::MotionService(const PlatformModel& model, MotionServiceOptions op
 }
 
 void MotionService::StartProgram(std::unique_ptr<TrajectorySequence> program, const std::string& name) {
+  const std::lock_guard<std::mutex> lock(mutex_);
   if (program == nullptr || program->size() == 0) throw std::invalid_argument("planner: empty trajectory");
   const TrajectorySequence* sequence = program.get();
   PlannedMotion m = PlanProgram(model_, std::move(program), default_limits_, options_.check_rate_hz);
@@ -95,22 +105,31 @@ void MotionService::StartProgram(std::unique_ptr<TrajectorySequence> program, co
   Changed();
 }
 
+bool MotionService::IsQuick(const motion_request_t& r) {
+  return r.kind != motion_request_t::KIND_MOVE && r.kind != motion_request_t::KIND_CHECK &&
+         r.kind != motion_request_t::KIND_RUN;
+}
+
 motion_reply_t MotionService::Handle(const motion_request_t& r, std::int64_t now_utime) {
-  if (const auto it = replies_.find(r.request_id); it != replies_.end() && r.request_id != 0) return it->second;
-  motion_reply_t reply;
+  Lock lock(mutex_);
   if (std::string problem = RequestProblem(r, now_utime); !problem.empty()) {
-    reply = Reply(r, false, std::move(problem));  // another session's or a stale copy: our state is untouched
-  } else {
-    reply = Act(r, now_utime);
-    refused_ = reply.accepted ? "" : Kind(r.kind) + " refused: " + reply.reason;
-    Changed();
+    // Another session's, a stale copy, no id: our state and cache untouched.
+    motion_reply_t reply = Reply(r, false, std::move(problem));
+    reply.utime = now_utime;
+    return reply;
   }
+  if (const auto it = replies_.find(r.request_id); it != replies_.end()) return it->second;
+  motion_reply_t reply = Act(r, now_utime, lock);
+  if (const auto it = replies_.find(r.request_id); it != replies_.end()) return it->second;  // a copy, meanwhile
+  refused_ = reply.accepted ? "" : Kind(r.kind) + " refused: " + reply.reason;
+  Changed();
   reply.utime = now_utime;
   reply.seq = ++seq_;
   replies_[r.request_id] = reply;
-  reply_order_.push_back(r.request_id);
-  if (reply_order_.size() > kRepliesKept) {
-    replies_.erase(reply_order_.front());
+  reply_order_.emplace_back(now_utime, r.request_id);
+  while (!reply_order_.empty() && (reply_order_.size() > kRepliesMost ||
+                                   static_cast<double>(now_utime - reply_order_.front().first) * 1e-6 > kReplyKeep_s)) {
+    replies_.erase(reply_order_.front().second);
     reply_order_.pop_front();
   }
   return reply;
@@ -121,7 +140,7 @@ std::string MotionService::RequestProblem(const motion_request_t& r, std::int64_
     return fmt::format("request {} from session {} ignored: this group is session {}", r.request_id, r.session_id,
                        options_.session_id);
   }
-  const double age_s = static_cast<double>(now_utime - r.utime) * 1e-6;
+  const double age_s = (static_cast<double>(now_utime) - static_cast<double>(r.utime)) * 1e-6;  // any int64, no overflow
   if (!(std::abs(age_s) <= options_.request_window_s)) {
     return fmt::format("request {} stamped {:.1f} s {} this planner's clock ignored (a replayed log, or a clock "
                        "off by more than {} s)",
@@ -131,11 +150,11 @@ std::string MotionService::RequestProblem(const motion_request_t& r, std::int64_
   return "";
 }
 
-motion_reply_t MotionService::Act(const motion_request_t& r, std::int64_t now_utime) {
+motion_reply_t MotionService::Act(const motion_request_t& r, std::int64_t now_utime, Lock& lock) {
   switch (r.kind) {
-    case motion_request_t::KIND_MOVE: return Move(r, false, now_utime);
-    case motion_request_t::KIND_CHECK: return Move(r, true, now_utime);
-    case motion_request_t::KIND_RUN: return Run(r, now_utime);
+    case motion_request_t::KIND_MOVE: return Move(r, false, now_utime, lock);
+    case motion_request_t::KIND_CHECK: return Move(r, true, now_utime, lock);
+    case motion_request_t::KIND_RUN: return Run(r, now_utime, lock);
     case motion_request_t::KIND_HALT: return Decelerate(r, false, now_utime);
     case motion_request_t::KIND_STOP: return Decelerate(r, true, now_utime);
     case motion_request_t::KIND_FRAME: return DefineFrame(r);
@@ -179,6 +198,11 @@ std::string MotionService::LimitsProblem(const motion_request_t& r, MoveLimits* 
   return p;
 }
 
+std::string MotionService::QueueProblem() const {
+  if (queue_.size() < options_.queue_max) return "";
+  return fmt::format("{} motions already queued: wait, or halt", queue_.size());
+}
+
 const WorkFrame* MotionService::FindFrame(const std::string& name) const {
   const auto it = frames_.find(name.empty() ? "base" : name);
   return it == frames_.end() ? nullptr : &it->second;
@@ -201,48 +225,58 @@ double MotionService::TimeToIdle(std::int64_t now_utime) const {
   return left;
 }
 
-motion_reply_t MotionService::Move(const motion_request_t& r, bool check_only, std::int64_t now_utime) {
+motion_reply_t MotionService::Move(const motion_request_t& r, bool check_only, std::int64_t now_utime, Lock& lock) {
   if (!AllFinite(r.pose, 6)) return Reply(r, false, "pose has a non-finite value (NaN or infinity)");
-  const WorkFrame* frame = FindFrame(r.frame);
-  if (frame == nullptr) {
+  const WorkFrame* found = FindFrame(r.frame);
+  if (found == nullptr) {
     std::string known;
     for (const auto& [name, f] : frames_) known += (known.empty() ? "" : ", ") + name;
     return Reply(r, false, fmt::format("unknown frame \"{}\" (known: {}; define one with edsp-ctl frame)", r.frame,
                                        known));
   }
+  const WorkFrame frame = *found;
+  const Vector3 pivot = pivot_M_;
   MoveLimits limits;
   if (std::string p = LimitsProblem(r, &limits); !p.empty()) return Reply(r, false, p);
   if (!check_only) {
     if (std::string p = BridgeProblem(now_utime); !p.empty()) return Reply(r, false, p);
-    if (queue_.size() >= options_.queue_max) {
-      return Reply(r, false, fmt::format("{} moves already queued: wait, or halt", queue_.size()));
-    }
+    if (std::string p = QueueProblem(); !p.empty()) return Reply(r, false, p);
   }
   const Transform from = PlannedEnd();
   FramedPose to = FramedPoseOf(PoseField(r));
   if (r.relative) {
-    const FramedPose now = InFrame(*frame, pivot_M_, from);
+    const FramedPose now = InFrame(frame, pivot, from);
     to.t = now.t + to.t;
     to.R = to.R * now.R;
   }
-  const Vector6 target = PoseOf(PlatformPose(*frame, pivot_M_, to)).ToVector();
+  const Vector6 target = PoseOf(PlatformPose(frame, pivot, to)).ToVector();
   const WorkspaceCheck end = CheckWorkspace(model_, Pose::FromVector(target));
   if (!end.ok()) {
     return Reply(r, false, fmt::format("target {} (in {}) is outside the workspace: {}", DescribeVector(target),
-                                       frame->name, end.Describe()));
+                                       frame.name, end.Describe()));
   }
-  PlannedMotion m = PlanMove(model_, *frame, pivot_M_, from, to, limits, options_.check_rate_hz);
+  // Planned and checked without the lock: setpoints go on meanwhile.
+  const std::uint64_t decelerations = decelerations_;
+  lock.unlock();
+  PlannedMotion m = PlanMove(model_, frame, pivot, from, to, limits, options_.check_rate_hz);
+  lock.lock();
+  if (m.duration_s() > kLongestMove_s) {
+    return Reply(r, false, fmt::format("the move would last {:.0f} s, beyond the {} s a move may: ask for more speed",
+                                       m.duration_s(), kLongestMove_s));
+  }
   if (!m.check.ok()) {
     return Reply(r, false, fmt::format("the path to {} crosses a limit (both ends are reachable) {}",
                                        DescribeVector(target), m.check.Describe()));
   }
   m.request_id = r.request_id;
   const std::string what = fmt::format("{} to {} in {} ({:.4f} m, {:.4f} rad about the pivot) in {:.3f} s, {}",
-                                       check_only ? "would move" : "moves", DescribeVector(target), frame->name,
+                                       check_only ? "would move" : "moves", DescribeVector(target), frame.name,
                                        std::static_pointer_cast<const PivotPath>(m.path)->distance_m(),
                                        std::static_pointer_cast<const PivotPath>(m.path)->angle_rad(),
                                        m.duration_s(), m.check.Describe());
   if (check_only) return Reply(r, true, what, m.duration_s(), TimeToIdle(now_utime));
+  if (std::string p = PlanOutdated(from, decelerations); !p.empty()) return Reply(r, false, p);
+  if (std::string p = QueueProblem(); !p.empty()) return Reply(r, false, p);
   std::deque<PlannedMotion> motions;
   motions.push_back(std::move(m));
   motion_reply_t reply = Enqueue(r, std::move(motions), now_utime);
@@ -250,8 +284,17 @@ motion_reply_t MotionService::Move(const motion_request_t& r, bool check_only, s
   return reply;
 }
 
-motion_reply_t MotionService::Run(const motion_request_t& r, std::int64_t now_utime) {
+std::string MotionService::PlanOutdated(const Transform& from, std::uint64_t decelerations) const {
+  if (decelerations != decelerations_) return "a halt or stop came while the path was checked: ask again";
+  if (!PlannedEnd().isApprox(from, 1e-12)) {
+    return "another motion was queued while the path was checked (it would start elsewhere): ask again";
+  }
+  return "";
+}
+
+motion_reply_t MotionService::Run(const motion_request_t& r, std::int64_t now_utime, Lock& lock) {
   if (std::string p = BridgeProblem(now_utime); !p.empty()) return Reply(r, false, p);
+  if (std::string p = QueueProblem(); !p.empty()) return Reply(r, false, p);
   if (r.motions.empty() == r.csv_text.empty()) return Reply(r, false, "give either motions or a CSV, not both");
   std::unique_ptr<TrajectorySequence> program;
   std::string name;
@@ -269,21 +312,26 @@ motion_reply_t MotionService::Run(const motion_request_t& r, std::int64_t now_ut
   }
   std::deque<PlannedMotion> motions;
   const Transform from = PlannedEnd();
+  const MoveLimits limits = default_limits_;
+  const std::uint64_t decelerations = decelerations_;
+  lock.unlock();  // planned and checked without the lock, as a move
+  std::string problem;
   const Vector6 start = program->Sample(0.0).pose;
   if ((PoseOf(from).ToVector() - start).cwiseAbs().maxCoeff() > 1e-9) {
     PlannedMotion approach =
-        PlanMove(model_, frames_["base"], Vector3::Zero(), from, FramedPoseOf(start), default_limits_,
-                 options_.check_rate_hz);
-    if (!approach.check.ok()) {
-      return Reply(r, false, "the approach to the program's start " + approach.check.Describe());
-    }
+        PlanMove(model_, WorkFrame{}, Vector3::Zero(), from, FramedPoseOf(start), limits, options_.check_rate_hz);
+    if (!approach.check.ok()) problem = "the approach to the program's start " + approach.check.Describe();
     approach.activity = "approach";
     approach.request_id = r.request_id;
     motions.push_back(std::move(approach));
   }
   const TrajectorySequence* sequence = program.get();
-  PlannedMotion played = PlanProgram(model_, std::move(program), default_limits_, options_.check_rate_hz);
-  if (!played.check.ok()) return Reply(r, false, TrajectoryViolation(*sequence, played.check));
+  PlannedMotion played = PlanProgram(model_, std::move(program), limits, options_.check_rate_hz);
+  if (problem.empty() && !played.check.ok()) problem = TrajectoryViolation(*sequence, played.check);
+  lock.lock();
+  if (!problem.empty()) return Reply(r, false, problem);
+  if (std::string p = PlanOutdated(from, decelerations); !p.empty()) return Reply(r, false, p);
+  if (std::string p = QueueProblem(); !p.empty()) return Reply(r, false, p);
   played.activity = "run " + name;
   played.request_id = r.request_id;
   motions.push_back(std::move(played));
@@ -304,11 +352,13 @@ motion_reply_t MotionService::Enqueue(const motion_request_t& r, std::deque<Plan
 }
 
 motion_reply_t MotionService::Decelerate(const motion_request_t& r, bool stop, std::int64_t now_utime) {
+  ++decelerations_;
   const std::size_t cancelled = queue_.size();
   queue_.clear();
   const std::int8_t end = stop ? motion_status_t::END_STOPPED : motion_status_t::END_HALTED;
   const std::string what = stop ? "stop" : "halt";
   const std::string queued = cancelled == 0 ? "" : fmt::format("; {} queued motion(s) cancelled", cancelled);
+  if (cancelled > 0) last_end_ = end;
   if (!current_) return Reply(r, true, "nothing moving" + queued);
   Running& c = *current_;
   if (c.start_utime == 0 || c.start_utime > now_utime) {  // not started: it never will
@@ -316,15 +366,23 @@ motion_reply_t MotionService::Decelerate(const motion_request_t& r, bool stop, s
     last_end_ = end;
     return Reply(r, true, fmt::format("{}: the motion had not started{}", what, queued));
   }
-  const double t = static_cast<double>(now_utime - c.start_utime) * 1e-6;
-  const ScalarState state = MotionState(c.motion, t);
-  const ScalarLimits& limits = stop ? c.motion.stop : c.motion.halt;
-  JerkProfile decelerate = JerkProfile::StopFrom(state, limits.acceleration, limits.jerk);
-  c.end = end;
-  c.halting = true;
-  if (decelerate.end().position < c.motion.path->length()) {  // else its own end is as near
-    c.motion.timing = std::move(decelerate);
-    c.start_utime = now_utime;
+  // A halt while stopping, or either while already braking as hard: the
+  // deceleration in progress is at least as short.
+  const bool harder = stop && c.end != motion_status_t::END_STOPPED;
+  if (!c.halting || harder) {
+    const double t = static_cast<double>(now_utime - c.start_utime) * 1e-6;
+    const ScalarState state = MotionState(c.motion, t);
+    const ScalarLimits& limits = stop ? c.motion.stop : c.motion.halt;
+    JerkProfile decelerate = JerkProfile::StopFrom(state, limits.acceleration, limits.jerk);
+    const ScalarState rest = decelerate.end();
+    // Its own end is as near when the stop would reach the path's end; a
+    // profile that would end moving backwards is never taken.
+    if (rest.position < c.motion.path->length() && rest.velocity > -1e-9) {
+      c.motion.timing = std::move(decelerate);
+      c.start_utime = now_utime;
+    }
+    c.end = end;
+    c.halting = true;
   }
   const double left = c.motion.duration_s() - static_cast<double>(now_utime - c.start_utime) * 1e-6;
   return Reply(r, true, fmt::format("{}: at rest in {:.3f} s{}", what, left, queued), left);
@@ -371,6 +429,7 @@ motion_reply_t MotionService::SetLimits(const motion_request_t& r) {
 }
 
 void MotionService::OnLegState(const leg_state_t& legs, std::int64_t now_utime) {
+  const std::lock_guard<std::mutex> lock(mutex_);
   leg_state_utime_ = now_utime;
   std::string holds;
   for (int i = 0; i < 6 && holds.empty(); ++i) {
@@ -387,13 +446,14 @@ void MotionService::OnLegState(const leg_state_t& legs, std::int64_t now_utime) 
 }
 
 void MotionService::OnPlatformState(const platform_state_t& state, std::int64_t now_utime) {
+  const std::lock_guard<std::mutex> lock(mutex_);
   const bool was = OnTarget(now_utime);
   measured_utime_ = now_utime;
   for (int k = 0; k < 6; ++k) measured_pose_(k) = state.pose[k];
   measured_converged_ = state.fk_status == 0 && measured_pose_.allFinite();
   const MotionLimits& m = model_.config().motion;
   bool within = false;
-  if (!busy() && measured_converged_) {
+  if (!Busy() && measured_converged_) {
     const auto [distance, angle] = PoseError(measured_pose_, hold_pose_, pivot_M_);
     within = distance <= m.on_target_tolerance_m && angle <= m.on_target_tolerance_rad;
   }
@@ -403,7 +463,7 @@ void MotionService::OnPlatformState(const platform_state_t& state, std::int64_t 
 }
 
 bool MotionService::OnTarget(std::int64_t now_utime) const {
-  if (busy() || within_since_ == 0) return false;
+  if (Busy() || within_since_ == 0) return false;
   if (static_cast<double>(now_utime - measured_utime_) * 1e-6 > options_.measured_stale_s) return false;
   return static_cast<double>(now_utime - within_since_) * 1e-6 >= model_.config().motion.on_target_settle_s;
 }
@@ -444,6 +504,7 @@ void MotionService::Advance(std::int64_t now_utime) {
 }
 
 pose_setpoint_t MotionService::Step(std::int64_t now_utime) {
+  const std::lock_guard<std::mutex> lock(mutex_);
   Advance(now_utime);
   pose_setpoint_t sp{};
   sp.utime = now_utime;
@@ -484,6 +545,7 @@ std::int8_t MotionService::State(std::int64_t now_utime) const {
 }
 
 motion_status_t MotionService::Status(std::int64_t now_utime) const {
+  const std::lock_guard<std::mutex> lock(mutex_);
   motion_status_t s{};
   s.utime = now_utime;
   s.session_id = options_.session_id;
@@ -514,7 +576,18 @@ motion_status_t MotionService::Status(std::int64_t now_utime) const {
   return s;
 }
 
+bool MotionService::busy() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return Busy();
+}
+
+std::int64_t MotionService::ended_utime() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return ended_utime_;
+}
+
 bool MotionService::TakeChange() {
+  const std::lock_guard<std::mutex> lock(mutex_);
   const bool changed = changed_;
   changed_ = false;
   return changed;

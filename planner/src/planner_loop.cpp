@@ -15,27 +15,75 @@ PlannerLoop::PlannerLoop(Bus& bus, MotionService& service, PlannerLoopOptions op
       motion_status_(bus.Advertise<motion_status_t>(channel::kMotionStatus)),
       status_out_(bus.Advertise<node_status_t>(channel::kStatus)) {
   status_.SetState(node_status_t::STATE_RUNNING);
-  bus.Subscribe<motion_request_t>(channel::kMotionRequest, [this](const motion_request_t& request) {
-    status_.CountIn();
-    const motion_reply_t reply = service_.Handle(request, UtimeNow());
-    if (!reply.accepted) status_.CountRejected();
-    replies_.Publish(reply);
-  });
+  bus.Subscribe<motion_request_t>(channel::kMotionRequest,
+                                  [this](const motion_request_t& request) { OnRequest(request); });
   bus.Subscribe<leg_state_t>(channel::kLegState,
                              [this](const leg_state_t& legs) { service_.OnLegState(legs, UtimeNow()); });
   bus.Subscribe<platform_state_t>(channel::kPlatformState,
                                   [this](const platform_state_t& state) { service_.OnPlatformState(state, UtimeNow()); });
 }
 
+PlannerLoop::~PlannerLoop() {
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    quit_ = true;
+  }
+  wake_.notify_all();
+  if (worker_.joinable()) worker_.join();
+}
+
+void PlannerLoop::OnRequest(const motion_request_t& request) {
+  status_.CountIn();
+  if (MotionService::IsQuick(request)) {
+    const motion_reply_t reply = service_.Handle(request, UtimeNow());
+    if (!reply.accepted) status_.CountRejected();
+    replies_.Publish(reply);
+    return;
+  }
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    to_plan_.push_back(request);
+    if (!worker_.joinable()) worker_ = std::thread([this] { PlanRequests(); });
+  }
+  wake_.notify_one();
+}
+
+void PlannerLoop::PlanRequests() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  while (true) {
+    wake_.wait(lock, [this] { return quit_ || !to_plan_.empty(); });
+    if (quit_) return;
+    const motion_request_t request = to_plan_.front();
+    to_plan_.pop_front();
+    lock.unlock();
+    const motion_reply_t reply = service_.Handle(request, UtimeNow());
+    lock.lock();
+    replies_out_.push_back(reply);
+  }
+}
+
+void PlannerLoop::PublishReplies() {
+  std::deque<motion_reply_t> out;
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    out.swap(replies_out_);
+  }
+  for (const motion_reply_t& reply : out) {
+    if (!reply.accepted) status_.CountRejected();
+    replies_.Publish(reply);
+  }
+}
+
 bool PlannerLoop::RunCycle(std::int64_t now_utime, std::int64_t deadline_misses) {
   const auto began = std::chrono::steady_clock::now();
   if (setpoints_.Publish(service_.Step(now_utime))) status_.CountOut();
+  PublishReplies();
   if (service_.TakeChange() || now_utime >= next_motion_status_utime_) {
     motion_status_.Publish(service_.Status(now_utime));
     next_motion_status_utime_ = now_utime + std::llround(1e6 / options_.status_rate_hz);
   }
   bool go_on = true;
-  if (!service_.busy() && service_.finished_any()) {
+  if (!service_.busy() && service_.ended_utime() != 0) {
     status_.SetState(node_status_t::STATE_HOLDING);
     go_on = options_.exit_after_hold_s < 0.0 ||
             now_utime < service_.ended_utime() + std::llround(options_.exit_after_hold_s * 1e6);

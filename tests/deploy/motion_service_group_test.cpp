@@ -126,7 +126,8 @@ TEST(MotionServiceGroup, AnOperatorsScriptThroughEdspCtl) {
   EXPECT_GE(Messages<motion_reply_t>(run.log_path, "EDSP_MOTION_REPLY").size(), 12u);
   EXPECT_GT(Messages<motion_status_t>(run.log_path, "EDSP_MOTION_STATUS").size(), 500u) << "50 Hz";
 
-  // The same requests replayed onto another live group: nothing moves.
+  // The same requests replayed onto another live group of the same session
+  // (a log played back by mistake): stale, they move nothing.
   const std::string dir = run.dir;
   std::ofstream(dir + "/home.csv") << "time_s,x_m,y_m,z_m,roll_rad,pitch_rad,yaw_rad\n"
                                    << "0,0,0,1.511,0,0,0\n8,0,0,1.511,0,0,0\n";
@@ -134,16 +135,19 @@ TEST(MotionServiceGroup, AnOperatorsScriptThroughEdspCtl) {
       "motion-replayed", "signed", fmt::format(R"("--csv", "{}/home.csv", "--exit-after-hold-s", "0")", dir),
       [&](const std::string&) {
         GroupWatch watch(kGroupLcmUrl, "");
-        watch.WaitForSetpoint([](const pose_setpoint_t& s) { return s.session_id == 99; }, std::chrono::seconds(60));
+        watch.WaitForSetpoint([](const pose_setpoint_t& s) { return s.session_id == 77; }, std::chrono::seconds(60));
         std::system(("lcm-logplayer -s 4 -e 'EDSP_MOTION_REQUEST' -l 'udpm://239.255.76.67:7667?ttl=0' " + run.log_path +
                      " >/dev/null 2>&1")
                         .c_str());
       },
-      99);
+      77);
   ASSERT_EQ(live.exit_code, 0);
   const auto replies = Messages<motion_reply_t>(live.log_path, "EDSP_MOTION_REPLY");
   EXPECT_FALSE(replies.empty()) << "the replayed requests reached the planner";
-  for (const motion_reply_t& r : replies) EXPECT_FALSE(r.accepted) << r.reason;
+  for (const motion_reply_t& r : replies) {
+    EXPECT_FALSE(r.accepted) << r.reason;
+    EXPECT_NE(r.reason.find("replayed"), std::string::npos) << r.reason;
+  }
   const Vector6 home = PlatformModel(Huang2021Config()).home_pose().ToVector();
   double furthest = 0.0;
   for (const rig_truth_t& t : Messages<rig_truth_t>(live.log_path, "EDSP_RIG_TRUTH")) {

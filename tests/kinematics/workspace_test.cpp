@@ -2,8 +2,11 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/SVD>
+#include <algorithm>
+#include <limits>
 
 #include "edsp/kinematics/config.h"
+#include "edsp/kinematics/path_check.h"
 #include "edsp/kinematics/workspace.h"
 
 namespace edsp {
@@ -116,6 +119,40 @@ TEST(Workspace, ConditionGrowsTowardsTheRotationalSingularity) {
     previous = condition;
   }
   EXPECT_GT(previous, 5.0 * JacobianCondition(model, model.home_pose()));
+}
+
+}  // namespace
+}  // namespace edsp
+
+namespace edsp {
+namespace {
+
+TEST(PathCheck, APathOfNoFiniteDurationIsRefusedNotSampled) {
+  const PlatformModel model(Huang2021Config());
+  const Vector6 home = model.home_pose().ToVector();
+  for (double duration : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(), -1.0, 1e9}) {
+    const PathCheck c = CheckPath(model, PathLimitsOf(model), [&](double) { return home; }, duration);
+    EXPECT_EQ(c.limit, PathLimit::kDuration) << duration;
+    EXPECT_NE(c.Describe().find("duration"), std::string::npos);
+  }
+  EXPECT_TRUE(CheckPath(model, PathLimitsOf(model), [&](double) { return home; }, 0.5).ok());
+}
+
+TEST(PathCheck, ALegOutrunningTheDrivesIsNamedWithItsTime) {
+  const PlatformModel model(Huang2021Config());
+  const Vector6 home = model.home_pose().ToVector();
+  // z rises 1 m/s after t = 0.2 s: every leg faster than 0.5 m/s.
+  const PathCheck c = CheckPath(
+      model, PathLimitsOf(model),
+      [&](double t) {
+        Vector6 q = home;
+        q(2) += std::max(0.0, t - 0.2);
+        return q;
+      },
+      0.4);
+  ASSERT_EQ(c.limit, PathLimit::kLegSpeed);
+  EXPECT_NEAR(c.t_s, 0.201, 1e-9);
+  EXPECT_NE(c.Describe().find("leg_speed_max_m_s = 0.5"), std::string::npos) << c.Describe();
 }
 
 }  // namespace

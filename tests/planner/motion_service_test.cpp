@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <limits>
 #include <random>
 #include <string>
 
@@ -72,12 +73,17 @@ TEST(MotionService, BadRequestsAreRefusedByNameAndMoveNothing) {
   const Vector6 home = s.Held();
   ExpectRefused(s.Ask(r.Move(Vec(NAN, 0, 1.5), s.now_)), "non-finite");
   ExpectRefused(s.Ask(r.Move(Vec(0, 0, 1.5), s.now_, false, "nowhere")), "unknown frame \"nowhere\"");
-  for (double speed : {1e6, -1.0, double(NAN), 0.11}) {
+  for (double speed : {1e6, -1.0, double(NAN), 0.11, 1e-320, 1e-9}) {
     motion_request_t m = r.Move(Vec(0.01, 0, 1.5), s.now_);
     m.speed_m_s = speed;
     ExpectRefused(s.Ask(m), "speed_max_m_s");
   }
   ExpectRefused(s.Ask(r.Move(Vec(0, 0, 3.0), s.now_)), "outside the workspace");
+  motion_request_t crawl = r.Move(Vec(0.4, 0, 1.5), s.now_);
+  crawl.speed_m_s = 0.0001;  // the slowest speed allowed, 0.4 m: over an hour
+  ExpectRefused(s.Ask(crawl), "would last");
+  motion_request_t hostile = r.Move(Vec(0.01, 0, 1.5), std::numeric_limits<std::int64_t>::min());
+  ExpectRefused(s.Ask(hostile), "replayed");
   motion_request_t foreign = r.Move(Vec(0.01, 0, 1.5), s.now_);
   foreign.session_id = kSession + 1;
   ExpectRefused(s.Ask(foreign), "from session 8");

@@ -6,7 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
+#include <string>
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <vector>
 
@@ -81,6 +84,32 @@ std::pair<double, double> Apart(const Vector6& a, const Vector6& b, const Vector
   return {(PointInBase(A, c) - PointInBase(B, c)).norm(), std::acos(std::clamp((d.trace() - 1.0) / 2.0, -1.0, 1.0))};
 }
 
+// The pose of {M} in {B} an absolute move asks for, composed here with
+// homogeneous matrices from the request's numbers.
+Vector6 AskedPose(const motion_request_t& m, const std::map<std::string, Vector6>& frames, const Vector3& c) {
+  const auto matrix = [](const Vector6& q) {
+    Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
+    T.topLeftCorner<3, 3>() = RotationFromRpy(q.tail<3>());
+    T.topRightCorner<3, 1>() = q.head<3>();
+    return T;
+  };
+  const auto translation = [](const Vector3& v) {
+    Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
+    T.topRightCorner<3, 1>() = v;
+    return T;
+  };
+  Vector6 q;
+  for (int k = 0; k < 6; ++k) q(k) = m.pose[k];
+  Vector6 rotation_only = q;
+  rotation_only.head<3>().setZero();
+  const Eigen::Matrix4d X = matrix(frames.at(m.frame)) * translation(q.head<3>()) * translation(c) *
+                            matrix(rotation_only) * translation(-c);
+  Vector6 out;
+  out.head<3>() = X.topRightCorner<3, 1>();
+  out.tail<3>() = RpyFromRotation(X.topLeftCorner<3, 3>());
+  return out;
+}
+
 TEST(MotionServiceStack, AScriptOfMovesLandsEachOnItsTargetInTheRigsTruth) {
   ServedStack stack;
   auto& r = stack.requests();
@@ -97,6 +126,9 @@ TEST(MotionServiceStack, AScriptOfMovesLandsEachOnItsTargetInTheRigsTruth) {
       r.Move(Vec({0.0, 0.0, 0.0, 0.0, 0.03, 0.0}), 0, true, "fixture"),
   };
   int moves = 0;
+  std::map<std::string, Vector6> frames = {{"", Vector6::Zero()}, {"home", Vec({0, 0, 1.511, 0, 0, 0})},
+                                           {"fixture", Vec({0.05, -0.02, 1.55, 0.0, 0.0, 0.3})}};
+  Vector3 pivot_now = Vector3::Zero();
   auto play = [&](motion_request_t m) {
     m.utime = stack.now();
     const motion_reply_t reply = stack.Ask(m);
@@ -106,6 +138,12 @@ TEST(MotionServiceStack, AScriptOfMovesLandsEachOnItsTargetInTheRigsTruth) {
     const motion_status_t status = stack.Status();
     Vector6 target;
     for (int k = 0; k < 6; ++k) target(k) = status.pose_target[k];
+    if (!m.relative) {
+      // Where the operator asked, from the request alone: X_BW·T(t)·T(c)·R(r)·T(−c).
+      const Vector6 expected = AskedPose(m, frames, pivot_now);
+      EXPECT_LT(Apart(target, expected).first, 1e-9) << "move " << m.request_id << " went elsewhere";
+      EXPECT_LT(Apart(target, expected).second, 1e-9) << "move " << m.request_id;
+    }
     const auto [distance, angle] = Apart(TruthPose(stack.samples().back()), target);
     EXPECT_LT(distance, 1e-6) << "move " << m.request_id;
     EXPECT_LT(angle, 2e-6) << "move " << m.request_id;
@@ -113,6 +151,7 @@ TEST(MotionServiceStack, AScriptOfMovesLandsEachOnItsTargetInTheRigsTruth) {
   };
   for (const motion_request_t& m : script) play(m);
   ASSERT_TRUE(stack.Ask(r.Pivot(pivot, stack.now())).accepted);
+  pivot_now = pivot;
   for (const motion_request_t& m : script) play(r.Move(Vec({m.pose[0], m.pose[1], m.pose[2], m.pose[3], m.pose[4],
                                                             m.pose[5]}), 0, m.relative, m.frame));
   for (int k = 0; k < 6; ++k) play(r.Move(Vec({0.0, 0.0, 0.0, 0.01 * (k % 3 == 0), 0.01 * (k % 3 == 1),
@@ -211,6 +250,7 @@ Braking BrakeAtFullSpeed(std::int8_t kind) {
 TEST(MotionServiceStack, HaltDeceleratesWithinTheAccelerationLimitAndHoldsOnTheLine) {
   const MotionLimits l = Huang2021Config().motion;
   const Braking halt = BrakeAtFullSpeed(motion_request_t::KIND_HALT);
+  EXPECT_GE(halt.reaction_cycles, 1) << "it never decelerated";
   EXPECT_LE(halt.reaction_cycles, 2) << "halt reaction";
   // Jerk-limited from full speed: v²/2a plus the ramps' v·a/2j, never less than v²/2a.
   const double v = halt.speed_m_s, a = l.accel_max_m_s2, j = l.jerk_max_m_s3;
@@ -224,6 +264,12 @@ TEST(MotionServiceStack, StopIsShorterThanHaltWithinTheLegsAcceleration) {
   const MotionLimits l = Huang2021Config().motion;
   const Braking halt = BrakeAtFullSpeed(motion_request_t::KIND_HALT);
   const Braking stop = BrakeAtFullSpeed(motion_request_t::KIND_STOP);
+  std::printf("from %.4f m/s: halt after %d cycle(s), %.3f mm (v^2/2a %.3f mm), peak %.3f m/s^2; "
+              "stop after %d cycle(s), %.3f mm, peak %.3f m/s^2, fastest leg %.3f m/s^2\n",
+              halt.speed_m_s, halt.reaction_cycles, halt.distance_m * 1e3,
+              halt.speed_m_s * halt.speed_m_s / (2 * l.accel_max_m_s2) * 1e3, halt.peak_decel_m_s2,
+              stop.reaction_cycles, stop.distance_m * 1e3, stop.peak_decel_m_s2, stop.peak_leg_accel_m_s2);
+  EXPECT_GE(stop.reaction_cycles, 1) << "it never decelerated";
   EXPECT_LE(stop.reaction_cycles, 2);
   EXPECT_LT(stop.distance_m, 0.5 * halt.distance_m);
   // The fastest leg decelerates at the legs' limit; the platform beyond the
@@ -232,6 +278,21 @@ TEST(MotionServiceStack, StopIsShorterThanHaltWithinTheLegsAcceleration) {
   EXPECT_GT(stop.peak_leg_accel_m_s2, l.leg_accel_max_m_s2 * 0.9);
   EXPECT_GT(stop.peak_decel_m_s2, l.accel_max_m_s2 * 2.0);
   EXPECT_LT(stop.off_line_m, 1e-9);
+}
+
+TEST(MotionServiceStack, AHaltDuringAStopNeverTurnsThePlatformBack) {
+  ServedStack stack;
+  auto& r = stack.requests();
+  ASSERT_TRUE(stack.Ask(r.Move(Vec({0.3, 0.0, 0.0, 0.0, 0.0, 0.0}), stack.now(), true)).accepted);
+  stack.Run(1.0);
+  ASSERT_TRUE(stack.Ask(r.Make(motion_request_t::KIND_STOP, stack.now())).accepted);
+  stack.Run(0.005);  // braking hard, beyond the halt's own deceleration
+  ASSERT_TRUE(stack.Ask(r.Make(motion_request_t::KIND_HALT, stack.now())).accepted);
+  const std::size_t first = stack.samples().size() - 1;
+  for (int k = 0; k < 3000 && stack.sim().motion().busy(); ++k) stack.Step();
+  const Kinematics1d k = AlongX(stack.samples(), first);
+  for (double v : k.v) ASSERT_GE(v, -1e-9) << "the platform went back";
+  EXPECT_EQ(stack.Status().last_end, motion_status_t::END_STOPPED) << "the stop in progress went on";
 }
 
 TEST(MotionServiceStack, AMoveAskedForWhileAnotherRunsFollowsItWithoutAVelocityStep) {

@@ -17,7 +17,7 @@
 
 namespace edsp {
 
-enum class PathLimit { kNone, kWorkspace, kLegSpeed, kLegAcceleration };
+enum class PathLimit { kNone, kWorkspace, kLegSpeed, kLegAcceleration, kDuration };
 
 struct PathLimits {
   double leg_speed_max_m_s = 0.0;

@@ -6,10 +6,16 @@
 // before ends, so no velocity steps); halt and stop decelerate the motion
 // in progress along its own path and cancel the queue. Every path is
 // checked whole before its first setpoint. docs/operating.md.
+//
+// Thread-safe: the planner's cycle (Step) runs on one thread while moves
+// are planned on another, the lock released while a path is checked (a
+// long program takes tens of milliseconds), so setpoints never wait for a
+// plan. A halt or stop that comes meanwhile wins: the plan is refused.
 
 #include <cstdint>
 #include <deque>
 #include <map>
+#include <mutex>
 #include <memory>
 #include <optional>
 #include <string>
@@ -46,6 +52,9 @@ class MotionService {
   void StartProgram(std::unique_ptr<TrajectorySequence> program, const std::string& name);
 
   motion_reply_t Handle(const motion_request_t& request, std::int64_t now_utime);
+  // Requests answered at once, without planning a path (halt, stop, frame,
+  // pivot, limits): the loop handles them on its own thread.
+  static bool IsQuick(const motion_request_t& request);
   void OnLegState(const leg_state_t& legs, std::int64_t now_utime);
   void OnPlatformState(const platform_state_t& state, std::int64_t now_utime);
 
@@ -55,10 +64,9 @@ class MotionService {
   // True once after each change of state, request or end (publish the status at once).
   bool TakeChange();
 
-  bool busy() const { return current_.has_value() || !queue_.empty(); }
-  // Whether anything was ever played, and the time the last motion ended.
-  bool finished_any() const { return ended_utime_ != 0; }
-  std::int64_t ended_utime() const { return ended_utime_; }
+  bool busy() const;
+  // The time the last motion ended (0: none has).
+  std::int64_t ended_utime() const;
 
  private:
   struct Running {
@@ -68,11 +76,13 @@ class MotionService {
     std::int8_t end = motion_status_t::END_COMPLETED;
   };
 
-  motion_reply_t Act(const motion_request_t& r, std::int64_t now_utime);
+  using Lock = std::unique_lock<std::mutex>;
+
+  motion_reply_t Act(const motion_request_t& r, std::int64_t now_utime, Lock& lock);
   motion_reply_t Reply(const motion_request_t& r, bool accepted, std::string reason, double duration_s = 0.0,
                        double start_delay_s = 0.0) const;
-  motion_reply_t Move(const motion_request_t& r, bool check_only, std::int64_t now_utime);
-  motion_reply_t Run(const motion_request_t& r, std::int64_t now_utime);
+  motion_reply_t Move(const motion_request_t& r, bool check_only, std::int64_t now_utime, Lock& lock);
+  motion_reply_t Run(const motion_request_t& r, std::int64_t now_utime, Lock& lock);
   motion_reply_t Decelerate(const motion_request_t& r, bool stop, std::int64_t now_utime);
   motion_reply_t DefineFrame(const motion_request_t& r);
   motion_reply_t SetPivot(const motion_request_t& r);
@@ -90,7 +100,12 @@ class MotionService {
   std::int8_t State(std::int64_t now_utime) const;
   bool OnTarget(std::int64_t now_utime) const;
   void Changed() { changed_ = true; }
+  bool Busy() const { return current_.has_value() || !queue_.empty(); }
+  std::string QueueProblem() const;
+  // Why a plan made from `from` before `decelerations` halts may not be queued ("" if it may).
+  std::string PlanOutdated(const Transform& from, std::uint64_t decelerations) const;
 
+  mutable std::mutex mutex_;
   PlatformModel model_;
   MotionServiceOptions options_;
   MoveLimits config_limits_, default_limits_;
@@ -111,11 +126,12 @@ class MotionService {
   bool ever_moved_ = false;
   std::string refused_;            // the last request's refusal, until one is accepted
   bool changed_ = true;
+  std::uint64_t decelerations_ = 0;  // halts and stops so far: a plan older than the last is refused
   std::int64_t seq_ = 0;           // of the replies
   std::int64_t setpoint_seq_ = 0;
 
   std::map<std::int64_t, motion_reply_t> replies_;  // by request_id: every copy gets the same reply
-  std::deque<std::int64_t> reply_order_;
+  std::deque<std::pair<std::int64_t, std::int64_t>> reply_order_;  // (utime answered, request_id)
 
   std::int64_t leg_state_utime_ = 0;
   std::string bridge_holds_;       // "" while every drive follows

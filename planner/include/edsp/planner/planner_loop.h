@@ -6,11 +6,18 @@
 // It listens to EDSP_LEG_STATE (is the bridge following?) and
 // EDSP_PLATFORM_STATE (the measured pose). edsp-planner's main only parses
 // options, builds the service and runs this; tests run it on an in-process
-// bus with their own clock.
+// bus with their own clock. Moves, checks and runs are planned on a worker
+// thread (a long program's check takes tens of milliseconds, and the
+// setpoints must not wait); halt, stop and the rest are answered on the
+// loop's thread at once. Replies go out at the next cycle.
 
 #include <chrono>
+#include <condition_variable>
 #include <cstdint>
+#include <deque>
 #include <functional>
+#include <mutex>
+#include <thread>
 
 #include "edsp/motion_reply_t.hpp"
 #include "edsp/motion_status_t.hpp"
@@ -36,6 +43,7 @@ class PlannerLoop {
   // Set-up: advertises and subscribes on `bus` (may throw TransportError).
   // The bus and the service must outlive the loop.
   PlannerLoop(Bus& bus, MotionService& service, PlannerLoopOptions options);
+  ~PlannerLoop();
   PlannerLoop(const PlannerLoop&) = delete;
   PlannerLoop& operator=(const PlannerLoop&) = delete;
 
@@ -48,6 +56,10 @@ class PlannerLoop {
   void Run(CycleClock& clock, const std::function<bool()>& stop);
 
  private:
+  void OnRequest(const motion_request_t& request);
+  void PlanRequests();  // the worker
+  void PublishReplies();
+
   Bus& bus_;
   MotionService& service_;
   PlannerLoopOptions options_;
@@ -57,6 +69,13 @@ class PlannerLoop {
   Bus::Publisher<node_status_t> status_out_;
   NodeStatus status_{"planner"};
   std::int64_t next_motion_status_utime_ = 0;
+
+  std::mutex mutex_;  // guards the two queues and quit_
+  std::condition_variable wake_;
+  std::deque<motion_request_t> to_plan_;
+  std::deque<motion_reply_t> replies_out_;
+  bool quit_ = false;
+  std::thread worker_;
 };
 
 }  // namespace edsp
