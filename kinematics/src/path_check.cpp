@@ -22,7 +22,7 @@ std::string PathCheck::Describe() const {
       return fmt::format("at t = {:.3f} s: leg {} at {:.4f} m/s, {:.4f} m/s above [limits] leg_speed_max_m_s = {}",
                          t_s, leg + 1, value, value - bound, bound);
     case PathLimit::kDuration:
-      return fmt::format("the path's duration {} s is not a finite time of at most {} s", value, bound);
+      return fmt::format("the path would last {:.6g} s, beyond the {} s allowed (ask for more speed)", value, bound);
     case PathLimit::kLegAcceleration:
       return fmt::format(
           "at t = {:.3f} s: leg {} accelerates at {:.3f} m/s^2, {:.3f} m/s^2 above [motion] leg_accel_max_m_s2 = {}",

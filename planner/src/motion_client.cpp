@@ -91,6 +91,8 @@ std::optional<motion_reply_t> MotionClient::Send(motion_request_t r) {
 }
 
 std::optional<motion_status_t> MotionClient::NextStatus(double seconds) {
+  while (bus_.Handle(std::chrono::milliseconds(0)) > 0) {
+  }
   inbox_->status.reset();
   const auto until = Deadline(seconds);
   while (!inbox_->status && Clock::now() < until) bus_.Handle(std::chrono::milliseconds(20));
@@ -98,11 +100,17 @@ std::optional<motion_status_t> MotionClient::NextStatus(double seconds) {
 }
 
 WaitResult MotionClient::Wait(std::int64_t request_id, double timeout_s) {
+  bool seen = false;
+  return Wait(request_id, timeout_s, &seen);
+}
+
+WaitResult MotionClient::Wait(std::int64_t request_id, double timeout_s, bool* seen_before) {
   WaitResult result;
   const auto until = Deadline(timeout_s);
   // A status from before the motion started (still naming the one before)
   // says nothing about it: only once it is named is its end awaited.
-  bool seen = request_id == 0;
+  bool& seen = *seen_before;
+  seen = seen || request_id == 0;
   while (Clock::now() < until) {
     const std::optional<motion_status_t> s = NextStatus(std::min(1.0, std::max(0.05, timeout_s)));
     if (!s) continue;

@@ -21,10 +21,8 @@ namespace {
 constexpr double kReplyKeep_s = 10.0;
 constexpr std::size_t kRepliesMost = 100000;
 // A move asked to go slower than this share of the config's speed is a
-// typo; one that would last longer than kLongestMove_s, too (its check
-// would hold the planner's thread for a second).
+// typo (and one longer than kLongestMove_s, planned_motion.h).
 constexpr double kSlowestShare = 1e-3;
-constexpr double kLongestMove_s = 600.0;
 constexpr double kMaxFrameOffset_m = 100.0;
 constexpr double kMaxPivotOffset_m = 10.0;
 
@@ -260,10 +258,7 @@ motion_reply_t MotionService::Move(const motion_request_t& r, bool check_only, s
   lock.unlock();
   PlannedMotion m = PlanMove(model_, frame, pivot, from, to, limits, options_.check_rate_hz);
   lock.lock();
-  if (m.duration_s() > kLongestMove_s) {
-    return Reply(r, false, fmt::format("the move would last {:.0f} s, beyond the {} s a move may: ask for more speed",
-                                       m.duration_s(), kLongestMove_s));
-  }
+  if (m.check.limit == PathLimit::kDuration) return Reply(r, false, m.check.Describe());
   if (!m.check.ok()) {
     return Reply(r, false, fmt::format("the path to {} crosses a limit (both ends are reachable) {}",
                                        DescribeVector(target), m.check.Describe()));
@@ -296,45 +291,43 @@ motion_reply_t MotionService::Run(const motion_request_t& r, std::int64_t now_ut
   if (std::string p = BridgeProblem(now_utime); !p.empty()) return Reply(r, false, p);
   if (std::string p = QueueProblem(); !p.empty()) return Reply(r, false, p);
   if (r.motions.empty() == r.csv_text.empty()) return Reply(r, false, "give either motions or a CSV, not both");
-  std::unique_ptr<TrajectorySequence> program;
-  std::string name;
-  try {
-    if (!r.motions.empty()) {
-      program = MotionSequence(model_, MotionNames(r.motions), options_.programs);
-      name = r.motions;
-    } else {
-      name = r.csv_origin.empty() ? "csv" : r.csv_origin;
-      program = std::make_unique<TrajectorySequence>();
-      program->Append(name, std::make_unique<CsvTrajectory>(CsvTrajectory::Parse(r.csv_text, name)));
-    }
-  } catch (const std::exception& e) {
-    return Reply(r, false, e.what());
-  }
-  std::deque<PlannedMotion> motions;
   const Transform from = PlannedEnd();
   const MoveLimits limits = default_limits_;
   const std::uint64_t decelerations = decelerations_;
-  lock.unlock();  // planned and checked without the lock, as a move
+  lock.unlock();  // the program built, planned and checked without the lock, as a move
+  std::deque<PlannedMotion> motions;
+  const std::string name = !r.motions.empty() ? r.motions : r.csv_origin.empty() ? "csv" : r.csv_origin;
   std::string problem;
-  const Vector6 start = program->Sample(0.0).pose;
-  if ((PoseOf(from).ToVector() - start).cwiseAbs().maxCoeff() > 1e-9) {
-    PlannedMotion approach =
-        PlanMove(model_, WorkFrame{}, Vector3::Zero(), from, FramedPoseOf(start), limits, options_.check_rate_hz);
-    if (!approach.check.ok()) problem = "the approach to the program's start " + approach.check.Describe();
-    approach.activity = "approach";
-    approach.request_id = r.request_id;
-    motions.push_back(std::move(approach));
+  try {
+    std::unique_ptr<TrajectorySequence> program;
+    if (!r.motions.empty()) {
+      program = MotionSequence(model_, MotionNames(r.motions), options_.programs);
+    } else {
+      program = std::make_unique<TrajectorySequence>();
+      program->Append(name, std::make_unique<CsvTrajectory>(CsvTrajectory::Parse(r.csv_text, name)));
+    }
+    const Vector6 start = program->Sample(0.0).pose;
+    if ((PoseOf(from).ToVector() - start).cwiseAbs().maxCoeff() > 1e-9) {
+      PlannedMotion approach =
+          PlanMove(model_, WorkFrame{}, Vector3::Zero(), from, FramedPoseOf(start), limits, options_.check_rate_hz);
+      if (!approach.check.ok()) problem = "the approach to the program's start " + approach.check.Describe();
+      approach.activity = "approach";
+      approach.request_id = r.request_id;
+      motions.push_back(std::move(approach));
+    }
+    const TrajectorySequence* sequence = program.get();
+    PlannedMotion played = PlanProgram(model_, std::move(program), limits, options_.check_rate_hz);
+    if (problem.empty() && !played.check.ok()) problem = TrajectoryViolation(*sequence, played.check);
+    played.activity = "run " + name;
+    played.request_id = r.request_id;
+    motions.push_back(std::move(played));
+  } catch (const std::exception& e) {
+    problem = e.what();
   }
-  const TrajectorySequence* sequence = program.get();
-  PlannedMotion played = PlanProgram(model_, std::move(program), limits, options_.check_rate_hz);
-  if (problem.empty() && !played.check.ok()) problem = TrajectoryViolation(*sequence, played.check);
   lock.lock();
   if (!problem.empty()) return Reply(r, false, problem);
   if (std::string p = PlanOutdated(from, decelerations); !p.empty()) return Reply(r, false, p);
   if (std::string p = QueueProblem(); !p.empty()) return Reply(r, false, p);
-  played.activity = "run " + name;
-  played.request_id = r.request_id;
-  motions.push_back(std::move(played));
   return Enqueue(r, std::move(motions), now_utime);
 }
 

@@ -71,6 +71,12 @@ PlannedMotion PlanMove(const PlatformModel& model, const WorkFrame& frame, const
                          PathRate(l.jerk_m_s3, d, l.jerk_rad_s3, angle)};
     m.timing = JerkProfile::RestToRest(1.0, u);
     m.halt = u;
+    if (!(m.duration_s() <= kLongestMove_s)) {
+      m.check.limit = PathLimit::kDuration;
+      m.check.value = m.duration_s();
+      m.check.bound = kLongestMove_s;
+      return m;
+    }
     m.stop = StopLimits(model, *path, u);
   }
   m.check = CheckMotion(model, m, check_rate_hz);

@@ -34,15 +34,16 @@ PlannerLoop::~PlannerLoop() {
 
 void PlannerLoop::OnRequest(const motion_request_t& request) {
   status_.CountIn();
+  const std::int64_t came_utime = UtimeNow();
   if (MotionService::IsQuick(request)) {
-    const motion_reply_t reply = service_.Handle(request, UtimeNow());
-    if (!reply.accepted) status_.CountRejected();
-    replies_.Publish(reply);
+    const motion_reply_t reply = service_.Handle(request, came_utime);
+    const std::lock_guard<std::mutex> lock(mutex_);
+    replies_out_.push_back(reply);
     return;
   }
   {
     const std::lock_guard<std::mutex> lock(mutex_);
-    to_plan_.push_back(request);
+    to_plan_.emplace_back(request, came_utime);
     if (!worker_.joinable()) worker_ = std::thread([this] { PlanRequests(); });
   }
   wake_.notify_one();
@@ -53,10 +54,10 @@ void PlannerLoop::PlanRequests() {
   while (true) {
     wake_.wait(lock, [this] { return quit_ || !to_plan_.empty(); });
     if (quit_) return;
-    const motion_request_t request = to_plan_.front();
+    const auto [request, came_utime] = to_plan_.front();
     to_plan_.pop_front();
     lock.unlock();
-    const motion_reply_t reply = service_.Handle(request, UtimeNow());
+    const motion_reply_t reply = service_.Handle(request, came_utime);
     lock.lock();
     replies_out_.push_back(reply);
   }

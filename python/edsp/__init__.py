@@ -69,6 +69,8 @@ class Kinematics:
 
 
 def _six(name: str, values) -> list:
+    if isinstance(values, (str, bytes)):
+        raise TypeError(f"{name}: want six numbers x, y, z (m), roll, pitch, yaw (rad), got a {type(values).__name__}")
     try:
         out = [float(v) for v in values]
     except TypeError:
@@ -102,12 +104,18 @@ class Platform:
                  lcm_url: str = "", answer_timeout_s: float = 2.0, client: str = "python"):
         if group_file is not None and not os.path.isfile(group_file):
             raise FileNotFoundError(f"group_file: {group_file} does not exist")
-        if session_id is not None and (not isinstance(session_id, int) or session_id < 0):
-            raise ValueError(f"session_id = {session_id!r}: want a non-negative int, or None to find it")
+        if session_id is not None:
+            if isinstance(session_id, bool) or not hasattr(session_id, "__index__") or session_id.__index__() < 0:
+                raise ValueError(f"session_id = {session_id!r}: want a non-negative int, or None to find it")
+            session_id = session_id.__index__()
         try:
             self._c = _edsp.Client(group_file or "", lcm_url, session_id, float(answer_timeout_s), client)
         except RuntimeError as e:
-            raise Timeout(str(e)) from None
+            # No group (or several) on the bus is a wait that ran out; anything
+            # else (a malformed group file, a bus that cannot open) is named as is.
+            if "no leg commands or setpoints" in str(e) or "several groups" in str(e):
+                raise Timeout(str(e)) from None
+            raise EdspError(str(e)) from None
 
     @property
     def session_id(self) -> int:
@@ -115,8 +123,11 @@ class Platform:
 
     def _send(self, kind, pose=(), relative=False, frame="", point=(), speed_m_s=0.0, speed_rad_s=0.0,
               accel_m_s2=0.0, accel_rad_s2=0.0, motions="", csv_text="", csv_origin=""):
-        reply = self._c.send(kind, list(pose), relative, frame or "", list(point), speed_m_s, speed_rad_s,
-                             accel_m_s2, accel_rad_s2, motions, csv_text, csv_origin)
+        try:
+            reply = self._c.send(kind, list(pose), relative, frame or "", list(point), speed_m_s, speed_rad_s,
+                                 accel_m_s2, accel_rad_s2, motions, csv_text, csv_origin)
+        except RuntimeError as e:
+            raise EdspError(str(e)) from None
         if not reply:
             raise Timeout("no reply from the planner (is the group running, its planner serving requests?)")
         if not reply["accepted"]:
@@ -182,6 +193,8 @@ class Platform:
         return self._send(_edsp.KIND_FRAME, _six("pose", pose), frame=name)
 
     def pivot(self, point: Sequence[float]) -> dict:
+        if isinstance(point, (str, bytes)):
+            raise TypeError(f"point: want three numbers x, y, z (m) in {{M}}, got a {type(point).__name__}")
         p = [float(v) for v in point]
         if len(p) != 3 or not all(math.isfinite(v) for v in p):
             raise ValueError(f"point {point!r}: want three finite numbers x, y, z (m) in {{M}}")

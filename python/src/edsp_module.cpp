@@ -5,7 +5,9 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <chrono>
 #include <cmath>
+#include <mutex>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -171,7 +173,10 @@ py::dict StatusDict(const motion_status_t& s) {
   return d;
 }
 
-// The motion service's client, with the request built from keywords.
+// The motion service's client, with the request built from keywords. One
+// Bus serves every call, so calls from several Python threads take turns
+// (a halt from another thread waits at most one slice of a wait); a wait
+// goes in slices of 0.1 s and answers Ctrl-C between them.
 class Client {
  public:
   Client(const std::string& group_file, const std::string& lcm_url, std::optional<std::int64_t> session_id,
@@ -195,6 +200,7 @@ class Client {
     std::optional<motion_reply_t> reply;
     {
       py::gil_scoped_release release;
+      const std::lock_guard<std::mutex> lock(mutex_);
       reply = client_.Send(r);
     }
     if (!reply) return py::dict();
@@ -205,6 +211,7 @@ class Client {
     std::optional<motion_status_t> s;
     {
       py::gil_scoped_release release;
+      const std::lock_guard<std::mutex> lock(mutex_);
       s = client_.NextStatus(timeout_s);
     }
     if (!s) return std::nullopt;
@@ -213,11 +220,22 @@ class Client {
 
   // (outcome, message): "on_target", "halted", "fault" or "timeout".
   std::pair<std::string, std::string> Wait(std::int64_t request_id, double timeout_s) {
+    constexpr double kSlice_s = 0.1;
     WaitResult r;
-    {
-      py::gil_scoped_release release;
-      r = client_.Wait(request_id, timeout_s);
+    bool seen = false;
+    const auto until = std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                              std::chrono::duration<double>(timeout_s));
+    while (true) {
+      const double left = std::chrono::duration<double>(until - std::chrono::steady_clock::now()).count();
+      {
+        py::gil_scoped_release release;
+        const std::lock_guard<std::mutex> lock(mutex_);
+        r = client_.Wait(request_id, std::max(0.0, std::min(kSlice_s, left)), &seen);
+      }
+      if (r.outcome != WaitOutcome::kTimedOut || left <= kSlice_s) break;
+      if (PyErr_CheckSignals() != 0) throw py::error_already_set();
     }
+    if (r.outcome == WaitOutcome::kTimedOut) r.message = fmt::format("not on target within {} s", timeout_s);
     switch (r.outcome) {
       case WaitOutcome::kOnTarget: return {"on_target", ""};
       case WaitOutcome::kHaltedOrStopped: return {"halted", r.message};
@@ -236,6 +254,7 @@ class Client {
   }
 
   MotionClient client_;
+  std::mutex mutex_;
 };
 
 }  // namespace

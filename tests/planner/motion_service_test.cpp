@@ -123,6 +123,22 @@ TEST(MotionService, CopiesOfOneRequestGetOneReplyAndOneMotion) {
   EXPECT_NEAR(s.Held()(0), 0.01, 1e-12) << "moved by 10 mm once, not twice";
 }
 
+TEST(MotionService, TwoClientsAtOnceAreServedInTurnEachWithItsOwnReply) {
+  Served s;
+  test_support::MotionRequests alice(kSession), bob(kSession);
+  motion_request_t a = alice.Move(Vec(0.02, 0, 0), s.now_, true), b = bob.Move(Vec(0, 0.03, 0), s.now_, true);
+  b.request_id += 1'000'000;  // each client numbers its own
+  const motion_reply_t to_a = s.Ask(a), to_b = s.Ask(b);
+  ASSERT_TRUE(to_a.accepted && to_b.accepted);
+  EXPECT_EQ(to_a.request_id, a.request_id);
+  EXPECT_EQ(to_b.request_id, b.request_id);
+  EXPECT_NEAR(to_b.start_delay_s, to_a.duration_s, 1e-9) << "the second waits for the first";
+  while (s.service_.busy()) s.Cycle();
+  const Vector6 end = s.Held();
+  EXPECT_NEAR(end(0), 0.02, 1e-12);
+  EXPECT_NEAR(end(1), 0.03, 1e-12) << "both moves ran, the second from where the first ended";
+}
+
 TEST(MotionService, ACheckMovesNothingAndSaysWhatAMoveWould) {
   Served s;
   auto& r = s.requests_;

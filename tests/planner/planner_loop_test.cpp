@@ -6,12 +6,14 @@
 #include <gtest/gtest.h>
 
 #include <memory>
+#include <thread>
 #include <vector>
 
 #include "counting_clock.h"  // tests/support
 #include "edsp/kinematics/config.h"
 #include "edsp/planner/motion_library.h"
 #include "memq_bus.h"        // tests/support
+#include "motion_requests.h"  // tests/support
 
 namespace edsp {
 namespace {
@@ -108,6 +110,47 @@ TEST(PlannerLoop, RunPublishesOneSetpointPerTickOfItsClockUntilStopped) {
   EXPECT_EQ(f.setpoints.size(), 40u);
   ASSERT_FALSE(f.statuses.empty());
   EXPECT_EQ(f.statuses.front().deadline_misses, 3) << "the clock's missed cycles reach EDSP_STATUS";
+}
+
+// Moves are planned on the loop's worker while the cycles go on; a halt is
+// answered on the loop's own thread; the replies come out in the order the
+// requests were acted on.
+TEST(PlannerLoop, AMoveIsPlannedBesideTheCyclesAndItsReplyPrecedesALaterHalts) {
+  Bus bus{test_support::MemqConfig("planner_loop_requests")};
+  const PlatformModel model{Huang2021Config()};
+  MotionService service{model, ServiceOptions()};
+  PlannerLoop loop(bus, service, PlannerLoopOptions{});
+  std::vector<motion_reply_t> replies;
+  std::vector<pose_setpoint_t> setpoints;
+  bus.Subscribe<motion_reply_t>("EDSP_MOTION_REPLY", [&](const motion_reply_t& r) { replies.push_back(r); });
+  bus.Subscribe<pose_setpoint_t>("EDSP_SETPOINT", [&](const pose_setpoint_t& s) { setpoints.push_back(s); });
+  leg_state_t legs{};
+  for (auto& d : legs.drive_status) d = leg_state_t::DRIVE_ENABLED;
+  const auto cycle = [&] {
+    legs.utime = UtimeNow();
+    bus.Publish("EDSP_LEG_STATE", legs);
+    while (bus.Handle(std::chrono::milliseconds(0)) > 0) {
+    }
+    loop.RunCycle(UtimeNow(), 0);
+    while (bus.Handle(std::chrono::milliseconds(0)) > 0) {
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  };
+  ::test_support::MotionRequests requests(kSession);
+  cycle();
+  motion_request_t move = requests.Move((Vector6() << 0.05, 0, 0, 0, 0, 0).finished(), UtimeNow(), true);
+  bus.Publish("EDSP_MOTION_REQUEST", move);
+  for (int k = 0; k < 5000 && replies.empty(); ++k) cycle();  // the machine's pace, not a timing assertion
+  ASSERT_EQ(replies.size(), 1u) << "the worker answered";
+  EXPECT_TRUE(replies[0].accepted) << replies[0].reason;
+  for (int k = 0; k < 200; ++k) cycle();
+  bus.Publish("EDSP_MOTION_REQUEST", requests.Make(motion_request_t::KIND_HALT, UtimeNow()));
+  for (int k = 0; k < 5 && replies.size() < 2; ++k) cycle();
+  ASSERT_EQ(replies.size(), 2u) << "a halt is answered at the next cycle";
+  EXPECT_EQ(replies[1].kind, motion_request_t::KIND_HALT);
+  EXPECT_TRUE(replies[1].accepted);
+  EXPECT_GT(setpoints.back().pose[0], 0.0) << "the move ran before the halt";
+  EXPECT_LT(setpoints.back().pose[0], 0.05);
 }
 
 }  // namespace

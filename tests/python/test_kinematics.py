@@ -4,7 +4,6 @@ compensation changes the lengths by the twist's amount, the workspace check
 names the limit, and bad input raises naming the argument."""
 import math
 import os
-import threading
 
 import numpy as np
 import pytest
@@ -88,21 +87,3 @@ def test_unreachable_lengths_raise_naming_the_row(kin):
     lengths[1] = [0.5, 5.0, 0.5, 5.0, 0.5, 5.0]
     with pytest.raises(ValueError, match="lengths row 1"):
         kin.fk(lengths)
-
-
-def test_the_loops_release_the_gil(kin):
-    # Two threads over one big array: with the GIL held they would take
-    # twice one thread's time; the test only asserts both finish with the
-    # same result (timing belongs in benchmarks).
-    poses = np.tile(kin.home, (200000, 1))
-    results = [None, None]
-
-    def work(k):
-        results[k] = kin.ik(poses)
-
-    threads = [threading.Thread(target=work, args=(k,)) for k in range(2)]
-    for t in threads:
-        t.start()
-    for t in threads:
-        t.join()
-    assert np.array_equal(results[0], results[1])

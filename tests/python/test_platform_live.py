@@ -95,6 +95,8 @@ def test_refusals_halts_and_bad_input_raise_what_names_them(group):
         rig.move([math.nan, 0, 1.5, 0, 0, 0])
     with pytest.raises(ValueError, match="six numbers"):
         rig.move([0, 0, 1.5])
+    with pytest.raises(TypeError, match="got a str"):
+        rig.move("123456")
     with pytest.raises(ValueError, match="speed_m_s"):
         rig.move([0.01, 0, 1.5, 0, 0, 0], speed_m_s=-1)
     reply = rig.move([0.2, 0, 1.5, 0, 0, 0], wait=False)

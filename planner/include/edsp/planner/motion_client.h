@@ -41,11 +41,14 @@ class MotionClient {
   motion_request_t Request(std::int8_t kind) const;
   // Sends `request` until its reply comes or the answer timeout passes (none).
   std::optional<motion_reply_t> Send(motion_request_t request);
-  // The next status of this session after now, within `seconds`.
+  // The next status of this session published after now (older ones
+  // waiting in the socket are dropped), within `seconds`.
   std::optional<motion_status_t> NextStatus(double seconds);
   // Until motion `request_id` (0: whatever runs now) is on target, ends
-  // halted or stopped, the bridge faults, or `timeout_s` passes.
+  // halted or stopped, the bridge faults, or `timeout_s` passes. A wait in
+  // slices (to answer Ctrl-C between them) passes the same `seen` to each.
   WaitResult Wait(std::int64_t request_id, double timeout_s);
+  WaitResult Wait(std::int64_t request_id, double timeout_s, bool* seen);
 
  private:
   struct Inbox {

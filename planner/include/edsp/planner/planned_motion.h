@@ -22,6 +22,10 @@ struct MoveLimits {
   double jerk_m_s3 = 0.0, jerk_rad_s3 = 0.0;
 };
 
+// The longest a move may last: beyond, its speed was a typo, and its check
+// alone would hold the planner's worker for seconds.
+inline constexpr double kLongestMove_s = 600.0;
+
 // [motion]'s limits, the most any move may ask for.
 MoveLimits ConfigMoveLimits(const PlatformModel& model);
 
@@ -42,7 +46,8 @@ struct PlannedMotion {
 
 // From X_BM `from` to the pose `to` in `frame` about `pivot_M`: the pivot
 // on a straight line, turning about it, jerk-limited within `limits`.
-// `check` says whether its whole path is within the platform's limits.
+// `check` says whether its whole path is within the platform's limits (a
+// move longer than kLongestMove_s is refused unchecked, as kDuration).
 PlannedMotion PlanMove(const PlatformModel& model, const WorkFrame& frame, const Vector3& pivot_M,
                        const Transform& from, const FramedPose& to, const MoveLimits& limits,
                        double check_rate_hz);

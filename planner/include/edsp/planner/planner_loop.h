@@ -9,7 +9,8 @@
 // bus with their own clock. Moves, checks and runs are planned on a worker
 // thread (a long program's check takes tens of milliseconds, and the
 // setpoints must not wait); halt, stop and the rest are answered on the
-// loop's thread at once. Replies go out at the next cycle.
+// loop's thread at once. Every reply goes out at the next cycle, in the
+// order the requests were acted on; a request's age is taken when it came.
 
 #include <chrono>
 #include <condition_variable>
@@ -72,7 +73,7 @@ class PlannerLoop {
 
   std::mutex mutex_;  // guards the two queues and quit_
   std::condition_variable wake_;
-  std::deque<motion_request_t> to_plan_;
+  std::deque<std::pair<motion_request_t, std::int64_t>> to_plan_;  // with the utime it came
   std::deque<motion_reply_t> replies_out_;
   bool quit_ = false;
   std::thread worker_;
