@@ -14,11 +14,8 @@
 
 #include "edsp/actuator_bridge/actuator_bridge.h"
 #include "edsp/actuator_bridge/bridge_loop.h"
+#include "edsp/actuator_bridge/backend_registry.h"
 #include "edsp/actuator_bridge/drives_config.h"
-#include "edsp/actuator_bridge/cia402_backend.h"
-#include "edsp/actuator_bridge/virtual_rig_backend.h"
-#include "edsp/drives/csp_shm_master.h"
-#include "edsp/drives/modbus_drive_master.h"
 #include "edsp/kinematics/config.h"
 #include "edsp/node/node_options.h"
 #include "edsp/node/runtime.h"
@@ -29,23 +26,14 @@
 namespace edsp {
 namespace {
 
-// --backend, or else the config's [drives] backend ("virtual": the rig's image).
+// --backend, or else the config's [drives] backend (backend_registry.h).
 std::unique_ptr<DriveBackend> MakeBackend(const std::string& name, const DrivesConfig& drives,
                                           const TransportConfig& transport, const std::string& image_prefix) {
-  if (name == "virtual-rig") {
-    return std::make_unique<VirtualRigBackend>(image_prefix.empty() ? transport.shm_prefix : image_prefix,
-                                               transport.shm_permissions);
-  }
-  const std::string prefix = image_prefix.empty() ? transport.shm_prefix : image_prefix;
-  if (name == "modbus-tcp") {
-    return std::make_unique<Cia402Backend>(
-        drives, std::make_unique<cia402::ModbusDriveMaster>(drives.host, drives.port, drives.response_timeout_s));
-  }
-  if (name == "cia402-shm") {
-    return std::make_unique<Cia402Backend>(drives, std::make_unique<cia402::CspShmMaster>(
-                                                       prefix, transport.shm_permissions, drives.response_timeout_s));
-  }
-  throw std::runtime_error("--backend " + name + ": known backends: virtual-rig, modbus-tcp, cia402-shm");
+  std::string note;
+  const BackendKind* kind = FindBackend(name, &note);
+  if (kind == nullptr) throw std::runtime_error("--backend " + name + ": known backends: " + KnownBackends());
+  if (!note.empty()) std::fprintf(stderr, "edsp-actuator-bridge: --backend: %s\n", note.c_str());
+  return kind->make(BackendContext{drives, transport, image_prefix});
 }
 
 void WriteLatencyReport(const std::string& path, const nlohmann::json& report) {
@@ -60,7 +48,7 @@ int Run(int argc, char** argv) {
   AddNodeOptions(&app, &node);
   std::string backend_name, image_prefix;
   int stale_ms = 50;
-  app.add_option("--backend", backend_name, "drive backend: virtual-rig, modbus-tcp or cia402-shm (default: [drives] backend)");
+  app.add_option("--backend", backend_name, "drive backend: " + KnownBackends() + " (default: [drives] backend)");
   app.add_option("--image-prefix", image_prefix, "process image segment prefix (default: shm_prefix)");
   app.add_option("--stale-ms", stale_ms, "hold when no valid command for this long")
       ->check(CLI::Range(1, 10000));
@@ -78,7 +66,8 @@ int Run(int argc, char** argv) {
 
   const PlatformConfig config = LoadConfigFile(node.config_path);
   const DrivesConfig drives = LoadDrivesConfig(node.config_path, config);
-  if (backend_name.empty()) backend_name = drives.backend == "virtual" ? "virtual-rig" : drives.backend;
+  if (!drives.backend_note.empty()) std::fprintf(stderr, "edsp-actuator-bridge: [drives] %s\n", drives.backend_note.c_str());
+  if (backend_name.empty()) backend_name = drives.backend;
   const TransportConfig transport = TransportFor(node);
   InstallStopSignals();
   std::unique_ptr<DriveBackend> backend = MakeBackend(backend_name, drives, transport, image_prefix);

@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "edsp/actuator_bridge/backend_registry.h"
 #include "edsp/kinematics/toml_section.h"
 
 namespace edsp {
@@ -21,12 +22,13 @@ DrivesConfig ParseDrivesConfig(const std::string& toml_text, const std::string& 
   DrivesConfig config;
   if (!s.present()) return config;
   s.RejectUnknownKeys({"backend", "host", "port", "response_timeout_ms", "counts_per_m", "offset_counts", "direction"});
-  config.backend = s.String("backend", config.backend);
-  if (config.backend != "virtual" && config.backend != "modbus-tcp" && config.backend != "cia402-shm") {
+  const std::string backend = s.String("backend", config.backend);
+  const BackendKind* kind = FindBackend(backend, &config.backend_note);
+  if (kind == nullptr) {
     s.Fail(NodeOf(s, "backend"),
-           fmt::format("[drives] backend = \"{}\": known backends are \"virtual\", \"modbus-tcp\" and \"cia402-shm\"",
-                       config.backend));
+           fmt::format("[drives] backend = \"{}\": known backends are {}", backend, KnownBackends()));
   }
+  config.backend = std::string(kind->name);
   config.host = s.String("host", config.host);
   // As a number: an integer cast first would wrap 4294968798 to 1502.
   const double port = s.Number("port", config.port);
@@ -40,7 +42,7 @@ DrivesConfig ParseDrivesConfig(const std::string& toml_text, const std::string& 
            fmt::format("[drives] response_timeout_ms = {} must be in (0, 1000]", timeout_ms));
   }
   config.response_timeout_s = timeout_ms * 1e-3;
-  const bool real = config.backend != "virtual";
+  const bool real = kind->real_drives;
   if (real && !s.Has("counts_per_m")) {
     throw ConfigError(fmt::format("{}: [drives] backend = \"{}\" needs counts_per_m (encoder counts per metre "
                                   "of leg travel)", origin, config.backend));

@@ -2,9 +2,11 @@
 // their scaling (checked against the lead and gear by hand), and every bad
 // value refused with the file, line and key.
 #include <cmath>
+#include <set>
 
 #include <gtest/gtest.h>
 
+#include "edsp/actuator_bridge/backend_registry.h"
 #include "edsp/actuator_bridge/drives_config.h"
 #include "thrown_message.h"  // tests/support
 
@@ -26,7 +28,30 @@ std::string ModbusCounts(const std::string& counts) {
 
 TEST(DrivesConfig, WithoutASectionTheVirtualDrives) {
   const DrivesConfig c = ParseDrivesConfig("[drive]\nlead_m = 0.01\n", "rig.toml", DriveParameters{});
-  EXPECT_EQ(c.backend, "virtual");
+  EXPECT_EQ(c.backend, "virtual-rig");
+  EXPECT_TRUE(c.backend_note.empty());
+}
+
+TEST(DrivesConfig, TheOldSpellingOfTheVirtualRigIsTakenWithANoteNamingTheNew) {
+  const DrivesConfig c = ParseDrivesConfig("[drives]\nbackend = \"virtual\"\n", "rig.toml", DriveParameters{});
+  EXPECT_EQ(c.backend, "virtual-rig");
+  EXPECT_NE(c.backend_note.find("now spelled \"virtual-rig\""), std::string::npos) << c.backend_note;
+}
+
+TEST(BackendRegistry, EachBackendOnceByNameAndMadeByItsRow) {
+  std::set<std::string> names;
+  for (const BackendKind& k : BackendKinds()) {
+    EXPECT_TRUE(names.insert(std::string(k.name)).second) << k.name << " twice";
+    EXPECT_FALSE(k.description.empty());
+    std::string note;
+    EXPECT_EQ(FindBackend(std::string(k.name), &note), &k);
+    EXPECT_TRUE(note.empty());
+  }
+  EXPECT_EQ(names, (std::set<std::string>{"virtual-rig", "modbus-tcp", "cia402-shm"}));
+  std::string note = "stale";
+  EXPECT_EQ(FindBackend("ethercat", &note), nullptr);
+  EXPECT_TRUE(note.empty());
+  EXPECT_EQ(KnownBackends(), "virtual-rig, modbus-tcp, cia402-shm");
 }
 
 TEST(DrivesConfig, AModbusRigsDrivesAndTheirScaling) {

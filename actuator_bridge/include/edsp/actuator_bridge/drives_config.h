@@ -4,7 +4,8 @@
 //
 //   [drives]
 //   backend = "modbus-tcp"         # or "cia402-shm" (the CSP image in shared memory on this
-//                                  # host), or "virtual" (the rig's process image; the default)
+//                                  # host), or "virtual-rig" (the rig's process image; the
+//                                  # default; "virtual" is its old spelling): backend_registry.h
 //   host = "127.0.0.1"             # the Modbus TCP server of the six drives
 //   port = 1502
 //   response_timeout_ms = 5        # an exchange's answer (cia402-shm: a newly latched image)
@@ -21,7 +22,8 @@
 namespace edsp {
 
 struct DrivesConfig {
-  std::string backend = "virtual";
+  std::string backend = "virtual-rig";  // a BackendKinds() name
+  std::string backend_note;             // the config gave an old spelling: this says the new one
   std::string host = "127.0.0.1";
   int port = 1502;
   double response_timeout_s = 0.005;
