@@ -18,11 +18,8 @@
 // it once and answers every copy alike (node/operator_requests.h).
 #include <unistd.h>
 
-#include <chrono>
-#include <memory>
 #include <cstdio>
 #include <fstream>
-#include <set>
 #include <sstream>
 #include <string>
 
@@ -36,6 +33,7 @@
 #include "edsp/kinematics/passive_rotation.h"
 #include "edsp/leg_command_t.hpp"
 #include "edsp/node/fault.h"
+#include "edsp/node/operator_client.h"
 #include "edsp/node/runtime.h"
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/pr_mode_t.hpp"
@@ -46,55 +44,25 @@
 namespace edsp {
 namespace {
 
-using ctl::Clock;
 using ctl::CtlOptions;
-using ctl::Deadline;
 using ctl::SessionId;
 using ctl::Transport;
 
-// Waits for the node's answer on EDSP_FAULT about `channel`, calling
-// `send` at once and again every kResend until it comes; prints it. Called
-// last: nothing handles the bus after it returns.
-template <typename Send>
-int AwaitConfirmation(Bus& bus, const std::string& node, const std::string& channel, const CtlOptions& o,
-                      Send send) {
-  constexpr auto kResend = std::chrono::milliseconds(500);
-  struct Answer {
-    bool given = false;
-    int status = 2;
-  };
-  auto answer = std::make_shared<Answer>();
-  bus.Subscribe<fault_t>(channel::kFault, [answer, node, channel](const fault_t& f) {
-    if (answer->given || f.node != node || f.channel != channel) return;
-    answer->given = true;
-    answer->status = f.code == static_cast<std::int32_t>(FaultCode::kOperatorAction) ? 0 : 2;
-    std::printf("%s: %s\n", node.c_str(), f.reason.c_str());
-  });
-  const auto until = Deadline(o.timeout_s);
-  auto next_send = Clock::now();
-  while (!answer->given && Clock::now() < until) {
-    if (Clock::now() >= next_send) {
-      send();
-      next_send = Clock::now() + kResend;
-    }
-    bus.Handle(std::chrono::milliseconds(50));
-  }
-  if (!answer->given) std::fprintf(stderr, "edsp-ctl: no answer from %s within %g s\n", node.c_str(), o.timeout_s);
-  return answer->status;
-}
-
-// Fills the request's session, time and operator, sends it, and waits for
-// `node`'s confirmation.
+// Fills the request's session and operator, sends it until `node` answers
+// (operator_client.h), and prints the answer: 0 if it acted, 2 if it
+// refused or did not answer.
 template <typename Msg>
 int SendAndConfirm(const CtlOptions& o, const std::string& channel, Msg request, const std::string& node) {
   Bus bus(Transport(o));
   request.session_id = SessionId(bus, o);
-  request.utime = UtimeNow();
-  request.seq = 1;
   request.operator_name = ctl::OperatorName(o);
-  return AwaitConfirmation(bus, node, channel, o, [&] {
-    if (!bus.Publish(channel, request)) throw std::runtime_error(channel + " could not be sent");
-  });
+  const OperatorAnswer answer = SendOperatorRequest(bus, channel, request, node, o.timeout_s);
+  if (!answer.given) {
+    std::fprintf(stderr, "edsp-ctl: no answer from %s within %g s\n", node.c_str(), o.timeout_s);
+    return 2;
+  }
+  std::printf("%s: %s\n", node.c_str(), answer.reason.c_str());
+  return answer.confirmed ? 0 : 2;
 }
 
 int Arm(const CtlOptions& o) { return SendAndConfirm(o, channel::kArm, arm_t{}, "actuator_bridge"); }

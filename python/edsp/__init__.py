@@ -192,6 +192,36 @@ class Platform:
             raise ValueError(f"frame name {name!r}: want a non-empty string")
         return self._send(_edsp.KIND_FRAME, _six("pose", pose), frame=name)
 
+    def _confirm(self, answer, what: str) -> str:
+        given, confirmed, reason = answer
+        if not given:
+            raise Timeout(f"{what}: no answer within the answer timeout (is the group running?)")
+        if not confirmed:
+            raise Refused(reason)
+        return reason
+
+    def arm(self) -> str:
+        """Re-arm the actuator bridge after it latched a hold; returns its confirmation."""
+        return self._confirm(self._c.arm(), "arm")
+
+    def pr_mode(self, mode: str) -> str:
+        """Switch the PR compensation live (none, unsigned, signed, asin), blended over 0.5 s."""
+        if mode not in ("none", "unsigned", "signed", "asin"):
+            raise ValueError(f"pr_mode {mode!r}: use none, unsigned, signed or asin")
+        return self._confirm(self._c.pr_mode(mode), "pr_mode")
+
+    def calibration(self, model: Optional[str], apply_ambiguous: bool = False) -> str:
+        """Switch the kinematics' calibration live to the edsp-gap model file
+        `model` (None: off), blended over 1 s; returns the node's confirmation."""
+        text, origin = "", "off"
+        if model is not None:
+            with open(model, encoding="utf-8") as f:
+                text = f.read()
+            if not text:
+                raise ValueError(f"calibration {model}: the file is empty (None switches the calibration off)")
+            origin = os.fspath(model)
+        return self._confirm(self._c.calibration(text, origin, bool(apply_ambiguous)), "calibration")
+
     def pivot(self, point: Sequence[float]) -> dict:
         if isinstance(point, (str, bytes)):
             raise TypeError(f"point: want three numbers x, y, z (m) in {{M}}, got a {type(point).__name__}")

@@ -11,14 +11,20 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 
 #include <fmt/format.h>
 
+#include "edsp/arm_t.hpp"
+#include "edsp/calibration_t.hpp"
+#include "edsp/channels.h"
 #include "edsp/kinematics/config.h"
 #include "edsp/kinematics/forward_kinematics.h"
 #include "edsp/kinematics/passive_rotation.h"
 #include "edsp/kinematics/workspace.h"
+#include "edsp/node/operator_client.h"
 #include "edsp/planner/motion_client.h"
+#include "edsp/pr_mode_t.hpp"
 
 namespace py = pybind11;
 
@@ -218,6 +224,26 @@ class Client {
     return StatusDict(*s);
   }
 
+  // An operator's request to a node, as edsp-ctl sends it: (answered,
+  // confirmed, the node's words).
+  std::tuple<bool, bool, std::string> Arm() {
+    arm_t request{};
+    return Operator(channel::kArm, request, "actuator_bridge");
+  }
+  std::tuple<bool, bool, std::string> PrMode(const std::string& mode_text) {
+    pr_mode_t request{};
+    request.pr_mode = static_cast<std::int8_t>(ModeOf(mode_text));
+    return Operator(channel::kPrMode, request, "kinematics");
+  }
+  std::tuple<bool, bool, std::string> Calibration(const std::string& model_json, const std::string& origin,
+                                                  bool apply_ambiguous) {
+    calibration_t request{};
+    request.model_json = model_json;
+    request.origin = origin;
+    request.apply_ambiguous = apply_ambiguous ? 1 : 0;
+    return Operator(channel::kCalibration, request, "kinematics");
+  }
+
   // (outcome, message): "on_target", "halted", "fault" or "timeout".
   std::pair<std::string, std::string> Wait(std::int64_t request_id, double timeout_s) {
     constexpr double kSlice_s = 0.1;
@@ -246,6 +272,19 @@ class Client {
   }
 
  private:
+  template <typename Msg>
+  std::tuple<bool, bool, std::string> Operator(const char* channel, Msg request, const std::string& node) {
+    request.session_id = client_.session_id();
+    request.operator_name = client_.client_name();
+    OperatorAnswer answer;
+    {
+      py::gil_scoped_release release;
+      const std::lock_guard<std::mutex> lock(mutex_);
+      answer = SendOperatorRequest(client_.bus(), channel, request, node, client_.answer_timeout_s());
+    }
+    return {answer.given, answer.confirmed, answer.reason};
+  }
+
   static TransportConfig Transport(const std::string& group_file, const std::string& lcm_url) {
     TransportConfig config = group_file.empty() ? TransportConfig{} : LoadTransportConfig(group_file);
     if (!lcm_url.empty()) config.lcm_url = lcm_url;
@@ -275,7 +314,10 @@ PYBIND11_MODULE(_edsp, m) {
       .def_property_readonly("session_id", &edsp::Client::session_id)
       .def("send", &edsp::Client::Send)
       .def("status", &edsp::Client::Status)
-      .def("wait", &edsp::Client::Wait);
+      .def("wait", &edsp::Client::Wait)
+      .def("arm", &edsp::Client::Arm)
+      .def("pr_mode", &edsp::Client::PrMode)
+      .def("calibration", &edsp::Client::Calibration);
   m.attr("KIND_MOVE") = edsp::motion_request_t::KIND_MOVE;
   m.attr("KIND_CHECK") = edsp::motion_request_t::KIND_CHECK;
   m.attr("KIND_RUN") = edsp::motion_request_t::KIND_RUN;

@@ -108,6 +108,22 @@ def test_refusals_halts_and_bad_input_raise_what_names_them(group):
     assert rig.status()["last_end"] == "halted"
 
 
+def test_the_operators_requests_are_confirmed_or_refused_by_the_node(group):
+    rig = connect(group)
+    assert "none" in rig.pr_mode("none")
+    assert "signed" in rig.pr_mode("signed")
+    with pytest.raises(ValueError, match="sideways"):
+        rig.pr_mode("sideways")
+    assert "was not latched" in rig.arm()
+    with pytest.raises(FileNotFoundError):
+        rig.calibration("/no/such/model.json")
+    bad = os.path.join(os.path.dirname(group), "not_a_model.json")
+    with open(bad, "w", encoding="utf-8") as f:
+        f.write("{}")
+    with pytest.raises(edsp.Refused):
+        rig.calibration(bad)
+
+
 def test_a_group_that_is_not_running_raises_timeout_without_hanging():
     began = time.monotonic()
     with pytest.raises(edsp.Timeout, match="no leg commands or setpoints"):

@@ -37,6 +37,10 @@ class MotionClient {
                std::string client_name);
 
   std::int64_t session_id() const { return session_; }
+  const std::string& client_name() const { return client_; }
+  double answer_timeout_s() const { return answer_timeout_s_; }
+  // The bus it talks on, for the operator's other requests (operator_client.h).
+  Bus& bus() { return bus_; }
   // A request of `kind` with a fresh random request_id, this session and client.
   motion_request_t Request(std::int8_t kind) const;
   // Sends `request` until its reply comes or the answer timeout passes (none).
