@@ -26,6 +26,7 @@
 #include <nlohmann/json.hpp>
 
 #include "edsp/channels.h"
+#include "edsp/leg_state_t.hpp"
 #include "edsp/motion_reply_t.hpp"
 #include "edsp/motion_request_t.hpp"
 #include "edsp/motion_status_t.hpp"
@@ -81,6 +82,12 @@ class Operator {
       }
       if (awaited_ != 0 && s.request_id == awaited_ && first_ && s.on_target && !on_target_) on_target_ = Clock::now();
     });
+    // Ready once the bridge follows (every drive enabled): a move sent
+    // during its start-up hold is refused.
+    bus_.Subscribe<leg_state_t>(channel::kLegState, [this](const leg_state_t& legs) {
+      following_ = std::all_of(std::begin(legs.drive_status), std::end(legs.drive_status),
+                               [](std::int8_t d) { return d == leg_state_t::DRIVE_ENABLED; });
+    });
     bus_.Subscribe<motion_reply_t>(channel::kMotionReply, [this](const motion_reply_t& r) {
       if (r.request_id == awaited_ && !reply_) {
         reply_ = Clock::now();
@@ -94,9 +101,9 @@ class Operator {
     const auto until = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
     while (Clock::now() < until) {
       bus_.Handle(std::chrono::milliseconds(20));
-      if (last_ && last_->measured_valid) return;
+      if (last_ && last_->measured_valid && following_) return;
     }
-    throw std::runtime_error("the group never reported a measured pose (see launch.err)");
+    throw std::runtime_error("the group never measured its pose with the bridge following (see launch.err)");
   }
 
   Timing Move(double dx, std::int64_t id) {
@@ -135,6 +142,7 @@ class Operator {
 
   Bus bus_;
   std::optional<motion_status_t> last_;
+  bool following_ = false;
   std::int64_t awaited_ = 0;
   std::optional<Clock::time_point> first_, on_target_, reply_;
   bool accepted_ = false;

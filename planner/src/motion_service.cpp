@@ -181,6 +181,10 @@ std::string MotionService::BridgeProblem(std::int64_t now_utime) const {
   if (silent_s > options_.bridge_stale_s) {
     return fmt::format("no EDSP_LEG_STATE from the actuator bridge for {:.2f} s: is it running?", silent_s);
   }
+  if (!bridge_holds_.empty() && !bridge_followed_) {
+    return "the actuator bridge does not follow yet (" + bridge_holds_ +
+           " since it started): ask again once it follows (no re-arm needed)";
+  }
   if (!bridge_holds_.empty()) {
     return "the actuator bridge holds the legs (" + bridge_holds_ + "): re-arm it first (edsp-ctl arm)";
   }

@@ -109,6 +109,18 @@ TEST(MotionService, WhileTheBridgeHoldsAMoveIsRefusedNamingTheReArm) {
   EXPECT_TRUE(s.Ask(r.Move(Vec(0.01, 0, 1.5), s.now_)).accepted) << "following again";
 }
 
+TEST(MotionService, BeforeTheBridgeFirstFollowsAMoveIsRefusedWithoutAskingForAReArm) {
+  const PlatformModel model(Huang2021Config());
+  MotionService service(model, Served::Options());
+  test_support::MotionRequests r(kSession);
+  leg_state_t legs{};
+  for (auto& d : legs.drive_status) d = leg_state_t::DRIVE_HOLDING;  // the bridge's start-up hold
+  service.OnLegState(legs, kT0);
+  const motion_reply_t reply = service.Handle(r.Move(Vec(0.01, 0, 0), kT0, true), kT0);
+  ExpectRefused(reply, "does not follow yet");
+  EXPECT_EQ(reply.reason.find("edsp-ctl arm"), std::string::npos) << reply.reason;
+}
+
 TEST(MotionService, CopiesOfOneRequestGetOneReplyAndOneMotion) {
   Served s;
   auto& r = s.requests_;
