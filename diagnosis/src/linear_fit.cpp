@@ -38,6 +38,7 @@ GramSet::GramSet(const Design& d, std::vector<Fold> folds) : folds_(std::move(fo
     double rr = 0.0;
     int n = 0;
     for (const ColumnRange& s : f.samples) {
+      if (s.count <= 0) continue;  // a run too short to split in three: nothing of it here (Eigen divides by its size)
       const auto C = d.columns.middleRows(3 * s.begin, 3 * s.count);
       const auto r = d.residual.segment(3 * s.begin, 3 * s.count);
       H.selfadjointView<Eigen::Lower>().rankUpdate(C.transpose());

@@ -1,10 +1,8 @@
-#include "edsp/transport/decode.h"
 #include "edsp/logger/channel_csv_export.h"
 
 #include <cctype>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <memory>
 #include <regex>
 #include <stdexcept>
@@ -12,8 +10,8 @@
 
 #include <fmt/format.h>
 
+#include "edsp/logger/edsp_message.h"
 #include "edsp/logger/log_reader.h"
-#include "edsp/message_types.h"
 
 namespace edsp {
 
@@ -52,134 +50,6 @@ class CsvRow {
   std::vector<std::string> names_, values_;
 };
 
-void Fields(const pose_setpoint_t& m, CsvRow* r) {
-  r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("session_id", m.session_id);
-  r->Add("pose", m.pose), r->Add("velocity", m.velocity), r->Add("acceleration", m.acceleration);
-  r->Add("trajectory", m.trajectory), r->Add("segment", m.segment);
-}
-void Fields(const leg_command_t& m, CsvRow* r) {
-  r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("session_id", m.session_id);
-  r->Add("setpoint_utime", m.setpoint_utime), r->Add("setpoint_seq", m.setpoint_seq);
-  r->Add("pr_mode", m.pr_mode), r->Add("ik_length_m", m.ik_length_m);
-  r->Add("pr_correction_m", m.pr_correction_m), r->Add("command_length_m", m.command_length_m);
-  r->Add("motor_angle_rad", m.motor_angle_rad);
-}
-void Fields(const leg_state_t& m, CsvRow* r) {
-  r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("command_seq", m.command_seq);
-  r->Add("motor_angle_rad", m.motor_angle_rad), r->Add("motor_velocity_rad_s", m.motor_velocity_rad_s);
-  r->Add("encoder_length_m", m.encoder_length_m), r->Add("drive_status", m.drive_status);
-}
-void Fields(const platform_state_t& m, CsvRow* r) {
-  r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("pose", m.pose);
-  r->Add("target_pose", m.target_pose), r->Add("observation_point_m", m.observation_point_m);
-  r->Add("fk_status", m.fk_status), r->Add("fk_residual_m", m.fk_residual_m);
-}
-void Fields(const platform_config_t& m, CsvRow* r) {
-  r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("preset", m.preset);
-  r->Add("base_joints_m", m.base_joints_m), r->Add("platform_joints_m", m.platform_joints_m);
-  r->Add("base_axes", m.base_axes), r->Add("platform_axes", m.platform_axes);
-  r->Add("home_height_m", m.home_height_m), r->Add("lead_m", m.lead_m);
-  r->Add("pr_sign", m.pr_sign), r->Add("gear_ratio", m.gear_ratio);
-  r->Add("leg_min_m", m.leg_min_m), r->Add("leg_max_m", m.leg_max_m);
-  r->Add("joint_angle_max_rad", m.joint_angle_max_rad);
-  r->Add("observation_point_m", m.observation_point_m), r->Add("config_toml", m.config_toml);
-}
-void Fields(const tracker_point_t& m, CsvRow* r) {
-  r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("point_m", m.point_m);
-  r->Add("sigma_m", m.sigma_m), r->Add("valid", m.valid);
-}
-void Fields(const rig_truth_t& m, CsvRow* r) {
-  r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("pose", m.pose);
-  r->Add("leg_length_m", m.leg_length_m), r->Add("twist_rad", m.twist_rad);
-  r->Add("observation_point_m", m.observation_point_m);
-}
-void Fields(const node_status_t& m, CsvRow* r) {
-  r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("node", m.node), r->Add("pid", m.pid);
-  r->Add("state", m.state), r->Add("messages_in", m.messages_in);
-  r->Add("messages_out", m.messages_out), r->Add("drops", m.drops);
-  r->Add("rejected", m.rejected), r->Add("deadline_misses", m.deadline_misses);
-  r->Add("loop_p50_us", m.loop_p50_us), r->Add("loop_p99_us", m.loop_p99_us);
-  r->Add("loop_max_us", m.loop_max_us);
-}
-void Fields(const fault_t& m, CsvRow* r) {
-  r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("node", m.node);
-  r->Add("channel", m.channel), r->Add("severity", m.severity), r->Add("code", m.code);
-  r->Add("reason", m.reason);
-}
-void Fields(const arm_t& m, CsvRow* r) {
-  r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("session_id", m.session_id);
-  r->Add("operator_name", m.operator_name);
-}
-void Fields(const pr_mode_t& m, CsvRow* r) {
-  r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("session_id", m.session_id);
-  r->Add("pr_mode", m.pr_mode), r->Add("operator_name", m.operator_name);
-}
-void Fields(const calibration_t& m, CsvRow* r) {
-  r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("session_id", m.session_id);
-  r->Add("operator_name", m.operator_name), r->Add("origin", m.origin), r->Add("model_json", m.model_json);
-  r->Add("apply_ambiguous", m.apply_ambiguous);
-}
-
-void Fields(const motion_request_t& m, CsvRow* r) {
-  r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("session_id", m.session_id);
-  r->Add("request_id", m.request_id), r->Add("client", m.client), r->Add("kind", m.kind);
-  r->Add("relative", m.relative), r->Add("frame", m.frame), r->Add("pose", m.pose), r->Add("point", m.point);
-  r->Add("speed_m_s", m.speed_m_s), r->Add("speed_rad_s", m.speed_rad_s);
-  r->Add("accel_m_s2", m.accel_m_s2), r->Add("accel_rad_s2", m.accel_rad_s2);
-  r->Add("motions", m.motions), r->Add("csv_text", m.csv_text), r->Add("csv_origin", m.csv_origin);
-}
-
-void Fields(const motion_reply_t& m, CsvRow* r) {
-  r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("session_id", m.session_id);
-  r->Add("request_id", m.request_id), r->Add("kind", m.kind), r->Add("accepted", m.accepted);
-  r->Add("reason", m.reason), r->Add("duration_s", m.duration_s), r->Add("start_delay_s", m.start_delay_s);
-}
-
-void Fields(const motion_status_t& m, CsvRow* r) {
-  r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("session_id", m.session_id);
-  r->Add("state", m.state), r->Add("request_id", m.request_id), r->Add("activity", m.activity);
-  r->Add("progress", m.progress), r->Add("queued", m.queued), r->Add("last_end", m.last_end);
-  r->Add("pose_commanded", m.pose_commanded), r->Add("pose_target", m.pose_target);
-  r->Add("pose_measured", m.pose_measured), r->Add("measured_valid", m.measured_valid);
-  r->Add("on_target", m.on_target), r->Add("frame", m.frame), r->Add("pivot", m.pivot), r->Add("reason", m.reason);
-}
-
-struct MessageType {
-  std::int64_t fingerprint;
-  std::string name;
-  std::function<bool(const LogEvent&, CsvRow*)> to_row;
-};
-
-template <typename Msg>
-MessageType Describe() {
-  return {Msg::getHash(), std::string("edsp.") + Msg::getTypeName(), [](const LogEvent& e, CsvRow* row) {
-            Msg msg;
-            if (!DecodeUntrusted(&msg, e.data.data(), e.data.size())) return false;
-            Fields(msg, row);
-            return true;
-          }};
-}
-
-// Every edsp message type (message_types.h): one without Fields() above does
-// not compile.
-const std::vector<MessageType>& KnownTypes() {
-  static const std::vector<MessageType> types = [] {
-    std::vector<MessageType> all;
-    ForEachMessageType([&all](auto tag) { all.push_back(Describe<typename decltype(tag)::type>()); });
-    return all;
-  }();
-  return types;
-}
-
-const MessageType* FindType(const LogEvent& event) {
-  EdspHeader header;
-  if (!ParseEdspHeader(event.data, &header)) return nullptr;
-  for (const MessageType& t : KnownTypes()) {
-    if (t.fingerprint == header.fingerprint) return &t;
-  }
-  return nullptr;
-}
-
 // A channel name made safe as a file name ('/' or spaces in foreign channels).
 std::string FileNameFor(const std::string& channel) {
   std::string name = channel;
@@ -193,7 +63,6 @@ std::string FileNameFor(const std::string& channel) {
 
 struct OpenCsv {
   ChannelCsv info;
-  const MessageType* type = nullptr;
   std::ofstream out;
 };
 
@@ -227,9 +96,13 @@ ChannelCsvExport ExportChannelCsvs(const std::string& log_path, const std::strin
     if (first_utime < 0) first_utime = event.timestamp_utime;
     if (!std::regex_match(event.channel, filter)) continue;
     auto& file = files[event.channel];
-    const MessageType* type = FindType(event);
     CsvRow row;
-    const bool decoded = type != nullptr && (!file || file->type == type) && type->to_row(event, &row);
+    std::string type;
+    const bool decoded = DecodeEdspMessage(event.data.data(), event.data.size(), [&](const auto& msg, std::string name) {
+      if (file && file->info.type != name) return;  // a channel keeps its first type
+      VisitFields(msg, &row);
+      type = std::move(name);
+    }) && !type.empty();
     if (!decoded) {
       if (file) ++file->info.skipped;
       else ++result.unknown[event.channel];
@@ -238,8 +111,7 @@ ChannelCsvExport ExportChannelCsvs(const std::string& log_path, const std::strin
     }
     if (!file) {
       file = std::make_unique<OpenCsv>();
-      file->type = type;
-      file->info.type = type->name;
+      file->info.type = type;
       file->info.skipped = result.unknown[event.channel];  // what came before it
       result.unknown.erase(event.channel);
       file->info.path = (std::filesystem::path(out_dir) / FileNameFor(event.channel)).string();

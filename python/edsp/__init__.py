@@ -1,5 +1,6 @@
-"""edsp from Python: the kinematics on numpy arrays and a running group's
-motion service (docs/python.md).
+"""edsp from Python: the kinematics on numpy arrays, a running group's
+motion service and data recorder, LCM logs as numpy arrays, and the gap
+diagnosis (docs/python.md).
 
     import edsp
     kin = edsp.Kinematics("config/huang2021.toml")
@@ -13,9 +14,11 @@ import math
 import os
 from typing import Optional, Sequence
 
-from . import _edsp
+from . import _edsp, gap
+from ._data import CHANNELS, Recording, read_log, record_for
 
-__all__ = ["Kinematics", "Platform", "EdspError", "Refused", "Timeout", "Halted", "Fault"]
+__all__ = ["Kinematics", "Platform", "Recording", "read_log", "gap", "CHANNELS",
+           "EdspError", "Refused", "Timeout", "Halted", "Fault"]
 
 
 class EdspError(Exception):
@@ -39,23 +42,47 @@ class Fault(EdspError):
 
 
 class Kinematics:
-    """Inverse and forward kinematics of the platform a config file describes.
+    """Inverse and forward kinematics of the platform a config file describes,
+    with a calibration in force if given (an edsp-gap model file, as the
+    kinematics node applies it).
 
-    ik(poses, pr_mode="signed") -> leg lengths to command, (N, 6) m
+    ik(poses, pr_mode="signed", times_s=None) -> leg lengths to command, (N, 6) m
+    compensate(poses, pr_mode="signed", times_s=None) -> what ik subtracts from
+        the geometric leg lengths: the PR length error and the calibration's
+        correction, (N, 6) m
+    pr_twist(poses)             -> each leg's signed screw twist, (N, 6) rad
     fk(lengths, with_pr=True)   -> poses, (N, 6): x y z (m), roll pitch yaw (rad)
     check(poses)                -> per pose None, or the workspace limit it crosses
     Poses are the pose of {M} in {B}, as on EDSP_SETPOINT. Arrays of shape
     (N, 6) or (6,); anything else, or a non-finite value, raises ValueError
-    or TypeError naming the argument. The loops run without the GIL.
+    or TypeError naming the argument. With a calibration, `times_s` makes
+    the rows a trajectory (its rates and history, as the node follows a
+    setpoint stream); without, each pose is taken at rest. The loops run
+    without the GIL.
     """
 
-    def __init__(self, config: str):
+    def __init__(self, config, calibration=None, apply_ambiguous: bool = False):
         if not isinstance(config, (str, os.PathLike)):
             raise TypeError(f"config: want a path to a platform TOML file, got {type(config).__name__}")
-        self._k = _edsp.Kinematics(os.fspath(config))
+        if calibration is not None and not isinstance(calibration, (str, os.PathLike)):
+            raise TypeError(f"calibration: want an edsp-gap model file, got {type(calibration).__name__}")
+        for name, path in (("config", config), ("calibration", calibration)):
+            if path is not None and not os.path.isfile(path):
+                raise FileNotFoundError(f"{name}: {os.fspath(path)} does not exist")
+        try:
+            self._k = _edsp.Kinematics(os.fspath(config), os.fspath(calibration) if calibration else "",
+                                       bool(apply_ambiguous))
+        except RuntimeError as e:
+            raise ValueError(str(e)) from None
 
-    def ik(self, poses, pr_mode: str = "signed"):
-        return self._k.ik(poses, pr_mode)
+    def ik(self, poses, pr_mode: str = "signed", times_s=None):
+        return self._k.ik(poses, pr_mode, times_s)
+
+    def compensate(self, poses, pr_mode: str = "signed", times_s=None):
+        return self._k.compensate(poses, pr_mode, times_s)
+
+    def pr_twist(self, poses):
+        return self._k.pr_twist(poses)
 
     def fk(self, lengths, with_pr: bool = True):
         return self._k.fk(lengths, with_pr)
@@ -66,6 +93,11 @@ class Kinematics:
     @property
     def home(self):
         return self._k.home()
+
+    @property
+    def calibration(self) -> str:
+        """The calibration in force: what it applies and what not ("" for none)."""
+        return self._k.calibration()
 
 
 def _six(name: str, values) -> list:
@@ -104,6 +136,7 @@ class Platform:
                  lcm_url: str = "", answer_timeout_s: float = 2.0, client: str = "python"):
         if group_file is not None and not os.path.isfile(group_file):
             raise FileNotFoundError(f"group_file: {group_file} does not exist")
+        self._group_file, self._lcm_url = group_file or "", lcm_url
         if session_id is not None:
             if isinstance(session_id, bool) or not hasattr(session_id, "__index__") or session_id.__index__() < 0:
                 raise ValueError(f"session_id = {session_id!r}: want a non-negative int, or None to find it")
@@ -120,6 +153,21 @@ class Platform:
     @property
     def session_id(self) -> int:
         return self._c.session_id
+
+    def recorder(self, channels=None) -> Recording:
+        """Starts recording `channels` (names; None: every edsp channel) at
+        full rate, on the routes the group gives them; stop() or the end of
+        a with-block ends it. See Recording."""
+        try:
+            return Recording(self._group_file, self._lcm_url, channels)
+        except RuntimeError as e:
+            raise EdspError(f"recorder: {e}") from None
+
+    def record(self, channels, seconds: Optional[float] = None, until=None) -> dict:
+        """Records `channels` for `seconds`, or until `until` (a callable
+        returning true, or a threading.Event): a dict channel -> numpy
+        structured array, every field of every message, receive_utime first."""
+        return record_for(self.recorder(channels), seconds, until)
 
     def _send(self, kind, pose=(), relative=False, frame="", point=(), speed_m_s=0.0, speed_rad_s=0.0,
               accel_m_s2=0.0, accel_rad_s2=0.0, motions="", csv_text="", csv_origin=""):

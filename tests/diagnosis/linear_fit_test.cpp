@@ -65,6 +65,30 @@ TEST(GramSet, FewRunsAreCutIntoThirdsInTime) {
   EXPECT_EQ(folds[2].samples[1].count, 20);
 }
 
+// A run of one or two samples (a recording that began at the end of the
+// motion before) has nothing in some thirds: those folds take nothing of
+// it, and the fit is the fit of the long run (Eigen's product of an empty
+// block divided by zero: SIGFPE in edsp-gap evaluate).
+TEST(GramSet, ARunTooShortToSplitAddsNothingToAFold) {
+  Design d;
+  const int long_run = 300, params = 104;  // as many columns as a diagnosis has: Eigen blocks the product
+  d.columns.resize(3 * (long_run + 1), params);
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> n(0.0, 1.0);
+  for (Eigen::Index i = 0; i < d.columns.size(); ++i) d.columns.data()[i] = n(rng);
+  Eigen::VectorXd truth(params);
+  for (int k = 0; k < params; ++k) truth(k) = n(rng);
+  d.residual = d.columns * truth;
+  d.run_samples = {{0, 1}, {1, long_run}};
+  d.runs = {"end of the motion before", "Rx"};
+  const GramSet gram(d, MakeFolds(d));
+  ASSERT_EQ(gram.folds(), 3);
+  Columns cols;
+  for (int k = 0; k < params; ++k) cols.push_back(k);
+  const Eigen::VectorXd fit = gram.Solve(cols, gram.AllBut(0), Eigen::VectorXd::Zero(params));
+  EXPECT_LT((fit - truth).norm(), 1e-9 * truth.norm());
+}
+
 // A slow signal (a velocity-like column, period 200 samples) in noise that
 // is white, and in noise that is AR(1) along each axis (ρ = 0.8: 9 times
 // the variance of a white fit's coefficient). The reported σ against the

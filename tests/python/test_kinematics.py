@@ -87,3 +87,44 @@ def test_unreachable_lengths_raise_naming_the_row(kin):
     lengths[1] = [0.5, 5.0, 0.5, 5.0, 0.5, 5.0]
     with pytest.raises(ValueError, match="lengths row 1"):
         kin.fk(lengths)
+
+
+def test_compensate_is_what_ik_subtracts_and_follows_the_twist(kin):
+    import tomllib
+    with open(CONFIG, "rb") as f:
+        drive = tomllib.load(f)["drive"]
+    poses = random_poses(kin, 200)
+    geometric = kin.ik(poses, pr_mode="none")
+    assert np.abs(kin.compensate(poses, pr_mode="none")).max() == 0.0
+    for mode in ("signed", "unsigned", "asin"):
+        assert np.allclose(kin.ik(poses, pr_mode=mode), geometric - kin.compensate(poses, pr_mode=mode), atol=1e-13)
+    # The signed PR length error: the screw's twist from home, one lead per turn.
+    twist = kin.pr_twist(poses) - kin.pr_twist(kin.home)
+    wrapped = np.arctan2(np.sin(twist), np.cos(twist))
+    assert np.abs(wrapped).max() > 1e-3, "the draws twist the legs"
+    expected = drive["pr_sign"] * drive["lead_m"] / (2 * math.pi) * wrapped
+    assert np.allclose(kin.compensate(poses, pr_mode="signed"), expected, atol=1e-14)
+
+
+def test_a_pure_yaw_twists_the_legs_as_the_platform_is_symmetric(kin):
+    # The platform has three-fold symmetry about z: a yaw turns legs 1, 3, 5
+    # alike and 2, 4, 6 alike, every screw the same way.
+    yawed = kin.home.copy()
+    yawed[5] = 0.2
+    twist = kin.pr_twist(yawed)[0] - kin.pr_twist(kin.home)[0]
+    assert np.ptp(twist[0::2]) < 1e-12 and np.ptp(twist[1::2]) < 1e-12
+    assert np.all(twist > 1e-3)
+
+
+def test_times_and_calibration_arguments_are_checked(kin, tmp_path):
+    with pytest.raises(ValueError, match="times_s: row 1"):
+        kin.ik(np.array([kin.home, kin.home]), times_s=[0.0, 0.0])
+    with pytest.raises(ValueError, match="times_s: want 2 times"):
+        kin.ik(np.array([kin.home, kin.home]), times_s=[0.0])
+    with pytest.raises(FileNotFoundError, match="calibration: nowhere.json"):
+        edsp.Kinematics(CONFIG, calibration="nowhere.json")
+    broken = tmp_path / "model.json"
+    broken.write_text('{"format": "edsp-gap-model/1", "effects": [{"name": "leg_offset", "params": [1.0]}]}')
+    with pytest.raises(ValueError, match="model.json"):
+        edsp.Kinematics(CONFIG, calibration=broken)
+    assert edsp.Kinematics(CONFIG).calibration == ""

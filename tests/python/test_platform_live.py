@@ -1,7 +1,8 @@
 """edsp.Platform on a live sim group (started here by edsp-launch, inside
 the private network namespace ctest gives this test): a script moves the
-platform through a work frame about a pivot, each move ending on target
-within the config's tolerance of where it was sent; refusals, a halt and
+platform through a work frame about a pivot while recording the rig's
+streams, and each move ends on target within 1 µm of where it was sent in
+the rig's truth (recorded); refusals, a halt and
 bad input raise the exceptions that name them; a group that is not
 running raises Timeout instead of hanging."""
 import math
@@ -60,27 +61,74 @@ def connect(group):
                 raise
 
 
-def test_a_script_through_a_work_frame_lands_each_move_on_target(group):
+def test_a_script_through_a_work_frame_lands_each_move_on_target(group, tmp_path):
     rig = connect(group)
     assert rig.session_id == SESSION
     assert rig.status()["state"] == "idle"
     rig.frame("fixture", [0.05, -0.02, 1.55, 0, 0, 0.3])
     rig.pivot([0, 0, 0.3])
-    tolerance_m = 10e-6
-    for pose, frame, relative in [([0, 0, 0, 0, 0, 0], "fixture", False),
-                                  ([0, 0, 0, 0.02, 0, 0], "fixture", True),
-                                  ([0, 0.02, -0.01, 0, 0, 0], "fixture", True),
-                                  ([-0.01, 0.01, 0, 0, 0, 0.02], "home", False),
-                                  ([0.0, 0.0, 1.511, 0, 0, 0], None, False)]:
-        rig.move(pose, frame=frame, relative=relative, timeout_s=60)
-        s = rig.status()
-        assert s["on_target"], s
-        assert s["measured_valid"]
-        target, measured = np.array(s["pose_target"]), np.array(s["pose_measured"])
-        assert np.abs(measured[:3] - target[:3]).max() < tolerance_m, (pose, measured - target)
+    tolerance_m = 10e-6  # the status' measured pose: forward kinematics of the encoders
+    truth_tolerance_m, hold_s = 1e-6, 0.2
+    settled = []  # (target, from, to): the platform holds the target in between (receive clock, µs)
+    began = time.monotonic()
+    with rig.recorder(["EDSP_RIG_TRUTH", "EDSP_TRACKER", "EDSP_LEG_STATE", "EDSP_MOTION_STATUS"]) as rec:
+        for pose, frame, relative in [([0, 0, 0, 0, 0, 0], "fixture", False),
+                                      ([0, 0, 0, 0.02, 0, 0], "fixture", True),
+                                      ([0, 0.02, -0.01, 0, 0, 0], "fixture", True),
+                                      ([-0.01, 0.01, 0, 0, 0, 0.02], "home", False),
+                                      ([0.0, 0.0, 1.511, 0, 0, 0], None, False)]:
+            rig.move(pose, frame=frame, relative=relative, timeout_s=60)
+            s = rig.status()
+            assert s["on_target"], s
+            assert s["measured_valid"]
+            target, measured = np.array(s["pose_target"]), np.array(s["pose_measured"])
+            assert np.abs(measured[:3] - target[:3]).max() < tolerance_m, (pose, measured - target)
+            start = time.time_ns() // 1000
+            time.sleep(hold_s)
+            settled.append((target, start, time.time_ns() // 1000))
+    elapsed_s = time.monotonic() - began
     final = rig.status()
     assert np.abs(np.array(final["pose_commanded"]) - [0, 0, 1.511, 0, 0, 0]).max() < 1e-12
     assert final["frame"] == "base" and list(final["pivot"]) == [0, 0, 0.3]
+
+    # The recording, at full rate: the rig's 1 kHz streams over the whole script.
+    data = rec.data
+    for channel in ("EDSP_RIG_TRUTH", "EDSP_TRACKER", "EDSP_LEG_STATE"):
+        assert len(data[channel]) > 0.5 * 1000 * elapsed_s, (channel, len(data[channel]), elapsed_s)
+    assert len(data["EDSP_MOTION_STATUS"]) > 0.5 * 50 * elapsed_s
+    # Each on-target pose against the rig's truth (tracker noise 0), not the
+    # controller's own measurement: where the platform really stood.
+    truth = data["EDSP_RIG_TRUTH"]
+    for target, start, end in settled:
+        held = truth[(truth["receive_utime"] >= start) & (truth["receive_utime"] <= end)]
+        assert len(held) > 0.5 * 1000 * hold_s * 0.5, len(held)
+        error = np.abs(held["pose"] - target)
+        assert error[:, :3].max() < truth_tolerance_m, (target, error[:, :3].max())
+        assert error[:, 3:].max() < truth_tolerance_m, (target, error[:, 3:].max())
+    legs = data["EDSP_LEG_STATE"]
+    assert legs["encoder_length_m"].shape[1:] == (6,) and np.all(legs["drive_status"] == 1)
+    # Saved as an LCM log, it reads back the same (edsp-gap, edsp-log and lcm-logplayer take it).
+    back = edsp.read_log(rec.save(tmp_path / "script.lcmlog"))
+    for channel, table in data.items():
+        assert np.array_equal(back[channel]["utime"], table["utime"]), channel
+    assert np.array_equal(back["EDSP_RIG_TRUTH"]["pose"], truth["pose"])
+
+
+def test_record_for_a_time_and_its_bad_arguments(group):
+    rig = connect(group)
+    began = time.monotonic()
+    data = rig.record("EDSP_TRACKER", seconds=0.3)
+    assert time.monotonic() - began < 5
+    assert set(data) == {"EDSP_TRACKER"} and len(data["EDSP_TRACKER"]) > 50
+    flag = []
+    data = rig.record(["EDSP_LEG_STATE"], until=lambda: flag.append(1) or len(flag) > 20)
+    assert len(data["EDSP_LEG_STATE"]) > 0
+    with pytest.raises(ValueError, match="give seconds, until"):
+        rig.record("EDSP_TRACKER")
+    with pytest.raises(ValueError, match="seconds = -1"):
+        rig.record("EDSP_TRACKER", seconds=-1)
+    with pytest.raises(TypeError, match="channel names"):
+        rig.record([1], seconds=0.1)
 
 
 def test_refusals_halts_and_bad_input_raise_what_names_them(group):

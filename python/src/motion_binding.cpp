@@ -1,145 +1,29 @@
-// _edsp: the C++ side of the Python package edsp (python/edsp/__init__.py
-// is the API users see; docs/python.md). The kinematics over numpy arrays
-// with the GIL released, and the motion service's client on edsp's Bus.
-#include <pybind11/numpy.h>
-#include <pybind11/pybind11.h>
+// edsp.Platform's core: the planner's motion service and the operator's
+// requests, through the client edsp-ctl uses (planner/motion_client.h,
+// node/operator_client.h) on edsp's Bus.
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <mutex>
 #include <optional>
-#include <stdexcept>
 #include <string>
 #include <tuple>
+#include <vector>
 
 #include <fmt/format.h>
 
+#include "bindings.h"
 #include "edsp/arm_t.hpp"
 #include "edsp/calibration_t.hpp"
 #include "edsp/channels.h"
-#include "edsp/kinematics/config.h"
-#include "edsp/kinematics/forward_kinematics.h"
-#include "edsp/kinematics/passive_rotation.h"
-#include "edsp/kinematics/workspace.h"
 #include "edsp/node/operator_client.h"
 #include "edsp/planner/motion_client.h"
 #include "edsp/pr_mode_t.hpp"
 
-namespace py = pybind11;
+namespace edsp::python {
 
-namespace edsp {
 namespace {
-
-using Rows = py::array_t<double, py::array::c_style | py::array::forcecast>;
-
-// `value` as an (N, 6) float64 array, or a ValueError naming `argument`.
-Rows SixColumns(const py::handle& value, const char* argument) {
-  if (!py::isinstance<py::array>(value) && !py::isinstance<py::sequence>(value)) {
-    throw py::type_error(fmt::format("{}: want an array of shape (N, 6) or (6,), got {}", argument,
-                                     std::string(py::str(value.get_type().attr("__name__")))));
-  }
-  const py::array raw = py::array::ensure(value);
-  if (!raw) throw py::type_error(fmt::format("{}: not convertible to a float64 array", argument));
-  if (raw.dtype().kind() != 'f' && raw.dtype().kind() != 'i' && raw.dtype().kind() != 'u') {
-    throw py::type_error(fmt::format("{}: want numbers, got dtype {}", argument, std::string(py::str(raw.dtype()))));
-  }
-  Rows rows = Rows::ensure(raw);
-  if (rows.ndim() == 1 && rows.shape(0) == 6) rows = rows.reshape({py::ssize_t{1}, py::ssize_t{6}});
-  if (rows.ndim() != 2 || rows.shape(1) != 6) {
-    std::string shape;
-    for (py::ssize_t k = 0; k < rows.ndim(); ++k) shape += (k ? ", " : "") + std::to_string(rows.shape(k));
-    throw py::value_error(fmt::format("{}: want shape (N, 6) or (6,), got ({})", argument, shape));
-  }
-  const double* data = rows.data();
-  for (py::ssize_t i = 0; i < rows.shape(0) * 6; ++i) {
-    if (!std::isfinite(data[i])) {
-      throw py::value_error(fmt::format("{}: row {} column {} is {} (every value must be finite)", argument, i / 6,
-                                        i % 6, data[i]));
-    }
-  }
-  return rows;
-}
-
-PrMode ModeOf(const std::string& text) {
-  PrMode mode;
-  if (!ParsePrMode(text.c_str(), &mode)) {
-    throw py::value_error("pr_mode " + text + ": use none, unsigned, signed or asin");
-  }
-  return mode;
-}
-
-class Kinematics {
- public:
-  explicit Kinematics(const std::string& config_path) : model_(LoadConfigFile(config_path)) {}
-
-  // Commanded leg lengths for each pose, PR-compensated by `pr_mode`.
-  py::array_t<double> Ik(const py::handle& poses_in, const std::string& pr_mode) const {
-    const Rows poses = SixColumns(poses_in, "poses");
-    const PrMode mode = ModeOf(pr_mode);
-    const py::ssize_t n = poses.shape(0);
-    py::array_t<double> out({n, py::ssize_t{6}});
-    const double* in = poses.data();
-    double* lengths = out.mutable_data();
-    {
-      py::gil_scoped_release release;
-      for (py::ssize_t i = 0; i < n; ++i) {
-        const Vector6 q = Eigen::Map<const Vector6>(in + 6 * i);
-        Eigen::Map<Vector6>(lengths + 6 * i) = model_.CompensatedLengths(Pose::FromVector(q), mode);
-      }
-    }
-    return out;
-  }
-
-  // The pose for each row of leg lengths (those IK commands for `pr_mode`);
-  // a row that does not converge raises, naming it and why.
-  py::array_t<double> Fk(const py::handle& lengths_in, bool with_pr) const {
-    const Rows lengths = SixColumns(lengths_in, "lengths");
-    const py::ssize_t n = lengths.shape(0);
-    py::array_t<double> out({n, py::ssize_t{6}});
-    const double* in = lengths.data();
-    double* poses = out.mutable_data();
-    std::string failure;
-    {
-      py::gil_scoped_release release;
-      FkOptions options;
-      options.with_pr = with_pr;
-      Pose guess = model_.home_pose();
-      for (py::ssize_t i = 0; i < n && failure.empty(); ++i) {
-        const FkResult r = SolveForward(model_, Eigen::Map<const Vector6>(in + 6 * i), guess, options);
-        if (!r.ok()) {
-          failure = fmt::format("lengths row {}: forward kinematics {} (residual {:.3g} m)", i, FkStatusName(r.status),
-                                r.residual_m);
-          break;
-        }
-        Eigen::Map<Vector6>(poses + 6 * i) = r.pose.ToVector();
-        guess = r.pose;  // rows are usually a trajectory: start from the last
-      }
-    }
-    if (!failure.empty()) throw py::value_error(failure);
-    return out;
-  }
-
-  // None for a pose inside the workspace, else what limit it crosses.
-  std::vector<std::optional<std::string>> Check(const py::handle& poses_in) const {
-    const Rows poses = SixColumns(poses_in, "poses");
-    std::vector<std::optional<std::string>> out;
-    for (py::ssize_t i = 0; i < poses.shape(0); ++i) {
-      const WorkspaceCheck c = CheckWorkspace(model_, Pose::FromVector(Eigen::Map<const Vector6>(poses.data() + 6 * i)));
-      out.push_back(c.ok() ? std::nullopt : std::optional<std::string>(c.Describe()));
-    }
-    return out;
-  }
-
-  py::array_t<double> Home() const {
-    py::array_t<double> out(py::ssize_t{6});
-    Eigen::Map<Vector6>(out.mutable_data()) = model_.home_pose().ToVector();
-    return out;
-  }
-
- private:
-  PlatformModel model_;
-};
 
 py::dict ReplyDict(const motion_reply_t& r) {
   py::dict d;
@@ -297,33 +181,27 @@ class Client {
 };
 
 }  // namespace
-}  // namespace edsp
 
-PYBIND11_MODULE(_edsp, m) {
-  m.doc() = "edsp's C++ core: kinematics on numpy arrays and the motion service's client";
-  py::class_<edsp::Kinematics>(m, "Kinematics")
-      .def(py::init<const std::string&>(), py::arg("config"))
-      .def("ik", &edsp::Kinematics::Ik, py::arg("poses"), py::arg("pr_mode") = "signed")
-      .def("fk", &edsp::Kinematics::Fk, py::arg("lengths"), py::arg("with_pr") = true)
-      .def("check", &edsp::Kinematics::Check, py::arg("poses"))
-      .def("home", &edsp::Kinematics::Home);
-  py::class_<edsp::Client>(m, "Client")
+void BindMotion(py::module_& m) {
+  py::class_<Client>(m, "Client")
       .def(py::init<const std::string&, const std::string&, std::optional<std::int64_t>, double, const std::string&>(),
            py::arg("group_file"), py::arg("lcm_url"), py::arg("session_id"), py::arg("answer_timeout_s"),
            py::arg("client_name"))
-      .def_property_readonly("session_id", &edsp::Client::session_id)
-      .def("send", &edsp::Client::Send)
-      .def("status", &edsp::Client::Status)
-      .def("wait", &edsp::Client::Wait)
-      .def("arm", &edsp::Client::Arm)
-      .def("pr_mode", &edsp::Client::PrMode)
-      .def("calibration", &edsp::Client::Calibration);
-  m.attr("KIND_MOVE") = edsp::motion_request_t::KIND_MOVE;
-  m.attr("KIND_CHECK") = edsp::motion_request_t::KIND_CHECK;
-  m.attr("KIND_RUN") = edsp::motion_request_t::KIND_RUN;
-  m.attr("KIND_HALT") = edsp::motion_request_t::KIND_HALT;
-  m.attr("KIND_STOP") = edsp::motion_request_t::KIND_STOP;
-  m.attr("KIND_FRAME") = edsp::motion_request_t::KIND_FRAME;
-  m.attr("KIND_PIVOT") = edsp::motion_request_t::KIND_PIVOT;
-  m.attr("KIND_LIMITS") = edsp::motion_request_t::KIND_LIMITS;
+      .def_property_readonly("session_id", &Client::session_id)
+      .def("send", &Client::Send)
+      .def("status", &Client::Status)
+      .def("wait", &Client::Wait)
+      .def("arm", &Client::Arm)
+      .def("pr_mode", &Client::PrMode)
+      .def("calibration", &Client::Calibration);
+  m.attr("KIND_MOVE") = motion_request_t::KIND_MOVE;
+  m.attr("KIND_CHECK") = motion_request_t::KIND_CHECK;
+  m.attr("KIND_RUN") = motion_request_t::KIND_RUN;
+  m.attr("KIND_HALT") = motion_request_t::KIND_HALT;
+  m.attr("KIND_STOP") = motion_request_t::KIND_STOP;
+  m.attr("KIND_FRAME") = motion_request_t::KIND_FRAME;
+  m.attr("KIND_PIVOT") = motion_request_t::KIND_PIVOT;
+  m.attr("KIND_LIMITS") = motion_request_t::KIND_LIMITS;
 }
+
+}  // namespace edsp::python

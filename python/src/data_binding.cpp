@@ -1,0 +1,161 @@
+// edsp.read_log and Platform.record's core: LCM logs and live recordings
+// decoded in C++ into one column per field (logger/message_columns.h),
+// which python/edsp/_data.py assembles into numpy structured arrays.
+#include <pybind11/stl.h>
+
+#include <cstdint>
+#include <cstring>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "bindings.h"
+#include "edsp/channels.h"
+#include "edsp/logger/bus_recording.h"
+#include "edsp/logger/message_columns.h"
+#include "edsp/transport/transport_config.h"
+
+namespace edsp::python {
+
+namespace {
+
+const char* DtypeOf(ColumnKind kind) {
+  switch (kind) {
+    case ColumnKind::kInt8: return "i1";
+    case ColumnKind::kInt32: return "i4";
+    case ColumnKind::kInt64: return "i8";
+    case ColumnKind::kDouble: return "f8";
+    case ColumnKind::kText: return "O";
+  }
+  return "O";
+}
+
+// Text as sent; bytes that are not UTF-8 (a foreign or damaged sender) as U+FFFD.
+py::str Text(const std::string& s) {
+  PyObject* text = PyUnicode_DecodeUTF8(s.data(), static_cast<Py_ssize_t>(s.size()), "replace");
+  if (text == nullptr) throw py::error_already_set();
+  return py::reinterpret_steal<py::str>(text);
+}
+
+py::object ColumnArray(const Column& column, py::ssize_t rows) {
+  if (column.kind == ColumnKind::kText) {
+    py::list texts;
+    for (const std::string& s : column.text) texts.append(Text(s));
+    return std::move(texts);
+  }
+  std::vector<py::ssize_t> shape{rows};
+  for (std::size_t n : column.shape) shape.push_back(static_cast<py::ssize_t>(n));
+  py::array out{py::dtype(DtypeOf(column.kind)), shape};
+  if (!column.values.empty()) std::memcpy(out.mutable_data(), column.values.data(), column.values.size());
+  return std::move(out);
+}
+
+// (type, skipped, [(name, column), ...]): the receive stamp first, then
+// the type's fields in order; a column is an array of (rows, shape...) or
+// a list of str.
+py::tuple Table(const ChannelColumns& table) {
+  const py::ssize_t rows = table.rows();
+  py::list columns;
+  py::array_t<std::int64_t> receive(rows);
+  if (rows > 0) std::memcpy(receive.mutable_data(), table.receive_utime.data(), sizeof(std::int64_t) * rows);
+  columns.append(py::make_tuple("receive_utime", receive));
+  for (const Column& column : table.columns) columns.append(py::make_tuple(column.name, ColumnArray(column, rows)));
+  return py::make_tuple(table.type, table.skipped, columns);
+}
+
+py::dict Tables(const MessageColumns& messages) {
+  py::dict out;
+  for (const auto& [channel, table] : messages.channels()) out[py::str(channel)] = Table(table);
+  return out;
+}
+
+// ({channel: table}, {"unknown": {channel: count}, "damaged": bool, "damage_offset": int}).
+py::tuple ReadLog(const std::string& path, const std::optional<std::vector<std::string>>& channels) {
+  const std::set<std::string> wanted = channels ? std::set<std::string>(channels->begin(), channels->end())
+                                                : std::set<std::string>{};
+  LogColumns log;
+  {
+    py::gil_scoped_release release;
+    log = ReadLogColumns(path, [&](const std::string& c) { return !channels || wanted.count(c) > 0; });
+  }
+  py::dict info;
+  info["unknown"] = log.messages.unknown();
+  info["damaged"] = log.damaged;
+  info["damage_offset"] = log.damage_offset;
+  return py::make_tuple(Tables(log.messages), info);
+}
+
+py::tuple EmptyTable(const std::string& type_name) { return Table(EmptyColumns(type_name)); }
+
+// A POSIX extended regex matching exactly these channel names.
+std::string PatternOf(const std::vector<std::string>& channels) {
+  std::string pattern;
+  for (const std::string& name : channels) {
+    if (!pattern.empty()) pattern += '|';
+    for (char c : name) {
+      if (std::string(".[]{}()\\*+?^$|").find(c) != std::string::npos) pattern += '\\';
+      pattern += c;
+    }
+  }
+  return pattern;
+}
+
+class Recording {
+ public:
+  Recording(const std::string& group_file, const std::string& lcm_url, const std::vector<std::string>& channels,
+            std::int64_t max_bytes)
+      : recording_(Transport(group_file, lcm_url), PatternOf(channels), max_bytes) {}
+
+  void Stop() {
+    py::gil_scoped_release release;
+    recording_.Stop();
+  }
+  py::dict Stats() const {
+    const BusRecordingStats s = recording_.stats();
+    py::dict d;
+    d["messages"] = s.messages, d["bytes"] = s.bytes, d["dropped"] = s.dropped, d["error"] = s.error;
+    return d;
+  }
+  py::dict Columns() const {
+    MessageColumns columns;
+    {
+      py::gil_scoped_release release;
+      columns = recording_.Columns();
+    }
+    return Tables(columns);
+  }
+  void Save(const std::string& path) const {
+    py::gil_scoped_release release;
+    recording_.Save(path);
+  }
+
+ private:
+  // The group's own routes: a channel it carries on shared memory is read there, whole.
+  static TransportConfig Transport(const std::string& group_file, const std::string& lcm_url) {
+    TransportConfig config = group_file.empty() ? TransportConfig{} : LoadTransportConfig(group_file);
+    if (!lcm_url.empty()) config.lcm_url = lcm_url;
+    return config;
+  }
+
+  BusRecording recording_;
+};
+
+}  // namespace
+
+void BindData(py::module_& m) {
+  m.def("read_log", &ReadLog, py::arg("path"), py::arg("channels"));
+  m.def("empty_table", &EmptyTable, py::arg("type_name"));
+  py::dict channels;
+  for (const channel::Channel& c : channel::kChannels) channels[py::str(std::string(c.name))] = std::string(c.type);
+  m.attr("CHANNELS") = channels;
+  py::class_<Recording>(m, "Recording")
+      .def(py::init<const std::string&, const std::string&, const std::vector<std::string>&, std::int64_t>(),
+           py::arg("group_file"), py::arg("lcm_url"), py::arg("channels"), py::arg("max_bytes"))
+      .def("stop", &Recording::Stop)
+      .def("stats", &Recording::Stats)
+      .def("columns", &Recording::Columns)
+      .def("save", &Recording::Save, py::arg("path"));
+}
+
+}  // namespace edsp::python

@@ -1,0 +1,205 @@
+// edsp.Kinematics: inverse and forward kinematics, the PR twist and the
+// corrections the kinematics node subtracts (PR and a calibration), over
+// (N, 6) numpy arrays, each loop run with the GIL released.
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "bindings.h"
+#include "edsp/kinematics/calibration.h"
+#include "edsp/kinematics/config.h"
+#include "edsp/kinematics/forward_kinematics.h"
+#include "edsp/kinematics/workspace.h"
+
+namespace edsp::python {
+
+namespace {
+
+using Times = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+// `times_s` for `rows` poses: strictly increasing finite seconds, or a
+// ValueError naming the first that is not.
+Times CheckedTimes(const py::handle& value, py::ssize_t rows) {
+  const Times times = Times::ensure(value);
+  if (!times || times.ndim() != 1 || times.shape(0) != rows) {
+    throw py::value_error(fmt::format("times_s: want {} times (one per pose, shape ({},))", rows, rows));
+  }
+  const double* t = times.data();
+  for (py::ssize_t i = 0; i < rows; ++i) {
+    if (!std::isfinite(t[i])) throw py::value_error(fmt::format("times_s: row {} is {} (must be finite)", i, t[i]));
+    if (i > 0 && !(t[i] > t[i - 1])) {
+      throw py::value_error(fmt::format("times_s: row {} ({} s) does not come after row {} ({} s)", i, t[i], i - 1,
+                                        t[i - 1]));
+    }
+  }
+  return times;
+}
+
+// The pose's rates at row i of a sampled trajectory: central differences
+// (one-sided at the ends), for unevenly spaced samples too.
+void Rates(const double* q, const double* t, py::ssize_t n, py::ssize_t i, Vector6* velocity, Vector6* accel) {
+  velocity->setZero(), accel->setZero();
+  if (n < 2) return;
+  const auto row = [q](py::ssize_t k) { return Eigen::Map<const Vector6>(q + 6 * k); };
+  const py::ssize_t a = i == 0 ? 0 : i - 1, b = i == n - 1 ? n - 1 : i + 1;
+  *velocity = (row(b) - row(a)) / (t[b] - t[a]);
+  if (i == 0 || i == n - 1) return;
+  const double h1 = t[i] - t[i - 1], h2 = t[i + 1] - t[i];
+  *accel = 2.0 * ((row(i + 1) - row(i)) / h2 - (row(i) - row(i - 1)) / h1) / (h1 + h2);
+}
+
+class Kinematics {
+ public:
+  Kinematics(const std::string& config_path, const std::string& calibration_path, bool apply_ambiguous)
+      : model_(LoadConfigFile(config_path)) {
+    if (!calibration_path.empty()) calibration_ = calibration::LoadCalibration(calibration_path, model_, apply_ambiguous);
+  }
+
+  // What the command subtracts from each pose's IK lengths: the PR length
+  // error `pr_mode` predicts, and the calibration's correction (with
+  // `times_s`, the rows as a trajectory followed by one compensator; without,
+  // each pose at rest on its own).
+  py::array_t<double> Compensate(const py::handle& poses_in, const std::string& pr_mode,
+                                 const py::handle& times_in) const {
+    const Rows poses = SixColumns(poses_in, "poses");
+    const PrMode mode = ModeOf(pr_mode);
+    const py::ssize_t n = poses.shape(0);
+    const std::optional<Times> times =
+        times_in.is_none() ? std::nullopt : std::optional<Times>(CheckedTimes(times_in, n));
+    py::array_t<double> out({n, py::ssize_t{6}});
+    const double* q = poses.data();
+    const double* t = times ? times->data() : nullptr;
+    double* corrections = out.mutable_data();
+    {
+      py::gil_scoped_release release;
+      std::optional<calibration::LegCompensator> along;  // the trajectory's, with times
+      for (py::ssize_t i = 0; i < n; ++i) {
+        const Pose pose = Pose::FromVector(Eigen::Map<const Vector6>(q + 6 * i));
+        const Vector6 pr = model_.PrLengthError(pose, mode);
+        Vector6 correction = pr;
+        if (calibration_) {
+          const Vector6 command = model_.LegLengths(pose) - pr;
+          Vector6 velocity = Vector6::Zero(), accel = Vector6::Zero();
+          if (t != nullptr) Rates(q, t, n, i, &velocity, &accel);
+          std::optional<calibration::LegCompensator> at_rest;
+          calibration::LegCompensator& compensator =
+              t != nullptr ? (along ? *along : along.emplace(model_, *calibration_)) : at_rest.emplace(model_, *calibration_);
+          correction += compensator.Step(t != nullptr ? t[i] : 0.0, pose, velocity, accel, command).command_m;
+        }
+        Eigen::Map<Vector6>(corrections + 6 * i) = correction;
+      }
+    }
+    return out;
+  }
+
+  // The leg lengths to command for each pose: IK − Compensate.
+  py::array_t<double> Ik(const py::handle& poses_in, const std::string& pr_mode, const py::handle& times_in) const {
+    const Rows poses = SixColumns(poses_in, "poses");
+    const PrMode mode = ModeOf(pr_mode);
+    if (!times_in.is_none()) CheckedTimes(times_in, poses.shape(0));  // named even where unused
+    py::array_t<double> out = calibration_ ? Compensate(poses, pr_mode, times_in) : py::array_t<double>({poses.shape(0), py::ssize_t{6}});
+    const double* q = poses.data();
+    double* lengths = out.mutable_data();
+    {
+      py::gil_scoped_release release;
+      for (py::ssize_t i = 0; i < poses.shape(0); ++i) {
+        const Pose pose = Pose::FromVector(Eigen::Map<const Vector6>(q + 6 * i));
+        Eigen::Map<Vector6> row(lengths + 6 * i);
+        // Without a calibration, the node's own one-pass formula (the fast path).
+        row = calibration_ ? Vector6(model_.LegLengths(pose) - row) : model_.CompensatedLengths(pose, mode);
+      }
+    }
+    return out;
+  }
+
+  // The signed twist of every leg's screw (rad) at each pose.
+  py::array_t<double> PrTwist(const py::handle& poses_in) const {
+    const Rows poses = SixColumns(poses_in, "poses");
+    const py::ssize_t n = poses.shape(0);
+    py::array_t<double> out({n, py::ssize_t{6}});
+    const double* q = poses.data();
+    double* twist = out.mutable_data();
+    {
+      py::gil_scoped_release release;
+      for (py::ssize_t i = 0; i < n; ++i) {
+        Eigen::Map<Vector6>(twist + 6 * i) = model_.Solve(Pose::FromVector(Eigen::Map<const Vector6>(q + 6 * i))).twist_rad;
+      }
+    }
+    return out;
+  }
+
+  // The pose for each row of leg lengths (those IK commands for `pr_mode`);
+  // a row that does not converge raises, naming it and why.
+  py::array_t<double> Fk(const py::handle& lengths_in, bool with_pr) const {
+    const Rows lengths = SixColumns(lengths_in, "lengths");
+    const py::ssize_t n = lengths.shape(0);
+    py::array_t<double> out({n, py::ssize_t{6}});
+    const double* in = lengths.data();
+    double* poses = out.mutable_data();
+    std::string failure;
+    {
+      py::gil_scoped_release release;
+      FkOptions options;
+      options.with_pr = with_pr;
+      Pose guess = model_.home_pose();
+      for (py::ssize_t i = 0; i < n && failure.empty(); ++i) {
+        const FkResult r = SolveForward(model_, Eigen::Map<const Vector6>(in + 6 * i), guess, options);
+        if (!r.ok()) {
+          failure = fmt::format("lengths row {}: forward kinematics {} (residual {:.3g} m)", i, FkStatusName(r.status),
+                                r.residual_m);
+          break;
+        }
+        Eigen::Map<Vector6>(poses + 6 * i) = r.pose.ToVector();
+        guess = r.pose;  // rows are usually a trajectory: start from the last
+      }
+    }
+    if (!failure.empty()) throw py::value_error(failure);
+    return out;
+  }
+
+  // None for a pose inside the workspace, else what limit it crosses.
+  std::vector<std::optional<std::string>> Check(const py::handle& poses_in) const {
+    const Rows poses = SixColumns(poses_in, "poses");
+    std::vector<std::optional<std::string>> out;
+    for (py::ssize_t i = 0; i < poses.shape(0); ++i) {
+      const WorkspaceCheck c = CheckWorkspace(model_, Pose::FromVector(Eigen::Map<const Vector6>(poses.data() + 6 * i)));
+      out.push_back(c.ok() ? std::nullopt : std::optional<std::string>(c.Describe()));
+    }
+    return out;
+  }
+
+  py::array_t<double> Home() const {
+    py::array_t<double> out(py::ssize_t{6});
+    Eigen::Map<Vector6>(out.mutable_data()) = model_.home_pose().ToVector();
+    return out;
+  }
+
+  // The calibration in force: what it applies and what not; "" for none.
+  std::string CalibrationText() const { return calibration_ ? calibration_->Describe() : ""; }
+
+ private:
+  PlatformModel model_;
+  std::optional<calibration::CalibrationModel> calibration_;
+};
+
+}  // namespace
+
+void BindKinematics(py::module_& m) {
+  py::class_<Kinematics>(m, "Kinematics")
+      .def(py::init<const std::string&, const std::string&, bool>(), py::arg("config"), py::arg("calibration"),
+           py::arg("apply_ambiguous"))
+      .def("ik", &Kinematics::Ik, py::arg("poses"), py::arg("pr_mode"), py::arg("times_s"))
+      .def("compensate", &Kinematics::Compensate, py::arg("poses"), py::arg("pr_mode"), py::arg("times_s"))
+      .def("pr_twist", &Kinematics::PrTwist, py::arg("poses"))
+      .def("fk", &Kinematics::Fk, py::arg("lengths"), py::arg("with_pr"))
+      .def("check", &Kinematics::Check, py::arg("poses"))
+      .def("home", &Kinematics::Home)
+      .def("calibration", &Kinematics::CalibrationText);
+}
+
+}  // namespace edsp::python

@@ -1,0 +1,225 @@
+// Messages as columns (the Python package's numpy arrays): every field in
+// the .lcm order with its shape and exact value, matrices row-major, text
+// kept; a channel keeps its first type and counts the rest; foreign packets
+// are counted by channel; an empty table of a type has the decoded one's
+// columns; a log is read up to its damage. And a live recording from the
+// Bus: every message of a shared-memory ring, the bound on memory, the
+// recording saved as a log that reads back the same.
+#include <unistd.h>
+
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "edsp/leg_state_t.hpp"
+#include "edsp/logger/bus_recording.h"
+#include "edsp/logger/message_columns.h"
+#include "edsp/platform_config_t.hpp"
+#include "edsp/tracker_point_t.hpp"
+#include "log_builder.h"  // tests/support
+#include "memq_bus.h"     // tests/support
+
+namespace edsp {
+namespace {
+
+template <typename Msg>
+std::vector<std::uint8_t> Encode(const Msg& msg) {
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(msg.getEncodedSize()));
+  msg.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  return bytes;
+}
+
+leg_state_t LegState(std::int64_t seq) {
+  leg_state_t m{};
+  m.utime = 1000 + seq, m.seq = seq, m.command_seq = seq - 1;
+  for (int i = 0; i < 6; ++i) {
+    m.motor_angle_rad[i] = 0.1 * i + static_cast<double>(seq), m.encoder_length_m[i] = 1.5 + 1e-6 * i;
+    m.drive_status[i] = static_cast<std::int8_t>(i % 3);
+  }
+  return m;
+}
+
+const Column& Named(const ChannelColumns& table, const std::string& name) {
+  for (const Column& c : table.columns) {
+    if (c.name == name) return c;
+  }
+  throw std::runtime_error("no column " + name);
+}
+
+template <typename T>
+T At(const Column& column, std::size_t index) {
+  T value;
+  std::memcpy(&value, column.values.data() + index * sizeof(T), sizeof(T));
+  return value;
+}
+
+TEST(MessageColumns, EveryFieldInOrderWithItsShapeAndValue) {
+  MessageColumns columns;
+  for (std::int64_t seq = 0; seq < 3; ++seq) {
+    const auto bytes = Encode(LegState(seq));
+    columns.Add("EDSP_LEG_STATE", bytes.data(), bytes.size(), 500 + seq);
+  }
+  const ChannelColumns& t = columns.channels().at("EDSP_LEG_STATE");
+  EXPECT_EQ(t.type, "edsp.leg_state_t");
+  EXPECT_EQ(t.receive_utime, (std::vector<std::int64_t>{500, 501, 502}));
+  std::vector<std::string> names;
+  for (const Column& c : t.columns) names.push_back(c.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"utime", "seq", "command_seq", "motor_angle_rad", "motor_velocity_rad_s",
+                                             "encoder_length_m", "drive_status"}));
+  const Column& angles = Named(t, "motor_angle_rad");
+  EXPECT_EQ(angles.kind, ColumnKind::kDouble);
+  EXPECT_EQ(angles.shape, std::vector<std::size_t>{6});
+  EXPECT_EQ(angles.values.size(), 3 * 6 * sizeof(double));
+  EXPECT_EQ(At<double>(angles, 2 * 6 + 4), 0.1 * 4 + 2.0);
+  const Column& status = Named(t, "drive_status");
+  EXPECT_EQ(status.kind, ColumnKind::kInt8);
+  EXPECT_EQ(At<std::int8_t>(status, 6 + 5), 2);
+  EXPECT_EQ(At<std::int64_t>(Named(t, "command_seq"), 2), 1);
+}
+
+TEST(MessageColumns, MatricesAreRowMajorAndTextIsKept) {
+  platform_config_t config{};
+  config.preset = "huang2021";
+  config.config_toml = "[geometry]\nbase_radius_m = 1.0\n";
+  for (int i = 0; i < 6; ++i) {
+    for (int k = 0; k < 3; ++k) config.base_joints_m[i][k] = 10 * i + k;
+  }
+  MessageColumns columns;
+  const auto bytes = Encode(config);
+  columns.Add("EDSP_CONFIG", bytes.data(), bytes.size(), 1);
+  const ChannelColumns& t = columns.channels().at("EDSP_CONFIG");
+  const Column& joints = Named(t, "base_joints_m");
+  EXPECT_EQ(joints.shape, (std::vector<std::size_t>{6, 3}));
+  EXPECT_EQ(At<double>(joints, 4 * 3 + 2), 42.0);
+  EXPECT_EQ(Named(t, "config_toml").text, std::vector<std::string>{config.config_toml});
+  EXPECT_EQ(Named(t, "preset").kind, ColumnKind::kText);
+}
+
+TEST(MessageColumns, AChannelKeepsItsFirstTypeAndForeignPacketsAreCounted) {
+  MessageColumns columns;
+  const auto state = Encode(LegState(1));
+  tracker_point_t point{};
+  const auto other = Encode(point);
+  const std::vector<std::uint8_t> foreign(40, 0x5a);
+  columns.Add("EDSP_LEG_STATE", foreign.data(), foreign.size(), 1);  // before the first decodable one
+  columns.Add("EDSP_LEG_STATE", state.data(), state.size(), 2);
+  columns.Add("EDSP_LEG_STATE", other.data(), other.size(), 3);
+  columns.Add("EDSP_LEG_STATE", state.data(), 20, 4);  // truncated
+  columns.Add("OTHER", foreign.data(), foreign.size(), 5);
+  const ChannelColumns& t = columns.channels().at("EDSP_LEG_STATE");
+  EXPECT_EQ(t.rows(), 1);
+  EXPECT_EQ(t.skipped, 3);
+  EXPECT_EQ(columns.unknown(), (std::map<std::string, std::int64_t, std::less<>>{{"OTHER", 1}}));
+  EXPECT_EQ(columns.channels().count("OTHER"), 0u);
+}
+
+TEST(MessageColumns, AnEmptyTableHasTheColumnsOfADecodedOne) {
+  MessageColumns columns;
+  const auto bytes = Encode(LegState(1));
+  columns.Add("EDSP_LEG_STATE", bytes.data(), bytes.size(), 1);
+  const ChannelColumns decoded = columns.channels().at("EDSP_LEG_STATE");
+  for (const char* name : {"leg_state_t", "edsp.leg_state_t"}) {
+    const ChannelColumns empty = EmptyColumns(name);
+    EXPECT_EQ(empty.type, "edsp.leg_state_t");
+    EXPECT_EQ(empty.rows(), 0);
+    ASSERT_EQ(empty.columns.size(), decoded.columns.size());
+    for (std::size_t i = 0; i < empty.columns.size(); ++i) {
+      EXPECT_EQ(empty.columns[i].name, decoded.columns[i].name);
+      EXPECT_EQ(empty.columns[i].shape, decoded.columns[i].shape);
+      EXPECT_TRUE(empty.columns[i].values.empty());
+    }
+  }
+  EXPECT_THROW(EmptyColumns("no_such_t"), std::invalid_argument);
+}
+
+TEST(MessageColumns, ALogIsReadUpToItsDamageAndFiltered) {
+  const std::string path = testing::TempDir() + "/columns_" + std::to_string(::getpid()) + ".lcmlog";
+  {
+    test_support::LogBuilder log(path);
+    for (std::int64_t seq = 0; seq < 4; ++seq) log.Add("EDSP_LEG_STATE", LegState(seq));
+    log.Add("EDSP_TRACKER", tracker_point_t{});
+  }
+  {
+    std::ofstream tail(path, std::ios::app | std::ios::binary);
+    tail << "\xED\xA1\xDA\x01torn";
+  }
+  const LogColumns all = ReadLogColumns(path, [](const std::string&) { return true; });
+  EXPECT_EQ(all.messages.channels().at("EDSP_LEG_STATE").rows(), 4);
+  EXPECT_EQ(all.messages.channels().at("EDSP_TRACKER").rows(), 1);
+  EXPECT_TRUE(all.damaged);
+  const LogColumns some = ReadLogColumns(path, [](const std::string& c) { return c == "EDSP_TRACKER"; });
+  EXPECT_EQ(some.messages.channels().size(), 1u);
+  std::filesystem::remove(path);
+  EXPECT_THROW(ReadLogColumns(path, [](const std::string&) { return true; }), std::runtime_error);
+}
+
+// The recorder reads a shared-memory channel from its ring, as the group
+// routes it: every message another process's Bus wrote after it started.
+TEST(BusRecording, RecordsEveryMessageOfARingAndSavesThemAsALog) {
+  TransportConfig config = test_support::MemqConfig("bus_recording");
+  config.channels["EDSP_LEG_STATE"].path = ChannelPath::kShm;
+  BusRecording recording(config, "EDSP_LEG_STATE", 1 << 20);
+  {
+    Bus writer(config);  // another process's Bus: the same ring
+    auto states = writer.Advertise<leg_state_t>("EDSP_LEG_STATE");
+    for (std::int64_t seq = 1; seq <= 50; ++seq) ASSERT_TRUE(states.Publish(LegState(seq)));
+    for (int wait = 0; wait < 200 && recording.stats().messages < 50; ++wait) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  }
+  recording.Stop();
+  const BusRecordingStats stats = recording.stats();
+  EXPECT_EQ(stats.messages, 50);
+  EXPECT_EQ(stats.dropped, 0);
+  EXPECT_EQ(stats.error, "");
+  const MessageColumns columns = recording.Columns();
+  const ChannelColumns& t = columns.channels().at("EDSP_LEG_STATE");
+  ASSERT_EQ(t.rows(), 50);
+  EXPECT_EQ(At<std::int64_t>(Named(t, "seq"), 0), 1);
+  EXPECT_EQ(At<std::int64_t>(Named(t, "seq"), 49), 50);
+
+  const std::string path = testing::TempDir() + "/recording_" + std::to_string(::getpid()) + ".lcmlog";
+  recording.Save(path);
+  recording.Save(path);  // replaced, not appended
+  const LogColumns back = ReadLogColumns(path, [](const std::string&) { return true; });
+  const ChannelColumns& read = back.messages.channels().at("EDSP_LEG_STATE");
+  EXPECT_EQ(read.receive_utime, t.receive_utime);
+  EXPECT_EQ(Named(read, "motor_angle_rad").values, Named(t, "motor_angle_rad").values);
+  EXPECT_FALSE(back.damaged);
+  std::filesystem::remove(path);
+  EXPECT_THROW(recording.Save("/no/such/dir/x.lcmlog"), std::runtime_error);
+}
+
+TEST(BusRecording, KeepsWhatFitsAndCountsTheRest) {
+  TransportConfig config = test_support::MemqConfig("bus_recording_bound");
+  config.channels["EDSP_LEG_STATE"].path = ChannelPath::kShm;
+  const std::int64_t one = static_cast<std::int64_t>(Encode(LegState(1)).size());
+  BusRecording recording(config, "EDSP_LEG_STATE", 10 * one);
+  Bus writer(config);
+  auto states = writer.Advertise<leg_state_t>("EDSP_LEG_STATE");
+  for (std::int64_t seq = 1; seq <= 25; ++seq) ASSERT_TRUE(states.Publish(LegState(seq)));
+  for (int wait = 0; wait < 200 && recording.stats().messages + recording.stats().dropped < 25; ++wait) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  recording.Stop();
+  EXPECT_EQ(recording.stats().messages, 10);
+  EXPECT_EQ(recording.stats().dropped, 15);
+  EXPECT_EQ(recording.Columns().channels().at("EDSP_LEG_STATE").rows(), 10);
+}
+
+TEST(BusRecording, ABadPatternIsNamed) {
+  try {
+    BusRecording recording(test_support::MemqConfig("bus_recording_bad"), "EDSP_(", 1 << 20);
+    FAIL() << "a pattern that is no regex was taken";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("EDSP_("), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace edsp

@@ -1,0 +1,28 @@
+"""examples/calibrate.py, as a user runs it (inside the private network
+namespace ctest gives this test): it starts the calibrate group, measures,
+diagnoses, applies the model live and verifies on a motion the fit never
+saw. The held-out error must fall to less than half, and the model's own
+prediction of it must be within a factor of two of what was measured."""
+import os
+import re
+import subprocess
+import sys
+
+SOURCE = os.environ.get("EDSP_SOURCE_DIR", ".")
+BIN = os.environ.get("EDSP_BIN_DIR", os.path.join(SOURCE, "build", "bin"))
+
+
+def test_the_example_closes_the_calibration_loop(tmp_path):
+    run = subprocess.run([sys.executable, os.path.join(SOURCE, "examples", "calibrate.py"), "--out", str(tmp_path),
+                          "--bin-dir", BIN, "--held-out", "M3"], capture_output=True, text=True, timeout=600)
+    print(run.stdout, run.stderr)
+    assert run.returncode == 0, run.stdout + run.stderr
+    figures = re.search(r"([\d.]+) µm RMS without, ([\d.]+) µm RMS with the calibration "
+                        r"\(the model predicted ([\d.]+) µm\)", run.stdout)
+    assert figures, run.stdout
+    before, after, predicted = (float(v) for v in figures.groups())
+    assert after < 0.5 * before, (before, after)
+    assert 0.5 * after < predicted < 2 * after, (after, predicted)
+    for log in ("fit", "before", "after"):
+        assert os.path.getsize(tmp_path / f"{log}.lcmlog") > 1e6
+    assert (tmp_path / "model.json").exists()
