@@ -61,6 +61,7 @@ GramSet GramSet::WithAppendedColumns(const Design& d, const Eigen::MatrixXd& ext
     Eigen::MatrixXd B = Eigen::MatrixXd::Zero(p, m), D = Eigen::MatrixXd::Zero(m, m);
     Eigen::VectorXd e = Eigen::VectorXd::Zero(m);
     for (const ColumnRange& s : folds_[k].samples) {
+      if (s.count <= 0) continue;  // as in the constructor
       const auto C = d.columns.middleRows(3 * s.begin, 3 * s.count);
       const auto X = extra.middleRows(3 * s.begin, 3 * s.count);
       const auto r = d.residual.segment(3 * s.begin, 3 * s.count);

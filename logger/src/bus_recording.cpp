@@ -17,7 +17,7 @@ constexpr auto kHandleSlice = std::chrono::milliseconds(20);  // how soon Stop()
 
 BusRecording::BusRecording(const TransportConfig& config, const std::string& channel_pattern, std::int64_t max_bytes)
     : bus_(std::make_unique<Bus>(config)), max_bytes_(max_bytes) {
-  bus_->SubscribeRaw(channel_pattern, [this](const std::string& channel, const std::uint8_t* data,
+  shm_channels_ = bus_->SubscribeRaw(channel_pattern, [this](const std::string& channel, const std::uint8_t* data,
                                              std::uint32_t size) { Keep(channel, data, size); });
   thread_ = std::thread([this] { Run(); });
 }
@@ -26,7 +26,13 @@ BusRecording::~BusRecording() { Stop(); }
 
 void BusRecording::Stop() {
   stopping_ = true;
-  if (thread_.joinable()) thread_.join();
+  std::call_once(stopped_, [this] {
+    if (thread_.joinable()) thread_.join();
+    std::int64_t overruns = 0;
+    for (const std::string& channel : shm_channels_) overruns += static_cast<std::int64_t>(bus_->Counters(channel).overruns);
+    const std::lock_guard<std::mutex> lock(mutex_);
+    stats_.overruns = overruns;
+  });
 }
 
 void BusRecording::Run() {

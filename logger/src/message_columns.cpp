@@ -5,6 +5,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <cstring>
 #include <stdexcept>
 #include <type_traits>
 #include <utility>
@@ -84,7 +86,7 @@ class MappedFile {
  public:
   explicit MappedFile(const std::string& path) {
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd < 0) throw std::runtime_error(path + ": no such log file");
+    if (fd < 0) throw std::runtime_error(path + ": cannot open as an LCM log (" + std::strerror(errno) + ")");
     struct stat st {};
     if (::fstat(fd, &st) != 0) {
       ::close(fd);
@@ -204,7 +206,9 @@ LogColumns ReadLogColumns(const std::string& path, const std::function<bool(cons
   }
   out.damage_offset = ForEachEvent(file, [&](std::string_view channel, const std::uint8_t* data, std::size_t size,
                                              std::int64_t utime) {
-    if (counts.find(channel)->second >= 0) out.messages.Add(channel, data, size, utime);
+    // A channel the count did not see (the file changed under the mapping) is left out.
+    const auto counted = counts.find(channel);
+    if (counted != counts.end() && counted->second >= 0) out.messages.Add(channel, data, size, utime);
   });
   out.damaged = out.damage_offset >= 0;
   return out;

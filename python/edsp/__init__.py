@@ -155,9 +155,9 @@ class Platform:
         return self._c.session_id
 
     def recorder(self, channels=None) -> Recording:
-        """Starts recording `channels` (names; None: every edsp channel) at
-        full rate, on the routes the group gives them; stop() or the end of
-        a with-block ends it. See Recording."""
+        """Starts recording `channels` (edsp channel names; None: every one)
+        at full rate, on the routes the group gives them; stop() or the end
+        of a with-block ends it. See Recording."""
         try:
             return Recording(self._group_file, self._lcm_url, channels)
         except RuntimeError as e:

@@ -102,7 +102,8 @@ class Recording:
         rec.save("run.lcmlog")                   # for edsp-gap, edsp-log, lcm-logplayer
     """
 
-    #: Memory kept at most; messages beyond it are counted in stats()["dropped"].
+    #: Message bytes kept at most (memory use is some 1.5 times that);
+    #: messages beyond are counted in stats()["dropped"].
     MAX_BYTES = 2 << 30
 
     def __init__(self, group_file: str, lcm_url: str, channels: Optional[Iterable[str]]):
@@ -111,29 +112,41 @@ class Recording:
             asked = list(CHANNELS)
         elif not asked:
             raise ValueError("channels: want at least one channel name (None records every edsp channel)")
+        foreign = [c for c in asked if c not in CHANNELS]
+        if foreign:
+            raise ValueError(f"channels: {', '.join(foreign)}: not an edsp channel (edsp's: {', '.join(CHANNELS)})")
         self._asked = asked
         self._r = _edsp.Recording(group_file, lcm_url, asked, Recording.MAX_BYTES)
+        self._stopped = False
         self._data: Optional[Dict[str, np.ndarray]] = None
 
-    def stop(self) -> Dict[str, np.ndarray]:
-        """Ends the recording; returns what came, as a dict channel -> structured array."""
-        if self._data is None:
-            self._r.stop()
-            stats = self._r.stats()
-            if stats["error"]:
-                warnings.warn(f"recording: the bus failed ({stats['error']}); what came before is kept", stacklevel=2)
-            if stats["dropped"]:
-                warnings.warn(f"recording: {stats['dropped']} messages past {Recording.MAX_BYTES} bytes dropped",
-                              stacklevel=2)
-            self._data = _tables(self._r.columns(), self._asked, "recording")
-        return self._data
+    def stop(self) -> None:
+        """Ends the recording (what came is kept); warns of anything lost."""
+        if self._stopped:
+            return
+        self._r.stop()
+        self._stopped = True
+        stats = self._r.stats()
+        if stats["error"]:
+            warnings.warn(f"recording: the bus failed ({stats['error']}); what came before is kept", stacklevel=2)
+        if stats["dropped"]:
+            warnings.warn(f"recording: {stats['dropped']} messages past {Recording.MAX_BYTES} bytes dropped",
+                          stacklevel=2)
+        if stats["overruns"]:
+            warnings.warn(f"recording: {stats['overruns']} messages lost on shared-memory rings (read too late)",
+                          stacklevel=2)
 
     @property
     def data(self) -> Dict[str, np.ndarray]:
-        return self.stop()
+        """What was recorded (stopping it first): a dict channel -> structured array."""
+        self.stop()
+        if self._data is None:
+            self._data = _tables(self._r.columns(), self._asked, "recording")
+        return self._data
 
     def stats(self) -> dict:
-        """messages, bytes, dropped (past the memory bound), error (the bus's, if it failed)."""
+        """messages, bytes, dropped (past the memory bound), overruns (lost on a
+        shared-memory ring), error (the bus's, if it failed)."""
         return self._r.stats()
 
     def save(self, path: Union[str, os.PathLike]) -> str:
@@ -154,8 +167,8 @@ class Recording:
 
 def record_for(recording: Recording, seconds: Optional[float], until) -> Dict[str, np.ndarray]:
     """Platform.record's wait: `seconds`, or until `until` (a callable
-    returning true, or a threading.Event) is set, whichever comes first;
-    Ctrl-C ends it too (what came is kept by the caller's recording)."""
+    returning true, or a threading.Event) is set, whichever comes first.
+    Ctrl-C ends it early: what came is returned, with a warning."""
     if seconds is None and until is None:
         raise ValueError("record: give seconds, until, or both (or use recorder() as a with-block)")
     if seconds is not None and (not np.isfinite(seconds) or seconds <= 0):
@@ -173,6 +186,6 @@ def record_for(recording: Recording, seconds: Optional[float], until) -> Dict[st
     try:
         while time.monotonic() < end and not done():
             time.sleep(min(0.01, max(0.0, end - time.monotonic())))
-    finally:
-        data = recording.stop()
-    return data
+    except KeyboardInterrupt:
+        warnings.warn("record: interrupted; returning what came until then", stacklevel=2)
+    return recording.data

@@ -97,6 +97,8 @@ def _sources(data) -> Tuple[List[str], List[Tuple[str, str]]]:
 def _config(config) -> str:
     if not isinstance(config, (str, os.PathLike)):
         raise TypeError(f"config: want a path to a platform TOML file, got {type(config).__name__}")
+    if not os.path.isfile(config):
+        raise FileNotFoundError(f"config: {os.fspath(config)} does not exist")
     return os.fspath(config)
 
 

@@ -66,7 +66,7 @@ py::tuple Table(const ChannelColumns& table) {
 
 py::dict Tables(const MessageColumns& messages) {
   py::dict out;
-  for (const auto& [channel, table] : messages.channels()) out[py::str(channel)] = Table(table);
+  for (const auto& [channel, table] : messages.channels()) out[Text(channel)] = Table(table);
   return out;
 }
 
@@ -80,7 +80,9 @@ py::tuple ReadLog(const std::string& path, const std::optional<std::vector<std::
     log = ReadLogColumns(path, [&](const std::string& c) { return !channels || wanted.count(c) > 0; });
   }
   py::dict info;
-  info["unknown"] = log.messages.unknown();
+  py::dict unknown;  // names from a damaged or foreign log: not necessarily UTF-8
+  for (const auto& [channel, count] : log.messages.unknown()) unknown[Text(channel)] = count;
+  info["unknown"] = unknown;
   info["damaged"] = log.damaged;
   info["damage_offset"] = log.damage_offset;
   return py::make_tuple(Tables(log.messages), info);
@@ -114,7 +116,8 @@ class Recording {
   py::dict Stats() const {
     const BusRecordingStats s = recording_.stats();
     py::dict d;
-    d["messages"] = s.messages, d["bytes"] = s.bytes, d["dropped"] = s.dropped, d["error"] = s.error;
+    d["messages"] = s.messages, d["bytes"] = s.bytes, d["dropped"] = s.dropped, d["overruns"] = s.overruns;
+    d["error"] = s.error;
     return d;
   }
   py::dict Columns() const {

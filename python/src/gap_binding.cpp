@@ -73,6 +73,7 @@ void BindGap(py::module_& m) {
   // Bad data, models and configs are the caller's values: ValueError.
   py::register_exception<gap::MeasurementError>(m, "MeasurementError", PyExc_ValueError);
   py::register_exception<calibration::CalibrationError>(m, "CalibrationError", PyExc_ValueError);
+  py::register_exception<ConfigError>(m, "ConfigError", PyExc_ValueError);
   m.def(
       "gap_diagnose",
       [](const std::string& config, const std::vector<std::string>& paths, const CsvTexts& texts,

@@ -40,17 +40,28 @@ Times CheckedTimes(const py::handle& value, py::ssize_t rows) {
   return times;
 }
 
-// The pose's rates at row i of a sampled trajectory: central differences
-// (one-sided at the ends), for unevenly spaced samples too.
+// Row b − row a, the angles' differences wrapped (a yaw through ±π is a small step).
+Vector6 Step(const double* q, py::ssize_t a, py::ssize_t b) {
+  Vector6 d = Eigen::Map<const Vector6>(q + 6 * b) - Eigen::Map<const Vector6>(q + 6 * a);
+  for (int k = 3; k < 6; ++k) d(k) = WrapAngle(d(k));
+  return d;
+}
+
+// The pose's rates at row i of a sampled trajectory: the three-point
+// differences, second order on unevenly spaced samples too (one-sided at
+// the ends, where the acceleration is taken as 0).
 void Rates(const double* q, const double* t, py::ssize_t n, py::ssize_t i, Vector6* velocity, Vector6* accel) {
   velocity->setZero(), accel->setZero();
   if (n < 2) return;
-  const auto row = [q](py::ssize_t k) { return Eigen::Map<const Vector6>(q + 6 * k); };
-  const py::ssize_t a = i == 0 ? 0 : i - 1, b = i == n - 1 ? n - 1 : i + 1;
-  *velocity = (row(b) - row(a)) / (t[b] - t[a]);
-  if (i == 0 || i == n - 1) return;
+  if (i == 0 || i == n - 1) {
+    const py::ssize_t a = i == 0 ? 0 : n - 2;
+    *velocity = Step(q, a, a + 1) / (t[a + 1] - t[a]);
+    return;
+  }
   const double h1 = t[i] - t[i - 1], h2 = t[i + 1] - t[i];
-  *accel = 2.0 * ((row(i + 1) - row(i)) / h2 - (row(i) - row(i - 1)) / h1) / (h1 + h2);
+  const Vector6 ahead = Step(q, i, i + 1), behind = Step(q, i - 1, i);
+  *velocity = (h1 * h1 * ahead + h2 * h2 * behind) / (h1 * h2 * (h1 + h2));
+  *accel = 2.0 * (ahead / h2 - behind / h1) / (h1 + h2);
 }
 
 class Kinematics {
@@ -82,14 +93,13 @@ class Kinematics {
         const Pose pose = Pose::FromVector(Eigen::Map<const Vector6>(q + 6 * i));
         const Vector6 pr = model_.PrLengthError(pose, mode);
         Vector6 correction = pr;
-        if (calibration_) {
-          const Vector6 command = model_.LegLengths(pose) - pr;
-          Vector6 velocity = Vector6::Zero(), accel = Vector6::Zero();
-          if (t != nullptr) Rates(q, t, n, i, &velocity, &accel);
-          std::optional<calibration::LegCompensator> at_rest;
-          calibration::LegCompensator& compensator =
-              t != nullptr ? (along ? *along : along.emplace(model_, *calibration_)) : at_rest.emplace(model_, *calibration_);
-          correction += compensator.Step(t != nullptr ? t[i] : 0.0, pose, velocity, accel, command).command_m;
+        if (calibration_ && t != nullptr) {
+          Vector6 velocity, accel;
+          Rates(q, t, n, i, &velocity, &accel);
+          if (!along) along.emplace(model_, *calibration_);
+          correction += along->Step(t[i], pose, velocity, accel, model_.LegLengths(pose) - pr).command_m;
+        } else if (calibration_) {
+          correction += AtRest(pose, model_.LegLengths(pose) - pr);
         }
         Eigen::Map<Vector6>(corrections + 6 * i) = correction;
       }
@@ -183,6 +193,12 @@ class Kinematics {
   std::string CalibrationText() const { return calibration_ ? calibration_->Describe() : ""; }
 
  private:
+  // The calibration's correction of a pose held at rest (a compensator of its own: no history).
+  Vector6 AtRest(const Pose& pose, const Vector6& command) const {
+    calibration::LegCompensator compensator(model_, *calibration_);
+    return compensator.Step(0.0, pose, Vector6::Zero(), Vector6::Zero(), command).command_m;
+  }
+
   PlatformModel model_;
   std::optional<calibration::CalibrationModel> calibration_;
 };

@@ -25,7 +25,8 @@ namespace edsp {
 struct BusRecordingStats {
   std::int64_t messages = 0;
   std::int64_t bytes = 0;
-  std::int64_t dropped = 0;  // past max_bytes
+  std::int64_t dropped = 0;  // past max_bytes (of message bytes)
+  std::int64_t overruns = 0; // lost on a shared-memory ring (the recorder fell a ring behind)
   std::string error;         // the Bus failed while recording (what it said); "" if not
 };
 
@@ -58,7 +59,9 @@ class BusRecording {
   mutable std::mutex mutex_;
   std::vector<LogEvent> events_;
   BusRecordingStats stats_;
+  std::vector<std::string> shm_channels_;  // where overruns are counted
   std::atomic<bool> stopping_{false};
+  std::once_flag stopped_;  // Stop() joins once, whoever calls it
   std::thread thread_;
 };
 
