@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <exception>
+#include <map>
 #include <stdexcept>
 
 #include "edsp/logger/log_file_appender.h"
@@ -64,6 +65,9 @@ BusRecordingStats BusRecording::stats() const {
 MessageColumns BusRecording::Columns() const {
   const std::lock_guard<std::mutex> lock(mutex_);
   MessageColumns columns;
+  std::map<std::string, std::int64_t> counts;  // each table made its length at once
+  for (const LogEvent& e : events_) ++counts[e.channel];
+  for (const auto& [channel, n] : counts) columns.Expect(channel, n);
   for (const LogEvent& e : events_) columns.Add(e.channel, e.data.data(), e.data.size(), e.timestamp_utime);
   return columns;
 }

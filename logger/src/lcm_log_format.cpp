@@ -11,12 +11,6 @@ void PutBigEndian(std::vector<std::uint8_t>* out, std::uint64_t value, int bytes
 
 }  // namespace
 
-std::uint64_t GetBigEndian(const std::uint8_t* p, int bytes) {
-  std::uint64_t v = 0;
-  for (int k = 0; k < bytes; ++k) v = (v << 8) | p[k];
-  return v;
-}
-
 bool ParseEventHeader(const std::uint8_t* p, std::int64_t room, EventHeader* header) {
   if (GetBigEndian(p, 4) != kSyncWord) return false;
   const auto channel = static_cast<std::int32_t>(GetBigEndian(p + 20, 4));

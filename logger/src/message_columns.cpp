@@ -40,45 +40,70 @@ std::vector<std::size_t> ShapeOf() {
   return shape;
 }
 
-// A message's fields appended as one row: the columns are made by the
-// table's first message and filled in the same order by every later one.
-class RowAppender {
+std::size_t AlignUp(std::size_t at, std::size_t alignment) { return (at + alignment - 1) / alignment * alignment; }
+
+// The row layout of a type: each field's column at its natural alignment.
+class Layout {
  public:
-  // `expected_rows`: the table's length when known, for its new columns.
-  RowAppender(std::vector<Column>* columns, std::int64_t expected_rows)
-      : columns_(columns), creating_(columns->empty()), expected_rows_(static_cast<std::size_t>(expected_rows)) {}
+  explicit Layout(std::vector<Column>* columns) : columns_(columns) {
+    Place("receive_utime", ColumnKind::kInt64, {}, sizeof(std::int64_t), alignof(std::int64_t));
+  }
 
   template <typename T>
-  void Add(const char* name, const T& value) {
+  void Add(const char* name, const T&) {
     using Element = std::remove_all_extents_t<T>;
-    Column& column = Next<T>(name);
     if constexpr (std::is_same_v<Element, std::string>) {
       static_assert(std::rank_v<T> == 0, "arrays of text are not in any edsp type");
+      Place(name, ColumnKind::kText, {}, sizeof(void*), alignof(void*));
+    } else {
+      Place(name, KindOf<Element>(), ShapeOf<T>(), sizeof(T), alignof(Element));
+    }
+  }
+
+  // The row's size: numpy's aligned struct pads to its widest member.
+  std::size_t row_bytes() const { return AlignUp(end_, 8); }
+
+ private:
+  void Place(const char* name, ColumnKind kind, std::vector<std::size_t> shape, std::size_t bytes,
+             std::size_t alignment) {
+    Column column;
+    column.name = name, column.kind = kind, column.shape = std::move(shape);
+    column.offset = AlignUp(end_, alignment);
+    column.bytes = bytes;
+    end_ = column.offset + bytes;
+    columns_->push_back(std::move(column));
+  }
+
+  std::vector<Column>* columns_;
+  std::size_t end_ = 0;
+};
+
+template <typename Msg>
+void MakeLayout(ChannelColumns* table) {
+  Layout layout(&table->columns);
+  VisitFields(Msg{}, &layout);
+  table->row_bytes = layout.row_bytes();
+}
+
+// A message's fields written into its row, in the layout's order.
+class RowWriter {
+ public:
+  RowWriter(std::vector<Column>* columns, std::uint8_t* row) : columns_(columns), row_(row) {}
+
+  template <typename T>
+  void Add(const char*, const T& value) {
+    Column& column = (*columns_)[next_++];
+    if constexpr (std::is_same_v<std::remove_all_extents_t<T>, std::string>) {
       column.text.push_back(value);
     } else {
-      const auto* bytes = reinterpret_cast<const std::uint8_t*>(&value);  // arrays are contiguous
-      column.values.insert(column.values.end(), bytes, bytes + sizeof(T));
+      std::memcpy(row_ + column.offset, &value, sizeof(T));  // arrays are contiguous, row-major
     }
   }
 
  private:
-  template <typename T>
-  Column& Next(const char* name) {
-    if (!creating_) return (*columns_)[next_++];
-    Column column;
-    column.name = name;
-    column.kind = KindOf<std::remove_all_extents_t<T>>();
-    column.shape = ShapeOf<T>();
-    if constexpr (std::is_same_v<std::remove_all_extents_t<T>, std::string>) column.text.reserve(expected_rows_);
-    else column.values.reserve(expected_rows_ * sizeof(T));
-    columns_->push_back(std::move(column));
-    return columns_->back();
-  }
-
   std::vector<Column>* columns_;
-  bool creating_;
-  std::size_t expected_rows_;
-  std::size_t next_ = 0;
+  std::uint8_t* row_;
+  std::size_t next_ = 1;  // after receive_utime
 };
 
 // A file mapped read-only for the life of the object.
@@ -94,7 +119,7 @@ class MappedFile {
     }
     size_ = static_cast<std::size_t>(st.st_size);
     if (size_ > 0) {
-      void* data = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE, fd, 0);
+      void* data = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);  // read ahead at once
       if (data == MAP_FAILED) {
         ::close(fd);
         throw std::runtime_error(path + ": cannot map as an LCM log");
@@ -149,19 +174,29 @@ void MessageColumns::Add(std::string_view channel, const std::uint8_t* data, std
   ChannelColumns* table = found == channels_.end() ? nullptr : &found->second;
   bool kept = false;
   DecodeEdspMessage(data, size, [&](const auto& msg, const std::string& type) {
+    using Msg = std::decay_t<decltype(msg)>;
     if (table == nullptr) {
       table = &channels_[std::string(channel)];
       table->type = type;
+      MakeLayout<Msg>(table);
       const auto unknown = unknown_.find(channel);  // what came before it
       if (unknown != unknown_.end()) table->skipped = unknown->second, unknown_.erase(unknown);
       const auto expected = expected_.find(channel);
-      if (expected != expected_.end()) table->receive_utime.reserve(static_cast<std::size_t>(expected->second));
+      if (expected != expected_.end()) {
+        table->rows_data.reserve(static_cast<std::size_t>(expected->second) * table->row_bytes);
+        for (Column& column : table->columns) {
+          if (column.kind == ColumnKind::kText) column.text.reserve(static_cast<std::size_t>(expected->second));
+        }
+      }
     } else if (table->type != type) {
       return;  // a channel keeps its first type
     }
-    RowAppender row(&table->columns, static_cast<std::int64_t>(table->receive_utime.capacity()));
-    VisitFields(msg, &row);
-    table->receive_utime.push_back(receive_utime);
+    const std::size_t at = table->rows_data.size();
+    table->rows_data.resize(at + table->row_bytes);  // zero: padding and text slots
+    std::uint8_t* row = table->rows_data.data() + at;
+    std::memcpy(row, &receive_utime, sizeof receive_utime);
+    RowWriter writer(&table->columns, row);
+    VisitFields(msg, &writer);
     kept = true;
   });
   if (kept) return;
@@ -181,11 +216,9 @@ ChannelColumns EmptyColumns(const std::string& type_name) {
     const std::string name = Msg::getTypeName();
     if (!table.type.empty() || (type_name != name && type_name != "edsp." + name)) return;
     table.type = "edsp." + name;
-    RowAppender row(&table.columns, 1);
-    VisitFields(Msg{}, &row);
+    MakeLayout<Msg>(&table);
   });
   if (table.type.empty()) throw std::invalid_argument(type_name + ": not an edsp message type");
-  for (Column& column : table.columns) column.values.clear(), column.text.clear();
   return table;
 }
 
@@ -201,14 +234,16 @@ LogColumns ReadLogColumns(const std::string& path, const std::function<bool(cons
     if (found->second >= 0) ++found->second;
   });
   LogColumns out;
+  bool every_channel = true;  // then no lookup per event: the usual read of a whole log
   for (const auto& [channel, n] : counts) {
     if (n > 0) out.messages.Expect(channel, n);
+    every_channel = every_channel && n >= 0;
   }
   out.damage_offset = ForEachEvent(file, [&](std::string_view channel, const std::uint8_t* data, std::size_t size,
                                              std::int64_t utime) {
-    // A channel the count did not see (the file changed under the mapping) is left out.
-    const auto counted = counts.find(channel);
-    if (counted != counts.end() && counted->second >= 0) out.messages.Add(channel, data, size, utime);
+    // With a filter, a channel the count did not see (the file changed under the mapping) is left out.
+    const auto counted = every_channel ? counts.end() : counts.find(channel);
+    if (every_channel || (counted != counts.end() && counted->second >= 0)) out.messages.Add(channel, data, size, utime);
   });
   out.damaged = out.damage_offset >= 0;
   return out;

@@ -1,9 +1,9 @@
 """Messages as numpy structured arrays: edsp.read_log and the recordings of
-Platform.record (docs/python.md). The decoding runs in C++ (_edsp); here
-the columns become one structured array per channel: a field per message
-field (arrays keep their shape: pose is (6,), base_joints_m (6, 3)), text
-as Python str, and `receive_utime` first, when the message came (the log's
-event stamp, or the recorder's clock)."""
+Platform.record (docs/python.md). The decoding runs in C++ (_edsp), into
+one structured array per channel: a field per message field (arrays keep
+their shape: pose is (6,), base_joints_m (6, 3)), text as Python str, and
+`receive_utime` first, when the message came (the log's event stamp, or
+the recorder's clock). Here: the arguments, the warnings, the recorder."""
 from __future__ import annotations
 
 import os
@@ -21,21 +21,7 @@ CHANNELS: Dict[str, str] = dict(_edsp.CHANNELS)
 
 
 def _structured(table) -> np.ndarray:
-    _type, _skipped, columns = table
-    rows = len(columns[0][1])
-    fields = []
-    for name, column in columns:
-        if isinstance(column, list):
-            fields.append((name, object))
-        else:
-            fields.append((name, column.dtype, column.shape[1:]))
-    out = np.empty(rows, dtype=fields)
-    for name, column in columns:
-        if isinstance(column, list):
-            out[name] = np.array(column, dtype=object) if rows else column
-        else:
-            out[name] = column
-    return out
+    return table[2]  # (type, skipped, array): built in C++ in its final layout
 
 
 def _channel_list(channels, what: str) -> Optional[list]:

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <optional>
 #include <set>
 #include <string>
@@ -20,7 +21,7 @@ namespace edsp::python {
 
 namespace {
 
-const char* DtypeOf(ColumnKind kind) {
+const char* CodeOf(ColumnKind kind) {
   switch (kind) {
     case ColumnKind::kInt8: return "i1";
     case ColumnKind::kInt32: return "i4";
@@ -38,35 +39,68 @@ py::str Text(const std::string& s) {
   return py::reinterpret_steal<py::str>(text);
 }
 
-py::object ColumnArray(const Column& column, py::ssize_t rows) {
-  if (column.kind == ColumnKind::kText) {
-    py::list texts;
-    for (const std::string& s : column.text) texts.append(Text(s));
-    return std::move(texts);
+// The table's row layout as a numpy dtype: the same names, offsets and size.
+py::dtype DtypeOf(const ChannelColumns& table) {
+  py::list names, formats, offsets;
+  for (const Column& column : table.columns) {
+    std::string shape;
+    for (std::size_t n : column.shape) shape += (shape.empty() ? "(" : ",") + std::to_string(n);
+    if (column.shape.size() == 1) shape += ",";  // "(6,)": a 1-tuple
+    if (!shape.empty()) shape += ")";
+    names.append(column.name);
+    formats.append(shape + CodeOf(column.kind));
+    offsets.append(column.offset);
   }
-  std::vector<py::ssize_t> shape{rows};
-  for (std::size_t n : column.shape) shape.push_back(static_cast<py::ssize_t>(n));
-  py::array out{py::dtype(DtypeOf(column.kind)), shape};
-  if (!column.values.empty()) std::memcpy(out.mutable_data(), column.values.data(), column.values.size());
-  return std::move(out);
+  py::dict spec;
+  spec["names"] = names, spec["formats"] = formats, spec["offsets"] = offsets;
+  spec["itemsize"] = table.row_bytes;
+  return py::dtype::from_args(spec);
 }
 
-// (type, skipped, [(name, column), ...]): the receive stamp first, then
-// the type's fields in order; a column is an array of (rows, shape...) or
-// a list of str.
-py::tuple Table(const ChannelColumns& table) {
+// The rows a structured array shows without a copy (read_log's memory is
+// the log's size again, not twice), and the strs in its text slots: numpy
+// frees neither for memory it does not own, this does when the array goes.
+struct RowsHolder {
+  std::vector<std::uint8_t> rows;
+  std::vector<std::size_t> text_offsets;
+  std::size_t row_bytes = 0;
+
+  ~RowsHolder() {
+    for (std::size_t at = 0; row_bytes > 0 && at < rows.size(); at += row_bytes) {
+      for (std::size_t offset : text_offsets) {
+        PyObject* text = nullptr;
+        std::memcpy(&text, rows.data() + at + offset, sizeof text);
+        Py_XDECREF(text);
+      }
+    }
+  }
+};
+
+// (type, skipped, structured array over the table's rows, its text filled in).
+py::tuple Table(ChannelColumns&& table) {
   const py::ssize_t rows = table.rows();
-  py::list columns;
-  py::array_t<std::int64_t> receive(rows);
-  if (rows > 0) std::memcpy(receive.mutable_data(), table.receive_utime.data(), sizeof(std::int64_t) * rows);
-  columns.append(py::make_tuple("receive_utime", receive));
-  for (const Column& column : table.columns) columns.append(py::make_tuple(column.name, ColumnArray(column, rows)));
-  return py::make_tuple(table.type, table.skipped, columns);
+  auto holder = std::make_unique<RowsHolder>();
+  holder->row_bytes = table.row_bytes;
+  holder->rows = std::move(table.rows_data);
+  if (holder->rows.empty()) holder->rows.resize(table.row_bytes);  // a pointer numpy can keep
+  for (Column& column : table.columns) {
+    if (column.kind != ColumnKind::kText) continue;
+    holder->text_offsets.push_back(column.offset);
+    for (py::ssize_t row = 0; row < rows; ++row) {
+      PyObject* text = Text(column.text[static_cast<std::size_t>(row)]).release().ptr();  // the holder owns it
+      std::memcpy(holder->rows.data() + static_cast<std::size_t>(row) * table.row_bytes + column.offset, &text,
+                  sizeof text);
+    }
+  }
+  std::uint8_t* data = holder->rows.data();
+  const py::capsule owner(holder.release(), [](void* p) { delete static_cast<RowsHolder*>(p); });
+  py::array out(DtypeOf(table), std::vector<py::ssize_t>{rows}, data, owner);
+  return py::make_tuple(table.type, table.skipped, out);
 }
 
-py::dict Tables(const MessageColumns& messages) {
+py::dict Tables(MessageColumns&& messages) {
   py::dict out;
-  for (const auto& [channel, table] : messages.channels()) out[Text(channel)] = Table(table);
+  for (auto& [channel, table] : messages.channels()) out[Text(channel)] = Table(std::move(table));
   return out;
 }
 
@@ -85,7 +119,7 @@ py::tuple ReadLog(const std::string& path, const std::optional<std::vector<std::
   info["unknown"] = unknown;
   info["damaged"] = log.damaged;
   info["damage_offset"] = log.damage_offset;
-  return py::make_tuple(Tables(log.messages), info);
+  return py::make_tuple(Tables(std::move(log.messages)), info);
 }
 
 py::tuple EmptyTable(const std::string& type_name) { return Table(EmptyColumns(type_name)); }
@@ -126,7 +160,7 @@ class Recording {
       py::gil_scoped_release release;
       columns = recording_.Columns();
     }
-    return Tables(columns);
+    return Tables(std::move(columns));
   }
   void Save(const std::string& path) const {
     py::gil_scoped_release release;

@@ -35,7 +35,12 @@ bool ParseEventHeader(const std::uint8_t* p, std::int64_t room, EventHeader* hea
 void AppendEventHeader(std::vector<std::uint8_t>* out, std::int64_t event_number, std::int64_t utime,
                        std::size_t channel_bytes, std::uint32_t data_bytes);
 
-std::uint64_t GetBigEndian(const std::uint8_t* p, int bytes);
+// Inline: read_log takes every event's header at hundreds of MB/s.
+inline std::uint64_t GetBigEndian(const std::uint8_t* p, int bytes) {
+  std::uint64_t v = 0;
+  for (int k = 0; k < bytes; ++k) v = (v << 8) | p[k];
+  return v;
+}
 
 }  // namespace lcm_log
 }  // namespace edsp

@@ -1,14 +1,17 @@
 #pragma once
-// Messages decoded into columns, a table per channel, for numpy's
-// structured arrays (the Python package's read_log and recorder): one column
-// per field of the channel's type (message_fields.h), in field order, with
-// the time the message was received (the log's event stamp) first. A
-// fixed-size array field is one column of that shape per row; text is a
-// column of strings. A channel's type is that of its first decodable
-// message; anything else on it is counted, not kept.
+// Messages decoded into tables, one per channel, already in the row layout
+// of a numpy structured array (the Python package's read_log and recorder
+// hand it to numpy in one copy): per row, the time the message was received
+// (the log's event stamp) first, then every field of the channel's type
+// (message_fields.h) in field order, each at its natural alignment; a
+// fixed-size array field is one column of that shape; text is kept beside,
+// its slot in the row left zero (numpy's object pointer goes there). A
+// channel's type is that of its first decodable message; anything else on
+// it is counted, not kept.
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <functional>
 #include <map>
 #include <string>
@@ -22,17 +25,28 @@ enum class ColumnKind { kInt8, kInt32, kInt64, kDouble, kText };
 struct Column {
   std::string name;
   ColumnKind kind = ColumnKind::kDouble;
-  std::vector<std::size_t> shape;    // of one row's value: {} a scalar, {6}, {6, 3}
-  std::vector<std::uint8_t> values;  // numbers, row after row, native byte order
-  std::vector<std::string> text;     // kText: one per row
+  std::vector<std::size_t> shape;  // of one row's value: {} a scalar, {6}, {6, 3}
+  std::size_t offset = 0;          // in the row
+  std::size_t bytes = 0;           // of one row's value (text: the 8-byte slot)
+  std::vector<std::string> text;   // kText: one per row
 };
 
 struct ChannelColumns {
-  std::string type;                  // "edsp.leg_state_t"
-  std::vector<std::int64_t> receive_utime;  // per row: the log's event stamp
-  std::vector<Column> columns;       // the type's fields, in order
-  std::int64_t rows() const { return static_cast<std::int64_t>(receive_utime.size()); }
-  std::int64_t skipped = 0;          // of another type, or undecodable
+  std::string type;                   // "edsp.leg_state_t"
+  std::vector<Column> columns;        // receive_utime, then the type's fields
+  std::size_t row_bytes = 0;          // a multiple of 8
+  std::vector<std::uint8_t> rows_data;  // row after row, native byte order
+  std::int64_t skipped = 0;           // of another type, or undecodable
+
+  std::int64_t rows() const { return row_bytes == 0 ? 0 : static_cast<std::int64_t>(rows_data.size() / row_bytes); }
+  // Element `element` (row-major within an array field) of `column` in `row`.
+  template <typename T>
+  T Value(std::int64_t row, std::size_t column, std::size_t element = 0) const {
+    T value;
+    std::memcpy(&value, rows_data.data() + static_cast<std::size_t>(row) * row_bytes + columns[column].offset +
+                            element * sizeof(T), sizeof(T));
+    return value;
+  }
 };
 
 class MessageColumns {
