@@ -79,9 +79,4 @@ std::string SeparatingMeasurement(Effect a, Effect b) {
   return "motions of every axis over the full stroke, with a repeated home pose";
 }
 
-std::string SeparatingMeasurementFromFrame(Effect a) {
-  (void)a;
-  return "a repeated home pose measured from a second tracker station (the frame moves, the rig does not)";
-}
-
 }  // namespace edsp::gap

@@ -1,6 +1,6 @@
 // edsp-log: tools for LCM log files.
 //   edsp-log info LOG [--json]     channels, counts, rates, seq gaps, damage
-//   edsp-log faults LOG            every EDSP_FAULT: time, node, channel, reason
+//   edsp-log faults LOG            every EDSP_FAULT: time, node, channel, code (and its name), reason
 //   edsp-log export --measurement FILE.csv LOG
 //                                  the measurement CSV of interfaces.md §3
 //   edsp-log export --csv DIR [--channels REGEX] LOG
@@ -9,19 +9,19 @@
 // damage is still read and exported).
 #include <algorithm>
 #include <cstdio>
+#include <fstream>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "edsp/transport/decode.h"
-#include "edsp/fault_t.hpp"
-#include <fstream>
-
 #include "edsp/channels.h"
+#include "edsp/fault_t.hpp"
 #include "edsp/logger/channel_csv_export.h"
 #include "edsp/logger/log_summary.h"
 #include "edsp/logger/measurement_export.h"
+#include "edsp/node/fault.h"
+#include "edsp/transport/decode.h"
 
 namespace edsp {
 namespace {
@@ -78,9 +78,10 @@ int Faults(const std::string& path) {
       continue;
     }
     ++count;
-    std::printf("%10.3f s  %-16s %-18s code %d  %s\n",
+    std::printf("%10.3f s  %-16s %-18s code %d (%s)  %s\n",
                 static_cast<double>(event.timestamp_utime - first) * 1e-6, fault.node.c_str(),
-                fault.channel.c_str(), fault.code, fault.reason.c_str());
+                fault.channel.c_str(), fault.code, FaultCodeName(static_cast<FaultCode>(fault.code)),
+                fault.reason.c_str());
   }
   std::printf("%lld faults\n", static_cast<long long>(count));
   return ReportDamage(path, reader.damaged(), reader.damage_offset(), "listed the faults that precede it");

@@ -48,6 +48,17 @@ bool WholeEventAfter(int fd, std::int64_t from, std::int64_t size) {
   return false;
 }
 
+// The whole events of an open log and where the last one ends. A file
+// whose damage is only a torn last event has `tail_torn`; damage with whole
+// events after it (a sync word further on) has `damaged_inside`.
+struct LogScan {
+  std::int64_t events = 0;
+  std::int64_t last_event_number = -1;
+  std::int64_t whole_bytes = 0;
+  bool tail_torn = false;
+  bool damaged_inside = false;
+};
+
 LogScan ScanOpenLog(int fd, std::int64_t size) {
   LogScan scan;
   std::array<std::uint8_t, kHeaderBytes> header{};
@@ -73,16 +84,6 @@ LogScan ScanOpenLog(int fd, std::int64_t size) {
 std::string ErrnoText(int error) { return std::strerror(error); }
 
 }  // namespace
-
-LogScan ScanLogFile(const std::string& path) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) return {};
-  struct stat st {};
-  LogScan scan;
-  if (::fstat(fd, &st) == 0) scan = ScanOpenLog(fd, static_cast<std::int64_t>(st.st_size));
-  ::close(fd);
-  return scan;
-}
 
 std::unique_ptr<LogFileAppender> LogFileAppender::Open(const std::string& path, LogResume* resume,
                                                        std::string* error) {

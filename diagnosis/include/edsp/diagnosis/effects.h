@@ -40,7 +40,5 @@ nlohmann::json SigmaJson(Effect effect, const double* sigma);
 
 // The measurement that would tell `a` from `b` apart when the data cannot.
 std::string SeparatingMeasurement(Effect a, Effect b);
-// The same against the tracker frame (a nuisance the diagnosis estimates).
-std::string SeparatingMeasurementFromFrame(Effect a);
 
 }  // namespace edsp::gap

@@ -63,16 +63,4 @@ class LogFileAppender {
   std::vector<std::size_t> boundaries_; // end offset in pending_ of each event
 };
 
-// The whole events of an LCM log at `path` and where the last one ends. A
-// file whose damage is only a torn last event has `tail_torn`; damage with
-// whole events after it (a sync word further on) has `damaged_inside`.
-struct LogScan {
-  std::int64_t events = 0;
-  std::int64_t last_event_number = -1;
-  std::int64_t whole_bytes = 0;
-  bool tail_torn = false;
-  bool damaged_inside = false;
-};
-LogScan ScanLogFile(const std::string& path);
-
 }  // namespace edsp
