@@ -20,7 +20,6 @@ Medians of repeated runs; no target is asserted here.
 import argparse
 import json
 import os
-import signal
 import statistics
 import subprocess
 import sys
@@ -32,6 +31,7 @@ import numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "tests", "python"))
 import lcm_pure  # noqa: E402
+import live_group  # noqa: E402
 
 import edsp  # noqa: E402
 
@@ -102,27 +102,8 @@ def bench_read_log(bin_dir, minutes, repeats):
 def bench_move(bin_dir, moves):
     """Platform.move(wait=False) against the client call under it, on a live
     sim group started here (run it in a private network namespace)."""
-    work = tempfile.mkdtemp(prefix="edsp_bench_move_")
-    with open(os.path.join(ROOT, "deploy", "groups", "sim.toml"), encoding="utf-8") as f:
-        text = f.read()
-    text = text.replace('shm_prefix = "edsp.sim"', f'shm_prefix = "edsp.bench.py.{os.getpid()}"')
-    text = text.replace('config = "config/', f'config = "{ROOT}/config/')
-    group = os.path.join(work, "group.toml")
-    with open(group, "w", encoding="utf-8") as f:
-        f.write(text)
-    launch = subprocess.Popen([os.path.join(bin_dir, "edsp-launch"), group, "--bin-dir", bin_dir],
-                              cwd=work, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    try:
-        deadline = time.monotonic() + 60
-        while True:
-            try:
-                rig = edsp.Platform(group, answer_timeout_s=5)
-                break
-            except edsp.Timeout:
-                if time.monotonic() > deadline:
-                    raise
-        while not rig.status()["measured_valid"] or rig.status()["reason"].startswith("the actuator bridge does"):
-            time.sleep(0.1)
+    with live_group.sim_group(ROOT, bin_dir, "bench_py") as group:
+        rig = live_group.connect(group)
         home = list(rig.status()["pose_commanded"])
         python_ms, client_ms = [], []
         for k in range(moves):
@@ -142,9 +123,6 @@ def bench_move(bin_dir, moves):
         return {"moves": moves, "python_p50_ms": q(python_ms, 50), "python_p90_ms": q(python_ms, 90),
                 "client_p50_ms": q(client_ms, 50), "client_p90_ms": q(client_ms, 90),
                 "python_adds_p50_ms": q(python_ms, 50) - q(client_ms, 50)}
-    finally:
-        launch.send_signal(signal.SIGINT)
-        launch.wait(timeout=30)
 
 
 def main():

@@ -64,6 +64,22 @@ void Rates(const double* q, const double* t, py::ssize_t n, py::ssize_t i, Vecto
   *accel = 2.0 * (ahead / h2 - behind / h1) / (h1 + h2);
 }
 
+// out[i] = f(pose i) for every row, the GIL released while it runs.
+template <typename F>
+py::array_t<double> EachPose(const Rows& poses, F f) {
+  const py::ssize_t n = poses.shape(0);
+  py::array_t<double> out({n, py::ssize_t{6}});
+  const double* q = poses.data();
+  double* rows = out.mutable_data();
+  {
+    py::gil_scoped_release release;
+    for (py::ssize_t i = 0; i < n; ++i) {
+      Eigen::Map<Vector6>(rows + 6 * i) = f(i, Pose::FromVector(Eigen::Map<const Vector6>(q + 6 * i)));
+    }
+  }
+  return out;
+}
+
 class Kinematics {
  public:
   Kinematics(const std::string& config_path, const std::string& calibration_path, bool apply_ambiguous)
@@ -82,65 +98,41 @@ class Kinematics {
     const py::ssize_t n = poses.shape(0);
     const std::optional<Times> times =
         times_in.is_none() ? std::nullopt : std::optional<Times>(CheckedTimes(times_in, n));
-    py::array_t<double> out({n, py::ssize_t{6}});
     const double* q = poses.data();
     const double* t = times ? times->data() : nullptr;
-    double* corrections = out.mutable_data();
-    {
-      py::gil_scoped_release release;
-      std::optional<calibration::LegCompensator> along;  // the trajectory's, with times
-      for (py::ssize_t i = 0; i < n; ++i) {
-        const Pose pose = Pose::FromVector(Eigen::Map<const Vector6>(q + 6 * i));
-        const Vector6 pr = model_.PrLengthError(pose, mode);
-        Vector6 correction = pr;
-        if (calibration_ && t != nullptr) {
-          Vector6 velocity, accel;
-          Rates(q, t, n, i, &velocity, &accel);
-          if (!along) along.emplace(model_, *calibration_);
-          correction += along->Step(t[i], pose, velocity, accel, model_.LegLengths(pose) - pr).command_m;
-        } else if (calibration_) {
-          correction += AtRest(pose, model_.LegLengths(pose) - pr);
-        }
-        Eigen::Map<Vector6>(corrections + 6 * i) = correction;
-      }
-    }
-    return out;
+    std::optional<calibration::LegCompensator> along;  // the trajectory's, with times
+    return EachPose(poses, [&](py::ssize_t i, const Pose& pose) {
+      const Vector6 pr = model_.PrLengthError(pose, mode);
+      if (!calibration_) return pr;
+      const Vector6 command = model_.LegLengths(pose) - pr;
+      if (t == nullptr) return Vector6(pr + AtRest(pose, command));
+      Vector6 velocity, accel;
+      Rates(q, t, n, i, &velocity, &accel);
+      if (!along) along.emplace(model_, *calibration_);
+      return Vector6(pr + along->Step(t[i], pose, velocity, accel, command).command_m);
+    });
   }
 
   // The leg lengths to command for each pose: IK − Compensate.
   py::array_t<double> Ik(const py::handle& poses_in, const std::string& pr_mode, const py::handle& times_in) const {
     const Rows poses = SixColumns(poses_in, "poses");
     const PrMode mode = ModeOf(pr_mode);
-    if (!times_in.is_none()) CheckedTimes(times_in, poses.shape(0));  // named even where unused
-    py::array_t<double> out = calibration_ ? Compensate(poses, pr_mode, times_in) : py::array_t<double>({poses.shape(0), py::ssize_t{6}});
-    const double* q = poses.data();
-    double* lengths = out.mutable_data();
-    {
-      py::gil_scoped_release release;
-      for (py::ssize_t i = 0; i < poses.shape(0); ++i) {
-        const Pose pose = Pose::FromVector(Eigen::Map<const Vector6>(q + 6 * i));
-        Eigen::Map<Vector6> row(lengths + 6 * i);
-        // Without a calibration, the node's own one-pass formula (the fast path).
-        row = calibration_ ? Vector6(model_.LegLengths(pose) - row) : model_.CompensatedLengths(pose, mode);
-      }
+    if (calibration_) {
+      const py::array_t<double> corrections = Compensate(poses, pr_mode, times_in);
+      const double* c = corrections.data();
+      return EachPose(poses, [&](py::ssize_t i, const Pose& pose) {
+        return Vector6(model_.LegLengths(pose) - Eigen::Map<const Vector6>(c + 6 * i));
+      });
     }
-    return out;
+    if (!times_in.is_none()) CheckedTimes(times_in, poses.shape(0));  // named even where unused
+    // The node's own one-pass formula (the fast path).
+    return EachPose(poses, [&](py::ssize_t, const Pose& pose) { return model_.CompensatedLengths(pose, mode); });
   }
 
   // The signed twist of every leg's screw (rad) at each pose.
   py::array_t<double> PrTwist(const py::handle& poses_in) const {
-    const Rows poses = SixColumns(poses_in, "poses");
-    const py::ssize_t n = poses.shape(0);
-    py::array_t<double> out({n, py::ssize_t{6}});
-    const double* q = poses.data();
-    double* twist = out.mutable_data();
-    {
-      py::gil_scoped_release release;
-      for (py::ssize_t i = 0; i < n; ++i) {
-        Eigen::Map<Vector6>(twist + 6 * i) = model_.Solve(Pose::FromVector(Eigen::Map<const Vector6>(q + 6 * i))).twist_rad;
-      }
-    }
-    return out;
+    return EachPose(SixColumns(poses_in, "poses"),
+                    [&](py::ssize_t, const Pose& pose) { return Vector6(model_.Solve(pose).twist_rad); });
   }
 
   // The pose for each row of leg lengths (those IK commands for `pr_mode`);

@@ -134,3 +134,25 @@ def test_bad_data_and_options_are_named(fit):
         edsp.gap.diagnose(CONFIG, np.zeros((10, 3)))
     with pytest.raises(FileNotFoundError, match="config: nowhere.toml"):
         edsp.gap.diagnose("nowhere.toml", fit[0])
+
+
+def test_a_yaw_through_pi_is_one_motion_to_the_calibration(report, tmp_path):
+    # The same trajectory with its yaw written unwrapped (π − 0.04 → π + 0.04)
+    # and wrapped (… → −π + 0.04): one motion, so one correction. A rate
+    # taken across the wrap without unwrapping would be 2π per sample.
+    # The found model, with a servo lag of 2 ms on every leg: a correction ∝ the legs' rates.
+    model = dict(report.model)
+    model["effects"] = [e for e in model["effects"] if e["name"] != "servo_lag"] + [
+        {"name": "servo_lag", "theta": [2e-3] * 6 + [0.0] * 7, "verdict": "identified", "apply": True}]
+    kin = edsp.Kinematics(CONFIG, calibration=edsp.gap.save_model(model, tmp_path / "model.json"))
+    assert "servo_lag" in kin.calibration.split("not applied")[0]
+    times = np.arange(200) * 1e-3
+    yaw = np.pi - 0.04 + 0.4 * times
+    unwrapped = np.tile(kin.home, (len(times), 1))
+    unwrapped[:, 5] = yaw
+    wrapped = unwrapped.copy()
+    wrapped[:, 5] = np.arctan2(np.sin(yaw), np.cos(yaw))
+    assert wrapped[:, 5].min() < 0 < wrapped[:, 5].max()
+    along = kin.compensate(unwrapped, times_s=times)
+    assert np.abs(along - kin.compensate(unwrapped)).max() > 1e-7, "the motion's rates change the correction"
+    assert np.abs(kin.compensate(wrapped, times_s=times) - along).max() < 1e-9

@@ -7,15 +7,13 @@ bad input raise the exceptions that name them; a group that is not
 running raises Timeout instead of hanging."""
 import math
 import os
-import signal
-import subprocess
-import tempfile
 import time
 
 import numpy as np
 import pytest
 
 import edsp
+from live_group import connect, sim_group
 
 SOURCE = os.environ.get("EDSP_SOURCE_DIR", ".")
 BIN = os.environ.get("EDSP_BIN_DIR", os.path.join(SOURCE, "build", "bin"))
@@ -24,41 +22,9 @@ SESSION = 4711
 
 @pytest.fixture(scope="module")
 def group():
-    work = tempfile.mkdtemp(prefix="edsp_python_live_")
-    with open(os.path.join(SOURCE, "deploy", "groups", "sim.toml"), encoding="utf-8") as f:
-        text = f.read()
-    # The shipped group with its own shared-memory prefix, an absolute
-    # config and a noise-free tracker (the rig's line already sets it).
-    text = text.replace('shm_prefix = "edsp.sim"', f'shm_prefix = "edsp.pytest.{os.getpid()}"')
-    text = text.replace('config = "config/huang2021.toml"', f'config = "{SOURCE}/config/huang2021.toml"')
-    path = os.path.join(work, "group.toml")
-    with open(path, "w", encoding="utf-8") as f:
-        f.write(text)
-    launch = subprocess.Popen([os.path.join(BIN, "edsp-launch"), path, "--bin-dir", BIN, "--session-id",
-                               str(SESSION), "--duration-s", "240"], cwd=work,
-                              stdout=subprocess.DEVNULL, stderr=open(os.path.join(work, "launch.err"), "w"))
-    yield path
-    launch.send_signal(signal.SIGINT)
-    try:
-        launch.wait(timeout=30)
-    except subprocess.TimeoutExpired:
-        launch.kill()
-
-
-def connect(group):
-    # However long the machine takes to start the group: its planner's
-    # setpoints (the session), then a measured pose (the bridge's encoders
-    # through the kinematics: the legs follow).
-    deadline = time.monotonic() + 60
-    while True:
-        try:
-            rig = edsp.Platform(group, answer_timeout_s=5)
-            while not rig.status()["measured_valid"]:
-                assert time.monotonic() < deadline, "the group never measured its pose"
-            return rig
-        except edsp.Timeout:
-            if time.monotonic() > deadline:
-                raise
+    # The rig's line in the shipped group already sets a noise-free tracker.
+    with sim_group(SOURCE, BIN, "pytest", ["--session-id", str(SESSION), "--duration-s", "240"]) as path:
+        yield path
 
 
 def test_a_script_through_a_work_frame_lands_each_move_on_target(group, tmp_path):

@@ -1,0 +1,58 @@
+"""A live sim group for a test or a benchmark: the shipped group file
+(deploy/groups/sim.toml) with a shared-memory prefix of its own and an
+absolute config path, started by edsp-launch and stopped in order; and the
+group's Platform once it measures its pose and its bridge follows. Run it
+inside a private network namespace (ctest and `deploy/edsp bench` make one)."""
+import contextlib
+import os
+import signal
+import subprocess
+import tempfile
+import time
+
+import edsp
+
+
+@contextlib.contextmanager
+def sim_group(source, bin_dir, tag, launch_args=()):
+    """Yields the group file's path while the group runs."""
+    work = tempfile.mkdtemp(prefix=f"edsp_{tag}_")
+    with open(os.path.join(source, "deploy", "groups", "sim.toml"), encoding="utf-8") as f:
+        text = f.read()
+    text = text.replace('shm_prefix = "edsp.sim"', f'shm_prefix = "edsp.{tag}.{os.getpid()}"')
+    text = text.replace('config = "config/', f'config = "{os.path.abspath(source)}/config/')
+    path = os.path.join(work, "group.toml")
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(text)
+    with open(os.path.join(work, "launch.err"), "w") as err:
+        launch = subprocess.Popen([os.path.join(bin_dir, "edsp-launch"), path, "--bin-dir", bin_dir, *launch_args],
+                                  cwd=work, stdout=subprocess.DEVNULL, stderr=err)
+    try:
+        yield path
+    finally:
+        launch.send_signal(signal.SIGINT)
+        try:
+            launch.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            launch.kill()
+
+
+def connect(group, deadline_s=60.0):
+    """The group's Platform, however long the machine takes to start it: its
+    planner's setpoints (the session), a measured pose (the encoders through
+    the kinematics), and a bridge that follows (past its start-up hold)."""
+    deadline = time.monotonic() + deadline_s
+    while True:
+        try:
+            rig = edsp.Platform(group, answer_timeout_s=5)
+            break
+        except edsp.Timeout:
+            if time.monotonic() > deadline:
+                raise
+    while True:
+        status = rig.status()
+        if status["measured_valid"] and not status["reason"].startswith("the actuator bridge does"):
+            return rig
+        if time.monotonic() > deadline:
+            raise edsp.Timeout(f"the group never measured its pose with its bridge following: {status['reason']}")
+        time.sleep(0.05)
