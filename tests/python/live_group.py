@@ -4,6 +4,7 @@ absolute config path, started by edsp-launch and stopped in order; and the
 group's Platform once it measures its pose and its bridge follows. Run it
 inside a private network namespace (ctest and `deploy/edsp bench` make one)."""
 import contextlib
+import ctypes
 import os
 import signal
 import subprocess
@@ -12,11 +13,20 @@ import time
 
 import edsp
 
+PR_SET_PDEATHSIG = 1  # <linux/prctl.h>
+
+
+def _die_with_parent():
+    """In the launcher's child: SIGINT when the test process dies, however it
+    dies, so the launcher stops the group instead of running on orphaned."""
+    ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, signal.SIGINT)
+
 
 @contextlib.contextmanager
 def sim_group(source, bin_dir, tag, launch_args=()):
     """Yields the group file's path while the group runs."""
     work = tempfile.mkdtemp(prefix=f"edsp_{tag}_")
+    bin_dir = os.path.abspath(bin_dir)  # the group runs in `work`
     with open(os.path.join(source, "deploy", "groups", "sim.toml"), encoding="utf-8") as f:
         text = f.read()
     text = text.replace('shm_prefix = "edsp.sim"', f'shm_prefix = "edsp.{tag}.{os.getpid()}"')
@@ -26,7 +36,7 @@ def sim_group(source, bin_dir, tag, launch_args=()):
         f.write(text)
     with open(os.path.join(work, "launch.err"), "w") as err:
         launch = subprocess.Popen([os.path.join(bin_dir, "edsp-launch"), path, "--bin-dir", bin_dir, *launch_args],
-                                  cwd=work, stdout=subprocess.DEVNULL, stderr=err)
+                                  cwd=work, stdout=subprocess.DEVNULL, stderr=err, preexec_fn=_die_with_parent)
     try:
         yield path
     finally:
