@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -63,6 +64,7 @@ void PrintText(const Diagnosis& d) {
     std::printf("left out: %lld samples the data flags timing_event (near a stall of its real-time system)\n",
                 static_cast<long long>(d.timing_excluded));
   }
+  if (const std::string recorded = RecordedCorrectionText(d); !recorded.empty()) std::printf("%s\n", recorded.c_str());
   std::printf("%s\n\n", d.gap.where.c_str());
   std::printf("%-4s %-20s %-11s %9s %9s  %s\n", "rank", "effect", "verdict", "explained", "cv gain", "with");
   for (std::size_t k = 0; k < d.effects.size(); ++k) {
@@ -99,7 +101,7 @@ struct EvaluateArgs {
 };
 
 struct DriftArgs {
-  std::string config, baseline, recorded = "with";
+  std::string config, baseline, recorded = "auto";
   std::vector<std::string> data;
   DriftOptions options;
   bool json = false;
@@ -129,6 +131,11 @@ CLI::App* AddDiagnose(CLI::App& app, DiagnoseArgs* a) {
   c->add_option("--save-model", a->save_model, "write the selected effects for `evaluate`");
   c->add_option("--report", a->report_dir, "write report.md with PNG plots here");
   c->add_option("--max-rate-hz", a->options.max_rate_hz, "thin each run to this rate")->check(CLI::Range(1.0, 10000.0));
+  c->add_option("--against", a->options.against,
+                "data recorded with a calibration in force: nominal (the rig's whole effects; a model saved replaces "
+                "the calibration) or calibration (what it leaves)")
+      ->transform(CLI::CheckedTransformer(
+          std::map<std::string, Against>{{"nominal", Against::kNominal}, {"calibration", Against::kCalibration}}));
   a->thermal_tau = c->add_option("--thermal-time-constant-s", a->options.design.thermal_time_constant_s,
                                  "the screws' cooling time, fixed (default: estimated when thermal drift is found)")
                        ->check(CLI::Range(1.0, 1e6));
@@ -160,8 +167,9 @@ CLI::App* AddDrift(CLI::App& app, DriftArgs* a) {
   c->add_option("--baseline", a->baseline, "the calibration in force (diagnose --save-model)")->required();
   c->add_option("--data", a->data, "a new session's measurement CSV or edsp LCM log; repeatable")->required();
   c->add_option("--recorded", a->recorded, "with: the kinematics applied the baseline while it was recorded (usual); "
-                                           "without: it ran on the nominal model")
-      ->check(CLI::IsMember({"with", "without"}));
+                                           "without: it ran on the nominal model; auto (default): as the data's "
+                                           "leg_corr columns say, with where it has none")
+      ->check(CLI::IsMember({"auto", "with", "without"}));
   c->add_option("--threshold-m", a->options.threshold_m,
                 "recalibrate when the baseline leaves more than this RMS (default: 1.5× the data's noise floor)")
       ->check(CLI::Range(0.0, 0.01));
@@ -217,7 +225,17 @@ CLI::App* AddBenchmark(CLI::App& app, BenchmarkArgs* a) {
 int RunDiagnose(DiagnoseArgs a) {
   if (a.thermal_tau->count() > 0) a.options.thermal_time_constants_s.clear();
   const PlatformModel model(LoadConfigFile(a.config));
-  const Diagnosis d = Diagnose(model, LoadAll(a.data), a.options);
+  const MeasurementData data = LoadAll(a.data);
+  if (!a.save_model.empty() && a.options.against == Against::kCalibration && CarriesACorrection(data)) {
+    // Its effects are increments: applied alone they would replace the
+    // calibration they were measured on instead of adding to it.
+    throw std::runtime_error(fmt::format(
+        "--save-model with --against calibration: {} was recorded with a calibration in force, and a model of what "
+        "it leaves would replace it in the kinematics, not add to it; diagnose --against nominal (the default) to "
+        "save the rig's whole calibration",
+        data.source));
+  }
+  const Diagnosis d = Diagnose(model, data, a.options);
   if (!a.save_model.empty()) {
     std::ofstream out(a.save_model);
     out << ModelJson(d).dump(2) << "\n";
@@ -250,8 +268,10 @@ int RunEvaluate(const EvaluateArgs& a) {
 
 int RunDrift(DriftArgs a) {
   const PlatformModel model(LoadConfigFile(a.config));
-  a.options.recorded_with_baseline = a.recorded == "with";
-  const DriftReport r = Drift(model, LoadModelFile(a.baseline), a.baseline, LoadAll(a.data), a.options);
+  const MeasurementData data = LoadAll(a.data);
+  a.options.recorded_with_baseline =
+      a.recorded == "with" || (a.recorded == "auto" && (!data.has_correction || CarriesACorrection(data)));
+  const DriftReport r = Drift(model, LoadModelFile(a.baseline), a.baseline, data, a.options);
   if (a.json) std::printf("%s\n", ToJson(r).dump(2).c_str());
   else std::printf("%s", DriftText(r).c_str());
   return 0;

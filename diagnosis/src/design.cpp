@@ -121,7 +121,9 @@ Samples TrackSamples(const PlatformModel& model, const MeasurementData& data, co
       calibration::LegErrorInputs in;
       in.time_s = row.time_s;
       in.pose = pose;
-      in.command_m = row.leg_cmd_m;
+      // The compensation the PR basis scales is the PR's alone: a
+      // calibration's correction recorded with the command is not part of it.
+      in.command_m = row.leg_cmd_m + row.leg_corr_m;
       // With encoder data the motor's own motion drives the play.
       in.motor_m = row.has_encoder ? row.leg_enc_m : row.leg_cmd_m;
       CommandRates(model, data, rows, k, &in);

@@ -540,10 +540,16 @@ Diagnosis WithThermalTimeConstant(const PlatformModel& model, const MeasurementD
 
 }  // namespace
 
-Diagnosis Diagnose(const PlatformModel& model, const MeasurementData& data, const DiagnoseOptions& options) {
+Diagnosis Diagnose(const PlatformModel& model, const MeasurementData& recorded, const DiagnoseOptions& options) {
+  double correction_rms_m = 0.0;
+  const MeasurementData nominal = AsCommandedNominally(model, recorded, &correction_rms_m);
+  const MeasurementData& data = options.against == Against::kNominal ? nominal : recorded;
   Diagnosis d = WithStructuralMode(model, data, options,
                                    WithBacklashWidth(model, data, options, DiagnoseOnce(model, data, options)));
-  return WithThermalTimeConstant(model, data, options, std::move(d));
+  d = WithThermalTimeConstant(model, data, options, std::move(d));
+  d.against = options.against;
+  d.recorded_correction_rms_m = correction_rms_m;
+  return d;
 }
 
 }  // namespace edsp::gap

@@ -49,8 +49,28 @@ struct Columns {
   int time = -1, run = -1;
   int pose[6] = {}, leg_cmd[6] = {}, leg_enc[6] = {-1, -1, -1, -1, -1, -1}, point[3] = {};
   bool has_encoder = false;
+  int leg_corr[6] = {-1, -1, -1, -1, -1, -1};  // optional, all six or none
   int timing_event = -1;  // optional
 };
+
+// leg_corr_1_m … leg_corr_6_m: all six or none (a correction of some legs
+// only would be read as zero on the others, a wrong nominal residual).
+void FindCorrectionColumns(const std::map<std::string, int>& index, const std::string& origin, int line,
+                           Columns* c) {
+  int found = 0;
+  for (int k = 0; k < 6; ++k) {
+    const auto it = index.find(fmt::format("leg_corr_{}_m", k + 1));
+    c->leg_corr[k] = it == index.end() ? -1 : it->second;
+    found += it != index.end();
+  }
+  if (found == 0 || found == 6) return;
+  for (int k = 0; k < 6; ++k) {
+    if (c->leg_corr[k] < 0) {
+      throw MeasurementError(fmt::format("{}:{}: header has {} of the six leg_corr columns but lacks \"leg_corr_{}_m\"",
+                                         origin, line, found, k + 1));
+    }
+  }
+}
 
 Columns FindColumns(const std::vector<Field>& header, const std::string& origin, int line) {
   std::map<std::string, int> index;
@@ -80,6 +100,7 @@ Columns FindColumns(const std::vector<Field>& header, const std::string& origin,
   for (int k = 0; k < 3; ++k) c.point[k] = required(point_names[k]);
   const auto timing = index.find("timing_event");
   c.timing_event = timing == index.end() ? -1 : timing->second;
+  FindCorrectionColumns(index, origin, line, &c);
   return c;
 }
 
@@ -163,6 +184,7 @@ MeasurementData ParseMeasurementCsv(const std::string& text, const std::string& 
     const std::vector<Field> fields = SplitCsvLine(line);
     if (!have_header) {
       columns = FindColumns(fields, origin, line_number);
+      data.has_correction = columns.leg_corr[0] >= 0;
       have_header = true;
       continue;
     }
@@ -184,6 +206,10 @@ MeasurementData ParseMeasurementCsv(const std::string& text, const std::string& 
     row.has_encoder = columns.has_encoder;
     for (int k = 0; k < 6 && row.has_encoder; ++k) {
       row.has_encoder = p.OptionalNumber(columns.leg_enc[k], "leg_enc", &row.leg_enc_m(k));
+    }
+    for (int k = 0; k < 6 && columns.leg_corr[0] >= 0; ++k) {
+      double c = 0.0;
+      if (p.OptionalNumber(columns.leg_corr[k], "leg_corr", &c)) row.leg_corr_m(k) = c;
     }
     const char* point_names[3] = {"point_x_m", "point_y_m", "point_z_m"};
     for (int k = 0; k < 3; ++k) row.point_m(k) = p.Number(columns.point[k], point_names[k]);
@@ -240,6 +266,7 @@ void AppendMeasurement(MeasurementData* data, MeasurementData more) {
     data->rows.push_back(row);
   }
   data->timing_excluded += more.timing_excluded;
+  data->has_correction = data->has_correction || more.has_correction;
   data->source += ", " + more.source;
 }
 
@@ -248,6 +275,7 @@ MeasurementData Decimated(const MeasurementData& data, double max_rate_hz) {
   out.runs = data.runs;
   out.source = data.source;
   out.timing_excluded = data.timing_excluded;
+  out.has_correction = data.has_correction;
   std::map<int, double> last_kept;
   const double min_spacing = 1.0 / max_rate_hz - 1e-9;
   for (const MeasurementRow& row : data.rows) {

@@ -133,6 +133,19 @@ nlohmann::json CalibrationJson(const CalibrationResult& c) {
 
 }  // namespace
 
+std::string RecordedCorrectionText(const Diagnosis& d) {
+  if (d.recorded_correction_rms_m <= 0.0) return "";
+  if (d.against == Against::kNominal) {
+    return fmt::format("recorded with a calibration in force (it moved point A by {:.1f} µm RMS): diagnosed against "
+                       "the nominal model, its correction taken back out, so the effects are the rig's whole and a "
+                       "model saved replaces that calibration",
+                       d.recorded_correction_rms_m * 1e6);
+  }
+  return fmt::format("recorded with a calibration in force (it moved point A by {:.1f} µm RMS): diagnosed against "
+                     "it, so the effects are what it leaves, not the rig's whole",
+                     d.recorded_correction_rms_m * 1e6);
+}
+
 nlohmann::json ToJson(const Diagnosis& d) {
   nlohmann::json j;
   j["gap"] = ToJson(d.gap);
@@ -197,6 +210,7 @@ nlohmann::json ToJson(const Diagnosis& d) {
               {"condition_number", std::isfinite(d.condition_number) ? nlohmann::json(d.condition_number) : nlohmann::json("inf")}};
   j["samples"] = d.samples;
   j["timing_excluded_samples"] = d.timing_excluded;
+  j["recorded_correction"] = {{"against", AgainstName(d.against)}, {"rms_m", d.recorded_correction_rms_m}};
   j["seconds"] = d.seconds;
   return j;
 }
@@ -407,6 +421,7 @@ std::string ReportMarkdown(const Diagnosis& d) {
                       "a transient no effect models).\n\n",
                       d.timing_excluded);
   }
+  if (const std::string recorded = RecordedCorrectionText(d); !recorded.empty()) md += "Data " + recorded + ".\n\n";
   return md + VerdictMarkdown(d) + ParametersMarkdown(d) + WhereMarkdown(d) + NextStepsMarkdown(d);
 }
 

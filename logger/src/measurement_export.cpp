@@ -123,6 +123,7 @@ void WriteHeader(std::ostream& out) {
          "pose_cmd_yaw_rad";
   for (int i = 1; i <= 6; ++i) out << ",leg_cmd_" << i << "_m";
   for (int i = 1; i <= 6; ++i) out << ",leg_enc_" << i << "_m";
+  for (int i = 1; i <= 6; ++i) out << ",leg_corr_" << i << "_m";
   out << ",point_x_m,point_y_m,point_z_m,timing_event\n";
 }
 
@@ -135,6 +136,13 @@ struct Setpoint {
   std::int64_t utime = 0;
   std::array<double, 6> pose{}, velocity{};
   std::string run;
+};
+
+// A leg command: the lengths for the drives, and the calibration's
+// correction taken off them (the leg command's own fields say it:
+// command = IK − PR − correction).
+struct Command {
+  std::array<double, 6> legs{}, correction{};
 };
 
 struct PendingSample {
@@ -187,7 +195,13 @@ class Pairing {
       commands_.erase(commands_.begin(), commands_.lower_bound(setpoints_.front().utime));
     }
   }
-  void Add(const leg_command_t& c) { commands_[c.setpoint_utime] = ToArray(c.command_length_m); }
+  void Add(const leg_command_t& c) {
+    Command& command = commands_[c.setpoint_utime];
+    command.legs = ToArray(c.command_length_m);
+    for (std::size_t i = 0; i < 6; ++i) {
+      command.correction[i] = c.ik_length_m[i] - c.pr_correction_m[i] - c.command_length_m[i];
+    }
+  }
   void Add(const rig_truth_t& t) { stalls_.RigCycle(t.utime); }
   void Add(const leg_state_t& l) {
     stalls_.Reading(l.utime, l.command_seq);
@@ -237,11 +251,12 @@ class Pairing {
     // At most a few cycles: a setpoint stream that stopped (a planner frozen
     // or gone) leaves the pose where it was, as the bridge then holds it.
     for (double q : PoseAt(point.utime, *setpoint)) out_ << fmt::format(",{:.17g}", q);
-    const std::array<double, 6> legs_cmd = CommandAt(point.utime, *setpoint, command);
-    for (double v : legs_cmd) out_ << fmt::format(",{:.17g}", v);
+    const Command legs_cmd = CommandAt(point.utime, *setpoint, command);
+    for (double v : legs_cmd.legs) out_ << fmt::format(",{:.17g}", v);
     for (int i = 0; i < 6; ++i) {
       out_ << (legs ? fmt::format(",{:.17g}", legs->values[static_cast<std::size_t>(i)]) : std::string(","));
     }
+    for (double v : legs_cmd.correction) out_ << fmt::format(",{:.17g}", v);
     const bool stalled = stalls_.Near(point.utime);
     out_ << fmt::format(",{:.17g},{:.17g},{:.17g},{}\n", point.point_m[0], point.point_m[1], point.point_m[2],
                         stalled ? 1 : 0);
@@ -275,23 +290,27 @@ class Pairing {
 
   // The leg command at `utime`: between the one answering `setpoint` and
   // the one answering the next setpoint, if both came; else the first.
-  std::array<double, 6> CommandAt(std::int64_t utime, const Setpoint& setpoint,
-                                  std::map<std::int64_t, std::array<double, 6>>::const_iterator command) const {
+  Command CommandAt(std::int64_t utime, const Setpoint& setpoint,
+                    std::map<std::int64_t, Command>::const_iterator command) const {
     if (utime <= setpoint.utime || command->first != setpoint.utime) return command->second;
     const auto next = std::next(command);
     if (next == commands_.end() || next->first <= utime || next->first - command->first > kLongestGapUs) {
       return command->second;
     }
     const double w = static_cast<double>(utime - command->first) / static_cast<double>(next->first - command->first);
-    std::array<double, 6> legs{};
-    for (std::size_t i = 0; i < 6; ++i) legs[i] = command->second[i] + w * (next->second[i] - command->second[i]);
-    return legs;
+    const auto between = [w](const std::array<double, 6>& a, const std::array<double, 6>& b) {
+      std::array<double, 6> v{};
+      for (std::size_t i = 0; i < 6; ++i) v[i] = a[i] + w * (b[i] - a[i]);
+      return v;
+    };
+    return Command{between(command->second.legs, next->second.legs),
+                   between(command->second.correction, next->second.correction)};
   }
 
   std::ostream& out_;
   std::deque<Setpoint> setpoints_;
   std::deque<Stamped6> legs_;
-  std::map<std::int64_t, std::array<double, 6>> commands_;  // by the setpoint utime they answer
+  std::map<std::int64_t, Command> commands_;  // by the setpoint utime they answer
   std::deque<PendingSample> pending_;
   std::int64_t first_utime_ = -1;
   StallWatch stalls_;

@@ -30,7 +30,8 @@ _OPTIONS = ("max_rate_hz", "thermal_time_constant_s", "structural_mode_hz", "str
 class GapReport(dict):
     """The report of `edsp-gap diagnose --json`, with `.model`: the
     edsp-gap-model/1 JSON that `--save-model` writes (for save_model,
-    evaluate, and Platform.calibration)."""
+    evaluate, and Platform.calibration); None for a diagnosis against the
+    calibration the data was recorded with."""
 
     def __init__(self, report: dict, model: dict):
         super().__init__(report)
@@ -102,10 +103,15 @@ def _config(config) -> str:
     return os.fspath(config)
 
 
-def diagnose(config, data, **options: Any) -> GapReport:
+def diagnose(config, data, against: str = "nominal", **options: Any) -> GapReport:
     """`edsp-gap diagnose --json`: which unmodelled effects the data shows.
     Options as edsp-gap's: max_rate_hz, thermal_time_constant_s,
-    structural_mode_hz, structural_mode_damping."""
+    structural_mode_hz, structural_mode_damping; `against` data recorded
+    with a calibration in force: "nominal" (the rig's whole effects; the
+    model replaces that calibration) or "calibration" (what it leaves; no
+    model then, `.model` is None: increments are no calibration to apply)."""
+    if against not in ("nominal", "calibration"):
+        raise ValueError(f"diagnose: against = {against!r}: use 'nominal' or 'calibration'")
     unknown = sorted(set(options) - set(_OPTIONS))
     if unknown:
         raise TypeError(f"diagnose: unknown option {', '.join(unknown)} (known: {', '.join(_OPTIONS)})")
@@ -118,8 +124,9 @@ def diagnose(config, data, **options: Any) -> GapReport:
                 raise ValueError(f"diagnose: {name} = {options[name]!r}: want a positive finite number")
         knobs[name] = value
     paths, texts = _sources(data)
-    report, model = _edsp.gap_diagnose(_config(config), paths, texts, **knobs)
-    return GapReport(json.loads(report), json.loads(model))
+    report, model = _edsp.gap_diagnose(_config(config), paths, texts, **knobs,
+                                       against_calibration=against == "calibration")
+    return GapReport(json.loads(report), json.loads(model) if model else None)
 
 
 def _model(model) -> Tuple[str, str]:
@@ -144,6 +151,10 @@ def evaluate(config, model, data, keep_timing_events: bool = False) -> Dict[str,
 def save_model(report: Union[GapReport, dict], path) -> str:
     """Writes the model of a diagnosis (what `--save-model` writes); returns the path."""
     model = report.model if isinstance(report, GapReport) else report
+    if isinstance(report, GapReport) and model is None:
+        raise ValueError("save_model: this diagnosis ran against the calibration the data was recorded with: its "
+                         "effects are what that calibration leaves, and applied alone they would replace it; "
+                         "diagnose with against='nominal' (the default) to save the rig's whole calibration")
     if not isinstance(model, dict) or "format" not in model:
         raise TypeError("save_model: want the GapReport diagnose returned (or its .model)")
     path = os.fspath(path)

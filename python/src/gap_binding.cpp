@@ -12,6 +12,7 @@
 
 #include "bindings.h"
 #include "edsp/diagnosis/measurement_data.h"
+#include "edsp/diagnosis/recorded_correction.h"
 #include "edsp/diagnosis/report.h"
 #include "edsp/kinematics/calibration.h"
 #include "edsp/kinematics/config.h"
@@ -33,6 +34,7 @@ gap::MeasurementData Measurements(const std::vector<std::string>& paths, const C
 
 struct DiagnoseKnobs {
   std::optional<double> max_rate_hz, thermal_time_constant_s, structural_mode_hz, structural_mode_damping;
+  bool against_calibration = false;
 };
 
 // (the report of `edsp-gap diagnose --json`, the model `--save-model` writes).
@@ -48,8 +50,13 @@ std::pair<std::string, std::string> Diagnose(const std::string& config, const st
   }
   if (knobs.structural_mode_hz) options.design.structural_mode_hz = *knobs.structural_mode_hz;
   if (knobs.structural_mode_damping) options.design.structural_mode_damping = *knobs.structural_mode_damping;
-  const gap::Diagnosis d = gap::Diagnose(model, Measurements(paths, texts, gap::TimingEvents::kLeaveOut), options);
-  return {gap::ToJson(d).dump(), gap::ModelJson(d).dump(2)};
+  if (knobs.against_calibration) options.against = gap::Against::kCalibration;
+  const gap::MeasurementData data = Measurements(paths, texts, gap::TimingEvents::kLeaveOut);
+  const gap::Diagnosis d = gap::Diagnose(model, data, options);
+  // Increments on a calibration in force are no model to apply alone (as
+  // edsp-gap's --save-model refuses them): none.
+  const bool increments = knobs.against_calibration && gap::CarriesACorrection(data);
+  return {gap::ToJson(d).dump(), increments ? std::string() : gap::ModelJson(d).dump(2)};
 }
 
 // The JSON of `edsp-gap evaluate --json`.
@@ -78,12 +85,15 @@ void BindGap(py::module_& m) {
       "gap_diagnose",
       [](const std::string& config, const std::vector<std::string>& paths, const CsvTexts& texts,
          std::optional<double> max_rate_hz, std::optional<double> thermal_time_constant_s,
-         std::optional<double> structural_mode_hz, std::optional<double> structural_mode_damping) {
+         std::optional<double> structural_mode_hz, std::optional<double> structural_mode_damping,
+         bool against_calibration) {
         return Diagnose(config, paths, texts,
-                        {max_rate_hz, thermal_time_constant_s, structural_mode_hz, structural_mode_damping});
+                        {max_rate_hz, thermal_time_constant_s, structural_mode_hz, structural_mode_damping,
+                         against_calibration});
       },
       py::arg("config"), py::arg("paths"), py::arg("texts"), py::arg("max_rate_hz"),
-      py::arg("thermal_time_constant_s"), py::arg("structural_mode_hz"), py::arg("structural_mode_damping"));
+      py::arg("thermal_time_constant_s"), py::arg("structural_mode_hz"), py::arg("structural_mode_damping"),
+      py::arg("against_calibration"));
   m.def("gap_evaluate", &Evaluate, py::arg("config"), py::arg("model_json"), py::arg("model_origin"),
         py::arg("paths"), py::arg("texts"), py::arg("keep_timing_events"));
 }

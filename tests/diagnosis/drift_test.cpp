@@ -16,6 +16,7 @@
 #include "edsp/kinematics/config.h"
 #include "edsp/sim/offline_run.h"
 #include "command_output.h"
+#include "offline_session.h"
 #include "scratch_dir.h"
 
 namespace edsp::gap {
@@ -25,32 +26,17 @@ const std::string kConfig = std::string(EDSP_SOURCE_DIR) + "/config/huang2021.to
 
 PlatformModel Model() { return PlatformModel(LoadConfigFile(kConfig)); }
 
-RigEffects Rig() {
-  RigEffects fx;
-  fx.servo_lag.integral_time_s = 0.05;
-  fx.leg_offset.enabled = fx.backlash.enabled = fx.lead_error.enabled = true;
-  fx.leg_offset.offset_m = {80e-6, -60e-6, 40e-6, -100e-6, 50e-6, -20e-6};
-  fx.backlash.backlash_m = {20e-6, 25e-6, 22e-6, 30e-6, 18e-6, 26e-6};
-  fx.lead_error.epsilon = {1.5e-4, -1e-4, 2e-4, 0.5e-4, -1.5e-4, 1e-4};
-  return fx;
-}
+RigEffects Rig() { return test_support::OffsetsBacklashAndLead(); }
 
 // A session: its motions on the rig, with the calibration `model` applied
 // by the kinematics (empty: none), the tracker set up anew.
 std::string Session(const std::string& name, const RigEffects& fx, const std::vector<std::string>& motions,
                     const std::string& model, std::uint64_t seed) {
-  OfflineRunOptions o;
-  o.motions = motions;
-  o.paper.stops = 4;
-  o.paper.dwell_s = 0.3;
-  o.paper.max_speed_m_s = 0.25;
-  o.paper.max_speed_rad_s = 0.5;
-  o.tracker.noise_sigma_m = 5e-6;
-  o.tracker.rate_hz = 100.0;
-  o.tracker.seed = seed;
-  o.tracker.X_TB = Pose::FromVector((Vector6() << 1.0 + static_cast<double>(seed), -2.0, 0.2, 0.01, -0.01, 0.3 * static_cast<double>(seed)).finished());
+  const Pose tracker = Pose::FromVector(
+      (Vector6() << 1.0 + static_cast<double>(seed), -2.0, 0.2, 0.01, -0.01, 0.3 * static_cast<double>(seed)).finished());
+  OfflineRunOptions o =
+      test_support::OfflineSession(motions, 4, 0.3, 5e-6, seed, tracker, test_support::ScratchDir("drift_" + name));
   o.calibration_path = model;
-  o.out_dir = test_support::ScratchDir("drift_" + name);
   return RunOffline(kConfig, fx, o).csv_path;
 }
 
@@ -150,6 +136,15 @@ TEST(Drift, TheCommandLineSaysWhatChangedAndRefusesABadBaseline) {
   ASSERT_EQ(ok.exit_code, 0) << ok.text;
   const nlohmann::json j = nlohmann::json::parse(ok.text.substr(ok.text.find('{')));
   for (const char* key : {"changed", "appeared", "vanished", "heldout_rms_m", "recalibrate"}) EXPECT_TRUE(j.contains(key)) << key;
+  // By default the data says whether the baseline was applied (its leg_corr columns).
+  EXPECT_TRUE(j["recorded_with_baseline"].get<bool>());
+  const auto without = test_support::RunCommand(fmt::format("{} drift --config {} --baseline {} --data {} --json",
+                                                            EDSP_GAP_BINARY, kConfig, Baseline(),
+                                                            Session("cli_without", Rig(), kSession, "", 5)));
+  ASSERT_EQ(without.exit_code, 0) << without.text;
+  const nlohmann::json w = nlohmann::json::parse(without.text.substr(without.text.find('{')));
+  EXPECT_FALSE(w["recorded_with_baseline"].get<bool>());
+  EXPECT_TRUE(w["changed"].empty()) << without.text;
   const std::string bad = test_support::ScratchDir("drift_bad") + "/bad.json";
   std::ofstream(bad) << R"({"format": "edsp-gap-model/1", "effects": [{"name": "backlash", "theta": [1, 2]}]})";
   const auto refused = test_support::RunCommand(

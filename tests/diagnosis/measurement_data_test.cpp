@@ -69,6 +69,27 @@ TEST(MeasurementCsv, EncodersAreOptionalPerFile) {
   EXPECT_FALSE(d.rows[1].has_encoder);
 }
 
+// leg_corr_*_m (a calibration's correction recorded with the command): read
+// when all six are there, an empty cell a zero; five of six are refused by
+// the one missing, as a zero there would be a wrong nominal residual.
+TEST(MeasurementCsv, CorrectionColumnsAreAllSixOrNone) {
+  const std::string header = "time_s,run,pose_cmd_x_m,pose_cmd_y_m,pose_cmd_z_m,pose_cmd_roll_rad,pose_cmd_pitch_rad,"
+                             "pose_cmd_yaw_rad,leg_cmd_1_m,leg_cmd_2_m,leg_cmd_3_m,leg_cmd_4_m,leg_cmd_5_m,leg_cmd_6_m,"
+                             "point_x_m,point_y_m,point_z_m,leg_corr_1_m,leg_corr_2_m,leg_corr_3_m,leg_corr_4_m,"
+                             "leg_corr_5_m";
+  const MeasurementData d = ParseMeasurementCsv(header + ",leg_corr_6_m\n"
+                                                "0,Lz,0,0,1.511,0,0,0,1,1,1,1,1,1,1,2,3,1e-4,0,0,0,0,-2e-5\n"
+                                                "0.1,Lz,0,0,1.511,0,0,0,1,1,1,1,1,1,1,2,3,,,,,,\n",
+                                                "corr.csv");
+  EXPECT_TRUE(d.has_correction);
+  EXPECT_DOUBLE_EQ(d.rows[0].leg_corr_m(0), 1e-4);
+  EXPECT_DOUBLE_EQ(d.rows[0].leg_corr_m(5), -2e-5);
+  EXPECT_TRUE(d.rows[1].leg_corr_m.isZero(0.0));
+  EXPECT_FALSE(ParseMeasurementCsv(std::string(kHeader) + Row(0.0, "Lz"), "t.csv").has_correction);
+  ExpectError(header + "\n0,Lz,0,0,1.511,0,0,0,1,1,1,1,1,1,1,2,3,0,0,0,0,0\n",
+              "bad.csv:1: header has 5 of the six leg_corr columns but lacks \"leg_corr_6_m\"");
+}
+
 // `timing_event` (edsp-log's export: near a stall of the controller): a
 // row flagged 1 is left out and counted, 0 or empty is kept; anything else
 // is named, and a file of nothing but flagged rows is no measurement.
@@ -119,7 +140,11 @@ TEST(MeasurementLog, AnEdspLogIsReadThroughTheExporter) {
     sp.trajectory = "Lz/move 1";
     sp.pose[2] = 1.511;
     leg_command_t c{};
-    for (double& l : c.command_length_m) l = 1.9;
+    for (int i = 0; i < 6; ++i) {
+      c.command_length_m[i] = 1.9;
+      c.pr_correction_m[i] = 2e-4;
+      c.ik_length_m[i] = 1.9 + 2e-4 + (i == 0 ? 1e-4 : 0.0);  // a calibration took 0.1 mm off leg 1
+    }
     tracker_point_t t{};
     t.valid = 1;
     t.point_m[0] = 1.2;
@@ -137,6 +162,9 @@ TEST(MeasurementLog, AnEdspLogIsReadThroughTheExporter) {
   EXPECT_EQ(d.runs, std::vector<std::string>{"Lz"});
   EXPECT_DOUBLE_EQ(d.rows[2].time_s, 0.002);
   EXPECT_DOUBLE_EQ(d.rows[0].leg_cmd_m(3), 1.9);
+  EXPECT_TRUE(d.has_correction);
+  EXPECT_NEAR(d.rows[0].leg_corr_m(0), 1e-4, 1e-15);
+  EXPECT_NEAR(d.rows[0].leg_corr_m.tail<5>().norm(), 0.0, 1e-15);
 }
 
 TEST(MeasurementLog, MissingFileIsNamed) {

@@ -20,6 +20,7 @@
 #include "edsp/kinematics/config.h"
 #include "edsp/rig/payload_rating.h"
 #include "edsp/sim/offline_run.h"
+#include "offline_session.h"
 #include "scratch_dir.h"
 
 namespace edsp::gap {
@@ -29,18 +30,8 @@ const std::string kConfig = std::string(EDSP_SOURCE_DIR) + "/config/huang2021.to
 constexpr double kNoise = 5e-6;
 
 OfflineRunOptions BenchmarkRun(const std::string& dir) {
-  OfflineRunOptions run;
-  run.motions = {"calibration"};
-  run.paper.stops = 5;
-  run.paper.dwell_s = 0.5;
-  run.paper.max_speed_m_s = 0.25;
-  run.paper.max_speed_rad_s = 0.5;
-  run.tracker.noise_sigma_m = kNoise;
-  run.tracker.rate_hz = 100.0;
-  run.tracker.seed = 11;
-  run.tracker.X_TB = Pose::FromVector((Vector6() << 1.5, -2.0, 0.2, 0.01, -0.01, 2.0).finished());
-  run.out_dir = dir;
-  return run;
+  return test_support::OfflineSession({"calibration"}, 5, 0.5, kNoise, 11,
+                                      Pose::FromVector((Vector6() << 1.5, -2.0, 0.2, 0.01, -0.01, 2.0).finished()), dir);
 }
 
 // The saved model with only what the diagnosis names for sure: what the

@@ -64,7 +64,11 @@ void WriteLog() {
   b.Add("EDSP_SETPOINT", Setpoint("Lz/move 1", 1.4));
   leg_command_t c{};
   c.setpoint_utime = 150;
-  for (int i = 0; i < 6; ++i) c.command_length_m[i] = 1.9 + 0.001 * i + 1e-13;
+  for (int i = 0; i < 6; ++i) {
+    c.command_length_m[i] = 1.9 + 0.001 * i + 1e-13;
+    c.pr_correction_m[i] = 1e-3;
+    c.ik_length_m[i] = c.command_length_m[i] + c.pr_correction_m[i] + 5e-5 * i;  // a calibration's correction
+  }
   b.Add("EDSP_LEG_COMMAND", c);
   leg_state_t s{};
   for (int i = 0; i < 6; ++i) s.encoder_length_m[i] = 1.8 + 0.002 * i;
@@ -84,12 +88,13 @@ TEST(MeasurementExport, OneRowPerValidTrackerSampleWithTheLatestCommands) {
   EXPECT_FALSE(e.damaged);
   const auto rows = Rows(csv.str());
   ASSERT_EQ(rows.size(), 3u);
-  ASSERT_EQ(rows[0].size(), 24u);
+  ASSERT_EQ(rows[0].size(), 30u);
   EXPECT_EQ(rows[0][0], "time_s");
   EXPECT_EQ(rows[0][8], "leg_cmd_1_m");
-  EXPECT_EQ(rows[0][22], "point_z_m");
-  EXPECT_EQ(rows[0][23], "timing_event");
-  EXPECT_EQ(rows[1][23], "0");
+  EXPECT_EQ(rows[0][20], "leg_corr_1_m");
+  EXPECT_EQ(rows[0][28], "point_z_m");
+  EXPECT_EQ(rows[0][29], "timing_event");
+  EXPECT_EQ(rows[1][29], "0");
   EXPECT_EQ(rows[1][1], "Lz");
   EXPECT_EQ(rows[2][1], "Rz");
   EXPECT_EQ(std::stod(rows[1][0]), 0.0);
@@ -99,8 +104,10 @@ TEST(MeasurementExport, OneRowPerValidTrackerSampleWithTheLatestCommands) {
   EXPECT_EQ(std::stod(rows[1][7]), 0.1 + 1e-17);
   EXPECT_EQ(std::stod(rows[1][9]), 1.9 + 0.001 * 1 + 1e-13);
   EXPECT_EQ(std::stod(rows[1][15]), 1.8 + 0.002 * 1);
-  EXPECT_EQ(std::stod(rows[1][20]), 1.2 + 1e-12);
-  EXPECT_EQ(std::stod(rows[1][21]), 1.0 / 3.0);
+  EXPECT_EQ(std::stod(rows[1][26]), 1.2 + 1e-12);
+  EXPECT_EQ(std::stod(rows[1][27]), 1.0 / 3.0);
+  // The calibration's correction: IK − PR − command, as the kinematics took it off.
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(std::stod(rows[1][static_cast<std::size_t>(20 + i)]), 5e-5 * i, 1e-15) << i;
   EXPECT_EQ(std::stod(rows[2][4]), 1.5);
   ::unlink(kPath.c_str());
 }
@@ -233,7 +240,7 @@ TEST(MeasurementExport, SamplesNearAStallOfTheRealTimeSystemAreFlagged) {
     const std::int64_t ms = static_cast<std::int64_t>(k);  // the k-th sample's stamp
     const bool near = (ms >= 48 && ms <= 50 + 6 + 100 + 60) || (ms >= 247 && ms <= 249 + 10 + 100 + 100) ||
                       (ms >= 647 && ms <= 766) || ms >= 798;
-    EXPECT_EQ(rows[k][23], near ? "1" : "0") << "sample at " << ms << " ms";
+    EXPECT_EQ(rows[k][29], near ? "1" : "0") << "sample at " << ms << " ms";
     flagged += near;
   }
   EXPECT_EQ(e.timing_events, flagged);

@@ -4,8 +4,9 @@ with effects (edsp-sim rig, offline), diagnose returns what
 the same measurement given as numpy arrays reaches the same verdicts;
 evaluate agrees with `edsp-gap evaluate`. The model found, in
 edsp.Kinematics, commands what the kinematics node commanded with it (the
-node's leg commands in a run with the calibration applied). Bad data
-raises naming the column."""
+node's leg commands in a run with the calibration applied). Data recorded
+with the calibration reads against the nominal model or against it. Bad
+data raises naming the column."""
 import json
 import os
 import subprocess
@@ -156,3 +157,21 @@ def test_a_yaw_through_pi_is_one_motion_to_the_calibration(report, tmp_path):
     along = kin.compensate(unwrapped, times_s=times)
     assert np.abs(along - kin.compensate(unwrapped)).max() > 1e-7, "the motion's rates change the correction"
     assert np.abs(kin.compensate(wrapped, times_s=times) - along).max() < 1e-9
+
+
+def test_data_recorded_with_the_calibration_reads_against_nominal_or_the_calibration(report, tmp_path):
+    model = edsp.gap.save_model(report, tmp_path / "model.json")
+    log, _ = rig_run(tmp_path / "calibrated", "--motions", "Ly,Rx,M3", "--seed", "2", "--calibration", model)
+    nominal = edsp.gap.diagnose(CONFIG, log)
+    left = edsp.gap.diagnose(CONFIG, log, against="calibration")
+    assert nominal["recorded_correction"]["against"] == "nominal"
+    assert left["recorded_correction"]["against"] == "calibration"
+    assert nominal["recorded_correction"]["rms_m"] > 10e-6
+    assert left["gap"]["rms_m"] < 0.5 * nominal["gap"]["rms_m"]
+    assert nominal.model is not None and left.model is None
+    with pytest.raises(ValueError, match="against='nominal'"):
+        edsp.gap.save_model(left, tmp_path / "increments.json")
+    with pytest.raises(ValueError, match="against"):
+        edsp.gap.diagnose(CONFIG, log, against="factory")
+    took = lambda r: {k: v for k, v in r.items() if k != "seconds"}  # noqa: E731  (how long it ran)
+    same(took(nominal), took(json.loads(gap_cli("diagnose", "--config", CONFIG, "--data", log, "--json"))))

@@ -32,15 +32,17 @@ CsvStats ReadMeasurement(const std::string& path, const PlatformModel& model) {
     std::vector<std::string> cells;
     std::stringstream row(line);
     for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
-    if (cells.size() != 24) {
+    if (cells.size() != 30) {
       ADD_FAILURE() << "row of " << cells.size() << " cells: " << line;
       continue;
     }
     // The offline stack's deterministic clock never stalls the drives.
-    EXPECT_EQ(cells[23], "0") << "a timing_event offline: " << line;
+    EXPECT_EQ(cells[29], "0") << "a timing_event offline: " << line;
+    // No calibration runs: the kinematics took no correction off.
+    for (std::size_t k = 20; k < 26; ++k) EXPECT_EQ(cells[k], "0") << "leg_corr: " << line;
     Vector6 q;
     for (int k = 0; k < 6; ++k) q(k) = std::stod(cells[static_cast<std::size_t>(2 + k)]);
-    const Vector3 point(std::stod(cells[20]), std::stod(cells[21]), std::stod(cells[22]));
+    const Vector3 point(std::stod(cells[26]), std::stod(cells[27]), std::stod(cells[28]));
     stats.max_error_m = std::max(stats.max_error_m, (point - model.ObservationPoint(Pose::FromVector(q))).norm());
     ++stats.rows;
   }

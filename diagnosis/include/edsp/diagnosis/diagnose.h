@@ -11,6 +11,7 @@
 
 #include "edsp/diagnosis/design.h"
 #include "edsp/diagnosis/gap_summary.h"
+#include "edsp/diagnosis/recorded_correction.h"
 #include "edsp/diagnosis/residual_structure.h"
 #include "edsp/diagnosis/time_offset.h"
 #include "edsp/diagnosis/whiteness.h"
@@ -19,6 +20,9 @@ namespace edsp::gap {
 
 struct DiagnoseOptions {
   double max_rate_hz = 100.0;     // rows per run are thinned to this rate
+  // Data recorded with a calibration in force (leg_corr_*_m): the rig's
+  // whole effects (nominal) or what the calibration leaves (recorded_correction.h).
+  Against against = Against::kNominal;
   DesignOptions design;
   double min_cv_gain = 0.05;      // an effect must cut the held-out MSE by this fraction
   double min_bic_drop = 10.0;     // and lower BIC by this much
@@ -155,6 +159,8 @@ struct Diagnosis {
   Matrix3 R0 = Matrix3::Identity();
   Vector3 t0 = Vector3::Zero();
   double seconds = 0.0;
+  Against against = Against::kNominal;
+  double recorded_correction_rms_m = 0.0;  // what the recorded calibration moved A by (RMS); 0: none
 };
 
 Diagnosis Diagnose(const PlatformModel& model, const MeasurementData& data, const DiagnoseOptions& options = {});

@@ -19,6 +19,9 @@ struct MeasurementRow {
   Vector6 leg_cmd_m = Vector6::Zero();  // commanded to the drives, encoder-length units
   Vector6 leg_enc_m = Vector6::Zero();  // encoder-implied; valid when has_encoder
   bool has_encoder = false;
+  // The calibration's correction the controller subtracted from this
+  // command (leg_corr_*_m; zero when none ran or the source does not say).
+  Vector6 leg_corr_m = Vector6::Zero();
   Vector3 point_m = Vector3::Zero();    // tracker measurement of A, tracker frame
 };
 
@@ -26,6 +29,7 @@ struct MeasurementData {
   std::vector<std::string> runs;     // in order of first appearance
   std::vector<MeasurementRow> rows;  // in file order
   std::string source;                // the file(s) it came from
+  bool has_correction = false;       // the source carries leg_corr_*_m columns
   // Rows the source flagged `timing_event` = 1 (near a stall of its
   // controller: a transient no effect models), left out of `rows`.
   std::int64_t timing_excluded = 0;

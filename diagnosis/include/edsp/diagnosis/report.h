@@ -19,6 +19,10 @@ nlohmann::json ToJson(const Diagnosis& diagnosis);
 // fast it drifts over the session (the clock checks).
 std::string TrackerClockNote(const Diagnosis& diagnosis);
 
+// What a calibration recorded with the data did at point A and what the
+// diagnosis read it against, in one sentence ("" when the data carried none).
+std::string RecordedCorrectionText(const Diagnosis& diagnosis);
+
 // The selected effects with their parameters: what `evaluate` applies.
 nlohmann::json ModelJson(const Diagnosis& diagnosis);
 

@@ -10,7 +10,9 @@
 // messages' own stamps, not by their order of arrival at the logger, which
 // interleaves the processes by a cycle or more (up to 0.5 s late is paired).
 // `run` is the motion the setpoint belongs to (its trajectory name up to the
-// first '/'), so hold-out splits can be by run. `timing_event` is 1 for a
+// first '/'), so hold-out splits can be by run. `leg_corr_*_m` is the
+// calibration's correction the kinematics took off that command (its own
+// fields: IK − PR − command; zero without a calibration). `timing_event` is 1 for a
 // sample from 2 ms before a stall of the real-time system to 100 ms + 10×
 // its length after it: the drives more than 2.5 ms without a new command
 // (EDSP_LEG_STATE's command_seq) or a reading, a transient no calibration

@@ -1,0 +1,182 @@
+// Data recorded with a calibration in force: the export carries the
+// correction the kinematics took off each command, the diagnosis reads the
+// data against the nominal model (the rig's whole effects) or against the
+// calibration (what it leaves), and a second calibration made on data
+// recorded with the first holds as well as the first. The truth is the
+// rig's (rig/) and the same sessions run without any calibration.
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "edsp/diagnosis/recorded_correction.h"
+#include "edsp/diagnosis/report.h"
+#include "edsp/kinematics/config.h"
+#include "edsp/sim/offline_run.h"
+#include "command_output.h"
+#include "offline_session.h"
+#include "scratch_dir.h"
+
+namespace edsp::gap {
+namespace {
+
+const std::string kConfig = std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml";
+const std::vector<std::string> kFit = {"Lz", "Lx", "Rz", "Ry", "M1", "M2"};
+const std::vector<std::string> kHeldOut = {"Ly", "Rx", "M3"};
+
+PlatformModel Model() { return PlatformModel(LoadConfigFile(kConfig)); }
+
+RigEffects Rig() { return test_support::OffsetsBacklashAndLead(); }
+
+// `motions` on the rig with `model` applied by the kinematics (empty: none);
+// the tracker `noise_m` noisy, drawn by `seed`.
+std::string Session(const std::string& name, const std::vector<std::string>& motions, const std::string& model,
+                    std::uint64_t seed, double noise_m = 5e-6) {
+  OfflineRunOptions o = test_support::OfflineSession(
+      motions, 4, 0.3, noise_m, seed, Pose::FromVector((Vector6() << 1.5, -2.0, 0.2, 0.01, -0.01, 0.4).finished()),
+      test_support::ScratchDir("recorded_correction_" + name));
+  o.calibration_path = model;
+  return RunOffline(kConfig, Rig(), o).csv_path;
+}
+
+std::string SaveModel(const Diagnosis& d, const std::string& name) {
+  const std::string path = test_support::ScratchDir("recorded_correction_models") + "/" + name + ".json";
+  std::ofstream(path) << ModelJson(d).dump(2);
+  return path;
+}
+
+// The first calibration, diagnosed on a session run without one.
+const std::string& First() {
+  static const std::string path = SaveModel(Diagnose(Model(), LoadMeasurement(Session("fit", kFit, "", 1))), "first");
+  return path;
+}
+
+// The same fit motions run again with the first calibration in force.
+const std::string& RecordedWithFirst() {
+  static const std::string path = Session("fit_calibrated", kFit, First(), 2);
+  return path;
+}
+
+// Point A's error as measured on held-out motions with `model` applied.
+double HeldOutRms(const std::string& model, const std::string& name) {
+  const MeasurementData data = LoadMeasurement(Session(name, kHeldOut, model, 7));
+  return Evaluate(Model(), data, EmptyModelJson(), "none").before.rms_m;
+}
+
+const EffectResult* Find(const Diagnosis& d, Effect e) {
+  for (const EffectResult& r : d.effects) {
+    if (r.effect == e) return &r;
+  }
+  return nullptr;
+}
+
+// Noise-free sessions of the same motions with and without the first
+// calibration command the same poses (the calibrated run settles first, so
+// its samples start a cycle apart: rows are paired by their pose): their
+// leg commands differ by exactly the correction the calibrated one recorded.
+TEST(RecordedCorrection, TheExportCarriesTheCorrectionTheKinematicsTookOff) {
+  const MeasurementData plain = LoadMeasurement(Session("plain_exact", {"M1"}, "", 3, 0.0));
+  const MeasurementData calibrated = LoadMeasurement(Session("calibrated_exact", {"M1"}, First(), 3, 0.0));
+  for (const MeasurementRow& row : plain.rows) EXPECT_TRUE(row.leg_corr_m.isZero(0.0)) << row.time_s;
+  double largest = 0.0, mismatch = 0.0;
+  std::size_t paired = 0, j = 0;
+  for (const MeasurementRow& row : calibrated.rows) {
+    while (j < plain.rows.size() && (plain.rows[j].pose_cmd - row.pose_cmd).norm() > 1e-12 &&
+           plain.rows[j].time_s < row.time_s + 0.1) {
+      ++j;
+    }
+    if (j == plain.rows.size() || (plain.rows[j].pose_cmd - row.pose_cmd).norm() > 1e-12) continue;
+    const Vector6 difference = plain.rows[j].leg_cmd_m - row.leg_cmd_m;
+    mismatch = std::max(mismatch, (difference - row.leg_corr_m).cwiseAbs().maxCoeff());
+    largest = std::max(largest, row.leg_corr_m.cwiseAbs().maxCoeff());
+    ++paired;
+  }
+  EXPECT_GT(paired, calibrated.rows.size() * 9 / 10);
+  EXPECT_GT(largest, 50e-6);  // the first calibration corrects by tens of µm
+  EXPECT_LT(mismatch, 1e-12);
+  EXPECT_TRUE(CarriesACorrection(calibrated));
+  EXPECT_FALSE(CarriesACorrection(plain));
+}
+
+// Against the nominal model a calibrated session shows the rig's whole
+// gap, as the same session run without the calibration does; against the
+// calibration it shows what the calibration leaves.
+TEST(RecordedCorrection, AgainstTheNominalModelACalibratedSessionShowsTheWholeRig) {
+  const MeasurementData plain = LoadMeasurement(Session("plain_noisy", {"M1", "Lx"}, "", 4));
+  const MeasurementData calibrated = LoadMeasurement(Session("calibrated_noisy", {"M1", "Lx"}, First(), 4));
+  const double whole = Diagnose(Model(), plain).gap.overall.rms_m;
+  const Diagnosis nominal = Diagnose(Model(), calibrated);
+  DiagnoseOptions against_calibration;
+  against_calibration.against = Against::kCalibration;
+  const Diagnosis left = Diagnose(Model(), calibrated, against_calibration);
+  const std::string figures = fmt::format(
+      "gap: uncalibrated {:.2f} µm, calibrated against nominal {:.2f} µm, against the calibration {:.2f} µm; the "
+      "correction at A {:.2f} µm",
+      whole * 1e6, nominal.gap.overall.rms_m * 1e6, left.gap.overall.rms_m * 1e6, nominal.recorded_correction_rms_m * 1e6);
+  std::printf("%s\n", figures.c_str());
+  SCOPED_TRACE(figures);
+  EXPECT_NEAR(nominal.gap.overall.rms_m, whole, 0.03 * whole);
+  EXPECT_LT(left.gap.overall.rms_m, 0.5 * whole);
+  EXPECT_GT(nominal.recorded_correction_rms_m, 0.5 * whole);
+  EXPECT_DOUBLE_EQ(left.recorded_correction_rms_m, nominal.recorded_correction_rms_m);
+  EXPECT_EQ(nominal.against, Against::kNominal);
+  EXPECT_EQ(left.against, Against::kCalibration);
+  // The PR compensation the data shows is the PR's alone in both readings.
+  EXPECT_EQ(nominal.applied_pr, "signed");
+  EXPECT_EQ(left.applied_pr, "signed");
+}
+
+// Calibrating twice converges: a second calibration diagnosed on data
+// recorded with the first (against the nominal model) names the rig's
+// offsets within their σ of the truth and holds out as well as the first.
+TEST(RecordedCorrection, ASecondCalibrationOnDataRecordedWithTheFirstHoldsAsWell) {
+  const Diagnosis second = Diagnose(Model(), LoadMeasurement(RecordedWithFirst()));
+  const EffectResult* offsets = Find(second, Effect::kLegOffset);
+  ASSERT_NE(offsets, nullptr);
+  ASSERT_EQ(offsets->theta.size(), 6);
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_NEAR(offsets->theta(i), Rig().leg_offset.offset_m[static_cast<std::size_t>(i)],
+                4.0 * offsets->sigma(i) + 5e-6)
+        << "leg " << i + 1;
+  }
+  const double first = HeldOutRms(First(), "heldout_first");
+  const double again = HeldOutRms(SaveModel(second, "second"), "heldout_second");
+  const double none = HeldOutRms("", "heldout_none");
+  const std::string figures =
+      fmt::format("held out: none {:.2f} µm, first {:.2f} µm, second {:.2f} µm", none * 1e6, first * 1e6, again * 1e6);
+  std::printf("%s\n", figures.c_str());
+  SCOPED_TRACE(figures);
+  EXPECT_LT(first, 0.5 * none);
+  EXPECT_LE(again, 1.1 * first);
+}
+
+TEST(RecordedCorrection, TheCommandLineSaysWhatItReadAgainstAndSavesOnlyAWholeCalibration) {
+  const std::string data = RecordedWithFirst();
+  const auto json = test_support::RunCommand(
+      fmt::format("{} diagnose --config {} --data {} --json", EDSP_GAP_BINARY, kConfig, data));
+  ASSERT_EQ(json.exit_code, 0) << json.text;
+  const nlohmann::json j = nlohmann::json::parse(json.text.substr(json.text.find('{')));
+  EXPECT_EQ(j["recorded_correction"]["against"], "nominal");
+  EXPECT_GT(j["recorded_correction"]["rms_m"].get<double>(), 10e-6);
+  const std::string model = test_support::ScratchDir("recorded_correction_cli") + "/increments.json";
+  const auto refused = test_support::RunCommand(fmt::format(
+      "{} diagnose --config {} --data {} --against calibration --save-model {}", EDSP_GAP_BINARY, kConfig, data, model));
+  EXPECT_EQ(refused.exit_code, 1) << refused.text;
+  EXPECT_NE(refused.text.find("--save-model with --against calibration"), std::string::npos) << refused.text;
+  EXPECT_NE(refused.text.find(data), std::string::npos) << refused.text;
+  EXPECT_FALSE(std::ifstream(model).good());
+  const auto text = test_support::RunCommand(
+      fmt::format("{} diagnose --config {} --data {} --against calibration", EDSP_GAP_BINARY, kConfig, data));
+  ASSERT_EQ(text.exit_code, 0) << text.text;
+  EXPECT_NE(text.text.find("diagnosed against it, so the effects are what it leaves"), std::string::npos) << text.text;
+  const auto bad = test_support::RunCommand(
+      fmt::format("{} diagnose --config {} --data {} --against factory", EDSP_GAP_BINARY, kConfig, data));
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.text.find("factory"), std::string::npos) << bad.text;
+}
+
+}  // namespace
+}  // namespace edsp::gap
