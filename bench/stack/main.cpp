@@ -7,9 +7,9 @@
 //   edsp-bench-stack [--duration-s 60] [--transports lcm,shm,shm-mirror] [--no-realtime] [--json]
 // Latency: planner's setpoint utime → the bridge accepting the command (same
 // host, same clock); "to_drives": → the bridge cycle's write to the drives,
-// which ticks a fixed phase after the planner (bridge_loop.h). Targets
-// (issue #4): no missed cycle; p99 ≤ 300 µs over LCM, ≤ 100 µs over shared
-// memory, to the bridge.
+// which ticks a fixed phase after the planner (bridge_loop.h). Targets: no
+// missed cycle; p99 ≤ 300 µs over LCM, ≤ 100 µs over shared memory, to the
+// bridge.
 #include <sys/wait.h>
 #include <unistd.h>
 
