@@ -258,6 +258,10 @@ int RunEvaluate(const EvaluateArgs& a) {
                 ev.before.rms_m * 1e6, ev.before.max_m * 1e6, ev.after.rms_m * 1e6, ev.after.max_m * 1e6,
                 100 * ev.shrink, ev.noise_floor_rms_m * 1e6,
                 GapShrinkText(ev.before.rms_m, ev.noise_floor_rms_m, ev.gap_shrink).c_str());
+    if (ev.against_nominal) {
+      std::printf("the data was recorded with a calibration in force, which the model replaces: both figures are "
+                  "against the nominal model\n");
+    }
     if (ev.timing_excluded > 0) {
       std::printf("left out: %lld samples the data flags timing_event (%.1f%%)\n",
                   static_cast<long long>(ev.timing_excluded), 100 * ev.timing_excluded_share);
@@ -266,11 +270,18 @@ int RunEvaluate(const EvaluateArgs& a) {
   return 0;
 }
 
+// --recorded: with, without, or auto: as the data's leg_corr columns say
+// (several files are one session: any correction in them says "with"), and
+// "with" for data without the columns, the usual case.
+bool RecordedWithBaseline(const std::string& choice, const MeasurementData& data) {
+  if (choice != "auto") return choice == "with";
+  return !data.has_correction || CarriesACorrection(data);
+}
+
 int RunDrift(DriftArgs a) {
   const PlatformModel model(LoadConfigFile(a.config));
   const MeasurementData data = LoadAll(a.data);
-  a.options.recorded_with_baseline =
-      a.recorded == "with" || (a.recorded == "auto" && (!data.has_correction || CarriesACorrection(data)));
+  a.options.recorded_with_baseline = RecordedWithBaseline(a.recorded, data);
   const DriftReport r = Drift(model, LoadModelFile(a.baseline), a.baseline, data, a.options);
   if (a.json) std::printf("%s\n", ToJson(r).dump(2).c_str());
   else std::printf("%s", DriftText(r).c_str());

@@ -121,13 +121,14 @@ Samples TrackSamples(const PlatformModel& model, const MeasurementData& data, co
       calibration::LegErrorInputs in;
       in.time_s = row.time_s;
       in.pose = pose;
-      // The compensation the PR basis scales is the PR's alone: a
-      // calibration's correction recorded with the command is not part of it.
-      in.command_m = row.leg_cmd_m + row.leg_corr_m;
+      in.command_m = row.leg_cmd_m;
       // With encoder data the motor's own motion drives the play.
       in.motor_m = row.has_encoder ? row.leg_enc_m : row.leg_cmd_m;
       CommandRates(model, data, rows, k, &in);
-      const calibration::LegErrorState s = tracker.Advance(in);
+      calibration::LegErrorState s = tracker.Advance(in);
+      // The compensation the PR basis scales is the PR's alone: a
+      // calibration's correction recorded with the command is not part of it.
+      s.compensation -= row.leg_corr_m;
       out.states.push_back(s);
       out.model_points.push_back(model.ObservationPoint(pose));
       out.measured.push_back(row.point_m);

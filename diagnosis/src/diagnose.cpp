@@ -541,14 +541,18 @@ Diagnosis WithThermalTimeConstant(const PlatformModel& model, const MeasurementD
 }  // namespace
 
 Diagnosis Diagnose(const PlatformModel& model, const MeasurementData& recorded, const DiagnoseOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
   double correction_rms_m = 0.0;
-  const MeasurementData nominal = AsCommandedNominally(model, recorded, &correction_rms_m);
-  const MeasurementData& data = options.against == Against::kNominal ? nominal : recorded;
+  const bool corrected = CarriesACorrection(recorded);
+  const MeasurementData nominal = corrected ? AsCommandedNominally(model, recorded, &correction_rms_m) : MeasurementData{};
+  const MeasurementData& data = corrected && options.against == Against::kNominal ? nominal : recorded;
+  const double reading_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   Diagnosis d = WithStructuralMode(model, data, options,
                                    WithBacklashWidth(model, data, options, DiagnoseOnce(model, data, options)));
   d = WithThermalTimeConstant(model, data, options, std::move(d));
   d.against = options.against;
   d.recorded_correction_rms_m = correction_rms_m;
+  d.seconds += reading_s;
   return d;
 }
 

@@ -180,7 +180,9 @@ DriftReport Drift(const PlatformModel& model, const nlohmann::json& baseline, co
     Effect e;
     if (entry.is_object() && ParseEffect(entry.value("name", ""), &e)) named.push_back(e);
   }
-  const Diagnosis now = Diagnose(model, data, options.diagnose);
+  DiagnoseOptions leaves = options.diagnose;
+  leaves.against = Against::kCalibration;
+  const Diagnosis now = Diagnose(model, data, leaves);
   for (const EffectResult& e : now.effects) {
     if (e.verdict == "identified" && !Contains(named, e.effect)) r.appeared.push_back(e.effect);
   }

@@ -165,6 +165,26 @@ bool FlaggedTimingEvent(const RowParser& p, int column) {
   return flag == 1.0;
 }
 
+// A row's correction: six numbers, or six empty cells (none); a row with
+// some would leave the others' at zero, a wrong nominal residual.
+void ReadCorrection(const RowParser& p, const Columns& columns, MeasurementRow* row) {
+  int given = 0;
+  for (int k = 0; k < 6; ++k) {
+    double c = 0.0;
+    if (p.OptionalNumber(columns.leg_corr[k], "leg_corr", &c)) {
+      row->leg_corr_m(k) = c;
+      ++given;
+    }
+  }
+  if (given == 0 || given == 6) return;
+  for (int k = 0; k < 6; ++k) {
+    double c = 0.0;
+    if (!p.OptionalNumber(columns.leg_corr[k], "leg_corr", &c)) {
+      p.Fail(columns.leg_corr[k], "leg_corr", fmt::format("leg_corr_{}_m is empty beside {} given", k + 1, given));
+    }
+  }
+}
+
 }  // namespace
 
 MeasurementData ParseMeasurementCsv(const std::string& text, const std::string& origin, TimingEvents timing) {
@@ -207,10 +227,7 @@ MeasurementData ParseMeasurementCsv(const std::string& text, const std::string& 
     for (int k = 0; k < 6 && row.has_encoder; ++k) {
       row.has_encoder = p.OptionalNumber(columns.leg_enc[k], "leg_enc", &row.leg_enc_m(k));
     }
-    for (int k = 0; k < 6 && columns.leg_corr[0] >= 0; ++k) {
-      double c = 0.0;
-      if (p.OptionalNumber(columns.leg_corr[k], "leg_corr", &c)) row.leg_corr_m(k) = c;
-    }
+    if (columns.leg_corr[0] >= 0) ReadCorrection(p, columns, &row);
     const char* point_names[3] = {"point_x_m", "point_y_m", "point_z_m"};
     for (int k = 0; k < 3; ++k) row.point_m(k) = p.Number(columns.point[k], point_names[k]);
     const auto previous = last_time.find(row.run);

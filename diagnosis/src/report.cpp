@@ -282,7 +282,11 @@ Evaluation Evaluate(const PlatformModel& model, const MeasurementData& data, con
                     const std::string& origin) {
   const DesignOptions o = SavedDesignOptions(saved, origin);
   const std::vector<SavedEffect> effects = SavedAppliedEffects(saved, o, origin);
-  Design d = BuildDesign(model, Decimated(data, 100.0), o);
+  // A model applied to data recorded with a calibration in force takes that
+  // calibration's place, as in the kinematics: the data read as the nominal
+  // model commanded it. With no model, the error as measured.
+  const bool replaces = !effects.empty() && CarriesACorrection(data);
+  Design d = BuildDesign(model, Decimated(replaces ? AsCommandedNominally(model, data) : data, 100.0), o);
   // The tracker's clock is the data's nuisance, as its frame is: estimated
   // on this data, never carried over from the model.
   const double sigma_axis = std::max(NoiseFloorRms(d) / std::sqrt(3.0), 1e-8);
@@ -300,6 +304,7 @@ Evaluation Evaluate(const PlatformModel& model, const MeasurementData& data, con
     return Eigen::VectorXd(r - F * x);
   };
   Evaluation ev;
+  ev.against_nominal = replaces;
   ev.samples = d.samples();
   ev.timing_excluded = data.timing_excluded;
   const std::int64_t all_rows = data.timing_excluded + static_cast<std::int64_t>(data.rows.size());
@@ -327,7 +332,8 @@ nlohmann::json ToJson(const Evaluation& e) {
   return {{"before", StatsJson(e.before)}, {"after", StatsJson(e.after)}, {"shrink", e.shrink},
           {"gap_shrink", e.gap_shrink}, {"samples", e.samples},
           {"timing_excluded_samples", e.timing_excluded},
-          {"by_run", by_run}, {"noise_floor_rms_m", e.noise_floor_rms_m}, {"time_offset", TimeOffsetJson(e.time_offset)}};
+          {"by_run", by_run}, {"noise_floor_rms_m", e.noise_floor_rms_m}, {"time_offset", TimeOffsetJson(e.time_offset)},
+          {"recorded_correction", {{"against", e.against_nominal ? "nominal" : "calibration"}}}};
 }
 
 namespace {

@@ -129,8 +129,15 @@ def diagnose(config, data, against: str = "nominal", **options: Any) -> GapRepor
     return GapReport(json.loads(report), json.loads(model) if model else None)
 
 
+_INCREMENTS = ("this diagnosis ran against the calibration the data was recorded with: its effects are what that "
+               "calibration leaves, and applied alone they would replace it; diagnose with against='nominal' (the "
+               "default) for the rig's whole calibration")
+
+
 def _model(model) -> Tuple[str, str]:
     if isinstance(model, GapReport):
+        if model.model is None:
+            raise ValueError("model: " + _INCREMENTS)
         return json.dumps(model.model), "the diagnosis' model"
     if isinstance(model, dict):
         return json.dumps(model), "the model dict"
@@ -152,9 +159,7 @@ def save_model(report: Union[GapReport, dict], path) -> str:
     """Writes the model of a diagnosis (what `--save-model` writes); returns the path."""
     model = report.model if isinstance(report, GapReport) else report
     if isinstance(report, GapReport) and model is None:
-        raise ValueError("save_model: this diagnosis ran against the calibration the data was recorded with: its "
-                         "effects are what that calibration leaves, and applied alone they would replace it; "
-                         "diagnose with against='nominal' (the default) to save the rig's whole calibration")
+        raise ValueError("save_model: " + _INCREMENTS)
     if not isinstance(model, dict) or "format" not in model:
         raise TypeError("save_model: want the GapReport diagnose returned (or its .model)")
     path = os.fspath(path)

@@ -88,6 +88,8 @@ TEST(MeasurementCsv, CorrectionColumnsAreAllSixOrNone) {
   EXPECT_FALSE(ParseMeasurementCsv(std::string(kHeader) + Row(0.0, "Lz"), "t.csv").has_correction);
   ExpectError(header + "\n0,Lz,0,0,1.511,0,0,0,1,1,1,1,1,1,1,2,3,0,0,0,0,0\n",
               "bad.csv:1: header has 5 of the six leg_corr columns but lacks \"leg_corr_6_m\"");
+  ExpectError(header + ",leg_corr_6_m\n0,Lz,0,0,1.511,0,0,0,1,1,1,1,1,1,1,2,3,1e-4,,,,,\n",
+              "bad.csv:2:45: leg_corr_2_m is empty beside 1 given");
 }
 
 // `timing_event` (edsp-log's export: near a stall of the controller): a

@@ -171,6 +171,8 @@ def test_data_recorded_with_the_calibration_reads_against_nominal_or_the_calibra
     assert nominal.model is not None and left.model is None
     with pytest.raises(ValueError, match="against='nominal'"):
         edsp.gap.save_model(left, tmp_path / "increments.json")
+    with pytest.raises(ValueError, match="model: this diagnosis ran against the calibration"):
+        edsp.gap.evaluate(CONFIG, left, log)
     with pytest.raises(ValueError, match="against"):
         edsp.gap.diagnose(CONFIG, log, against="factory")
     took = lambda r: {k: v for k, v in r.items() if k != "seconds"}  # noqa: E731  (how long it ran)

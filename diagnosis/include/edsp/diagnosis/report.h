@@ -51,10 +51,15 @@ struct Evaluation {
   std::vector<RunEvaluation> by_run;  // the same, per run (one frame for all)
   double noise_floor_rms_m = 0.0;     // the tracker's noise at A, from the data (NoiseFloorRms)
   TimeOffset time_offset;             // the data's tracker clock, removed as the frame is
+  // The data carried a calibration's correction and the model takes its
+  // place: both figures are against the nominal model (recorded_correction.h).
+  bool against_nominal = false;
 };
 
 // Applies a saved model (ModelJson) to data it has never seen: the tracker
 // frame is re-estimated (it is a nuisance), the effects' parameters are not.
+// On data recorded with a calibration in force the model replaces it: the
+// data is read against the nominal model, `before` then the rig's whole gap.
 // Throws MeasurementError naming what is wrong with the model.
 Evaluation Evaluate(const PlatformModel& model, const MeasurementData& data, const nlohmann::json& saved,
                     const std::string& origin);
