@@ -31,7 +31,7 @@ class GapReport(dict):
     """The report of `edsp-gap diagnose --json`, with `.model`: the
     edsp-gap-model/1 JSON that `--save-model` writes (for save_model,
     evaluate, and Platform.calibration); None for a diagnosis against the
-    calibration the data was recorded with."""
+    calibration that data carrying its correction was recorded with."""
 
     def __init__(self, report: dict, model: dict):
         super().__init__(report)
@@ -108,8 +108,9 @@ def diagnose(config, data, against: str = "nominal", **options: Any) -> GapRepor
     Options as edsp-gap's: max_rate_hz, thermal_time_constant_s,
     structural_mode_hz, structural_mode_damping; `against` data recorded
     with a calibration in force: "nominal" (the rig's whole effects; the
-    model replaces that calibration) or "calibration" (what it leaves; no
-    model then, `.model` is None: increments are no calibration to apply)."""
+    model replaces that calibration) or "calibration" (what it leaves; on
+    data carrying a correction `.model` is then None: increments are no
+    calibration to apply)."""
     if against not in ("nominal", "calibration"):
         raise ValueError(f"diagnose: against = {against!r}: use 'nominal' or 'calibration'")
     unknown = sorted(set(options) - set(_OPTIONS))
