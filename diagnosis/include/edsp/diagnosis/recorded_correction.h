@@ -6,11 +6,11 @@
 // what the calibration leaves. Against the nominal model the data is read as
 // if the nominal kinematics had commanded it: c back on the command (and the
 // encoders), and point A moved by what c moved it, R·G·c (G = ∂A/∂l at the
-// commanded pose, R the tracker frame's rotation; first order in c: the
-// second-order part is about 1 µm for a millimetre on every leg, 0.1 µm for
-// the 0.3 mm a real calibration corrects). A
-// diagnosis of that names and sizes the rig's whole effects, so the model it
-// saves replaces the first calibration rather than adding to it.
+// commanded pose, R the tracker frame's rotation estimated on the data as
+// recorded; first order in c: the second-order part is about 1 µm for a
+// millimetre on every leg, 0.1 µm for the 0.3 mm a real calibration
+// corrects). A diagnosis of that names and sizes the rig's whole effects, so
+// the model it saves replaces the first calibration rather than adding to it.
 
 #include <string>
 
