@@ -66,7 +66,8 @@ DesignScore ScoreDesign(const PlatformModel& model, const std::string& config, c
     const Diagnosis d = Diagnose(model, LoadMeasurement(fit.csv_path));
     s.conclusion = d.conclusion;
     const nlohmann::json saved = ModelJson(d);
-    for (const auto& e : AppliedModelJson(saved, false)["effects"]) s.applied.push_back(e["name"].get<std::string>());
+    const nlohmann::json applied = AppliedModelJson(saved, false);  // kept: a range over a temporary's member dangles
+    for (const auto& e : applied["effects"]) s.applied.push_back(e["name"].get<std::string>());
     if (!o.keep_dir.empty()) std::ofstream(dir + "/diagnosis.json") << ToJson(d).dump(2) << "\n";
     const MotionCheck loop = MeasureClosedLoop(model, config, rig.effects, run, saved, o.held_out, dir);
     s.before_rms_m = loop.before.rms_m, s.before_max_m = loop.before.max_m;

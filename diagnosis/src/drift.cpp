@@ -35,11 +35,12 @@ struct Fitted {
 // baseline leaves, with the diagnosis's ridge (towards no change) and its
 // robust fit: the new session's estimate of each parameter beside all the
 // others, so that a change one parameter cannot tell from another's shows
-// as a large σ, not as a change.
+// as a large σ, not as a change. Its σ is the larger of the formal one and
+// the jackknife's over the session's parts.
 Fitted FitChange(const Design& d, const std::vector<Effect>& baseline, double noise_floor_rms_m) {
   Fitted fit;
   if (baseline.empty()) return fit;
-  const GramSet gram(d, MakeFolds(d));
+  const GramSet gram(d, RunParts(d, 3));
   const std::vector<int> all = gram.AllFolds();
   const double sigma_axis = std::max(noise_floor_rms_m / std::sqrt(3.0), 1e-8);
   const double mse0 = WithoutFrame(d, d.residual).squaredNorm() / std::max(1, gram.Residuals(all));
@@ -54,10 +55,11 @@ Fitted FitChange(const Design& d, const std::vector<Effect>& baseline, double no
   // for an AR(1) series (linear_fit.h), or a rig's every small misfit would
   // count as a change.
   const double inflation = std::sqrt(CorrelationInflation(robust.residual));
+  const Eigen::VectorXd jackknife = JackknifeSigma(gram, cols, prior).tail(static_cast<Eigen::Index>(effect_cols.size()));
   int at = 0;
   for (Effect e : baseline) {
     fit.delta[e] = robust.theta.segment(at, ParameterCount(e));
-    fit.sigma[e] = inflation * robust.sigma.segment(at, ParameterCount(e));
+    fit.sigma[e] = (inflation * robust.sigma.segment(at, ParameterCount(e))).cwiseMax(jackknife.segment(at, ParameterCount(e)));
     at += ParameterCount(e);
   }
   return fit;
@@ -221,20 +223,22 @@ nlohmann::json ToJson(const DriftReport& r) {
   return j;
 }
 
+std::string ChangeText(const ParameterChange& c) {
+  std::string unit = "", label = c.parameter;
+  double scale = 1.0;
+  int decimals = 6;
+  for (const ParameterGroup& g : ParameterGroups(c.effect)) {
+    if (c.parameter == g.key) unit = g.unit, label = g.label, scale = g.unit_scale, decimals = g.decimals;
+  }
+  const std::string where = c.leg > 0 ? fmt::format(" leg {}", c.leg) : "";
+  return fmt::format("{} {}{}: {:.{}f} → {:.{}f} {}, {:+.{}f} ± {:.{}f} {} ({:.1f}σ)", EffectName(c.effect), label,
+                     where, c.before * scale, decimals, c.after * scale, decimals, unit, c.change * scale, decimals,
+                     c.sigma * scale, decimals, unit, std::abs(c.z));
+}
+
 std::string DriftText(const DriftReport& r) {
   std::string text;
-  for (const ParameterChange& c : r.changed) {
-    std::string unit = "", label = c.parameter;
-    double scale = 1.0;
-    int decimals = 6;
-    for (const ParameterGroup& g : ParameterGroups(c.effect)) {
-      if (c.parameter == g.key) unit = g.unit, label = g.label, scale = g.unit_scale, decimals = g.decimals;
-    }
-    const std::string where = c.leg > 0 ? fmt::format(" leg {}", c.leg) : "";
-    text += fmt::format("{} {}{}: {:.{}f} → {:.{}f} {}, {:+.{}f} ± {:.{}f} {} ({:.1f}σ)\n", EffectName(c.effect), label,
-                        where, c.before * scale, decimals, c.after * scale, decimals, unit, c.change * scale,
-                        decimals, c.sigma * scale, decimals, unit, std::abs(c.z));
-  }
+  for (const ParameterChange& c : r.changed) text += ChangeText(c) + "\n";
   if (r.changed.empty()) text += fmt::format("no parameter changed beyond {:.1f}σ\n", r.z_threshold);
   const auto list = [](const std::vector<Effect>& effects) {
     std::string s;

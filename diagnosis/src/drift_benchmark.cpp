@@ -138,6 +138,7 @@ DriftBenchmarkResult RunDriftBenchmark(const DriftBenchmarkOptions& o) {
       const DriftReport changed = session(after, "changed", o.seed * 7919 + static_cast<std::uint64_t>(3 * k + 2));
       s.unchanged_named = static_cast<int>(same.changed.size());
       s.unchanged_quiet = same.changed.empty();
+      for (const ParameterChange& c : same.changed) s.unchanged_changes.push_back(ChangeText(c));
       s.recalibrate_unchanged = same.recalibrate;
       s.recalibrate_changed = changed.recalibrate;
       Score(changed, &s);
@@ -188,6 +189,7 @@ nlohmann::json ToJson(const DriftBenchmarkResult& r) {
                          {"false_changes", s.false_changes},
                          {"unchanged_quiet", s.unchanged_quiet},
                          {"unchanged_named", s.unchanged_named},
+                         {"unchanged_changes", s.unchanged_changes},
                          {"recalibrate_unchanged", s.recalibrate_unchanged},
                          {"recalibrate_changed", s.recalibrate_changed}};
     if (!s.error.empty()) js["error"] = s.error;

@@ -221,8 +221,17 @@ LegCompensator::Correction LegCompensator::Step(double time_s, const Pose& pose,
   LegErrorInputs in;
   in.time_s = time_s;
   in.pose = pose;
-  in.command_m = command_m;
-  in.motor_m = command_m;  // the motor follows the command
+  // The stroke is where the screw turns to: the command with the
+  // correction subtracted, not the nominal one (a periodic error's phase
+  // moves 2π·Δl/lead: 0.1 rad for 150 µm of correction on a 10 mm lead).
+  // The last correction stands in for this one, which differs from it by
+  // at most kMaxCorrectionRate_m_s × the cycle. The play follows the
+  // nominal command's reversals: fed the corrected one, the correction's
+  // own ramp from zero at the start flips it, and a whole rig's held-out
+  // error after calibration grows by a third
+  // (WholeRigCalibration.TheDesignedMotionsCalibrateAWholeRig).
+  in.command_m = command_m - last_command_m_;
+  in.motor_m = command_m;
   in.velocity = M * pose_velocity;
   in.accel = M * pose_acceleration;
   if (pose_velocity.norm() > 0.0) {
@@ -235,7 +244,8 @@ LegCompensator::Correction LegCompensator::Step(double time_s, const Pose& pose,
   in.jerk = Vector6::Zero();  // not fed forward: a trapezoid's corners would make it a spike
   in.platform_accel_B_m_s2 = pose_acceleration.head<3>();
   in.point_accel_B_m_s2 = PointAcceleration(model_, q, pose_velocity, pose_acceleration);
-  const LegErrorState state = tracker_.Advance(in);
+  LegErrorState state = tracker_.Advance(in);
+  state.compensation -= last_command_m_;  // the PR's alone, as the diagnosis's basis takes it
   Correction c;
   for (const CalibratedEffect& e : calibration_.applied) {
     const Vector6 dl = e.effect == Effect::kStructuralResonance ? StructuralSway(e, time_s, in)

@@ -89,6 +89,104 @@ TEST(GramSet, ARunTooShortToSplitAddsNothingToAFold) {
   EXPECT_LT((fit - truth).norm(), 1e-9 * truth.norm());
 }
 
+// Four runs of random columns; the last column's coefficient is the same
+// in every run, or moves from run to run by `spread` (what a model that is
+// not the rig's does to a parameter as the motion changes).
+Design RunsWithAMovingCoefficient(double spread, std::uint64_t seed) {
+  Design d;
+  const int per_run = 150, runs = 4, params = 6 + 2;
+  d.columns.resize(3 * per_run * runs, params);
+  d.residual.resize(3 * per_run * runs);
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> n(0.0, 1.0);
+  for (Eigen::Index i = 0; i < d.columns.size(); ++i) d.columns.data()[i] = n(rng);
+  for (int r = 0; r < runs; ++r) {
+    d.run_samples.push_back({r * per_run, per_run});
+    d.runs.push_back("run" + std::to_string(r));
+    Eigen::VectorXd truth = Eigen::VectorXd::Ones(params);
+    truth(params - 1) += spread * (r % 2 == 0 ? 1.0 : -1.0);
+    const auto rows = Eigen::seqN(3 * r * per_run, 3 * per_run);
+    d.residual(rows) = d.columns(rows, Eigen::all) * truth;
+  }
+  for (Eigen::Index i = 0; i < d.residual.size(); ++i) d.residual(i) += 0.1 * n(rng);
+  return d;
+}
+
+Columns AllColumns(const Design& d) {
+  Columns cols;
+  for (int k = 0; k < d.columns.cols(); ++k) cols.push_back(k);
+  return cols;
+}
+
+TEST(RunParts, EachRunCutInTimeEachPartItsOwnFold) {
+  Design d;
+  d.run_samples = {{0, 30}, {30, 60}, {90, 2}};
+  d.runs = {"a", "b", "c"};
+  const std::vector<Fold> folds = RunParts(d, 3);
+  ASSERT_EQ(folds.size(), 3u + 3u + 2u);  // c's two samples make two parts, not an empty third
+  EXPECT_EQ(folds[4].samples.size(), 1u);
+  EXPECT_EQ(folds[4].samples[0].begin, 50);
+  EXPECT_EQ(folds[4].samples[0].count, 20);
+  EXPECT_EQ(folds[7].samples[0].begin, 91);
+}
+
+// The jackknife against its definition evaluated on fits solved directly
+// on the stacked rows with QR, one per part left out.
+TEST(JackknifeSigma, EqualsTheSpreadOfDirectLeaveOnePartOutFits) {
+  const Design d = RunsWithAMovingCoefficient(0.05, 21);
+  const std::vector<Fold> folds = RunParts(d, 3);
+  const GramSet gram(d, folds);
+  const Columns cols = AllColumns(d);
+  const int g = static_cast<int>(folds.size());
+  Eigen::MatrixXd theta(d.columns.cols(), g);
+  for (int k = 0; k < g; ++k) {
+    std::vector<Eigen::Index> rows;
+    for (int j = 0; j < g; ++j) {
+      if (j == k) continue;
+      for (const ColumnRange& s : folds[static_cast<std::size_t>(j)].samples) {
+        for (Eigen::Index i = 3 * s.begin; i < 3 * (s.begin + s.count); ++i) rows.push_back(i);
+      }
+    }
+    const Eigen::MatrixXd A = d.columns(rows, Eigen::all);
+    const Eigen::VectorXd b = d.residual(rows);
+    theta.col(k) = A.colPivHouseholderQr().solve(b);
+  }
+  const Eigen::VectorXd mean = theta.rowwise().mean();
+  const Eigen::VectorXd jack = JackknifeSigma(gram, cols, Eigen::VectorXd::Zero(d.columns.cols()));
+  for (Eigen::Index p = 0; p < theta.rows(); ++p) {
+    const double direct = std::sqrt((g - 1.0) / g * (theta.row(p).transpose() - Eigen::VectorXd::Constant(g, mean(p))).squaredNorm());
+    EXPECT_NEAR(jack(p), direct, 1e-9 * direct) << "column " << p;
+  }
+}
+
+// Where the model is the truth, the jackknife's σ is the formal one (twelve
+// parts: within a factor of 1.6 either way); where a coefficient moves from
+// run to run by 20 formal σ, its jackknife σ sees it and the formal σ,
+// which takes the model for the truth, does not.
+TEST(JackknifeSigma, IsTheFormalSigmaWhereTheModelHoldsAndGrowsWhereItDoesNot) {
+  for (const double spread : {0.0, 0.2}) {
+    const Design d = RunsWithAMovingCoefficient(spread, 22);
+    const GramSet gram(d, RunParts(d, 3));
+    const Columns cols = AllColumns(d);
+    const Eigen::VectorXd none = Eigen::VectorXd::Zero(d.columns.cols());
+    const Eigen::VectorXd theta = gram.Solve(cols, gram.AllFolds(), none);
+    const double sigma2 = (d.residual - d.columns * theta).squaredNorm() / static_cast<double>(d.residual.size() - d.columns.cols());
+    const Eigen::VectorXd formal = gram.Covariance(cols, gram.AllFolds(), none, sigma2).diagonal().cwiseSqrt();
+    const Eigen::VectorXd jack = JackknifeSigma(gram, cols, none);
+    const Eigen::Index moving = d.columns.cols() - 1;
+    for (Eigen::Index p = 0; p < moving; ++p) {
+      EXPECT_GT(jack(p), formal(p) / 1.6) << "spread " << spread << ", column " << p;
+      EXPECT_LT(jack(p), formal(p) * 1.6) << "spread " << spread << ", column " << p;
+    }
+    if (spread == 0.0) {
+      EXPECT_LT(jack(moving), formal(moving) * 1.6);
+    } else {
+      EXPECT_GT(spread, 20.0 * formal(moving));
+      EXPECT_GT(jack(moving), 0.25 * spread) << "formal " << formal(moving);
+    }
+  }
+}
+
 // A slow signal (a velocity-like column, period 200 samples) in noise that
 // is white, and in noise that is AR(1) along each axis (ρ = 0.8: 9 times
 // the variance of a white fit's coefficient). The reported σ against the

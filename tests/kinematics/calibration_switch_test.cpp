@@ -71,7 +71,9 @@ calibration_t Request(const std::string& json, std::int64_t utime, std::int64_t 
 
 // Runs `node` for cycles [0, n) beside one without and one with the model
 // from the start, switching it by `request` before cycle `at`; checks
-// every command against the blend of the two and returns the largest
+// every command against the blend of the two (within 1 nm: a compensator
+// started mid-motion evaluates its first cycle at the nominal stroke, the
+// one running from the start at the corrected one) and returns the largest
 // per-cycle change of the switched node's correction.
 double RunSwitch(KinematicsNode& node, bool to_calibrated, int at, int n, const calibration_t& request) {
   KinematicsNode without = MakeNode(std::nullopt), with = MakeNode(Model());
@@ -90,7 +92,7 @@ double RunSwitch(KinematicsNode& node, bool to_calibrated, int at, int n, const 
     const double weight_new = to_calibrated ? w : 1.0 - w;
     for (int i = 0; i < kNumLegs; ++i) {
       const double expected = (1.0 - weight_new) * a.command_length_m[i] + weight_new * b.command_length_m[i];
-      EXPECT_NEAR(c.command_length_m[i], expected, 1e-12) << "cycle " << k << " leg " << i;
+      EXPECT_NEAR(c.command_length_m[i], expected, 1e-9) << "cycle " << k << " leg " << i;
       const double correction = c.command_length_m[i] - a.command_length_m[i];
       const auto leg = static_cast<std::size_t>(i);
       if (k > 0) largest_change = std::max(largest_change, std::abs(correction - last_correction[leg]));

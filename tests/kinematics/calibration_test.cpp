@@ -3,6 +3,7 @@
 // another platform's model refused; and its corrections against an
 // independent computation (the inverse kinematics of the moved geometry).
 #include <algorithm>
+#include <cmath>
 
 #include <gtest/gtest.h>
 
@@ -162,6 +163,40 @@ TEST(Calibration, FeedForwardOfAJumpingVelocityNeverSteps) {
   const Vector6 full = -0.013 * (nominal.LengthJacobian(home) - nominal.PrLengthErrorJacobian(home)) * velocity;
   EXPECT_LT((last - full).cwiseAbs().maxCoeff(), 1e-9) << last.transpose() << "\n" << full.transpose();
   EXPECT_GT(full.cwiseAbs().maxCoeff(), 1e-3);
+}
+
+// A periodic lead error beside a 300 µm leg offset, held at one pose: the
+// correction settles where the corrected command puts the screw,
+// c = θ_offset + a·sin φ + b·(cos φ − 1), φ = 2π·(stroke − c)/lead, solved
+// here by fixed-point iteration on that formula, not at the nominal
+// stroke (there it would differ by micrometres).
+TEST(Calibration, APeriodicErrorIsCorrectedWhereTheCorrectedCommandTurnsTheScrew) {
+  const PlatformModel nominal = Nominal();
+  Eigen::VectorXd periodic(12);
+  for (int i = 0; i < 6; ++i) periodic(2 * i) = 10e-6, periodic(2 * i + 1) = -6e-6;
+  CalibrationModel m;
+  m.applied.push_back({Effect::kLegOffset, Eigen::VectorXd::Constant(6, 300e-6), "identified"});
+  m.applied.push_back({Effect::kPeriodicLeadError, periodic, "identified"});
+  LegCompensator compensator(nominal, m);
+  Pose pose = nominal.home_pose();
+  pose.p_BoMo_B.z() += 0.043;
+  const Vector6 command = nominal.Solve(pose).length_m - nominal.PrLengthError(nominal.Solve(pose), PrMode::kSigned);
+  Vector6 c = Vector6::Zero();
+  for (int k = 0; k < 40; ++k) c = compensator.Step(k * 1e-3, pose, Vector6::Zero(), Vector6::Zero(), command).command_m;
+  const double lead = nominal.config().drive.lead_m;
+  const auto at = [&](const Vector6& stroke) {
+    Vector6 out;
+    for (int i = 0; i < 6; ++i) {
+      const double phi = 2.0 * M_PI * stroke(i) / lead;
+      out(i) = 300e-6 + 10e-6 * std::sin(phi) - 6e-6 * (std::cos(phi) - 1.0);
+    }
+    return out;
+  };
+  const Vector6 stroke = command - nominal.home_length_m();
+  Vector6 expected = at(stroke);
+  for (int k = 0; k < 20; ++k) expected = at(stroke - expected);
+  EXPECT_LT((c - expected).cwiseAbs().maxCoeff(), 1e-10) << c.transpose() << "\n" << expected.transpose();
+  EXPECT_GT((at(stroke) - expected).cwiseAbs().maxCoeff(), 1e-6);  // the nominal stroke's would fail above
 }
 
 }  // namespace

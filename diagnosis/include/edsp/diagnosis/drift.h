@@ -12,7 +12,10 @@
 // baseline no longer explains) or without it (the baseline is then applied
 // offline first). Either way the new fit estimates the change δ from the
 // baseline with the diagnosis's ridge towards "no change", and
-//   after = before + δ,   σ(change) = √(σ_δ² + σ_before²).
+//   after = before + δ,   σ(change) = √(σ_δ² + σ_before²),
+// σ_δ the larger of the formal σ and the jackknife's over the session's
+// parts (linear_fit.h): what the model leaves out of a whole rig moves a
+// parameter with the motion, which the formal σ cannot see.
 // A change counts when |change| ≥ z·σ, z the larger of 3 and the
 // Bonferroni bound of a 5% chance that any parameter of an unchanged rig
 // passes it (so many parameters do not make noise a change), and when it
@@ -76,6 +79,8 @@ DriftReport Drift(const PlatformModel& model, const nlohmann::json& baseline, co
 double ChangeThreshold(int parameters);
 
 nlohmann::json ToJson(const DriftReport& report);
+// One change: "backlash play leg 3: 22.0 → 37.0 µm, +15.0 ± 2.0 µm (7.5σ)".
+std::string ChangeText(const ParameterChange& change);
 // "backlash leg 3: 22.0 → 37.0 µm, +15.0 ± 2.0 µm" per change, then what
 // appeared, vanished, and the verdict.
 std::string DriftText(const DriftReport& report);

@@ -43,6 +43,7 @@ struct DriftScenario {
   int false_changes = 0;          // parameters named in the changed session that did not change
   bool unchanged_quiet = false;   // the unchanged session named no change
   int unchanged_named = 0;        //   or how many it named
+  std::vector<std::string> unchanged_changes;  // each as drift's text names it
   bool recalibrate_unchanged = false, recalibrate_changed = false;
   std::string error;
 };

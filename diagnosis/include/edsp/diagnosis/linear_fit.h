@@ -23,6 +23,9 @@ struct Fold {
 // Folds for cross-validation: one per run with 3 runs or more; otherwise
 // each run cut into thirds in time.
 std::vector<Fold> MakeFolds(const Design& design);
+// Each run cut into `parts` in time, each part its own fold (a run too
+// short for that gives fewer).
+std::vector<Fold> RunParts(const Design& design, int parts);
 
 class GramSet {
  public:
@@ -73,6 +76,14 @@ Columns ColumnsOf(const Design& design, const std::vector<Effect>& effects);
 // predicted by a fit on the others: what selection and the searches over
 // the bases' non-linear parameters compare.
 double HeldOutMse(const GramSet& gram, const Columns& columns, const Eigen::VectorXd& prior_weight);
+
+// The delete-a-group jackknife's standard error of θ for `columns` (the
+// ridge `prior_weight` as in Solve): √((g − 1)/g · Σ_k (θ₍ₖ₎ − θ̄)²) over
+// the g fits that each leave one fold out. It measures how far the
+// estimate moves with the data it is fitted on, which the formal σ (the
+// model taken as the truth) cannot: what the model leaves out of the rig
+// moves a parameter with the motion. Zero with fewer than two folds.
+Eigen::VectorXd JackknifeSigma(const GramSet& gram, const Columns& columns, const Eigen::VectorXd& prior_weight);
 
 // (1 + ρ)/(1 − ρ), ρ the lag-1 autocorrelation of a residual of 3 rows per
 // sample (clamped to [0, 0.99]): how much a fit's variance grows when its
