@@ -5,8 +5,9 @@
 //   request → reply; request → first setpoint of the move (the status that
 //   names it, published in the same cycle, right after that setpoint);
 //   request → on target.
-// Targets: request → first setpoint p99 ≤ 2 ms over LCM.
-//   edsp-bench-motion-live [--moves 100] [--json]
+// Once with the motion channels on LCM (as shipped), once on shared-memory
+// rings. Targets: request → first setpoint p99 ≤ 2 ms over LCM.
+//   edsp-bench-motion-live [--moves 100] [--transport lcm|shm|lcm,shm] [--json]
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -33,6 +34,7 @@
 #include "edsp/node/runtime.h"
 #include "edsp/transport/bus.h"
 #include "edsp/transport/private_network.h"
+#include "edsp/transport/transport_config.h"
 #include "group_file_editor.h"
 
 namespace edsp {
@@ -44,13 +46,21 @@ constexpr std::int64_t kSession = 4242;
 double Ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
 
 // The shipped sim group (the planner idle), in `dir`, its own shm prefix.
-std::string WriteGroup(const std::string& dir) {
+// Over shared memory the motion channels ride rings (mirrored on LCM for
+// the logger and lcm-spy): a ring has one writer, so such a group serves
+// this one client; the shipped groups keep requests on LCM for any number.
+std::string WriteGroup(const std::string& dir, bool over_shm) {
   GroupFileEditor group = GroupFileEditor::Load(std::string(EDSP_SOURCE_DIR) + "/deploy/groups/sim.toml");
   group.SetGroup("name", "bench-motion")
       .SetGroup("config", std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml")
       .SetGroup("session_id", kSession)
       .SetTransport("shm_prefix", fmt::format("edsp.benchmotion.{}", ::getpid()))
       .SetArg("logger", "--output", dir + "/run.lcmlog");
+  if (over_shm) {
+    for (const char* channel : {channel::kMotionRequest, channel::kMotionReply, channel::kMotionStatus}) {
+      group.SetChannel(channel, "path", "both");
+    }
+  }
   group.Write(dir + "/group.toml");
   return dir + "/group.toml";
 }
@@ -73,7 +83,11 @@ struct Timing {
 
 class Operator {
  public:
-  explicit Operator(const std::string& lcm_url) : bus_(Config(lcm_url)) {
+  // The request channel is advertised at once: on a ring, the planner's
+  // reader finds it while the group starts, not at the first request
+  // (which it would then miss: a reader starts at the ring's head).
+  explicit Operator(const TransportConfig& transport)
+      : bus_(transport), requests_(bus_.Advertise<motion_request_t>(channel::kMotionRequest)) {
     bus_.Subscribe<motion_status_t>(channel::kMotionStatus, [this](const motion_status_t& s) {
       if (s.session_id != kSession) return;
       last_ = s;
@@ -123,7 +137,7 @@ class Operator {
     while (!on_target_ && Clock::now() < until) {
       if (!reply_ && Clock::now() >= resend) {  // as edsp-ctl: again every 0.5 s until answered
         r.utime = UtimeNow();
-        bus_.Publish(channel::kMotionRequest, r);
+        requests_.Publish(r);
         resend = Clock::now() + std::chrono::milliseconds(500);
       }
       bus_.Handle(std::chrono::milliseconds(1));
@@ -134,13 +148,8 @@ class Operator {
   }
 
  private:
-  static TransportConfig Config(const std::string& lcm_url) {
-    TransportConfig c;
-    c.lcm_url = lcm_url;
-    return c;
-  }
-
   Bus bus_;
+  Bus::Publisher<motion_request_t> requests_;
   std::optional<motion_status_t> last_;
   bool following_ = false;
   std::int64_t awaited_ = 0;
@@ -158,6 +167,45 @@ nlohmann::json Summary(const std::vector<double>& v) {
   return {{"p50_ms", Quantile(v, 0.5)}, {"p99_ms", Quantile(v, 0.99)}, {"max_ms", Quantile(v, 1.0)}};
 }
 
+// One launch of the group, `moves` moves through it.
+nlohmann::json MeasureGroup(bool over_shm, int moves) {
+  const std::string dir = fmt::format("/tmp/edsp_bench_motion_live_{}_{}", ::getpid(), over_shm ? "shm" : "lcm");
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string group_file = WriteGroup(dir, over_shm);
+  const pid_t group = Launch(group_file, dir);
+  const auto stop = [group] {
+    ::kill(group, SIGINT);
+    ::waitpid(group, nullptr, 0);
+  };
+  try {
+    Operator op(LoadTransportConfig(group_file));
+    op.WaitReady(60.0);
+    std::vector<double> reply, first, on_target;
+    for (int k = 0; k < moves; ++k) {
+      const Timing t = op.Move(k % 2 == 0 ? 0.01 : -0.01, 1000 + k);
+      reply.push_back(t.reply_ms), first.push_back(t.first_setpoint_ms), on_target.push_back(t.on_target_ms);
+    }
+    stop();
+    std::filesystem::remove_all(dir);
+    return {{"transport", over_shm ? "shm" : "lcm"},
+            {"moves", moves},
+            {"request_to_reply", Summary(reply)},
+            {"request_to_first_setpoint", Summary(first)},
+            {"request_to_on_target_10mm", Summary(on_target)}};
+  } catch (...) {
+    stop();
+    throw;
+  }
+}
+
+void Print(const nlohmann::json& r) {
+  for (const char* key : {"request_to_reply", "request_to_first_setpoint", "request_to_on_target_10mm"}) {
+    std::printf("%-4s %-28s p50 %8.3f ms  p99 %8.3f ms  max %8.3f ms\n", r["transport"].get<std::string>().c_str(), key,
+                r[key]["p50_ms"].get<double>(), r[key]["p99_ms"].get<double>(), r[key]["max_ms"].get<double>());
+  }
+}
+
 }  // namespace
 }  // namespace edsp
 
@@ -165,47 +213,32 @@ int main(int argc, char** argv) {
   CLI::App app{"edsp-bench-motion-live: request → first setpoint and → on target through the live sim group"};
   int moves = 100;
   bool json = false;
-  app.add_option("--moves", moves, "10 mm moves, back and forth")->check(CLI::Range(2, 100000));
+  std::string transports = "lcm,shm";
+  app.add_option("--moves", moves, "10 mm moves, back and forth, per transport")->check(CLI::Range(2, 100000));
+  app.add_option("--transport", transports, "lcm, shm or lcm,shm: the motion channels' path, one launch each")
+      ->check(CLI::IsMember({"lcm", "shm", "lcm,shm"}));
   app.add_flag("--json", json, "print JSON");
   CLI11_PARSE(app, argc, argv);
-  pid_t group = -1;
   try {
     edsp::EnterPrivateNetworkNamespace();
-    const std::string dir = fmt::format("/tmp/edsp_bench_motion_live_{}", ::getpid());
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
-    const std::string group_file = edsp::WriteGroup(dir);
-    group = edsp::Launch(group_file, dir);
-    edsp::Operator op("udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304");
-    op.WaitReady(60.0);
-    std::vector<double> reply, first, on_target;
-    for (int k = 0; k < moves; ++k) {
-      const edsp::Timing t = op.Move(k % 2 == 0 ? 0.01 : -0.01, 1000 + k);
-      reply.push_back(t.reply_ms), first.push_back(t.first_setpoint_ms), on_target.push_back(t.on_target_ms);
+    // The LCM figures at the top level (as they have always been), the
+    // shared-memory ones under "over_shm".
+    nlohmann::json result;
+    if (transports != "shm") result = edsp::MeasureGroup(false, moves);
+    if (transports != "lcm") {
+      const nlohmann::json shm = edsp::MeasureGroup(true, moves);
+      if (result.is_null()) result = shm;
+      else result["over_shm"] = shm;
     }
-    ::kill(group, SIGINT);
-    ::waitpid(group, nullptr, 0);
-    const nlohmann::json result = {{"transport", "lcm"},
-                                   {"moves", moves},
-                                   {"request_to_reply", edsp::Summary(reply)},
-                                   {"request_to_first_setpoint", edsp::Summary(first)},
-                                   {"request_to_on_target_10mm", edsp::Summary(on_target)},
-                                   {"target_first_setpoint_p99_ms", 2.0}};
+    result["target_first_setpoint_p99_ms"] = 2.0;
     if (json) {
       std::printf("%s\n", result.dump(2).c_str());
     } else {
-      for (const char* key : {"request_to_reply", "request_to_first_setpoint", "request_to_on_target_10mm"}) {
-        std::printf("%-28s p50 %8.3f ms  p99 %8.3f ms  max %8.3f ms\n", key, result[key]["p50_ms"].get<double>(),
-                    result[key]["p99_ms"].get<double>(), result[key]["max_ms"].get<double>());
-      }
+      edsp::Print(result);
+      if (result.contains("over_shm")) edsp::Print(result["over_shm"]);
     }
-    std::filesystem::remove_all(dir);
     return 0;
   } catch (const std::exception& e) {
-    if (group > 0) {
-      ::kill(group, SIGINT);
-      ::waitpid(group, nullptr, 0);
-    }
     std::fprintf(stderr, "edsp-bench-motion-live: error: %s\n", e.what());
     return 1;
   }
