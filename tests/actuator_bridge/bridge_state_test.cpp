@@ -4,6 +4,8 @@
 #include "edsp/actuator_bridge/bridge_state.h"
 
 #include <array>
+#include <set>
+#include <utility>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -28,7 +30,8 @@ struct Expected {
   S to;
 };
 
-// The specification, written out pair by pair (docs/stack.md draws it).
+// The specification, written out pair by pair (docs/stack.md draws it);
+// the test checks that its pairs are distinct and cover the table.
 constexpr Expected kSpec[] = {
     {S::kStartupHold, E::kCommandAccepted, true, S::kFollowing},
     {S::kStartupHold, E::kCaughtUp, false, S::kStartupHold},
@@ -59,7 +62,10 @@ constexpr Expected kSpec[] = {
 
 TEST(BridgeState, EveryPairOfStateAndEventIsAsSpecified) {
   int checked = 0;
+  std::set<std::pair<S, E>> pairs;
   for (const Expected& e : kSpec) {
+    EXPECT_TRUE(pairs.insert({e.from, e.event}).second)
+        << "the specification lists " << BridgeStateName(e.from) << " + " << BridgeEventName(e.event) << " twice";
     const BridgeTransition t = NextBridgeState(e.from, e.event);
     SCOPED_TRACE(std::string(BridgeStateName(e.from)) + " + " + BridgeEventName(e.event));
     EXPECT_EQ(t.allowed, e.allowed);
@@ -68,7 +74,9 @@ TEST(BridgeState, EveryPairOfStateAndEventIsAsSpecified) {
     }
     ++checked;
   }
+  // As many distinct pairs as states × events: every pair, each once.
   EXPECT_EQ(checked, static_cast<int>(kStates.size() * kEvents.size())) << "the specification misses a pair";
+  EXPECT_EQ(pairs.size(), kStates.size() * kEvents.size());
 }
 
 TEST(BridgeState, OnlyFollowingAndRejoiningMoveTheLegs) {
