@@ -273,19 +273,28 @@ CalibrationResult FitCalibration(const Design& d, const GramSet& gram, const Eig
   const bool is_selected = set.effects.size() == selected.size() &&
                            std::all_of(set.effects.begin(), set.effects.end(),
                                        [&](Effect e) { return Contains(selected, e); });
+  const Columns cols = ColumnsOf(d, set.effects);
+  const Columns effect_cols(cols.begin() + 6, cols.end());
+  // The σ saved with the model (what edsp-gap drift compares a later
+  // session with) is at least the jackknife's over the runs' parts: on a
+  // whole rig the formal σ takes the model for the rig.
+  const Eigen::VectorXd jackknife = JackknifeSigma(gram, cols, prior)
+                                        .tail(static_cast<Eigen::Index>(effect_cols.size()));
+  int at = 0;
   if (is_selected) {
-    for (Effect e : set.effects) out.theta.push_back(results.at(e).theta), out.sigma.push_back(results.at(e).sigma);
+    for (Effect e : set.effects) {
+      out.theta.push_back(results.at(e).theta);
+      out.sigma.push_back(results.at(e).sigma.cwiseMax(jackknife.segment(at, ParameterCount(e))));
+      at += ParameterCount(e);
+    }
     return out;
   }
-  const Columns cols = ColumnsOf(d, set.effects);
   const Eigen::VectorXd theta = gram.Solve(cols, gram.AllFolds(), prior);
-  const Columns effect_cols(cols.begin() + 6, cols.end());
   const RobustFit robust = FitRobust(d, effect_cols, theta.tail(static_cast<Eigen::Index>(effect_cols.size())),
                                      3.0 * std::max(noise_floor_rms_m, 1e-7), prior);
-  int at = 0;
   for (Effect e : set.effects) {
     out.theta.push_back(robust.theta.segment(at, ParameterCount(e)));
-    out.sigma.push_back(robust.sigma.segment(at, ParameterCount(e)));
+    out.sigma.push_back(robust.sigma.segment(at, ParameterCount(e)).cwiseMax(jackknife.segment(at, ParameterCount(e))));
     at += ParameterCount(e);
   }
   return out;

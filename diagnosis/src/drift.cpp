@@ -36,11 +36,11 @@ struct Fitted {
 // robust fit: the new session's estimate of each parameter beside all the
 // others, so that a change one parameter cannot tell from another's shows
 // as a large σ, not as a change. Its σ is the larger of the formal one and
-// the jackknife's over the session's parts.
+// the jackknife's over the session's runs (folds: MakeFolds).
 Fitted FitChange(const Design& d, const std::vector<Effect>& baseline, double noise_floor_rms_m) {
   Fitted fit;
   if (baseline.empty()) return fit;
-  const GramSet gram(d, RunParts(d, 3));
+  const GramSet gram(d, MakeFolds(d));
   const std::vector<int> all = gram.AllFolds();
   const double sigma_axis = std::max(noise_floor_rms_m / std::sqrt(3.0), 1e-8);
   const double mse0 = WithoutFrame(d, d.residual).squaredNorm() / std::max(1, gram.Residuals(all));

@@ -130,9 +130,10 @@ DriftBenchmarkResult RunDriftBenchmark(const DriftBenchmarkOptions& o) {
       const auto session = [&](const RigEffects& fx, const char* name, std::uint64_t seed) {
         OfflineRunOptions run = SessionRun(o, rng, seed);
         run.motions = o.session_motions;
-        run.calibration_path = model_path;
+        if (!getenv("EDSP_DRIFT_WITHOUT")) run.calibration_path = model_path;
+        DriftOptions dop; dop.recorded_with_baseline = !getenv("EDSP_DRIFT_WITHOUT");
         run.out_dir = dir + "/" + name;
-        return Drift(model, baseline, model_path, LoadMeasurement(RunOffline(config, fx, run).csv_path));
+        return Drift(model, baseline, model_path, LoadMeasurement(RunOffline(config, fx, run).csv_path), dop);
       };
       const DriftReport same = session(rig.effects, "same", o.seed * 7919 + static_cast<std::uint64_t>(3 * k + 1));
       const DriftReport changed = session(after, "changed", o.seed * 7919 + static_cast<std::uint64_t>(3 * k + 2));

@@ -9,42 +9,23 @@
 
 namespace edsp::gap {
 
-namespace {
-
-// Part `part` of `parts` of a run, in time.
-ColumnRange PartOf(const ColumnRange& run, int part, int parts) {
-  const int begin = run.begin + run.count * part / parts;
-  const int end = run.begin + run.count * (part + 1) / parts;
-  return {begin, end - begin};
-}
-
-}  // namespace
-
 std::vector<Fold> MakeFolds(const Design& d) {
+  std::vector<Fold> folds;
   const int runs = static_cast<int>(d.run_samples.size());
-  if (runs < 3) {
-    constexpr int kParts = 3;
-    std::vector<Fold> folds;
-    for (int part = 0; part < kParts; ++part) {
-      Fold f;
-      f.name = fmt::format("part {}/{} of every run", part + 1, kParts);
-      for (const ColumnRange& run : d.run_samples) f.samples.push_back(PartOf(run, part, kParts));
-      folds.push_back(f);
-    }
+  if (runs >= 3) {
+    for (int r = 0; r < runs; ++r) folds.push_back({{d.run_samples[static_cast<std::size_t>(r)]}, d.runs[static_cast<std::size_t>(r)]});
     return folds;
   }
-  std::vector<Fold> folds;
-  for (int r = 0; r < runs; ++r) folds.push_back({{d.run_samples[static_cast<std::size_t>(r)]}, d.runs[static_cast<std::size_t>(r)]});
-  return folds;
-}
-
-std::vector<Fold> RunParts(const Design& d, int parts) {
-  std::vector<Fold> folds;
-  for (std::size_t r = 0; r < d.run_samples.size(); ++r) {
-    for (int part = 0; part < parts; ++part) {
-      const ColumnRange range = PartOf(d.run_samples[r], part, parts);
-      if (range.count > 0) folds.push_back({{range}, fmt::format("{} part {}/{}", d.runs[r], part + 1, parts)});
+  constexpr int kParts = 3;
+  for (int part = 0; part < kParts; ++part) {
+    Fold f;
+    f.name = fmt::format("part {}/{} of every run", part + 1, kParts);
+    for (const ColumnRange& run : d.run_samples) {
+      const int begin = run.begin + run.count * part / kParts;
+      const int end = run.begin + run.count * (part + 1) / kParts;
+      f.samples.push_back({begin, end - begin});
     }
+    folds.push_back(f);
   }
   return folds;
 }

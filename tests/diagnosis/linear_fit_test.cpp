@@ -89,12 +89,12 @@ TEST(GramSet, ARunTooShortToSplitAddsNothingToAFold) {
   EXPECT_LT((fit - truth).norm(), 1e-9 * truth.norm());
 }
 
-// Four runs of random columns; the last column's coefficient is the same
-// in every run, or moves from run to run by `spread` (what a model that is
-// not the rig's does to a parameter as the motion changes).
+// Twelve runs of random columns; the last column's coefficient is the
+// same in every run, or moves from run to run by `spread` (what a model
+// that is not the rig's does to a parameter as the motion changes).
 Design RunsWithAMovingCoefficient(double spread, std::uint64_t seed) {
   Design d;
-  const int per_run = 150, runs = 4, params = 6 + 2;
+  const int per_run = 50, runs = 12, params = 6 + 2;
   d.columns.resize(3 * per_run * runs, params);
   d.residual.resize(3 * per_run * runs);
   std::mt19937_64 rng(seed);
@@ -118,23 +118,12 @@ Columns AllColumns(const Design& d) {
   return cols;
 }
 
-TEST(RunParts, EachRunCutInTimeEachPartItsOwnFold) {
-  Design d;
-  d.run_samples = {{0, 30}, {30, 60}, {90, 2}};
-  d.runs = {"a", "b", "c"};
-  const std::vector<Fold> folds = RunParts(d, 3);
-  ASSERT_EQ(folds.size(), 3u + 3u + 2u);  // c's two samples make two parts, not an empty third
-  EXPECT_EQ(folds[4].samples.size(), 1u);
-  EXPECT_EQ(folds[4].samples[0].begin, 50);
-  EXPECT_EQ(folds[4].samples[0].count, 20);
-  EXPECT_EQ(folds[7].samples[0].begin, 91);
-}
-
 // The jackknife against its definition evaluated on fits solved directly
-// on the stacked rows with QR, one per part left out.
-TEST(JackknifeSigma, EqualsTheSpreadOfDirectLeaveOnePartOutFits) {
+// on the stacked rows with QR, one per run left out.
+TEST(JackknifeSigma, EqualsTheSpreadOfDirectLeaveOneRunOutFits) {
   const Design d = RunsWithAMovingCoefficient(0.05, 21);
-  const std::vector<Fold> folds = RunParts(d, 3);
+  const std::vector<Fold> folds = MakeFolds(d);
+  ASSERT_EQ(folds.size(), 12u);
   const GramSet gram(d, folds);
   const Columns cols = AllColumns(d);
   const int g = static_cast<int>(folds.size());
@@ -160,13 +149,13 @@ TEST(JackknifeSigma, EqualsTheSpreadOfDirectLeaveOnePartOutFits) {
 }
 
 // Where the model is the truth, the jackknife's σ is the formal one (twelve
-// parts: within a factor of 1.6 either way); where a coefficient moves from
+// runs: within a factor of 1.6 either way); where a coefficient moves from
 // run to run by 20 formal σ, its jackknife σ sees it and the formal σ,
 // which takes the model for the truth, does not.
 TEST(JackknifeSigma, IsTheFormalSigmaWhereTheModelHoldsAndGrowsWhereItDoesNot) {
   for (const double spread : {0.0, 0.2}) {
     const Design d = RunsWithAMovingCoefficient(spread, 22);
-    const GramSet gram(d, RunParts(d, 3));
+    const GramSet gram(d, MakeFolds(d));
     const Columns cols = AllColumns(d);
     const Eigen::VectorXd none = Eigen::VectorXd::Zero(d.columns.cols());
     const Eigen::VectorXd theta = gram.Solve(cols, gram.AllFolds(), none);

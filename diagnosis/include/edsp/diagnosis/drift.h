@@ -14,8 +14,9 @@
 // baseline with the diagnosis's ridge towards "no change", and
 //   after = before + δ,   σ(change) = √(σ_δ² + σ_before²),
 // σ_δ the larger of the formal σ and the jackknife's over the session's
-// parts (linear_fit.h): what the model leaves out of a whole rig moves a
-// parameter with the motion, which the formal σ cannot see.
+// runs (linear_fit.h), as σ_before is in the saved model: what the model
+// leaves out of a whole rig moves a parameter with the motion, which the
+// formal σ cannot see.
 // A change counts when |change| ≥ z·σ, z the larger of 3 and the
 // Bonferroni bound of a 5% chance that any parameter of an unchanged rig
 // passes it (so many parameters do not make noise a change), and when it

@@ -23,9 +23,6 @@ struct Fold {
 // Folds for cross-validation: one per run with 3 runs or more; otherwise
 // each run cut into thirds in time.
 std::vector<Fold> MakeFolds(const Design& design);
-// Each run cut into `parts` in time, each part its own fold (a run too
-// short for that gives fewer).
-std::vector<Fold> RunParts(const Design& design, int parts);
 
 class GramSet {
  public:
@@ -82,7 +79,8 @@ double HeldOutMse(const GramSet& gram, const Columns& columns, const Eigen::Vect
 // the g fits that each leave one fold out. It measures how far the
 // estimate moves with the data it is fitted on, which the formal σ (the
 // model taken as the truth) cannot: what the model leaves out of the rig
-// moves a parameter with the motion. Zero with fewer than two folds.
+// moves a parameter with the motion, so with one fold per run (each run
+// its own motion) it sees that. Zero with fewer than two folds.
 Eigen::VectorXd JackknifeSigma(const GramSet& gram, const Columns& columns, const Eigen::VectorXd& prior_weight);
 
 // (1 + ρ)/(1 − ρ), ρ the lag-1 autocorrelation of a residual of 3 rows per
