@@ -10,6 +10,7 @@
 
 #include "group_file.h"
 #include "systemd_units.h"
+#include "scratch_dir.h"
 
 namespace edsp {
 namespace {
@@ -46,7 +47,7 @@ TEST(ExpandVariables, ErrorsNameTheVariable) {
 }
 
 TEST(LoadGroupFile, ExpandsArgsFromTheEnvironmentAndNamesTheLine) {
-  const std::string path = "/tmp/edsp_group_file_test_" + std::to_string(::getpid()) + ".toml";
+  const std::string path = test_support::ScratchRoot() + "/group_file_test.toml";
   std::ofstream(path) << "[group]\nname = \"t\"\n[[member]]\nname = \"k\"\ncommand = \"edsp-kinematics\"\n"
                          "args = [\"--pr-mode\", \"${EDSP_TEST_MODE:-signed}\",\n"
                          "        \"${EDSP_TEST_REQUIRED}\"]\n";
@@ -69,7 +70,7 @@ TEST(LoadGroupFile, ExpandsArgsFromTheEnvironmentAndNamesTheLine) {
 }
 
 TEST(LoadGroupFile, BadValuesAreNamed) {
-  const std::string path = "/tmp/edsp_group_file_bad_" + std::to_string(::getpid()) + ".toml";
+  const std::string path = test_support::ScratchRoot() + "/group_file_bad.toml";
   std::ofstream(path) << "[[member]]\nname = \"k\"\ncommand = \"x\"\nrestart = \"sometimes\"\n";
   try {
     LoadGroupFile(path);
@@ -88,7 +89,7 @@ namespace edsp {
 namespace {
 
 TEST(LoadGroupFile, RealTimePriorityAndCpusAreReadAndChecked) {
-  const std::string path = "/tmp/edsp_group_file_rt_" + std::to_string(::getpid()) + ".toml";
+  const std::string path = test_support::ScratchRoot() + "/group_file_rt.toml";
   std::ofstream(path) << "[[member]]\nname = \"k\"\ncommand = \"x\"\nrealtime_priority = 80\ncpus = [1, 3]\n";
   const GroupSpec g = LoadGroupFile(path);
   EXPECT_EQ(g.members[0].realtime_priority, 80);
@@ -115,7 +116,7 @@ namespace edsp {
 namespace {
 
 std::string ErrorLoading(const std::string& text) {
-  const std::string path = "/tmp/edsp_group_file_hosts_" + std::to_string(::getpid()) + ".toml";
+  const std::string path = test_support::ScratchRoot() + "/group_file_hosts.toml";
   std::ofstream(path) << text;
   std::string error = "no error";
   try {
@@ -155,7 +156,7 @@ TEST(LoadGroupFile, RequiresAndHostsAreChecked) {
 }
 
 TEST(MemberUnits, OneHostsMembersInStartOrderWithTheirPolicies) {
-  const std::string path = "/tmp/edsp_group_units_" + std::to_string(::getpid()) + ".toml";
+  const std::string path = test_support::ScratchRoot() + "/group_units.toml";
   std::ofstream(path) << "[group]\nname = \"mh\"\nsession_id = 7\n" << kTtl1 << kTwoHostMembers;
   const GroupSpec group = LoadGroupFile(path);
   const std::vector<UnitFile> units = MemberUnits(group, "drive", "/opt/edsp", "/opt/edsp/build/bin");

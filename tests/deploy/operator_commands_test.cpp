@@ -160,7 +160,7 @@ TEST(OperatorCommands, PrModeSwitchedLiveBlendsWithoutAStepAndTheDwellsLandSigne
   EXPECT_LT(largest_change, 2e-6) << "change of the PR correction per ms of setpoint time (blend ≈ 0.6 µm/ms)";
   ::testing::Test::RecordProperty("largest_correction_change_nm", static_cast<int>(largest_change * 1e9));
 
-  const PlatformModel model(LoadConfigFile(std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml"));
+  const PlatformModel model(Huang2021Config());
   const DwellErrors dwells = DwellErrorsFromLog(run.log_path, model);
   ASSERT_GE(dwells.dwells.size(), 3u);
   for (const DwellError& d : dwells.dwells) {
@@ -267,7 +267,7 @@ TEST(OperatorCommands, CalibrationSwitchedLiveBlendsWithoutAStepAndTheDwellsLand
   // Over 1 s of setpoint time: 1/1000 of the correction per ms (unblended: all of it).
   EXPECT_LT(largest_change, 2e-3);
 
-  const PlatformModel model(LoadConfigFile(std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml"));
+  const PlatformModel model(Huang2021Config());
   const DwellErrors dwells = DwellErrorsFromLog(run.log_path, model);
   int uncalibrated = 0, calibrated = 0;
   for (const DwellError& d : dwells.dwells) {

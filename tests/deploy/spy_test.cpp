@@ -17,6 +17,7 @@
 #include "edsp/leg_command_t.hpp"
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/transport/bus.h"
+#include "scratch_dir.h"
 
 namespace edsp {
 namespace {
@@ -44,7 +45,7 @@ std::map<std::string, SpyRow> ParseProbe(const std::string& path) {
 }
 
 TEST(LcmSpy, DecodesEdspMessagesOnJava17UnderXvfb) {
-  const std::string dir = fmt::format("/tmp/edsp_spy_test_{}", ::getpid());
+  const std::string dir = test_support::ScratchDir("spy_test");
   std::system(("mkdir -p " + dir).c_str());
   const std::string url = "udpm://239.255.76.67:7667?ttl=0";
   const int display = 90 + ::getpid() % 100;

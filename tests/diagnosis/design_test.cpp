@@ -13,7 +13,7 @@
 namespace edsp::gap {
 namespace {
 
-PlatformModel Model() { return PlatformModel(LoadConfigFile(std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml")); }
+PlatformModel Model() { return PlatformModel(Huang2021Config()); }
 
 // Rows at random poses, measured exactly in a tracker frame X_TB.
 MeasurementData ExactData(const PlatformModel& model, const Pose& X_TB, int rows, PrMode compensation) {

@@ -52,7 +52,7 @@ Columns OffsetColumns(const Design& d) {
 }
 
 TEST(RobustFit, RecoversLegOffsetsWithUncertaintiesThatCoverThem) {
-  const PlatformModel model(LoadConfigFile(std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml"));
+  const PlatformModel model(Huang2021Config());
   const Design d = BuildDesign(model, OffsetData(model, 0.0));
   const RobustFit fit = FitRobust(d, OffsetColumns(d), Vector6::Zero(), 3.0 * std::sqrt(3.0) * kNoise);
   ASSERT_TRUE(fit.converged);
@@ -66,7 +66,7 @@ TEST(RobustFit, RecoversLegOffsetsWithUncertaintiesThatCoverThem) {
 }
 
 TEST(RobustFit, TrackerSpikesDoNotPullTheHuberFitWhereLeastSquaresIsPulled) {
-  const PlatformModel model(LoadConfigFile(std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml"));
+  const PlatformModel model(Huang2021Config());
   const Design d = BuildDesign(model, OffsetData(model, 0.02));
   const RobustFit fit = FitRobust(d, OffsetColumns(d), Vector6::Zero(), 3.0 * std::sqrt(3.0) * kNoise);
   const GramSet gram(d, MakeFolds(d));

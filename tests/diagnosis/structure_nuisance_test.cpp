@@ -10,7 +10,7 @@
 namespace edsp::gap {
 namespace {
 
-PlatformModel Model() { return PlatformModel(LoadConfigFile(std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml")); }
+PlatformModel Model() { return PlatformModel(Huang2021Config()); }
 
 // A payload of mass m with its c.o.m. at c in {M}, on a base that turns by
 // θ = C·M about {B}'s origin under the moment M of the payload's weight:

@@ -19,6 +19,7 @@
 #include "edsp/platform_config_t.hpp"
 #include "edsp/pose_setpoint_t.hpp"
 #include "log_builder.h"  // tests/support
+#include "scratch_dir.h"
 
 namespace edsp {
 namespace {
@@ -100,7 +101,7 @@ class ChannelCsvExportTest : public ::testing::Test {
     std::filesystem::remove_all(dir_);
     std::filesystem::remove(log_);
   }
-  const std::string stem_ = "/tmp/edsp_csv_export_" + std::to_string(::getpid());
+  const std::string stem_ = test_support::ScratchRoot() + "/csv_export";
   const std::string log_ = stem_ + ".lcmlog";
   const std::string dir_ = stem_ + "_csv";
 };
@@ -180,7 +181,7 @@ TEST_F(ChannelCsvExportTest, ErrorsNameWhatIsWrong) {
 // Every channel of the table (channels.h) exports, with its own type: a
 // channel or type added without what the export needs fails here.
 TEST(ChannelCsvExport, EveryChannelOfTheTableExportsItsType) {
-  const std::string stem = "/tmp/edsp_csv_every_" + std::to_string(::getpid());
+  const std::string stem = test_support::ScratchRoot() + "/csv_every";
   {
     LogBuilder b(stem + ".lcmlog");
     for (const channel::Channel& c : channel::kChannels) {

@@ -19,12 +19,13 @@
 
 #include "edsp/logger/log_reader.h"
 #include "edsp/logger/log_writer.h"
+#include "scratch_dir.h"
 
 namespace edsp {
 namespace {
 
 std::string TempPath(const std::string& name) {
-  return "/tmp/edsp_appender_" + std::to_string(::getpid()) + "_" + name + ".lcmlog";
+  return test_support::ScratchRoot() + "/appender_" + name + ".lcmlog";
 }
 
 std::vector<std::uint8_t> Payload(int k) {

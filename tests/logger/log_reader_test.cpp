@@ -14,6 +14,7 @@
 
 #include <gtest/gtest.h>
 #include <lcm/lcm-cpp.hpp>
+#include "scratch_dir.h"
 
 namespace edsp {
 namespace {
@@ -25,7 +26,7 @@ struct WrittenLog {
 
 // Events of varied sizes and channel names, as LCM's writer lays them out.
 WrittenLog WriteWithLcm(const std::string& name, int count) {
-  WrittenLog log{"/tmp/edsp_reader_" + std::to_string(::getpid()) + "_" + name + ".lcmlog", {}};
+  WrittenLog log{test_support::ScratchRoot() + "/reader_" + name + ".lcmlog", {}};
   std::remove(log.path.c_str());
   lcm::LogFile file(log.path, "w");
   for (int k = 0; k < count; ++k) {

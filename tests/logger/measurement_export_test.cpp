@@ -18,6 +18,7 @@
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/rig_truth_t.hpp"
 #include "edsp/tracker_point_t.hpp"
+#include "scratch_dir.h"
 
 namespace edsp {
 namespace {
@@ -56,7 +57,7 @@ std::vector<std::vector<std::string>> Rows(const std::string& csv) {
   return rows;
 }
 
-const std::string kPath = "/tmp/edsp_export_test_" + std::to_string(::getpid()) + ".lcmlog";
+const std::string kPath = test_support::ScratchRoot() + "/export_test.lcmlog";
 
 void WriteLog() {
   LogBuilder b(kPath);

@@ -28,7 +28,7 @@ TEST(EdspSimCli, PrJsonMatchesTheLibrary) {
   const CommandRun run = RunSim("pr " + kConfig + " --pose=0.1,-0.05,1.6,0.05,-0.1,0.2 --json");
   ASSERT_EQ(run.exit_code, 0) << run.text;
   const auto out = nlohmann::json::parse(run.text);
-  const PlatformModel model(LoadConfigFile(EDSP_SOURCE_DIR "/config/huang2021.toml"));
+  const PlatformModel model(Huang2021Config());
   Pose pose;
   pose.p_BoMo_B << 0.1, -0.05, 1.6;
   pose.rpy_rad << 0.05, -0.1, 0.2;

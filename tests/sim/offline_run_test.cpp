@@ -13,6 +13,7 @@
 #include "edsp/kinematics/config.h"
 #include "edsp/logger/log_summary.h"
 #include "edsp/sim/offline_run.h"
+#include "scratch_dir.h"
 
 namespace edsp {
 namespace {
@@ -63,7 +64,7 @@ class OfflineRunTest : public ::testing::Test {
     o.out_dir = dir_;
     return o;
   }
-  const std::string dir_ = "/tmp/edsp_offline_run_" + std::to_string(::getpid());
+  const std::string dir_ = test_support::ScratchRoot() + "/offline_run";
   const std::string source_ = EDSP_SOURCE_DIR;
 };
 

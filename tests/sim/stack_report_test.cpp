@@ -16,6 +16,7 @@
 #include "edsp/sim/paper_table.h"
 #include "edsp/sim/stack_report.h"
 #include "edsp/tracker_point_t.hpp"
+#include "scratch_dir.h"
 
 namespace edsp {
 namespace {
@@ -23,7 +24,7 @@ namespace {
 using test_support::LogBuilder;
 
 PlatformModel Model() {
-  return PlatformModel(LoadConfigFile(std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml"));
+  return PlatformModel(Huang2021Config());
 }
 
 class RunLog {
@@ -74,8 +75,8 @@ class StackReportTest : public ::testing::Test {
   }
   const PlatformModel model_ = Model();
   const Vector6 home_ = model_.home_pose().ToVector();
-  const std::string log_ = "/tmp/edsp_stack_report_" + std::to_string(::getpid()) + ".lcmlog";
-  const std::string plots_ = "/tmp/edsp_stack_plots_" + std::to_string(::getpid());
+  const std::string log_ = test_support::ScratchRoot() + "/stack_report.lcmlog";
+  const std::string plots_ = test_support::ScratchRoot() + "/stack_plots";
 };
 
 TEST_F(StackReportTest, DwellsAveragedOverTheirSettledHalfWithModeAndDisplacement) {

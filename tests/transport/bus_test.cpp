@@ -14,6 +14,7 @@
 #include "edsp/transport/bus.h"
 #include "memq_bus.h"  // tests/support
 #include "edsp/transport/seq_gap.h"
+#include "scratch_dir.h"
 
 namespace edsp {
 namespace {
@@ -251,7 +252,7 @@ TEST(Bus, BadLcmUrlIsNamed) {
 }
 
 TEST(Bus, FileUrlRecordsAndReplaysALog) {
-  const std::string log = "/tmp/edsp_bus_test_" + std::to_string(::getpid()) + ".lcmlog";
+  const std::string log = test_support::ScratchRoot() + "/bus_test.lcmlog";
   {
     TransportConfig write;
     write.lcm_url = "file://" + log + "?mode=w";
