@@ -110,5 +110,4 @@ BENCHMARK(BM_HaltRequest)->Unit(benchmark::kMicrosecond)->Iterations(300);
 }  // namespace
 }  // namespace edsp
 
-
 BENCHMARK_MAIN();

@@ -27,7 +27,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   try {
     const edsp::GroupSpec group = edsp::LoadGroupFile(path);
-    for (const std::string& host : group.MemberHosts()) (void)edsp::MemberUnits(group, host, "/opt/edsp", "/opt/edsp/bin");
+    for (const std::string& host : group.MemberHosts())
+      (void)edsp::MemberUnits(group, host, "/opt/edsp", "/opt/edsp/bin");
   } catch (const std::exception&) {
   }
   return 0;

@@ -50,8 +50,7 @@ int Run(int argc, char** argv) {
   int stale_ms = 50;
   app.add_option("--backend", backend_name, "drive backend: " + KnownBackends() + " (default: [drives] backend)");
   app.add_option("--image-prefix", image_prefix, "process image segment prefix (default: shm_prefix)");
-  app.add_option("--stale-ms", stale_ms, "hold when no valid command for this long")
-      ->check(CLI::Range(1, 10000));
+  app.add_option("--stale-ms", stale_ms, "hold when no valid command for this long")->check(CLI::Range(1, 10000));
   double rejoin_speed_m_s = BridgeOptions{}.rejoin_speed_m_s;
   app.add_option("--rejoin-speed-m-s", rejoin_speed_m_s,
                  "after a re-arm, how fast the held legs go to the command stream")
@@ -66,7 +65,8 @@ int Run(int argc, char** argv) {
 
   const PlatformConfig config = LoadConfigFile(node.config_path);
   const DrivesConfig drives = LoadDrivesConfig(node.config_path, config);
-  if (!drives.backend_note.empty()) std::fprintf(stderr, "edsp-actuator-bridge: [drives] %s\n", drives.backend_note.c_str());
+  if (!drives.backend_note.empty())
+    std::fprintf(stderr, "edsp-actuator-bridge: [drives] %s\n", drives.backend_note.c_str());
   if (backend_name.empty()) backend_name = drives.backend;
   const TransportConfig transport = TransportFor(node);
   InstallStopSignals();

@@ -43,12 +43,11 @@ ActuatorBridge::ActuatorBridge(PlatformModel model, DriveBackend* backend, Bridg
 }
 
 fault_t ActuatorBridge::Fault(FaultCode code, std::string reason, std::int64_t now_utime) const {
-  return MakeFault(options_.node_name, channel::kLegCommand, code, fault_t::SEVERITY_ERROR,
-                   std::move(reason), now_utime);
+  return MakeFault(options_.node_name, channel::kLegCommand, code, fault_t::SEVERITY_ERROR, std::move(reason),
+                   now_utime);
 }
 
-bool ActuatorBridge::Reject(FaultCode code, std::string reason, std::int64_t now_utime,
-                            fault_t* fault) {
+bool ActuatorBridge::Reject(FaultCode code, std::string reason, std::int64_t now_utime, fault_t* fault) {
   ++rejected_;
   *fault = Fault(code, std::move(reason), now_utime);
   return false;
@@ -58,9 +57,9 @@ void ActuatorBridge::Apply(BridgeEvent event) {
   const BridgeTransition t = NextBridgeState(state_, event);
   const BridgeState next = t.allowed ? t.next : BridgeState::kLatched;
   if (next == BridgeState::kLatched && state_ != BridgeState::kLatched) {
-    latch_cause_ = !t.allowed                            ? "an unexpected event"
+    latch_cause_ = !t.allowed                          ? "an unexpected event"
                    : event == BridgeEvent::kDrivesLost ? "a drive outage"
-                                                         : "stale input";
+                                                       : "stale input";
   }
   state_ = next;
 }
@@ -92,25 +91,24 @@ fault_t ActuatorBridge::HandleArm(const arm_t& arm, std::int64_t now_utime) {
 
 fault_t ActuatorBridge::ActOnArm(const arm_t& arm, std::int64_t now_utime) {
   if (arm.session_id != options_.session_id) {
-    return MakeFault(options_.node_name, channel::kArm, FaultCode::kForeignSession, fault_t::SEVERITY_WARNING,
-                     fmt::format("re-arm from session {} ignored (this group is session {})", arm.session_id,
-                                 options_.session_id),
-                     now_utime);
+    return MakeFault(
+        options_.node_name, channel::kArm, FaultCode::kForeignSession, fault_t::SEVERITY_WARNING,
+        fmt::format("re-arm from session {} ignored (this group is session {})", arm.session_id, options_.session_id),
+        now_utime);
   }
   const bool was_latched = latched();
   std::string error;
   if (!Rearm(&error)) {
     return MakeFault(options_.node_name, channel::kArm, FaultCode::kBackend, fault_t::SEVERITY_ERROR,
-                     fmt::format("re-arm by {} failed: the drives cannot be enabled: {}", arm.operator_name,
-                                 error),
+                     fmt::format("re-arm by {} failed: the drives cannot be enabled: {}", arm.operator_name, error),
                      now_utime);
   }
-  return MakeFault(options_.node_name, channel::kArm, FaultCode::kOperatorAction, fault_t::SEVERITY_INFO,
-                   fmt::format("re-armed by {}{}", arm.operator_name,
-                               was_latched ? fmt::format("; rejoining the command stream at {:.3f} m/s",
-                                                         options_.rejoin_speed_m_s)
-                                           : std::string(" (was not latched)")),
-                   now_utime);
+  return MakeFault(
+      options_.node_name, channel::kArm, FaultCode::kOperatorAction, fault_t::SEVERITY_INFO,
+      fmt::format("re-armed by {}{}", arm.operator_name,
+                  was_latched ? fmt::format("; rejoining the command stream at {:.3f} m/s", options_.rejoin_speed_m_s)
+                              : std::string(" (was not latched)")),
+      now_utime);
 }
 
 Vector6 ActuatorBridge::NextTarget(const Vector6& command_m, double max_step_m, double elapsed_s,
@@ -127,8 +125,7 @@ Vector6 ActuatorBridge::NextTarget(const Vector6& command_m, double max_step_m, 
   return target_length_m_ + gap * (step / largest);
 }
 
-bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utime,
-                                   fault_t* fault) {
+bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utime, fault_t* fault) {
   if (std::optional<Refusal> refusal = WhyNotListening(c, now_utime)) {
     return Reject(refusal->code, std::move(refusal->reason), now_utime, fault);
   }
@@ -141,13 +138,11 @@ bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utim
   return true;  // to the drives at the next cycle's write
 }
 
-std::optional<ActuatorBridge::Refusal> ActuatorBridge::WhyNotListening(const leg_command_t& c,
-                                                                       std::int64_t now_utime) {
+std::optional<ActuatorBridge::Refusal> ActuatorBridge::WhyNotListening(const leg_command_t& c, std::int64_t now_utime) {
   if (state_ == BridgeState::kLatched) {
-    return Refusal{FaultCode::kStale,
-                   fmt::format("leg command seq {} refused: holding after {} since command "
-                               "seq {}; re-arm required (EDSP_ARM)",
-                               c.seq, latch_cause_, last_command_seq_)};
+    return Refusal{FaultCode::kStale, fmt::format("leg command seq {} refused: holding after {} since command "
+                                                  "seq {}; re-arm required (EDSP_ARM)",
+                                                  c.seq, latch_cause_, last_command_seq_)};
   }
   if (Moving() && now_utime - target_utime_ > options_.stale_us) {
     // Starved longer than the stale limit and no cycle noticed (this process
@@ -170,10 +165,9 @@ std::optional<ActuatorBridge::Refusal> ActuatorBridge::WhyNotListening(const leg
     // Frozen, then re-armed before a cycle read where the drives' watchdog
     // stopped them: a stream started now would rejoin from the last command
     // and pull them back. The next cycle reads them (1 ms).
-    return Refusal{FaultCode::kStale,
-                   fmt::format("leg command seq {} refused: where the drives stopped during this "
-                               "bridge's freeze is not read yet (next cycle)",
-                               c.seq)};
+    return Refusal{FaultCode::kStale, fmt::format("leg command seq {} refused: where the drives stopped during this "
+                                                  "bridge's freeze is not read yet (next cycle)",
+                                                  c.seq)};
   }
   if (!backend_ok_) {
     return Refusal{FaultCode::kBackend, fmt::format("leg command seq {} refused: the drives do not answer", c.seq)};
@@ -207,8 +201,7 @@ ActuatorBridge::StepLimit ActuatorBridge::StepLimitFor(const leg_command_t& c) c
   return step;
 }
 
-std::optional<ActuatorBridge::Refusal> ActuatorBridge::WhyNotTheseLengths(const leg_command_t& c,
-                                                                          const StepLimit& step,
+std::optional<ActuatorBridge::Refusal> ActuatorBridge::WhyNotTheseLengths(const leg_command_t& c, const StepLimit& step,
                                                                           Vector6* command_m) const {
   const WorkspaceLimits& limits = model_.config().limits;
   // Rejoining: the first command after the re-arm starts the stream anew;
@@ -223,16 +216,15 @@ std::optional<ActuatorBridge::Refusal> ActuatorBridge::WhyNotTheseLengths(const 
     }
     if (length < limits.leg_min_m || length > limits.leg_max_m) {
       return Refusal{FaultCode::kOutOfStroke,
-                     fmt::format("leg command seq {}: leg {} length {:.6f} m outside {:.3f}..{:.3f} m", c.seq,
-                                 i + 1, length, limits.leg_min_m, limits.leg_max_m)};
+                     fmt::format("leg command seq {}: leg {} length {:.6f} m outside {:.3f}..{:.3f} m", c.seq, i + 1,
+                                 length, limits.leg_min_m, limits.leg_max_m)};
     }
     if (!stream_starts && std::abs(length - reference(i)) > step.max_step_m) {
       return Refusal{FaultCode::kJump,
                      fmt::format("leg command seq {}: leg {} jumps {:.6f} m from the {} {:.6f} m "
                                  "(at most {:.6f} m in {:.1f} ms)",
-                                 c.seq, i + 1, length - reference(i),
-                                 IsRejoining(state_) ? "previous command" : "held", reference(i), step.max_step_m,
-                                 step.elapsed_s * 1e3)};
+                                 c.seq, i + 1, length - reference(i), IsRejoining(state_) ? "previous command" : "held",
+                                 reference(i), step.max_step_m, step.elapsed_s * 1e3)};
     }
     (*command_m)(i) = length;
   }
@@ -256,14 +248,16 @@ void ActuatorBridge::Accept(const leg_command_t& c, const Vector6& command_m, co
   // clamped time, and so is its velocity; so is a step the jump check let
   // through that the time since the last setpoint does not explain (faster
   // than the legs go), which over that time would be a kick of its own.
-  const bool explained = (next - target_length_m_).cwiseAbs().maxCoeff() <=
-                         options_.max_leg_speed_m_s * step.since_s + 1e-6;
+  const bool explained =
+      (next - target_length_m_).cwiseAbs().maxCoeff() <= options_.max_leg_speed_m_s * step.since_s + 1e-6;
   const double basis_s = rejoining || !explained ? step.elapsed_s : step.since_s;
   const bool resolvable = basis_s >= kShortestFeedForwardBasisS;
   for (int i = 0; i < kNumLegs; ++i) {
     const double angle = model_.MotorAngleFromLength(i, next(i));
-    if (target_utime_ < 0) target_.motor_velocity_rad_s[i] = 0.0;
-    else if (resolvable) target_.motor_velocity_rad_s[i] = (angle - target_.motor_angle_rad[i]) / basis_s;
+    if (target_utime_ < 0)
+      target_.motor_velocity_rad_s[i] = 0.0;
+    else if (resolvable)
+      target_.motor_velocity_rad_s[i] = (angle - target_.motor_angle_rad[i]) / basis_s;
     target_.motor_angle_rad[i] = angle;
     target_length_m_(i) = next(i);
   }
@@ -287,7 +281,8 @@ bool ActuatorBridge::LoseDrives(std::int64_t now_utime, fault_t* fault) {
                  fmt::format("drive backend failed a cycle (drives silent or not active){}{}",
                              detail.empty() ? std::string() : " [" + detail + "]",
                              was_moving ? fmt::format(": holding the last valid position (command "
-                                                      "seq {}) until re-armed", last_command_seq_)
+                                                      "seq {}) until re-armed",
+                                                      last_command_seq_)
                                         : std::string()),
                  now_utime);
   return true;
@@ -361,8 +356,7 @@ bool ActuatorBridge::Cycle(std::int64_t now_utime, leg_state_t* state, fault_t* 
   const bool backend_ok = read_ok && write_ok;
   if (backend_ok && !backend_ok_ && !raised) {
     *fault = Fault(FaultCode::kBackend,
-                   latched() ? "drive backend answers again; holding until re-armed"
-                            : "drive backend answers again",
+                   latched() ? "drive backend answers again; holding until re-armed" : "drive backend answers again",
                    now_utime);
     fault->severity = fault_t::SEVERITY_INFO;
     raised = true;

@@ -26,8 +26,8 @@ std::unique_ptr<DriveBackend> MakeModbusTcp(const BackendContext& c) {
 
 std::unique_ptr<DriveBackend> MakeCia402Shm(const BackendContext& c) {
   return std::make_unique<Cia402Backend>(
-      c.drives, std::make_unique<cia402::CspShmMaster>(ImagePrefix(c), c.transport.shm_permissions,
-                                                        c.drives.response_timeout_s));
+      c.drives,
+      std::make_unique<cia402::CspShmMaster>(ImagePrefix(c), c.transport.shm_permissions, c.drives.response_timeout_s));
 }
 
 struct OldSpelling {

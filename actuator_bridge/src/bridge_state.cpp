@@ -49,8 +49,7 @@ BridgeTransition OnRearm(BridgeState state) {
 BridgeTransition NextBridgeState(BridgeState state, BridgeEvent event) {
   switch (event) {
     case BridgeEvent::kCommandAccepted: return OnCommandAccepted(state);
-    case BridgeEvent::kCaughtUp:
-      return state == BridgeState::kRejoining ? To(BridgeState::kFollowing) : kRefused;
+    case BridgeEvent::kCaughtUp: return state == BridgeState::kRejoining ? To(BridgeState::kFollowing) : kRefused;
     case BridgeEvent::kStale:
     case BridgeEvent::kDrivesLost: return OnStaleOrDrivesLost(state, event);
     case BridgeEvent::kRearm: return OnRearm(state);
@@ -62,9 +61,7 @@ bool IsHolding(BridgeState state) {
   return state == BridgeState::kStartupHold || state == BridgeState::kLatched || state == BridgeState::kArmed;
 }
 
-bool IsRejoining(BridgeState state) {
-  return state == BridgeState::kArmed || state == BridgeState::kRejoining;
-}
+bool IsRejoining(BridgeState state) { return state == BridgeState::kArmed || state == BridgeState::kRejoining; }
 
 const char* BridgeStateName(BridgeState state) {
   switch (state) {

@@ -109,9 +109,10 @@ bool Cia402Backend::EnableDrives(Enabling enabling, std::chrono::milliseconds bu
     }
   }
   if (latched == 0) {
-    *error = fmt::format("{}: the drives latched no new feedback in {} ms of enabling (cycle count stays {}): "
-                         "they are not cycling",
-                         link_->endpoint(), budget.count(), feedback_[0].cycle_count);
+    *error = fmt::format(
+        "{}: the drives latched no new feedback in {} ms of enabling (cycle count stays {}): "
+        "they are not cycling",
+        link_->endpoint(), budget.count(), feedback_[0].cycle_count);
     return false;
   }
   for (std::size_t d = 0; d < feedback_.size(); ++d) {

@@ -15,8 +15,7 @@ const toml::node& NodeOf(const SectionReader& s, const char* key) { return *s.ta
 
 }  // namespace
 
-DrivesConfig ParseDrivesConfig(const std::string& toml_text, const std::string& origin,
-                               const DriveParameters& drive) {
+DrivesConfig ParseDrivesConfig(const std::string& toml_text, const std::string& origin, const DriveParameters& drive) {
   const toml::table root = ParseTomlText(toml_text, origin);
   const SectionReader s(root, "drives", origin);
   DrivesConfig config;
@@ -44,8 +43,10 @@ DrivesConfig ParseDrivesConfig(const std::string& toml_text, const std::string& 
   config.response_timeout_s = timeout_ms * 1e-3;
   const bool real = kind->real_drives;
   if (real && !s.Has("counts_per_m")) {
-    throw ConfigError(fmt::format("{}: [drives] backend = \"{}\" needs counts_per_m (encoder counts per metre "
-                                  "of leg travel)", origin, config.backend));
+    throw ConfigError(
+        fmt::format("{}: [drives] backend = \"{}\" needs counts_per_m (encoder counts per metre "
+                    "of leg travel)",
+                    origin, config.backend));
   }
   const auto counts_per_m = s.PerLeg("counts_per_m", {});
   const auto offsets = s.PerLeg("offset_counts", {});
@@ -58,7 +59,8 @@ DrivesConfig ParseDrivesConfig(const std::string& toml_text, const std::string& 
              fmt::format("[drives] leg {}: counts_per_m = {} must be positive", i + 1, counts_per_m[i]));
     }
     if (directions[i] != 1.0 && directions[i] != -1.0) {
-      s.Fail(NodeOf(s, "direction"), fmt::format("[drives] leg {}: direction = {} must be 1 or -1", i + 1, directions[i]));
+      s.Fail(NodeOf(s, "direction"),
+             fmt::format("[drives] leg {}: direction = {} must be 1 or -1", i + 1, directions[i]));
     }
     if (std::abs(offsets[i]) > 2147483647.0 || offsets[i] != std::floor(offsets[i])) {
       s.Fail(NodeOf(s, "offset_counts"),
@@ -76,8 +78,7 @@ std::string ScalingProblem(const std::array<cia402::DriveScaling, 6>& scaling) {
   for (std::size_t i = 0; i < scaling.size(); ++i) {
     const std::string problem = scaling[i].Problem();
     if (!problem.empty()) {
-      return fmt::format("[drives] leg {}: {} (from the config's [drives] counts_per_m and direction)", i + 1,
-                         problem);
+      return fmt::format("[drives] leg {}: {} (from the config's [drives] counts_per_m and direction)", i + 1, problem);
     }
   }
   return "";

@@ -7,14 +7,13 @@
 
 namespace edsp {
 
-VirtualRigBackend::VirtualRigBackend(std::string segment_prefix, mode_t permissions,
-                                     std::int64_t timeout_us)
+VirtualRigBackend::VirtualRigBackend(std::string segment_prefix, mode_t permissions, std::int64_t timeout_us)
     : prefix_(std::move(segment_prefix)), permissions_(permissions), timeout_us_(timeout_us) {}
 
 bool VirtualRigBackend::Configure(const PlatformConfig&, std::string* error) {
   if (!lifecycle_.Allows(BackendTransition::kConfigure, error)) return false;
-  ShmChannelSpec spec{DriveCommandSegment(prefix_), kDriveImageCommandFingerprint, 16,
-                      sizeof(DriveImageCommand), permissions_};
+  ShmChannelSpec spec{DriveCommandSegment(prefix_), kDriveImageCommandFingerprint, 16, sizeof(DriveImageCommand),
+                      permissions_};
   auto writer = ShmWriter::Open(spec);
   if (!writer.ok()) {
     *error = writer.message;
@@ -26,8 +25,8 @@ bool VirtualRigBackend::Configure(const PlatformConfig&, std::string* error) {
 
 bool VirtualRigBackend::Activate(std::string* error) {
   if (!lifecycle_.Allows(BackendTransition::kActivate, error)) return false;
-  ShmChannelSpec spec{DriveFeedbackSegment(prefix_), kDriveImageFeedbackFingerprint, 16,
-                      sizeof(DriveImageFeedback), permissions_};
+  ShmChannelSpec spec{DriveFeedbackSegment(prefix_), kDriveImageFeedbackFingerprint, 16, sizeof(DriveImageFeedback),
+                      permissions_};
   for (int attempt = 0; attempt < 500 && feedback_ == nullptr; ++attempt) {
     auto reader = ShmReader::Open(spec);
     if (reader.ok()) {
@@ -102,8 +101,8 @@ bool VirtualRigBackend::Read(std::int64_t now_utime, DriveFeedback* feedback) {
   *feedback = last_;
   // A drive in fault (its following error past the window) has braked: the
   // others must stop too, which the bridge does for drives it has lost.
-  const bool faulted = std::any_of(last_.status.begin(), last_.status.end(),
-                                   [](DriveStatus s) { return s == DriveStatus::kFault; });
+  const bool faulted =
+      std::any_of(last_.status.begin(), last_.status.end(), [](DriveStatus s) { return s == DriveStatus::kFault; });
   return !faulted && last_feedback_utime_ >= 0 && now_utime - last_feedback_utime_ <= timeout_us_;
 }
 

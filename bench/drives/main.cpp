@@ -173,7 +173,8 @@ CycleTimes RunCycles(edsp::cia402::CspLink* master, const Options& o) {
       if (!master->Connect(&error)) break;
       continue;
     }
-    if (k >= o.warmup) out.exchange_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - start).count());
+    if (k >= o.warmup)
+      out.exchange_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - start).count());
     next += period;
     if (period.count() > 0) std::this_thread::sleep_until(next);
   }
@@ -183,10 +184,11 @@ CycleTimes RunCycles(edsp::cia402::CspLink* master, const Options& o) {
 void PrintText(const nlohmann::json& report, std::size_t cycles, int failures) {
   const auto& e = report["exchange"];
   const auto& t = report["timer_baseline_late"];
-  std::printf("%s cycle (6 drives, 1 exchange): p50 %.1f us, p99 %.1f us, p99.9 %.1f us, max %.1f us "
-              "(%zu cycles, %d failed)\n",
-              report["link"].get<std::string>().c_str(), e["p50_us"].get<double>(), e["p99_us"].get<double>(),
-              e["p999_us"].get<double>(), e["max_us"].get<double>(), cycles, failures);
+  std::printf(
+      "%s cycle (6 drives, 1 exchange): p50 %.1f us, p99 %.1f us, p99.9 %.1f us, max %.1f us "
+      "(%zu cycles, %d failed)\n",
+      report["link"].get<std::string>().c_str(), e["p50_us"].get<double>(), e["p99_us"].get<double>(),
+      e["p999_us"].get<double>(), e["max_us"].get<double>(), cycles, failures);
   std::printf("timer baseline (1 ms sleep, late by): p50 %.1f us, p99 %.1f us, max %.1f us\n",
               t["p50_us"].get<double>(), t["p99_us"].get<double>(), t["max_us"].get<double>());
 }
@@ -196,13 +198,15 @@ int Run(int argc, char** argv) {
   CLI::App app{"One cycle of six CiA 402 drives over Modbus TCP or the shared-memory image: read+write time"};
   app.add_option("--cycles", o.cycles, "timed cycles")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--warmup", o.warmup, "untimed cycles first (enable the drives)")->capture_default_str();
-  app.add_option("--period-us", o.period_us, "pace of the master's cycles")->capture_default_str()
+  app.add_option("--period-us", o.period_us, "pace of the master's cycles")
+      ->capture_default_str()
       ->check(CLI::Range(0.0, 100000.0));
   app.add_flag("--json", o.json, "one JSON object on stdout");
   app.add_option("--connect", o.connect,
                  "HOST:PORT of a server elsewhere, waited for up to 5 s (default: a child on loopback)");
   app.add_option("--link", o.link, "modbus: Modbus TCP; shm: the CSP image in shared memory (a child server)")
-      ->capture_default_str()->check(CLI::IsMember({"modbus", "shm"}));
+      ->capture_default_str()
+      ->check(CLI::IsMember({"modbus", "shm"}));
   CLI11_PARSE(app, argc, argv);
   const bool shm = o.link == "shm";
   if (shm && !o.connect.empty()) throw std::runtime_error("--connect: only with --link modbus (shm is this host's)");
@@ -217,22 +221,27 @@ int Run(int argc, char** argv) {
     endpoint = Endpoint(o.connect);
   }
   std::unique_ptr<edsp::cia402::CspLink> master;
-  if (shm) master = std::make_unique<edsp::cia402::CspShmMaster>(prefix, 0600, 0.5);
-  else master = std::make_unique<edsp::cia402::ModbusDriveMaster>(endpoint.first, endpoint.second, 0.5);
+  if (shm)
+    master = std::make_unique<edsp::cia402::CspShmMaster>(prefix, 0600, 0.5);
+  else
+    master = std::make_unique<edsp::cia402::ModbusDriveMaster>(endpoint.first, endpoint.second, 0.5);
   ConnectMaster(master.get(), !o.connect.empty() || shm);
   const CycleTimes cycles = RunCycles(master.get(), o);
   const std::vector<double> timer = SleepLateness(std::chrono::microseconds(1000), 2000);
 
-  const nlohmann::json report = {{"drives", 6},
-                                 {"link", master->endpoint().substr(0, master->endpoint().find(' '))},
-                                 {"server", shm ? master->endpoint() : fmt::format("{}:{}", endpoint.first, endpoint.second)},
-                                 {"registers_per_cycle", shm ? 0 : 2 * edsp::cia402::modbus_map::kBlockRegisters},
-                                 {"period_us", o.period_us},
-                                 {"failures", cycles.failures},
-                                 {"exchange", Summary(cycles.exchange_us)},
-                                 {"timer_baseline_late", Summary(timer)}};
-  if (o.json) std::printf("%s\n", report.dump().c_str());
-  else PrintText(report, cycles.exchange_us.size(), cycles.failures);
+  const nlohmann::json report = {
+      {"drives", 6},
+      {"link", master->endpoint().substr(0, master->endpoint().find(' '))},
+      {"server", shm ? master->endpoint() : fmt::format("{}:{}", endpoint.first, endpoint.second)},
+      {"registers_per_cycle", shm ? 0 : 2 * edsp::cia402::modbus_map::kBlockRegisters},
+      {"period_us", o.period_us},
+      {"failures", cycles.failures},
+      {"exchange", Summary(cycles.exchange_us)},
+      {"timer_baseline_late", Summary(timer)}};
+  if (o.json)
+    std::printf("%s\n", report.dump().c_str());
+  else
+    PrintText(report, cycles.exchange_us.size(), cycles.failures);
   return cycles.failures == 0 ? 0 : 1;
 }
 

@@ -112,7 +112,8 @@ class Operator {
   }
 
   void WaitReady(double seconds) {
-    const auto until = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+    const auto until =
+        Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
     while (Clock::now() < until) {
       bus_.Handle(std::chrono::milliseconds(20));
       if (last_ && last_->measured_valid && following_) return;
@@ -227,8 +228,10 @@ int main(int argc, char** argv) {
     if (transports != "shm") result = edsp::MeasureGroup(false, moves);
     if (transports != "lcm") {
       const nlohmann::json shm = edsp::MeasureGroup(true, moves);
-      if (result.is_null()) result = shm;
-      else result["over_shm"] = shm;
+      if (result.is_null())
+        result = shm;
+      else
+        result["over_shm"] = shm;
     }
     result["target_first_setpoint_p99_ms"] = 2.0;
     if (json) {

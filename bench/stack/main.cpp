@@ -39,8 +39,7 @@ struct Target {
   double p99_us;
 };
 
-const std::map<std::string, Target> kTargets = {
-    {"lcm", {300.0}}, {"shm", {100.0}}, {"shm-mirror", {100.0}}};
+const std::map<std::string, Target> kTargets = {{"lcm", {300.0}}, {"shm", {100.0}}, {"shm-mirror", {100.0}}};
 
 // shm: the hot path (setpoints, leg commands, leg states) on shared memory
 // only; the logger records the other channels. shm-mirror: every 10th hot
@@ -86,9 +85,7 @@ void WriteGroupFile(const std::string& transport, const std::string& dir, bool r
   group.Write(dir + "/group.toml");
 }
 
-std::string BinDir() {
-  return std::filesystem::canonical("/proc/self/exe").parent_path().string();
-}
+std::string BinDir() { return std::filesystem::canonical("/proc/self/exe").parent_path().string(); }
 
 // The last EDSP_STATUS of each node in the run's log.
 std::map<std::string, node_status_t> LastStatus(const std::string& log_path) {
@@ -109,8 +106,8 @@ nlohmann::json RunOnce(const std::string& transport, double duration_s, bool rt)
   std::filesystem::create_directories(dir);
   WriteGroupFile(transport, dir, rt);
   const std::string command =
-      fmt::format("cd {} && {}/edsp-launch {}/group.toml --bin-dir {} --duration-s {} 2>{}/launch.err",
-                  EDSP_SOURCE_DIR, BinDir(), dir, BinDir(), duration_s, dir);
+      fmt::format("cd {} && {}/edsp-launch {}/group.toml --bin-dir {} --duration-s {} 2>{}/launch.err", EDSP_SOURCE_DIR,
+                  BinDir(), dir, BinDir(), duration_s, dir);
   const int status = std::system(command.c_str());
   std::ifstream report_file(dir + "/latency.json");
   if (!report_file) {
@@ -123,8 +120,10 @@ nlohmann::json RunOnce(const std::string& transport, double duration_s, bool rt)
   result["duration_s"] = duration_s;
   result["launch_exit"] = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   for (const auto& [node, s] : LastStatus(dir + "/run.lcmlog")) {
-    result["nodes"][node] = {{"deadline_misses", s.deadline_misses}, {"drops", s.drops},
-                             {"rejected", s.rejected}, {"loop_p99_us", s.loop_p99_us}};
+    result["nodes"][node] = {{"deadline_misses", s.deadline_misses},
+                             {"drops", s.drops},
+                             {"rejected", s.rejected},
+                             {"loop_p99_us", s.loop_p99_us}};
   }
   // A missed cycle: a setpoint the planner's 1 kHz clock did not send on
   // time, or a command that never reached the bridge. (Bridge cycles without
@@ -132,8 +131,7 @@ nlohmann::json RunOnce(const std::string& transport, double duration_s, bool rt)
   // clocks' phase jitter, a command landing just after a cycle boundary.)
   const std::int64_t planner_misses =
       result["nodes"].contains("planner") ? result["nodes"]["planner"]["deadline_misses"].get<std::int64_t>() : -1;
-  result["missed_cycles"] = std::max<std::int64_t>(planner_misses, 0) +
-                            result["command_seq_gaps"].get<std::int64_t>();
+  result["missed_cycles"] = std::max<std::int64_t>(planner_misses, 0) + result["command_seq_gaps"].get<std::int64_t>();
   result["target_p99_us"] = kTargets.at(transport).p99_us;
   result["meets_target"] = result["p99_us"].get<double>() <= kTargets.at(transport).p99_us &&
                            result["missed_cycles"].get<std::int64_t>() == 0;
@@ -146,9 +144,8 @@ nlohmann::json RunOnce(const std::string& transport, double duration_s, bool rt)
 // are what a 1 kHz loop cannot avoid here, whatever edsp does.
 nlohmann::json TimerBaseline(double duration_s, bool rt) {
   const std::string out = fmt::format("/tmp/edsp_bench_stack_{}_cyclictest.txt", ::getpid());
-  const std::string command = fmt::format(
-      "cyclictest -m -q {} -i 1000 -D {} --histogram=20000 >{} 2>/dev/null", rt ? "-p 70 -a 1" : "",
-      static_cast<int>(duration_s), out);
+  const std::string command = fmt::format("cyclictest -m -q {} -i 1000 -D {} --histogram=20000 >{} 2>/dev/null",
+                                          rt ? "-p 70 -a 1" : "", static_cast<int>(duration_s), out);
   if (std::system(command.c_str()) != 0) return {{"available", false}};
   std::ifstream in(out);
   std::string line;
@@ -167,20 +164,22 @@ nlohmann::json TimerBaseline(double duration_s, bool rt) {
     if (bucket >= 1000) over_1ms += count;
   }
   std::filesystem::remove(out);
-  return {{"available", true}, {"wakeups", total}, {"late_over_100us", over_100us},
-          {"late_over_1ms", over_1ms}, {"max_us", max_us}};
+  return {{"available", true},
+          {"wakeups", total},
+          {"late_over_100us", over_100us},
+          {"late_over_1ms", over_1ms},
+          {"max_us", max_us}};
 }
 
 void PrintTable(const nlohmann::json& runs) {
-  std::printf("%-10s %8s %7s %7s %8s %7s %8s %8s %7s %10s %8s %8s\n", "path", "samples", "p50_us", "p99_us",
-              "p99.9_us", "max_us", "drv_p50", "drv_p99", "missed", "no_cmd_cyc", "br_late", "target");
+  std::printf("%-10s %8s %7s %7s %8s %7s %8s %8s %7s %10s %8s %8s\n", "path", "samples", "p50_us", "p99_us", "p99.9_us",
+              "max_us", "drv_p50", "drv_p99", "missed", "no_cmd_cyc", "br_late", "target");
   for (const auto& r : runs) {
     const nlohmann::json drives = r.value("to_drives", nlohmann::json{{"p50_us", 0.0}, {"p99_us", 0.0}});
     std::printf("%-10s %8lld %7.0f %7.0f %8.0f %7.0f %8.0f %8.0f %7lld %10lld %8lld %8s\n",
-                r["transport"].get<std::string>().c_str(), r["samples"].get<long long>(),
-                r["p50_us"].get<double>(), r["p99_us"].get<double>(), r["p999_us"].get<double>(),
-                r["max_us"].get<double>(), drives["p50_us"].get<double>(), drives["p99_us"].get<double>(),
-                r["missed_cycles"].get<long long>(),
+                r["transport"].get<std::string>().c_str(), r["samples"].get<long long>(), r["p50_us"].get<double>(),
+                r["p99_us"].get<double>(), r["p999_us"].get<double>(), r["max_us"].get<double>(),
+                drives["p50_us"].get<double>(), drives["p99_us"].get<double>(), r["missed_cycles"].get<long long>(),
                 r["cycles_without_sample"].get<long long>(), r["deadline_misses"].get<long long>(),
                 r["meets_target"].get<bool>() ? "met" : "MISSED");
   }
@@ -215,10 +214,11 @@ int main(int argc, char** argv) {
     } else {
       edsp::PrintTable(runs);
       if (baseline["available"].get<bool>()) {
-        std::printf("bare 1 kHz timer loop on this machine (cyclictest): %lld wake-ups, %lld > 100 us late, "
-                    "%lld > 1 ms late (missed), max %.0f us\n",
-                    baseline["wakeups"].get<long long>(), baseline["late_over_100us"].get<long long>(),
-                    baseline["late_over_1ms"].get<long long>(), baseline["max_us"].get<double>());
+        std::printf(
+            "bare 1 kHz timer loop on this machine (cyclictest): %lld wake-ups, %lld > 100 us late, "
+            "%lld > 1 ms late (missed), max %.0f us\n",
+            baseline["wakeups"].get<long long>(), baseline["late_over_100us"].get<long long>(),
+            baseline["late_over_1ms"].get<long long>(), baseline["max_us"].get<double>());
       }
     }
     return 0;

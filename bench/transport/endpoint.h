@@ -15,8 +15,7 @@ class Endpoint {
   virtual ~Endpoint() = default;
   virtual bool Send(const std::uint8_t* data, std::uint32_t size) = 0;
   // Copies the next message into `out` (capacity `capacity`); false on timeout.
-  virtual bool Receive(std::uint8_t* out, std::uint32_t capacity,
-                       std::chrono::milliseconds timeout) = 0;
+  virtual bool Receive(std::uint8_t* out, std::uint32_t capacity, std::chrono::milliseconds timeout) = 0;
   // Blocks until the peer is connected (publishers see a subscriber).
   virtual void WaitForPeer() {}
 };
@@ -31,10 +30,8 @@ struct Roles {
 // How a shared-memory reader waits: spin on TryTake, sleep on the futex at
 // once, or edsp's default (spin briefly, then sleep).
 enum class ShmWait { kSpin, kBlock, kHybrid };
-std::unique_ptr<Endpoint> MakeShmEndpoint(const Roles& roles, std::uint32_t payload_bytes,
-                                          ShmWait wait);
+std::unique_ptr<Endpoint> MakeShmEndpoint(const Roles& roles, std::uint32_t payload_bytes, ShmWait wait);
 std::unique_ptr<Endpoint> MakeLcmEndpoint(const Roles& roles);
-std::unique_ptr<Endpoint> MakeIceoryxEndpoint(const Roles& roles, std::uint32_t payload_bytes,
-                                              bool waitset);
+std::unique_ptr<Endpoint> MakeIceoryxEndpoint(const Roles& roles, std::uint32_t payload_bytes, bool waitset);
 
 }  // namespace edsp::bench

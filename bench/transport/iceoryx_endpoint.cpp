@@ -37,8 +37,7 @@ class IceoryxEndpoint final : public Endpoint {
 
   void WaitForPeer() override {
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-    while ((!publisher_.hasSubscribers() ||
-            subscriber_.getSubscriptionState() != iox::SubscribeState::SUBSCRIBED) &&
+    while ((!publisher_.hasSubscribers() || subscriber_.getSubscriptionState() != iox::SubscribeState::SUBSCRIBED) &&
            std::chrono::steady_clock::now() < deadline) {
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
@@ -54,8 +53,7 @@ class IceoryxEndpoint final : public Endpoint {
     return sent;
   }
 
-  bool Receive(std::uint8_t* out, std::uint32_t capacity,
-               std::chrono::milliseconds timeout) override {
+  bool Receive(std::uint8_t* out, std::uint32_t capacity, std::chrono::milliseconds timeout) override {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
     for (;;) {
       bool got = false;
@@ -90,13 +88,11 @@ class IceoryxEndpoint final : public Endpoint {
 
 }  // namespace
 
-std::unique_ptr<Endpoint> MakeIceoryxEndpoint(const Roles& roles, std::uint32_t /*payload_bytes*/,
-                                              bool waitset) {
+std::unique_ptr<Endpoint> MakeIceoryxEndpoint(const Roles& roles, std::uint32_t /*payload_bytes*/, bool waitset) {
   // iceoryx logs every registration at debug level by default.
   iox::log::LogManager::GetLogManager().SetDefaultLogLevel(iox::log::LogLevel::kWarn);
   const std::string name = "edsp-bench-" + roles.send_channel + "-" + std::to_string(::getpid());
-  iox::runtime::PoshRuntime::initRuntime(
-      iox::RuntimeName_t(iox::cxx::TruncateToCapacity, name.c_str(), name.size()));
+  iox::runtime::PoshRuntime::initRuntime(iox::RuntimeName_t(iox::cxx::TruncateToCapacity, name.c_str(), name.size()));
   return std::make_unique<IceoryxEndpoint>(roles, waitset);
 }
 

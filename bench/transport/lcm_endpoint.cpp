@@ -10,19 +10,15 @@ namespace {
 class LcmEndpoint final : public Endpoint {
  public:
   explicit LcmEndpoint(const Roles& roles) : send_channel_(roles.send_channel) {
-    lcm_.Subscribe(roles.receive_channel,
-                   [this](const std::string&, const std::uint8_t* data, std::uint32_t size) {
-                     if (out_ != nullptr) std::memcpy(out_, data, size < capacity_ ? size : capacity_);
-                     ++received_;
-                   });
+    lcm_.Subscribe(roles.receive_channel, [this](const std::string&, const std::uint8_t* data, std::uint32_t size) {
+      if (out_ != nullptr) std::memcpy(out_, data, size < capacity_ ? size : capacity_);
+      ++received_;
+    });
   }
 
-  bool Send(const std::uint8_t* data, std::uint32_t size) override {
-    return lcm_.Publish(send_channel_, data, size);
-  }
+  bool Send(const std::uint8_t* data, std::uint32_t size) override { return lcm_.Publish(send_channel_, data, size); }
 
-  bool Receive(std::uint8_t* out, std::uint32_t capacity,
-               std::chrono::milliseconds timeout) override {
+  bool Receive(std::uint8_t* out, std::uint32_t capacity, std::chrono::milliseconds timeout) override {
     out_ = out;
     capacity_ = capacity;
     const auto deadline = std::chrono::steady_clock::now() + timeout;
@@ -45,8 +41,6 @@ class LcmEndpoint final : public Endpoint {
 
 }  // namespace
 
-std::unique_ptr<Endpoint> MakeLcmEndpoint(const Roles& roles) {
-  return std::make_unique<LcmEndpoint>(roles);
-}
+std::unique_ptr<Endpoint> MakeLcmEndpoint(const Roles& roles) { return std::make_unique<LcmEndpoint>(roles); }
 
 }  // namespace edsp::bench

@@ -88,15 +88,13 @@ double ReapCpuSeconds(pid_t pid, int* exit_code) {
   rusage usage{};
   ::wait4(pid, &status, 0, &usage);
   *exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  auto seconds = [](const timeval& t) { return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_usec) * 1e-6;
-  };
+  auto seconds = [](const timeval& t) { return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_usec) * 1e-6; };
   return seconds(usage.ru_utime) + seconds(usage.ru_stime);
 }
 
 // ---- one ping-pong run -------------------------------------------------------
 
-std::unique_ptr<Endpoint> MakeEndpoint(const std::string& transport, const Roles& roles,
-                                       std::uint32_t payload) {
+std::unique_ptr<Endpoint> MakeEndpoint(const std::string& transport, const Roles& roles, std::uint32_t payload) {
   if (transport == "shm-spin") return MakeShmEndpoint(roles, payload, ShmWait::kSpin);
   if (transport == "shm-block") return MakeShmEndpoint(roles, payload, ShmWait::kBlock);
   if (transport == "shm-hybrid") return MakeShmEndpoint(roles, payload, ShmWait::kHybrid);
@@ -112,8 +110,8 @@ struct RunResult {
   std::string error;
 };
 
-int Pinger(const std::string& transport, const Roles& roles, std::uint32_t payload, int warmup,
-           int round_trips, Pipe& peer_ready, Pipe& results) {
+int Pinger(const std::string& transport, const Roles& roles, std::uint32_t payload, int warmup, int round_trips,
+           Pipe& peer_ready, Pipe& results) {
   auto endpoint = MakeEndpoint(transport, roles, payload);
   char ready = 0;
   if (!peer_ready.Read(&ready, 1, 20000)) return 3;
@@ -143,8 +141,7 @@ int Pinger(const std::string& transport, const Roles& roles, std::uint32_t paylo
   return 0;
 }
 
-int Ponger(const std::string& transport, const Roles& roles, std::uint32_t payload,
-           Pipe& ready) {
+int Ponger(const std::string& transport, const Roles& roles, std::uint32_t payload, Pipe& ready) {
   auto endpoint = MakeEndpoint(transport, roles, payload);
   endpoint->WaitForPeer();
   ready.Write("r", 1);
@@ -158,14 +155,13 @@ int Ponger(const std::string& transport, const Roles& roles, std::uint32_t paylo
   return 6;
 }
 
-RunResult RunPingPong(const std::string& transport, std::uint32_t payload, int warmup,
-                      int round_trips, int run_number) {
+RunResult RunPingPong(const std::string& transport, std::uint32_t payload, int warmup, int round_trips,
+                      int run_number) {
   const Roles ping{"PING", "PONG", fmt::format("edsp.bench.{}.{}", ::getpid(), run_number)};
   const Roles pong{"PONG", "PING", ping.run_id};
   Pipe ready, results;
   const pid_t ponger = Spawn([&] { return Ponger(transport, pong, payload, ready); });
-  const pid_t pinger = Spawn(
-      [&] { return Pinger(transport, ping, payload, warmup, round_trips, ready, results); });
+  const pid_t pinger = Spawn([&] { return Pinger(transport, ping, payload, warmup, round_trips, ready, results); });
   RunResult result;
   std::uint64_t count = 0;
   if (results.Read(&count, sizeof count, 600000) && count == static_cast<std::uint64_t>(round_trips)) {
@@ -191,8 +187,7 @@ struct Throughput {
 };
 
 Throughput RunShmThroughput(std::uint32_t payload, double seconds) {
-  ShmChannelSpec spec{fmt::format("edsp.bench.{}.throughput", ::getpid()), 0x7468726f75676870,
-                      64, payload, 0600};
+  ShmChannelSpec spec{fmt::format("edsp.bench.{}.throughput", ::getpid()), 0x7468726f75676870, 64, payload, 0600};
   Pipe ready, results;
   const pid_t writer = Spawn([&] {
     auto w = ShmWriter::Open(spec);
@@ -214,8 +209,10 @@ Throughput RunShmThroughput(std::uint32_t payload, double seconds) {
   std::unique_ptr<ShmReader> reader;
   for (int k = 0; k < 5000 && reader == nullptr; ++k) {
     auto r = ShmReader::Open(spec);
-    if (r.ok()) reader = std::move(r.value);
-    else std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    if (r.ok())
+      reader = std::move(r.value);
+    else
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
   Throughput t;
   if (reader == nullptr) return t;
@@ -302,22 +299,20 @@ double P50(const nlohmann::json& results, const std::string& transport, int payl
 }
 
 void PrintTable(const nlohmann::json& out) {
-  std::printf("%-16s %8s %9s %9s %9s %9s %10s %8s\n", "transport", "payload", "min_us", "p50_us",
-              "p99_us", "p999_us", "max_us", "cpu_s");
+  std::printf("%-16s %8s %9s %9s %9s %9s %10s %8s\n", "transport", "payload", "min_us", "p50_us", "p99_us", "p999_us",
+              "max_us", "cpu_s");
   for (const auto& r : out["results"]) {
     if (r.contains("error")) {
-      std::printf("%-16s %8d  error: %s\n", r["transport"].get<std::string>().c_str(),
-                  r["payload_bytes"].get<int>(), r["error"].get<std::string>().c_str());
+      std::printf("%-16s %8d  error: %s\n", r["transport"].get<std::string>().c_str(), r["payload_bytes"].get<int>(),
+                  r["error"].get<std::string>().c_str());
       continue;
     }
     const auto& t = r["rtt_us"];
-    std::printf("%-16s %8d %9.2f %9.2f %9.2f %9.2f %10.1f %8.2f\n",
-                r["transport"].get<std::string>().c_str(), r["payload_bytes"].get<int>(),
-                t["min"].get<double>(), t["p50"].get<double>(), t["p99"].get<double>(),
+    std::printf("%-16s %8d %9.2f %9.2f %9.2f %9.2f %10.1f %8.2f\n", r["transport"].get<std::string>().c_str(),
+                r["payload_bytes"].get<int>(), t["min"].get<double>(), t["p50"].get<double>(), t["p99"].get<double>(),
                 t["p999"].get<double>(), t["max"].get<double>(), r["cpu_s"].get<double>());
   }
-  std::printf("\nshm one-way throughput at 64 KiB: %.2f GB/s\n",
-              out["throughput_GBps_64KiB"].get<double>());
+  std::printf("\nshm one-way throughput at 64 KiB: %.2f GB/s\n", out["throughput_GBps_64KiB"].get<double>());
   for (auto it = out["ratios_p50_64B"].begin(); it != out["ratios_p50_64B"].end(); ++it) {
     std::printf("%s: %.2f\n", it.key().c_str(), it.value().get<double>());
   }
@@ -348,8 +343,8 @@ bool ParsePayloads(const std::string& text, std::vector<std::uint32_t>* payloads
 }
 
 bool ParseTransports(const std::string& text, std::vector<std::string>* transports) {
-  static const std::vector<std::string> kKnown = {"shm-spin",   "shm-block",    "shm-hybrid",
-                                                  "lcm-udpm",   "iceoryx-spin", "iceoryx-waitset"};
+  static const std::vector<std::string> kKnown = {"shm-spin", "shm-block",    "shm-hybrid",
+                                                  "lcm-udpm", "iceoryx-spin", "iceoryx-waitset"};
   *transports = Split(text);
   for (const std::string& t : *transports) {
     if (std::find(kKnown.begin(), kKnown.end(), t) == kKnown.end()) {
@@ -434,8 +429,10 @@ int Run(int argc, char** argv) {
   out["results"] = RunPingPongs(o);
   AddThroughputAndRatios(o, &out);
   out["machine"] = {{"cpus", std::thread::hardware_concurrency()}};
-  if (o.json) std::printf("%s\n", out.dump(2).c_str());
-  else PrintTable(out);
+  if (o.json)
+    std::printf("%s\n", out.dump(2).c_str());
+  else
+    PrintTable(out);
   return AnyRunFailed(out) ? 1 : 0;
 }
 

@@ -13,8 +13,7 @@ namespace {
 class ShmEndpoint final : public Endpoint {
  public:
   ShmEndpoint(const Roles& roles, std::uint32_t payload_bytes, ShmWait wait) : wait_(wait) {
-    ShmChannelSpec out{roles.run_id + "." + roles.send_channel, 0x6564737062656e63, 16,
-                       payload_bytes, 0600};
+    ShmChannelSpec out{roles.run_id + "." + roles.send_channel, 0x6564737062656e63, 16, payload_bytes, 0600};
     auto writer = ShmWriter::Open(out);
     if (!writer.ok()) throw std::runtime_error(writer.message);
     writer_ = std::move(writer.value);
@@ -39,8 +38,7 @@ class ShmEndpoint final : public Endpoint {
     }) != 0;
   }
 
-  bool Receive(std::uint8_t* out, std::uint32_t capacity,
-               std::chrono::milliseconds timeout) override {
+  bool Receive(std::uint8_t* out, std::uint32_t capacity, std::chrono::milliseconds timeout) override {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
     for (;;) {
       const TakeStatus status = reader_->TryTake([&](const std::uint8_t* data, std::uint32_t size) {
@@ -63,8 +61,7 @@ class ShmEndpoint final : public Endpoint {
 
 }  // namespace
 
-std::unique_ptr<Endpoint> MakeShmEndpoint(const Roles& roles, std::uint32_t payload_bytes,
-                                          ShmWait wait) {
+std::unique_ptr<Endpoint> MakeShmEndpoint(const Roles& roles, std::uint32_t payload_bytes, ShmWait wait) {
   return std::make_unique<ShmEndpoint>(roles, payload_bytes, wait);
 }
 

@@ -21,8 +21,9 @@ void WriteFile(const std::string& path, const std::string& text) {
 }
 
 int Run(int argc, char** argv) {
-  CLI::App app{"edsp-blind-rig: measurement CSVs (interfaces.md §3) of a scenario drawn on an independently "
-               "written virtual rig, the truth kept apart"};
+  CLI::App app{
+      "edsp-blind-rig: measurement CSVs (interfaces.md §3) of a scenario drawn on an independently "
+      "written virtual rig, the truth kept apart"};
   std::string config_path = EDSP_DEFAULT_CONFIG, out_path, truth_path;
   std::uint64_t seed = 1;
   int index = 1;
@@ -38,7 +39,8 @@ int Run(int argc, char** argv) {
   app.add_option("--rate-hz", rate_hz, "tracker rate instead of the drawn one")->check(CLI::Range(1.0, 10000.0));
   app.add_option("--noise-m", noise_m, "tracker 1-σ per axis instead of the drawn one")->check(CLI::Range(0.0, 1e-3));
   app.add_flag("--no-encoders", no_encoders, "leave out the leg_enc_* columns");
-  app.add_option("--time-offset-s", time_offset_s, "tracker readings δ late (its clock ahead of the controller's): a row stamped t reads instant t - δ")
+  app.add_option("--time-offset-s", time_offset_s,
+                 "tracker readings δ late (its clock ahead of the controller's): a row stamped t reads instant t - δ")
       ->check(CLI::Range(-0.1, 0.1));
   app.add_option("--motions", motions, "motions, comma-separated")->delimiter(',');
   CLI11_PARSE(app, argc, argv);
@@ -55,12 +57,13 @@ int Run(int argc, char** argv) {
     const nlohmann::json truth = {{"kind", scenario.kind},
                                   {"truth", scenario.truth},
                                   {"description", scenario.description},
-                                  {"tracker", {{"rate_hz", scenario.tracker.rate_hz},
-                                               {"noise_m", scenario.tracker.noise_m},
-                                               {"encoders", scenario.tracker.encoders},
-                                               {"time_offset_s", scenario.tracker.time_offset_s},
-                                               {"clock_drift", scenario.effects.clock_drift},
-                                               {"target_reseat_m", scenario.effects.target_reseat_m}}}};
+                                  {"tracker",
+                                   {{"rate_hz", scenario.tracker.rate_hz},
+                                    {"noise_m", scenario.tracker.noise_m},
+                                    {"encoders", scenario.tracker.encoders},
+                                    {"time_offset_s", scenario.tracker.time_offset_s},
+                                    {"clock_drift", scenario.effects.clock_drift},
+                                    {"target_reseat_m", scenario.effects.target_reseat_m}}}};
     WriteFile(truth_path, truth.dump(2) + "\n");
   }
   return 0;

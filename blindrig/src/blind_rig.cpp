@@ -110,7 +110,8 @@ Vec3 PointAcceleration(const BlindMotion& motion, const Vec3& point_M, double t,
 
 void WriteHeader(bool encoders, std::string* csv) {
   *csv += "time_s,run";
-  for (const char* a : {"x_m", "y_m", "z_m", "roll_rad", "pitch_rad", "yaw_rad"}) *csv += fmt::format(",pose_cmd_{}", a);
+  for (const char* a : {"x_m", "y_m", "z_m", "roll_rad", "pitch_rad", "yaw_rad"})
+    *csv += fmt::format(",pose_cmd_{}", a);
   for (int i = 1; i <= 6; ++i) *csv += fmt::format(",leg_cmd_{}_m", i);
   if (encoders) {
     for (int i = 1; i <= 6; ++i) *csv += fmt::format(",leg_enc_{}_m", i);
@@ -156,8 +157,8 @@ class Session {
       const Instant read = At(instants, now.t - late_s);
       q_true_ = SolvePose(
           [&](const Vec6& q) {
-            return Vec6(LegLengths(truth_, q) - PassiveRotation(truth_, q, true_home_twist_, true_sign_, setup_.lead_m) -
-                        read.lengths);
+            return Vec6(LegLengths(truth_, q) -
+                        PassiveRotation(truth_, q, true_home_twist_, true_sign_, setup_.lead_m) - read.lengths);
           },
           q_true_);
       AppendRow(session_s_ + now.t, name, now, Reading(TruePoint(read), session_s_ + now.t - late_s), csv);
@@ -218,7 +219,8 @@ class Session {
   // The controller: nominal IK, signed PR compensated with its s.
   Vec6 ControllerCommand(const Vec6& q_cmd) const {
     const BlindGeometry& nominal = setup_.geometry;
-    return LegLengths(nominal, q_cmd) - PassiveRotation(nominal, q_cmd, nominal_home_twist_, setup_.pr_sign, setup_.lead_m);
+    return LegLengths(nominal, q_cmd) -
+           PassiveRotation(nominal, q_cmd, nominal_home_twist_, setup_.pr_sign, setup_.lead_m);
   }
 
   // The legs' true lengths: drive trains, offsets, and the legs' give under load.

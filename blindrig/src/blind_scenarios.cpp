@@ -44,10 +44,9 @@ class Draw {
 };
 
 const std::vector<std::string>& Vocabulary() {
-  static const std::vector<std::string> names = {"passive_rotation", "leg_offset", "joint_position",
-                                                 "lead_error", "periodic_lead_error", "backlash",
-                                                 "servo_lag", "compliance", "thermal_drift",
-                                                 "structural_resonance"};
+  static const std::vector<std::string> names = {
+      "passive_rotation", "leg_offset", "joint_position", "lead_error",    "periodic_lead_error",
+      "backlash",         "servo_lag",  "compliance",     "thermal_drift", "structural_resonance"};
   return names;
 }
 

@@ -123,7 +123,8 @@ int main(int argc, char** argv) {
   edsp::AddCommon(pr, &options);
   std::string model;
   bool apply_ambiguous = false;
-  CLI::App* calibration = app.add_subcommand("calibration", "switch the kinematics' calibration live (blended over 1 s)");
+  CLI::App* calibration =
+      app.add_subcommand("calibration", "switch the kinematics' calibration live (blended over 1 s)");
   calibration->add_option("model", model, "an edsp-gap-model/1 file (edsp-gap diagnose --save-model), or off")
       ->required();
   calibration->add_flag("--apply-ambiguous", apply_ambiguous, "apply the model's ambiguous effects too");

@@ -29,19 +29,30 @@ nlohmann::json Array(const double (&v)[N]) {
 }
 
 nlohmann::json StatusJson(const motion_status_t& s) {
-  return {{"state", MotionStateName(s.state)},     {"on_target", s.on_target != 0},
-          {"request_id", s.request_id},      {"activity", s.activity},
-          {"progress", s.progress},          {"queued", s.queued},
-          {"last_end", MotionEndName(s.last_end)}, {"pose_commanded", Array(s.pose_commanded)},
-          {"pose_target", Array(s.pose_target)}, {"pose_measured", Array(s.pose_measured)},
-          {"measured_valid", s.measured_valid != 0}, {"frame", s.frame},
-          {"pivot", Array(s.pivot)},         {"reason", s.reason},
-          {"session_id", s.session_id},      {"utime", s.utime}};
+  return {{"state", MotionStateName(s.state)},
+          {"on_target", s.on_target != 0},
+          {"request_id", s.request_id},
+          {"activity", s.activity},
+          {"progress", s.progress},
+          {"queued", s.queued},
+          {"last_end", MotionEndName(s.last_end)},
+          {"pose_commanded", Array(s.pose_commanded)},
+          {"pose_target", Array(s.pose_target)},
+          {"pose_measured", Array(s.pose_measured)},
+          {"measured_valid", s.measured_valid != 0},
+          {"frame", s.frame},
+          {"pivot", Array(s.pivot)},
+          {"reason", s.reason},
+          {"session_id", s.session_id},
+          {"utime", s.utime}};
 }
 
 nlohmann::json ReplyJson(const motion_reply_t& r) {
-  return {{"accepted", r.accepted != 0},     {"reason", r.reason},       {"duration_s", r.duration_s},
-          {"start_delay_s", r.start_delay_s}, {"request_id", r.request_id}};
+  return {{"accepted", r.accepted != 0},
+          {"reason", r.reason},
+          {"duration_s", r.duration_s},
+          {"start_delay_s", r.start_delay_s},
+          {"request_id", r.request_id}};
 }
 
 std::string FileText(const std::string& path) {
@@ -193,13 +204,20 @@ bool RunMotionCommand(const CLI::App& app, const CtlOptions& o, const MotionArgs
   MotionClient link(Transport(o), GivenSession(o), o.timeout_s, OperatorName(o));
   MotionArgs quiet = a;
   quiet.json = false;
-  if (given("move")) *exit_code = Move(link, a, motion_request_t::KIND_MOVE);
-  else if (given("check")) *exit_code = Move(link, a, motion_request_t::KIND_CHECK);
-  else if (given("run")) *exit_code = RunProgram(link, a);
-  else if (given("halt")) *exit_code = SendAndReport(link, link.Request(motion_request_t::KIND_HALT), quiet, false);
-  else if (given("stop")) *exit_code = SendAndReport(link, link.Request(motion_request_t::KIND_STOP), quiet, false);
-  else if (given("wait")) *exit_code = Wait(link, 0, a.wait_timeout_s >= 0.0 ? a.wait_timeout_s : 60.0);
-  else if (given("status")) *exit_code = Status(link, o, a);
+  if (given("move"))
+    *exit_code = Move(link, a, motion_request_t::KIND_MOVE);
+  else if (given("check"))
+    *exit_code = Move(link, a, motion_request_t::KIND_CHECK);
+  else if (given("run"))
+    *exit_code = RunProgram(link, a);
+  else if (given("halt"))
+    *exit_code = SendAndReport(link, link.Request(motion_request_t::KIND_HALT), quiet, false);
+  else if (given("stop"))
+    *exit_code = SendAndReport(link, link.Request(motion_request_t::KIND_STOP), quiet, false);
+  else if (given("wait"))
+    *exit_code = Wait(link, 0, a.wait_timeout_s >= 0.0 ? a.wait_timeout_s : 60.0);
+  else if (given("status"))
+    *exit_code = Status(link, o, a);
   else if (given("frame")) {
     motion_request_t r = link.Request(motion_request_t::KIND_FRAME);
     r.frame = a.frame;

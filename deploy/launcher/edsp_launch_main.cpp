@@ -37,8 +37,8 @@ std::string SelfDirectory() {
 // In place of the launcher: the member's own program, as a systemd unit runs it.
 int ExecOneMember(const GroupSpec& group, const std::string& name, std::int64_t session_id,
                   const std::string& bin_dir) {
-  const auto spec = std::find_if(group.members.begin(), group.members.end(),
-                                 [&](const MemberSpec& m) { return m.name == name; });
+  const auto spec =
+      std::find_if(group.members.begin(), group.members.end(), [&](const MemberSpec& m) { return m.name == name; });
   if (spec == group.members.end()) throw std::runtime_error("--member " + name + ": no such member in " + group.path);
   CheckMulticastInterface(group, spec->host);
   ExecMember(*spec, MemberArgv(*spec, group, session_id, bin_dir));
@@ -74,7 +74,8 @@ int Run(int argc, char** argv) {
   if (options.session_id == 0 && !only_member.empty()) {
     // Each member runs (and restarts) on its own: a session drawn per exec
     // would differ between them, and the bridge would refuse every command.
-    throw std::runtime_error(group_path + ": --member needs a fixed session: set [group] session_id (or pass --session-id)");
+    throw std::runtime_error(group_path +
+                             ": --member needs a fixed session: set [group] session_id (or pass --session-id)");
   }
   if (options.session_id == 0) options.session_id = (UtimeNow() / 1000) & 0x7fffffff;  // fresh per launch
   if (!only_member.empty()) return ExecOneMember(group, only_member, options.session_id, options.bin_dir);

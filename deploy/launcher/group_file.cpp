@@ -57,24 +57,31 @@ MemberSpec ReadMember(const std::string& path, const toml::table& t, int index) 
       m.host = RequireString(path, node, where + " host");
     } else if (k == "restart") {
       const std::string r = RequireString(path, node, where + " restart");
-      if (r == "never") m.restart = RestartPolicy::kNever;
-      else if (r == "on-failure") m.restart = RestartPolicy::kOnFailure;
-      else if (r == "always") m.restart = RestartPolicy::kAlways;
-      else Fail(path, node, fmt::format("{} restart = \"{}\" must be never, on-failure or always", where, r));
+      if (r == "never")
+        m.restart = RestartPolicy::kNever;
+      else if (r == "on-failure")
+        m.restart = RestartPolicy::kOnFailure;
+      else if (r == "always")
+        m.restart = RestartPolicy::kAlways;
+      else
+        Fail(path, node, fmt::format("{} restart = \"{}\" must be never, on-failure or always", where, r));
     } else if (k == "max_restarts" || k == "start_delay_ms") {
       const auto v = node.value<std::int64_t>();
-      if (!node.is_integer() || *v < 0 || *v > 100000) Fail(path, node, where + " " + k + " must be an integer 0..100000");
+      if (!node.is_integer() || *v < 0 || *v > 100000)
+        Fail(path, node, where + " " + k + " must be an integer 0..100000");
       (k == "max_restarts" ? m.max_restarts : m.start_delay_ms) = static_cast<int>(*v);
     } else if (k == "realtime_priority") {
       const auto v = node.value<std::int64_t>();
-      if (!node.is_integer() || *v < 0 || *v > 99) Fail(path, node, where + " realtime_priority must be an integer 0..99 (0: not real-time)");
+      if (!node.is_integer() || *v < 0 || *v > 99)
+        Fail(path, node, where + " realtime_priority must be an integer 0..99 (0: not real-time)");
       m.realtime_priority = static_cast<int>(*v);
     } else if (k == "cpus") {
       const toml::array* cpus = node.as_array();
       if (cpus == nullptr) Fail(path, node, where + " cpus must be an array of CPU numbers");
       for (const toml::node& c : *cpus) {
         const auto v = c.value<std::int64_t>();
-        if (!c.is_integer() || *v < 0 || *v >= CPU_SETSIZE) Fail(path, c, where + " cpus: each must be a CPU number 0..1023");
+        if (!c.is_integer() || *v < 0 || *v >= CPU_SETSIZE)
+          Fail(path, c, where + " cpus: each must be a CPU number 0..1023");
         m.cpus.push_back(static_cast<int>(*v));
       }
     } else if (k == "requires") {
@@ -106,8 +113,10 @@ std::map<std::string, HostSpec> ReadHosts(const std::string& path, const toml::t
     if (t == nullptr) Fail(path, node, where + " must be a table");
     HostSpec host;
     for (auto&& [key, value] : *t) {
-      if (key.str() == "interface") host.interface = RequireString(path, value, where + " interface");
-      else Fail(path, value, fmt::format("unknown key {} {} (known: interface)", where, key.str()));
+      if (key.str() == "interface")
+        host.interface = RequireString(path, value, where + " interface");
+      else
+        Fail(path, value, fmt::format("unknown key {} {} (known: interface)", where, key.str()));
     }
     hosts[std::string(name.str())] = host;
   }
@@ -120,22 +129,26 @@ void CheckMembers(const GroupSpec& group) {
   for (const MemberSpec& m : group.members) host_of[m.name] = m.host;
   for (const MemberSpec& m : group.members) {
     for (const std::string& r : m.requires_members) {
-      if (!host_of.count(r)) throw std::runtime_error(fmt::format("{}: member {} requires \"{}\", which is no member", group.path, m.name, r));
+      if (!host_of.count(r))
+        throw std::runtime_error(
+            fmt::format("{}: member {} requires \"{}\", which is no member", group.path, m.name, r));
       if (host_of[r] != m.host) {
-        throw std::runtime_error(fmt::format("{}: member {} (host {}) requires {} on host {}: systemd orders units of one host only",
-                                             group.path, m.name, m.host, r, host_of[r]));
+        throw std::runtime_error(
+            fmt::format("{}: member {} (host {}) requires {} on host {}: systemd orders units of one host only",
+                        group.path, m.name, m.host, r, host_of[r]));
       }
     }
     if (!group.hosts.empty() && !group.hosts.count(m.host)) {
-      throw std::runtime_error(fmt::format("{}: member {} is on host {}, which [hosts] does not list", group.path, m.name, m.host));
+      throw std::runtime_error(
+          fmt::format("{}: member {} is on host {}, which [hosts] does not list", group.path, m.name, m.host));
     }
   }
   const std::vector<std::string> hosts = group.MemberHosts();
   if (hosts.size() > 1 && group.session_id == 0) {
-    throw std::runtime_error(fmt::format(
-        "{}: the group spans hosts ({}): set [group] session_id so every host's launcher "
-        "gives its members the same session (commands of other sessions are refused)",
-        group.path, fmt::join(hosts, ", ")));
+    throw std::runtime_error(
+        fmt::format("{}: the group spans hosts ({}): set [group] session_id so every host's launcher "
+                    "gives its members the same session (commands of other sessions are refused)",
+                    group.path, fmt::join(hosts, ", ")));
   }
 }
 
@@ -147,8 +160,7 @@ std::vector<std::string> GroupSpec::MemberHosts() const {
   return {distinct.begin(), distinct.end()};
 }
 
-std::string ExpandVariables(const std::string& text,
-                            const std::function<const char*(const std::string&)>& lookup) {
+std::string ExpandVariables(const std::string& text, const std::function<const char*(const std::string&)>& lookup) {
   std::string out;
   for (std::size_t i = 0; i < text.size(); ++i) {
     if (text[i] != '$' || i + 1 >= text.size() || text[i + 1] != '{') {
@@ -161,9 +173,8 @@ std::string ExpandVariables(const std::string& text,
     const std::size_t dash = body.find(":-");
     const std::string name = body.substr(0, dash);
     const bool valid_name = !name.empty() && !std::isdigit(static_cast<unsigned char>(name[0])) &&
-                            std::all_of(name.begin(), name.end(), [](char c) {
-                              return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
-                            });
+                            std::all_of(name.begin(), name.end(),
+                                        [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
     if (!valid_name) throw std::invalid_argument("bad variable name in \"" + text + "\"");
     const char* value = lookup(name);
     if (value != nullptr && *value != '\0') {
@@ -183,18 +194,21 @@ GroupSpec LoadGroupFile(const std::string& path) {
   try {
     root = toml::parse_file(path);
   } catch (const toml::parse_error& e) {
-    throw std::runtime_error(fmt::format("{}:{}:{}: {}", path, e.source().begin.line,
-                                         e.source().begin.column, e.description()));
+    throw std::runtime_error(
+        fmt::format("{}:{}:{}: {}", path, e.source().begin.line, e.source().begin.column, e.description()));
   }
   GroupSpec group;
   group.path = path;
   if (const toml::table* g = root["group"].as_table()) {
     for (auto&& [key, node] : *g) {
       const std::string k(key.str());
-      if (k == "name") group.name = RequireString(path, node, "[group] name");
-      else if (k == "config") group.config = RequireString(path, node, "[group] config");
+      if (k == "name")
+        group.name = RequireString(path, node, "[group] name");
+      else if (k == "config")
+        group.config = RequireString(path, node, "[group] config");
       else if (k == "session_id") {
-        if (!node.is_integer() || *node.value<std::int64_t>() < 0) Fail(path, node, "[group] session_id must be a non-negative integer");
+        if (!node.is_integer() || *node.value<std::int64_t>() < 0)
+          Fail(path, node, "[group] session_id must be a non-negative integer");
         group.session_id = *node.value<std::int64_t>();
       } else {
         Fail(path, node, "unknown key [group] " + k);

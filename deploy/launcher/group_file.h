@@ -15,29 +15,29 @@ enum class RestartPolicy { kNever, kOnFailure, kAlways };
 
 struct MemberSpec {
   std::string name;
-  std::string command;             // a program in --bin-dir, or a path
+  std::string command;  // a program in --bin-dir, or a path
   std::vector<std::string> args;
   std::map<std::string, std::string> env;
   std::string host = "local";
   RestartPolicy restart = RestartPolicy::kOnFailure;
   int max_restarts = 10;
-  int start_delay_ms = 0;          // pause after starting it, before the next
-  bool node_options = true;        // pass --config, --group, --session-id
-  int realtime_priority = 0;       // 1..99: SCHED_FIFO at this priority; 0: normal
-  std::vector<int> cpus;           // CPU affinity; empty: any CPU
+  int start_delay_ms = 0;                     // pause after starting it, before the next
+  bool node_options = true;                   // pass --config, --group, --session-id
+  int realtime_priority = 0;                  // 1..99: SCHED_FIFO at this priority; 0: normal
+  std::vector<int> cpus;                      // CPU affinity; empty: any CPU
   std::vector<std::string> requires_members;  // systemd Requires= (members of the same host)
 };
 
 // A machine of a group spanning hosts ([hosts.NAME]).
 struct HostSpec {
-  std::string interface;           // where the LCM multicast must leave (checked at launch)
+  std::string interface;  // where the LCM multicast must leave (checked at launch)
 };
 
 struct GroupSpec {
   std::string path;
   std::string name;
   std::string config = "config/huang2021.toml";
-  std::int64_t session_id = 0;     // 0: a fresh one per launch
+  std::int64_t session_id = 0;  // 0: a fresh one per launch
   std::vector<MemberSpec> members;
   std::map<std::string, HostSpec> hosts;
 
@@ -56,7 +56,6 @@ GroupSpec LoadGroupFile(const std::string& path);
 
 // The expansion above. `lookup` returns nullptr for an unset variable.
 // Throws std::invalid_argument naming the variable or the malformed text.
-std::string ExpandVariables(const std::string& text,
-                            const std::function<const char*(const std::string&)>& lookup);
+std::string ExpandVariables(const std::string& text, const std::function<const char*(const std::string&)>& lookup);
 
 }  // namespace edsp

@@ -27,8 +27,8 @@ GroupFileEditor GroupFileEditor::Load(const std::string& path) {
   try {
     return GroupFileEditor(path, toml::parse_file(path));
   } catch (const toml::parse_error& e) {
-    throw std::runtime_error(fmt::format("{}:{}:{}: {}", path, e.source().begin.line, e.source().begin.column,
-                                         e.description()));
+    throw std::runtime_error(
+        fmt::format("{}:{}:{}: {}", path, e.source().begin.line, e.source().begin.column, e.description()));
   }
 }
 
@@ -67,8 +67,7 @@ GroupFileEditor& GroupFileEditor::SetChannel(const std::string& channel, const s
   return *this;
 }
 
-GroupFileEditor& GroupFileEditor::SetChannel(const std::string& channel, const std::string& key,
-                                             std::int64_t value) {
+GroupFileEditor& GroupFileEditor::SetChannel(const std::string& channel, const std::string& key, std::int64_t value) {
   SetChannel(channel, key, std::string());  // makes and checks the tables
   Section("transport")["channels"][channel].as_table()->insert_or_assign(key, value);
   return *this;
@@ -104,9 +103,7 @@ std::size_t GroupFileEditor::MemberIndex(const std::string& member) const {
   throw std::invalid_argument(origin_ + ": no member \"" + member + "\"");
 }
 
-toml::table& GroupFileEditor::Member(const std::string& member) {
-  return *Members()[MemberIndex(member)].as_table();
-}
+toml::table& GroupFileEditor::Member(const std::string& member) { return *Members()[MemberIndex(member)].as_table(); }
 
 toml::array& GroupFileEditor::ArgsOf(const std::string& member) {
   toml::table& m = Member(member);
@@ -116,8 +113,7 @@ toml::array& GroupFileEditor::ArgsOf(const std::string& member) {
   return *args;
 }
 
-GroupFileEditor& GroupFileEditor::SetArg(const std::string& member, const std::string& flag,
-                                         const std::string& value) {
+GroupFileEditor& GroupFileEditor::SetArg(const std::string& member, const std::string& flag, const std::string& value) {
   toml::array& args = ArgsOf(member);
   for (std::size_t i = 0; i < args.size(); ++i) {
     if (args[i].value_or(std::string()) != flag) continue;

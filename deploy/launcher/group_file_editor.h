@@ -51,7 +51,8 @@ class GroupFileEditor {
   // empty list removes the key).
   GroupFileEditor& SetMember(const std::string& member, const std::string& key, const std::string& value);
   GroupFileEditor& SetMember(const std::string& member, const std::string& key, std::int64_t value);
-  GroupFileEditor& SetMemberList(const std::string& member, const std::string& key, const std::vector<std::int64_t>& values);
+  GroupFileEditor& SetMemberList(const std::string& member, const std::string& key,
+                                 const std::vector<std::int64_t>& values);
   GroupFileEditor& SetMemberList(const std::string& member, const std::string& key,
                                  const std::vector<std::string>& values);
   // One more member, started after `after`, with its command and arguments

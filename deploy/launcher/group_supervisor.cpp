@@ -18,7 +18,7 @@ namespace edsp {
 // The host's members, checked before anything opens: a wrong --host or
 // --until-exit is said as such, whatever the network.
 std::vector<GroupSupervisor::Member> GroupSupervisor::SelectMembers(const GroupSpec& group,
-                                                                   const SupervisorOptions& options) {
+                                                                    const SupervisorOptions& options) {
   std::vector<Member> members;
   for (const MemberSpec& spec : group.members) {
     if (!options.host.empty() && spec.host != options.host) continue;
@@ -27,9 +27,8 @@ std::vector<GroupSupervisor::Member> GroupSupervisor::SelectMembers(const GroupS
     members.push_back(std::move(m));
   }
   if (members.empty()) throw std::runtime_error(group.path + ": no member on host " + options.host);
-  if (!options.until_exit.empty() && std::none_of(members.begin(), members.end(), [&](const Member& m) {
-        return m.spec.name == options.until_exit;
-      })) {
+  if (!options.until_exit.empty() && std::none_of(members.begin(), members.end(),
+                                                  [&](const Member& m) { return m.spec.name == options.until_exit; })) {
     throw std::runtime_error("--until-exit " + options.until_exit + ": no such member");
   }
   return members;
@@ -92,9 +91,9 @@ void GroupSupervisor::WatchFreezes() {
     switch (m.freeze.Observe(state, now)) {
       case FreezeWatch::Change::kFroze:
         std::fprintf(stderr, "edsp-launch: %-16s frozen   (stopped)\n", m.spec.name.c_str());
-        report_.Fault(m.spec.name, fault_t::SEVERITY_ERROR,
-                      fmt::format("pid {} is stopped (SIGSTOP, or a tracer for over a second): frozen, not running",
-                                  m.pid));
+        report_.Fault(
+            m.spec.name, fault_t::SEVERITY_ERROR,
+            fmt::format("pid {} is stopped (SIGSTOP, or a tracer for over a second): frozen, not running", m.pid));
         break;
       case FreezeWatch::Change::kResumed:
         std::fprintf(stderr, "edsp-launch: %-16s resumed  after %.0f ms\n", m.spec.name.c_str(), frozen_ms);

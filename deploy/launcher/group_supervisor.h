@@ -21,7 +21,7 @@
 namespace edsp {
 
 struct SupervisorOptions {
-  std::string host;        // empty: every member
+  std::string host;  // empty: every member
   std::int64_t session_id = 0;
   std::string bin_dir;     // where the programs are
   std::string until_exit;  // a member whose clean exit ends the run (empty: none)

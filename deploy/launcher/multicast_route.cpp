@@ -74,11 +74,11 @@ void CheckMulticastInterface(const GroupSpec& group, const std::string& host) {
   std::string error;
   const std::string interface = MulticastRouteInterface(address, &error);
   if (interface != it->second.interface) {
-    throw std::runtime_error(fmt::format(
-        "{}: [hosts.{}] interface = \"{}\", but the route to the LCM group {} {}; add one with "
-        "`ip route add 224.0.0.0/4 dev {}` (docs/multihost.md)",
-        group.path, host, it->second.interface, address, interface.empty() ? error : "leaves by " + interface,
-        it->second.interface));
+    throw std::runtime_error(
+        fmt::format("{}: [hosts.{}] interface = \"{}\", but the route to the LCM group {} {}; add one with "
+                    "`ip route add 224.0.0.0/4 dev {}` (docs/multihost.md)",
+                    group.path, host, it->second.interface, address,
+                    interface.empty() ? error : "leaves by " + interface, it->second.interface));
   }
 }
 

@@ -21,7 +21,9 @@ void CheckUnitName(const std::string& name, const std::string& what) {
   const bool plain = !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
     return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
   });
-  if (!plain) throw std::runtime_error(fmt::format("{} \"{}\" cannot name a systemd unit (letters, digits, _ and - only)", what, name));
+  if (!plain)
+    throw std::runtime_error(
+        fmt::format("{} \"{}\" cannot name a systemd unit (letters, digits, _ and - only)", what, name));
 }
 
 std::string Absolute(const std::string& path) {
@@ -44,8 +46,8 @@ const char* SystemdRestart(RestartPolicy policy) {
 
 std::string Unit(const std::string& instance) { return "edsp@" + instance + ".service"; }
 
-std::string DropIn(const GroupSpec& group, const MemberSpec& m, const MemberSpec* before,
-                    const std::string& group_file, const std::string& root, const std::string& bin_dir) {
+std::string DropIn(const GroupSpec& group, const MemberSpec& m, const MemberSpec* before, const std::string& group_file,
+                   const std::string& root, const std::string& bin_dir) {
   std::string unit = fmt::format(
       "# Written by edsp-launch --write-units from {0}: member {1} of group {2} on host {3}.\n"
       "[Unit]\nDescription=edsp {2}: {1} ({3})\nPartOf=edsp-{2}.target\n"
@@ -68,12 +70,10 @@ std::string DropIn(const GroupSpec& group, const MemberSpec& m, const MemberSpec
 
 }  // namespace
 
-std::string MemberInstance(const GroupSpec& group, const MemberSpec& member) {
-  return group.name + "." + member.name;
-}
+std::string MemberInstance(const GroupSpec& group, const MemberSpec& member) { return group.name + "." + member.name; }
 
-std::vector<UnitFile> MemberUnits(const GroupSpec& group, const std::string& host,
-                                  const std::string& root, const std::string& bin_dir) {
+std::vector<UnitFile> MemberUnits(const GroupSpec& group, const std::string& host, const std::string& root,
+                                  const std::string& bin_dir) {
   CheckUnitName(group.name, "group name");
   const std::string group_file = Absolute(group.path);
   std::vector<UnitFile> units;
@@ -97,12 +97,13 @@ std::vector<UnitFile> MemberUnits(const GroupSpec& group, const std::string& hos
   return units;
 }
 
-void WriteMemberUnits(const GroupSpec& group, const std::string& host, const std::string& dir,
-                      const std::string& root, const std::string& bin_dir) {
+void WriteMemberUnits(const GroupSpec& group, const std::string& host, const std::string& dir, const std::string& root,
+                      const std::string& bin_dir) {
   if (host.empty()) throw std::runtime_error("--write-units needs --host: units are written per machine");
   namespace fs = std::filesystem;
   const fs::path template_path = fs::path(root) / "deploy/systemd/edsp@.service";
-  if (!fs::exists(template_path)) throw std::runtime_error(template_path.string() + ": no unit template there (--root)");
+  if (!fs::exists(template_path))
+    throw std::runtime_error(template_path.string() + ": no unit template there (--root)");
   std::vector<UnitFile> units = MemberUnits(group, host, root, bin_dir);
   units.push_back({"edsp@.service", ReadTextFile(template_path.string())});
   for (const UnitFile& unit : units) {

@@ -3,7 +3,8 @@
 //   edsp-gap evaluate --config C --model M --data T [--json] [--keep-timing-events]
 //   edsp-gap compare --config C --before B --after A [--model M [--apply-ambiguous]] [--plot DIR] [--json]
 //                    [--keep-timing-events]
-//   edsp-gap benchmark --scenarios N --seed S [--generator rig|blind] [--motions Lz,…] [--json] [--noise-m 5e-6] [--keep DIR]
+//   edsp-gap benchmark --scenarios N --seed S [--generator rig|blind] [--motions Lz,…] [--json] [--noise-m 5e-6]
+//   [--keep DIR]
 //                      [--closed-loop-motions Ly,Rx,M9|none] [--encoders drawn|with|without]
 //   edsp-gap drift --config C --baseline M --data D [--data D2 …] [--recorded with|without] [--threshold-m X]
 //                  [--apply-ambiguous] [--json]
@@ -166,14 +167,16 @@ CLI::App* AddDrift(CLI::App& app, DriftArgs* a) {
   c->add_option("--config", a->config, "platform config (TOML)")->required();
   c->add_option("--baseline", a->baseline, "the calibration in force (diagnose --save-model)")->required();
   c->add_option("--data", a->data, "a new session's measurement CSV or edsp LCM log; repeatable")->required();
-  c->add_option("--recorded", a->recorded, "with: the kinematics applied the baseline while it was recorded (usual); "
-                                           "without: it ran on the nominal model; auto (default): as the data's "
-                                           "leg_corr columns say, with where it has none")
+  c->add_option("--recorded", a->recorded,
+                "with: the kinematics applied the baseline while it was recorded (usual); "
+                "without: it ran on the nominal model; auto (default): as the data's "
+                "leg_corr columns say, with where it has none")
       ->check(CLI::IsMember({"auto", "with", "without"}));
   c->add_option("--threshold-m", a->options.threshold_m,
                 "recalibrate when the baseline leaves more than this RMS (default: 1.5× the data's noise floor)")
       ->check(CLI::Range(0.0, 0.01));
-  c->add_flag("--apply-ambiguous", a->options.apply_ambiguous, "the kinematics applied the baseline's ambiguous effects too");
+  c->add_flag("--apply-ambiguous", a->options.apply_ambiguous,
+              "the kinematics applied the baseline's ambiguous effects too");
   c->add_flag("--json", a->json, "print JSON");
   return c;
 }
@@ -242,8 +245,10 @@ int RunDiagnose(DiagnoseArgs a) {
     if (!out) throw std::runtime_error(a.save_model + ": cannot write the model");
   }
   if (!a.report_dir.empty()) WriteReport(d, a.report_dir);
-  if (a.json) std::printf("%s\n", ToJson(d).dump(2).c_str());
-  else PrintText(d);
+  if (a.json)
+    std::printf("%s\n", ToJson(d).dump(2).c_str());
+  else
+    PrintText(d);
   return 0;
 }
 
@@ -254,13 +259,14 @@ int RunEvaluate(const EvaluateArgs& a) {
   if (a.json) {
     std::printf("%s\n", ToJson(ev).dump(2).c_str());
   } else {
-    std::printf("before %.1f µm RMS (%.1f max), after %.1f µm RMS (%.1f max), shrink %.0f%% (noise floor %.1f µm, %s)\n",
-                ev.before.rms_m * 1e6, ev.before.max_m * 1e6, ev.after.rms_m * 1e6, ev.after.max_m * 1e6,
-                100 * ev.shrink, ev.noise_floor_rms_m * 1e6,
-                GapShrinkText(ev.before.rms_m, ev.noise_floor_rms_m, ev.gap_shrink).c_str());
+    std::printf(
+        "before %.1f µm RMS (%.1f max), after %.1f µm RMS (%.1f max), shrink %.0f%% (noise floor %.1f µm, %s)\n",
+        ev.before.rms_m * 1e6, ev.before.max_m * 1e6, ev.after.rms_m * 1e6, ev.after.max_m * 1e6, 100 * ev.shrink,
+        ev.noise_floor_rms_m * 1e6, GapShrinkText(ev.before.rms_m, ev.noise_floor_rms_m, ev.gap_shrink).c_str());
     if (ev.against_nominal) {
-      std::printf("the data was recorded with a calibration in force, which the model replaces: both figures are "
-                  "against the nominal model\n");
+      std::printf(
+          "the data was recorded with a calibration in force, which the model replaces: both figures are "
+          "against the nominal model\n");
     }
     if (ev.timing_excluded > 0) {
       std::printf("left out: %lld samples the data flags timing_event (%.1f%%)\n",
@@ -283,8 +289,10 @@ int RunDrift(DriftArgs a) {
   const MeasurementData data = LoadAll(a.data);
   a.options.recorded_with_baseline = RecordedWithBaseline(a.recorded, data);
   const DriftReport r = Drift(model, LoadModelFile(a.baseline), a.baseline, data, a.options);
-  if (a.json) std::printf("%s\n", ToJson(r).dump(2).c_str());
-  else std::printf("%s", DriftText(r).c_str());
+  if (a.json)
+    std::printf("%s\n", ToJson(r).dump(2).c_str());
+  else
+    std::printf("%s", DriftText(r).c_str());
   return 0;
 }
 
@@ -294,17 +302,21 @@ int RunCompare(const CompareArgs& a) {
   // Predicted from what the kinematics applied: identified effects, the
   // ambiguous ones only with --apply-ambiguous.
   const MeasurementData before = LoadAll(a.before, TimingOf(a.keep_timing_events));
-  const nlohmann::json applied = predicted ? AppliedModelJson(LoadModelFile(a.model), a.apply_ambiguous) : EmptyModelJson();
+  const nlohmann::json applied =
+      predicted ? AppliedModelJson(LoadModelFile(a.model), a.apply_ambiguous) : EmptyModelJson();
   const Evaluation without = Evaluate(model, before, applied, predicted ? a.model : "no model");
-  const Evaluation with = Evaluate(model, LoadAll(a.after, TimingOf(a.keep_timing_events)), EmptyModelJson(), "no model");
+  const Evaluation with =
+      Evaluate(model, LoadAll(a.after, TimingOf(a.keep_timing_events)), EmptyModelJson(), "no model");
   const CalibrationCheck check = CheckCalibration(without, with, predicted);
   if (!a.plot_dir.empty()) {
     std::filesystem::create_directories(a.plot_dir);
     const std::string png = WriteCheckPlot(check, a.plot_dir);
     if (!a.json) std::printf("%s\n", png.empty() ? "gnuplot wrote no plot" : png.c_str());
   }
-  if (a.json) std::printf("%s\n", ToJson(check).dump(2).c_str());
-  else std::printf("%s", CheckTable(check).c_str());
+  if (a.json)
+    std::printf("%s\n", ToJson(check).dump(2).c_str());
+  else
+    std::printf("%s", CheckTable(check).c_str());
   return 0;
 }
 
@@ -317,8 +329,10 @@ void RequireEdspRig(const BenchmarkArgs& a) {
 
 template <typename Result, typename Print>
 int Emit(const Result& result, bool json, Print print) {
-  if (json) std::printf("%s\n", ToJson(result).dump(2).c_str());
-  else print(result);
+  if (json)
+    std::printf("%s\n", ToJson(result).dump(2).c_str());
+  else
+    print(result);
   return 0;
 }
 
@@ -355,14 +369,17 @@ int RunBenchmarkCommand(BenchmarkArgs a) {
   if (a.bench.closed_loop_motions == std::vector<std::string>{"none"}) a.bench.closed_loop_motions.clear();
   a.bench.progress = !a.json || isatty(fileno(stderr));
   const BenchmarkResult result = RunBenchmark(a.bench);
-  if (a.json) std::printf("%s\n", ToJson(result).dump(2).c_str());
-  else PrintBenchmark(result);
+  if (a.json)
+    std::printf("%s\n", ToJson(result).dump(2).c_str());
+  else
+    PrintBenchmark(result);
   return 0;
 }
 
 int Run(int argc, char** argv) {
-  CLI::App app{"edsp-gap: where the model and the measured platform part, which effect causes it, how far "
-               "the gap shrinks once it is modelled"};
+  CLI::App app{
+      "edsp-gap: where the model and the measured platform part, which effect causes it, how far "
+      "the gap shrinks once it is modelled"};
   app.require_subcommand(1);
   DiagnoseArgs diagnose;
   EvaluateArgs evaluate;

@@ -75,7 +75,9 @@ ScenarioScore Score(const Drawn& s, const Diagnosis& d) {
   score.truth = s.truth;
   score.description = s.description;
   score.conclusion = d.conclusion;
-  auto truth_has = [&](const std::string& name) { return std::find(s.truth.begin(), s.truth.end(), name) != s.truth.end(); };
+  auto truth_has = [&](const std::string& name) {
+    return std::find(s.truth.begin(), s.truth.end(), name) != s.truth.end();
+  };
   const nlohmann::json j = ToJson(d);
   std::vector<std::string> identified;
   for (const auto& e : j["effects"]) {
@@ -128,7 +130,8 @@ double SecondsSince(std::chrono::steady_clock::time_point t0) {
 }
 
 // Scenario k on edsp's own rig (edsp-sim rig's offline run).
-Drawn DrawOnRig(const BenchmarkOptions& options, const std::string& config, Rng& frames, int k, const std::string& dir) {
+Drawn DrawOnRig(const BenchmarkOptions& options, const std::string& config, Rng& frames, int k,
+                const std::string& dir) {
   const Scenario s = DrawScenario(options.seed, k);
   OfflineRunOptions run;
   run.motions = options.motions;
@@ -188,9 +191,7 @@ Drawn DrawOnBlindRig(const BenchmarkOptions& options, const PlatformConfig& conf
 }
 
 // A perfect model leaves the tracker's noise: 1 − floor/before.
-double AttainableShrink(const ScenarioScore& s) {
-  return std::max(0.0, Shrink(s.before_rms_m, s.noise_floor_m));
-}
+double AttainableShrink(const ScenarioScore& s) { return std::max(0.0, Shrink(s.before_rms_m, s.noise_floor_m)); }
 
 void Tally(BenchmarkResult* r) {
   std::vector<double> shrinks, attainable, gap_shrinks, ratios, seconds;
@@ -239,7 +240,8 @@ void Tally(BenchmarkResult* r) {
     measured_gap.push_back(s.closed_gap_shrink);
     predicted_gap.push_back(s.closed_predicted_gap_shrink);
     if (std::abs(s.closed_shrink - s.closed_predicted_shrink) >= 0.10) r->closed_disagree.push_back(s.index);
-    if (std::abs(s.closed_gap_shrink - s.closed_predicted_gap_shrink) >= 0.10) r->closed_gap_disagree.push_back(s.index);
+    if (std::abs(s.closed_gap_shrink - s.closed_predicted_gap_shrink) >= 0.10)
+      r->closed_gap_disagree.push_back(s.index);
   }
   r->median_closed_shrink = Median(measured);
   r->median_closed_predicted_shrink = Median(predicted);
@@ -290,9 +292,10 @@ BenchmarkResult RunBenchmark(const BenchmarkOptions& options) {
   const std::string config = options.config_path.empty() ? EDSP_DEFAULT_CONFIG : options.config_path;
   const PlatformConfig platform = LoadConfigFile(config);
   const PlatformModel model(platform);
-  const std::string root = options.keep_dir.empty()
-                               ? (std::filesystem::temp_directory_path() / fmt::format("edsp-gap-bench-{}", ::getpid())).string()
-                               : options.keep_dir;
+  const std::string root =
+      options.keep_dir.empty()
+          ? (std::filesystem::temp_directory_path() / fmt::format("edsp-gap-bench-{}", ::getpid())).string()
+          : options.keep_dir;
   Rng frames(options.seed);
   for (int k = 0; k < options.scenarios; ++k) {
     Progress(options, k, options.scenarios, fmt::format("scenario {}: simulating", k));
@@ -352,17 +355,23 @@ nlohmann::json ToJson(const BenchmarkResult& r) {
   j["seed"] = r.options.seed;
   j["scenarios"] = r.scores.size();
   j["tracker_noise_m"] = r.options.tracker_noise_m;
-  j["single_effect"] = {{"scenarios", r.single}, {"top_ranked_true", r.single_top_true},
+  j["single_effect"] = {{"scenarios", r.single},
+                        {"top_ranked_true", r.single_top_true},
                         {"rate", Rate(r.single_top_true, r.single)},
                         {"top_identified_true", r.single_identified_top_true},
                         {"identified_rate", Rate(r.single_identified_top_true, r.single)}};
-  j["two_effects"] = {{"scenarios", r.pairs}, {"both_found", r.pairs_both}, {"rate", Rate(r.pairs_both, r.pairs)},
+  j["two_effects"] = {{"scenarios", r.pairs},
+                      {"both_found", r.pairs_both},
+                      {"rate", Rate(r.pairs_both, r.pairs)},
                       {"both_identified", r.pairs_both_identified},
                       {"identified_rate", Rate(r.pairs_both_identified, r.pairs)}};
-  j["effect_free"] = {{"scenarios", r.clean}, {"nothing_identified", r.clean_nothing_identified},
-                      {"rate", Rate(r.clean_nothing_identified, r.clean)}, {"conclusion_none", r.clean_none},
+  j["effect_free"] = {{"scenarios", r.clean},
+                      {"nothing_identified", r.clean_nothing_identified},
+                      {"rate", Rate(r.clean_nothing_identified, r.clean)},
+                      {"conclusion_none", r.clean_none},
                       {"none_rate", Rate(r.clean_none, r.clean)}};
-  j["out_of_vocabulary"] = {{"scenarios", r.out_of_vocabulary}, {"unknown", r.out_of_vocabulary_unknown},
+  j["out_of_vocabulary"] = {{"scenarios", r.out_of_vocabulary},
+                            {"unknown", r.out_of_vocabulary_unknown},
                             {"rate", Rate(r.out_of_vocabulary_unknown, r.out_of_vocabulary)}};
   j["any_false_identified"] = {{"scenarios", r.any_false_identified},
                                {"rate", Rate(r.any_false_identified, static_cast<int>(r.scores.size()))}};
@@ -373,41 +382,61 @@ nlohmann::json ToJson(const BenchmarkResult& r) {
   j["misses"] = {{"scenarios", r.misses}, {"truth_predicts_better", r.misses_told_apart}};
   j["median_after_over_noise_floor"] = r.median_after_over_noise;
   j["median_diagnose_s"] = r.median_diagnose_s;
-  j["closed_loop"] = {{"motions", r.options.generator == "rig" ? r.options.closed_loop_motions : std::vector<std::string>{}},
-                      {"scenarios", r.closed_loop}, {"median_measured_shrink", r.median_closed_shrink},
-                      {"median_predicted_shrink", r.median_closed_predicted_shrink},
-                      {"median_measured_gap_shrink", r.median_closed_gap_shrink},
-                      {"median_predicted_gap_shrink", r.median_closed_predicted_gap_shrink},
-                      {"disagree_by_10_points", r.closed_disagree},
-                      {"disagree_by_10_gap_points", r.closed_gap_disagree}};
+  j["closed_loop"] = {
+      {"motions", r.options.generator == "rig" ? r.options.closed_loop_motions : std::vector<std::string>{}},
+      {"scenarios", r.closed_loop},
+      {"median_measured_shrink", r.median_closed_shrink},
+      {"median_predicted_shrink", r.median_closed_predicted_shrink},
+      {"median_measured_gap_shrink", r.median_closed_gap_shrink},
+      {"median_predicted_gap_shrink", r.median_closed_predicted_gap_shrink},
+      {"disagree_by_10_points", r.closed_disagree},
+      {"disagree_by_10_gap_points", r.closed_gap_disagree}};
   j["targets"] = nlohmann::json::array();
   for (const Target& t : Targets(r)) {
-    j["targets"].push_back({{"score", t.name}, {"measured", t.rate}, {"target", t.target},
-                            {"at_most", t.at_most}, {"scenarios", t.scenarios}, {"met", Met(t)}});
+    j["targets"].push_back({{"score", t.name},
+                            {"measured", t.rate},
+                            {"target", t.target},
+                            {"at_most", t.at_most},
+                            {"scenarios", t.scenarios},
+                            {"met", Met(t)}});
   }
   j["results"] = nlohmann::json::array();
   for (const ScenarioScore& s : r.scores) {
-    j["results"].push_back({{"index", s.index}, {"kind", s.kind}, {"truth", s.truth}, {"description", s.description},
-                            {"found", s.found}, {"top", s.top}, {"conclusion", s.conclusion},
-                            {"top_true", s.top_true}, {"all_found", s.all_found},
-                            {"top_identified_true", s.top_identified_true}, {"all_identified", s.all_identified},
+    j["results"].push_back({{"index", s.index},
+                            {"kind", s.kind},
+                            {"truth", s.truth},
+                            {"description", s.description},
+                            {"found", s.found},
+                            {"top", s.top},
+                            {"conclusion", s.conclusion},
+                            {"top_true", s.top_true},
+                            {"all_found", s.all_found},
+                            {"top_identified_true", s.top_identified_true},
+                            {"all_identified", s.all_identified},
                             {"false_identified", s.false_identified},
-                            {"holdout_before_rms_m", s.before_rms_m}, {"holdout_after_rms_m", s.after_rms_m},
-                            {"shrink", s.shrink}, {"attainable_shrink", AttainableShrink(s)},
-                            {"noise_floor_rms_m", s.noise_floor_m}, {"noise_sigma_m", s.noise_sigma_m},
+                            {"holdout_before_rms_m", s.before_rms_m},
+                            {"holdout_after_rms_m", s.after_rms_m},
+                            {"shrink", s.shrink},
+                            {"attainable_shrink", AttainableShrink(s)},
+                            {"noise_floor_rms_m", s.noise_floor_m},
+                            {"noise_sigma_m", s.noise_sigma_m},
                             {"gap_shrink", s.gap_shrink},
-                            {"simulate_s", s.simulate_s}, {"diagnose_s", s.diagnose_s}});
+                            {"simulate_s", s.simulate_s},
+                            {"diagnose_s", s.diagnose_s}});
     if (s.miss) {
       j["results"].back()["miss"] = {{"truth_heldout_rms_m", s.truth_heldout_rms_m},
                                      {"found_heldout_rms_m", s.found_heldout_rms_m},
                                      {"truth_predicts_better", s.data_tell_apart}};
     }
     if (s.closed_loop) {
-      j["results"].back()["closed_loop"] = {
-          {"before_rms_m", s.closed_before_rms_m}, {"after_rms_m", s.closed_after_rms_m},
-          {"predicted_after_rms_m", s.closed_predicted_rms_m}, {"shrink", s.closed_shrink},
-          {"predicted_shrink", s.closed_predicted_shrink}, {"gap_shrink", s.closed_gap_shrink},
-          {"predicted_gap_shrink", s.closed_predicted_gap_shrink}, {"seconds", s.closed_loop_s}};
+      j["results"].back()["closed_loop"] = {{"before_rms_m", s.closed_before_rms_m},
+                                            {"after_rms_m", s.closed_after_rms_m},
+                                            {"predicted_after_rms_m", s.closed_predicted_rms_m},
+                                            {"shrink", s.closed_shrink},
+                                            {"predicted_shrink", s.closed_predicted_shrink},
+                                            {"gap_shrink", s.closed_gap_shrink},
+                                            {"predicted_gap_shrink", s.closed_predicted_gap_shrink},
+                                            {"seconds", s.closed_loop_s}};
     }
   }
   return j;
@@ -426,23 +455,29 @@ void PrintBenchmark(const BenchmarkResult& r) {
   std::printf("\n%-28s %9s %8s %10s %s\n", "score", "measured", "target", "scenarios", "met");
   for (const Target& t : Targets(r)) {
     std::printf("%-28s %8.0f%% %s%5.0f%% %10d %s\n", t.name, 100 * t.rate, t.at_most ? "≤" : "≥", 100 * t.target,
-                t.scenarios, t.scenarios == 0 ? "-" : Met(t) ? "yes" : "NO");
+                t.scenarios,
+                t.scenarios == 0 ? "-"
+                : Met(t)         ? "yes"
+                                 : "NO");
   }
-  std::printf("\nsingle effect: top-ranked true %d/%d; two effects: both found %d/%d; effect-free: nothing "
-              "identified %d/%d; a false effect identified beside true ones in %d\nmedian shrink %.0f%% (a perfect model "
-              "%.0f%%: the gap down to the noise floor); of the gap above the tracker's noise %.0f%%; median "
-              "after/noise floor %.2f, median diagnosis %.2f s\n",
-              r.single_top_true, r.single, r.pairs_both, r.pairs, r.clean_nothing_identified, r.clean, r.extra_identified,
-              100 * r.median_shrink, 100 * r.median_attainable_shrink, 100 * r.median_gap_shrink,
-              r.median_after_over_noise, r.median_diagnose_s);
-  std::printf("misses (a true effect not identified, a false one identified): %d, of which the true effects "
-              "predict the held-out runs better in %d (the others the data cannot tell apart)\n",
-              r.misses, r.misses_told_apart);
+  std::printf(
+      "\nsingle effect: top-ranked true %d/%d; two effects: both found %d/%d; effect-free: nothing "
+      "identified %d/%d; a false effect identified beside true ones in %d\nmedian shrink %.0f%% (a perfect model "
+      "%.0f%%: the gap down to the noise floor); of the gap above the tracker's noise %.0f%%; median "
+      "after/noise floor %.2f, median diagnosis %.2f s\n",
+      r.single_top_true, r.single, r.pairs_both, r.pairs, r.clean_nothing_identified, r.clean, r.extra_identified,
+      100 * r.median_shrink, 100 * r.median_attainable_shrink, 100 * r.median_gap_shrink, r.median_after_over_noise,
+      r.median_diagnose_s);
+  std::printf(
+      "misses (a true effect not identified, a false one identified): %d, of which the true effects "
+      "predict the held-out runs better in %d (the others the data cannot tell apart)\n",
+      r.misses, r.misses_told_apart);
   if (r.closed_loop > 0) {
-    std::printf("\nclosed loop on %s (the model applied by the kinematics, rig with its effects), %d scenarios with "
-                "effects:\n%-3s %-40s %8s %8s %8s %8s %10s\n",
-                fmt::format("{}", fmt::join(r.options.closed_loop_motions, ",")).c_str(), r.closed_loop, "#", "truth",
-                "before", "after", "shrink", "predicted", "pred.shrink");
+    std::printf(
+        "\nclosed loop on %s (the model applied by the kinematics, rig with its effects), %d scenarios with "
+        "effects:\n%-3s %-40s %8s %8s %8s %8s %10s\n",
+        fmt::format("{}", fmt::join(r.options.closed_loop_motions, ",")).c_str(), r.closed_loop, "#", "truth", "before",
+        "after", "shrink", "predicted", "pred.shrink");
     for (const ScenarioScore& s : r.scores) {
       if (!s.closed_loop || s.kind == "none") continue;
       std::printf("%-3d %-40s %6.1fµm %6.1fµm %7.0f%% %6.1fµm %9.0f%%\n", s.index,
@@ -450,13 +485,14 @@ void PrintBenchmark(const BenchmarkResult& r) {
                   s.closed_after_rms_m * 1e6, 100 * s.closed_shrink, s.closed_predicted_rms_m * 1e6,
                   100 * s.closed_predicted_shrink);
     }
-    std::printf("median shrink measured %.0f%%, predicted %.0f%%, 10 points or more apart in %zu: %s\n"
-                "of the gap above the tracker's noise measured %.0f%%, predicted %.0f%%, 10 points or more apart "
-                "in %zu: %s\n",
-                100 * r.median_closed_shrink, 100 * r.median_closed_predicted_shrink, r.closed_disagree.size(),
-                fmt::format("{}", fmt::join(r.closed_disagree, ", ")).c_str(), 100 * r.median_closed_gap_shrink,
-                100 * r.median_closed_predicted_gap_shrink, r.closed_gap_disagree.size(),
-                fmt::format("{}", fmt::join(r.closed_gap_disagree, ", ")).c_str());
+    std::printf(
+        "median shrink measured %.0f%%, predicted %.0f%%, 10 points or more apart in %zu: %s\n"
+        "of the gap above the tracker's noise measured %.0f%%, predicted %.0f%%, 10 points or more apart "
+        "in %zu: %s\n",
+        100 * r.median_closed_shrink, 100 * r.median_closed_predicted_shrink, r.closed_disagree.size(),
+        fmt::format("{}", fmt::join(r.closed_disagree, ", ")).c_str(), 100 * r.median_closed_gap_shrink,
+        100 * r.median_closed_predicted_gap_shrink, r.closed_gap_disagree.size(),
+        fmt::format("{}", fmt::join(r.closed_gap_disagree, ", ")).c_str());
   }
 }
 

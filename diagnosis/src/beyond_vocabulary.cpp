@@ -102,8 +102,8 @@ struct ClockNuisance {
   ClockNuisance(const Design& d, const Eigen::VectorXd& prior) {
     const Eigen::MatrixXd clock = DriftingOffsetColumns(d);
     if (d.has_encoder) {
-      const double epoch = clock.col(0).squaredNorm() > 0.0
-                               ? clock.col(0).dot(clock.col(1)) / clock.col(0).squaredNorm() : 0.0;
+      const double epoch =
+          clock.col(0).squaredNorm() > 0.0 ? clock.col(0).dot(clock.col(1)) / clock.col(0).squaredNorm() : 0.0;
       drifting = std::make_unique<WithStructure>(d, prior, clock.col(1) - epoch * clock.col(0));
       return;
     }
@@ -157,16 +157,15 @@ ClockDriftCheck TestClockDrift(ClockNuisance& clock, Evaluator& plain, const std
 // offset (ClockNuisance's `steady` design): it no longer earns its place
 // beside δ. δ is fitted beside the other selected effects, as it would
 // stand in for the lag.
-ClockOffsetCheck TestClockOffset(ClockNuisance& clock, const std::vector<Effect>& selected,
-                                 const DiagnoseOptions& o) {
+ClockOffsetCheck TestClockOffset(ClockNuisance& clock, const std::vector<Effect>& selected, const DiagnoseOptions& o) {
   ClockOffsetCheck c;
   if (clock.steady == nullptr || !Contains(selected, Effect::kServoLag)) return c;
   c.tested = true;
   const WithStructure& steady = *clock.steady;
   const ColumnRange& n = steady.design.nuisance;
-  const Coefficient offset = FitCoefficient(steady.design, steady.gram,
-                                            ColumnsOf(steady.design, Without(selected, Effect::kServoLag)),
-                                            n.begin + n.count - 1, steady.prior);
+  const Coefficient offset =
+      FitCoefficient(steady.design, steady.gram, ColumnsOf(steady.design, Without(selected, Effect::kServoLag)),
+                     n.begin + n.count - 1, steady.prior);
   c.offset_s = offset.value;
   c.sigma_s = offset.sigma;
   Evaluator& eval = *clock.steady_eval;
@@ -212,9 +211,12 @@ void NoteUnknown(const std::string& what, Diagnosis* out) {
   static const std::string kResidual = "; the selected effects leave a residual ";
   std::string& note = out->unexplained_note;
   const std::size_t residual = note.find(kResidual);
-  if (residual != std::string::npos) note.insert(residual, "; " + what);
-  else if (out->structure.structured) note += "; " + what;
-  else note = what + kResidual + note;
+  if (residual != std::string::npos)
+    note.insert(residual, "; " + what);
+  else if (out->structure.structured)
+    note += "; " + what;
+  else
+    note = what + kResidual + note;
 }
 
 // Something outside the vocabulary that a check found: said in what is
@@ -233,7 +235,8 @@ void MarkUnknown(const std::string& what, const std::vector<Effect>& explained, 
 std::string TiltLikeNames(const std::vector<Effect>& effects) {
   std::string names;
   for (Effect e : effects) {
-    names += (names.empty() ? "" : " and ") + std::string(e == Effect::kJointPosition ? "joint centres" : EffectName(e));
+    names +=
+        (names.empty() ? "" : " and ") + std::string(e == Effect::kJointPosition ? "joint centres" : EffectName(e));
   }
   return names;
 }
@@ -313,8 +316,8 @@ void MarkLagNotInTheDrives(const Design& d, Diagnosis* out) {
 
 }  // namespace
 
-void CheckBeyondTheVocabulary(const Design& d, const Eigen::VectorXd& prior, Evaluator& plain,
-                              const DiagnoseOptions& o, Diagnosis* out) {
+void CheckBeyondTheVocabulary(const Design& d, const Eigen::VectorXd& prior, Evaluator& plain, const DiagnoseOptions& o,
+                              Diagnosis* out) {
   MarkExplainedByStructure(ExplainedByStructure(d, prior, plain, out->selected, out->structure, o), out);
   std::vector<Effect> tilt_explained;
   out->base_tilt = TestBaseTilt(d, prior, plain, out->selected, o, &tilt_explained);

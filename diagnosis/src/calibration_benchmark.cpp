@@ -54,8 +54,8 @@ bool MeetsTarget(const DesignScore& s, double floor_m) {
 
 // One design on one rig: fit, diagnose blind, close the loop on held-out motions.
 DesignScore ScoreDesign(const PlatformModel& model, const std::string& config, const Scenario& rig,
-                        OfflineRunOptions run, const MotionDesign& design,
-                        const CalibrationBenchmarkOptions& o, const std::string& dir, double floor_m) {
+                        OfflineRunOptions run, const MotionDesign& design, const CalibrationBenchmarkOptions& o,
+                        const std::string& dir, double floor_m) {
   DesignScore s;
   s.design = design.name;
   try {
@@ -122,11 +122,10 @@ CalibrationBenchmarkResult RunCalibrationBenchmark(const CalibrationBenchmarkOpt
   const PlatformModel model(LoadConfigFile(config));
   result.rated_payload_kg =
       RatePayload(model, RigEffects{}.servo_lag, Vector3(0, 0, kWholeRigComHeightMaxM)).payload_kg;
-  const std::string root = options.keep_dir.empty()
-                               ? (std::filesystem::temp_directory_path() /
-                                  fmt::format("edsp-gap-calibration-bench-{}", ::getpid()))
-                                     .string()
-                               : options.keep_dir;
+  const std::string root =
+      options.keep_dir.empty()
+          ? (std::filesystem::temp_directory_path() / fmt::format("edsp-gap-calibration-bench-{}", ::getpid())).string()
+          : options.keep_dir;
   std::mt19937_64 stands(options.seed);
   for (int k = 0; k < options.rigs; ++k) {
     const Scenario rig = DrawWholeRig(options.seed, k, result.rated_payload_kg);
@@ -181,11 +180,10 @@ nlohmann::json ToJson(const CalibrationBenchmarkResult& r) {
                          {"payload_kg", rig.payload_kg},
                          {"noise_floor_m", rig.noise_floor_m}};
     for (const DesignScore& s : rig.designs) {
-      nlohmann::json js = {{"fit_duration_s", s.fit_duration_s}, {"conclusion", s.conclusion},
-                           {"applied", s.applied},               {"before_rms_m", s.before_rms_m},
-                           {"before_max_m", s.before_max_m},     {"after_rms_m", s.after_rms_m},
-                           {"after_max_m", s.after_max_m},       {"predicted_rms_m", s.predicted_rms_m},
-                           {"met", s.met}};
+      nlohmann::json js = {
+          {"fit_duration_s", s.fit_duration_s}, {"conclusion", s.conclusion},           {"applied", s.applied},
+          {"before_rms_m", s.before_rms_m},     {"before_max_m", s.before_max_m},       {"after_rms_m", s.after_rms_m},
+          {"after_max_m", s.after_max_m},       {"predicted_rms_m", s.predicted_rms_m}, {"met", s.met}};
       if (!s.error.empty()) js["error"] = s.error;
       jr[s.design] = js;
     }

@@ -43,7 +43,8 @@ CalibrationCheck CheckCalibration(const Evaluation& without, const Evaluation& w
   CalibrationCheck c;
   for (const RunEvaluation& b : without.by_run) {
     const RunEvaluation* a = Find(with, b.run);
-    if (a == nullptr) throw MeasurementError("run " + b.run + " is in the measurement without the calibration, not in the one with it");
+    if (a == nullptr)
+      throw MeasurementError("run " + b.run + " is in the measurement without the calibration, not in the one with it");
     MotionCheck m{b.run, b.before, a->before, std::nullopt, Shrink(b.before.rms_m, a->before.rms_m)};
     if (predicted) m.predicted = b.after;
     c.motions.push_back(m);
@@ -88,10 +89,10 @@ std::string CheckTable(const CalibrationCheck& c) {
                    c.noise_floor_rms_m * 1e6, kFloorFactor * c.noise_floor_rms_m * 1e6, 100 * kTargetShrink,
                    c.target_met ? "met" : "NOT met");
   if (c.timing_excluded_before + c.timing_excluded_after > 0) {
-    t += fmt::format("left out near stalls of the real-time system (timing_event): {} samples before ({:.1f}%), {} after "
-                     "({:.1f}%)\n",
-                     c.timing_excluded_before, 100 * c.timing_share_before, c.timing_excluded_after,
-                     100 * c.timing_share_after);
+    t += fmt::format(
+        "left out near stalls of the real-time system (timing_event): {} samples before ({:.1f}%), {} after "
+        "({:.1f}%)\n",
+        c.timing_excluded_before, 100 * c.timing_share_before, c.timing_excluded_after, 100 * c.timing_share_after);
   }
   return t;
 }

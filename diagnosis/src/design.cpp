@@ -72,8 +72,8 @@ void LayOutColumns(int samples, Design* d) {
 
 // Leg velocity, acceleration and the platform's and A's acceleration at
 // row k of a run, from the commands (central differences; none at a run's ends).
-void CommandRates(const PlatformModel& model, const MeasurementData& data, const std::vector<int>& rows,
-                  std::size_t k, calibration::LegErrorInputs* in) {
+void CommandRates(const PlatformModel& model, const MeasurementData& data, const std::vector<int>& rows, std::size_t k,
+                  calibration::LegErrorInputs* in) {
   in->velocity = Derivative(rows, k, data, [](const MeasurementRow& r) { return r.leg_cmd_m; });
   const std::size_t lo = k == 0 ? 0 : k - 1, hi = k + 1 < rows.size() ? k + 1 : k;
   const MeasurementRow& a = data.rows[static_cast<std::size_t>(rows[lo])];
@@ -155,7 +155,8 @@ void AddJerk(const Design& d, std::vector<calibration::LegErrorState>* states) {
       if (k == run.begin || k + 1 == run.begin + run.count) continue;
       const double span = d.time_s[static_cast<std::size_t>(k + 1)] - d.time_s[static_cast<std::size_t>(k - 1)];
       if (span > 0.0) {
-        s.jerk = ((*states)[static_cast<std::size_t>(k + 1)].accel - (*states)[static_cast<std::size_t>(k - 1)].accel) / span;
+        s.jerk = ((*states)[static_cast<std::size_t>(k + 1)].accel - (*states)[static_cast<std::size_t>(k - 1)].accel) /
+                 span;
       }
     }
   }
@@ -170,10 +171,14 @@ void ClassifyAppliedPr(const PlatformModel& model, const std::vector<calibration
   }
   d->applied_pr_ratio = pp > 0.0 ? cp / pp : 0.0;
   const double misfit = cc - 2.0 * d->applied_pr_ratio * cp + d->applied_pr_ratio * d->applied_pr_ratio * pp;
-  if (cc <= 1e-6 * std::max(pp, 1e-30)) d->applied_pr = "none";
-  else if (misfit <= 1e-4 * cc && std::abs(d->applied_pr_ratio - 1.0) < 1e-3) d->applied_pr = "signed";
-  else if (unsigned_misfit <= 1e-4 * cc) d->applied_pr = "unsigned";  // the paper's Eq. (9)
-  else d->applied_pr = "other";
+  if (cc <= 1e-6 * std::max(pp, 1e-30))
+    d->applied_pr = "none";
+  else if (misfit <= 1e-4 * cc && std::abs(d->applied_pr_ratio - 1.0) < 1e-3)
+    d->applied_pr = "signed";
+  else if (unsigned_misfit <= 1e-4 * cc)
+    d->applied_pr = "unsigned";  // the paper's Eq. (9)
+  else
+    d->applied_pr = "other";
 }
 
 // Pass 2: the frame estimate, then the linear columns around it.
@@ -191,7 +196,8 @@ void FillColumns(const PlatformModel& model, const Samples& samples, Design* d) 
     d->point_per_leg[s] = RG;
     for (Effect e : AllEffects()) {
       const ColumnRange& range = d->Of(e);
-      d->columns.block(3 * k, range.begin, 3, range.count) = RG * calibration::LegErrorBasis(e, samples.states[s], model);
+      d->columns.block(3 * k, range.begin, 3, range.count) =
+          RG * calibration::LegErrorBasis(e, samples.states[s], model);
     }
   }
 }

@@ -111,8 +111,8 @@ namespace {
 // made redundant goes again); explained fractions in the final order.
 struct Selection {
   std::vector<Effect> effects;
-  double cv0 = 0.0, cv = 0.0;      // held-out MSE: frame only, selected
-  double rss0 = 0.0, rss = 0.0;    // in-sample SSE: frame only, selected
+  double cv0 = 0.0, cv = 0.0;    // held-out MSE: frame only, selected
+  double rss0 = 0.0, rss = 0.0;  // in-sample SSE: frame only, selected
   std::map<Effect, double> explained;
 };
 
@@ -152,8 +152,8 @@ Selection SelectEffects(Evaluator& eval, const DiagnoseOptions& o, double n_res)
     }
     if (best_cv >= s.cv * (1.0 - o.min_cv_gain)) break;
     const double rss_new = eval.Rss(With(s.effects, best));
-    const double bic_change = n_res * std::log(std::max(rss_new, 1e-300) / std::max(s.rss, 1e-300)) +
-                              ParameterCount(best) * std::log(n_res);
+    const double bic_change =
+        n_res * std::log(std::max(rss_new, 1e-300) / std::max(s.rss, 1e-300)) + ParameterCount(best) * std::log(n_res);
     if (bic_change > -o.min_bic_drop) break;
     s.effects.push_back(best);
     s.cv = best_cv;
@@ -270,16 +270,16 @@ CalibrationResult FitCalibration(const Design& d, const GramSet& gram, const Eig
   out.chosen_by = set.chosen_by;
   out.heldout_rms_m = std::sqrt(3.0 * set.cv_mse);
   out.identified_heldout_rms_m = std::sqrt(3.0 * set.identified_cv_mse);
-  const bool is_selected = set.effects.size() == selected.size() &&
-                           std::all_of(set.effects.begin(), set.effects.end(),
-                                       [&](Effect e) { return Contains(selected, e); });
+  const bool is_selected =
+      set.effects.size() == selected.size() &&
+      std::all_of(set.effects.begin(), set.effects.end(), [&](Effect e) { return Contains(selected, e); });
   const Columns cols = ColumnsOf(d, set.effects);
   const Columns effect_cols(cols.begin() + 6, cols.end());
   // The σ saved with the model (what edsp-gap drift compares a later
   // session with) is at least the jackknife's over the runs' parts: on a
   // whole rig the formal σ takes the model for the rig.
-  const Eigen::VectorXd jackknife = JackknifeSigma(gram, cols, prior)
-                                        .tail(static_cast<Eigen::Index>(effect_cols.size()));
+  const Eigen::VectorXd jackknife =
+      JackknifeSigma(gram, cols, prior).tail(static_cast<Eigen::Index>(effect_cols.size()));
   int at = 0;
   if (is_selected) {
     for (Effect e : set.effects) {
@@ -359,16 +359,16 @@ void DescribeRest(const Design& d, const Eigen::VectorXd& residual, const Eigen:
   bars.min_run_offset_share = o.min_cv_gain;  // runs apart matter as an effect's cut does
   out->structure = AnalyseStructure(d, residual, heldout, bars);
   const bool effects = !out->selected.empty();
-  out->conclusion = out->structure.structured ? (effects ? "effects+unknown" : "unknown") : (effects ? "effects" : "none");
+  out->conclusion =
+      out->structure.structured ? (effects ? "effects+unknown" : "unknown") : (effects ? "effects" : "none");
   out->unexplained_note =
       out->structure.structured
           ? "structure that no effect of the vocabulary explains: " + out->structure.Describe()
-          : fmt::format("white within the tracker's noise ({:.1f} µm RMS left, floor {:.1f} µm; {:.0f}% of the "
-                        "held-out residual above its white level)",
-                        out->unexplained.rms_m * 1e6, out->noise_floor_rms_m * 1e6,
-                        100 * out->structure.structured_share);
+          : fmt::format(
+                "white within the tracker's noise ({:.1f} µm RMS left, floor {:.1f} µm; {:.0f}% of the "
+                "held-out residual above its white level)",
+                out->unexplained.rms_m * 1e6, out->noise_floor_rms_m * 1e6, 100 * out->structure.structured_share);
 }
-
 
 // Before (frame only) and after (frame and the selected effects) on each run
 // held out of the fit, pooled; returns the held-out residual after (3 per sample).
@@ -529,9 +529,9 @@ Diagnosis WithThermalTimeConstant(const PlatformModel& model, const MeasurementD
   // was only named as an alternative (ambiguous) to one of them.
   std::vector<Effect> scored = d.selected;
   if (!Contains(scored, Effect::kThermalDrift)) scored.push_back(Effect::kThermalDrift);
-  const ThermalTimeConstantChoice tau = ChooseThermalTimeConstant(
-      model, Decimated(data, options.max_rate_hz), d.design, options.thermal_time_constants_s, scored,
-      d.prior_sigma2, d.time_offset);
+  const ThermalTimeConstantChoice tau =
+      ChooseThermalTimeConstant(model, Decimated(data, options.max_rate_hz), d.design, options.thermal_time_constants_s,
+                                scored, d.prior_sigma2, d.time_offset);
   double seconds = d.seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (tau.tau_s != d.design.thermal_time_constant_s) {
     DiagnoseOptions at = options;
@@ -553,7 +553,8 @@ Diagnosis Diagnose(const PlatformModel& model, const MeasurementData& recorded, 
   const auto start = std::chrono::steady_clock::now();
   double correction_rms_m = 0.0;
   const bool corrected = CarriesACorrection(recorded);
-  const MeasurementData nominal = corrected ? AsCommandedNominally(model, recorded, &correction_rms_m) : MeasurementData{};
+  const MeasurementData nominal =
+      corrected ? AsCommandedNominally(model, recorded, &correction_rms_m) : MeasurementData{};
   const MeasurementData& data = corrected && options.against == Against::kNominal ? nominal : recorded;
   const double reading_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   Diagnosis d = WithStructuralMode(model, data, options,

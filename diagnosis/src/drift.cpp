@@ -55,11 +55,13 @@ Fitted FitChange(const Design& d, const std::vector<Effect>& baseline, double no
   // for an AR(1) series (linear_fit.h), or a rig's every small misfit would
   // count as a change.
   const double inflation = std::sqrt(CorrelationInflation(robust.residual));
-  const Eigen::VectorXd jackknife = JackknifeSigma(gram, cols, prior).tail(static_cast<Eigen::Index>(effect_cols.size()));
+  const Eigen::VectorXd jackknife =
+      JackknifeSigma(gram, cols, prior).tail(static_cast<Eigen::Index>(effect_cols.size()));
   int at = 0;
   for (Effect e : baseline) {
     fit.delta[e] = robust.theta.segment(at, ParameterCount(e));
-    fit.sigma[e] = (inflation * robust.sigma.segment(at, ParameterCount(e))).cwiseMax(jackknife.segment(at, ParameterCount(e)));
+    fit.sigma[e] =
+        (inflation * robust.sigma.segment(at, ParameterCount(e))).cwiseMax(jackknife.segment(at, ParameterCount(e)));
     at += ParameterCount(e);
   }
   return fit;
@@ -104,7 +106,8 @@ void Compare(const SavedEffect& e, const Eigen::VectorXd& delta, const Eigen::Ve
   }
   const std::vector<int> unapplied = calibration::UnappliedParameters(e.effect);
   for (ParameterChange& c : *out) {
-    if (c.effect == e.effect) c.applied = std::find(unapplied.begin(), unapplied.end(), c.theta_index) == unapplied.end();
+    if (c.effect == e.effect)
+      c.applied = std::find(unapplied.begin(), unapplied.end(), c.theta_index) == unapplied.end();
   }
 }
 
@@ -193,10 +196,16 @@ DriftReport Drift(const PlatformModel& model, const nlohmann::json& baseline, co
 
 nlohmann::json ToJson(const DriftReport& r) {
   const auto entry = [](const ParameterChange& c) {
-    nlohmann::json j = {{"effect", EffectName(c.effect)}, {"parameter", c.parameter}, {"index", c.index},
-                        {"before", c.before},             {"after", c.after},         {"change", c.change},
-                        {"sigma", c.sigma},               {"z", c.z},
-                        {"at_a_m", c.at_a_m},             {"applied", c.applied}};
+    nlohmann::json j = {{"effect", EffectName(c.effect)},
+                        {"parameter", c.parameter},
+                        {"index", c.index},
+                        {"before", c.before},
+                        {"after", c.after},
+                        {"change", c.change},
+                        {"sigma", c.sigma},
+                        {"z", c.z},
+                        {"at_a_m", c.at_a_m},
+                        {"applied", c.applied}};
     if (c.leg > 0) j["leg"] = c.leg;
     return j;
   };
@@ -246,10 +255,11 @@ std::string DriftText(const DriftReport& r) {
     return s.empty() ? std::string("none") : s;
   };
   text += fmt::format("appeared: {}; vanished: {}\n", list(r.appeared), list(r.vanished));
-  text += fmt::format("the baseline leaves {:.1f} µm RMS ({:.1f} max) on this data, noise floor {:.1f} µm; "
-                      "threshold {:.1f} µm: {}\n",
-                      r.heldout_rms_m * 1e6, r.heldout_max_m * 1e6, r.noise_floor_rms_m * 1e6, r.threshold_m * 1e6,
-                      r.recalibrate ? "recalibrate" : "no need to recalibrate");
+  text += fmt::format(
+      "the baseline leaves {:.1f} µm RMS ({:.1f} max) on this data, noise floor {:.1f} µm; "
+      "threshold {:.1f} µm: {}\n",
+      r.heldout_rms_m * 1e6, r.heldout_max_m * 1e6, r.noise_floor_rms_m * 1e6, r.threshold_m * 1e6,
+      r.recalibrate ? "recalibrate" : "no need to recalibrate");
   return text;
 }
 

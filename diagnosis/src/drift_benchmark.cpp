@@ -110,7 +110,8 @@ DriftBenchmarkResult RunDriftBenchmark(const DriftBenchmarkOptions& o) {
   const std::string config = o.config_path.empty() ? EDSP_DEFAULT_CONFIG : o.config_path;
   const PlatformModel model(LoadConfigFile(config));
   const double rating = RatePayload(model, RigEffects{}.servo_lag, Vector3(0, 0, kWholeRigComHeightMaxM)).payload_kg;
-  const std::string root = (std::filesystem::temp_directory_path() / fmt::format("edsp-gap-drift-bench-{}", ::getpid())).string();
+  const std::string root =
+      (std::filesystem::temp_directory_path() / fmt::format("edsp-gap-drift-bench-{}", ::getpid())).string();
   Rng rng(o.seed);
   for (int k = 0; k < o.rigs; ++k) {
     if (o.progress) std::fprintf(stderr, "\rrig %d/%d", k, o.rigs), std::fflush(stderr);
@@ -131,7 +132,8 @@ DriftBenchmarkResult RunDriftBenchmark(const DriftBenchmarkOptions& o) {
         OfflineRunOptions run = SessionRun(o, rng, seed);
         run.motions = o.session_motions;
         if (!getenv("EDSP_DRIFT_WITHOUT")) run.calibration_path = model_path;
-        DriftOptions dop; dop.recorded_with_baseline = !getenv("EDSP_DRIFT_WITHOUT");
+        DriftOptions dop;
+        dop.recorded_with_baseline = !getenv("EDSP_DRIFT_WITHOUT");
         run.out_dir = dir + "/" + name;
         return Drift(model, baseline, model_path, LoadMeasurement(RunOffline(config, fx, run).csv_path), dop);
       };
@@ -180,8 +182,14 @@ nlohmann::json ToJson(const DriftBenchmarkResult& r) {
   for (const DriftScenario& s : r.scenarios) {
     nlohmann::json truth = nlohmann::json::array();
     for (const TrueChange& t : s.truth) {
-      truth.push_back({{"effect", t.effect}, {"leg", t.leg}, {"change", t.change}, {"reported", t.reported},
-                       {"sigma", t.sigma}, {"eligible", t.eligible}, {"named", t.named}, {"sized", t.sized}});
+      truth.push_back({{"effect", t.effect},
+                       {"leg", t.leg},
+                       {"change", t.change},
+                       {"reported", t.reported},
+                       {"sigma", t.sigma},
+                       {"eligible", t.eligible},
+                       {"named", t.named},
+                       {"sized", t.sized}});
     }
     nlohmann::json js = {{"index", s.index},
                          {"kind", s.kind},
@@ -208,9 +216,10 @@ void PrintDriftBenchmark(const DriftBenchmarkResult& r) {
                 s.unchanged_quiet ? "no change" : fmt::format("{} named", s.unchanged_named).c_str(),
                 s.error.empty() ? "" : (" ERROR " + s.error).c_str());
   }
-  std::printf("changes of ≥ 3σ named and sized: %d of %d (target 90%%); unchanged sessions quiet: %d of %d "
-              "(target 95%%); false changes: %d\n",
-              r.named_and_sized, r.eligible, r.unchanged_quiet, r.unchanged, r.false_changes);
+  std::printf(
+      "changes of ≥ 3σ named and sized: %d of %d (target 90%%); unchanged sessions quiet: %d of %d "
+      "(target 95%%); false changes: %d\n",
+      r.named_and_sized, r.eligible, r.unchanged_quiet, r.unchanged, r.false_changes);
 }
 
 }  // namespace edsp::gap

@@ -11,7 +11,7 @@ namespace edsp::gap {
 
 namespace {
 
-constexpr double kRestSpeed = 1e-5;   // m/s of every leg
+constexpr double kRestSpeed = 1e-5;     // m/s of every leg
 constexpr double kAccelerating = 0.05;  // m/s² of some leg
 
 struct Accumulator {
@@ -37,20 +37,19 @@ std::string Phase(const Design& d, int k) {
 std::string Where(const GapSummary& g) {
   std::string text;
   if (!g.by_run.empty()) {
-    const auto worst = std::max_element(g.by_run.begin(), g.by_run.end(), [](const auto& a, const auto& b) {
-      return a.second.rms_m < b.second.rms_m;
-    });
-    text += fmt::format("Largest in run {} (RMS {:.1f} µm, max {:.1f} µm). ", worst->first,
-                        worst->second.rms_m * 1e6, worst->second.max_m * 1e6);
+    const auto worst = std::max_element(g.by_run.begin(), g.by_run.end(),
+                                        [](const auto& a, const auto& b) { return a.second.rms_m < b.second.rms_m; });
+    text += fmt::format("Largest in run {} (RMS {:.1f} µm, max {:.1f} µm). ", worst->first, worst->second.rms_m * 1e6,
+                        worst->second.max_m * 1e6);
   }
   const auto leg = std::max_element(g.by_leg_m.begin(), g.by_leg_m.end());
-  text += fmt::format("In leg space leg {} carries the most ({:.1f} µm RMS). ",
-                      leg - g.by_leg_m.begin() + 1, *leg * 1e6);
+  text +=
+      fmt::format("In leg space leg {} carries the most ({:.1f} µm RMS). ", leg - g.by_leg_m.begin() + 1, *leg * 1e6);
   double flip = 0.0;
   int flip_leg = 0;
   for (int i = 0; i < 6; ++i) {
-    const double f = std::abs(g.extending_mean_m[static_cast<std::size_t>(i)] -
-                              g.retracting_mean_m[static_cast<std::size_t>(i)]);
+    const double f =
+        std::abs(g.extending_mean_m[static_cast<std::size_t>(i)] - g.retracting_mean_m[static_cast<std::size_t>(i)]);
     if (f > flip) flip = f, flip_leg = i;
   }
   text += fmt::format("Extending vs retracting differs by up to {:.1f} µm (leg {}). ", flip * 1e6, flip_leg + 1);
@@ -69,8 +68,10 @@ std::string Where(const GapSummary& g) {
   }
   if (g.has_encoder) {
     const double servo = *std::max_element(g.servo_tracking_m.begin(), g.servo_tracking_m.end());
-    text += fmt::format(" Servo tracking (command − encoder) up to {:.1f} µm RMS per leg; with the encoders' "
-                        "legs the mechanism's gap is {:.1f} µm RMS.", servo * 1e6, g.mechanism.rms_m * 1e6);
+    text += fmt::format(
+        " Servo tracking (command − encoder) up to {:.1f} µm RMS per leg; with the encoders' "
+        "legs the mechanism's gap is {:.1f} µm RMS.",
+        servo * 1e6, g.mechanism.rms_m * 1e6);
   }
   return text;
 }
@@ -140,7 +141,9 @@ GapSummary SummarizeGap(const Design& d, const Eigen::VectorXd& r) {
 }
 
 nlohmann::json ToJson(const GapSummary& g) {
-  auto stats = [](const RmsMax& s) { return nlohmann::json{{"rms_m", s.rms_m}, {"max_m", s.max_m}, {"samples", s.samples}}; };
+  auto stats = [](const RmsMax& s) {
+    return nlohmann::json{{"rms_m", s.rms_m}, {"max_m", s.max_m}, {"samples", s.samples}};
+  };
   nlohmann::json j;
   j["rms_m"] = g.overall.rms_m;
   j["max_m"] = g.overall.max_m;

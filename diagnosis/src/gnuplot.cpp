@@ -12,7 +12,8 @@ bool GnuplotPng(const std::string& dir, const std::string& png, const std::strin
   const std::string path = dir + "/" + png + ".gp";
   std::filesystem::remove(dir + "/" + png);  // a plot left from an earlier run is not this one
   std::ofstream(path) << "set terminal pngcairo size 900,500\nset output '" << dir << "/" << png << "'\n"
-                      << "set grid\n" << script;
+                      << "set grid\n"
+                      << script;
   std::system(fmt::format("gnuplot '{}' 2>/dev/null", path).c_str());
   return std::filesystem::exists(dir + "/" + png);
 }

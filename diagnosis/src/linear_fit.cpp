@@ -13,7 +13,8 @@ std::vector<Fold> MakeFolds(const Design& d) {
   std::vector<Fold> folds;
   const int runs = static_cast<int>(d.run_samples.size());
   if (runs >= 3) {
-    for (int r = 0; r < runs; ++r) folds.push_back({{d.run_samples[static_cast<std::size_t>(r)]}, d.runs[static_cast<std::size_t>(r)]});
+    for (int r = 0; r < runs; ++r)
+      folds.push_back({{d.run_samples[static_cast<std::size_t>(r)]}, d.runs[static_cast<std::size_t>(r)]});
     return folds;
   }
   constexpr int kParts = 3;
@@ -100,7 +101,8 @@ Eigen::MatrixXd GramSet::NormalMatrix(const Columns& columns, const std::vector<
   for (int f : folds) {
     const Eigen::MatrixXd& H = H_[static_cast<std::size_t>(f)];
     for (Eigen::Index a = 0; a < m; ++a) {
-      for (Eigen::Index b = 0; b < m; ++b) A(a, b) += H(columns[static_cast<std::size_t>(a)], columns[static_cast<std::size_t>(b)]);
+      for (Eigen::Index b = 0; b < m; ++b)
+        A(a, b) += H(columns[static_cast<std::size_t>(a)], columns[static_cast<std::size_t>(b)]);
     }
   }
   for (Eigen::Index a = 0; a < m; ++a) A(a, a) += prior_weight(columns[static_cast<std::size_t>(a)]);
@@ -160,11 +162,13 @@ int GramSet::Residuals(const std::vector<int>& folds) const {
 }
 
 Eigen::MatrixXd GramSet::Gram(const Columns& a, const Columns& b, const std::vector<int>& folds) const {
-  Eigen::MatrixXd block = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(a.size()), static_cast<Eigen::Index>(b.size()));
+  Eigen::MatrixXd block =
+      Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(a.size()), static_cast<Eigen::Index>(b.size()));
   for (int f : folds) {
     const Eigen::MatrixXd& H = H_[static_cast<std::size_t>(f)];
     for (std::size_t i = 0; i < a.size(); ++i) {
-      for (std::size_t j = 0; j < b.size(); ++j) block(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) += H(a[i], b[j]);
+      for (std::size_t j = 0; j < b.size(); ++j)
+        block(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) += H(a[i], b[j]);
     }
   }
   return block;
@@ -197,7 +201,8 @@ Columns ColumnsOf(const Design& d, const std::vector<Effect>& effects) {
 
 double HeldOutMse(const GramSet& gram, const Columns& columns, const Eigen::VectorXd& prior_weight) {
   double sse = 0.0;
-  for (int f = 0; f < gram.folds(); ++f) sse += gram.Sse(columns, gram.Solve(columns, gram.AllBut(f), prior_weight), {f});
+  for (int f = 0; f < gram.folds(); ++f)
+    sse += gram.Sse(columns, gram.Solve(columns, gram.AllBut(f), prior_weight), {f});
   return sse / std::max(1, gram.Residuals(gram.AllFolds()));
 }
 

@@ -50,13 +50,12 @@ struct Columns {
   int pose[6] = {}, leg_cmd[6] = {}, leg_enc[6] = {-1, -1, -1, -1, -1, -1}, point[3] = {};
   bool has_encoder = false;
   int leg_corr[6] = {-1, -1, -1, -1, -1, -1};  // optional, all six or none
-  int timing_event = -1;  // optional
+  int timing_event = -1;                       // optional
 };
 
 // leg_corr_1_m … leg_corr_6_m: all six or none (a correction of some legs
 // only would be read as zero on the others, a wrong nominal residual).
-void FindCorrectionColumns(const std::map<std::string, int>& index, const std::string& origin, int line,
-                           Columns* c) {
+void FindCorrectionColumns(const std::map<std::string, int>& index, const std::string& origin, int line, Columns* c) {
   int found = 0;
   for (int k = 0; k < 6; ++k) {
     const auto it = index.find(fmt::format("leg_corr_{}_m", k + 1));
@@ -85,7 +84,7 @@ Columns FindColumns(const std::vector<Field>& header, const std::string& origin,
   Columns c;
   c.time = required("time_s");
   c.run = required("run");
-  const char* pose_names[6] = {"pose_cmd_x_m", "pose_cmd_y_m", "pose_cmd_z_m",
+  const char* pose_names[6] = {"pose_cmd_x_m",      "pose_cmd_y_m",       "pose_cmd_z_m",
                                "pose_cmd_roll_rad", "pose_cmd_pitch_rad", "pose_cmd_yaw_rad"};
   for (int k = 0; k < 6; ++k) c.pose[k] = required(pose_names[k]);
   for (int k = 0; k < 6; ++k) c.leg_cmd[k] = required(fmt::format("leg_cmd_{}_m", k + 1));
@@ -132,7 +131,9 @@ class RowParser {
     return true;
   }
 
-  [[noreturn]] void Fail(int index, const char* what, const std::string& why) const { throw Error(At(index, what), why); }
+  [[noreturn]] void Fail(int index, const char* what, const std::string& why) const {
+    throw Error(At(index, what), why);
+  }
 
   std::string Text(int index, const char* what) const {
     const std::string text = Trim(At(index, what).text);
@@ -143,8 +144,8 @@ class RowParser {
  private:
   const Field& At(int index, const char* what) const {
     if (index >= static_cast<int>(fields_.size())) {
-      throw MeasurementError(fmt::format("{}:{}: row has {} fields, {} is missing", origin_, line_,
-                                         fields_.size(), what));
+      throw MeasurementError(
+          fmt::format("{}:{}: row has {} fields, {} is missing", origin_, line_, fields_.size(), what));
     }
     return fields_[static_cast<std::size_t>(index)];
   }
@@ -161,7 +162,8 @@ class RowParser {
 bool FlaggedTimingEvent(const RowParser& p, int column) {
   double flag = 0.0;
   if (!p.OptionalNumber(column, "timing_event", &flag)) return false;
-  if (flag != 0.0 && flag != 1.0) p.Fail(column, "timing_event", fmt::format("timing_event {} is neither 0 nor 1", flag));
+  if (flag != 0.0 && flag != 1.0)
+    p.Fail(column, "timing_event", fmt::format("timing_event {} is neither 0 nor 1", flag));
   return flag == 1.0;
 }
 
@@ -219,7 +221,7 @@ MeasurementData ParseMeasurementCsv(const std::string& text, const std::string& 
     const auto [it, added] = run_index.emplace(run, static_cast<int>(data.runs.size()));
     if (added) data.runs.push_back(run);
     row.run = it->second;
-    const char* pose_names[6] = {"pose_cmd_x_m", "pose_cmd_y_m", "pose_cmd_z_m",
+    const char* pose_names[6] = {"pose_cmd_x_m",      "pose_cmd_y_m",       "pose_cmd_z_m",
                                  "pose_cmd_roll_rad", "pose_cmd_pitch_rad", "pose_cmd_yaw_rad"};
     for (int k = 0; k < 6; ++k) row.pose_cmd(k) = p.Number(columns.pose[k], pose_names[k]);
     for (int k = 0; k < 6; ++k) row.leg_cmd_m(k) = p.Number(columns.leg_cmd[k], "leg_cmd");
@@ -233,18 +235,18 @@ MeasurementData ParseMeasurementCsv(const std::string& text, const std::string& 
     const auto previous = last_time.find(row.run);
     if (previous != last_time.end() && row.time_s < previous->second) {
       throw MeasurementError(fmt::format("{}:{}:{}: time_s {} goes back in run \"{}\" (previous {})", origin,
-                                         line_number, fields[static_cast<std::size_t>(columns.time)].column,
-                                         row.time_s, run, previous->second));
+                                         line_number, fields[static_cast<std::size_t>(columns.time)].column, row.time_s,
+                                         run, previous->second));
     }
     last_time[row.run] = row.time_s;
     data.rows.push_back(row);
   }
   if (!have_header) throw MeasurementError(origin + ": no header row (empty file?)");
   if (data.rows.empty()) {
-    throw MeasurementError(data.timing_excluded > 0
-                               ? fmt::format("{}: every one of its {} rows is flagged timing_event", origin,
-                                             data.timing_excluded)
-                               : origin + ": a header but no data rows");
+    throw MeasurementError(
+        data.timing_excluded > 0
+            ? fmt::format("{}: every one of its {} rows is flagged timing_event", origin, data.timing_excluded)
+            : origin + ": a header but no data rows");
   }
   return data;
 }

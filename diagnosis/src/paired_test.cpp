@@ -40,7 +40,8 @@ double SignedRankPValue(const std::vector<double>& gain) {
     return std::abs(nonzero[static_cast<std::size_t>(a)]) < std::abs(nonzero[static_cast<std::size_t>(b)]);
   });
   int w_plus = 0;
-  for (int r = 0; r < n; ++r) w_plus += nonzero[static_cast<std::size_t>(order[static_cast<std::size_t>(r)])] > 0.0 ? r + 1 : 0;
+  for (int r = 0; r < n; ++r)
+    w_plus += nonzero[static_cast<std::size_t>(order[static_cast<std::size_t>(r)])] > 0.0 ? r + 1 : 0;
   // ways[w]: subsets of the ranks 1..n summing to w.
   const int total = n * (n + 1) / 2;
   std::vector<double> ways(static_cast<std::size_t>(total + 1), 0.0);

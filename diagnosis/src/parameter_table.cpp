@@ -36,7 +36,8 @@ std::vector<LegColumn> LegColumns(const std::vector<ParameterGroup>& groups) {
       columns.push_back({fmt::format("{} ({})", g.label, g.unit), &g, 0});
       continue;
     }
-    for (int axis = 0; axis < 3; ++axis) columns.push_back({fmt::format("{} {} ({})", g.label, kAxes[axis], g.unit), &g, axis});
+    for (int axis = 0; axis < 3; ++axis)
+      columns.push_back({fmt::format("{} {} ({})", g.label, kAxes[axis], g.unit), &g, axis});
   }
   return columns;
 }

@@ -61,16 +61,18 @@ nlohmann::json Compensation(const Diagnosis& d) {
   for (const EffectResult& r : d.effects) {
     if (r.effect != Effect::kPassiveRotation || r.verdict == "rejected" || r.theta.size() != 2) continue;
     const double scale = r.theta(0) + (1.0 + r.theta(1)) * d.applied_pr_ratio;
-    nlohmann::json c = {{"pr_mode", "signed"}, {"pr_scale", scale},
-                        {"applied", d.applied_pr}, {"applied_ratio_to_signed", d.applied_pr_ratio}};
+    nlohmann::json c = {{"pr_mode", "signed"},
+                        {"pr_scale", scale},
+                        {"applied", d.applied_pr},
+                        {"applied_ratio_to_signed", d.applied_pr_ratio}};
     c["note"] = fmt::format(
         "the screws follow {:.3f} × the signed PR model (pr_sign × lead relative to the config); "
         "the data's controller applied '{}' compensation: run PR mode signed{}",
-        scale, d.applied_pr, std::abs(scale - 1.0) > 0.02 ? fmt::format(" with pr_sign·lead scaled by {:.3f}", scale) : "");
+        scale, d.applied_pr,
+        std::abs(scale - 1.0) > 0.02 ? fmt::format(" with pr_sign·lead scaled by {:.3f}", scale) : "");
     return c;
   }
-  return {{"pr_mode", d.applied_pr == "other" ? "unchanged" : d.applied_pr},
-          {"note", "no PR change indicated"}};
+  return {{"pr_mode", d.applied_pr == "other" ? "unchanged" : d.applied_pr}, {"note", "no PR change indicated"}};
 }
 
 // Without encoders: whether the servo_lag found is one a clock offset
@@ -78,10 +80,11 @@ nlohmann::json Compensation(const Diagnosis& d) {
 // the clock's only when it does as well.
 std::string ClockOffsetNote(const ClockOffsetCheck& c) {
   if (!c.tested) return "";
-  return fmt::format("; the selected servo_lag {} a clock {} (the offset that would stand in for it) on the "
-                     "held-out runs{}",
-                     c.replaces_lag ? "predicts no better than" : "beats", ClockAhead(c.offset_s, c.sigma_s),
-                     c.replaces_lag ? "" : ", though its velocity term may hold a clock offset beside the drives' lag");
+  return fmt::format(
+      "; the selected servo_lag {} a clock {} (the offset that would stand in for it) on the "
+      "held-out runs{}",
+      c.replaces_lag ? "predicts no better than" : "beats", ClockAhead(c.offset_s, c.sigma_s),
+      c.replaces_lag ? "" : ", though its velocity term may hold a clock offset beside the drives' lag");
 }
 
 }  // namespace
@@ -90,11 +93,12 @@ std::string TrackerClockNote(const Diagnosis& d) {
   const ClockDriftCheck& c = d.clock_drift;
   const std::string offset = d.time_offset.note + ClockOffsetNote(d.clock_offset);
   if (!c.tested) return offset;
-  return offset +
-         fmt::format("; over the session it drifts {:+.3f} ppm ± {:.3f} ({}: the held-out runs {} with it)",
-                     c.drift * 1e6, c.sigma * 1e6,
-                     c.drifts ? "beyond the vocabulary" : c.run_by_run ? "shown, but too small to matter" : "not shown run by run",
-                     HeldOutChange(c.cv_gain));
+  return offset + fmt::format("; over the session it drifts {:+.3f} ppm ± {:.3f} ({}: the held-out runs {} with it)",
+                              c.drift * 1e6, c.sigma * 1e6,
+                              c.drifts       ? "beyond the vocabulary"
+                              : c.run_by_run ? "shown, but too small to matter"
+                                             : "not shown run by run",
+                              HeldOutChange(c.cv_gain));
 }
 
 namespace {
@@ -107,18 +111,31 @@ bool NamesUnknown(const Diagnosis& d) { return d.conclusion.find("unknown") != s
 nlohmann::json UnknownJson(const Diagnosis& d) {
   const double left = d.structure.structured_rms_m * d.structure.structured_rms_m;
   const double gap = std::max(1e-30, d.gap.overall.rms_m * d.gap.overall.rms_m);
-  return {{"name", "unknown"}, {"verdict", "identified"}, {"params", nlohmann::json::object()},
-          {"explained_fraction", 0.0}, {"unexplained_fraction", left / gap}, {"note", d.unexplained_note}};
+  return {{"name", "unknown"},
+          {"verdict", "identified"},
+          {"params", nlohmann::json::object()},
+          {"explained_fraction", 0.0},
+          {"unexplained_fraction", left / gap},
+          {"note", d.unexplained_note}};
 }
 
 nlohmann::json StructureJson(const ResidualStructure& s) {
-  return {{"structured", s.structured}, {"share_above_white", s.structured_share}, {"rms_m", s.structured_rms_m},
-          {"ljung_box_q", s.whiteness.q}, {"threshold_99", s.whiteness.threshold},
-          {"dominant_hz", s.dominant_hz}, {"damping", s.damping}, {"follows", s.follows},
-          {"follows_r2", s.follows_r2}, {"largest_in", s.largest_in},
-          {"in_sample_share_above_white", s.in_sample_share}, {"in_sample_ljung_box_q", s.in_sample_whiteness.q},
-          {"runs_apart", s.runs_apart}, {"run_offset_share", s.run_offset_share},
-          {"in_sample_run_offset_share", s.in_sample_run_offset_share}, {"note", s.Describe()}};
+  return {{"structured", s.structured},
+          {"share_above_white", s.structured_share},
+          {"rms_m", s.structured_rms_m},
+          {"ljung_box_q", s.whiteness.q},
+          {"threshold_99", s.whiteness.threshold},
+          {"dominant_hz", s.dominant_hz},
+          {"damping", s.damping},
+          {"follows", s.follows},
+          {"follows_r2", s.follows_r2},
+          {"largest_in", s.largest_in},
+          {"in_sample_share_above_white", s.in_sample_share},
+          {"in_sample_ljung_box_q", s.in_sample_whiteness.q},
+          {"runs_apart", s.runs_apart},
+          {"run_offset_share", s.run_offset_share},
+          {"in_sample_run_offset_share", s.in_sample_run_offset_share},
+          {"note", s.Describe()}};
 }
 
 // What a calibration applies and how well it predicts the held-out runs.
@@ -136,14 +153,16 @@ nlohmann::json CalibrationJson(const CalibrationResult& c) {
 std::string RecordedCorrectionText(const Diagnosis& d) {
   if (d.recorded_correction_rms_m <= 0.0) return "";
   if (d.against == Against::kNominal) {
-    return fmt::format("recorded with a calibration in force (it moved point A by {:.1f} µm RMS): diagnosed against "
-                       "the nominal model, its correction taken back out, so the effects are the rig's whole and a "
-                       "model saved replaces that calibration",
-                       d.recorded_correction_rms_m * 1e6);
+    return fmt::format(
+        "recorded with a calibration in force (it moved point A by {:.1f} µm RMS): diagnosed against "
+        "the nominal model, its correction taken back out, so the effects are the rig's whole and a "
+        "model saved replaces that calibration",
+        d.recorded_correction_rms_m * 1e6);
   }
-  return fmt::format("recorded with a calibration in force (it moved point A by {:.1f} µm RMS): diagnosed against "
-                     "it, so the effects are what it leaves, not the rig's whole",
-                     d.recorded_correction_rms_m * 1e6);
+  return fmt::format(
+      "recorded with a calibration in force (it moved point A by {:.1f} µm RMS): diagnosed against "
+      "it, so the effects are what it leaves, not the rig's whole",
+      d.recorded_correction_rms_m * 1e6);
 }
 
 nlohmann::json ToJson(const Diagnosis& d) {
@@ -151,7 +170,9 @@ nlohmann::json ToJson(const Diagnosis& d) {
   j["gap"] = ToJson(d.gap);
   j["effects"] = nlohmann::json::array();
   if (d.conclusion == "none") {
-    j["effects"].push_back({{"name", "none"}, {"verdict", "identified"}, {"explained_fraction", 0.0},
+    j["effects"].push_back({{"name", "none"},
+                            {"verdict", "identified"},
+                            {"explained_fraction", 0.0},
                             {"params", nlohmann::json::object()}});
   }
   for (std::size_t k = 0; k < d.effects.size(); ++k) {
@@ -171,27 +192,42 @@ nlohmann::json ToJson(const Diagnosis& d) {
   for (Effect e : d.selected) j["selected"].push_back(EffectName(e));
   j["conclusion"] = d.conclusion;
   j["calibration"] = CalibrationJson(d.calibration);
-  j["holdout"] = {{"runs", d.holdout_runs}, {"before", StatsJson(d.holdout_before)},
-                  {"after", StatsJson(d.holdout_after)}, {"shrink", d.shrink},
+  j["holdout"] = {{"runs", d.holdout_runs},
+                  {"before", StatsJson(d.holdout_before)},
+                  {"after", StatsJson(d.holdout_after)},
+                  {"shrink", d.shrink},
                   {"gap_shrink", d.gap_shrink}};
-  j["unexplained"] = {{"rms_m", d.unexplained.rms_m}, {"max_m", d.unexplained.max_m}, {"note", d.unexplained_note},
+  j["unexplained"] = {{"rms_m", d.unexplained.rms_m},
+                      {"max_m", d.unexplained.max_m},
+                      {"note", d.unexplained_note},
                       {"noise_floor_rms_m", d.noise_floor_rms_m},
-                      {"whiteness", {{"white", d.whiteness.white}, {"ljung_box_q", d.whiteness.q},
-                                     {"dof", d.whiteness.dof}, {"threshold_99", d.whiteness.threshold},
-                                     {"lag1_autocorrelation", d.whiteness.lag1},
-                                     {"outside_99_band", d.whiteness.outside_fraction}}},
+                      {"whiteness",
+                       {{"white", d.whiteness.white},
+                        {"ljung_box_q", d.whiteness.q},
+                        {"dof", d.whiteness.dof},
+                        {"threshold_99", d.whiteness.threshold},
+                        {"lag1_autocorrelation", d.whiteness.lag1},
+                        {"outside_99_band", d.whiteness.outside_fraction}}},
                       {"structure", StructureJson(d.structure)},
-                      {"base_tilt", {{"tested", d.base_tilt.tested}, {"cv_gain", d.base_tilt.cv_gain},
-                                     {"tilts", d.base_tilt.tilts},
-                                     {"in_place_cv_gain", d.base_tilt.in_place_cv_gain},
-                                     {"in_place_share", d.base_tilt.in_place_share},
-                                     {"replaces", d.base_tilt.replaces}}},
-                      {"clock_drift", {{"tested", d.clock_drift.tested}, {"drift", d.clock_drift.drift},
-                                       {"sigma", d.clock_drift.sigma}, {"cv_gain", d.clock_drift.cv_gain},
-                                       {"run_by_run", d.clock_drift.run_by_run}, {"drifts", d.clock_drift.drifts}}},
-                      {"clock_offset", {{"tested", d.clock_offset.tested}, {"offset_s", d.clock_offset.offset_s},
-                                        {"sigma_s", d.clock_offset.sigma_s},
-                                        {"replaces_lag", d.clock_offset.replaces_lag}}}};
+                      {"base_tilt",
+                       {{"tested", d.base_tilt.tested},
+                        {"cv_gain", d.base_tilt.cv_gain},
+                        {"tilts", d.base_tilt.tilts},
+                        {"in_place_cv_gain", d.base_tilt.in_place_cv_gain},
+                        {"in_place_share", d.base_tilt.in_place_share},
+                        {"replaces", d.base_tilt.replaces}}},
+                      {"clock_drift",
+                       {{"tested", d.clock_drift.tested},
+                        {"drift", d.clock_drift.drift},
+                        {"sigma", d.clock_drift.sigma},
+                        {"cv_gain", d.clock_drift.cv_gain},
+                        {"run_by_run", d.clock_drift.run_by_run},
+                        {"drifts", d.clock_drift.drifts}}},
+                      {"clock_offset",
+                       {{"tested", d.clock_offset.tested},
+                        {"offset_s", d.clock_offset.offset_s},
+                        {"sigma_s", d.clock_offset.sigma_s},
+                        {"replaces_lag", d.clock_offset.replaces_lag}}}};
   j["compensation"] = Compensation(d);
   // The tracker frame (a nuisance, never an effect): point_T = R·A_B + t.
   Matrix3 R = d.R0;
@@ -204,10 +240,15 @@ nlohmann::json ToJson(const Diagnosis& d) {
   const Eigen::Quaterniond q(R);
   j["tracker_frame"] = {{"translation_m", {t.x(), t.y(), t.z()}}, {"quaternion_wxyz", {q.w(), q.x(), q.y(), q.z()}}};
   j["time_offset"] = TimeOffsetJson(d.time_offset);
-  j["fit"] = {{"solver", "ceres"}, {"loss", "huber"}, {"huber_m", d.robust.huber_m},
-              {"iterations", d.robust.iterations}, {"converged", d.robust.converged},
-              {"covariance", d.robust.covariance_ok}, {"cross_validation", "leave one run out"},
-              {"condition_number", std::isfinite(d.condition_number) ? nlohmann::json(d.condition_number) : nlohmann::json("inf")}};
+  j["fit"] = {{"solver", "ceres"},
+              {"loss", "huber"},
+              {"huber_m", d.robust.huber_m},
+              {"iterations", d.robust.iterations},
+              {"converged", d.robust.converged},
+              {"covariance", d.robust.covariance_ok},
+              {"cross_validation", "leave one run out"},
+              {"condition_number",
+               std::isfinite(d.condition_number) ? nlohmann::json(d.condition_number) : nlohmann::json("inf")}};
   j["samples"] = d.samples;
   j["timing_excluded_samples"] = d.timing_excluded;
   j["recorded_correction"] = {{"against", AgainstName(d.against)}, {"rms_m", d.recorded_correction_rms_m}};
@@ -257,9 +298,7 @@ nlohmann::json ModelJson(const Diagnosis& d) {
   return j;
 }
 
-nlohmann::json EmptyModelJson() {
-  return {{"format", "edsp-gap-model/1"}, {"effects", nlohmann::json::array()}};
-}
+nlohmann::json EmptyModelJson() { return {{"format", "edsp-gap-model/1"}, {"effects", nlohmann::json::array()}}; }
 
 nlohmann::json AppliedModelJson(const nlohmann::json& saved, bool apply_ambiguous) {
   nlohmann::json applied = saved;
@@ -268,8 +307,8 @@ nlohmann::json AppliedModelJson(const nlohmann::json& saved, bool apply_ambiguou
   for (const auto& e : saved["effects"]) {
     if (!e.is_object()) continue;
     const bool has_apply = e.contains("apply") && e["apply"].is_boolean();
-    const std::string verdict = e.contains("verdict") && e["verdict"].is_string() ? e["verdict"].get<std::string>()
-                                                                                    : "identified";
+    const std::string verdict =
+        e.contains("verdict") && e["verdict"].is_string() ? e["verdict"].get<std::string>() : "identified";
     if (calibration::AppliesEntry(verdict, has_apply, has_apply && e["apply"].get<bool>(), apply_ambiguous)) {
       applied["effects"].push_back(e);
       applied["effects"].back()["apply"] = true;  // what it holds is applied, whatever the file said
@@ -308,15 +347,16 @@ Evaluation Evaluate(const PlatformModel& model, const MeasurementData& data, con
   ev.samples = d.samples();
   ev.timing_excluded = data.timing_excluded;
   const std::int64_t all_rows = data.timing_excluded + static_cast<std::int64_t>(data.rows.size());
-  ev.timing_excluded_share = all_rows > 0 ? static_cast<double>(data.timing_excluded) / static_cast<double>(all_rows) : 0.0;
+  ev.timing_excluded_share =
+      all_rows > 0 ? static_cast<double>(data.timing_excluded) / static_cast<double>(all_rows) : 0.0;
   const Eigen::VectorXd before = frame_fit(d.residual), after = frame_fit(d.residual - predicted);
   ev.before = PointStats(before, 0, d.samples());
   ev.after = PointStats(after, 0, d.samples());
   ev.shrink = Shrink(ev.before.rms_m, ev.after.rms_m);
   for (std::size_t k = 0; k < d.runs.size(); ++k) {
     const ColumnRange& samples = d.run_samples[k];
-    ev.by_run.push_back({d.runs[k], PointStats(before, samples.begin, samples.count),
-                         PointStats(after, samples.begin, samples.count)});
+    ev.by_run.push_back(
+        {d.runs[k], PointStats(before, samples.begin, samples.count), PointStats(after, samples.begin, samples.count)});
   }
   ev.noise_floor_rms_m = NoiseFloorRms(d);
   ev.gap_shrink = GapShrink(ev.before.rms_m, ev.after.rms_m, ev.noise_floor_rms_m);
@@ -329,10 +369,15 @@ nlohmann::json ToJson(const Evaluation& e) {
   for (const RunEvaluation& r : e.by_run) {
     by_run.push_back({{"run", r.run}, {"before", StatsJson(r.before)}, {"after", StatsJson(r.after)}});
   }
-  return {{"before", StatsJson(e.before)}, {"after", StatsJson(e.after)}, {"shrink", e.shrink},
-          {"gap_shrink", e.gap_shrink}, {"samples", e.samples},
+  return {{"before", StatsJson(e.before)},
+          {"after", StatsJson(e.after)},
+          {"shrink", e.shrink},
+          {"gap_shrink", e.gap_shrink},
+          {"samples", e.samples},
           {"timing_excluded_samples", e.timing_excluded},
-          {"by_run", by_run}, {"noise_floor_rms_m", e.noise_floor_rms_m}, {"time_offset", TimeOffsetJson(e.time_offset)},
+          {"by_run", by_run},
+          {"noise_floor_rms_m", e.noise_floor_rms_m},
+          {"time_offset", TimeOffsetJson(e.time_offset)},
           {"recorded_correction", {{"against", e.against_nominal ? "nominal" : "calibration"}}}};
 }
 
@@ -341,21 +386,27 @@ namespace {
 // The verdict: the conclusion, the ranking and what held-out runs say.
 std::string VerdictMarkdown(const Diagnosis& d) {
   std::string md = "## Verdict\n\n";
-  if (d.conclusion == "none") md += "**none**: the measurement agrees with the model within the tracker's noise.\n\n";
-  else if (NamesUnknown(d)) md += "**" + d.conclusion + "**: " + d.unexplained_note + ".\n\n";
-  else md += "**" + d.conclusion + "**\n\n";
-  md += "| rank | effect | verdict | explained | held-out gain | with | next measurement |\n|---|---|---|---|---|---|---|\n";
+  if (d.conclusion == "none")
+    md += "**none**: the measurement agrees with the model within the tracker's noise.\n\n";
+  else if (NamesUnknown(d))
+    md += "**" + d.conclusion + "**: " + d.unexplained_note + ".\n\n";
+  else
+    md += "**" + d.conclusion + "**\n\n";
+  md +=
+      "| rank | effect | verdict | explained | held-out gain | with | next measurement "
+      "|\n|---|---|---|---|---|---|---|\n";
   for (std::size_t k = 0; k < d.effects.size(); ++k) {
     const EffectResult& r = d.effects[k];
     md += fmt::format("| {} | `{}` | {} | {} | {} | {} | {} |\n", k + 1, EffectName(r.effect), r.verdict,
                       Percent(r.explained_fraction), Percent(r.cv_gain), fmt::join(r.ambiguous_with, ", "),
                       r.next_measurement);
   }
-  md += fmt::format("\nOn runs held out of every fit: {:.1f} µm RMS ({:.1f} max) before, {:.1f} µm RMS ({:.1f} max) "
-                    "after the selected effects, shrink {:.0f}%; the tracker's noise floor is {:.1f} µm, {}.\n\n",
-                    d.holdout_before.rms_m * 1e6, d.holdout_before.max_m * 1e6, d.holdout_after.rms_m * 1e6,
-                    d.holdout_after.max_m * 1e6, 100 * d.shrink, d.noise_floor_rms_m * 1e6,
-                    GapShrinkText(d.holdout_before.rms_m, d.noise_floor_rms_m, d.gap_shrink));
+  md += fmt::format(
+      "\nOn runs held out of every fit: {:.1f} µm RMS ({:.1f} max) before, {:.1f} µm RMS ({:.1f} max) "
+      "after the selected effects, shrink {:.0f}%; the tracker's noise floor is {:.1f} µm, {}.\n\n",
+      d.holdout_before.rms_m * 1e6, d.holdout_before.max_m * 1e6, d.holdout_after.rms_m * 1e6,
+      d.holdout_after.max_m * 1e6, 100 * d.shrink, d.noise_floor_rms_m * 1e6,
+      GapShrinkText(d.holdout_before.rms_m, d.noise_floor_rms_m, d.gap_shrink));
   return md;
 }
 
@@ -385,9 +436,11 @@ std::string WhereMarkdown(const Diagnosis& d) {
   md += fmt::format("Before any effect: {:.1f} µm RMS, {:.1f} µm max at A.\n\n", d.gap.overall.rms_m * 1e6,
                     d.gap.overall.max_m * 1e6);
   md += "| run | RMS (µm) | max (µm) |\n|---|---|---|\n";
-  for (const auto& [run, s] : d.gap.by_run) md += fmt::format("| {} | {:.1f} | {:.1f} |\n", run, s.rms_m * 1e6, s.max_m * 1e6);
-  md += "\n![gap against time](gap_vs_time.png)\n\n![gap against displacement](gap_vs_displacement.png)\n\n"
-        "![legs](legs.png)\n\n![after the selected effects](after_vs_time.png)\n\n";
+  for (const auto& [run, s] : d.gap.by_run)
+    md += fmt::format("| {} | {:.1f} | {:.1f} |\n", run, s.rms_m * 1e6, s.max_m * 1e6);
+  md +=
+      "\n![gap against time](gap_vs_time.png)\n\n![gap against displacement](gap_vs_displacement.png)\n\n"
+      "![legs](legs.png)\n\n![after the selected effects](after_vs_time.png)\n\n";
   return md;
 }
 
@@ -404,15 +457,20 @@ std::string NextStepsMarkdown(const Diagnosis& d) {
     }
   }
   if (!apply.empty()) {
-    md += fmt::format("- Apply {}: save the model (`edsp-gap diagnose … --save-model MODEL`) and run "
-                      "`edsp-kinematics --calibration MODEL` (or `[calibration] model` in the config).\n",
-                      fmt::join(apply, ", "));
+    md += fmt::format(
+        "- Apply {}: save the model (`edsp-gap diagnose … --save-model MODEL`) and run "
+        "`edsp-kinematics --calibration MODEL` (or `[calibration] model` in the config).\n",
+        fmt::join(apply, ", "));
   }
   md += "- PR compensation: " + Compensation(d)["note"].get<std::string>() + ".\n";
   md += "- Tracker clock: " + TrackerClockNote(d) + ".\n";
-  if (!measure.empty()) md += "- Separate the ambiguous effects with one more measurement:\n" + fmt::format("  {}\n", fmt::join(measure, "\n  "));
-  if (NamesUnknown(d)) md += "- Look beyond the vocabulary: " + d.unexplained_note + ".\n";
-  else md += "- What is left: " + d.unexplained_note + ".\n";
+  if (!measure.empty())
+    md += "- Separate the ambiguous effects with one more measurement:\n" +
+          fmt::format("  {}\n", fmt::join(measure, "\n  "));
+  if (NamesUnknown(d))
+    md += "- Look beyond the vocabulary: " + d.unexplained_note + ".\n";
+  else
+    md += "- What is left: " + d.unexplained_note + ".\n";
   return md;
 }
 
@@ -423,14 +481,14 @@ std::string ReportMarkdown(const Diagnosis& d) {
   md += fmt::format("{} samples in {} runs ({}), diagnosed in {:.1f} s.\n\n", d.samples, d.runs.size(),
                     fmt::join(d.runs, ", "), d.seconds);
   if (d.timing_excluded > 0) {
-    md += fmt::format("{} samples left out: the data flags them `timing_event` (near a stall of its real-time system, "
-                      "a transient no effect models).\n\n",
-                      d.timing_excluded);
+    md += fmt::format(
+        "{} samples left out: the data flags them `timing_event` (near a stall of its real-time system, "
+        "a transient no effect models).\n\n",
+        d.timing_excluded);
   }
   if (const std::string recorded = RecordedCorrectionText(d); !recorded.empty()) md += "Data " + recorded + ".\n\n";
   return md + VerdictMarkdown(d) + ParametersMarkdown(d) + WhereMarkdown(d) + NextStepsMarkdown(d);
 }
-
 
 std::vector<std::string> WriteReport(const Diagnosis& d, const std::string& dir) {
   std::filesystem::create_directories(dir);
@@ -462,12 +520,23 @@ std::vector<std::string> WriteReport(const Diagnosis& d, const std::string& dir)
     }
     return t;
   };
-  GnuplotPng(dir, "gap_vs_time.png", "set xlabel 'time (s)'\nset ylabel '|gap at A| (µm)'\nset title 'Gap against time, before any effect'\nplot " + per_run("1", 3) + "\n");
-  GnuplotPng(dir, "gap_vs_displacement.png", "set xlabel 'displacement from home (m + rad)'\nset ylabel '|gap at A| (µm)'\nset title 'Gap against displacement, before any effect'\nplot " + per_run("2", 3) + "\n");
-  GnuplotPng(dir, "after_vs_time.png", "set xlabel 'time (s)'\nset ylabel '|residual at A| (µm)'\nset title 'After the selected effects'\nplot " + per_run("1", 4) + "\n");
-  GnuplotPng(dir, "legs.png", fmt::format("set style data histograms\nset style fill solid 0.6\nset xlabel 'leg'\nset ylabel 'µm'\n"
-                                    "set title 'Leg-space gap: RMS, and mean while extending / retracting'\n"
-                                    "plot '{0}/legs.dat' using 2:xtic(1) title 'RMS', '' using 3 title 'extending mean', '' using 4 title 'retracting mean'\n", dir));
+  GnuplotPng(
+      dir, "gap_vs_time.png",
+      "set xlabel 'time (s)'\nset ylabel '|gap at A| (µm)'\nset title 'Gap against time, before any effect'\nplot " +
+          per_run("1", 3) + "\n");
+  GnuplotPng(dir, "gap_vs_displacement.png",
+             "set xlabel 'displacement from home (m + rad)'\nset ylabel '|gap at A| (µm)'\nset title 'Gap against "
+             "displacement, before any effect'\nplot " +
+                 per_run("2", 3) + "\n");
+  GnuplotPng(dir, "after_vs_time.png",
+             "set xlabel 'time (s)'\nset ylabel '|residual at A| (µm)'\nset title 'After the selected effects'\nplot " +
+                 per_run("1", 4) + "\n");
+  GnuplotPng(dir, "legs.png",
+             fmt::format("set style data histograms\nset style fill solid 0.6\nset xlabel 'leg'\nset ylabel 'µm'\n"
+                         "set title 'Leg-space gap: RMS, and mean while extending / retracting'\n"
+                         "plot '{0}/legs.dat' using 2:xtic(1) title 'RMS', '' using 3 title 'extending mean', '' using "
+                         "4 title 'retracting mean'\n",
+                         dir));
   for (const char* png : {"gap_vs_time.png", "gap_vs_displacement.png", "after_vs_time.png", "legs.png"}) {
     if (std::filesystem::exists(dir + "/" + png)) files.push_back(dir + "/" + png);
   }

@@ -14,8 +14,8 @@ namespace edsp::gap {
 
 namespace {
 
-constexpr double kBandHz = 0.05;     // the pooled spectrum's resolution
-constexpr double kDriftHz = 0.2;     // below: drift, not a mode
+constexpr double kBandHz = 0.05;  // the pooled spectrum's resolution
+constexpr double kDriftHz = 0.2;  // below: drift, not a mode
 constexpr double kPeakOverMedian = 8.0;
 constexpr double kRunsApartLevel = 0.999;  // χ² quantile the runs' means must exceed
 
@@ -196,7 +196,8 @@ Drivers DriversOf(const Design& d) {
       if (a < k && k < b && time(b) > time(a)) {
         accel = 4.0 * (point(b) - 2.0 * point(k) + point(a)) / ((time(b) - time(a)) * (time(b) - time(a)));
       }
-      const Vector3 direction = velocity.unaryExpr([](double v) { return std::abs(v) < 1e-4 ? 0.0 : (v > 0 ? 1.0 : -1.0); });
+      const Vector3 direction =
+          velocity.unaryExpr([](double v) { return std::abs(v) < 1e-4 ? 0.0 : (v > 0 ? 1.0 : -1.0); });
       const Vector3 pose = point(k) - d.model_point.front();
       drivers.features["acceleration"][s] = accel;
       drivers.features["velocity"][s] = velocity;
@@ -266,8 +267,8 @@ ResidualStructure AnalyseStructure(const Design& d, const Eigen::VectorXd& in_sa
   out.in_sample_share = ShareAboveWhite(SeriesOf(d, in_sample));
   out.run_offset_share = RunOffsetShare(d, residual, kRunsApartLevel, false);
   out.in_sample_run_offset_share = RunOffsetShare(d, in_sample, kRunsApartLevel, true);
-  out.runs_apart = out.run_offset_share >= o.min_run_offset_share &&
-                   out.in_sample_run_offset_share >= o.min_run_offset_share;
+  out.runs_apart =
+      out.run_offset_share >= o.min_run_offset_share && out.in_sample_run_offset_share >= o.min_run_offset_share;
   const bool within_runs = !out.whiteness.white && out.structured_share >= o.min_share &&
                            !out.in_sample_whiteness.white && out.in_sample_share >= o.min_share;
   out.structured = within_runs || out.runs_apart;
@@ -294,9 +295,10 @@ std::string ResidualStructure::Describe() const {
       "(Ljung-Box Q {:.0f} against {:.0f}, lag-1 autocorrelation {:.2f})",
       100 * structured_share, structured_rms_m * 1e6, whiteness.q, whiteness.threshold, whiteness.lag1);
   if (runs_apart) {
-    text += fmt::format("; the runs sit apart ({:.0f}% of the variance in their means, beyond the noise's "
-                        "scatter: a tracker stand or a mount that moved between them?)",
-                        100 * run_offset_share);
+    text += fmt::format(
+        "; the runs sit apart ({:.0f}% of the variance in their means, beyond the noise's "
+        "scatter: a tracker stand or a mount that moved between them?)",
+        100 * run_offset_share);
   }
   if (dominant_hz > 0.0) {
     text += damping > 0.0 ? fmt::format("; a spectral peak at {:.2f} Hz, damping ≈ {:.3f}", dominant_hz, damping)

@@ -186,8 +186,8 @@ Scenario DrawWholeRig(std::uint64_t seed, int index, double rated_payload_kg) {
   fx.compliance.com_m = Vector3(0, 0, Uniform(rng, 0.0, kWholeRigComHeightMaxM));
   fx.servo_lag.bandwidth_hz = Uniform(rng, 30.0, 80.0);
   fx.servo_lag.integral_time_s = 5.0 / (6.283185307179586 * fx.servo_lag.bandwidth_hz);
-  s.truth = {Effect::kLegOffset, Effect::kJointPosition, Effect::kLeadError, Effect::kPeriodicLeadError,
-             Effect::kBacklash, Effect::kCompliance};
+  s.truth = {Effect::kLegOffset,         Effect::kJointPosition, Effect::kLeadError,
+             Effect::kPeriodicLeadError, Effect::kBacklash,      Effect::kCompliance};
   s.description = fmt::format("whole rig: {:.0f} kg (c.o.m. {:.2f} m up) on {:.1f} N/µm legs, {:.0f} Hz drives",
                               fx.compliance.mass_kg, fx.compliance.com_m.z(), k0 * 1e-6, fx.servo_lag.bandwidth_hz);
   return s;

@@ -69,7 +69,8 @@ class PriorCost : public ceres::CostFunction {
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
     for (Eigen::Index k = 0; k < w_.size(); ++k) residuals[k] = w_(k) * parameters[0][k];
     if (jacobians != nullptr && jacobians[0] != nullptr) {
-      Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> J(jacobians[0], w_.size(), w_.size());
+      Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> J(jacobians[0], w_.size(),
+                                                                                           w_.size());
       J = w_.asDiagonal();
     }
     return true;
@@ -102,7 +103,8 @@ RobustFit FitRobust(const Design& d, const std::vector<int>& columns, const Eige
     problem.SetParameterBlockConstant(fit.theta.data());
   } else if (prior_weight.size() > 0) {
     Eigen::VectorXd root(static_cast<Eigen::Index>(columns.size()));
-    for (std::size_t k = 0; k < columns.size(); ++k) root(static_cast<Eigen::Index>(k)) = std::sqrt(prior_weight(columns[k]));
+    for (std::size_t k = 0; k < columns.size(); ++k)
+      root(static_cast<Eigen::Index>(k)) = std::sqrt(prior_weight(columns[k]));
     problem.AddResidualBlock(new PriorCost(root), nullptr, fit.theta.data());
   }
   ceres::Solver::Options options;

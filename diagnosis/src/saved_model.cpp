@@ -47,18 +47,20 @@ Eigen::VectorXd Numbers(const nlohmann::json& entry, const char* key, Effect e, 
   }
   std::vector<double> values;
   for (const auto& v : entry[key]) {
-    if (!v.is_number()) throw MeasurementError(fmt::format("{}: effect {} \"{}\" holds a non-number", origin, name, key));
+    if (!v.is_number())
+      throw MeasurementError(fmt::format("{}: effect {} \"{}\" holds a non-number", origin, name, key));
     values.push_back(v.get<double>());
   }
   // Models saved before thermal drift had its time driver and stroke terms
   // hold the travel term alone.
   if (e == Effect::kThermalDrift && values.size() == 1) values.resize(static_cast<std::size_t>(ParameterCount(e)), 0.0);
   if (static_cast<int>(values.size()) != ParameterCount(e)) {
-    throw MeasurementError(fmt::format("{}: effect {} needs {} parameters, has {}", origin, name, ParameterCount(e),
-                                       values.size()));
+    throw MeasurementError(
+        fmt::format("{}: effect {} needs {} parameters, has {}", origin, name, ParameterCount(e), values.size()));
   }
   for (double v : values) {
-    if (!std::isfinite(v)) throw MeasurementError(fmt::format("{}: effect {} has a non-finite \"{}\"", origin, name, key));
+    if (!std::isfinite(v))
+      throw MeasurementError(fmt::format("{}: effect {} has a non-finite \"{}\"", origin, name, key));
   }
   return Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size()));
 }
@@ -67,7 +69,8 @@ Eigen::VectorXd Numbers(const nlohmann::json& entry, const char* key, Effect e, 
 
 std::vector<SavedEffect> SavedAppliedEffects(const nlohmann::json& saved, const DesignOptions& options,
                                              const std::string& origin) {
-  if (!saved.contains("effects") || !saved["effects"].is_array()) throw MeasurementError(origin + ": no \"effects\" array");
+  if (!saved.contains("effects") || !saved["effects"].is_array())
+    throw MeasurementError(origin + ": no \"effects\" array");
   std::vector<SavedEffect> effects;
   for (const auto& entry : saved["effects"]) {
     SavedEffect s;

@@ -20,9 +20,9 @@ constexpr double kLowestHz = 1.0, kHighestHz = 25.0;
 // steps by 1.2%, at a damping between those of real mounts.
 constexpr double kScreenRatio = 1.012;
 constexpr double kScreenDamping = 0.02;
-constexpr int kRefined = 4;          // the screen's best few, refined on held-out runs
+constexpr int kRefined = 4;  // the screen's best few, refined on held-out runs
 constexpr double kDampings[] = {0.005, 0.01, 0.02, 0.03, 0.05, 0.1, 0.2};
-constexpr int kGoldenSteps = 10;     // a bracket of two screen steps shrinks to 0.02%
+constexpr int kGoldenSteps = 10;  // a bracket of two screen steps shrinks to 0.02%
 
 // The frame and the selected effects, once; each candidate mode adds its
 // three columns to their Gram matrices (a few products over the rows, not
@@ -30,8 +30,11 @@ constexpr int kGoldenSteps = 10;     // a bracket of two screen steps shrinks to
 class ModeScore {
  public:
   ModeScore(const Design& full, const std::vector<Effect>& selected, double sigma2)
-      : full_(full), kept_(KeepOnly(full, selected)), gram_(kept_, MakeFolds(kept_)),
-        cols_(ColumnsOf(kept_, AllEffects())), prior_(PriorWeights(kept_, sigma2)) {}
+      : full_(full),
+        kept_(KeepOnly(full, selected)),
+        gram_(kept_, MakeFolds(kept_)),
+        cols_(ColumnsOf(kept_, AllEffects())),
+        prior_(PriorWeights(kept_, sigma2)) {}
   double Without() const { return HeldOutMse(gram_, cols_, prior_); }
   double With(double hz, double zeta) const {
     const GramSet with = gram_.WithAppendedColumns(kept_, SwayColumns(full_, hz, zeta));

@@ -41,7 +41,8 @@ Eigen::MatrixXd SwayColumns(const Design& d, double hz, double zeta) {
   Eigen::MatrixXd c = Eigen::MatrixXd::Zero(3 * d.samples(), 3);
   const std::vector<Vector3> sway = ModeResponse(d, hz, zeta);
   for (int n = 0; n < d.samples(); ++n) {
-    for (int axis = 0; axis < 3; ++axis) c.block<3, 1>(3 * n, axis) = d.R0.col(axis) * sway[static_cast<std::size_t>(n)](axis);
+    for (int axis = 0; axis < 3; ++axis)
+      c.block<3, 1>(3 * n, axis) = d.R0.col(axis) * sway[static_cast<std::size_t>(n)](axis);
   }
   return c;
 }

@@ -64,12 +64,12 @@ TimeOffset EstimateTimeOffset(const Design& design, const Eigen::VectorXd& prior
   out.offset_s = offset.value;
   out.sigma_s = offset.sigma;
   out.applied = std::abs(out.offset_s) > kTimeOffsetSignificance * out.sigma_s;
-  out.note = out.applied
-                 ? fmt::format("the tracker's clock runs {} (its readings {} than their stamps say; from the "
+  out.note = out.applied ? fmt::format(
+                               "the tracker's clock runs {} (its readings {} than their stamps say; from the "
                                "encoder columns); removed like the frame",
                                ClockAhead(out.offset_s, out.sigma_s), out.offset_s > 0.0 ? "older" : "newer")
-                 : fmt::format("the clocks agree within the data's resolution ({:+.3f} ms ± {:.3f})",
-                               out.offset_s * 1e3, out.sigma_s * 1e3);
+                         : fmt::format("the clocks agree within the data's resolution ({:+.3f} ms ± {:.3f})",
+                                       out.offset_s * 1e3, out.sigma_s * 1e3);
   return out;
 }
 
@@ -78,9 +78,7 @@ std::string ClockAhead(double offset_s, double sigma_s) {
                      offset_s > 0.0 ? "ahead of" : "behind");
 }
 
-void RemoveTimeOffset(double offset_s, Design* design) {
-  design->residual -= offset_s * OffsetColumn(*design);
-}
+void RemoveTimeOffset(double offset_s, Design* design) { design->residual -= offset_s * OffsetColumn(*design); }
 
 Eigen::MatrixXd DriftingOffsetColumns(const Design& d) {
   Eigen::MatrixXd c(3 * d.samples(), 2);

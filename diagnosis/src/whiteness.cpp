@@ -21,7 +21,8 @@ Whiteness TestWhiteness(const Design& d, const Eigen::VectorXd& residual, int la
       const double band = 2.58 / std::sqrt(static_cast<double>(n));
       for (int lag = 1; lag <= lags; ++lag) {
         double c = 0.0;
-        for (std::size_t k = 0; k + static_cast<std::size_t>(lag) < e.size(); ++k) c += e[k] * e[k + static_cast<std::size_t>(lag)];
+        for (std::size_t k = 0; k + static_cast<std::size_t>(lag) < e.size(); ++k)
+          c += e[k] * e[k + static_cast<std::size_t>(lag)];
         const double rho = c / c0;
         w.q += static_cast<double>(n) * (n + 2) * rho * rho / (n - lag);
         outside += std::abs(rho) > band;

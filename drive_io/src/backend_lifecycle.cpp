@@ -52,7 +52,8 @@ const char* BackendTransitionName(BackendTransition transition) {
 bool BackendLifecycle::Allows(BackendTransition transition, std::string* error) const {
   if (NextBackendState(state_, transition).allowed) return true;
   if (error != nullptr) {
-    *error = std::string("cannot ") + BackendTransitionName(transition) + " a backend that is " + BackendStateName(state_);
+    *error =
+        std::string("cannot ") + BackendTransitionName(transition) + " a backend that is " + BackendStateName(state_);
   }
   return false;
 }

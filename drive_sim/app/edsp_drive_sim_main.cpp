@@ -79,32 +79,45 @@ int Run(int argc, char** argv) {
   CLI::App app{"Six simulated CiA 402 drives (CSP) behind a Modbus TCP server or a shared-memory image"};
   AddNodeOptions(&app, &node);
   app.add_option("--serve", serve, "modbus: a Modbus TCP server; shm: the CSP image in shared memory")
-      ->capture_default_str()->check(CLI::IsMember({"modbus", "shm"}));
+      ->capture_default_str()
+      ->check(CLI::IsMember({"modbus", "shm"}));
   app.add_option("--csp-prefix", csp_prefix, "--serve shm: the image's segment prefix (default: shm_prefix)");
   app.add_option("--host", options.host, "address to listen on")->capture_default_str();
-  app.add_option("--port", options.port, "TCP port (0: any free one, printed)")->capture_default_str()
+  app.add_option("--port", options.port, "TCP port (0: any free one, printed)")
+      ->capture_default_str()
       ->check(CLI::Range(0, 65535));
-  app.add_option("--cycle-ms", cycle_ms, "the drives' own cycle")->capture_default_str()->check(CLI::Range(0.05, 100.0));
+  app.add_option("--cycle-ms", cycle_ms, "the drives' own cycle")
+      ->capture_default_str()
+      ->check(CLI::Range(0.05, 100.0));
   app.add_option("--following-window-counts", options.drive.following_error_window,
                  "6065h: following error beyond this faults the drive (8611h)")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   app.add_option("--max-speed-counts-s", options.drive.max_speed_counts_s, "the own axes' speed limit")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   app.add_option("--fieldbus-timeout-ms", fieldbus_timeout_ms,
                  "no command for this long while enabled faults the drive (8130h)")
-      ->capture_default_str()->check(CLI::Range(1.0, 10000.0));
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 10000.0));
   app.add_option("--axes", axes, "own: each drive's own axis; rig: the virtual rig's legs (its process image)")
-      ->capture_default_str()->check(CLI::IsMember({"own", "rig"}));
+      ->capture_default_str()
+      ->check(CLI::IsMember({"own", "rig"}));
   app.add_option("--image-prefix", image_prefix, "the rig's process image prefix (default: shm_prefix)");
-  app.add_option("--fault-drive", fault_drive, "the drive SIGUSR1 faults")->capture_default_str()->check(CLI::Range(1, 6));
-  app.add_option("--fault-code", fault_code, "its error code (603Fh), e.g. 0x2310; default FF01h (manufacturer-specific)")
+  app.add_option("--fault-drive", fault_drive, "the drive SIGUSR1 faults")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 6));
+  app.add_option("--fault-code", fault_code,
+                 "its error code (603Fh), e.g. 0x2310; default FF01h (manufacturer-specific)")
       ->check(CLI::Range(1, 0xFFFF));
   CLI11_PARSE(app, argc, argv);
   options.cycle_s = cycle_ms * 1e-3;
   options.drive.fieldbus_timeout_s = fieldbus_timeout_ms * 1e-3;
   InstallStopSignals();
   InstallFaultSignal();
-  auto axes_of = [&] { return axes == "rig" ? RigAxes(node, image_prefix, options.drive.fieldbus_timeout_s) : nullptr; };
+  auto axes_of = [&] {
+    return axes == "rig" ? RigAxes(node, image_prefix, options.drive.fieldbus_timeout_s) : nullptr;
+  };
   if (serve == "shm") {
     cia402::ShmDriveServerOptions shm;
     shm.prefix = csp_prefix.empty() ? TransportFor(node).shm_prefix : csp_prefix;

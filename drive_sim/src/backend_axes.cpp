@@ -33,7 +33,7 @@ void BackendAxes::Sense(std::int64_t now_utime) {
     AxisReading& r = readings_[d];
     r.position = scaling_[d].Counts(feedback_.motor_angle_rad[d]);
     r.velocity = scaling_[d].CountRate(feedback_.motor_velocity_rad_s[d]);
-    r.error_code = !feedback_ok_ ? kErrorPositionSensor
+    r.error_code = !feedback_ok_                                ? kErrorPositionSensor
                    : feedback_.status[d] == DriveStatus::kFault ? kErrorDeviceHardware
                                                                 : 0;
   }

@@ -28,8 +28,7 @@ constexpr Step kStay{State::kNotReadyToSwitchOn, 0};
 // The standard's transitions 2-12 and 16 for one request in one state.
 Step Transition(State from, Request request) {
   switch (from) {
-    case State::kSwitchOnDisabled:
-      return request == Request::kShutdown ? Step{State::kReadyToSwitchOn, 2} : kStay;
+    case State::kSwitchOnDisabled: return request == Request::kShutdown ? Step{State::kReadyToSwitchOn, 2} : kStay;
     case State::kReadyToSwitchOn:
       if (request == Request::kSwitchOn || request == Request::kEnableOperation) return {State::kSwitchedOn, 3};
       if (request == Request::kDisableVoltage || request == Request::kQuickStop) return {State::kSwitchOnDisabled, 7};
@@ -51,8 +50,7 @@ Step Transition(State from, Request request) {
       return kStay;
     case State::kNotReadyToSwitchOn:
     case State::kFaultReactionActive:
-    case State::kFault:
-      return kStay;  // left on the drive's own events (1, 14) or a fault reset (15)
+    case State::kFault: return kStay;  // left on the drive's own events (1, 14) or a fault reset (15)
   }
   return kStay;
 }
@@ -159,13 +157,10 @@ std::uint16_t ControlwordTowardOperation(State current, std::uint16_t previous) 
       return (previous & kControlFaultReset) != 0 ? ControlwordFor(Command::kDisableVoltage)
                                                   : ControlwordFor(Command::kFaultReset);
     case State::kNotReadyToSwitchOn:
-    case State::kSwitchOnDisabled:
-      return ControlwordFor(Command::kShutdown);
-    case State::kReadyToSwitchOn:
-      return ControlwordFor(Command::kSwitchOn);
+    case State::kSwitchOnDisabled: return ControlwordFor(Command::kShutdown);
+    case State::kReadyToSwitchOn: return ControlwordFor(Command::kSwitchOn);
     case State::kSwitchedOn:
-    case State::kOperationEnabled:
-      return ControlwordFor(Command::kEnableOperation);
+    case State::kOperationEnabled: return ControlwordFor(Command::kEnableOperation);
     case State::kQuickStopActive:
     case State::kFaultReactionActive:
       // Never resume out of a stop the drive is still carrying out: let

@@ -4,7 +4,9 @@ namespace edsp::cia402::modbus_map {
 namespace {
 
 std::uint16_t High(std::int32_t value) { return static_cast<std::uint16_t>(static_cast<std::uint32_t>(value) >> 16); }
-std::uint16_t Low(std::int32_t value) { return static_cast<std::uint16_t>(static_cast<std::uint32_t>(value) & 0xFFFFu); }
+std::uint16_t Low(std::int32_t value) {
+  return static_cast<std::uint16_t>(static_cast<std::uint32_t>(value) & 0xFFFFu);
+}
 std::int32_t Join(std::uint16_t high, std::uint16_t low) {
   return static_cast<std::int32_t>((static_cast<std::uint32_t>(high) << 16) | low);
 }
@@ -14,8 +16,14 @@ std::int8_t ToInt8(std::uint16_t value) { return static_cast<std::int8_t>(static
 }  // namespace
 
 DriveRegisters EncodeCommand(const CspCommand& c) {
-  return {c.controlword,         FromInt8(c.mode_of_operation), High(c.target_position), Low(c.target_position),
-          High(c.velocity_offset), Low(c.velocity_offset),      0,                       0};
+  return {c.controlword,
+          FromInt8(c.mode_of_operation),
+          High(c.target_position),
+          Low(c.target_position),
+          High(c.velocity_offset),
+          Low(c.velocity_offset),
+          0,
+          0};
 }
 
 CspCommand DecodeCommand(const std::uint16_t* r) {
@@ -28,8 +36,14 @@ CspCommand DecodeCommand(const std::uint16_t* r) {
 }
 
 DriveRegisters EncodeFeedback(const CspFeedback& f) {
-  return {f.statusword,           FromInt8(f.mode_display), High(f.position_actual), Low(f.position_actual),
-          High(f.velocity_actual), Low(f.velocity_actual),   f.error_code,            f.cycle_count};
+  return {f.statusword,
+          FromInt8(f.mode_display),
+          High(f.position_actual),
+          Low(f.position_actual),
+          High(f.velocity_actual),
+          Low(f.velocity_actual),
+          f.error_code,
+          f.cycle_count};
 }
 
 CspFeedback DecodeFeedback(const std::uint16_t* r) {

@@ -52,8 +52,7 @@ void SimulatedCspDrive::Sense(const AxisReading& axis) {
 CspFeedback SimulatedCspDrive::Feedback() const {
   CspFeedback f;
   std::uint16_t extra = 0;
-  if (machine_.FollowsTarget() &&
-      std::abs(static_cast<double>(command_.target_position) - position_) < 0.5) {
+  if (machine_.FollowsTarget() && std::abs(static_cast<double>(command_.target_position) - position_) < 0.5) {
     extra |= kStatusTargetReached;
   }
   f.statusword = static_cast<std::uint16_t>(machine_.statusword() | extra);

@@ -53,8 +53,8 @@ int Run(int argc, char** argv) {
   const PlatformModel model(config);
   if (calibration_path.empty()) calibration_path = config.calibration_model;
   if (!calibration_path.empty()) {
-    options.calibration = calibration::LoadCalibration(calibration_path, model,
-                                                       apply_ambiguous || config.calibration_apply_ambiguous);
+    options.calibration =
+        calibration::LoadCalibration(calibration_path, model, apply_ambiguous || config.calibration_apply_ambiguous);
   }
   KinematicsNode kinematics(model, options);
   InstallStopSignals();

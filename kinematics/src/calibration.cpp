@@ -60,8 +60,8 @@ Vector3 PointAcceleration(const PlatformModel& model, const Vector6& q, const Ve
   const Vector6 ahead = q + h * velocity + 0.5 * h * h * acceleration;
   const Vector6 behind = q - h * velocity + 0.5 * h * h * acceleration;
   return SecondDerivative<Vector3>(model.ObservationPoint(Pose::FromVector(behind)),
-                                  model.ObservationPoint(Pose::FromVector(q)),
-                                  model.ObservationPoint(Pose::FromVector(ahead)), h, h);
+                                   model.ObservationPoint(Pose::FromVector(q)),
+                                   model.ObservationPoint(Pose::FromVector(ahead)), h, h);
 }
 
 CalibratedEffect ParseEffectEntry(const nlohmann::json& entry, std::size_t index, const std::string& origin) {
@@ -83,11 +83,12 @@ CalibratedEffect ParseEffectEntry(const nlohmann::json& entry, std::size_t index
   // Models saved before thermal drift had its time driver hold the travel term alone.
   if (out.effect == Effect::kThermalDrift && theta.size() == 1) theta.resize(4, 0.0);
   if (static_cast<int>(theta.size()) != ParameterCount(out.effect)) {
-    throw CalibrationError(fmt::format("{} ({}): needs {} parameters, has {}", where, name,
-                                       ParameterCount(out.effect), theta.size()));
+    throw CalibrationError(
+        fmt::format("{} ({}): needs {} parameters, has {}", where, name, ParameterCount(out.effect), theta.size()));
   }
   for (std::size_t k = 0; k < theta.size(); ++k) {
-    if (!std::isfinite(theta[k])) throw CalibrationError(fmt::format("{} ({}): theta[{}] is not finite", where, name, k));
+    if (!std::isfinite(theta[k]))
+      throw CalibrationError(fmt::format("{} ({}): theta[{}] is not finite", where, name, k));
   }
   out.theta = Eigen::Map<const Eigen::VectorXd>(theta.data(), static_cast<Eigen::Index>(theta.size()));
   if (entry.contains("verdict") && !entry["verdict"].is_string()) {
@@ -95,8 +96,8 @@ CalibratedEffect ParseEffectEntry(const nlohmann::json& entry, std::size_t index
   }
   out.verdict = entry.value("verdict", std::string("identified"));
   if (out.verdict != "identified" && out.verdict != "ambiguous" && out.verdict != "rejected") {
-    throw CalibrationError(fmt::format("{} ({}): verdict \"{}\" is not identified, ambiguous or rejected", where,
-                                       name, out.verdict));
+    throw CalibrationError(
+        fmt::format("{} ({}): verdict \"{}\" is not identified, ambiguous or rejected", where, name, out.verdict));
   }
   if (entry.contains("apply") && !entry["apply"].is_boolean()) {
     throw CalibrationError(fmt::format("{} ({}): \"apply\" must be true or false", where, name));
@@ -121,13 +122,15 @@ bool AppliesEntry(const std::string& verdict, bool has_apply, bool apply, bool a
 std::string PlatformFingerprint(const PlatformModel& model) {
   const Vector6& l = model.home_length_m();
   const DriveParameters& d = model.config().drive;
-  return fmt::format("home_length_m={:.9f},{:.9f},{:.9f},{:.9f},{:.9f},{:.9f};lead_m={:.9g};pr_sign={};gear_ratio={:.9g}",
-                     l(0), l(1), l(2), l(3), l(4), l(5), d.lead_m, d.pr_sign, d.gear_ratio);
+  return fmt::format(
+      "home_length_m={:.9f},{:.9f},{:.9f},{:.9f},{:.9f},{:.9f};lead_m={:.9g};pr_sign={};gear_ratio={:.9g}", l(0), l(1),
+      l(2), l(3), l(4), l(5), d.lead_m, d.pr_sign, d.gear_ratio);
 }
 
 std::string CalibrationModel::Describe() const {
   std::string applies;
-  for (const CalibratedEffect& e : applied) applies += (applies.empty() ? "" : ", ") + std::string(EffectName(e.effect));
+  for (const CalibratedEffect& e : applied)
+    applies += (applies.empty() ? "" : ", ") + std::string(EffectName(e.effect));
   std::string text = fmt::format("{} ({}): applies {}", origin, hash, applies.empty() ? "nothing" : applies);
   if (!not_applied.empty()) {
     text += "; not applied: ";
@@ -238,7 +241,8 @@ LegCompensator::Correction LegCompensator::Step(double time_s, const Pose& pose,
     constexpr double h = 1e-4;  // s
     const Pose ahead = Pose::FromVector(q + h * pose_velocity), behind = Pose::FromVector(q - h * pose_velocity);
     const Matrix6 dM = (model_.LengthJacobian(ahead) - model_.PrLengthErrorJacobian(ahead) -
-                        model_.LengthJacobian(behind) + model_.PrLengthErrorJacobian(behind)) / (2.0 * h);
+                        model_.LengthJacobian(behind) + model_.PrLengthErrorJacobian(behind)) /
+                       (2.0 * h);
     in.accel += dM * pose_velocity;
   }
   in.jerk = Vector6::Zero();  // not fed forward: a trapezoid's corners would make it a spike
@@ -248,8 +252,9 @@ LegCompensator::Correction LegCompensator::Step(double time_s, const Pose& pose,
   state.compensation -= last_command_m_;  // the PR's alone, as the diagnosis's basis takes it
   Correction c;
   for (const CalibratedEffect& e : calibration_.applied) {
-    const Vector6 dl = e.effect == Effect::kStructuralResonance ? StructuralSway(e, time_s, in)
-                                                                : Vector6(LegErrorBasis(e.effect, state, model_) * e.theta);
+    const Vector6 dl = e.effect == Effect::kStructuralResonance
+                           ? StructuralSway(e, time_s, in)
+                           : Vector6(LegErrorBasis(e.effect, state, model_) * e.theta);
     c.command_m += dl;
     // The encoders see the servo's lag themselves, and the structure's sway
     // is not in the legs at all: forward kinematics finds the platform, not A.

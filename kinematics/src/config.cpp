@@ -17,14 +17,12 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-
 void ReadGeometry(const SectionReader& s, const std::string& origin, PlatformConfig* config) {
-  s.RejectUnknownKeys({"preset", "home_height_m", "base_joints_m", "platform_joints_m",
-                       "base_axes", "platform_axes"});
+  s.RejectUnknownKeys({"preset", "home_height_m", "base_joints_m", "platform_joints_m", "base_axes", "platform_axes"});
   config->preset = s.String("preset", "");
   if (!config->preset.empty() && config->preset != "huang2021") {
-    throw ConfigError(fmt::format("{}: [geometry] preset = \"{}\" is unknown (known: huang2021)",
-                                  origin, config->preset));
+    throw ConfigError(
+        fmt::format("{}: [geometry] preset = \"{}\" is unknown (known: huang2021)", origin, config->preset));
   }
   PlatformGeometry& g = config->geometry;
   Huang2021Dimensions dims;
@@ -36,9 +34,8 @@ void ReadGeometry(const SectionReader& s, const std::string& origin, PlatformCon
   Matrix36* targets[] = {&g.p_BoBi_B, &g.p_MoPi_M, &g.ja_B, &g.jd_M};
   for (int k = 0; k < 4; ++k) {
     if (!s.Rows6(keys[k], targets[k]) && config->preset.empty()) {
-      throw ConfigError(fmt::format(
-          "{}: missing key [geometry] {} (give it, or set preset = \"huang2021\")", origin,
-          keys[k]));
+      throw ConfigError(
+          fmt::format("{}: missing key [geometry] {} (give it, or set preset = \"huang2021\")", origin, keys[k]));
     }
   }
   if (config->preset.empty() && !s.Has("home_height_m")) {
@@ -55,20 +52,18 @@ void ReadDrive(const SectionReader& s, DriveParameters* drive) {
 }
 
 void ReadLimits(const SectionReader& s, WorkspaceLimits* limits) {
-  s.RejectUnknownKeys({"leg_min_m", "leg_max_m", "joint_angle_max_rad", "jacobian_condition_max",
-                       "leg_speed_max_m_s"});
+  s.RejectUnknownKeys({"leg_min_m", "leg_max_m", "joint_angle_max_rad", "jacobian_condition_max", "leg_speed_max_m_s"});
   limits->leg_speed_max_m_s = s.Number("leg_speed_max_m_s", limits->leg_speed_max_m_s);
   limits->leg_min_m = s.Number("leg_min_m", limits->leg_min_m);
   limits->leg_max_m = s.Number("leg_max_m", limits->leg_max_m);
   limits->joint_angle_max_rad = s.Number("joint_angle_max_rad", limits->joint_angle_max_rad);
-  limits->jacobian_condition_max =
-      s.Number("jacobian_condition_max", limits->jacobian_condition_max);
+  limits->jacobian_condition_max = s.Number("jacobian_condition_max", limits->jacobian_condition_max);
 }
 
 void ReadMotion(const SectionReader& s, MotionLimits* m) {
   s.RejectUnknownKeys({"speed_max_m_s", "speed_max_rad_s", "accel_max_m_s2", "accel_max_rad_s2", "jerk_max_m_s3",
-                       "jerk_max_rad_s3", "leg_accel_max_m_s2", "on_target_tolerance_m",
-                       "on_target_tolerance_rad", "on_target_settle_s"});
+                       "jerk_max_rad_s3", "leg_accel_max_m_s2", "on_target_tolerance_m", "on_target_tolerance_rad",
+                       "on_target_settle_s"});
   m->speed_max_m_s = s.Number("speed_max_m_s", m->speed_max_m_s);
   m->speed_max_rad_s = s.Number("speed_max_rad_s", m->speed_max_rad_s);
   m->accel_max_m_s2 = s.Number("accel_max_m_s2", m->accel_max_m_s2);
@@ -106,7 +101,6 @@ void ValidateMotion(const MotionLimits& m, const std::string& origin) {
           fmt::format("[motion] on_target_settle_s = {} must be in [0, 60] s", m.on_target_settle_s));
 }
 
-
 }  // namespace
 
 PlatformConfig Huang2021Config() {
@@ -123,26 +117,21 @@ void ValidateConfig(const PlatformConfig& c, const std::string& origin) {
   // A lead above 0.5 m per turn is no lead screw; a typo in units (mm for m).
   Require(d.lead_m > 0.0 && d.lead_m <= 0.5, origin,
           fmt::format("[drive] lead_m = {} must be in (0, 0.5] m per screw turn", d.lead_m));
-  Require(d.pr_sign == 1 || d.pr_sign == -1, origin,
-          fmt::format("[drive] pr_sign = {} must be 1 or -1", d.pr_sign));
+  Require(d.pr_sign == 1 || d.pr_sign == -1, origin, fmt::format("[drive] pr_sign = {} must be 1 or -1", d.pr_sign));
   Require(d.gear_ratio > 0.0 && d.gear_ratio <= 1000.0, origin,
-          fmt::format("[drive] gear_ratio = {} must be in (0, 1000] motor turns per screw turn",
-                      d.gear_ratio));
+          fmt::format("[drive] gear_ratio = {} must be in (0, 1000] motor turns per screw turn", d.gear_ratio));
   Require(c.p_MoA_M.allFinite() && c.p_MoA_M.norm() <= 100.0, origin,
           "[observation] point_m must be finite and within 100 m of the platform centre");
   const WorkspaceLimits& l = c.limits;
   Require(l.leg_min_m > 0.0 && l.leg_min_m < l.leg_max_m, origin,
-          fmt::format("[limits] leg_min_m = {} must be positive and below leg_max_m = {}",
-                      l.leg_min_m, l.leg_max_m));
+          fmt::format("[limits] leg_min_m = {} must be positive and below leg_max_m = {}", l.leg_min_m, l.leg_max_m));
   Require(l.joint_angle_max_rad > 0.0 && l.joint_angle_max_rad < kPi / 2, origin,
-          fmt::format("[limits] joint_angle_max_rad = {} must be in (0, pi/2)",
-                      l.joint_angle_max_rad));
+          fmt::format("[limits] joint_angle_max_rad = {} must be in (0, pi/2)", l.joint_angle_max_rad));
   // Above 10 m/s no lead-screw leg moves; a unit typo (mm/s for m/s).
   Require(l.leg_speed_max_m_s > 0.0 && l.leg_speed_max_m_s <= 10.0, origin,
           fmt::format("[limits] leg_speed_max_m_s = {} must be in (0, 10] m/s", l.leg_speed_max_m_s));
   Require(l.jacobian_condition_max >= 1.0, origin,
-          fmt::format("[limits] jacobian_condition_max = {} must be at least 1",
-                      l.jacobian_condition_max));
+          fmt::format("[limits] jacobian_condition_max = {} must be at least 1", l.jacobian_condition_max));
   ValidateMotion(c.motion, origin);
 }
 
@@ -160,8 +149,7 @@ PlatformConfig ParseConfig(const std::string& toml_text, const std::string& orig
   const bool preset_point = !config.preset.empty();
   Require(preset_point || observation.Has("point_m"), origin,
           "missing key [observation] point_m (no preset gives a default)");
-  config.p_MoA_M = observation.Vector(
-      "point_m", Vector3(Huang2021Dimensions{}.platform_radius_m, 0.0, 0.0));
+  config.p_MoA_M = observation.Vector("point_m", Vector3(Huang2021Dimensions{}.platform_radius_m, 0.0, 0.0));
   const SectionReader calibration(root, "calibration", origin);
   calibration.RejectUnknownKeys({"model", "apply_ambiguous"});
   config.calibration_model = calibration.String("model", "");

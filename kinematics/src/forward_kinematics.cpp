@@ -26,8 +26,7 @@ namespace {
 // Leg lengths as the encoders see them at q: with PR, the true length minus
 // the true PR error (what forward kinematics must match).
 Vector6 ModelledLengths(const PlatformModel& model, const LegSolution& legs, bool with_pr) {
-  return with_pr ? Vector6(legs.length_m - model.PrLengthError(legs, PrMode::kSigned))
-                 : legs.length_m;
+  return with_pr ? Vector6(legs.length_m - model.PrLengthError(legs, PrMode::kSigned)) : legs.length_m;
 }
 
 // Shrinks a Newton step to the per-iteration limits; far from the solution a
@@ -35,8 +34,8 @@ Vector6 ModelledLengths(const PlatformModel& model, const LegSolution& legs, boo
 Vector6 LimitStep(const Vector6& step, const FkOptions& options) {
   const double translation = step.head<3>().norm();
   const double rotation = step.tail<3>().norm();
-  const double scale = std::min({1.0, options.max_step_m / std::max(translation, 1e-300),
-                                 options.max_step_rad / std::max(rotation, 1e-300)});
+  const double scale = std::min(
+      {1.0, options.max_step_m / std::max(translation, 1e-300), options.max_step_rad / std::max(rotation, 1e-300)});
   return scale * step;
 }
 
@@ -63,8 +62,7 @@ FkResult SolveForward(const PlatformModel& model, const Vector6& lengths_m, cons
       return result;
     }
     if (result.residual_m <= options.tolerance_m) {
-      result.status = CheckJointAngles(model, legs).ok() ? FkStatus::kConverged
-                                                         : FkStatus::kOutsideWorkspace;
+      result.status = CheckJointAngles(model, legs).ok() ? FkStatus::kConverged : FkStatus::kOutsideWorkspace;
       return result;
     }
     if (result.iterations == options.max_iterations) break;

@@ -25,7 +25,7 @@ bool AllFinite(const double (&values)[N]) {
 }
 
 std::unique_ptr<calibration::LegCompensator> Compensator(const PlatformModel& model,
-                                                        std::optional<calibration::CalibrationModel> calibration) {
+                                                         std::optional<calibration::CalibrationModel> calibration) {
   if (!calibration) return nullptr;
   return std::make_unique<calibration::LegCompensator>(model, std::move(*calibration));
 }
@@ -33,16 +33,16 @@ std::unique_ptr<calibration::LegCompensator> Compensator(const PlatformModel& mo
 }  // namespace
 
 KinematicsNode::KinematicsNode(PlatformModel model, KinematicsNodeOptions options)
-    : model_(std::move(model)), options_(std::move(options)),
-      last_target_(model_.home_pose()), last_estimate_(model_.home_pose()),
+    : model_(std::move(model)),
+      options_(std::move(options)),
+      last_target_(model_.home_pose()),
+      last_estimate_(model_.home_pose()),
       calibration_(Compensator(model_, options_.calibration), options_.calibration_blend_us) {
   last_weights_[static_cast<std::size_t>(options_.pr_mode)] = 1.0;
 }
 
-fault_t KinematicsNode::Fault(FaultCode code, std::string reason, std::int64_t now_utime,
-                              const char* channel) const {
-  return MakeFault(options_.node_name, channel, code,
-                   fault_t::SEVERITY_ERROR, std::move(reason), now_utime);
+fault_t KinematicsNode::Fault(FaultCode code, std::string reason, std::int64_t now_utime, const char* channel) const {
+  return MakeFault(options_.node_name, channel, code, fault_t::SEVERITY_ERROR, std::move(reason), now_utime);
 }
 
 fault_t KinematicsNode::HandlePrModeRequest(const pr_mode_t& request, std::int64_t now_utime) {
@@ -96,8 +96,8 @@ fault_t KinematicsNode::ActOnCalibrationRequest(const calibration_t& request, st
                      now_utime);
   };
   if (request.session_id != options_.session_id) {
-    return refuse(FaultCode::kForeignSession, fmt::format("from session {} (this group is session {})",
-                                                          request.session_id, options_.session_id));
+    return refuse(FaultCode::kForeignSession,
+                  fmt::format("from session {} (this group is session {})", request.session_id, options_.session_id));
   }
   std::optional<calibration::CalibrationModel> next;
   if (!request.model_json.empty()) {
@@ -161,20 +161,20 @@ Vector6 KinematicsNode::BlendedPrError(const LegSolution& legs, std::int64_t set
   return pr;
 }
 
-bool KinematicsNode::HandleSetpoint(const pose_setpoint_t& sp, std::int64_t now_utime,
-                                    leg_command_t* command, fault_t* fault) {
+bool KinematicsNode::HandleSetpoint(const pose_setpoint_t& sp, std::int64_t now_utime, leg_command_t* command,
+                                    fault_t* fault) {
   constexpr const char* kChannel = channel::kSetpoint;
   if (sp.session_id != options_.session_id) {
     *fault = Fault(FaultCode::kForeignSession,
-                   fmt::format("setpoint seq {} from session {}, this group is session {}", sp.seq,
-                               sp.session_id, options_.session_id),
+                   fmt::format("setpoint seq {} from session {}, this group is session {}", sp.seq, sp.session_id,
+                               options_.session_id),
                    now_utime, kChannel);
     return false;
   }
   if (!AllFinite(sp.pose) || !AllFinite(sp.velocity) || !AllFinite(sp.acceleration)) {
     *fault = Fault(FaultCode::kNonFinite,
-                   fmt::format("setpoint seq {} has a non-finite pose, velocity or acceleration", sp.seq),
-                   now_utime, kChannel);
+                   fmt::format("setpoint seq {} has a non-finite pose, velocity or acceleration", sp.seq), now_utime,
+                   kChannel);
     return false;
   }
   const std::string what = fmt::format("setpoint seq {}", sp.seq);
@@ -188,9 +188,8 @@ bool KinematicsNode::HandleSetpoint(const pose_setpoint_t& sp, std::int64_t now_
   const WorkspaceCheck check = CheckWorkspace(model_, target);
   if (!check.ok()) {
     *fault = Fault(FaultCode::kOutsideWorkspace,
-                   fmt::format("setpoint seq {} ({}): {}", sp.seq, DescribePose(target),
-                               check.Describe()),
-                   now_utime, kChannel);
+                   fmt::format("setpoint seq {} ({}): {}", sp.seq, DescribePose(target), check.Describe()), now_utime,
+                   kChannel);
     return false;
   }
   const LegSolution legs = model_.Solve(target);
@@ -219,11 +218,12 @@ bool KinematicsNode::ApplyCalibration(const pose_setpoint_t& sp, const Pose& tar
                                       std::int64_t now_utime, Vector6* calibrated, fault_t* fault) {
   Vector6 velocity, acceleration;
   for (int k = 0; k < 6; ++k) velocity(k) = sp.velocity[k], acceleration(k) = sp.acceleration[k];
-  const calibration::LegCompensator::Correction c = calibration_.Step(sp.utime, target, velocity, acceleration, nominal);
+  const calibration::LegCompensator::Correction c =
+      calibration_.Step(sp.utime, target, velocity, acceleration, nominal);
   if (!c.command_m.allFinite() || !c.encoder_m.allFinite()) {
     *fault = Fault(FaultCode::kNonFinite,
-                   fmt::format("setpoint seq {} ({}): the calibration's correction is not finite; not forwarded", sp.seq,
-                               DescribePose(target)),
+                   fmt::format("setpoint seq {} ({}): the calibration's correction is not finite; not forwarded",
+                               sp.seq, DescribePose(target)),
                    now_utime, channel::kSetpoint);
     return false;
   }
@@ -232,12 +232,11 @@ bool KinematicsNode::ApplyCalibration(const pose_setpoint_t& sp, const Pose& tar
   return true;
 }
 
-bool KinematicsNode::HandleLegState(const leg_state_t& legs, std::int64_t now_utime,
-                                    platform_state_t* state, fault_t* fault) {
+bool KinematicsNode::HandleLegState(const leg_state_t& legs, std::int64_t now_utime, platform_state_t* state,
+                                    fault_t* fault) {
   constexpr const char* kChannel = channel::kLegState;
   if (!AllFinite(legs.encoder_length_m)) {
-    *fault = Fault(FaultCode::kNonFinite,
-                   fmt::format("leg state seq {} has a non-finite encoder length", legs.seq),
+    *fault = Fault(FaultCode::kNonFinite, fmt::format("leg state seq {} has a non-finite encoder length", legs.seq),
                    now_utime, kChannel);
     return false;
   }
@@ -246,8 +245,8 @@ bool KinematicsNode::HandleLegState(const leg_state_t& legs, std::int64_t now_ut
   const FkResult fk = SolveForward(model_, lengths, last_estimate_);
   if (!fk.ok()) {
     *fault = Fault(FaultCode::kForwardKinematics,
-                   fmt::format("leg state seq {}: forward kinematics {} (residual {:.3g} m)",
-                               legs.seq, FkStatusName(fk.status), fk.residual_m),
+                   fmt::format("leg state seq {}: forward kinematics {} (residual {:.3g} m)", legs.seq,
+                               FkStatusName(fk.status), fk.residual_m),
                    now_utime, kChannel);
     return false;
   }
@@ -267,8 +266,7 @@ bool KinematicsNode::HandleLegState(const leg_state_t& legs, std::int64_t now_ut
   return true;
 }
 
-platform_config_t KinematicsNode::ConfigMessage(std::int64_t now_utime,
-                                                const std::string& config_toml) {
+platform_config_t KinematicsNode::ConfigMessage(std::int64_t now_utime, const std::string& config_toml) {
   const PlatformConfig& c = model_.config();
   platform_config_t msg{};
   msg.utime = now_utime;

@@ -91,8 +91,8 @@ bool PointSensitivityAt(const PlatformModel& model, const Pose& pose, PointSensi
     Vector6 plus = q, minus = q;
     plus(k) += h;
     minus(k) -= h;
-    J.col(k) = (model.ObservationPoint(Pose::FromVector(plus)) - model.ObservationPoint(Pose::FromVector(minus))) /
-               (2.0 * h);
+    J.col(k) =
+        (model.ObservationPoint(Pose::FromVector(plus)) - model.ObservationPoint(Pose::FromVector(minus))) / (2.0 * h);
   }
   out->point = model.ObservationPoint(pose);
   out->per_leg = J * lu.inverse();
@@ -107,9 +107,7 @@ Eigen::MatrixXd LegErrorBasis(Effect effect, const LegErrorState& s, const Platf
       B.col(0) = s.pr_signed;
       B.col(1) = s.compensation;
       break;
-    case Effect::kLegOffset:
-      B = Eigen::MatrixXd::Identity(6, 6);
-      break;
+    case Effect::kLegOffset: B = Eigen::MatrixXd::Identity(6, 6); break;
     case Effect::kJointPosition:
       for (int i = 0; i < 6; ++i) {
         // A base joint moved by δb shortens the geometric leg by û·δb, so the

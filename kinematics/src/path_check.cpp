@@ -16,11 +16,10 @@ std::string PathCheck::Describe() const {
     case PathLimit::kNone:
       return fmt::format("within every limit (peak leg speed {:.4f} m/s, acceleration {:.3f} m/s^2)",
                          peak_leg_speed_m_s, peak_leg_accel_m_s2);
-    case PathLimit::kWorkspace:
-      return fmt::format("at t = {:.3f} s: {}", t_s, workspace.Describe());
+    case PathLimit::kWorkspace: return fmt::format("at t = {:.3f} s: {}", t_s, workspace.Describe());
     case PathLimit::kLegSpeed:
-      return fmt::format("at t = {:.3f} s: leg {} at {:.4f} m/s, {:.4f} m/s above [limits] leg_speed_max_m_s = {}",
-                         t_s, leg + 1, value, value - bound, bound);
+      return fmt::format("at t = {:.3f} s: leg {} at {:.4f} m/s, {:.4f} m/s above [limits] leg_speed_max_m_s = {}", t_s,
+                         leg + 1, value, value - bound, bound);
     case PathLimit::kDuration:
       return fmt::format("the path would last {:.6g} s, beyond the {} s allowed (ask for more speed)", value, bound);
     case PathLimit::kLegAcceleration:
@@ -45,8 +44,8 @@ double Largest(const Vector6& v, int* leg) {
 
 }  // namespace
 
-PathCheck CheckPath(const PlatformModel& model, const PathLimits& limits, const PathPoseAt& pose_at,
-                    double duration_s, double rate_hz) {
+PathCheck CheckPath(const PlatformModel& model, const PathLimits& limits, const PathPoseAt& pose_at, double duration_s,
+                    double rate_hz) {
   PathCheck result;
   // A day of samples at most: beyond, a unit typo (or a NaN) and no path.
   constexpr double kLongest_s = 86400.0;
@@ -67,10 +66,10 @@ PathCheck CheckPath(const PlatformModel& model, const PathLimits& limits, const 
     // The conditioning (an SVD, ten times the rest of a sample) varies
     // slowly with the pose: checked again once a leg has moved
     // kConditioningStep_m, and at both ends.
-    const bool condition_due = k == 0 || k == samples ||
-                               (length - length_conditioned).cwiseAbs().maxCoeff() >= kConditioningStep_m;
-    result.workspace = !pose.IsFinite() ? WorkspaceCheck{WorkspaceLimit::kNonFinite, -1, 0.0, 0.0}
-                                        : CheckLegs(model, legs);
+    const bool condition_due =
+        k == 0 || k == samples || (length - length_conditioned).cwiseAbs().maxCoeff() >= kConditioningStep_m;
+    result.workspace =
+        !pose.IsFinite() ? WorkspaceCheck{WorkspaceLimit::kNonFinite, -1, 0.0, 0.0} : CheckLegs(model, legs);
     if (result.workspace.ok() && condition_due) {
       result.workspace = CheckConditioning(model, pose);
       length_conditioned = length;
@@ -87,15 +86,17 @@ PathCheck CheckPath(const PlatformModel& model, const PathLimits& limits, const 
       const double fastest = Largest(speed, &leg);
       result.peak_leg_speed_m_s = std::max(result.peak_leg_speed_m_s, fastest);
       if (fastest > limits.leg_speed_max_m_s) {
-        return PathCheck{PathLimit::kLegSpeed, t, {}, leg, fastest, limits.leg_speed_max_m_s,
-                         result.peak_leg_speed_m_s, result.peak_leg_accel_m_s2};
+        return PathCheck{
+            PathLimit::kLegSpeed,      t, {}, leg, fastest, limits.leg_speed_max_m_s, result.peak_leg_speed_m_s,
+            result.peak_leg_accel_m_s2};
       }
       if (k > 1 && limits.leg_accel_max_m_s2 > 0.0) {
         const double accel = Largest((speed - speed_before) / (0.5 * (dt + dt_before)), &leg);
         result.peak_leg_accel_m_s2 = std::max(result.peak_leg_accel_m_s2, accel);
         if (accel > limits.leg_accel_max_m_s2) {
-          return PathCheck{PathLimit::kLegAcceleration, t, {}, leg, accel, limits.leg_accel_max_m_s2,
-                           result.peak_leg_speed_m_s, result.peak_leg_accel_m_s2};
+          return PathCheck{
+              PathLimit::kLegAcceleration, t, {}, leg, accel, limits.leg_accel_max_m_s2, result.peak_leg_speed_m_s,
+              result.peak_leg_accel_m_s2};
         }
       }
       speed_before = speed;

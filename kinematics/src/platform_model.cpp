@@ -47,9 +47,7 @@ Matrix6 PlatformModel::TwistJacobian(const Pose& X_BM) const {
   return J;
 }
 
-double PlatformModel::PrScale() const {
-  return config_.drive.pr_sign * config_.drive.lead_m / kTwoPi;
-}
+double PlatformModel::PrScale() const { return config_.drive.pr_sign * config_.drive.lead_m / kTwoPi; }
 
 Vector6 PlatformModel::PrLengthError(const LegSolution& legs, PrMode mode) const {
   Vector6 error;
@@ -62,9 +60,7 @@ Vector6 PlatformModel::PrLengthError(const LegSolution& legs, PrMode mode) const
   return error;
 }
 
-Vector6 PlatformModel::PrLengthError(const Pose& X_BM, PrMode mode) const {
-  return PrLengthError(Solve(X_BM), mode);
-}
+Vector6 PlatformModel::PrLengthError(const Pose& X_BM, PrMode mode) const { return PrLengthError(Solve(X_BM), mode); }
 
 Matrix6 PlatformModel::PrLengthErrorJacobian(const Pose& X_BM) const {
   Matrix6 length_jacobian, pr_jacobian;
@@ -114,26 +110,20 @@ Vector6 PlatformModel::CompensatedLengths(const Pose& X_BM, PrMode mode) const {
   return s.length_m - PrLengthError(s, mode);
 }
 
-Vector6 PlatformModel::EncoderLengths(const Pose& X_BM) const {
-  return CompensatedLengths(X_BM, PrMode::kSigned);
-}
+Vector6 PlatformModel::EncoderLengths(const Pose& X_BM) const { return CompensatedLengths(X_BM, PrMode::kSigned); }
 
-Vector3 PlatformModel::ObservationPoint(const Pose& X_BM) const {
-  return PointInBase(X_BM, config_.p_MoA_M);
-}
+Vector3 PlatformModel::ObservationPoint(const Pose& X_BM) const { return PointInBase(X_BM, config_.p_MoA_M); }
 
 }  // namespace edsp
 
 namespace edsp {
 
 double PlatformModel::MotorAngleFromLength(int leg, double length_m) const {
-  return (length_m - home_length_m_(leg)) / config_.drive.lead_m * kTwoPi *
-         config_.drive.gear_ratio;
+  return (length_m - home_length_m_(leg)) / config_.drive.lead_m * kTwoPi * config_.drive.gear_ratio;
 }
 
 double PlatformModel::LengthFromMotorAngle(int leg, double motor_angle_rad) const {
-  return home_length_m_(leg) +
-         motor_angle_rad / (kTwoPi * config_.drive.gear_ratio) * config_.drive.lead_m;
+  return home_length_m_(leg) + motor_angle_rad / (kTwoPi * config_.drive.gear_ratio) * config_.drive.lead_m;
 }
 
 }  // namespace edsp

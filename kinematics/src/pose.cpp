@@ -68,8 +68,7 @@ Vector3 RpyFromRotation(const Matrix3& R) {
 std::array<Matrix3, 3> RotationRpyDerivatives(const Vector3& rpy_rad) {
   const AxisRotations r = ElementaryRotations(rpy_rad);
   // d(Rz Ry Rx)/dθ inserts the generator of the rotated axis in place.
-  return {r.Rz * r.Ry * r.Rx * Hat(Vector3::UnitX()),
-          r.Rz * r.Ry * Hat(Vector3::UnitY()) * r.Rx,
+  return {r.Rz * r.Ry * r.Rx * Hat(Vector3::UnitX()), r.Rz * r.Ry * Hat(Vector3::UnitY()) * r.Rx,
           Hat(Vector3::UnitZ()) * r.Rz * r.Ry * r.Rx};
 }
 
@@ -78,9 +77,8 @@ Vector3 PointInBase(const Pose& X_BM, const Vector3& p_MoQ_M) {
 }
 
 std::string DescribePose(const Pose& pose) {
-  return fmt::format("x={} y={} z={} m, roll={} pitch={} yaw={} rad", pose.p_BoMo_B.x(),
-                     pose.p_BoMo_B.y(), pose.p_BoMo_B.z(), pose.rpy_rad.x(), pose.rpy_rad.y(),
-                     pose.rpy_rad.z());
+  return fmt::format("x={} y={} z={} m, roll={} pitch={} yaw={} rad", pose.p_BoMo_B.x(), pose.p_BoMo_B.y(),
+                     pose.p_BoMo_B.z(), pose.rpy_rad.x(), pose.rpy_rad.y(), pose.rpy_rad.z());
 }
 
 }  // namespace edsp

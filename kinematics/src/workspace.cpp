@@ -12,15 +12,11 @@ namespace {
 
 constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
-double AngleBetween(const Vector3& a, const Vector3& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b));
-}
+double AngleBetween(const Vector3& a, const Vector3& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); }
 
 // The characteristic length that makes the Jacobian's rotation columns
 // comparable with its translation columns: the platform joints' mean radius.
-double JointRadius(const PlatformGeometry& g) {
-  return g.p_MoPi_M.colwise().norm().mean();
-}
+double JointRadius(const PlatformGeometry& g) { return g.p_MoPi_M.colwise().norm().mean(); }
 
 }  // namespace
 
@@ -29,19 +25,15 @@ std::string WorkspaceCheck::Describe() const {
     case WorkspaceLimit::kNone: return "inside the workspace";
     case WorkspaceLimit::kNonFinite: return "pose has a non-finite component";
     case WorkspaceLimit::kLegTooShort:
-      return fmt::format("leg {} length {:.6f} m is below leg_min_m {:.6f} m", leg + 1, value,
-                         bound);
+      return fmt::format("leg {} length {:.6f} m is below leg_min_m {:.6f} m", leg + 1, value, bound);
     case WorkspaceLimit::kLegTooLong:
-      return fmt::format("leg {} length {:.6f} m exceeds leg_max_m {:.6f} m", leg + 1, value,
-                         bound);
+      return fmt::format("leg {} length {:.6f} m exceeds leg_max_m {:.6f} m", leg + 1, value, bound);
     case WorkspaceLimit::kBaseJointAngle:
-      return fmt::format(
-          "leg {} is {:.3f} deg from the base normal, beyond joint_angle_max_rad ({:.3f} deg)",
-          leg + 1, value * kRadToDeg, bound * kRadToDeg);
+      return fmt::format("leg {} is {:.3f} deg from the base normal, beyond joint_angle_max_rad ({:.3f} deg)", leg + 1,
+                         value * kRadToDeg, bound * kRadToDeg);
     case WorkspaceLimit::kPlatformJointAngle:
-      return fmt::format(
-          "leg {} is {:.3f} deg from the platform normal, beyond joint_angle_max_rad ({:.3f} deg)",
-          leg + 1, value * kRadToDeg, bound * kRadToDeg);
+      return fmt::format("leg {} is {:.3f} deg from the platform normal, beyond joint_angle_max_rad ({:.3f} deg)",
+                         leg + 1, value * kRadToDeg, bound * kRadToDeg);
     case WorkspaceLimit::kConditioning:
       return fmt::format(
           "Jacobian condition number {:.1f} exceeds jacobian_condition_max {:.1f} (near a "

@@ -34,22 +34,20 @@ int Info(const std::string& path, bool json) {
     out["damaged"] = s.damaged;
     if (s.damaged) out["damage_offset_bytes"] = s.damage_offset;
     for (const auto& [name, c] : s.channels) {
-      out["channels"][name] = {{"messages", c.messages}, {"bytes", c.bytes},
-                               {"rate_hz", c.rate_hz()}, {"seq_gaps", c.seq_gaps},
-                               {"seq_restarts", c.seq_restarts},
-                               {"duration_s", static_cast<double>(c.last_utime - c.first_utime) * 1e-6}};
+      out["channels"][name] = {
+          {"messages", c.messages},         {"bytes", c.bytes},
+          {"rate_hz", c.rate_hz()},         {"seq_gaps", c.seq_gaps},
+          {"seq_restarts", c.seq_restarts}, {"duration_s", static_cast<double>(c.last_utime - c.first_utime) * 1e-6}};
     }
     std::printf("%s\n", out.dump(2).c_str());
   } else {
     std::printf("%-24s %10s %10s %10s %8s\n", "channel", "messages", "rate_hz", "seq_gaps", "restarts");
     for (const auto& [name, c] : s.channels) {
-      std::printf("%-24s %10lld %10.1f %10lld %8lld\n", name.c_str(),
-                  static_cast<long long>(c.messages), c.rate_hz(),
+      std::printf("%-24s %10lld %10.1f %10lld %8lld\n", name.c_str(), static_cast<long long>(c.messages), c.rate_hz(),
                   static_cast<long long>(c.seq_gaps), static_cast<long long>(c.seq_restarts));
     }
     if (s.damaged) {
-      std::printf("damaged: read up to byte %lld, the rest is unreadable\n",
-                  static_cast<long long>(s.damage_offset));
+      std::printf("damaged: read up to byte %lld, the rest is unreadable\n", static_cast<long long>(s.damage_offset));
     }
   }
   return s.damaged ? 3 : 0;
@@ -59,8 +57,8 @@ int Info(const std::string& path, bool json) {
 int ReportDamage(const std::string& path, bool damaged, std::int64_t offset,
                  const char* done = "exported what precedes it") {
   if (!damaged) return 0;
-  std::fprintf(stderr, "edsp-log: %s is damaged at byte %lld; %s\n", path.c_str(),
-               static_cast<long long>(offset), done);
+  std::fprintf(stderr, "edsp-log: %s is damaged at byte %lld; %s\n", path.c_str(), static_cast<long long>(offset),
+               done);
   return 3;
 }
 
@@ -78,26 +76,23 @@ int Faults(const std::string& path) {
       continue;
     }
     ++count;
-    std::printf("%10.3f s  %-16s %-18s code %d (%s)  %s\n",
-                static_cast<double>(event.timestamp_utime - first) * 1e-6, fault.node.c_str(),
-                fault.channel.c_str(), fault.code, FaultCodeName(static_cast<FaultCode>(fault.code)),
-                fault.reason.c_str());
+    std::printf("%10.3f s  %-16s %-18s code %d (%s)  %s\n", static_cast<double>(event.timestamp_utime - first) * 1e-6,
+                fault.node.c_str(), fault.channel.c_str(), fault.code,
+                FaultCodeName(static_cast<FaultCode>(fault.code)), fault.reason.c_str());
   }
   std::printf("%lld faults\n", static_cast<long long>(count));
   return ReportDamage(path, reader.damaged(), reader.damage_offset(), "listed the faults that precede it");
 }
 
-
 int ExportChannels(const std::string& path, const std::string& dir, const std::string& channels) {
   const ChannelCsvExport e = ExportChannelCsvs(path, dir, channels);
   for (const auto& [name, c] : e.channels) {
-    std::fprintf(stderr, "edsp-log: %-20s %8lld rows  %s%s\n", name.c_str(),
-                 static_cast<long long>(c.rows), c.path.c_str(),
-                 c.skipped ? fmt::format("  ({} undecodable skipped)", c.skipped).c_str() : "");
+    std::fprintf(stderr, "edsp-log: %-20s %8lld rows  %s%s\n", name.c_str(), static_cast<long long>(c.rows),
+                 c.path.c_str(), c.skipped ? fmt::format("  ({} undecodable skipped)", c.skipped).c_str() : "");
   }
   for (const auto& [name, n] : e.unknown) {
-    std::fprintf(stderr, "edsp-log: %-20s %8lld messages of no edsp type: not exported\n",
-                 name.c_str(), static_cast<long long>(n));
+    std::fprintf(stderr, "edsp-log: %-20s %8lld messages of no edsp type: not exported\n", name.c_str(),
+                 static_cast<long long>(n));
   }
   return ReportDamage(path, e.damaged, e.damage_offset);
 }
@@ -108,8 +103,8 @@ int ExportMeasurement(const std::string& path, const std::string& csv) {
   const MeasurementExport e = ExportMeasurementCsv(path, out);
   out.close();
   if (!out) throw std::runtime_error(csv + ": write failed");
-  std::fprintf(stderr, "edsp-log: %lld rows to %s (%lld tracker samples skipped)\n",
-               static_cast<long long>(e.rows), csv.c_str(), static_cast<long long>(e.skipped));
+  std::fprintf(stderr, "edsp-log: %lld rows to %s (%lld tracker samples skipped)\n", static_cast<long long>(e.rows),
+               csv.c_str(), static_cast<long long>(e.skipped));
   return ReportDamage(path, e.damaged, e.damage_offset);
 }
 

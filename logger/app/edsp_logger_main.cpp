@@ -24,8 +24,10 @@ int Run(int argc, char** argv) {
   double rotate_mb = 0.0, max_queue_mb = 256.0;
   app.add_option("--channels", options.channels, "POSIX extended regex of channels to record");
   app.add_option("--output", options.writer.output, "directory (timestamped names) or file");
-  app.add_option("--rotate-mb", rotate_mb, "start a new part after this many MB (0: never)")->check(CLI::Range(0.0, 1e6));
-  app.add_option("--flush-ms", options.writer.flush_ms, "flush to disk at least this often")->check(CLI::Range(1, 60000));
+  app.add_option("--rotate-mb", rotate_mb, "start a new part after this many MB (0: never)")
+      ->check(CLI::Range(0.0, 1e6));
+  app.add_option("--flush-ms", options.writer.flush_ms, "flush to disk at least this often")
+      ->check(CLI::Range(1, 60000));
   app.add_option("--max-queue-mb", max_queue_mb, "events held in memory while the disk lags or is full")
       ->check(CLI::Range(0.1, 65536.0));
   CLI11_PARSE(app, argc, argv);

@@ -19,7 +19,7 @@ constexpr auto kHandleSlice = std::chrono::milliseconds(20);  // how soon Stop()
 BusRecording::BusRecording(const TransportConfig& config, const std::string& channel_pattern, std::int64_t max_bytes)
     : bus_(std::make_unique<Bus>(config)), max_bytes_(max_bytes) {
   shm_channels_ = bus_->SubscribeRaw(channel_pattern, [this](const std::string& channel, const std::uint8_t* data,
-                                             std::uint32_t size) { Keep(channel, data, size); });
+                                                             std::uint32_t size) { Keep(channel, data, size); });
   thread_ = std::thread([this] { Run(); });
 }
 
@@ -30,7 +30,8 @@ void BusRecording::Stop() {
   std::call_once(stopped_, [this] {
     if (thread_.joinable()) thread_.join();
     std::int64_t overruns = 0;
-    for (const std::string& channel : shm_channels_) overruns += static_cast<std::int64_t>(bus_->Counters(channel).overruns);
+    for (const std::string& channel : shm_channels_)
+      overruns += static_cast<std::int64_t>(bus_->Counters(channel).overruns);
     const std::lock_guard<std::mutex> lock(mutex_);
     stats_.overruns = overruns;
   });

@@ -80,8 +80,7 @@ ChannelCsvExport ExportChannelCsvs(const std::string& log_path, const std::strin
   try {
     filter = std::regex(channel_regex);
   } catch (const std::regex_error& e) {
-    throw std::runtime_error("--channels '" + channel_regex + "': not a regular expression (" +
-                             e.what() + ")");
+    throw std::runtime_error("--channels '" + channel_regex + "': not a regular expression (" + e.what() + ")");
   }
   LogReader reader(log_path);
   std::error_code ec;
@@ -98,14 +97,19 @@ ChannelCsvExport ExportChannelCsvs(const std::string& log_path, const std::strin
     auto& file = files[event.channel];
     CsvRow row;
     std::string type;
-    const bool decoded = DecodeEdspMessage(event.data.data(), event.data.size(), [&](const auto& msg, std::string name) {
-      if (file && file->info.type != name) return;  // a channel keeps its first type
-      VisitFields(msg, &row);
-      type = std::move(name);
-    }) && !type.empty();
+    const bool decoded = DecodeEdspMessage(event.data.data(), event.data.size(),
+                                           [&](const auto& msg, std::string name) {
+                                             if (file && file->info.type != name)
+                                               return;  // a channel keeps its first type
+                                             VisitFields(msg, &row);
+                                             type = std::move(name);
+                                           }) &&
+                         !type.empty();
     if (!decoded) {
-      if (file) ++file->info.skipped;
-      else ++result.unknown[event.channel];
+      if (file)
+        ++file->info.skipped;
+      else
+        ++result.unknown[event.channel];
       if (!file) files.erase(event.channel);
       continue;
     }

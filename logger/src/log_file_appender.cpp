@@ -37,8 +37,8 @@ bool WholeEventAfter(int fd, std::int64_t from, std::int64_t size) {
   std::vector<std::uint8_t> chunk(kChunk + kHeaderBytes);
   for (std::int64_t base = from + 1; base + static_cast<std::int64_t>(kHeaderBytes) <= size;
        base += static_cast<std::int64_t>(kChunk)) {
-    const auto bytes = static_cast<std::size_t>(std::min<std::int64_t>(
-        static_cast<std::int64_t>(chunk.size()), size - base));
+    const auto bytes =
+        static_cast<std::size_t>(std::min<std::int64_t>(static_cast<std::int64_t>(chunk.size()), size - base));
     if (!ReadAt(fd, chunk.data(), bytes, base)) return false;
     for (std::size_t k = 0; k + kHeaderBytes <= bytes && k < kChunk; ++k) {
       Header h{};
@@ -85,8 +85,7 @@ std::string ErrnoText(int error) { return std::strerror(error); }
 
 }  // namespace
 
-std::unique_ptr<LogFileAppender> LogFileAppender::Open(const std::string& path, LogResume* resume,
-                                                       std::string* error) {
+std::unique_ptr<LogFileAppender> LogFileAppender::Open(const std::string& path, LogResume* resume, std::string* error) {
   const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
   if (fd < 0) {
     *error = fmt::format("{}: cannot open the log file: {}", path, ErrnoText(errno));
@@ -100,14 +99,13 @@ std::unique_ptr<LogFileAppender> LogFileAppender::Open(const std::string& path, 
   }
   const LogScan scan = ScanOpenLog(fd, static_cast<std::int64_t>(st.st_size));
   if (scan.damaged_inside) {
-    *error = fmt::format("{}: damaged at byte {} with whole events after it; not appending to it",
-                         path, scan.whole_bytes);
+    *error =
+        fmt::format("{}: damaged at byte {} with whole events after it; not appending to it", path, scan.whole_bytes);
     ::close(fd);
     return nullptr;
   }
   if (scan.tail_torn && ::ftruncate(fd, scan.whole_bytes) != 0) {
-    *error = fmt::format("{}: cannot cut the torn last event at byte {}: {}", path, scan.whole_bytes,
-                         ErrnoText(errno));
+    *error = fmt::format("{}: cannot cut the torn last event at byte {}: {}", path, scan.whole_bytes, ErrnoText(errno));
     ::close(fd);
     return nullptr;
   }
@@ -120,20 +118,18 @@ std::unique_ptr<LogFileAppender> LogFileAppender::Open(const std::string& path, 
     resume->events = scan.events;
     resume->torn_bytes = static_cast<std::int64_t>(st.st_size) - scan.whole_bytes;
   }
-  return std::unique_ptr<LogFileAppender>(
-      new LogFileAppender(path, fd, scan.whole_bytes, scan.last_event_number + 1));
+  return std::unique_ptr<LogFileAppender>(new LogFileAppender(path, fd, scan.whole_bytes, scan.last_event_number + 1));
 }
 
-LogFileAppender::LogFileAppender(std::string path, int fd, std::int64_t committed,
-                                 std::int64_t next_event)
+LogFileAppender::LogFileAppender(std::string path, int fd, std::int64_t committed, std::int64_t next_event)
     : path_(std::move(path)), fd_(fd), committed_(committed), next_event_(next_event) {}
 
 LogFileAppender::~LogFileAppender() {
   if (fd_ >= 0) ::close(fd_);
 }
 
-void LogFileAppender::Append(const std::string& channel, const std::uint8_t* data,
-                             std::uint32_t size, std::int64_t utime) {
+void LogFileAppender::Append(const std::string& channel, const std::uint8_t* data, std::uint32_t size,
+                             std::int64_t utime) {
   // No reserve() here: an exact reserve per event would defeat the vector's
   // geometric growth and copy the whole pending buffer at every append
   // (quadratic: it stalled the logger under a flood with ASan).
@@ -171,12 +167,12 @@ bool LogFileAppender::Flush(std::string* error) {
   // A partial event may be on disk: cut the file back to its last whole
   // event, so readers never meet a torn event in the middle of the log.
   if (::ftruncate(fd_, committed_) != 0 || ::lseek(fd_, committed_, SEEK_SET) < 0) {
-    *error = fmt::format("{}: write failed ({}) and the torn event could not be cut: {}", path_,
-                         ErrnoText(failure), ErrnoText(errno));
+    *error = fmt::format("{}: write failed ({}) and the torn event could not be cut: {}", path_, ErrnoText(failure),
+                         ErrnoText(errno));
     return false;
   }
-  *error = fmt::format("{}: write failed: {} ({} events waiting in memory)", path_,
-                       ErrnoText(failure), boundaries_.size());
+  *error =
+      fmt::format("{}: write failed: {} ({} events waiting in memory)", path_, ErrnoText(failure), boundaries_.size());
   return false;
 }
 

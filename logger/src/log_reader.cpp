@@ -11,9 +11,7 @@ namespace edsp {
 
 namespace {
 
-std::int64_t ReadBigEndian64(const std::uint8_t* p) {
-  return static_cast<std::int64_t>(lcm_log::GetBigEndian(p, 8));
-}
+std::int64_t ReadBigEndian64(const std::uint8_t* p) { return static_cast<std::int64_t>(lcm_log::GetBigEndian(p, 8)); }
 
 }  // namespace
 

@@ -60,8 +60,7 @@ void LogWriter::OpenPart() {
   }
 }
 
-bool LogWriter::Enqueue(const std::string& channel, const std::uint8_t* data, std::uint32_t size,
-                        std::int64_t utime) {
+bool LogWriter::Enqueue(const std::string& channel, const std::uint8_t* data, std::uint32_t size, std::int64_t utime) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (queued_bytes_ + waiting_bytes_ + size > options_.max_queue_bytes) {
@@ -82,8 +81,7 @@ LogWriterStats LogWriter::stats() const {
 
 void LogWriter::WriteOne(const Event& e) {
   // A new part only once the current one holds everything it was given.
-  if (options_.rotate_bytes > 0 && file_->file_bytes() >= options_.rotate_bytes &&
-      file_->pending_events() == 0) {
+  if (options_.rotate_bytes > 0 && file_->file_bytes() >= options_.rotate_bytes && file_->pending_events() == 0) {
     ++part_;
     try {
       OpenPart();

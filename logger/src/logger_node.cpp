@@ -22,7 +22,7 @@ LoggerNode::LoggerNode(Bus& bus, LoggerOptions options)
       faults_(bus.Advertise<fault_t>(channel::kFault)) {
   status_.SetState(node_status_t::STATE_RUNNING);
   shm_channels_ = bus.SubscribeRaw(options.channels, [this](const std::string& channel, const std::uint8_t* data,
-                                                             std::uint32_t size) { Record(channel, data, size); });
+                                                            std::uint32_t size) { Record(channel, data, size); });
   // After subscribing: the logger records its own report (multicast loops back).
   ReportOpened();
 }
@@ -53,10 +53,9 @@ void LoggerNode::ReportOpened() {
     std::fprintf(stderr, "edsp-logger: %s read on shared memory\n", channel.c_str());
   }
   if (w.resumed_events == 0 && w.torn_bytes_cut == 0) return;
-  const std::string reason =
-      fmt::format("{}: resumed after {} events already recorded{}", w.path, w.resumed_events,
-                  w.torn_bytes_cut > 0 ? fmt::format("; cut a torn last event of {} bytes", w.torn_bytes_cut)
-                                       : std::string());
+  const std::string reason = fmt::format(
+      "{}: resumed after {} events already recorded{}", w.path, w.resumed_events,
+      w.torn_bytes_cut > 0 ? fmt::format("; cut a torn last event of {} bytes", w.torn_bytes_cut) : std::string());
   std::fprintf(stderr, "edsp-logger: %s\n", reason.c_str());
   faults_.Publish(MakeFault("logger", "", FaultCode::kStorage, fault_t::SEVERITY_INFO, reason, UtimeNow()));
 }

@@ -51,8 +51,8 @@ constexpr double kStallUs = 2'500;
 constexpr double kRigLateUs = 1'500;
 constexpr double kFlagBeforeUs = 2'000;
 constexpr double kFlagAfterUs = 100'000;
-constexpr double kFlagAfterPerStalled = 10.0;       // and 10 ms more per ms stalled,
-constexpr double kLongestFlagExtensionUs = 1e6;     //   at most 1 s more (a latch)
+constexpr double kFlagAfterPerStalled = 10.0;    // and 10 ms more per ms stalled,
+constexpr double kLongestFlagExtensionUs = 1e6;  //   at most 1 s more (a latch)
 
 // The stalls of a log, found as its messages come, and whether a sample
 // lies near one: from kFlagBeforeUs before it to the drives' recovery after
@@ -162,8 +162,8 @@ void InsertByUtime(std::deque<T>* items, T item) {
 // The last item stamped at or before `utime`, or null.
 template <typename T>
 const T* LastAtOrBefore(const std::deque<T>& items, std::int64_t utime) {
-  auto after = std::upper_bound(items.begin(), items.end(), utime,
-                                [](std::int64_t t, const T& item) { return t < item.utime; });
+  auto after =
+      std::upper_bound(items.begin(), items.end(), utime, [](std::int64_t t, const T& item) { return t < item.utime; });
   return after == items.begin() ? nullptr : &*std::prev(after);
 }
 
@@ -339,8 +339,10 @@ MeasurementExport ExportMeasurementCsv(const std::string& log_path, std::ostream
       if (Decode(event, &truth)) pairing.Add(truth);
     } else if (event.channel == channel::kTracker) {
       tracker_point_t point{};
-      if (Decode(event, &point)) pairing.Add(event.timestamp_utime, point);
-      else ++result.skipped;
+      if (Decode(event, &point))
+        pairing.Add(event.timestamp_utime, point);
+      else
+        ++result.skipped;
     }
     pairing.WriteUpTo(event.timestamp_utime, &result);
   }

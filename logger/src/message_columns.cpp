@@ -20,10 +20,14 @@ namespace {
 
 template <typename T>
 constexpr ColumnKind KindOf() {
-  if constexpr (std::is_same_v<T, std::int8_t>) return ColumnKind::kInt8;
-  else if constexpr (std::is_same_v<T, std::int32_t>) return ColumnKind::kInt32;
-  else if constexpr (std::is_same_v<T, std::int64_t>) return ColumnKind::kInt64;
-  else if constexpr (std::is_same_v<T, double>) return ColumnKind::kDouble;
+  if constexpr (std::is_same_v<T, std::int8_t>)
+    return ColumnKind::kInt8;
+  else if constexpr (std::is_same_v<T, std::int32_t>)
+    return ColumnKind::kInt32;
+  else if constexpr (std::is_same_v<T, std::int64_t>)
+    return ColumnKind::kInt64;
+  else if constexpr (std::is_same_v<T, double>)
+    return ColumnKind::kDouble;
   else {
     static_assert(std::is_same_v<T, std::string>, "a field type the columns do not know");
     return ColumnKind::kText;
@@ -33,7 +37,7 @@ constexpr ColumnKind KindOf() {
 template <typename T>
 std::vector<std::size_t> ShapeOf() {
   std::vector<std::size_t> shape;
-  if constexpr (std::rank_v<T> > 0) {
+  if constexpr (std::rank_v < T >> 0) {
     shape.push_back(std::extent_v<T>);
     for (std::size_t n : ShapeOf<std::remove_extent_t<T>>()) shape.push_back(n);
   }
@@ -204,8 +208,10 @@ void MessageColumns::Add(std::string_view channel, const std::uint8_t* data, std
     ++table->skipped;
   } else {
     const auto unknown = unknown_.find(channel);
-    if (unknown != unknown_.end()) ++unknown->second;
-    else unknown_.emplace(std::string(channel), 1);
+    if (unknown != unknown_.end())
+      ++unknown->second;
+    else
+      unknown_.emplace(std::string(channel), 1);
   }
 }
 
@@ -239,12 +245,13 @@ LogColumns ReadLogColumns(const std::string& path, const std::function<bool(cons
     if (n > 0) out.messages.Expect(channel, n);
     every_channel = every_channel && n >= 0;
   }
-  out.damage_offset = ForEachEvent(file, [&](std::string_view channel, const std::uint8_t* data, std::size_t size,
-                                             std::int64_t utime) {
-    // With a filter, a channel the count did not see (the file changed under the mapping) is left out.
-    const auto counted = every_channel ? counts.end() : counts.find(channel);
-    if (every_channel || (counted != counts.end() && counted->second >= 0)) out.messages.Add(channel, data, size, utime);
-  });
+  out.damage_offset =
+      ForEachEvent(file, [&](std::string_view channel, const std::uint8_t* data, std::size_t size, std::int64_t utime) {
+        // With a filter, a channel the count did not see (the file changed under the mapping) is left out.
+        const auto counted = every_channel ? counts.end() : counts.find(channel);
+        if (every_channel || (counted != counts.end() && counted->second >= 0))
+          out.messages.Add(channel, data, size, utime);
+      });
   out.damaged = out.damage_offset >= 0;
   return out;
 }

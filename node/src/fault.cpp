@@ -44,8 +44,8 @@ bool FaultThrottle::Admit(fault_t* fault) {
   return true;
 }
 
-fault_t MakeFault(const std::string& node, const std::string& channel, FaultCode code,
-                  std::int8_t severity, std::string reason, std::int64_t utime) {
+fault_t MakeFault(const std::string& node, const std::string& channel, FaultCode code, std::int8_t severity,
+                  std::string reason, std::int64_t utime) {
   fault_t fault{};
   fault.utime = utime;
   fault.node = node;

@@ -30,8 +30,12 @@ LatencySummary LatencyRecorder::Summarize() const {
 }
 
 nlohmann::json ToJson(const LatencySummary& s) {
-  return {{"samples", s.samples}, {"p50_us", s.p50_us}, {"p99_us", s.p99_us},
-          {"p999_us", s.p999_us}, {"max_us", s.max_us}, {"cycles", s.cycles},
+  return {{"samples", s.samples},
+          {"p50_us", s.p50_us},
+          {"p99_us", s.p99_us},
+          {"p999_us", s.p999_us},
+          {"max_us", s.max_us},
+          {"cycles", s.cycles},
           {"cycles_without_sample", s.cycles_without_sample}};
 }
 

@@ -17,8 +17,8 @@ void AddNodeOptions(CLI::App* app, NodeOptions* o) {
 }
 
 TransportConfig TransportFor(const NodeOptions& o) {
-  TransportConfig config = o.group_path.empty() ? TransportConfig{}
-                                                : RoutesForMember(LoadTransportConfig(o.group_path), o.member);
+  TransportConfig config =
+      o.group_path.empty() ? TransportConfig{} : RoutesForMember(LoadTransportConfig(o.group_path), o.member);
   if (!o.lcm_url.empty()) config.lcm_url = o.lcm_url;
   return config;
 }

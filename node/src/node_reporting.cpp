@@ -23,8 +23,7 @@ void NodeReporting::StatusTick(std::int64_t now_utime, std::int64_t deadline_mis
   if (status_.Due(now_utime)) status_out_.Publish(status_.Report(now_utime, deadline_misses));
 }
 
-void NodeReporting::ReportUndecodable(const std::string& channel, const ChannelCounters& in,
-                                      std::int64_t now_utime) {
+void NodeReporting::ReportUndecodable(const std::string& channel, const ChannelCounters& in, std::int64_t now_utime) {
   std::uint64_t& reported = reported_decode_errors_[channel];
   if (in.decode_errors <= reported) return;
   Fault(MakeFault(node_, channel, FaultCode::kUndecodable, fault_t::SEVERITY_WARNING,

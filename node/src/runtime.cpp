@@ -51,8 +51,7 @@ std::int64_t UtimeNow() {
   return std::int64_t{ts.tv_sec} * 1000000 + ts.tv_nsec / 1000;
 }
 
-RateClock::RateClock(std::chrono::nanoseconds period)
-    : period_(period), next_ns_(MonotonicNs() + period.count()) {}
+RateClock::RateClock(std::chrono::nanoseconds period) : period_(period), next_ns_(MonotonicNs() + period.count()) {}
 
 RateClock::RateClock(std::chrono::nanoseconds period, std::chrono::nanoseconds phase)
     : period_(period), next_ns_(NextGridTick(MonotonicNs(), period.count(), phase.count())) {}
@@ -64,10 +63,8 @@ std::int64_t NextGridTick(std::int64_t now_ns, std::int64_t period_ns, std::int6
 }
 
 void RateClock::WaitNext() {
-  timespec deadline{static_cast<time_t>(next_ns_ / 1000000000),
-                    static_cast<long>(next_ns_ % 1000000000)};
-  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &deadline, nullptr) == EINTR &&
-         !StopRequested()) {
+  timespec deadline{static_cast<time_t>(next_ns_ / 1000000000), static_cast<long>(next_ns_ % 1000000000)};
+  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &deadline, nullptr) == EINTR && !StopRequested()) {
   }
   next_ns_ += period_.count();
   const std::int64_t now = MonotonicNs();
@@ -78,9 +75,7 @@ void RateClock::WaitNext() {
   }
 }
 
-std::chrono::nanoseconds RateClock::UntilNext() const {
-  return std::chrono::nanoseconds(next_ns_ - MonotonicNs());
-}
+std::chrono::nanoseconds RateClock::UntilNext() const { return std::chrono::nanoseconds(next_ns_ - MonotonicNs()); }
 
 NodeStatus::NodeStatus(std::string node) : node_(std::move(node)) { loop_us_.reserve(4096); }
 

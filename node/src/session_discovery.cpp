@@ -21,13 +21,15 @@ std::int64_t DiscoverSession(Bus& bus, double timeout_s) {
   bus.Subscribe<leg_command_t>(channel::kLegCommand, [seen](const leg_command_t& c) { seen->insert(c.session_id); });
   bus.Subscribe<pose_setpoint_t>(channel::kSetpoint, [seen](const pose_setpoint_t& s) { seen->insert(s.session_id); });
   const std::set<std::int64_t>& sessions = *seen;
-  const auto until = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(timeout_s));
+  const auto until =
+      Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(timeout_s));
   while (Clock::now() < until && sessions.empty()) bus.Handle(std::chrono::milliseconds(50));
   bus.Handle(std::chrono::milliseconds(50));  // one more round: a second group shows itself
   if (sessions.empty()) {
-    throw std::runtime_error(fmt::format("no leg commands or setpoints on {} within {} s: is the group running "
-                                         "on this network? (or give the session id)",
-                                         bus.config().lcm_url, timeout_s));
+    throw std::runtime_error(
+        fmt::format("no leg commands or setpoints on {} within {} s: is the group running "
+                    "on this network? (or give the session id)",
+                    bus.config().lcm_url, timeout_s));
   }
   if (sessions.size() > 1) {
     std::string list;

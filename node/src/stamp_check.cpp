@@ -12,9 +12,10 @@ std::string StampProblem(const std::string& what, std::int64_t stamp_utime, std:
   const double limit = static_cast<double>(limit_us);
   if (age_us > limit) return fmt::format("{} is {:.0f} us old (limit {} us)", what, age_us, limit_us);
   if (-age_us > limit) {
-    return fmt::format("{} is stamped {:.0f} us in the future (limit {} us): the clocks of its host and this "
-                       "one disagree (docs/multihost.md)",
-                       what, -age_us, limit_us);
+    return fmt::format(
+        "{} is stamped {:.0f} us in the future (limit {} us): the clocks of its host and this "
+        "one disagree (docs/multihost.md)",
+        what, -age_us, limit_us);
   }
   return "";
 }

@@ -40,9 +40,9 @@ int Run(int argc, char** argv) {
                  "exit after holding the final pose this long (default: hold until stopped)");
   bool identifiability = false, json = false;
   IdentifiabilityOptions assess;
-  CLI::Option* assess_flag = app.add_flag(
-      "--identifiability", identifiability,
-      "print how well the motions identify each effect beside the paper's four, and exit");
+  CLI::Option* assess_flag =
+      app.add_flag("--identifiability", identifiability,
+                   "print how well the motions identify each effect beside the paper's four, and exit");
   app.add_flag("--json", json, "with --identifiability: JSON on stdout")->needs(assess_flag);
   app.add_option("--tracker-rate-hz", assess.rate_hz, "with --identifiability")
       ->check(CLI::Range(1.0, 10000.0))

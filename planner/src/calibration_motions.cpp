@@ -21,8 +21,8 @@ namespace {
 // What a dwell shows: the geometry, the screws' mapping, the PR, the play
 // and the static loads. Lag and heat need the motion between poses.
 std::vector<Effect> StaticEffects() {
-  return {Effect::kPassiveRotation, Effect::kJointPosition, Effect::kLeadError,
-          Effect::kPeriodicLeadError, Effect::kBacklash,     Effect::kCompliance};
+  return {Effect::kPassiveRotation,   Effect::kJointPosition, Effect::kLeadError,
+          Effect::kPeriodicLeadError, Effect::kBacklash,      Effect::kCompliance};
 }
 
 Vector6 Approach(const Vector6& pose, double dz) {
@@ -148,9 +148,8 @@ std::vector<Vector6> Tour(std::vector<Vector6> poses, const Vector6& home) {
   std::vector<Vector6> out;
   Vector6 at = home;
   while (!poses.empty()) {
-    auto next = std::min_element(poses.begin(), poses.end(), [&](const Vector6& a, const Vector6& b) {
-      return (a - at).norm() < (b - at).norm();
-    });
+    auto next = std::min_element(poses.begin(), poses.end(),
+                                 [&](const Vector6& a, const Vector6& b) { return (a - at).norm() < (b - at).norm(); });
     at = *next;
     out.push_back(at);
     poses.erase(next);
@@ -160,8 +159,8 @@ std::vector<Vector6> Tour(std::vector<Vector6> poses, const Vector6& home) {
 
 }  // namespace
 
-QuinticMove QuinticAtLegSpeed(const PlatformModel& model, const Vector6& from, const Vector6& to,
-                              double leg_speed_m_s, double min_duration_s) {
+QuinticMove QuinticAtLegSpeed(const PlatformModel& model, const Vector6& from, const Vector6& to, double leg_speed_m_s,
+                              double min_duration_s) {
   if (!(leg_speed_m_s > 0.0)) throw std::invalid_argument("leg speed must be positive");
   return QuinticMove(from, to, std::max(min_duration_s, LegTravelRate(model, from, to) / leg_speed_m_s));
 }
@@ -221,8 +220,8 @@ void AppendCalibrationMotions(const PlatformModel& model, const PaperMotionOptio
     const std::string run = fmt::format("cal{}", b + 1);
     auto go = [&](const Vector6& to, const std::string& label, double level) {
       if ((to - at).cwiseAbs().maxCoeff() > 0.0) {
-        sequence->Append(fmt::format("{}/move {}", run, label),
-                         std::make_unique<QuinticMove>(QuinticAtLegSpeed(model, at, to, level * speed_max, o.min_move_s)));
+        sequence->Append(fmt::format("{}/move {}", run, label), std::make_unique<QuinticMove>(QuinticAtLegSpeed(
+                                                                    model, at, to, level * speed_max, o.min_move_s)));
       }
       at = to;
     };

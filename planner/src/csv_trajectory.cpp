@@ -60,13 +60,13 @@ CsvTrajectory CsvTrajectory::Parse(const std::string& text, const std::string& o
       char* end = nullptr;
       values[k] = std::strtod(cell.c_str(), &end);
       if (cell.empty() || *end != '\0' || !std::isfinite(values[k])) {
-        throw std::runtime_error(fmt::format("{}:{}:{}: {} = \"{}\" is not a finite number", origin,
-                                             line_number, c + 1, kColumns[k], cell));
+        throw std::runtime_error(
+            fmt::format("{}:{}:{}: {} = \"{}\" is not a finite number", origin, line_number, c + 1, kColumns[k], cell));
       }
     }
     if (!trajectory.times_.empty() && !(values[0] > trajectory.times_.back())) {
-      throw std::runtime_error(fmt::format("{}:{}:{}: time_s = {} does not increase", origin,
-                                           line_number, index[0] + 1, values[0]));
+      throw std::runtime_error(
+          fmt::format("{}:{}:{}: time_s = {} does not increase", origin, line_number, index[0] + 1, values[0]));
     }
     trajectory.times_.push_back(values[0]);
     Vector6 pose;

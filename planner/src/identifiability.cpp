@@ -119,7 +119,9 @@ Identifiability Summarize(const std::string& name, const IdentificationInformati
 calibration::LegErrorInputs ErrorInputsAt(const PlatformModel& model, const Trajectory& trajectory, double t_s,
                                           PrMode pr_mode) {
   constexpr double h = 1e-3;
-  auto command = [&](double t) { return model.CompensatedLengths(Pose::FromVector(trajectory.Sample(t).pose), pr_mode); };
+  auto command = [&](double t) {
+    return model.CompensatedLengths(Pose::FromVector(trajectory.Sample(t).pose), pr_mode);
+  };
   const PoseSample sample = trajectory.Sample(t_s);
   const Vector6 c = command(t_s), p1 = command(t_s + h), m1 = command(t_s - h);
   const Vector6 p2 = command(t_s + 2.0 * h), m2 = command(t_s - 2.0 * h);

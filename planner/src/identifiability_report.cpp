@@ -12,8 +12,9 @@ namespace edsp {
 namespace {
 
 nlohmann::json ToJson(const Identifiability& row) {
-  return {{"effects", row.effects}, {"parameters", row.parameters}, {"samples", row.samples},
-          {"condition", row.condition}, {"o1", row.o1}, {"o3", row.o3}};
+  return {{"effects", row.effects}, {"parameters", row.parameters},
+          {"samples", row.samples}, {"condition", row.condition},
+          {"o1", row.o1},           {"o3", row.o3}};
 }
 
 void PrintJson(const TrajectorySequence& motions, const TrajectorySequence& reference,
@@ -34,13 +35,13 @@ void PrintTable(const TrajectorySequence& motions, const TrajectorySequence& ref
               options.rate_hz, options.noise_sigma_m * 1e6);
   std::printf("these motions %.1f s, the paper's four (Lz Lx Rz Ry) %.1f s\n\n", motions.duration_s(),
               reference.duration_s());
-  std::printf("%-20s %4s | %10s %9s %9s | %10s %9s %9s\n", "effects", "par", "condition", "O1", "O3",
-              "paper cond", "O1", "O3");
+  std::printf("%-20s %4s | %10s %9s %9s | %10s %9s %9s\n", "effects", "par", "condition", "O1", "O3", "paper cond",
+              "O1", "O3");
   for (std::size_t k = 0; k < ours.size(); ++k) {
     const Identifiability& a = ours[k];
     const Identifiability& b = theirs[k];
-    std::printf("%-20s %4d | %10.3g %9.3g %9.3g | %10.3g %9.3g %9.3g\n", a.effects.c_str(), a.parameters,
-                a.condition, a.o1, a.o3, b.condition, b.o1, b.o3);
+    std::printf("%-20s %4d | %10.3g %9.3g %9.3g | %10.3g %9.3g %9.3g\n", a.effects.c_str(), a.parameters, a.condition,
+                a.o1, a.o3, b.condition, b.o1, b.o3);
   }
 }
 

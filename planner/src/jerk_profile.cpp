@@ -17,8 +17,8 @@ ScalarState Advance(const ScalarState& s, double jerk, double t) {
 
 void JerkProfile::Append(double duration_s, double jerk) {
   if (!(duration_s > 0.0)) return;
-  const ScalarState from = pieces_.empty() ? start_ : Advance(piece_start_.back(), pieces_.back().second,
-                                                              pieces_.back().first);
+  const ScalarState from =
+      pieces_.empty() ? start_ : Advance(piece_start_.back(), pieces_.back().second, pieces_.back().first);
   pieces_.emplace_back(duration_s, jerk);
   piece_start_.push_back(from);
   duration_s_ += duration_s;

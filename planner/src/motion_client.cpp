@@ -56,9 +56,10 @@ MotionClient::MotionClient(const TransportConfig& transport, std::optional<std::
       session_(session_id ? *session_id : DiscoverSession(bus_, answer_timeout_s)),
       answer_timeout_s_(answer_timeout_s),
       client_(std::move(client_name)) {
-  bus_.Subscribe<motion_status_t>(channel::kMotionStatus, [inbox = inbox_, session = session_](const motion_status_t& s) {
-    if (s.session_id == session) inbox->status = s;
-  });
+  bus_.Subscribe<motion_status_t>(channel::kMotionStatus,
+                                  [inbox = inbox_, session = session_](const motion_status_t& s) {
+                                    if (s.session_id == session) inbox->status = s;
+                                  });
   bus_.Subscribe<motion_reply_t>(channel::kMotionReply, [inbox = inbox_, session = session_](const motion_reply_t& r) {
     if (r.session_id == session && r.request_id == inbox->awaited) inbox->reply = r;
   });

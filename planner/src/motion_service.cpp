@@ -138,11 +138,13 @@ std::string MotionService::RequestProblem(const motion_request_t& r, std::int64_
     return fmt::format("request {} from session {} ignored: this group is session {}", r.request_id, r.session_id,
                        options_.session_id);
   }
-  const double age_s = (static_cast<double>(now_utime) - static_cast<double>(r.utime)) * 1e-6;  // any int64, no overflow
+  const double age_s =
+      (static_cast<double>(now_utime) - static_cast<double>(r.utime)) * 1e-6;  // any int64, no overflow
   if (!(std::abs(age_s) <= options_.request_window_s)) {
-    return fmt::format("request {} stamped {:.1f} s {} this planner's clock ignored (a replayed log, or a clock "
-                       "off by more than {} s)",
-                       r.request_id, std::abs(age_s), age_s > 0 ? "before" : "after", options_.request_window_s);
+    return fmt::format(
+        "request {} stamped {:.1f} s {} this planner's clock ignored (a replayed log, or a clock "
+        "off by more than {} s)",
+        r.request_id, std::abs(age_s), age_s > 0 ? "before" : "after", options_.request_window_s);
   }
   if (r.request_id == 0) return "request_id 0: give each request a unique non-zero id";
   return "";
@@ -233,8 +235,8 @@ motion_reply_t MotionService::Move(const motion_request_t& r, bool check_only, s
   if (found == nullptr) {
     std::string known;
     for (const auto& [name, f] : frames_) known += (known.empty() ? "" : ", ") + name;
-    return Reply(r, false, fmt::format("unknown frame \"{}\" (known: {}; define one with edsp-ctl frame)", r.frame,
-                                       known));
+    return Reply(r, false,
+                 fmt::format("unknown frame \"{}\" (known: {}; define one with edsp-ctl frame)", r.frame, known));
   }
   const WorkFrame frame = *found;
   const Vector3 pivot = pivot_M_;
@@ -254,8 +256,9 @@ motion_reply_t MotionService::Move(const motion_request_t& r, bool check_only, s
   const Vector6 target = PoseOf(PlatformPose(frame, pivot, to)).ToVector();
   const WorkspaceCheck end = CheckWorkspace(model_, Pose::FromVector(target));
   if (!end.ok()) {
-    return Reply(r, false, fmt::format("target {} (in {}) is outside the workspace: {}", DescribeVector(target),
-                                       frame.name, end.Describe()));
+    return Reply(r, false,
+                 fmt::format("target {} (in {}) is outside the workspace: {}", DescribeVector(target), frame.name,
+                             end.Describe()));
   }
   // Planned and checked without the lock: setpoints go on meanwhile.
   const std::uint64_t decelerations = decelerations_;
@@ -264,15 +267,15 @@ motion_reply_t MotionService::Move(const motion_request_t& r, bool check_only, s
   lock.lock();
   if (m.check.limit == PathLimit::kDuration) return Reply(r, false, m.check.Describe());
   if (!m.check.ok()) {
-    return Reply(r, false, fmt::format("the path to {} crosses a limit (both ends are reachable) {}",
-                                       DescribeVector(target), m.check.Describe()));
+    return Reply(r, false,
+                 fmt::format("the path to {} crosses a limit (both ends are reachable) {}", DescribeVector(target),
+                             m.check.Describe()));
   }
   m.request_id = r.request_id;
-  const std::string what = fmt::format("{} to {} in {} ({:.4f} m, {:.4f} rad about the pivot) in {:.3f} s, {}",
-                                       check_only ? "would move" : "moves", DescribeVector(target), frame.name,
-                                       std::static_pointer_cast<const PivotPath>(m.path)->distance_m(),
-                                       std::static_pointer_cast<const PivotPath>(m.path)->angle_rad(),
-                                       m.duration_s(), m.check.Describe());
+  const std::string what = fmt::format(
+      "{} to {} in {} ({:.4f} m, {:.4f} rad about the pivot) in {:.3f} s, {}", check_only ? "would move" : "moves",
+      DescribeVector(target), frame.name, std::static_pointer_cast<const PivotPath>(m.path)->distance_m(),
+      std::static_pointer_cast<const PivotPath>(m.path)->angle_rad(), m.duration_s(), m.check.Describe());
   if (check_only) return Reply(r, true, what, m.duration_s(), TimeToIdle(now_utime));
   if (std::string p = PlanOutdated(from, decelerations); !p.empty()) return Reply(r, false, p);
   if (std::string p = QueueProblem(); !p.empty()) return Reply(r, false, p);
@@ -393,8 +396,9 @@ motion_reply_t MotionService::DefineFrame(const motion_request_t& r) {
   if (!AllFinite(r.pose, 6)) return Reply(r, false, fmt::format("frame {}: pose has a non-finite value", name));
   const Pose pose = Pose::FromVector(PoseField(r));
   if (pose.p_BoMo_B.norm() > kMaxFrameOffset_m) {
-    return Reply(r, false, fmt::format("frame {}: origin {:.3f} m from {{B}}, beyond {} m", name,
-                                       pose.p_BoMo_B.norm(), kMaxFrameOffset_m));
+    return Reply(r, false,
+                 fmt::format("frame {}: origin {:.3f} m from {{B}}, beyond {} m", name, pose.p_BoMo_B.norm(),
+                             kMaxFrameOffset_m));
   }
   frames_[name] = WorkFrame{name, TransformOf(pose)};
   return Reply(r, true, fmt::format("frame {} = {} in {{B}}", name, DescribeVector(PoseField(r))));
@@ -403,26 +407,30 @@ motion_reply_t MotionService::DefineFrame(const motion_request_t& r) {
 motion_reply_t MotionService::SetPivot(const motion_request_t& r) {
   const Vector3 c(r.point[0], r.point[1], r.point[2]);
   if (!c.allFinite() || c.norm() > kMaxPivotOffset_m) {
-    return Reply(r, false, fmt::format("pivot ({}, {}, {}) m: give a finite point within {} m of {{M}}'s origin",
-                                       c(0), c(1), c(2), kMaxPivotOffset_m));
+    return Reply(r, false,
+                 fmt::format("pivot ({}, {}, {}) m: give a finite point within {} m of {{M}}'s origin", c(0), c(1),
+                             c(2), kMaxPivotOffset_m));
   }
   pivot_M_ = c;
-  return Reply(r, true, fmt::format("pivot ({:.6f}, {:.6f}, {:.6f}) m in {{M}}: moves from now turn about it", c(0),
-                                    c(1), c(2)));
+  return Reply(
+      r, true,
+      fmt::format("pivot ({:.6f}, {:.6f}, {:.6f}) m in {{M}}: moves from now turn about it", c(0), c(1), c(2)));
 }
 
 motion_reply_t MotionService::SetLimits(const motion_request_t& r) {
   MoveLimits l = default_limits_;
   std::string p = TakeLimit(r.speed_m_s, config_limits_.speed_m_s, "speed_m_s", "speed_max_m_s", &l.speed_m_s);
-  if (p.empty()) p = TakeLimit(r.speed_rad_s, config_limits_.speed_rad_s, "speed_rad_s", "speed_max_rad_s", &l.speed_rad_s);
+  if (p.empty())
+    p = TakeLimit(r.speed_rad_s, config_limits_.speed_rad_s, "speed_rad_s", "speed_max_rad_s", &l.speed_rad_s);
   if (p.empty()) p = TakeLimit(r.accel_m_s2, config_limits_.accel_m_s2, "accel_m_s2", "accel_max_m_s2", &l.accel_m_s2);
   if (p.empty()) {
     p = TakeLimit(r.accel_rad_s2, config_limits_.accel_rad_s2, "accel_rad_s2", "accel_max_rad_s2", &l.accel_rad_s2);
   }
   if (!p.empty()) return Reply(r, false, p);
   default_limits_ = l;
-  return Reply(r, true, fmt::format("moves from now: {} m/s, {} rad/s, {} m/s^2, {} rad/s^2", l.speed_m_s,
-                                    l.speed_rad_s, l.accel_m_s2, l.accel_rad_s2));
+  return Reply(r, true,
+               fmt::format("moves from now: {} m/s, {} rad/s, {} m/s^2, {} rad/s^2", l.speed_m_s, l.speed_rad_s,
+                           l.accel_m_s2, l.accel_rad_s2));
 }
 
 void MotionService::OnLegState(const leg_state_t& legs, std::int64_t now_utime) {
@@ -454,8 +462,10 @@ void MotionService::OnPlatformState(const platform_state_t& state, std::int64_t 
     const auto [distance, angle] = PoseError(measured_pose_, hold_pose_, pivot_M_);
     within = distance <= m.on_target_tolerance_m && angle <= m.on_target_tolerance_rad;
   }
-  if (!within) within_since_ = 0;
-  else if (within_since_ == 0) within_since_ = now_utime;
+  if (!within)
+    within_since_ = 0;
+  else if (within_since_ == 0)
+    within_since_ = now_utime;
   if (OnTarget(now_utime) != was) Changed();
 }
 
@@ -551,7 +561,8 @@ motion_status_t MotionService::Status(std::int64_t now_utime) const {
   s.activity = current_ ? current_->motion.activity : activity_;
   if (current_ && current_->start_utime != 0) {
     const double d = current_->motion.duration_s();
-    s.progress = d > 0.0 ? std::clamp(static_cast<double>(now_utime - current_->start_utime) * 1e-6 / d, 0.0, 1.0) : 1.0;
+    s.progress =
+        d > 0.0 ? std::clamp(static_cast<double>(now_utime - current_->start_utime) * 1e-6 / d, 0.0, 1.0) : 1.0;
   } else {
     s.progress = last_end_ == motion_status_t::END_COMPLETED && !current_ ? 1.0 : 0.0;
   }
@@ -568,8 +579,10 @@ motion_status_t MotionService::Status(std::int64_t now_utime) const {
   s.on_target = OnTarget(now_utime);
   s.frame = frame_;
   for (int k = 0; k < 3; ++k) s.pivot[k] = pivot_M_(k);
-  if (s.state == motion_status_t::STATE_FAULT) s.reason = BridgeProblem(now_utime);
-  else if (s.state == motion_status_t::STATE_REFUSED) s.reason = refused_;
+  if (s.state == motion_status_t::STATE_FAULT)
+    s.reason = BridgeProblem(now_utime);
+  else if (s.state == motion_status_t::STATE_REFUSED)
+    s.reason = refused_;
   return s;
 }
 

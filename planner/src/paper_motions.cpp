@@ -45,8 +45,8 @@ Vector6 MixedStop(const Vector6& home, const PaperMotionOptions& o, int index, i
 
 }  // namespace
 
-void AppendPaperMotion(const std::string& name, const Vector6& home,
-                       const PaperMotionOptions& o, TrajectorySequence* sequence) {
+void AppendPaperMotion(const std::string& name, const Vector6& home, const PaperMotionOptions& o,
+                       TrajectorySequence* sequence) {
   int mixed = 0;
   const bool is_mixed = MixedIndex(name, &mixed);
   const int axis = is_mixed ? -1 : AxisOf(name);
@@ -58,11 +58,10 @@ void AppendPaperMotion(const std::string& name, const Vector6& home,
       // All six axes at once add up in the legs: half of each axis's speed.
       const double share = is_mixed ? 0.5 : 1.0;
       sequence->Append(fmt::format("{}/move {}", name, label),
-                       std::make_unique<QuinticMove>(QuinticMove::WithinLimits(
-                           at, target, share * o.max_speed_m_s, share * o.max_speed_rad_s)));
+                       std::make_unique<QuinticMove>(
+                           QuinticMove::WithinLimits(at, target, share * o.max_speed_m_s, share * o.max_speed_rad_s)));
     }
-    sequence->Append(fmt::format("{}/dwell {}", name, label),
-                     std::make_unique<Dwell>(target, o.dwell_s));
+    sequence->Append(fmt::format("{}/dwell {}", name, label), std::make_unique<Dwell>(target, o.dwell_s));
     at = target;
   };
   for (int k = 0; k < o.stops; ++k) {

@@ -67,7 +67,8 @@ PlannedMotion PlanMove(const PlatformModel& model, const WorkFrame& frame, const
   m.frame = frame.name;
   m.path = path;
   if (d > 0.0 || angle > 0.0) {
-    const ScalarLimits u{PathRate(l.speed_m_s, d, l.speed_rad_s, angle), PathRate(l.accel_m_s2, d, l.accel_rad_s2, angle),
+    const ScalarLimits u{PathRate(l.speed_m_s, d, l.speed_rad_s, angle),
+                         PathRate(l.accel_m_s2, d, l.accel_rad_s2, angle),
                          PathRate(l.jerk_m_s3, d, l.jerk_rad_s3, angle)};
     m.timing = JerkProfile::RestToRest(1.0, u);
     m.halt = u;
@@ -83,8 +84,8 @@ PlannedMotion PlanMove(const PlatformModel& model, const WorkFrame& frame, const
   return m;
 }
 
-PlannedMotion PlanProgram(const PlatformModel& model, std::unique_ptr<TrajectorySequence> program,
-                          const MoveLimits& l, double check_rate_hz) {
+PlannedMotion PlanProgram(const PlatformModel& model, std::unique_ptr<TrajectorySequence> program, const MoveLimits& l,
+                          double check_rate_hz) {
   auto path = std::make_shared<ProgramPath>(std::move(program));
   // The program's own peak speeds bound how fast its clock may be slowed:
   // the slowing adds at most the move limits' acceleration to its own.

@@ -26,8 +26,7 @@ std::string TrajectoryViolation(const TrajectorySequence& sequence, const PathCh
   return fmt::format("trajectory segment \"{}\" {} (slow the motion down)", segment, check.Describe());
 }
 
-Planner::Planner(const PlatformModel& model, std::unique_ptr<TrajectorySequence> sequence,
-                 std::int64_t session_id)
+Planner::Planner(const PlatformModel& model, std::unique_ptr<TrajectorySequence> sequence, std::int64_t session_id)
     : sequence_(std::move(sequence)), session_id_(session_id) {
   if (sequence_ == nullptr || sequence_->size() == 0) {
     throw std::invalid_argument("planner: empty trajectory");

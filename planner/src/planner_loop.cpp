@@ -19,8 +19,8 @@ PlannerLoop::PlannerLoop(Bus& bus, MotionService& service, PlannerLoopOptions op
                                   [this](const motion_request_t& request) { OnRequest(request); });
   bus.Subscribe<leg_state_t>(channel::kLegState,
                              [this](const leg_state_t& legs) { service_.OnLegState(legs, UtimeNow()); });
-  bus.Subscribe<platform_state_t>(channel::kPlatformState,
-                                  [this](const platform_state_t& state) { service_.OnPlatformState(state, UtimeNow()); });
+  bus.Subscribe<platform_state_t>(
+      channel::kPlatformState, [this](const platform_state_t& state) { service_.OnPlatformState(state, UtimeNow()); });
 }
 
 PlannerLoop::~PlannerLoop() {

@@ -39,8 +39,8 @@ QuinticMove::QuinticMove(const Vector6& from, const Vector6& to, double duration
   }
 }
 
-QuinticMove QuinticMove::WithinLimits(const Vector6& from, const Vector6& to,
-                                      double max_speed_m_s, double max_speed_rad_s) {
+QuinticMove QuinticMove::WithinLimits(const Vector6& from, const Vector6& to, double max_speed_m_s,
+                                      double max_speed_rad_s) {
   RequirePositive(max_speed_m_s, "max_speed_m_s");
   RequirePositive(max_speed_rad_s, "max_speed_rad_s");
   // Peak speed of the quintic is 15/8 · distance / duration.
@@ -60,10 +60,8 @@ PoseSample QuinticMove::Sample(double t_s) const {
   return sample;
 }
 
-Sinusoid::Sinusoid(const Vector6& center, int axis, double amplitude, double frequency_hz,
-                   int cycles)
-    : center_(center), axis_(axis), amplitude_(amplitude), frequency_hz_(frequency_hz),
-      cycles_(cycles) {
+Sinusoid::Sinusoid(const Vector6& center, int axis, double amplitude, double frequency_hz, int cycles)
+    : center_(center), axis_(axis), amplitude_(amplitude), frequency_hz_(frequency_hz), cycles_(cycles) {
   if (axis < 0 || axis > 5) throw std::invalid_argument(fmt::format("sinusoid axis {} not in 0..5", axis));
   RequirePositive(frequency_hz, "sinusoid frequency_hz");
   if (cycles < 2) throw std::invalid_argument("sinusoid needs at least 2 cycles (fade in, fade out)");
@@ -92,8 +90,7 @@ PoseSample Sinusoid::Sample(double t_s) const {
   sample.pose = center_;
   sample.pose(axis_) += amplitude_ * w.s * s;
   sample.velocity(axis_) = amplitude_ * (w1 * s + w.s * omega * c);
-  sample.acceleration(axis_) =
-      amplitude_ * (w2 * s + 2.0 * w1 * omega * c - w.s * omega * omega * s);
+  sample.acceleration(axis_) = amplitude_ * (w2 * s + 2.0 * w1 * omega * c - w.s * omega * omega * s);
   return sample;
 }
 
@@ -102,9 +99,8 @@ void TrajectorySequence::Append(std::string name, std::unique_ptr<Trajectory> se
   if (!segments_.empty()) {
     const Vector6 gap = segment->Sample(0.0).pose - EndPose();
     if (gap.cwiseAbs().maxCoeff() > 1e-9) {
-      throw std::invalid_argument(fmt::format(
-          "segment \"{}\" starts {:.3g} away from where \"{}\" ends: a jump", name,
-          gap.cwiseAbs().maxCoeff(), segments_.back().name));
+      throw std::invalid_argument(fmt::format("segment \"{}\" starts {:.3g} away from where \"{}\" ends: a jump", name,
+                                              gap.cwiseAbs().maxCoeff(), segments_.back().name));
     }
   }
   segments_.push_back({std::move(name), total_s_, std::move(segment)});

@@ -31,8 +31,6 @@ FramedPose InFrame(const WorkFrame& frame, const Vector3& c, const Transform& X_
   return p;
 }
 
-FramedPose FramedPoseOf(const Vector6& q) {
-  return {q.head<3>(), RotationFromRpy(q.tail<3>())};
-}
+FramedPose FramedPoseOf(const Vector6& q) { return {q.head<3>(), RotationFromRpy(q.tail<3>())}; }
 
 }  // namespace edsp

@@ -27,8 +27,8 @@ Rows SixColumns(const py::handle& value, const char* argument) {
   const double* data = rows.data();
   for (py::ssize_t i = 0; i < rows.shape(0) * 6; ++i) {
     if (!std::isfinite(data[i])) {
-      throw py::value_error(fmt::format("{}: row {} column {} is {} (every value must be finite)", argument, i / 6,
-                                        i % 6, data[i]));
+      throw py::value_error(
+          fmt::format("{}: row {} column {} is {} (every value must be finite)", argument, i / 6, i % 6, data[i]));
     }
   }
   return rows;

@@ -106,8 +106,8 @@ py::dict Tables(MessageColumns&& messages) {
 
 // ({channel: table}, {"unknown": {channel: count}, "damaged": bool, "damage_offset": int}).
 py::tuple ReadLog(const std::string& path, const std::optional<std::vector<std::string>>& channels) {
-  const std::set<std::string> wanted = channels ? std::set<std::string>(channels->begin(), channels->end())
-                                                : std::set<std::string>{};
+  const std::set<std::string> wanted =
+      channels ? std::set<std::string>(channels->begin(), channels->end()) : std::set<std::string>{};
   LogColumns log;
   {
     py::gil_scoped_release release;

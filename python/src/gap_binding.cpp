@@ -28,7 +28,8 @@ gap::MeasurementData Measurements(const std::vector<std::string>& paths, const C
                                   gap::TimingEvents timing) {
   gap::MeasurementData data;
   for (const std::string& path : paths) gap::AppendMeasurement(&data, gap::LoadMeasurement(path, timing));
-  for (const auto& [origin, text] : texts) gap::AppendMeasurement(&data, gap::ParseMeasurementCsv(text, origin, timing));
+  for (const auto& [origin, text] : texts)
+    gap::AppendMeasurement(&data, gap::ParseMeasurementCsv(text, origin, timing));
   return data;
 }
 
@@ -87,15 +88,14 @@ void BindGap(py::module_& m) {
          std::optional<double> max_rate_hz, std::optional<double> thermal_time_constant_s,
          std::optional<double> structural_mode_hz, std::optional<double> structural_mode_damping,
          bool against_calibration) {
-        return Diagnose(config, paths, texts,
-                        {max_rate_hz, thermal_time_constant_s, structural_mode_hz, structural_mode_damping,
-                         against_calibration});
+        return Diagnose(
+            config, paths, texts,
+            {max_rate_hz, thermal_time_constant_s, structural_mode_hz, structural_mode_damping, against_calibration});
       },
-      py::arg("config"), py::arg("paths"), py::arg("texts"), py::arg("max_rate_hz"),
-      py::arg("thermal_time_constant_s"), py::arg("structural_mode_hz"), py::arg("structural_mode_damping"),
-      py::arg("against_calibration"));
-  m.def("gap_evaluate", &Evaluate, py::arg("config"), py::arg("model_json"), py::arg("model_origin"),
-        py::arg("paths"), py::arg("texts"), py::arg("keep_timing_events"));
+      py::arg("config"), py::arg("paths"), py::arg("texts"), py::arg("max_rate_hz"), py::arg("thermal_time_constant_s"),
+      py::arg("structural_mode_hz"), py::arg("structural_mode_damping"), py::arg("against_calibration"));
+  m.def("gap_evaluate", &Evaluate, py::arg("config"), py::arg("model_json"), py::arg("model_origin"), py::arg("paths"),
+        py::arg("texts"), py::arg("keep_timing_events"));
 }
 
 }  // namespace edsp::python

@@ -33,8 +33,8 @@ Times CheckedTimes(const py::handle& value, py::ssize_t rows) {
   for (py::ssize_t i = 0; i < rows; ++i) {
     if (!std::isfinite(t[i])) throw py::value_error(fmt::format("times_s: row {} is {} (must be finite)", i, t[i]));
     if (i > 0 && !(t[i] > t[i - 1])) {
-      throw py::value_error(fmt::format("times_s: row {} ({} s) does not come after row {} ({} s)", i, t[i], i - 1,
-                                        t[i - 1]));
+      throw py::value_error(
+          fmt::format("times_s: row {} ({} s) does not come after row {} ({} s)", i, t[i], i - 1, t[i - 1]));
     }
   }
   return times;
@@ -84,7 +84,8 @@ class Kinematics {
  public:
   Kinematics(const std::string& config_path, const std::string& calibration_path, bool apply_ambiguous)
       : model_(LoadConfigFile(config_path)) {
-    if (!calibration_path.empty()) calibration_ = calibration::LoadCalibration(calibration_path, model_, apply_ambiguous);
+    if (!calibration_path.empty())
+      calibration_ = calibration::LoadCalibration(calibration_path, model_, apply_ambiguous);
   }
 
   // What the command subtracts from each pose's IK lengths: the PR length
@@ -169,7 +170,8 @@ class Kinematics {
     const Rows poses = SixColumns(poses_in, "poses");
     std::vector<std::optional<std::string>> out;
     for (py::ssize_t i = 0; i < poses.shape(0); ++i) {
-      const WorkspaceCheck c = CheckWorkspace(model_, Pose::FromVector(Eigen::Map<const Vector6>(poses.data() + 6 * i)));
+      const WorkspaceCheck c =
+          CheckWorkspace(model_, Pose::FromVector(Eigen::Map<const Vector6>(poses.data() + 6 * i)));
       out.push_back(c.ok() ? std::nullopt : std::optional<std::string>(c.Describe()));
     }
     return out;

@@ -133,8 +133,9 @@ class Client {
     constexpr double kSlice_s = 0.1;
     WaitResult r;
     bool seen = false;
-    const auto until = std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                                              std::chrono::duration<double>(timeout_s));
+    const auto until =
+        std::chrono::steady_clock::now() +
+        std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(timeout_s));
     while (true) {
       const double left = std::chrono::duration<double>(until - std::chrono::steady_clock::now()).count();
       {

@@ -33,10 +33,10 @@ bool DriveImageServer::LatestCommand(DriveImageCommand* command) {
   }
   commands_->SkipToLatest();
   return commands_->TryTake([&](const std::uint8_t* data, std::uint32_t size) {
-           if (size != sizeof *command) return false;
-           std::memcpy(command, data, sizeof *command);
-           return true;
-         }) == TakeStatus::kMessage;
+    if (size != sizeof *command) return false;
+    std::memcpy(command, data, sizeof *command);
+    return true;
+  }) == TakeStatus::kMessage;
 }
 
 void DriveImageServer::PublishFeedback(const DriveFeedback& f, std::int64_t utime, std::int64_t cycle) {
@@ -87,8 +87,8 @@ ImageRestore RestoreFromImage(const std::string& prefix, mode_t permissions, Vir
     return result;
   }
   result.restored = true;
-  result.note = "continuing from the drives' last feedback in " + segment +
-                " (absolute encoders); drives off until commanded";
+  result.note =
+      "continuing from the drives' last feedback in " + segment + " (absolute encoders); drives off until commanded";
   return result;
 }
 

@@ -8,8 +8,7 @@ namespace {
 constexpr double kTwoPi = 2.0 * 3.14159265358979323846;
 }
 
-LegTransmission::LegTransmission(int leg, double zero_length_m, const DriveParameters& drive,
-                                 const RigEffects& effects)
+LegTransmission::LegTransmission(int leg, double zero_length_m, const DriveParameters& drive, const RigEffects& effects)
     : zero_length_m_(zero_length_m), lead_m_(drive.lead_m), gear_ratio_(drive.gear_ratio) {
   const auto i = static_cast<std::size_t>(leg);
   if (effects.leg_offset.enabled) zero_length_m_ += effects.leg_offset.offset_m[i];
@@ -32,8 +31,8 @@ double LegTransmission::Length(double motor_angle_rad, double dt_s) {
   const double screw = (driven_rad_ + play_rad_) / gear_ratio_;  // zero at home
   const double travel = lead_m_ * screw / kTwoPi;
   if (thermal_.enabled) {
-    temperature_K_ += thermal_.heating_K_per_m * std::abs(travel - last_travel_m_) -
-                      temperature_K_ * dt_s / thermal_.time_constant_s;
+    temperature_K_ +=
+        thermal_.heating_K_per_m * std::abs(travel - last_travel_m_) - temperature_K_ * dt_s / thermal_.time_constant_s;
     last_travel_m_ = travel;
   }
   return zero_length_m_ + travel + periodic_m_ * (std::sin(screw + phase_rad_) - std::sin(phase_rad_)) +

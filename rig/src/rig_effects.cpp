@@ -15,12 +15,11 @@ namespace {
 
 // Bounds that catch unit typos (mm for m, ppm for a fraction) on a platform
 // of metres: an effect this large is a mistake, not a rig.
-void RequireAll(const SectionReader& s, const LegValues& v, const char* key, double lo, double hi,
-                const char* what) {
+void RequireAll(const SectionReader& s, const LegValues& v, const char* key, double lo, double hi, const char* what) {
   for (std::size_t i = 0; i < v.size(); ++i) {
     if (!(v[i] >= lo && v[i] <= hi)) {
-      s.Fail(*s.table(), fmt::format("[{}] {} = {} (leg {}) must be in [{}, {}] {}", s.name(), key,
-                                     v[i], i + 1, lo, hi, what));
+      s.Fail(*s.table(),
+             fmt::format("[{}] {} = {} (leg {}) must be in [{}, {}] {}", s.name(), key, v[i], i + 1, lo, hi, what));
     }
   }
 }
@@ -51,8 +50,8 @@ void ReadPassiveRotation(const SectionReader& s, RigEffects::PassiveRotation* e)
     s.Fail(*s.table(), fmt::format("[{}] pr_sign = {} must be 1, -1 or 0 (no PR)", s.name(), e->pr_sign));
   }
   if (e->pr_lead_m < 0.0 || e->pr_lead_m > 0.5) {
-    s.Fail(*s.table(), fmt::format("[{}] pr_lead_m = {} must be in [0, 0.5] m (0: the nominal lead)",
-                                   s.name(), e->pr_lead_m));
+    s.Fail(*s.table(),
+           fmt::format("[{}] pr_lead_m = {} must be in [0, 0.5] m (0: the nominal lead)", s.name(), e->pr_lead_m));
   }
 }
 
@@ -79,8 +78,8 @@ void ReadBacklash(const SectionReader& s, RigEffects::Backlash* e) {
 }
 
 void ReadServoLag(const SectionReader& s, RigEffects::ServoLag* e) {
-  s.RejectUnknownKeys({"enabled", "inertia_kg_m2", "viscous_N_m_s", "torque_limit_N_m", "bandwidth_hz",
-                       "loop_rate_hz", "coulomb_N_m", "integral_time_s", "screw_efficiency", "load_mass_kg",
+  s.RejectUnknownKeys({"enabled", "inertia_kg_m2", "viscous_N_m_s", "torque_limit_N_m", "bandwidth_hz", "loop_rate_hz",
+                       "coulomb_N_m", "integral_time_s", "screw_efficiency", "load_mass_kg",
                        "following_error_window_m"});
   e->coulomb_N_m = s.Number("coulomb_N_m", e->coulomb_N_m);
   e->integral_time_s = s.Number("integral_time_s", e->integral_time_s);
@@ -106,24 +105,23 @@ void ReadServoLag(const SectionReader& s, RigEffects::ServoLag* e) {
           "in [1000, 100000] Hz");
   require(e->coulomb_N_m >= 0.0 && e->coulomb_N_m < e->torque_limit_N_m, "coulomb_N_m", e->coulomb_N_m,
           "in [0, torque_limit_N_m) N m");
-  require(e->integral_time_s == 0.0 || (e->integral_time_s >= 4.0 / (2.0 * 3.14159265358979 * e->bandwidth_hz) &&
-                                        e->integral_time_s <= 100.0),
+  require(e->integral_time_s == 0.0 ||
+              (e->integral_time_s >= 4.0 / (2.0 * 3.14159265358979 * e->bandwidth_hz) && e->integral_time_s <= 100.0),
           "integral_time_s", e->integral_time_s, "0 (none) or between 4/(2π·bandwidth_hz) and 100 s");
-  require(e->screw_efficiency > 0.1 && e->screw_efficiency <= 1.0, "screw_efficiency", e->screw_efficiency, "in (0.1, 1]");
+  require(e->screw_efficiency > 0.1 && e->screw_efficiency <= 1.0, "screw_efficiency", e->screw_efficiency,
+          "in (0.1, 1]");
   require(e->load_mass_kg >= 0.0 && e->load_mass_kg <= 1e5, "load_mass_kg", e->load_mass_kg, "in [0, 1e5] kg");
   require(e->following_error_window_m >= 0.0 && e->following_error_window_m <= 0.1, "following_error_window_m",
           e->following_error_window_m, "in [0, 0.1] m (0: none)");
 }
 
-
 void ReadCompliance(const SectionReader& s, RigEffects::Compliance* e) {
-  s.RejectUnknownKeys({"enabled", "stiffness_N_m", "mass_kg", "com_m", "payload_kg", "payload_com_m",
-                       "gravity_m_s2"});
+  s.RejectUnknownKeys({"enabled", "stiffness_N_m", "mass_kg", "com_m", "payload_kg", "payload_com_m", "gravity_m_s2"});
   e->payload_kg = s.Number("payload_kg", e->payload_kg);
   e->payload_com_m = s.Vector("payload_com_m", e->payload_com_m);
   if (!(e->payload_kg >= 0.0 && e->payload_kg <= 1e5) || e->payload_com_m.norm() > 10.0) {
-    s.Fail(*s.table(), fmt::format("[{}] payload_kg = {} must be in [0, 1e5] kg, payload_com_m within 10 m",
-                                   s.name(), e->payload_kg));
+    s.Fail(*s.table(), fmt::format("[{}] payload_kg = {} must be in [0, 1e5] kg, payload_com_m within 10 m", s.name(),
+                                   e->payload_kg));
   }
   e->enabled = s.Bool("enabled", true);
   e->stiffness_N_m = s.PerLeg("stiffness_N_m", e->stiffness_N_m);
@@ -150,7 +148,8 @@ void ReadThermalDrift(const SectionReader& s, RigEffects::ThermalDrift* e) {
     if (!ok) s.Fail(*s.table(), fmt::format("[{}] {} = {} must be {}", s.name(), key, value, range));
   };
   require(e->alpha_per_K >= 0.0 && e->alpha_per_K < 1e-3, "alpha_per_K", e->alpha_per_K, "in [0, 1e-3) per K");
-  require(e->heating_K_per_m >= 0.0 && e->heating_K_per_m < 100.0, "heating_K_per_m", e->heating_K_per_m, "in [0, 100) K/m");
+  require(e->heating_K_per_m >= 0.0 && e->heating_K_per_m < 100.0, "heating_K_per_m", e->heating_K_per_m,
+          "in [0, 100) K/m");
   require(e->time_constant_s > 0.0 && e->time_constant_s < 1e6, "time_constant_s", e->time_constant_s, "in (0, 1e6) s");
   require(e->screw_length_m > 0.0 && e->screw_length_m < 10.0, "screw_length_m", e->screw_length_m, "in (0, 10) m");
 }
@@ -218,9 +217,8 @@ std::string KnownEffects() {
 }  // namespace
 
 bool RigEffects::any() const {
-  return std::any_of(std::begin(kEffects), std::end(kEffects), [this](const EffectRow& row) {
-    return row.is_enabled(*this);
-  });
+  return std::any_of(std::begin(kEffects), std::end(kEffects),
+                     [this](const EffectRow& row) { return row.is_enabled(*this); });
 }
 
 RigEffects ParseRigEffects(const std::string& toml_text, const std::string& origin) {
@@ -235,7 +233,8 @@ RigEffects ParseRigEffects(const std::string& toml_text, const std::string& orig
     const std::string name(key.str());
     const SectionReader s(&node, "rig.effects." + name, origin);
     const EffectRow* row = FindEffect(name);
-    if (row == nullptr) all.Fail(node, fmt::format("unknown effect [rig.effects.{}] (known: {})", name, KnownEffects()));
+    if (row == nullptr)
+      all.Fail(node, fmt::format("unknown effect [rig.effects.{}] (known: {})", name, KnownEffects()));
     row->read(s, &effects);
   }
   return effects;
@@ -252,7 +251,8 @@ std::vector<std::string> EnabledEffects(const RigEffects& e) {
 }
 
 RigEffects OnlyEffect(const RigEffects& e, const std::string& name) {
-  if (FindEffect(name) == nullptr) throw std::invalid_argument("no effect named " + name + " (known: " + KnownEffects() + ")");
+  if (FindEffect(name) == nullptr)
+    throw std::invalid_argument("no effect named " + name + " (known: " + KnownEffects() + ")");
   RigEffects only = e;
   for (const EffectRow& row : kEffects) row.enabled(only) = name == row.name && row.is_enabled(e);
   return only;

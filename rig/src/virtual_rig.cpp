@@ -35,10 +35,12 @@ PlatformConfig PrConfig(const RigParameters& p) {
 }  // namespace
 
 VirtualRig::VirtualRig(RigParameters parameters)
-    : parameters_(std::move(parameters)), model_(PrConfig(parameters_)),
-      pose_(model_.home_pose()), rng_(parameters_.tracker.seed) {
-  fk_options_.with_pr = !(parameters_.effects.passive_rotation.enabled &&
-                          parameters_.effects.passive_rotation.pr_sign == 0);
+    : parameters_(std::move(parameters)),
+      model_(PrConfig(parameters_)),
+      pose_(model_.home_pose()),
+      rng_(parameters_.tracker.seed) {
+  fk_options_.with_pr =
+      !(parameters_.effects.passive_rotation.enabled && parameters_.effects.passive_rotation.pr_sign == 0);
   // The legs' zero is the nominal home length (where the rig was homed).
   const PlatformModel nominal(parameters_.nominal);
   const LegSolution home = nominal.Solve(nominal.home_pose());
@@ -67,7 +69,8 @@ VirtualRig::VirtualRig(RigParameters parameters)
   const double wn = kTwoPi * servo.bandwidth_hz;
   kp_ = MovedInertia() * wn * wn;
   kd_ = 2.0 * MovedInertia() * wn;
-  if (e.structural_resonance.enabled) mode_.emplace(e.structural_resonance.frequency_hz, e.structural_resonance.damping);
+  if (e.structural_resonance.enabled)
+    mode_.emplace(e.structural_resonance.frequency_hz, e.structural_resonance.damping);
   ki_ = servo.integral_time_s > 0.0 ? kp_ / servo.integral_time_s : 0.0;
   // An integrating drive has been holding the platform before the run: its
   // integral already carries the weight (as after enabling and settling).
@@ -137,8 +140,8 @@ double VelocityWithCoulomb(double v, double net_torque, double coulomb, double i
 }  // namespace
 
 double VirtualRig::ScrewRatio() const {
-  return parameters_.nominal.drive.lead_m / (kTwoPi * parameters_.nominal.drive.gear_ratio *
-                                            parameters_.effects.servo_lag.screw_efficiency);
+  return parameters_.nominal.drive.lead_m /
+         (kTwoPi * parameters_.nominal.drive.gear_ratio * parameters_.effects.servo_lag.screw_efficiency);
 }
 
 double VirtualRig::MovedInertia() const {
@@ -158,7 +161,8 @@ void VirtualRig::StepServo(int i, double dt) {
     return;
   }
   const double error = target_.motor_angle_rad[i] - angle_[i];
-  if (s.following_error_window_m > 0.0 && std::abs(error) * ScrewRatio() * s.screw_efficiency > s.following_error_window_m) {
+  if (s.following_error_window_m > 0.0 &&
+      std::abs(error) * ScrewRatio() * s.screw_efficiency > s.following_error_window_m) {
     faulted_[leg] = true;
     velocity_[i] = 0.0;
     return;
@@ -173,8 +177,8 @@ void VirtualRig::StepServo(int i, double dt) {
   // own equation, not as a force a step late, which would make a loop.
   const double load = static_leg_forces_(i) * ScrewRatio();
   // Semi-implicit Euler: stable for the stiff loop at the drive's rate.
-  velocity_[i] = VelocityWithCoulomb(velocity_[i], torque - s.viscous_N_m_s * velocity_[i] - load,
-                                     s.coulomb_N_m, MovedInertia(), dt);
+  velocity_[i] = VelocityWithCoulomb(velocity_[i], torque - s.viscous_N_m_s * velocity_[i] - load, s.coulomb_N_m,
+                                     MovedInertia(), dt);
   angle_[i] += dt * velocity_[i];
   // Between bridge cycles the drive interpolates its target along the
   // velocity feed-forward, as a real drive's interpolator does.
@@ -193,8 +197,10 @@ bool VirtualRig::Advance(double dt_s) {
   since_target_s_ += dt_s;
   for (int k = 0; k < steps; ++k) {
     for (int i = 0; i < kNumLegs; ++i) {
-      if (servo) StepServo(i, dt_s / steps);
-      else StepIdeal(i, dt_s / steps);
+      if (servo)
+        StepServo(i, dt_s / steps);
+      else
+        StepIdeal(i, dt_s / steps);
       // The drive train at the loop rate: backlash sees every reversal.
       lengths_(i) = transmissions_[static_cast<std::size_t>(i)].Length(angle_[i], dt_s / steps);
     }
@@ -261,7 +267,7 @@ DriveFeedback VirtualRig::Feedback() const {
   for (int i = 0; i < kNumLegs; ++i) {
     f.motor_angle_rad[i] = angle_[i];
     f.motor_velocity_rad_s[i] = velocity_[i];
-    f.status[i] = !enabled_                             ? DriveStatus::kDisabled
+    f.status[i] = !enabled_                               ? DriveStatus::kDisabled
                   : faulted_[static_cast<std::size_t>(i)] ? DriveStatus::kFault
                   : watchdog_tripped()                    ? DriveStatus::kHolding
                                                           : DriveStatus::kEnabled;

@@ -66,8 +66,7 @@ int MotionAxis(const std::string& motion) {
   return -1;
 }
 
-DwellErrors DwellErrorsFromLog(const std::string& log_path, const PlatformModel& model,
-                               double averaged_fraction) {
+DwellErrors DwellErrorsFromLog(const std::string& log_path, const PlatformModel& model, double averaged_fraction) {
   LogReader reader(log_path);
   DwellErrors result;
   OpenDwell open;
@@ -91,8 +90,7 @@ DwellErrors DwellErrorsFromLog(const std::string& log_path, const PlatformModel&
     } else if (event.channel == channel::kSetpoint) {
       pose_setpoint_t sp;
       if (!Decode(event, &sp)) continue;
-      const bool same = in_dwell && sp.segment == open.setpoint.segment &&
-                        sp.trajectory == open.setpoint.trajectory;
+      const bool same = in_dwell && sp.segment == open.setpoint.segment && sp.trajectory == open.setpoint.trajectory;
       if (same) {
         open.last_utime = sp.utime;
         open.pr_mode = pr_mode;

@@ -31,17 +31,14 @@ namespace {
 
 constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
-nlohmann::json ToJson(const Vector6& v) {
-  return nlohmann::json::array({v(0), v(1), v(2), v(3), v(4), v(5)});
-}
+nlohmann::json ToJson(const Vector6& v) { return nlohmann::json::array({v(0), v(1), v(2), v(3), v(4), v(5)}); }
 
 int RunPr(const std::string& config_path, const std::string& pose_text, bool json) {
   const PlatformModel model(LoadConfigFile(config_path));
   const Pose pose = ParsePoseText(pose_text);
   const WorkspaceCheck check = CheckWorkspace(model, pose);
   if (!check.ok()) {
-    throw std::runtime_error(
-        fmt::format("pose {} is outside the workspace: {}", DescribePose(pose), check.Describe()));
+    throw std::runtime_error(fmt::format("pose {} is outside the workspace: {}", DescribePose(pose), check.Describe()));
   }
   const LegSolution legs = model.Solve(pose);
   const Vector6 pr_error = model.PrLengthError(legs, PrMode::kSigned);
@@ -62,9 +59,8 @@ int RunPr(const std::string& config_path, const std::string& pose_text, bool jso
   std::printf("pose: %s\n", DescribePose(pose).c_str());
   std::printf("leg  length_m      twist_deg  d_twist_deg  pr_correction_mm  command_m\n");
   for (int i = 0; i < kNumLegs; ++i) {
-    std::printf("%3d  %.9f  %9.4f  %11.4f  %16.6f  %.9f\n", i + 1, legs.length_m(i),
-                legs.twist_rad(i) * kRadToDeg, change(i) * kRadToDeg, pr_error(i) * 1e3,
-                legs.length_m(i) - pr_error(i));
+    std::printf("%3d  %.9f  %9.4f  %11.4f  %16.6f  %.9f\n", i + 1, legs.length_m(i), legs.twist_rad(i) * kRadToDeg,
+                change(i) * kRadToDeg, pr_error(i) * 1e3, legs.length_m(i) - pr_error(i));
   }
   return 0;
 }
@@ -83,13 +79,12 @@ void PrintTable(const std::vector<MotionRow>& rows, const PlatformModel& model) 
       "commands built with each PR model; the platform moves with the true signed PR\n"
       "lead %.4g mm, pr_sign %+d\n\n",
       drive.lead_m * 1e3, drive.pr_sign);
-  std::printf("%-7s %-14s %12s %16s %14s %16s\n", "motion", "range", "no PR comp.",
-              "unsigned Eq.(9)", "signed (edsp)", "asin (LinuxCNC)");
+  std::printf("%-7s %-14s %12s %16s %14s %16s\n", "motion", "range", "no PR comp.", "unsigned Eq.(9)", "signed (edsp)",
+              "asin (LinuxCNC)");
   for (const MotionRow& row : rows) {
     const bool linear = row.motion.axis < 3;
-    const std::string range =
-        linear ? fmt::format("±{:g} m", row.motion.amplitude)
-               : fmt::format("±{:g} deg", row.motion.amplitude * kRadToDeg);
+    const std::string range = linear ? fmt::format("±{:g} m", row.motion.amplitude)
+                                     : fmt::format("±{:g} deg", row.motion.amplitude * kRadToDeg);
     std::printf("%-7s %-14s %12s %16s %14s %16s\n", row.motion.name.c_str(), range.c_str(),
                 FormatMm(row.max_error_m[0]).c_str(), FormatMm(row.max_error_m[1]).c_str(),
                 FormatMm(row.max_error_m[2]).c_str(), FormatMm(row.max_error_m[3]).c_str());
@@ -121,8 +116,8 @@ int RunPaperTable(const std::string& config_path, int poses, bool json) {
   return 0;
 }
 
-int RunStackTable(const std::string& config_path, const std::vector<std::string>& logs,
-                  const std::string& plots_dir, bool json) {
+int RunStackTable(const std::string& config_path, const std::vector<std::string>& logs, const std::string& plots_dir,
+                  bool json) {
   const PlatformModel model(LoadConfigFile(config_path));
   std::vector<DwellError> dwells;
   int status = 0;
@@ -130,8 +125,8 @@ int RunStackTable(const std::string& config_path, const std::vector<std::string>
     const DwellErrors run = DwellErrorsFromLog(log, model);
     if (run.dwells.empty()) throw std::runtime_error(log + ": no completed dwell with tracker data");
     if (run.damaged) {
-      std::fprintf(stderr, "edsp-sim: %s is damaged at byte %lld; using the dwells before it\n",
-                   log.c_str(), static_cast<long long>(run.damage_offset));
+      std::fprintf(stderr, "edsp-sim: %s is damaged at byte %lld; using the dwells before it\n", log.c_str(),
+                   static_cast<long long>(run.damage_offset));
       status = 3;
     }
     dwells.insert(dwells.end(), run.dwells.begin(), run.dwells.end());
@@ -143,8 +138,10 @@ int RunStackTable(const std::string& config_path, const std::vector<std::string>
     nlohmann::json out;
     out["rows"] = nlohmann::json::array();
     for (const StackTableRow& r : rows) {
-      out["rows"].push_back({{"motion", r.motion}, {"pr_mode", PrModeName(r.mode)},
-                             {"stops", r.stops}, {"max_measured_m", r.max_measured_m},
+      out["rows"].push_back({{"motion", r.motion},
+                             {"pr_mode", PrModeName(r.mode)},
+                             {"stops", r.stops},
+                             {"max_measured_m", r.max_measured_m},
                              {"rms_measured_m", r.rms_measured_m},
                              {"max_predicted_m", r.max_predicted_m}});
     }
@@ -184,19 +181,25 @@ int RunRig(const std::string& config_path, OfflineRunOptions options, const std:
   const OfflineRunResult r = RunOffline(config_path, options);
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (json) {
-    const nlohmann::json out = {{"log", r.log_path}, {"measurement_csv", r.csv_path},
-                                {"cycles", r.cycles}, {"tracker_samples", r.tracker_samples},
-                                {"faults", r.faults}, {"simulated_s", r.duration_s},
-                                {"max_error_m", r.max_error_m}, {"rms_error_m", r.rms_error_m},
-                                {"wall_s", wall_s}, {"faster_than_real_time", r.duration_s / wall_s},
+    const nlohmann::json out = {{"log", r.log_path},
+                                {"measurement_csv", r.csv_path},
+                                {"cycles", r.cycles},
+                                {"tracker_samples", r.tracker_samples},
+                                {"faults", r.faults},
+                                {"simulated_s", r.duration_s},
+                                {"max_error_m", r.max_error_m},
+                                {"rms_error_m", r.rms_error_m},
+                                {"wall_s", wall_s},
+                                {"faster_than_real_time", r.duration_s / wall_s},
                                 {"calibration", r.calibration}};
     std::printf("%s\n", out.dump(2).c_str());
   } else {
-    std::printf("%.1f s simulated in %.1f s (%.0fx real time): %lld tracker samples, %lld faults\n"
-                "point-A error: max %.1f um, rms %.1f um\n%s\n%s\n",
-                r.duration_s, wall_s, r.duration_s / wall_s, static_cast<long long>(r.tracker_samples),
-                static_cast<long long>(r.faults), r.max_error_m * 1e6, r.rms_error_m * 1e6,
-                r.log_path.c_str(), r.csv_path.c_str());
+    std::printf(
+        "%.1f s simulated in %.1f s (%.0fx real time): %lld tracker samples, %lld faults\n"
+        "point-A error: max %.1f um, rms %.1f um\n%s\n%s\n",
+        r.duration_s, wall_s, r.duration_s / wall_s, static_cast<long long>(r.tracker_samples),
+        static_cast<long long>(r.faults), r.max_error_m * 1e6, r.rms_error_m * 1e6, r.log_path.c_str(),
+        r.csv_path.c_str());
     if (!r.calibration.empty()) std::printf("calibration: %s\n", r.calibration.c_str());
   }
   return r.faults == 0 ? 0 : 2;
@@ -215,12 +218,11 @@ int main(int argc, char** argv) {
 
   CLI::App* pr = app.add_subcommand("pr", "leg lengths, signed twists and PR corrections at a pose");
   pr->add_option("--config", config_path, "platform config (TOML)")->required();
-  pr->add_option("--pose", pose_text, "x,y,z,roll,pitch,yaw in m and rad (use --pose=-0.1,...)")
-      ->required();
+  pr->add_option("--pose", pose_text, "x,y,z,roll,pitch,yaw in m and rad (use --pose=-0.1,...)")->required();
   pr->add_flag("--json", json, "print JSON");
 
-  CLI::App* table = app.add_subcommand(
-      "paper-table", "point-A error of the paper's four test motions per PR compensation mode");
+  CLI::App* table =
+      app.add_subcommand("paper-table", "point-A error of the paper's four test motions per PR compensation mode");
   table->add_option("--config", config_path, "platform config (TOML)")->required();
   table->add_option("--poses", poses, "poses per motion (the paper's figures: 41)");
   table->add_flag("--json", json, "print JSON");
@@ -239,7 +241,8 @@ int main(int argc, char** argv) {
   std::string mode_text = "signed", frame_text;
   rig->add_option("--config", config_path, "platform config (TOML) with [rig.effects]")->required();
   rig->add_option("--out", offline.out_dir, "directory for run.lcmlog and measurement.csv")->required();
-  rig->add_option("--motions", offline.motions, "motions in order (Lx Ly Lz Rx Ry Rz, M1…M999 mixed, calibration)")->delimiter(',');
+  rig->add_option("--motions", offline.motions, "motions in order (Lx Ly Lz Rx Ry Rz, M1…M999 mixed, calibration)")
+      ->delimiter(',');
   rig->add_option("--pr-mode", mode_text, "compensation the kinematics node runs");
   rig->add_option("--stops", offline.paper.stops)->check(CLI::Range(2, 1000));
   rig->add_option("--dwell-s", offline.paper.dwell_s)->check(CLI::Range(0.0, 3600.0));

@@ -70,8 +70,8 @@ OfflineRunResult RunOffline(const std::string& config_path, const RigEffects& ef
   const std::string calibration_path =
       options.calibration_path.empty() ? LoadConfigFile(config_path).calibration_model : options.calibration_path;
   if (!calibration_path.empty()) {
-    stack.calibration = calibration::LoadCalibration(
-        calibration_path, model, options.apply_ambiguous || nominal.calibration_apply_ambiguous);
+    stack.calibration = calibration::LoadCalibration(calibration_path, model,
+                                                     options.apply_ambiguous || nominal.calibration_apply_ambiguous);
   }
   // The same motions as the live planner plans for this platform, whatever
   // the compensation this run applies. With a calibration the rig first
@@ -95,7 +95,7 @@ OfflineRunResult RunOffline(const std::string& config_path, const RigEffects& ef
     SimLog log(result.log_path);
     KinematicsNodeOptions config_options;
     config_options.session_id = stack.session_id;
-    config_options.calibration = stack.calibration;  // named on EDSP_CONFIG, as live
+    config_options.calibration = stack.calibration;       // named on EDSP_CONFIG, as live
     KinematicsNode config_source(model, config_options);  // the same latched config message
     std::int64_t utime = stack.start_utime;
     log.Write(channel::kConfig, config_source.ConfigMessage(utime, config_text), utime);
@@ -127,13 +127,15 @@ OfflineRunResult RunOffline(const std::string& config_path, const RigEffects& ef
       if (s.command_valid) log.Write(channel::kLegCommand, s.command, utime);
       log.Write(channel::kLegState, s.legs, utime);
       if (have_previous) write_rig(previous, s.setpoint);
-      for (; faults_seen < sim.faults().size(); ++faults_seen) log.Write(channel::kFault, sim.faults()[faults_seen], utime);
+      for (; faults_seen < sim.faults().size(); ++faults_seen)
+        log.Write(channel::kFault, sim.faults()[faults_seen], utime);
       previous = s;
       have_previous = true;
       ++result.cycles;
     }
     result.faults = static_cast<std::int64_t>(sim.faults().size());
-    if (result.tracker_samples > 0) result.rms_error_m = std::sqrt(sum_sq / static_cast<double>(result.tracker_samples));
+    if (result.tracker_samples > 0)
+      result.rms_error_m = std::sqrt(sum_sq / static_cast<double>(result.tracker_samples));
     result.duration_s = static_cast<double>(result.cycles) * stack.cycle_s;
   }
   std::ofstream csv(result.csv_path);

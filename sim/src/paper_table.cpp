@@ -33,9 +33,8 @@ double PointAError(const PlatformModel& model, const Pose& target, PrMode mode) 
   const Vector6 commanded = model.CompensatedLengths(target, mode);
   const FkResult fk = SolveForward(model, commanded, model.home_pose());
   if (!fk.ok()) {
-    throw std::runtime_error(fmt::format("forward kinematics failed at {} ({}, residual {} m)",
-                                         DescribePose(target), FkStatusName(fk.status),
-                                         fk.residual_m));
+    throw std::runtime_error(fmt::format("forward kinematics failed at {} ({}, residual {} m)", DescribePose(target),
+                                         FkStatusName(fk.status), fk.residual_m));
   }
   return (model.ObservationPoint(fk.pose) - model.ObservationPoint(target)).norm();
 }
@@ -47,8 +46,8 @@ std::vector<MotionRow> PaperTable(const PlatformModel& model, int poses_per_moti
     for (const Pose& pose : MotionPoses(motion, model.home_pose(), poses_per_motion)) {
       const WorkspaceCheck check = CheckWorkspace(model, pose);
       if (!check.ok()) {
-        throw std::runtime_error(fmt::format("motion {}: pose {} is outside the workspace: {}",
-                                             motion.name, DescribePose(pose), check.Describe()));
+        throw std::runtime_error(fmt::format("motion {}: pose {} is outside the workspace: {}", motion.name,
+                                             DescribePose(pose), check.Describe()));
       }
       for (std::size_t m = 0; m < kTableModes.size(); ++m) {
         row.max_error_m[m] = std::max(row.max_error_m[m], PointAError(model, pose, kTableModes[m]));

@@ -40,8 +40,7 @@ double PlotDisplacement(const DwellError& d) {
 
 }  // namespace
 
-std::vector<StackTableRow> StackTable(const std::vector<DwellError>& dwells,
-                                      const PlatformModel& model) {
+std::vector<StackTableRow> StackTable(const std::vector<DwellError>& dwells, const PlatformModel& model) {
   std::vector<StackTableRow> rows;
   for (const std::string& motion : MotionsInOrder(dwells)) {
     for (PrMode mode : Modes(dwells)) {
@@ -54,8 +53,7 @@ std::vector<StackTableRow> StackTable(const std::vector<DwellError>& dwells,
         ++row.stops;
         row.max_measured_m = std::max(row.max_measured_m, d.error_norm_m());
         sum_sq += d.error_m.squaredNorm();
-        row.max_predicted_m =
-            std::max(row.max_predicted_m, PointAError(model, Pose::FromVector(d.target), mode));
+        row.max_predicted_m = std::max(row.max_predicted_m, PointAError(model, Pose::FromVector(d.target), mode));
       }
       if (row.stops == 0) continue;
       row.rms_measured_m = std::sqrt(sum_sq / row.stops);
@@ -79,20 +77,19 @@ std::string FormatStackTable(const std::vector<StackTableRow>& rows) {
   for (const std::string& motion : motions) {
     out += fmt::format("{:<8}", motion);
     for (PrMode m : modes) {
-      const auto it = std::find_if(rows.begin(), rows.end(), [&](const StackTableRow& r) {
-        return r.motion == motion && r.mode == m;
-      });
-      out += it == rows.end() ? fmt::format(" {:>22}", "-")
-                              : fmt::format(" {:>13.4f} ({:>6.4f})", it->max_measured_m * 1e3,
-                                            it->max_predicted_m * 1e3);
+      const auto it = std::find_if(rows.begin(), rows.end(),
+                                   [&](const StackTableRow& r) { return r.motion == motion && r.mode == m; });
+      out += it == rows.end()
+                 ? fmt::format(" {:>22}", "-")
+                 : fmt::format(" {:>13.4f} ({:>6.4f})", it->max_measured_m * 1e3, it->max_predicted_m * 1e3);
     }
     out += "\n";
   }
   return out;
 }
 
-std::vector<std::string> WriteStackPlots(const std::vector<DwellError>& dwells,
-                                         const PlatformModel& model, const std::string& dir) {
+std::vector<std::string> WriteStackPlots(const std::vector<DwellError>& dwells, const PlatformModel& model,
+                                         const std::string& dir) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) throw std::runtime_error(dir + ": cannot create directory (" + ec.message() + ")");
@@ -109,14 +106,12 @@ std::vector<std::string> WriteStackPlots(const std::vector<DwellError>& dwells,
       for (const DwellError& d : dwells) {
         if (d.motion == motion && d.pr_mode == mode) points.push_back(&d);
       }
-      std::sort(points.begin(), points.end(), [](const DwellError* a, const DwellError* b) {
-        return a->displacement < b->displacement;
-      });
+      std::sort(points.begin(), points.end(),
+                [](const DwellError* a, const DwellError* b) { return a->displacement < b->displacement; });
       for (const DwellError* d : points) {
-        out << fmt::format("{:.6f} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f}\n", PlotDisplacement(*d),
-                           d->error_norm_m() * 1e3,
-                           PointAError(model, Pose::FromVector(d->target), mode) * 1e3,
-                           d->error_m.x() * 1e3, d->error_m.y() * 1e3, d->error_m.z() * 1e3);
+        out << fmt::format("{:.6f} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f}\n", PlotDisplacement(*d), d->error_norm_m() * 1e3,
+                           PointAError(model, Pose::FromVector(d->target), mode) * 1e3, d->error_m.x() * 1e3,
+                           d->error_m.y() * 1e3, d->error_m.z() * 1e3);
       }
       if (!out) throw std::runtime_error(dat + ": cannot write");
       if (points.empty()) continue;
@@ -139,10 +134,10 @@ std::vector<std::string> WriteStackPlots(const std::vector<DwellError>& dwells,
     if (!gp) throw std::runtime_error(script + ": cannot write");
     const int rc = std::system(fmt::format("gnuplot '{}' 2>'{}.err'", script, stem).c_str());
     if (rc != 0) {
-      throw std::runtime_error(fmt::format(
-          "gnuplot {} failed (exit {}; see {}.err). Is gnuplot-nox installed? deploy/edsp deps "
-          "installs it",
-          script, rc, stem));
+      throw std::runtime_error(
+          fmt::format("gnuplot {} failed (exit {}; see {}.err). Is gnuplot-nox installed? deploy/edsp deps "
+                      "installs it",
+                      script, rc, stem));
     }
     std::filesystem::remove(stem + ".err", ec);
     pngs.push_back(png);

@@ -35,8 +35,7 @@ InProcessRigBackend* Activated(InProcessRigBackend* backend, const PlatformConfi
 
 }  // namespace
 
-StackSimulation::StackSimulation(const PlatformConfig& nominal,
-                                 std::unique_ptr<TrajectorySequence> trajectory,
+StackSimulation::StackSimulation(const PlatformConfig& nominal, std::unique_ptr<TrajectorySequence> trajectory,
                                  StackOptions options)
     : options_(std::move(options)),
       planner_(std::in_place, PlatformModel(nominal), std::move(trajectory), options_.session_id),

@@ -100,8 +100,7 @@ TEST(ActuatorBridge, ValidCommandsReachTheDrivesAsMotorAngles) {
   f.bridge.Cycle(t, &state, &fault);
   const leg_command_t last = f.Command(1e-2, t - 1000, 100);
   for (int i = 0; i < kNumLegs; ++i) {
-    EXPECT_NEAR(f.backend.written.motor_angle_rad[i],
-                f.model.MotorAngleFromLength(i, last.command_length_m[i]), 1e-9);
+    EXPECT_NEAR(f.backend.written.motor_angle_rad[i], f.model.MotorAngleFromLength(i, last.command_length_m[i]), 1e-9);
     EXPECT_NEAR(state.encoder_length_m[i], last.command_length_m[i], 1e-12);
     EXPECT_GT(f.backend.written.motor_velocity_rad_s[i], 0.0);  // feed-forward while rising
     EXPECT_EQ(state.drive_status[i], leg_state_t::DRIVE_ENABLED);
@@ -133,7 +132,7 @@ TEST(ActuatorBridge, EveryCycleIsOneReadThenOneWriteAndNothingElseTouchesTheDriv
   for (int k = 0; k < 80; ++k) cycle();  // stale: holds and latches
   EXPECT_TRUE(f.bridge.latched());
   f.bridge.HandleCommand(f.Command(0.0, t, 99), t, &fault);  // refused while latched
-  f.backend.answering = false;  // drives lost
+  f.backend.answering = false;                               // drives lost
   cycle();
   std::string expected;
   for (int k = 0; k < cycles; ++k) expected += "RW";
@@ -199,11 +198,13 @@ TEST(ActuatorBridge, TheFeedForwardIsTheStepOverThePlannerTimeItTook) {
   for (int k = 0; k < 20; ++k) take(planner += 1000);
   // The motor speed of a rise at `speed`: the angle's finite difference.
   const double expected = (f.model.MotorAngleFromLength(0, f.Command(speed * 1e-3, 0).command_length_m[0]) -
-                           f.model.MotorAngleFromLength(0, f.Command(0.0, 0).command_length_m[0])) / 1e-3;
+                           f.model.MotorAngleFromLength(0, f.Command(0.0, 0).command_length_m[0])) /
+                          1e-3;
   ASSERT_GT(expected, 1.0);
   for (std::int64_t gap : {1676, 327, 1000, 1114, 946, 924}) {
     take(planner += gap);
-    EXPECT_NEAR(f.backend.written.motor_velocity_rad_s[0], expected, 0.01 * expected) << "after a " << gap << " µs step";
+    EXPECT_NEAR(f.backend.written.motor_velocity_rad_s[0], expected, 0.01 * expected)
+        << "after a " << gap << " µs step";
   }
   // The same setpoint stamp again (a reordered or repeated setpoint).
   const double before = f.backend.written.motor_velocity_rad_s[0];
@@ -220,13 +221,14 @@ TEST(ActuatorBridge, AStepTheTimeSinceTheLastSetpointDoesNotExplainGetsNoKick) {
   leg_state_t state;
   const double vmax = f.model.config().limits.leg_speed_max_m_s;
   std::int64_t t = kStart;
-  MoveUp(f, &t, 0.0, 5);  // at rest, the stream running
+  MoveUp(f, &t, 0.0, 5);                                                     // at rest, the stream running
   const leg_command_t c = f.Command(0.8 * vmax * 1e-3, t - 1000 + 300, 99);  // 0.8 ms worth of top speed in 0.3 ms
   ASSERT_TRUE(f.bridge.HandleCommand(c, t, &fault)) << fault.reason;
   f.bridge.Cycle(t, &state, &fault);
   // The fastest a motor may turn: the legs' top speed as motor angle.
   const double top = (f.model.MotorAngleFromLength(0, f.Command(vmax * 1e-3, 0).command_length_m[0]) -
-                      f.model.MotorAngleFromLength(0, f.Command(0.0, 0).command_length_m[0])) / 1e-3;
+                      f.model.MotorAngleFromLength(0, f.Command(0.0, 0).command_length_m[0])) /
+                     1e-3;
   for (double v : f.backend.written.motor_velocity_rad_s) EXPECT_LE(std::abs(v), 1.01 * top);
   EXPECT_GT(f.backend.written.motor_velocity_rad_s[0], 0.5 * top);  // and it moves
 }
@@ -265,7 +267,7 @@ TEST(ActuatorBridge, AnyPlannerTimeInACommandIsHandledWithoutOverflow) {
     EXPECT_EQ(fault.code, static_cast<std::int32_t>(FaultCode::kForeignSession)) << fault.reason;
     c.session_id = 5;
     EXPECT_TRUE(f.bridge.HandleCommand(c, t, &fault)) << fault.reason;  // no motion: within any step
-    c = f.Command(20e-5 + 0.06, t + 1000, 22);  // 60 mm up: legs beyond the stale limit's 25 mm
+    c = f.Command(20e-5 + 0.06, t + 1000, 22);                          // 60 mm up: legs beyond the stale limit's 25 mm
     EXPECT_FALSE(f.bridge.HandleCommand(c, t + 1000, &fault));
     EXPECT_EQ(fault.code, static_cast<std::int32_t>(FaultCode::kJump)) << fault.reason;
   }
@@ -359,7 +361,7 @@ TEST(ActuatorBridge, AReArmedBridgeRejoinsAMovedStreamAtTheRejoinSpeed) {
     previous = now;
   }
   EXPECT_FALSE(f.bridge.rejoining()) << "never caught up";
-  EXPECT_LE(largest_step, speed * 1e-3 + 1e-9);        // never faster than the rejoin speed
+  EXPECT_LE(largest_step, speed * 1e-3 + 1e-9);            // never faster than the rejoin speed
   EXPECT_GT(k, static_cast<int>(0.015 / (speed * 1e-3)));  // so it took its time
   // Caught up: the drives follow the stream exactly again.
   ASSERT_TRUE(f.bridge.HandleCommand(f.Command(0.02 + 1e-5 * k, t, 5000), t, &fault)) << fault.reason;

@@ -34,23 +34,23 @@ constexpr Expected kSpec[] = {
     {S::kUnconfigured, T::kCleanup, false, S::kUnconfigured},
     {S::kUnconfigured, T::kError, false, S::kUnconfigured},  // no cycle runs: nothing can fail
     {S::kUnconfigured, T::kRecover, false, S::kUnconfigured},
-    {S::kInactive, T::kConfigure, false, S::kInactive},        // cleanup first
+    {S::kInactive, T::kConfigure, false, S::kInactive},  // cleanup first
     {S::kInactive, T::kActivate, true, S::kActive},
     {S::kInactive, T::kDeactivate, false, S::kInactive},
     {S::kInactive, T::kCleanup, true, S::kUnconfigured},
     {S::kInactive, T::kError, false, S::kInactive},
-    {S::kInactive, T::kRecover, false, S::kInactive},          // a re-arm needs a cycling backend
+    {S::kInactive, T::kRecover, false, S::kInactive},  // a re-arm needs a cycling backend
     {S::kActive, T::kConfigure, false, S::kActive},
     {S::kActive, T::kActivate, false, S::kActive},
     {S::kActive, T::kDeactivate, true, S::kInactive},
-    {S::kActive, T::kCleanup, false, S::kActive},              // deactivate first: the drives have power
+    {S::kActive, T::kCleanup, false, S::kActive},  // deactivate first: the drives have power
     {S::kActive, T::kError, true, S::kFault},
-    {S::kActive, T::kRecover, true, S::kActive},               // a re-arm with nothing to reset
+    {S::kActive, T::kRecover, true, S::kActive},  // a re-arm with nothing to reset
     {S::kFault, T::kConfigure, false, S::kFault},
-    {S::kFault, T::kActivate, false, S::kFault},               // only a fault reset leaves it for active
+    {S::kFault, T::kActivate, false, S::kFault},  // only a fault reset leaves it for active
     {S::kFault, T::kDeactivate, true, S::kInactive},
     {S::kFault, T::kCleanup, false, S::kFault},
-    {S::kFault, T::kError, true, S::kFault},                   // failing on
+    {S::kFault, T::kError, true, S::kFault},  // failing on
     {S::kFault, T::kRecover, true, S::kActive},
 };
 

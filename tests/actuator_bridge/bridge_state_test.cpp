@@ -35,22 +35,22 @@ struct Expected {
 constexpr Expected kSpec[] = {
     {S::kStartupHold, E::kCommandAccepted, true, S::kFollowing},
     {S::kStartupHold, E::kCaughtUp, false, S::kStartupHold},
-    {S::kStartupHold, E::kStale, true, S::kStartupHold},        // nothing to hold but where it is
-    {S::kStartupHold, E::kDrivesLost, true, S::kStartupHold},   // an outage at start-up delays the start
-    {S::kStartupHold, E::kRearm, true, S::kArmed},              // a restarted bridge joins a stream elsewhere
+    {S::kStartupHold, E::kStale, true, S::kStartupHold},       // nothing to hold but where it is
+    {S::kStartupHold, E::kDrivesLost, true, S::kStartupHold},  // an outage at start-up delays the start
+    {S::kStartupHold, E::kRearm, true, S::kArmed},             // a restarted bridge joins a stream elsewhere
     {S::kFollowing, E::kCommandAccepted, true, S::kFollowing},
     {S::kFollowing, E::kCaughtUp, false, S::kStartupHold},
     {S::kFollowing, E::kStale, true, S::kLatched},
     {S::kFollowing, E::kDrivesLost, true, S::kLatched},
     {S::kFollowing, E::kRearm, true, S::kFollowing},
-    {S::kLatched, E::kCommandAccepted, false, S::kStartupHold}, // only a re-arm leaves
+    {S::kLatched, E::kCommandAccepted, false, S::kStartupHold},  // only a re-arm leaves
     {S::kLatched, E::kCaughtUp, false, S::kStartupHold},
     {S::kLatched, E::kStale, true, S::kLatched},
     {S::kLatched, E::kDrivesLost, true, S::kLatched},
     {S::kLatched, E::kRearm, true, S::kArmed},
     {S::kArmed, E::kCommandAccepted, true, S::kRejoining},
     {S::kArmed, E::kCaughtUp, false, S::kStartupHold},
-    {S::kArmed, E::kStale, true, S::kArmed},                    // waits for its stream
+    {S::kArmed, E::kStale, true, S::kArmed},  // waits for its stream
     {S::kArmed, E::kDrivesLost, true, S::kLatched},
     {S::kArmed, E::kRearm, true, S::kArmed},
     {S::kRejoining, E::kCommandAccepted, true, S::kRejoining},
@@ -218,8 +218,8 @@ TEST_F(BridgeTour, AnArmFromTheGroupReArmsALatchedBridgeAndConfirms) {
   const fault_t answer = bridge_.HandleArm(Arm(9), t_);
   EXPECT_EQ(answer.code, static_cast<std::int32_t>(FaultCode::kOperatorAction));
   EXPECT_EQ(answer.severity, fault_t::SEVERITY_INFO);
-  EXPECT_NE(answer.reason.find("re-armed by tester; rejoining the command stream at 0.020 m/s"),
-            std::string::npos) << answer.reason;
+  EXPECT_NE(answer.reason.find("re-armed by tester; rejoining the command stream at 0.020 m/s"), std::string::npos)
+      << answer.reason;
   EXPECT_EQ(State(), "armed");
 }
 

@@ -72,12 +72,16 @@ class Cabinet {
   Cabinet& operator=(const Cabinet&) = delete;
 
   void InjectFault(int index, std::uint16_t code) {
-    if (modbus_) modbus_->server().InjectFault(index, code);
-    else shm_->InjectFault(index, code);
+    if (modbus_)
+      modbus_->server().InjectFault(index, code);
+    else
+      shm_->InjectFault(index, code);
   }
   void StopDrivesClock(bool stopped) {
-    if (modbus_) modbus_->server().StopDrivesClock(stopped);
-    else shm_->StopDrivesClock(stopped);
+    if (modbus_)
+      modbus_->server().StopDrivesClock(stopped);
+    else
+      shm_->StopDrivesClock(stopped);
   }
   // What a report about these drives names.
   std::string where() const { return link_ == Link::kModbus ? "127.0.0.1:" + std::to_string(port_) : prefix_; }
@@ -202,7 +206,8 @@ TEST_P(Cia402Backends, ADrivesFaultIsReportedAndResetOnlyByAReArm) {
   EXPECT_NE(backend.Detail().find("drive 4 in fault (error code 7500h)"), std::string::npos) << backend.Detail();
   EXPECT_EQ(backend.state(), BackendState::kFault);
   // Many cycles later it is still in fault: the backend never resets it.
-  f = Cycles(&backend, home, [](const DriveFeedback&) { return false; }, 50);
+  f = Cycles(
+      &backend, home, [](const DriveFeedback&) { return false; }, 50);
   EXPECT_EQ(f.status[3], DriveStatus::kFault);
   EXPECT_EQ(f.status[2], DriveStatus::kEnabled) << "the others run on";
   EXPECT_FALSE(backend.Read(Now(), &f)) << "a drive out of operation fails the cycle: the bridge holds";
@@ -230,7 +235,8 @@ TEST_P(Cia402Backends, InFaultItTakesNoNewTargetUntilAReArmRecoversIt) {
   DriveSetpoint further = held;
   further.motor_angle_rad.fill(0.21);  // within the following window
   further.motor_velocity_rad_s.fill(1.0);
-  DriveFeedback f = Cycles(&backend, further, [](const DriveFeedback&) { return false; }, 50);
+  DriveFeedback f = Cycles(
+      &backend, further, [](const DriveFeedback&) { return false; }, 50);
   for (int i = 0; i < 5; ++i) {
     EXPECT_NEAR(f.motor_angle_rad[i], 0.2, 1e-5) << "leg " << i + 1 << " moved while the backend was in fault";
     EXPECT_EQ(f.status[i], DriveStatus::kEnabled) << "leg " << i + 1;

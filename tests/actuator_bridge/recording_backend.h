@@ -41,7 +41,7 @@ class RecordingBackend final : public DriveBackend {
   int writes = 0;
   std::string exchanges;  // 'R' per Read, 'W' per Write, 'X' per Reset, in order
   bool answering = true;
-  std::int64_t latched_utime = 0;  // the instant the drives say their reading describes (0: none)
+  std::int64_t latched_utime = 0;                   // the instant the drives say their reading describes (0: none)
   std::optional<std::array<double, 6>> stopped_at;  // drives that stopped elsewhere
   std::array<DriveStatus, 6> status{DriveStatus::kEnabled, DriveStatus::kEnabled, DriveStatus::kEnabled,
                                     DriveStatus::kEnabled, DriveStatus::kEnabled, DriveStatus::kEnabled};

@@ -62,10 +62,11 @@ std::string Describe(const gap::Diagnosis& d) {
   for (const gap::EffectResult& r : d.effects) {
     if (r.verdict != "rejected") text += " " + std::string(gap::EffectName(r.effect)) + " (" + r.verdict + ")";
   }
- return text + "; tau " + std::to_string(d.design.thermal_time_constant_s) + " s; mode " +
-         std::to_string(d.design.structural_mode_hz) + " Hz, damping " + std::to_string(d.design.structural_mode_damping) +
-         "; held out " + std::to_string(d.holdout_before.rms_m * 1e6) + " -> " +
-         std::to_string(d.holdout_after.rms_m * 1e6) + " um; " + d.unexplained_note;
+  return text + "; tau " + std::to_string(d.design.thermal_time_constant_s) + " s; mode " +
+         std::to_string(d.design.structural_mode_hz) + " Hz, damping " +
+         std::to_string(d.design.structural_mode_damping) + "; held out " +
+         std::to_string(d.holdout_before.rms_m * 1e6) + " -> " + std::to_string(d.holdout_after.rms_m * 1e6) + " um; " +
+         d.unexplained_note;
 }
 
 TEST(BlindDiagnosis, EffectFreeIsNone) {
@@ -236,8 +237,7 @@ TEST(BlindDiagnosis, RunsThatSitApartAreStructureEvenWhenEachIsWhite) {
 TEST(BlindDiagnosis, ATargetReseatedUnderNoiseTwiceItsSizeIsUnknown) {
   BlindEffects e;
   e.target_reseat_m = 10e-6;
-  const gap::Diagnosis d =
-      DiagnoseSession(e, kEveryMotion, Tracker(20e-6, 100.0, 5));
+  const gap::Diagnosis d = DiagnoseSession(e, kEveryMotion, Tracker(20e-6, 100.0, 5));
   const gap::StructureOptions bars;
   EXPECT_LT(d.structure.in_sample_run_offset_share, bars.min_share) << "no longer the case between the bars";
   EXPECT_TRUE(d.structure.runs_apart) << d.unexplained_note;
@@ -374,9 +374,9 @@ TEST(BlindDiagnosis, ABaseTiltingUnderThePlatformIsUnknownNotCompliance) {
     EXPECT_NE(r.next_measurement.find("base tilts"), std::string::npos) << r.next_measurement;
   }
   const nlohmann::json j = gap::ToJson(d);
-  EXPECT_TRUE(std::any_of(j["effects"].begin(), j["effects"].end(),
-                          [](const nlohmann::json& entry) { return entry["name"] == "unknown"; }))
-      << j["effects"].dump();
+  EXPECT_TRUE(std::any_of(j["effects"].begin(), j["effects"].end(), [](const nlohmann::json& entry) {
+    return entry["name"] == "unknown";
+  })) << j["effects"].dump();
   EXPECT_TRUE(j["unexplained"]["base_tilt"]["tilts"].get<bool>());
   EXPECT_EQ(j["unexplained"]["note"].get<std::string>().rfind("the base tilts", 0), 0u) << j["unexplained"]["note"];
 }
@@ -506,8 +506,7 @@ bool AmbiguousWithUnknown(const gap::Diagnosis& d, gap::Effect effect, const std
 TEST(BlindDiagnosis, AFreeRunningTrackerClockIsUnknownNotAServoLag) {
   BlindEffects e;
   e.clock_drift = 1e-6;
-  const gap::Diagnosis d =
-      DiagnoseSession(e, kEveryMotion, Tracker(20e-6, 100.0, 5, false));
+  const gap::Diagnosis d = DiagnoseSession(e, kEveryMotion, Tracker(20e-6, 100.0, 5, false));
   ASSERT_TRUE(d.clock_drift.tested);
   EXPECT_TRUE(d.clock_drift.drifts) << d.clock_drift.cv_gain << " " << Describe(d);
   EXPECT_LT(d.clock_drift.cv_gain, 0.05) << "no longer the path below min_cv_gain";
@@ -528,8 +527,7 @@ TEST(BlindDiagnosis, AFreeRunningTrackerClockIsUnknownNotAServoLag) {
 TEST(BlindDiagnosis, AClockDriftingUnderTheNoiseIsFoundBesideTheEncodersOffset) {
   BlindEffects e;
   e.clock_drift = 1e-6;
-  const gap::Diagnosis d =
-      DiagnoseSession(e, kEveryMotion, Tracker(10e-6, 100.0, 5, true));
+  const gap::Diagnosis d = DiagnoseSession(e, kEveryMotion, Tracker(10e-6, 100.0, 5, true));
   EXPECT_TRUE(d.time_offset.applied) << d.time_offset.note;
   EXPECT_FALSE(d.structure.structured) << Describe(d);
   EXPECT_TRUE(d.clock_drift.drifts) << d.clock_drift.cv_gain << " " << Describe(d);

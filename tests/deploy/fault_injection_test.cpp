@@ -44,7 +44,10 @@ long Flood(double seconds) {
     for (const char* channel : channels) {
       std::vector<std::uint8_t> bytes;
       switch (random() % 3) {
-        case 0: bytes.resize(random() % 300); for (auto& b : bytes) b = static_cast<std::uint8_t>(random()); break;
+        case 0:
+          bytes.resize(random() % 300);
+          for (auto& b : bytes) b = static_cast<std::uint8_t>(random());
+          break;
         case 1: bytes.assign(real.begin(), real.begin() + static_cast<long>(random() % real.size())); break;
         default: bytes = corrupt; break;
       }

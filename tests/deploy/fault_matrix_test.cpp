@@ -54,7 +54,7 @@ struct FaultCase {
   std::string member;   // group member name
   std::string program;  // its executable, for pgrep
   Action action;
-  std::string output;   // an LCM channel only it publishes: its successor is back ("" = none)
+  std::string output;  // an LCM channel only it publishes: its successor is back ("" = none)
   // "": the sim group; "sim-modbus" or "sim-cia402": the bridge a CiA 402
   // master of edsp-drive-sim, over Modbus TCP or the shared-memory image.
   std::string drives_group{};
@@ -78,20 +78,20 @@ std::string TrajectoryCsv(const std::string& path) {
 // What the test did, on the nodes' clock (UtimeNow: CLOCK_REALTIME).
 struct Timeline {
   std::int64_t fault_utime = 0;
-  std::int64_t end_utime = 0;   // SIGCONT sent, or the killed member restarted
-  std::int64_t arm_utime = 0;   // edsp-ctl arm sent (0: not needed)
+  std::int64_t end_utime = 0;           // SIGCONT sent, or the killed member restarted
+  std::int64_t arm_utime = 0;           // edsp-ctl arm sent (0: not needed)
   std::int64_t taken_effect_utime = 0;  // the member stopped or dead, as the kernel has it
   int arm_status = -1;
-  int extra_arms = 0;           // re-arms after a later latch of a stalled bridge
+  int extra_arms = 0;                 // re-arms after a later latch of a stalled bridge
   std::int64_t rearm_from_utime = 0;  // from when later latches were re-armed
-  bool successor_seen = false;  // a killed member's successor published
+  bool successor_seen = false;        // a killed member's successor published
 };
 
 // The member's pid ("[e]dsp-x": the pattern must not match the shell that
 // runs pgrep), found before the fault so that its time is the signal's.
 pid_t MemberPid(const FaultCase& c, const std::string& dir) {
-  const std::string command = fmt::format("pgrep -f '[{}]{} .*{}/group.toml'", c.program.front(),
-                                          c.program.substr(1), dir);
+  const std::string command =
+      fmt::format("pgrep -f '[{}]{} .*{}/group.toml'", c.program.front(), c.program.substr(1), dir);
   FILE* pipe = ::popen(command.c_str(), "r");
   long pid = -1;
   if (pipe != nullptr) {
@@ -128,9 +128,10 @@ int Arm(const std::string& dir) {
   int status = -1;
   // Retried as an operator would: a multicast burst on this VM can drop one.
   for (int attempt = 0; attempt < 3 && status != 0; ++attempt) {
-    status = std::system(fmt::format("{} arm --operator fault-matrix --timeout-s 30 --group {}/group.toml >>{}/ctl.out 2>&1",
-                                     EDSP_CTL_BINARY, dir, dir)
-                             .c_str());
+    status =
+        std::system(fmt::format("{} arm --operator fault-matrix --timeout-s 30 --group {}/group.toml >>{}/ctl.out 2>&1",
+                                EDSP_CTL_BINARY, dir, dir)
+                        .c_str());
   }
   return status;
 }
@@ -170,15 +171,15 @@ struct Analysis {
   std::optional<std::int64_t> restarted_utime;    // launcher: member restarted
   std::optional<std::int64_t> hold_report_utime;  // bridge or drives: holding
   std::string hold_report;
-  std::string bridge_reports;                      // what the bridge said from the fault on, a line each
-  std::int64_t resumed_utime = 0;                  // the first event after the log's gap
-  bool bridge_status_holding = false;             // EDSP_STATUS after the fault
+  std::string bridge_reports;          // what the bridge said from the fault on, a line each
+  std::int64_t resumed_utime = 0;      // the first event after the log's gap
+  bool bridge_status_holding = false;  // EDSP_STATUS after the fault
   bool launcher_status_fault = false;
-  std::int64_t logger_drops = 0;                   // what the logger said it lost (EDSP_STATUS)
+  std::int64_t logger_drops = 0;  // what the logger said it lost (EDSP_STATUS)
   std::int64_t first_event_utime = 0;
   std::int64_t events_before_fault = 0;
-  std::int64_t largest_event_gap_us = 0;           // between logged events after the fault
-  std::int64_t tracker_gaps = 0, command_gaps = 0; // seq gaps in the log
+  std::int64_t largest_event_gap_us = 0;            // between logged events after the fault
+  std::int64_t tracker_gaps = 0, command_gaps = 0;  // seq gaps in the log
   std::string logger_resumed;
   bool damaged = false;
   tracker_point_t last_tracker{};
@@ -202,7 +203,8 @@ Analysis Analyse(const std::string& log_path, const Timeline& t) {
     previous_event_utime = e.timestamp_utime;
     if (e.channel == "EDSP_RIG_TRUTH") {
       rig_truth_t m;
-      if (m.decode(e.data.data(), 0, size) >= 0) a.truth.push_back({m.utime, m.seq, Vector3(m.pose[0], m.pose[1], m.pose[2])});
+      if (m.decode(e.data.data(), 0, size) >= 0)
+        a.truth.push_back({m.utime, m.seq, Vector3(m.pose[0], m.pose[1], m.pose[2])});
     } else if (e.channel == "EDSP_TRACKER") {
       tracker_point_t m;
       if (m.decode(e.data.data(), 0, size) < 0) continue;
@@ -225,7 +227,8 @@ Analysis Analyse(const std::string& log_path, const Timeline& t) {
         a.first_report_utime = f.utime;
         a.first_report = f.node + ": " + f.reason;
       }
-      if (f.node == "launcher" && f.utime >= t.fault_utime && !a.launcher_report_utime) a.launcher_report_utime = f.utime;
+      if (f.node == "launcher" && f.utime >= t.fault_utime && !a.launcher_report_utime)
+        a.launcher_report_utime = f.utime;
       if (f.node == "launcher" && f.reason.find("restarted as pid") != std::string::npos) a.restarted_utime = f.utime;
       // The first re-arm (an unanswered one is retried) and the rejoin after it.
       if (f.node == "actuator_bridge" && f.code == static_cast<std::int32_t>(FaultCode::kOperatorAction) &&
@@ -391,8 +394,8 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
           // starts again), however long a cold or sanitized start takes.
           if (c.over_drive_sim()) {
             // The bridge reads the successor's drives (out of operation until re-armed).
-            t.successor_seen = watch.WaitForFault("actuator_bridge", "drive 1 in switch on disabled",
-                                                  t.fault_utime, std::chrono::seconds(30));
+            t.successor_seen = watch.WaitForFault("actuator_bridge", "drive 1 in switch on disabled", t.fault_utime,
+                                                  std::chrono::seconds(30));
           } else if (c.output.empty()) {
             std::this_thread::sleep_for(std::chrono::milliseconds(800));
             t.successor_seen = true;
@@ -429,7 +432,8 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
     EXPECT_TRUE(t.successor_seen) << "no successor of " << c.member << " published within 30 s";
   }
   if (kill && !logger_killed) {
-    ASSERT_TRUE(a.restarted_utime.has_value()) << "the launcher never restarted " << c.member << "\n" << launch_text.str();
+    ASSERT_TRUE(a.restarted_utime.has_value()) << "the launcher never restarted " << c.member << "\n"
+                                               << launch_text.str();
     t.end_utime = *a.restarted_utime;
   }
   if (logger_killed) t.end_utime = a.resumed_utime;  // its successor's first event
@@ -456,9 +460,9 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
     // faulted simulator (a response timeout, a reconnect): its lateness
     // then is the fault's, not the machine's, and loosens no limit.
     const bool own = c.output == channel || (c.over_drive_sim() && std::string(channel) == "EDSP_LEG_STATE");
-    late_us = std::max(late_us, test_support::LargestLateCycleUs(
-                                    run.log_path, channel, 1000, own ? t.fault_utime : 0, own ? fault_over + 100000 : -1,
-                                    t.fault_utime - 2000000, fault_over + 2000000));
+    late_us = std::max(late_us, test_support::LargestLateCycleUs(run.log_path, channel, 1000, own ? t.fault_utime : 0,
+                                                                 own ? fault_over + 100000 : -1,
+                                                                 t.fault_utime - 2000000, fault_over + 2000000));
   }
   const double late_ms = static_cast<double>(late_us) * 1e-3;
   if (t.extra_arms > 0) {
@@ -466,8 +470,8 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
     // bridge (or the bridge itself) ran late by half its stale limit or more.
     std::int64_t later_late_us = 0;
     for (const char* channel : {"EDSP_SETPOINT", "EDSP_LEG_COMMAND", "EDSP_LEG_STATE"}) {
-      later_late_us = std::max(later_late_us, test_support::LargestLateCycleUs(run.log_path, channel, 1000, 0, -1,
-                                                                              t.rearm_from_utime));
+      later_late_us = std::max(
+          later_late_us, test_support::LargestLateCycleUs(run.log_path, channel, 1000, 0, -1, t.rearm_from_utime));
     }
     EXPECT_GT(later_late_us, test_support::kShippedStaleMs * 1000 / 2)
         << "the bridge latched " << t.extra_arms << " more time(s) after the re-arm with no stall to explain it";
@@ -491,7 +495,8 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
     const std::string text = launch_text.str();
     EXPECT_NE(text.find(said), std::string::npos)
         << "no launcher report for " << c.member << " in the log (the logger lost " << a.logger_drops
-        << " datagrams) nor on its stderr:\n" << text;
+        << " datagrams) nor on its stderr:\n"
+        << text;
   } else {
     ASSERT_TRUE(a.launcher_report_utime.has_value()) << "no launcher fault for " << c.member;
     // From when the kernel had stopped or reaped-to-zombie the member: the
@@ -509,7 +514,9 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
       EXPECT_NE(a.bridge_reports.find(link), std::string::npos) << a.bridge_reports;
     }
     std::printf("the bridge said, from the fault on:\n%s", a.bridge_reports.c_str());
-    const char* why = kill ? "drive 1 in switch on disabled" : drive_fault ? "drive 1 in fault (error code FF01h)" : "error code 8130h";
+    const char* why = kill          ? "drive 1 in switch on disabled"
+                      : drive_fault ? "drive 1 in fault (error code FF01h)"
+                                    : "error code 8130h";
     EXPECT_NE(a.bridge_reports.find(why), std::string::npos) << a.bridge_reports;
   }
   const double report_ms =
@@ -530,8 +537,8 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
     // edsp-ctl's own exit status is operator_commands_test's (a sanitized
     // edsp-ctl under this group's traffic has missed the answer within its
     // 2 s, though the bridge had re-armed).
-    ASSERT_TRUE(a.armed_utime.has_value()) << "the bridge never confirmed the re-arm (edsp-ctl exit "
-                                           << t.arm_status << ")";
+    ASSERT_TRUE(a.armed_utime.has_value())
+        << "the bridge never confirmed the re-arm (edsp-ctl exit " << t.arm_status << ")";
     ASSERT_TRUE(a.hold_report_utime.has_value()) << "neither the bridge nor the drives reported a hold";
     hold_report_ms = static_cast<double>(*a.hold_report_utime - t.fault_utime) * 1e-3;
     // A frozen or killed rig is the world stopped: its platform cannot
@@ -549,8 +556,10 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
     EXPECT_LT(hold_report_ms, 100.0 + late_ms);
     Vector3 at_fault = a.truth.front().p;
     for (const Truth& s : a.truth) {
-      if (s.utime <= t.fault_utime) at_fault = s.p;
-      else if (s.utime < *a.armed_utime) overrun_um = std::max(overrun_um, (s.p - at_fault).norm() * 1e6);
+      if (s.utime <= t.fault_utime)
+        at_fault = s.p;
+      else if (s.utime < *a.armed_utime)
+        overrun_um = std::max(overrun_um, (s.p - at_fault).norm() * 1e6);
     }
     // The platform's lag behind the command at 0.03 m/s, and 50 ms of it
     // (and of the machine's lateness).
@@ -596,16 +605,20 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
 
   const double end_ms = static_cast<double>(t.end_utime - t.fault_utime) * 1e-3;
   const auto ms = [](double v) { return v >= 0 ? fmt::format("{:.1f}", v) : std::string("-"); };
-  // | member | fault | first report | hold reported | at rest | overrun | fault over | re-arm → following | lost | final |
-  std::printf("late cycles: %.1f ms at most around the fault; the member fell silent %.1f ms and was stopped/dead "
-              "%.1f ms after the signal was sent; %d re-arm(s) after a later stall\n",
-              late_ms, static_cast<double>(t.fault_utime - sent_utime) * 1e-3,
-              static_cast<double>(t.taken_effect_utime - sent_utime) * 1e-3, t.extra_arms);
+  // | member | fault | first report | hold reported | at rest | overrun | fault over | re-arm → following | lost |
+  // final |
+  std::printf(
+      "late cycles: %.1f ms at most around the fault; the member fell silent %.1f ms and was stopped/dead "
+      "%.1f ms after the signal was sent; %d re-arm(s) after a later stall\n",
+      late_ms, static_cast<double>(t.fault_utime - sent_utime) * 1e-3,
+      static_cast<double>(t.taken_effect_utime - sent_utime) * 1e-3, t.extra_arms);
   std::printf("FAULT_ROW | %s | %s | %s | %s | %s | %s | %.0f | %s | %lld | %.2f | %s | %s\n", c.member.c_str(),
-              kill ? "SIGKILL + restart" : drive_fault ? "SIGUSR1: drive 1 fault FF01h" : "SIGSTOP 0.5 s", ms(report_ms).c_str(), ms(hold_report_ms).c_str(),
-              motion_stops ? ms(hold_ms).c_str() : "no hold", motion_stops ? fmt::format("{:.0f}", overrun_um).c_str() : "-",
-              end_ms, ms(rejoin_ms).c_str(), static_cast<long long>(a.tracker_gaps), final_um, a.first_report.c_str(),
-              a.hold_report.c_str());
+              kill          ? "SIGKILL + restart"
+              : drive_fault ? "SIGUSR1: drive 1 fault FF01h"
+                            : "SIGSTOP 0.5 s",
+              ms(report_ms).c_str(), ms(hold_report_ms).c_str(), motion_stops ? ms(hold_ms).c_str() : "no hold",
+              motion_stops ? fmt::format("{:.0f}", overrun_um).c_str() : "-", end_ms, ms(rejoin_ms).c_str(),
+              static_cast<long long>(a.tracker_gaps), final_um, a.first_report.c_str(), a.hold_report.c_str());
   RecordProperty("report_ms", static_cast<int>(report_ms));
   RecordProperty("hold_ms", static_cast<int>(hold_ms));
   RecordProperty("rejoin_ms", static_cast<int>(rejoin_ms));

@@ -70,7 +70,8 @@ TEST_P(ShippedGroup, WrittenBackUnchangedItIsTheSameGroupAndTheSameRoutes) {
 }
 
 INSTANTIATE_TEST_SUITE_P(DeployGroups, ShippedGroup,
-                         testing::Values("sim", "sim-modbus", "sim-cia402", "demo", "calibrate", "replay", "multihost"));
+                         testing::Values("sim", "sim-modbus", "sim-cia402", "demo", "calibrate", "replay",
+                                         "multihost"));
 
 TEST(GroupFileEditor, EachEditChangesWhatItSaysAndNothingElse) {
   GroupFileEditor g = GroupFileEditor::Load(Shipped("sim"));
@@ -79,10 +80,10 @@ TEST(GroupFileEditor, EachEditChangesWhatItSaysAndNothingElse) {
       .SetTransport("shm_prefix", "edsp.t1")
       .SetChannel("EDSP_LEG_COMMAND", "path", "both")
       .SetChannel("EDSP_LEG_COMMAND", "mirror_every", 10)
-      .SetArg("kinematics", "--pr-mode", "none")     // replaces the value after the flag
-      .SetArg("kinematics", "--stale-ms", "250")     // appends flag and value
+      .SetArg("kinematics", "--pr-mode", "none")  // replaces the value after the flag
+      .SetArg("kinematics", "--stale-ms", "250")  // appends flag and value
       .SetArg("actuator_bridge", "--stale-ms", "50")
-      .RemoveArg("actuator_bridge", "--stale-ms")   // both go
+      .RemoveArg("actuator_bridge", "--stale-ms")  // both go
       .AppendArgs("logger", {"--flush-ms", "50"})
       .ReplaceArgs("planner", {"--motions", "Lz"})
       .SetMember("rig", "start_delay_ms", 500)
@@ -103,8 +104,7 @@ TEST(GroupFileEditor, EachEditChangesWhatItSaysAndNothingElse) {
     }
     throw std::runtime_error("no " + name);
   };
-  EXPECT_EQ(member(spec, "kinematics").args,
-            (std::vector<std::string>{"--pr-mode", "none", "--stale-ms", "250"}));
+  EXPECT_EQ(member(spec, "kinematics").args, (std::vector<std::string>{"--pr-mode", "none", "--stale-ms", "250"}));
   EXPECT_EQ(member(spec, "planner").args, (std::vector<std::string>{"--motions", "Lz"}));
   EXPECT_EQ(member(spec, "actuator_bridge").args, member(shipped, "actuator_bridge").args);
   EXPECT_EQ(member(spec, "rig").start_delay_ms, 500);

@@ -94,8 +94,8 @@ TEST(LoadGroupFile, RealTimePriorityAndCpusAreReadAndChecked) {
   const GroupSpec g = LoadGroupFile(path);
   EXPECT_EQ(g.members[0].realtime_priority, 80);
   EXPECT_EQ(g.members[0].cpus, (std::vector<int>{1, 3}));
-  for (const char* bad : {"realtime_priority = 100", "realtime_priority = -1", "cpus = [\"one\"]",
-                          "cpus = 1", "cpus = [5000]"}) {
+  for (const char* bad :
+       {"realtime_priority = 100", "realtime_priority = -1", "cpus = [\"one\"]", "cpus = 1", "cpus = [5000]"}) {
     std::ofstream(path) << "[[member]]\nname = \"k\"\ncommand = \"x\"\n" << bad << "\n";
     try {
       LoadGroupFile(path);
@@ -136,7 +136,8 @@ constexpr const char* kTwoHostMembers =
 constexpr const char* kTtl1 = "[transport]\nlcm_url = \"udpm://239.255.76.67:7667?ttl=1\"\n";
 
 TEST(LoadGroupFile, AGroupSpanningHostsNeedsASessionAndTtl) {
-  EXPECT_NE(ErrorLoading(std::string(kTtl1) + kTwoHostMembers).find("spans hosts (controller, drive): set [group] session_id"),
+  EXPECT_NE(ErrorLoading(std::string(kTtl1) + kTwoHostMembers)
+                .find("spans hosts (controller, drive): set [group] session_id"),
             std::string::npos);
   EXPECT_NE(ErrorLoading(std::string("[group]\nsession_id = 7\n") + kTwoHostMembers).find("ttl=0"), std::string::npos);
   EXPECT_EQ(ErrorLoading(std::string("[group]\nsession_id = 7\n") + kTtl1 + kTwoHostMembers), "no error");
@@ -144,15 +145,18 @@ TEST(LoadGroupFile, AGroupSpanningHostsNeedsASessionAndTtl) {
 
 TEST(LoadGroupFile, RequiresAndHostsAreChecked) {
   const std::string head = std::string("[group]\nsession_id = 7\n") + kTtl1;
-  EXPECT_NE(ErrorLoading(head + kTwoHostMembers + "requires = [\"rig\"]\n").find("systemd orders units of one host only"),
-            std::string::npos);
-  EXPECT_NE(ErrorLoading(head + kTwoHostMembers + "requires = [\"rgi\"]\n").find("requires \"rgi\", which is no member"),
-            std::string::npos);
+  EXPECT_NE(
+      ErrorLoading(head + kTwoHostMembers + "requires = [\"rig\"]\n").find("systemd orders units of one host only"),
+      std::string::npos);
+  EXPECT_NE(
+      ErrorLoading(head + kTwoHostMembers + "requires = [\"rgi\"]\n").find("requires \"rgi\", which is no member"),
+      std::string::npos);
   EXPECT_NE(ErrorLoading(head + "[hosts.drive]\ninterface = \"eth0\"\n" + kTwoHostMembers)
                 .find("kinematics is on host controller, which [hosts] does not list"),
             std::string::npos);
-  EXPECT_NE(ErrorLoading(head + "[hosts.drive]\nnic = \"eth0\"\n" + kTwoHostMembers).find("unknown key [hosts.drive] nic"),
-            std::string::npos);
+  EXPECT_NE(
+      ErrorLoading(head + "[hosts.drive]\nnic = \"eth0\"\n" + kTwoHostMembers).find("unknown key [hosts.drive] nic"),
+      std::string::npos);
 }
 
 TEST(MemberUnits, OneHostsMembersInStartOrderWithTheirPolicies) {

@@ -22,8 +22,7 @@ GroupSpec ShGroup(const std::string& name, const std::string& members_toml) {
   return LoadGroupFile(path);
 }
 
-std::string ShMember(const std::string& name, const std::string& script, const std::string& restart,
-                     int max_restarts) {
+std::string ShMember(const std::string& name, const std::string& script, const std::string& restart, int max_restarts) {
   return "[[member]]\nname = \"" + name + "\"\ncommand = \"/bin/sh\"\nargs = [\"-c\", \"" + script +
          "\"]\nnode_options = false\nrestart = \"" + restart + "\"\nmax_restarts = " + std::to_string(max_restarts) +
          "\n";
@@ -37,8 +36,9 @@ double RunSeconds(GroupSupervisor& supervisor, int* exit_code, double limit_s = 
 
 TEST(GroupSupervisor, AMemberThatKeepsFailingIsRestartedWithBackoffThenStopsTheGroupFailed) {
   const std::string count = test_support::ScratchDir("supervisor") + "/starts";
-  const GroupSpec group = ShGroup("failing", ShMember("steady", "exec sleep 30", "on-failure", 10) +
-                                                 ShMember("crashy", "echo x >> " + count + "; exit 3", "on-failure", 2));
+  const GroupSpec group =
+      ShGroup("failing", ShMember("steady", "exec sleep 30", "on-failure", 10) +
+                             ShMember("crashy", "echo x >> " + count + "; exit 3", "on-failure", 2));
   GroupSupervisor supervisor(group, SupervisorOptions{"", 1, "/nonexistent", ""});
   int exit_code = -1;
   const double seconds = RunSeconds(supervisor, &exit_code);

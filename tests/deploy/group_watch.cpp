@@ -60,8 +60,8 @@ void GroupWatch::OnMessage(const lcm::ReceiveBuffer* buffer, const std::string& 
   const std::int64_t now = UtimeNow();
   const std::int64_t seq = SeqOf(buffer);
   pose_setpoint_t setpoint;
-  const bool is_setpoint = channel == "EDSP_SETPOINT" &&
-                           setpoint.decode(buffer->data, 0, static_cast<int>(buffer->data_size)) >= 0;
+  const bool is_setpoint =
+      channel == "EDSP_SETPOINT" && setpoint.decode(buffer->data, 0, static_cast<int>(buffer->data_size)) >= 0;
   {
     std::lock_guard<std::mutex> lock(self->mutex_);
     self->last_received_utime_[channel] = now;

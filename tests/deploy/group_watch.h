@@ -34,8 +34,7 @@ class GroupWatch {
   bool ok() const { return lcm_.good(); }
 
   // Waits until the newest setpoint satisfies `reached`; false on timeout.
-  bool WaitForSetpoint(const std::function<bool(const pose_setpoint_t&)>& reached,
-                       std::chrono::milliseconds timeout);
+  bool WaitForSetpoint(const std::function<bool(const pose_setpoint_t&)>& reached, std::chrono::milliseconds timeout);
   // Waits until a message on `channel` arrives at or after `after_utime`
   // (this process's clock, UtimeNow); false on timeout.
   bool WaitForMessage(const std::string& channel, std::int64_t after_utime, std::chrono::milliseconds timeout);

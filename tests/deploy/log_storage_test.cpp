@@ -135,8 +135,7 @@ TEST(LogStorage, AFullDiskIsReportedKeepsTheLogReadableAndRecoversWhenThereIsRoo
       }
     } else if (e.channel == "EDSP_STATUS") {
       node_status_t s;
-      if (s.decode(e.data.data(), 0, size) >= 0 && s.node == "logger" &&
-          s.state == node_status_t::STATE_FAULT) {
+      if (s.decode(e.data.data(), 0, size) >= 0 && s.node == "logger" && s.state == node_status_t::STATE_FAULT) {
         status_fault = true;
       }
     } else if (e.channel == "EDSP_TRACKER") {
@@ -163,11 +162,12 @@ TEST(LogStorage, AFullDiskIsReportedKeepsTheLogReadableAndRecoversWhenThereIsRoo
   const auto ends = DwellEnds(log, PlatformModel(Huang2021Config()));
   ASSERT_FALSE(ends.empty());
   for (const DwellEnd& d : ends) EXPECT_LT(d.miss_m, 5e-6) << d.segment;
-  std::printf("STORAGE_ROW | disk full 2.5 s (64 MB tmpfs, 1 MB memory) | report %.1f ms | recover %.1f ms | "
-              "%lld events, %lld tracker samples lost | %s | %s\n",
-              static_cast<double>(full_fault_utime - full_utime) * 1e-3,
-              static_cast<double>(first_after_freed - freed_utime) * 1e-3, static_cast<long long>(events),
-              static_cast<long long>(tracker_gaps), full_reason.c_str(), recovered_reason.c_str());
+  std::printf(
+      "STORAGE_ROW | disk full 2.5 s (64 MB tmpfs, 1 MB memory) | report %.1f ms | recover %.1f ms | "
+      "%lld events, %lld tracker samples lost | %s | %s\n",
+      static_cast<double>(full_fault_utime - full_utime) * 1e-3,
+      static_cast<double>(first_after_freed - freed_utime) * 1e-3, static_cast<long long>(events),
+      static_cast<long long>(tracker_gaps), full_reason.c_str(), recovered_reason.c_str());
   ::umount2(disk.c_str(), MNT_DETACH);
 }
 
@@ -218,7 +218,9 @@ TEST(LogStorage, ATruncatedLogIsReadUpToTheDamageByEveryTool) {
   EXPECT_EQ(RunTool("faults " + cut, run.dir + "/faults.out", &text), 3) << text;
   EXPECT_NE(text.find("damaged at byte"), std::string::npos) << text;
   EXPECT_EQ(RunTool(fmt::format("export --csv {}/csv --channels EDSP_TRACKER {}", run.dir, cut),
-                    run.dir + "/export.out", &text), 3) << text;
+                    run.dir + "/export.out", &text),
+            3)
+      << text;
   EXPECT_NE(text.find(cut), std::string::npos) << "the message names the file: " << text;
   // The CSV holds the tracker samples that precede the damage.
   std::ifstream csv(run.dir + "/csv/EDSP_TRACKER.csv");
@@ -227,7 +229,10 @@ TEST(LogStorage, ATruncatedLogIsReadUpToTheDamageByEveryTool) {
   while (std::getline(csv, line)) ++rows;
   EXPECT_GT(rows, 1000);
   // lcm-logplayer (LCM's own tool) plays it to the damage without failing.
-  EXPECT_EQ(std::system(fmt::format("lcm-logplayer -s 100 -l 'udpm://239.255.76.67:7667?ttl=0' {} >/dev/null 2>&1", cut).c_str()), 0);
+  EXPECT_EQ(
+      std::system(
+          fmt::format("lcm-logplayer -s 100 -l 'udpm://239.255.76.67:7667?ttl=0' {} >/dev/null 2>&1", cut).c_str()),
+      0);
   std::printf("TRUNCATED_ROW | log of %lld bytes cut at byte %lld | %lld whole events read | tracker rows %lld\n",
               static_cast<long long>(size), static_cast<long long>(at), static_cast<long long>(whole_events),
               static_cast<long long>(rows));

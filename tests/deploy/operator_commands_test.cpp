@@ -86,7 +86,7 @@ TEST(OperatorCommands, EdspCtlSendsTheRequestAgainUntilItIsAnswered) {
   const std::string dir = test_support::ScratchDir("ctlresend");
   std::thread ctl([&] {
     std::ofstream(dir + "/group.toml") << fmt::format("[group]\nname = \"ctlresend\"\n[transport]\nlcm_url = \"{}\"\n",
-                                                     test_support::kGroupLcmUrl);
+                                                      test_support::kGroupLcmUrl);
     std::string text;
     const int exit_code = Ctl(dir, "pr-mode signed --session-id 77 --operator test", &text);
     out = text;
@@ -231,8 +231,7 @@ TEST(OperatorCommands, CalibrationSwitchedLiveBlendsWithoutAStepAndTheDwellsLand
   ASSERT_EQ(run.exit_code, 0);
   EXPECT_EQ(ctl_status, 0) << ctl_out;
   EXPECT_NE(ctl_out.find("calibration none → " + model_path), std::string::npos) << ctl_out;
-  EXPECT_NE(ctl_out.find("applies leg_offset (requested by test), blended over 1000 ms"), std::string::npos)
-      << ctl_out;
+  EXPECT_NE(ctl_out.find("applies leg_offset (requested by test), blended over 1000 ms"), std::string::npos) << ctl_out;
 
   LogReader reader(run.log_path);
   LogEvent event;
@@ -316,8 +315,7 @@ TEST(OperatorCommands, LatchedBridgeResumesOnlyWhenReArmed) {
   std::string ctl_out;
   const std::string csv = HomeCsv(test_support::ScratchDir("arm"));
   const GroupRun run = LaunchSimGroup(
-      "arm", "signed", fmt::format(R"("--csv", "{}", "--exit-after-hold-s", "5")", csv),
-      [&](const std::string& dir) {
+      "arm", "signed", fmt::format(R"("--csv", "{}", "--exit-after-hold-s", "5")", csv), [&](const std::string& dir) {
         // The command stream flowing for 0.3 s, then the kinematics killed;
         // its successor back (publishing again), then 0.7 s of its
         // commands refused.

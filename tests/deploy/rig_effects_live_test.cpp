@@ -46,8 +46,8 @@ TEST(RigEffectsLive, TheLiveGroupMeasuresWhatEdspSimRigComputes) {
   // rig catches up with a step, its drive overshoots, and the 20 µm backlash
   // may be left on its other side. Then the live run can only be bounded by
   // that physics, not matched to the nanometre.
-  const std::int64_t late = test_support::DeadlineMisses(live.log_path, "planner") +
-                            test_support::DeadlineMisses(live.log_path, "rig");
+  const std::int64_t late =
+      test_support::DeadlineMisses(live.log_path, "planner") + test_support::DeadlineMisses(live.log_path, "rig");
   const double tolerance = late == 0 ? 3e-6 : 25e-6;
   ::testing::Test::RecordProperty("late_cycles", static_cast<int>(late));
   double largest = 0.0, worst = 0.0;
@@ -56,9 +56,8 @@ TEST(RigEffectsLive, TheLiveGroupMeasuresWhatEdspSimRigComputes) {
     largest = std::max(largest, b[k].error_norm_m());
     worst = std::max(worst, (a[k].error_m - b[k].error_m).norm());
     EXPECT_LT((a[k].error_m - b[k].error_m).norm(), tolerance)
-        << late << " late planner/rig cycles; "
-        << a[k].segment << ": live " << a[k].error_m.transpose() * 1e6 << " µm, offline "
-        << b[k].error_m.transpose() * 1e6 << " µm";
+        << late << " late planner/rig cycles; " << a[k].segment << ": live " << a[k].error_m.transpose() * 1e6
+        << " µm, offline " << b[k].error_m.transpose() * 1e6 << " µm";
   }
   EXPECT_GT(largest, 100e-6);  // the effects are there to be measured
   ::testing::Test::RecordProperty("live_vs_offline_worst_nm", static_cast<int>(worst * 1e9));

@@ -23,9 +23,7 @@
 
 namespace edsp::test_support {
 
-std::string SimGroupDir(const std::string& name) {
-  return ScratchDir("group_" + name);
-}
+std::string SimGroupDir(const std::string& name) { return ScratchDir("group_" + name); }
 
 SimGroupExtras OverModbus(const std::string& dir, int stall_ms, std::string* config, const std::string& group) {
   constexpr double kCountsPerM = 104857600.0, kLegSpeedMS = 0.5;
@@ -47,11 +45,9 @@ SimGroupExtras OverModbus(const std::string& dir, int stall_ms, std::string* con
   return extras;
 }
 
-GroupRun LaunchSimGroup(const std::string& name, const std::string& pr_mode,
-                        const std::string& planner_args,
-                        const std::function<void(const std::string& dir)>& during,
-                        std::int64_t session_id, const std::string& config, int stale_ms,
-                        const SimGroupExtras& extras) {
+GroupRun LaunchSimGroup(const std::string& name, const std::string& pr_mode, const std::string& planner_args,
+                        const std::function<void(const std::string& dir)>& during, std::int64_t session_id,
+                        const std::string& config, int stale_ms, const SimGroupExtras& extras) {
   const std::string dir = SimGroupDir(name);
   std::system(("mkdir -p " + dir).c_str());
   GroupRun run;
@@ -83,7 +79,6 @@ GroupRun LaunchSimGroup(const std::string& name, const std::string& pr_mode,
   run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return run;
 }
-
 
 std::int64_t DeadlineMisses(const std::string& log_path, const std::string& node) {
   LogReader reader(log_path);
@@ -152,7 +147,8 @@ std::vector<DwellEnd> DwellEnds(const std::string& log_path, const PlatformModel
 void ExpectCleanRun(const GroupRun& run) {
   ASSERT_EQ(run.exit_code, 0) << "edsp-launch failed; see " << run.log_path << "/../launch.err";
   const LogSummary summary = SummarizeLog(run.log_path);
-  EXPECT_EQ(summary.channels.count("EDSP_FAULT"), 0u) << "faults were raised (edsp-log faults " << run.log_path << "):\n"
+  EXPECT_EQ(summary.channels.count("EDSP_FAULT"), 0u)
+      << "faults were raised (edsp-log faults " << run.log_path << "):\n"
       << FaultLines(run.log_path);
   const ChannelSummary& commands = summary.channels.at("EDSP_LEG_COMMAND");
   EXPECT_GT(commands.messages, 10000);

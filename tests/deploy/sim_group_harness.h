@@ -18,8 +18,8 @@ namespace edsp::test_support {
 struct GroupRun {
   int exit_code = -1;
   std::int64_t launch_utime = 0;  // edsp-launch started (UtimeNow)
-  std::string log_path;   // <dir>/run.lcmlog unless SimGroupExtras::log_path
-  std::string dir;        // group.toml, launch.err
+  std::string log_path;           // <dir>/run.lcmlog unless SimGroupExtras::log_path
+  std::string dir;                // group.toml, launch.err
 };
 
 inline constexpr const char* kDefaultPlannerArgs =
@@ -66,9 +66,9 @@ SimGroupExtras OverModbus(const std::string& dir, int stall_ms, std::string* con
 // kinematics node and the actuator bridge.
 GroupRun LaunchSimGroup(const std::string& name, const std::string& pr_mode,
                         const std::string& planner_args = kDefaultPlannerArgs,
-                        const std::function<void(const std::string& dir)>& during = {},
-                        std::int64_t session_id = 77, const std::string& config = kDefaultConfig,
-                        int stale_ms = kShippedStaleMs, const SimGroupExtras& extras = {});
+                        const std::function<void(const std::string& dir)>& during = {}, std::int64_t session_id = 77,
+                        const std::string& config = kDefaultConfig, int stale_ms = kShippedStaleMs,
+                        const SimGroupExtras& extras = {});
 
 // The run directory LaunchSimGroup uses for `name` (it exists once launched).
 std::string SimGroupDir(const std::string& name);

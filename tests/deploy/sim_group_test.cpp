@@ -137,7 +137,8 @@ TEST(SimGroup, ALogReplayedFromAnotherSessionMovesNothing) {
         watch.WaitForSetpoint([](const pose_setpoint_t& s) { return s.session_id == 99; }, std::chrono::seconds(60));
         replay_start_utime = UtimeNow();
         std::system(("lcm-logplayer -e 'EDSP_SETPOINT|EDSP_LEG_COMMAND' "
-                     "-l 'udpm://239.255.76.67:7667?ttl=0' " + source.log_path + " >/dev/null 2>&1")
+                     "-l 'udpm://239.255.76.67:7667?ttl=0' " +
+                     source.log_path + " >/dev/null 2>&1")
                         .c_str());
         replay_end_utime = UtimeNow();
       },

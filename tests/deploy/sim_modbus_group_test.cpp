@@ -31,8 +31,8 @@ using namespace test_support;  // sim_group_harness.h
 // 250 ms here.
 void ExpectEveryDwellWithin5um(const std::string& group, const std::string& name) {
   std::string config;
-  const SimGroupExtras extras = test_support::OverModbus(test_support::SimGroupDir(name),
-                                                         test_support::kStallTolerantStaleMs, &config, group);
+  const SimGroupExtras extras =
+      test_support::OverModbus(test_support::SimGroupDir(name), test_support::kStallTolerantStaleMs, &config, group);
   ASSERT_FALSE(config.empty()) << "config/huang2021.toml declares no [drives] counts_per_m";
   const GroupRun run = LaunchSimGroup(name, "signed", test_support::kDefaultPlannerArgs, {}, 77, config,
                                       test_support::kStallTolerantStaleMs, extras);

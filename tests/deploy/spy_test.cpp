@@ -89,8 +89,8 @@ TEST(LcmSpy, DecodesEdspMessagesOnJava17UnderXvfb) {
   ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0)
       << "the probe failed; see " << dir << "/probe.err and xvfb.log";
   const auto rows = ParseProbe(dir + "/probe.out");
-  for (const auto& [channel, type] : std::map<std::string, std::string>{
-           {"EDSP_SETPOINT", "edsp.pose_setpoint_t"}, {"EDSP_LEG_COMMAND", "edsp.leg_command_t"}}) {
+  for (const auto& [channel, type] : std::map<std::string, std::string>{{"EDSP_SETPOINT", "edsp.pose_setpoint_t"},
+                                                                        {"EDSP_LEG_COMMAND", "edsp.leg_command_t"}}) {
     ASSERT_EQ(rows.count(channel), 1u) << channel << " not seen by lcm-spy; " << dir << "/probe.out";
     const SpyRow& r = rows.at(channel);
     EXPECT_EQ(r.type, type) << channel;

@@ -26,18 +26,21 @@ std::vector<std::string> Names(const nlohmann::json& model) {
 }
 
 std::vector<std::string> KinematicsAppliesOf(const nlohmann::json& model, bool apply_ambiguous) {
-  const calibration::CalibrationModel m = calibration::ParseCalibration(
-      model.dump(), "m.json", PlatformModel(Huang2021Config()), apply_ambiguous);
+  const calibration::CalibrationModel m =
+      calibration::ParseCalibration(model.dump(), "m.json", PlatformModel(Huang2021Config()), apply_ambiguous);
   std::vector<std::string> names;
   for (const auto& e : m.applied) names.push_back(calibration::EffectName(e.effect));
   return names;
 }
 
-std::vector<std::string> KinematicsApplies(bool apply_ambiguous) { return KinematicsAppliesOf(kModel, apply_ambiguous); }
+std::vector<std::string> KinematicsApplies(bool apply_ambiguous) {
+  return KinematicsAppliesOf(kModel, apply_ambiguous);
+}
 
 TEST(AppliedModel, TheEffectsThePredictionUsesAreThoseTheKinematicsApplies) {
   for (bool ambiguous : {false, true}) {
-    std::vector<std::string> predicted = Names(AppliedModelJson(kModel, ambiguous)), applied = KinematicsApplies(ambiguous);
+    std::vector<std::string> predicted = Names(AppliedModelJson(kModel, ambiguous)),
+                             applied = KinematicsApplies(ambiguous);
     std::sort(predicted.begin(), predicted.end());
     std::sort(applied.begin(), applied.end());
     EXPECT_EQ(predicted, applied) << "apply_ambiguous " << ambiguous;
@@ -62,8 +65,7 @@ TEST(AppliedModel, EntriesThatSayApplyAreThoseThePredictionUses) {
   // Asked for the ambiguous ones too, the prediction's reader keeps what the
   // kinematics then applies, an ambiguous entry the set left out included.
   model["effects"][1]["apply"] = false;
-  const std::vector<SavedEffect> read =
-      SavedAppliedEffects(AppliedModelJson(model, true), DesignOptions{}, "m.json");
+  const std::vector<SavedEffect> read = SavedAppliedEffects(AppliedModelJson(model, true), DesignOptions{}, "m.json");
   std::vector<std::string> names;
   for (const SavedEffect& e : read) names.push_back(EffectName(e.effect));
   EXPECT_EQ(names, (std::vector<std::string>{"lead_error", "compliance"}));

@@ -32,8 +32,8 @@ TEST(Benchmark, TheGapIsTheDepartureAboveTheTrackersNoise) {
   EXPECT_DOUBLE_EQ(GapShrink(before, 6e-6, floor), 1.0);      // under it by the noise's own sampling
   EXPECT_NEAR(GapShrink(before, before, floor), 0.0, 1e-12);  // the gap as it was
   EXPECT_NEAR(GapShrink(before, std::hypot(floor, gap / 2), floor), 0.5, 1e-12);
-  EXPECT_LT(GapShrink(before, 60e-6, floor), 0.0);            // a model that makes it worse says so
-  EXPECT_DOUBLE_EQ(GapShrink(9e-6, 5e-6, floor), 0.0);        // no gap above the noise: nothing to shrink
+  EXPECT_LT(GapShrink(before, 60e-6, floor), 0.0);      // a model that makes it worse says so
+  EXPECT_DOUBLE_EQ(GapShrink(9e-6, 5e-6, floor), 0.0);  // no gap above the noise: nothing to shrink
   // In words: a 0 with no gap to close is not a model that failed.
   EXPECT_EQ(GapShrinkText(9e-6, floor, 0.0), "no gap above it");
   EXPECT_EQ(GapShrinkText(before, floor, 0.0), "0.0% of the gap above it closed");

@@ -58,7 +58,8 @@ struct LoopResult {
 LoopResult CloseTheLoop(const RigEffects& effects, const std::string& name, bool apply_ambiguous = false) {
   const std::string dir = test_support::ScratchDir("calibration_loop_" + name);
   std::filesystem::remove_all(dir);
-  const OfflineRunResult fit = RunOffline(Config(), effects, Run(dir + "/fit", {"Lz", "Lx", "Rz", "Ry", "M1", "M2"}, 1));
+  const OfflineRunResult fit =
+      RunOffline(Config(), effects, Run(dir + "/fit", {"Lz", "Lx", "Rz", "Ry", "M1", "M2"}, 1));
   const Diagnosis d = Diagnose(PlatformModel(LoadConfigFile(Config())), LoadMeasurement(fit.csv_path));
   const std::string model = dir + "/model.json";
   std::ofstream(model) << ModelJson(d).dump(2);
@@ -76,8 +77,8 @@ LoopResult CloseTheLoop(const RigEffects& effects, const std::string& name, bool
 }
 
 std::string Describe(const LoopResult& r) {
-  return fmt::format("held out {:.1f} -> {:.1f} um RMS (noise floor {:.1f} um); {}", r.before_m * 1e6,
-                     r.after_m * 1e6, kNoiseFloor * 1e6, r.calibration);
+  return fmt::format("held out {:.1f} -> {:.1f} um RMS (noise floor {:.1f} um); {}", r.before_m * 1e6, r.after_m * 1e6,
+                     kNoiseFloor * 1e6, r.calibration);
 }
 
 // Every effect of the example rig at once: the held-out error falls to

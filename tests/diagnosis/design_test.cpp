@@ -17,14 +17,17 @@ PlatformModel Model() { return PlatformModel(Huang2021Config()); }
 
 // Rows at random poses, measured exactly in a tracker frame X_TB.
 MeasurementData ExactData(const PlatformModel& model, const Pose& X_TB, int rows, PrMode compensation) {
-  return RandomPoseRows(model, X_TB, rows, compensation, 0.15, 0.01, 7, [](const Pose&, const Vector3& A) { return A; });
+  return RandomPoseRows(model, X_TB, rows, compensation, 0.15, 0.01, 7,
+                        [](const Pose&, const Vector3& A) { return A; });
 }
 
 TEST(Design, PointPerLegMatchesForwardKinematicsOfPerturbedLegs) {
   const PlatformModel model = Model();
   const Design d = BuildDesign(model, ExactData(model, Pose{}, 30, PrMode::kSigned));
   for (int k = 0; k < d.samples(); k += 7) {
-    const Vector6 q = ExactData(model, Pose{}, 30, PrMode::kSigned).rows[static_cast<std::size_t>(d.source_row[static_cast<std::size_t>(k)])].pose_cmd;
+    const Vector6 q = ExactData(model, Pose{}, 30, PrMode::kSigned)
+                          .rows[static_cast<std::size_t>(d.source_row[static_cast<std::size_t>(k)])]
+                          .pose_cmd;
     const Pose pose = Pose::FromVector(q);
     const Vector6 encoder = model.EncoderLengths(pose);
     for (int leg = 0; leg < 6; ++leg) {
@@ -81,7 +84,8 @@ TEST(Design, AccelerationsOfUnevenlySpacedSamplesAreTheMotions) {
     EXPECT_LT((design.leg_accel_m_s2[static_cast<std::size_t>(k)] - expected).norm(), 2e-3) << "sample " << k;
     // The payload's moment on the base: its weight less that acceleration
     // (per kg at {M}'s origin; a c.o.m. offset along x, the platform level).
-    const Vector3 p = d.rows[static_cast<std::size_t>(design.source_row[static_cast<std::size_t>(k)])].pose_cmd.head<3>();
+    const Vector3 p =
+        d.rows[static_cast<std::size_t>(design.source_row[static_cast<std::size_t>(k)])].pose_cmd.head<3>();
     const Vector3 force = Vector3(0.0, 0.0, -9.81) - accel;
     const Eigen::Matrix<double, 3, 4>& moment = design.load_moment_per_kg[static_cast<std::size_t>(k)];
     EXPECT_LT((moment.col(0) - p.cross(force)).norm(), 2e-3 * p.norm()) << "sample " << k;

@@ -41,7 +41,8 @@ struct Simulated {
 };
 
 Simulated Simulate(const std::string& name, const RigEffects& fx, PrMode compensation = PrMode::kSigned,
-                   std::uint64_t seed = 1, const Vector6& frame = (Vector6() << 1.5, -2.0, 0.2, 0.01, -0.01, 2.0).finished()) {
+                   std::uint64_t seed = 1,
+                   const Vector6& frame = (Vector6() << 1.5, -2.0, 0.2, 0.01, -0.01, 2.0).finished()) {
   OfflineRunOptions o;
   o.motions = {"Lz", "Lx", "Rz", "Ry", "M1", "M2"};
   o.paper.stops = 4;
@@ -112,22 +113,34 @@ TEST_P(SingleEffect, IsRankedFirstAndClosesTheHeldOutGap) {
 }
 
 const SingleCase kSingles[] = {
-    {Effect::kPassiveRotation, [](RigEffects* f) { f->passive_rotation.enabled = true, f->passive_rotation.pr_sign = -1; }},
-    {Effect::kLegOffset, [](RigEffects* f) { f->leg_offset.enabled = true, f->leg_offset.offset_m = {80e-6, -60e-6, 40e-6, -100e-6, 50e-6, -20e-6}; }},
+    {Effect::kPassiveRotation,
+     [](RigEffects* f) { f->passive_rotation.enabled = true, f->passive_rotation.pr_sign = -1; }},
+    {Effect::kLegOffset,
+     [](RigEffects* f) {
+       f->leg_offset.enabled = true, f->leg_offset.offset_m = {80e-6, -60e-6, 40e-6, -100e-6, 50e-6, -20e-6};
+     }},
     {Effect::kJointPosition,
      [](RigEffects* f) {
        f->joint_position.enabled = true;
-       f->joint_position.base_m << 1e-4, -8e-5, 0, 6e-5, -1.5e-4, 0, -5e-5, 0, 1.2e-4, -1e-4, 2e-5, 0, 0, 5e-5, -4e-5, 0, 3e-5, -1e-4;
-       f->joint_position.platform_m << 5e-5, 0, -4e-5, 0, 3e-5, -6e-5, 0, -7e-5, 4e-5, 0, -3e-5, 0, 0, 2e-5, 0, 6e-5, 0, -2e-5;
+       f->joint_position.base_m << 1e-4, -8e-5, 0, 6e-5, -1.5e-4, 0, -5e-5, 0, 1.2e-4, -1e-4, 2e-5, 0, 0, 5e-5, -4e-5,
+           0, 3e-5, -1e-4;
+       f->joint_position.platform_m << 5e-5, 0, -4e-5, 0, 3e-5, -6e-5, 0, -7e-5, 4e-5, 0, -3e-5, 0, 0, 2e-5, 0, 6e-5, 0,
+           -2e-5;
      }},
-    {Effect::kLeadError, [](RigEffects* f) { f->lead_error.enabled = true, f->lead_error.epsilon = {1.5e-4, -1e-4, 2e-4, 0.5e-4, -1.5e-4, 1e-4}; }},
+    {Effect::kLeadError,
+     [](RigEffects* f) {
+       f->lead_error.enabled = true, f->lead_error.epsilon = {1.5e-4, -1e-4, 2e-4, 0.5e-4, -1.5e-4, 1e-4};
+     }},
     {Effect::kPeriodicLeadError,
      [](RigEffects* f) {
        f->periodic_lead_error.enabled = true;
        f->periodic_lead_error.amplitude_m = {12e-6, 10e-6, 12e-6, 10e-6, 12e-6, 10e-6};
        f->periodic_lead_error.phase_rad = {0.0, 1.1, 2.3, 3.0, 4.2, 5.5};
      }},
-    {Effect::kBacklash, [](RigEffects* f) { f->backlash.enabled = true, f->backlash.backlash_m = {20e-6, 30e-6, 40e-6, 50e-6, 25e-6, 35e-6}; }},
+    {Effect::kBacklash,
+     [](RigEffects* f) {
+       f->backlash.enabled = true, f->backlash.backlash_m = {20e-6, 30e-6, 40e-6, 50e-6, 25e-6, 35e-6};
+     }},
     {Effect::kServoLag, [](RigEffects* f) { f->servo_lag.bandwidth_hz = 12.0, f->servo_lag.integral_time_s = 0.0; }},
     {Effect::kCompliance,
      [](RigEffects* f) {
@@ -137,11 +150,16 @@ const SingleCase kSingles[] = {
        f->compliance.com_m = Vector3(0.0, 0.0, 0.1);
      }},
     {Effect::kThermalDrift,
-     [](RigEffects* f) { f->thermal_drift.enabled = true, f->thermal_drift.heating_K_per_m = 5.0, f->thermal_drift.time_constant_s = 900.0; }},
+     [](RigEffects* f) {
+       f->thermal_drift.enabled = true, f->thermal_drift.heating_K_per_m = 5.0,
+       f->thermal_drift.time_constant_s = 900.0;
+     }},
 };
 
 INSTANTIATE_TEST_SUITE_P(EveryEffect, SingleEffect, testing::ValuesIn(kSingles),
-                         [](const testing::TestParamInfo<SingleCase>& p) { return std::string(EffectName(p.param.effect)); });
+                         [](const testing::TestParamInfo<SingleCase>& p) {
+                           return std::string(EffectName(p.param.effect));
+                         });
 
 // Lead errors alone (the first such scenario of the benchmark's seed 101):
 // compliance, whose leg forces also grow with the stroke, fits part of the
@@ -254,10 +272,11 @@ TEST(Evaluate, ASavedModelShrinksTheGapOnDataItNeverSaw) {
   const PlatformModel model = Model();
   const Diagnosis d = Diagnose(model, LoadMeasurement(Simulate("train", fx).csv));
   const nlohmann::json saved = ModelJson(d);
-  const Evaluation ev = Evaluate(model, LoadMeasurement(Simulate("test", fx, PrMode::kSigned, 99,
-                                                                 (Vector6() << -2.5, 1.0, -0.3, 0, 0.02, -1.0).finished())
-                                                            .csv),
-                                 saved, "model.json");
+  const Evaluation ev = Evaluate(
+      model,
+      LoadMeasurement(
+          Simulate("test", fx, PrMode::kSigned, 99, (Vector6() << -2.5, 1.0, -0.3, 0, 0.02, -1.0).finished()).csv),
+      saved, "model.json");
   EXPECT_GE(ev.shrink, 0.8) << ev.before.rms_m << " → " << ev.after.rms_m;
   EXPECT_LT(ev.after.rms_m, 1.5 * std::sqrt(3.0) * kNoise);
   // A model with a wrong parameter count is refused with its name.

@@ -35,7 +35,8 @@ RigEffects Rig() { return test_support::OffsetsBacklashAndLead(); }
 std::string Session(const std::string& name, const RigEffects& fx, const std::vector<std::string>& motions,
                     const std::string& model, std::uint64_t seed) {
   const Pose tracker = Pose::FromVector(
-      (Vector6() << 1.0 + static_cast<double>(seed), -2.0, 0.2, 0.01, -0.01, 0.3 * static_cast<double>(seed)).finished());
+      (Vector6() << 1.0 + static_cast<double>(seed), -2.0, 0.2, 0.01, -0.01, 0.3 * static_cast<double>(seed))
+          .finished());
   OfflineRunOptions o =
       test_support::OfflineSession(motions, 4, 0.3, 5e-6, seed, tracker, test_support::ScratchDir("drift_" + name));
   o.calibration_path = model;
@@ -74,8 +75,8 @@ DriftOptions Team() {
 }
 
 TEST(Drift, ARigThatDidNotChangeNeedsNoRecalibration) {
-  const DriftReport r =
-      Drift(Model(), BaselineJson(), Baseline(), LoadMeasurement(Session("same", Rig(), kSession, Baseline(), 2)), Team());
+  const DriftReport r = Drift(Model(), BaselineJson(), Baseline(),
+                              LoadMeasurement(Session("same", Rig(), kSession, Baseline(), 2)), Team());
   EXPECT_TRUE(r.changed.empty()) << DriftText(r);
   EXPECT_TRUE(r.appeared.empty()) << DriftText(r);
   EXPECT_TRUE(r.vanished.empty()) << DriftText(r);
@@ -133,16 +134,17 @@ TEST(Drift, TheChangeThresholdKeepsNoiseFromCountingAsChange) {
 
 TEST(Drift, TheCommandLineSaysWhatChangedAndRefusesABadBaseline) {
   const std::string csv = Session("cli", Rig(), kSession, Baseline(), 5);
-  const auto ok = test_support::RunCommand(fmt::format("{} drift --config {} --baseline {} --data {} --json",
-                                                       EDSP_GAP_BINARY, kConfig, Baseline(), csv));
+  const auto ok = test_support::RunCommand(
+      fmt::format("{} drift --config {} --baseline {} --data {} --json", EDSP_GAP_BINARY, kConfig, Baseline(), csv));
   ASSERT_EQ(ok.exit_code, 0) << ok.text;
   const nlohmann::json j = nlohmann::json::parse(ok.text.substr(ok.text.find('{')));
-  for (const char* key : {"changed", "appeared", "vanished", "heldout_rms_m", "recalibrate"}) EXPECT_TRUE(j.contains(key)) << key;
+  for (const char* key : {"changed", "appeared", "vanished", "heldout_rms_m", "recalibrate"})
+    EXPECT_TRUE(j.contains(key)) << key;
   // By default the data says whether the baseline was applied (its leg_corr columns).
   EXPECT_TRUE(j["recorded_with_baseline"].get<bool>());
-  const auto without = test_support::RunCommand(fmt::format("{} drift --config {} --baseline {} --data {} --json",
-                                                            EDSP_GAP_BINARY, kConfig, Baseline(),
-                                                            Session("cli_without", Rig(), kSession, "", 5)));
+  const auto without =
+      test_support::RunCommand(fmt::format("{} drift --config {} --baseline {} --data {} --json", EDSP_GAP_BINARY,
+                                           kConfig, Baseline(), Session("cli_without", Rig(), kSession, "", 5)));
   ASSERT_EQ(without.exit_code, 0) << without.text;
   const nlohmann::json w = nlohmann::json::parse(without.text.substr(without.text.find('{')));
   EXPECT_FALSE(w["recorded_with_baseline"].get<bool>());

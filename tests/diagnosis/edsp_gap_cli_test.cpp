@@ -19,7 +19,9 @@ namespace {
 
 using Output = edsp::test_support::CommandOutput;
 
-Output Gap(const std::string& args) { return edsp::test_support::RunCommand(fmt::format("{} {}", EDSP_GAP_BINARY, args)); }
+Output Gap(const std::string& args) {
+  return edsp::test_support::RunCommand(fmt::format("{} {}", EDSP_GAP_BINARY, args));
+}
 
 std::string Dir() { return edsp::test_support::ScratchDir("gap_cli"); }
 
@@ -27,11 +29,11 @@ std::string Dir() { return edsp::test_support::ScratchDir("gap_cli"); }
 // a gap the diagnosis finds as passive_rotation).
 std::string SimulatedCsv(const std::string& pr_mode = "unsigned", const std::string& motions = "Lz,Rz,M1") {
   const std::string dir = Dir() + "/sim_" + pr_mode + "_" + motions;
-  const std::string command =
-      fmt::format("{} rig --config {}/config/huang2021.toml --out {} --motions {} --pr-mode {} "
-                  "--stops 3 --dwell-s 0.3 --max-speed-m-s 0.25 --max-speed-rad-s 0.5 --tracker-noise-m 5e-6 "
-                  "--tracker-rate-hz 100 >/dev/null",
-                  EDSP_SIM_BINARY, EDSP_SOURCE_DIR, dir, motions, pr_mode);
+  const std::string command = fmt::format(
+      "{} rig --config {}/config/huang2021.toml --out {} --motions {} --pr-mode {} "
+      "--stops 3 --dwell-s 0.3 --max-speed-m-s 0.25 --max-speed-rad-s 0.5 --tracker-noise-m 5e-6 "
+      "--tracker-rate-hz 100 >/dev/null",
+      EDSP_SIM_BINARY, EDSP_SOURCE_DIR, dir, motions, pr_mode);
   EXPECT_EQ(std::system(command.c_str()), 0);
   return dir + "/measurement.csv";
 }
@@ -39,14 +41,16 @@ std::string SimulatedCsv(const std::string& pr_mode = "unsigned", const std::str
 TEST(EdspGapCli, DiagnoseJsonHasTheInterfaceKeysAndAModelThatEvaluates) {
   const std::string csv = SimulatedCsv();
   const std::string model = Dir() + "/model.json", report = Dir() + "/report";
-  const Output out = Gap(fmt::format("diagnose --config {}/config/huang2021.toml --data {} --json --save-model {} --report {}",
-                                     EDSP_SOURCE_DIR, csv, model, report));
+  const Output out =
+      Gap(fmt::format("diagnose --config {}/config/huang2021.toml --data {} --json --save-model {} --report {}",
+                      EDSP_SOURCE_DIR, csv, model, report));
   ASSERT_EQ(out.exit_code, 0) << out.text;
   const nlohmann::json j = nlohmann::json::parse(out.text);
   for (const char* key : {"rms_m", "max_m", "by_run", "by_leg_m", "where"}) EXPECT_TRUE(j["gap"].contains(key)) << key;
   EXPECT_EQ(j["gap"]["by_leg_m"].size(), 6u);
   ASSERT_FALSE(j["effects"].empty());
-  for (const char* key : {"name", "params", "explained_fraction", "verdict"}) EXPECT_TRUE(j["effects"][0].contains(key)) << key;
+  for (const char* key : {"name", "params", "explained_fraction", "verdict"})
+    EXPECT_TRUE(j["effects"][0].contains(key)) << key;
   EXPECT_EQ(j["effects"][0]["name"], "passive_rotation");
   for (const char* key : {"runs", "before", "after", "shrink", "gap_shrink"}) {
     EXPECT_TRUE(j["holdout"].contains(key)) << key;
@@ -74,8 +78,8 @@ TEST(EdspGapCli, DiagnoseJsonHasTheInterfaceKeysAndAModelThatEvaluates) {
   EXPECT_GT(e["shrink"].get<double>(), 0.9);
   EXPECT_LT(e["after"]["rms_m"].get<double>(), e["before"]["rms_m"].get<double>());
   // The gap above the noise floor the data show.
-  EXPECT_DOUBLE_EQ(e["gap_shrink"].get<double>(), edsp::gap::GapShrink(e["before"]["rms_m"], e["after"]["rms_m"],
-                                                                        e["noise_floor_rms_m"]));
+  EXPECT_DOUBLE_EQ(e["gap_shrink"].get<double>(),
+                   edsp::gap::GapShrink(e["before"]["rms_m"], e["after"]["rms_m"], e["noise_floor_rms_m"]));
 }
 
 // compare: the same motions without and with the correction (here the
@@ -122,8 +126,8 @@ TEST(EdspGapCli, CompareGivesEachMotionBeforeAndAfterTheCorrection) {
   EXPECT_TRUE(std::ifstream(plot + "/calibration.png").good());
 
   // The same motions or nothing: a run missing from one side is named.
-  const Output mismatch = Gap(fmt::format("compare --config {} --before {} --after {}", config, before,
-                                          SimulatedCsv("signed", "Lz,Rz")));
+  const Output mismatch =
+      Gap(fmt::format("compare --config {} --before {} --after {}", config, before, SimulatedCsv("signed", "Lz,Rz")));
   EXPECT_NE(mismatch.exit_code, 0);
   EXPECT_NE(mismatch.text.find("run M1 is in the measurement without the calibration"), std::string::npos)
       << mismatch.text;
@@ -148,7 +152,8 @@ TEST(EdspGapCli, WrongInputsAreNamedWithANonZeroExit) {
 
   const std::string model = Dir() + "/broken_model.json";
   std::ofstream(model) << "{\"format\": \"edsp-gap-model/1\", \"effects\": [{\"name\": \"gremlins\", \"theta\": []}]}";
-  out = Gap(fmt::format("evaluate --config {}/config/huang2021.toml --model {} --data {}", EDSP_SOURCE_DIR, model, bad));
+  out =
+      Gap(fmt::format("evaluate --config {}/config/huang2021.toml --model {} --data {}", EDSP_SOURCE_DIR, model, bad));
   EXPECT_NE(out.exit_code, 0);
   std::ofstream(model) << "{not json";
   out = Gap(fmt::format("evaluate --config {}/config/huang2021.toml --model {} --data {}", EDSP_SOURCE_DIR, model,
@@ -205,8 +210,9 @@ TEST(EdspGapCli, BenchmarkOnTheBlindRigScoresEveryKindWithItsTargets) {
 // the model predicted from the uncalibrated run; the effect-free scenario 0
 // does not count.
 TEST(EdspGapCli, BenchmarkClosesTheLoopOnTheRigAndSetsTheMeasuredShrinkBesideThePrediction) {
-  const Output out = Gap(
-      "benchmark --scenarios 2 --seed 77 --motions Lz,Lx,Rz,Ry,M1,M2 --closed-loop-motions Ly,M9 --noise-m 7e-6 --json");
+  const Output out =
+      Gap("benchmark --scenarios 2 --seed 77 --motions Lz,Lx,Rz,Ry,M1,M2 --closed-loop-motions Ly,M9 --noise-m 7e-6 "
+          "--json");
   ASSERT_EQ(out.exit_code, 0) << out.text;
   const nlohmann::json j = nlohmann::json::parse(out.text);
   EXPECT_EQ(j["closed_loop"]["motions"], (std::vector<std::string>{"Ly", "M9"}));
@@ -222,7 +228,8 @@ TEST(EdspGapCli, BenchmarkClosesTheLoopOnTheRigAndSetsTheMeasuredShrinkBesideThe
   EXPECT_EQ(j["results"][1]["noise_sigma_m"].get<double>(), sigma);
   EXPECT_DOUBLE_EQ(loop["gap_shrink"].get<double>(), edsp::gap::GapShrink(before, after, std::sqrt(3.0) * sigma));
   EXPECT_GT(loop["gap_shrink"].get<double>(), 0.8) << loop.dump(2);
-  EXPECT_DOUBLE_EQ(loop["predicted_gap_shrink"].get<double>(), edsp::gap::GapShrink(before, predicted, std::sqrt(3.0) * sigma));
+  EXPECT_DOUBLE_EQ(loop["predicted_gap_shrink"].get<double>(),
+                   edsp::gap::GapShrink(before, predicted, std::sqrt(3.0) * sigma));
   EXPECT_DOUBLE_EQ(j["closed_loop"]["median_measured_gap_shrink"].get<double>(), loop["gap_shrink"].get<double>());
   EXPECT_DOUBLE_EQ(j["closed_loop"]["median_predicted_gap_shrink"].get<double>(),
                    loop["predicted_gap_shrink"].get<double>());

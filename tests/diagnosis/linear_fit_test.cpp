@@ -48,8 +48,8 @@ TEST(GramSet, HeldOutErrorsEqualDirectLeastSquares) {
     const Eigen::VectorXd direct = A.colPivHouseholderQr().solve(b);
     const Eigen::VectorXd fast = gram.Solve(cols, gram.AllBut(f), no_prior);
     EXPECT_LT((direct - fast).norm(), 1e-9);
-    const Eigen::VectorXd held = d.residual.segment(3 * f * per_run, 3 * per_run) -
-                                 d.columns.middleRows(3 * f * per_run, 3 * per_run) * direct;
+    const Eigen::VectorXd held =
+        d.residual.segment(3 * f * per_run, 3 * per_run) - d.columns.middleRows(3 * f * per_run, 3 * per_run) * direct;
     EXPECT_NEAR(gram.Sse(cols, fast, {f}), held.squaredNorm(), 1e-9 * held.squaredNorm());
   }
 }
@@ -143,7 +143,8 @@ TEST(JackknifeSigma, EqualsTheSpreadOfDirectLeaveOneRunOutFits) {
   const Eigen::VectorXd mean = theta.rowwise().mean();
   const Eigen::VectorXd jack = JackknifeSigma(gram, cols, Eigen::VectorXd::Zero(d.columns.cols()));
   for (Eigen::Index p = 0; p < theta.rows(); ++p) {
-    const double direct = std::sqrt((g - 1.0) / g * (theta.row(p).transpose() - Eigen::VectorXd::Constant(g, mean(p))).squaredNorm());
+    const double direct =
+        std::sqrt((g - 1.0) / g * (theta.row(p).transpose() - Eigen::VectorXd::Constant(g, mean(p))).squaredNorm());
     EXPECT_NEAR(jack(p), direct, 1e-9 * direct) << "column " << p;
   }
 }
@@ -159,7 +160,8 @@ TEST(JackknifeSigma, IsTheFormalSigmaWhereTheModelHoldsAndGrowsWhereItDoesNot) {
     const Columns cols = AllColumns(d);
     const Eigen::VectorXd none = Eigen::VectorXd::Zero(d.columns.cols());
     const Eigen::VectorXd theta = gram.Solve(cols, gram.AllFolds(), none);
-    const double sigma2 = (d.residual - d.columns * theta).squaredNorm() / static_cast<double>(d.residual.size() - d.columns.cols());
+    const double sigma2 =
+        (d.residual - d.columns * theta).squaredNorm() / static_cast<double>(d.residual.size() - d.columns.cols());
     const Eigen::VectorXd formal = gram.Covariance(cols, gram.AllFolds(), none, sigma2).diagonal().cwiseSqrt();
     const Eigen::VectorXd jack = JackknifeSigma(gram, cols, none);
     const Eigen::Index moving = d.columns.cols() - 1;

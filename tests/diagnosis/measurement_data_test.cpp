@@ -49,7 +49,8 @@ TEST(MeasurementCsv, BadCellsAreNamedByFileLineAndColumn) {
   ExpectError(std::string(kHeader) + Row(0.0, "Lz", "abc"), "bad.csv:2:1: point_z_m \"abc\" is not a number");
   ExpectError(std::string(kHeader) + Row(0.0, "Lz", "nan"), "bad.csv:2:1: point_z_m is nan (not finite)");
   ExpectError(std::string(kHeader) + Row(0.0, "Lz", "inf"), "not finite");
-  ExpectError(std::string(kHeader) + Row(0.5, "Lz") + Row(0.1, "Lz"), "bad.csv:3:5: time_s 0.1 goes back in run \"Lz\"");
+  ExpectError(std::string(kHeader) + Row(0.5, "Lz") + Row(0.1, "Lz"),
+              "bad.csv:3:5: time_s 0.1 goes back in run \"Lz\"");
   ExpectError(std::string(kHeader) + "1.5,0,Lz,0\n", "bad.csv:2: row has 4 fields");
   ExpectError("time_s,run\n0,Lz\n", "bad.csv:1: header lacks the required column \"pose_cmd_x_m\"");
   ExpectError("# only a comment\n", "no header row");
@@ -57,13 +58,14 @@ TEST(MeasurementCsv, BadCellsAreNamedByFileLineAndColumn) {
 }
 
 TEST(MeasurementCsv, EncodersAreOptionalPerFile) {
-  std::string header = "time_s,run,pose_cmd_x_m,pose_cmd_y_m,pose_cmd_z_m,pose_cmd_roll_rad,pose_cmd_pitch_rad,"
-                       "pose_cmd_yaw_rad,leg_cmd_1_m,leg_cmd_2_m,leg_cmd_3_m,leg_cmd_4_m,leg_cmd_5_m,leg_cmd_6_m,"
-                       "leg_enc_1_m,leg_enc_2_m,leg_enc_3_m,leg_enc_4_m,leg_enc_5_m,leg_enc_6_m,point_x_m,point_y_m,point_z_m\n";
-  const MeasurementData d = ParseMeasurementCsv(
-      header + "0,Lz,0,0,1.511,0,0,0,1,1,1,1,1,1,1.1,1.1,1.1,1.1,1.1,1.1,1,2,3\n"
-               "0.1,Lz,0,0,1.511,0,0,0,1,1,1,1,1,1,,,,,,,1,2,3\n",
-      "enc.csv");
+  std::string header =
+      "time_s,run,pose_cmd_x_m,pose_cmd_y_m,pose_cmd_z_m,pose_cmd_roll_rad,pose_cmd_pitch_rad,"
+      "pose_cmd_yaw_rad,leg_cmd_1_m,leg_cmd_2_m,leg_cmd_3_m,leg_cmd_4_m,leg_cmd_5_m,leg_cmd_6_m,"
+      "leg_enc_1_m,leg_enc_2_m,leg_enc_3_m,leg_enc_4_m,leg_enc_5_m,leg_enc_6_m,point_x_m,point_y_m,point_z_m\n";
+  const MeasurementData d = ParseMeasurementCsv(header +
+                                                    "0,Lz,0,0,1.511,0,0,0,1,1,1,1,1,1,1.1,1.1,1.1,1.1,1.1,1.1,1,2,3\n"
+                                                    "0.1,Lz,0,0,1.511,0,0,0,1,1,1,1,1,1,,,,,,,1,2,3\n",
+                                                "enc.csv");
   EXPECT_TRUE(d.rows[0].has_encoder);
   EXPECT_DOUBLE_EQ(d.rows[0].leg_enc_m(5), 1.1);
   EXPECT_FALSE(d.rows[1].has_encoder);
@@ -73,13 +75,15 @@ TEST(MeasurementCsv, EncodersAreOptionalPerFile) {
 // when all six are there, an empty cell a zero; five of six are refused by
 // the one missing, as a zero there would be a wrong nominal residual.
 TEST(MeasurementCsv, CorrectionColumnsAreAllSixOrNone) {
-  const std::string header = "time_s,run,pose_cmd_x_m,pose_cmd_y_m,pose_cmd_z_m,pose_cmd_roll_rad,pose_cmd_pitch_rad,"
-                             "pose_cmd_yaw_rad,leg_cmd_1_m,leg_cmd_2_m,leg_cmd_3_m,leg_cmd_4_m,leg_cmd_5_m,leg_cmd_6_m,"
-                             "point_x_m,point_y_m,point_z_m,leg_corr_1_m,leg_corr_2_m,leg_corr_3_m,leg_corr_4_m,"
-                             "leg_corr_5_m";
-  const MeasurementData d = ParseMeasurementCsv(header + ",leg_corr_6_m\n"
-                                                "0,Lz,0,0,1.511,0,0,0,1,1,1,1,1,1,1,2,3,1e-4,0,0,0,0,-2e-5\n"
-                                                "0.1,Lz,0,0,1.511,0,0,0,1,1,1,1,1,1,1,2,3,,,,,,\n",
+  const std::string header =
+      "time_s,run,pose_cmd_x_m,pose_cmd_y_m,pose_cmd_z_m,pose_cmd_roll_rad,pose_cmd_pitch_rad,"
+      "pose_cmd_yaw_rad,leg_cmd_1_m,leg_cmd_2_m,leg_cmd_3_m,leg_cmd_4_m,leg_cmd_5_m,leg_cmd_6_m,"
+      "point_x_m,point_y_m,point_z_m,leg_corr_1_m,leg_corr_2_m,leg_corr_3_m,leg_corr_4_m,"
+      "leg_corr_5_m";
+  const MeasurementData d = ParseMeasurementCsv(header +
+                                                    ",leg_corr_6_m\n"
+                                                    "0,Lz,0,0,1.511,0,0,0,1,1,1,1,1,1,1,2,3,1e-4,0,0,0,0,-2e-5\n"
+                                                    "0.1,Lz,0,0,1.511,0,0,0,1,1,1,1,1,1,1,2,3,,,,,,\n",
                                                 "corr.csv");
   EXPECT_TRUE(d.has_correction);
   EXPECT_DOUBLE_EQ(d.rows[0].leg_corr_m(0), 1e-4);
@@ -101,17 +105,15 @@ TEST(MeasurementCsv, RowsFlaggedTimingEventAreLeftOutAndCounted) {
     std::string r = Row(t, "Lz");
     return r.insert(r.size() - 1, std::string(",") + flag);
   };
-  const MeasurementData d = ParseMeasurementCsv(header + row(0.0, "0") + row(0.1, "1") + row(0.2, "") +
-                                                    row(0.3, "1"),
-                                                "t.csv");
+  const MeasurementData d =
+      ParseMeasurementCsv(header + row(0.0, "0") + row(0.1, "1") + row(0.2, "") + row(0.3, "1"), "t.csv");
   ASSERT_EQ(d.rows.size(), 2u);
   EXPECT_DOUBLE_EQ(d.rows[1].time_s, 0.2);
   EXPECT_EQ(d.timing_excluded, 2);
   EXPECT_EQ(Decimated(d, 100.0).timing_excluded, 2);
   // Kept on request (edsp-gap --keep-timing-events): every row, none counted.
-  const MeasurementData kept = ParseMeasurementCsv(header + row(0.0, "0") + row(0.1, "1") + row(0.2, "") +
-                                                       row(0.3, "1"),
-                                                   "t.csv", TimingEvents::kKeep);
+  const MeasurementData kept = ParseMeasurementCsv(
+      header + row(0.0, "0") + row(0.1, "1") + row(0.2, "") + row(0.3, "1"), "t.csv", TimingEvents::kKeep);
   EXPECT_EQ(kept.rows.size(), 4u);
   EXPECT_EQ(kept.timing_excluded, 0);
   ExpectError(header + row(0.0, "2"), "bad.csv:2:68: timing_event 2 is neither 0 nor 1");

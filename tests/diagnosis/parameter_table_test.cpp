@@ -94,8 +94,8 @@ TEST(ParameterTable, PassiveRotationScalesReadAsFactors) {
 
 TEST(ParameterTable, ThermalDriftPerMetreOfTravelAndPerHourUnderPower) {
   EffectResult r = Fitted(Effect::kThermalDrift);
-  r.theta(0) = 7e-6;   // m per m of travel
-  r.theta(2) = 1e-9;   // m per s powered: 3.6 µm per hour
+  r.theta(0) = 7e-6;  // m per m of travel
+  r.theta(2) = 1e-9;  // m per s powered: 3.6 µm per hour
   const std::string t = ParameterTableMarkdown(r);
   EXPECT_NE(t.find("| with recent travel | 7.00 | µm per m of travel |"), std::string::npos) << t;
   EXPECT_NE(t.find("| with time under power | 3.60 | µm per hour |"), std::string::npos) << t;

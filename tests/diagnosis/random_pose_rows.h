@@ -12,8 +12,8 @@ namespace edsp::gap {
 // (m, rad) of home, commanded with `compensation`; A measured exactly where
 // `moved(pose, A)` puts it, seen in the tracker frame X_TB.
 template <typename Moved>
-MeasurementData RandomPoseRows(const PlatformModel& model, const Pose& X_TB, int rows, PrMode compensation,
-                               double span, double spacing_s, unsigned seed, Moved moved) {
+MeasurementData RandomPoseRows(const PlatformModel& model, const Pose& X_TB, int rows, PrMode compensation, double span,
+                               double spacing_s, unsigned seed, Moved moved) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   MeasurementData d;

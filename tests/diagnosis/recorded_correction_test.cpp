@@ -86,10 +86,10 @@ TEST(RecordedCorrection, ReadNominallyARowIsWhereTheNominalCommandPutsA) {
   data.has_correction = true;
   for (int k = 0; k < 40; ++k) {
     const double s = 0.1 * k;
-    const Pose pose = Pose::FromVector(
-        (Vector6() << 0.15 * std::sin(s), 0.12 * std::cos(1.3 * s), model.home_pose().p_BoMo_B.z() + 0.1 * std::sin(0.7 * s),
-         0.08 * std::sin(0.9 * s), 0.06 * std::cos(1.1 * s), 0.2 * std::sin(0.5 * s))
-            .finished());
+    const Pose pose = Pose::FromVector((Vector6() << 0.15 * std::sin(s), 0.12 * std::cos(1.3 * s),
+                                        model.home_pose().p_BoMo_B.z() + 0.1 * std::sin(0.7 * s),
+                                        0.08 * std::sin(0.9 * s), 0.06 * std::cos(1.1 * s), 0.2 * std::sin(0.5 * s))
+                                           .finished());
     MeasurementRow row;
     row.time_s = 0.01 * k;
     row.pose_cmd = pose.ToVector();
@@ -169,7 +169,8 @@ TEST(RecordedCorrection, AgainstTheNominalModelACalibratedSessionShowsTheWholeRi
   const std::string figures = fmt::format(
       "gap: uncalibrated {:.2f} µm, calibrated against nominal {:.2f} µm, against the calibration {:.2f} µm; the "
       "correction at A {:.2f} µm",
-      whole * 1e6, nominal.gap.overall.rms_m * 1e6, left.gap.overall.rms_m * 1e6, nominal.recorded_correction_rms_m * 1e6);
+      whole * 1e6, nominal.gap.overall.rms_m * 1e6, left.gap.overall.rms_m * 1e6,
+      nominal.recorded_correction_rms_m * 1e6);
   std::printf("%s\n", figures.c_str());
   SCOPED_TRACE(figures);
   EXPECT_NEAR(nominal.gap.overall.rms_m, whole, 0.03 * whole);
@@ -217,15 +218,16 @@ TEST(RecordedCorrection, ASecondCalibrationOnDataRecordedWithTheFirstHoldsAsWell
 
 TEST(RecordedCorrection, TheCommandLineSaysWhatItReadAgainstAndSavesOnlyAWholeCalibration) {
   const std::string data = RecordedWithFirst();
-  const auto json = test_support::RunCommand(
-      fmt::format("{} diagnose --config {} --data {} --json", EDSP_GAP_BINARY, kConfig, data));
+  const auto json =
+      test_support::RunCommand(fmt::format("{} diagnose --config {} --data {} --json", EDSP_GAP_BINARY, kConfig, data));
   ASSERT_EQ(json.exit_code, 0) << json.text;
   const nlohmann::json j = nlohmann::json::parse(json.text.substr(json.text.find('{')));
   EXPECT_EQ(j["recorded_correction"]["against"], "nominal");
   EXPECT_GT(j["recorded_correction"]["rms_m"].get<double>(), 10e-6);
   const std::string model = test_support::ScratchDir("recorded_correction_cli") + "/increments.json";
-  const auto refused = test_support::RunCommand(fmt::format(
-      "{} diagnose --config {} --data {} --against calibration --save-model {}", EDSP_GAP_BINARY, kConfig, data, model));
+  const auto refused =
+      test_support::RunCommand(fmt::format("{} diagnose --config {} --data {} --against calibration --save-model {}",
+                                           EDSP_GAP_BINARY, kConfig, data, model));
   EXPECT_EQ(refused.exit_code, 1) << refused.text;
   EXPECT_NE(refused.text.find("--save-model with --against calibration"), std::string::npos) << refused.text;
   EXPECT_NE(refused.text.find(data), std::string::npos) << refused.text;

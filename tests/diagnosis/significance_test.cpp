@@ -82,12 +82,16 @@ TEST(Tie, TheGainsAndTheRunsMustBothTie) {
   const std::vector<double> runs_split = {0.05, -0.04, 0.06, -0.05, 0.03, -0.05, 0.04, -0.06};
   ASSERT_TRUE(PairedGainIsSignificant(every_run_favours, o.significance));
   ASSERT_FALSE(PairedGainIsSignificant(runs_split, o.significance));
-  EXPECT_TRUE(Tied(most, incumbent, [&] { return runs_split; }, o));
-  EXPECT_FALSE(Tied(most, incumbent, [&] { return every_run_favours; }, o));  // the runs tell them apart
-  EXPECT_FALSE(Tied(less, incumbent, [&] { return runs_split; }, o));         // the gains do
+  EXPECT_TRUE(Tied(
+      most, incumbent, [&] { return runs_split; }, o));
+  EXPECT_FALSE(Tied(
+      most, incumbent, [&] { return every_run_favours; }, o));  // the runs tell them apart
+  EXPECT_FALSE(Tied(
+      less, incumbent, [&] { return runs_split; }, o));  // the gains do
   // A challenger that gains less than an effect must is no alternative,
   // however small the incumbent's own gain.
-  EXPECT_FALSE(Tied(0.8 * o.min_cv_gain, o.min_cv_gain, [&] { return runs_split; }, o));
+  EXPECT_FALSE(Tied(
+      0.8 * o.min_cv_gain, o.min_cv_gain, [&] { return runs_split; }, o));
 }
 
 // The run-by-run half fits every fold: it is asked for only when the gains tie.

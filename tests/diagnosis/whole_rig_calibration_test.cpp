@@ -31,7 +31,8 @@ constexpr double kNoise = 5e-6;
 
 OfflineRunOptions BenchmarkRun(const std::string& dir) {
   return test_support::OfflineSession({"calibration"}, 5, 0.5, kNoise, 11,
-                                      Pose::FromVector((Vector6() << 1.5, -2.0, 0.2, 0.01, -0.01, 2.0).finished()), dir);
+                                      Pose::FromVector((Vector6() << 1.5, -2.0, 0.2, 0.01, -0.01, 2.0).finished()),
+                                      dir);
 }
 
 // The saved model with only what the diagnosis names for sure: what the
@@ -65,8 +66,10 @@ TEST(WholeRigCalibration, TheDesignedMotionsCalibrateAWholeRig) {
   const std::vector<std::string> held_out = {"Ly", "Rx", "M3"};
   std::filesystem::create_directories(dir + "/set");
   std::filesystem::create_directories(dir + "/named");
-  const MotionCheck with_set = MeasureClosedLoop(model, kConfig, rig.effects, run, ModelJson(d), held_out, dir + "/set");
-  const MotionCheck named = MeasureClosedLoop(model, kConfig, rig.effects, run, IdentifiedOnly(d), held_out, dir + "/named");
+  const MotionCheck with_set =
+      MeasureClosedLoop(model, kConfig, rig.effects, run, ModelJson(d), held_out, dir + "/set");
+  const MotionCheck named =
+      MeasureClosedLoop(model, kConfig, rig.effects, run, IdentifiedOnly(d), held_out, dir + "/named");
   // Measured on the rig: within 1.5× the tracker's floor (or 90% lower),
   // the worst error no larger than without the calibration.
   EXPECT_TRUE(with_set.after.rms_m <= 1.5 * floor || Shrink(with_set.before.rms_m, with_set.after.rms_m) >= 0.9)

@@ -83,7 +83,8 @@ TEST_F(BackendAxesTest, EnabledWhereTheLegsStandThenTheTargetsReachTheBackendAsM
   ASSERT_TRUE(AllOperating());
   backend_->stopped_at.reset();  // the legs now follow what they are told
   std::array<std::optional<std::int32_t>, kCabinetDrives> wanted;
-  for (int d = 0; d < kCabinetDrives; ++d) wanted[static_cast<std::size_t>(d)] = cabinet_->Feedback(d).position_actual + 700 + d;
+  for (int d = 0; d < kCabinetDrives; ++d)
+    wanted[static_cast<std::size_t>(d)] = cabinet_->Feedback(d).position_actual + 700 + d;
   Cycle(wanted);
   for (int d = 0; d < kCabinetDrives; ++d) {
     const auto k = static_cast<std::size_t>(d);
@@ -104,7 +105,8 @@ TEST_F(BackendAxesTest, ADriveOutOfOperationHoldsItsLegWhereItStoppedFollowing) 
   for (int k = 0; k < 10 && !AllOperating(); ++k) Cycle(hold);
   backend_->stopped_at.reset();
   std::array<std::optional<std::int32_t>, kCabinetDrives> wanted;
-  for (int d = 0; d < kCabinetDrives; ++d) wanted[static_cast<std::size_t>(d)] = cabinet_->Feedback(d).position_actual + 900;
+  for (int d = 0; d < kCabinetDrives; ++d)
+    wanted[static_cast<std::size_t>(d)] = cabinet_->Feedback(d).position_actual + 900;
   Cycle(wanted);
   // The leg stands a little short of its target (a real axis lags): the
   // brake holds it there, not at the target.
@@ -118,7 +120,8 @@ TEST_F(BackendAxesTest, ADriveOutOfOperationHoldsItsLegWhereItStoppedFollowing) 
   // The leg drifts in the backend's feedback meanwhile (another load on it).
   std::array<double, 6> drifting = backend_->written.motor_angle_rad;
   for (int k = 0; k < 5; ++k) {
-    for (int d = 0; d < kCabinetDrives; ++d) wanted[static_cast<std::size_t>(d)] = *wanted[static_cast<std::size_t>(d)] + 10;
+    for (int d = 0; d < kCabinetDrives; ++d)
+      wanted[static_cast<std::size_t>(d)] = *wanted[static_cast<std::size_t>(d)] + 10;
     Cycle(wanted, 2);
     drifting = actual;
     drifting[2] = stood + 0.001 * (k + 1);
@@ -142,7 +145,8 @@ TEST_F(BackendAxesTest, AfterAStallTheDrivesTimeOutAndHoldWhereTheLegsStandNow) 
   ASSERT_TRUE(AllOperating());
   backend_->stopped_at.reset();
   std::array<std::optional<std::int32_t>, kCabinetDrives> wanted;
-  for (int d = 0; d < kCabinetDrives; ++d) wanted[static_cast<std::size_t>(d)] = cabinet_->Feedback(d).position_actual + 500;
+  for (int d = 0; d < kCabinetDrives; ++d)
+    wanted[static_cast<std::size_t>(d)] = cabinet_->Feedback(d).position_actual + 500;
   Cycle(wanted);
   Cycle(wanted);
   std::array<double, 6> rest = backend_->written.motor_angle_rad;
@@ -179,10 +183,11 @@ TEST_F(BackendAxesTest, ACommandOlderThanTheFieldbusTimeoutIsNeverFollowed) {
   for (double& angle : rest) angle += 0.003;  // where the legs came to rest meanwhile
   backend_->stopped_at = rest;
   cabinet_->Command(commands, UtimeNow() - kFieldbusTimeoutUs - 1000);  // written before the stall
-  cabinet_->Tick(kCycle);  // the drives' own clock saw one cycle pass
+  cabinet_->Tick(kCycle);                                               // the drives' own clock saw one cycle pass
   for (int d = 0; d < kCabinetDrives; ++d) {
     const auto k = static_cast<std::size_t>(d);
-    EXPECT_EQ(backend_->written.motor_angle_rad[k], rest[k]) << "drive " << d << " followed a command from before the stall";
+    EXPECT_EQ(backend_->written.motor_angle_rad[k], rest[k])
+        << "drive " << d << " followed a command from before the stall";
     EXPECT_EQ(backend_->written.motor_velocity_rad_s[k], 0.0);
   }
 }

@@ -11,9 +11,9 @@
 namespace edsp::cia402 {
 namespace {
 
-const std::vector<State> kStates = {State::kNotReadyToSwitchOn, State::kSwitchOnDisabled, State::kReadyToSwitchOn,
-                                    State::kSwitchedOn,         State::kOperationEnabled, State::kQuickStopActive,
-                                    State::kFaultReactionActive, State::kFault};
+const std::vector<State> kStates = {
+    State::kNotReadyToSwitchOn, State::kSwitchOnDisabled, State::kReadyToSwitchOn,     State::kSwitchedOn,
+    State::kOperationEnabled,   State::kQuickStopActive,  State::kFaultReactionActive, State::kFault};
 
 // Brings a fresh drive into `state` by the standard's own paths.
 DriveStateMachine DriveIn(State state) {
@@ -26,11 +26,24 @@ DriveStateMachine DriveIn(State state) {
   switch (state) {
     case State::kSwitchOnDisabled: break;
     case State::kReadyToSwitchOn: d.OnControlword(0x06); break;
-    case State::kSwitchedOn: d.OnControlword(0x06); d.OnControlword(0x07); break;
+    case State::kSwitchedOn:
+      d.OnControlword(0x06);
+      d.OnControlword(0x07);
+      break;
     case State::kOperationEnabled: to_operation(); break;
-    case State::kQuickStopActive: to_operation(); d.OnControlword(0x02); break;
-    case State::kFaultReactionActive: to_operation(); d.RaiseFault(0x8611); break;
-    case State::kFault: to_operation(); d.RaiseFault(0x8611); d.FaultReactionDone(); break;
+    case State::kQuickStopActive:
+      to_operation();
+      d.OnControlword(0x02);
+      break;
+    case State::kFaultReactionActive:
+      to_operation();
+      d.RaiseFault(0x8611);
+      break;
+    case State::kFault:
+      to_operation();
+      d.RaiseFault(0x8611);
+      d.FaultReactionDone();
+      break;
     case State::kNotReadyToSwitchOn: break;  // never reached from outside: power-up only
   }
   EXPECT_EQ(d.state(), state == State::kNotReadyToSwitchOn ? State::kSwitchOnDisabled : state);
@@ -95,9 +108,8 @@ struct CommandBits {
   std::uint16_t mask, value;
 };
 const std::vector<CommandBits> kCommandBits = {
-    {Command::kShutdown, 0x87, 0x06},        {Command::kSwitchOn, 0x8F, 0x07},
-    {Command::kEnableOperation, 0x8F, 0x0F}, {Command::kDisableVoltage, 0x82, 0x00},
-    {Command::kQuickStop, 0x86, 0x02},
+    {Command::kShutdown, 0x87, 0x06},       {Command::kSwitchOn, 0x8F, 0x07},  {Command::kEnableOperation, 0x8F, 0x0F},
+    {Command::kDisableVoltage, 0x82, 0x00}, {Command::kQuickStop, 0x86, 0x02},
 };
 struct Edge {
   State from;
@@ -138,7 +150,8 @@ TEST(Cia402, EveryControlwordInEveryStateAsTheStandardsMasksSay) {
           if (edge.from == from && edge.command == bits.command) expected = edge;
         }
       }
-      if (from == State::kFault && (word & 0x80) != 0) expected = {from, Command::kFaultReset, State::kSwitchOnDisabled, 15};
+      if (from == State::kFault && (word & 0x80) != 0)
+        expected = {from, Command::kFaultReset, State::kSwitchOnDisabled, 15};
       EXPECT_LE(matches, 1) << "the masks overlap at 0x" << std::hex << word;
       DriveStateMachine d = DriveIn(from);
       EXPECT_EQ(d.OnControlword(word), expected.transition) << StateName(from) << " + 0x" << std::hex << word;
@@ -175,8 +188,8 @@ TEST(Cia402, AFaultResetActsOnTheRisingEdgeOfBit7Only) {
 }
 
 TEST(Cia402, AFaultFromAnyPoweredStateRunsItsReactionFirst) {
-  for (State from : {State::kSwitchOnDisabled, State::kReadyToSwitchOn, State::kSwitchedOn,
-                     State::kOperationEnabled, State::kQuickStopActive}) {
+  for (State from : {State::kSwitchOnDisabled, State::kReadyToSwitchOn, State::kSwitchedOn, State::kOperationEnabled,
+                     State::kQuickStopActive}) {
     DriveStateMachine d = DriveIn(from);
     d.RaiseFault(0x8611);  // following error
     EXPECT_EQ(d.state(), State::kFaultReactionActive) << StateName(from);
@@ -207,8 +220,8 @@ TEST(Cia402, EveryStatuswordReadsBackAsItsState) {
     EXPECT_EQ(StateOfStatusword(StatusBits(s)), s) << StateName(s);
     // Bits outside the state's mask (warning, remote, target reached,
     // following error, manufacturer bits) do not change what it reads as.
-    const std::uint16_t noisy = StatusBits(s) | kStatusWarning | kStatusRemote | kStatusTargetReached |
-                                kStatusFollowingError | 0x8000;
+    const std::uint16_t noisy =
+        StatusBits(s) | kStatusWarning | kStatusRemote | kStatusTargetReached | kStatusFollowingError | 0x8000;
     EXPECT_EQ(StateOfStatusword(noisy), s) << StateName(s);
   }
   // The standard's examples (low byte): 0x40 disabled, 0x21 ready,

@@ -67,7 +67,7 @@ TEST(ModbusRegisterMap, CommandsAndFeedbackAsEncodedByHand) {
   CspCommand c;
   c.controlword = 0x000F;
   c.mode_of_operation = kModeCyclicSynchronousPosition;
-  c.target_position = -2;             // 0xFFFFFFFE: high word first
+  c.target_position = -2;  // 0xFFFFFFFE: high word first
   c.velocity_offset = 0x12345678;
   EXPECT_EQ(modbus_map::EncodeCommand(c),
             (modbus_map::DriveRegisters{0x000F, 0x0008, 0xFFFF, 0xFFFE, 0x1234, 0x5678, 0, 0}));

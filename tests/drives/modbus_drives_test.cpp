@@ -49,7 +49,8 @@ TEST(ModbusDrives, SixDrivesEnabledOverTheWireFollowTheirTargets) {
   std::string error;
   ASSERT_TRUE(master.wire.Connect(&error)) << error;
   int cycles = 0;
-  for (; cycles < 200 && !master.AllIn(State::kOperationEnabled); ++cycles) ASSERT_TRUE(master.Cycle(0, &error)) << error;
+  for (; cycles < 200 && !master.AllIn(State::kOperationEnabled); ++cycles)
+    ASSERT_TRUE(master.Cycle(0, &error)) << error;
   EXPECT_TRUE(master.AllIn(State::kOperationEnabled)) << "after " << cycles << " cycles";
   for (int k = 0; k < 200; ++k) ASSERT_TRUE(master.Cycle(250000, &error)) << error;
   for (const CspFeedback& f : master.feedback) {
@@ -80,7 +81,10 @@ TEST(ModbusDrives, ADrivesFaultArrivesWithItsCodeAndAFaultResetClearsIt) {
 
 TEST(ModbusDrives, NobodyListeningIsRefusedWithTheEndpoint) {
   int port = 0;
-  { ServedDrives gone; port = gone.port(); }  // a port that was just free, now closed
+  {
+    ServedDrives gone;
+    port = gone.port();
+  }  // a port that was just free, now closed
   ModbusDriveMaster master("127.0.0.1", port, 0.2);
   std::string error;
   EXPECT_FALSE(master.Connect(&error));

@@ -32,7 +32,8 @@ TEST(SimulatedCspDrive, EnabledByTheMasterWithoutMovingThenFollowsItsTarget) {
   const int enabling = Cycles(&drive, &cw, 90000, [&] { return drive.state() == State::kOperationEnabled; });
   EXPECT_LE(enabling, 4);
   EXPECT_EQ(drive.Feedback().position_actual, 5000) << "enabling never moves the axis";
-  Cycles(&drive, &cw, 90000, [&] { return drive.Feedback().position_actual == 90000; }, 10);
+  Cycles(
+      &drive, &cw, 90000, [&] { return drive.Feedback().position_actual == 90000; }, 10);
   EXPECT_EQ(drive.Feedback().position_actual, 90000);
   EXPECT_NE(drive.Feedback().statusword & kStatusTargetReached, 0);
   EXPECT_EQ(drive.Feedback().mode_display, kModeCyclicSynchronousPosition);

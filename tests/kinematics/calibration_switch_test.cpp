@@ -157,8 +157,9 @@ TEST(CalibrationSwitch, ForwardKinematicsBlendsWithTheSwitch) {
 TEST(CalibrationSwitch, JumpsInSetpointTimeNeverJumpTheCorrection) {
   KinematicsNode node = MakeNode(std::nullopt), without = MakeNode(std::nullopt), with = MakeNode(Model());
   ASSERT_EQ(node.HandleCalibrationRequest(Request(kModelJson, kStart), kStart).severity, fault_t::SEVERITY_INFO);
-  const std::int64_t stamps[] = {kStart, kStart + 1000, kStart - 40000, kStart + 5000000, kStart + 5001000,
-                                 INT64_MIN + 1, INT64_MAX, INT64_MAX, kStart};
+  const std::int64_t stamps[] = {kStart,           kStart + 1000,    kStart - 40000,
+                                 kStart + 5000000, kStart + 5001000, INT64_MIN + 1,
+                                 INT64_MAX,        INT64_MAX,        kStart};
   double last_weight = 0.0;
   for (std::int64_t stamp : stamps) {
     pose_setpoint_t sp = Setpoint(3);
@@ -168,9 +169,11 @@ TEST(CalibrationSwitch, JumpsInSetpointTimeNeverJumpTheCorrection) {
     ASSERT_TRUE(node.HandleSetpoint(sp, stamp, &c, &fault)) << fault.reason;  // judged by its own clock (replay)
     ASSERT_TRUE(without.HandleSetpoint(sp, stamp, &a, &fault)) << fault.reason;
     ASSERT_TRUE(with.HandleSetpoint(sp, stamp, &b, &fault)) << fault.reason;
-    const double weight = (c.command_length_m[3] - a.command_length_m[3]) / (b.command_length_m[3] - a.command_length_m[3]);
+    const double weight =
+        (c.command_length_m[3] - a.command_length_m[3]) / (b.command_length_m[3] - a.command_length_m[3]);
     EXPECT_GE(weight, last_weight - 1e-9) << "stamp " << stamp;
-    EXPECT_LE(weight - last_weight, calibration::CalibrationBlend::kMaxAdvance_us / kBlendUs + 1e-9) << "stamp " << stamp;
+    EXPECT_LE(weight - last_weight, calibration::CalibrationBlend::kMaxAdvance_us / kBlendUs + 1e-9)
+        << "stamp " << stamp;
     last_weight = weight;
   }
   EXPECT_GT(last_weight, 0.0);
@@ -221,9 +224,9 @@ TEST(CalibrationSwitch, RequestsAreConfirmedNamingTheModelOrRefusedNamingWhy) {
       node, Request(R"({"format": "edsp-gap-model/1", "effects": [{"name": "leg_offset", "theta": [0.05,0,0,0,0,0]}]})",
                     kStart + 500000));
   EXPECT_NE(absurd.find("theta[0] = 0.05"), std::string::npos) << absurd;
-  const std::string elsewhere = Answer(
-      node, Request(R"({"format": "edsp-gap-model/1", "platform": "home_length_m=2,2,2,2,2,2", "effects": []})",
-                    kStart + 600000));
+  const std::string elsewhere =
+      Answer(node, Request(R"({"format": "edsp-gap-model/1", "platform": "home_length_m=2,2,2,2,2,2", "effects": []})",
+                           kStart + 600000));
   EXPECT_NE(elsewhere.find("another platform"), std::string::npos) << elsewhere;
   const std::string late = Answer(node, Request("", kStart - 1));
   EXPECT_NE(late.find("older than the one acted on"), std::string::npos) << late;

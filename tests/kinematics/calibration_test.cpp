@@ -42,15 +42,19 @@ TEST(Calibration, WrongModelsAreRefusedNamingFileAndKey) {
             std::string::npos);
   EXPECT_NE(Refusal(Model(R"({"name": "leg_offset", "theta": [0, 0, 0, 0, 0, "x"]})")).find("non-number"),
             std::string::npos);
-  EXPECT_NE(Refusal(Model(R"({"name": "leg_offset", "theta": [0,0,0,0,0,0]}, {"name": "leg_offset", "theta": [0,0,0,0,0,0]})"))
-                .find("listed twice"),
+  EXPECT_NE(
+      Refusal(
+          Model(R"({"name": "leg_offset", "theta": [0,0,0,0,0,0]}, {"name": "leg_offset", "theta": [0,0,0,0,0,0]})"))
+          .find("listed twice"),
+      std::string::npos);
+  EXPECT_NE(Refusal(Model("", R"("thermal_time_constant_s": -1, )")).find("thermal_time_constant_s"),
             std::string::npos);
-  EXPECT_NE(Refusal(Model("", R"("thermal_time_constant_s": -1, )")).find("thermal_time_constant_s"), std::string::npos);
   EXPECT_NE(Refusal(Model("", R"("platform": "home_length_m=2,2,2,2,2,2", )")).find("another platform"),
             std::string::npos);
   const std::string mode = R"({"name": "structural_resonance", "theta": [0.3, 0.2, 0.1]})";
   EXPECT_NE(Refusal(Model(mode)).find("needs \"structural_mode_hz\" > 0"), std::string::npos);
-  EXPECT_NE(Refusal(Model(mode, R"("structural_mode_hz": -5, )")).find("\"structural_mode_hz\" = -5"), std::string::npos);
+  EXPECT_NE(Refusal(Model(mode, R"("structural_mode_hz": -5, )")).find("\"structural_mode_hz\" = -5"),
+            std::string::npos);
   EXPECT_NE(Refusal(Model(mode, R"("structural_mode_hz": 5, "structural_mode_damping": "x", )"))
                 .find("\"structural_mode_damping\" must be a number"),
             std::string::npos);
@@ -76,7 +80,8 @@ TEST(Calibration, AmbiguousEffectsAreAppliedOnlyWhenAsked) {
 // effect the diagnosis rejected as a name included; ambiguous ones are
 // still added when asked.
 TEST(Calibration, EntriesThatSayApplyAreAppliedAsTheySay) {
-  const std::string text = Model(R"({"name": "leg_offset", "verdict": "identified", "theta": [1e-4,0,0,0,0,0], "apply": false},
+  const std::string text =
+      Model(R"({"name": "leg_offset", "verdict": "identified", "theta": [1e-4,0,0,0,0,0], "apply": false},
                                      {"name": "lead_error", "verdict": "ambiguous", "theta": [1e-4,0,0,0,0,0], "apply": true},
                                      {"name": "backlash", "verdict": "rejected", "theta": [1e-5,1e-5,1e-5,1e-5,1e-5,1e-5], "apply": true},
                                      {"name": "compliance", "verdict": "ambiguous", "theta": [1e-8,0,0,0,0,0,0,0,0], "apply": false})");
@@ -92,11 +97,12 @@ TEST(Calibration, EntriesThatSayApplyAreAppliedAsTheySay) {
   EXPECT_EQ(names(ParseCalibration(text, "m.json", Nominal(), true)),
             (std::vector<Effect>{Effect::kLeadError, Effect::kBacklash, Effect::kCompliance}));
   // Without "apply", a rejected entry is not applied; a wrong "apply" is named.
-  EXPECT_TRUE(ParseCalibration(Model(R"({"name": "backlash", "verdict": "rejected", "theta": [0,0,0,0,0,0]})"), "m.json",
-                               Nominal())
+  EXPECT_TRUE(ParseCalibration(Model(R"({"name": "backlash", "verdict": "rejected", "theta": [0,0,0,0,0,0]})"),
+                               "m.json", Nominal())
                   .applied.empty());
-  EXPECT_NE(Refusal(Model(R"({"name": "leg_offset", "theta": [0,0,0,0,0,0], "apply": "yes"})")).find("\"apply\" must be"),
-            std::string::npos);
+  EXPECT_NE(
+      Refusal(Model(R"({"name": "leg_offset", "theta": [0,0,0,0,0,0], "apply": "yes"})")).find("\"apply\" must be"),
+      std::string::npos);
   EXPECT_NE(Refusal(Model(R"({"name": "leg_offset", "verdict": "maybe", "theta": [0,0,0,0,0,0]})")).find("\"maybe\""),
             std::string::npos);
   // A named effect the set leaves out commands nothing: beyond a platform's
@@ -133,7 +139,7 @@ TEST(Calibration, JointCentreCorrectionIsTheMovedGeometrysInverseKinematics) {
     // the command subtracts (nominal − moved) IK length.
     const Vector6 expected = nominal.Solve(pose).length_m - truth.Solve(pose).length_m;
     EXPECT_LT((correction - expected).cwiseAbs().maxCoeff(), 1e-8) << correction.transpose() << "\n"
-                                                                    << expected.transpose();
+                                                                   << expected.transpose();
     EXPECT_GT(expected.cwiseAbs().maxCoeff(), 1e-5);  // a correction worth checking
   }
 }
@@ -182,7 +188,8 @@ TEST(Calibration, APeriodicErrorIsCorrectedWhereTheCorrectedCommandTurnsTheScrew
   pose.p_BoMo_B.z() += 0.043;
   const Vector6 command = nominal.Solve(pose).length_m - nominal.PrLengthError(nominal.Solve(pose), PrMode::kSigned);
   Vector6 c = Vector6::Zero();
-  for (int k = 0; k < 40; ++k) c = compensator.Step(k * 1e-3, pose, Vector6::Zero(), Vector6::Zero(), command).command_m;
+  for (int k = 0; k < 40; ++k)
+    c = compensator.Step(k * 1e-3, pose, Vector6::Zero(), Vector6::Zero(), command).command_m;
   const double lead = nominal.config().drive.lead_m;
   const auto at = [&](const Vector6& stroke) {
     Vector6 out;

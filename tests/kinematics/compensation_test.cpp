@@ -13,8 +13,7 @@ namespace {
 
 Pose Reached(const PlatformModel& model, const Pose& target, PrMode mode) {
   // From home: the target itself would already be a root for the signed mode.
-  const FkResult fk =
-      SolveForward(model, model.CompensatedLengths(target, mode), model.home_pose());
+  const FkResult fk = SolveForward(model, model.CompensatedLengths(target, mode), model.home_pose());
   EXPECT_TRUE(fk.ok()) << FkStatusName(fk.status);
   return fk.pose;
 }
@@ -24,8 +23,7 @@ TEST(Compensation, SignedLandsPointAWithin1nm) {
   double worst = 0.0;
   for (const Pose& target : testing::RandomWorkspacePoses(model, 2000, 41)) {
     const Pose reached = Reached(model, target, PrMode::kSigned);
-    worst = std::max(worst,
-                     (model.ObservationPoint(reached) - model.ObservationPoint(target)).norm());
+    worst = std::max(worst, (model.ObservationPoint(reached) - model.ObservationPoint(target)).norm());
   }
   EXPECT_LT(worst, 1e-9);
 }
@@ -58,8 +56,7 @@ TEST(Compensation, UnsignedModelIsWorseThanNoneUnderYaw) {
   Pose target = model.home_pose();
   target.rpy_rad.z() = 0.4;
   auto miss = [&](PrMode mode) {
-    return (model.ObservationPoint(Reached(model, target, mode)) - model.ObservationPoint(target))
-        .norm();
+    return (model.ObservationPoint(Reached(model, target, mode)) - model.ObservationPoint(target)).norm();
   };
   EXPECT_GT(miss(PrMode::kUnsigned), 1.5 * miss(PrMode::kNone));
   EXPECT_GT(miss(PrMode::kNone), 1e-4);

@@ -19,8 +19,7 @@ const char* const kPreset = "[geometry]\npreset = \"huang2021\"\n";
 std::string Rows(const Matrix36& m) {
   std::string out = "[";
   for (int i = 0; i < kNumLegs; ++i) {
-    out += fmt::format("[{:.17g}, {:.17g}, {:.17g}]{}", m(0, i), m(1, i), m(2, i),
-                       i + 1 < kNumLegs ? ", " : "]");
+    out += fmt::format("[{:.17g}, {:.17g}, {:.17g}]{}", m(0, i), m(1, i), m(2, i), i + 1 < kNumLegs ? ", " : "]");
   }
   return out;
 }
@@ -37,15 +36,14 @@ std::string ErrorOf(const std::string& text) {
   return test_support::ThrownMessage<ConfigError>([&] { ParseConfig(text, "rig.toml"); });
 }
 
-#define EXPECT_CONFIG_ERROR(text, ...)                                 \
-  do {                                                                 \
-    const std::string message = ErrorOf(text);                         \
-    ASSERT_FALSE(message.empty()) << "accepted:\n" << (text);          \
-    EXPECT_NE(message.find("rig.toml"), std::string::npos) << message; \
-    for (const char* part : {__VA_ARGS__}) {                           \
-      EXPECT_NE(message.find(part), std::string::npos)                 \
-          << "message lacks \"" << part << "\": " << message;          \
-    }                                                                  \
+#define EXPECT_CONFIG_ERROR(text, ...)                                                                     \
+  do {                                                                                                     \
+    const std::string message = ErrorOf(text);                                                             \
+    ASSERT_FALSE(message.empty()) << "accepted:\n" << (text);                                              \
+    EXPECT_NE(message.find("rig.toml"), std::string::npos) << message;                                     \
+    for (const char* part : {__VA_ARGS__}) {                                                               \
+      EXPECT_NE(message.find(part), std::string::npos) << "message lacks \"" << part << "\": " << message; \
+    }                                                                                                      \
   } while (0)
 
 TEST(Config, RepositoryFileIsThePresetWithItsDefaults) {
@@ -87,8 +85,7 @@ TEST(Config, ExplicitArrayOverridesThePresetOneKeyAtATime) {
 }
 
 TEST(Config, HomeHeightKeyMovesHome) {
-  const PlatformConfig c =
-      ParseConfig(std::string(kPreset) + "home_height_m = 1.6\n", "rig.toml");
+  const PlatformConfig c = ParseConfig(std::string(kPreset) + "home_height_m = 1.6\n", "rig.toml");
   EXPECT_EQ(PlatformModel(c).home_pose().p_BoMo_B.z(), 1.6);
 }
 
@@ -109,12 +106,9 @@ TEST(Config, StructuralErrorsNameTheKey) {
   EXPECT_CONFIG_ERROR("[drive]\nlead_m = 0.01\n", "missing section [geometry]");
   EXPECT_CONFIG_ERROR("geometry = 3\n", "[geometry] must be a table");
   EXPECT_CONFIG_ERROR("[geometry]\npreset = \"gough1962\"\n", "preset", "gough1962");
-  EXPECT_CONFIG_ERROR(std::string(kPreset) + "[drive]\nlead = 0.01\n", "unknown key [drive] lead",
-                      "lead_m");
-  EXPECT_CONFIG_ERROR(std::string(kPreset) + "[drive]\nlead_m = \"10mm\"\n",
-                      "[drive] lead_m must be a number");
-  EXPECT_CONFIG_ERROR(std::string(kPreset) + "[drive]\npr_sign = 1.0\n",
-                      "[drive] pr_sign must be an integer");
+  EXPECT_CONFIG_ERROR(std::string(kPreset) + "[drive]\nlead = 0.01\n", "unknown key [drive] lead", "lead_m");
+  EXPECT_CONFIG_ERROR(std::string(kPreset) + "[drive]\nlead_m = \"10mm\"\n", "[drive] lead_m must be a number");
+  EXPECT_CONFIG_ERROR(std::string(kPreset) + "[drive]\npr_sign = 1.0\n", "[drive] pr_sign must be an integer");
   EXPECT_CONFIG_ERROR(std::string(kPreset) + "[geometry.sub]\n", "unknown key [geometry] sub");
   EXPECT_CONFIG_ERROR(std::string(kPreset) + "base_axes = [[1, 0, 0]]\n",
                       "[geometry] base_axes must be an array of 6 rows");
@@ -124,8 +118,7 @@ TEST(Config, StructuralErrorsNameTheKey) {
 
 TEST(Config, WithoutPresetEveryArrayIsRequired) {
   const std::string full = ExplicitGeometry(Huang2021Geometry());
-  for (const char* key : {"base_joints_m", "platform_joints_m", "base_axes", "platform_axes",
-                          "home_height_m"}) {
+  for (const char* key : {"base_joints_m", "platform_joints_m", "base_axes", "platform_axes", "home_height_m"}) {
     std::string text = full;
     const std::size_t at = text.find(std::string(key) + " =");
     text.erase(at, text.find('\n', at) - at + 1);
@@ -160,7 +153,8 @@ TEST(Config, AbsurdValuesAreRejectedWithTheValue) {
 }
 
 TEST(Config, MotionLimitsAreReadAndDefaulted) {
-  const PlatformConfig c = ParseConfig(std::string(kPreset) + "[motion]\nspeed_max_m_s = 0.05\nleg_accel_max_m_s2 = 2\n", "t");
+  const PlatformConfig c =
+      ParseConfig(std::string(kPreset) + "[motion]\nspeed_max_m_s = 0.05\nleg_accel_max_m_s2 = 2\n", "t");
   EXPECT_EQ(c.motion.speed_max_m_s, 0.05);
   EXPECT_EQ(c.motion.leg_accel_max_m_s2, 2.0);
   EXPECT_EQ(c.motion.speed_max_rad_s, MotionLimits{}.speed_max_rad_s);
@@ -169,8 +163,8 @@ TEST(Config, MotionLimitsAreReadAndDefaulted) {
 TEST(Config, NonUnitAxisIsNamedByRow) {
   Matrix36 axes = Huang2021Geometry().ja_B;
   axes.col(3) *= 2.0;
-  EXPECT_CONFIG_ERROR(std::string(kPreset) + "base_axes = " + Rows(axes) + "\n",
-                      "[geometry] base_axes row 4", "unit vector");
+  EXPECT_CONFIG_ERROR(std::string(kPreset) + "base_axes = " + Rows(axes) + "\n", "[geometry] base_axes row 4",
+                      "unit vector");
 }
 
 TEST(Config, CoincidentJointsAreNamedByRow) {
@@ -185,8 +179,7 @@ TEST(Config, AxisAlongALegIsALockedJoint) {
   Matrix36 axes = Huang2021Geometry().ja_B;
   const Vector3 leg = model.Solve(model.home_pose()).u_B.col(2);
   axes.col(2) = leg;
-  EXPECT_CONFIG_ERROR(std::string(kPreset) + "base_axes = " + Rows(axes) + "\n",
-                      "base_axes row 3", "locked");
+  EXPECT_CONFIG_ERROR(std::string(kPreset) + "base_axes = " + Rows(axes) + "\n", "base_axes row 3", "locked");
 }
 
 TEST(Config, DegenerateLayoutIsRejected) {

@@ -86,8 +86,7 @@ TEST(ForwardKinematics, RejectsNonFiniteAndNonPositiveInput) {
   EXPECT_EQ(SolveForward(model, lengths, model.home_pose()).status, FkStatus::kInvalidInput);
   Pose bad_guess = model.home_pose();
   bad_guess.rpy_rad.y() = std::numeric_limits<double>::infinity();
-  EXPECT_EQ(SolveForward(model, model.home_length_m(), bad_guess).status,
-            FkStatus::kInvalidInput);
+  EXPECT_EQ(SolveForward(model, model.home_length_m(), bad_guess).status, FkStatus::kInvalidInput);
 }
 
 TEST(ForwardKinematics, UnreachableLengthsFailInsteadOfAnswering) {
@@ -126,8 +125,7 @@ TEST(ForwardKinematics, SolutionBeyondTheJointLimitsIsNotAcceptedSilently) {
   PlatformConfig config = Huang2021Config();
   config.limits.joint_angle_max_rad = 30.0 * M_PI / 180.0;  // legs sit at ~37.6° at home
   const PlatformModel model(config);
-  const FkResult fk = SolveForward(model, model.EncoderLengths(model.home_pose()),
-                                   model.home_pose());
+  const FkResult fk = SolveForward(model, model.EncoderLengths(model.home_pose()), model.home_pose());
   EXPECT_EQ(fk.status, FkStatus::kOutsideWorkspace);
   EXPECT_LE(fk.residual_m, 1e-12);
 }

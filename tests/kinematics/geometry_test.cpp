@@ -38,10 +38,8 @@ TEST(Huang2021Geometry, JointPairsAreAChordApartOnTheirCircles) {
 TEST(Huang2021Geometry, AxesAreThePapersEquations5And6) {
   const PlatformGeometry g = Huang2021Geometry();
   const double h = std::sqrt(3.0) / 2.0;
-  const Vector3 ja[6] = {{-h, 0.5, 0}, {h, 0.5, 0}, {h, 0.5, 0},
-                         {0, -1, 0},   {0, -1, 0},  {-h, 0.5, 0}};
-  const Vector3 jd0[6] = {{0, 1, 0},     {0, 1, 0},      {h, -0.5, 0},
-                          {h, -0.5, 0},  {-h, -0.5, 0},  {-h, -0.5, 0}};
+  const Vector3 ja[6] = {{-h, 0.5, 0}, {h, 0.5, 0}, {h, 0.5, 0}, {0, -1, 0}, {0, -1, 0}, {-h, 0.5, 0}};
+  const Vector3 jd0[6] = {{0, 1, 0}, {0, 1, 0}, {h, -0.5, 0}, {h, -0.5, 0}, {-h, -0.5, 0}, {-h, -0.5, 0}};
   for (int i = 0; i < kNumLegs; ++i) {
     EXPECT_LT((g.ja_B.col(i) - ja[i]).norm(), 1e-15) << "leg " << i + 1;
     EXPECT_LT((g.jd_M.col(i) - jd0[i]).norm(), 1e-15) << "leg " << i + 1;

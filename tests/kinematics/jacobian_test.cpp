@@ -35,8 +35,7 @@ TEST(Jacobian, PrErrorJacobianMatchesFiniteDifferences) {
   config.drive.pr_sign = -1;  // the sign must flow through
   const PlatformModel model(config);
   for (const Pose& pose : testing::RandomWorkspacePoses(model, 300, 22)) {
-    const Matrix6 fd = CentralDifference(
-        pose, [&](const Pose& p) { return model.PrLengthError(p, PrMode::kSigned); });
+    const Matrix6 fd = CentralDifference(pose, [&](const Pose& p) { return model.PrLengthError(p, PrMode::kSigned); });
     const Matrix6 analytic = model.PrLengthErrorJacobian(pose);
     EXPECT_LT((analytic - fd).cwiseAbs().maxCoeff(), 1e-10);
     EXPECT_GT(analytic.cwiseAbs().maxCoeff(), 1e-4);  // not trivially zero
@@ -58,8 +57,7 @@ TEST(Jacobian, TwistJacobianMatchesSmallSpatialMotions) {
       Vector6 twist = Vector6::Zero();
       twist(k) = kStep;
       const Vector3 w = twist.tail<3>();
-      const Matrix3 dR = w.norm() > 0 ? Eigen::AngleAxisd(w.norm(), w.normalized()).matrix()
-                                      : Matrix3::Identity();
+      const Matrix3 dR = w.norm() > 0 ? Eigen::AngleAxisd(w.norm(), w.normalized()).matrix() : Matrix3::Identity();
       const Vector6 plus = lengths(dR * R, pose.p_BoMo_B + twist.head<3>());
       const Vector6 minus = lengths(dR.transpose() * R, pose.p_BoMo_B - twist.head<3>());
       fd.col(k) = (plus - minus) / (2.0 * kStep);
@@ -83,8 +81,7 @@ TEST(Jacobian, RotationDerivativesMatchFiniteDifferences) {
 TEST(Rotation, IsEquation3AsElementaryRotations) {
   const Vector3 rpy(0.3, -0.4, 1.1);
   const Matrix3 expected = (Eigen::AngleAxisd(rpy.z(), Vector3::UnitZ()) *
-                            Eigen::AngleAxisd(rpy.y(), Vector3::UnitY()) *
-                            Eigen::AngleAxisd(rpy.x(), Vector3::UnitX()))
+                            Eigen::AngleAxisd(rpy.y(), Vector3::UnitY()) * Eigen::AngleAxisd(rpy.x(), Vector3::UnitX()))
                                .matrix();
   EXPECT_LT((RotationFromRpy(rpy) - expected).cwiseAbs().maxCoeff(), 1e-15);
 }

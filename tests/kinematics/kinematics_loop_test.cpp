@@ -20,8 +20,7 @@ constexpr std::int64_t kSession = 9;
 struct Fixture {
   explicit Fixture(bool replay = false) : loop(bus, node, Options(replay)) {
     bus.Subscribe<leg_command_t>("EDSP_LEG_COMMAND", [this](const leg_command_t& c) { commands.push_back(c); });
-    bus.Subscribe<platform_state_t>("EDSP_PLATFORM_STATE",
-                                    [this](const platform_state_t& s) { states.push_back(s); });
+    bus.Subscribe<platform_state_t>("EDSP_PLATFORM_STATE", [this](const platform_state_t& s) { states.push_back(s); });
     bus.Subscribe<platform_config_t>("EDSP_CONFIG", [this](const platform_config_t& c) { configs.push_back(c); });
     bus.Subscribe<fault_t>("EDSP_FAULT", [this](const fault_t& f) { faults.push_back(f); });
   }

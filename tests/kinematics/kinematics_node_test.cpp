@@ -46,8 +46,7 @@ TEST(KinematicsNode, CommandIsTheCompensatedLengthAndItsMotorAngle) {
   for (int i = 0; i < kNumLegs; ++i) {
     EXPECT_DOUBLE_EQ(command.command_length_m[i], expected(i));
     EXPECT_NEAR(model.LengthFromMotorAngle(i, command.motor_angle_rad[i]), expected(i), 1e-12);
-    EXPECT_NEAR(command.ik_length_m[i] - command.pr_correction_m[i], command.command_length_m[i],
-                1e-15);
+    EXPECT_NEAR(command.ik_length_m[i] - command.pr_correction_m[i], command.command_length_m[i], 1e-15);
   }
   EXPECT_EQ(command.pr_mode, leg_command_t::PR_SIGNED);
   EXPECT_EQ(command.setpoint_seq, 17);

@@ -34,7 +34,8 @@ namespace {
 
 TEST(PointText, ThreeFiniteNumbersOrTheFieldNamed) {
   EXPECT_EQ(ParsePointText("0,-0.5,0.3"), Vector3(0.0, -0.5, 0.3));
-  for (const char* bad : {"0,0", "0,0,0,0", "0,x,0", "0,0,nan"}) EXPECT_THROW(ParsePointText(bad), std::invalid_argument) << bad;
+  for (const char* bad : {"0,0", "0,0,0,0", "0,x,0", "0,0,nan"})
+    EXPECT_THROW(ParsePointText(bad), std::invalid_argument) << bad;
 }
 
 TEST(RpyFromRotation, InvertsRotationFromRpyAwayFromGimbalLock) {

@@ -10,8 +10,7 @@ namespace edsp::testing {
 
 // Uniform in ±0.5 m, ±30° about home (the paper's ranges), rejecting poses the
 // workspace checks refuse.
-inline std::vector<Pose> RandomWorkspacePoses(const PlatformModel& model, int count,
-                                              unsigned seed) {
+inline std::vector<Pose> RandomWorkspacePoses(const PlatformModel& model, int count, unsigned seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> translation(-0.5, 0.5);
   std::uniform_real_distribution<double> rotation(-0.5236, 0.5236);

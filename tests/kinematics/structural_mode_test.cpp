@@ -66,7 +66,7 @@ TEST(StructuralMode, RingsFreelyAtItsDampedFrequencyAndStartsAgainAfterAGap) {
   mode.Advance(60.0, Vector3::UnitY());     // ζω = 0.5/s: rung out to 1e-4 in 18 s
   EXPECT_EQ(mode.sway(), Vector3::Zero());  // rung out over the gap
   mode.Advance(0.01, Vector3::UnitY());
-  mode.Advance(-0.5, Vector3::UnitY());     // time went back: a new session
+  mode.Advance(-0.5, Vector3::UnitY());  // time went back: a new session
   EXPECT_EQ(mode.sway(), Vector3::Zero());
 }
 

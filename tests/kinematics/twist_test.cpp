@@ -83,8 +83,7 @@ TEST(SignedTwist, AsinModeIsGenhexkinsDotProduct) {
       const Vector3 u = legs.u_B.col(i);
       const Vector3 nb3 = u.cross(Vector3(g.ja_B.col(i)).cross(u)).normalized();
       const Vector3 na2 = Vector3(legs.jd_B.col(i)).cross(u).normalized();
-      EXPECT_NEAR(TwistAsModelled(legs.twist_rad(i), PrMode::kAsin), std::asin(nb3.dot(na2)),
-                  1e-7);
+      EXPECT_NEAR(TwistAsModelled(legs.twist_rad(i), PrMode::kAsin), std::asin(nb3.dot(na2)), 1e-7);
     }
   }
 }
@@ -110,9 +109,7 @@ TEST(SignedTwist, PureYawTwistsAllSixLegsTheSameWayWhileUnsignedAlternates) {
   Pose left = model.home_pose(), right = model.home_pose();
   left.rpy_rad.z() = -0.1;
   right.rpy_rad.z() = 0.1;
-  EXPECT_LT(model.PrLengthError(left, PrMode::kSigned)(0) *
-                model.PrLengthError(right, PrMode::kSigned)(0),
-            0.0);
+  EXPECT_LT(model.PrLengthError(left, PrMode::kSigned)(0) * model.PrLengthError(right, PrMode::kSigned)(0), 0.0);
 }
 
 TEST(SignedTwist, PrErrorIsSignTimesTwistChangeOverTwoPiTimesLead) {
@@ -123,8 +120,7 @@ TEST(SignedTwist, PrErrorIsSignTimesTwistChangeOverTwoPiTimesLead) {
   Pose pose = model.home_pose();
   pose.rpy_rad << 0.1, -0.2, 0.3;
   const LegSolution legs = model.Solve(pose);
-  const Vector6 expected =
-      -1.0 * (legs.twist_rad - model.home_twist_rad()) / (2.0 * M_PI) * 0.005;
+  const Vector6 expected = -1.0 * (legs.twist_rad - model.home_twist_rad()) / (2.0 * M_PI) * 0.005;
   EXPECT_LT((model.PrLengthError(legs, PrMode::kSigned) - expected).cwiseAbs().maxCoeff(), 1e-18);
   EXPECT_EQ(model.PrLengthError(legs, PrMode::kNone), Vector6::Zero());
 }

@@ -130,12 +130,16 @@ namespace {
 TEST(PathCheck, APathOfNoFiniteDurationIsRefusedNotSampled) {
   const PlatformModel model(Huang2021Config());
   const Vector6 home = model.home_pose().ToVector();
-  for (double duration : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(), -1.0, 1e9}) {
-    const PathCheck c = CheckPath(model, PathLimitsOf(model), [&](double) { return home; }, duration);
+  for (double duration :
+       {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(), -1.0, 1e9}) {
+    const PathCheck c = CheckPath(
+        model, PathLimitsOf(model), [&](double) { return home; }, duration);
     EXPECT_EQ(c.limit, PathLimit::kDuration) << duration;
     EXPECT_NE(c.Describe().find("would last"), std::string::npos) << c.Describe();
   }
-  EXPECT_TRUE(CheckPath(model, PathLimitsOf(model), [&](double) { return home; }, 0.5).ok());
+  EXPECT_TRUE(CheckPath(
+                  model, PathLimitsOf(model), [&](double) { return home; }, 0.5)
+                  .ok());
 }
 
 TEST(PathCheck, ALegOutrunningTheDrivesIsNamedWithItsTime) {

@@ -37,9 +37,12 @@ std::vector<std::vector<std::string>> ReadCsv(const std::string& path) {
   for (std::size_t i = 0; i < text.size(); ++i) {
     const char c = text[i];
     if (quoted) {
-      if (c == '"' && i + 1 < text.size() && text[i + 1] == '"') rows.back().back() += '"', ++i;
-      else if (c == '"') quoted = false;
-      else rows.back().back() += c;
+      if (c == '"' && i + 1 < text.size() && text[i + 1] == '"')
+        rows.back().back() += '"', ++i;
+      else if (c == '"')
+        quoted = false;
+      else
+        rows.back().back() += c;
     } else if (c == '"') {
       quoted = true;
     } else if (c == ',') {
@@ -82,13 +85,13 @@ class ChannelCsvExportTest : public ::testing::Test {
     for (int i = 0; i < 6; ++i) c.command_length_m[i] = 1.9 + 1e-13 * i;
     c.pr_mode = leg_command_t::PR_SIGNED;
     b.Add("EDSP_LEG_COMMAND", c);
-    b.AddBytes("EDSP_SETPOINT", {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19,
-                                 20, 21, 22, 23, 24, 25});            // foreign fingerprint
+    b.AddBytes("EDSP_SETPOINT", {1,  2,  3,  4,  5,  6,  7,  8,  9,  10, 11, 12, 13,
+                                 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25});  // foreign fingerprint
     std::vector<std::uint8_t> truncated(static_cast<std::size_t>(c.getEncodedSize()));
     c.encode(truncated.data(), 0, static_cast<int>(truncated.size()));
     truncated.resize(64);
-    b.AddBytes("EDSP_LEG_COMMAND", truncated);                        // right type, cut short
-    b.AddBytes("OTHER_APP", std::vector<std::uint8_t>(40, 7));        // nothing edsp knows
+    b.AddBytes("EDSP_LEG_COMMAND", truncated);                  // right type, cut short
+    b.AddBytes("OTHER_APP", std::vector<std::uint8_t>(40, 7));  // nothing edsp knows
     platform_config_t cfg{};
     cfg.config_toml = "[geometry]\npreset = \"huang2021\"\n";
     cfg.base_joints_m[5][2] = 0.25;
@@ -169,11 +172,9 @@ TEST_F(ChannelCsvExportTest, ErrorsNameWhatIsWrong) {
     }
     return std::string("no error");
   };
-  EXPECT_NE(message([&] { ExportChannelCsvs("/nonexistent/a.lcmlog", dir_); })
-                .find("/nonexistent/a.lcmlog"),
+  EXPECT_NE(message([&] { ExportChannelCsvs("/nonexistent/a.lcmlog", dir_); }).find("/nonexistent/a.lcmlog"),
             std::string::npos);
-  EXPECT_NE(message([&] { ExportChannelCsvs(log_, dir_, "EDSP_(["); }).find("EDSP_(["),
-            std::string::npos);
+  EXPECT_NE(message([&] { ExportChannelCsvs(log_, dir_, "EDSP_(["); }).find("EDSP_(["), std::string::npos);
   EXPECT_NE(message([&] { ExportChannelCsvs(log_, "/proc/edsp_no/such"); }).find("/proc/edsp_no/such"),
             std::string::npos);
 }

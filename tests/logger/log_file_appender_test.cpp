@@ -24,9 +24,7 @@
 namespace edsp {
 namespace {
 
-std::string TempPath(const std::string& name) {
-  return test_support::ScratchRoot() + "/appender_" + name + ".lcmlog";
-}
+std::string TempPath(const std::string& name) { return test_support::ScratchRoot() + "/appender_" + name + ".lcmlog"; }
 
 std::vector<std::uint8_t> Payload(int k) {
   std::vector<std::uint8_t> bytes(100 + static_cast<std::size_t>(k % 7) * 13);
@@ -37,8 +35,7 @@ std::vector<std::uint8_t> Payload(int k) {
 void AppendEvents(LogFileAppender* file, int from, int to) {
   for (int k = from; k < to; ++k) {
     const auto bytes = Payload(k);
-    file->Append("CH" + std::to_string(k % 3), bytes.data(), static_cast<std::uint32_t>(bytes.size()),
-                 1000 * (k + 1));
+    file->Append("CH" + std::to_string(k % 3), bytes.data(), static_cast<std::uint32_t>(bytes.size()), 1000 * (k + 1));
   }
 }
 
@@ -230,8 +227,8 @@ TEST(LogWriter, ARestartedWriterAppendsToItsFileInsteadOfTruncatingIt) {
     EXPECT_EQ(writer.stats().resumed_events, run * 25);
     for (int k = run * 25; k < run * 25 + 25; ++k) {
       const auto bytes = Payload(k);
-      ASSERT_TRUE(writer.Enqueue("CH" + std::to_string(k % 3), bytes.data(),
-                                 static_cast<std::uint32_t>(bytes.size()), 1000 * (k + 1)));
+      ASSERT_TRUE(writer.Enqueue("CH" + std::to_string(k % 3), bytes.data(), static_cast<std::uint32_t>(bytes.size()),
+                                 1000 * (k + 1)));
     }
   }
   bool damaged = true;

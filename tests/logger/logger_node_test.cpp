@@ -329,9 +329,9 @@ TEST(LoggerNode, ARestartedWritersUnreadableRingLeavesTheChannelItsLcmCopy) {
       ASSERT_TRUE(commands.Publish(Command(1)));
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
       HandleAll(logger_bus, logger);
-    }  // exits in order: the ring is removed
+    }                                                     // exits in order: the ring is removed
     std::ofstream(segment) << std::string(8192, '\xab');  // not an edsp segment
-    for (int pass = 0; pass < 3; ++pass) {  // the dead ring noticed, the new one refused
+    for (int pass = 0; pass < 3; ++pass) {                // the dead ring noticed, the new one refused
       std::this_thread::sleep_for(std::chrono::milliseconds(40));
       HandleAll(logger_bus, logger);
     }

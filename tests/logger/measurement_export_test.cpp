@@ -75,7 +75,7 @@ void WriteLog() {
   for (int i = 0; i < 6; ++i) s.encoder_length_m[i] = 1.8 + 0.002 * i;
   b.Add("EDSP_LEG_STATE", s);
   b.Add("EDSP_TRACKER", Point(200, 1.2 + 1e-12));
-  b.Add("EDSP_TRACKER", Point(300, 5.0, false));  // beam broken: skipped
+  b.Add("EDSP_TRACKER", Point(300, 5.0, false));                 // beam broken: skipped
   b.Add("EDSP_SETPOINT", Setpoint("Rz/dwell 2", 1.5, 1500000));  // no command answers it: the last one
   b.Add("EDSP_TRACKER", Point(1500200, 1.3));
 }

@@ -51,9 +51,7 @@ std::size_t Index(const ChannelColumns& table, const std::string& name) {
   throw std::runtime_error("no column " + name);
 }
 
-const Column& Named(const ChannelColumns& table, const std::string& name) {
-  return table.columns[Index(table, name)];
-}
+const Column& Named(const ChannelColumns& table, const std::string& name) { return table.columns[Index(table, name)]; }
 
 std::vector<std::int64_t> ReceiveStamps(const ChannelColumns& t) {
   std::vector<std::int64_t> out;

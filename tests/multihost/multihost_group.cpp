@@ -40,14 +40,11 @@ void ForEach(const std::string& log_path, const std::string& channel, Fn fn) {
 
 }  // namespace
 
-MultiHostGroup::MultiHostGroup(const VirtualNetwork& network, const std::string& name,
-                               MultiHostOptions options)
-    : network_(network), options_(std::move(options)),
-      dir_(test_support::ScratchDir("multihost_" + name)) {
+MultiHostGroup::MultiHostGroup(const VirtualNetwork& network, const std::string& name, MultiHostOptions options)
+    : network_(network), options_(std::move(options)), dir_(test_support::ScratchDir("multihost_" + name)) {
   std::system(("rm -rf " + dir_ + " && mkdir -p " + dir_).c_str());
-  const std::string config = options_.drives_over_modbus
-                                 ? ModbusConfig()
-                                 : std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml";
+  const std::string config =
+      options_.drives_over_modbus ? ModbusConfig() : std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml";
   const std::string stale = std::to_string(options_.stale_ms);
   GroupFileEditor group = GroupFileEditor::Load(std::string(EDSP_SOURCE_DIR) + "/deploy/groups/multihost.toml");
   group.SetGroup("name", name)
@@ -84,11 +81,12 @@ void MultiHostGroup::PlaceMembers(GroupFileEditor* group) const {
   // The drives' following window: a leg's travel at 0.5 m/s over the stale
   // limit, so that only the fault a test injects trips them.
   constexpr double kCountsPerM = 104857600.0, kLegSpeedMS = 0.5;
-  group->InsertMember("rig", "drive_sim", "edsp-drive-sim",
-                      {"--axes", "rig", "--host", network_.Address(options_.drive_host), "--port",
-                       std::to_string(kModbusPort), "--fieldbus-timeout-ms", std::to_string(options_.stale_ms),
-                       "--following-window-counts",
-                       fmt::format("{:.0f}", kLegSpeedMS * options_.stale_ms * 1e-3 * kCountsPerM)})
+  group
+      ->InsertMember(
+          "rig", "drive_sim", "edsp-drive-sim",
+          {"--axes", "rig", "--host", network_.Address(options_.drive_host), "--port", std::to_string(kModbusPort),
+           "--fieldbus-timeout-ms", std::to_string(options_.stale_ms), "--following-window-counts",
+           fmt::format("{:.0f}", kLegSpeedMS * options_.stale_ms * 1e-3 * kCountsPerM)})
       .SetMember("drive_sim", "host", options_.drive_host)
       .SetMemberList("drive_sim", "requires", std::vector<std::string>{"rig"})
       .SetMember("drive_sim", "start_delay_ms", 200)
@@ -116,8 +114,7 @@ std::string MultiHostGroup::ModbusConfig() const {
 
 void MultiHostGroup::Start() {
   auto launch = [&](const std::string& host, const std::string& extra) {
-    return network_.Spawn(host,
-                          fmt::format("{} {} --host {} {}", EDSP_LAUNCH_BINARY, group_path(), host, extra),
+    return network_.Spawn(host, fmt::format("{} {} --host {} {}", EDSP_LAUNCH_BINARY, group_path(), host, extra),
                           fmt::format("{}/launch.{}.err", dir_, host));
   };
   // One launcher per distinct host; the operator's last, until its planner exits.
@@ -164,7 +161,8 @@ std::vector<fault_t> FaultsOf(const std::string& log_path) {
 
 std::string Describe(const std::vector<fault_t>& faults) {
   std::string lines;
-  for (const fault_t& f : faults) lines += fmt::format("{} {} {} code {}: {}\n", f.utime, f.node, f.channel, f.code, f.reason);
+  for (const fault_t& f : faults)
+    lines += fmt::format("{} {} {} code {}: {}\n", f.utime, f.node, f.channel, f.code, f.reason);
   return lines;
 }
 
@@ -199,7 +197,8 @@ double LargestTrueStep(const std::vector<TruthSample>& truth, std::int64_t from_
 
 std::vector<double> LastSetpoint(const std::string& log_path) {
   std::vector<double> pose(6, 0.0);
-  ForEach<pose_setpoint_t>(log_path, "EDSP_SETPOINT", [&](const pose_setpoint_t& s) { pose.assign(s.pose, s.pose + 6); });
+  ForEach<pose_setpoint_t>(log_path, "EDSP_SETPOINT",
+                           [&](const pose_setpoint_t& s) { pose.assign(s.pose, s.pose + 6); });
   return pose;
 }
 

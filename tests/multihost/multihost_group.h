@@ -23,7 +23,7 @@ namespace edsp::test_support {
 inline constexpr std::int64_t kMultiHostSession = 4242;
 
 struct MultiHostOptions {
-  std::string planner_args;        // TOML array items
+  std::string planner_args;  // TOML array items
   std::int64_t session_id = kMultiHostSession;
   std::string operator_host = "operator";
   std::string controller_host = "controller";

@@ -36,9 +36,7 @@ std::string Slurp(const std::string& path) {
   return text.str();
 }
 
-nlohmann::json LatencyOf(const MultiHostGroup& group) {
-  return nlohmann::json::parse(Slurp(group.latency_path()));
-}
+nlohmann::json LatencyOf(const MultiHostGroup& group) { return nlohmann::json::parse(Slurp(group.latency_path())); }
 
 double Ms(std::int64_t us) { return static_cast<double>(us) * 1e-3; }
 
@@ -110,8 +108,7 @@ TEST(MultiHost, PaperMotionsRunAcrossThreeHostsAndTheOperatorLogsEveryMessage) {
 TEST(MultiHost, TwoPercentLossOnTheControllersLinkIsCountedAndNeverMakesAJump) {
   VirtualNetwork network(kHosts);
   network.DropRandomly("controller", 0.02);
-  MultiHostGroup group(network, "loss",
-                       {R"("--motions", "Lz,Rz", "--stops", "3", "--dwell-s", "0.5", "--max-speed-m-s",
+  MultiHostGroup group(network, "loss", {R"("--motions", "Lz,Rz", "--stops", "3", "--dwell-s", "0.5", "--max-speed-m-s",
                            "0.25", "--max-speed-rad-s", "0.5", "--exit-after-hold-s", "1")"});
   group.Start();
   const int exit = group.Finish();
@@ -149,14 +146,14 @@ TEST(MultiHost, ControllerLinkDownHoldsWithin50msAndResumesOnlyAfterReArm) {
   options.stale_ms = 50;  // as shipped: this test is about the hold
   MultiHostGroup group(network, "linkdown", options);
   group.Start();
-  Pause(3000);                      // mid-way up the first move
+  Pause(3000);  // mid-way up the first move
   const std::int64_t down_utime = UtimeNow();
   network.SetLink("controller", false);
   const std::int64_t down_done_utime = UtimeNow();  // `ip link set` ran somewhere in between
   Pause(1500);
   network.SetLink("controller", true);
   const std::int64_t up_utime = UtimeNow();
-  Pause(1500);                      // the stream is back, but the bridge stays latched
+  Pause(1500);  // the stream is back, but the bridge stays latched
   const std::int64_t arm_utime = UtimeNow();
   int ctl = group.Ctl("operator", "arm --operator multihost-test");
   if (ctl != 0) ctl = group.Ctl("operator", "arm --operator multihost-test");  // one retry, as an operator would
@@ -279,7 +276,8 @@ TEST(MultiHost, DrivesLinkPulledOverModbusHoldsNamesTheDrivesAndResumesOnlyAfter
       first_reason = f.reason;
     }
     if (timeout_fault_utime < 0 && f.reason.find(endpoint) != std::string::npos) timeout_fault_utime = f.utime;
-    if (f.utime >= back_utime && f.reason.find("(error code 8130h)") != std::string::npos) fieldbus_timeout_named = true;
+    if (f.utime >= back_utime && f.reason.find("(error code 8130h)") != std::string::npos)
+      fieldbus_timeout_named = true;
     if (f.code == static_cast<std::int32_t>(FaultCode::kOperatorAction) && armed_utime < 0) armed_utime = f.utime;
     if (f.reason.find("re-arm required") != std::string::npos && f.utime >= back_utime) {
       (armed_utime < 0 ? refused_before_arm : refused_after_arm) += 1;
@@ -320,8 +318,10 @@ TEST(MultiHost, DrivesLinkPulledOverModbusHoldsNamesTheDrivesAndResumesOnlyAfter
     if (std::isnan(settled)) settled = s.pose[2];
     drift = std::max(drift, std::abs(s.pose[2] - settled));
   }
-  std::printf("after the pull (nft took %.1f ms): ran on %.1f µm, then (from %.1f ms) drifted %.3f µm; cycles late by %.1f ms\n",
-              Ms(cut_done_utime - cut_utime), run_on * 1e6, Ms(rest_from - cut_utime), drift * 1e6, Ms(late_us));
+  std::printf(
+      "after the pull (nft took %.1f ms): ran on %.1f µm, then (from %.1f ms) drifted %.3f µm; cycles late by %.1f "
+      "ms\n",
+      Ms(cut_done_utime - cut_utime), run_on * 1e6, Ms(rest_from - cut_utime), drift * 1e6, Ms(late_us));
   ::testing::Test::RecordProperty("run_on_um", static_cast<int>(run_on * 1e6));
   // A platform at 0.1 m/s covers 100 µm a millisecond: what it ran on is
   // what it travelled before the pull took effect, plus the lapse.
@@ -419,8 +419,8 @@ TEST(MultiHost, ALauncherRefusesAHostWhoseMulticastLeavesByAnotherInterface) {
   std::system(("rm -rf " + dir + " && mkdir -p " + dir).c_str());
   std::ofstream(dir + "/group.toml") << "[group]\nname = \"iface\"\n[hosts.solo]\ninterface = \"eth9\"\n"
                                         "[[member]]\nname = \"rig\"\nhost = \"solo\"\ncommand = \"edsp-rig\"\n";
-  const int exit = network.Run("solo", fmt::format("{} {}/group.toml --host solo --duration-s 1 2>{}/launch.err",
-                                                   EDSP_LAUNCH_BINARY, dir, dir));
+  const int exit = network.Run(
+      "solo", fmt::format("{} {}/group.toml --host solo --duration-s 1 2>{}/launch.err", EDSP_LAUNCH_BINARY, dir, dir));
   const std::string err = Slurp(dir + "/launch.err");
   EXPECT_EQ(exit, 2) << err;
   EXPECT_NE(err.find("[hosts.solo] interface = \"eth9\""), std::string::npos) << err;

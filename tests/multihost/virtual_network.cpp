@@ -112,13 +112,12 @@ std::string VirtualNetwork::SwitchPort(int index) const {
   return fmt::format("mh{}p{}", ::getpid() % 100000, index);  // ≤ 15 characters
 }
 
-pid_t VirtualNetwork::Spawn(const std::string& host, const std::string& command,
-                            const std::string& log_file) const {
+pid_t VirtualNetwork::Spawn(const std::string& host, const std::string& command, const std::string& log_file) const {
   // `ip netns exec` gives the command a mount namespace of its own, where a
   // fresh tmpfs on /dev/shm is this host's alone.
-  const std::string line = fmt::format(
-      "exec ip netns exec {} sh -c 'mount -t tmpfs -o size=512m tmpfs /dev/shm && exec {}' >{} 2>&1",
-      Namespace(host), command, log_file);
+  const std::string line =
+      fmt::format("exec ip netns exec {} sh -c 'mount -t tmpfs -o size=512m tmpfs /dev/shm && exec {}' >{} 2>&1",
+                  Namespace(host), command, log_file);
   const pid_t pid = ::fork();
   if (pid == 0) {
     ::setpgid(0, 0);
@@ -191,7 +190,8 @@ void VirtualNetwork::BlockTcpPort(const std::string& host, int port, bool blocke
 }
 
 long VirtualNetwork::DroppedPackets(const std::string& host) const {
-  const std::string listing = Capture(fmt::format("ip netns exec {} nft list table inet edsp_loss 2>/dev/null", Namespace(host)));
+  const std::string listing =
+      Capture(fmt::format("ip netns exec {} nft list table inet edsp_loss 2>/dev/null", Namespace(host)));
   long total = 0;
   const std::regex counter("counter packets ([0-9]+)");
   for (auto it = std::sregex_iterator(listing.begin(), listing.end(), counter); it != std::sregex_iterator(); ++it) {

@@ -41,33 +41,65 @@ TEST(OperatorRequestAnswers, ActsOnceAndAnswersEveryCopyAlike) {
   OperatorRequestAnswers answers;
   Counter c;
   const arm_t a = Request(1000, 1, "alice");
-  EXPECT_EQ(answers.Answer(a, kNow, [&] { return c.Act(); }, Refuse).reason, "acted 1");
-  EXPECT_EQ(answers.Answer(a, kNow, [&] { return c.Act(); }, Refuse).reason, "acted 1");
-  EXPECT_EQ(answers.Answer(a, kNow, [&] { return c.Act(); }, Refuse).reason, "acted 1");
+  EXPECT_EQ(answers
+                .Answer(
+                    a, kNow, [&] { return c.Act(); }, Refuse)
+                .reason,
+            "acted 1");
+  EXPECT_EQ(answers
+                .Answer(
+                    a, kNow, [&] { return c.Act(); }, Refuse)
+                .reason,
+            "acted 1");
+  EXPECT_EQ(answers
+                .Answer(
+                    a, kNow, [&] { return c.Act(); }, Refuse)
+                .reason,
+            "acted 1");
   EXPECT_EQ(c.acted, 1);
 }
 
 TEST(OperatorRequestAnswers, ANewRequestIsActedOnEvenWithTheSameTimeOrSeq) {
   OperatorRequestAnswers answers;
   Counter c;
-  answers.Answer(Request(1000, 1, "alice"), kNow, [&] { return c.Act(); }, Refuse);
-  EXPECT_EQ(answers.Answer(Request(1000, 2, "alice"), kNow, [&] { return c.Act(); }, Refuse).reason, "acted 2");
-  EXPECT_EQ(answers.Answer(Request(1000, 2, "bob"), kNow, [&] { return c.Act(); }, Refuse).reason, "acted 3");
-  EXPECT_EQ(answers.Answer(Request(2000, 2, "bob"), kNow, [&] { return c.Act(); }, Refuse).reason, "acted 4");
+  answers.Answer(
+      Request(1000, 1, "alice"), kNow, [&] { return c.Act(); }, Refuse);
+  EXPECT_EQ(answers
+                .Answer(
+                    Request(1000, 2, "alice"), kNow, [&] { return c.Act(); }, Refuse)
+                .reason,
+            "acted 2");
+  EXPECT_EQ(answers
+                .Answer(
+                    Request(1000, 2, "bob"), kNow, [&] { return c.Act(); }, Refuse)
+                .reason,
+            "acted 3");
+  EXPECT_EQ(answers
+                .Answer(
+                    Request(2000, 2, "bob"), kNow, [&] { return c.Act(); }, Refuse)
+                .reason,
+            "acted 4");
 }
 
 TEST(OperatorRequestAnswers, ALateCopyOfAnOlderRequestIsRefusedNotActedOn) {
   OperatorRequestAnswers answers;
   Counter c;
   const arm_t first = Request(1000, 1, "alice"), second = Request(2000, 1, "bob");
-  answers.Answer(first, kNow, [&] { return c.Act(); }, Refuse);
-  answers.Answer(second, kNow, [&] { return c.Act(); }, Refuse);
-  const fault_t late = answers.Answer(first, kNow, [&] { return c.Act(); }, Refuse);
+  answers.Answer(
+      first, kNow, [&] { return c.Act(); }, Refuse);
+  answers.Answer(
+      second, kNow, [&] { return c.Act(); }, Refuse);
+  const fault_t late = answers.Answer(
+      first, kNow, [&] { return c.Act(); }, Refuse);
   EXPECT_EQ(c.acted, 2);
   EXPECT_EQ(late.reason,
             "refused: request from alice at utime 1000 ignored: older than the one acted on (bob at utime 2000)");
   // The one in force is still answered alike.
-  EXPECT_EQ(answers.Answer(second, kNow, [&] { return c.Act(); }, Refuse).reason, "acted 2");
+  EXPECT_EQ(answers
+                .Answer(
+                    second, kNow, [&] { return c.Act(); }, Refuse)
+                .reason,
+            "acted 2");
 }
 
 // A request the node refused (another session's, a value it cannot take)
@@ -83,7 +115,11 @@ TEST(OperatorRequestAnswers, ARefusalHoldsNothingBack) {
     return f;
   };
   EXPECT_EQ(answers.Answer(Request(4000, 1, "mallory"), kNow, refuse, Refuse).reason, "not yours");
-  EXPECT_EQ(answers.Answer(Request(1000, 1, "alice"), kNow, [&] { return c.Act(); }, Refuse).reason, "acted 1");
+  EXPECT_EQ(answers
+                .Answer(
+                    Request(1000, 1, "alice"), kNow, [&] { return c.Act(); }, Refuse)
+                .reason,
+            "acted 1");
   EXPECT_EQ(c.acted, 1);
 }
 
@@ -93,14 +129,18 @@ TEST(OperatorRequestAnswers, ARefusalHoldsNothingBack) {
 TEST(OperatorRequestAnswers, ARequestFromTheFutureIsRefused) {
   OperatorRequestAnswers answers;
   Counter c;
-  const fault_t ahead = answers.Answer(Request(kNow + 20000000, 1, "alice"), kNow, [&] { return c.Act(); }, Refuse);
+  const fault_t ahead = answers.Answer(
+      Request(kNow + 20000000, 1, "alice"), kNow, [&] { return c.Act(); }, Refuse);
   EXPECT_EQ(ahead.reason, "refused: request from alice at utime 20005000 ignored: 20.0 s ahead of this node's clock");
-  const fault_t forged =
-      answers.Answer(Request(INT64_MAX, 1, "mallory"), INT64_MIN, [&] { return c.Act(); }, Refuse);
+  const fault_t forged = answers.Answer(
+      Request(INT64_MAX, 1, "mallory"), INT64_MIN, [&] { return c.Act(); }, Refuse);
   EXPECT_NE(forged.reason.find("ahead of this node's clock"), std::string::npos) << forged.reason;
   EXPECT_EQ(c.acted, 0);
   // Within the clocks' tolerance it is acted on.
-  EXPECT_EQ(answers.Answer(Request(kNow + 5000000, 1, "bob"), kNow, [&] { return c.Act(); }, Refuse).reason,
+  EXPECT_EQ(answers
+                .Answer(
+                    Request(kNow + 5000000, 1, "bob"), kNow, [&] { return c.Act(); }, Refuse)
+                .reason,
             "acted 1");
 }
 

@@ -65,7 +65,8 @@ TEST(Identifiability, WholeBaseMovedAsOneIsAChangeOfFrame) {
   calibration::LegErrorTracker tracker(Model(), calibration::LegErrorOptions{});
   const Vector3 t(1e-4, -2e-4, 3e-4), w(2e-4, 1e-4, -3e-4);
   Vector6 q = Model().home_pose().ToVector();
-  for (const Vector6& d : {Vector6(Vector6::Zero()), Vector6((Vector6() << 0.1, -0.1, 0.05, 0.2, -0.1, 0.3).finished())}) {
+  for (const Vector6& d :
+       {Vector6(Vector6::Zero()), Vector6((Vector6() << 0.1, -0.1, 0.05, 0.2, -0.1, 0.3).finished())}) {
     calibration::LegErrorInputs in;
     in.pose = Pose::FromVector(q + d);
     in.command_m = Model().EncoderLengths(in.pose);

@@ -245,8 +245,8 @@ TEST(MotionService, OverRandomMovesEveryAcceptedPathStaysInsideAndEveryRefusalIs
   EXPECT_GT(accepted, 300);
   EXPECT_GT(refused_workspace, 0) << "the draw must reach paths whose ends are reachable and middles not";
   EXPECT_GT(refused_legs, 0) << "and paths whose legs would outrun the drives";
-  std::printf("random moves: %d accepted, %d refused for the workspace, %d for the legs\n", accepted,
-              refused_workspace, refused_legs);
+  std::printf("random moves: %d accepted, %d refused for the workspace, %d for the legs\n", accepted, refused_workspace,
+              refused_legs);
 }
 
 }  // namespace

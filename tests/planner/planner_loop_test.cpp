@@ -12,7 +12,7 @@
 #include "counting_clock.h"  // tests/support
 #include "edsp/kinematics/config.h"
 #include "edsp/planner/motion_library.h"
-#include "memq_bus.h"        // tests/support
+#include "memq_bus.h"         // tests/support
 #include "motion_requests.h"  // tests/support
 
 namespace edsp {
@@ -42,7 +42,8 @@ MotionService& Started(MotionService& service, const PlatformModel& model) {
 }
 
 struct Fixture {
-  explicit Fixture(double exit_after_hold_s = -1.0) : loop(bus, Started(service, model), PlannerLoopOptions{exit_after_hold_s}) {
+  explicit Fixture(double exit_after_hold_s = -1.0)
+      : loop(bus, Started(service, model), PlannerLoopOptions{exit_after_hold_s}) {
     bus.Subscribe<pose_setpoint_t>("EDSP_SETPOINT", [this](const pose_setpoint_t& s) { setpoints.push_back(s); });
     bus.Subscribe<node_status_t>("EDSP_STATUS", [this](const node_status_t& s) { statuses.push_back(s); });
   }

@@ -68,8 +68,7 @@ TEST(TrajectorySequence, RefusesJumpsAndLocatesSegments) {
   TrajectorySequence seq;
   seq.Append("up", std::make_unique<QuinticMove>(Home(), Offset(2, 0.1), 1.0));
   seq.Append("stay", std::make_unique<Dwell>(Offset(2, 0.1), 0.5));
-  EXPECT_THROW(seq.Append("teleport", std::make_unique<Dwell>(Home(), 1.0)),
-               std::invalid_argument);
+  EXPECT_THROW(seq.Append("teleport", std::make_unique<Dwell>(Home(), 1.0)), std::invalid_argument);
   EXPECT_DOUBLE_EQ(seq.duration_s(), 1.5);
   EXPECT_EQ(seq.SegmentAt(0.5), 0);
   EXPECT_EQ(seq.SegmentAt(1.2), 1);
@@ -173,8 +172,7 @@ TEST(Planner, FollowsTheAbsoluteClockAndHoldsAtTheEnd) {
 
 TEST(CsvTrajectory, InterpolatesAndRejectsBadFilesByLineAndColumn) {
   const std::string head = "# exported\nyaw_rad,time_s,x_m,y_m,z_m,roll_rad,pitch_rad,note\n";
-  const CsvTrajectory t = CsvTrajectory::Parse(
-      head + "0,0,0,0,1.511,0,0,a\n0.2,1,0.1,0,1.511,0,0,b\n", "motion.csv");
+  const CsvTrajectory t = CsvTrajectory::Parse(head + "0,0,0,0,1.511,0,0,a\n0.2,1,0.1,0,1.511,0,0,b\n", "motion.csv");
   EXPECT_DOUBLE_EQ(t.duration_s(), 1.0);
   EXPECT_NEAR(t.Sample(0.25).pose(5), 0.05, 1e-15);
   EXPECT_NEAR(t.Sample(0.25).velocity(0), 0.1, 1e-15);
@@ -187,10 +185,8 @@ TEST(CsvTrajectory, InterpolatesAndRejectsBadFilesByLineAndColumn) {
     return std::string();
   };
   EXPECT_NE(error_of("time_s,x_m\n0,0\n").find("lacks column y_m"), std::string::npos);
-  EXPECT_NE(error_of(head + "0,0,0,0,1.5,0,0,a\n0,1,nan,0,1.5,0,0,b\n").find("motion.csv:4:3: x_m"),
-            std::string::npos);
-  EXPECT_NE(error_of(head + "0,1,0,0,1.5,0,0,a\n0,1,0,0,1.5,0,0,b\n").find("does not increase"),
-            std::string::npos);
+  EXPECT_NE(error_of(head + "0,0,0,0,1.5,0,0,a\n0,1,nan,0,1.5,0,0,b\n").find("motion.csv:4:3: x_m"), std::string::npos);
+  EXPECT_NE(error_of(head + "0,1,0,0,1.5,0,0,a\n0,1,0,0,1.5,0,0,b\n").find("does not increase"), std::string::npos);
   EXPECT_NE(error_of(head).find("at least two rows"), std::string::npos);
 }
 

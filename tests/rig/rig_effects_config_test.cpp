@@ -55,7 +55,8 @@ payload_com_m = [0, 0, 0.6]
 [rig.effects.thermal_drift]
 heating_K_per_m = 1.5
 time_constant_s = 900
-)", "rig.toml");
+)",
+                                       "rig.toml");
   EXPECT_TRUE(e.leg_offset.enabled);
   EXPECT_EQ(e.leg_offset.offset_m[1], -5e-5);
   EXPECT_TRUE(e.joint_position.enabled);
@@ -92,9 +93,9 @@ time_constant_s = 900
 // parses into its own switch, is listed by EnabledEffects, stands alone
 // with OnlyEffect, and is named among the known ones when a name is wrong.
 TEST(RigEffectsConfig, EveryEffectIsParsedListedAndSwitchedAloneByItsName) {
-  const std::vector<std::string> vocabulary = {"leg_offset", "joint_position", "passive_rotation",
+  const std::vector<std::string> vocabulary = {"leg_offset", "joint_position",      "passive_rotation",
                                                "lead_error", "periodic_lead_error", "backlash",
-                                               "servo_lag", "compliance", "thermal_drift"};
+                                               "servo_lag",  "compliance",          "thermal_drift"};
   auto section = [](const std::string& name, bool enabled) {
     std::string text = "[rig.effects." + name + "]\nenabled = " + (enabled ? "true" : "false") + "\n";
     if (name == "compliance") text += "stiffness_N_m = 2e7\nmass_kg = 800\n";  // no defaults: a rig's own
@@ -119,7 +120,8 @@ TEST(RigEffectsConfig, EveryEffectIsParsedListedAndSwitchedAloneByItsName) {
 TEST(RigEffectsConfig, ErrorsNameFileLineAndKey) {
   EXPECT_NE(ErrorOf(kNominal + "[rig.effects.wobble]\nx = 1\n").find("rig.toml:3: unknown effect [rig.effects.wobble]"),
             std::string::npos);
-  EXPECT_NE(ErrorOf(kNominal + "[rig.effects.backlash]\nbacklash = 1e-5\n").find("unknown key [rig.effects.backlash] backlash"),
+  EXPECT_NE(ErrorOf(kNominal + "[rig.effects.backlash]\nbacklash = 1e-5\n")
+                .find("unknown key [rig.effects.backlash] backlash"),
             std::string::npos);
   EXPECT_NE(ErrorOf(kNominal + "[rig.effects.backlash]\nbacklash_m = 0.03\n").find("backlash_m = 0.03 (leg 1)"),
             std::string::npos);  // 30 mm: mm typed as m
@@ -127,8 +129,7 @@ TEST(RigEffectsConfig, ErrorsNameFileLineAndKey) {
             std::string::npos);
   EXPECT_NE(ErrorOf(kNominal + "[rig.effects.lead_error]\nepsilon = 200\n").find("epsilon = 200"),
             std::string::npos);  // ppm typed as a fraction
-  EXPECT_NE(ErrorOf(kNominal + "[rig.effects.passive_rotation]\npr_sign = 2\n").find("pr_sign = 2"),
-            std::string::npos);
+  EXPECT_NE(ErrorOf(kNominal + "[rig.effects.passive_rotation]\npr_sign = 2\n").find("pr_sign = 2"), std::string::npos);
   EXPECT_NE(ErrorOf(kNominal + "[rig.effects.servo_lag]\nbandwidth_hz = 1000\n").find("bandwidth_hz = 1000"),
             std::string::npos);
   EXPECT_NE(ErrorOf(kNominal + "[rig.effects.servo_lag]\nintegral_time_s = 0.001\n").find("integral_time_s = 0.001"),
@@ -138,9 +139,11 @@ TEST(RigEffectsConfig, ErrorsNameFileLineAndKey) {
   EXPECT_NE(ErrorOf(kNominal + "[rig.effects.leg_offset]\noffset_m = nan\n").find("finite"), std::string::npos);
   EXPECT_NE(ErrorOf(kNominal + "[rig]\nfoo = 1\n").find("unknown key [rig] foo"), std::string::npos);
   EXPECT_NE(ErrorOf(kNominal + "[rig.effects.backlash]\nenabled = 1\n").find("true or false"), std::string::npos);
-  EXPECT_NE(ErrorOf(kNominal + "[rig.effects.compliance]\nstiffness_N_m = 2e7\n").find("mass_kg = 0"), std::string::npos);
-  EXPECT_NE(ErrorOf(kNominal + "[rig.effects.compliance]\nstiffness_N_m = 20\nmass_kg = 5\n").find("stiffness_N_m = 20"),
-            std::string::npos);  // N/µm typed as N/m
+  EXPECT_NE(ErrorOf(kNominal + "[rig.effects.compliance]\nstiffness_N_m = 2e7\n").find("mass_kg = 0"),
+            std::string::npos);
+  EXPECT_NE(
+      ErrorOf(kNominal + "[rig.effects.compliance]\nstiffness_N_m = 20\nmass_kg = 5\n").find("stiffness_N_m = 20"),
+      std::string::npos);  // N/µm typed as N/m
   EXPECT_NE(ErrorOf(kNominal + "[rig.effects.thermal_drift]\nalpha_per_K = 11.7\n").find("alpha_per_K = 11.7"),
             std::string::npos);
 }

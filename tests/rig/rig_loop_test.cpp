@@ -92,16 +92,16 @@ struct Fixture {
 
 TEST(RigLoop, EveryCycleWritesTheDrivesFeedbackAndTheTruthAndTheTrackerAtItsRate) {
   Fixture f("feedback", 100.0);
-  auto reader = ShmReader::Open(ShmChannelSpec{f.image.feedback_segment(), kDriveImageFeedbackFingerprint, 16,
-                                               sizeof(DriveImageFeedback), 0600});
+  auto reader = ShmReader::Open(
+      ShmChannelSpec{f.image.feedback_segment(), kDriveImageFeedbackFingerprint, 16, sizeof(DriveImageFeedback), 0600});
   ASSERT_TRUE(reader.ok()) << reader.message;
   f.Cycles(100);
   std::vector<std::int64_t> cycles;
   DriveImageFeedback last{};
   while (reader.value->TryTake([&](const std::uint8_t* data, std::uint32_t size) {
-           std::memcpy(&last, data, size);
-           return size == sizeof last;
-         }) == TakeStatus::kMessage) {
+    std::memcpy(&last, data, size);
+    return size == sizeof last;
+  }) == TakeStatus::kMessage) {
     cycles.push_back(last.cycle);
   }
   ASSERT_FALSE(cycles.empty());

@@ -40,9 +40,8 @@ TEST(VirtualRig, ServoSettlesOnATargetWithinTheTorqueLimit) {
   }
   for (int i = 0; i < kNumLegs; ++i) EXPECT_NEAR(rig.Feedback().motor_angle_rad[i], 10.0, 1e-6);
   // Braking, viscous friction adds to the saturated torque.
-  const double limit =
-      (p.effects.servo_lag.torque_limit_N_m + p.effects.servo_lag.viscous_N_m_s * peak_velocity) /
-      p.effects.servo_lag.inertia_kg_m2;
+  const double limit = (p.effects.servo_lag.torque_limit_N_m + p.effects.servo_lag.viscous_N_m_s * peak_velocity) /
+                       p.effects.servo_lag.inertia_kg_m2;
   EXPECT_LE(peak_acceleration, limit * 1.001);
   EXPECT_GT(peak_acceleration, limit * 0.9);  // a 10 rad step saturates it
 }
@@ -122,7 +121,7 @@ TEST(VirtualRig, TrackerNoiseRateAndSeed) {
   for (double x : xs) mean += x / static_cast<double>(xs.size());
   for (double x : xs) var += (x - mean) * (x - mean) / static_cast<double>(xs.size() - 1);
   EXPECT_NEAR(std::sqrt(var), 1e-5, 1e-6);
-  EXPECT_NEAR(mean, 1.2, 1e-6);  // A at home is (1.2, 0, H) and the platform is still
+  EXPECT_NEAR(mean, 1.2, 1e-6);                   // A at home is (1.2, 0, H) and the platform is still
   EXPECT_EQ(TrackerX(p, 400), TrackerX(p, 400));  // same seed, same run
   RigParameters other = p;
   other.tracker.seed = 8;
@@ -214,7 +213,7 @@ TEST(VirtualRig, TheDriveLoopKeepsItsBandwidthUnderThePayload) {
     return 1.0;
   };
   const double bare = half_rise_s(0.0), loaded = half_rise_s(600.0);
-  EXPECT_LT(bare, 0.05);  // a 50 Hz loop: a few milliseconds
+  EXPECT_LT(bare, 0.05);                         // a 50 Hz loop: a few milliseconds
   EXPECT_NEAR(loaded, bare, 0.1 * bare + 1e-3);  // within a tenth (and one step of the 1 ms loop)
 }
 

@@ -119,7 +119,7 @@ StackRun RunLx(Calibration calibration) {
 
 TEST(CalibrationSwitchStack, SwitchedOnMidMotionTheDwellsAfterTheBlendLandAsCalibratedFromTheStart) {
   const StackRun none = RunLx(Calibration::kNone), from_start = RunLx(Calibration::kFromStart),
-            switched = RunLx(Calibration::kSwitchedOnMidMotion);
+                 switched = RunLx(Calibration::kSwitchedOnMidMotion);
   ASSERT_GE(none.dwell_miss_m.size(), 4u);
   ASSERT_EQ(switched.dwell_miss_m.size(), none.dwell_miss_m.size());
   ASSERT_EQ(from_start.dwell_miss_m.size(), none.dwell_miss_m.size());
@@ -130,9 +130,9 @@ TEST(CalibrationSwitchStack, SwitchedOnMidMotionTheDwellsAfterTheBlendLandAsCali
   const std::int64_t blend_over = switched.switched_at_utime + KinematicsNodeOptions{}.calibration_blend_us;
   int before = 0, after = 0;
   for (std::size_t d = 0; d < none.dwell_miss_m.size(); ++d) {
-    const std::string what = fmt::format("dwell {}: none {:.2f} um, from the start {:.2f} um, switched {:.2f} um", d,
-                                         none.dwell_miss_m[d] * 1e6, from_start.dwell_miss_m[d] * 1e6,
-                                         switched.dwell_miss_m[d] * 1e6);
+    const std::string what =
+        fmt::format("dwell {}: none {:.2f} um, from the start {:.2f} um, switched {:.2f} um", d,
+                    none.dwell_miss_m[d] * 1e6, from_start.dwell_miss_m[d] * 1e6, switched.dwell_miss_m[d] * 1e6);
     std::printf("SWITCH_ROW | %s\n", what.c_str());
     // The rig's offsets alone miss by far more than the calibrated stack.
     EXPECT_GT(none.dwell_miss_m[d], 50e-6) << what;

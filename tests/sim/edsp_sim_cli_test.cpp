@@ -65,8 +65,7 @@ TEST(EdspSimCli, PaperTableTextLooksLikeTable1) {
 void ExpectFailure(const std::string& arguments, const std::string& fragment) {
   const CommandRun run = RunSim(arguments);
   EXPECT_NE(run.exit_code, 0) << arguments;
-  EXPECT_NE(run.text.find(fragment), std::string::npos)
-      << arguments << "\nprinted: " << run.text;
+  EXPECT_NE(run.text.find(fragment), std::string::npos) << arguments << "\nprinted: " << run.text;
 }
 
 TEST(EdspSimCli, BadInputFailsWithAMessageNamingIt) {

@@ -102,8 +102,8 @@ Vector6 AskedPose(const motion_request_t& m, const std::map<std::string, Vector6
   for (int k = 0; k < 6; ++k) q(k) = m.pose[k];
   Vector6 rotation_only = q;
   rotation_only.head<3>().setZero();
-  const Eigen::Matrix4d X = matrix(frames.at(m.frame)) * translation(q.head<3>()) * translation(c) *
-                            matrix(rotation_only) * translation(-c);
+  const Eigen::Matrix4d X =
+      matrix(frames.at(m.frame)) * translation(q.head<3>()) * translation(c) * matrix(rotation_only) * translation(-c);
   Vector6 out;
   out.head<3>() = X.topRightCorner<3, 1>();
   out.tail<3>() = RpyFromRotation(X.topLeftCorner<3, 3>());
@@ -126,7 +126,8 @@ TEST(MotionServiceStack, AScriptOfMovesLandsEachOnItsTargetInTheRigsTruth) {
       r.Move(Vec({0.0, 0.0, 0.0, 0.0, 0.03, 0.0}), 0, true, "fixture"),
   };
   int moves = 0;
-  std::map<std::string, Vector6> frames = {{"", Vector6::Zero()}, {"home", Vec({0, 0, 1.511, 0, 0, 0})},
+  std::map<std::string, Vector6> frames = {{"", Vector6::Zero()},
+                                           {"home", Vec({0, 0, 1.511, 0, 0, 0})},
                                            {"fixture", Vec({0.05, -0.02, 1.55, 0.0, 0.0, 0.3})}};
   Vector3 pivot_now = Vector3::Zero();
   auto play = [&](motion_request_t m) {
@@ -152,10 +153,11 @@ TEST(MotionServiceStack, AScriptOfMovesLandsEachOnItsTargetInTheRigsTruth) {
   for (const motion_request_t& m : script) play(m);
   ASSERT_TRUE(stack.Ask(r.Pivot(pivot, stack.now())).accepted);
   pivot_now = pivot;
-  for (const motion_request_t& m : script) play(r.Move(Vec({m.pose[0], m.pose[1], m.pose[2], m.pose[3], m.pose[4],
-                                                            m.pose[5]}), 0, m.relative, m.frame));
-  for (int k = 0; k < 6; ++k) play(r.Move(Vec({0.0, 0.0, 0.0, 0.01 * (k % 3 == 0), 0.01 * (k % 3 == 1),
-                                               0.01 * (k % 3 == 2)}), 0, true, "fixture"));
+  for (const motion_request_t& m : script)
+    play(r.Move(Vec({m.pose[0], m.pose[1], m.pose[2], m.pose[3], m.pose[4], m.pose[5]}), 0, m.relative, m.frame));
+  for (int k = 0; k < 6; ++k)
+    play(r.Move(Vec({0.0, 0.0, 0.0, 0.01 * (k % 3 == 0), 0.01 * (k % 3 == 1), 0.01 * (k % 3 == 2)}), 0, true,
+                "fixture"));
   EXPECT_GE(moves, 20);
   EXPECT_TRUE(stack.sim().faults().empty()) << stack.sim().faults().front().reason;
 }
@@ -194,11 +196,11 @@ Kinematics1d AlongX(const std::vector<StackSample>& s, std::size_t from) {
 }
 
 struct Braking {
-  int reaction_cycles = -1;   // from the request to the first decelerating setpoint
-  double distance_m = 0.0;    // from the request to rest
-  double speed_m_s = 0.0;     // at the request
+  int reaction_cycles = -1;  // from the request to the first decelerating setpoint
+  double distance_m = 0.0;   // from the request to rest
+  double speed_m_s = 0.0;    // at the request
   double peak_decel_m_s2 = 0.0;
-  double off_line_m = 0.0;    // the pivot's distance from its line (y, z)
+  double off_line_m = 0.0;           // the pivot's distance from its line (y, z)
   double peak_leg_accel_m_s2 = 0.0;  // of the setpoints' leg lengths (inverse kinematics)
 };
 
@@ -240,8 +242,8 @@ Braking BrakeAtFullSpeed(std::int8_t kind) {
     const auto& p = stack.samples()[i].setpoint.pose;
     b.off_line_m = std::max(b.off_line_m, std::hypot(p[1], p[2] - stack.samples().front().setpoint.pose[2]));
   }
-  EXPECT_EQ(stack.Status().last_end, kind == motion_request_t::KIND_HALT ? motion_status_t::END_HALTED
-                                                                           : motion_status_t::END_STOPPED);
+  EXPECT_EQ(stack.Status().last_end,
+            kind == motion_request_t::KIND_HALT ? motion_status_t::END_HALTED : motion_status_t::END_STOPPED);
   EXPECT_EQ(stack.Status().state, motion_status_t::STATE_HOLDING);
   EXPECT_TRUE(stack.sim().faults().empty());
   return b;
@@ -264,11 +266,12 @@ TEST(MotionServiceStack, StopIsShorterThanHaltWithinTheLegsAcceleration) {
   const MotionLimits l = Huang2021Config().motion;
   const Braking halt = BrakeAtFullSpeed(motion_request_t::KIND_HALT);
   const Braking stop = BrakeAtFullSpeed(motion_request_t::KIND_STOP);
-  std::printf("from %.4f m/s: halt after %d cycle(s), %.3f mm (v^2/2a %.3f mm), peak %.3f m/s^2; "
-              "stop after %d cycle(s), %.3f mm, peak %.3f m/s^2, fastest leg %.3f m/s^2\n",
-              halt.speed_m_s, halt.reaction_cycles, halt.distance_m * 1e3,
-              halt.speed_m_s * halt.speed_m_s / (2 * l.accel_max_m_s2) * 1e3, halt.peak_decel_m_s2,
-              stop.reaction_cycles, stop.distance_m * 1e3, stop.peak_decel_m_s2, stop.peak_leg_accel_m_s2);
+  std::printf(
+      "from %.4f m/s: halt after %d cycle(s), %.3f mm (v^2/2a %.3f mm), peak %.3f m/s^2; "
+      "stop after %d cycle(s), %.3f mm, peak %.3f m/s^2, fastest leg %.3f m/s^2\n",
+      halt.speed_m_s, halt.reaction_cycles, halt.distance_m * 1e3,
+      halt.speed_m_s * halt.speed_m_s / (2 * l.accel_max_m_s2) * 1e3, halt.peak_decel_m_s2, stop.reaction_cycles,
+      stop.distance_m * 1e3, stop.peak_decel_m_s2, stop.peak_leg_accel_m_s2);
   EXPECT_GE(stop.reaction_cycles, 1) << "it never decelerated";
   EXPECT_LE(stop.reaction_cycles, 2);
   EXPECT_LT(stop.distance_m, 0.5 * halt.distance_m);

@@ -39,8 +39,7 @@ TEST(PaperTable, ErrorScalesWithTheLead) {
   config.drive.lead_m = 0.005;
   const auto half = PaperTable(PlatformModel(config), 11);
   for (std::size_t m = 0; m < base.size(); ++m) {
-    EXPECT_NEAR(half[m].max_error_m[kNone], 0.5 * base[m].max_error_m[kNone],
-                0.01 * base[m].max_error_m[kNone]);
+    EXPECT_NEAR(half[m].max_error_m[kNone], 0.5 * base[m].max_error_m[kNone], 0.01 * base[m].max_error_m[kNone]);
   }
 }
 

@@ -28,9 +28,9 @@ RigEffects NoEffects() {
 struct DwellEnd {
   std::string segment;
   Vector6 target;
-  Vector3 error;     // tracker A − target A
-  Vector6 command;   // encoder lengths commanded
-  Vector6 travel;    // each leg's last direction of travel into the dwell: +1, −1 (0: none yet)
+  Vector3 error;    // tracker A − target A
+  Vector6 command;  // encoder lengths commanded
+  Vector6 travel;   // each leg's last direction of travel into the dwell: +1, −1 (0: none yet)
 };
 
 std::vector<DwellEnd> RunStack(const std::string& motion, const RigEffects& effects, int stops = 3) {
@@ -69,8 +69,7 @@ std::vector<DwellEnd> RunStack(const std::string& motion, const RigEffects& effe
       d.segment = previous.setpoint.trajectory;
       for (int k = 0; k < 6; ++k) d.target(k) = previous.setpoint.pose[k];
       for (int i = 0; i < 6; ++i) d.command(i) = previous.command.command_length_m[i];
-      const Vector3 measured(previous.tracker.point_m[0], previous.tracker.point_m[1],
-                             previous.tracker.point_m[2]);
+      const Vector3 measured(previous.tracker.point_m[0], previous.tracker.point_m[1], previous.tracker.point_m[2]);
       d.error = measured - model.ObservationPoint(Pose::FromVector(d.target));
       d.travel = travel;
       ends.push_back(d);
@@ -96,8 +95,7 @@ std::vector<DwellEnd> RunStack(const std::string& motion, const RigEffects& effe
 
 // ΔA for encoder-length errors `delta` at pose q on a rig whose encoder-length
 // function is `rig` (nominal unless its geometry or PR differ).
-Vector3 Predicted(const PlatformModel& nominal, const PlatformModel& rig, const Vector6& q,
-                  const Vector6& delta) {
+Vector3 Predicted(const PlatformModel& nominal, const PlatformModel& rig, const Vector6& q, const Vector6& delta) {
   const double h = 1e-6;
   Matrix6 J;
   Eigen::Matrix<double, 3, 6> Ja;
@@ -106,8 +104,8 @@ Vector3 Predicted(const PlatformModel& nominal, const PlatformModel& rig, const 
     up(k) += h;
     down(k) -= h;
     J.col(k) = (rig.EncoderLengths(Pose::FromVector(up)) - rig.EncoderLengths(Pose::FromVector(down))) / (2 * h);
-    Ja.col(k) = (nominal.ObservationPoint(Pose::FromVector(up)) -
-                 nominal.ObservationPoint(Pose::FromVector(down))) / (2 * h);
+    Ja.col(k) =
+        (nominal.ObservationPoint(Pose::FromVector(up)) - nominal.ObservationPoint(Pose::FromVector(down))) / (2 * h);
   }
   const Vector6 mismatch = nominal.EncoderLengths(Pose::FromVector(q)) - rig.EncoderLengths(Pose::FromVector(q));
   return Ja * J.lu().solve(delta + mismatch);
@@ -115,8 +113,8 @@ Vector3 Predicted(const PlatformModel& nominal, const PlatformModel& rig, const 
 
 void ExpectWithin10Percent(const Vector3& measured, const Vector3& predicted, const std::string& where) {
   EXPECT_LE((measured - predicted).norm(), 0.1 * predicted.norm() + 1e-8)
-      << where << ": measured " << measured.transpose() * 1e6 << " µm, hand calculation "
-      << predicted.transpose() * 1e6 << " µm";
+      << where << ": measured " << measured.transpose() * 1e6 << " µm, hand calculation " << predicted.transpose() * 1e6
+      << " µm";
 }
 
 const PlatformModel& Nominal() {
@@ -160,8 +158,8 @@ TEST(RigEffects, LeadErrorGrowsWithStroke) {
   ASSERT_EQ(ends.size(), 6u);  // 5 stops + home
   EXPECT_LT(ends[2].error.norm(), 1e-8);
   for (int k : {0, 4}) {
-    const double ratio = ends[static_cast<std::size_t>(k)].error.norm() /
-                         ends[static_cast<std::size_t>(k == 0 ? 1 : 3)].error.norm();
+    const double ratio =
+        ends[static_cast<std::size_t>(k)].error.norm() / ends[static_cast<std::size_t>(k == 0 ? 1 : 3)].error.norm();
     EXPECT_GT(ratio, 1.7) << k;
     EXPECT_LT(ratio, 2.3) << k;
   }
@@ -232,7 +230,7 @@ TEST(RigEffects, JointPositionErrorsArePoseDependentWithoutHysteresis) {
   }
   ASSERT_EQ(ends.size(), 4u);  // −30°, 0 (from below), +30°, home (from above)
   EXPECT_GT(ends[1].error.norm(), 50e-6);
-  EXPECT_LT((ends[1].error - ends[3].error).norm(), 1e-9);  // same pose, same error
+  EXPECT_LT((ends[1].error - ends[3].error).norm(), 1e-9);   // same pose, same error
   EXPECT_GT((ends[0].error - ends[1].error).norm(), 10e-6);  // but it depends on the pose
 }
 
@@ -243,9 +241,9 @@ namespace edsp {
 namespace {
 
 struct LagStats {
-  double max_error_m = 0.0;         // |commanded − encoder| leg length in motion
-  double max_predicted_m = 0.0;     // from the leg acceleration, see below
-  double max_rest_error_m = 0.0;    // at the end of each dwell
+  double max_error_m = 0.0;       // |commanded − encoder| leg length in motion
+  double max_predicted_m = 0.0;   // from the leg acceleration, see below
+  double max_rest_error_m = 0.0;  // at the end of each dwell
 };
 
 LagStats RunServoLag(double speed_m_s, double bandwidth_hz) {
@@ -379,7 +377,8 @@ TEST(RigEffects, ComplianceFollowsTheAccelerationInMotion) {
       for (int k2 = 0; k2 < 6; ++k2) q(k2) = s.setpoint.pose[k2];
       const double uz = LegAxisZ(sim.nominal_model(), q);
       const double predicted = -m * (9.81 + s.setpoint.acceleration[2]) / (6 * k * uz * uz);
-      const double measured = previous.truth.observation_point_m[2] - sim.nominal_model().ObservationPoint(Pose::FromVector(q)).z();
+      const double measured =
+          previous.truth.observation_point_m[2] - sim.nominal_model().ObservationPoint(Pose::FromVector(q)).z();
       worst = std::max(worst, std::abs(measured - predicted) / std::abs(predicted));
       largest_dynamic = std::max(largest_dynamic, std::abs(s.setpoint.acceleration[2]) / 9.81);
     }

@@ -102,7 +102,7 @@ std::unique_ptr<TrajectorySequence> RandomMoves(Rng& rng, const PlatformModel& m
     const Vector6 to = m % 2 ? OnTheEdge(model, direction) : model.home_pose().ToVector() + 0.7 * direction;
     if (!PathInside(model, at, to)) continue;
     sequence->Append(fmt::format("move {}", m), std::make_unique<QuinticMove>(QuinticMove::WithinLimits(
-                                                   at, to, Uniform(rng, 0.05, 0.15), Uniform(rng, 0.1, 0.25))));
+                                                    at, to, Uniform(rng, 0.05, 0.15), Uniform(rng, 0.1, 0.25))));
     sequence->Append(fmt::format("dwell {}", m), std::make_unique<Dwell>(to, 0.05));
     at = to;
     ++m;
@@ -112,11 +112,11 @@ std::unique_ptr<TrajectorySequence> RandomMoves(Rng& rng, const PlatformModel& m
 
 struct SoakResult {
   std::int64_t cycles = 0;
-  bool lost = false;          // the rig's pose not found
-  bool faulted = false;       // a drive reported a fault
-  double worst_error_m = 0.0; // |true − commanded position of {M}|
+  bool lost = false;                 // the rig's pose not found
+  bool faulted = false;              // a drive reported a fault
+  double worst_error_m = 0.0;        // |true − commanded position of {M}|
   double moved_after_fault_m = 0.0;  // how far {M} went after the first fault
-  std::string refused;        // the first fault a node raised (none expected)
+  std::string refused;               // the first fault a node raised (none expected)
 };
 
 SoakResult Soak(const PlatformConfig& nominal, const RigEffects& effects, std::unique_ptr<TrajectorySequence> moves) {
@@ -182,13 +182,14 @@ TEST(RigSoak, TheRatingIsTheTorqueTheWorstPoseNeeds) {
   RigEffects::ServoLag drives;
   const PayloadRating rating = RatePayload(model, drives, Vector3(0, 0, 0.1));
   ASSERT_GT(rating.payload_kg, 0.0);
-  const Vector6 f = LegForces(model, rating.worst_pose, Vector3::Zero(), rating.payload_kg, Vector3(0, 0, 0.1),
-                              Vector3(0, 0, -9.81));
+  const Vector6 f =
+      LegForces(model, rating.worst_pose, Vector3::Zero(), rating.payload_kg, Vector3(0, 0, 0.1), Vector3(0, 0, -9.81));
   const double torque = f.cwiseAbs().maxCoeff() * 0.010 / (2.0 * 3.14159265358979 * drives.screw_efficiency);
   EXPECT_NEAR(torque, kRatedTorqueShare * drives.torque_limit_N_m, 1e-9 * drives.torque_limit_N_m);
   // Home is no worse than the worst pose, and the preset's default drives
   // carry the heaviest payload a rig team reports (1.2 t).
-  const Vector6 home = LegForces(model, model.home_pose(), Vector3::Zero(), 1.0, Vector3(0, 0, 0.1), Vector3(0, 0, -9.81));
+  const Vector6 home =
+      LegForces(model, model.home_pose(), Vector3::Zero(), 1.0, Vector3(0, 0, 0.1), Vector3(0, 0, -9.81));
   EXPECT_LE(home.cwiseAbs().maxCoeff(), rating.worst_force_per_kg);
   EXPECT_GT(rating.payload_kg, 1200.0);
 }

@@ -23,9 +23,7 @@ namespace {
 
 using test_support::LogBuilder;
 
-PlatformModel Model() {
-  return PlatformModel(Huang2021Config());
-}
+PlatformModel Model() { return PlatformModel(Huang2021Config()); }
 
 class RunLog {
  public:
@@ -37,8 +35,8 @@ class RunLog {
   }
   // `ms` setpoints 1 ms apart; from `bad_until_ms` on, the tracker reads
   // point A of the pose plus `offset`, before it something far off.
-  void Segment(const std::string& name, int segment, const Vector6& pose, int ms,
-               const Vector3& offset, int bad_until_ms) {
+  void Segment(const std::string& name, int segment, const Vector6& pose, int ms, const Vector3& offset,
+               int bad_until_ms) {
     const Vector3 a = model_.ObservationPoint(Pose::FromVector(pose));
     for (int k = 0; k < ms; ++k, utime_ += 1000) {
       pose_setpoint_t sp{};

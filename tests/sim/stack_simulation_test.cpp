@@ -26,8 +26,7 @@ std::vector<DwellResult> RunMotion(const std::string& motion, PrMode mode) {
   options.dwell_s = 0.5;
   options.max_speed_m_s = 0.25;
   options.max_speed_rad_s = 0.5;
-  AppendPaperMotion(motion, PlatformModel(nominal).home_pose().ToVector(), options,
-                    trajectory.get());
+  AppendPaperMotion(motion, PlatformModel(nominal).home_pose().ToVector(), options, trajectory.get());
   StackOptions stack;
   stack.pr_mode = mode;
   StackSimulation sim(nominal, std::move(trajectory), stack);
@@ -43,8 +42,7 @@ std::vector<DwellResult> RunMotion(const std::string& motion, PrMode mode) {
       Vector6 q;
       for (int k = 0; k < 6; ++k) q(k) = previous.setpoint.pose[k];
       const Vector3 target = model.ObservationPoint(Pose::FromVector(q));
-      const Vector3 measured(previous.tracker.point_m[0], previous.tracker.point_m[1],
-                             previous.tracker.point_m[2]);
+      const Vector3 measured(previous.tracker.point_m[0], previous.tracker.point_m[1], previous.tracker.point_m[2]);
       dwells.push_back({previous.setpoint.trajectory, Pose::FromVector(q), (measured - target).norm()});
     }
     previous = s;

@@ -19,10 +19,9 @@ namespace edsp::test_support {
 // overlap [skip_from, skip_to] (a fault the test caused there) and, when
 // given, pairs outside [within_from, within_to] (the time around a fault:
 // a stall at start-up says nothing about the machine when the fault came).
-inline std::int64_t LargestLateCycleUs(const std::string& log_path, const std::string& channel,
-                                       std::int64_t period_us, std::int64_t skip_from = 0,
-                                       std::int64_t skip_to = -1, std::int64_t within_from = 0,
-                                       std::int64_t within_to = INT64_MAX) {
+inline std::int64_t LargestLateCycleUs(const std::string& log_path, const std::string& channel, std::int64_t period_us,
+                                       std::int64_t skip_from = 0, std::int64_t skip_to = -1,
+                                       std::int64_t within_from = 0, std::int64_t within_to = INT64_MAX) {
   LogReader reader(log_path);
   LogEvent event;
   EdspHeader previous, header;

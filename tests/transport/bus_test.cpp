@@ -190,10 +190,8 @@ TEST(Bus, BothPathMirrorsEveryNthMessageOnLcm) {
   Bus bus(Routed("TEST_MIRRORED", ChannelPath::kBoth, 3));
   auto publisher = bus.Advertise<pose_setpoint_t>("TEST_MIRRORED");
   std::vector<std::int64_t> shm_seqs, lcm_seqs;
-  bus.Subscribe<pose_setpoint_t>("TEST_MIRRORED",
-                                 [&](const pose_setpoint_t& m) { shm_seqs.push_back(m.seq); });
-  bus.lcm().Subscribe("TEST_MIRRORED", [&](const std::string&, const std::uint8_t* data,
-                                              std::uint32_t size) {
+  bus.Subscribe<pose_setpoint_t>("TEST_MIRRORED", [&](const pose_setpoint_t& m) { shm_seqs.push_back(m.seq); });
+  bus.lcm().Subscribe("TEST_MIRRORED", [&](const std::string&, const std::uint8_t* data, std::uint32_t size) {
     pose_setpoint_t m;
     ASSERT_GE(m.decode(data, 0, static_cast<int>(size)), 0);
     lcm_seqs.push_back(m.seq);
@@ -263,8 +261,7 @@ TEST(Bus, FileUrlRecordsAndReplaysALog) {
   read.lcm_url = "file://" + log + "?speed=0";  // as fast as possible
   Bus replay(read);
   std::vector<std::int64_t> seqs;
-  replay.Subscribe<pose_setpoint_t>("EDSP_SETPOINT",
-                                    [&](const pose_setpoint_t& m) { seqs.push_back(m.seq); });
+  replay.Subscribe<pose_setpoint_t>("EDSP_SETPOINT", [&](const pose_setpoint_t& m) { seqs.push_back(m.seq); });
   HandleAll(replay);
   EXPECT_EQ(seqs, (std::vector<std::int64_t>{1, 2, 3, 4}));
   ::unlink(log.c_str());
@@ -302,15 +299,14 @@ std::string TransportErrorOf(const std::string& text) {
 
 TEST(TransportConfig, ErrorsNameFileLineAndKey) {
   const std::string head = "[transport.channels.EDSP_X]\n";
-  EXPECT_NE(TransportErrorOf(head + "path = \"udp\"\n").find("group.toml:2: [transport.channels.EDSP_X] path = \"udp\""),
-            std::string::npos);
+  EXPECT_NE(
+      TransportErrorOf(head + "path = \"udp\"\n").find("group.toml:2: [transport.channels.EDSP_X] path = \"udp\""),
+      std::string::npos);
   EXPECT_NE(TransportErrorOf(head + "slots = 100\n").find("power of two"), std::string::npos);
   EXPECT_NE(TransportErrorOf(head + "mirror_every = 0\n").find("mirror_every"), std::string::npos);
   EXPECT_NE(TransportErrorOf(head + "slot = 8\n").find("unknown key"), std::string::npos);
-  EXPECT_NE(TransportErrorOf("[transport]\nshm_permissions = \"0044\"\n").find("shm_permissions"),
-            std::string::npos);
-  EXPECT_NE(TransportErrorOf("[transport]\nurl = \"x\"\n").find("unknown key [transport] url"),
-            std::string::npos);
+  EXPECT_NE(TransportErrorOf("[transport]\nshm_permissions = \"0044\"\n").find("shm_permissions"), std::string::npos);
+  EXPECT_NE(TransportErrorOf("[transport]\nurl = \"x\"\n").find("unknown key [transport] url"), std::string::npos);
   EXPECT_NE(TransportErrorOf("[transport\n").find("group.toml:1:"), std::string::npos);
 }
 
@@ -368,7 +364,8 @@ TEST(Bus, MixedInputsWakeOnLcmAtOnceNotAtTheNextSlice) {
   for (int round = 0; round < 3; ++round) {  // the doorbell re-arms after each drain
     std::thread publisher([&] {
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
-      bus.lcm().Publish("TEST_REQUESTS", bytes.data(), static_cast<std::uint32_t>(bytes.size()));  // LCM publish is thread-safe
+      bus.lcm().Publish("TEST_REQUESTS", bytes.data(),
+                        static_cast<std::uint32_t>(bytes.size()));  // LCM publish is thread-safe
     });
     const auto start = std::chrono::steady_clock::now();
     EXPECT_EQ(bus.Handle(std::chrono::seconds(5)), 1) << round;
@@ -382,10 +379,10 @@ TEST(Bus, MixedInputsWakeOnLcmAtOnceNotAtTheNextSlice) {
 // Regression (the flood under UBSan): foreign packets carry any seq; the
 // logger's gap count overflowed int64 on them and stopped the logger.
 TEST(SeqGap, CountsLossNeverOverflowsAndIgnoresForeignNumbers) {
-  EXPECT_EQ(SeqGap(-1, 5), 0);   // first message
+  EXPECT_EQ(SeqGap(-1, 5), 0);  // first message
   EXPECT_EQ(SeqGap(5, 6), 0);
   EXPECT_EQ(SeqGap(5, 9), 3);
-  EXPECT_EQ(SeqGap(9, 2), 0);    // a restarted publisher
+  EXPECT_EQ(SeqGap(9, 2), 0);  // a restarted publisher
   EXPECT_EQ(SeqGap(7736393874816021169, std::numeric_limits<std::int64_t>::max()), 0);
   EXPECT_EQ(SeqGap(0, std::numeric_limits<std::int64_t>::max()), 0);  // foreign, not 9e18 lost
   EXPECT_EQ(SeqGap(std::numeric_limits<std::int64_t>::max(), 0), 0);

@@ -14,9 +14,11 @@ namespace {
 // operator: planner + logger; controller: kinematics; drive: bridge + rig.
 std::string ThreeHosts(const std::string& url, const std::string& command_route) {
   return R"([transport]
-lcm_url = ")" + url + R"("
+lcm_url = ")" +
+         url + R"("
 [transport.channels.EDSP_LEG_COMMAND]
-)" + command_route + R"(
+)" + command_route +
+         R"(
 [transport.channels.EDSP_RIG_TRUTH]
 path = "shm"
 writer = "rig"
@@ -59,8 +61,7 @@ TEST(HostRoutes, WriterPublishesBothWhenAReaderIsElsewhereAndRemoteReadersUseLcm
 }
 
 TEST(HostRoutes, ReadersAllOnTheWritersHostKeepSharedMemoryOnly) {
-  const TransportConfig group =
-      ParseTransportConfig(ThreeHosts(kTtl1, "path = \"lcm\""), "g.toml");
+  const TransportConfig group = ParseTransportConfig(ThreeHosts(kTtl1, "path = \"lcm\""), "g.toml");
   EXPECT_EQ(RoutesForMember(group, "rig").Route("EDSP_RIG_TRUTH").path, ChannelPath::kShm);
   EXPECT_EQ(RoutesForMember(group, "actuator_bridge").Route("EDSP_RIG_TRUTH").path, ChannelPath::kShm);
   EXPECT_EQ(RoutesForMember(group, "logger").Route("EDSP_RIG_TRUTH").path, ChannelPath::kLcm);
@@ -85,7 +86,8 @@ mirror_every = 10
 name = "kinematics"
 [[member]]
 name = "actuator_bridge"
-)", "g.toml");
+)",
+                                                     "g.toml");
   EXPECT_EQ(GroupHosts(group), (std::vector<std::string>{"local"}));
   for (const char* member : {"kinematics", "actuator_bridge", ""}) {
     const ChannelRoute route = RoutesForMember(group, member).Route("EDSP_LEG_COMMAND");
@@ -107,8 +109,9 @@ TEST(HostRoutes, MultiHostNeedsTtlAtLeastOne) {
 TEST(HostRoutes, SharedMemoryChannelsOfAMultiHostGroupNameAKnownWriter) {
   EXPECT_NE(ErrorOf(ThreeHosts(kTtl1, "path = \"shm\"")).find("[transport.channels.EDSP_LEG_COMMAND] path = \"shm\""),
             std::string::npos);
-  EXPECT_NE(ErrorOf(ThreeHosts(kTtl1, "path = \"shm\"\nwriter = \"kinematic\"")).find("writer = \"kinematic\" is no member"),
-            std::string::npos);
+  EXPECT_NE(
+      ErrorOf(ThreeHosts(kTtl1, "path = \"shm\"\nwriter = \"kinematic\"")).find("writer = \"kinematic\" is no member"),
+      std::string::npos);
   EXPECT_NE(ErrorOf(ThreeHosts(kTtl1, "path = \"shm\"\nwriter = \"kinematics\"\nreaders = [\"bridge\"]"))
                 .find("readers: \"bridge\" is no member"),
             std::string::npos);

@@ -33,15 +33,13 @@ std::unique_ptr<ShmReader> OpenReader(const ShmChannelSpec& spec) {
 }
 
 std::uint64_t Publish(ShmWriter& writer, std::uint64_t number, std::uint32_t size = 64) {
-  return writer.Publish([&](std::uint8_t* buffer, std::uint32_t capacity) {
-    return EncodePattern(buffer, capacity, number, 7, size);
-  });
+  return writer.Publish(
+      [&](std::uint8_t* buffer, std::uint32_t capacity) { return EncodePattern(buffer, capacity, number, 7, size); });
 }
 
 TakeStatus Take(ShmReader& reader, Decoded* out, std::uint64_t* number = nullptr) {
-  return reader.TryTake(
-      [&](const std::uint8_t* data, std::uint32_t size) { return DecodePattern(data, size, out); },
-      number);
+  return reader.TryTake([&](const std::uint8_t* data, std::uint32_t size) { return DecodePattern(data, size, out); },
+                        number);
 }
 
 TEST(ShmChannel, DeliversInOrderFromTheFirstMessageAfterAttach) {

@@ -105,9 +105,8 @@ TEST(ShmStress, MillionMessagesPastASlowReaderNoTornReadEveryLossCounted) {
     reader_ready.Receive();
     for (std::uint64_t k = 1; k <= kMessages || !enough->load(std::memory_order_relaxed); ++k) {
       const std::uint32_t size = 16 + static_cast<std::uint32_t>(k % 497);
-      w.value->Publish([&](std::uint8_t* buffer, std::uint32_t capacity) {
-        return EncodePattern(buffer, capacity, k, 1, size);
-      });
+      w.value->Publish(
+          [&](std::uint8_t* buffer, std::uint32_t capacity) { return EncodePattern(buffer, capacity, k, 1, size); });
     }
     writer_done.Send(w.value->published());
     reader_done.Receive();  // keep the segment until the reader has drained
@@ -124,8 +123,7 @@ TEST(ShmStress, MillionMessagesPastASlowReaderNoTornReadEveryLossCounted) {
     Decoded d;
     std::uint64_t number = 0;
     const TakeStatus status = reader->TryTake(
-        [&](const std::uint8_t* data, std::uint32_t size) { return DecodePattern(data, size, &d); },
-        &number);
+        [&](const std::uint8_t* data, std::uint32_t size) { return DecodePattern(data, size, &d); }, &number);
     if (status == TakeStatus::kMessage) {
       ++received;
       if (!d.intact || d.number != number) ++accepted_torn;
@@ -163,9 +161,8 @@ TEST(ShmStress, WriterKilledAndRestartedMidStreamReadersCarryOn) {
       auto w = ShmWriter::Open(spec);
       if (!w.ok()) return 2;
       for (std::uint64_t k = 1; k <= limit; ++k) {
-        w.value->Publish([&](std::uint8_t* buffer, std::uint32_t capacity) {
-          return EncodePattern(buffer, capacity, k, tag, 64);
-        });
+        w.value->Publish(
+            [&](std::uint8_t* buffer, std::uint32_t capacity) { return EncodePattern(buffer, capacity, k, tag, 64); });
         std::this_thread::sleep_for(20us);
       }
       ::pause();
@@ -184,9 +181,8 @@ TEST(ShmStress, WriterKilledAndRestartedMidStreamReadersCarryOn) {
       if (!reader->Wait(100ms)) continue;
       Decoded d;
       std::uint64_t number = 0;
-      while (reader->TryTake([&](const std::uint8_t* p, std::uint32_t n) {
-        return DecodePattern(p, n, &d);
-      }, &number) == TakeStatus::kMessage) {
+      while (reader->TryTake([&](const std::uint8_t* p, std::uint32_t n) { return DecodePattern(p, n, &d); },
+                             &number) == TakeStatus::kMessage) {
         if (number <= last_number) ++out_of_order;
         last_number = number;
         (d.tag == 1 ? from_first : from_second) += 1;
@@ -230,12 +226,10 @@ TEST(BusMultiprocess, ShmReaderAndLcmMirrorReaderSeeTheSameSequence) {
       // A process on another host would have no shm route: plain LCM.
       Bus bus(via_shm ? BothConfig(prefix) : TransportConfig{});
       std::vector<std::int64_t> seqs;
-      bus.Subscribe<pose_setpoint_t>("EDSP_SETPOINT",
-                                     [&](const pose_setpoint_t& m) { seqs.push_back(m.seq); });
+      bus.Subscribe<pose_setpoint_t>("EDSP_SETPOINT", [&](const pose_setpoint_t& m) { seqs.push_back(m.seq); });
       ready->Send(1);
       const auto deadline = std::chrono::steady_clock::now() + 20s;
-      while (static_cast<int>(seqs.size()) < kMessages &&
-             std::chrono::steady_clock::now() < deadline) {
+      while (static_cast<int>(seqs.size()) < kMessages && std::chrono::steady_clock::now() < deadline) {
         bus.Handle(10ms);
       }
       result->SendVector(seqs);

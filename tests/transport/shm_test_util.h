@@ -17,8 +17,7 @@ inline std::string UniqueSegmentName(const std::string& what) {
   return "edsp.test." + what + "." + std::to_string(::getpid());
 }
 
-inline ShmChannelSpec TestSpec(const std::string& what, std::uint32_t slots = 8,
-                               std::uint32_t slot_size = 256) {
+inline ShmChannelSpec TestSpec(const std::string& what, std::uint32_t slots = 8, std::uint32_t slot_size = 256) {
   ShmChannelSpec spec;
   spec.segment_name = UniqueSegmentName(what);
   spec.type_fingerprint = 0x1234'5678'9abc'def0;
@@ -29,8 +28,8 @@ inline ShmChannelSpec TestSpec(const std::string& what, std::uint32_t slots = 8,
 
 // Payload: [u64 number][u32 writer tag][bytes = f(number)], self-checking so
 // a torn copy cannot pass for a whole message.
-inline std::int32_t EncodePattern(std::uint8_t* buffer, std::uint32_t capacity,
-                                  std::uint64_t number, std::uint32_t tag, std::uint32_t size) {
+inline std::int32_t EncodePattern(std::uint8_t* buffer, std::uint32_t capacity, std::uint64_t number, std::uint32_t tag,
+                                  std::uint32_t size) {
   if (size > capacity || size < 16) return -1;
   std::memcpy(buffer, &number, 8);
   std::memcpy(buffer + 8, &tag, 4);

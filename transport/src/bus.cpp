@@ -64,12 +64,11 @@ Bus::PublisherState& Bus::StateFor(const std::string& channel, std::int64_t fing
   state->fingerprint = fingerprint;
   state->counters = &counters_[channel];
   if (state->route.path != ChannelPath::kLcm) {
-    ShmChannelSpec spec{config_.SegmentName(channel), fingerprint, state->route.slots,
-                        state->route.slot_size_bytes, config_.shm_permissions};
+    ShmChannelSpec spec{config_.SegmentName(channel), fingerprint, state->route.slots, state->route.slot_size_bytes,
+                        config_.shm_permissions};
     ShmResult<ShmWriter> writer = ShmWriter::Open(spec);
     if (!writer.ok()) {
-      throw TransportError(fmt::format("channel {}: {} ({})", channel, writer.message,
-                                       ShmErrorName(writer.error)));
+      throw TransportError(fmt::format("channel {}: {} ({})", channel, writer.message, ShmErrorName(writer.error)));
     }
     state->writer = std::move(writer.value);
   }
@@ -92,8 +91,8 @@ Bus::ShmSubscription& Bus::AddShmSubscription(const std::string& channel, std::i
                                               std::function<TakeStatus(ShmReader&)> take, bool recorder) {
   auto subscription = std::make_unique<ShmSubscription>();
   const ChannelRoute& route = config_.Route(channel);
-  subscription->spec = ShmChannelSpec{config_.SegmentName(channel), fingerprint, route.slots,
-                                      route.slot_size_bytes, config_.shm_permissions, recorder};
+  subscription->spec = ShmChannelSpec{config_.SegmentName(channel), fingerprint, route.slots, route.slot_size_bytes,
+                                      config_.shm_permissions,      recorder};
   subscription->take = std::move(take);
   subscription->counters = &counters_[channel];
   subscription->recorder = recorder;
@@ -158,7 +157,7 @@ int Bus::DrainShm() {
 }
 
 bool Bus::SkipsLcmCopy(ShmSubscription& ring) {
-  if (ring.refused) return false;  // (a restarted writer's ring refused: the old reader stays, dead)
+  if (ring.refused) return false;           // (a restarted writer's ring refused: the old reader stays, dead)
   if (ring.reader != nullptr) return true;  // its mirror: the ring has all of it
   // Not written yet: read from its first message once found, the ring will
   // have this copy too.
@@ -169,9 +168,9 @@ bool Bus::SkipsLcmCopy(ShmSubscription& ring) {
     return true;
   }
   ring.refused = true;
-  ring.counters->last_error = fmt::format("no ring written on this host after {} s of LCM copies ({} skipped)",
-                                          std::chrono::duration<double>(kRingGrace).count(),
-                                          ring.counters->copies_awaiting_ring);
+  ring.counters->last_error =
+      fmt::format("no ring written on this host after {} s of LCM copies ({} skipped)",
+                  std::chrono::duration<double>(kRingGrace).count(), ring.counters->copies_awaiting_ring);
   return false;
 }
 
@@ -179,13 +178,13 @@ std::vector<std::string> Bus::SubscribeRaw(const std::string& pattern, RawHandle
   const ChannelPattern names(pattern);
   // Channel → its ring, for the LCM side to skip what the ring delivers.
   auto rings = std::make_shared<std::unordered_map<std::string, ShmSubscription*>>();
-  lcm_.SubscribePattern(names.ForLcm(), [this, rings, handler](const std::string& channel, const std::uint8_t* data,
-                                                               std::uint32_t size) {
-    const auto ring = rings->find(channel);
-    if (ring != rings->end() && SkipsLcmCopy(*ring->second)) return;
-    ++counters_[channel].received;
-    handler(channel, data, size);
-  });
+  lcm_.SubscribePattern(
+      names.ForLcm(), [this, rings, handler](const std::string& channel, const std::uint8_t* data, std::uint32_t size) {
+        const auto ring = rings->find(channel);
+        if (ring != rings->end() && SkipsLcmCopy(*ring->second)) return;
+        ++counters_[channel].received;
+        handler(channel, data, size);
+      });
   std::vector<std::string> channels;
   for (const auto& entry : config_.channels) {
     const std::string& channel = entry.first;  // a named variable: lambdas capture it (C++17)
@@ -252,7 +251,9 @@ int Bus::Handle(std::chrono::microseconds timeout) {
       const bool all_attached = std::all_of(shm_subscriptions_.begin(), shm_subscriptions_.end(),
                                             [](const auto& sub) { return sub->reader != nullptr; });
       auto slice = remaining;
-      if (mixed) slice = std::min<Clock::duration>(slice, lcm_bell_ ? Clock::duration(kMixedWaitSlice) : Clock::duration(kMixedPollSlice));
+      if (mixed)
+        slice = std::min<Clock::duration>(
+            slice, lcm_bell_ ? Clock::duration(kMixedWaitSlice) : Clock::duration(kMixedPollSlice));
       if (!all_attached) slice = std::min<Clock::duration>(slice, kAttachRetry);
       if (slice > Clock::duration::zero()) WaitShm(slice, lcm_bell_.get());
       delivered += DrainShm();

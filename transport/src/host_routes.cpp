@@ -20,8 +20,7 @@ std::string HostOf(const TransportConfig& config, const std::string& member) {
 
 // Is any reader of `route` (the listed ones, or else any member) on a host
 // other than the writer's?
-bool HasRemoteReader(const TransportConfig& config, const ChannelRoute& route,
-                     const std::string& writer_host) {
+bool HasRemoteReader(const TransportConfig& config, const ChannelRoute& route, const std::string& writer_host) {
   if (route.readers.empty()) {
     return std::any_of(config.member_hosts.begin(), config.member_hosts.end(),
                        [&](const auto& member) { return member.second != writer_host; });
@@ -63,19 +62,19 @@ void CheckHostRoutes(const TransportConfig& config, const std::string& origin) {
   const std::vector<std::string> hosts = GroupHosts(config);
   if (hosts.size() < 2) return;
   if (config.lcm_url.rfind("udpm://", 0) == 0 && LcmUrlTtl(config.lcm_url) < 1) {
-    throw TransportError(fmt::format(
-        "{}: [transport] lcm_url = \"{}\" keeps LCM on one host (ttl=0), but the members run on "
-        "{} hosts ({}): set ttl=1 for one network segment (more only through multicast routers)",
-        origin, config.lcm_url, hosts.size(), fmt::join(hosts, ", ")));
+    throw TransportError(
+        fmt::format("{}: [transport] lcm_url = \"{}\" keeps LCM on one host (ttl=0), but the members run on "
+                    "{} hosts ({}): set ttl=1 for one network segment (more only through multicast routers)",
+                    origin, config.lcm_url, hosts.size(), fmt::join(hosts, ", ")));
   }
   for (const auto& [channel, route] : config.channels) {
     if (route.path == ChannelPath::kLcm) continue;
     const std::string where = fmt::format("[transport.channels.{}]", channel);
     if (route.writer.empty()) {
-      throw TransportError(fmt::format(
-          "{}: {} path = \"{}\" in a group spanning hosts ({}) needs writer = \"<member>\": "
-          "shared memory only joins members of the writer's host",
-          origin, where, ChannelPathName(route.path), fmt::join(hosts, ", ")));
+      throw TransportError(
+          fmt::format("{}: {} path = \"{}\" in a group spanning hosts ({}) needs writer = \"<member>\": "
+                      "shared memory only joins members of the writer's host",
+                      origin, where, ChannelPathName(route.path), fmt::join(hosts, ", ")));
     }
     for (const std::string& name : route.readers) {
       if (!config.member_hosts.count(name)) {
@@ -83,7 +82,8 @@ void CheckHostRoutes(const TransportConfig& config, const std::string& origin) {
       }
     }
     if (!config.member_hosts.count(route.writer)) {
-      throw TransportError(fmt::format("{}: {} writer = \"{}\" is no member of the group", origin, where, route.writer));
+      throw TransportError(
+          fmt::format("{}: {} writer = \"{}\" is no member of the group", origin, where, route.writer));
     }
   }
 }

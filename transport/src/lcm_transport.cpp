@@ -32,16 +32,14 @@ std::string EscapeChannelRegex(const std::string& channel) {
 LcmTransport::LcmTransport(const std::string& url) : url_(url) {
   lcm_ = std::make_unique<lcm::LCM>(url);
   if (!lcm_->good()) {
-    throw TransportError(fmt::format(
-        "LCM could not start on \"{}\" (bad URL, or no multicast route: see docs/transport.md)",
-        url));
+    throw TransportError(
+        fmt::format("LCM could not start on \"{}\" (bad URL, or no multicast route: see docs/transport.md)", url));
   }
 }
 
 LcmTransport::~LcmTransport() = default;
 
-bool LcmTransport::Publish(const std::string& channel, const void* data,
-                           std::uint32_t size) noexcept {
+bool LcmTransport::Publish(const std::string& channel, const void* data, std::uint32_t size) noexcept {
   if (lcm_->publish(channel, data, size) == 0) return true;
   ++publish_failures_;
   return false;
@@ -59,8 +57,7 @@ void LcmTransport::SubscribePattern(const std::string& regex, RawHandler handler
   subscriptions_.push_back(std::move(subscription));
 }
 
-void LcmTransport::Dispatch(const lcm::ReceiveBuffer* buffer, const std::string& channel,
-                            RawHandler* handler) {
+void LcmTransport::Dispatch(const lcm::ReceiveBuffer* buffer, const std::string& channel, RawHandler* handler) {
   ++dispatched_;
   if (pending_error_) return;
   try {

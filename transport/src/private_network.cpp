@@ -38,10 +38,10 @@ void EnterPrivateNetworkNamespace() {
   if (::unshare(CLONE_NEWNET) != 0) {
     const int error = errno;
     if (!EnterUserAndNetworkNamespace()) {
-      throw TransportError(fmt::format(
-          "cannot create a private network namespace ({}): run as root, or enable "
-          "unprivileged user namespaces",
-          std::strerror(error)));
+      throw TransportError(
+          fmt::format("cannot create a private network namespace ({}): run as root, or enable "
+                      "unprivileged user namespaces",
+                      std::strerror(error)));
     }
   }
   const int rc = std::system(

@@ -70,9 +70,7 @@ ShmWriter::~ShmWriter() {
   RemoveSegment(segment_->name());
 }
 
-std::uint64_t ShmWriter::published() const {
-  return segment_->header()->published.load(std::memory_order_acquire);
-}
+std::uint64_t ShmWriter::published() const { return segment_->header()->published.load(std::memory_order_acquire); }
 
 ShmReader::ShmReader(std::unique_ptr<ShmSegment> segment) : segment_(std::move(segment)) {
   // A new reader starts with the next message published after it attached.

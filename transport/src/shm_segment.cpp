@@ -59,8 +59,7 @@ ShmSlotHeader* ShmSegment::slot(std::uint64_t message_number) const {
 
 // Builds segments; a friend so the constructor stays private.
 struct ShmSegmentFactory {
-  static std::unique_ptr<ShmSegment> Make(const std::string& name,
-                                          std::unique_ptr<ShmSegment::Mapping> mapping) {
+  static std::unique_ptr<ShmSegment> Make(const std::string& name, std::unique_ptr<ShmSegment::Mapping> mapping) {
     return std::unique_ptr<ShmSegment>(new ShmSegment(name, std::move(mapping)));
   }
 };
@@ -112,16 +111,16 @@ ShmResult<ShmSegment> CheckSpec(const ShmChannelSpec& spec) {
                                                 spec.segment_name, spec.slot_count));
   }
   if (spec.slot_size_bytes == 0 || spec.slot_size_bytes > (16u << 20)) {
-    return Fail(ShmError::kBadSpec, fmt::format("{}: slot size {} bytes must be in 1..16 MiB",
-                                                spec.segment_name, spec.slot_size_bytes));
+    return Fail(ShmError::kBadSpec,
+                fmt::format("{}: slot size {} bytes must be in 1..16 MiB", spec.segment_name, spec.slot_size_bytes));
   }
   return {};
 }
 
 // Checks a mapped header. `check_geometry` (a writer's check): the spec's
 // slot geometry is required; readers adopt the writer's.
-ShmResult<ShmSegment> Validate(const ShmSegmentHeader& h, std::uint64_t mapped_bytes,
-                               const ShmChannelSpec& spec, bool check_geometry) {
+ShmResult<ShmSegment> Validate(const ShmSegmentHeader& h, std::uint64_t mapped_bytes, const ShmChannelSpec& spec,
+                               bool check_geometry) {
   const std::string& name = spec.segment_name;
   if (mapped_bytes < sizeof(ShmSegmentHeader)) {
     return Fail(ShmError::kCorruptHeader,
@@ -132,37 +131,31 @@ ShmResult<ShmSegment> Validate(const ShmSegmentHeader& h, std::uint64_t mapped_b
     return Fail(ShmError::kNotReady, fmt::format("{}: writer still initialising", name));
   }
   if (magic != kShmMagic) {
-    return Fail(ShmError::kCorruptHeader,
-                fmt::format("{}: bad magic {:#x}, not an edsp segment", name, magic));
+    return Fail(ShmError::kCorruptHeader, fmt::format("{}: bad magic {:#x}, not an edsp segment", name, magic));
   }
   if (h.checksum != ShmHeaderChecksum(h)) {
     return Fail(ShmError::kCorruptHeader, fmt::format("{}: header checksum mismatch", name));
   }
   if (h.layout_version != kShmLayoutVersion) {
     return Fail(ShmError::kLayoutVersion,
-                fmt::format("{}: layout version {}, this build reads {}", name, h.layout_version,
-                            kShmLayoutVersion));
+                fmt::format("{}: layout version {}, this build reads {}", name, h.layout_version, kShmLayoutVersion));
   }
   if (h.header_size_bytes != sizeof(ShmSegmentHeader) || !IsPowerOfTwo(h.slot_count) ||
       h.slot_stride_bytes != ShmSlotStride(h.slot_size_bytes) ||
       mapped_bytes < ShmSegmentBytes(h.slot_count, h.slot_size_bytes)) {
     return Fail(ShmError::kCorruptHeader,
-                fmt::format("{}: header geometry inconsistent with its {} bytes", name,
-                            mapped_bytes));
+                fmt::format("{}: header geometry inconsistent with its {} bytes", name, mapped_bytes));
   }
   const bool reader_takes_any_type = spec.any_type && !check_geometry;
   if (h.type_fingerprint != spec.type_fingerprint && !reader_takes_any_type) {
-    return Fail(ShmError::kTypeMismatch,
-                fmt::format("{}: carries type fingerprint {:#x}, expected {:#x}", name,
-                            static_cast<std::uint64_t>(h.type_fingerprint),
-                            static_cast<std::uint64_t>(spec.type_fingerprint)));
+    return Fail(ShmError::kTypeMismatch, fmt::format("{}: carries type fingerprint {:#x}, expected {:#x}", name,
+                                                     static_cast<std::uint64_t>(h.type_fingerprint),
+                                                     static_cast<std::uint64_t>(spec.type_fingerprint)));
   }
-  if (check_geometry &&
-      (h.slot_count != spec.slot_count || h.slot_size_bytes != spec.slot_size_bytes)) {
+  if (check_geometry && (h.slot_count != spec.slot_count || h.slot_size_bytes != spec.slot_size_bytes)) {
     return Fail(ShmError::kGeometryMismatch,
-                fmt::format("{}: has {} slots of {} bytes, spec wants {} of {}", name,
-                            h.slot_count, h.slot_size_bytes, spec.slot_count,
-                            spec.slot_size_bytes));
+                fmt::format("{}: has {} slots of {} bytes, spec wants {} of {}", name, h.slot_count, h.slot_size_bytes,
+                            spec.slot_count, spec.slot_size_bytes));
   }
   return {};
 }
@@ -185,8 +178,8 @@ void ClaimWriter(ShmSegmentHeader* h) {
 
 ShmResult<ShmSegment> CreateSegment(const ShmChannelSpec& spec) {
   auto mapping = std::make_unique<ShmSegment::Mapping>();
-  mapping->object = bip::shared_memory_object(bip::create_only, spec.segment_name.c_str(),
-                                              bip::read_write, bip::permissions(spec.permissions));
+  mapping->object = bip::shared_memory_object(bip::create_only, spec.segment_name.c_str(), bip::read_write,
+                                              bip::permissions(spec.permissions));
   // shm_open applies the umask; the configured mode is the contract.
   ::fchmod(mapping->object.get_mapping_handle().handle, spec.permissions);
   const std::uint64_t bytes = ShmSegmentBytes(spec.slot_count, spec.slot_size_bytes);
@@ -219,9 +212,9 @@ bool OwnerAlive(const ShmSegmentHeader& h) {
 ShmResult<ShmSegment> AttachSegmentAsWriter(const ShmChannelSpec& spec) {
   if (auto bad = CheckSpec(spec); !bad.ok()) return bad;
   if (spec.any_type) {
-    return Fail(ShmError::kBadSpec,
-                fmt::format("{}: a writer must name its type (any_type is for readers that never decode)",
-                            spec.segment_name));
+    return Fail(
+        ShmError::kBadSpec,
+        fmt::format("{}: a writer must name its type (any_type is for readers that never decode)", spec.segment_name));
   }
   const std::string& name = spec.segment_name;
   for (int attempt = 0; attempt < 50; ++attempt) {
@@ -238,8 +231,7 @@ ShmResult<ShmSegment> AttachSegmentAsWriter(const ShmChannelSpec& spec) {
       if (check.ok()) {
         if (alive) {
           return Fail(ShmError::kWriterAlive,
-                      fmt::format("{}: process {} is already its writer", name,
-                                  h->writer_pid.load()));
+                      fmt::format("{}: process {} is already its writer", name, h->writer_pid.load()));
         }
         ShmResult<ShmSegment> result;
         result.value = ShmSegmentFactory::Make(name, std::move(mapping));
@@ -277,8 +269,7 @@ ShmResult<ShmSegment> AttachSegmentAsReader(const ShmChannelSpec& spec) {
     std::uint64_t bytes = 0;
     auto mapping = MapExisting(spec.segment_name, &bytes);
     if (bytes < sizeof(ShmSegmentHeader)) {
-      return Fail(ShmError::kNotReady,
-                  fmt::format("{}: writer still initialising", spec.segment_name));
+      return Fail(ShmError::kNotReady, fmt::format("{}: writer still initialising", spec.segment_name));
     }
     const auto* h = static_cast<const ShmSegmentHeader*>(mapping->region.get_address());
     ShmResult<ShmSegment> check = Validate(*h, bytes, spec, false);
@@ -288,15 +279,12 @@ ShmResult<ShmSegment> AttachSegmentAsReader(const ShmChannelSpec& spec) {
     return result;
   } catch (const bip::interprocess_exception& e) {
     if (e.get_error_code() == bip::not_found_error) {
-      return Fail(ShmError::kNotFound, fmt::format("{}: no such segment (no writer yet?)",
-                                                   spec.segment_name));
+      return Fail(ShmError::kNotFound, fmt::format("{}: no such segment (no writer yet?)", spec.segment_name));
     }
     return Fail(ShmError::kSystem, fmt::format("{}: {}", spec.segment_name, e.what()));
   }
 }
 
-void RemoveSegment(const std::string& segment_name) {
-  bip::shared_memory_object::remove(segment_name.c_str());
-}
+void RemoveSegment(const std::string& segment_name) { bip::shared_memory_object::remove(segment_name.c_str()); }
 
 }  // namespace edsp

@@ -26,9 +26,7 @@ const ChannelRoute& TransportConfig::Route(const std::string& channel) const {
   return it == channels.end() ? kLcmRoute : it->second;
 }
 
-std::string TransportConfig::SegmentName(const std::string& channel) const {
-  return shm_prefix + "." + channel;
-}
+std::string TransportConfig::SegmentName(const std::string& channel) const { return shm_prefix + "." + channel; }
 
 namespace {
 
@@ -36,8 +34,8 @@ namespace {
   throw TransportError(fmt::format("{}:{}: {}", origin, node.source().begin.line, what));
 }
 
-std::uint32_t ReadCount(const toml::table& table, const char* key, std::uint32_t fallback,
-                        std::uint32_t max, const std::string& where, const std::string& origin) {
+std::uint32_t ReadCount(const toml::table& table, const char* key, std::uint32_t fallback, std::uint32_t max,
+                        const std::string& where, const std::string& origin) {
   const toml::node* node = table.get(key);
   if (node == nullptr) return fallback;
   const auto value = node->value<std::int64_t>();
@@ -47,13 +45,12 @@ std::uint32_t ReadCount(const toml::table& table, const char* key, std::uint32_t
   return static_cast<std::uint32_t>(*value);
 }
 
-ChannelRoute ReadRoute(const toml::table& table, const std::string& channel,
-                       const std::string& origin) {
+ChannelRoute ReadRoute(const toml::table& table, const std::string& channel, const std::string& origin) {
   const std::string where = fmt::format("[transport.channels.{}]", channel);
   for (auto&& [key, node] : table) {
     const std::string k(key.str());
-    if (k != "path" && k != "mirror_every" && k != "slots" && k != "slot_size_bytes" &&
-        k != "writer" && k != "readers") {
+    if (k != "path" && k != "mirror_every" && k != "slots" && k != "slot_size_bytes" && k != "writer" &&
+        k != "readers") {
       Fail(origin, node,
            fmt::format("unknown key {} {} (known: path, mirror_every, slots, slot_size_bytes, "
                        "writer, readers)",
@@ -90,11 +87,9 @@ ChannelRoute ReadRoute(const toml::table& table, const std::string& channel,
   route.mirror_every = ReadCount(table, "mirror_every", 1, 1000000, where, origin);
   route.slots = ReadCount(table, "slots", route.slots, 65536, where, origin);
   if ((route.slots & (route.slots - 1)) != 0 || route.slots < 2) {
-    Fail(origin, *table.get("slots"),
-         fmt::format("{} slots = {} must be a power of two ≥ 2", where, route.slots));
+    Fail(origin, *table.get("slots"), fmt::format("{} slots = {} must be a power of two ≥ 2", where, route.slots));
   }
-  route.slot_size_bytes =
-      ReadCount(table, "slot_size_bytes", route.slot_size_bytes, 16u << 20, where, origin);
+  route.slot_size_bytes = ReadCount(table, "slot_size_bytes", route.slot_size_bytes, 16u << 20, where, origin);
   return route;
 }
 
@@ -118,8 +113,8 @@ TransportConfig ParseTransportConfig(const std::string& toml_text, const std::st
   try {
     root = toml::parse(toml_text, origin);
   } catch (const toml::parse_error& e) {
-    throw TransportError(fmt::format("{}:{}:{}: {}", origin, e.source().begin.line,
-                                     e.source().begin.column, e.description()));
+    throw TransportError(
+        fmt::format("{}:{}:{}: {}", origin, e.source().begin.line, e.source().begin.column, e.description()));
   }
   TransportConfig config;
   ReadMemberHosts(root, &config);
@@ -158,8 +153,7 @@ TransportConfig ParseTransportConfig(const std::string& toml_text, const std::st
         if (table == nullptr) {
           Fail(origin, route, fmt::format("[transport.channels.{}] must be a table", name.str()));
         }
-        config.channels[std::string(name.str())] =
-            ReadRoute(*table, std::string(name.str()), origin);
+        config.channels[std::string(name.str())] = ReadRoute(*table, std::string(name.str()), origin);
       }
     } else {
       Fail(origin, node, fmt::format("unknown key [transport] {}", k));

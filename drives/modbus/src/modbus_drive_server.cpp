@@ -21,8 +21,8 @@ constexpr int kFunctionReadWriteMultiple = 0x17;
 constexpr int kFunctionOffset = 7;  // after the MBAP header
 
 std::int64_t WallUtime() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::system_clock::now().time_since_epoch()).count();
+  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
 }
 
 int BoundPort(int socket) {
@@ -67,7 +67,8 @@ ModbusDriveServer::~ModbusDriveServer() {
 void ModbusDriveServer::Latch() {
   for (int d = 0; d < modbus_map::kDrives; ++d) {
     const modbus_map::DriveRegisters r = modbus_map::EncodeFeedback(cabinet_.latched()[static_cast<std::size_t>(d)]);
-    std::copy(r.begin(), r.end(), mapping_->tab_registers + modbus_map::kFeedbackAddress + d * modbus_map::kRegistersPerDrive);
+    std::copy(r.begin(), r.end(),
+              mapping_->tab_registers + modbus_map::kFeedbackAddress + d * modbus_map::kRegistersPerDrive);
   }
 }
 
@@ -90,7 +91,8 @@ void ModbusDriveServer::Serve(int client) {
   }
   ++requests_;
   const int function = query[kFunctionOffset];
-  if (function == kFunctionWriteSingle || function == kFunctionWriteMultiple || function == kFunctionReadWriteMultiple) {
+  if (function == kFunctionWriteSingle || function == kFunctionWriteMultiple ||
+      function == kFunctionReadWriteMultiple) {
     CspCommands commands;
     for (int d = 0; d < modbus_map::kDrives; ++d) {
       commands[static_cast<std::size_t>(d)] = modbus_map::DecodeCommand(
@@ -109,7 +111,8 @@ void ModbusDriveServer::Run(const std::function<bool()>& stop) {
     if (due > 0 && cabinet_.Tick(options_.cycle_s * static_cast<double>(due))) Latch();
     pollfd fds[2] = {{listener_, POLLIN, 0}, {client_, POLLIN, 0}};
     const auto wait = std::chrono::duration_cast<std::chrono::nanoseconds>(schedule.next_tick() - now);
-    const timespec timeout{static_cast<time_t>(wait.count() / 1000000000), static_cast<long>(wait.count() % 1000000000)};
+    const timespec timeout{static_cast<time_t>(wait.count() / 1000000000),
+                           static_cast<long>(wait.count() % 1000000000)};
     const int ready = ::ppoll(fds, client_ >= 0 ? 2 : 1, &timeout, nullptr);
     if (ready <= 0) continue;
     if ((fds[0].revents & POLLIN) != 0) {

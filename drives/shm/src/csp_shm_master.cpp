@@ -47,9 +47,9 @@ bool CspShmMaster::Connect(std::string* error) {
   auto reader = ShmReader::Open(spec);
   if (!reader.ok()) {
     const bool absent = reader.error == ShmError::kNotFound || reader.error == ShmError::kNotReady;
-    *error = fmt::format("{}: {}", endpoint(),
-                         absent ? "no drives serve " + spec.segment_name + " (is edsp-drive-sim --serve shm running?)"
-                                : reader.message);
+    *error = fmt::format(
+        "{}: {}", endpoint(),
+        absent ? "no drives serve " + spec.segment_name + " (is edsp-drive-sim --serve shm running?)" : reader.message);
     return false;
   }
   if (!reader.value->WriterAlive()) {

@@ -51,7 +51,7 @@ void CspShmServer::TakeCommands() {
       CspCommands commands;
       for (std::size_t d = 0; d < commands.size(); ++d) commands[d] = image.drives[d];
       cabinet_.Command(commands, image.utime);  // the instant the master wrote them
-      return;  // its master wrote it since the last cycle: no need to look for one
+      return;                                   // its master wrote it since the last cycle: no need to look for one
     }
   }
   const std::int64_t now = WallUs();

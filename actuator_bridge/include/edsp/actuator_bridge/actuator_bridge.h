@@ -28,11 +28,11 @@ inline constexpr double kShortestFeedForwardBasisS = 2e-4;
 
 struct BridgeOptions {
   std::string node_name = "actuator_bridge";
-  std::int64_t session_id = 0;       // commands from any other session are refused
-  std::int64_t stale_us = 50000;     // no valid command for this long: hold
-  double max_leg_speed_m_s = -1.0;   // faster changes are jumps; < 0: the config's
-                                     // [limits] leg_speed_max_m_s
-  double rejoin_speed_m_s = 0.02;    // after a re-arm: how fast the held legs go to the stream
+  std::int64_t session_id = 0;      // commands from any other session are refused
+  std::int64_t stale_us = 50000;    // no valid command for this long: hold
+  double max_leg_speed_m_s = -1.0;  // faster changes are jumps; < 0: the config's
+                                    // [limits] leg_speed_max_m_s
+  double rejoin_speed_m_s = 0.02;   // after a re-arm: how fast the held legs go to the stream
 };
 
 class ActuatorBridge {
@@ -119,8 +119,8 @@ class ActuatorBridge {
   // allow is a bug here: the bridge then latches, the safe side.
   void Apply(BridgeEvent event);
   bool Moving() const { return !IsHolding(state_); }
-  void HoldAtRest();             // the last valid position, at rest
-  void HoldWhereTheDrivesAre();  // after drives answer again
+  void HoldAtRest();                                        // the last valid position, at rest
+  void HoldWhereTheDrivesAre();                             // after drives answer again
   bool LoseDrives(std::int64_t now_utime, fault_t* fault);  // hold at rest, latch; the fault
   // While the drives stay lost, each new reason from the backend (refused →
   // timed out → drive 3 in fault 8130h) is reported once per outage, the
@@ -130,21 +130,21 @@ class ActuatorBridge {
   PlatformModel model_;
   DriveBackend* backend_;
   BridgeOptions options_;
-  DriveSetpoint target_;             // what the drives are told
+  DriveSetpoint target_;  // what the drives are told
   Vector6 target_length_m_;
   BridgeState state_ = BridgeState::kStartupHold;
-  const char* latch_cause_ = "";     // why it is latched, for the refusals that follow
-  std::int64_t target_utime_ = -1;   // receipt time of the last valid command (-1: none yet)
+  const char* latch_cause_ = "";    // why it is latched, for the refusals that follow
+  std::int64_t target_utime_ = -1;  // receipt time of the last valid command (-1: none yet)
   std::int64_t last_cycle_utime_ = -1;
-  std::int64_t last_basis_utime_ = 0; // its planner time (setpoint_utime)
+  std::int64_t last_basis_utime_ = 0;  // its planner time (setpoint_utime)
   std::int64_t last_command_seq_ = 0;
-  bool backend_ok_ = true;           // drive health, an input: faults are raised on its changes
+  bool backend_ok_ = true;                  // drive health, an input: faults are raised on its changes
   std::set<std::string> reported_reasons_;  // the backend's reasons reported in this outage
   std::int64_t backend_report_utime_ = 0;   // when the last of them was
   // Set when a command found this bridge starved past the stale limit (it
   // was frozen): the next cycle holds the drives where its read finds them.
   bool hold_where_the_drives_are_ = false;
-  Vector6 stream_length_m_;          // the last valid command (= target unless rejoining)
+  Vector6 stream_length_m_;  // the last valid command (= target unless rejoining)
   std::int64_t state_seq_ = 0;
   std::int64_t accepted_ = 0;
   std::int64_t rejected_ = 0;

@@ -37,8 +37,7 @@ struct DrivesConfig {
 std::string ScalingProblem(const std::array<cia402::DriveScaling, 6>& scaling);
 
 // Throws ConfigError naming the file, line and key.
-DrivesConfig ParseDrivesConfig(const std::string& toml_text, const std::string& origin,
-                               const DriveParameters& drive);
+DrivesConfig ParseDrivesConfig(const std::string& toml_text, const std::string& origin, const DriveParameters& drive);
 DrivesConfig LoadDrivesConfig(const std::string& path, const PlatformConfig& platform);
 
 }  // namespace edsp

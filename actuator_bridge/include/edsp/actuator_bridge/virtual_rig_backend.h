@@ -17,8 +17,7 @@ namespace edsp {
 
 class VirtualRigBackend final : public DriveBackend {
  public:
-  VirtualRigBackend(std::string segment_prefix, mode_t permissions = 0600,
-                    std::int64_t timeout_us = 50000);
+  VirtualRigBackend(std::string segment_prefix, mode_t permissions = 0600, std::int64_t timeout_us = 50000);
   bool Configure(const PlatformConfig& config, std::string* error) override;
   // Waits up to 5 s for the drives' feedback channel to appear.
   bool Activate(std::string* error) override;

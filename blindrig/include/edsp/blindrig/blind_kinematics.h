@@ -22,7 +22,7 @@ struct BlindGeometry {
   Mat36 base_axis = Mat36::Zero();       // outer axis fixed in {B}
   Mat36 platform_axis = Mat36::Zero();   // outer axis fixed in {M}
   double home_height_m = 0.0;
-  Vec3 point_M = Vec3::Zero();           // observation point A in {M}
+  Vec3 point_M = Vec3::Zero();  // observation point A in {M}
 };
 
 // q = [x y z roll pitch yaw]; R = Rz(yaw)·Ry(pitch)·Rx(roll).

@@ -37,8 +37,8 @@ class BlindMotion {
   std::size_t Segment(double t) const;
 
   std::string name_;
-  std::vector<Vec6> from_, to_;   // per segment
-  std::vector<double> end_s_;     // segment end times
+  std::vector<Vec6> from_, to_;  // per segment
+  std::vector<double> end_s_;    // segment end times
 };
 
 }  // namespace edsp::blind

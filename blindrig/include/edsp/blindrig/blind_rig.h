@@ -19,45 +19,45 @@ namespace edsp::blind {
 // What the platform really does beyond the controller's nominal model. Zero
 // (or the default) is off for each.
 struct BlindEffects {
-  bool pr_override = false;          // passive_rotation: the screws' true s differs
-  int true_pr_sign = 1;              //   ±1, or 0 for screws without PR
-  Vec6 leg_offset_m = Vec6::Zero();  // leg_offset: length at encoder zero, beyond nominal
+  bool pr_override = false;                      // passive_rotation: the screws' true s differs
+  int true_pr_sign = 1;                          //   ±1, or 0 for screws without PR
+  Vec6 leg_offset_m = Vec6::Zero();              // leg_offset: length at encoder zero, beyond nominal
   Mat36 base_joint_error_m = Mat36::Zero();      // joint_position, in {B}
   Mat36 platform_joint_error_m = Mat36::Zero();  //   and in {M}
-  Vec6 lead_error = Vec6::Zero();    // lead_error: travel × (1 + ε)
+  Vec6 lead_error = Vec6::Zero();                // lead_error: travel × (1 + ε)
   Vec6 periodic_amplitude_m = Vec6::Zero(), periodic_phase_rad = Vec6::Zero();  // once per screw turn
-  Vec6 backlash_m = Vec6::Zero();    // backlash: play between motor and screw travel
-  double servo_bandwidth_hz = 0.0;   // servo_lag: critically damped motor loop (0: ideal)
-  Vec6 stiffness_N_m = Vec6::Zero(); // compliance: axial (0: rigid)
-  double mass_kg = 0.0;              //   the moving platform, centre of mass in {M}
+  Vec6 backlash_m = Vec6::Zero();     // backlash: play between motor and screw travel
+  double servo_bandwidth_hz = 0.0;    // servo_lag: critically damped motor loop (0: ideal)
+  Vec6 stiffness_N_m = Vec6::Zero();  // compliance: axial (0: rigid)
+  double mass_kg = 0.0;               //   the moving platform, centre of mass in {M}
   Vec3 com_M = Vec3::Zero();
-  double alpha_per_K = 0.0;          // thermal_drift: the screw grows α·ΔT·(half screw + travel)
-  double heating_K_per_m = 0.0;      //   heating by leg travel
-  double heating_K_per_s = 0.0;      //   heating by time under power (a motor warming its screw)
-  double thermal_tau_s = 900.0;      //   cooling time constant
+  double alpha_per_K = 0.0;      // thermal_drift: the screw grows α·ΔT·(half screw + travel)
+  double heating_K_per_m = 0.0;  //   heating by leg travel
+  double heating_K_per_s = 0.0;  //   heating by time under power (a motor warming its screw)
+  double thermal_tau_s = 900.0;  //   cooling time constant
   double screw_length_m = 0.6;
-  double resonance_hz = 0.0;         // structural_resonance: a lightly damped sway of the structure
-  double resonance_damping = 0.02;   //   carrying A, excited by A's acceleration (displacement per
-  double resonance_gain = 0.0;       //   acceleration: gain / ω² at low frequency)
+  double resonance_hz = 0.0;        // structural_resonance: a lightly damped sway of the structure
+  double resonance_damping = 0.02;  //   carrying A, excited by A's acceleration (displacement per
+  double resonance_gain = 0.0;      //   acceleration: gain / ω² at low frequency)
   // Outside edsp-gap's vocabulary:
-  double floor_hz = 0.0;             // the tracker's stand vibrating on the floor
+  double floor_hz = 0.0;  // the tracker's stand vibrating on the floor
   double floor_amplitude_m = 0.0;
   Vec3 floor_direction = Vec3::UnitX();
-  double base_tilt_rad_per_N_m = 0.0;  // the base mount's rotational give under the platform's moment
+  double base_tilt_rad_per_N_m = 0.0;       // the base mount's rotational give under the platform's moment
   Vec3 stand_drift_m_per_s = Vec3::Zero();  // the tracker's stand settling: its readings creep
   double stand_settle_s = 300.0;            //   at this rate, slowing with this time constant
-  double clock_drift = 0.0;          // the tracker's clock gains this fraction on the controller's:
-                                     //   its readings fall later and later over the session
-  double target_reseat_m = 0.0;      // the tracker's target re-seated in its nest before each run:
-                                     //   A sits this far (RMS) from its nominal centre, drawn anew each run, in {M}
+  double clock_drift = 0.0;                 // the tracker's clock gains this fraction on the controller's:
+                                            //   its readings fall later and later over the session
+  double target_reseat_m = 0.0;             // the tracker's target re-seated in its nest before each run:
+                                 //   A sits this far (RMS) from its nominal centre, drawn anew each run, in {M}
 };
 
 struct TrackerOptions {
   double rate_hz = 100.0;
-  double noise_m = 10e-6;            // 1-σ per axis
-  bool encoders = true;              // write leg_enc_* columns
+  double noise_m = 10e-6;                                             // 1-σ per axis
+  bool encoders = true;                                               // write leg_enc_* columns
   Vec6 frame = (Vec6() << 1.8, -0.7, 0.3, 0.0, 0.0, 0.5).finished();  // tracker pose of {B}: x y z r p y
-  std::uint64_t seed = 1;            // noise
+  std::uint64_t seed = 1;                                             // noise
   // How late the tracker's readings are (s; its clock ahead of the
   // controller's by that much): a row stamped t holds the reading of
   // instant t − offset (− clock_drift·t with BlindEffects' drift). A
@@ -67,9 +67,9 @@ struct TrackerOptions {
 };
 
 struct BlindRigSetup {
-  BlindGeometry geometry;            // nominal: what the controller and the diagnosis believe
+  BlindGeometry geometry;  // nominal: what the controller and the diagnosis believe
   double lead_m = 0.010;
-  int pr_sign = 1;                   // the controller compensates signed PR with this s
+  int pr_sign = 1;  // the controller compensates signed PR with this s
   std::vector<std::string> motions = {"Lz", "Lx", "Rz", "Ry", "M1", "M2", "M3", "M4"};
   MotionLimits limits;
   double control_rate_hz = 1000.0;
@@ -83,8 +83,8 @@ std::string GenerateMeasurementCsv(const BlindRigSetup& setup, const BlindEffect
 // A drawn scenario: the effects, the truth in the diagnosis's vocabulary
 // (empty: effect-free), its kind, and the tracker it is measured with.
 struct BlindScenario {
-  std::string kind;                  // none | single | pair | out_of_vocabulary
-  std::vector<std::string> truth;    // vocabulary names; out_of_vocabulary: its own name
+  std::string kind;                // none | single | pair | out_of_vocabulary
+  std::vector<std::string> truth;  // vocabulary names; out_of_vocabulary: its own name
   BlindEffects effects;
   TrackerOptions tracker;
   std::string description;

@@ -23,42 +23,42 @@ namespace edsp::gap {
 struct BenchmarkOptions {
   int scenarios = 20;
   std::uint64_t seed = 1;
-  std::string config_path;           // nominal model; default: the paper's platform
-  double tracker_noise_m = 5e-6;     // 1-σ per axis
+  std::string config_path;        // nominal model; default: the paper's platform
+  double tracker_noise_m = 5e-6;  // 1-σ per axis
   double tracker_rate_hz = 100.0;
   // The paper's four and four mixed motions (every axis at once): each run
   // held out is then predicted from runs that span the same workspace.
   std::vector<std::string> motions = {"Lz", "Lx", "Rz", "Ry", "M1", "M2", "M3", "M4"};
-  std::string generator = "rig";     // rig | blind (the blind rig draws its own tracker: rate 10–1000 Hz,
-                                     // σ 2–20 µm, with or without encoders; noise and rate above are the rig's)
+  std::string generator = "rig";  // rig | blind (the blind rig draws its own tracker: rate 10–1000 Hz,
+                                  // σ 2–20 µm, with or without encoders; noise and rate above are the rig's)
   // Blind generator: encoder columns as drawn, or in every scenario
   // ("with") or none ("without"), so the checks that need their absence
   // (the clock's offset, step 12) are exercised; the rest of each draw is
   // the same.
-  std::string encoders = "drawn";    // drawn | with | without
+  std::string encoders = "drawn";  // drawn | with | without
   // The closed loop (rig generator only): after the diagnosis, these motions,
   // which no fit saw, run without and with the saved model applied by the
   // kinematics; empty: not run.
   std::vector<std::string> closed_loop_motions = {"Ly", "Rx", "M9"};
-  std::string keep_dir;              // empty: scenarios in a temporary directory, removed
-  bool progress = true;              // a progress bar on stderr
+  std::string keep_dir;  // empty: scenarios in a temporary directory, removed
+  bool progress = true;  // a progress bar on stderr
 };
 
 // Scored, whichever generator drew it.
 struct ScenarioScore {
   int index = 0;
-  std::string kind;                  // none | single | pair | out_of_vocabulary
-  std::vector<std::string> truth;    // effect names; out of vocabulary: its own name
+  std::string kind;                // none | single | pair | out_of_vocabulary
+  std::vector<std::string> truth;  // effect names; out of vocabulary: its own name
   std::string description;
-  std::vector<std::string> found;    // identified or ambiguous, ranked
-  std::string top;                   // first ranked entry ("none"/"unknown" included)
+  std::vector<std::string> found;  // identified or ambiguous, ranked
+  std::string top;                 // first ranked entry ("none"/"unknown" included)
   std::string conclusion;
   bool top_true = false, all_found = false, false_identified = false;
   bool top_identified_true = false;  // the first `identified` effect is a true one
   bool all_identified = false;       // every true effect `identified`
   double before_rms_m = 0.0, after_rms_m = 0.0, shrink = 0.0, noise_floor_m = 0.0;
-  double noise_sigma_m = 0.0;        // the generator's tracker noise, 1-σ per axis (the truth, not estimated)
-  double gap_shrink = 0.0;           // GapShrink against that noise
+  double noise_sigma_m = 0.0;  // the generator's tracker noise, 1-σ per axis (the truth, not estimated)
+  double gap_shrink = 0.0;     // GapShrink against that noise
   double simulate_s = 0.0, diagnose_s = 0.0;
   // A miss (a true effect not identified first or at all, or a false one
   // identified): the held-out RMS the true effects reach beside the one the
@@ -87,9 +87,9 @@ struct BenchmarkResult {
   int pairs_both_identified = 0;
   int clean = 0, clean_nothing_identified = 0, clean_none = 0;
   int out_of_vocabulary = 0, out_of_vocabulary_unknown = 0;  // conclusion unknown, nothing identified
-  int any_false_identified = 0;         // scenarios of any kind with an effect identified that is not there
-  int extra_identified = 0;             // scenarios with effects where a false one was also identified
-  double median_shrink = 0.0;           // scenarios with effects of the vocabulary
+  int any_false_identified = 0;  // scenarios of any kind with an effect identified that is not there
+  int extra_identified = 0;      // scenarios with effects where a false one was also identified
+  double median_shrink = 0.0;    // scenarios with effects of the vocabulary
   // What a perfect model would reach on them: the held-out gap down to the
   // tracker's noise floor, 1 − floor/before. The median shrink can exceed
   // it only by the floor estimate's error (a few per cent of the floor)
@@ -105,8 +105,8 @@ struct BenchmarkResult {
   int closed_loop = 0;
   double median_closed_shrink = 0.0, median_closed_predicted_shrink = 0.0;
   double median_closed_gap_shrink = 0.0, median_closed_predicted_gap_shrink = 0.0;
-  std::vector<int> closed_disagree;     // measured and predicted shrink 10 points or more apart
-  std::vector<int> closed_gap_disagree; //   the same of the gap above the noise
+  std::vector<int> closed_disagree;      // measured and predicted shrink 10 points or more apart
+  std::vector<int> closed_gap_disagree;  //   the same of the gap above the noise
 };
 
 BenchmarkResult RunBenchmark(const BenchmarkOptions& options);

@@ -25,7 +25,7 @@ namespace edsp::gap {
 // Runs every check on `out`, whose selected effects, verdicts, structure
 // and conclusion the diagnosis has set; `plain` scores effect sets on `d`
 // with the effects' prior `prior`.
-void CheckBeyondTheVocabulary(const Design& d, const Eigen::VectorXd& prior, Evaluator& plain,
-                              const DiagnoseOptions& o, Diagnosis* out);
+void CheckBeyondTheVocabulary(const Design& d, const Eigen::VectorXd& prior, Evaluator& plain, const DiagnoseOptions& o,
+                              Diagnosis* out);
 
 }  // namespace edsp::gap

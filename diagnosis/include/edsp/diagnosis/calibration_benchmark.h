@@ -25,26 +25,25 @@ struct MotionDesign {
 struct CalibrationBenchmarkOptions {
   int rigs = 10;
   std::uint64_t seed = 1;
-  std::string config_path;           // nominal model; default: the paper's platform
-  double tracker_noise_m = 5e-6;     // 1-σ per axis
+  std::string config_path;        // nominal model; default: the paper's platform
+  double tracker_noise_m = 5e-6;  // 1-σ per axis
   double tracker_rate_hz = 100.0;
-  std::vector<MotionDesign> designs = {{"designed", {"calibration"}},
-                                       {"six", {"Lz", "Lx", "Rz", "Ry", "M1", "M2"}}};
+  std::vector<MotionDesign> designs = {{"designed", {"calibration"}}, {"six", {"Lz", "Lx", "Rz", "Ry", "M1", "M2"}}};
   std::vector<std::string> held_out = {"Ly", "Rx", "M3", "M4"};
-  std::string keep_dir;              // empty: a temporary directory, removed
+  std::string keep_dir;  // empty: a temporary directory, removed
   bool progress = true;
 };
 
 struct DesignScore {
   std::string design;
-  double fit_duration_s = 0.0;       // simulated length of the fit motions
-  std::string conclusion;            // the fit's diagnosis
-  std::vector<std::string> applied;  // effects the kinematics applied
+  double fit_duration_s = 0.0;                    // simulated length of the fit motions
+  std::string conclusion;                         // the fit's diagnosis
+  std::vector<std::string> applied;               // effects the kinematics applied
   double before_rms_m = 0.0, before_max_m = 0.0;  // held out, uncalibrated
   double after_rms_m = 0.0, after_max_m = 0.0;    //   and calibrated (measured)
-  double predicted_rms_m = 0.0;      // what the model predicted from the uncalibrated run
+  double predicted_rms_m = 0.0;                   // what the model predicted from the uncalibrated run
   bool met = false;
-  std::string error;                 // the loop could not be closed (the run or the model refused)
+  std::string error;  // the loop could not be closed (the run or the model refused)
 };
 
 struct RigScore {

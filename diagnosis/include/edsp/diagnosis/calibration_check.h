@@ -17,9 +17,9 @@ namespace edsp::gap {
 
 struct MotionCheck {
   std::string run;
-  RmsMax before, after;          // measured without / with the calibration
+  RmsMax before, after;             // measured without / with the calibration
   std::optional<RmsMax> predicted;  // the model applied offline to `before`
-  double shrink = 0.0;           // 1 − after/before (RMS)
+  double shrink = 0.0;              // 1 − after/before (RMS)
 };
 
 struct CalibrationCheck {

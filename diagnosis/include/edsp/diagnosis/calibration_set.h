@@ -27,9 +27,9 @@ namespace edsp::gap {
 inline constexpr double kCalibrationMinGain = 0.01;
 
 struct CalibrationSet {
-  std::vector<Effect> effects;   // in the order they were added
-  std::string chosen_by;         // identified | selected | forward | backward
-  double cv_mse = 0.0;           // held-out MSE per coordinate, m²
+  std::vector<Effect> effects;     // in the order they were added
+  std::string chosen_by;           // identified | selected | forward | backward
+  double cv_mse = 0.0;             // held-out MSE per coordinate, m²
   double identified_cv_mse = 0.0;  //   of the identified effects alone
 };
 

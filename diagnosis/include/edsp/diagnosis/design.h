@@ -30,19 +30,19 @@ struct ColumnRange {
 
 struct Design {
   // Rows (3 per sample), grouped by run.
-  Eigen::VectorXd residual;          // r, m
-  Eigen::MatrixXd columns;           // [frame (6) | nuisance | every effect's θ columns]
-  ColumnRange frame;                 // δt (3), δω (3)
-  ColumnRange nuisance;              // estimated with the frame in every fit (none unless WithNuisance)
+  Eigen::VectorXd residual;                      // r, m
+  Eigen::MatrixXd columns;                       // [frame (6) | nuisance | every effect's θ columns]
+  ColumnRange frame;                             // δt (3), δω (3)
+  ColumnRange nuisance;                          // estimated with the frame in every fit (none unless WithNuisance)
   std::array<ColumnRange, kEffectCount> effect;  // by static_cast<int>(Effect)
-  std::vector<int> sample_run;       // run of each sample
-  std::vector<ColumnRange> run_samples;  // samples of each run (contiguous)
+  std::vector<int> sample_run;                   // run of each sample
+  std::vector<ColumnRange> run_samples;          // samples of each run (contiguous)
   std::vector<std::string> runs;
-  std::vector<int> source_row;       // row in MeasurementData of each sample
+  std::vector<int> source_row;  // row in MeasurementData of each sample
 
   // Per sample, for the gap summaries.
   std::vector<Eigen::Matrix<double, 3, 6>> point_per_leg;  // R0·G_n
-  std::vector<Vector3> model_point;  // A_n in {B}
+  std::vector<Vector3> model_point;                        // A_n in {B}
   std::vector<Vector6> leg_velocity_m_s;
   std::vector<Vector6> leg_accel_m_s2;
   std::vector<Vector3> point_accel_m_s2;  // A's, in {B}, along the commands (0 at a run's ends)
@@ -52,7 +52,7 @@ struct Design {
   std::vector<Eigen::Matrix<double, 3, 4>> load_moment_per_kg;
   std::vector<Vector6> servo_error_m;  // leg_cmd − leg_enc, when the data has encoders
   std::vector<double> time_s;
-  std::vector<double> displacement;    // |pose − home| (m, rad mixed: metres + 1 m per rad)
+  std::vector<double> displacement;  // |pose − home| (m, rad mixed: metres + 1 m per rad)
   bool has_encoder = false;
 
   // The PR compensation the data's controller applied (IK length − command)
@@ -82,7 +82,7 @@ Design WithoutColumns(const Design& d);
 Design KeepOnly(const Design& d, const std::vector<Effect>& keep);
 
 // Rigid frame (R, t) with measured ≈ R·model + t, least squares (Umeyama).
-void EstimateFrame(const std::vector<Vector3>& model_points, const std::vector<Vector3>& measured,
-                   Matrix3* R, Vector3* t);
+void EstimateFrame(const std::vector<Vector3>& model_points, const std::vector<Vector3>& measured, Matrix3* R,
+                   Vector3* t);
 
 }  // namespace edsp::gap

@@ -19,17 +19,17 @@
 namespace edsp::gap {
 
 struct DiagnoseOptions {
-  double max_rate_hz = 100.0;     // rows per run are thinned to this rate
+  double max_rate_hz = 100.0;  // rows per run are thinned to this rate
   // Data recorded with a calibration in force (leg_corr_*_m): the rig's
   // whole effects (nominal) or what the calibration leaves (recorded_correction.h).
   Against against = Against::kNominal;
   DesignOptions design;
-  double min_cv_gain = 0.05;      // an effect must cut the held-out MSE by this fraction
-  double min_bic_drop = 10.0;     // and lower BIC by this much
-  double ambiguity_ratio = 0.7;   // an alternative reaching this share of its gain is as good
-  double significance = 0.05;     // and beat the model without it run by run (paired t-test, one-sided)
-  double nested_gain = 0.05;      // a richer effect replaces the simpler one it contains only
-                                  // if it cuts the held-out MSE by this fraction more
+  double min_cv_gain = 0.05;     // an effect must cut the held-out MSE by this fraction
+  double min_bic_drop = 10.0;    // and lower BIC by this much
+  double ambiguity_ratio = 0.7;  // an alternative reaching this share of its gain is as good
+  double significance = 0.05;    // and beat the model without it run by run (paired t-test, one-sided)
+  double nested_gain = 0.05;     // a richer effect replaces the simpler one it contains only
+                                 // if it cuts the held-out MSE by this fraction more
   int max_effects = 10;
   // When thermal drift is found, its time constant is chosen among these by
   // the held-out error (empty: design.thermal_time_constant_s as given).
@@ -37,22 +37,22 @@ struct DiagnoseOptions {
   // Whether to search for a structural mode (structural_mode_fit.h) when
   // design.structural_mode_hz is 0; a given frequency is used as it is.
   bool fit_structural_mode = true;
-  StructureOptions structure;     // when what is left counts as structure (unknown)
+  StructureOptions structure;  // when what is left counts as structure (unknown)
 };
 
 struct EffectResult {
   Effect effect = Effect::kLegOffset;
-  Eigen::VectorXd theta, sigma;       // fitted on every run, with 1-σ uncertainties
-  double explained_fraction = 0.0;    // of the gap's variance, in selection order
-  double cv_gain = 0.0;               // held-out MSE reduction / baseline held-out MSE
-  std::string verdict;                // identified | ambiguous | rejected
+  Eigen::VectorXd theta, sigma;     // fitted on every run, with 1-σ uncertainties
+  double explained_fraction = 0.0;  // of the gap's variance, in selection order
+  double cv_gain = 0.0;             // held-out MSE reduction / baseline held-out MSE
+  std::string verdict;              // identified | ambiguous | rejected
   std::vector<std::string> ambiguous_with;
   std::string next_measurement;
-  double frame_overlap = 0.0;         // share of its signature the tracker frame can mimic
-  double max_correlation = 0.0;       // strongest |correlation| of a parameter with another
-  std::string correlated_with;        //   selected effect's or the frame's (selected effects)
-  bool encoder_checked = false;       // selected servo_lag with encoders:
-  double encoder_share = 0.0;         //   the share of it they show (encoder_check.h)
+  double frame_overlap = 0.0;    // share of its signature the tracker frame can mimic
+  double max_correlation = 0.0;  // strongest |correlation| of a parameter with another
+  std::string correlated_with;   //   selected effect's or the frame's (selected effects)
+  bool encoder_checked = false;  // selected servo_lag with encoders:
+  double encoder_share = 0.0;    //   the share of it they show (encoder_check.h)
 };
 
 // One sample's gap at A before and after the selected effects (in-sample),
@@ -68,11 +68,11 @@ struct SampleGap {
 // the selected effects and in place of those it resembles.
 struct BaseTiltCheck {
   bool tested = false;
-  double cv_gain = 0.0;   // the tilt's cut of the selected model's held-out MSE
-  bool tilts = false;     // by min_cv_gain and run by run: something beyond the vocabulary
+  double cv_gain = 0.0;           // the tilt's cut of the selected model's held-out MSE
+  bool tilts = false;             // by min_cv_gain and run by run: something beyond the vocabulary
   double in_place_cv_gain = 0.0;  // the same cut with the tilt in place of compliance and joint_position
   double in_place_share = 0.0;    // of their held-out gain, the share the tilt takes up in their place
-  bool replaces = false;  // not `tilts`, but in their place it ties with them as effects tie (Verdicts)
+  bool replaces = false;          // not `tilts`, but in their place it ties with them as effects tie (Verdicts)
 };
 
 // Whether the tracker's clock drifts from the controller's
@@ -83,10 +83,10 @@ struct BaseTiltCheck {
 struct ClockDriftCheck {
   bool tested = false;
   double drift = 0.0, sigma = 0.0;  // ρ (s/s; 1e-6 = 1 ppm, the tracker's clock gaining) and its 1-σ
-  double cv_gain = 0.0;   // the drift's cut of the held-out MSE beside the selected effects (and the offset)
-  bool run_by_run = false;  // |ρ| > 5σ and a cut every held-out run shows (the paired test)
-  bool drifts = false;    // and the cut is min_cv_gain or a selected effect no longer earns its place beside
-                          // the drifting clock: something beyond the vocabulary
+  double cv_gain = 0.0;             // the drift's cut of the held-out MSE beside the selected effects (and the offset)
+  bool run_by_run = false;          // |ρ| > 5σ and a cut every held-out run shows (the paired test)
+  bool drifts = false;              // and the cut is min_cv_gain or a selected effect no longer earns its place beside
+                                    // the drifting clock: something beyond the vocabulary
 };
 
 // Without encoders, whether a selected servo_lag is no more than the
@@ -117,45 +117,45 @@ struct RobustFitSummary {
 struct CalibrationResult {
   std::vector<Effect> effects;
   std::vector<Eigen::VectorXd> theta, sigma;  // one per effect, in that order (sigma: 1-σ)
-  std::string chosen_by;               // identified | selected | forward | backward
-  double heldout_rms_m = 0.0;          // point A, √(3·held-out MSE per coordinate)
-  double identified_heldout_rms_m = 0.0;  //   of the identified effects alone
+  std::string chosen_by;                      // identified | selected | forward | backward
+  double heldout_rms_m = 0.0;                 // point A, √(3·held-out MSE per coordinate)
+  double identified_heldout_rms_m = 0.0;      //   of the identified effects alone
 };
 
 struct Diagnosis {
-  DesignOptions design;               // the bases' settings the result holds for
+  DesignOptions design;  // the bases' settings the result holds for
   int samples = 0;
-  std::int64_t timing_excluded = 0;   // samples the data flagged timing_event, left out
+  std::int64_t timing_excluded = 0;  // samples the data flagged timing_event, left out
   std::vector<std::string> runs;
   GapSummary gap;                     // before any effect (frame estimated)
   std::vector<EffectResult> effects;  // ranked: selected first, then rejected by gain
   std::vector<Effect> selected;
-  CalibrationResult calibration;      // what a calibration applies
-  std::string conclusion;             // "effects", "none", "unknown" or "effects+unknown"
+  CalibrationResult calibration;  // what a calibration applies
+  std::string conclusion;         // "effects", "none", "unknown" or "effects+unknown"
   std::vector<std::string> holdout_runs;
   RmsMax holdout_before, holdout_after;
   double shrink = 0.0;
-  double gap_shrink = 0.0;            // of the gap above the noise floor (gap_shrink.h)
-  double noise_floor_rms_m = 0.0;     // point-A noise the tracker alone explains
+  double gap_shrink = 0.0;         // of the gap above the noise floor (gap_shrink.h)
+  double noise_floor_rms_m = 0.0;  // point-A noise the tracker alone explains
   // The effects' prior's measurement variance per coordinate (m²; linear_fit.h's
   // PriorWeights): the larger of the floor's and the frame-only fit's. The
   // searches over the bases' non-linear parameters use the same.
   double prior_sigma2 = 0.0;
-  RmsMax unexplained;                 // in-sample, after the selected effects
-  Whiteness whiteness;                // of the in-sample residual
-  ResidualStructure structure;        // of the held-out residual: decides unknown, as do
-  BaseTiltCheck base_tilt;            //   a base tilting under the payload,
-  ClockDriftCheck clock_drift;        //   a tracker clock drifting,
-  ClockOffsetCheck clock_offset;      //   a lag that may be the clock's, and a lag the encoders miss
+  RmsMax unexplained;             // in-sample, after the selected effects
+  Whiteness whiteness;            // of the in-sample residual
+  ResidualStructure structure;    // of the held-out residual: decides unknown, as do
+  BaseTiltCheck base_tilt;        //   a base tilting under the payload,
+  ClockDriftCheck clock_drift;    //   a tracker clock drifting,
+  ClockOffsetCheck clock_offset;  //   a lag that may be the clock's, and a lag the encoders miss
   std::string unexplained_note;
   std::vector<SampleGap> series;
-  TimeOffset time_offset;             // the tracker's clock, a nuisance (time_offset.h)
-  std::string applied_pr;             // the compensation found in the data: none | signed | unsigned | other
+  TimeOffset time_offset;  // the tracker's clock, a nuisance (time_offset.h)
+  std::string applied_pr;  // the compensation found in the data: none | signed | unsigned | other
   double applied_pr_ratio = 0.0;
   RobustFitSummary robust;
-  double condition_number = 0.0;      // of the selected model's column-scaled Jacobian
-  std::string platform;               // calibration::PlatformFingerprint of the model it ran on
-  Eigen::VectorXd frame;              // δt, δω around (R0, t0), with the selected effects
+  double condition_number = 0.0;  // of the selected model's column-scaled Jacobian
+  std::string platform;           // calibration::PlatformFingerprint of the model it ran on
+  Eigen::VectorXd frame;          // δt, δω around (R0, t0), with the selected effects
   Matrix3 R0 = Matrix3::Identity();
   Vector3 t0 = Vector3::Zero();
   double seconds = 0.0;

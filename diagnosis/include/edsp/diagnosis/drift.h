@@ -49,10 +49,10 @@ struct ParameterChange {
   int index = 0;          // the value's index in that group (per leg: leg − 1, or 3·(leg − 1) + axis)
   int leg = 0;            // 1–6 for a per-leg value, 0 otherwise
   double before = 0.0, after = 0.0, change = 0.0, sigma = 0.0;  // SI
-  double z = 0.0;         // change / sigma
-  double at_a_m = 0.0;    // how far the change moves point A on this session: RMS of its column × change
-  int theta_index = 0;    // of the effect's θ
-  bool applied = true;    // the kinematics applies it (calibration::UnappliedParameters): only such can count as changed
+  double z = 0.0;                                               // change / sigma
+  double at_a_m = 0.0;  // how far the change moves point A on this session: RMS of its column × change
+  int theta_index = 0;  // of the effect's θ
+  bool applied = true;  // the kinematics applies it (calibration::UnappliedParameters): only such can count as changed
 };
 
 struct DriftReport {
@@ -62,9 +62,9 @@ struct DriftReport {
   std::vector<ParameterChange> changed;     // those the kinematics applies with |z| ≥ z_threshold
                                             // that move A by kChangeAtAShare of the noise floor
   double z_threshold = 3.0;
-  std::vector<Effect> appeared;             // identified now, not in the baseline
-  std::vector<Effect> vanished;             // in the baseline, now within z_threshold·σ of zero
-  double heldout_rms_m = 0.0;               // what the baseline leaves on this data (frame refitted)
+  std::vector<Effect> appeared;  // identified now, not in the baseline
+  std::vector<Effect> vanished;  // in the baseline, now within z_threshold·σ of zero
+  double heldout_rms_m = 0.0;    // what the baseline leaves on this data (frame refitted)
   double heldout_max_m = 0.0;
   double noise_floor_rms_m = 0.0;
   double threshold_m = 0.0;

@@ -19,7 +19,7 @@ namespace edsp::gap {
 struct DriftBenchmarkOptions {
   int rigs = 10;
   std::uint64_t seed = 1;
-  std::string config_path;         // nominal model; default: the paper's platform
+  std::string config_path;  // nominal model; default: the paper's platform
   double tracker_noise_m = 5e-6;
   std::vector<std::string> fit_motions = {"Lz", "Lx", "Rz", "Ry", "M1", "M2"};
   std::vector<std::string> session_motions = {"Lz", "Lx", "Ry", "M3"};
@@ -40,9 +40,9 @@ struct DriftScenario {
   int index = 0;
   std::string description, kind;  // kind: backlash | offset | warmer_hall
   std::vector<TrueChange> truth;
-  int false_changes = 0;          // parameters named in the changed session that did not change
-  bool unchanged_quiet = false;   // the unchanged session named no change
-  int unchanged_named = 0;        //   or how many it named
+  int false_changes = 0;                       // parameters named in the changed session that did not change
+  bool unchanged_quiet = false;                // the unchanged session named no change
+  int unchanged_named = 0;                     //   or how many it named
   std::vector<std::string> unchanged_changes;  // each as drift's text names it
   bool recalibrate_unchanged = false, recalibrate_changed = false;
   std::string error;

@@ -114,7 +114,9 @@ class Evaluator {
 // effects' columns kept.
 struct WithStructure {
   WithStructure(const Design& d, const Eigen::VectorXd& effect_prior, const Eigen::MatrixXd& extra)
-      : design(WithNuisance(d, extra)), gram(design, MakeFolds(design)), prior(Eigen::VectorXd::Zero(design.parameters())) {
+      : design(WithNuisance(d, extra)),
+        gram(design, MakeFolds(design)),
+        prior(Eigen::VectorXd::Zero(design.parameters())) {
     const Eigen::Index effect_columns = d.parameters() - (d.frame.begin + d.frame.count);
     prior.tail(effect_columns) = effect_prior.tail(effect_columns);
   }
@@ -126,8 +128,7 @@ struct WithStructure {
 // Whether `e` earns its place among `selected` on `eval`, whose held-out
 // MSE for `selected` is `cv`: the set without it is min_cv_gain worse held
 // out, and `selected` beats it run by run (the paired test).
-bool EarnsItsPlace(Evaluator& eval, double cv, const std::vector<Effect>& selected, Effect e,
-                   const DiagnoseOptions& o);
+bool EarnsItsPlace(Evaluator& eval, double cv, const std::vector<Effect>& selected, Effect e, const DiagnoseOptions& o);
 
 // The selected effects that no longer earn their place beside a structure
 // that predicts the held-out runs `cv` (MSE): an effect that no longer cuts

@@ -16,8 +16,8 @@ namespace edsp::gap {
 using calibration::AllEffects;
 using calibration::Effect;
 using calibration::EffectName;
-using calibration::kEffectCount;
 using calibration::EffectTitle;
+using calibration::kEffectCount;
 using calibration::ParameterCount;
 using calibration::ParameterGroup;
 using calibration::ParameterGroups;

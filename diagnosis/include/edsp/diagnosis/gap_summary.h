@@ -25,15 +25,15 @@ struct RmsMax {
 struct GapSummary {
   RmsMax overall;
   std::vector<std::pair<std::string, RmsMax>> by_run;
-  std::array<double, 6> by_leg_m{};                 // RMS of the min-norm leg-space residual
+  std::array<double, 6> by_leg_m{};                               // RMS of the min-norm leg-space residual
   std::array<double, 6> extending_mean_m{}, retracting_mean_m{};  // its mean by direction, per leg
-  std::map<std::string, RmsMax> by_phase;           // at_rest, accelerating, cruising
-  std::map<std::string, RmsMax> by_region;          // near, mid, far from home (terciles)
-  std::vector<std::pair<double, RmsMax>> over_time; // start time of each tenth of the samples
+  std::map<std::string, RmsMax> by_phase;                         // at_rest, accelerating, cruising
+  std::map<std::string, RmsMax> by_region;                        // near, mid, far from home (terciles)
+  std::vector<std::pair<double, RmsMax>> over_time;               // start time of each tenth of the samples
   bool has_encoder = false;
-  std::array<double, 6> servo_tracking_m{};         // RMS of command − encoder, per leg
-  RmsMax mechanism;                                 // residual once the encoders' legs are used
-  std::string where;                                // the above in a sentence or three
+  std::array<double, 6> servo_tracking_m{};  // RMS of command − encoder, per leg
+  RmsMax mechanism;                          // residual once the encoders' legs are used
+  std::string where;                         // the above in a sentence or three
 };
 
 // `residual`: 3 values per sample of `design`.

@@ -48,8 +48,8 @@ class GramSet {
   // Σ over `folds` of the Gram block CₐᵀC_b.
   Eigen::MatrixXd Gram(const Columns& a, const Columns& b, const std::vector<int>& folds) const;
   // Covariance of θ (σ² (H + Λ)⁻¹), for uncertainties and correlations.
-  Eigen::MatrixXd Covariance(const Columns& columns, const std::vector<int>& train,
-                             const Eigen::VectorXd& prior_weight, double sigma2) const;
+  Eigen::MatrixXd Covariance(const Columns& columns, const std::vector<int>& train, const Eigen::VectorXd& prior_weight,
+                             double sigma2) const;
 
  private:
   Eigen::MatrixXd NormalMatrix(const Columns& columns, const std::vector<int>& folds,

@@ -13,7 +13,7 @@
 namespace edsp::gap {
 
 struct MeasurementRow {
-  int run = 0;                 // index into MeasurementData::runs
+  int run = 0;  // index into MeasurementData::runs
   double time_s = 0.0;
   Vector6 pose_cmd = Vector6::Zero();   // x y z roll pitch yaw, the planner's target
   Vector6 leg_cmd_m = Vector6::Zero();  // commanded to the drives, encoder-length units
@@ -22,7 +22,7 @@ struct MeasurementRow {
   // The calibration's correction the controller subtracted from this
   // command (leg_corr_*_m; zero when none ran or the source does not say).
   Vector6 leg_corr_m = Vector6::Zero();
-  Vector3 point_m = Vector3::Zero();    // tracker measurement of A, tracker frame
+  Vector3 point_m = Vector3::Zero();  // tracker measurement of A, tracker frame
 };
 
 struct MeasurementData {

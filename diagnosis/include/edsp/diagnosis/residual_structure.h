@@ -28,33 +28,33 @@
 namespace edsp::gap {
 
 struct ResidualStructure {
-  Whiteness whiteness;              // of the held-out residual
-  double structured_share = 0.0;    // of its variance above the white level
-  Whiteness in_sample_whiteness;    // the same of the fit's own residual
+  Whiteness whiteness;            // of the held-out residual
+  double structured_share = 0.0;  // of its variance above the white level
+  Whiteness in_sample_whiteness;  // the same of the fit's own residual
   double in_sample_share = 0.0;
-  double run_offset_share = 0.0;    // of its variance in the runs' means, beyond the noise's scatter
+  double run_offset_share = 0.0;  // of its variance in the runs' means, beyond the noise's scatter
   double in_sample_run_offset_share = 0.0;
-  bool runs_apart = false;          // the runs' means beyond chance, a clear share, in and out of sample
-  bool structured = false;          // whiteness fails and the share is clear (or the runs sit apart),
-                                    // in and out of sample
-  double structured_rms_m = 0.0;    // point RMS of the structured part
-  double dominant_hz = 0.0;         // the spectrum's peak (0: none)
-  double damping = 0.0;             // from the peak's half-power width (0: not resolved)
-  std::string follows = "nothing";  // acceleration | velocity | direction | pose | time | nothing
-  double follows_r2 = 0.0;          // share of the residual's variance that driver explains
+  bool runs_apart = false;              // the runs' means beyond chance, a clear share, in and out of sample
+  bool structured = false;              // whiteness fails and the share is clear (or the runs sit apart),
+                                        // in and out of sample
+  double structured_rms_m = 0.0;        // point RMS of the structured part
+  double dominant_hz = 0.0;             // the spectrum's peak (0: none)
+  double damping = 0.0;                 // from the peak's half-power width (0: not resolved)
+  std::string follows = "nothing";      // acceleration | velocity | direction | pose | time | nothing
+  double follows_r2 = 0.0;              // share of the residual's variance that driver explains
   std::vector<std::string> largest_in;  // runs where its RMS is largest
 
   std::string Describe() const;
 };
 
 struct StructureOptions {
-  double min_share = 0.10;          // of the variance above the white level, to count
+  double min_share = 0.10;  // of the variance above the white level, to count
   // Of the variance in the runs' means beyond the noise's scatter: the cut
   // in MSE that knowing each run's offset would give, so the bar an effect
   // must clear to be selected, not the spectral share's, whose white level
   // is itself an estimate. Diagnose sets it to DiagnoseOptions::min_cv_gain.
   double min_run_offset_share = 0.05;
-  double min_driver_r2 = 0.15;      // a driver must explain this share to be named
+  double min_driver_r2 = 0.15;  // a driver must explain this share to be named
 };
 
 // 3 values per sample of `d`: `in_sample` from the fit on every run,

@@ -15,9 +15,9 @@
 namespace edsp::gap {
 
 struct ThermalTimeConstantChoice {
-  double tau_s = 0.0;                    // the best of the grid and design.thermal_time_constant_s
-  double heldout_mse = 0.0;              // at tau_s, per coordinate (m²)
-  double heldout_mse_as_given = 0.0;     // at design.thermal_time_constant_s
+  double tau_s = 0.0;                 // the best of the grid and design.thermal_time_constant_s
+  double heldout_mse = 0.0;           // at tau_s, per coordinate (m²)
+  double heldout_mse_as_given = 0.0;  // at design.thermal_time_constant_s
 };
 
 // `data`: as the diagnosis fits it (decimated); `design`: the pass's

@@ -21,11 +21,11 @@
 namespace edsp::gap {
 
 struct TimeOffset {
-  bool estimated = false;   // the data has encoder columns
-  double offset_s = 0.0;    // δ: how late the readings are (a row stamped t reads t − δ: the tracker's clock ahead)
-  double sigma_s = 0.0;     // 1-σ, from the fit's covariance
-  bool applied = false;     // |δ| > kTimeOffsetSignificance·σ: removed from the residual
-  std::string note;         // for the report, one sentence
+  bool estimated = false;  // the data has encoder columns
+  double offset_s = 0.0;   // δ: how late the readings are (a row stamped t reads t − δ: the tracker's clock ahead)
+  double sigma_s = 0.0;    // 1-σ, from the fit's covariance
+  bool applied = false;    // |δ| > kTimeOffsetSignificance·σ: removed from the residual
+  std::string note;        // for the report, one sentence
 };
 
 inline constexpr double kTimeOffsetSignificance = 5.0;

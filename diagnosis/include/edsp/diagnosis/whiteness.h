@@ -12,10 +12,10 @@ namespace edsp::gap {
 
 struct Whiteness {
   bool white = true;
-  double q = 0.0;               // Ljung–Box statistic, pooled
-  int dof = 0;                  // lags × series
-  double threshold = 0.0;       // 99% quantile of χ²(dof) (normal approximation)
-  double lag1 = 0.0;            // mean lag-1 autocorrelation over the series
+  double q = 0.0;                 // Ljung–Box statistic, pooled
+  int dof = 0;                    // lags × series
+  double threshold = 0.0;         // 99% quantile of χ²(dof) (normal approximation)
+  double lag1 = 0.0;              // mean lag-1 autocorrelation over the series
   double outside_fraction = 0.0;  // of lags outside ±2.58/√N (resid's 99% band)
 };
 

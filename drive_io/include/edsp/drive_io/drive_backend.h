@@ -28,8 +28,8 @@ enum class BackendState { kUnconfigured, kInactive, kActive, kFault };
 enum class DriveStatus : std::int8_t { kDisabled = 0, kEnabled = 1, kHolding = 2, kFault = 3 };
 
 struct DriveSetpoint {
-  std::array<double, 6> motor_angle_rad{};      // position target, from home
-  std::array<double, 6> motor_velocity_rad_s{}; // velocity feed-forward
+  std::array<double, 6> motor_angle_rad{};       // position target, from home
+  std::array<double, 6> motor_velocity_rad_s{};  // velocity feed-forward
   // The instant the target is for (the setpoint's utime), so a drive that
   // takes it later, at its own cycle's phase, continues it along the
   // velocity from there instead of lagging by that phase; 0: when it arrives.

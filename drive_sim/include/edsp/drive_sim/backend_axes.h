@@ -42,8 +42,7 @@ class BackendAxes final : public CspAxes {
   BackendAxes(const BackendAxes&) = delete;
   BackendAxes& operator=(const BackendAxes&) = delete;
 
-  void Step(double dt_s, std::int64_t command_utime,
-            const std::array<AxisDemand, kCabinetDrives>& demands) override;
+  void Step(double dt_s, std::int64_t command_utime, const std::array<AxisDemand, kCabinetDrives>& demands) override;
   AxisReading Reading(int drive) const override { return readings_[static_cast<std::size_t>(drive)]; }
 
  private:
@@ -56,8 +55,8 @@ class BackendAxes final : public CspAxes {
   std::int64_t fieldbus_timeout_us_;
   DriveFeedback feedback_;
   bool feedback_ok_ = false;
-  std::array<bool, kCabinetDrives> followed_{};      // last cycle
-  std::array<double, kCabinetDrives> held_rad_{};    // where a standing drive holds
+  std::array<bool, kCabinetDrives> followed_{};    // last cycle
+  std::array<double, kCabinetDrives> held_rad_{};  // where a standing drive holds
   std::array<AxisReading, kCabinetDrives> readings_{};
 };
 

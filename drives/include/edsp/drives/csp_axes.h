@@ -45,8 +45,7 @@ class CspAxes {
   // One drive cycle of `dt_s`. `command_utime` is when the master's latest
   // write arrived: the instant its targets are for (a Modbus write carries
   // no time of its own).
-  virtual void Step(double dt_s, std::int64_t command_utime,
-                    const std::array<AxisDemand, kCabinetDrives>& demands) = 0;
+  virtual void Step(double dt_s, std::int64_t command_utime, const std::array<AxisDemand, kCabinetDrives>& demands) = 0;
   virtual AxisReading Reading(int drive) const = 0;
 };
 
@@ -54,8 +53,7 @@ class CspAxes {
 class SimulatedAxes final : public CspAxes {
  public:
   SimulatedAxes(double max_speed_counts_s, double position);
-  void Step(double dt_s, std::int64_t command_utime,
-            const std::array<AxisDemand, kCabinetDrives>& demands) override;
+  void Step(double dt_s, std::int64_t command_utime, const std::array<AxisDemand, kCabinetDrives>& demands) override;
   AxisReading Reading(int drive) const override { return readings_[static_cast<std::size_t>(drive)]; }
 
  private:

@@ -13,19 +13,19 @@ namespace edsp::cia402 {
 
 // RxPDO: master → drive.
 struct CspCommand {
-  std::uint16_t controlword = 0;         // 6040h
-  std::int8_t mode_of_operation = 0;     // 6060h (8 = CSP)
-  std::int32_t target_position = 0;      // 607Ah, counts
-  std::int32_t velocity_offset = 0;      // 60B1h, counts/s (feed-forward)
+  std::uint16_t controlword = 0;      // 6040h
+  std::int8_t mode_of_operation = 0;  // 6060h (8 = CSP)
+  std::int32_t target_position = 0;   // 607Ah, counts
+  std::int32_t velocity_offset = 0;   // 60B1h, counts/s (feed-forward)
 };
 
 // TxPDO: drive → master.
 struct CspFeedback {
-  std::uint16_t statusword = 0;          // 6041h
-  std::int8_t mode_display = 0;          // 6061h
-  std::int32_t position_actual = 0;      // 6064h, counts
-  std::int32_t velocity_actual = 0;      // 606Ch, counts/s
-  std::uint16_t error_code = 0;          // 603Fh
+  std::uint16_t statusword = 0;      // 6041h
+  std::int8_t mode_display = 0;      // 6061h
+  std::int32_t position_actual = 0;  // 6064h, counts
+  std::int32_t velocity_actual = 0;  // 606Ch, counts/s
+  std::uint16_t error_code = 0;      // 603Fh
   // edsp's: the drive cycle (mod 2^16) that latched this image. A request
   // reads what the drives' last cycle latched, before the commands it
   // carries took effect; a master that waits for a state it commanded
@@ -36,9 +36,9 @@ struct CspFeedback {
 // Motor angle (rad from the leg's home) ↔ drive counts:
 // counts = offset + direction · counts_per_rad · angle.
 struct DriveScaling {
-  double counts_per_rad = 0.0;  // encoder counts per motor radian (> 0)
+  double counts_per_rad = 0.0;     // encoder counts per motor radian (> 0)
   std::int32_t offset_counts = 0;  // the drive's count at the leg's home
-  int direction = 1;            // +1, or −1 for a motor mounted the other way
+  int direction = 1;               // +1, or −1 for a motor mounted the other way
 
   // "" when usable, else what is wrong (for config errors naming the drive).
   std::string Problem() const;

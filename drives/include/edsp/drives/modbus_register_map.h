@@ -14,8 +14,8 @@ namespace edsp::cia402::modbus_map {
 
 inline constexpr int kDrives = 6;
 inline constexpr int kRegistersPerDrive = 8;
-inline constexpr int kCommandAddress = 0;     // drive d's RxPDO at 0 + 8·d
-inline constexpr int kFeedbackAddress = 256;  // drive d's TxPDO at 256 + 8·d
+inline constexpr int kCommandAddress = 0;                             // drive d's RxPDO at 0 + 8·d
+inline constexpr int kFeedbackAddress = 256;                          // drive d's TxPDO at 256 + 8·d
 inline constexpr int kBlockRegisters = kDrives * kRegistersPerDrive;  // 48
 inline constexpr int kRegisterCount = kFeedbackAddress + kBlockRegisters;
 

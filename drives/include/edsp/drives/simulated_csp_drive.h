@@ -23,9 +23,9 @@ inline constexpr std::uint16_t kErrorFollowing = 0x8611;
 inline constexpr std::uint16_t kErrorFieldbus = 0x8130;
 
 struct SimulatedDriveOptions {
-  double max_speed_counts_s = 50e6;          // the axis' speed limit
+  double max_speed_counts_s = 50e6;              // the axis' speed limit
   std::int32_t following_error_window = 200000;  // 6065h, counts
-  double fieldbus_timeout_s = 0.02;          // no command for this long while enabled: fault
+  double fieldbus_timeout_s = 0.02;              // no command for this long while enabled: fault
 };
 
 class SimulatedCspDrive {

@@ -26,16 +26,16 @@ class CalibrationError : public std::runtime_error {
 struct CalibratedEffect {
   Effect effect = Effect::kLegOffset;
   Eigen::VectorXd theta;
-  std::string verdict;  // identified | ambiguous | rejected (applied only as the file's "apply" says)
+  std::string verdict;                    // identified | ambiguous | rejected (applied only as the file's "apply" says)
   bool has_apply = false, apply = false;  // the file's "apply", if it has one
 };
 
 struct CalibrationModel {
-  std::string origin;                   // the file
-  std::string hash;                     // FNV-1a 64 of its bytes, hex
-  LegErrorOptions options;              // thermal time constant, backlash width
+  std::string origin;       // the file
+  std::string hash;         // FNV-1a 64 of its bytes, hex
+  LegErrorOptions options;  // thermal time constant, backlash width
   std::vector<CalibratedEffect> applied;
-  std::vector<std::string> not_applied; // "name (why)"
+  std::vector<std::string> not_applied;  // "name (why)"
   // "<file> <hash>: applies a, b; not applied: c (ambiguous)"
   std::string Describe() const;
 };
@@ -96,7 +96,7 @@ class LegCompensator {
 
   PlatformModel model_;
   CalibrationModel calibration_;
-  LegErrorTracker tracker_;  // without the structural mode (it integrates the inverse below)
+  LegErrorTracker tracker_;                     // without the structural mode (it integrates the inverse below)
   std::optional<StructuralMode> inverse_mode_;  // the sway the command cancels
   double last_mode_time_s_ = 0.0;
   std::optional<double> last_time_s_;

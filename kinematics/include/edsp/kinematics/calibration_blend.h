@@ -57,7 +57,7 @@ class CalibrationBlend {
   std::unique_ptr<LegCompensator> next_;      // in force (or blended to); null: nominal
   std::int64_t blend_us_;
   bool blending_ = false;
-  double elapsed_us_ = 0.0;                   // of the blend, in setpoint time
+  double elapsed_us_ = 0.0;  // of the blend, in setpoint time
   std::optional<std::int64_t> last_setpoint_utime_;
 };
 

@@ -41,10 +41,10 @@ struct MotionLimits {
   double accel_max_rad_s2 = 1.0;
   double jerk_max_m_s3 = 5.0;
   double jerk_max_rad_s3 = 10.0;
-  double leg_accel_max_m_s2 = 5.0;      // the drives' acceleration: checked along every path, sets stop's deceleration
-  double on_target_tolerance_m = 10e-6;   // measured pivot position within this of the target
-  double on_target_tolerance_rad = 50e-6; // and its rotation within this
-  double on_target_settle_s = 0.1;        // for this long
+  double leg_accel_max_m_s2 = 5.0;       // the drives' acceleration: checked along every path, sets stop's deceleration
+  double on_target_tolerance_m = 10e-6;  // measured pivot position within this of the target
+  double on_target_tolerance_rad = 50e-6;  // and its rotation within this
+  double on_target_settle_s = 0.1;         // for this long
 };
 
 struct PlatformConfig {

@@ -14,7 +14,7 @@ struct PlatformGeometry {
   Matrix36 p_MoPi_M = Matrix36::Zero();  // platform joint centre i in {M}, m
   Matrix36 ja_B = Matrix36::Zero();      // base joint outer axis (fixed in {B}), unit
   Matrix36 jd_M = Matrix36::Zero();      // platform joint outer axis (fixed in {M}), unit
-  double home_height_m = 0.0;  // z of {M} in {B} at the home pose
+  double home_height_m = 0.0;            // z of {M} in {B} at the home pose
 };
 
 // The paper's platform (Huang et al. 2021), decoded as in docs/kinematics.md:

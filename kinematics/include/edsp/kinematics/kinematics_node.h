@@ -30,8 +30,8 @@ namespace edsp {
 struct KinematicsNodeOptions {
   std::string node_name = "kinematics";
   PrMode pr_mode = PrMode::kSigned;
-  std::int64_t session_id = 0;   // setpoints from any other session are refused
-  std::int64_t stale_us = 50000; // setpoints older than this are refused
+  std::int64_t session_id = 0;        // setpoints from any other session are refused
+  std::int64_t stale_us = 50000;      // setpoints older than this are refused
   std::int64_t pr_blend_us = 500000;  // a live mode switch blends over this much setpoint time
   // Applied to every command and to forward kinematics (calibration.h);
   // none: the nominal model alone.
@@ -46,12 +46,10 @@ class KinematicsNode {
   KinematicsNode(PlatformModel model, KinematicsNodeOptions options);
 
   // True: *command is the leg command for the setpoint. False: *fault says why.
-  bool HandleSetpoint(const pose_setpoint_t& setpoint, std::int64_t now_utime,
-                      leg_command_t* command, fault_t* fault);
+  bool HandleSetpoint(const pose_setpoint_t& setpoint, std::int64_t now_utime, leg_command_t* command, fault_t* fault);
 
   // True: *state is the pose the encoders imply. False: *fault says why.
-  bool HandleLegState(const leg_state_t& legs, std::int64_t now_utime, platform_state_t* state,
-                      fault_t* fault);
+  bool HandleLegState(const leg_state_t& legs, std::int64_t now_utime, platform_state_t* state, fault_t* fault);
 
   // The config latched on EDSP_CONFIG; `config_toml` is the file's text.
   platform_config_t ConfigMessage(std::int64_t now_utime, const std::string& config_toml);
@@ -89,15 +87,14 @@ class KinematicsNode {
   std::string DescribeCalibration() const;
 
  private:
-  fault_t Fault(FaultCode code, std::string reason, std::int64_t now_utime,
-                const char* channel) const;
+  fault_t Fault(FaultCode code, std::string reason, std::int64_t now_utime, const char* channel) const;
   Vector6 BlendedPrError(const LegSolution& legs, std::int64_t setpoint_utime);
   fault_t ActOnPrModeRequest(const pr_mode_t& request, std::int64_t now_utime);
   fault_t ActOnCalibrationRequest(const calibration_t& request, std::int64_t now_utime);
   // The calibration's correction of the nominal command for `sp`; false
   // (*fault) when it is not finite: never forwarded.
-  bool ApplyCalibration(const pose_setpoint_t& sp, const Pose& target, const Vector6& nominal,
-                        std::int64_t now_utime, Vector6* calibrated, fault_t* fault);
+  bool ApplyCalibration(const pose_setpoint_t& sp, const Pose& target, const Vector6& nominal, std::int64_t now_utime,
+                        Vector6* calibrated, fault_t* fault);
   OperatorRequestAnswers pr_mode_answers_;
   OperatorRequestAnswers calibration_answers_;
 

@@ -53,25 +53,25 @@ enum class ParameterLayout { kPerLeg, kPerLegXyz, kPerLegAmplitude, kPerLegPhase
 // report and model, interfaces.md §4) and how report.md shows it.
 struct ParameterGroup {
   Effect effect;
-  const char* key;         // e.g. "offset_m"
+  const char* key;  // e.g. "offset_m"
   ParameterLayout layout;
-  int first;               // θ index of leg 1's value (or of the value)
-  int stride;              // per-leg layouts: from one leg's θ to the next's
-  double offset;           // the value read is offset + θ (a scale read as 1 + θ)
-  double typical_size;     // TypicalParameterSize of its θ
-  const char* label;       // report.md: the value's name,
-  const char* unit;        //   its unit,
-  double unit_scale;       //   SI → that unit,
-  int decimals;            //   and the digits shown
+  int first;            // θ index of leg 1's value (or of the value)
+  int stride;           // per-leg layouts: from one leg's θ to the next's
+  double offset;        // the value read is offset + θ (a scale read as 1 + θ)
+  double typical_size;  // TypicalParameterSize of its θ
+  const char* label;    // report.md: the value's name,
+  const char* unit;     //   its unit,
+  double unit_scale;    //   SI → that unit,
+  int decimals;         //   and the digits shown
 };
 
 // The effect's groups, in reading order; together they read every θ.
 std::vector<ParameterGroup> ParameterGroups(Effect effect);
 
-bool IsPerLeg(const ParameterGroup& group);    // a value (or point) per leg
-bool HasSigma(const ParameterGroup& group);    // reads one θ per value (not a polar pair)
-int ValuesPerLeg(const ParameterGroup& group); // per-leg: 1 or 3 (xyz)
-int ValueCount(const ParameterGroup& group);   // scalar 1, xyz 3, per leg 6 × ValuesPerLeg
+bool IsPerLeg(const ParameterGroup& group);     // a value (or point) per leg
+bool HasSigma(const ParameterGroup& group);     // reads one θ per value (not a polar pair)
+int ValuesPerLeg(const ParameterGroup& group);  // per-leg: 1 or 3 (xyz)
+int ValueCount(const ParameterGroup& group);    // scalar 1, xyz 3, per leg 6 × ValuesPerLeg
 
 // The θ index of value `k` of the group (per leg: k = leg·ValuesPerLeg + axis;
 // for a polar pair its sine's index).

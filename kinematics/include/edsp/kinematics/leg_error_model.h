@@ -27,9 +27,9 @@ struct LegErrorOptions {
 // One instant as the error model needs it.
 struct LegErrorInputs {
   double time_s = 0.0;
-  Pose pose;                          // commanded pose of {M} in {B}
+  Pose pose;                            // commanded pose of {M} in {B}
   Vector6 command_m = Vector6::Zero();  // leg command (encoder-length units)
-  Vector6 motor_m = Vector6::Zero();  // what drives the play: the encoders' length, or the command
+  Vector6 motor_m = Vector6::Zero();    // what drives the play: the encoders' length, or the command
   Vector6 velocity = Vector6::Zero(), accel = Vector6::Zero(), jerk = Vector6::Zero();  // of the command
   Vector3 platform_accel_B_m_s2 = Vector3::Zero();
   Vector3 point_accel_B_m_s2 = Vector3::Zero();  // of A along the commands (drives the structural mode)
@@ -38,9 +38,9 @@ struct LegErrorInputs {
 struct LegErrorState {
   LegSolution legs;
   Vector6 stroke, velocity, accel, jerk, play, heat, pr_signed, compensation;
-  double warm = 0.0;                  // time under power, decayed with the screws' cooling (s)
-  Eigen::Matrix<double, 6, 4> load;   // leg forces per kg at {M}'s origin, then per kg·m of c.o.m. x, y, z
-  Vector3 sway = Vector3::Zero();     // the structural mode's response at unit gain (structural_mode.h)
+  double warm = 0.0;                        // time under power, decayed with the screws' cooling (s)
+  Eigen::Matrix<double, 6, 4> load;         // leg forces per kg at {M}'s origin, then per kg·m of c.o.m. x, y, z
+  Vector3 sway = Vector3::Zero();           // the structural mode's response at unit gain (structural_mode.h)
   Eigen::Matrix<double, 6, 3> translation;  // leg lengths (IK − PR) per translation of {M} along x, y, z
 };
 

@@ -21,7 +21,7 @@ enum class PrMode : std::int8_t {
   kAsin = 3,      // LinuxCNC genhexkins: asin(sin theta), folds past ±90°
 };
 
-const char* PrModeName(PrMode mode);         // "none", "unsigned", "signed", "asin"
+const char* PrModeName(PrMode mode);               // "none", "unsigned", "signed", "asin"
 bool ParsePrMode(const char* text, PrMode* mode);  // accepts names and 0..3
 
 // Signed twist of each leg for unit leg axes u_B and joint axes ja_B, jd_B

@@ -29,11 +29,11 @@ PathLimits PathLimitsOf(const PlatformModel& model);
 
 struct PathCheck {
   PathLimit limit = PathLimit::kNone;
-  double t_s = 0.0;            // time along the path of the first violation
-  WorkspaceCheck workspace;    // kWorkspace: which workspace limit
-  int leg = -1;                // kLegSpeed, kLegAcceleration: 0-based
+  double t_s = 0.0;          // time along the path of the first violation
+  WorkspaceCheck workspace;  // kWorkspace: which workspace limit
+  int leg = -1;              // kLegSpeed, kLegAcceleration: 0-based
   double value = 0.0, bound = 0.0;
-  double peak_leg_speed_m_s = 0.0;     // over the path checked (up to a violation)
+  double peak_leg_speed_m_s = 0.0;  // over the path checked (up to a violation)
   double peak_leg_accel_m_s2 = 0.0;
   bool ok() const { return limit == PathLimit::kNone; }
   // "at t = 1.234 s: leg 3 at 0.61 m/s, 0.11 m/s above [limits] leg_speed_max_m_s = 0.5"
@@ -45,7 +45,7 @@ using PathPoseAt = std::function<Vector6(double t_s)>;
 
 // Samples [0, duration_s] at `rate_hz` (and its end) and returns the first
 // violation, or ok with the peaks.
-PathCheck CheckPath(const PlatformModel& model, const PathLimits& limits, const PathPoseAt& pose_at,
-                    double duration_s, double rate_hz = 1000.0);
+PathCheck CheckPath(const PlatformModel& model, const PathLimits& limits, const PathPoseAt& pose_at, double duration_s,
+                    double rate_hz = 1000.0);
 
 }  // namespace edsp

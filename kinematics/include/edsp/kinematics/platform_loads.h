@@ -13,7 +13,7 @@ namespace edsp {
 // joint), N: positive pushes, i.e. the leg is in compression. Solves
 // Jᵀ f = [m (a − g); r × m (a − g)] with J the geometric (twist) Jacobian and
 // r the centre of mass from {M}'s origin, in {B}.
-Vector6 LegForces(const PlatformModel& model, const Pose& X_BM, const Vector3& accel_B_m_s2,
-                  double mass_kg, const Vector3& com_M_m, const Vector3& gravity_B_m_s2);
+Vector6 LegForces(const PlatformModel& model, const Pose& X_BM, const Vector3& accel_B_m_s2, double mass_kg,
+                  const Vector3& com_M_m, const Vector3& gravity_B_m_s2);
 
 }  // namespace edsp

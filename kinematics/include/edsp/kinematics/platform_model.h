@@ -48,8 +48,7 @@ class PlatformModel {
 
   // Both Jacobians from one leg solution `legs` at X_BM, in one pass (what
   // forward kinematics needs every iteration). `pr_jacobian` may be null.
-  void Jacobians(const Pose& X_BM, const LegSolution& legs, Matrix6* length_jacobian,
-                 Matrix6* pr_jacobian) const;
+  void Jacobians(const Pose& X_BM, const LegSolution& legs, Matrix6* length_jacobian, Matrix6* pr_jacobian) const;
 
   // Eqs. (11)-(12): the leg lengths to command so that, with the PR `mode`
   // predicts, the platform reaches X_BM: IK length − PR length error.

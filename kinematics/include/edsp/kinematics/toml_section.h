@@ -22,8 +22,8 @@ inline toml::table ParseTomlText(const std::string& text, const std::string& ori
   try {
     return toml::parse(text, origin);
   } catch (const toml::parse_error& e) {
-    throw ConfigError(fmt::format("{}:{}:{}: {}", origin, e.source().begin.line,
-                                  e.source().begin.column, e.description()));
+    throw ConfigError(
+        fmt::format("{}:{}:{}: {}", origin, e.source().begin.line, e.source().begin.column, e.description()));
   }
 }
 
@@ -120,8 +120,7 @@ class SectionReader {
       Fail(*node, fmt::format("[{}] {} must be an array of 6 rows [x, y, z]", name_, key));
     }
     for (int i = 0; i < kNumLegs; ++i) {
-      out->col(i) = ToVector3((*rows)[static_cast<std::size_t>(i)], key,
-                              fmt::format(" row {}", i + 1));
+      out->col(i) = ToVector3((*rows)[static_cast<std::size_t>(i)], key, fmt::format(" row {}", i + 1));
     }
     return true;
   }
@@ -131,9 +130,7 @@ class SectionReader {
   }
 
  private:
-  const toml::node* Get(const char* key) const {
-    return table_ == nullptr ? nullptr : table_->get(key);
-  }
+  const toml::node* Get(const char* key) const { return table_ == nullptr ? nullptr : table_->get(key); }
 
   double ToNumber(const toml::node& node, const std::string& key) const {
     if (!node.is_number()) Fail(node, fmt::format("[{}] {} must be a number", name_, key));

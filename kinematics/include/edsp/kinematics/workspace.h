@@ -10,8 +10,8 @@
 namespace edsp {
 
 enum class WorkspaceLimit {
-  kNone,            // inside
-  kNonFinite,       // NaN or infinite pose component
+  kNone,       // inside
+  kNonFinite,  // NaN or infinite pose component
   kLegTooShort,
   kLegTooLong,
   kBaseJointAngle,

@@ -25,9 +25,9 @@ namespace edsp {
 struct BusRecordingStats {
   std::int64_t messages = 0;
   std::int64_t bytes = 0;
-  std::int64_t dropped = 0;  // past max_bytes (of message bytes)
-  std::int64_t overruns = 0; // lost on a shared-memory ring (the recorder fell a ring behind)
-  std::string error;         // the Bus failed while recording (what it said); "" if not
+  std::int64_t dropped = 0;   // past max_bytes (of message bytes)
+  std::int64_t overruns = 0;  // lost on a shared-memory ring (the recorder fell a ring behind)
+  std::string error;          // the Bus failed while recording (what it said); "" if not
 };
 
 class BusRecording {

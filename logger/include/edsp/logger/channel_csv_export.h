@@ -14,9 +14,9 @@ namespace edsp {
 
 struct ChannelCsv {
   std::string path;
-  std::string type;                  // e.g. "edsp.pose_setpoint_t"
+  std::string type;  // e.g. "edsp.pose_setpoint_t"
   std::int64_t rows = 0;
-  std::int64_t skipped = 0;          // undecodable or of another type
+  std::int64_t skipped = 0;  // undecodable or of another type
 };
 
 struct ChannelCsvExport {

@@ -22,9 +22,7 @@ struct EventHeader {
   std::int64_t timestamp_utime = 0;
   std::int32_t channel_bytes = 0;
   std::int32_t data_bytes = 0;
-  std::int64_t total_bytes() const {
-    return static_cast<std::int64_t>(kHeaderBytes) + channel_bytes + data_bytes;
-  }
+  std::int64_t total_bytes() const { return static_cast<std::int64_t>(kHeaderBytes) + channel_bytes + data_bytes; }
 };
 
 // A plausible header at `p` (kHeaderBytes long) for an event that must fit

@@ -17,8 +17,8 @@
 namespace edsp {
 
 struct LogResume {
-  std::int64_t events = 0;       // whole events already in the file
-  std::int64_t torn_bytes = 0;   // bytes of a torn last event, cut off
+  std::int64_t events = 0;      // whole events already in the file
+  std::int64_t torn_bytes = 0;  // bytes of a torn last event, cut off
 };
 
 class LogFileAppender {
@@ -27,15 +27,13 @@ class LogFileAppender {
   // truncated: a torn tail is cut and numbering continues. Returns nullptr
   // with *error naming the file and the reason if it cannot be opened, or if
   // the file is damaged before its tail (then nothing is written to it).
-  static std::unique_ptr<LogFileAppender> Open(const std::string& path, LogResume* resume,
-                                               std::string* error);
+  static std::unique_ptr<LogFileAppender> Open(const std::string& path, LogResume* resume, std::string* error);
   ~LogFileAppender();
   LogFileAppender(const LogFileAppender&) = delete;
   LogFileAppender& operator=(const LogFileAppender&) = delete;
 
   // Encodes the event into the pending buffer (no I/O).
-  void Append(const std::string& channel, const std::uint8_t* data, std::uint32_t size,
-              std::int64_t utime);
+  void Append(const std::string& channel, const std::uint8_t* data, std::uint32_t size, std::int64_t utime);
 
   // Writes every pending event. On failure (ENOSPC, EFBIG, EIO, a short
   // write) the file is cut back to its last whole event, the events not
@@ -57,10 +55,10 @@ class LogFileAppender {
 
   std::string path_;
   int fd_ = -1;
-  std::int64_t committed_ = 0;          // file size = end of the last whole event
+  std::int64_t committed_ = 0;  // file size = end of the last whole event
   std::int64_t next_event_ = 0;
-  std::vector<std::uint8_t> pending_;   // encoded events not yet on disk
-  std::vector<std::size_t> boundaries_; // end offset in pending_ of each event
+  std::vector<std::uint8_t> pending_;    // encoded events not yet on disk
+  std::vector<std::size_t> boundaries_;  // end offset in pending_ of each event
 };
 
 }  // namespace edsp

@@ -20,22 +20,22 @@
 namespace edsp {
 
 struct LogWriterOptions {
-  std::string output = ".";           // a directory (timestamped names) or a file
-  std::int64_t rotate_bytes = 0;      // 0: never
+  std::string output = ".";       // a directory (timestamped names) or a file
+  std::int64_t rotate_bytes = 0;  // 0: never
   int flush_ms = 200;
   std::int64_t max_queue_bytes = 256 << 20;  // in memory, queued or waiting for the disk
 };
 
 struct LogWriterStats {
   std::int64_t written = 0;
-  std::int64_t dropped = 0;           // memory bound reached (disk too slow or full)
-  std::int64_t write_errors = 0;      // flushes the disk refused (full?)
-  std::int64_t recoveries = 0;        // flushes that succeeded after refused ones
-  bool disk_failing = false;          // the last flush was refused
-  std::int64_t waiting_events = 0;    // encoded, waiting for the disk
-  std::int64_t resumed_events = 0;    // already in the first file when it was opened
-  std::int64_t torn_bytes_cut = 0;    // of a torn last event in that file
-  std::string path;                   // current file
+  std::int64_t dropped = 0;         // memory bound reached (disk too slow or full)
+  std::int64_t write_errors = 0;    // flushes the disk refused (full?)
+  std::int64_t recoveries = 0;      // flushes that succeeded after refused ones
+  bool disk_failing = false;        // the last flush was refused
+  std::int64_t waiting_events = 0;  // encoded, waiting for the disk
+  std::int64_t resumed_events = 0;  // already in the first file when it was opened
+  std::int64_t torn_bytes_cut = 0;  // of a torn last event in that file
+  std::string path;                 // current file
   std::string last_error;
 };
 
@@ -48,8 +48,7 @@ class LogWriter {
   LogWriter& operator=(const LogWriter&) = delete;
 
   // Never blocks on the disk. False if the event was dropped (queue full).
-  bool Enqueue(const std::string& channel, const std::uint8_t* data, std::uint32_t size,
-               std::int64_t utime);
+  bool Enqueue(const std::string& channel, const std::uint8_t* data, std::uint32_t size, std::int64_t utime);
   LogWriterStats stats() const;
 
  private:
@@ -71,7 +70,7 @@ class LogWriter {
   std::condition_variable wake_;
   std::deque<Event> queue_;
   std::int64_t queued_bytes_ = 0;
-  std::int64_t waiting_bytes_ = 0;   // encoded in file_, not yet on disk
+  std::int64_t waiting_bytes_ = 0;  // encoded in file_, not yet on disk
   bool stopping_ = false;
   LogWriterStats stats_;
   std::thread thread_;

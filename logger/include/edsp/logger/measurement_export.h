@@ -26,9 +26,9 @@ namespace edsp {
 
 struct MeasurementExport {
   std::int64_t rows = 0;
-  std::int64_t skipped = 0;       // tracker samples invalid or before any command
-  std::int64_t timing_events = 0; // rows flagged timing_event (near a stall of the controller)
-  bool damaged = false;           // the log ended in damage; rows before it are written
+  std::int64_t skipped = 0;        // tracker samples invalid or before any command
+  std::int64_t timing_events = 0;  // rows flagged timing_event (near a stall of the controller)
+  bool damaged = false;            // the log ended in damage; rows before it are written
   std::int64_t damage_offset = -1;
 };
 

@@ -32,19 +32,21 @@ struct Column {
 };
 
 struct ChannelColumns {
-  std::string type;                   // "edsp.leg_state_t"
-  std::vector<Column> columns;        // receive_utime, then the type's fields
-  std::size_t row_bytes = 0;          // a multiple of 8
+  std::string type;                     // "edsp.leg_state_t"
+  std::vector<Column> columns;          // receive_utime, then the type's fields
+  std::size_t row_bytes = 0;            // a multiple of 8
   std::vector<std::uint8_t> rows_data;  // row after row, native byte order
-  std::int64_t skipped = 0;           // of another type, or undecodable
+  std::int64_t skipped = 0;             // of another type, or undecodable
 
   std::int64_t rows() const { return row_bytes == 0 ? 0 : static_cast<std::int64_t>(rows_data.size() / row_bytes); }
   // Element `element` (row-major within an array field) of `column` in `row`.
   template <typename T>
   T Value(std::int64_t row, std::size_t column, std::size_t element = 0) const {
     T value;
-    std::memcpy(&value, rows_data.data() + static_cast<std::size_t>(row) * row_bytes + columns[column].offset +
-                            element * sizeof(T), sizeof(T));
+    std::memcpy(
+        &value,
+        rows_data.data() + static_cast<std::size_t>(row) * row_bytes + columns[column].offset + element * sizeof(T),
+        sizeof(T));
     return value;
   }
 };
@@ -75,7 +77,7 @@ ChannelColumns EmptyColumns(const std::string& type_name);
 
 struct LogColumns {
   MessageColumns messages;
-  bool damaged = false;             // the log ends in damage; what came before is read
+  bool damaged = false;  // the log ends in damage; what came before is read
   std::int64_t damage_offset = -1;
 };
 

@@ -12,21 +12,21 @@ namespace edsp {
 
 // fault_t.code values shared by all nodes.
 enum class FaultCode : std::int32_t {
-  kNonFinite = 1,         // NaN or infinity in an input
-  kOutsideWorkspace = 2,  // pose beyond a workspace limit
-  kForeignSession = 3,    // command from another launch session
-  kStale = 4,             // input older than the stale limit, or none arriving
-  kUndecodable = 5,       // truncated or foreign packet
-  kJump = 6,              // command too far from the last valid one
-  kOutOfStroke = 7,       // leg length beyond its stroke
-  kForwardKinematics = 8, // the pose could not be computed from the encoders
-  kBackend = 9,           // the drive backend failed
-  kBadRequest = 10,       // an operator request with a value out of range
-  kOperatorAction = 11,   // not a fault: an operator's action confirmed (severity info)
-  kStorage = 12,          // the log's disk refused writes (info: it accepts them again)
-  kProcess = 13,          // a group member froze, exited or restarted (the launcher)
-  kCalibration = 14,      // not a fault: the calibration a node applies (severity info)
-  kTransport = 15,        // a channel's shared-memory ring cannot be read (permissions, layout, type)
+  kNonFinite = 1,          // NaN or infinity in an input
+  kOutsideWorkspace = 2,   // pose beyond a workspace limit
+  kForeignSession = 3,     // command from another launch session
+  kStale = 4,              // input older than the stale limit, or none arriving
+  kUndecodable = 5,        // truncated or foreign packet
+  kJump = 6,               // command too far from the last valid one
+  kOutOfStroke = 7,        // leg length beyond its stroke
+  kForwardKinematics = 8,  // the pose could not be computed from the encoders
+  kBackend = 9,            // the drive backend failed
+  kBadRequest = 10,        // an operator request with a value out of range
+  kOperatorAction = 11,    // not a fault: an operator's action confirmed (severity info)
+  kStorage = 12,           // the log's disk refused writes (info: it accepts them again)
+  kProcess = 13,           // a group member froze, exited or restarted (the launcher)
+  kCalibration = 14,       // not a fault: the calibration a node applies (severity info)
+  kTransport = 15,         // a channel's shared-memory ring cannot be read (permissions, layout, type)
 };
 
 const char* FaultCodeName(FaultCode code);
@@ -52,7 +52,7 @@ class FaultThrottle {
   std::int64_t suppressed_total_ = 0;
 };
 
-fault_t MakeFault(const std::string& node, const std::string& channel, FaultCode code,
-                  std::int8_t severity, std::string reason, std::int64_t utime);
+fault_t MakeFault(const std::string& node, const std::string& channel, FaultCode code, std::int8_t severity,
+                  std::string reason, std::int64_t utime);
 
 }  // namespace edsp

@@ -13,8 +13,8 @@ namespace edsp {
 struct LatencySummary {
   std::int64_t samples = 0;
   double p50_us = 0.0, p99_us = 0.0, p999_us = 0.0, max_us = 0.0;
-  std::int64_t cycles = 0;                // cycles since the first sample
-  std::int64_t cycles_without_sample = 0; // of those, cycles nothing new arrived in
+  std::int64_t cycles = 0;                 // cycles since the first sample
+  std::int64_t cycles_without_sample = 0;  // of those, cycles nothing new arrived in
 };
 
 class LatencyRecorder {

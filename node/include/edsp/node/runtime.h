@@ -18,8 +18,7 @@ bool StopRequested();
 
 // main() of every edsp program: runs `run`, and turns an exception into
 // "<program>: error: <what>" on stderr and exit code `error_exit`.
-int RunMain(const char* program, int (*run)(int, char**), int argc, char** argv,
-            int error_exit = 1);
+int RunMain(const char* program, int (*run)(int, char**), int argc, char** argv, int error_exit = 1);
 
 // Microseconds since the epoch (LCM's utime).
 std::int64_t UtimeNow();

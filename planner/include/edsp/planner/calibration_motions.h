@@ -27,8 +27,8 @@ struct CalibrationMotionOptions {
   int poses = 12;
   int blocks = 4;
   int candidates = 400;
-  double coverage = 0.8;         // candidates within this share of each axis's paper range
-  double approach_m = 0.01;      // along z, below and above each pose
+  double coverage = 0.8;     // candidates within this share of each axis's paper range
+  double approach_m = 0.01;  // along z, below and above each pose
   // Kept clear of the nominal workspace's limits: the real platform's
   // joints sit where the calibration has yet to find them.
   double joint_angle_margin_rad = 3.0 * 3.14159265358979323846 / 180.0;
@@ -36,7 +36,7 @@ struct CalibrationMotionOptions {
   // No leg carries more of the platform's weight than at the paper's own
   // single-axis extremes (±range on each axis), whatever the payload: the
   // drives were sized for those.
-  double min_move_s = 0.5;       // the approaches' quintic moves at least this long
+  double min_move_s = 0.5;                                 // the approaches' quintic moves at least this long
   std::vector<double> leg_speed_levels = {0.3, 0.6, 0.9};  // peak leg speed, share of leg_speed_max_m_s
   std::uint64_t seed = 1;
   IdentifiabilityOptions identifiability;  // the noise and PR mode the selection assumes
@@ -60,7 +60,7 @@ void AppendCalibrationMotions(const PlatformModel& model, const PaperMotionOptio
 
 // A quintic move whose peak leg speed is `leg_speed_m_s` (never shorter than
 // `min_duration_s`).
-QuinticMove QuinticAtLegSpeed(const PlatformModel& model, const Vector6& from, const Vector6& to,
-                              double leg_speed_m_s, double min_duration_s);
+QuinticMove QuinticAtLegSpeed(const PlatformModel& model, const Vector6& from, const Vector6& to, double leg_speed_m_s,
+                              double min_duration_s);
 
 }  // namespace edsp

@@ -25,8 +25,8 @@ enum class WaitOutcome { kOnTarget, kHaltedOrStopped, kFault, kTimedOut };
 
 struct WaitResult {
   WaitOutcome outcome = WaitOutcome::kTimedOut;
-  std::string message;                   // why, for anything but on target
-  std::optional<motion_status_t> status; // the last one seen
+  std::string message;                    // why, for anything but on target
+  std::optional<motion_status_t> status;  // the last one seen
 };
 
 class MotionClient {

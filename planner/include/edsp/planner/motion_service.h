@@ -114,9 +114,9 @@ class MotionService {
 
   std::optional<Running> current_;
   std::deque<PlannedMotion> queue_;
-  Vector6 hold_pose_;              // where the platform holds when nothing runs
-  Vector6 commanded_pose_;         // the last setpoint's
-  std::int64_t request_id_ = 0;    // the motion in progress or the last one
+  Vector6 hold_pose_;            // where the platform holds when nothing runs
+  Vector6 commanded_pose_;       // the last setpoint's
+  std::int64_t request_id_ = 0;  // the motion in progress or the last one
   std::string activity_ = "hold";
   std::string hold_name_ = "hold";  // the setpoints' trajectory name: the last motion's while holding
   std::int32_t hold_segment_ = 0;
@@ -124,18 +124,18 @@ class MotionService {
   std::int8_t last_end_ = motion_status_t::END_NONE;
   std::int64_t ended_utime_ = 0;
   bool ever_moved_ = false;
-  std::string refused_;            // the last request's refusal, until one is accepted
+  std::string refused_;  // the last request's refusal, until one is accepted
   bool changed_ = true;
   std::uint64_t decelerations_ = 0;  // halts and stops so far: a plan older than the last is refused
-  std::int64_t seq_ = 0;           // of the replies
+  std::int64_t seq_ = 0;             // of the replies
   std::int64_t setpoint_seq_ = 0;
 
-  std::map<std::int64_t, motion_reply_t> replies_;  // by request_id: every copy gets the same reply
+  std::map<std::int64_t, motion_reply_t> replies_;                 // by request_id: every copy gets the same reply
   std::deque<std::pair<std::int64_t, std::int64_t>> reply_order_;  // (utime answered, request_id)
 
   std::int64_t leg_state_utime_ = 0;
-  std::string bridge_holds_;       // "" while every drive follows
-  bool bridge_followed_ = false;   // seen following once
+  std::string bridge_holds_;      // "" while every drive follows
+  bool bridge_followed_ = false;  // seen following once
   std::int64_t measured_utime_ = 0;
   Vector6 measured_pose_ = Vector6::Zero();
   bool measured_converged_ = false;

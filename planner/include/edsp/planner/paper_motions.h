@@ -12,8 +12,8 @@
 namespace edsp {
 
 struct PaperMotionOptions {
-  int stops = 5;                  // poses across −range … +range
-  double dwell_s = 1.0;           // at each stop
+  int stops = 5;         // poses across −range … +range
+  double dwell_s = 1.0;  // at each stop
   double max_speed_m_s = 0.1;
   double max_speed_rad_s = 0.2;
   double linear_range_m = 0.5;
@@ -24,8 +24,8 @@ struct PaperMotionOptions {
 // axis at once, `stops` poses drawn deterministically (from the number)
 // within 35% of each axis's range at half of each axis's speed, then home. Throws std::invalid_argument
 // for others.
-void AppendPaperMotion(const std::string& name, const Vector6& home,
-                       const PaperMotionOptions& options, TrajectorySequence* sequence);
+void AppendPaperMotion(const std::string& name, const Vector6& home, const PaperMotionOptions& options,
+                       TrajectorySequence* sequence);
 
 // Lz, Lx, Rz, Ry one after another (the paper's order).
 std::vector<std::string> PaperMotionNames();

@@ -31,14 +31,14 @@ MoveLimits ConfigMoveLimits(const PlatformModel& model);
 
 struct PlannedMotion {
   std::int64_t request_id = 0;
-  std::string activity;      // "move", "approach", "run Lz,Lx", ...
+  std::string activity;  // "move", "approach", "run Lz,Lx", ...
   std::string frame = "base";
   std::shared_ptr<const PosePath> path;
-  JerkProfile timing;        // of u along path
-  ScalarLimits halt;         // u-space acceleration and jerk a halt keeps within
-  ScalarLimits stop;         // u-space: the shortest stop the legs' acceleration allows
+  JerkProfile timing;  // of u along path
+  ScalarLimits halt;   // u-space acceleration and jerk a halt keeps within
+  ScalarLimits stop;   // u-space: the shortest stop the legs' acceleration allows
   PathCheck check;
-  bool program = false;      // setpoints named by the program's segments
+  bool program = false;  // setpoints named by the program's segments
 
   double duration_s() const { return timing.duration_s(); }
   Vector6 end_pose() const { return path->At(timing.end().position).pose; }
@@ -49,8 +49,7 @@ struct PlannedMotion {
 // `check` says whether its whole path is within the platform's limits (a
 // move longer than kLongestMove_s is refused unchecked, as kDuration).
 PlannedMotion PlanMove(const PlatformModel& model, const WorkFrame& frame, const Vector3& pivot_M,
-                       const Transform& from, const FramedPose& to, const MoveLimits& limits,
-                       double check_rate_hz);
+                       const Transform& from, const FramedPose& to, const MoveLimits& limits, double check_rate_hz);
 
 // A program on its own clock; halts slow that clock within `limits`.
 PlannedMotion PlanProgram(const PlatformModel& model, std::unique_ptr<TrajectorySequence> program,

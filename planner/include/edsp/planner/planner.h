@@ -17,8 +17,7 @@ namespace edsp {
 
 // Samples the whole trajectory at `rate_hz`; throws std::invalid_argument
 // naming the segment, the time and the limit of the first pose outside.
-void CheckTrajectory(const PlatformModel& model, const TrajectorySequence& sequence,
-                     double rate_hz = 1000.0);
+void CheckTrajectory(const PlatformModel& model, const TrajectorySequence& sequence, double rate_hz = 1000.0);
 
 // "trajectory segment \"Lx/move\" at t = … s leaves the workspace: …": the
 // first violation `check` found along `sequence`, for the operator.
@@ -27,8 +26,7 @@ std::string TrajectoryViolation(const TrajectorySequence& sequence, const PathCh
 class Planner {
  public:
   // Throws std::invalid_argument if any pose of the sequence is unreachable.
-  Planner(const PlatformModel& model, std::unique_ptr<TrajectorySequence> sequence,
-          std::int64_t session_id);
+  Planner(const PlatformModel& model, std::unique_ptr<TrajectorySequence> sequence, std::int64_t session_id);
 
   void Start(std::int64_t start_utime) { start_utime_ = start_utime; }
   // The setpoint for time `now_utime` (microseconds, same clock as Start).

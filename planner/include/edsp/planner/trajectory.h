@@ -30,8 +30,7 @@ class QuinticMove final : public Trajectory {
  public:
   QuinticMove(const Vector6& from, const Vector6& to, double duration_s);
   // The shortest quintic move whose peak speeds stay within the limits.
-  static QuinticMove WithinLimits(const Vector6& from, const Vector6& to,
-                                  double max_speed_m_s, double max_speed_rad_s);
+  static QuinticMove WithinLimits(const Vector6& from, const Vector6& to, double max_speed_m_s, double max_speed_rad_s);
   double duration_s() const override { return duration_s_; }
   PoseSample Sample(double t_s) const override;
 

@@ -22,8 +22,7 @@ namespace edsp {
 class LegTransmission {
  public:
   // `zero_length_m`: the nominal leg length at encoder zero (home).
-  LegTransmission(int leg, double zero_length_m, const DriveParameters& drive,
-                  const RigEffects& effects);
+  LegTransmission(int leg, double zero_length_m, const DriveParameters& drive, const RigEffects& effects);
 
   // The leg length for the motor's new angle `dt_s` after the last call
   // (advancing the backlash and screw-temperature states: call it in time
@@ -34,13 +33,13 @@ class LegTransmission {
 
  private:
   double zero_length_m_;
-  double lead_m_;                 // true lead, (1 + ε)·nominal
+  double lead_m_;  // true lead, (1 + ε)·nominal
   double gear_ratio_;
-  double play_rad_ = 0.0;         // backlash at the motor
+  double play_rad_ = 0.0;  // backlash at the motor
   double periodic_m_ = 0.0, phase_rad_ = 0.0;
-  double driven_rad_ = 0.0;       // gearbox output, in motor radians
+  double driven_rad_ = 0.0;  // gearbox output, in motor radians
   RigEffects::ThermalDrift thermal_;
-  double temperature_K_ = 0.0;    // screw above ambient
+  double temperature_K_ = 0.0;  // screw above ambient
   double last_travel_m_ = 0.0;
 };
 

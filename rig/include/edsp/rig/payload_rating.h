@@ -11,9 +11,9 @@
 namespace edsp {
 
 struct PayloadRating {
-  double payload_kg = 0.0;         // the rating
-  double worst_force_per_kg = 0.0; // N of leg force per kg at the worst pose sampled
-  Pose worst_pose;                 //   that pose
+  double payload_kg = 0.0;          // the rating
+  double worst_force_per_kg = 0.0;  // N of leg force per kg at the worst pose sampled
+  Pose worst_pose;                  //   that pose
 };
 
 // Share of the motors' torque the platform's weight may take; the rest is

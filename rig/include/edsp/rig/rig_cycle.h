@@ -14,12 +14,12 @@
 namespace edsp {
 
 struct RigCycleReport {
-  DriveFeedback feedback;        // the drives at `now`
-  rig_truth_t truth{};           // the platform at `now`
-  bool tracker_due = false;      // the tracker's rate decides
+  DriveFeedback feedback;    // the drives at `now`
+  rig_truth_t truth{};       // the platform at `now`
+  bool tracker_due = false;  // the tracker's rate decides
   tracker_point_t tracker{};
-  bool watchdog_changed = false; // the drives started or stopped holding (rig.watchdog_tripped() says which)
-  bool physics_failed = false;   // no platform pose fits the drives after this cycle
+  bool watchdog_changed = false;  // the drives started or stopped holding (rig.watchdog_tripped() says which)
+  bool physics_failed = false;    // no platform pose fits the drives after this cycle
 };
 
 // A drive command taken at `now`, later than the instant it is for

@@ -5,7 +5,8 @@
 // `enabled = false`), except servo_lag: the drive loop is on unless
 // switched off. With all off the rig is the nominal model (screws with the
 // nominal signed PR, an ideal drive, rigid legs, screws at ambient), and
-// point A lands where the model says to numerical precision. Units SI; per-leg values are a number (every leg) or 6 numbers.
+// point A lands where the model says to numerical precision. Units SI; per-leg values are a number (every leg) or 6
+// numbers.
 //
 //   [rig.effects.leg_offset]           offset_m = [...]        home-length (zero) offsets
 //   [rig.effects.joint_position]       base_m = [[dx,dy,dz] ×6], platform_m = [[...] ×6]
@@ -46,12 +47,12 @@ struct RigEffects {
   } joint_position;
   struct PassiveRotation {
     bool enabled = false;
-    int pr_sign = 1;          // the screws' true s: 1, -1, or 0 for none at all
-    double pr_lead_m = 0.0;   // the lead PR acts through; 0: the nominal lead
+    int pr_sign = 1;         // the screws' true s: 1, -1, or 0 for none at all
+    double pr_lead_m = 0.0;  // the lead PR acts through; 0: the nominal lead
   } passive_rotation;
   struct LeadError {
     bool enabled = false;
-    LegValues epsilon{};      // relative error of the lead
+    LegValues epsilon{};  // relative error of the lead
   } lead_error;
   struct PeriodicLeadError {
     bool enabled = false;
@@ -60,21 +61,21 @@ struct RigEffects {
   } periodic_lead_error;
   struct Backlash {
     bool enabled = false;
-    LegValues backlash_m{};   // total lost motion, in leg travel
+    LegValues backlash_m{};  // total lost motion, in leg travel
   } backlash;
-  struct ServoLag {           // on unless switched off: the drive loop every real rig has;
-    bool enabled = true;      // off: an ideal drive, the motor exactly on its target
-    double inertia_kg_m2 = 2e-4;    // motor + reflected screw, at the motor
-    double viscous_N_m_s = 1e-4;    // per rad/s
-    double torque_limit_N_m = 15.0; // current limit × torque constant (holds 1.2 t over the
-                                    // preset's workspace with a third to spare: RatePayload)
-    double bandwidth_hz = 50.0;     // position loop; gains follow from it
-    double loop_rate_hz = 4000.0;   // drive loop and integration rate
-    double coulomb_N_m = 0.0;       // dry friction in screw and bearings, at the motor
-    double integral_time_s = 0.0;   // the loop's integral action (0: none, a P-D loop)
-    double screw_efficiency = 0.9;  // leg force → motor torque through the screw
-    double load_mass_kg = 0.0;      // platform + payload the motors carry (compliance's
-                                    // mass_kg and com_m when that effect is on)
+  struct ServoLag {                  // on unless switched off: the drive loop every real rig has;
+    bool enabled = true;             // off: an ideal drive, the motor exactly on its target
+    double inertia_kg_m2 = 2e-4;     // motor + reflected screw, at the motor
+    double viscous_N_m_s = 1e-4;     // per rad/s
+    double torque_limit_N_m = 15.0;  // current limit × torque constant (holds 1.2 t over the
+                                     // preset's workspace with a third to spare: RatePayload)
+    double bandwidth_hz = 50.0;      // position loop; gains follow from it
+    double loop_rate_hz = 4000.0;    // drive loop and integration rate
+    double coulomb_N_m = 0.0;        // dry friction in screw and bearings, at the motor
+    double integral_time_s = 0.0;    // the loop's integral action (0: none, a P-D loop)
+    double screw_efficiency = 0.9;   // leg force → motor torque through the screw
+    double load_mass_kg = 0.0;       // platform + payload the motors carry (compliance's
+                                     // mass_kg and com_m when that effect is on)
     // Following error (target − motor, in leg travel) past which a drive
     // faults and its brake holds the motor where it is, as a CiA 402
     // drive's following-error window does: an overloaded motor stops the
@@ -82,12 +83,12 @@ struct RigEffects {
     // (the rig's tests step its targets by centimetres on purpose).
     double following_error_window_m = 0.0;
   } servo_lag;
-  struct Compliance {         // quasi-static: legs deflect under the rigid-body leg forces
+  struct Compliance {  // quasi-static: legs deflect under the rigid-body leg forces
     bool enabled = false;
-    LegValues stiffness_N_m{};      // axial, leg + both joints
-    double mass_kg = 0.0;           // the moving platform
+    LegValues stiffness_N_m{};        // axial, leg + both joints
+    double mass_kg = 0.0;             // the moving platform
     Vector3 com_m = Vector3::Zero();  // its centre of mass in {M}
-    double payload_kg = 0.0;        // what it carries (a second payload separates compliance)
+    double payload_kg = 0.0;          // what it carries (a second payload separates compliance)
     Vector3 payload_com_m = Vector3::Zero();
     double total_mass_kg() const { return mass_kg + payload_kg; }
     Vector3 total_com_m() const {
@@ -95,12 +96,12 @@ struct RigEffects {
     }
     Vector3 gravity_m_s2 = Vector3(0.0, 0.0, -9.81);  // in {B}
   } compliance;
-  struct ThermalDrift {       // screws warm with the work they do and grow
+  struct ThermalDrift {  // screws warm with the work they do and grow
     bool enabled = false;
-    double alpha_per_K = 11.7e-6;   // steel
-    double heating_K_per_m = 0.0;   // temperature rise per metre of leg travel
-    double time_constant_s = 600.0; // cooling towards ambient
-    double screw_length_m = 0.6;    // the length of screw that warms and grows
+    double alpha_per_K = 11.7e-6;    // steel
+    double heating_K_per_m = 0.0;    // temperature rise per metre of leg travel
+    double time_constant_s = 600.0;  // cooling towards ambient
+    double screw_length_m = 0.6;     // the length of screw that warms and grows
   } thermal_drift;
   struct StructuralResonance {  // the structure carrying A sways under the platform's acceleration
     bool enabled = false;       // (structural_mode.h): per axis of {B}, gain × the mode's response

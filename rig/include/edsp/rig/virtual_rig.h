@@ -26,8 +26,8 @@
 namespace edsp {
 
 struct TrackerParameters {
-  Pose X_TB;                        // {B} in the tracker frame (identity: the same)
-  double noise_sigma_m = 0.0;       // per axis
+  Pose X_TB;                   // {B} in the tracker frame (identity: the same)
+  double noise_sigma_m = 0.0;  // per axis
   double rate_hz = 1000.0;
   std::uint64_t seed = 1;
 };
@@ -43,8 +43,8 @@ struct DriveWatchdog {
 };
 
 struct RigParameters {
-  PlatformConfig nominal;           // what the rig was designed to be
-  RigEffects effects;               // how it really is (none: exactly nominal)
+  PlatformConfig nominal;  // what the rig was designed to be
+  RigEffects effects;      // how it really is (none: exactly nominal)
   TrackerParameters tracker;
   DriveWatchdog watchdog;
 };
@@ -94,33 +94,33 @@ class VirtualRig {
  private:
   void StepServo(int leg, double dt);
   void StepIdeal(int leg, double dt);
-  bool UpdateLoads(double dt_s);          // leg forces of the platform's rigid-body motion
-  double ScrewRatio() const;              // motor torque per newton of leg force
-  double MovedInertia() const;            // motor, screw and its share of the payload, at the motor
-  void Deflect(Vector6* lengths) const;   // compliance: legs shortened under them
-  void Sway(double dt_s);                 // structural_resonance: A's mount under its acceleration
+  bool UpdateLoads(double dt_s);         // leg forces of the platform's rigid-body motion
+  double ScrewRatio() const;             // motor torque per newton of leg force
+  double MovedInertia() const;           // motor, screw and its share of the payload, at the motor
+  void Deflect(Vector6* lengths) const;  // compliance: legs shortened under them
+  void Sway(double dt_s);                // structural_resonance: A's mount under its acceleration
 
   RigParameters parameters_;
   PlatformModel model_;  // the true geometry; lead and sign of the true PR
   FkOptions fk_options_;
   std::vector<LegTransmission> transmissions_;
-  Vector6 lengths_ = Vector6::Zero();    // drive-train lengths (before deflection)
-  Pose rigid_pose_, rigid_previous_;     // the undeflected platform, for its acceleration
+  Vector6 lengths_ = Vector6::Zero();  // drive-train lengths (before deflection)
+  Pose rigid_pose_, rigid_previous_;   // the undeflected platform, for its acceleration
   int rigid_history_ = 0;
   Vector6 leg_forces_ = Vector6::Zero();         // with the platform's acceleration (compliance)
   Vector6 static_leg_forces_ = Vector6::Zero();  // its weight alone (the motors' load torque)
   double load_mass_per_leg_kg_ = 0.0;            // reflected to each motor as inertia
   double kp_, kd_, ki_ = 0.0;
   std::array<double, 6> integral_{};
-  bool loaded_ = false;                  // leg forces needed (compliance, or a servo load)
+  bool loaded_ = false;  // leg forces needed (compliance, or a servo load)
   std::array<double, 6> angle_{}, velocity_{};
   std::array<bool, 6> faulted_{};
   DriveSetpoint target_;
   bool enabled_ = false;
-  double since_command_s_ = 0.0;         // since the last SetTarget or KeepAlive (the watchdog)
-  double since_target_s_ = 0.0;          // since the last SetTarget (the interpolation horizon)
+  double since_command_s_ = 0.0;  // since the last SetTarget or KeepAlive (the watchdog)
+  double since_target_s_ = 0.0;   // since the last SetTarget (the interpolation horizon)
   Pose pose_;
-  std::optional<StructuralMode> mode_;   // structural_resonance
+  std::optional<StructuralMode> mode_;      // structural_resonance
   std::array<Vector3, 2> point_history_{};  // A on the platform a step and two steps ago
   double last_dt_s_ = 0.0;
   int point_steps_ = 0;

@@ -12,13 +12,13 @@
 namespace edsp {
 
 struct DwellError {
-  std::string motion;          // "Lz" (the trajectory name up to '/')
-  std::string segment;         // "Lz/dwell 3"
-  PrMode pr_mode = PrMode::kNone;  // of the leg commands during the dwell
-  Vector6 target = Vector6::Zero();  // pose, m and rad
-  double displacement = 0.0;   // along the motion's axis from home, m or rad
+  std::string motion;                 // "Lz" (the trajectory name up to '/')
+  std::string segment;                // "Lz/dwell 3"
+  PrMode pr_mode = PrMode::kNone;     // of the leg commands during the dwell
+  Vector6 target = Vector6::Zero();   // pose, m and rad
+  double displacement = 0.0;          // along the motion's axis from home, m or rad
   Vector3 error_m = Vector3::Zero();  // measured − target point A, tracker frame = {B}
-  int samples = 0;             // tracker samples averaged
+  int samples = 0;                    // tracker samples averaged
   double error_norm_m() const { return error_m.norm(); }
 };
 
@@ -32,8 +32,7 @@ struct DwellErrors {
 // each dwell (the servo has settled; averaging beats the tracker's noise
 // down). Assumes the tracker frame is {B} (the virtual rig's default). Throws
 // std::runtime_error naming the log if it cannot be read.
-DwellErrors DwellErrorsFromLog(const std::string& log_path, const PlatformModel& model,
-                               double averaged_fraction = 0.5);
+DwellErrors DwellErrorsFromLog(const std::string& log_path, const PlatformModel& model, double averaged_fraction = 0.5);
 
 // Lx Ly Lz Rx Ry Rz → 0…5, the index in [x y z roll pitch yaw]; −1 otherwise.
 int MotionAxis(const std::string& motion);

@@ -18,7 +18,7 @@ struct OfflineRunOptions {
   std::vector<std::string> motions = {"Lz", "Lx", "Rz", "Ry"};
   PaperMotionOptions paper;
   PrMode pr_mode = PrMode::kSigned;
-  TrackerParameters tracker;       // frame, noise, rate, seed
+  TrackerParameters tracker;  // frame, noise, rate, seed
   std::string out_dir = ".";
   // An edsp-gap model the kinematics applies (empty: the config's
   // [calibration] model, if any); ambiguous effects only if asked.
@@ -27,15 +27,15 @@ struct OfflineRunOptions {
 };
 
 struct OfflineRunResult {
-  std::string log_path;            // <out_dir>/run.lcmlog
-  std::string csv_path;            // <out_dir>/measurement.csv
-  std::int64_t cycles = 0;         // 1 ms each
+  std::string log_path;     // <out_dir>/run.lcmlog
+  std::string csv_path;     // <out_dir>/measurement.csv
+  std::int64_t cycles = 0;  // 1 ms each
   std::int64_t tracker_samples = 0;
-  std::int64_t faults = 0;         // refused setpoints or commands (none expected)
-  double duration_s = 0.0;         // simulated
-  double max_error_m = 0.0;        // |tracker A − target A| over every tracker sample
-  double rms_error_m = 0.0;        //   (tracker frame taken as {B})
-  std::string calibration;         // what the kinematics applied (CalibrationModel::Describe), or empty
+  std::int64_t faults = 0;   // refused setpoints or commands (none expected)
+  double duration_s = 0.0;   // simulated
+  double max_error_m = 0.0;  // |tracker A − target A| over every tracker sample
+  double rms_error_m = 0.0;  //   (tracker frame taken as {B})
+  std::string calibration;   // what the kinematics applied (CalibrationModel::Describe), or empty
 };
 
 // Throws ConfigError for a bad config, std::invalid_argument for a motion

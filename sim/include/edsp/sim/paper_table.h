@@ -13,9 +13,9 @@
 namespace edsp {
 
 struct TestMotion {
-  std::string name;     // "Lz", "Lx", "Rz", "Ry"
-  int axis;             // index into q = [x y z roll pitch yaw]
-  double amplitude;     // m or rad: the motion spans −amplitude … +amplitude
+  std::string name;  // "Lz", "Lx", "Rz", "Ry"
+  int axis;          // index into q = [x y z roll pitch yaw]
+  double amplitude;  // m or rad: the motion spans −amplitude … +amplitude
 };
 
 // Lz, Lx over ±0.5 m and Rz, Ry over ±30°, in the paper's order.
@@ -25,8 +25,7 @@ std::vector<TestMotion> PaperTestMotions();
 std::vector<Pose> MotionPoses(const TestMotion& motion, const Pose& home, int count);
 
 // The modes the table compares, in column order.
-inline constexpr std::array<PrMode, 4> kTableModes = {PrMode::kNone, PrMode::kUnsigned,
-                                                      PrMode::kSigned, PrMode::kAsin};
+inline constexpr std::array<PrMode, 4> kTableModes = {PrMode::kNone, PrMode::kUnsigned, PrMode::kSigned, PrMode::kAsin};
 
 // Distance between where A lands and where it should be, for a pose commanded
 // with `mode`. Throws std::runtime_error (naming pose and status) if forward

@@ -22,8 +22,7 @@ struct StackTableRow {
 };
 
 // One row per (motion, mode), motions in first-seen order, modes ascending.
-std::vector<StackTableRow> StackTable(const std::vector<DwellError>& dwells,
-                                      const PlatformModel& model);
+std::vector<StackTableRow> StackTable(const std::vector<DwellError>& dwells, const PlatformModel& model);
 
 // Text shaped like the paper's Table 1: motions as rows, modes as columns,
 // measured (predicted) maximum error in mm.
@@ -34,7 +33,7 @@ std::string FormatStackTable(const std::vector<StackTableRow>& rows);
 // gnuplot script beside them so the figure can be restyled. Returns the PNG
 // paths. Throws std::runtime_error naming the directory, or gnuplot if it is
 // missing or fails.
-std::vector<std::string> WriteStackPlots(const std::vector<DwellError>& dwells,
-                                         const PlatformModel& model, const std::string& dir);
+std::vector<std::string> WriteStackPlots(const std::vector<DwellError>& dwells, const PlatformModel& model,
+                                         const std::string& dir);
 
 }  // namespace edsp

@@ -20,9 +20,9 @@ namespace edsp {
 struct StackOptions {
   PrMode pr_mode = PrMode::kSigned;
   std::int64_t session_id = 1;
-  double cycle_s = 1e-3;                              // 1 kHz
-  std::int64_t start_utime = 1700000000000000;        // fixed: runs are reproducible
-  std::optional<RigParameters> rig;                   // default: IdealRig(nominal)
+  double cycle_s = 1e-3;                                     // 1 kHz
+  std::int64_t start_utime = 1700000000000000;               // fixed: runs are reproducible
+  std::optional<RigParameters> rig;                          // default: IdealRig(nominal)
   std::optional<calibration::CalibrationModel> calibration;  // the kinematics applies it
 };
 
@@ -39,8 +39,7 @@ struct StackSample {
 class StackSimulation {
  public:
   // Throws std::invalid_argument if the trajectory leaves the workspace.
-  StackSimulation(const PlatformConfig& nominal, std::unique_ptr<TrajectorySequence> trajectory,
-                  StackOptions options);
+  StackSimulation(const PlatformConfig& nominal, std::unique_ptr<TrajectorySequence> trajectory, StackOptions options);
   // The planner's motion service instead of a trajectory: it holds home and
   // moves as requests (motion()) ask, seeing the bridge's leg states and
   // the kinematics' measured pose as the live planner does.

@@ -30,11 +30,11 @@ struct ChannelCounters {
   std::uint64_t publish_failures = 0;  // LCM refused, or too big for a slot
   std::uint64_t mirrored = 0;          // shm messages also sent on LCM
   std::uint64_t received = 0;
-  std::uint64_t decode_errors = 0;     // truncated or foreign packets
-  std::uint64_t overruns = 0;          // shm messages lost to a lapping writer
-  std::uint64_t seq_gaps = 0;          // messages missing by their `seq` field
+  std::uint64_t decode_errors = 0;         // truncated or foreign packets
+  std::uint64_t overruns = 0;              // shm messages lost to a lapping writer
+  std::uint64_t seq_gaps = 0;              // messages missing by their `seq` field
   std::uint64_t copies_awaiting_ring = 0;  // a recorder's LCM copies skipped: the ring not written yet
-  std::string last_error;              // newest problem, for EDSP_FAULT
+  std::string last_error;                  // newest problem, for EDSP_FAULT
 };
 
 class Bus {
@@ -190,11 +190,10 @@ template <typename Msg>
 bool Bus::PublishEncoded(PublisherState& s, const Msg& msg) noexcept {
   const int size = msg.getEncodedSize();
   if (s.writer != nullptr) {
-    const std::uint64_t n =
-        s.writer->Publish([&](std::uint8_t* buffer, std::uint32_t capacity) -> std::int64_t {
-          if (size < 0 || static_cast<std::uint32_t>(size) > capacity) return -1;
-          return msg.encode(buffer, 0, static_cast<int>(capacity));
-        });
+    const std::uint64_t n = s.writer->Publish([&](std::uint8_t* buffer, std::uint32_t capacity) -> std::int64_t {
+      if (size < 0 || static_cast<std::uint32_t>(size) > capacity) return -1;
+      return msg.encode(buffer, 0, static_cast<int>(capacity));
+    });
     if (n == 0) {
       ++s.counters->publish_failures;
       return false;
@@ -239,9 +238,8 @@ void Bus::Subscribe(const std::string& channel, std::function<void(const Msg&)> 
       Msg msg;
       if (!DecodeUntrusted(&msg, data, size)) {
         ++counters->decode_errors;
-        counters->last_error = channel + ": dropped a packet that is not a valid " +
-                               std::string(typeid(Msg).name()) + " (" + std::to_string(size) +
-                               " bytes: truncated or foreign type)";
+        counters->last_error = channel + ": dropped a packet that is not a valid " + std::string(typeid(Msg).name()) +
+                               " (" + std::to_string(size) + " bytes: truncated or foreign type)";
         return;
       }
       Delivered(*counters, msg, last_seq.get());
@@ -250,20 +248,19 @@ void Bus::Subscribe(const std::string& channel, std::function<void(const Msg&)> 
     return;
   }
   auto msg = std::make_shared<Msg>();
-  AddShmSubscription(
-      channel, Msg::getHash(),
-      [this, counters, msg, last_seq, handler = std::move(handler)](ShmReader& reader) {
-        const TakeStatus status = reader.TryTake([&](const std::uint8_t* data, std::uint32_t size) {
-          return DecodeUntrusted(msg.get(), data, size);  // a torn length field is a bad message
-        });
-        if (status == TakeStatus::kMessage) {
-          Delivered(*counters, *msg, last_seq.get());
-          handler(*msg);
-        } else if (status == TakeStatus::kDecodeError) {
-          ++counters->decode_errors;
-        }
-        return status;
-      });
+  AddShmSubscription(channel, Msg::getHash(),
+                     [this, counters, msg, last_seq, handler = std::move(handler)](ShmReader& reader) {
+                       const TakeStatus status = reader.TryTake([&](const std::uint8_t* data, std::uint32_t size) {
+                         return DecodeUntrusted(msg.get(), data, size);  // a torn length field is a bad message
+                       });
+                       if (status == TakeStatus::kMessage) {
+                         Delivered(*counters, *msg, last_seq.get());
+                         handler(*msg);
+                       } else if (status == TakeStatus::kDecodeError) {
+                         ++counters->decode_errors;
+                       }
+                       return status;
+                     });
 }
 
 }  // namespace edsp

@@ -10,8 +10,7 @@ namespace edsp {
 
 // Sleeps while *word == expected, at most `timeout`. Returns false on timeout.
 // Spurious returns are possible; callers re-check their condition.
-bool FutexWait(std::atomic<std::uint32_t>* word, std::uint32_t expected,
-               std::chrono::nanoseconds timeout) noexcept;
+bool FutexWait(std::atomic<std::uint32_t>* word, std::uint32_t expected, std::chrono::nanoseconds timeout) noexcept;
 
 // Sleeps while every words[i] == expected[i] (at most 128 words), at most
 // `timeout`: one thread waiting on several shared-memory channels at once

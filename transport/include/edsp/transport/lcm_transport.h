@@ -19,13 +19,11 @@ namespace edsp {
 // A 4 MiB receive buffer rides out scheduling stalls of a loaded host (the
 // logger takes every channel at several kHz); the kernel caps it at
 // net.core.rmem_max, which `deploy/edsp` raises to match.
-inline constexpr const char* kDefaultLcmUrl =
-    "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304";
+inline constexpr const char* kDefaultLcmUrl = "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304";
 
 class LcmTransport {
  public:
-  using RawHandler = std::function<void(const std::string& channel, const std::uint8_t* data,
-                                        std::uint32_t size)>;
+  using RawHandler = std::function<void(const std::string& channel, const std::uint8_t* data, std::uint32_t size)>;
 
   // Throws TransportError naming the URL if LCM cannot be initialised.
   explicit LcmTransport(const std::string& url = kDefaultLcmUrl);

@@ -46,8 +46,8 @@ enum class TakeStatus {
 
 struct ShmReaderStats {
   std::uint64_t received = 0;
-  std::uint64_t overruns = 0;       // messages lost because the writer lapped us
-  std::uint64_t torn = 0;           // reads discarded because the slot changed under us
+  std::uint64_t overruns = 0;  // messages lost because the writer lapped us
+  std::uint64_t torn = 0;      // reads discarded because the slot changed under us
   std::uint64_t decode_errors = 0;
 };
 
@@ -79,8 +79,7 @@ class ShmReader {
 
   // Waits until a message is available or `timeout` passes: spins for
   // `spin` first, then sleeps on the futex. Returns true if one is available.
-  bool Wait(std::chrono::nanoseconds timeout,
-            std::chrono::nanoseconds spin = std::chrono::microseconds(20)) noexcept;
+  bool Wait(std::chrono::nanoseconds timeout, std::chrono::nanoseconds spin = std::chrono::microseconds(20)) noexcept;
 
   // Waits until any of `readers` has a message or `timeout` passes, spinning
   // for `spin` first, then sleeping on all their doorbells at once (one
@@ -89,8 +88,7 @@ class ShmReader {
   // FdDoorbell of the LCM socket).
   static bool WaitAny(ShmReader* const* readers, int count, std::chrono::nanoseconds timeout,
                       std::chrono::nanoseconds spin = std::chrono::microseconds(20),
-                      std::atomic<std::uint32_t>* extra = nullptr,
-                      std::uint32_t extra_expected = 0) noexcept;
+                      std::atomic<std::uint32_t>* extra = nullptr, std::uint32_t extra_expected = 0) noexcept;
 
   bool Available() const noexcept;
   bool WriterAlive() const;

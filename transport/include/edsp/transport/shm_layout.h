@@ -31,7 +31,7 @@ struct alignas(kCacheLine) ShmSegmentHeader {
   std::uint32_t slot_count;       // power of two
   std::uint32_t slot_size_bytes;  // payload capacity of one slot
   std::uint32_t slot_stride_bytes;
-  std::uint32_t checksum;         // over the fields above, see ShmHeaderChecksum
+  std::uint32_t checksum;  // over the fields above, see ShmHeaderChecksum
 
   // Writer identity: pid and its start time (clock ticks since boot, from
   // /proc/<pid>/stat) so a recycled pid is not mistaken for a live writer.
@@ -48,7 +48,7 @@ struct alignas(kCacheLine) ShmSlotHeader {
   std::atomic<std::uint64_t> sequence;  // 2n−1 while writing message n, 2n when done
   std::uint32_t size_bytes;             // encoded size of message n
   std::uint32_t reserved;
-  std::int64_t publish_utime;           // writer's clock at publish, microseconds
+  std::int64_t publish_utime;  // writer's clock at publish, microseconds
 };
 
 static_assert(sizeof(ShmSegmentHeader) % kCacheLine == 0);

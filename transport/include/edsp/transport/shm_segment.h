@@ -14,11 +14,11 @@ namespace edsp {
 
 // What a channel's segment must look like.
 struct ShmChannelSpec {
-  std::string segment_name;      // e.g. "edsp.EDSP_LEG_COMMAND" (in /dev/shm)
+  std::string segment_name;  // e.g. "edsp.EDSP_LEG_COMMAND" (in /dev/shm)
   std::int64_t type_fingerprint = 0;
-  std::uint32_t slot_count = 64;          // power of two, 2..65536
-  std::uint32_t slot_size_bytes = 4096;   // largest encoded message, ≤ 16 MiB
-  mode_t permissions = 0600;              // the segment file's mode
+  std::uint32_t slot_count = 64;         // power of two, 2..65536
+  std::uint32_t slot_size_bytes = 4096;  // largest encoded message, ≤ 16 MiB
+  mode_t permissions = 0600;             // the segment file's mode
   // A reader that copies bytes and never decodes them (the logger): takes
   // whatever type the segment carries. A writer always names its type.
   bool any_type = false;
@@ -26,15 +26,15 @@ struct ShmChannelSpec {
 
 enum class ShmError {
   kNone,
-  kBadSpec,            // slot count/size out of range or not a power of two
-  kNotFound,           // no segment yet (reader before writer)
-  kNotReady,           // a writer is still initialising it
-  kCorruptHeader,      // bad magic, checksum or size: not an edsp segment
-  kLayoutVersion,      // made by another edsp layout version
-  kTypeMismatch,       // another LCM type (fingerprint) on this channel
-  kGeometryMismatch,   // other slot count or slot size
-  kWriterAlive,        // another live process is this channel's writer
-  kSystem,             // shm_open/ftruncate/mmap failed
+  kBadSpec,           // slot count/size out of range or not a power of two
+  kNotFound,          // no segment yet (reader before writer)
+  kNotReady,          // a writer is still initialising it
+  kCorruptHeader,     // bad magic, checksum or size: not an edsp segment
+  kLayoutVersion,     // made by another edsp layout version
+  kTypeMismatch,      // another LCM type (fingerprint) on this channel
+  kGeometryMismatch,  // other slot count or slot size
+  kWriterAlive,       // another live process is this channel's writer
+  kSystem,            // shm_open/ftruncate/mmap failed
 };
 
 const char* ShmErrorName(ShmError error);
@@ -69,9 +69,9 @@ class ShmSegment {
 
 template <typename T>
 struct ShmResult {
-  std::unique_ptr<T> value;    // set on success
+  std::unique_ptr<T> value;  // set on success
   ShmError error = ShmError::kNone;
-  std::string message;         // names the segment and what is wrong
+  std::string message;  // names the segment and what is wrong
   bool ok() const { return error == ShmError::kNone; }
 };
 

@@ -32,18 +32,18 @@ const char* ChannelPathName(ChannelPath path);
 
 struct ChannelRoute {
   ChannelPath path = ChannelPath::kLcm;
-  std::uint32_t mirror_every = 1;         // LCM mirror decimation for kBoth
-  std::uint32_t slots = 64;               // shared-memory ring length (power of two)
-  std::uint32_t slot_size_bytes = 4096;   // largest encoded message
-  std::string writer;                     // the publishing member (multi-host groups)
-  std::vector<std::string> readers;       // empty: any member may read it
+  std::uint32_t mirror_every = 1;        // LCM mirror decimation for kBoth
+  std::uint32_t slots = 64;              // shared-memory ring length (power of two)
+  std::uint32_t slot_size_bytes = 4096;  // largest encoded message
+  std::string writer;                    // the publishing member (multi-host groups)
+  std::vector<std::string> readers;      // empty: any member may read it
 };
 
 struct TransportConfig {
   std::string lcm_url = kDefaultLcmUrl;
   std::string shm_prefix = "edsp";
   mode_t shm_permissions = 0600;
-  std::map<std::string, ChannelRoute> channels;  // channels not listed use LCM
+  std::map<std::string, ChannelRoute> channels;     // channels not listed use LCM
   std::map<std::string, std::string> member_hosts;  // [[member]] name → host ("local")
 
   const ChannelRoute& Route(const std::string& channel) const;

@@ -35,8 +35,7 @@ class ModbusDriveMaster final : public CspLink {
   bool Connected(std::string* error) const;
   // The answer of one request (`read` registers into `in`): decoded, or
   // *error naming the request and why, and the connection dropped.
-  bool TakeFeedback(int read, const std::uint16_t* in, const char* request, CspFeedbacks* feedback,
-                    std::string* error);
+  bool TakeFeedback(int read, const std::uint16_t* in, const char* request, CspFeedbacks* feedback, std::string* error);
 
   std::string host_;
   int port_;

@@ -24,8 +24,8 @@ namespace edsp::cia402 {
 
 struct DriveServerOptions {
   std::string host = "127.0.0.1";
-  int port = 1502;           // 0: any free port (see port())
-  double cycle_s = 0.001;    // the drives' own cycle
+  int port = 1502;         // 0: any free port (see port())
+  double cycle_s = 0.001;  // the drives' own cycle
   SimulatedDriveOptions drive;
 };
 

@@ -19,13 +19,13 @@
 namespace edsp::cia402 {
 
 struct CspRxImage {
-  std::int64_t utime;   // when the master wrote it
-  std::int64_t cycle;   // the master's cycle count
+  std::int64_t utime;  // when the master wrote it
+  std::int64_t cycle;  // the master's cycle count
   CspCommand drives[kCabinetDrives];
 };
 
 struct CspTxImage {
-  std::int64_t utime;   // when the drives latched it
+  std::int64_t utime;                  // when the drives latched it
   CspFeedback drives[kCabinetDrives];  // cycle_count: the drives' cycle (mod 2^16)
 };
 

@@ -18,7 +18,7 @@ namespace edsp::cia402 {
 struct ShmDriveServerOptions {
   std::string prefix = "edsp";  // the segments' prefix (csp_shm_image.h)
   mode_t permissions = 0600;
-  double cycle_s = 0.001;       // the drives' own cycle
+  double cycle_s = 0.001;  // the drives' own cycle
   SimulatedDriveOptions drive;
 };
 
