@@ -140,9 +140,9 @@ bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utim
 
 std::optional<ActuatorBridge::Refusal> ActuatorBridge::WhyNotListening(const leg_command_t& c, std::int64_t now_utime) {
   if (state_ == BridgeState::kLatched) {
-    return Refusal{FaultCode::kStale, fmt::format("leg command seq {} refused: holding after {} since command "
-                                                  "seq {}; re-arm required (EDSP_ARM)",
-                                                  c.seq, latch_cause_, last_command_seq_)};
+    return Refusal{FaultCode::kLatched, fmt::format("leg command seq {} refused: holding after {} since command "
+                                                    "seq {}; re-arm required (EDSP_ARM)",
+                                                    c.seq, latch_cause_, last_command_seq_)};
   }
   if (Moving() && now_utime - target_utime_ > options_.stale_us) {
     // Starved longer than the stale limit and no cycle noticed (this process
@@ -155,7 +155,7 @@ std::optional<ActuatorBridge::Refusal> ActuatorBridge::WhyNotListening(const leg
     Apply(BridgeEvent::kStale);
     HoldAtRest();
     hold_where_the_drives_are_ = true;  // at the next cycle's read
-    return Refusal{FaultCode::kStale,
+    return Refusal{FaultCode::kLatched,
                    fmt::format("leg command seq {} refused: no valid leg command for {} us before it "
                                "(limit {} us); holding the last valid position (command seq {}) until "
                                "re-armed",
@@ -335,7 +335,7 @@ bool ActuatorBridge::Cycle(std::int64_t now_utime, leg_state_t* state, fault_t* 
   if (Moving() && now_utime - target_utime_ > options_.stale_us) {
     Apply(BridgeEvent::kStale);
     HoldAtRest();
-    *fault = Fault(FaultCode::kStale,
+    *fault = Fault(FaultCode::kLatched,
                    fmt::format("no valid leg command for {} us: holding the last valid "
                                "position (command seq {}) until re-armed",
                                now_utime - target_utime_, last_command_seq_),

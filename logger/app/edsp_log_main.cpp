@@ -1,6 +1,9 @@
 // edsp-log: tools for LCM log files.
 //   edsp-log info LOG [--json]     channels, counts, rates, seq gaps, damage
-//   edsp-log faults LOG            every EDSP_FAULT: time, node, channel, code (and its name), reason
+//   edsp-log faults LOG [--node NODE,...] [--code CODE,...]
+//                                  every EDSP_FAULT (or those of these nodes and codes,
+//                                  codes by number or name): time, node, channel, code
+//                                  (and its name), reason
 //   edsp-log export --measurement FILE.csv LOG
 //                                  the measurement CSV of interfaces.md §3
 //   edsp-log export --csv DIR [--channels REGEX] LOG
@@ -10,6 +13,10 @@
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -62,7 +69,30 @@ int ReportDamage(const std::string& path, bool damaged, std::int64_t offset,
   return 3;
 }
 
-int Faults(const std::string& path) {
+// Which faults `faults` lists: every one when a list is empty.
+struct FaultFilter {
+  std::vector<std::string> nodes;
+  std::vector<std::int32_t> codes;
+
+  bool Admits(const fault_t& f) const {
+    return (nodes.empty() || std::find(nodes.begin(), nodes.end(), f.node) != nodes.end()) &&
+           (codes.empty() || std::find(codes.begin(), codes.end(), f.code) != codes.end());
+  }
+};
+
+std::vector<std::int32_t> FaultCodesNamed(const std::vector<std::string>& texts) {
+  std::vector<std::int32_t> codes;
+  for (const std::string& text : texts) {
+    const std::optional<FaultCode> code = FaultCodeFromText(text);
+    if (!code)
+      throw std::invalid_argument(fmt::format(
+          "--code {}: no such fault code (a number, or a name as edsp-log faults prints it, e.g. latched)", text));
+    codes.push_back(static_cast<std::int32_t>(*code));
+  }
+  return codes;
+}
+
+int Faults(const std::string& path, const FaultFilter& filter) {
   LogReader reader(path);
   LogEvent event;
   std::int64_t first = -1, count = 0;
@@ -75,6 +105,7 @@ int Faults(const std::string& path) {
                   static_cast<double>(event.timestamp_utime - first) * 1e-6, event.data.size());
       continue;
     }
+    if (!filter.Admits(fault)) continue;
     ++count;
     std::printf("%10.3f s  %-16s %-18s code %d (%s)  %s\n", static_cast<double>(event.timestamp_utime - first) * 1e-6,
                 fault.node.c_str(), fault.channel.c_str(), fault.code,
@@ -121,6 +152,11 @@ int main(int argc, char** argv) {
   info->add_flag("--json", json, "print JSON");
   CLI::App* faults = app.add_subcommand("faults", "every EDSP_FAULT with its reason");
   faults->add_option("log", path, "LCM log file")->required();
+  edsp::FaultFilter fault_filter;
+  std::vector<std::string> fault_codes;
+  faults->add_option("--node", fault_filter.nodes, "only faults these nodes reported")->delimiter(',');
+  faults->add_option("--code", fault_codes, "only these codes: numbers or names as listed (latched, drive_backend)")
+      ->delimiter(',');
   CLI::App* export_cmd = app.add_subcommand("export", "export a log for analysis");
   std::string measurement, csv_dir, channels = ".*";
   export_cmd->add_option("log", path, "LCM log file")->required();
@@ -134,7 +170,10 @@ int main(int argc, char** argv) {
   });
   CLI11_PARSE(app, argc, argv);
   try {
-    if (*faults) return edsp::Faults(path);
+    if (*faults) {
+      fault_filter.codes = edsp::FaultCodesNamed(fault_codes);
+      return edsp::Faults(path, fault_filter);
+    }
     if (*export_cmd) {
       int status = 0;
       if (!measurement.empty()) status = edsp::ExportMeasurement(path, measurement);

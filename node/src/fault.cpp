@@ -1,5 +1,8 @@
 #include "edsp/node/fault.h"
 
+#include <algorithm>
+#include <cstdlib>
+
 namespace edsp {
 
 const char* FaultCodeName(FaultCode code) {
@@ -19,8 +22,29 @@ const char* FaultCodeName(FaultCode code) {
     case FaultCode::kProcess: return "process";
     case FaultCode::kCalibration: return "calibration";
     case FaultCode::kTransport: return "transport";
+    case FaultCode::kLatched: return "latched";
   }
   return "unknown";
+}
+
+std::optional<FaultCode> FaultCodeFromText(const std::string& text) {
+  // Codes are small and dense; a name past the last is "unknown".
+  constexpr int kCodesToTry = 64;
+  const auto spaced = [](std::string name) {
+    std::replace_if(
+        name.begin(), name.end(), [](char c) { return c == '_' || c == '-'; }, ' ');
+    return name;
+  };
+  char* end = nullptr;
+  const long number = std::strtol(text.c_str(), &end, 10);
+  const bool is_number = !text.empty() && *end == '\0';
+  for (int c = 1; c < kCodesToTry; ++c) {
+    const auto code = static_cast<FaultCode>(c);
+    const std::string name = FaultCodeName(code);
+    if (name == "unknown") continue;
+    if ((is_number && number == c) || spaced(text) == spaced(name)) return code;
+  }
+  return std::nullopt;
 }
 
 bool FaultThrottle::Admit(fault_t* fault) {

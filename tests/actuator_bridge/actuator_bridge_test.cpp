@@ -288,7 +288,7 @@ TEST(ActuatorBridge, HoldsTheLastValidPositionWithin50msOfSilence) {
   for (int k = 0; k < 200; ++k, t += 1000) {  // commands stop
     if (f.bridge.Cycle(t, &state, &fault)) {
       ++faults;
-      EXPECT_EQ(fault.code, static_cast<std::int32_t>(FaultCode::kStale));
+      EXPECT_EQ(fault.code, static_cast<std::int32_t>(FaultCode::kLatched));
       if (hold_at < 0) hold_at = t;
     }
     EXPECT_EQ(f.backend.written.motor_angle_rad, held);  // never moves on its own
@@ -538,7 +538,7 @@ TEST(ActuatorBridge, AFreshCommandAfterTheBridgesOwnFreezeIsRefusedAndLatches) {
   const std::array<double, 6> past = StopDrivesAhead(f);
   t += 500000;  // frozen for 0.5 s; the stream went on 15 mm
   EXPECT_FALSE(f.bridge.HandleCommand(f.Command(3e-5 * 520, t, 520), t, &fault));
-  EXPECT_EQ(fault.code, static_cast<std::int32_t>(FaultCode::kStale));
+  EXPECT_EQ(fault.code, static_cast<std::int32_t>(FaultCode::kLatched));
   EXPECT_NE(fault.reason.find("until re-armed"), std::string::npos) << fault.reason;
   EXPECT_TRUE(f.bridge.latched());
   EXPECT_FALSE(f.bridge.Cycle(t, &state, &fault)) << "reported once, by the refusal: " << fault.reason;
@@ -596,7 +596,7 @@ TEST(ActuatorBridge, AfterItsOwnFreezeTheBridgeHoldsTheDrivesWhereTheyStopped) {
   const std::array<double, 6> past = StopDrivesAhead(f);
   t += 500000;
   ASSERT_TRUE(f.bridge.Cycle(t, &state, &fault));
-  EXPECT_EQ(fault.code, static_cast<std::int32_t>(FaultCode::kStale));
+  EXPECT_EQ(fault.code, static_cast<std::int32_t>(FaultCode::kLatched));
   EXPECT_TRUE(f.bridge.latched());
   EXPECT_EQ(f.backend.written.motor_angle_rad, past);
   for (double v : f.backend.written.motor_velocity_rad_s) EXPECT_EQ(v, 0.0);

@@ -137,7 +137,7 @@ TEST_F(BridgeTour, EveryTransitionIsTakenByARunningBridge) {
   EXPECT_EQ(State(), "following");
   Cycles(60);  // following + stale
   EXPECT_EQ(State(), "latched");
-  EXPECT_EQ(fault_.code, static_cast<std::int32_t>(FaultCode::kStale));
+  EXPECT_EQ(fault_.code, static_cast<std::int32_t>(FaultCode::kLatched));
   EXPECT_FALSE(Send(1e-5)) << "latched refuses a command, even one at the held position";
   EXPECT_EQ(State(), "latched");
   EXPECT_TRUE(bridge_.Rearm());  // latched + re-arm

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -27,9 +28,13 @@ enum class FaultCode : std::int32_t {
   kProcess = 13,           // a group member froze, exited or restarted (the launcher)
   kCalibration = 14,       // not a fault: the calibration a node applies (severity info)
   kTransport = 15,         // a channel's shared-memory ring cannot be read (permissions, layout, type)
+  kLatched = 16,           // the actuator bridge holds until re-armed (EDSP_ARM): latched, or refusing while so
 };
 
 const char* FaultCodeName(FaultCode code);
+// The code a user names: its number, or its name as FaultCodeName gives it
+// ("drive backend"; "drive_backend" and "drive-backend" too). Empty if none.
+std::optional<FaultCode> FaultCodeFromText(const std::string& text);
 
 // Repeated faults (a flood of foreign packets, a stream of stale commands)
 // must not flood EDSP_FAULT in turn: at most one per (channel, code) every
