@@ -144,14 +144,14 @@ std::optional<ActuatorBridge::Refusal> ActuatorBridge::WhyNotListening(const leg
                                                     "seq {}; re-arm required (EDSP_ARM)",
                                                     c.seq, latch_cause_, last_command_seq_)};
   }
-  if (Moving() && now_utime - target_utime_ > options_.stale_us) {
+  if (Moving() && SinceLastCommandUs(now_utime) > options_.stale_us) {
     // Starved longer than the stale limit and no cycle noticed (this process
     // was frozen, or descheduled): whatever comes now may be anywhere. Hold
     // first, as a cycle would have.
     // Its drives were left alone as long: they stopped on their own
     // watchdog. Hold them there (writing the last command would pull them
     // back by up to the drives' interpolation horizon).
-    const std::int64_t silent_us = now_utime - target_utime_;
+    const std::int64_t silent_us = SinceLastCommandUs(now_utime);
     Apply(BridgeEvent::kStale);
     HoldAtRest();
     hold_where_the_drives_are_ = true;  // at the next cycle's read
@@ -254,7 +254,7 @@ void ActuatorBridge::Accept(const leg_command_t& c, const Vector6& command_m, co
   const bool resolvable = basis_s >= kShortestFeedForwardBasisS;
   for (int i = 0; i < kNumLegs; ++i) {
     const double angle = model_.MotorAngleFromLength(i, next(i));
-    if (target_utime_ < 0)
+    if (!target_utime_)
       target_.motor_velocity_rad_s[i] = 0.0;
     else if (resolvable)
       target_.motor_velocity_rad_s[i] = (angle - target_.motor_angle_rad[i]) / basis_s;
@@ -329,16 +329,16 @@ bool ActuatorBridge::Cycle(std::int64_t now_utime, leg_state_t* state, fault_t* 
   // A command overdue by more than a couple of cycles: the velocity
   // feed-forward no longer describes any motion, and a drive given it with a
   // fixed target settles past that target (by kd/kp · v): hold it at rest.
-  if (target_utime_ >= 0 && now_utime - target_utime_ > kFeedForwardLapseUs) {
+  if (SinceLastCommandUs(now_utime) > kFeedForwardLapseUs) {
     target_.motor_velocity_rad_s.fill(0.0);
   }
-  if (Moving() && now_utime - target_utime_ > options_.stale_us) {
+  if (Moving() && SinceLastCommandUs(now_utime) > options_.stale_us) {
     Apply(BridgeEvent::kStale);
     HoldAtRest();
     *fault = Fault(FaultCode::kLatched,
                    fmt::format("no valid leg command for {} us: holding the last valid "
                                "position (command seq {}) until re-armed",
-                               now_utime - target_utime_, last_command_seq_),
+                               SinceLastCommandUs(now_utime), last_command_seq_),
                    now_utime);
     raised = true;
   }

@@ -119,6 +119,10 @@ class ActuatorBridge {
   // allow is a bug here: the bridge then latches, the safe side.
   void Apply(BridgeEvent event);
   bool Moving() const { return !IsHolding(state_); }
+  // Since the last valid command arrived (0 before the first).
+  std::int64_t SinceLastCommandUs(std::int64_t now_utime) const {
+    return target_utime_ ? now_utime - *target_utime_ : 0;
+  }
   void HoldAtRest();                                        // the last valid position, at rest
   void HoldWhereTheDrivesAre();                             // after drives answer again
   bool LoseDrives(std::int64_t now_utime, fault_t* fault);  // hold at rest, latch; the fault
@@ -133,16 +137,18 @@ class ActuatorBridge {
   DriveSetpoint target_;  // what the drives are told
   Vector6 target_length_m_;
   BridgeState state_ = BridgeState::kStartupHold;
-  const char* latch_cause_ = "";    // why it is latched, for the refusals that follow
-  std::int64_t target_utime_ = -1;  // receipt time of the last valid command (-1: none yet)
+  const char* latch_cause_ = "";              // why it is latched, for the refusals that follow
+  std::optional<std::int64_t> target_utime_;  // receipt time of the last valid command
   std::int64_t last_cycle_utime_ = -1;
   std::int64_t last_basis_utime_ = 0;  // its planner time (setpoint_utime)
   std::int64_t last_command_seq_ = 0;
   bool backend_ok_ = true;                  // drive health, an input: faults are raised on its changes
   std::set<std::string> reported_reasons_;  // the backend's reasons reported in this outage
   std::int64_t backend_report_utime_ = 0;   // when the last of them was
-  // Set when a command found this bridge starved past the stale limit (it
-  // was frozen): the next cycle holds the drives where its read finds them.
+  // Where a hold holds, not whether (data, not state: the table says
+  // whether): set when a command found this bridge starved past the stale
+  // limit (it was frozen), the next cycle holding the drives where its read
+  // finds them rather than at the last command.
   bool hold_where_the_drives_are_ = false;
   Vector6 stream_length_m_;  // the last valid command (= target unless rejoining)
   std::int64_t state_seq_ = 0;
