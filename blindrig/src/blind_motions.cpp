@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 #include <stdexcept>
+#include <utility>
 
 namespace edsp::blind {
 
@@ -69,7 +70,39 @@ std::size_t BlindMotion::Segment(double t) const {
   return std::min<std::size_t>(static_cast<std::size_t>(it - end_s_.begin()), end_s_.size() - 1);
 }
 
+bool IsBlindMotionName(const std::string& name) {
+  if (name.size() == 2 && (name[0] == 'L' || name[0] == 'R') && name[1] >= 'x' && name[1] <= 'z') return true;
+  return name.size() >= 2 && name[0] == 'M' &&
+         std::all_of(name.begin() + 1, name.end(), [](char c) { return c >= '0' && c <= '9'; }) && name != "M0";
+}
+
+BlindMotion::BlindMotion(SampledMotion sampled) : name_(sampled.name), sampled_(std::move(sampled)) {
+  if (sampled_.poses.size() < 2 || sampled_.accelerations.size() != sampled_.poses.size() || !(sampled_.rate_hz > 0)) {
+    throw std::invalid_argument("sampled motion " + name_ + ": needs two or more poses, an acceleration for each, " +
+                                "and a positive rate");
+  }
+}
+
+double BlindMotion::duration_s() const {
+  if (!sampled_.poses.empty()) return static_cast<double>(sampled_.poses.size() - 1) / sampled_.rate_hz;
+  return end_s_.back();
+}
+
+namespace {
+
+// Between the samples around t, linearly; before the first and after the
+// last, those.
+Vec6 Interpolated(const std::vector<Vec6>& samples, double rate_hz, double t) {
+  const double u = std::clamp(t * rate_hz, 0.0, static_cast<double>(samples.size() - 1));
+  const auto k = std::min(static_cast<std::size_t>(u), samples.size() - 2);
+  const double w = u - static_cast<double>(k);
+  return samples[k] + w * (samples[k + 1] - samples[k]);
+}
+
+}  // namespace
+
 Vec6 BlindMotion::Pose(double t) const {
+  if (!sampled_.poses.empty()) return Interpolated(sampled_.poses, sampled_.rate_hz, t);
   const std::size_t s = Segment(t);
   if (s == 0) return from_[0];
   const double begin = end_s_[s - 1], length = end_s_[s] - begin;
@@ -78,6 +111,10 @@ Vec6 BlindMotion::Pose(double t) const {
 }
 
 Vec6 BlindMotion::Acceleration(double t) const {
+  if (!sampled_.poses.empty()) {
+    if (t <= 0.0 || t >= duration_s()) return Vec6::Zero();
+    return Interpolated(sampled_.accelerations, sampled_.rate_hz, t);
+  }
   const std::size_t s = Segment(t);
   if (s == 0 || t >= end_s_.back()) return Vec6::Zero();
   const double begin = end_s_[s - 1], length = end_s_[s] - begin;

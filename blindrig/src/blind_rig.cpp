@@ -108,13 +108,16 @@ Vec3 PointAcceleration(const BlindMotion& motion, const Vec3& point_M, double t,
   return (at(t + dt) - 2.0 * at(t) + at(t - dt)) / (dt * dt);
 }
 
-void WriteHeader(bool encoders, std::string* csv) {
+void WriteHeader(bool encoders, bool corrections, std::string* csv) {
   *csv += "time_s,run";
   for (const char* a : {"x_m", "y_m", "z_m", "roll_rad", "pitch_rad", "yaw_rad"})
     *csv += fmt::format(",pose_cmd_{}", a);
   for (int i = 1; i <= 6; ++i) *csv += fmt::format(",leg_cmd_{}_m", i);
   if (encoders) {
     for (int i = 1; i <= 6; ++i) *csv += fmt::format(",leg_enc_{}_m", i);
+  }
+  if (corrections) {
+    for (int i = 1; i <= 6; ++i) *csv += fmt::format(",leg_corr_{}_m", i);
   }
   *csv += ",point_x_m,point_y_m,point_z_m\n";
 }
@@ -145,7 +148,7 @@ class Session {
   // reading of the instant its clock puts it at (its offset, and what its
   // drift has added since the session began).
   void Run(const std::string& name, std::string* csv) {
-    const BlindMotion motion(name, home_, setup_.limits);
+    const BlindMotion motion = MotionNamed(setup_, name);
     ReseatTarget();
     const std::vector<Instant> instants = Simulate(motion);
     const double sample_period = 1.0 / tracker_.rate_hz;
@@ -171,7 +174,7 @@ class Session {
   // encoders read, and what the legs and the structure really do.
   struct Instant {
     double t = 0.0;
-    Vec6 q_cmd, leg_cmd, motor, lengths;
+    Vec6 q_cmd, leg_cmd, correction = Vec6::Zero(), motor, lengths;
     Vec3 sway;
   };
 
@@ -185,6 +188,12 @@ class Session {
       now.t = k * dt;
       now.q_cmd = motion.Pose(now.t);
       now.leg_cmd = ControllerCommand(now.q_cmd);
+      if (setup_.calibration) {
+        const Vec6 velocity = (motion.Pose(now.t + 0.5 * dt) - motion.Pose(now.t - 0.5 * dt)) / dt;
+        now.correction =
+            setup_.calibration(session_s_ + now.t, now.q_cmd, velocity, motion.Acceleration(now.t), now.leg_cmd);
+        now.leg_cmd -= now.correction;
+      }
       for (int i = 0; i < 6; ++i) {
         legs_[static_cast<std::size_t>(i)].Step(now.leg_cmd(i) - encoder_zero_(i), dt, e_, e_.backlash_m(i));
         now.motor(i) = encoder_zero_(i) + legs_[static_cast<std::size_t>(i)].motor;
@@ -210,6 +219,7 @@ class Session {
     out.t = a.t + w * (b.t - a.t);
     out.q_cmd = a.q_cmd + w * (b.q_cmd - a.q_cmd);
     out.leg_cmd = a.leg_cmd + w * (b.leg_cmd - a.leg_cmd);
+    out.correction = a.correction + w * (b.correction - a.correction);
     out.motor = a.motor + w * (b.motor - a.motor);
     out.lengths = a.lengths + w * (b.lengths - a.lengths);
     out.sway = a.sway + w * (b.sway - a.sway);
@@ -272,6 +282,9 @@ class Session {
     if (tracker_.encoders) {
       for (int i = 0; i < 6; ++i) *csv += fmt::format(",{:.9f}", now.motor(i));
     }
+    if (setup_.calibration) {
+      for (int i = 0; i < 6; ++i) *csv += fmt::format(",{:.9f}", now.correction(i));
+    }
     *csv += fmt::format(",{:.9f},{:.9f},{:.9f}\n", measured(0), measured(1), measured(2));
   }
 
@@ -296,9 +309,16 @@ class Session {
 
 }  // namespace
 
+BlindMotion MotionNamed(const BlindRigSetup& setup, const std::string& name) {
+  for (const SampledMotion& m : setup.sampled_motions) {
+    if (m.name == name) return BlindMotion(m);
+  }
+  return BlindMotion(name, HomePose(setup.geometry), setup.limits);
+}
+
 std::string GenerateMeasurementCsv(const BlindRigSetup& setup, const BlindEffects& e, const TrackerOptions& tracker) {
   std::string csv = "# written by edsp-blind-rig (blindrig/): an independent virtual rig\n";
-  WriteHeader(tracker.encoders, &csv);
+  WriteHeader(tracker.encoders, static_cast<bool>(setup.calibration), &csv);
   Session session(setup, e, tracker);
   for (const std::string& name : setup.motions) session.Run(name, &csv);
   return csv;

@@ -142,6 +142,40 @@ std::string AddOutOfVocabulary(const std::string& kind, Draw& d, BlindEffects* e
 
 }  // namespace
 
+BlindScenario DrawBlindWholeRig(std::uint64_t seed, int index, double payload_max_kg) {
+  Draw d(seed * 0xbf58476d1ce4e5b9ULL + static_cast<std::uint64_t>(index) * 104729ULL + 3);
+  BlindScenario s;
+  s.kind = "whole_rig";
+  s.truth = {"leg_offset", "joint_position", "lead_error", "periodic_lead_error", "backlash", "compliance"};
+  BlindEffects& e = s.effects;
+  e.leg_offset_m = d.PerLeg(0.0, 120e-6);
+  std::normal_distribution<double> joint(0.0, 100e-6);
+  std::mt19937_64 joints(seed ^ (static_cast<std::uint64_t>(index) << 20));
+  for (int i = 0; i < 6; ++i) {
+    for (int a = 0; a < 3; ++a) {
+      e.base_joint_error_m(a, i) = joint(joints);
+      e.platform_joint_error_m(a, i) = joint(joints);
+    }
+  }
+  e.lead_error = d.PerLeg(0.0, 250e-6);
+  e.periodic_amplitude_m = d.PerLegPositive(2e-6, 8e-6);
+  e.periodic_phase_rad = d.PerLegPositive(0.0, 2.0 * kPi);
+  e.backlash_m = d.PerLegPositive(15e-6, 40e-6);
+  const double stiffness = d.Uniform(15e6, 30e6);  // one design of leg, assembled ±10%
+  e.stiffness_N_m = stiffness * d.PerLegPositive(0.9, 1.1);
+  e.mass_kg = d.Uniform(500.0, std::max(500.0, payload_max_kg));
+  e.com_M = Vec3(0.0, 0.0, d.Uniform(0.0, 0.3));
+  s.tracker.rate_hz = 100.0;
+  s.tracker.noise_m = 5e-6;
+  s.tracker.encoders = true;
+  s.tracker.seed = seed * 131 + static_cast<std::uint64_t>(index);
+  s.tracker.frame << d.Uniform(-3.0, 3.0), d.Uniform(-3.0, 3.0), d.Uniform(-0.5, 0.5), d.Signed(0.0, 0.03),
+      d.Signed(0.0, 0.03), d.Uniform(-kPi, kPi);
+  s.description = fmt::format("whole rig: {:.0f} kg (c.o.m. {:.2f} m up) on {:.1f} N/um legs", e.mass_kg, e.com_M.z(),
+                              stiffness * 1e-6);
+  return s;
+}
+
 std::vector<std::string> OutOfVocabularyKinds() {
   return {"floor_vibration", "base_tilt", "stand_drift", "clock_drift", "target_reseat"};
 }

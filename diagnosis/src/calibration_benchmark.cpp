@@ -7,11 +7,15 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <random>
+#include <utility>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "edsp/blindrig/blind_setup.h"
+#include "edsp/diagnosis/blind_closed_loop.h"
 #include "edsp/diagnosis/closed_loop.h"
 #include "edsp/diagnosis/diagnose.h"
 #include "edsp/diagnosis/gap_shrink.h"
@@ -52,24 +56,62 @@ bool MeetsTarget(const DesignScore& s, double floor_m) {
   return small && s.after_max_m <= s.before_max_m;
 }
 
+// A rig under test, whichever generator made it: its fit run of some
+// motions (the CSV and the motions' length), and the closed loop of a saved
+// model on the held-out motions.
+struct RigRuns {
+  std::function<std::pair<std::string, double>(const std::vector<std::string>& motions, const std::string& dir)> fit;
+  std::function<MotionCheck(const nlohmann::json& saved, const std::string& dir)> closed_loop;
+};
+
+// edsp's rig: edsp-sim rig's offline stack.
+RigRuns OnEdspRig(const PlatformModel& model, const std::string& config, const Scenario& rig,
+                  const OfflineRunOptions& run, const std::vector<std::string>& held_out) {
+  return {[&, run](const std::vector<std::string>& motions, const std::string& dir) {
+            OfflineRunOptions fit_run = run;
+            fit_run.motions = motions;
+            fit_run.out_dir = dir + "/fit";
+            const OfflineRunResult fit = RunOffline(config, rig.effects, fit_run);
+            return std::make_pair(fit.csv_path, fit.duration_s);
+          },
+          [&, run](const nlohmann::json& saved, const std::string& dir) {
+            return MeasureClosedLoop(model, config, rig.effects, run, saved, held_out, dir);
+          }};
+}
+
+// The blind rig (blindrig/), at the benchmark's speeds and dwells: its own
+// motions, and edsp's planned ones (the designed set) as samples.
+RigRuns OnBlindRig(const PlatformModel& model, const PlatformConfig& config, const blind::BlindScenario& rig,
+                   const PaperMotionOptions& paper, const std::vector<std::string>& held_out) {
+  blind::BlindRigSetup setup = blind::SetupFromConfig(config);
+  setup.limits.stops = paper.stops;
+  setup.limits.dwell_s = paper.dwell_s;
+  setup.limits.linear_speed_m_s = paper.max_speed_m_s;
+  setup.limits.angular_speed_rad_s = paper.max_speed_rad_s;
+  return {[&, setup, paper](const std::vector<std::string>& motions, const std::string& dir) {
+            const BlindRun fit = RunBlindRig(WithMotions(setup, model, paper, motions), rig, dir + "/fit.csv");
+            return std::make_pair(fit.csv_path, fit.duration_s);
+          },
+          [&, setup, paper](const nlohmann::json& saved, const std::string& dir) {
+            return MeasureBlindClosedLoop(model, WithMotions(setup, model, paper, held_out), rig, saved, dir);
+          }};
+}
+
 // One design on one rig: fit, diagnose blind, close the loop on held-out motions.
-DesignScore ScoreDesign(const PlatformModel& model, const std::string& config, const Scenario& rig,
-                        OfflineRunOptions run, const MotionDesign& design, const CalibrationBenchmarkOptions& o,
-                        const std::string& dir, double floor_m) {
+DesignScore ScoreDesign(const PlatformModel& model, const RigRuns& rig, const MotionDesign& design,
+                        const CalibrationBenchmarkOptions& o, const std::string& dir, double floor_m) {
   DesignScore s;
   s.design = design.name;
   try {
-    run.motions = design.motions;
-    run.out_dir = dir + "/fit";
-    const OfflineRunResult fit = RunOffline(config, rig.effects, run);
-    s.fit_duration_s = fit.duration_s;
-    const Diagnosis d = Diagnose(model, LoadMeasurement(fit.csv_path));
+    const auto [fit_csv, fit_duration_s] = rig.fit(design.motions, dir);
+    s.fit_duration_s = fit_duration_s;
+    const Diagnosis d = Diagnose(model, LoadMeasurement(fit_csv));
     s.conclusion = d.conclusion;
     const nlohmann::json saved = ModelJson(d);
     const nlohmann::json applied = AppliedModelJson(saved, false);  // kept: a range over a temporary's member dangles
     for (const auto& e : applied["effects"]) s.applied.push_back(e["name"].get<std::string>());
     if (!o.keep_dir.empty()) std::ofstream(dir + "/diagnosis.json") << ToJson(d).dump(2) << "\n";
-    const MotionCheck loop = MeasureClosedLoop(model, config, rig.effects, run, saved, o.held_out, dir);
+    const MotionCheck loop = rig.closed_loop(saved, dir);
     s.before_rms_m = loop.before.rms_m, s.before_max_m = loop.before.max_m;
     s.after_rms_m = loop.after.rms_m, s.after_max_m = loop.after.max_m;
     s.predicted_rms_m = loop.predicted ? loop.predicted->rms_m : 0.0;
@@ -116,10 +158,14 @@ void Tally(CalibrationBenchmarkResult* r) {
 CalibrationBenchmarkResult RunCalibrationBenchmark(const CalibrationBenchmarkOptions& options) {
   if (options.designs.empty()) throw std::invalid_argument("calibration benchmark: no motion design to score");
   if (options.held_out.empty()) throw std::invalid_argument("calibration benchmark: no held-out motions");
+  if (options.generator != "rig" && options.generator != "blind") {
+    throw std::invalid_argument("calibration benchmark: generator " + options.generator + " is neither rig nor blind");
+  }
   CalibrationBenchmarkResult result;
   result.options = options;
   const std::string config = options.config_path.empty() ? EDSP_DEFAULT_CONFIG : options.config_path;
-  const PlatformModel model(LoadConfigFile(config));
+  const PlatformConfig platform = LoadConfigFile(config);
+  const PlatformModel model(platform);
   result.rated_payload_kg =
       RatePayload(model, RigEffects{}.servo_lag, Vector3(0, 0, kWholeRigComHeightMaxM)).payload_kg;
   const std::string root =
@@ -127,20 +173,28 @@ CalibrationBenchmarkResult RunCalibrationBenchmark(const CalibrationBenchmarkOpt
           ? (std::filesystem::temp_directory_path() / fmt::format("edsp-gap-calibration-bench-{}", ::getpid())).string()
           : options.keep_dir;
   std::mt19937_64 stands(options.seed);
+  const bool blind_rig = options.generator == "blind";
   for (int k = 0; k < options.rigs; ++k) {
-    const Scenario rig = DrawWholeRig(options.seed, k, result.rated_payload_kg);
-    const OfflineRunOptions run = RunOptions(options, stands, k);
     RigScore score;
     score.index = k;
-    score.description = rig.description;
-    score.payload_kg = rig.effects.compliance.mass_kg;
     score.rated_payload_kg = result.rated_payload_kg;
     score.noise_floor_m = std::sqrt(3.0) * options.tracker_noise_m;
+    // Both draws are made whichever rig runs: the tracker stands of the
+    // rigs after this one stay the same draws.
+    const Scenario edsp_rig = DrawWholeRig(options.seed, k, result.rated_payload_kg);
+    const OfflineRunOptions run = RunOptions(options, stands, k);
+    blind::BlindScenario blind_rig_drawn = blind::DrawBlindWholeRig(options.seed, k, result.rated_payload_kg);
+    blind_rig_drawn.tracker.noise_m = options.tracker_noise_m;
+    blind_rig_drawn.tracker.rate_hz = options.tracker_rate_hz;
+    score.description = blind_rig ? blind_rig_drawn.description : edsp_rig.description;
+    score.payload_kg = blind_rig ? blind_rig_drawn.effects.mass_kg : edsp_rig.effects.compliance.mass_kg;
+    const RigRuns rig = blind_rig ? OnBlindRig(model, platform, blind_rig_drawn, run.paper, options.held_out)
+                                  : OnEdspRig(model, config, edsp_rig, run, options.held_out);
     for (const MotionDesign& design : options.designs) {
       Progress(options, k, fmt::format("rig {}: {}", k, design.name));
       const std::string dir = fmt::format("{}/rig-{:03d}/{}", root, k, design.name);
       std::filesystem::create_directories(dir);
-      score.designs.push_back(ScoreDesign(model, config, rig, run, design, options, dir, score.noise_floor_m));
+      score.designs.push_back(ScoreDesign(model, rig, design, options, dir, score.noise_floor_m));
     }
     result.rigs.push_back(score);
   }
@@ -153,6 +207,7 @@ CalibrationBenchmarkResult RunCalibrationBenchmark(const CalibrationBenchmarkOpt
 nlohmann::json ToJson(const CalibrationBenchmarkResult& r) {
   nlohmann::json j;
   j["mode"] = "calibration";
+  j["generator"] = r.options.generator;
   j["seed"] = r.options.seed;
   j["tracker_noise_m"] = r.options.tracker_noise_m;
   j["tracker_rate_hz"] = r.options.tracker_rate_hz;
@@ -193,7 +248,8 @@ nlohmann::json ToJson(const CalibrationBenchmarkResult& r) {
 }
 
 void PrintCalibrationBenchmark(const CalibrationBenchmarkResult& r) {
-  std::printf("calibration on %zu whole rigs (seed %llu, payloads 500–%.0f kg), held out: %s\n", r.rigs.size(),
+  std::printf("calibration on %zu whole rigs of %s (seed %llu, payloads 500–%.0f kg), held out: %s\n", r.rigs.size(),
+              r.options.generator == "blind" ? "the blind rig" : "edsp's rig",
               static_cast<unsigned long long>(r.options.seed), r.rated_payload_kg,
               fmt::format("{}", fmt::join(r.options.held_out, ",")).c_str());
   std::printf("%-4s %-58s", "rig", "");

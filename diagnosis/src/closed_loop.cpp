@@ -17,11 +17,16 @@ MotionCheck MeasureClosedLoop(const PlatformModel& model, const std::string& con
   run.calibration_path = model_path;
   run.out_dir = dir + "/closed_loop_with";
   const OfflineRunResult with = RunOffline(config_path, effects, run);
+  return ScoreClosedLoop(model, without.csv_path, with.csv_path, saved_model, model_path);
+}
+
+MotionCheck ScoreClosedLoop(const PlatformModel& model, const std::string& without_csv, const std::string& with_csv,
+                            const nlohmann::json& saved_model, const std::string& model_path) {
   // Predicted from what the kinematics applies, not the whole model: the
   // two must compare like with like.
   const Evaluation predicted =
-      Evaluate(model, LoadMeasurement(without.csv_path), AppliedModelJson(saved_model, false), model_path);
-  const Evaluation measured = Evaluate(model, LoadMeasurement(with.csv_path), EmptyModelJson(), "no model");
+      Evaluate(model, LoadMeasurement(without_csv), AppliedModelJson(saved_model, false), model_path);
+  const Evaluation measured = Evaluate(model, LoadMeasurement(with_csv), EmptyModelJson(), "no model");
   return CheckCalibration(predicted, measured, true).overall;
 }
 

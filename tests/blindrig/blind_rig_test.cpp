@@ -2,6 +2,7 @@
 // edsp's own kinematics), each effect leaves its signature, and the drawn
 // scenarios cover the kinds and tracker settings they promise.
 #include <cmath>
+#include <algorithm>
 #include <set>
 
 #include <gtest/gtest.h>
@@ -53,6 +54,91 @@ TEST(BlindRig, CommandsAreEdspsSignedCompensation) {
     const Vector6 expected = model.CompensatedLengths(Pose::FromVector(row.pose_cmd), PrMode::kSigned);
     ASSERT_LT((row.leg_cmd_m - expected).cwiseAbs().maxCoeff(), 3e-9);
   }
+}
+
+// A controller calibration is called once per control step in order of
+// time with the nominal command, its correction comes off the command, and
+// the CSV records it; the legs follow the corrected command (a correction of
+// +c on every leg at home lowers A as shorter legs do).
+TEST(BlindRig, AControllerCalibrationComesOffTheCommandAndIsRecorded) {
+  const Vec6 c = (Vec6() << 100e-6, 100e-6, 100e-6, 100e-6, 100e-6, 100e-6).finished();
+  BlindRigSetup setup = SetupFromConfig(Huang2021Config());
+  setup.motions = {"Lz", "M1"};
+  const gap::MeasurementData nominal =
+      gap::ParseMeasurementCsv(GenerateMeasurementCsv(setup, {}, IdealTracker()), "nominal");
+  int calls = 0;
+  double last_time_s = -1.0, worst_command_m = 0.0;
+  const PlatformModel model(Huang2021Config());
+  setup.calibration = [&](double time_s, const Vec6& pose, const Vec6&, const Vec6&, const Vec6& command_m) {
+    ++calls;
+    EXPECT_GT(time_s, last_time_s);
+    last_time_s = time_s;
+    const Vector6 expected = model.CompensatedLengths(Pose::FromVector(pose), PrMode::kSigned);
+    worst_command_m = std::max(worst_command_m, (command_m - expected).cwiseAbs().maxCoeff());
+    return c;
+  };
+  const gap::MeasurementData corrected =
+      gap::ParseMeasurementCsv(GenerateMeasurementCsv(setup, {}, IdealTracker()), "corrected");
+  EXPECT_GT(calls, 1000 * static_cast<int>(corrected.rows.size()) / 50 - 100) << "once per 1 kHz step";
+  EXPECT_LT(worst_command_m, 1e-9) << "the nominal command is handed over";
+  ASSERT_TRUE(corrected.has_correction);
+  ASSERT_FALSE(nominal.has_correction);
+  ASSERT_EQ(corrected.rows.size(), nominal.rows.size());
+  for (std::size_t k = 0; k < corrected.rows.size(); ++k) {
+    const gap::MeasurementRow &with = corrected.rows[k], &without = nominal.rows[k];
+    ASSERT_LT((with.leg_cmd_m - (without.leg_cmd_m - c)).cwiseAbs().maxCoeff(), 2e-9);
+    ASSERT_LT((with.leg_corr_m - c).cwiseAbs().maxCoeff(), 2e-9);
+  }
+  // At home (the first row), shorter legs lower A.
+  EXPECT_LT(corrected.rows[0].point_m.z(), nominal.rows[0].point_m.z() - 50e-6);
+}
+
+// A motion given as samples is run as the rig's own: its own Lz and M1,
+// sampled at the control rate, give the same measurement (an effect whose
+// loads follow the acceleration on, so the second derivatives count too).
+TEST(BlindRig, AMotionGivenAsSamplesRunsAsItsOwn) {
+  BlindEffects effects;
+  effects.stiffness_N_m = Vec6::Constant(20e6);
+  effects.mass_kg = 800.0;
+  effects.com_M = Vec3(0.0, 0.0, 0.2);
+  effects.backlash_m = Vec6::Constant(30e-6);
+  BlindRigSetup own = SetupFromConfig(Huang2021Config());
+  own.motions = {"Lz", "M1"};
+  BlindRigSetup sampled = own;
+  for (const std::string& name : own.motions) {
+    const BlindMotion motion = MotionNamed(own, name);
+    SampledMotion m{name, own.control_rate_hz, {}, {}};
+    const auto steps = static_cast<int>(std::round(motion.duration_s() * own.control_rate_hz));
+    for (int k = 0; k <= steps; ++k) {
+      m.poses.push_back(motion.Pose(k / own.control_rate_hz));
+      m.accelerations.push_back(motion.Acceleration(k / own.control_rate_hz));
+    }
+    sampled.sampled_motions.push_back(std::move(m));
+  }
+  const gap::MeasurementData a = gap::ParseMeasurementCsv(GenerateMeasurementCsv(own, effects, IdealTracker()), "own");
+  const gap::MeasurementData b =
+      gap::ParseMeasurementCsv(GenerateMeasurementCsv(sampled, effects, IdealTracker()), "sampled");
+  // Run by run: a sampled run ends on its last whole control step, up to a
+  // step before its own, so it may hold one tracker sample less.
+  double largest = 0.0;
+  std::size_t compared = 0;
+  for (const std::string& run : own.motions) {
+    std::vector<const gap::MeasurementRow*> ra, rb;
+    for (const gap::MeasurementRow& r : a.rows)
+      if (a.runs[static_cast<std::size_t>(r.run)] == run) ra.push_back(&r);
+    for (const gap::MeasurementRow& r : b.rows)
+      if (b.runs[static_cast<std::size_t>(r.run)] == run) rb.push_back(&r);
+    ASSERT_LE(std::max(ra.size(), rb.size()) - std::min(ra.size(), rb.size()), 1u) << run;
+    for (std::size_t k = 0; k < std::min(ra.size(), rb.size()); ++k, ++compared) {
+      largest = std::max(largest, (ra[k]->point_m - rb[k]->point_m).norm());
+      ASSERT_LT((ra[k]->pose_cmd - rb[k]->pose_cmd).cwiseAbs().maxCoeff(), 1e-8) << run << " " << k;
+    }
+  }
+  EXPECT_GT(compared, 1000u);
+  EXPECT_LT(largest, 0.05e-6);
+  EXPECT_THROW(BlindMotion(SampledMotion{"one", 1000.0, {Vec6::Zero()}, {Vec6::Zero()}}), std::invalid_argument);
+  EXPECT_TRUE(IsBlindMotionName("Lz") && IsBlindMotionName("M12"));
+  EXPECT_FALSE(IsBlindMotionName("calibration") || IsBlindMotionName("M") || IsBlindMotionName("Lw"));
 }
 
 TEST(BlindRig, EachEffectMovesThePointByARealisticAmount) {

@@ -34,5 +34,28 @@ TEST(CalibrationBenchmark, ReportsWhatItAppliedAndScoresItsOwnFigures) {
   EXPECT_EQ(j["designs"][0]["met"].get<int>(), met ? 1 : 0);
 }
 
+// On the blind rig both designs run: the designed motions as edsp's planner
+// plans them, played by the blind rig's controller; each is scored.
+TEST(CalibrationBenchmark, OnTheBlindRigBothDesignsAreScored) {
+  CalibrationBenchmarkOptions o;
+  o.rigs = 1;
+  o.seed = 17;
+  o.generator = "blind";
+  o.held_out = {"M3"};
+  o.progress = false;
+  const CalibrationBenchmarkResult r = RunCalibrationBenchmark(o);
+  ASSERT_EQ(r.rigs.size(), 1u);
+  ASSERT_EQ(r.rigs[0].designs.size(), 2u);
+  for (const DesignScore& s : r.rigs[0].designs) {
+    ASSERT_TRUE(s.error.empty()) << s.design << ": " << s.error;
+    EXPECT_GE(s.applied.size(), 2u) << s.design;
+    EXPECT_GT(s.fit_duration_s, 10.0) << s.design;
+    EXPECT_LT(s.after_rms_m, 0.5 * s.before_rms_m) << s.design;
+  }
+  EXPECT_EQ(ToJson(r)["generator"], "blind");
+  o.generator = "sim";
+  EXPECT_THROW(RunCalibrationBenchmark(o), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace edsp::gap

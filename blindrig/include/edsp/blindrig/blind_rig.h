@@ -7,6 +7,7 @@
 // by edsp's rig and its diagnosis cannot hide (docs/diagnosis.md).
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -66,14 +67,32 @@ struct TrackerOptions {
   double time_offset_s = 0.0;
 };
 
+// A calibration the controller applies beside its nominal model (edsp's,
+// scored on this rig): the correction it takes off the nominal command at
+// session time `time_s`, for the commanded pose, its rates (the pose
+// vector's derivatives) and the nominal command. Called once per control
+// step, in order of time.
+using ControllerCalibration = std::function<Vec6(double time_s, const Vec6& pose, const Vec6& velocity,
+                                                 const Vec6& acceleration, const Vec6& command_m)>;
+
 struct BlindRigSetup {
   BlindGeometry geometry;  // nominal: what the controller and the diagnosis believe
   double lead_m = 0.010;
   int pr_sign = 1;  // the controller compensates signed PR with this s
   std::vector<std::string> motions = {"Lz", "Lx", "Rz", "Ry", "M1", "M2", "M3", "M4"};
+  // Motions of `motions` another controller plans (edsp's), by name; the
+  // rest are this rig's own.
+  std::vector<SampledMotion> sampled_motions;
   MotionLimits limits;
   double control_rate_hz = 1000.0;
+  // Empty: the nominal controller. Set: its correction is taken off every
+  // command, and the CSV records it (leg_corr_* columns).
+  ControllerCalibration calibration;
 };
+
+// The motion `name` as the rig runs it: from the setup's sampled motions if
+// there, else its own. Throws std::invalid_argument for a name it lacks.
+BlindMotion MotionNamed(const BlindRigSetup& setup, const std::string& name);
 
 // The measurement CSV of every motion, one after another in one session.
 // Throws std::runtime_error if a pose cannot be solved (an absurd effect).
@@ -95,6 +114,14 @@ struct BlindScenario {
 // or without encoder columns, all drawn. `encoders`, if set, overrides the
 // last draw only: every other part of the scenario is the one drawn.
 BlindScenario DrawBlindScenario(std::uint64_t seed, int index, std::optional<bool> encoders = std::nullopt);
+
+// Rig `index` of a seed with every static effect class at once, as a real
+// rig has them: leg offsets ±120 µm, joint centres σ 100 µm, lead errors
+// ±250 ppm with a once-per-turn error of 2–8 µm, backlash 15–40 µm, legs of
+// 15–30 N/µm (±10% leg to leg) under 500 kg up to `payload_max_kg`, its
+// centre of mass up to 0.3 m above {M}; the tracker 5 µm at 100 Hz with
+// encoders, its stand anywhere on the floor. Kind "whole_rig".
+BlindScenario DrawBlindWholeRig(std::uint64_t seed, int index, double payload_max_kg);
 
 // Names of the out-of-vocabulary kinds it draws.
 std::vector<std::string> OutOfVocabularyKinds();

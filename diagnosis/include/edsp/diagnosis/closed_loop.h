@@ -24,4 +24,11 @@ MotionCheck MeasureClosedLoop(const PlatformModel& model, const std::string& con
                               OfflineRunOptions run, const nlohmann::json& saved_model,
                               const std::vector<std::string>& motions, const std::string& dir);
 
+// The score of the same motions measured without (`without_csv`) and with
+// (`with_csv`) the model at `model_path` applied: point A's error measured
+// in both, and the error the applied part of the model predicts from the
+// first.
+MotionCheck ScoreClosedLoop(const PlatformModel& model, const std::string& without_csv, const std::string& with_csv,
+                            const nlohmann::json& saved_model, const std::string& model_path);
+
 }  // namespace edsp::gap
