@@ -1,8 +1,10 @@
 #include "edsp/diagnosis/design.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <fmt/format.h>
 
@@ -47,6 +49,33 @@ void EstimateFrame(const std::vector<Vector3>& model_points, const std::vector<V
   const Eigen::Matrix4d T = Eigen::umeyama(src, dst, false);
   *R = T.topLeftCorner<3, 3>();
   *t = T.topRightCorner<3, 1>();
+}
+
+bool FixesFrameRotation(const std::vector<Vector3>& points, double min_spread_m) {
+  if (points.size() < 3) return false;
+  Vector3 mean = Vector3::Zero();
+  for (const Vector3& p : points) mean += p;
+  mean /= static_cast<double>(points.size());
+  Matrix3 scatter = Matrix3::Zero();
+  for (const Vector3& p : points) scatter += (p - mean) * (p - mean).transpose();
+  const Vector3 variances =
+      Eigen::SelfAdjointEigenSolver<Matrix3>(scatter / static_cast<double>(points.size())).eigenvalues();  // ascending
+  return std::sqrt(std::max(variances(1), 0.0)) >= min_spread_m;
+}
+
+Eigen::VectorXd ResidualInFrame(const Design& d, const Matrix3& R, const Eigen::VectorXd& predicted_B) {
+  const std::size_t n = d.model_point.size();
+  Eigen::VectorXd r(d.residual.size());
+  Vector3 mean = Vector3::Zero();
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto row = static_cast<Eigen::Index>(3 * k);
+    const Vector3 measured = d.residual.segment<3>(row) + d.R0 * d.model_point[k] + d.t0;
+    r.segment<3>(row) = measured - R * (d.model_point[k] + predicted_B.segment<3>(row));
+    mean += r.segment<3>(row);
+  }
+  mean /= static_cast<double>(std::max<std::size_t>(n, 1));
+  for (std::size_t k = 0; k < n; ++k) r.segment<3>(static_cast<Eigen::Index>(3 * k)) -= mean;
+  return r;
 }
 
 namespace {

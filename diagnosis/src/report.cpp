@@ -6,7 +6,9 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 
+#include <Eigen/Geometry>
 #include <fmt/format.h>
 
 #include "edsp/diagnosis/gap_shrink.h"
@@ -256,12 +258,41 @@ nlohmann::json ToJson(const Diagnosis& d) {
   return j;
 }
 
+namespace {
+
+// The tracker's rotation with the fit's own small correction to it.
+Matrix3 FittedTrackerRotation(const Diagnosis& d) {
+  if (d.frame.size() < 6) return d.R0;
+  const Vector3 w = d.frame.segment<3>(3);
+  if (!(w.norm() > 0.0)) return d.R0;
+  return d.R0 * Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix();
+}
+
+// The residual once the prediction (tracker frame, around the data's R0) is
+// taken off. Where the data cannot fix the frame's rotation
+// (FixesFrameRotation), R0 is arbitrary about some axis and would turn the
+// prediction with it: then the fit's rotation turns it, if the model has it.
+Eigen::VectorXd ResidualAfterPrediction(const Design& d, const Eigen::VectorXd& predicted,
+                                        const std::optional<Matrix3>& fit_rotation) {
+  if (!fit_rotation || predicted.isZero(0.0) || FixesFrameRotation(d.model_point)) return d.residual - predicted;
+  Eigen::VectorXd predicted_B(predicted.size());
+  for (Eigen::Index row = 0; row + 2 < predicted.size(); row += 3) {
+    predicted_B.segment<3>(row) = d.R0.transpose() * predicted.segment<3>(row);
+  }
+  return ResidualInFrame(d, *fit_rotation, predicted_B);
+}
+
+}  // namespace
+
 nlohmann::json ModelJson(const Diagnosis& d) {
   nlohmann::json j;
   j["format"] = "edsp-gap-model/1";
   if (!d.platform.empty()) j["platform"] = d.platform;  // a calibration refuses another platform
   j["thermal_time_constant_s"] = d.design.thermal_time_constant_s;
   j["backlash_width_m"] = d.design.backlash_width_m;
+  // The tracker's frame is the data's nuisance; its rotation is kept for
+  // data that cannot fix it (Evaluate).
+  j["tracker_rotation"] = TrackerRotationJson(FittedTrackerRotation(d));
   if (d.design.structural_mode_hz > 0.0) {
     j["structural_mode_hz"] = d.design.structural_mode_hz;
     j["structural_mode_damping"] = d.design.structural_mode_damping;
@@ -349,7 +380,8 @@ Evaluation Evaluate(const PlatformModel& model, const MeasurementData& data, con
   const std::int64_t all_rows = data.timing_excluded + static_cast<std::int64_t>(data.rows.size());
   ev.timing_excluded_share =
       all_rows > 0 ? static_cast<double>(data.timing_excluded) / static_cast<double>(all_rows) : 0.0;
-  const Eigen::VectorXd before = frame_fit(d.residual), after = frame_fit(d.residual - predicted);
+  const Eigen::VectorXd before = frame_fit(d.residual);
+  const Eigen::VectorXd after = frame_fit(ResidualAfterPrediction(d, predicted, SavedTrackerRotation(saved, origin)));
   ev.before = PointStats(before, 0, d.samples());
   ev.after = PointStats(after, 0, d.samples());
   ev.shrink = Shrink(ev.before.rms_m, ev.after.rms_m);

@@ -34,6 +34,30 @@ DesignOptions SavedDesignOptions(const nlohmann::json& saved, const std::string&
   return o;
 }
 
+std::optional<Matrix3> SavedTrackerRotation(const nlohmann::json& saved, const std::string& origin) {
+  if (!saved.is_object() || !saved.contains("tracker_rotation")) return std::nullopt;
+  const nlohmann::json& values = saved["tracker_rotation"];
+  Matrix3 R;
+  bool numbers = values.is_array() && values.size() == 9;
+  for (std::size_t k = 0; numbers && k < 9; ++k) {
+    numbers = values[k].is_number() && std::isfinite(values[k].get<double>());
+    if (numbers) R(static_cast<Eigen::Index>(k / 3), static_cast<Eigen::Index>(k % 3)) = values[k].get<double>();
+  }
+  if (!numbers || (R.transpose() * R - Matrix3::Identity()).cwiseAbs().maxCoeff() > 1e-6 ||
+      std::abs(R.determinant() - 1.0) > 1e-6) {
+    throw MeasurementError(origin + ": \"tracker_rotation\" must be a rotation matrix, 9 numbers row by row");
+  }
+  return R;
+}
+
+nlohmann::json TrackerRotationJson(const Matrix3& R) {
+  nlohmann::json values = nlohmann::json::array();
+  for (int row = 0; row < 3; ++row) {
+    for (int col = 0; col < 3; ++col) values.push_back(R(row, col));
+  }
+  return values;
+}
+
 namespace {
 
 // `key` of an entry: ParameterCount(e) finite numbers, or none at all

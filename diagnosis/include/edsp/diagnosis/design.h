@@ -85,4 +85,17 @@ Design KeepOnly(const Design& d, const std::vector<Effect>& keep);
 void EstimateFrame(const std::vector<Vector3>& model_points, const std::vector<Vector3>& measured, Matrix3* R,
                    Vector3* t);
 
+// Whether the points fix a rigid frame's rotation about every axis: they
+// spread over a plane or more (the second of their principal RMS spreads at
+// least `min_spread_m`). A rotation about point A itself leaves A where it
+// is, a line leaves the rotation about that line free: the frame estimated
+// on such data is arbitrary about those axes.
+bool FixesFrameRotation(const std::vector<Vector3>& points, double min_spread_m = 5e-3);
+
+// The residual once a prediction of the effects (`predicted_B`: 3 rows a
+// sample, A's displacement in {B}) is taken off, the prediction turned into
+// the tracker's frame by `R` (a frame the data cannot fix: the fit's) and
+// the translation fitted.
+Eigen::VectorXd ResidualInFrame(const Design& d, const Matrix3& R, const Eigen::VectorXd& predicted_B);
+
 }  // namespace edsp::gap

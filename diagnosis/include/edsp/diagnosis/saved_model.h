@@ -6,6 +6,7 @@
 // them, their 1-σ. `drift` and `compare`'s prediction pass it
 // AppliedModelJson's output: what the kinematics applies.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,12 @@ struct SavedEffect {
 
 // Throws MeasurementError naming `origin` and the key that is wrong.
 DesignOptions SavedDesignOptions(const nlohmann::json& saved, const std::string& origin);
+// The tracker frame's rotation the fit found (`tracker_rotation`, 9 numbers
+// row by row), if the model has one. Throws MeasurementError naming the key
+// when it is not a rotation.
+std::optional<Matrix3> SavedTrackerRotation(const nlohmann::json& saved, const std::string& origin);
+// The rotation as the model writes it, row by row.
+nlohmann::json TrackerRotationJson(const Matrix3& R);
 std::vector<SavedEffect> SavedAppliedEffects(const nlohmann::json& saved, const DesignOptions& options,
                                              const std::string& origin);
 
