@@ -1,5 +1,7 @@
-// libFuzzer: the process-group file parser (edsp-launch) and the [transport]
-// routes every node reads from the same file, host routing included.
+// libFuzzer: the group file's one parser, as every member reads it (routes,
+// host routing included) and as edsp-launch reads it (args expanded, then
+// the systemd units of each host); and transport's [transport] reader alone,
+// which the parser reaches only past valid members.
 #include <unistd.h>
 
 #include <cstdint>
@@ -7,8 +9,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "edsp/node/group_file.h"
 #include "edsp/transport/host_routes.h"
-#include "edsp/transport/transport_config.h"
 #include "group_file.h"
 #include "systemd_units.h"
 
@@ -16,7 +18,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (size > (1u << 16)) return 0;
   const std::string text(reinterpret_cast<const char*>(data), size);
   try {
-    const edsp::TransportConfig config = edsp::ParseTransportConfig(text, "fuzz.toml");
+    (void)edsp::ParseTransportConfig(text, "fuzz.toml", {});
+  } catch (const std::exception&) {
+  }
+  try {
+    const edsp::TransportConfig config = edsp::ParseGroupFile(text, "fuzz.toml").transport;
     for (const auto& member : config.member_hosts) (void)edsp::RoutesForMember(config, member.first);
   } catch (const std::exception&) {
   }

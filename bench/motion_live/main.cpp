@@ -31,6 +31,7 @@
 #include "edsp/motion_reply_t.hpp"
 #include "edsp/motion_request_t.hpp"
 #include "edsp/motion_status_t.hpp"
+#include "edsp/node/group_file.h"
 #include "edsp/node/runtime.h"
 #include "edsp/transport/bus.h"
 #include "edsp/transport/private_network.h"

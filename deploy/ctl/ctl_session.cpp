@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "edsp/node/group_file.h"
 #include "edsp/node/session_discovery.h"
 
 namespace edsp::ctl {

@@ -4,13 +4,12 @@
 
 #include "edsp/channels.h"
 #include "edsp/node/fault.h"
-#include "edsp/transport/transport_config.h"
 
 namespace edsp {
 
 namespace {
-TransportConfig LcmOnly(const std::string& path) {
-  TransportConfig config = LoadTransportConfig(path);
+TransportConfig LcmOnly(const GroupSpec& group) {
+  TransportConfig config = group.transport;
   config.channels.clear();
   return config;
 }
@@ -18,7 +17,7 @@ TransportConfig LcmOnly(const std::string& path) {
 
 GroupReport::GroupReport(const GroupSpec& group, const std::string& host)
     : node_(host.empty() ? "launcher" : "launcher@" + host),
-      bus_(LcmOnly(group.path)),
+      bus_(LcmOnly(group)),
       faults_(bus_.Advertise<fault_t>(channel::kFault)),
       status_out_(bus_.Advertise<node_status_t>(channel::kStatus)),
       status_(node_) {

@@ -12,8 +12,6 @@
 
 #include <fmt/format.h>
 
-#include "edsp/transport/transport_config.h"
-
 namespace edsp {
 
 std::string MulticastAddress(const std::string& lcm_url) {
@@ -68,7 +66,7 @@ std::string MulticastRouteInterface(const std::string& group_address, std::strin
 void CheckMulticastInterface(const GroupSpec& group, const std::string& host) {
   const auto it = group.hosts.find(host);
   if (it == group.hosts.end() || it->second.interface.empty()) return;
-  const std::string url = LoadTransportConfig(group.path).lcm_url;
+  const std::string url = group.transport.lcm_url;
   const std::string address = MulticastAddress(url);
   if (address.empty()) return;
   std::string error;

@@ -4,6 +4,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "edsp/node/group_file.h"
 #include "edsp/transport/host_routes.h"
 
 namespace edsp {

@@ -15,6 +15,7 @@
 #include "edsp/channels.h"
 #include "edsp/logger/bus_recording.h"
 #include "edsp/logger/message_columns.h"
+#include "edsp/node/group_file.h"
 #include "edsp/transport/transport_config.h"
 
 namespace edsp::python {

@@ -17,6 +17,7 @@
 #include "edsp/arm_t.hpp"
 #include "edsp/calibration_t.hpp"
 #include "edsp/channels.h"
+#include "edsp/node/group_file.h"
 #include "edsp/node/operator_client.h"
 #include "edsp/planner/motion_client.h"
 #include "edsp/pr_mode_t.hpp"

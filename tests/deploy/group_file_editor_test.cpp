@@ -12,7 +12,7 @@
 
 #include <gtest/gtest.h>
 
-#include "edsp/transport/transport_config.h"
+#include "edsp/node/group_file.h"
 #include "scratch_dir.h"
 
 namespace edsp {

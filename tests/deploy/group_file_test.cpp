@@ -1,5 +1,6 @@
-// Group files: ${NAME} / ${NAME:-default} in member args, and errors that
-// name the file, line and what is wrong.
+// Group files: ${NAME} / ${NAME:-default} in member args, errors that name
+// the file, line and what is wrong, and one parser for the launcher and the
+// members.
 #include <unistd.h>
 
 #include <cstdlib>
@@ -8,9 +9,11 @@
 
 #include <gtest/gtest.h>
 
+#include "edsp/transport/host_routes.h"
 #include "group_file.h"
 #include "systemd_units.h"
 #include "scratch_dir.h"
+#include "thrown_message.h"
 
 namespace edsp {
 namespace {
@@ -177,6 +180,90 @@ TEST(MemberUnits, OneHostsMembersInStartOrderWithTheirPolicies) {
   EXPECT_NE(units[2].text.find("Wants=edsp@mh.rig.service edsp@mh.bridge.service\n"), std::string::npos);
   EXPECT_EQ(units[2].text.find("kinematics"), std::string::npos);  // another host's
   EXPECT_THROW(MemberUnits(group, "operator", "/opt/edsp", "/opt/edsp/build/bin"), std::runtime_error);
+  ::unlink(path.c_str());
+}
+
+}  // namespace
+}  // namespace edsp
+
+// One parser for the launcher and the members: what a member reads of the
+// group file (its routes, LoadTransportConfig) is what the launcher read,
+// and a malformed member is one error, the same whoever reads the file.
+namespace edsp {
+namespace {
+
+std::string ShippedGroup(const std::string& name) {
+  return std::string(EDSP_SOURCE_DIR) + "/deploy/groups/" + name + ".toml";
+}
+
+std::string WriteScratch(const std::string& name, const std::string& text) {
+  const std::string path = test_support::ScratchRoot() + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(GroupFile, MembersTakeTheRoutesTheLauncherReadWithEachMembersHost) {
+  const std::string path = ShippedGroup("multihost");
+  const TransportConfig members = LoadTransportConfig(path);  // as a member reads it: no launcher environment
+  const GroupSpec launcher = LoadGroupFile(path);
+  const HostAssignment hosts = {{"rig", "drive"},
+                                {"actuator_bridge", "drive"},
+                                {"kinematics", "controller"},
+                                {"logger", "operator"},
+                                {"planner", "operator"}};
+  EXPECT_EQ(members.member_hosts, hosts);
+  EXPECT_EQ(launcher.transport.member_hosts, hosts);
+  EXPECT_EQ(members.lcm_url, launcher.transport.lcm_url);
+  EXPECT_EQ(members.shm_prefix, "edsp.multihost");
+  ASSERT_EQ(members.channels.size(), launcher.transport.channels.size());
+  for (const auto& [channel, route] : launcher.transport.channels) {
+    EXPECT_EQ(members.Route(channel).path, route.path) << channel;
+    EXPECT_EQ(members.Route(channel).writer, route.writer) << channel;
+  }
+  // The hosts route as they did: the writer also puts every message on LCM,
+  // a reader on another host reads LCM.
+  EXPECT_EQ(RoutesForMember(members, "kinematics").Route("EDSP_LEG_COMMAND").path, ChannelPath::kBoth);
+  EXPECT_EQ(RoutesForMember(members, "actuator_bridge").Route("EDSP_LEG_COMMAND").path, ChannelPath::kLcm);
+  EXPECT_EQ(RoutesForMember(members, "actuator_bridge").Route("EDSP_LEG_STATE").path, ChannelPath::kBoth);
+  // A one-host group: every member "local", routes as written.
+  const TransportConfig sim = LoadTransportConfig(ShippedGroup("sim"));
+  for (const MemberSpec& m : LoadGroupFile(ShippedGroup("sim")).members) {
+    EXPECT_EQ(sim.member_hosts.at(m.name), "local") << m.name;
+  }
+  EXPECT_EQ(GroupHosts(sim), std::vector<std::string>{"local"});
+}
+
+TEST(GroupFile, AMalformedMemberIsOneErrorNamingFileLineAndKeyWhoeverReads) {
+  const std::string path = WriteScratch("group_file_one_parser.toml",
+                                        "[[member]]\nname = \"rig\"\ncommand = \"edsp-rig\"\n"
+                                        "[[member]]\nname = \"kinematics\"\ncommand = \"edsp-kinematics\"\nhost = 5\n");
+  const std::string for_members = test_support::ThrownMessage<std::runtime_error>([&] { LoadTransportConfig(path); });
+  const std::string for_launcher = test_support::ThrownMessage<std::runtime_error>([&] { LoadGroupFile(path); });
+  EXPECT_NE(for_members.find(path + ":7: [[member]] #2 host must be a string"), std::string::npos) << for_members;
+  EXPECT_EQ(for_members, for_launcher);
+  // A member without a name was skipped by a routes-only reader once; now it
+  // is refused by everyone.
+  std::ofstream(path) << "[[member]]\ncommand = \"edsp-rig\"\nhost = \"drive\"\n";
+  EXPECT_NE(test_support::ThrownMessage<std::runtime_error>([&] {
+              LoadTransportConfig(path);
+            }).find("[[member]] #1 needs a name and a command"),
+            std::string::npos);
+  ::unlink(path.c_str());
+  EXPECT_EQ(test_support::ThrownMessage<std::runtime_error>([&] { LoadTransportConfig(path); }),
+            path + ": cannot open file");
+}
+
+TEST(GroupFile, MembersKeepArgsAsWrittenOnlyTheLauncherExpandsThem) {
+  const std::string path =
+      WriteScratch("group_file_args.toml",
+                   "[[member]]\nname = \"k\"\ncommand = \"edsp-kinematics\"\nargs = [\"${EDSP_TEST_UNSET}\"]\n");
+  ::unsetenv("EDSP_TEST_UNSET");
+  EXPECT_EQ(ReadGroupFile(path).members[0].args, std::vector<std::string>{"${EDSP_TEST_UNSET}"});
+  EXPECT_NO_THROW(LoadTransportConfig(path));
+  EXPECT_NE(test_support::ThrownMessage<std::runtime_error>([&] {
+              LoadGroupFile(path);
+            }).find(path + ":4: [[member]] #1 args: ${EDSP_TEST_UNSET} is not set"),
+            std::string::npos);
   ::unlink(path.c_str());
 }
 

@@ -281,7 +281,7 @@ slot_size_bytes = 1024
 [transport.channels.EDSP_LEG_STATE]
 path = "shm"
 )",
-                                                 "group.toml");
+                                                 "group.toml", {});
   EXPECT_EQ(c.lcm_url, "udpm://239.255.76.67:7667?ttl=1");
   EXPECT_EQ(c.shm_permissions, 0660u);
   EXPECT_EQ(c.SegmentName("EDSP_LEG_STATE"), "rig1.EDSP_LEG_STATE");
@@ -290,11 +290,11 @@ path = "shm"
   EXPECT_EQ(c.Route("EDSP_LEG_COMMAND").slots, 128u);
   EXPECT_EQ(c.Route("EDSP_LEG_STATE").path, ChannelPath::kShm);
   EXPECT_EQ(c.Route("EDSP_TRACKER").path, ChannelPath::kLcm);
-  EXPECT_EQ(ParseTransportConfig("", "empty.toml").lcm_url, kDefaultLcmUrl);
+  EXPECT_EQ(ParseTransportConfig("", "empty.toml", {}).lcm_url, kDefaultLcmUrl);
 }
 
 std::string TransportErrorOf(const std::string& text) {
-  return test_support::ThrownMessage<TransportError>([&] { ParseTransportConfig(text, "group.toml"); });
+  return test_support::ThrownMessage<TransportError>([&] { ParseTransportConfig(text, "group.toml", {}); });
 }
 
 TEST(TransportConfig, ErrorsNameFileLineAndKey) {

@@ -1,6 +1,8 @@
 // A group spanning hosts: shared memory only between members of one host,
 // LCM between hosts, decided from the group file; and the checks that keep
 // a multi-host group from starting with a host-only LCM or an unowned segment.
+// The members' hosts come as the group file's parser hands them over
+// (HostAssignment): transport reads no [[member]] itself.
 #include <gtest/gtest.h>
 
 #include "thrown_message.h"
@@ -12,6 +14,12 @@ namespace edsp {
 namespace {
 
 // operator: planner + logger; controller: kinematics; drive: bridge + rig.
+const HostAssignment kThreeHosts = {{"planner", "operator"},
+                                    {"logger", "operator"},
+                                    {"kinematics", "controller"},
+                                    {"rig", "drive"},
+                                    {"actuator_bridge", "drive"}};
+
 std::string ThreeHosts(const std::string& url, const std::string& command_route) {
   return R"([transport]
 lcm_url = ")" +
@@ -23,33 +31,19 @@ lcm_url = ")" +
 path = "shm"
 writer = "rig"
 readers = ["actuator_bridge"]
-[[member]]
-name = "planner"
-host = "operator"
-[[member]]
-name = "logger"
-host = "operator"
-[[member]]
-name = "kinematics"
-host = "controller"
-[[member]]
-name = "rig"
-host = "drive"
-[[member]]
-name = "actuator_bridge"
-host = "drive"
 )";
 }
 
 constexpr const char* kTtl1 = "udpm://239.255.76.67:7667?ttl=1";
 
+TransportConfig OnThreeHosts(const std::string& text) { return ParseTransportConfig(text, "g.toml", kThreeHosts); }
+
 std::string ErrorOf(const std::string& text) {
-  return test_support::ThrownMessage<TransportError>([&] { ParseTransportConfig(text, "g.toml"); }, "no error");
+  return test_support::ThrownMessage<TransportError>([&] { OnThreeHosts(text); }, "no error");
 }
 
 TEST(HostRoutes, WriterPublishesBothWhenAReaderIsElsewhereAndRemoteReadersUseLcm) {
-  const TransportConfig group =
-      ParseTransportConfig(ThreeHosts(kTtl1, "path = \"shm\"\nwriter = \"kinematics\""), "g.toml");
+  const TransportConfig group = OnThreeHosts(ThreeHosts(kTtl1, "path = \"shm\"\nwriter = \"kinematics\""));
   EXPECT_EQ(GroupHosts(group), (std::vector<std::string>{"controller", "drive", "operator"}));
   const ChannelRoute writer = RoutesForMember(group, "kinematics").Route("EDSP_LEG_COMMAND");
   EXPECT_EQ(writer.path, ChannelPath::kBoth);
@@ -61,7 +55,7 @@ TEST(HostRoutes, WriterPublishesBothWhenAReaderIsElsewhereAndRemoteReadersUseLcm
 }
 
 TEST(HostRoutes, ReadersAllOnTheWritersHostKeepSharedMemoryOnly) {
-  const TransportConfig group = ParseTransportConfig(ThreeHosts(kTtl1, "path = \"lcm\""), "g.toml");
+  const TransportConfig group = OnThreeHosts(ThreeHosts(kTtl1, "path = \"lcm\""));
   EXPECT_EQ(RoutesForMember(group, "rig").Route("EDSP_RIG_TRUTH").path, ChannelPath::kShm);
   EXPECT_EQ(RoutesForMember(group, "actuator_bridge").Route("EDSP_RIG_TRUTH").path, ChannelPath::kShm);
   EXPECT_EQ(RoutesForMember(group, "logger").Route("EDSP_RIG_TRUTH").path, ChannelPath::kLcm);
@@ -70,7 +64,7 @@ TEST(HostRoutes, ReadersAllOnTheWritersHostKeepSharedMemoryOnly) {
 
 TEST(HostRoutes, SameHostReaderOfAMirroredChannelKeepsReadingSharedMemory) {
   std::string text = ThreeHosts(kTtl1, "path = \"both\"\nmirror_every = 10\nwriter = \"actuator_bridge\"");
-  const TransportConfig group = ParseTransportConfig(text, "g.toml");
+  const TransportConfig group = OnThreeHosts(text);
   EXPECT_EQ(RoutesForMember(group, "rig").Route("EDSP_LEG_COMMAND").path, ChannelPath::kBoth);
   const ChannelRoute writer = RoutesForMember(group, "actuator_bridge").Route("EDSP_LEG_COMMAND");
   EXPECT_EQ(writer.path, ChannelPath::kBoth);
@@ -82,12 +76,8 @@ TEST(HostRoutes, OneHostGroupsAreUnchanged) {
 [transport.channels.EDSP_LEG_COMMAND]
 path = "both"
 mirror_every = 10
-[[member]]
-name = "kinematics"
-[[member]]
-name = "actuator_bridge"
 )",
-                                                     "g.toml");
+                                                     "g.toml", {{"kinematics", "local"}, {"actuator_bridge", "local"}});
   EXPECT_EQ(GroupHosts(group), (std::vector<std::string>{"local"}));
   for (const char* member : {"kinematics", "actuator_bridge", ""}) {
     const ChannelRoute route = RoutesForMember(group, member).Route("EDSP_LEG_COMMAND");
@@ -117,6 +107,26 @@ TEST(HostRoutes, SharedMemoryChannelsOfAMultiHostGroupNameAKnownWriter) {
             std::string::npos);
   EXPECT_NE(ErrorOf(ThreeHosts(kTtl1, "path = \"shm\"\nwriter = 3")).find("writer must be a member's name"),
             std::string::npos);
+}
+
+// [[member]] tables in the text are not transport's to read: the hosts it
+// routes for are the ones it is given, whatever the text says.
+TEST(HostRoutes, HostsAreGivenNeverReadFromMemberTables) {
+  const std::string members =
+      "[[member]]\nname = \"kinematics\"\nhost = \"controller\"\n"
+      "[[member]]\nname = \"actuator_bridge\"\nhost = \"drive\"\n";
+  const std::string text = "[transport.channels.EDSP_LEG_COMMAND]\npath = \"shm\"\n" + members;
+  const TransportConfig given_none = ParseTransportConfig(text, "g.toml", {});
+  EXPECT_TRUE(given_none.member_hosts.empty());
+  EXPECT_TRUE(GroupHosts(given_none).empty());
+  // Given the two hosts, the same text is a group spanning hosts: ttl=0 and
+  // a writerless shm channel are refused.
+  const std::string error = test_support::ThrownMessage<TransportError>(
+      [&] {
+        ParseTransportConfig(text, "g.toml", {{"kinematics", "controller"}, {"actuator_bridge", "drive"}});
+      },
+      "no error");
+  EXPECT_NE(error.find("2 hosts (controller, drive)"), std::string::npos) << error;
 }
 
 TEST(HostRoutes, TtlIsReadFromTheUrl) {

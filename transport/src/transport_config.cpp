@@ -1,13 +1,12 @@
 #include "edsp/transport/transport_config.h"
 
-#include <fstream>
-#include <sstream>
+#include <cstdlib>
 
 #include <fmt/format.h>
-#include <toml++/toml.h>
 
 #include "edsp/transport/error.h"
 #include "edsp/transport/host_routes.h"
+#include "edsp/transport/transport_section.h"
 
 namespace edsp {
 
@@ -93,32 +92,13 @@ ChannelRoute ReadRoute(const toml::table& table, const std::string& channel, con
   return route;
 }
 
-// Only each member's name and host: the rest of [[member]] is the
-// launcher's to check.
-void ReadMemberHosts(const toml::table& root, TransportConfig* config) {
-  const toml::array* members = root["member"].as_array();
-  if (members == nullptr) return;
-  for (const toml::node& node : *members) {
-    const toml::table* member = node.as_table();
-    if (member == nullptr) continue;
-    const auto name = (*member)["name"].value<std::string>();
-    if (name) config->member_hosts[*name] = (*member)["host"].value_or(std::string("local"));
-  }
-}
-
 }  // namespace
 
-TransportConfig ParseTransportConfig(const std::string& toml_text, const std::string& origin) {
-  toml::table root;
-  try {
-    root = toml::parse(toml_text, origin);
-  } catch (const toml::parse_error& e) {
-    throw TransportError(
-        fmt::format("{}:{}:{}: {}", origin, e.source().begin.line, e.source().begin.column, e.description()));
-  }
+TransportConfig ReadTransportSection(const toml::table& file, const std::string& origin,
+                                     const HostAssignment& member_hosts) {
   TransportConfig config;
-  ReadMemberHosts(root, &config);
-  const toml::table* transport = root["transport"].as_table();
+  config.member_hosts = member_hosts;
+  const toml::table* transport = file["transport"].as_table();
   if (transport == nullptr) {
     CheckHostRoutes(config, origin);  // the defaults are host-only
     return config;
@@ -163,12 +143,16 @@ TransportConfig ParseTransportConfig(const std::string& toml_text, const std::st
   return config;
 }
 
-TransportConfig LoadTransportConfig(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw TransportError(fmt::format("{}: cannot open file", path));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return ParseTransportConfig(text.str(), path);
+TransportConfig ParseTransportConfig(const std::string& toml_text, const std::string& origin,
+                                     const HostAssignment& member_hosts) {
+  toml::table file;
+  try {
+    file = toml::parse(toml_text, origin);
+  } catch (const toml::parse_error& e) {
+    throw TransportError(
+        fmt::format("{}:{}:{}: {}", origin, e.source().begin.line, e.source().begin.column, e.description()));
+  }
+  return ReadTransportSection(file, origin, member_hosts);
 }
 
 }  // namespace edsp

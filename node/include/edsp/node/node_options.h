@@ -27,8 +27,10 @@ struct NodeOptions {
 
 void AddNodeOptions(CLI::App* app, NodeOptions* options);
 
-// The transport config from the group file (defaults without one), routed
-// for this member (host_routes.h), with the --lcm-url override applied. Throws TransportError naming the file.
+// The transport config from the group file (defaults without one; read by
+// its one parser, group_file.h), routed for this member (host_routes.h), with
+// the --lcm-url override applied. Throws std::runtime_error naming the file,
+// line and key.
 TransportConfig TransportFor(const NodeOptions& options);
 
 // Reads a whole file; throws std::runtime_error naming it.

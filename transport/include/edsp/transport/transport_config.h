@@ -13,8 +13,11 @@
 //   slot_size_bytes = 1024
 //   writer = "kinematics"        # a group spanning hosts: the member that publishes it
 //   readers = ["actuator_bridge"] # optional: who reads it (default: anyone)
-// The same file's [[member]] name/host pairs say which members share a host
-// (shared memory only ever joins members of one host: host_routes.h).
+// Which members share a host (shared memory only ever joins members of one
+// host: host_routes.h) transport is told, as a HostAssignment: it reads no
+// [[member]] itself. The group file's one parser (edsp/node/group_file.h)
+// reads the members and hands their hosts over with the parsed [transport]
+// section (transport_section.h).
 
 #include <sys/types.h>
 
@@ -39,21 +42,26 @@ struct ChannelRoute {
   std::vector<std::string> readers;      // empty: any member may read it
 };
 
+// Each member's host: member name → host ("local" unless the group says).
+using HostAssignment = std::map<std::string, std::string>;
+
 struct TransportConfig {
   std::string lcm_url = kDefaultLcmUrl;
   std::string shm_prefix = "edsp";
   mode_t shm_permissions = 0600;
-  std::map<std::string, ChannelRoute> channels;     // channels not listed use LCM
-  std::map<std::string, std::string> member_hosts;  // [[member]] name → host ("local")
+  std::map<std::string, ChannelRoute> channels;  // channels not listed use LCM
+  HostAssignment member_hosts;                   // as the group's parser gave them
 
   const ChannelRoute& Route(const std::string& channel) const;
   std::string SegmentName(const std::string& channel) const;
 };
 
-// Parses the [transport] section of TOML text (absent section: defaults) and
-// the [[member]] hosts, then checks a group that spans hosts
-// (CheckHostRoutes). Throws TransportError naming `origin`, the line and the key.
-TransportConfig ParseTransportConfig(const std::string& toml_text, const std::string& origin);
-TransportConfig LoadTransportConfig(const std::string& path);
+// Parses the [transport] section of TOML text (absent section: defaults) for
+// members on `member_hosts`, then checks a group that spans hosts
+// (CheckHostRoutes). Throws TransportError naming `origin`, the line and the
+// key. A group file's routes, its members' hosts included, come from
+// LoadTransportConfig (edsp/node/group_file.h).
+TransportConfig ParseTransportConfig(const std::string& toml_text, const std::string& origin,
+                                     const HostAssignment& member_hosts);
 
 }  // namespace edsp
