@@ -1,6 +1,7 @@
 #include "group_file.h"
 
 #include <cstdlib>
+#include <stdexcept>
 
 namespace edsp {
 
@@ -8,6 +9,10 @@ namespace {
 const char* Environment(const std::string& name) { return std::getenv(name.c_str()); }
 }  // namespace
 
-GroupSpec LoadGroupFile(const std::string& path) { return ReadGroupFile(path, Environment); }
+GroupSpec LoadGroupFile(const std::string& path) {
+  GroupSpec group = ReadGroupFile(path, Environment);
+  if (group.members.empty()) throw std::runtime_error(path + ": no [[member]] entries");
+  return group;
+}
 
 }  // namespace edsp

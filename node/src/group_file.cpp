@@ -132,8 +132,8 @@ void ReadGroupSection(const std::string& path, const toml::table& root, GroupSpe
 
 std::vector<MemberSpec> ReadMembers(const std::string& path, const toml::table& root, const VariableLookup& variables) {
   const toml::array* members = root["member"].as_array();
-  if (members == nullptr || members->empty()) throw std::runtime_error(path + ": no [[member]] entries");
   std::vector<MemberSpec> out;
+  if (members == nullptr) return out;  // a file of routes only: the launcher refuses it (LoadGroupFile)
   std::set<std::string> names;
   for (std::size_t i = 0; i < members->size(); ++i) {
     const toml::table* t = (*members)[i].as_table();
