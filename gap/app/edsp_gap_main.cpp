@@ -23,11 +23,11 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "edsp/diagnosis/benchmark.h"
-#include "edsp/diagnosis/calibration_benchmark.h"
+#include "edsp/gap/benchmark.h"
+#include "edsp/gap/calibration_benchmark.h"
 #include "edsp/diagnosis/calibration_check.h"
 #include "edsp/diagnosis/drift.h"
-#include "edsp/diagnosis/drift_benchmark.h"
+#include "edsp/gap/drift_benchmark.h"
 #include "edsp/diagnosis/gap_shrink.h"
 #include "edsp/diagnosis/report.h"
 #include "edsp/kinematics/config.h"

@@ -1,4 +1,4 @@
-#include "edsp/diagnosis/benchmark.h"
+#include "edsp/gap/benchmark.h"
 
 #include <unistd.h>
 
@@ -15,7 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "edsp/blindrig/blind_setup.h"
-#include "edsp/diagnosis/closed_loop.h"
+#include "edsp/gap/closed_loop.h"
 #include "edsp/diagnosis/heldout_score.h"
 #include "edsp/diagnosis/report.h"
 #include "edsp/kinematics/config.h"

@@ -1,11 +1,11 @@
-#include "edsp/diagnosis/blind_closed_loop.h"
+#include "edsp/gap/blind_closed_loop.h"
 
 #include <fstream>
 #include <memory>
 #include <stdexcept>
 #include <utility>
 
-#include "edsp/diagnosis/closed_loop.h"
+#include "edsp/gap/closed_loop.h"
 #include "edsp/kinematics/calibration.h"
 #include "edsp/kinematics/pose.h"
 #include "edsp/sim/sampled_runs.h"

@@ -1,4 +1,4 @@
-#include "edsp/diagnosis/calibration_benchmark.h"
+#include "edsp/gap/calibration_benchmark.h"
 
 #include <unistd.h>
 
@@ -15,12 +15,12 @@
 #include <nlohmann/json.hpp>
 
 #include "edsp/blindrig/blind_setup.h"
-#include "edsp/diagnosis/blind_closed_loop.h"
-#include "edsp/diagnosis/closed_loop.h"
+#include "edsp/gap/blind_closed_loop.h"
+#include "edsp/gap/closed_loop.h"
 #include "edsp/diagnosis/diagnose.h"
 #include "edsp/diagnosis/gap_shrink.h"
 #include "edsp/diagnosis/report.h"
-#include "edsp/diagnosis/rig_scenarios.h"
+#include "edsp/gap/rig_scenarios.h"
 #include "edsp/kinematics/config.h"
 #include "edsp/rig/payload_rating.h"
 #include "edsp/sim/offline_run.h"

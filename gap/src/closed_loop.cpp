@@ -1,4 +1,4 @@
-#include "edsp/diagnosis/closed_loop.h"
+#include "edsp/gap/closed_loop.h"
 
 #include <fstream>
 

@@ -1,4 +1,4 @@
-#include "edsp/diagnosis/drift_benchmark.h"
+#include "edsp/gap/drift_benchmark.h"
 
 #include <unistd.h>
 
@@ -14,7 +14,7 @@
 
 #include "edsp/diagnosis/drift.h"
 #include "edsp/diagnosis/report.h"
-#include "edsp/diagnosis/rig_scenarios.h"
+#include "edsp/gap/rig_scenarios.h"
 #include "edsp/kinematics/config.h"
 #include "edsp/rig/payload_rating.h"
 #include "edsp/sim/offline_run.h"

@@ -1,4 +1,4 @@
-#include "edsp/diagnosis/rig_scenarios.h"
+#include "edsp/gap/rig_scenarios.h"
 
 #include <algorithm>
 #include <array>

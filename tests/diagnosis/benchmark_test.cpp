@@ -11,7 +11,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "edsp/diagnosis/benchmark.h"
+#include "edsp/gap/benchmark.h"
 
 namespace edsp::gap {
 namespace {

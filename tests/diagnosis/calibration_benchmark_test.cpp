@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "edsp/diagnosis/calibration_benchmark.h"
+#include "edsp/gap/calibration_benchmark.h"
 
 namespace edsp::gap {
 namespace {

@@ -15,7 +15,7 @@
 #include "edsp/diagnosis/diagnose.h"
 #include "edsp/diagnosis/gap_shrink.h"
 #include "edsp/diagnosis/report.h"
-#include "edsp/diagnosis/rig_scenarios.h"
+#include "edsp/gap/rig_scenarios.h"
 #include "edsp/kinematics/config.h"
 #include "edsp/sim/offline_run.h"
 #include "scratch_dir.h"

@@ -13,7 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "edsp/diagnosis/drift.h"
-#include "edsp/diagnosis/drift_benchmark.h"
+#include "edsp/gap/drift_benchmark.h"
 #include "edsp/diagnosis/report.h"
 #include "edsp/kinematics/config.h"
 #include "edsp/sim/offline_run.h"

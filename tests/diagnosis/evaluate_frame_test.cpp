@@ -10,7 +10,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "edsp/diagnosis/closed_loop.h"
+#include "edsp/gap/closed_loop.h"
 #include "edsp/diagnosis/design.h"
 #include "edsp/diagnosis/diagnose.h"
 #include "edsp/diagnosis/report.h"

@@ -12,11 +12,11 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "edsp/diagnosis/closed_loop.h"
+#include "edsp/gap/closed_loop.h"
 #include "edsp/diagnosis/diagnose.h"
 #include "edsp/diagnosis/gap_shrink.h"
 #include "edsp/diagnosis/report.h"
-#include "edsp/diagnosis/rig_scenarios.h"
+#include "edsp/gap/rig_scenarios.h"
 #include "edsp/kinematics/config.h"
 #include "edsp/rig/payload_rating.h"
 #include "edsp/sim/offline_run.h"

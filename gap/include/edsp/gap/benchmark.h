@@ -16,7 +16,7 @@
 
 #include "edsp/diagnosis/diagnose.h"
 #include "edsp/diagnosis/gap_shrink.h"
-#include "edsp/diagnosis/rig_scenarios.h"
+#include "edsp/gap/rig_scenarios.h"
 
 namespace edsp::gap {
 
