@@ -137,7 +137,7 @@ TEST(PlannerLoop, AMoveIsPlannedBesideTheCyclesAndItsReplyPrecedesALaterHalts) {
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   };
-  ::test_support::MotionRequests requests(kSession);
+  test_support::MotionRequests requests(kSession);
   cycle();
   motion_request_t move = requests.Move((Vector6() << 0.05, 0, 0, 0, 0, 0).finished(), UtimeNow(), true);
   bus.Publish("EDSP_MOTION_REQUEST", move);

@@ -7,14 +7,14 @@
 #include "edsp/kinematics/types.h"
 #include "edsp/motion_request_t.hpp"
 
-namespace test_support {
+namespace edsp::test_support {
 
 class MotionRequests {
  public:
   explicit MotionRequests(std::int64_t session_id) : session_id_(session_id) {}
 
-  edsp::motion_request_t Make(std::int8_t kind, std::int64_t now_utime) {
-    edsp::motion_request_t r{};
+  motion_request_t Make(std::int8_t kind, std::int64_t now_utime) {
+    motion_request_t r{};
     r.utime = now_utime;
     r.seq = ++seq_;
     r.session_id = session_id_;
@@ -23,22 +23,22 @@ class MotionRequests {
     r.kind = kind;
     return r;
   }
-  edsp::motion_request_t Move(const edsp::Vector6& pose, std::int64_t now_utime, bool relative = false,
+  motion_request_t Move(const Vector6& pose, std::int64_t now_utime, bool relative = false,
                               const std::string& frame = "") {
-    edsp::motion_request_t r = Make(edsp::motion_request_t::KIND_MOVE, now_utime);
+    motion_request_t r = Make(motion_request_t::KIND_MOVE, now_utime);
     for (int k = 0; k < 6; ++k) r.pose[k] = pose(k);
     r.relative = relative;
     r.frame = frame;
     return r;
   }
-  edsp::motion_request_t Frame(const std::string& name, const edsp::Vector6& pose, std::int64_t now_utime) {
-    edsp::motion_request_t r = Make(edsp::motion_request_t::KIND_FRAME, now_utime);
+  motion_request_t Frame(const std::string& name, const Vector6& pose, std::int64_t now_utime) {
+    motion_request_t r = Make(motion_request_t::KIND_FRAME, now_utime);
     r.frame = name;
     for (int k = 0; k < 6; ++k) r.pose[k] = pose(k);
     return r;
   }
-  edsp::motion_request_t Pivot(const edsp::Vector3& c, std::int64_t now_utime) {
-    edsp::motion_request_t r = Make(edsp::motion_request_t::KIND_PIVOT, now_utime);
+  motion_request_t Pivot(const Vector3& c, std::int64_t now_utime) {
+    motion_request_t r = Make(motion_request_t::KIND_PIVOT, now_utime);
     for (int k = 0; k < 3; ++k) r.point[k] = c(k);
     return r;
   }
@@ -48,4 +48,4 @@ class MotionRequests {
   std::int64_t seq_ = 0, id_ = 0;
 };
 
-}  // namespace test_support
+}  // namespace edsp::test_support
