@@ -24,7 +24,7 @@ class MotionRequests {
     return r;
   }
   motion_request_t Move(const Vector6& pose, std::int64_t now_utime, bool relative = false,
-                              const std::string& frame = "") {
+                        const std::string& frame = "") {
     motion_request_t r = Make(motion_request_t::KIND_MOVE, now_utime);
     for (int k = 0; k < 6; ++k) r.pose[k] = pose(k);
     r.relative = relative;
