@@ -177,9 +177,9 @@ ClockOffsetCheck TestClockOffset(ClockNuisance& clock, const std::vector<Effect>
 // effects and the unknown.
 void ConcludeWithUnknown(Diagnosis* out) {
   const bool all = std::all_of(out->effects.begin(), out->effects.end(), [&](const EffectResult& r) {
-    return !Contains(out->selected, r.effect) || Contains(r.ambiguous_with, std::string("unknown"));
+    return !Contains(out->selected, r.effect) || r.ambiguous_with_unknown;
   });
-  out->conclusion = all ? "unknown" : "effects+unknown";
+  out->conclusion = all ? Conclusion::kUnknown : Conclusion::kEffectsAndUnknown;
 }
 
 // An effect the unknown could explain is not identified (so no calibration
@@ -189,8 +189,8 @@ void MarkExplainedByUnknown(const std::vector<Effect>& explained, const std::str
   if (explained.empty()) return;
   for (EffectResult& r : out->effects) {
     if (!Contains(explained, r.effect)) continue;
-    r.verdict = "ambiguous";
-    if (!Contains(r.ambiguous_with, std::string("unknown"))) r.ambiguous_with.push_back("unknown");
+    r.verdict = Verdict::kAmbiguous;
+    r.ambiguous_with_unknown = true;
     if (!r.next_measurement.empty()) r.next_measurement += "; ";
     r.next_measurement += why;
   }
@@ -227,8 +227,7 @@ void MarkUnknown(const std::string& what, const std::vector<Effect>& explained, 
                  Diagnosis* out) {
   NoteUnknown(what, out);
   MarkExplainedByUnknown(explained, what + advice, out);
-  if (out->conclusion == "effects") out->conclusion = "effects+unknown";
-  if (out->conclusion == "none") out->conclusion = "unknown";
+  out->conclusion = WithUnknown(out->conclusion);
 }
 
 // The effects a base tilt can stand in for, as a note names them.

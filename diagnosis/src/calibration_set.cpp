@@ -52,11 +52,12 @@ CalibrationSet ChooseCalibrationSet(Evaluator& eval, const std::vector<Effect>& 
                                     const std::vector<Effect>& selected, const std::vector<Effect>& excluded) {
   CalibrationSet best;
   best.effects = Allowed(identified, excluded);
-  best.chosen_by = "identified";
+  best.chosen_by = ChosenBy::kIdentified;
   best.cv_mse = best.identified_cv_mse = eval.Cv(best.effects);
   const std::vector<Effect> named = Allowed(selected, excluded);
-  const std::pair<const char*, std::vector<Effect>> candidates[] = {
-      {"selected", named}, {"forward", Forward(eval, named, excluded)}, {"backward", Backward(eval, excluded)}};
+  const std::pair<ChosenBy, std::vector<Effect>> candidates[] = {{ChosenBy::kSelected, named},
+                                                                 {ChosenBy::kForward, Forward(eval, named, excluded)},
+                                                                 {ChosenBy::kBackward, Backward(eval, excluded)}};
   for (const auto& [how, set] : candidates) {
     const double cv = eval.Cv(set);
     if (cv < best.cv_mse * (1.0 - kCalibrationMinGain)) best.effects = set, best.chosen_by = how, best.cv_mse = cv;

@@ -104,6 +104,14 @@ double NoiseFloorRms(const Design& d) {
   return std::sqrt(3.0) * sigma;
 }
 
+std::vector<std::string> AmbiguousWithNames(const EffectResult& r) {
+  std::vector<std::string> names;
+  for (Effect e : r.ambiguous_with) names.emplace_back(EffectName(e));
+  // The pseudo-effect is named as the conclusion it makes (conclusion.h).
+  if (r.ambiguous_with_unknown) names.emplace_back(ConclusionName(Conclusion::kUnknown));
+  return names;
+}
+
 namespace {
 
 // Forward selection (the effect that most cuts the held-out error, while it
@@ -196,11 +204,11 @@ std::map<Effect, EffectResult> Verdicts(Evaluator& eval, const Selection& s, con
     if (Contains(s.effects, e)) {
       r.cv_gain = (eval.Cv(Without(s.effects, e)) - s.cv) / s.cv0;
       r.explained_fraction = s.explained.at(e);
-      r.verdict = "identified";
+      r.verdict = Verdict::kIdentified;
     } else {
       r.cv_gain = (s.cv - eval.Cv(With(s.effects, e))) / s.cv0;
       r.explained_fraction = (s.rss - eval.Rss(With(s.effects, e))) / s.rss0;
-      r.verdict = "rejected";
+      r.verdict = Verdict::kRejected;
     }
     results[e] = r;
   }
@@ -218,8 +226,8 @@ std::map<Effect, EffectResult> Verdicts(Evaluator& eval, const Selection& s, con
       if (!Tied(alt_gain, gain, e_over_alt, o)) continue;
       for (auto [a, b] : {std::pair{e, alt}, std::pair{alt, e}}) {
         EffectResult& r = results[a];
-        r.verdict = "ambiguous";
-        r.ambiguous_with.push_back(EffectName(b));
+        r.verdict = Verdict::kAmbiguous;
+        r.ambiguous_with.push_back(b);
         r.next_measurement = SeparatingMeasurement(a, b);
       }
     }
@@ -323,8 +331,8 @@ CalibrationResult CalibrationOf(const Design& d, const GramSet& gram, const Eige
   std::vector<Effect> identified, excluded;
   for (const EffectResult& r : diagnosis.effects) {
     results[r.effect] = r;
-    if (r.verdict == "identified" && Contains(diagnosis.selected, r.effect)) identified.push_back(r.effect);
-    if (Contains(r.ambiguous_with, std::string("unknown"))) excluded.push_back(r.effect);
+    if (r.verdict == Verdict::kIdentified && Contains(diagnosis.selected, r.effect)) identified.push_back(r.effect);
+    if (r.ambiguous_with_unknown) excluded.push_back(r.effect);
   }
   const std::vector<Effect>& selected = diagnosis.selected;
   for (;;) {
@@ -359,8 +367,7 @@ void DescribeRest(const Design& d, const Eigen::VectorXd& residual, const Eigen:
   bars.min_run_offset_share = o.min_cv_gain;  // runs apart matter as an effect's cut does
   out->structure = AnalyseStructure(d, residual, heldout, bars);
   const bool effects = !out->selected.empty();
-  out->conclusion =
-      out->structure.structured ? (effects ? "effects+unknown" : "unknown") : (effects ? "effects" : "none");
+  out->conclusion = Conclude(effects, out->structure.structured);
   out->unexplained_note =
       out->structure.structured
           ? "structure that no effect of the vocabulary explains: " + out->structure.Describe()
@@ -467,7 +474,7 @@ namespace {
 
 bool Found(const Diagnosis& d, Effect effect) {
   return std::any_of(d.effects.begin(), d.effects.end(),
-                     [&](const EffectResult& r) { return r.effect == effect && r.verdict != "rejected"; });
+                     [&](const EffectResult& r) { return r.effect == effect && r.verdict != Verdict::kRejected; });
 }
 
 // Backlash's play operator needs the play's width, which is what the fit
@@ -475,7 +482,7 @@ bool Found(const Diagnosis& d, Effect effect) {
 Diagnosis WithBacklashWidth(const PlatformModel& model, const MeasurementData& data, const DiagnoseOptions& options,
                             Diagnosis d) {
   for (const EffectResult& r : d.effects) {
-    if (r.effect != Effect::kBacklash || r.verdict == "rejected" || r.theta.size() != 6) continue;
+    if (r.effect != Effect::kBacklash || r.verdict == Verdict::kRejected || r.theta.size() != 6) continue;
     const double width = std::clamp(r.theta.cwiseAbs().mean(), 2e-6, 1e-3);
     if (std::abs(width - options.design.backlash_width_m) < 0.25 * options.design.backlash_width_m) break;
     DiagnoseOptions again = options;

@@ -189,7 +189,7 @@ DriftReport Drift(const PlatformModel& model, const nlohmann::json& baseline, co
   leaves.against = Against::kCalibration;
   const Diagnosis now = Diagnose(model, data, leaves);
   for (const EffectResult& e : now.effects) {
-    if (e.verdict == "identified" && !Contains(named, e.effect)) r.appeared.push_back(e.effect);
+    if (e.verdict == Verdict::kIdentified && !Contains(named, e.effect)) r.appeared.push_back(e.effect);
   }
   return r;
 }

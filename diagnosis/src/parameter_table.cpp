@@ -84,7 +84,8 @@ std::string ParameterTableMarkdown(const EffectResult& r) {
   const std::vector<ParameterGroup> groups = ParameterGroups(r.effect);
   const std::vector<LegColumn> columns = LegColumns(groups);
   const std::string scalars = ScalarTable(r, groups);
-  std::string md = fmt::format("### `{}`: {} ({})\n\n", EffectName(r.effect), EffectTitle(r.effect), r.verdict);
+  std::string md =
+      fmt::format("### `{}`: {} ({})\n\n", EffectName(r.effect), EffectTitle(r.effect), VerdictName(r.verdict));
   if (!columns.empty()) md += LegTable(r, columns);
   if (!columns.empty() && !scalars.empty()) md += "\n";
   return md + scalars;

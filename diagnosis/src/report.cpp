@@ -45,13 +45,13 @@ nlohmann::json EffectJson(const EffectResult& r) {
   }
   j["explained_fraction"] = r.explained_fraction;
   j["cv_gain"] = r.cv_gain;
-  j["verdict"] = r.verdict;
+  j["verdict"] = VerdictName(r.verdict);
   j["frame_overlap"] = r.frame_overlap;
   if (!r.correlated_with.empty()) {
     j["max_correlation"] = r.max_correlation;
     j["correlated_with"] = r.correlated_with;
   }
-  if (!r.ambiguous_with.empty()) j["ambiguous_with"] = r.ambiguous_with;
+  if (const std::vector<std::string> with = AmbiguousWithNames(r); !with.empty()) j["ambiguous_with"] = with;
   if (r.encoder_checked) j["encoder_share_of_lag"] = r.encoder_share;
   if (!r.next_measurement.empty()) j["next_measurement"] = r.next_measurement;
   return j;
@@ -61,7 +61,7 @@ nlohmann::json EffectJson(const EffectResult& r) {
 // screws' fitted PR as a scale of the signed model where it is one.
 nlohmann::json Compensation(const Diagnosis& d) {
   for (const EffectResult& r : d.effects) {
-    if (r.effect != Effect::kPassiveRotation || r.verdict == "rejected" || r.theta.size() != 2) continue;
+    if (r.effect != Effect::kPassiveRotation || r.verdict == Verdict::kRejected || r.theta.size() != 2) continue;
     const double scale = r.theta(0) + (1.0 + r.theta(1)) * d.applied_pr_ratio;
     nlohmann::json c = {{"pr_mode", "signed"},
                         {"pr_scale", scale},
@@ -105,20 +105,22 @@ std::string TrackerClockNote(const Diagnosis& d) {
 
 namespace {
 
-// Whether the conclusion says something outside the vocabulary is at work.
-bool NamesUnknown(const Diagnosis& d) { return d.conclusion.find("unknown") != std::string::npos; }
+// Nothing beyond the noise, as an entry of the ranking.
+nlohmann::json NoneJson(const RankedEntry& none) {
+  return {{"name", RankedName(none)},
+          {"verdict", VerdictName(RankedVerdict(none))},
+          {"explained_fraction", 0.0},
+          {"params", nlohmann::json::object()}};
+}
 
 // Structure no effect explains, as an entry of the ranking: its share of the
 // gap's variance (the held-out residual's part above its white level).
-nlohmann::json UnknownJson(const Diagnosis& d) {
+nlohmann::json UnknownJson(const Diagnosis& d, const RankedEntry& unknown) {
   const double left = d.structure.structured_rms_m * d.structure.structured_rms_m;
   const double gap = std::max(1e-30, d.gap.overall.rms_m * d.gap.overall.rms_m);
-  return {{"name", "unknown"},
-          {"verdict", "identified"},
-          {"params", nlohmann::json::object()},
-          {"explained_fraction", 0.0},
-          {"unexplained_fraction", left / gap},
-          {"note", d.unexplained_note}};
+  return {{"name", RankedName(unknown)},        {"verdict", VerdictName(RankedVerdict(unknown))},
+          {"params", nlohmann::json::object()}, {"explained_fraction", 0.0},
+          {"unexplained_fraction", left / gap}, {"note", d.unexplained_note}};
 }
 
 nlohmann::json StructureJson(const ResidualStructure& s) {
@@ -145,7 +147,7 @@ nlohmann::json CalibrationJson(const CalibrationResult& c) {
   std::vector<std::string> names;
   for (Effect e : c.effects) names.push_back(EffectName(e));
   return {{"effects", names},
-          {"chosen_by", c.chosen_by},
+          {"chosen_by", ChosenByName(c.chosen_by)},
           {"heldout_rms_m", c.heldout_rms_m},
           {"identified_heldout_rms_m", c.identified_heldout_rms_m}};
 }
@@ -167,32 +169,52 @@ std::string RecordedCorrectionText(const Diagnosis& d) {
       d.recorded_correction_rms_m * 1e6);
 }
 
+std::vector<RankedEntry> Ranking(const Diagnosis& d) {
+  std::vector<RankedEntry> ranking;
+  const bool unknown = NamesUnknown(d.conclusion);
+  if (d.conclusion == Conclusion::kNone) ranking.push_back({RankedEntry::Kind::kNone});
+  if (unknown && d.selected.empty()) ranking.push_back({RankedEntry::Kind::kUnknown});
+  for (std::size_t k = 0; k < d.effects.size(); ++k) {
+    ranking.push_back({RankedEntry::Kind::kEffect, &d.effects[k]});
+    if (unknown && k + 1 == d.selected.size()) ranking.push_back({RankedEntry::Kind::kUnknown});
+  }
+  return ranking;
+}
+
+// The pseudo-effects are named as the conclusions they make (conclusion.h).
+std::string RankedName(const RankedEntry& e) {
+  if (e.kind == RankedEntry::Kind::kNone) return ConclusionName(Conclusion::kNone);
+  if (e.kind == RankedEntry::Kind::kUnknown) return ConclusionName(Conclusion::kUnknown);
+  return EffectName(e.result->effect);
+}
+
+Verdict RankedVerdict(const RankedEntry& e) {
+  return e.kind == RankedEntry::Kind::kEffect ? e.result->verdict : Verdict::kIdentified;
+}
+
+namespace {
+
+nlohmann::json RankedJson(const Diagnosis& d, const RankedEntry& e) {
+  if (e.kind == RankedEntry::Kind::kNone) return NoneJson(e);
+  if (e.kind == RankedEntry::Kind::kUnknown) return UnknownJson(d, e);
+  nlohmann::json j = EffectJson(*e.result);
+  if (e.result->effect == Effect::kStructuralResonance && d.design.structural_mode_hz > 0.0) {
+    j["params"]["frequency_hz"] = d.design.structural_mode_hz;  // chosen, not fitted:
+    j["params"]["damping"] = d.design.structural_mode_damping;  // no σ
+  }
+  return j;
+}
+
+}  // namespace
+
 nlohmann::json ToJson(const Diagnosis& d) {
   nlohmann::json j;
   j["gap"] = ToJson(d.gap);
   j["effects"] = nlohmann::json::array();
-  if (d.conclusion == "none") {
-    j["effects"].push_back({{"name", "none"},
-                            {"verdict", "identified"},
-                            {"explained_fraction", 0.0},
-                            {"params", nlohmann::json::object()}});
-  }
-  for (std::size_t k = 0; k < d.effects.size(); ++k) {
-    j["effects"].push_back(EffectJson(d.effects[k]));
-    if (d.effects[k].effect == Effect::kStructuralResonance && d.design.structural_mode_hz > 0.0) {
-      j["effects"].back()["params"]["frequency_hz"] = d.design.structural_mode_hz;  // chosen, not fitted:
-      j["effects"].back()["params"]["damping"] = d.design.structural_mode_damping;  // no σ
-    }
-    if (k + 1 == d.selected.size() && NamesUnknown(d)) {
-      j["effects"].push_back(UnknownJson(d));
-    }
-  }
-  if (d.selected.empty() && NamesUnknown(d)) {
-    j["effects"].insert(j["effects"].begin(), UnknownJson(d));
-  }
+  for (const RankedEntry& e : Ranking(d)) j["effects"].push_back(RankedJson(d, e));
   j["selected"] = nlohmann::json::array();
   for (Effect e : d.selected) j["selected"].push_back(EffectName(e));
-  j["conclusion"] = d.conclusion;
+  j["conclusion"] = ConclusionName(d.conclusion);
   j["calibration"] = CalibrationJson(d.calibration);
   j["holdout"] = {{"runs", d.holdout_runs},
                   {"before", StatsJson(d.holdout_before)},
@@ -304,13 +326,13 @@ nlohmann::json ModelJson(const Diagnosis& d) {
     for (const EffectResult& r : d.effects) {
       if (r.effect == e) return r.verdict;
     }
-    return std::string("rejected");
+    return Verdict::kRejected;
   };
   const CalibrationResult& c = d.calibration;
   const auto values = [](const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
   for (std::size_t k = 0; k < c.effects.size(); ++k) {
     j["effects"].push_back({{"name", EffectName(c.effects[k])},
-                            {"verdict", verdict(c.effects[k])},
+                            {"verdict", VerdictName(verdict(c.effects[k]))},
                             {"theta", values(c.theta[k])},
                             {"sigma", values(c.sigma[k])},
                             {"apply", true}});
@@ -318,9 +340,9 @@ nlohmann::json ModelJson(const Diagnosis& d) {
   for (const EffectResult& r : d.effects) {
     const bool selected = std::find(d.selected.begin(), d.selected.end(), r.effect) != d.selected.end();
     const bool calibrated = std::find(c.effects.begin(), c.effects.end(), r.effect) != c.effects.end();
-    if (r.verdict == "rejected" || !selected || calibrated) continue;
+    if (r.verdict == Verdict::kRejected || !selected || calibrated) continue;
     j["effects"].push_back({{"name", EffectName(r.effect)},
-                            {"verdict", r.verdict},
+                            {"verdict", VerdictName(r.verdict)},
                             {"theta", values(r.theta)},
                             {"sigma", values(r.sigma)},
                             {"apply", false}});
@@ -328,6 +350,20 @@ nlohmann::json ModelJson(const Diagnosis& d) {
   j["calibration"] = CalibrationJson(c);
   return j;
 }
+
+namespace {
+
+// A saved entry's verdict as the kinematics' rule reads it (AppliesEntry):
+// none, or not a name, is identified, as in a file saved before verdicts;
+// a name that is no verdict is applied only as its "apply" says, as a
+// rejected one is. Lenient where the kinematics refuses the file: this only
+// keeps the part of a model that would be applied.
+Verdict EntryVerdict(const nlohmann::json& e) {
+  if (!e.contains("verdict") || !e["verdict"].is_string()) return Verdict::kIdentified;
+  return VerdictFromName(e["verdict"].get<std::string>()).value_or(Verdict::kRejected);
+}
+
+}  // namespace
 
 nlohmann::json EmptyModelJson() { return {{"format", "edsp-gap-model/1"}, {"effects", nlohmann::json::array()}}; }
 
@@ -338,9 +374,7 @@ nlohmann::json AppliedModelJson(const nlohmann::json& saved, bool apply_ambiguou
   for (const auto& e : saved["effects"]) {
     if (!e.is_object()) continue;
     const bool has_apply = e.contains("apply") && e["apply"].is_boolean();
-    const std::string verdict =
-        e.contains("verdict") && e["verdict"].is_string() ? e["verdict"].get<std::string>() : "identified";
-    if (calibration::AppliesEntry(verdict, has_apply, has_apply && e["apply"].get<bool>(), apply_ambiguous)) {
+    if (calibration::AppliesEntry(EntryVerdict(e), has_apply, has_apply && e["apply"].get<bool>(), apply_ambiguous)) {
       applied["effects"].push_back(e);
       applied["effects"].back()["apply"] = true;  // what it holds is applied, whatever the file said
     }
@@ -418,19 +452,20 @@ namespace {
 // The verdict: the conclusion, the ranking and what held-out runs say.
 std::string VerdictMarkdown(const Diagnosis& d) {
   std::string md = "## Verdict\n\n";
-  if (d.conclusion == "none")
-    md += "**none**: the measurement agrees with the model within the tracker's noise.\n\n";
-  else if (NamesUnknown(d))
-    md += "**" + d.conclusion + "**: " + d.unexplained_note + ".\n\n";
+  const std::string conclusion = ConclusionName(d.conclusion);
+  if (d.conclusion == Conclusion::kNone)
+    md += "**" + conclusion + "**: the measurement agrees with the model within the tracker's noise.\n\n";
+  else if (NamesUnknown(d.conclusion))
+    md += "**" + conclusion + "**: " + d.unexplained_note + ".\n\n";
   else
-    md += "**" + d.conclusion + "**\n\n";
+    md += "**" + conclusion + "**\n\n";
   md +=
       "| rank | effect | verdict | explained | held-out gain | with | next measurement "
       "|\n|---|---|---|---|---|---|---|\n";
   for (std::size_t k = 0; k < d.effects.size(); ++k) {
     const EffectResult& r = d.effects[k];
-    md += fmt::format("| {} | `{}` | {} | {} | {} | {} | {} |\n", k + 1, EffectName(r.effect), r.verdict,
-                      Percent(r.explained_fraction), Percent(r.cv_gain), fmt::join(r.ambiguous_with, ", "),
+    md += fmt::format("| {} | `{}` | {} | {} | {} | {} | {} |\n", k + 1, EffectName(r.effect), VerdictName(r.verdict),
+                      Percent(r.explained_fraction), Percent(r.cv_gain), fmt::join(AmbiguousWithNames(r), ", "),
                       r.next_measurement);
   }
   md += fmt::format(
@@ -446,7 +481,7 @@ std::string ParametersMarkdown(const Diagnosis& d) {
   std::string md = "## Parameters of the effects found\n\nEach value ± its 1-σ from the Ceres fit.\n\n";
   bool any = false;
   for (const EffectResult& r : d.effects) {
-    if (r.verdict == "rejected" || r.theta.size() == 0) continue;
+    if (r.verdict == Verdict::kRejected || r.theta.size() == 0) continue;
     any = true;
     md += ParameterTableMarkdown(r);
     if (r.effect == Effect::kStructuralResonance && d.design.structural_mode_hz > 0.0) {
@@ -482,10 +517,10 @@ std::string NextStepsMarkdown(const Diagnosis& d) {
   std::vector<std::string> apply, measure;
   for (const EffectResult& r : d.effects) {
     const bool selected = std::find(d.selected.begin(), d.selected.end(), r.effect) != d.selected.end();
-    if (selected && r.verdict == "identified") apply.push_back(fmt::format("`{}`", EffectName(r.effect)));
-    if (r.verdict == "ambiguous" && !r.next_measurement.empty()) {
+    if (selected && r.verdict == Verdict::kIdentified) apply.push_back(fmt::format("`{}`", EffectName(r.effect)));
+    if (r.verdict == Verdict::kAmbiguous && !r.next_measurement.empty()) {
       measure.push_back(fmt::format("- `{}` (ambiguous with {}): {}", EffectName(r.effect),
-                                    fmt::join(r.ambiguous_with, ", "), r.next_measurement));
+                                    fmt::join(AmbiguousWithNames(r), ", "), r.next_measurement));
     }
   }
   if (!apply.empty()) {
@@ -499,7 +534,7 @@ std::string NextStepsMarkdown(const Diagnosis& d) {
   if (!measure.empty())
     md += "- Separate the ambiguous effects with one more measurement:\n" +
           fmt::format("  {}\n", fmt::join(measure, "\n  "));
-  if (NamesUnknown(d))
+  if (NamesUnknown(d.conclusion))
     md += "- Look beyond the vocabulary: " + d.unexplained_note + ".\n";
   else
     md += "- What is left: " + d.unexplained_note + ".\n";

@@ -89,6 +89,20 @@ Eigen::VectorXd Numbers(const nlohmann::json& entry, const char* key, Effect e, 
   return Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size()));
 }
 
+// An entry's "verdict"; a file without one (saved before verdicts) holds
+// identified effects. Anything else is refused, as the kinematics refuses it.
+Verdict EntryVerdict(const nlohmann::json& entry, const std::string& name, const std::string& origin) {
+  if (!entry.contains("verdict")) return Verdict::kIdentified;
+  const nlohmann::json& given = entry["verdict"];
+  const std::optional<Verdict> verdict =
+      given.is_string() ? VerdictFromName(given.get<std::string>()) : std::optional<Verdict>();
+  if (!verdict) {
+    throw MeasurementError(fmt::format("{}: effect {} \"verdict\" {} is not identified, ambiguous or rejected", origin,
+                                       name, given.dump()));
+  }
+  return *verdict;
+}
+
 }  // namespace
 
 std::vector<SavedEffect> SavedAppliedEffects(const nlohmann::json& saved, const DesignOptions& options,
@@ -105,7 +119,7 @@ std::vector<SavedEffect> SavedAppliedEffects(const nlohmann::json& saved, const 
     if (s.effect == Effect::kStructuralResonance && !(options.structural_mode_hz > 0.0)) {
       throw MeasurementError(origin + ": effect \"structural_resonance\" needs \"structural_mode_hz\" > 0");
     }
-    s.verdict = entry.value("verdict", "identified");
+    s.verdict = EntryVerdict(entry, name, origin);
     s.theta = Numbers(entry, "theta", s.effect, false, origin);
     s.sigma = Numbers(entry, "sigma", s.effect, true, origin);
     effects.push_back(std::move(s));

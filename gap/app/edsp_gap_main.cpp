@@ -70,17 +70,17 @@ void PrintText(const Diagnosis& d) {
   std::printf("%-4s %-20s %-11s %9s %9s  %s\n", "rank", "effect", "verdict", "explained", "cv gain", "with");
   for (std::size_t k = 0; k < d.effects.size(); ++k) {
     const EffectResult& r = d.effects[k];
-    std::printf("%-4zu %-20s %-11s %9s %9s  %s\n", k + 1, EffectName(r.effect), r.verdict.c_str(),
+    std::printf("%-4zu %-20s %-11s %9s %9s  %s\n", k + 1, EffectName(r.effect), VerdictName(r.verdict),
                 Percent(r.explained_fraction).c_str(), Percent(r.cv_gain).c_str(),
-                fmt::format("{}", fmt::join(r.ambiguous_with, ", ")).c_str());
+                fmt::format("{}", fmt::join(AmbiguousWithNames(r), ", ")).c_str());
   }
-  std::printf("\nconclusion: %s\n", d.conclusion.c_str());
+  std::printf("\nconclusion: %s\n", ConclusionName(d.conclusion));
   std::printf("held-out runs: before %.1f µm RMS, after %.1f µm RMS, shrink %.0f%% (noise floor %.1f µm, %s)\n",
               d.holdout_before.rms_m * 1e6, d.holdout_after.rms_m * 1e6, 100 * d.shrink, d.noise_floor_rms_m * 1e6,
               GapShrinkText(d.holdout_before.rms_m, d.noise_floor_rms_m, d.gap_shrink).c_str());
   std::printf("calibration applies: %s (held out %.1f µm RMS; the identified effects alone %.1f µm; chosen: %s)\n",
               CalibrationEffectsText(d.calibration).c_str(), d.calibration.heldout_rms_m * 1e6,
-              d.calibration.identified_heldout_rms_m * 1e6, d.calibration.chosen_by.c_str());
+              d.calibration.identified_heldout_rms_m * 1e6, ChosenByName(d.calibration.chosen_by));
   std::printf("left: %s\n", d.unexplained_note.c_str());
   std::printf("tracker clock: %s\n", TrackerClockNote(d).c_str());
 }

@@ -78,14 +78,15 @@ ScenarioScore Score(const Drawn& s, const Diagnosis& d) {
   auto truth_has = [&](const std::string& name) {
     return std::find(s.truth.begin(), s.truth.end(), name) != s.truth.end();
   };
-  const nlohmann::json j = ToJson(d);
+  // The report's ranking, pseudo-effects included (`none` or `unknown` may
+  // be the top); only an effect of the vocabulary counts as identified.
   std::vector<std::string> identified;
-  for (const auto& e : j["effects"]) {
-    const std::string name = e.value("name", ""), verdict = e.value("verdict", "");
+  for (const RankedEntry& e : Ranking(d)) {
+    const std::string name = RankedName(e);
+    const Verdict verdict = RankedVerdict(e);
     if (score.top.empty()) score.top = name;
-    if (verdict == "identified" || verdict == "ambiguous") score.found.push_back(name);
-    Effect parsed;
-    if (verdict != "identified" || !ParseEffect(name, &parsed)) continue;
+    if (verdict == Verdict::kIdentified || verdict == Verdict::kAmbiguous) score.found.push_back(name);
+    if (verdict != Verdict::kIdentified || e.kind != RankedEntry::Kind::kEffect) continue;
     identified.push_back(name);
     score.false_identified = score.false_identified || !truth_has(name);
   }
@@ -203,12 +204,12 @@ void Tally(BenchmarkResult* r) {
     if (s.kind == "none") {
       ++r->clean;
       r->clean_nothing_identified += !s.false_identified;
-      r->clean_none += s.conclusion == "none";
+      r->clean_none += s.conclusion == Conclusion::kNone;
       continue;
     }
     if (s.kind == "out_of_vocabulary") {
       ++r->out_of_vocabulary;
-      r->out_of_vocabulary_unknown += s.conclusion == "unknown" && !s.false_identified;
+      r->out_of_vocabulary_unknown += s.conclusion == Conclusion::kUnknown && !s.false_identified;
       continue;
     }
     r->extra_identified += s.false_identified;
@@ -408,7 +409,7 @@ nlohmann::json ToJson(const BenchmarkResult& r) {
                             {"description", s.description},
                             {"found", s.found},
                             {"top", s.top},
-                            {"conclusion", s.conclusion},
+                            {"conclusion", ConclusionName(s.conclusion)},
                             {"top_true", s.top_true},
                             {"all_found", s.all_found},
                             {"top_identified_true", s.top_identified_true},
@@ -449,8 +450,9 @@ void PrintBenchmark(const BenchmarkResult& r) {
   for (const ScenarioScore& s : r.scores) {
     std::printf("%-3d %-18s %-40s %-40s %-16s %6.1fµm %6.1fµm %6.0f%% %6.0f%%\n", s.index, s.kind.c_str(),
                 (s.truth.empty() ? std::string("-") : fmt::format("{}", fmt::join(s.truth, ","))).c_str(),
-                (s.found.empty() ? s.top : fmt::format("{}", fmt::join(s.found, ","))).c_str(), s.conclusion.c_str(),
-                s.before_rms_m * 1e6, s.after_rms_m * 1e6, 100 * s.shrink, 100 * s.gap_shrink);
+                (s.found.empty() ? s.top : fmt::format("{}", fmt::join(s.found, ","))).c_str(),
+                ConclusionName(s.conclusion), s.before_rms_m * 1e6, s.after_rms_m * 1e6, 100 * s.shrink,
+                100 * s.gap_shrink);
   }
   std::printf("\n%-28s %9s %8s %10s %s\n", "score", "measured", "target", "scenarios", "met");
   for (const Target& t : Targets(r)) {

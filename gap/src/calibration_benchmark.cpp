@@ -106,7 +106,7 @@ DesignScore ScoreDesign(const PlatformModel& model, const RigRuns& rig, const Mo
     const auto [fit_csv, fit_duration_s] = rig.fit(design.motions, dir);
     s.fit_duration_s = fit_duration_s;
     const Diagnosis d = Diagnose(model, LoadMeasurement(fit_csv));
-    s.conclusion = d.conclusion;
+    s.conclusion = ConclusionName(d.conclusion);
     const nlohmann::json saved = ModelJson(d);
     const nlohmann::json applied = AppliedModelJson(saved, false);  // kept: a range over a temporary's member dangles
     for (const auto& e : applied["effects"]) s.applied.push_back(e["name"].get<std::string>());

@@ -64,6 +64,22 @@ Vector3 PointAcceleration(const PlatformModel& model, const Vector6& q, const Ve
                                    model.ObservationPoint(Pose::FromVector(ahead)), h, h);
 }
 
+// An entry's "verdict"; a file without one (saved before verdicts) holds
+// identified effects.
+Verdict EntryVerdict(const nlohmann::json& entry, const std::string& where, const std::string& name) {
+  if (!entry.contains("verdict")) return Verdict::kIdentified;
+  if (!entry["verdict"].is_string()) {
+    throw CalibrationError(fmt::format("{} ({}): \"verdict\" must be a string", where, name));
+  }
+  const std::string text = entry["verdict"].get<std::string>();
+  const std::optional<Verdict> verdict = VerdictFromName(text);
+  if (!verdict) {
+    throw CalibrationError(
+        fmt::format("{} ({}): verdict \"{}\" is not identified, ambiguous or rejected", where, name, text));
+  }
+  return *verdict;
+}
+
 CalibratedEffect ParseEffectEntry(const nlohmann::json& entry, std::size_t index, const std::string& origin) {
   const std::string where = fmt::format("{}: effects[{}]", origin, index);
   if (!entry.is_object() || !entry.contains("name") || !entry["name"].is_string()) {
@@ -91,14 +107,7 @@ CalibratedEffect ParseEffectEntry(const nlohmann::json& entry, std::size_t index
       throw CalibrationError(fmt::format("{} ({}): theta[{}] is not finite", where, name, k));
   }
   out.theta = Eigen::Map<const Eigen::VectorXd>(theta.data(), static_cast<Eigen::Index>(theta.size()));
-  if (entry.contains("verdict") && !entry["verdict"].is_string()) {
-    throw CalibrationError(fmt::format("{} ({}): \"verdict\" must be a string", where, name));
-  }
-  out.verdict = entry.value("verdict", std::string("identified"));
-  if (out.verdict != "identified" && out.verdict != "ambiguous" && out.verdict != "rejected") {
-    throw CalibrationError(
-        fmt::format("{} ({}): verdict \"{}\" is not identified, ambiguous or rejected", where, name, out.verdict));
-  }
+  out.verdict = EntryVerdict(entry, where, name);
   if (entry.contains("apply") && !entry["apply"].is_boolean()) {
     throw CalibrationError(fmt::format("{} ({}): \"apply\" must be true or false", where, name));
   }
@@ -114,9 +123,9 @@ std::vector<int> UnappliedParameters(Effect effect) {
   return {};
 }
 
-bool AppliesEntry(const std::string& verdict, bool has_apply, bool apply, bool apply_ambiguous) {
-  if (apply_ambiguous && verdict == "ambiguous") return true;
-  return has_apply ? apply : verdict == "identified";
+bool AppliesEntry(Verdict verdict, bool has_apply, bool apply, bool apply_ambiguous) {
+  if (apply_ambiguous && verdict == Verdict::kAmbiguous) return true;
+  return has_apply ? apply : verdict == Verdict::kIdentified;
 }
 
 std::string PlatformFingerprint(const PlatformModel& model) {
@@ -176,7 +185,7 @@ CalibrationModel ParseCalibration(const std::string& text, const std::string& or
     if (twice) throw CalibrationError(fmt::format("{}: effect \"{}\" listed twice", origin, EffectName(e.effect)));
     twice = true;
     if (!AppliesEntry(e.verdict, e.has_apply, e.apply, apply_ambiguous)) {
-      out.not_applied.push_back(std::string(EffectName(e.effect)) + " (" + e.verdict + ")");
+      out.not_applied.push_back(std::string(EffectName(e.effect)) + " (" + VerdictName(e.verdict) + ")");
       continue;
     }
     // What is applied must be a real platform's (an entry left out, a named

@@ -2,6 +2,7 @@
 // what the blind rig holds, and what lies outside its vocabulary must come
 // back `unknown`, however small beside the tracker's noise.
 #include <algorithm>
+#include <optional>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -52,15 +53,16 @@ gap::DiagnoseOptions WithoutTheStructuralMode() {
 std::vector<std::string> Identified(const gap::Diagnosis& d) {
   std::vector<std::string> names;
   for (const gap::EffectResult& r : d.effects) {
-    if (r.verdict == "identified") names.push_back(gap::EffectName(r.effect));
+    if (r.verdict == gap::Verdict::kIdentified) names.push_back(gap::EffectName(r.effect));
   }
   return names;
 }
 
 std::string Describe(const gap::Diagnosis& d) {
-  std::string text = d.conclusion + ":";
+  std::string text = std::string(gap::ConclusionName(d.conclusion)) + ":";
   for (const gap::EffectResult& r : d.effects) {
-    if (r.verdict != "rejected") text += " " + std::string(gap::EffectName(r.effect)) + " (" + r.verdict + ")";
+    if (r.verdict == gap::Verdict::kRejected) continue;
+    text += " " + std::string(gap::EffectName(r.effect)) + " (" + gap::VerdictName(r.verdict) + ")";
   }
   return text + "; tau " + std::to_string(d.design.thermal_time_constant_s) + " s; mode " +
          std::to_string(d.design.structural_mode_hz) + " Hz, damping " +
@@ -71,7 +73,7 @@ std::string Describe(const gap::Diagnosis& d) {
 
 TEST(BlindDiagnosis, EffectFreeIsNone) {
   const gap::Diagnosis d = DiagnoseBlind({});
-  EXPECT_EQ(d.conclusion, "none") << d.unexplained_note;
+  EXPECT_EQ(d.conclusion, gap::Conclusion::kNone) << d.unexplained_note;
   EXPECT_TRUE(Identified(d).empty());
 }
 
@@ -81,15 +83,15 @@ TEST(BlindDiagnosis, ScrewsOfTheOtherHandArePassiveRotation) {
   e.true_pr_sign = -1;
   const gap::Diagnosis d = DiagnoseBlind(e);
   EXPECT_EQ(Identified(d), std::vector<std::string>{"passive_rotation"});
-  EXPECT_EQ(d.conclusion, "effects") << d.unexplained_note;
+  EXPECT_EQ(d.conclusion, gap::Conclusion::kEffects) << d.unexplained_note;
   EXPECT_LT(d.holdout_after.rms_m, 1.2 * d.noise_floor_rms_m);
 }
 
-std::string VerdictOf(const gap::Diagnosis& d, gap::Effect effect) {
+std::optional<gap::Verdict> VerdictOf(const gap::Diagnosis& d, gap::Effect effect) {
   for (const gap::EffectResult& r : d.effects) {
     if (r.effect == effect) return r.verdict;
   }
-  return "absent";
+  return std::nullopt;
 }
 
 // 36 parameters fitted on five runs predict the sixth less well than they
@@ -103,8 +105,8 @@ TEST(BlindDiagnosis, JointCentresAreIdentifiedAloneWithNothingUnknownLeft) {
   e.platform_joint_error_m.row(1) << -200e-6, 250e-6, -300e-6, 100e-6, 200e-6, -150e-6;
   const gap::Diagnosis d = DiagnoseBlind(e, 3e-6);
   EXPECT_EQ(Identified(d), std::vector<std::string>{"joint_position"}) << Describe(d);
-  EXPECT_EQ(VerdictOf(d, gap::Effect::kLegOffset), "rejected") << Describe(d);
-  EXPECT_EQ(d.conclusion, "effects") << Describe(d);
+  EXPECT_EQ(VerdictOf(d, gap::Effect::kLegOffset), gap::Verdict::kRejected) << Describe(d);
+  EXPECT_EQ(d.conclusion, gap::Conclusion::kEffects) << Describe(d);
   EXPECT_LT(d.holdout_after.rms_m, 1.2 * d.noise_floor_rms_m) << Describe(d);
 }
 
@@ -116,8 +118,8 @@ TEST(BlindDiagnosis, LegOffsetsAreIdentifiedAsTheSimplerOfTheNestedPair) {
   e.leg_offset_m << 120e-6, -250e-6, 60e-6, 180e-6, -90e-6, 300e-6;
   const gap::Diagnosis d = DiagnoseBlind(e);
   EXPECT_EQ(Identified(d), std::vector<std::string>{"leg_offset"}) << Describe(d);
-  EXPECT_EQ(VerdictOf(d, gap::Effect::kJointPosition), "rejected") << Describe(d);
-  EXPECT_EQ(d.conclusion, "effects") << Describe(d);
+  EXPECT_EQ(VerdictOf(d, gap::Effect::kJointPosition), gap::Verdict::kRejected) << Describe(d);
+  EXPECT_EQ(d.conclusion, gap::Conclusion::kEffects) << Describe(d);
   EXPECT_LT(d.holdout_after.rms_m, 1.2 * d.noise_floor_rms_m) << Describe(d);
 }
 
@@ -204,7 +206,7 @@ TEST(BlindDiagnosis, AVibrationBarelyAboveTheNoiseIsUnknownAndItsFrequencyFound)
   e.floor_amplitude_m = 12e-6;
   e.floor_direction = Vec3(1.0, 0.5, 0.2);
   const gap::Diagnosis d = DiagnoseBlind(e);
-  EXPECT_EQ(d.conclusion, "unknown") << Describe(d);
+  EXPECT_EQ(d.conclusion, gap::Conclusion::kUnknown) << Describe(d);
   EXPECT_TRUE(Identified(d).empty()) << Describe(d);
   EXPECT_LT(d.unexplained.rms_m, 1.5 * d.noise_floor_rms_m);
   EXPECT_NEAR(d.structure.dominant_hz, 6.0, 0.1) << d.unexplained_note;
@@ -220,12 +222,12 @@ TEST(BlindDiagnosis, RunsThatSitApartAreStructureEvenWhenEachIsWhite) {
   e.stand_settle_s = 400.0;
   const gap::Diagnosis d = DiagnoseBlind(e, 10e-6);
   EXPECT_TRUE(d.structure.runs_apart) << Describe(d);
-  EXPECT_EQ(d.conclusion, "unknown") << Describe(d);
+  EXPECT_EQ(d.conclusion, gap::Conclusion::kUnknown) << Describe(d);
   EXPECT_TRUE(Identified(d).empty()) << Describe(d);
   // Effect-free data does not sit apart.
   const gap::Diagnosis clean = DiagnoseBlind(BlindEffects{}, 10e-6);
   EXPECT_FALSE(clean.structure.runs_apart) << Describe(clean);
-  EXPECT_EQ(clean.conclusion, "none") << Describe(clean);
+  EXPECT_EQ(clean.conclusion, gap::Conclusion::kNone) << Describe(clean);
 }
 
 // The tracker's target taken out of its nest and put back before each of
@@ -241,7 +243,7 @@ TEST(BlindDiagnosis, ATargetReseatedUnderNoiseTwiceItsSizeIsUnknown) {
   const gap::StructureOptions bars;
   EXPECT_LT(d.structure.in_sample_run_offset_share, bars.min_share) << "no longer the case between the bars";
   EXPECT_TRUE(d.structure.runs_apart) << d.unexplained_note;
-  EXPECT_EQ(d.conclusion, "unknown") << Describe(d);
+  EXPECT_EQ(d.conclusion, gap::Conclusion::kUnknown) << Describe(d);
   EXPECT_TRUE(Identified(d).empty()) << Describe(d);
 }
 
@@ -268,7 +270,7 @@ TEST(BlindDiagnosis, ASwaySeenByASlowTrackerIsTheStructuralMode) {
   e.resonance_damping = 0.03;
   e.resonance_gain = 0.4;
   const gap::Diagnosis d = DiagnoseBlind(e, 10e-6, 20.0);
-  EXPECT_EQ(d.conclusion, "effects") << Describe(d);
+  EXPECT_EQ(d.conclusion, gap::Conclusion::kEffects) << Describe(d);
   EXPECT_EQ(Identified(d), std::vector<std::string>{"structural_resonance"}) << Describe(d);
   EXPECT_NEAR(d.design.structural_mode_hz, 3.0, 0.15) << Describe(d);
   EXPECT_LT(d.holdout_after.rms_m, 1.2 * d.noise_floor_rms_m) << Describe(d);
@@ -286,13 +288,14 @@ TEST(BlindDiagnosis, AnEffectTheStructureExplainsAsWellIsNotIdentified) {
   e.resonance_damping = 0.03;
   e.resonance_gain = 0.4;
   const gap::Diagnosis d = DiagnoseBlind(e, 10e-6, 20.0, WithoutTheStructuralMode());
-  EXPECT_EQ(d.conclusion, "unknown") << Describe(d);
+  EXPECT_EQ(d.conclusion, gap::Conclusion::kUnknown) << Describe(d);
   EXPECT_TRUE(Identified(d).empty()) << Describe(d);
   ASSERT_EQ(d.selected, std::vector<gap::Effect>{gap::Effect::kServoLag}) << Describe(d);
   for (const gap::EffectResult& r : d.effects) {
     if (r.effect != gap::Effect::kServoLag) continue;
-    EXPECT_EQ(r.verdict, "ambiguous");
-    EXPECT_EQ(r.ambiguous_with, std::vector<std::string>{"unknown"});
+    EXPECT_EQ(r.verdict, gap::Verdict::kAmbiguous);
+    EXPECT_TRUE(r.ambiguous_with.empty());
+    EXPECT_TRUE(r.ambiguous_with_unknown);
   }
 }
 
@@ -311,7 +314,7 @@ TEST(BlindDiagnosis, ALagTheEncodersDoNotShowIsNotTheDrives) {
       gap::ParseMeasurementCsv(GenerateMeasurementCsv(SetupFromConfig(config), s.effects, s.tracker), "blind");
   const gap::Diagnosis without = gap::Diagnose(PlatformModel(config), data, WithoutTheStructuralMode());
   EXPECT_TRUE(Identified(without).empty()) << Describe(without);
-  EXPECT_EQ(VerdictOf(without, gap::Effect::kServoLag), "ambiguous") << Describe(without);
+  EXPECT_EQ(VerdictOf(without, gap::Effect::kServoLag), gap::Verdict::kAmbiguous) << Describe(without);
   const gap::Diagnosis with = gap::Diagnose(PlatformModel(config), data);
   EXPECT_EQ(Identified(with), std::vector<std::string>{"structural_resonance"}) << Describe(with);
   EXPECT_NEAR(with.design.structural_mode_hz, 7.7, 0.2) << Describe(with);
@@ -328,7 +331,7 @@ TEST(BlindDiagnosis, AnEffectBesideAStructuralSwayStaysIdentified) {
   const std::vector<std::string> identified = Identified(d);
   EXPECT_NE(std::find(identified.begin(), identified.end(), "leg_offset"), identified.end()) << Describe(d);
   EXPECT_NE(std::find(identified.begin(), identified.end(), "structural_resonance"), identified.end()) << Describe(d);
-  EXPECT_EQ(d.conclusion, "effects") << Describe(d);
+  EXPECT_EQ(d.conclusion, gap::Conclusion::kEffects) << Describe(d);
 }
 
 // A sway beside a soft servo loop, both driven by acceleration: the loop's
@@ -366,11 +369,11 @@ TEST(BlindDiagnosis, ABaseTiltingUnderThePlatformIsUnknownNotCompliance) {
   EXPECT_FALSE(d.structure.structured) << Describe(d);
   ASSERT_FALSE(d.selected.empty()) << Describe(d);
   EXPECT_TRUE(d.base_tilt.tested && d.base_tilt.tilts) << d.base_tilt.cv_gain << " " << Describe(d);
-  EXPECT_EQ(d.conclusion, "unknown") << Describe(d);
+  EXPECT_EQ(d.conclusion, gap::Conclusion::kUnknown) << Describe(d);
   for (const gap::EffectResult& r : d.effects) {
     if (std::find(d.selected.begin(), d.selected.end(), r.effect) == d.selected.end()) continue;
-    EXPECT_EQ(r.verdict, "ambiguous") << gap::EffectName(r.effect);
-    EXPECT_NE(std::find(r.ambiguous_with.begin(), r.ambiguous_with.end(), "unknown"), r.ambiguous_with.end());
+    EXPECT_EQ(r.verdict, gap::Verdict::kAmbiguous) << gap::EffectName(r.effect);
+    EXPECT_TRUE(r.ambiguous_with_unknown);
     EXPECT_NE(r.next_measurement.find("base tilts"), std::string::npos) << r.next_measurement;
   }
   const nlohmann::json j = gap::ToJson(d);
@@ -389,8 +392,8 @@ TEST(BlindDiagnosis, LegsGivingEachUnderTheirOwnLoadAreComplianceNotABaseTilt) {
   e.mass_kg = 750.0;
   e.com_M = Vec3(0.03, -0.05, 0.15);
   const gap::Diagnosis d = DiagnoseBlind(e, 5e-6);
-  EXPECT_EQ(VerdictOf(d, gap::Effect::kCompliance), "identified") << Describe(d);
-  EXPECT_EQ(d.conclusion, "effects") << Describe(d);
+  EXPECT_EQ(VerdictOf(d, gap::Effect::kCompliance), gap::Verdict::kIdentified) << Describe(d);
+  EXPECT_EQ(d.conclusion, gap::Conclusion::kEffects) << Describe(d);
   EXPECT_TRUE(d.base_tilt.tested) << Describe(d);
   EXPECT_FALSE(d.base_tilt.tilts) << d.base_tilt.cv_gain;
 }
@@ -409,9 +412,9 @@ TEST(BlindDiagnosis, ABaseTiltTheLegsTakeUpIsNotCalledCompliance) {
   const gap::Diagnosis d = DiagnoseSession(e, kEveryMotion, Tracker(20e-6, 25.0, 7, false));
   EXPECT_FALSE(d.base_tilt.tilts) << d.base_tilt.cv_gain;
   EXPECT_TRUE(d.base_tilt.replaces) << d.base_tilt.in_place_cv_gain;
-  EXPECT_EQ(d.conclusion, "unknown") << Describe(d);
+  EXPECT_EQ(d.conclusion, gap::Conclusion::kUnknown) << Describe(d);
   EXPECT_TRUE(Identified(d).empty()) << Describe(d);
-  EXPECT_EQ(VerdictOf(d, gap::Effect::kCompliance), "ambiguous") << Describe(d);
+  EXPECT_EQ(VerdictOf(d, gap::Effect::kCompliance), gap::Verdict::kAmbiguous) << Describe(d);
   EXPECT_NE(d.unexplained_note.find("the base may tilt"), std::string::npos) << d.unexplained_note;
 }
 
@@ -431,7 +434,7 @@ TEST(BlindDiagnosis, LegsGivingUnderTheSameNoiseAreStillCompliance) {
   EXPECT_FALSE(d.base_tilt.replaces) << d.base_tilt.in_place_cv_gain;
   EXPECT_LT(d.base_tilt.in_place_cv_gain, 0.0) << Describe(d);
   EXPECT_GT(d.base_tilt.in_place_cv_gain, -gap::DiagnoseOptions{}.min_cv_gain) << "no longer between the bars";
-  EXPECT_EQ(d.conclusion, "effects") << Describe(d);
+  EXPECT_EQ(d.conclusion, gap::Conclusion::kEffects) << Describe(d);
 }
 
 // Joint centres 0.3 mm off and legs giving under a 2 t platform, through
@@ -458,7 +461,7 @@ TEST(BlindDiagnosis, ATiltTheRunsTellFromCompliantLegsIsNoTie) {
   EXPECT_GE(d.base_tilt.in_place_share, gap::DiagnoseOptions{}.ambiguity_ratio) << "the ratio alone would decide";
   EXPECT_FALSE(d.base_tilt.replaces) << d.base_tilt.in_place_share;
   EXPECT_EQ(Identified(d), (std::vector<std::string>{"joint_position", "compliance"})) << Describe(d);
-  EXPECT_EQ(d.conclusion, "effects") << Describe(d);
+  EXPECT_EQ(d.conclusion, gap::Conclusion::kEffects) << Describe(d);
 }
 
 // Compliance measured on three runs only by a 30 Hz tracker of 17 µm: a
@@ -474,23 +477,22 @@ TEST(BlindDiagnosis, TwoEffectsTheRunsCannotTellApartStayAmbiguous) {
   e.com_M = Vec3(0.04, -0.06, 0.18);
   const gap::Diagnosis d = DiagnoseSession(e, {"Lz", "M1", "M2"}, Tracker(17e-6, 30.0, 7));
   EXPECT_TRUE(Identified(d).empty()) << Describe(d);
-  const auto named_with = [&](gap::Effect effect, const std::string& other) {
+  const auto named_with = [&](gap::Effect effect, gap::Effect other) {
     for (const gap::EffectResult& r : d.effects) {
       if (r.effect != effect) continue;
-      return r.verdict == "ambiguous" &&
+      return r.verdict == gap::Verdict::kAmbiguous &&
              std::find(r.ambiguous_with.begin(), r.ambiguous_with.end(), other) != r.ambiguous_with.end();
     }
     return false;
   };
-  EXPECT_TRUE(named_with(gap::Effect::kCompliance, "lead_error")) << Describe(d);
-  EXPECT_TRUE(named_with(gap::Effect::kLeadError, "compliance")) << Describe(d);
+  EXPECT_TRUE(named_with(gap::Effect::kCompliance, gap::Effect::kLeadError)) << Describe(d);
+  EXPECT_TRUE(named_with(gap::Effect::kLeadError, gap::Effect::kCompliance)) << Describe(d);
 }
 
 bool AmbiguousWithUnknown(const gap::Diagnosis& d, gap::Effect effect, const std::string& because) {
   for (const gap::EffectResult& r : d.effects) {
     if (r.effect != effect) continue;
-    return r.verdict == "ambiguous" &&
-           std::find(r.ambiguous_with.begin(), r.ambiguous_with.end(), "unknown") != r.ambiguous_with.end() &&
+    return r.verdict == gap::Verdict::kAmbiguous && r.ambiguous_with_unknown &&
            r.next_measurement.find(because) != std::string::npos;
   }
   return false;
@@ -512,7 +514,7 @@ TEST(BlindDiagnosis, AFreeRunningTrackerClockIsUnknownNotAServoLag) {
   EXPECT_LT(d.clock_drift.cv_gain, 0.05) << "no longer the path below min_cv_gain";
   EXPECT_NEAR(d.clock_drift.drift, e.clock_drift, 4 * d.clock_drift.sigma);
   EXPECT_LT(d.clock_drift.sigma, 0.05e-6);
-  EXPECT_EQ(d.conclusion, "unknown") << Describe(d);
+  EXPECT_EQ(d.conclusion, gap::Conclusion::kUnknown) << Describe(d);
   EXPECT_TRUE(Identified(d).empty()) << Describe(d);
   EXPECT_TRUE(AmbiguousWithUnknown(d, gap::Effect::kServoLag, "clock drifts")) << Describe(d);
   const nlohmann::json j = gap::ToJson(d);
@@ -532,7 +534,7 @@ TEST(BlindDiagnosis, AClockDriftingUnderTheNoiseIsFoundBesideTheEncodersOffset) 
   EXPECT_FALSE(d.structure.structured) << Describe(d);
   EXPECT_TRUE(d.clock_drift.drifts) << d.clock_drift.cv_gain << " " << Describe(d);
   EXPECT_NEAR(d.clock_drift.drift, e.clock_drift, 4 * d.clock_drift.sigma);
-  EXPECT_EQ(d.conclusion, "unknown") << Describe(d);
+  EXPECT_EQ(d.conclusion, gap::Conclusion::kUnknown) << Describe(d);
   EXPECT_TRUE(Identified(d).empty()) << Describe(d);
   EXPECT_EQ(d.unexplained_note.rfind("the tracker's clock drifts", 0), 0u) << d.unexplained_note;
 }
@@ -549,7 +551,7 @@ TEST(BlindDiagnosis, ADriveLagEqualOnEveryLegIsNotTakenForTheClock) {
   lag.servo_bandwidth_hz = 20.0;
   const gap::Diagnosis alone = DiagnoseSession(lag, motions, Tracker(20e-6, 100.0, 5, false));
   EXPECT_EQ(Identified(alone), std::vector<std::string>{"servo_lag"}) << Describe(alone);
-  EXPECT_EQ(alone.conclusion, "effects") << Describe(alone);
+  EXPECT_EQ(alone.conclusion, gap::Conclusion::kEffects) << Describe(alone);
   ASSERT_TRUE(alone.clock_drift.tested);
   EXPECT_FALSE(alone.clock_drift.drifts) << alone.clock_drift.cv_gain;
   EXPECT_LT(std::abs(alone.clock_drift.drift), 4 * alone.clock_drift.sigma);
@@ -560,7 +562,7 @@ TEST(BlindDiagnosis, ADriveLagEqualOnEveryLegIsNotTakenForTheClock) {
   const gap::Diagnosis d = DiagnoseSession(both, motions, Tracker(15e-6, 100.0, 5, false));
   EXPECT_EQ(Identified(d), std::vector<std::string>{"servo_lag"}) << Describe(d);
   EXPECT_TRUE(d.clock_drift.drifts) << d.clock_drift.cv_gain;
-  EXPECT_EQ(d.conclusion, "effects+unknown") << Describe(d);
+  EXPECT_EQ(d.conclusion, gap::Conclusion::kEffectsAndUnknown) << Describe(d);
 
   // With encoders the drift is fitted about the offset the encoders gave
   // (time_offset.h), which is not freed again: the drives' own lag, which
@@ -572,7 +574,7 @@ TEST(BlindDiagnosis, ADriveLagEqualOnEveryLegIsNotTakenForTheClock) {
   EXPECT_EQ(Identified(seen), std::vector<std::string>{"servo_lag"}) << Describe(seen);
   EXPECT_TRUE(seen.clock_drift.drifts) << seen.clock_drift.cv_gain;
   EXPECT_NEAR(seen.clock_drift.drift, both.clock_drift, 4 * seen.clock_drift.sigma);
-  EXPECT_EQ(seen.conclusion, "effects+unknown") << Describe(seen);
+  EXPECT_EQ(seen.conclusion, gap::Conclusion::kEffectsAndUnknown) << Describe(seen);
 }
 
 }  // namespace

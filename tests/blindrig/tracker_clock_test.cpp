@@ -32,7 +32,7 @@ gap::Diagnosis DiagnoseWithClock(const BlindEffects& effects, double offset_s, b
 
 bool NothingIdentified(const gap::Diagnosis& d) {
   for (const gap::EffectResult& r : d.effects) {
-    if (r.verdict == "identified") return false;
+    if (r.verdict == gap::Verdict::kIdentified) return false;
   }
   return true;
 }
@@ -44,7 +44,7 @@ TEST(TrackerClock, AnOffsetIsFoundFromTheEncodersAndIsNoEffect) {
     ASSERT_TRUE(d.time_offset.estimated) << d.time_offset.note;
     EXPECT_TRUE(d.time_offset.applied) << d.time_offset.note;
     EXPECT_LT(std::abs(d.time_offset.offset_s - offset_s), 5.0 * d.time_offset.sigma_s) << d.time_offset.note;
-    EXPECT_EQ(d.conclusion, "none") << d.unexplained_note;
+    EXPECT_EQ(d.conclusion, gap::Conclusion::kNone) << d.unexplained_note;
     EXPECT_TRUE(NothingIdentified(d));
     EXPECT_LT(d.holdout_after.rms_m, 1.2 * d.noise_floor_rms_m);
   }
@@ -54,7 +54,7 @@ TEST(TrackerClock, ClocksThatAgreeAreLeftAlone) {
   const gap::Diagnosis d = DiagnoseWithClock({}, 0.0, true);
   ASSERT_TRUE(d.time_offset.estimated);
   EXPECT_FALSE(d.time_offset.applied) << d.time_offset.note;
-  EXPECT_EQ(d.conclusion, "none");
+  EXPECT_EQ(d.conclusion, gap::Conclusion::kNone);
 }
 
 // The drives' lag lies between command and encoder, the clock's between the
@@ -68,11 +68,11 @@ TEST(TrackerClock, AServoLagBesideAnOffsetIsStillTheServos) {
   EXPECT_EQ(d.selected, std::vector<gap::Effect>{gap::Effect::kServoLag});
   for (const gap::EffectResult& r : d.effects) {
     if (r.effect != gap::Effect::kServoLag) continue;
-    EXPECT_EQ(r.verdict, "identified") << r.next_measurement;
+    EXPECT_EQ(r.verdict, gap::Verdict::kIdentified) << r.next_measurement;
     EXPECT_TRUE(r.encoder_checked);
     EXPECT_GT(r.encoder_share, 0.9);  // the encoders show the drives' lag
   }
-  EXPECT_EQ(d.conclusion, "effects") << d.unexplained_note;
+  EXPECT_EQ(d.conclusion, gap::Conclusion::kEffects) << d.unexplained_note;
   EXPECT_LT(d.holdout_after.rms_m, 1.2 * d.noise_floor_rms_m);
 }
 
@@ -96,10 +96,11 @@ TEST(TrackerClock, WithoutEncodersAnOffsetIsNotTakenForTheDrivesLag) {
   ASSERT_TRUE(d.clock_offset.tested);
   EXPECT_TRUE(d.clock_offset.replaces_lag);
   EXPECT_LT(std::abs(d.clock_offset.offset_s - 3e-3), 5.0 * d.clock_offset.sigma_s);
-  EXPECT_EQ(ServoLag(d).verdict, "ambiguous");
-  EXPECT_EQ(ServoLag(d).ambiguous_with, std::vector<std::string>{"unknown"});
+  EXPECT_EQ(ServoLag(d).verdict, gap::Verdict::kAmbiguous);
+  EXPECT_TRUE(ServoLag(d).ambiguous_with.empty());
+  EXPECT_TRUE(ServoLag(d).ambiguous_with_unknown);
   EXPECT_TRUE(NothingIdentified(d));
-  EXPECT_EQ(d.conclusion, "unknown") << d.unexplained_note;
+  EXPECT_EQ(d.conclusion, gap::Conclusion::kUnknown) << d.unexplained_note;
   EXPECT_TRUE(gap::ToJson(d)["unexplained"]["clock_offset"]["replaces_lag"].get<bool>());
   // The clock's line says it, and the drift, which gains nothing here (a
   // hair below zero: "-0.0% better" before), reads "no better".
@@ -129,8 +130,8 @@ TEST(TrackerClock, WithoutEncodersADrivesLoopIsStillItsLag) {
     EXPECT_GT(std::abs(d.clock_offset.offset_s), 5.0 * d.clock_offset.sigma_s);
     EXPECT_FALSE(d.clock_offset.replaces_lag) << c.bandwidth_hz << " Hz: " << d.unexplained_note;
     EXPECT_EQ(d.selected, std::vector<gap::Effect>{gap::Effect::kServoLag});
-    EXPECT_EQ(ServoLag(d).verdict, "identified") << ServoLag(d).next_measurement;
-    EXPECT_EQ(d.conclusion, "effects") << d.unexplained_note;
+    EXPECT_EQ(ServoLag(d).verdict, gap::Verdict::kIdentified) << ServoLag(d).next_measurement;
+    EXPECT_EQ(d.conclusion, gap::Conclusion::kEffects) << d.unexplained_note;
   }
 }
 

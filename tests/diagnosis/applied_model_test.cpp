@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "thrown_message.h"
+
 #include "edsp/diagnosis/report.h"
 #include "edsp/diagnosis/saved_model.h"
 #include "edsp/kinematics/calibration.h"
@@ -70,6 +72,28 @@ TEST(AppliedModel, EntriesThatSayApplyAreThoseThePredictionUses) {
   for (const SavedEffect& e : read) names.push_back(EffectName(e.effect));
   EXPECT_EQ(names, (std::vector<std::string>{"lead_error", "compliance"}));
   EXPECT_EQ(KinematicsAppliesOf(model, true), names);
+}
+
+// A verdict that is none of the three: the kinematics refuses the file, and
+// so does the prediction's reader, naming the file, the effect and the
+// value; the part the kinematics would apply keeps such an entry only as
+// its "apply" says, as it keeps a rejected one.
+TEST(AppliedModel, AVerdictThatIsNoneOfTheThreeIsNamed) {
+  nlohmann::json model = kModel;
+  model["effects"][0]["verdict"] = "maybe";
+  EXPECT_EQ(Names(AppliedModelJson(model, false)), (std::vector<std::string>{"backlash"}));
+  model["effects"][0]["apply"] = true;
+  EXPECT_EQ(Names(AppliedModelJson(model, false)), (std::vector<std::string>{"leg_offset", "backlash"}));
+  const std::string error = test_support::ThrownMessage<MeasurementError>(
+      [&] { SavedAppliedEffects(model, DesignOptions{}, "m.json"); }, "accepted");
+  EXPECT_NE(error.find("m.json: effect leg_offset \"verdict\" \"maybe\""), std::string::npos) << error;
+  model["effects"][0]["verdict"] = 3;
+  EXPECT_NE(test_support::ThrownMessage<MeasurementError>(
+                [&] { SavedAppliedEffects(model, DesignOptions{}, "m.json"); }, "accepted")
+                .find("\"verdict\" 3"),
+            std::string::npos);
+  model["effects"][0].erase("verdict");  // saved before verdicts: identified
+  EXPECT_EQ(SavedAppliedEffects(model, DesignOptions{}, "m.json").front().verdict, Verdict::kIdentified);
 }
 
 }  // namespace

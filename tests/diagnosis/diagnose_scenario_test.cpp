@@ -61,7 +61,7 @@ Simulated Simulate(const std::string& name, const RigEffects& fx, PrMode compens
 std::vector<std::string> Found(const Diagnosis& d) {
   std::vector<std::string> names;
   for (const EffectResult& r : d.effects) {
-    if (r.verdict != "rejected") names.push_back(EffectName(r.effect));
+    if (r.verdict != Verdict::kRejected) names.push_back(EffectName(r.effect));
   }
   return names;
 }
@@ -84,9 +84,9 @@ void ExpectClosed(const Diagnosis& d) {
 
 TEST(Diagnose, EffectFreeDataIdentifiesNothing) {
   const Diagnosis d = Diagnose(Model(), LoadMeasurement(Simulate("clean", Baseline()).csv));
-  EXPECT_EQ(d.conclusion, "none");
+  EXPECT_EQ(d.conclusion, Conclusion::kNone);
   EXPECT_TRUE(d.selected.empty());
-  for (const EffectResult& r : d.effects) EXPECT_EQ(r.verdict, "rejected") << EffectName(r.effect);
+  for (const EffectResult& r : d.effects) EXPECT_EQ(r.verdict, Verdict::kRejected) << EffectName(r.effect);
   // The noise floor is the tracker's: √3 · σ.
   EXPECT_NEAR(d.noise_floor_rms_m, std::sqrt(3.0) * kNoise, 0.15 * std::sqrt(3.0) * kNoise);
   EXPECT_LE(d.holdout_after.rms_m, 1.1 * d.noise_floor_rms_m);
@@ -107,8 +107,8 @@ TEST_P(SingleEffect, IsRankedFirstAndClosesTheHeldOutGap) {
   ASSERT_FALSE(d.effects.empty());
   EXPECT_EQ(EffectName(d.effects.front().effect), std::string(EffectName(GetParam().effect)))
       << "found: " << fmt::format("{}", fmt::join(Found(d), ", "));
-  EXPECT_NE(d.effects.front().verdict, "rejected");
-  EXPECT_EQ(d.conclusion, "effects") << d.unexplained_note;
+  EXPECT_NE(d.effects.front().verdict, Verdict::kRejected);
+  EXPECT_EQ(d.conclusion, Conclusion::kEffects) << d.unexplained_note;
   ExpectClosed(d);
 }
 
@@ -175,8 +175,10 @@ TEST(Diagnose, AnAlternativeThatTakesUpHalfTheGainIsNoTie) {
   ASSERT_EQ(drawn.truth, std::vector<Effect>{Effect::kLeadError}) << drawn.description;
   RigEffects fx = drawn.effects;
   const Diagnosis d = Diagnose(Model(), LoadMeasurement(Simulate("lead_vs_compliance", fx).csv));
-  EXPECT_EQ(ResultFor(d, Effect::kLeadError).verdict, "identified") << fmt::format("{}", fmt::join(Found(d), ", "));
-  EXPECT_EQ(ResultFor(d, Effect::kCompliance).verdict, "rejected") << fmt::format("{}", fmt::join(Found(d), ", "));
+  EXPECT_EQ(ResultFor(d, Effect::kLeadError).verdict, Verdict::kIdentified)
+      << fmt::format("{}", fmt::join(Found(d), ", "));
+  EXPECT_EQ(ResultFor(d, Effect::kCompliance).verdict, Verdict::kRejected)
+      << fmt::format("{}", fmt::join(Found(d), ", "));
 }
 
 // Without encoder columns a tracker clock offset is a lag equal on every
@@ -194,8 +196,9 @@ TEST(Diagnose, WithoutEncodersADrivesLoopIsNotTakenForAClockOffset) {
   const Diagnosis d = Diagnose(Model(), data);
   ASSERT_TRUE(d.clock_offset.tested);
   EXPECT_FALSE(d.clock_offset.replaces_lag) << d.unexplained_note;
-  EXPECT_EQ(ResultFor(d, Effect::kServoLag).verdict, "identified") << ResultFor(d, Effect::kServoLag).next_measurement;
-  EXPECT_EQ(d.conclusion, "effects") << d.unexplained_note;
+  EXPECT_EQ(ResultFor(d, Effect::kServoLag).verdict, Verdict::kIdentified)
+      << ResultFor(d, Effect::kServoLag).next_measurement;
+  EXPECT_EQ(d.conclusion, Conclusion::kEffects) << d.unexplained_note;
 }
 
 TEST(Diagnose, BacklashAndLeadErrorAreRecoveredWithTheirSizes) {
@@ -235,7 +238,7 @@ TEST(Diagnose, AnEffectOutsideTheVocabularyIsUnknown) {
     swayed << fmt::format("{}", fmt::join(f, ",")) << "\n";
   }
   const Diagnosis d = Diagnose(Model(), ParseMeasurementCsv(swayed.str(), "swayed.csv"));
-  EXPECT_EQ(d.conclusion, "unknown") << d.unexplained_note;
+  EXPECT_EQ(d.conclusion, Conclusion::kUnknown) << d.unexplained_note;
   EXPECT_FALSE(d.whiteness.white);
   const nlohmann::json j = ToJson(d);
   bool unknown_listed = false;
@@ -250,7 +253,7 @@ TEST(Diagnose, ThePapersUnsignedCompensationIsPassiveRotationAndSignedClosesIt) 
   const Diagnosis d = Diagnose(Model(), LoadMeasurement(Simulate("paper", Baseline(), PrMode::kUnsigned).csv));
   ASSERT_FALSE(d.effects.empty());
   EXPECT_EQ(d.effects.front().effect, Effect::kPassiveRotation);
-  EXPECT_EQ(d.effects.front().verdict, "identified");
+  EXPECT_EQ(d.effects.front().verdict, Verdict::kIdentified);
   EXPECT_EQ(d.applied_pr, "unsigned");
   const nlohmann::json j = ToJson(d);
   EXPECT_EQ(j["compensation"]["pr_mode"], "signed");

@@ -2,7 +2,9 @@
 // team quotes, in the right leg's row and column, with its σ. The expected
 // cells are worked out by hand from the basis' units (leg_error_model.cpp).
 #include <cmath>
+#include <optional>
 #include <string>
+#include <utility>
 
 #include <gtest/gtest.h>
 
@@ -15,7 +17,7 @@ namespace {
 EffectResult Fitted(Effect effect) {
   EffectResult r;
   r.effect = effect;
-  r.verdict = "identified";
+  r.verdict = Verdict::kIdentified;
   r.theta = Eigen::VectorXd::Zero(ParameterCount(effect));
   r.sigma = Eigen::VectorXd::Zero(ParameterCount(effect));
   return r;
@@ -107,6 +109,68 @@ TEST(ParameterTable, PeriodicLeadErrorAsAmplitudeAndPhase) {
   r.theta(3) = 4e-6;  //        cos part
   const std::string t = ParameterTableMarkdown(r);
   EXPECT_EQ(Row(t, 2), "| 2 | 5.0 | 53 |") << t;
+}
+
+// Verdicts, conclusions and how the calibration was chosen are typed; the
+// report keeps their names (interfaces.md §4), which users' scripts read:
+// `ambiguous_with` lists the effects, then `unknown`; the ranking holds
+// `unknown` after the selected effects, or `none` first.
+TEST(ReportText, TypedVerdictsAndConclusionsKeepTheReportsNames) {
+  Diagnosis d;
+  d.conclusion = Conclusion::kEffectsAndUnknown;
+  d.selected = {Effect::kServoLag};
+  EffectResult lag = Fitted(Effect::kServoLag), compliance = Fitted(Effect::kCompliance),
+               offset = Fitted(Effect::kLegOffset);
+  lag.verdict = compliance.verdict = Verdict::kAmbiguous;
+  lag.ambiguous_with = {Effect::kCompliance};
+  lag.ambiguous_with_unknown = true;
+  compliance.ambiguous_with = {Effect::kServoLag};
+  offset.verdict = Verdict::kRejected;
+  d.effects = {lag, compliance, offset};
+  d.calibration.chosen_by = ChosenBy::kForward;
+  const nlohmann::json j = ToJson(d);
+  EXPECT_EQ(j["conclusion"], "effects+unknown");
+  EXPECT_EQ(j["calibration"]["chosen_by"], "forward");
+  ASSERT_EQ(j["effects"].size(), 4u) << j["effects"].dump();
+  EXPECT_EQ(j["effects"][0]["name"], "servo_lag");
+  EXPECT_EQ(j["effects"][0]["verdict"], "ambiguous");
+  EXPECT_EQ(j["effects"][0]["ambiguous_with"], nlohmann::json({"compliance", "unknown"}));
+  EXPECT_EQ(j["effects"][1]["name"], "unknown");
+  EXPECT_EQ(j["effects"][1]["verdict"], "identified");
+  EXPECT_EQ(j["effects"][2]["ambiguous_with"], nlohmann::json({"servo_lag"}));
+  EXPECT_EQ(j["effects"][3]["verdict"], "rejected");
+  EXPECT_FALSE(j["effects"][3].contains("ambiguous_with"));
+
+  d.conclusion = Conclusion::kNone;
+  d.selected.clear();
+  d.effects = {offset};
+  const nlohmann::json none = ToJson(d);
+  EXPECT_EQ(none["conclusion"], "none");
+  ASSERT_EQ(none["effects"].size(), 2u) << none["effects"].dump();
+  EXPECT_EQ(none["effects"][0]["name"], "none");
+  EXPECT_EQ(none["effects"][0]["verdict"], "identified");
+
+  d.conclusion = Conclusion::kUnknown;
+  const nlohmann::json unknown = ToJson(d);
+  ASSERT_EQ(unknown["effects"].size(), 2u) << unknown["effects"].dump();
+  EXPECT_EQ(unknown["effects"][0]["name"], "unknown");
+}
+
+TEST(ReportText, ConclusionsReadAndPrintTheReportsNames) {
+  for (const auto& [conclusion, name] :
+       {std::pair{Conclusion::kEffects, "effects"}, std::pair{Conclusion::kNone, "none"},
+        std::pair{Conclusion::kUnknown, "unknown"}, std::pair{Conclusion::kEffectsAndUnknown, "effects+unknown"}}) {
+    EXPECT_STREQ(ConclusionName(conclusion), name);
+    EXPECT_EQ(ConclusionFromName(name), conclusion) << name;
+  }
+  EXPECT_EQ(ConclusionFromName("unknown+effects"), std::nullopt);
+  EXPECT_EQ(WithUnknown(Conclusion::kEffects), Conclusion::kEffectsAndUnknown);
+  EXPECT_EQ(WithUnknown(Conclusion::kNone), Conclusion::kUnknown);
+  EXPECT_EQ(WithUnknown(Conclusion::kUnknown), Conclusion::kUnknown);
+  EXPECT_TRUE(NamesUnknown(Conclusion::kEffectsAndUnknown));
+  EXPECT_FALSE(NamesUnknown(Conclusion::kEffects));
+  EXPECT_STREQ(ChosenByName(ChosenBy::kIdentified), "identified");
+  EXPECT_STREQ(ChosenByName(ChosenBy::kBackward), "backward");
 }
 
 TEST(ParameterTable, AnEffectWithoutParametersHasNoTable) {

@@ -41,7 +41,7 @@ nlohmann::json IdentifiedOnly(const Diagnosis& d) {
   nlohmann::json model = ModelJson(d);
   nlohmann::json effects = nlohmann::json::array();
   for (const EffectResult& r : d.effects) {
-    if (r.verdict != "identified") continue;
+    if (r.verdict != Verdict::kIdentified) continue;
     effects.push_back({{"name", EffectName(r.effect)},
                        {"theta", std::vector<double>(r.theta.data(), r.theta.data() + r.theta.size())}});
   }
@@ -58,7 +58,7 @@ TEST(WholeRigCalibration, TheDesignedMotionsCalibrateAWholeRig) {
   const Diagnosis d = Diagnose(model, LoadMeasurement(RunOffline(kConfig, rig.effects, run).csv_path));
   // More than the names: the set predicts the held-out runs better than the
   // identified effects alone, by the diagnosis's own held-out folds.
-  EXPECT_NE(d.calibration.chosen_by, "identified");
+  EXPECT_NE(d.calibration.chosen_by, ChosenBy::kIdentified);
   EXPECT_LT(d.calibration.heldout_rms_m, 0.5 * d.calibration.identified_heldout_rms_m);
   ASSERT_EQ(d.calibration.theta.size(), d.calibration.effects.size());
 

@@ -4,6 +4,8 @@
 // independent computation (the inverse kinematics of the moved geometry).
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <utility>
 
 #include <gtest/gtest.h>
 
@@ -119,7 +121,7 @@ TEST(Calibration, JointCentreCorrectionIsTheMovedGeometrysInverseKinematics) {
   Eigen::VectorXd theta = Eigen::VectorXd::Zero(36);
   for (int k = 0; k < 36; ++k) theta(k) = 1e-4 * std::sin(1.0 + 0.7 * k);
   CalibrationModel m;
-  m.applied.push_back({Effect::kJointPosition, theta, "identified"});
+  m.applied.push_back({Effect::kJointPosition, theta, Verdict::kIdentified});
   PlatformConfig moved = Huang2021Config();
   for (int i = 0; i < 6; ++i) {
     for (int a = 0; a < 3; ++a) {
@@ -151,7 +153,7 @@ TEST(Calibration, FeedForwardOfAJumpingVelocityNeverSteps) {
   Eigen::VectorXd theta = Eigen::VectorXd::Zero(13);
   theta.head(6).setConstant(0.013);  // a 13 ms lag
   CalibrationModel m;
-  m.applied.push_back({Effect::kServoLag, theta, "identified"});
+  m.applied.push_back({Effect::kServoLag, theta, Verdict::kIdentified});
   const PlatformModel nominal = Nominal();
   LegCompensator compensator(nominal, m);
   const Pose home = nominal.home_pose();
@@ -181,8 +183,8 @@ TEST(Calibration, APeriodicErrorIsCorrectedWhereTheCorrectedCommandTurnsTheScrew
   Eigen::VectorXd periodic(12);
   for (int i = 0; i < 6; ++i) periodic(2 * i) = 10e-6, periodic(2 * i + 1) = -6e-6;
   CalibrationModel m;
-  m.applied.push_back({Effect::kLegOffset, Eigen::VectorXd::Constant(6, 300e-6), "identified"});
-  m.applied.push_back({Effect::kPeriodicLeadError, periodic, "identified"});
+  m.applied.push_back({Effect::kLegOffset, Eigen::VectorXd::Constant(6, 300e-6), Verdict::kIdentified});
+  m.applied.push_back({Effect::kPeriodicLeadError, periodic, Verdict::kIdentified});
   LegCompensator compensator(nominal, m);
   Pose pose = nominal.home_pose();
   pose.p_BoMo_B.z() += 0.043;
@@ -204,6 +206,26 @@ TEST(Calibration, APeriodicErrorIsCorrectedWhereTheCorrectedCommandTurnsTheScrew
   for (int k = 0; k < 20; ++k) expected = at(stroke - expected);
   EXPECT_LT((c - expected).cwiseAbs().maxCoeff(), 1e-10) << c.transpose() << "\n" << expected.transpose();
   EXPECT_GT((at(stroke) - expected).cwiseAbs().maxCoeff(), 1e-6);  // the nominal stroke's would fail above
+}
+
+// The verdicts are typed; their names are the model file's (interfaces.md
+// §4), and which entries a calibration applies follows from them.
+TEST(Calibration, VerdictsReadAndPrintTheModelFilesNames) {
+  for (const auto& [verdict, name] :
+       {std::pair{Verdict::kIdentified, "identified"}, std::pair{Verdict::kAmbiguous, "ambiguous"},
+        std::pair{Verdict::kRejected, "rejected"}}) {
+    EXPECT_STREQ(VerdictName(verdict), name);
+    EXPECT_EQ(VerdictFromName(name), verdict) << name;
+  }
+  EXPECT_EQ(VerdictFromName("Identified"), std::nullopt);
+  EXPECT_EQ(VerdictFromName(""), std::nullopt);
+  // Without "apply": identified only, ambiguous when asked; "apply" decides when given.
+  EXPECT_TRUE(AppliesEntry(Verdict::kIdentified, false, false, false));
+  EXPECT_FALSE(AppliesEntry(Verdict::kAmbiguous, false, false, false));
+  EXPECT_TRUE(AppliesEntry(Verdict::kAmbiguous, false, false, true));
+  EXPECT_FALSE(AppliesEntry(Verdict::kRejected, false, false, true));
+  EXPECT_TRUE(AppliesEntry(Verdict::kRejected, true, true, false));
+  EXPECT_FALSE(AppliesEntry(Verdict::kIdentified, true, false, false));
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include "thrown_message.h"
 
 #include "edsp/kinematics/config.h"
+#include "edsp/kinematics/leg_effects.h"
 #include "edsp/rig/rig_effects.h"
 
 namespace edsp {
@@ -115,6 +116,18 @@ TEST(RigEffectsConfig, EveryEffectIsParsedListedAndSwitchedAloneByItsName) {
   }
   const std::string unknown = ErrorOf(kNominal + "[rig.effects.wobble]\nenabled = true\n");
   for (const std::string& name : vocabulary) EXPECT_NE(unknown.find(name), std::string::npos) << unknown;
+}
+
+// The rig's table is keyed by the kinematics' vocabulary (leg_effects.h):
+// every effect the diagnosis can name, the benchmark can switch on alone
+// on the rig, under the same name (rig_effects.cpp also asserts it).
+TEST(RigEffectsConfig, EveryEffectOfTheVocabularyIsTheRigsByItsName) {
+  const std::string known = ErrorOf(kNominal + "[rig.effects.wobble]\nenabled = true\n");
+  for (calibration::Effect effect : calibration::AllEffects()) {
+    const std::string name = calibration::EffectName(effect);
+    EXPECT_NO_THROW(OnlyEffect(RigEffects{}, name)) << name;
+    EXPECT_NE(known.find(name), std::string::npos) << known;
+  }
 }
 
 TEST(RigEffectsConfig, ErrorsNameFileLineAndKey) {

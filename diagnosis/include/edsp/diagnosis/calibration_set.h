@@ -17,9 +17,9 @@
 // The lowest held-out MSE wins; a richer set must beat a simpler one by
 // kCalibrationMinGain, so the names are applied unless more predicts better.
 
-#include <string>
 #include <vector>
 
+#include "edsp/diagnosis/chosen_by.h"
 #include "edsp/diagnosis/effect_sets.h"
 
 namespace edsp::gap {
@@ -27,8 +27,8 @@ namespace edsp::gap {
 inline constexpr double kCalibrationMinGain = 0.01;
 
 struct CalibrationSet {
-  std::vector<Effect> effects;     // in the order they were added
-  std::string chosen_by;           // identified | selected | forward | backward
+  std::vector<Effect> effects;  // in the order they were added
+  ChosenBy chosen_by = ChosenBy::kIdentified;
   double cv_mse = 0.0;             // held-out MSE per coordinate, m²
   double identified_cv_mse = 0.0;  //   of the identified effects alone
 };

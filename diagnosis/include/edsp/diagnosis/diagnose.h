@@ -9,6 +9,8 @@
 
 #include <Eigen/Core>
 
+#include "edsp/diagnosis/chosen_by.h"
+#include "edsp/diagnosis/conclusion.h"
 #include "edsp/diagnosis/design.h"
 #include "edsp/diagnosis/gap_summary.h"
 #include "edsp/diagnosis/recorded_correction.h"
@@ -45,8 +47,9 @@ struct EffectResult {
   Eigen::VectorXd theta, sigma;     // fitted on every run, with 1-σ uncertainties
   double explained_fraction = 0.0;  // of the gap's variance, in selection order
   double cv_gain = 0.0;             // held-out MSE reduction / baseline held-out MSE
-  std::string verdict;              // identified | ambiguous | rejected
-  std::vector<std::string> ambiguous_with;
+  Verdict verdict = Verdict::kRejected;
+  std::vector<Effect> ambiguous_with;   // the effects it ties with (Verdicts),
+  bool ambiguous_with_unknown = false;  //   and whether something beyond the vocabulary does (beyond_vocabulary.h)
   std::string next_measurement;
   double frame_overlap = 0.0;    // share of its signature the tracker frame can mimic
   double max_correlation = 0.0;  // strongest |correlation| of a parameter with another
@@ -54,6 +57,10 @@ struct EffectResult {
   bool encoder_checked = false;  // selected servo_lag with encoders:
   double encoder_share = 0.0;    //   the share of it they show (encoder_check.h)
 };
+
+// What an effect is ambiguous with, as the report names it: the effects,
+// then `unknown` (the checks beyond the vocabulary run after the verdicts).
+std::vector<std::string> AmbiguousWithNames(const EffectResult& r);
 
 // One sample's gap at A before and after the selected effects (in-sample),
 // for the report's plots.
@@ -117,9 +124,9 @@ struct RobustFitSummary {
 struct CalibrationResult {
   std::vector<Effect> effects;
   std::vector<Eigen::VectorXd> theta, sigma;  // one per effect, in that order (sigma: 1-σ)
-  std::string chosen_by;                      // identified | selected | forward | backward
-  double heldout_rms_m = 0.0;                 // point A, √(3·held-out MSE per coordinate)
-  double identified_heldout_rms_m = 0.0;      //   of the identified effects alone
+  ChosenBy chosen_by = ChosenBy::kIdentified;
+  double heldout_rms_m = 0.0;             // point A, √(3·held-out MSE per coordinate)
+  double identified_heldout_rms_m = 0.0;  //   of the identified effects alone
 };
 
 struct Diagnosis {
@@ -131,7 +138,7 @@ struct Diagnosis {
   std::vector<EffectResult> effects;  // ranked: selected first, then rejected by gain
   std::vector<Effect> selected;
   CalibrationResult calibration;  // what a calibration applies
-  std::string conclusion;         // "effects", "none", "unknown" or "effects+unknown"
+  Conclusion conclusion = Conclusion::kNone;
   std::vector<std::string> holdout_runs;
   RmsMax holdout_before, holdout_after;
   double shrink = 0.0;

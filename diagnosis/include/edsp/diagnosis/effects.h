@@ -10,6 +10,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "edsp/kinematics/leg_effects.h"
+#include "edsp/kinematics/verdict.h"
 
 namespace edsp::gap {
 
@@ -23,6 +24,9 @@ using calibration::ParameterGroup;
 using calibration::ParameterGroups;
 using calibration::ParseEffect;
 using calibration::PriorSigma;
+using calibration::Verdict;
+using calibration::VerdictFromName;
+using calibration::VerdictName;
 
 // Whether `simple` is (nearly) a special case of `rich`, so that `rich` can
 // always do what `simple` does with more parameters: leg offsets are joint

@@ -4,6 +4,7 @@
 // readable report directory.
 
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -13,6 +14,25 @@
 namespace edsp::gap {
 
 nlohmann::json ToJson(const Diagnosis& diagnosis);
+
+// An entry of the report's ranking (ToJson's "effects", interfaces.md §4):
+// an effect's result, or one of the vocabulary's pseudo-effects, `none`
+// (nothing beyond the noise) and `unknown` (what no effect explains).
+struct RankedEntry {
+  enum class Kind { kEffect, kNone, kUnknown };
+  Kind kind = Kind::kEffect;
+  const EffectResult* result = nullptr;  // kEffect: the effect's, in the diagnosis
+};
+
+// The ranking, as the report lists it and the benchmark scores it: `none`
+// first when the diagnosis concludes that; the effects in rank order, and
+// `unknown` after the selected ones (first when none is) when the
+// conclusion names it. The entries point into `diagnosis`.
+std::vector<RankedEntry> Ranking(const Diagnosis& diagnosis);
+// The effect's name, or the pseudo-effect's ("none", "unknown").
+std::string RankedName(const RankedEntry& entry);
+// The effect's verdict; a pseudo-effect is the conclusion itself: identified.
+Verdict RankedVerdict(const RankedEntry& entry);
 
 // The tracker's clock in one sentence: its offset (time_offset.h), whether
 // without encoders an offset does as well as the servo_lag found, and how

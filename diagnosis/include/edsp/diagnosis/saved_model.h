@@ -19,7 +19,7 @@ namespace edsp::gap {
 
 struct SavedEffect {
   Effect effect = Effect::kLegOffset;
-  std::string verdict;
+  Verdict verdict = Verdict::kIdentified;  // the file's (none: identified)
   Eigen::VectorXd theta;
   Eigen::VectorXd sigma;  // zeros when the file has none (saved before they were)
 };

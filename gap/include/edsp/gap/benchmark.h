@@ -14,6 +14,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "edsp/diagnosis/conclusion.h"
 #include "edsp/diagnosis/diagnose.h"
 #include "edsp/diagnosis/gap_shrink.h"
 #include "edsp/gap/rig_scenarios.h"
@@ -52,7 +53,7 @@ struct ScenarioScore {
   std::string description;
   std::vector<std::string> found;  // identified or ambiguous, ranked
   std::string top;                 // first ranked entry ("none"/"unknown" included)
-  std::string conclusion;
+  Conclusion conclusion = Conclusion::kNone;
   bool top_true = false, all_found = false, false_identified = false;
   bool top_identified_true = false;  // the first `identified` effect is a true one
   bool all_identified = false;       // every true effect `identified`

@@ -41,7 +41,7 @@ struct CalibrationBenchmarkOptions {
 struct DesignScore {
   std::string design;
   double fit_duration_s = 0.0;                    // simulated length of the fit motions
-  std::string conclusion;                         // the fit's diagnosis
+  std::string conclusion;                         // the fit's diagnosis, named ("" when it failed)
   std::vector<std::string> applied;               // effects the kinematics applied
   double before_rms_m = 0.0, before_max_m = 0.0;  // held out, uncalibrated
   double after_rms_m = 0.0, after_max_m = 0.0;    //   and calibrated (measured)

@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 
 #include "edsp/kinematics/leg_error_model.h"
+#include "edsp/kinematics/verdict.h"
 
 namespace edsp::calibration {
 
@@ -26,8 +27,8 @@ class CalibrationError : public std::runtime_error {
 struct CalibratedEffect {
   Effect effect = Effect::kLegOffset;
   Eigen::VectorXd theta;
-  std::string verdict;                    // identified | ambiguous | rejected (applied only as the file's "apply" says)
-  bool has_apply = false, apply = false;  // the file's "apply", if it has one
+  Verdict verdict = Verdict::kIdentified;  // the file's (none: identified); applied as AppliesEntry says
+  bool has_apply = false, apply = false;   // the file's "apply", if it has one
 };
 
 struct CalibrationModel {
@@ -53,7 +54,7 @@ CalibrationModel ParseCalibration(const std::string& text, const std::string& or
 // one (edsp-gap's calibration set: the effects that best predict held-out
 // error, named or not), else when it is identified; an ambiguous entry also
 // when `apply_ambiguous`.
-bool AppliesEntry(const std::string& verdict, bool has_apply, bool apply, bool apply_ambiguous);
+bool AppliesEntry(Verdict verdict, bool has_apply, bool apply, bool apply_ambiguous);
 
 // The θ of an effect the LegCompensator does not apply (the servo lag's
 // jerk term: a trapezoid's corners would make it a spike): data recorded
