@@ -7,8 +7,7 @@ namespace edsp::gap {
 
 namespace {
 
-// In the enum's order: the one place the names are spelt, so that printing
-// and parsing cannot disagree.
+// In the enum's order (conclusions are written, never read back).
 constexpr const char* kNames[] = {"effects", "none", "unknown", "effects+unknown"};
 static_assert(std::size(kNames) == static_cast<std::size_t>(Conclusion::kEffectsAndUnknown) + 1,
               "a name per conclusion");
@@ -18,13 +17,6 @@ bool NamesEffects(Conclusion c) { return c == Conclusion::kEffects || c == Concl
 }  // namespace
 
 const char* ConclusionName(Conclusion conclusion) { return kNames[static_cast<std::size_t>(conclusion)]; }
-
-std::optional<Conclusion> ConclusionFromName(std::string_view name) {
-  for (std::size_t k = 0; k < std::size(kNames); ++k) {
-    if (name == kNames[k]) return static_cast<Conclusion>(k);
-  }
-  return std::nullopt;
-}
 
 Conclusion Conclude(bool effects, bool unknown) {
   if (unknown) return effects ? Conclusion::kEffectsAndUnknown : Conclusion::kUnknown;

@@ -7,16 +7,11 @@
 // them, and lists `unknown` among what an effect is ambiguous with, by
 // these names.
 
-#include <optional>
-#include <string_view>
-
 namespace edsp::gap {
 
 enum class Conclusion { kEffects, kNone, kUnknown, kEffectsAndUnknown };
 
 const char* ConclusionName(Conclusion conclusion);  // "effects", "none", "unknown", "effects+unknown"
-// The conclusion a name stands for; none when it names no conclusion.
-std::optional<Conclusion> ConclusionFromName(std::string_view name);
 
 // From what was found: effects selected, and something beyond the vocabulary.
 Conclusion Conclude(bool effects, bool unknown);
