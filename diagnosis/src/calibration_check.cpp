@@ -61,6 +61,10 @@ CalibrationCheck CheckCalibration(const Evaluation& without, const Evaluation& w
   c.timing_excluded_after = with.timing_excluded;
   c.timing_share_before = without.timing_excluded_share;
   c.timing_share_after = with.timing_excluded_share;
+  c.timing_kept_before = without.timing_kept;
+  c.timing_kept_after = with.timing_kept;
+  c.timing_kept_share_before = without.timing_kept_share;
+  c.timing_kept_share_after = with.timing_kept_share;
   c.target_met = c.overall.after.rms_m <= kFloorFactor * c.noise_floor_rms_m || c.overall.shrink >= kTargetShrink;
   return c;
 }
@@ -73,6 +77,7 @@ nlohmann::json ToJson(const CalibrationCheck& c) {
   j["motions"] = motions;
   j["noise_floor_rms_m"] = c.noise_floor_rms_m;
   j["timing_excluded_samples"] = {{"before", c.timing_excluded_before}, {"after", c.timing_excluded_after}};
+  j["timing_kept_samples"] = {{"before", c.timing_kept_before}, {"after", c.timing_kept_after}};
   j["target"] = fmt::format("RMS <= {} x noise floor or shrink >= {:.0f}%", kFloorFactor, 100 * kTargetShrink);
   j["target_met"] = c.target_met;
   return j;
@@ -93,6 +98,12 @@ std::string CheckTable(const CalibrationCheck& c) {
         "left out near stalls of the real-time system (timing_event): {} samples before ({:.1f}%), {} after "
         "({:.1f}%)\n",
         c.timing_excluded_before, 100 * c.timing_share_before, c.timing_excluded_after, 100 * c.timing_share_after);
+  }
+  if (c.timing_kept_before + c.timing_kept_after > 0) {
+    t += fmt::format(
+        "kept on request, though flagged near stalls of the real-time system (timing_event): {} samples before "
+        "({:.1f}%), {} after ({:.1f}%)\n",
+        c.timing_kept_before, 100 * c.timing_kept_share_before, c.timing_kept_after, 100 * c.timing_kept_share_after);
   }
   return t;
 }

@@ -211,9 +211,12 @@ MeasurementData ParseMeasurementCsv(const std::string& text, const std::string& 
       continue;
     }
     const RowParser p(origin, line_number, fields);
-    if (FlaggedTimingEvent(p, columns.timing_event) && timing == TimingEvents::kLeaveOut) {
-      ++data.timing_excluded;
-      continue;
+    if (FlaggedTimingEvent(p, columns.timing_event)) {
+      if (timing == TimingEvents::kLeaveOut) {
+        ++data.timing_excluded;
+        continue;
+      }
+      ++data.timing_kept;
     }
     MeasurementRow row;
     row.time_s = p.Number(columns.time, "time_s");
@@ -285,6 +288,7 @@ void AppendMeasurement(MeasurementData* data, MeasurementData more) {
     data->rows.push_back(row);
   }
   data->timing_excluded += more.timing_excluded;
+  data->timing_kept += more.timing_kept;
   data->has_correction = data->has_correction || more.has_correction;
   data->source += ", " + more.source;
 }
@@ -294,6 +298,7 @@ MeasurementData Decimated(const MeasurementData& data, double max_rate_hz) {
   out.runs = data.runs;
   out.source = data.source;
   out.timing_excluded = data.timing_excluded;
+  out.timing_kept = data.timing_kept;
   out.has_correction = data.has_correction;
   std::map<int, double> last_kept;
   const double min_spacing = 1.0 / max_rate_hz - 1e-9;

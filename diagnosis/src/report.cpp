@@ -414,6 +414,8 @@ Evaluation Evaluate(const PlatformModel& model, const MeasurementData& data, con
   const std::int64_t all_rows = data.timing_excluded + static_cast<std::int64_t>(data.rows.size());
   ev.timing_excluded_share =
       all_rows > 0 ? static_cast<double>(data.timing_excluded) / static_cast<double>(all_rows) : 0.0;
+  ev.timing_kept = data.timing_kept;
+  ev.timing_kept_share = all_rows > 0 ? static_cast<double>(data.timing_kept) / static_cast<double>(all_rows) : 0.0;
   const Eigen::VectorXd before = frame_fit(d.residual);
   const Eigen::VectorXd after = frame_fit(ResidualAfterPrediction(d, predicted, SavedTrackerRotation(saved, origin)));
   ev.before = PointStats(before, 0, d.samples());

@@ -1,5 +1,6 @@
 // edsp-gap: diagnose the sim-to-real gap (docs/diagnosis.md).
 //   edsp-gap diagnose --config C --data D [--data D2 …] [--json] [--save-model M] [--report DIR]
+//                     [--keep-timing-events]
 //   edsp-gap evaluate --config C --model M --data T [--json] [--keep-timing-events]
 //   edsp-gap compare --config C --before B --after A [--model M [--apply-ambiguous]] [--plot DIR] [--json]
 //                    [--keep-timing-events]
@@ -90,7 +91,7 @@ void PrintText(const Diagnosis& d) {
 struct DiagnoseArgs {
   std::string config, save_model, report_dir;
   std::vector<std::string> data;
-  bool json = false;
+  bool json = false, keep_timing_events = false;
   DiagnoseOptions options;
   CLI::Option* thermal_tau = nullptr;
 };
@@ -124,6 +125,9 @@ struct BenchmarkArgs {
   bool json = false;
 };
 
+constexpr char kKeepTimingEventsHelp[] =
+    "keep the rows flagged timing_event (near a stall of the real-time system; left out by default)";
+
 CLI::App* AddDiagnose(CLI::App& app, DiagnoseArgs* a) {
   CLI::App* c = app.add_subcommand("diagnose", "diagnose measured data against the config's model");
   c->add_option("--config", a->config, "platform config (TOML)")->required();
@@ -131,6 +135,7 @@ CLI::App* AddDiagnose(CLI::App& app, DiagnoseArgs* a) {
   c->add_flag("--json", a->json, "print the JSON report (interfaces.md §4)");
   c->add_option("--save-model", a->save_model, "write the selected effects for `evaluate`");
   c->add_option("--report", a->report_dir, "write report.md with PNG plots here");
+  c->add_flag("--keep-timing-events", a->keep_timing_events, kKeepTimingEventsHelp);
   c->add_option("--max-rate-hz", a->options.max_rate_hz, "thin each run to this rate")->check(CLI::Range(1.0, 10000.0));
   c->add_option("--against", a->options.against,
                 "data recorded with a calibration in force: nominal (the rig's whole effects; a model saved replaces "
@@ -148,9 +153,6 @@ CLI::App* AddDiagnose(CLI::App& app, DiagnoseArgs* a) {
       ->check(CLI::Range(0.001, 1.0));
   return c;
 }
-
-constexpr char kKeepTimingEventsHelp[] =
-    "keep the rows flagged timing_event (near a stall of the real-time system; left out by default)";
 
 CLI::App* AddEvaluate(CLI::App& app, EvaluateArgs* a) {
   CLI::App* c = app.add_subcommand("evaluate", "apply a saved model to data it has never seen");
@@ -229,7 +231,7 @@ CLI::App* AddBenchmark(CLI::App& app, BenchmarkArgs* a) {
 int RunDiagnose(DiagnoseArgs a) {
   if (a.thermal_tau->count() > 0) a.options.thermal_time_constants_s.clear();
   const PlatformModel model(LoadConfigFile(a.config));
-  const MeasurementData data = LoadAll(a.data);
+  const MeasurementData data = LoadAll(a.data, TimingOf(a.keep_timing_events));
   if (!a.save_model.empty() && a.options.against == Against::kCalibration && CarriesACorrection(data)) {
     // Its effects are increments: applied alone they would replace the
     // calibration they were measured on instead of adding to it.

@@ -44,10 +44,11 @@ constexpr std::int64_t kLongestGapUs = 50'000;
 // after a 6 ms stall, ~190 ms after an 18.8 ms one, the platform 6 mm off
 // 90 ms after that stall had ended).
 constexpr double kStallUs = 2'500;
-// The rig emulator's physics advance one cycle per cycle however late it
-// runs: a cycle 1.5 cycles after the last lost half a cycle's motion (at
-// 0.25 m/s, 125 µm), and a run of such cycles lost more (three ~2.4 ms
-// late put the platform 1.4 mm off).
+// The rig emulator reports every cycle at its own instant, those it caught
+// up after a late wake included (rig/physics_clock.h): two of its cycles
+// further apart than 1.5 cycles lost the time between (an emulator frozen
+// past its catch-up, or one that does not catch up), and its platform that
+// motion (at 0.25 m/s, 125 µm per half cycle).
 constexpr double kRigLateUs = 1'500;
 constexpr double kFlagBeforeUs = 2'000;
 constexpr double kFlagAfterUs = 100'000;

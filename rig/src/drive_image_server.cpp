@@ -23,20 +23,25 @@ DriveImageServer::DriveImageServer(const std::string& prefix, mode_t permissions
   feedback_ = std::move(writer.value);
 }
 
-bool DriveImageServer::LatestCommand(DriveImageCommand* command) {
+void DriveImageServer::NewCommands(std::vector<DriveImageCommand>* commands) {
   if (commands_ == nullptr) {
     ShmChannelSpec spec{DriveCommandSegment(prefix_), kDriveImageCommandFingerprint, kImageSlots,
                         sizeof(DriveImageCommand), mode_};
     auto reader = ShmReader::Open(spec);
-    if (!reader.ok()) return false;  // no bridge yet
+    if (!reader.ok()) return;  // no bridge yet
     commands_ = std::move(reader.value);
   }
-  commands_->SkipToLatest();
-  return commands_->TryTake([&](const std::uint8_t* data, std::uint32_t size) {
-    if (size != sizeof *command) return false;
-    std::memcpy(command, data, sizeof *command);
-    return true;
-  }) == TakeStatus::kMessage;
+  // A slot of another size is no command; the ones after it still are.
+  for (int taken = 0; taken < static_cast<int>(kImageSlots); ++taken) {
+    DriveImageCommand command{};
+    const TakeStatus status = commands_->TryTake([&](const std::uint8_t* data, std::uint32_t size) {
+      if (size != sizeof command) return false;
+      std::memcpy(&command, data, sizeof command);
+      return true;
+    });
+    if (status == TakeStatus::kEmpty) return;
+    if (status == TakeStatus::kMessage) commands->push_back(command);
+  }
 }
 
 void DriveImageServer::PublishFeedback(const DriveFeedback& f, std::int64_t utime, std::int64_t cycle) {

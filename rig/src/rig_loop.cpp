@@ -38,7 +38,7 @@ DriveSetpoint SetpointOf(const DriveImageCommand& command) {
 RigLoop::RigLoop(Bus& bus, VirtualRig& rig, DriveImageServer& image, const ImageRestore& restore)
     : rig_(rig),
       image_(image),
-      cycle_(&rig, std::chrono::duration<double>(kRigPeriod).count(), kRigCommandHorizon_s),
+      cycle_(&rig, std::chrono::duration<double>(kRigPeriod).count(), kRigCommandHorizon_s, kRigLongestCatchUp),
       tracker_out_(bus.Advertise<tracker_point_t>(channel::kTracker)),
       truth_out_(bus.Advertise<rig_truth_t>(channel::kRigTruth)),
       faults_(bus.Advertise<fault_t>(channel::kFault)),
@@ -54,24 +54,33 @@ RigLoop::RigLoop(Bus& bus, VirtualRig& rig, DriveImageServer& image, const Image
 
 void RigLoop::RunCycle(std::int64_t now, std::int64_t deadline_misses) {
   const auto start = std::chrono::steady_clock::now();
-  DriveImageCommand command{};
-  const bool commanded = image_.LatestCommand(&command);
-  const DriveSetpoint setpoint = SetpointOf(command);
-  const RigCycleReport report = cycle_.Step(now, commanded ? &setpoint : nullptr, command.enable != 0);
-  image_.PublishFeedback(report.feedback, now, ++cycles_);
-  truth_out_.Publish(report.truth);
-  if (report.tracker_due && tracker_out_.Publish(report.tracker)) status_.CountOut();
-  if (commanded) status_.CountIn();
-  if (report.watchdog_changed) {
-    faults_.Publish(WatchdogFault(image_.command_segment(), rig_.watchdog_tripped(), rig_.since_command_s(), now));
-  }
-  if (report.physics_failed) {
-    faults_.Publish(MakeFault("rig", "", FaultCode::kForwardKinematics, fault_t::SEVERITY_ERROR,
-                              "the virtual platform's pose could not be found", now));
-    status_.SetState(node_status_t::STATE_FAULT);
+  image_commands_.clear();
+  image_.NewCommands(&image_commands_);
+  commands_.clear();
+  for (const DriveImageCommand& c : image_commands_) commands_.push_back(DriveCommand{SetpointOf(c), c.enable != 0});
+  status_.CountIn(static_cast<std::int64_t>(commands_.size()));
+  const std::vector<RigCycleReport>& reports = cycle_.Wake(now, commands_);
+  for (const RigCycleReport& report : reports) Publish(report);
+  if (!reports.empty()) {  // none while the rig waits for its controller to catch up
+    cycles_ += static_cast<std::int64_t>(reports.size());
+    image_.PublishFeedback(reports.back().feedback, reports.back().utime, cycles_);
   }
   status_.RecordLoop(std::chrono::steady_clock::now() - start);
   if (status_.Due(now)) status_out_.Publish(status_.Report(now, deadline_misses));
+}
+
+void RigLoop::Publish(const RigCycleReport& report) {
+  truth_out_.Publish(report.truth);
+  if (report.tracker_due && tracker_out_.Publish(report.tracker)) status_.CountOut();
+  if (report.watchdog_changed) {
+    faults_.Publish(
+        WatchdogFault(image_.command_segment(), rig_.watchdog_tripped(), rig_.since_command_s(), report.utime));
+  }
+  if (report.physics_failed) {
+    faults_.Publish(MakeFault("rig", "", FaultCode::kForwardKinematics, fault_t::SEVERITY_ERROR,
+                              "the virtual platform's pose could not be found", report.utime));
+    status_.SetState(node_status_t::STATE_FAULT);
+  }
 }
 
 void RigLoop::Run(CycleClock& clock, const std::function<bool()>& stop) {

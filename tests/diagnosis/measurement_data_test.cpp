@@ -111,11 +111,15 @@ TEST(MeasurementCsv, RowsFlaggedTimingEventAreLeftOutAndCounted) {
   EXPECT_DOUBLE_EQ(d.rows[1].time_s, 0.2);
   EXPECT_EQ(d.timing_excluded, 2);
   EXPECT_EQ(Decimated(d, 100.0).timing_excluded, 2);
-  // Kept on request (edsp-gap --keep-timing-events): every row, none counted.
+  EXPECT_EQ(d.timing_kept, 0);
+  // Kept on request (edsp-gap --keep-timing-events): every row, none left
+  // out, and how many were flagged still said.
   const MeasurementData kept = ParseMeasurementCsv(
       header + row(0.0, "0") + row(0.1, "1") + row(0.2, "") + row(0.3, "1"), "t.csv", TimingEvents::kKeep);
   EXPECT_EQ(kept.rows.size(), 4u);
   EXPECT_EQ(kept.timing_excluded, 0);
+  EXPECT_EQ(kept.timing_kept, 2);
+  EXPECT_EQ(Decimated(kept, 100.0).timing_kept, 2);
   ExpectError(header + row(0.0, "2"), "bad.csv:2:68: timing_event 2 is neither 0 nor 1");
   ExpectError(header + row(0.0, "yes"), "timing_event \"yes\" is not a number");
   ExpectError(header + row(0.0, "1"), "every one of its 1 rows is flagged timing_event");

@@ -2,12 +2,16 @@
 // state the previous cycle's physics reached), as the offline stack stamps
 // it; a report that ran a cycle ahead of its stamp looks, to the diagnosis,
 // like a tracker whose clock leads the controller's by that cycle.
+#include <algorithm>
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "edsp/kinematics/config.h"
 #include "edsp/rig/rig_cycle.h"
+#include "edsp/rig/rig_effects.h"
 
 namespace edsp {
 namespace {
@@ -131,6 +135,180 @@ TEST(RigCycle, AStaleCommandReSentEveryCycleHoldsAsOneThatStopped) {
   command.utime = now;
   for (int k = 0; k < 60; ++k) resent_cycle.Step(now += 1000, &command, true);
   EXPECT_NEAR(resent.Feedback().motor_angle_rad[0], 20.0 * (0.020 + 0.001 + 0.004), 1e-6);
+}
+
+// The rig of config/huang2021-rig-effects.toml: its drives a torque-limited
+// servo with integral action, its legs compliant under 800 kg.
+RigParameters RigWithEffects() {
+  const std::string path = std::string(EDSP_SOURCE_DIR) + "/config/huang2021-rig-effects.toml";
+  RigParameters p = IdealRig(LoadConfigFile(path));
+  p.effects = LoadRigEffects(path);
+  p.tracker.rate_hz = 1000.0;
+  return p;
+}
+
+// The planner's command for cycle k, stamped at its tick, 500 µs before the
+// rig's cycle k: every motor accelerating from rest.
+DriveCommand CommandFor(int k) {
+  const double t = 1e-3 * k;
+  DriveCommand c;
+  c.enable = true;
+  c.setpoint.utime = kStart + 1000 * k - 500;
+  c.setpoint.motor_angle_rad.fill(0.5 * 400.0 * t * t);
+  c.setpoint.motor_velocity_rad_s.fill(400.0 * t);
+  return c;
+}
+
+// Real hardware's time does not stop when its emulator's host does: a wake
+// 13 cycles late replays them, each reported at its own instant, with the
+// commands that came meanwhile, and the platform is where a rig woken on
+// time put it. Run one cycle per wake (as before the catch-up) and the
+// report after the stall is the platform 13 ms ago, millimetres off.
+TEST(RigCycle, ALateWakeReplaysTheCyclesItMissedAsARigWokenOnTime) {
+  const RigParameters p = RigWithEffects();
+  VirtualRig on_time_rig(p), late_rig(p);
+  RigCycle on_time(&on_time_rig, 1e-3, 2.5e-3), late(&late_rig, 1e-3, 2.5e-3);
+  std::vector<RigCycleReport> expected, got;
+  std::vector<DriveCommand> queued;
+  for (int k = 0; k < 200; ++k) {
+    const std::int64_t grid = kStart + 1000 * k;
+    const std::vector<RigCycleReport>& a = on_time.Wake(grid + 20, {CommandFor(k)});
+    expected.insert(expected.end(), a.begin(), a.end());
+    queued.push_back(CommandFor(k));
+    if (k >= 120 && k < 133) continue;  // the late rig's host stalls for 13 cycles
+    const std::vector<RigCycleReport>& b = late.Wake(grid + (k == 133 ? 700 : 20), queued);
+    got.insert(got.end(), b.begin(), b.end());
+    queued.clear();
+  }
+  ASSERT_EQ(got.size(), expected.size());
+  double moved = 0.0;
+  for (std::size_t k = 0; k < got.size(); ++k) {
+    ASSERT_EQ(got[k].utime, expected[k].utime) << "cycle " << k;
+    ASSERT_EQ(got[k].tracker.utime, got[k].utime) << "cycle " << k;
+    for (int i = 0; i < 3; ++i) {
+      ASSERT_NEAR(got[k].tracker.point_m[i], expected[k].tracker.point_m[i], 1e-9) << "cycle " << k;
+      moved = std::max(moved, std::abs(got[k].tracker.point_m[i] - got[0].tracker.point_m[i]));
+    }
+  }
+  EXPECT_GT(moved, 0.01);  // the platform ran a centimetre, not stood
+  EXPECT_EQ(got.back().utime, kStart + 199 * 1000 + 20);
+}
+
+// When the whole host pauses, the controller stalls with the emulator: no
+// command came for the cycles the emulator missed. The drives take the
+// command between the last and the next to come, as a real rig's
+// controller, which would not have stalled, would have sent, so the
+// platform runs on as if nothing had stalled; an emulator that woke before
+// its controller waits for it. `rig_first`: the emulator wakes first after
+// the pause, a cycle before the controller's next command. `rewrite`: the
+// bridge, waking, first re-writes its last command with the feed-forward
+// dropped (its lapse), under the old stamp.
+double FurthestFromARigThatNeverPaused(bool rig_first, bool rewrite = false) {
+  const RigParameters p = RigWithEffects();
+  VirtualRig on_time_rig(p), paused_rig(p);
+  RigCycle on_time(&on_time_rig, 1e-3, 2.5e-3), paused(&paused_rig, 1e-3, 2.5e-3);
+  std::vector<RigCycleReport> expected, got;
+  std::vector<DriveCommand> queued;
+  for (int k = 0; k < 200; ++k) {
+    const std::int64_t grid = kStart + 1000 * k;
+    const std::vector<RigCycleReport>& a = on_time.Wake(grid + 20, {CommandFor(k)});
+    expected.insert(expected.end(), a.begin(), a.end());
+    if (k >= 120 && k < 136) continue;  // planner, bridge and rig all paused for 16 cycles
+    if (rewrite && k == 136) {
+      DriveCommand lapsed = CommandFor(119);
+      lapsed.setpoint.motor_velocity_rad_s.fill(0.0);
+      queued.push_back(lapsed);
+    }
+    if (!(rig_first && k == 136)) queued.push_back(CommandFor(k));
+    const std::vector<RigCycleReport>& b = paused.Wake(grid + 20, queued);
+    EXPECT_EQ(b.empty(), rig_first && k == 136) << "cycle " << k;  // it waited for its controller
+    got.insert(got.end(), b.begin(), b.end());
+    queued.clear();
+    if (rig_first && k == 136) queued.push_back(CommandFor(k));  // came just after the wake
+  }
+  EXPECT_EQ(got.size(), expected.size());
+  double furthest = 0.0;
+  for (std::size_t k = 0; k < std::min(got.size(), expected.size()); ++k) {
+    EXPECT_EQ(got[k].utime, expected[k].utime) << "cycle " << k;
+    for (int i = 0; i < 3; ++i) {
+      furthest = std::max(furthest, std::abs(got[k].tracker.point_m[i] - expected[k].tracker.point_m[i]));
+    }
+  }
+  return furthest;
+}
+
+// On time, a command stamped 520 µs before its cycle runs on along its
+// feed-forward (AtCycleStart) without the parabola's curvature, so the two
+// rigs differ by a few micrometres through the pause. With the drives
+// braking instead: 2 mm.
+TEST(RigCycle, AStallOfTheWholeHostIsBridgedAsIfTheControllerHadNotStalled) {
+  EXPECT_LT(FurthestFromARigThatNeverPaused(false), 10e-6);
+}
+
+TEST(RigCycle, AnEmulatorThatWakesBeforeItsControllerAfterAPauseWaitsForIt) {
+  EXPECT_LT(FurthestFromARigThatNeverPaused(true), 10e-6);
+}
+
+TEST(RigCycle, TheBridgesLapseAfterAPauseIsNotReplayedAsACommandOfItsOldInstant) {
+  EXPECT_LT(FurthestFromARigThatNeverPaused(false, true), 10e-6);
+  EXPECT_LT(FurthestFromARigThatNeverPaused(true, true), 10e-6);
+}
+
+// A controller that never comes back (a bridge killed during the pause) is
+// waited for 5 ms only: then the missed cycles run, the drives holding.
+TEST(RigCycle, AControllerThatDoesNotComeBackIsWaitedForFiveMillisecondsOnly) {
+  VirtualRig rig(RigWithEffects());
+  RigCycle cycle(&rig, 1e-3, 2.5e-3);
+  for (int k = 0; k < 10; ++k) ASSERT_EQ(cycle.Wake(kStart + 1000 * k + 20, {CommandFor(k)}).size(), 1u);
+  const std::int64_t woke = kStart + 20'000 + 20;  // ten cycles late, and no command since
+  std::int64_t now = woke;
+  int waited = 0;
+  std::size_t ran = 0;
+  while ((ran = cycle.Wake(now, {}).size()) == 0) {
+    ++waited;
+    now += 1000;
+  }
+  EXPECT_EQ(waited, 6);                              // the wakes 0..5 ms after the late one
+  EXPECT_EQ(ran, 17u);                               // then cycles 10 to 26: every one since the last on time
+  EXPECT_EQ(cycle.Wake(now + 1000, {}).size(), 1u);  // and on time again
+}
+
+// The command between two: on the parabola that leaves the first along its
+// feed-forward and reaches the second, whose feed-forward is not used.
+TEST(RigCycle, TheCommandBetweenTwoIsTheParabolaFromTheFirstsFeedForwardToTheSecond) {
+  DriveSetpoint from, to;
+  from.utime = kStart;
+  to.utime = kStart + 10'000;
+  for (std::size_t i = 0; i < 6; ++i) {
+    from.motor_angle_rad[i] = 1.0 + static_cast<double>(i);
+    from.motor_velocity_rad_s[i] = 30.0;
+    to.motor_angle_rad[i] = from.motor_angle_rad[i] + 30.0 * 0.01 + 0.5 * 200.0 * 0.01 * 0.01;  // 200 rad/s²
+    to.motor_velocity_rad_s[i] = 1e6;                                                           // a rejoin's
+  }
+  for (std::int64_t dt : {0, 2500, 7000, 10'000}) {
+    const DriveSetpoint at = CommandBetween(from, to, kStart + dt);
+    const double t = static_cast<double>(dt) * 1e-6;
+    EXPECT_EQ(at.utime, kStart + dt);
+    for (std::size_t i = 0; i < 6; ++i) {
+      EXPECT_NEAR(at.motor_angle_rad[i], from.motor_angle_rad[i] + 30.0 * t + 100.0 * t * t, 1e-12) << dt;
+      EXPECT_NEAR(at.motor_velocity_rad_s[i], 30.0 + 200.0 * t, 1e-9) << dt;
+    }
+  }
+}
+
+// The wake's own cycle takes the newest command whatever its stamp (another
+// host's clock may run ahead): only the missed cycles go by stamps.
+TEST(RigCycle, TheWakesOwnCycleTakesTheNewestCommandWhateverItsStamp) {
+  VirtualRig rig(IdealRig(Huang2021Config())), reference(IdealRig(Huang2021Config()));
+  RigCycle cycle(&rig);
+  DriveCommand ahead = CommandFor(50);
+  ahead.setpoint.utime = kStart + 9000;  // 9 ms ahead of this host
+  const std::vector<RigCycleReport>& reports = cycle.Wake(kStart, {ahead});
+  ASSERT_EQ(reports.size(), 1u);
+  reference.SetTarget(ahead.setpoint, true);
+  ASSERT_TRUE(reference.Advance(1e-3));
+  EXPECT_EQ(rig.Feedback().motor_angle_rad, reference.Feedback().motor_angle_rad);
+  EXPECT_GT(rig.Feedback().motor_angle_rad[0], 0.01);  // it moved towards the command
 }
 
 }  // namespace

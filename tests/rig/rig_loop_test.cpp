@@ -114,6 +114,41 @@ TEST(RigLoop, EveryCycleWritesTheDrivesFeedbackAndTheTruthAndTheTrackerAtItsRate
   EXPECT_TRUE(f.faults.empty());
 }
 
+// A wake six cycles late publishes the truth and the tracker for each cycle
+// it missed, each stamped at its own instant, and the image carries the
+// newest: the log shows no hole where the emulator's host stalled.
+TEST(RigLoop, ALateWakePublishesEveryCycleItMissedAtItsOwnInstant) {
+  Fixture f("latewake");
+  CommandImage bridge(f.prefix);
+  for (int k = 0; k < 10; ++k) {
+    bridge.Hold(f.rig.Feedback(), f.now - 500);
+    f.Cycles(1);
+  }
+  for (int k = 0; k < 6; ++k) bridge.Hold(f.rig.Feedback(), f.now - 500 + k * kCycle);  // the bridge ran on
+  f.loop.RunCycle(f.now + 5 * kCycle + 300, 0);
+  while (f.bus.Handle(std::chrono::milliseconds(0)) > 0) {
+  }
+  ASSERT_EQ(f.truths.size(), 16u);
+  ASSERT_EQ(f.trackers.size(), 16u);
+  for (std::size_t k = 0; k < f.truths.size(); ++k) {
+    EXPECT_EQ(f.truths[k].utime, kT0 + static_cast<std::int64_t>(k) * kCycle) << k;
+    EXPECT_EQ(f.trackers[k].utime, f.truths[k].utime) << k;
+  }
+  auto reader = ShmReader::Open(
+      ShmChannelSpec{f.image.feedback_segment(), kDriveImageFeedbackFingerprint, 16, sizeof(DriveImageFeedback), 0600});
+  ASSERT_TRUE(reader.ok()) << reader.message;
+  reader.value->RewindToLatest();
+  DriveImageFeedback last{};
+  ASSERT_EQ(reader.value->TryTake([&](const std::uint8_t* data, std::uint32_t size) {
+    std::memcpy(&last, data, size);
+    return size == sizeof last;
+  }),
+            TakeStatus::kMessage);
+  EXPECT_EQ(last.utime, kT0 + 15 * kCycle) << "the newest cycle's instant, not the wake's";
+  EXPECT_EQ(last.cycle, 16);
+  EXPECT_TRUE(f.faults.empty());
+}
+
 // Enabled drives whose commands stop hold after the watchdog's 20 ms and
 // say so once; commands again: said once more, as info.
 TEST(RigLoop, DrivesWhoseCommandsStopReportHoldingOnceAndAgainWhenCommandsReturn) {

@@ -31,6 +31,9 @@ struct CalibrationCheck {
   // change, and how much was left out is said beside it.
   std::int64_t timing_excluded_before = 0, timing_excluded_after = 0;
   double timing_share_before = 0.0, timing_share_after = 0.0;  // of each measurement's samples
+  // Or, kept on request (--keep-timing-events), how many were flagged.
+  std::int64_t timing_kept_before = 0, timing_kept_after = 0;
+  double timing_kept_share_before = 0.0, timing_kept_share_after = 0.0;
   // The target of a calibration: RMS within 1.5× the tracker's noise floor,
   // or 90% lower than without it.
   bool target_met = false;

@@ -33,6 +33,8 @@ struct MeasurementData {
   // Rows the source flagged `timing_event` = 1 (near a stall of its
   // controller: a transient no effect models), left out of `rows`.
   std::int64_t timing_excluded = 0;
+  // Flagged rows kept on request (TimingEvents::kKeep), in `rows`.
+  std::int64_t timing_kept = 0;
 };
 
 // Bad data error: names the file, line and column (1-based) and what is wrong.

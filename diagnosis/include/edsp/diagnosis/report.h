@@ -68,9 +68,11 @@ struct Evaluation {
   int samples = 0;
   std::int64_t timing_excluded = 0;    // samples the data flagged timing_event, left out
   double timing_excluded_share = 0.0;  //   of all its samples (before any decimation)
-  std::vector<RunEvaluation> by_run;   // the same, per run (one frame for all)
-  double noise_floor_rms_m = 0.0;      // the tracker's noise at A, from the data (NoiseFloorRms)
-  TimeOffset time_offset;              // the data's tracker clock, removed as the frame is
+  std::int64_t timing_kept = 0;        // flagged, kept on request
+  double timing_kept_share = 0.0;
+  std::vector<RunEvaluation> by_run;  // the same, per run (one frame for all)
+  double noise_floor_rms_m = 0.0;     // the tracker's noise at A, from the data (NoiseFloorRms)
+  TimeOffset time_offset;             // the data's tracker clock, removed as the frame is
   // The data carried a calibration's correction and the model takes its
   // place: both figures are against the nominal model (recorded_correction.h).
   bool against_nominal = false;

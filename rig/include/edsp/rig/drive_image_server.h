@@ -1,13 +1,14 @@
 #pragma once
 // The drives' side of the process image (drive_io/drive_process_image.h) as
 // the virtual rig serves it: the feedback ring it writes every cycle, the
-// newest command it reads, and what a predecessor killed mid-run left there.
+// commands it reads, and what a predecessor killed mid-run left there.
 
 #include <sys/types.h>
 
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "edsp/drive_io/drive_process_image.h"
 #include "edsp/rig/virtual_rig.h"
@@ -21,10 +22,10 @@ class DriveImageServer {
   // std::runtime_error naming it (another live rig holds it, ...).
   DriveImageServer(const std::string& prefix, mode_t permissions);
 
-  // The newest command, if one arrived since the last call (older ones are
-  // skipped: drives act on the latest). False too while no bridge made the
-  // command ring.
-  bool LatestCommand(DriveImageCommand* command);
+  // The commands that arrived since the last call, in order, as many as the
+  // ring still holds (a rig that woke late replays them): appended to
+  // *commands. None while no bridge made the command ring.
+  void NewCommands(std::vector<DriveImageCommand>* commands);
   void PublishFeedback(const DriveFeedback& feedback, std::int64_t utime, std::int64_t cycle);
   std::string command_segment() const { return DriveCommandSegment(prefix_); }
   std::string feedback_segment() const { return DriveFeedbackSegment(prefix_); }

@@ -1,15 +1,18 @@
 #pragma once
 // The virtual rig on a bus and its process image: every drive cycle it takes
-// the newest command from the image, steps the rig (RigCycle), writes the
-// drives' feedback back, and publishes EDSP_RIG_TRUTH, EDSP_TRACKER (at the
-// tracker's rate), EDSP_FAULT (the drives' watchdog, failed physics, what a
-// restart found in the image) and EDSP_STATUS. edsp-rig's main only parses
+// the commands that came into the image, runs the rig's cycles (RigCycle:
+// after a late wake, the missed ones too), writes the drives' newest
+// feedback back, and publishes for each cycle EDSP_RIG_TRUTH, EDSP_TRACKER
+// (at the tracker's rate) and EDSP_FAULT (the drives' watchdog, failed
+// physics), stamped with the cycle's instant; EDSP_FAULT too for what a
+// restart found in the image, and EDSP_STATUS. edsp-rig's main only parses
 // options, builds the rig and the image and runs this; tests run it on an
 // in-process bus with their own clock.
 
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <vector>
 
 #include "edsp/fault_t.hpp"
 #include "edsp/node/runtime.h"
@@ -29,6 +32,11 @@ namespace edsp {
 inline constexpr std::chrono::microseconds kRigPeriod{1000};
 inline constexpr std::chrono::microseconds kRigPhase{500};
 inline constexpr double kRigCommandHorizon_s = 2.5e-3;
+// A wake up to 50 cycles late runs the cycles it missed (the command ring
+// holds 16 of them; before those the drives had what a stalled bridge
+// leaves them). Later than that the emulator was frozen, and its physics
+// stand still over the freeze, as a frozen rig is seen to.
+inline constexpr int kRigLongestCatchUp = 50;
 
 class RigLoop {
  public:
@@ -42,10 +50,12 @@ class RigLoop {
 
   // Until stop() is true: wait for the clock's tick, then a cycle.
   void Run(CycleClock& clock, const std::function<bool()>& stop);
-  // One drive cycle at `now` (the wall clock at the cycle's start).
+  // One wake of the drive cycle at `now` (the wall clock at its start).
   void RunCycle(std::int64_t now_utime, std::int64_t deadline_misses);
 
  private:
+  void Publish(const RigCycleReport& report);
+
   VirtualRig& rig_;
   DriveImageServer& image_;
   RigCycle cycle_;
@@ -55,6 +65,8 @@ class RigLoop {
   Bus::Publisher<node_status_t> status_out_;
   NodeStatus status_{"rig"};
   std::int64_t cycles_ = 0;
+  std::vector<DriveImageCommand> image_commands_;  // this wake's, reused
+  std::vector<DriveCommand> commands_;
 };
 
 }  // namespace edsp
