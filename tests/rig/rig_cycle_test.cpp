@@ -159,21 +159,32 @@ DriveCommand CommandFor(int k) {
   return c;
 }
 
+// What a rig woken on time every cycle reports, given the planner's command
+// of each.
+std::vector<RigCycleReport> ReportsOnTime(int cycles) {
+  VirtualRig rig(RigWithEffects());
+  RigCycle cycle(&rig, 1e-3, 2.5e-3);
+  std::vector<RigCycleReport> reports;
+  for (int k = 0; k < cycles; ++k) {
+    const std::vector<RigCycleReport>& r = cycle.Wake(kStart + 1000 * k + 20, {CommandFor(k)});
+    reports.insert(reports.end(), r.begin(), r.end());
+  }
+  return reports;
+}
+
 // Real hardware's time does not stop when its emulator's host does: a wake
 // 13 cycles late replays them, each reported at its own instant, with the
 // commands that came meanwhile, and the platform is where a rig woken on
 // time put it. Run one cycle per wake (as before the catch-up) and the
 // report after the stall is the platform 13 ms ago, millimetres off.
 TEST(RigCycle, ALateWakeReplaysTheCyclesItMissedAsARigWokenOnTime) {
-  const RigParameters p = RigWithEffects();
-  VirtualRig on_time_rig(p), late_rig(p);
-  RigCycle on_time(&on_time_rig, 1e-3, 2.5e-3), late(&late_rig, 1e-3, 2.5e-3);
-  std::vector<RigCycleReport> expected, got;
+  const std::vector<RigCycleReport> expected = ReportsOnTime(200);
+  VirtualRig late_rig(RigWithEffects());
+  RigCycle late(&late_rig, 1e-3, 2.5e-3);
+  std::vector<RigCycleReport> got;
   std::vector<DriveCommand> queued;
   for (int k = 0; k < 200; ++k) {
     const std::int64_t grid = kStart + 1000 * k;
-    const std::vector<RigCycleReport>& a = on_time.Wake(grid + 20, {CommandFor(k)});
-    expected.insert(expected.end(), a.begin(), a.end());
     queued.push_back(CommandFor(k));
     if (k >= 120 && k < 133) continue;  // the late rig's host stalls for 13 cycles
     const std::vector<RigCycleReport>& b = late.Wake(grid + (k == 133 ? 700 : 20), queued);
@@ -204,15 +215,13 @@ TEST(RigCycle, ALateWakeReplaysTheCyclesItMissedAsARigWokenOnTime) {
 // bridge, waking, first re-writes its last command with the feed-forward
 // dropped (its lapse), under the old stamp.
 double FurthestFromARigThatNeverPaused(bool rig_first, bool rewrite = false) {
-  const RigParameters p = RigWithEffects();
-  VirtualRig on_time_rig(p), paused_rig(p);
-  RigCycle on_time(&on_time_rig, 1e-3, 2.5e-3), paused(&paused_rig, 1e-3, 2.5e-3);
-  std::vector<RigCycleReport> expected, got;
+  const std::vector<RigCycleReport> expected = ReportsOnTime(200);
+  VirtualRig paused_rig(RigWithEffects());
+  RigCycle paused(&paused_rig, 1e-3, 2.5e-3);
+  std::vector<RigCycleReport> got;
   std::vector<DriveCommand> queued;
   for (int k = 0; k < 200; ++k) {
     const std::int64_t grid = kStart + 1000 * k;
-    const std::vector<RigCycleReport>& a = on_time.Wake(grid + 20, {CommandFor(k)});
-    expected.insert(expected.end(), a.begin(), a.end());
     if (k >= 120 && k < 136) continue;  // planner, bridge and rig all paused for 16 cycles
     if (rewrite && k == 136) {
       DriveCommand lapsed = CommandFor(119);
