@@ -182,14 +182,23 @@ void ConcludeWithUnknown(Diagnosis* out) {
   out->conclusion = all ? Conclusion::kUnknown : Conclusion::kEffectsAndUnknown;
 }
 
+// What an unknown is, for what a calibration may do with the effects it
+// could explain: the platform's own mechanics (a stand-in moves the
+// platform as it would), or anything else (a clock, structure).
+enum class UnknownKind { kMechanics, kOther };
+
 // An effect the unknown could explain is not identified (so no calibration
 // applies it by default): ambiguous with the unknown, `why` saying what the
-// unknown is.
-void MarkExplainedByUnknown(const std::vector<Effect>& explained, const std::string& why, Diagnosis* out) {
+// unknown is. It stands in for mechanics only while every unknown it is
+// ambiguous with is mechanics.
+void MarkExplainedByUnknown(const std::vector<Effect>& explained, const std::string& why, Diagnosis* out,
+                            UnknownKind kind = UnknownKind::kOther) {
   if (explained.empty()) return;
   for (EffectResult& r : out->effects) {
     if (!Contains(explained, r.effect)) continue;
     r.verdict = Verdict::kAmbiguous;
+    r.stands_in_for_mechanics =
+        kind == UnknownKind::kMechanics && (!r.ambiguous_with_unknown || r.stands_in_for_mechanics);
     r.ambiguous_with_unknown = true;
     if (!r.next_measurement.empty()) r.next_measurement += "; ";
     r.next_measurement += why;
@@ -224,9 +233,9 @@ void NoteUnknown(const std::string& what, Diagnosis* out) {
 // then `advice`: the measurement that tells them apart), and the
 // conclusion naming `unknown`.
 void MarkUnknown(const std::string& what, const std::vector<Effect>& explained, const std::string& advice,
-                 Diagnosis* out) {
+                 Diagnosis* out, UnknownKind kind = UnknownKind::kOther) {
   NoteUnknown(what, out);
-  MarkExplainedByUnknown(explained, what + advice, out);
+  MarkExplainedByUnknown(explained, what + advice, out, kind);
   out->conclusion = WithUnknown(out->conclusion);
 }
 
@@ -252,13 +261,13 @@ void MarkExplainedByBaseTilt(const std::vector<Effect>& explained, Diagnosis* ou
     MarkUnknown(what, explained,
                 ", and this effect no longer earns its place beside it; an inclinometer on the base tells the tilt "
                 "apart",
-                out);
+                out, UnknownKind::kMechanics);
   } else if (c.replaces) {
     const std::string what = fmt::format(
         "the base may tilt under the payload's moment (in place of {}, a rotational give of the base mount or floor "
         "predicts the held-out runs {}: the data does not tell them apart)",
         TiltLikeNames(explained), HeldOutChange(c.in_place_cv_gain));
-    MarkUnknown(what, explained, "; an inclinometer on the base tells them apart", out);
+    MarkUnknown(what, explained, "; an inclinometer on the base tells them apart", out, UnknownKind::kMechanics);
   }
 }
 

@@ -322,9 +322,10 @@ std::optional<Effect> BeyondAPlatform(const CalibrationResult& c) {
 // again without it.
 //
 // Chosen after the checks beyond the vocabulary: an effect they find
-// ambiguous with `unknown` (a lag the encoders do not show, a base tilt or
-// a drifting clock that does as well) is what no calibration applies, in
-// any set.
+// ambiguous with `unknown` (a lag the encoders do not show, a drifting clock
+// or structure that does as well) is what no calibration applies, in any
+// set; one that only stands in for a base tilting under the payload may be
+// applied, as a predictor of what the tilt does to the platform.
 CalibrationResult CalibrationOf(const Design& d, const GramSet& gram, const Eigen::VectorXd& prior, Evaluator& eval,
                                 const Diagnosis& diagnosis, double noise_floor_rms_m) {
   std::map<Effect, EffectResult> results;
@@ -332,7 +333,7 @@ CalibrationResult CalibrationOf(const Design& d, const GramSet& gram, const Eige
   for (const EffectResult& r : diagnosis.effects) {
     results[r.effect] = r;
     if (r.verdict == Verdict::kIdentified && Contains(diagnosis.selected, r.effect)) identified.push_back(r.effect);
-    if (r.ambiguous_with_unknown) excluded.push_back(r.effect);
+    if (r.ambiguous_with_unknown && !r.stands_in_for_mechanics) excluded.push_back(r.effect);
   }
   const std::vector<Effect>& selected = diagnosis.selected;
   for (;;) {

@@ -44,45 +44,69 @@ DriveSetpoint CommandBetween(const DriveSetpoint& from, const DriveSetpoint& to,
 RigCycle::RigCycle(VirtualRig* rig, double cycle_s, double horizon_s, int longest_catch_up)
     : rig_(rig), cycle_s_(cycle_s), horizon_s_(horizon_s), clock_(std::llround(cycle_s * 1e6), longest_catch_up) {
   reports_.reserve(static_cast<std::size_t>(longest_catch_up) + 1);
-  pending_.reserve(64);
+  pending_.reserve(128);  // up to 16 a wake, over the wakes that wait
 }
 
 const std::vector<RigCycleReport>& RigCycle::Wake(std::int64_t now, const std::vector<DriveCommand>& commands) {
   reports_.clear();
   pending_.insert(pending_.end(), commands.begin(), commands.end());
-  const int cycles = clock_.CyclesFor(now);
+  int cycles = clock_.CyclesFor(now);
+  if (cycles > 1 && !StampsOnThisClock()) {
+    clock_.Lose(cycles - 1);  // no stamp says which command a missed cycle had
+    cycles = 1;
+  }
   if (cycles > 1 && AwaitsTheController(now, cycles)) return reports_;
   waiting_since_ = 0;
   std::size_t next = 0;  // the first command no cycle has taken
   for (int k = 0; k < cycles; ++k) {
     const std::int64_t at = clock_.at();
-    const bool own = k + 1 == cycles;
-    const DriveCommand* newest = nullptr;
-    while (next < pending_.size() && (own || pending_[next].setpoint.utime <= at)) {
-      const DriveCommand& c = pending_[next++];
-      if (own || !Rewritten(c)) newest = &c;
-    }
-    if (newest != nullptr) {
-      reports_.push_back(Step(at, &newest->setpoint, newest->enable));
-    } else if (!own && next < pending_.size() && Bridges(pending_[next], at)) {
-      const DriveSetpoint between = CommandBetween(last_taken_, pending_[next].setpoint, at);
-      reports_.push_back(Step(at, &between, true));
-    } else {
-      reports_.push_back(Step(at, nullptr, false));
-    }
+    reports_.push_back(k + 1 == cycles ? OwnCycle(at, &next) : MissedCycle(at, &next));
     clock_.Advance();
   }
   pending_.clear();  // the wake's own cycle took the rest
   return reports_;
 }
 
+RigCycleReport RigCycle::OwnCycle(std::int64_t at, std::size_t* next) {
+  if (*next == pending_.size()) return Step(at, nullptr, false);
+  const DriveCommand& newest = pending_.back();
+  *next = pending_.size();
+  return Step(at, &newest.setpoint, newest.enable);
+}
+
+RigCycleReport RigCycle::MissedCycle(std::int64_t at, std::size_t* next) {
+  const DriveCommand* newest = nullptr;
+  bool heard = false;
+  while (*next < pending_.size() && pending_[*next].setpoint.utime <= at) {
+    const DriveCommand& c = pending_[(*next)++];
+    heard = true;
+    if (Rewritten(c)) continue;
+    newest = &c;
+    if (!c.enable) break;  // a disable resets the drives' faults: never passed over
+  }
+  if (newest != nullptr) return Step(at, &newest->setpoint, newest->enable);
+  if (*next < pending_.size() && Bridges(pending_[*next], at)) {
+    const DriveSetpoint between = CommandBetween(last_taken_, pending_[*next].setpoint, at);
+    return Step(at, &between, true);
+  }
+  if (heard) rig_->KeepAlive();  // a re-write passed over still came
+  return Step(at, nullptr, false);
+}
+
+bool RigCycle::StampsOnThisClock() const {
+  // The last cycle ran at at() − 1 cycle and took a command for the tick
+  // before it, unless the controller stamps by another host's clock or had
+  // stopped.
+  const std::int64_t cycle = clock_.cycle_us(), last = clock_.at() - cycle;
+  return taken_any_ && last_taken_.utime > 0 && last_taken_.utime >= last - 2 * cycle && last_taken_.utime <= last;
+}
+
 bool RigCycle::AwaitsTheController(std::int64_t now, int cycles) {
-  if (!taken_any_ && pending_.empty()) return false;  // no controller yet: nothing to wait for
-  const std::int64_t newest = pending_.empty() ? last_taken_.utime : pending_.back().setpoint.utime;
+  std::int64_t newest = last_taken_.utime;
+  for (const DriveCommand& c : pending_) newest = std::max(newest, c.setpoint.utime);
   const std::int64_t own = clock_.at() + (cycles - 1) * clock_.cycle_us();
-  // On time the newest command is for the tick before the own cycle; an
-  // unstamped one cannot say how far the controller got.
-  if (newest <= 0 || newest >= own - clock_.cycle_us() * 3 / 2) return false;
+  // On time the newest command is for the tick before the own cycle.
+  if (newest >= own - clock_.cycle_us() * 3 / 2) return false;
   if (waiting_since_ == 0) waiting_since_ = now;
   return now - waiting_since_ <= kLongestWaitUs;
 }
@@ -104,8 +128,10 @@ RigCycleReport RigCycle::Step(std::int64_t now, const DriveSetpoint* command, bo
   report.truth = rig_->Truth(now);
   report.tracker_due = rig_->TrackerSample(now, &report.tracker);
   if (command != nullptr) Take(now, *command, enable);
-  if (rig_->watchdog_tripped() != watchdog_reported_) {
-    watchdog_reported_ = rig_->watchdog_tripped();
+  report.watchdog_tripped = rig_->watchdog_tripped();
+  report.since_command_s = rig_->since_command_s();
+  if (report.watchdog_tripped != watchdog_reported_) {
+    watchdog_reported_ = report.watchdog_tripped;
     report.watchdog_changed = true;
   }
   report.physics_failed = !rig_->Advance(cycle_s_);

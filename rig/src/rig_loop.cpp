@@ -43,6 +43,8 @@ RigLoop::RigLoop(Bus& bus, VirtualRig& rig, DriveImageServer& image, const Image
       truth_out_(bus.Advertise<rig_truth_t>(channel::kRigTruth)),
       faults_(bus.Advertise<fault_t>(channel::kFault)),
       status_out_(bus.Advertise<node_status_t>(channel::kStatus)) {
+  image_commands_.reserve(16);  // what the command ring holds
+  commands_.reserve(16);
   if (!restore.note.empty()) {
     std::fprintf(stderr, "edsp-rig: %s\n", restore.note.c_str());
     faults_.Publish(MakeFault("rig", image.feedback_segment(), FaultCode::kProcess,
@@ -74,7 +76,7 @@ void RigLoop::Publish(const RigCycleReport& report) {
   if (report.tracker_due && tracker_out_.Publish(report.tracker)) status_.CountOut();
   if (report.watchdog_changed) {
     faults_.Publish(
-        WatchdogFault(image_.command_segment(), rig_.watchdog_tripped(), rig_.since_command_s(), report.utime));
+        WatchdogFault(image_.command_segment(), report.watchdog_tripped, report.since_command_s, report.utime));
   }
   if (report.physics_failed) {
     faults_.Publish(MakeFault("rig", "", FaultCode::kForwardKinematics, fault_t::SEVERITY_ERROR,

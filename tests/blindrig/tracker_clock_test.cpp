@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "edsp/blindrig/blind_setup.h"
+#include "edsp/diagnosis/effect_sets.h"
 #include "edsp/diagnosis/diagnose.h"
 #include "edsp/diagnosis/report.h"
 
@@ -99,6 +100,8 @@ TEST(TrackerClock, WithoutEncodersAnOffsetIsNotTakenForTheDrivesLag) {
   EXPECT_EQ(ServoLag(d).verdict, gap::Verdict::kAmbiguous);
   EXPECT_TRUE(ServoLag(d).ambiguous_with.empty());
   EXPECT_TRUE(ServoLag(d).ambiguous_with_unknown);
+  EXPECT_FALSE(ServoLag(d).stands_in_for_mechanics);  // a clock: no calibration applies it
+  EXPECT_FALSE(gap::Contains(d.calibration.effects, gap::Effect::kServoLag));
   EXPECT_TRUE(NothingIdentified(d));
   EXPECT_EQ(d.conclusion, gap::Conclusion::kUnknown) << d.unexplained_note;
   EXPECT_TRUE(gap::ToJson(d)["unexplained"]["clock_offset"]["replaces_lag"].get<bool>());

@@ -175,8 +175,8 @@ std::vector<RigCycleReport> ReportsOnTime(int cycles) {
 // Real hardware's time does not stop when its emulator's host does: a wake
 // 13 cycles late replays them, each reported at its own instant, with the
 // commands that came meanwhile, and the platform is where a rig woken on
-// time put it. Run one cycle per wake (as before the catch-up) and the
-// report after the stall is the platform 13 ms ago, millimetres off.
+// time put it. A rig that ran one cycle per wake would report, after the
+// stall, the platform of 13 ms ago, millimetres off.
 TEST(RigCycle, ALateWakeReplaysTheCyclesItMissedAsARigWokenOnTime) {
   const std::vector<RigCycleReport> expected = ReportsOnTime(200);
   VirtualRig late_rig(RigWithEffects());
@@ -280,6 +280,52 @@ TEST(RigCycle, AControllerThatDoesNotComeBackIsWaitedForFiveMillisecondsOnly) {
   EXPECT_EQ(waited, 6);                              // the wakes 0..5 ms after the late one
   EXPECT_EQ(ran, 17u);                               // then cycles 10 to 26: every one since the last on time
   EXPECT_EQ(cycle.Wake(now + 1000, {}).size(), 1u);  // and on time again
+  // The controller gone, a later late wake waits for nothing: its stamps no
+  // longer say which cycle had which command, and the missed time is lost.
+  EXPECT_EQ(cycle.Wake(now + 5300, {}).size(), 1u);
+  EXPECT_EQ(cycle.Wake(now + 6020, {}).size(), 1u);
+}
+
+// Commands stamped by another host's clock, ahead or behind: a late wake
+// cannot tell which missed cycle had which, so it loses the missed time and
+// runs one cycle with the newest, never waiting; on time again after it.
+TEST(RigCycle, StampsOnAnotherHostsClockLoseTheMissedTimeAndNeverWait) {
+  for (const std::int64_t offset : {-8000, 5000}) {
+    VirtualRig rig(RigWithEffects());
+    RigCycle cycle(&rig, 1e-3, 2.5e-3);
+    auto command = [&](int k) {
+      DriveCommand c = CommandFor(k);
+      c.setpoint.utime += offset;
+      return c;
+    };
+    for (int k = 0; k < 10; ++k) ASSERT_EQ(cycle.Wake(kStart + 1000 * k + 20, {command(k)}).size(), 1u);
+    std::vector<DriveCommand> queued;
+    for (int k = 10; k < 16; ++k) queued.push_back(command(k));
+    EXPECT_EQ(cycle.Wake(kStart + 15'300, queued).size(), 1u) << offset;
+    EXPECT_EQ(cycle.Wake(kStart + 16'020, {command(16)}).size(), 1u) << offset;
+  }
+}
+
+// A watchdog that trips in a missed cycle and clears in the wake's own is
+// reported by each cycle as it was then: tripped, then commanded again.
+TEST(RigCycle, EachCycleOfAWakeReportsTheWatchdogAsItWasThen) {
+  VirtualRig rig(RigWithEffects());
+  RigCycle cycle(&rig, 1e-3, 2.5e-3, 100);
+  for (int k = 0; k < 10; ++k) ASSERT_EQ(cycle.Wake(kStart + 1000 * k + 20, {CommandFor(k)}).size(), 1u);
+  // The controller fell silent for 60 ms (longer than a gap the drives are
+  // given a command between), the emulator with it; then one command.
+  const std::vector<RigCycleReport>& reports = cycle.Wake(kStart + 70'020, {CommandFor(70)});
+  ASSERT_EQ(reports.size(), 61u);
+  std::vector<std::size_t> changed;
+  for (std::size_t k = 0; k < reports.size(); ++k) {
+    if (reports[k].watchdog_changed) changed.push_back(k);
+  }
+  ASSERT_EQ(changed.size(), 2u);
+  EXPECT_TRUE(reports[changed[0]].watchdog_tripped);
+  EXPECT_GT(reports[changed[0]].since_command_s, 0.02);
+  EXPECT_LT(changed[0], 30u);
+  EXPECT_EQ(changed[1], 60u);
+  EXPECT_FALSE(reports[changed[1]].watchdog_tripped);
 }
 
 // The command between two: on the parabola that leaves the first along its

@@ -114,7 +114,7 @@ TEST(RigLoop, EveryCycleWritesTheDrivesFeedbackAndTheTruthAndTheTrackerAtItsRate
   EXPECT_TRUE(f.faults.empty());
 }
 
-// A wake six cycles late publishes the truth and the tracker for each cycle
+// A wake five cycles late publishes the truth and the tracker for each cycle
 // it missed, each stamped at its own instant, and the image carries the
 // newest: the log shows no hole where the emulator's host stalled.
 TEST(RigLoop, ALateWakePublishesEveryCycleItMissedAtItsOwnInstant) {

@@ -49,7 +49,11 @@ struct EffectResult {
   double cv_gain = 0.0;             // held-out MSE reduction / baseline held-out MSE
   Verdict verdict = Verdict::kRejected;
   std::vector<Effect> ambiguous_with;   // the effects it ties with (Verdicts),
-  bool ambiguous_with_unknown = false;  //   and whether something beyond the vocabulary does (beyond_vocabulary.h)
+  bool ambiguous_with_unknown = false;  //   and whether something beyond the vocabulary does (beyond_vocabulary.h),
+  // only as a stand-in for the platform's own mechanics (a base tilting in
+  // its place): a calibration may apply it, since it moves the platform as
+  // that would; not for a clock, a lag after the motor or bare structure.
+  bool stands_in_for_mechanics = false;
   std::string next_measurement;
   double frame_overlap = 0.0;    // share of its signature the tracker frame can mimic
   double max_correlation = 0.0;  // strongest |correlation| of a parameter with another

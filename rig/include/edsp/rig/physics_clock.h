@@ -4,8 +4,9 @@
 // cycles of their own: a wake a cycle or more late first runs the cycles it
 // missed, each at its own instant, and reports them stamped so. The clock
 // keeps to the earliest wakes it has seen (a wake earlier than the physics
-// moves them back to it), so a late first wake does not offset every stamp
-// of a run from the controller's grid. A wake later than the longest
+// moves them back to it, and the physics lose that much motion once), so a
+// late first wake does not offset every stamp of a run from the
+// controller's grid. A wake later than the longest
 // catch-up is a frozen emulator: its physics stand still over the freeze
 // and continue from the wake, as a frozen rig is then seen to.
 
@@ -24,6 +25,8 @@ class PhysicsClock {
   int CyclesFor(std::int64_t now);
   std::int64_t at() const { return at_; }
   void Advance() { at_ += cycle_us_; }
+  // The physics lose `cycles` cycles: the next runs that much later.
+  void Lose(int cycles) { at_ += cycles * cycle_us_; }
   std::int64_t cycle_us() const { return cycle_us_; }
 
   // Wakes later than the longest catch-up, whose missed time was lost.

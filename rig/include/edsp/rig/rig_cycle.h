@@ -23,7 +23,9 @@ struct RigCycleReport {
   rig_truth_t truth{};       // the platform at `now`
   bool tracker_due = false;  // the tracker's rate decides
   tracker_point_t tracker{};
-  bool watchdog_changed = false;  // the drives started or stopped holding (rig.watchdog_tripped() says which)
+  bool watchdog_changed = false;  // the drives started or stopped holding,
+  bool watchdog_tripped = false;  //   which, at the cycle's command
+  double since_command_s = 0.0;   //   and how long since the last
   bool physics_failed = false;    // no platform pose fits the drives after this cycle
 };
 
@@ -60,14 +62,16 @@ class RigCycle {
   // (the last at about `now`). `commands`: those that arrived since the last
   // wake, in order. A missed cycle takes the newest command stamped at or
   // before its instant, as the drives took it on time; the wake's own cycle
-  // takes the newest of all, so a command stamped by another host's clock is
-  // never held back.
+  // takes the newest of all. Stamps by another host's clock (or none) cannot
+  // say which missed cycle had which command: then the missed time is lost,
+  // one cycle runs, and it takes the newest.
   //
   // When the whole host pauses, the controller stalls with the emulator,
   // which a real rig's would not have done; the drives would have had their
-  // commands. So a late wake whose controller has not caught up yet (its
-  // newest command is older than the tick before the wake's own cycle)
-  // waits for it, up to 5 ms (no reports: empty), and a missed cycle with
+  // commands. So a late wake whose controller was on time before and has not
+  // caught up yet (its newest command is older than the tick before the
+  // wake's own cycle) waits for it, up to 5 ms (no reports: empty), and a
+  // missed cycle with
   // no command of its own, between the last taken and a later one at most
   // 50 ms after it, takes the command between (CommandBetween) instead of
   // braking into a transient only this host's pause caused. For the same
@@ -91,8 +95,18 @@ class RigCycle {
   bool Bridges(const DriveCommand& after, std::int64_t at) const;
   // Whether `c` re-writes a setpoint already taken (its stamp or older).
   bool Rewritten(const DriveCommand& c) const;
+  // Whether the commands' stamps are on the physics clock: the last cycle
+  // took one for about its instant (not another host's clock, nor a
+  // controller that had stopped). Only then do they say which missed cycle
+  // had which, and is a controller late after a pause waited for.
+  bool StampsOnThisClock() const;
   // Whether a wake `cycles` long waits for the controller to catch up.
   bool AwaitsTheController(std::int64_t now, int cycles);
+  // The wake's own cycle: the newest command of all.
+  RigCycleReport OwnCycle(std::int64_t at, std::size_t* next);
+  // A missed cycle: the newest command stamped at or before `at` (a disable
+  // never passed over), or the one between the last taken and the next.
+  RigCycleReport MissedCycle(std::int64_t at, std::size_t* next);
 
   static constexpr std::int64_t kLongestBridgedGapUs = 50'000;
   static constexpr std::int64_t kLongestWaitUs = 5'000;

@@ -33,9 +33,10 @@ inline constexpr std::chrono::microseconds kRigPeriod{1000};
 inline constexpr std::chrono::microseconds kRigPhase{500};
 inline constexpr double kRigCommandHorizon_s = 2.5e-3;
 // A wake up to 50 cycles late runs the cycles it missed (the command ring
-// holds 16 of them; before those the drives had what a stalled bridge
-// leaves them). Later than that the emulator was frozen, and its physics
-// stand still over the freeze, as a frozen rig is seen to.
+// holds 16 of them; before those the drives take the command between, for
+// gaps up to RigCycle's 50 ms, the same span). Later than that the emulator
+// was frozen, and its physics stand still over the freeze, as a frozen rig
+// is seen to.
 inline constexpr int kRigLongestCatchUp = 50;
 
 class RigLoop {
