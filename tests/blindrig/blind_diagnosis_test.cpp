@@ -420,7 +420,9 @@ TEST(BlindDiagnosis, ABaseTiltTheLegsTakeUpIsNotCalledCompliance) {
   // A calibration may still apply them: they move the platform as the tilt
   // does, and the held-out error decides.
   for (const gap::EffectResult& r : d.effects) {
-    if (r.ambiguous_with_unknown) EXPECT_TRUE(r.stands_in_for_mechanics) << gap::EffectName(r.effect);
+    if (r.ambiguous_with_unknown) {
+      EXPECT_TRUE(r.stands_in_for_mechanics) << gap::EffectName(r.effect);
+    }
   }
   EXPECT_TRUE(gap::Contains(d.calibration.effects, gap::Effect::kCompliance) ||
               gap::Contains(d.calibration.effects, gap::Effect::kJointPosition))

@@ -71,15 +71,14 @@ class RigCycle {
   // commands. So a late wake whose controller was on time before and has not
   // caught up yet (its newest command is older than the tick before the
   // wake's own cycle) waits for it, up to 5 ms (no reports: empty), and a
-  // missed cycle with
-  // no command of its own, between the last taken and a later one at most
-  // 50 ms after it, takes the command between (CommandBetween) instead of
-  // braking into a transient only this host's pause caused. For the same
-  // reason a missed cycle passes over a command that re-writes a setpoint
-  // already taken (the bridge drops the feed-forward of a command it has not
-  // renewed for 2.5 ms, under the old stamp). A controller
-  // that stalls alone still stalls the drives: the emulator was on time.
-  // The reports live until the next wake.
+  // missed cycle with no command of its own, between the last taken and a
+  // later one at most 50 ms after it, takes the command between
+  // (CommandBetween) instead of braking into a transient only this host's
+  // pause caused. For the same reason a missed cycle passes over a command
+  // that re-writes a setpoint already taken (the bridge drops the
+  // feed-forward of a command it has not renewed for 2.5 ms, under the old
+  // stamp). A controller that stalls alone still stalls the drives: the
+  // emulator was on time. The reports live until the next wake.
   const std::vector<RigCycleReport>& Wake(std::int64_t now, const std::vector<DriveCommand>& commands);
 
   // `now`: the wall clock at the cycle's start; `command`: the newest drive
