@@ -146,7 +146,7 @@ int MultiHostGroup::Ctl(const std::string& host, const std::string& arguments) c
 std::vector<TruthSample> TruthOf(const std::string& log_path) {
   std::vector<TruthSample> out;
   ForEach<rig_truth_t>(log_path, "EDSP_RIG_TRUTH", [&](const rig_truth_t& t) {
-    TruthSample s{t.utime, {}};
+    TruthSample s{t.utime, t.seq, {}};
     std::copy(t.pose, t.pose + 6, s.pose);
     out.push_back(s);
   });
@@ -190,7 +190,8 @@ double LargestTrueStep(const std::vector<TruthSample>& truth, std::int64_t from_
     if (truth[i - 1].utime < from_utime || truth[i].utime > to_utime) continue;
     const double d = std::hypot(truth[i].pose[0] - truth[i - 1].pose[0], truth[i].pose[1] - truth[i - 1].pose[1],
                                 truth[i].pose[2] - truth[i - 1].pose[2]);
-    largest = std::max(largest, d);
+    const std::int64_t cycles = std::max<std::int64_t>(1, truth[i].seq - truth[i - 1].seq);
+    largest = std::max(largest, d / static_cast<double>(cycles));
   }
   return largest;
 }

@@ -77,6 +77,7 @@ class MultiHostGroup {
 // What the tests read back from the operator's log.
 struct TruthSample {
   std::int64_t utime;
+  std::int64_t seq;  // the rig numbers every cycle it runs
   double pose[6];
 };
 std::vector<TruthSample> TruthOf(const std::string& log_path);
@@ -86,7 +87,10 @@ std::string Describe(const std::vector<fault_t>& faults);
 std::int64_t StatusDrops(const std::string& log_path, const std::string& node);
 // Messages missing from each node's EDSP_STATUS stream, by its seq.
 std::map<std::string, std::int64_t> StatusGapsByNode(const std::string& log_path);
-// The largest change of the true position between consecutive truth samples, m.
+// The largest change of the true position in one cycle of the rig, m:
+// between consecutive truth samples, shared among the cycles whose samples
+// the log lost (a gap in the rig's seq: a burst of caught-up cycles may
+// outrun the network), so a lost message is not taken for a jump.
 double LargestTrueStep(const std::vector<TruthSample>& truth, std::int64_t from_utime = 0,
                        std::int64_t to_utime = INT64_MAX);
 // The last setpoint's pose.
