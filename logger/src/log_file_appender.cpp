@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <sys/stat.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -83,6 +84,26 @@ LogScan ScanOpenLog(int fd, std::int64_t size) {
 
 std::string ErrnoText(int error) { return std::strerror(error); }
 
+// Reserves disk room for `bytes` past `at` without changing the file's size:
+// a write into reserved room cannot fail half-way for want of space, so a
+// reader never meets a torn event, not even for the instant before it would
+// be cut back. 0, or the errno (EOPNOTSUPP where the filesystem cannot).
+int ReserveRoom(int fd, std::int64_t at, std::size_t bytes) {
+  if (bytes == 0) return 0;
+  int result;
+  do {
+    result = ::fallocate(fd, FALLOC_FL_KEEP_SIZE, at, static_cast<off_t>(bytes));
+  } while (result != 0 && errno == EINTR);
+  return result == 0 ? 0 : errno;
+}
+
+// The free bytes the filesystem holding `fd` will give this process.
+std::int64_t FreeBytes(int fd) {
+  struct statvfs s {};
+  if (::fstatvfs(fd, &s) != 0) return 0;
+  return static_cast<std::int64_t>(s.f_bavail) * static_cast<std::int64_t>(s.f_frsize);
+}
+
 }  // namespace
 
 std::unique_ptr<LogFileAppender> LogFileAppender::Open(const std::string& path, LogResume* resume, std::string* error) {
@@ -150,11 +171,35 @@ void LogFileAppender::KeepPendingFrom(std::size_t written_bytes) {
   for (std::size_t& end : boundaries_) end -= whole;
 }
 
+std::size_t LogFileAppender::WholeEventsWithin(std::int64_t bytes) const {
+  const auto past = std::upper_bound(boundaries_.begin(), boundaries_.end(),
+                                     static_cast<std::size_t>(std::max<std::int64_t>(bytes, 0)));
+  return past == boundaries_.begin() ? 0 : *(past - 1);
+}
+
+std::size_t LogFileAppender::BytesWithRoom(int* failure) const {
+  const int reserve = ReserveRoom(fd_, committed_, pending_.size());
+  if (reserve == 0) return pending_.size();
+  if (reserve != ENOSPC) {
+    // A filesystem without fallocate is written as it comes (a short write
+    // is cut back below); any other refusal is the failure itself.
+    if (reserve == EOPNOTSUPP || reserve == ENOSYS || reserve == EINVAL) return pending_.size();
+    *failure = reserve;
+    return 0;
+  }
+  // Not room for all: the whole events that fit in what is free (less a
+  // page the filesystem may need for itself), if even that is granted.
+  *failure = ENOSPC;
+  const std::size_t fits = WholeEventsWithin(FreeBytes(fd_) - 4096);
+  return fits > 0 && ReserveRoom(fd_, committed_, fits) == 0 ? fits : 0;
+}
+
 bool LogFileAppender::Flush(std::string* error) {
-  std::size_t written = 0;
   int failure = 0;
-  while (written < pending_.size()) {
-    const ssize_t n = ::write(fd_, pending_.data() + written, pending_.size() - written);
+  const std::size_t with_room = BytesWithRoom(&failure);
+  std::size_t written = 0;
+  while (written < with_room) {
+    const ssize_t n = ::write(fd_, pending_.data() + written, with_room - written);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) {
       failure = n < 0 ? errno : ENOSPC;  // write() returning 0 for a regular file: no room
@@ -162,11 +207,14 @@ bool LogFileAppender::Flush(std::string* error) {
     }
     written += static_cast<std::size_t>(n);
   }
+  const bool torn = written != WholeEventsWithin(static_cast<std::int64_t>(written));
   KeepPendingFrom(written);
   if (failure == 0) return true;
-  // A partial event may be on disk: cut the file back to its last whole
-  // event, so readers never meet a torn event in the middle of the log.
-  if (::ftruncate(fd_, committed_) != 0 || ::lseek(fd_, committed_, SEEK_SET) < 0) {
+  // A write that failed part-way (no room reserved: a filesystem without
+  // fallocate, a file-size limit) leaves a partial event: cut the file back
+  // to its last whole event, so readers never meet a torn event in the
+  // middle of the log.
+  if (torn && (::ftruncate(fd_, committed_) != 0 || ::lseek(fd_, committed_, SEEK_SET) < 0)) {
     *error = fmt::format("{}: write failed ({}) and the torn event could not be cut: {}", path_, ErrnoText(failure),
                          ErrnoText(errno));
     return false;

@@ -1,13 +1,19 @@
 // The logger's file layer: whatever happens (a full disk, a kill mid-write,
 // a restart), the file ends on a whole event that LCM's own reader reads,
-// and nothing written before is lost. A full disk is RLIMIT_FSIZE here
-// (EFBIG at a byte limit, like ENOSPC); the multi-process test uses a tmpfs.
+// and nothing written before is lost. A full disk is RLIMIT_FSIZE (EFBIG at
+// a byte limit, like ENOSPC) or a small tmpfs of the test's own.
 #include "edsp/logger/log_file_appender.h"
 
+#include <sched.h>
 #include <signal.h>
+#include <sys/inotify.h>
+#include <sys/mount.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 
 #include <cstdio>
 #include <fstream>
@@ -194,6 +200,93 @@ TEST(LogFileAppender, AFullDiskLeavesAWholeEventEndAndLosesNothingOnceThereIsRoo
   ExpectEvents(ReadAll(path, &damaged), 60);
   EXPECT_FALSE(damaged);
   std::remove(path.c_str());
+}
+
+// A tmpfs of `kilobytes`, mounted at `dir` in this process's own mount
+// namespace (nobody else sees it); false where that is not permitted.
+bool MountPrivateTmpfs(const std::string& dir, int kilobytes, std::string* why) {
+  if (::unshare(CLONE_NEWNS) != 0 || ::mount(nullptr, "/", nullptr, MS_REC | MS_PRIVATE, nullptr) != 0) {
+    *why = std::string("a private mount namespace needs root: ") + std::strerror(errno);
+    return false;
+  }
+  ::mkdir(dir.c_str(), 0755);
+  if (::mount("tmpfs", dir.c_str(), "tmpfs", 0, ("size=" + std::to_string(kilobytes) + "k").c_str()) != 0) {
+    *why = std::string("mount tmpfs: ") + std::strerror(errno);
+    return false;
+  }
+  return true;
+}
+
+// Writes `path` until the filesystem refuses another byte.
+void FillDisk(const std::string& path) {
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  ASSERT_NE(f, nullptr);
+  const std::vector<char> block(4096, 'x');
+  while (std::fwrite(block.data(), 1, block.size(), f) == block.size() && std::fflush(f) == 0) {
+  }
+  std::fclose(f);
+}
+
+// Counts the changes to a file (writes, cuts) from when it was made.
+class FileChanges {
+ public:
+  explicit FileChanges(const std::string& path) : fd_(::inotify_init1(IN_NONBLOCK | IN_CLOEXEC)) {
+    ::inotify_add_watch(fd_, path.c_str(), IN_MODIFY);
+  }
+  ~FileChanges() { ::close(fd_); }
+  int count() const {
+    alignas(inotify_event) char buffer[4096];
+    int changes = 0;
+    for (ssize_t n; (n = ::read(fd_, buffer, sizeof buffer)) > 0;) {
+      for (ssize_t at = 0; at < n; ++changes)
+        at += static_cast<ssize_t>(sizeof(inotify_event)) + reinterpret_cast<inotify_event*>(buffer + at)->len;
+    }
+    return changes;
+  }
+
+ private:
+  int fd_;
+};
+
+// A real full disk: a flush that finds no room leaves the file untouched (no
+// write to cut back, so a reader can never catch a torn event, not even for
+// an instant); a little room takes the whole events that fit; the rest goes
+// once there is room.
+TEST(LogFileAppender, OnARealFullDiskTheFileOnlyEverGainsWholeEvents) {
+  const std::string dir = test_support::ScratchRoot() + "/appender_tmpfs";
+  std::string why;
+  if (!MountPrivateTmpfs(dir, 256, &why)) GTEST_SKIP() << why;
+  const std::string path = dir + "/run.lcmlog";
+  std::string error;
+  auto file = LogFileAppender::Open(path, nullptr, &error);
+  ASSERT_NE(file, nullptr) << error;
+  FillDisk(dir + "/filler");
+  AppendEvents(file.get(), 0, 60);  // about 10 kB
+
+  FileChanges no_room(path);
+  EXPECT_FALSE(file->Flush(&error));
+  EXPECT_NE(error.find("No space left on device"), std::string::npos) << error;
+  EXPECT_EQ(file->pending_events(), 60);
+  EXPECT_EQ(no_room.count(), 0) << "a flush with no room wrote or cut the file";
+
+  ASSERT_EQ(::truncate((dir + "/filler").c_str(), FileSize(dir + "/filler") - 2 * 4096), 0);  // a little room
+  EXPECT_FALSE(file->Flush(&error)) << "8 kB free, less the page the filesystem keeps, cannot take 10 kB";
+  EXPECT_GT(file->file_bytes(), 0) << "the whole events that fit were not written";
+  ASSERT_NE(file->file_bytes() % 4096, 0) << "the file must end inside a page for this check to bite";
+  EXPECT_EQ(FileSize(path), file->file_bytes());
+  FileChanges full_again(path);
+  EXPECT_FALSE(file->Flush(&error));
+  EXPECT_EQ(full_again.count(), 0) << "a flush into the last page's remainder wrote (and cut) a torn event";
+  bool damaged = true;
+  EXPECT_EQ(static_cast<std::int64_t>(ReadAll(path, &damaged).size()) + file->pending_events(), 60);
+  EXPECT_FALSE(damaged);
+
+  std::remove((dir + "/filler").c_str());
+  ASSERT_TRUE(file->Flush(&error)) << error;
+  ExpectEvents(ReadAll(path, &damaged), 60);
+  EXPECT_FALSE(damaged);
+  file.reset();
+  ::umount2(dir.c_str(), MNT_DETACH);
 }
 
 TEST(LogFileAppender, DropsTheNewestPendingEventsAboveABound) {

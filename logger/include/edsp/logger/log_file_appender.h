@@ -35,9 +35,12 @@ class LogFileAppender {
   // Encodes the event into the pending buffer (no I/O).
   void Append(const std::string& channel, const std::uint8_t* data, std::uint32_t size, std::int64_t utime);
 
-  // Writes every pending event. On failure (ENOSPC, EFBIG, EIO, a short
-  // write) the file is cut back to its last whole event, the events not
-  // written stay pending for the next Flush, and *error says what failed.
+  // Writes every pending event. Room is reserved first (fallocate), so on a
+  // full disk only the whole events that fit are written and the file never
+  // shows a torn event, even for an instant. On failure (ENOSPC, EFBIG, EIO,
+  // a short write) the file ends on its last whole event (a partial write is
+  // cut back), the events not written stay pending for the next Flush, and
+  // *error says what failed.
   bool Flush(std::string* error);
 
   // Drops pending events from the newest back until at most `bytes` remain;
@@ -52,6 +55,8 @@ class LogFileAppender {
  private:
   LogFileAppender(std::string path, int fd, std::int64_t committed, std::int64_t next_event);
   void KeepPendingFrom(std::size_t written_bytes);
+  std::size_t WholeEventsWithin(std::int64_t bytes) const;  // bytes of pending_'s whole events within
+  std::size_t BytesWithRoom(int* failure) const;            // of pending_, with disk room reserved
 
   std::string path_;
   int fd_ = -1;
