@@ -33,6 +33,8 @@ std::int64_t DescribedInstant(const DriveFeedback& feedback, std::int64_t now_ut
 ActuatorBridge::ActuatorBridge(PlatformModel model, DriveBackend* backend, BridgeOptions options)
     : model_(std::move(model)), backend_(backend), options_(std::move(options)) {
   if (options_.max_leg_speed_m_s < 0.0) options_.max_leg_speed_m_s = model_.config().limits.leg_speed_max_m_s;
+  if (options_.stop_decel_m_s2 < 0.0) options_.stop_decel_m_s2 = model_.config().motion.leg_accel_max_m_s2;
+  ride_.continue_s = static_cast<double>(kRideThroughUs) * 1e-6;
   // Hold wherever the drives are now.
   backend_->Read(0, &feedback_);
   for (int i = 0; i < kNumLegs; ++i) {
@@ -153,7 +155,7 @@ std::optional<ActuatorBridge::Refusal> ActuatorBridge::WhyNotListening(const leg
     // back by up to the drives' interpolation horizon).
     const std::int64_t silent_us = SinceLastCommandUs(now_utime);
     Apply(BridgeEvent::kStale);
-    HoldAtRest();
+    HoldAtRest(now_utime);
     hold_where_the_drives_are_ = true;  // at the next cycle's read
     return Refusal{FaultCode::kLatched,
                    fmt::format("leg command seq {} refused: no valid leg command for {} us before it "
@@ -263,6 +265,9 @@ void ActuatorBridge::Accept(const leg_command_t& c, const Vector6& command_m, co
   }
   target_.utime = step.basis_utime;
   target_utime_ = now_utime;
+  own_pause_us_ = 0;
+  ride_.stop_s = StopTimeS(target_, model_.LengthFromMotorAngle(0, 1.0) - model_.LengthFromMotorAngle(0, 0.0),
+                           options_.stop_decel_m_s2);
   last_basis_utime_ = step.basis_utime;
   last_command_seq_ = c.seq;
   ++accepted_;
@@ -273,7 +278,7 @@ bool ActuatorBridge::LoseDrives(std::int64_t now_utime, fault_t* fault) {
   // says next can be checked against where they are. Hold and latch.
   const bool was_moving = Moving();
   Apply(BridgeEvent::kDrivesLost);
-  HoldAtRest();
+  HoldAtRest(now_utime);
   const std::string detail = backend_->Detail();
   reported_reasons_ = {detail};
   backend_report_utime_ = now_utime;
@@ -302,7 +307,50 @@ bool ActuatorBridge::ReportNewReason(std::int64_t now_utime, fault_t* fault) {
   return true;
 }
 
-void ActuatorBridge::HoldAtRest() {
+void ActuatorBridge::CountOwnPause(std::int64_t now_utime) {
+  // The whole host paused (the bridge with its planner): the commands were
+  // not late for the drives, which the rig emulator bridges across such a
+  // pause; only a silence this bridge was awake for brings them to rest.
+  if (last_cycle_utime_ < 0) return;
+  const std::int64_t gap = now_utime - last_cycle_utime_;
+  if (gap > 2 * kBridgeCycleUs) own_pause_us_ += gap - kBridgeCycleUs;
+}
+
+DriveSetpoint ActuatorBridge::SetpointNow(std::int64_t now_utime) const {
+  return Moving() ? RiddenThrough(now_utime) : target_;
+}
+
+DriveSetpoint ActuatorBridge::RiddenThrough(std::int64_t now_utime) const {
+  const std::int64_t silent_us = SinceLastCommandUs(now_utime) - own_pause_us_;
+  // Within the lapse the command itself, under its own stamp: the drives
+  // continue it from that instant, and a copy is not a new command to them.
+  if (target_.utime == 0 || silent_us <= kFeedForwardLapseUs) return target_;
+  DriveSetpoint ridden = RideThroughSetpoint(target_, ride_, static_cast<double>(silent_us) * 1e-6);
+  KeepWithinStroke(&ridden);
+  return ridden;
+}
+
+void ActuatorBridge::KeepWithinStroke(DriveSetpoint* setpoint) const {
+  // The bridge's own setpoints are checked as a command is: a leg the
+  // continued motion would take past its stroke stops at its end.
+  const WorkspaceLimits& limits = model_.config().limits;
+  for (int i = 0; i < kNumLegs; ++i) {
+    const double length = model_.LengthFromMotorAngle(i, setpoint->motor_angle_rad[i]);
+    const double within = std::clamp(length, limits.leg_min_m, limits.leg_max_m);
+    if (within == length) continue;
+    setpoint->motor_angle_rad[i] = model_.MotorAngleFromLength(i, within);
+    setpoint->motor_velocity_rad_s[i] = 0.0;
+  }
+}
+
+void ActuatorBridge::HoldAtRest(std::int64_t now_utime) {
+  // Where the late command's motion was brought to rest (or is on its way
+  // to: the rest of the ramp is the servo's), not back at the command.
+  const DriveSetpoint stopped = RiddenThrough(now_utime);
+  for (int i = 0; i < kNumLegs; ++i) {
+    target_.motor_angle_rad[i] = stopped.motor_angle_rad[i];
+    target_length_m_(i) = model_.LengthFromMotorAngle(i, stopped.motor_angle_rad[i]);
+  }
   target_.motor_velocity_rad_s.fill(0.0);
   target_.utime = 0;
 }
@@ -324,17 +372,12 @@ bool ActuatorBridge::Cycle(std::int64_t now_utime, leg_state_t* state, fault_t* 
   // descheduled): the drives stopped on their own watchdog, wherever that
   // was; hold them there rather than pull them back to the last command.
   const bool self_starved = last_cycle_utime_ >= 0 && now_utime - last_cycle_utime_ > options_.stale_us;
+  CountOwnPause(now_utime);
   last_cycle_utime_ = now_utime;
   const bool read_ok = backend_->Read(now_utime, &feedback_);
-  // A command overdue by more than a couple of cycles: the velocity
-  // feed-forward no longer describes any motion, and a drive given it with a
-  // fixed target settles past that target (by kd/kp · v): hold it at rest.
-  if (SinceLastCommandUs(now_utime) > kFeedForwardLapseUs) {
-    target_.motor_velocity_rad_s.fill(0.0);
-  }
   if (Moving() && SinceLastCommandUs(now_utime) > options_.stale_us) {
     Apply(BridgeEvent::kStale);
-    HoldAtRest();
+    HoldAtRest(now_utime);
     *fault = Fault(FaultCode::kLatched,
                    fmt::format("no valid leg command for {} us: holding the last valid "
                                "position (command seq {}) until re-armed",
@@ -351,7 +394,7 @@ bool ActuatorBridge::Cycle(std::int64_t now_utime, leg_state_t* state, fault_t* 
   }
   if (!read_ok && backend_ok_) raised = LoseDrives(now_utime, fault);  // this cycle writes at rest
   // The write phase: the cycle's one setpoint.
-  const bool write_ok = backend_->Write(now_utime, target_);
+  const bool write_ok = backend_->Write(now_utime, SetpointNow(now_utime));
   if (read_ok && !write_ok && backend_ok_) raised = LoseDrives(now_utime, fault);  // at rest from the next write
   const bool backend_ok = read_ok && write_ok;
   if (backend_ok && !backend_ok_ && !raised) {

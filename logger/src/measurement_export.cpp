@@ -32,10 +32,9 @@ constexpr double kLongestCarryS = 0.0025;
 // Setpoints further apart than this in the log are a stream that stopped,
 // not ticks missing from it: nothing is interpolated across.
 constexpr std::int64_t kLongestGapUs = 50'000;
-// A stall of the real-time system: longer than this without a new command
-// for the drives (the bridge's feed-forward lapse; a command a cycle late is
-// not one), between two readings of the drives, or between two cycles of the
-// rig emulator (EDSP_RIG_TRUTH: the bridge stamps a stale image's readings
+// A stall of the real-time system: longer than this between two readings
+// of the drives (the bridge itself late), or between two cycles of the rig
+// emulator (EDSP_RIG_TRUTH: the bridge stamps a stale image's readings
 // with its own reads after 2 ms, so the readings alone show its stalls as
 // ~3 ms whatever their length). The samples from a little before it to the
 // drives' recovery after it are flagged `timing_event`: the drives braked
@@ -44,6 +43,11 @@ constexpr std::int64_t kLongestGapUs = 50'000;
 // after a 6 ms stall, ~190 ms after an 18.8 ms one, the platform 6 mm off
 // 90 ms after that stall had ended).
 constexpr double kStallUs = 2'500;
+// Commands late while the bridge kept its time (a planner or kinematics
+// tick missed) are no stall until this long: the bridge continues the last
+// command's motion for 10 ms (kRideThroughUs, actuator_bridge.h), and the
+// platform stays on its path.
+constexpr double kCommandsSilentUs = 10'000;
 // The rig emulator reports every cycle at its own instant, those it caught
 // up after a late wake included (rig/physics_clock.h): two of its cycles
 // further apart than 1.5 cycles lost the time between (an emulator frozen
@@ -69,7 +73,7 @@ class StallWatch {
     if (newest_reading_ != 0) Gap(newest_reading_, utime);
     newest_reading_ = utime;
     if (seq == command_seq_) return;
-    if (command_seq_ != 0) Gap(command_since_, utime);
+    if (command_seq_ != 0) Gap(command_since_, utime, kCommandsSilentUs);
     command_seq_ = seq;
     command_since_ = utime;
   }
@@ -91,7 +95,7 @@ class StallWatch {
     }
     const double since_command = static_cast<double>(command_since_);
     const double newest = static_cast<double>(newest_reading_);
-    return Open(since_command, newest, t) || Open(newest, static_cast<double>(newest_heard_), t);
+    return Open(since_command, newest, t, kCommandsSilentUs) || Open(newest, static_cast<double>(newest_heard_), t);
   }
 
  private:
@@ -106,8 +110,8 @@ class StallWatch {
     return s.to + kFlagAfterUs + std::min(kFlagAfterPerStalled * (s.to - s.from), kLongestFlagExtensionUs);
   }
   // Nothing new since `since` by `newest` (0: never anything): open from it.
-  static bool Open(double since, double newest, double t) {
-    return since != 0.0 && newest - since > kStallUs && t >= since - kFlagBeforeUs;
+  static bool Open(double since, double newest, double t, double longest_us = kStallUs) {
+    return since != 0.0 && newest - since > longest_us && t >= since - kFlagBeforeUs;
   }
 
   std::deque<Stall> stalls_;

@@ -3,6 +3,7 @@
 #include <array>
 #include <cmath>
 #include <optional>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -49,6 +50,25 @@ void MoveUp(Fixture& f, std::int64_t* t, double step_m, int count) {
     ASSERT_TRUE(f.bridge.HandleCommand(f.Command(step_m * k, *t, k), *t, &fault)) << fault.reason;
     f.bridge.Cycle(*t, &state, &fault);
   }
+}
+
+// Lengths the drives were told, from their motor angles.
+Vector6 WrittenLengths(const Fixture& f) {
+  Vector6 l;
+  for (int i = 0; i < kNumLegs; ++i) l(i) = f.model.LengthFromMotorAngle(i, f.backend.written.motor_angle_rad[i]);
+  return l;
+}
+
+// Where the drives take what they were told to be at `utime`: a setpoint
+// continued from its own instant along its feed-forward (0: as it is).
+Vector6 DrivesTakeAt(const Fixture& f, std::int64_t utime) {
+  const DriveSetpoint& w = f.backend.written;
+  const double late_s = w.utime != 0 ? static_cast<double>(utime - w.utime) * 1e-6 : 0.0;
+  Vector6 l;
+  for (int i = 0; i < kNumLegs; ++i) {
+    l(i) = f.model.LengthFromMotorAngle(i, w.motor_angle_rad[i] + w.motor_velocity_rad_s[i] * late_s);
+  }
+  return l;
 }
 
 TEST(ActuatorBridge, StartUpHoldIsNotLatched) {
@@ -273,50 +293,6 @@ TEST(ActuatorBridge, AnyPlannerTimeInACommandIsHandledWithoutOverflow) {
   }
 }
 
-TEST(ActuatorBridge, HoldsTheLastValidPositionWithin50msOfSilence) {
-  Fixture f;
-  fault_t fault;
-  leg_state_t state;
-  std::int64_t t = kStart;
-  for (int k = 1; k <= 20; ++k, t += 1000) {
-    ASSERT_TRUE(f.bridge.HandleCommand(f.Command(1e-4 * k, t, k), t, &fault));
-    f.bridge.Cycle(t, &state, &fault);
-  }
-  const auto held = f.backend.written.motor_angle_rad;
-  int faults = 0;
-  std::int64_t hold_at = -1;
-  for (int k = 0; k < 200; ++k, t += 1000) {  // commands stop
-    if (f.bridge.Cycle(t, &state, &fault)) {
-      ++faults;
-      EXPECT_EQ(fault.code, static_cast<std::int32_t>(FaultCode::kLatched));
-      if (hold_at < 0) hold_at = t;
-    }
-    EXPECT_EQ(f.backend.written.motor_angle_rad, held);  // never moves on its own
-  }
-  EXPECT_EQ(faults, 1);  // reported once, not every cycle
-  EXPECT_LE(hold_at - (kStart + 19000), 51000);
-  EXPECT_TRUE(f.bridge.holding());
-  for (double v : f.backend.written.motor_velocity_rad_s) EXPECT_EQ(v, 0.0);
-  EXPECT_EQ(state.drive_status[0], leg_state_t::DRIVE_HOLDING);
-  // Latched: even a command continuing exactly from the hold is refused.
-  EXPECT_TRUE(f.bridge.latched());
-  EXPECT_FALSE(f.bridge.HandleCommand(f.Command(2e-3 + 1e-5, t, 21), t, &fault));
-  EXPECT_NE(fault.reason.find("re-arm required"), std::string::npos) << fault.reason;
-  EXPECT_NE(fault.reason.find("holding after stale input"), std::string::npos) << fault.reason;
-  f.bridge.Rearm();
-  // Re-armed: a command continuing from the hold is simply followed.
-  EXPECT_TRUE(f.bridge.HandleCommand(f.Command(2e-3 + 1e-5, t, 22), t, &fault)) << fault.reason;
-  EXPECT_FALSE(f.bridge.holding());
-  EXPECT_FALSE(f.bridge.rejoining());
-}
-
-// Lengths the drives were told, from their motor angles.
-Vector6 WrittenLengths(const Fixture& f) {
-  Vector6 l;
-  for (int i = 0; i < kNumLegs; ++i) l(i) = f.model.LengthFromMotorAngle(i, f.backend.written.motor_angle_rad[i]);
-  return l;
-}
-
 // The drives' interpolator ran on past the last target and stopped there
 // (0.05 rad further on every motor) while the bridge was frozen: where they
 // now are.
@@ -386,21 +362,134 @@ TEST(ActuatorBridge, ACommandFromTheFutureMeansTheClocksDisagreeAndIsRefused) {
   EXPECT_NE(fault.reason.find("clocks"), std::string::npos) << fault.reason;
 }
 
-TEST(ActuatorBridge, AnOverdueCommandLosesItsVelocityFeedForward) {
+// Commands stop mid-motion: the drives are told the last command's motion,
+// continued for 10 ms and then brought to rest with the fastest leg at the
+// legs' acceleration limit (never back towards the last command, which
+// would be a jerk of its own); then held there, latched, at the stale limit.
+TEST(ActuatorBridge, SilenceBringsTheMotionToRestAtTheLegsLimitAndHoldsWithin50ms) {
+  Fixture f;
+  fault_t fault;
+  leg_state_t state;
+  std::int64_t t = kStart;
+  MoveUp(f, &t, 1e-4, 20);  // 0.1 m/s up
+  const Vector6 last = WrittenLengths(f);
+  Vector6 before;
+  for (int i = 0; i < kNumLegs; ++i) before(i) = f.Command(1e-4 * 19, 0).command_length_m[i];
+  const Vector6 speed = (last - before) / 1e-3;  // each leg's, m/s
+  const double decel = f.model.config().motion.leg_accel_max_m_s2;
+  const double stop_s = speed.cwiseAbs().maxCoeff() / decel;
+  int faults = 0;
+  std::int64_t hold_at = -1;
+  std::vector<Vector6> written = {last};
+  for (int k = 0; k < 200; ++k, t += 1000) {  // commands stop; the drives' view of each cycle
+    if (f.bridge.Cycle(t, &state, &fault)) {
+      ++faults;
+      EXPECT_EQ(fault.code, static_cast<std::int32_t>(FaultCode::kLatched));
+      if (hold_at < 0) hold_at = t;
+    }
+    written.push_back(DrivesTakeAt(f, t));
+  }
+  // Along the last motion, never back, decelerating at no more than the
+  // limit (second differences of what was written each cycle).
+  for (std::size_t k = 1; k < written.size(); ++k) {
+    for (int i = 0; i < kNumLegs; ++i) {
+      EXPECT_GE((written[k](i) - written[k - 1](i)) * speed(i), -1e-12) << "leg " << i + 1 << " went back, cycle " << k;
+    }
+    if (k >= 2) {
+      const Vector6 accel = (written[k] - 2.0 * written[k - 1] + written[k - 2]) / 1e-6;
+      EXPECT_LE(accel.cwiseAbs().maxCoeff(), decel * 1.01) << "cycle " << k;
+    }
+  }
+  // At rest where v·(10 ms) + v·T/2 put each leg (closed form).
+  const Vector6 expected = last + speed * (static_cast<double>(kRideThroughUs) * 1e-6 + stop_s / 2.0);
+  EXPECT_LT((written.back() - expected).cwiseAbs().maxCoeff(), 1e-7) << (written.back() - expected).transpose();
+  EXPECT_GT((written.back() - last).cwiseAbs().maxCoeff(), 5e-4);  // a millimetre on, not held at the command
+  EXPECT_EQ(faults, 1);                                            // reported once, not every cycle
+  EXPECT_LE(hold_at - (kStart + 19000), 51000);
+  EXPECT_TRUE(f.bridge.holding());
+  for (double v : f.backend.written.motor_velocity_rad_s) EXPECT_EQ(v, 0.0);
+  EXPECT_EQ(state.drive_status[0], leg_state_t::DRIVE_HOLDING);
+  // Latched: even a command continuing exactly from the hold is refused.
+  EXPECT_TRUE(f.bridge.latched());
+  const double held_dz = 2e-3 + (expected(0) - last(0)) / speed(0) * 0.1;
+  EXPECT_FALSE(f.bridge.HandleCommand(f.Command(held_dz, t, 21), t, &fault));
+  EXPECT_NE(fault.reason.find("re-arm required"), std::string::npos) << fault.reason;
+  EXPECT_NE(fault.reason.find("holding after stale input"), std::string::npos) << fault.reason;
+  f.bridge.Rearm();
+  // Re-armed: a command continuing from the hold is simply followed.
+  EXPECT_TRUE(f.bridge.HandleCommand(f.Command(held_dz, t, 22), t, &fault)) << fault.reason;
+  EXPECT_FALSE(f.bridge.holding());
+  EXPECT_FALSE(f.bridge.rejoining());
+}
+
+// A command late by a few cycles (a planner tick missed on a loaded host):
+// the drives are told its motion continued, under its own stamp while they
+// continue it themselves, then restamped each cycle at the instant it is
+// for. The command that comes 5.3 ms after the last finds them where its
+// motion put them, where the command's own position (held at rest) was
+// half a millimetre behind. Silent longer than 10 ms, they slow down.
+TEST(ActuatorBridge, ALateCommandIsContinuedThenSlowedNeverPulledBack) {
   Fixture f;
   fault_t fault;
   leg_state_t state;
   std::int64_t t = kStart;
   MoveUp(f, &t, 1e-4, 5);  // moving up at 0.1 m/s
-  const auto angle = f.backend.written.motor_angle_rad;
-  EXPECT_GT(std::abs(f.backend.written.motor_velocity_rad_s[0]), 1.0);
-  f.bridge.Cycle(t - 1000 + kFeedForwardLapseUs, &state, &fault);  // a late command: still moving
-  EXPECT_GT(std::abs(f.backend.written.motor_velocity_rad_s[0]), 1.0);
-  f.bridge.Cycle(t - 1000 + kFeedForwardLapseUs + 500, &state, &fault);  // overdue: at rest, same target
-  for (double v : f.backend.written.motor_velocity_rad_s) EXPECT_EQ(v, 0.0);
-  EXPECT_EQ(f.backend.written.motor_angle_rad, angle);
+  const std::int64_t last_utime = t - 1000;
+  const auto command = f.backend.written;
+  const Vector6 last = WrittenLengths(f);
+  EXPECT_GT(std::abs(command.motor_velocity_rad_s[0]), 1.0);
+  f.bridge.Cycle(last_utime + 1000, &state, &fault);
+  f.bridge.Cycle(last_utime + 2000, &state, &fault);  // late: the command as it was
+  EXPECT_EQ(f.backend.written.motor_angle_rad, command.motor_angle_rad);
+  EXPECT_EQ(f.backend.written.motor_velocity_rad_s, command.motor_velocity_rad_s);
+  EXPECT_EQ(f.backend.written.utime, command.utime);
+  f.bridge.Cycle(last_utime + 3000, &state, &fault);  // overdue: restamped, as fast, ahead of the command
+  EXPECT_EQ(f.backend.written.utime, command.utime + 3000);
+  EXPECT_EQ(f.backend.written.motor_velocity_rad_s, command.motor_velocity_rad_s);
+  for (int i = 0; i < kNumLegs; ++i) {
+    EXPECT_NEAR(f.backend.written.motor_angle_rad[i] - command.motor_angle_rad[i],
+                command.motor_velocity_rad_s[i] * 3e-3, 1e-9)
+        << "leg " << i + 1;
+  }
+  f.bridge.Cycle(last_utime + 4000, &state, &fault);
+  f.bridge.Cycle(last_utime + 5000, &state, &fault);
   EXPECT_FALSE(f.bridge.holding());  // not stale yet: the next command just continues
-  ASSERT_TRUE(f.bridge.HandleCommand(f.Command(6e-4, t + 3000, 6), t + 3000, &fault)) << fault.reason;
+  const leg_command_t next = f.Command(1e-4 * 5 + 0.1 * 5.3e-3, last_utime + 5300, 6);
+  Vector6 next_m;
+  for (int i = 0; i < kNumLegs; ++i) next_m(i) = next.command_length_m[i];
+  const Vector6 told = DrivesTakeAt(f, last_utime + 5300);
+  EXPECT_LT((next_m - told).cwiseAbs().maxCoeff(), 1e-7);  // where the motion put them
+  EXPECT_GT((told - last).cwiseAbs().maxCoeff(), 4e-4);    // not back at the command's own place
+  // Still silent past 10 ms: slowing, never back.
+  for (std::int64_t k = 6; k <= 13; ++k) f.bridge.Cycle(last_utime + 1000 * k, &state, &fault);
+  for (int i = 0; i < kNumLegs; ++i) {
+    const double w = command.motor_velocity_rad_s[i], slowed = f.backend.written.motor_velocity_rad_s[i];
+    EXPECT_GT(slowed * w, 0.0) << "leg " << i + 1;
+    EXPECT_LT(std::abs(slowed), std::abs(w)) << "leg " << i + 1;
+  }
+  EXPECT_GT((DrivesTakeAt(f, last_utime + 13000) - told).cwiseProduct(next_m - last).minCoeff(), 0.0);
+  ASSERT_TRUE(
+      f.bridge.HandleCommand(f.Command(1e-4 * 5 + 0.1 * 13.3e-3, last_utime + 13300, 6), last_utime + 13300, &fault))
+      << fault.reason;
+}
+
+// The whole host paused, the bridge with its planner: no cycle saw the
+// commands late, and the first one after the pause writes the last command
+// as it was (the rig emulator bridges such a pause to the next command).
+TEST(ActuatorBridge, ItsOwnPauseIsNotTheCommandsSilence) {
+  Fixture f;
+  fault_t fault;
+  leg_state_t state;
+  std::int64_t t = kStart;
+  MoveUp(f, &t, 1e-4, 5);
+  const auto command = f.backend.written;
+  f.bridge.Cycle(t - 1000 + 16000, &state, &fault);  // 16 ms later
+  EXPECT_EQ(f.backend.written.motor_angle_rad, command.motor_angle_rad);
+  EXPECT_EQ(f.backend.written.motor_velocity_rad_s, command.motor_velocity_rad_s);
+  EXPECT_EQ(f.backend.written.utime, command.utime);
+  // Then 4 ms awake without a command: 5 ms of silence, not 20.
+  for (int k = 1; k <= 4; ++k) f.bridge.Cycle(t - 1000 + 16000 + 1000 * k, &state, &fault);
+  EXPECT_EQ(f.backend.written.utime, command.utime + 5000);
 }
 
 TEST(ActuatorBridge, WhileRejoiningAJumpInTheStreamIsStillRefused) {

@@ -202,8 +202,9 @@ TEST(MultiHost, ControllerLinkDownHoldsWithin50msAndResumesOnlyAfterReArm) {
   EXPECT_GT(armed_utime, arm_utime - 1000);
 
   const std::vector<TruthSample> truth = TruthOf(group.log_path());
-  // Held: the drives were already at rest on the last valid command (its
-  // velocity feed-forward dropped after 2.5 ms), and stay put until the re-arm.
+  // Held: the drives were already at rest where the last valid command's
+  // motion stopped (continued 10 ms, then slowed at the legs' limit: at
+  // 0.1 m/s at rest 30 ms after it), and stay put until the re-arm.
   double at_hold = NAN, settled = NAN, run_on = 0.0, drift = 0.0;
   for (const TruthSample& s : truth) {
     if (s.utime < hold_utime || s.utime > armed_utime) continue;

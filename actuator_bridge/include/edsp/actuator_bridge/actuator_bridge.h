@@ -11,6 +11,7 @@
 #include <string>
 
 #include "edsp/actuator_bridge/bridge_state.h"
+#include "edsp/actuator_bridge/ride_through.h"
 #include "edsp/drive_io/drive_backend.h"
 #include "edsp/node/fault.h"
 #include "edsp/node/operator_requests.h"
@@ -21,8 +22,15 @@
 
 namespace edsp {
 
-// No new command for this long: the drives get no velocity feed-forward.
+// No new command for this long: the drives, which continue a setpoint for
+// a few cycles only, are written the last command's motion each cycle,
+// stamped at the instant it is for (ride_through.h).
 inline constexpr std::int64_t kFeedForwardLapseUs = 2500;
+// The last command's motion continued for this long, then brought to rest.
+inline constexpr std::int64_t kRideThroughUs = 10000;
+// The bridge's own cycle: a gap between two of its cycles longer than two
+// of these is its own pause, not the commands' silence.
+inline constexpr std::int64_t kBridgeCycleUs = 1000;
 // Setpoints closer than this in planner time give no velocity of their own.
 inline constexpr double kShortestFeedForwardBasisS = 2e-4;
 
@@ -33,6 +41,8 @@ struct BridgeOptions {
   double max_leg_speed_m_s = -1.0;  // faster changes are jumps; < 0: the config's
                                     // [limits] leg_speed_max_m_s
   double rejoin_speed_m_s = 0.02;   // after a re-arm: how fast the held legs go to the stream
+  double stop_decel_m_s2 = -1.0;    // late commands: the fastest leg's deceleration to rest;
+                                    // < 0: the config's [motion] leg_accel_max_m_s2
 };
 
 class ActuatorBridge {
@@ -49,7 +59,9 @@ class ActuatorBridge {
   // drives were lost, then one Write (drive_backend.h). Returns true and
   // fills *fault when a new fault arose this cycle.
   bool Cycle(std::int64_t now_utime, leg_state_t* state, fault_t* fault);
-  // The setpoint instant of what the last cycle wrote (0: a hold at rest).
+  // The setpoint instant of the last command written (0: a hold at rest);
+  // while commands are late, the drives are told that command's motion
+  // brought to rest (ride_through.h).
   std::int64_t written_setpoint_utime() const { return target_.utime; }
 
   // After a stale hold, or drives that stopped answering, the bridge refuses
@@ -123,7 +135,13 @@ class ActuatorBridge {
   std::int64_t SinceLastCommandUs(std::int64_t now_utime) const {
     return target_utime_ ? now_utime - *target_utime_ : 0;
   }
-  void HoldAtRest();                                        // the last valid position, at rest
+  // What this cycle writes: the target, or while commands are late (and
+  // this bridge was not itself paused) its motion brought to rest.
+  DriveSetpoint SetpointNow(std::int64_t now_utime) const;
+  DriveSetpoint RiddenThrough(std::int64_t now_utime) const;  // the last command, continued or slowed
+  void KeepWithinStroke(DriveSetpoint* setpoint) const;
+  void CountOwnPause(std::int64_t now_utime);               // a late cycle of this bridge
+  void HoldAtRest(std::int64_t now_utime);                  // where the last valid command was brought to rest
   void HoldWhereTheDrivesAre();                             // after drives answer again
   bool LoseDrives(std::int64_t now_utime, fault_t* fault);  // hold at rest, latch; the fault
   // While the drives stay lost, each new reason from the backend (refused →
@@ -140,6 +158,8 @@ class ActuatorBridge {
   const char* latch_cause_ = "";              // why it is latched, for the refusals that follow
   std::optional<std::int64_t> target_utime_;  // receipt time of the last valid command
   std::int64_t last_cycle_utime_ = -1;
+  std::int64_t own_pause_us_ = 0;      // since the last valid command: this bridge's own lateness
+  RideThrough ride_;                   // how the last valid command is brought to rest
   std::int64_t last_basis_utime_ = 0;  // its planner time (setpoint_utime)
   std::int64_t last_command_seq_ = 0;
   bool backend_ok_ = true;                  // drive health, an input: faults are raised on its changes
