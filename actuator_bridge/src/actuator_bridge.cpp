@@ -265,7 +265,7 @@ void ActuatorBridge::Accept(const leg_command_t& c, const Vector6& command_m, co
   }
   target_.utime = step.basis_utime;
   target_utime_ = now_utime;
-  own_pause_us_ = 0;
+  paused_since_command_ = false;
   ride_.stop_s = StopTimeS(target_, model_.LengthFromMotorAngle(0, 1.0) - model_.LengthFromMotorAngle(0, 0.0),
                            options_.stop_decel_m_s2);
   last_basis_utime_ = step.basis_utime;
@@ -307,13 +307,13 @@ bool ActuatorBridge::ReportNewReason(std::int64_t now_utime, fault_t* fault) {
   return true;
 }
 
-void ActuatorBridge::CountOwnPause(std::int64_t now_utime) {
-  // The whole host paused (the bridge with its planner): the commands were
-  // not late for the drives, which the rig emulator bridges across such a
-  // pause; only a silence this bridge was awake for brings them to rest.
-  if (last_cycle_utime_ < 0) return;
-  const std::int64_t gap = now_utime - last_cycle_utime_;
-  if (gap > 2 * kBridgeCycleUs) own_pause_us_ += gap - kBridgeCycleUs;
+void ActuatorBridge::NoteOwnPause(std::int64_t now_utime) {
+  // Longer between two of its cycles than the drives continue a setpoint:
+  // this bridge paused (the whole host descheduled, most often, its planner
+  // with it). Its drives went on by themselves meanwhile, and the rig
+  // emulator bridges such a pause to the next command; a motion continued
+  // by the bridge now, stamped after the pause, would be taken for one.
+  if (last_cycle_utime_ >= 0 && now_utime - last_cycle_utime_ > kFeedForwardLapseUs) paused_since_command_ = true;
 }
 
 DriveSetpoint ActuatorBridge::SetpointNow(std::int64_t now_utime) const {
@@ -321,10 +321,11 @@ DriveSetpoint ActuatorBridge::SetpointNow(std::int64_t now_utime) const {
 }
 
 DriveSetpoint ActuatorBridge::RiddenThrough(std::int64_t now_utime) const {
-  const std::int64_t silent_us = SinceLastCommandUs(now_utime) - own_pause_us_;
-  // Within the lapse the command itself, under its own stamp: the drives
-  // continue it from that instant, and a copy is not a new command to them.
-  if (target_.utime == 0 || silent_us <= kFeedForwardLapseUs) return target_;
+  const std::int64_t silent_us = SinceLastCommandUs(now_utime);
+  // Within the lapse, or after a pause of its own, the command itself under
+  // its own stamp: the drives continue it from that instant (as far as they
+  // do), and a copy is not a new command to them.
+  if (target_.utime == 0 || silent_us <= kFeedForwardLapseUs || paused_since_command_) return target_;
   DriveSetpoint ridden = RideThroughSetpoint(target_, ride_, static_cast<double>(silent_us) * 1e-6);
   KeepWithinStroke(&ridden);
   return ridden;
@@ -372,7 +373,7 @@ bool ActuatorBridge::Cycle(std::int64_t now_utime, leg_state_t* state, fault_t* 
   // descheduled): the drives stopped on their own watchdog, wherever that
   // was; hold them there rather than pull them back to the last command.
   const bool self_starved = last_cycle_utime_ >= 0 && now_utime - last_cycle_utime_ > options_.stale_us;
-  CountOwnPause(now_utime);
+  NoteOwnPause(now_utime);
   last_cycle_utime_ = now_utime;
   const bool read_ok = backend_->Read(now_utime, &feedback_);
   if (Moving() && SinceLastCommandUs(now_utime) > options_.stale_us) {

@@ -6,6 +6,8 @@
 #include <deque>
 #include <iterator>
 #include <map>
+#include <optional>
+#include <cmath>
 
 #include <fmt/format.h>
 
@@ -13,6 +15,7 @@
 #include "edsp/leg_command_t.hpp"
 #include "edsp/leg_state_t.hpp"
 #include "edsp/logger/log_reader.h"
+#include "edsp/logger/stall_watch.h"
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/rig_truth_t.hpp"
 #include "edsp/tracker_point_t.hpp"
@@ -32,92 +35,6 @@ constexpr double kLongestCarryS = 0.0025;
 // Setpoints further apart than this in the log are a stream that stopped,
 // not ticks missing from it: nothing is interpolated across.
 constexpr std::int64_t kLongestGapUs = 50'000;
-// A stall of the real-time system: longer than this between two readings
-// of the drives (the bridge itself late), or between two cycles of the rig
-// emulator (EDSP_RIG_TRUTH: the bridge stamps a stale image's readings
-// with its own reads after 2 ms, so the readings alone show its stalls as
-// ~3 ms whatever their length). The samples from a little before it to the
-// drives' recovery after it are flagged `timing_event`: the drives braked
-// while the commands ran on, and a torque-limited servo catches up over a
-// time that grows with the distance lost (measured live at 0.25 m/s: ~70 ms
-// after a 6 ms stall, ~190 ms after an 18.8 ms one, the platform 6 mm off
-// 90 ms after that stall had ended).
-constexpr double kStallUs = 2'500;
-// Commands late while the bridge kept its time (a planner or kinematics
-// tick missed) are no stall until this long: the bridge continues the last
-// command's motion for 10 ms (kRideThroughUs, actuator_bridge.h), and the
-// platform stays on its path.
-constexpr double kCommandsSilentUs = 10'000;
-// The rig emulator reports every cycle at its own instant, those it caught
-// up after a late wake included (rig/physics_clock.h): two of its cycles
-// further apart than 1.5 cycles lost the time between (an emulator frozen
-// past its catch-up, or one that does not catch up), and its platform that
-// motion (at 0.25 m/s, 125 µm per half cycle).
-constexpr double kRigLateUs = 1'500;
-constexpr double kFlagBeforeUs = 2'000;
-constexpr double kFlagAfterUs = 100'000;
-constexpr double kFlagAfterPerStalled = 10.0;    // and 10 ms more per ms stalled,
-constexpr double kLongestFlagExtensionUs = 1e6;  //   at most 1 s more (a latch)
-
-// The stalls of a log, found as its messages come, and whether a sample
-// lies near one: from kFlagBeforeUs before it to the drives' recovery after
-// it, or after the start of one still open (the drives' commands or
-// readings stopped and never came again before the sample was written).
-// Stamps are the senders' word: the arithmetic is in double.
-class StallWatch {
- public:
-  // A leg state: the drives' reading at `utime`, running command `seq`
-  // (0: none yet). Older than the newest (reordered, repeated): ignored.
-  void Reading(std::int64_t utime, std::int64_t seq) {
-    if (seq == 0 || utime < newest_reading_) return;
-    if (newest_reading_ != 0) Gap(newest_reading_, utime);
-    newest_reading_ = utime;
-    if (seq == command_seq_) return;
-    if (command_seq_ != 0) Gap(command_since_, utime, kCommandsSilentUs);
-    command_seq_ = seq;
-    command_since_ = utime;
-  }
-  // A cycle of the rig emulator at `utime`.
-  void RigCycle(std::int64_t utime) {
-    if (utime <= newest_cycle_) return;
-    if (newest_cycle_ != 0) Gap(newest_cycle_, utime, kRigLateUs);
-    newest_cycle_ = utime;
-  }
-  // Any other instant the log vouches for (a tracker sample's): readings
-  // that stopped before it stopped for good, so far.
-  void Heard(std::int64_t utime) { newest_heard_ = std::max(newest_heard_, utime); }
-  // Samples come in order of their stamps.
-  bool Near(std::int64_t utime) {
-    const double t = static_cast<double>(utime);
-    while (!stalls_.empty() && RecoveredBy(stalls_.front()) < t) stalls_.pop_front();
-    for (const Stall& s : stalls_) {
-      if (s.from - kFlagBeforeUs <= t && t <= RecoveredBy(s)) return true;
-    }
-    const double since_command = static_cast<double>(command_since_);
-    const double newest = static_cast<double>(newest_reading_);
-    return Open(since_command, newest, t, kCommandsSilentUs) || Open(newest, static_cast<double>(newest_heard_), t);
-  }
-
- private:
-  struct Stall {
-    double from, to;
-  };
-  void Gap(std::int64_t from, std::int64_t to, double longest_us = kStallUs) {
-    const Stall s{static_cast<double>(from), static_cast<double>(to)};
-    if (s.to - s.from > longest_us) stalls_.push_back(s);
-  }
-  static double RecoveredBy(const Stall& s) {
-    return s.to + kFlagAfterUs + std::min(kFlagAfterPerStalled * (s.to - s.from), kLongestFlagExtensionUs);
-  }
-  // Nothing new since `since` by `newest` (0: never anything): open from it.
-  static bool Open(double since, double newest, double t, double longest_us = kStallUs) {
-    return since != 0.0 && newest - since > longest_us && t >= since - kFlagBeforeUs;
-  }
-
-  std::deque<Stall> stalls_;
-  std::int64_t newest_reading_ = 0, command_seq_ = 0, command_since_ = 0, newest_cycle_ = 0, newest_heard_ = 0;
-};
-
 template <typename Msg>
 bool Decode(const LogEvent& event, Msg* msg) {
   return DecodeUntrusted(msg, event.data.data(), event.data.size());
@@ -262,14 +179,36 @@ class Pairing {
       out_ << (legs ? fmt::format(",{:.17g}", legs->values[static_cast<std::size_t>(i)]) : std::string(","));
     }
     for (double v : legs_cmd.correction) out_ << fmt::format(",{:.17g}", v);
-    const bool stalled = stalls_.Near(point.utime);
+    const bool stalled = stalls_.Near(point.utime, TrackingError(legs));
     out_ << fmt::format(",{:.17g},{:.17g},{:.17g},{}\n", point.point_m[0], point.point_m[1], point.point_m[2],
                         stalled ? 1 : 0);
     ++result->rows;
     result->timing_events += stalled ? 1 : 0;
     TrimBefore(&setpoints_, point.utime);
     TrimBefore(&legs_, point.utime);
-    commands_.erase(commands_.begin(), command);
+    // The one before too: the encoders a sample is paired with may be
+    // older than its setpoint, and their tracking error needs the command
+    // of their own instant.
+    if (command != commands_.begin()) commands_.erase(commands_.begin(), std::prev(command));
+  }
+
+  // The drives' tracking error at the reading `legs` (largest leg): its
+  // encoders against the command for its instant, between the commands
+  // around it. None without a reading, or before the first command.
+  std::optional<double> TrackingError(const Stamped6* legs) const {
+    if (legs == nullptr) return std::nullopt;
+    const auto after = commands_.upper_bound(legs->utime);
+    if (after == commands_.begin()) return std::nullopt;
+    const auto at = std::prev(after);
+    const bool between = after != commands_.end() && after->first - at->first <= kLongestGapUs;
+    const double w =
+        between ? static_cast<double>(legs->utime - at->first) / static_cast<double>(after->first - at->first) : 0.0;
+    double largest = 0.0;
+    for (std::size_t i = 0; i < 6; ++i) {
+      const double commanded = at->second.legs[i] + (between ? w * (after->second.legs[i] - at->second.legs[i]) : 0.0);
+      largest = std::max(largest, std::abs(commanded - legs->values[i]));
+    }
+    return largest;
   }
 
   // The commanded pose at `utime`, after `setpoint`: carried along its

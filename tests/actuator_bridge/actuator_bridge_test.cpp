@@ -473,10 +473,12 @@ TEST(ActuatorBridge, ALateCommandIsContinuedThenSlowedNeverPulledBack) {
       << fault.reason;
 }
 
-// The whole host paused, the bridge with its planner: no cycle saw the
-// commands late, and the first one after the pause writes the last command
-// as it was (the rig emulator bridges such a pause to the next command).
-TEST(ActuatorBridge, ItsOwnPauseIsNotTheCommandsSilence) {
+// The whole host paused, the bridge with its planner: the drives went on
+// by themselves meanwhile (and the rig emulator bridges such a pause to the
+// next command), so until the next command the bridge writes the last one
+// as it was: a motion it continued, stamped after the pause, would be taken
+// for a command of that instant.
+TEST(ActuatorBridge, AfterItsOwnPauseItWritesTheLastCommandAsItWas) {
   Fixture f;
   fault_t fault;
   leg_state_t state;
@@ -484,12 +486,17 @@ TEST(ActuatorBridge, ItsOwnPauseIsNotTheCommandsSilence) {
   MoveUp(f, &t, 1e-4, 5);
   const auto command = f.backend.written;
   f.bridge.Cycle(t - 1000 + 16000, &state, &fault);  // 16 ms later
-  EXPECT_EQ(f.backend.written.motor_angle_rad, command.motor_angle_rad);
-  EXPECT_EQ(f.backend.written.motor_velocity_rad_s, command.motor_velocity_rad_s);
-  EXPECT_EQ(f.backend.written.utime, command.utime);
-  // Then 4 ms awake without a command: 5 ms of silence, not 20.
-  for (int k = 1; k <= 4; ++k) f.bridge.Cycle(t - 1000 + 16000 + 1000 * k, &state, &fault);
-  EXPECT_EQ(f.backend.written.utime, command.utime + 5000);
+  for (int k = 1; k <= 8; ++k) {
+    f.bridge.Cycle(t - 1000 + 16000 + 1000 * k, &state, &fault);
+    EXPECT_EQ(f.backend.written.motor_angle_rad, command.motor_angle_rad) << k;
+    EXPECT_EQ(f.backend.written.motor_velocity_rad_s, command.motor_velocity_rad_s) << k;
+    EXPECT_EQ(f.backend.written.utime, command.utime) << k;
+  }
+  // The next command is followed, and a silence after it ridden through.
+  ASSERT_TRUE(f.bridge.HandleCommand(f.Command(1e-4 * 5 + 0.1 * 25e-3, t + 24000, 6), t + 24000, &fault))
+      << fault.reason;
+  for (int k = 0; k <= 4; ++k) f.bridge.Cycle(t + 24000 + 1000 * k, &state, &fault);
+  EXPECT_EQ(f.backend.written.utime, t + 28000);
 }
 
 TEST(ActuatorBridge, WhileRejoiningAJumpInTheStreamIsStillRefused) {

@@ -191,19 +191,27 @@ TEST(MeasurementExport, ASampleInAGapOfSetpointsLiesBetweenTheSetpointsAroundIt)
   ::unlink(kPath.c_str());
 }
 
-// Stalls of the real-time system, each seen one way only, and a tracker
-// sample every millisecond: the drives' commands stop for 6 ms from 50 ms
-// on (command_seq; the bridge kept its time, and rides through up to 10 ms:
-// no stall) and for 12 ms from 400 ms on (a stall), the rig emulator's
-// cycles for 10 ms from 249 ms on
-// (EDSP_RIG_TRUTH; the readings go on, as the bridge stamps its own reads),
-// a leg state from before arrives late at 600 ms (no stall), one rig cycle
-// comes 1.6 ms after the last at 650 ms (its physics lost 0.6 ms), and from
-// 800 ms on the drives' readings stop for good (a stall still open when the
-// samples are written). Flagged: from 2 ms before each to 100 ms + 10 ms
-// per ms stalled after it, and everything from 2 ms before the open one;
-// the edges pinned to the millisecond.
-TEST(MeasurementExport, SamplesNearAStallOfTheRealTimeSystemAreFlagged) {
+// Stalls of the real-time system, each seen one way only, a tracker sample
+// every millisecond, the drives' commands all at 0 and their encoders off
+// by the tracking error:
+// - the commands stop for 6 ms from 50 ms on (command_seq; the bridge kept
+//   its time and rides through up to 10 ms): no stall;
+// - the rig emulator's cycles stop for 10 ms from 249 ms on (EDSP_RIG_TRUTH;
+//   the readings go on, as the bridge stamps its own reads), and the drives
+//   are 1 mm off until 480 ms: flagged to the longest catch-up, 100 ms +
+//   10 ms per ms stalled after it;
+// - the commands stop for 12 ms from 560 ms on, the drives 1 mm off until
+//   600 ms: flagged until 20 ms after they are back;
+// - a leg state from before arrives late at 600 ms (no stall);
+// - one rig cycle comes 1.6 ms after the last at 650 ms (its physics lost
+//   0.6 ms), the drives never off: flagged to 10 + 20 ms after it;
+// - from 700 ms on the drives trail by 100 µm (a lag at speed), the
+//   readings stop for 5 ms at 720 ms, after which they trail by 150 µm:
+//   under twice what they did before, normal;
+// - from 800 ms on the drives' readings stop for good (a stall still open
+//   when the samples are written): everything from 2 ms before it.
+// The edges pinned to the millisecond.
+TEST(MeasurementExport, SamplesNearAStallOfTheRealTimeSystemAreFlaggedUntilTheDrivesRecover) {
   {
     LogBuilder b(kPath);
     b.Add("EDSP_SETPOINT", Setpoint("A/move 1", 1.0, 1000));
@@ -212,17 +220,21 @@ TEST(MeasurementExport, SamplesNearAStallOfTheRealTimeSystemAreFlagged) {
     b.Add("EDSP_LEG_COMMAND", c);
     std::int64_t seq = 0;
     for (std::int64_t t = 1000; t <= 900'000; t += 1000) {
-      const bool commands_stalled = (t > 50'000 && t < 56'000) || (t > 400'000 && t < 412'000);
+      const bool commands_stalled = (t > 50'000 && t < 56'000) || (t > 560'000 && t < 572'000);
       const bool rig_stalled = t > 249'000 && t < 259'000;
+      const bool readings_stalled = t > 720'000 && t < 725'000;
       if (!rig_stalled) {
         rig_truth_t truth{};
         truth.utime = t == 650'000 ? t + 600 : t;
         b.Add("EDSP_RIG_TRUTH", truth);
       }
-      if (t <= 800'000) {
+      if (t <= 800'000 && !readings_stalled) {
         leg_state_t s{};
         s.utime = t;
         s.command_seq = commands_stalled ? seq : ++seq;
+        const bool off = (t >= 259'000 && t < 480'000) || (t >= 572'000 && t < 600'000);
+        const double error = off ? 1e-3 : t >= 725'000 ? 150e-6 : t >= 700'000 ? 100e-6 : 0.0;
+        for (double& l : s.encoder_length_m) l = error;
         b.Add("EDSP_LEG_STATE", s);
       }
       if (t == 600'000) {
@@ -241,13 +253,13 @@ TEST(MeasurementExport, SamplesNearAStallOfTheRealTimeSystemAreFlagged) {
   std::int64_t flagged = 0;
   for (std::size_t k = 1; k < rows.size(); ++k) {
     const std::int64_t ms = static_cast<std::int64_t>(k);  // the k-th sample's stamp
-    const bool near = (ms >= 247 && ms <= 249 + 10 + 100 + 100) || (ms >= 398 && ms <= 400 + 12 + 100 + 120) ||
-                      (ms >= 647 && ms <= 766) || ms >= 798;
+    const bool near = (ms >= 247 && ms <= 259 + 100 + 100) || (ms >= 558 && ms <= 619) || (ms >= 647 && ms <= 680) ||
+                      (ms >= 718 && ms <= 755) || ms >= 798;
     EXPECT_EQ(rows[k][29], near ? "1" : "0") << "sample at " << ms << " ms";
     flagged += near;
   }
   EXPECT_EQ(e.timing_events, flagged);
-  EXPECT_EQ(flagged, (632 - 247 + 1) + (766 - 647 + 1) + (900 - 798 + 1));  // the first two overlap
+  EXPECT_EQ(flagged, (459 - 247 + 1) + (619 - 558 + 1) + (680 - 647 + 1) + (755 - 718 + 1) + (900 - 798 + 1));
   ::unlink(kPath.c_str());
 }
 

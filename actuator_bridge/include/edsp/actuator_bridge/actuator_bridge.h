@@ -28,9 +28,7 @@ namespace edsp {
 inline constexpr std::int64_t kFeedForwardLapseUs = 2500;
 // The last command's motion continued for this long, then brought to rest.
 inline constexpr std::int64_t kRideThroughUs = 10000;
-// The bridge's own cycle: a gap between two of its cycles longer than two
-// of these is its own pause, not the commands' silence.
-inline constexpr std::int64_t kBridgeCycleUs = 1000;
+
 // Setpoints closer than this in planner time give no velocity of their own.
 inline constexpr double kShortestFeedForwardBasisS = 2e-4;
 
@@ -136,11 +134,11 @@ class ActuatorBridge {
     return target_utime_ ? now_utime - *target_utime_ : 0;
   }
   // What this cycle writes: the target, or while commands are late (and
-  // this bridge was not itself paused) its motion brought to rest.
+  // this bridge has not paused since the last) its motion ridden through.
   DriveSetpoint SetpointNow(std::int64_t now_utime) const;
   DriveSetpoint RiddenThrough(std::int64_t now_utime) const;  // the last command, continued or slowed
   void KeepWithinStroke(DriveSetpoint* setpoint) const;
-  void CountOwnPause(std::int64_t now_utime);               // a late cycle of this bridge
+  void NoteOwnPause(std::int64_t now_utime);                // a cycle of this bridge too late
   void HoldAtRest(std::int64_t now_utime);                  // where the last valid command was brought to rest
   void HoldWhereTheDrivesAre();                             // after drives answer again
   bool LoseDrives(std::int64_t now_utime, fault_t* fault);  // hold at rest, latch; the fault
@@ -158,7 +156,7 @@ class ActuatorBridge {
   const char* latch_cause_ = "";              // why it is latched, for the refusals that follow
   std::optional<std::int64_t> target_utime_;  // receipt time of the last valid command
   std::int64_t last_cycle_utime_ = -1;
-  std::int64_t own_pause_us_ = 0;      // since the last valid command: this bridge's own lateness
+  bool paused_since_command_ = false;  // this bridge itself, since the last valid command
   RideThrough ride_;                   // how the last valid command is brought to rest
   std::int64_t last_basis_utime_ = 0;  // its planner time (setpoint_utime)
   std::int64_t last_command_seq_ = 0;
