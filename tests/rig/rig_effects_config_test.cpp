@@ -1,6 +1,8 @@
 // [rig.effects] in a platform config: every effect and key read (a number
 // for all legs or six), the nominal sections untouched, and errors that name
 // the file, line and key for unknown effects, unknown keys and absurd values.
+#include <algorithm>
+
 #include <gtest/gtest.h>
 
 #include "thrown_message.h"
@@ -94,9 +96,16 @@ time_constant_s = 900
 // parses into its own switch, is listed by EnabledEffects, stands alone
 // with OnlyEffect, and is named among the known ones when a name is wrong.
 TEST(RigEffectsConfig, EveryEffectIsParsedListedAndSwitchedAloneByItsName) {
-  const std::vector<std::string> vocabulary = {"leg_offset", "joint_position",      "passive_rotation",
-                                               "lead_error", "periodic_lead_error", "backlash",
-                                               "servo_lag",  "compliance",          "thermal_drift"};
+  const std::vector<std::string> vocabulary = {
+      "leg_offset", "joint_position", "passive_rotation", "lead_error",    "periodic_lead_error",
+      "backlash",   "servo_lag",      "compliance",       "thermal_drift", "structural_resonance"};
+  // Every effect of the shared vocabulary, so a new one cannot be left out here.
+  std::vector<std::string> named;
+  for (const calibration::Effect e : calibration::AllEffects()) named.emplace_back(calibration::EffectName(e));
+  std::vector<std::string> listed = vocabulary;
+  std::sort(named.begin(), named.end());
+  std::sort(listed.begin(), listed.end());
+  ASSERT_EQ(listed, named);
   auto section = [](const std::string& name, bool enabled) {
     std::string text = "[rig.effects." + name + "]\nenabled = " + (enabled ? "true" : "false") + "\n";
     if (name == "compliance") text += "stiffness_N_m = 2e7\nmass_kg = 800\n";  // no defaults: a rig's own
