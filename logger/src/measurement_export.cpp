@@ -3,11 +3,11 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <deque>
 #include <iterator>
 #include <map>
 #include <optional>
-#include <cmath>
 
 #include <fmt/format.h>
 
@@ -29,8 +29,9 @@ namespace {
 // logger reads its socket backlog later, but in order of arrival).
 constexpr std::int64_t kReorderWindowUs = 500'000;
 // How far after its setpoint a sample may be and the command still be
-// carried along to it: the bridge stops the drives' feed-forward after
-// 2.5 ms without a command (kFeedForwardLapseUs).
+// carried along to it: the drives continue a setpoint by themselves for
+// 2.5 ms, past which the bridge writes its own (kFeedForwardLapseUs), and a
+// setpoint the log lacks is better taken between its neighbours.
 constexpr double kLongestCarryS = 0.0025;
 // Setpoints further apart than this in the log are a stream that stopped,
 // not ticks missing from it: nothing is interpolated across.
