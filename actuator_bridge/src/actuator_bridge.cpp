@@ -325,9 +325,9 @@ DriveSetpoint ActuatorBridge::RiddenThrough(std::int64_t now_utime) const {
   // Within the lapse, or after a pause of its own, the command itself under
   // its own stamp, feed-forward and all: the drives continue it from that
   // instant as far as they do, and a copy is not a new command to them. (A
-  // copy with the feed-forward dropped is one: the emulator's drives went
-  // back to the command's place, 1.4-2.7 mm transients after pauses of the
-  // whole host, live.)
+  // copy with the feed-forward dropped would be one: the emulator's drives
+  // would go back to the command's place, transients of 1.4-2.7 mm after
+  // pauses of the whole host.)
   if (target_.utime == 0 || silent_us <= kFeedForwardLapseUs || paused_since_command_) return target_;
   DriveSetpoint ridden = RideThroughSetpoint(target_, ride_, static_cast<double>(silent_us) * 1e-6);
   KeepWithinStroke(&ridden);

@@ -1,5 +1,6 @@
 // The bridge forwards only what it can validate and holds on stale input;
 // tested against a fake backend that records what the drives were told.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <optional>
@@ -471,6 +472,34 @@ TEST(ActuatorBridge, ALateCommandIsContinuedThenSlowedNeverPulledBack) {
   ASSERT_TRUE(
       f.bridge.HandleCommand(f.Command(1e-4 * 5 + 0.1 * 13.3e-3, last_utime + 13300, 6), last_utime + 13300, &fault))
       << fault.reason;
+}
+
+// Commands stop 1 mm below the top of the stroke, rising at 0.1 m/s: the
+// motion ridden through would take the legs 2 mm on (1 mm continued, 1 mm
+// slowing), and the bridge stops each at its stroke's end instead.
+TEST(ActuatorBridge, AMotionRiddenThroughStopsAtTheEndOfTheStroke) {
+  Fixture f;
+  fault_t fault;
+  leg_state_t state;
+  const double leg_max = f.model.config().limits.leg_max_m;
+  auto longest = [&](double dz) {
+    const leg_command_t c = f.Command(dz, 0);
+    return *std::max_element(std::begin(c.command_length_m), std::end(c.command_length_m));
+  };
+  int steps = 0;  // 0.1 mm a cycle until the longest leg is within 1 mm of the top
+  while (longest(1e-4 * (steps + 1)) < leg_max - 1e-3) ++steps;
+  ASSERT_GT(steps, 10);
+  std::int64_t t = kStart;
+  MoveUp(f, &t, 1e-4, steps);
+  ASSERT_FALSE(f.bridge.holding());
+  double highest = 0.0;
+  for (int k = 0; k < 45; ++k, t += 1000) {  // silent, short of the stale hold
+    f.bridge.Cycle(t, &state, &fault);
+    highest = std::max(highest, DrivesTakeAt(f, t).maxCoeff());
+  }
+  EXPECT_LE(highest, leg_max + 1e-12) << "past the stroke by " << (highest - leg_max) * 1e6 << " um";
+  EXPECT_NEAR(WrittenLengths(f).maxCoeff(), leg_max, 1e-9);                   // it went on to the end, not held short
+  for (double v : f.backend.written.motor_velocity_rad_s) EXPECT_EQ(v, 0.0);  // at rest
 }
 
 // The whole host paused, the bridge with its planner: the drives went on

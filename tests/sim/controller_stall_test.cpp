@@ -112,8 +112,8 @@ double FurthestApart(const std::vector<Vector3>& a, const std::vector<Vector3>& 
 // 5 ms without a setpoint at 0.2 m/s, the stall that cost a live
 // calibration its target: the drives are told the last command's motion
 // and the platform stays on its path. Holding the last command's position
-// (the bridge before) pulled the drives 0.5 mm back and the torque-limited
-// servo took the platform 1.1 mm off its path.
+// instead pulls the drives 0.5 mm back and the torque-limited servo takes
+// the platform 1.1 mm off its path.
 TEST(ControllerStall, AFiveMillisecondStallOfThePlannerLeavesThePlatformOnItsPath) {
   const std::vector<Vector3> on_time = RunStack({});
   ASSERT_GT(on_time.back().z() - on_time.front().z(), 0.04);  // it moved 4 cm

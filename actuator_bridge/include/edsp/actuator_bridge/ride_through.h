@@ -6,10 +6,10 @@
 // brought to rest with every leg decelerating in proportion, the fastest at
 // the legs' acceleration limit, so the platform stops along its path. A
 // stream that comes back within the 10 ms finds the drives where it would
-// have put them; holding the last command's position instead pulled them
-// back by the distance already continued and sent them forward again when
-// the stream came back (a 5 ms stall at 0.2 m/s: the platform 1.1 mm off
-// its path under 800 kg, against 0.4 µm now).
+// have put them; holding the last command's position would pull them back
+// by the distance already continued and send them forward again when the
+// stream came back (a 5 ms stall at 0.2 m/s under 800 kg: the platform
+// 1.1 mm off its path that way, 0.4 µm riding through; ControllerStall).
 
 #include <cstdint>
 
