@@ -7,7 +7,6 @@
 // log summary's loss accounting, the CSV export, the decoders' fuzz target.
 // A new channel is one row here (and its type there, if new).
 
-#include <array>
 #include <cstddef>
 #include <string_view>
 
@@ -43,7 +42,7 @@ struct Channel {
   Publishers publishers;
 };
 
-inline constexpr std::array<Channel, 15> kChannels = {{
+inline constexpr Channel kChannels[] = {
     {kConfig, "platform_config_t", "kinematics", 1.0, Publishers::kOne},
     {kSetpoint, "pose_setpoint_t", "planner", 1000.0, Publishers::kOne},
     {kLegCommand, "leg_command_t", "kinematics", 1000.0, Publishers::kOne},
@@ -59,7 +58,7 @@ inline constexpr std::array<Channel, 15> kChannels = {{
     {kMotionRequest, "motion_request_t", "edsp-ctl (any client)", 0.0, Publishers::kMany},
     {kMotionReply, "motion_reply_t", "planner", 0.0, Publishers::kOne},
     {kMotionStatus, "motion_status_t", "planner", 50.0, Publishers::kOne},
-}};
+};
 
 // The row of `name`, or null for a channel that is not edsp's.
 constexpr const Channel* Find(std::string_view name) {
