@@ -7,7 +7,6 @@
 // log summary's loss accounting, the CSV export, the decoders' fuzz target.
 // A new channel is one row here (and its type there, if new).
 
-#include <cstddef>
 #include <string_view>
 
 namespace edsp::channel {
