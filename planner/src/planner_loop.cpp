@@ -80,7 +80,9 @@ bool PlannerLoop::RunCycle(std::int64_t now_utime, std::int64_t deadline_misses)
   if (setpoints_.Publish(service_.Step(now_utime))) status_.CountOut();
   PublishReplies();
   if (service_.TakeChange() || now_utime >= next_motion_status_utime_) {
-    motion_status_.Publish(service_.Status(now_utime));
+    motion_status_t status = service_.Status(now_utime);
+    status.seq = ++motion_status_seq_;
+    motion_status_.Publish(status);
     next_motion_status_utime_ = now_utime + std::llround(1e6 / options_.status_rate_hz);
   }
   bool go_on = true;

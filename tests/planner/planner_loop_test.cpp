@@ -46,6 +46,8 @@ struct Fixture {
       : loop(bus, Started(service, model), PlannerLoopOptions{exit_after_hold_s}) {
     bus.Subscribe<pose_setpoint_t>("EDSP_SETPOINT", [this](const pose_setpoint_t& s) { setpoints.push_back(s); });
     bus.Subscribe<node_status_t>("EDSP_STATUS", [this](const node_status_t& s) { statuses.push_back(s); });
+    bus.Subscribe<motion_status_t>("EDSP_MOTION_STATUS",
+                                   [this](const motion_status_t& s) { motion_statuses.push_back(s); });
   }
   void HandleAll() {
     while (bus.Handle(std::chrono::milliseconds(0)) > 0) {
@@ -58,6 +60,7 @@ struct Fixture {
   PlannerLoop loop;
   std::vector<pose_setpoint_t> setpoints;
   std::vector<node_status_t> statuses;
+  std::vector<motion_status_t> motion_statuses;
 };
 
 TEST(PlannerLoop, EachCycleIsTheTrajectorysPoseAtItsTime) {
@@ -92,6 +95,17 @@ TEST(PlannerLoop, RunningThenHoldingTheFinalPoseOnEdspStatus) {
   const Vector6 top = Rise(f.model)->Sample(0.5).pose;
   EXPECT_DOUBLE_EQ(f.setpoints.back().pose[2], top(2));
   EXPECT_EQ(f.setpoints.size(), 1601u) << "one setpoint a cycle, held ones too";
+}
+
+// edsp-log counts a seq that does not advance by one as a restart or a
+// loss: the motion status counts on like every other stream.
+TEST(PlannerLoop, MotionStatusSeqAdvancesByOneAMessage) {
+  Fixture f;
+  for (std::int64_t ms = 0; ms <= 1000; ++ms) ASSERT_TRUE(f.loop.RunCycle(kT0 + ms * 1000, 0));
+  f.HandleAll();
+  ASSERT_GE(f.motion_statuses.size(), 40u) << "50 Hz and on every change, over 1 s";
+  std::int64_t seq = 0;
+  for (const motion_status_t& s : f.motion_statuses) EXPECT_EQ(s.seq, ++seq);
 }
 
 TEST(PlannerLoop, ItStopsOnceTheFinalPoseIsHeldAsLongAsItWasTold) {

@@ -22,6 +22,11 @@ namespace {
 // planner's first 7 setpoints).
 constexpr auto kAttachRetry = std::chrono::milliseconds(100);
 constexpr auto kRecorderAttachRetry = std::chrono::milliseconds(10);
+// A recorder's rings are read at this pace, not slept on: a reader asleep
+// on a ring makes every message of it a wake-up by its writer, on a 1 kHz
+// hot path a cross-CPU one at the writer's expense, for a reader that
+// needs no latency. A 64-slot ring at 1 kHz holds 64 ms.
+constexpr auto kRecorderPoll = std::chrono::milliseconds(5);
 // A recorder skips the LCM copies of a channel whose ring is not written
 // yet (its writer on this host is starting: the ring, read from its first
 // message, will hold them all). Copies that keep coming this long with no
@@ -139,9 +144,13 @@ int Bus::DrainShm() {
     s->counters->overruns += s->reader->stats().overruns - overruns_before;
     // A writer that exited in order removed its segment; a new one made
     // another. Follow it (a writer restarted after kill -9 re-attaches to the
-    // same segment and needs nothing).
-    if (!s->reader->WriterAlive() && std::chrono::steady_clock::now() >= s->next_attach) {
-      s->next_attach = std::chrono::steady_clock::now() + kAttachRetry;
+    // same segment and needs nothing). Whether the writer lives is read from
+    // /proc (tens of µs): at the attach retry's pace, not on every drain,
+    // which at 1 kHz on a few rings cost a node more than its own work.
+    const auto now = std::chrono::steady_clock::now();
+    if (now >= s->next_attach) {
+      s->next_attach = now + (s->recorder ? kRecorderAttachRetry : kAttachRetry);
+      if (s->reader->WriterAlive()) continue;
       ShmResult<ShmReader> fresh = ShmReader::Open(s->spec);
       if (fresh.ok() && fresh.value->WriterAlive()) {
         s->reader = std::move(fresh.value);
@@ -216,21 +225,27 @@ bool Bus::WaitShm(std::chrono::steady_clock::duration timeout, FdDoorbell* lcm_b
   ShmReader* readers[64];
   int count = 0;
   for (auto& sub : shm_subscriptions_) {
-    if (sub->reader != nullptr && count < 64) readers[count++] = sub->reader.get();
+    if (sub->reader != nullptr && !sub->recorder && count < 64) readers[count++] = sub->reader.get();
   }
   const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(timeout);
+  // No spinning before the sleep: a node spins at its real-time priority,
+  // above the stage that feeds it on the same CPU (the hot path shares
+  // one), so a spin only holds off the message it waits for, and on a slow
+  // machine it is CPU time the real-time budget lacks. The futex wakes in
+  // microseconds.
+  constexpr std::chrono::nanoseconds kNoSpin{0};
   if (lcm_bell != nullptr) {
     // Read the bell before looking at the socket: a message that arrives
     // after the look changes the word, and the wait returns at once.
     const std::uint32_t rung = lcm_bell->word()->load(std::memory_order_seq_cst);
     if (lcm_.Readable()) return true;
-    return ShmReader::WaitAny(readers, count, ns, std::chrono::microseconds(20), lcm_bell->word(), rung);
+    return ShmReader::WaitAny(readers, count, ns, kNoSpin, lcm_bell->word(), rung);
   }
   if (count == 0) {
     std::this_thread::sleep_for(timeout);
     return false;
   }
-  return ShmReader::WaitAny(readers, count, ns);
+  return ShmReader::WaitAny(readers, count, ns, kNoSpin);
 }
 
 int Bus::Handle(std::chrono::microseconds timeout) {
@@ -255,6 +270,10 @@ int Bus::Handle(std::chrono::microseconds timeout) {
         slice = std::min<Clock::duration>(
             slice, lcm_bell_ ? Clock::duration(kMixedWaitSlice) : Clock::duration(kMixedPollSlice));
       if (!all_attached) slice = std::min<Clock::duration>(slice, kAttachRetry);
+      if (std::any_of(shm_subscriptions_.begin(), shm_subscriptions_.end(),
+                      [](const auto& sub) { return sub->recorder; })) {
+        slice = std::min<Clock::duration>(slice, kRecorderPoll);
+      }
       if (slice > Clock::duration::zero()) WaitShm(slice, lcm_bell_.get());
       delivered += DrainShm();
       if (mixed) {

@@ -70,6 +70,7 @@ class PlannerLoop {
   Bus::Publisher<node_status_t> status_out_;
   NodeStatus status_{"planner"};
   std::int64_t next_motion_status_utime_ = 0;
+  std::int64_t motion_status_seq_ = 0;  // the publisher's own count: a reader's seq gaps are losses
 
   std::mutex mutex_;  // guards the two queues and quit_
   std::condition_variable wake_;
