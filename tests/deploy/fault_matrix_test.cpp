@@ -29,6 +29,7 @@
 #include "edsp/fault_t.hpp"
 #include "edsp/kinematics/config.h"
 #include "edsp/logger/log_reader.h"
+#include "edsp/logger/log_summary.h"
 #include "edsp/node/fault.h"
 #include "edsp/node/runtime.h"
 #include "edsp/node_status_t.hpp"
@@ -302,9 +303,11 @@ std::int64_t FirstTruthFrom(const std::vector<Truth>& truth, std::int64_t utime)
 }
 
 // When the signal took effect: the member's last message on its 1 kHz
-// output before it fell silent (> 20 ms), at or after the test sent it. On
+// output before the silence (> 20 ms) that ends after the test sent it. On
 // a busy machine the sending thread can be descheduled for hundreds of ms
-// between taking the time and the kill; every latency is timed from here.
+// between taking the time and the kill, and a starved member's stamps can
+// trail the signal by tens of ms (a rig catching up stamps each cycle at
+// its own instant); every latency is timed from here.
 std::int64_t SilencedFrom(const std::string& log_path, const std::string& channel, std::int64_t sent_utime) {
   LogReader reader(log_path);
   LogEvent e;
@@ -312,7 +315,7 @@ std::int64_t SilencedFrom(const std::string& log_path, const std::string& channe
   bool have_previous = false;
   while (reader.Next(&e)) {
     if (e.channel != channel || !ParseEdspHeader(e.data, &header)) continue;
-    if (have_previous && previous.utime >= sent_utime - 2000 && header.utime - previous.utime > 20000) {
+    if (have_previous && header.utime > sent_utime && header.utime - previous.utime > 20000) {
       // A cycle's stamp can lead the moment it was sent by up to a period
       // (a 1 ms loop stamps its deadline): the member was still running 1 ms
       // before its last stamp, and whatever reacted to its stop came later.
@@ -345,6 +348,13 @@ double LoggedFractionBefore(const std::vector<Truth>& truth, std::int64_t utime)
     ++logged;
   }
   return logged > 0 ? static_cast<double>(logged) / static_cast<double>(last_seq - first_seq + 1) : 0.0;
+}
+
+// Messages missing from the log by their seq, over every channel.
+std::int64_t LostFromTheLog(const std::string& log_path) {
+  std::int64_t lost = 0;
+  for (const auto& [channel, summary] : SummarizeLog(log_path).channels) lost += summary.seq_gaps;
+  return lost;
 }
 
 class FaultMatrix : public ::testing::TestWithParam<FaultCase> {};
@@ -467,9 +477,13 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
   const double late_ms = static_cast<double>(late_us) * 1e-3;
   if (t.extra_arms > 0) {
     // A later latch is the machine's, not the bridge's: a loop feeding the
-    // bridge (or the bridge itself) ran late by half its stale limit or more.
+    // bridge (or the bridge itself) ran late by half its stale limit or more,
+    // or the drives fell as silent: the rig emulator's physics froze (its
+    // truth reports every cycle, caught-up ones too, so a gap there is time
+    // its drives did not run: a drive outage the bridge latches on, at the
+    // same 50 ms).
     std::int64_t later_late_us = 0;
-    for (const char* channel : {"EDSP_SETPOINT", "EDSP_LEG_COMMAND", "EDSP_LEG_STATE"}) {
+    for (const char* channel : {"EDSP_SETPOINT", "EDSP_LEG_COMMAND", "EDSP_LEG_STATE", "EDSP_RIG_TRUTH"}) {
       later_late_us = std::max(
           later_late_us, test_support::LargestLateCycleUs(run.log_path, channel, 1000, 0, -1, t.rearm_from_utime));
     }
@@ -487,15 +501,16 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
     // The member runs on: nothing for the launcher to say. The bridge is
     // the first to (checked below: which drive, its error code).
     EXPECT_FALSE(a.launcher_report_utime.has_value()) << "the launcher reported a member that ran on";
-  } else if (!a.launcher_report_utime && a.logger_drops > 0) {
-    // The logger counted datagrams it lost (a sanitized logger on a loaded
-    // machine): the launcher's fault may be among them, so its stderr is
+  } else if (!a.launcher_report_utime && std::max(a.logger_drops, LostFromTheLog(run.log_path)) > 0) {
+    // The logger lost datagrams (a sanitized logger on a loaded machine):
+    // counted on its EDSP_STATUS, or seen as gaps in the log's seq after its
+    // last status. The launcher's fault may be among them, so its stderr is
     // the evidence that it reported; its timing is not measurable then.
     const std::string said = fmt::format("edsp-launch: {:<16} {}", c.member, kill ? "exited" : "frozen");
     const std::string text = launch_text.str();
     EXPECT_NE(text.find(said), std::string::npos)
-        << "no launcher report for " << c.member << " in the log (the logger lost " << a.logger_drops
-        << " datagrams) nor on its stderr:\n"
+        << "no launcher report for " << c.member << " in the log (the logger lost "
+        << std::max(a.logger_drops, LostFromTheLog(run.log_path)) << " datagrams) nor on its stderr:\n"
         << text;
   } else {
     ASSERT_TRUE(a.launcher_report_utime.has_value()) << "no launcher fault for " << c.member;
@@ -539,7 +554,8 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
     // 2 s, though the bridge had re-armed).
     ASSERT_TRUE(a.armed_utime.has_value())
         << "the bridge never confirmed the re-arm (edsp-ctl exit " << t.arm_status << ")";
-    ASSERT_TRUE(a.hold_report_utime.has_value()) << "neither the bridge nor the drives reported a hold";
+    ASSERT_TRUE(a.hold_report_utime.has_value()) << "neither the bridge nor the drives reported a hold from "
+                                                 << t.fault_utime << " (signal sent at " << sent_utime << ") on";
     hold_report_ms = static_cast<double>(*a.hold_report_utime - t.fault_utime) * 1e-3;
     // A frozen or killed rig is the world stopped: its platform cannot
     // move until it (or its successor) runs again, so its hold is timed
