@@ -40,6 +40,7 @@ void BusRecording::Stop() {
 void BusRecording::Run() {
   try {
     while (!stopping_) bus_->Handle(kHandleSlice);
+    bus_->Handle(std::chrono::microseconds(0));  // what the rings got since the last read
   } catch (const std::exception& e) {
     const std::lock_guard<std::mutex> lock(mutex_);
     stats_.error = e.what();

@@ -92,6 +92,9 @@ void LoggerNode::Run(const std::function<bool()>& stop) {
     bus_.Handle(kPollInterval);
     Poll(UtimeNow());
   }
+  // Its rings are read every few ms, not on each message: what came since
+  // the last read is taken before the log closes.
+  bus_.Handle(std::chrono::microseconds(0));
 }
 
 }  // namespace edsp

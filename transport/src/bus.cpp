@@ -145,8 +145,9 @@ int Bus::DrainShm() {
     // A writer that exited in order removed its segment; a new one made
     // another. Follow it (a writer restarted after kill -9 re-attaches to the
     // same segment and needs nothing). Whether the writer lives is read from
-    // /proc (tens of µs): at the attach retry's pace, not on every drain,
-    // which at 1 kHz on a few rings cost a node more than its own work.
+    // /proc (tens of µs): at the attach retry's pace, which paces the reopen
+    // anyway, not on every drain, which at 1 kHz on a few rings cost a node
+    // more than its own work.
     const auto now = std::chrono::steady_clock::now();
     if (now >= s->next_attach) {
       s->next_attach = now + (s->recorder ? kRecorderAttachRetry : kAttachRetry);

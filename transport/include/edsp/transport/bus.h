@@ -100,7 +100,8 @@ class Bus {
   // pending. Returns the number dispatched. Rethrows a handler's exception.
   // It sleeps on LCM's socket, or on all shared-memory channels at once; with
   // both kinds of input, on all of them at once too (an FdDoorbell thread
-  // watches LCM's socket), so either wakes it at once.
+  // watches LCM's socket), so either wakes it at once. A recorder's rings
+  // (SubscribeRaw) are the exception: read every 5 ms, never slept on.
   int Handle(std::chrono::microseconds timeout);
 
   const ChannelCounters& Counters(const std::string& channel);
