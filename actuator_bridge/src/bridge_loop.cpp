@@ -64,9 +64,16 @@ void BridgeLoop::RunCycle(std::int64_t now_utime, std::int64_t deadline_misses) 
 
 void BridgeLoop::Run(CycleClock& clock, const std::function<bool()>& stop) {
   while (!stop()) {
+    bool handled = false;
     for (auto left = clock.UntilNext(); left.count() > 0 && !stop(); left = clock.UntilNext()) {
       bus_.Handle(std::chrono::duration_cast<std::chrono::microseconds>(left));
+      handled = true;
     }
+    // A cycle that overran its period (a slow drive exchange, a starved
+    // host) left no time to wait in: what came meanwhile is still taken
+    // before the next cycle, or a bridge that keeps overrunning never reads
+    // its commands and latches on a stream that is there.
+    if (!handled) bus_.Handle(std::chrono::microseconds(0));
     clock.WaitNext();
     RunCycle(UtimeNow(), clock.missed());
   }

@@ -100,9 +100,12 @@ bool PlannerLoop::RunCycle(std::int64_t now_utime, std::int64_t deadline_misses)
 
 void PlannerLoop::Run(CycleClock& clock, const std::function<bool()>& stop) {
   while (!stop()) {
+    bool handled = false;
     for (auto left = clock.UntilNext(); left.count() > 0 && !stop(); left = clock.UntilNext()) {
       bus_.Handle(std::chrono::duration_cast<std::chrono::microseconds>(left));
+      handled = true;
     }
+    if (!handled) bus_.Handle(std::chrono::microseconds(0));  // an overrun cycle still takes its input
     clock.WaitNext();
     if (!RunCycle(UtimeNow(), clock.missed())) break;
   }

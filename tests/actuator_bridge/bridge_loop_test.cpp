@@ -98,6 +98,20 @@ TEST(BridgeLoop, ALatchedBridgeIsReArmedOverEdspArmAndAnswersOnEdspFault) {
   EXPECT_TRUE(answered);
 }
 
+// Every cycle overran (the clock never leaves time to wait in): the
+// commands that came are still taken, cycle by cycle, not left in the
+// socket until the bridge latches on a stream that is there.
+TEST(BridgeLoop, ABridgeWhoseCyclesOverrunStillTakesItsCommands) {
+  Fixture f;
+  f.bus.Publish("EDSP_LEG_COMMAND", f.Command(1e-5, 1));
+  CountingClock clock(3);
+  f.loop.Run(clock, [&] { return clock.done(); });
+  f.bus.Handle(std::chrono::milliseconds(100));
+  ASSERT_EQ(f.states.size(), 3u);
+  EXPECT_EQ(f.states.back().command_seq, 1);
+  EXPECT_FALSE(f.bridge.holding());
+}
+
 TEST(BridgeLoop, RunTicksOnTheClockItIsGivenOneExchangePerTick) {
   Fixture f;
   CountingClock clock(25);
