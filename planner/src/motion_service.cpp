@@ -446,6 +446,11 @@ void MotionService::OnLegState(const leg_state_t& legs, std::int64_t now_utime) 
     }
   }
   if (holds.empty()) bridge_followed_ = true;
+  if (holds.empty()) {
+    holds_since_utime_ = 0;
+  } else if (holds_since_utime_ == 0) {
+    holds_since_utime_ = now_utime;
+  }
   if (holds != bridge_holds_) Changed();
   bridge_holds_ = std::move(holds);
 }
@@ -543,8 +548,20 @@ pose_setpoint_t MotionService::Step(std::int64_t now_utime) {
   return sp;
 }
 
+namespace {
+// The bridge's stale limit: a hold shorter than this is the drives' own blip.
+constexpr std::int64_t kTransientHoldUs = 50'000;
+}  // namespace
+
 std::int8_t MotionService::State(std::int64_t now_utime) const {
-  if (bridge_followed_ && !BridgeProblem(now_utime).empty()) return motion_status_t::STATE_FAULT;
+  // A drive holding for a cycle or two (its own watchdog, after a command
+  // that came 20 ms late on a stalled host) follows again by itself: the
+  // status says fault once a hold has lasted the bridge's stale limit, as a
+  // latched bridge's does, so a client waiting on a motion does not abort
+  // it for a blip. A request meanwhile is still refused at once.
+  const bool holds_for_now =
+      !bridge_holds_.empty() && holds_since_utime_ != 0 && now_utime - holds_since_utime_ < kTransientHoldUs;
+  if (bridge_followed_ && !holds_for_now && !BridgeProblem(now_utime).empty()) return motion_status_t::STATE_FAULT;
   if (current_) return current_->halting ? motion_status_t::STATE_HALTING : motion_status_t::STATE_MOVING;
   if (!queue_.empty()) return motion_status_t::STATE_MOVING;
   if (!refused_.empty()) return motion_status_t::STATE_REFUSED;

@@ -134,8 +134,9 @@ class MotionService {
   std::deque<std::pair<std::int64_t, std::int64_t>> reply_order_;  // (utime answered, request_id)
 
   std::int64_t leg_state_utime_ = 0;
-  std::string bridge_holds_;      // "" while every drive follows
-  bool bridge_followed_ = false;  // seen following once
+  std::string bridge_holds_;            // "" while every drive follows
+  std::int64_t holds_since_utime_ = 0;  // when the drives began to hold (0: they follow)
+  bool bridge_followed_ = false;        // seen following once
   std::int64_t measured_utime_ = 0;
   Vector6 measured_pose_ = Vector6::Zero();
   bool measured_converged_ = false;
