@@ -40,4 +40,17 @@ inline std::int64_t LargestLateCycleUs(const std::string& log_path, const std::s
   return late;
 }
 
+// The largest late cycle over the loops that feed the bridge, the bridge's
+// own, and the rig emulator's drives (its truth reports every physics
+// cycle, caught-up ones too, so a gap there is time its drives stood),
+// within [within_from, within_to]: what explains a latch of the bridge.
+inline std::int64_t LargestLateCycleAroundTheBridgeUs(const std::string& log_path, std::int64_t within_from,
+                                                      std::int64_t within_to = INT64_MAX) {
+  std::int64_t late = 0;
+  for (const char* channel : {"EDSP_SETPOINT", "EDSP_LEG_COMMAND", "EDSP_LEG_STATE", "EDSP_RIG_TRUTH"}) {
+    late = std::max(late, LargestLateCycleUs(log_path, channel, 1000, 0, -1, within_from, within_to));
+  }
+  return late;
+}
+
 }  // namespace edsp::test_support
