@@ -34,7 +34,7 @@ ActuatorBridge::ActuatorBridge(PlatformModel model, DriveBackend* backend, Bridg
     : model_(std::move(model)), backend_(backend), options_(std::move(options)) {
   if (options_.max_leg_speed_m_s < 0.0) options_.max_leg_speed_m_s = model_.config().limits.leg_speed_max_m_s;
   if (options_.stop_decel_m_s2 < 0.0) options_.stop_decel_m_s2 = model_.config().motion.leg_accel_max_m_s2;
-  ride_.continue_s = static_cast<double>(kRideThroughUs) * 1e-6;
+  ride_.continue_s = timing::kRideThroughS;
   // Hold wherever the drives are now.
   backend_->Read(0, &feedback_);
   for (int i = 0; i < kNumLegs; ++i) {
@@ -313,7 +313,8 @@ void ActuatorBridge::NoteOwnPause(std::int64_t now_utime) {
   // with it). Its drives went on by themselves meanwhile, and the rig
   // emulator bridges such a pause to the next command; a motion continued
   // by the bridge now, stamped after the pause, would be taken for one.
-  if (last_cycle_utime_ >= 0 && now_utime - last_cycle_utime_ > kFeedForwardLapseUs) paused_since_command_ = true;
+  if (last_cycle_utime_ >= 0 && now_utime - last_cycle_utime_ > timing::kFeedForwardLapseUs)
+    paused_since_command_ = true;
 }
 
 DriveSetpoint ActuatorBridge::SetpointNow(std::int64_t now_utime) const {
@@ -328,7 +329,7 @@ DriveSetpoint ActuatorBridge::RiddenThrough(std::int64_t now_utime) const {
   // copy with the feed-forward dropped would be one: the emulator's drives
   // would go back to the command's place, transients of 1.4-2.7 mm after
   // pauses of the whole host.)
-  if (target_.utime == 0 || silent_us <= kFeedForwardLapseUs || paused_since_command_) return target_;
+  if (target_.utime == 0 || silent_us <= timing::kFeedForwardLapseUs || paused_since_command_) return target_;
   DriveSetpoint ridden = RideThroughSetpoint(target_, ride_, static_cast<double>(silent_us) * 1e-6);
   KeepWithinStroke(&ridden);
   return ridden;

@@ -18,6 +18,7 @@
 #include "edsp/logger/stall_watch.h"
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/rig_truth_t.hpp"
+#include "edsp/timing_contract.h"
 #include "edsp/tracker_point_t.hpp"
 
 namespace edsp {
@@ -29,10 +30,10 @@ namespace {
 // logger reads its socket backlog later, but in order of arrival).
 constexpr std::int64_t kReorderWindowUs = 500'000;
 // How far after its setpoint a sample may be and the command still be
-// carried along to it: the drives continue a setpoint by themselves for
-// 2.5 ms, past which the bridge writes its own (kFeedForwardLapseUs), and a
-// setpoint the log lacks is better taken between its neighbours.
-constexpr double kLongestCarryS = 0.0025;
+// carried along to it: the drives continue a setpoint by themselves for the
+// feed-forward lapse, past which the bridge writes its own, and a setpoint
+// the log lacks is better taken between its neighbours.
+constexpr double kLongestCarryS = timing::kFeedForwardLapseS;
 // Setpoints further apart than this in the log are a stream that stopped,
 // not ticks missing from it: nothing is interpolated across.
 constexpr std::int64_t kLongestGapUs = 50'000;

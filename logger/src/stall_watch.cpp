@@ -3,18 +3,20 @@
 #include <algorithm>
 #include <cmath>
 
+#include "edsp/timing_contract.h"
+
 namespace edsp {
 namespace {
 
-// Longer than this between two readings of the drives: the bridge stalled
-// (it stamps a stale image's readings with its own reads after 2 ms, so a
-// stall of the rig emulator alone shows there as ~3 ms whatever its length;
-// its own cycles say how long).
-constexpr double kStallUs = 2'500;
+// Longer than the feed-forward lapse between two readings of the drives:
+// the bridge stalled, and the drives ran out of command (it stamps a stale
+// image's readings with its own reads after 2 ms, so a stall of the rig
+// emulator alone shows there as ~3 ms whatever its length; its own cycles
+// say how long).
+constexpr double kStallUs = static_cast<double>(timing::kFeedForwardLapseUs);
 // Commands late while the bridge kept its time (a planner or kinematics
-// tick missed) are no stall until this long: the bridge continues the last
-// command's motion for 10 ms (kRideThroughUs, actuator_bridge.h).
-constexpr double kCommandsSilentUs = 10'000;
+// tick missed) are no stall for as long as the bridge rides them through.
+constexpr double kCommandsSilentUs = static_cast<double>(timing::kRideThroughUs);
 // The rig emulator reports every cycle at its own instant, those it caught
 // up after a late wake included (rig/physics_clock.h): two of its cycles
 // further apart than 1.5 cycles lost the time between.

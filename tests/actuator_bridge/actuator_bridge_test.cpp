@@ -402,7 +402,7 @@ TEST(ActuatorBridge, SilenceBringsTheMotionToRestAtTheLegsLimitAndHoldsWithin50m
     }
   }
   // At rest where v·(10 ms) + v·T/2 put each leg (closed form).
-  const Vector6 expected = last + speed * (static_cast<double>(kRideThroughUs) * 1e-6 + stop_s / 2.0);
+  const Vector6 expected = last + speed * (timing::kRideThroughS + stop_s / 2.0);
   EXPECT_LT((written.back() - expected).cwiseAbs().maxCoeff(), 1e-7) << (written.back() - expected).transpose();
   EXPECT_GT((written.back() - last).cwiseAbs().maxCoeff(), 5e-4);  // a millimetre on, not held at the command
   EXPECT_EQ(faults, 1);                                            // reported once, not every cycle

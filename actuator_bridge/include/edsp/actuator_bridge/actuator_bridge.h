@@ -19,15 +19,9 @@
 #include "edsp/arm_t.hpp"
 #include "edsp/leg_command_t.hpp"
 #include "edsp/leg_state_t.hpp"
+#include "edsp/timing_contract.h"
 
 namespace edsp {
-
-// No new command for this long: the drives, which continue a setpoint for
-// a few cycles only, are written the last command's motion each cycle,
-// stamped at the instant it is for (ride_through.h).
-inline constexpr std::int64_t kFeedForwardLapseUs = 2500;
-// The last command's motion continued for this long, then brought to rest.
-inline constexpr std::int64_t kRideThroughUs = 10000;
 
 // Setpoints closer than this in planner time give no velocity of their own.
 inline constexpr double kShortestFeedForwardBasisS = 2e-4;

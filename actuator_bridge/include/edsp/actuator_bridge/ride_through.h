@@ -2,10 +2,10 @@
 // What the drives are told while the leg commands are late and the bridge
 // itself is on time (a planner or kinematics tick missed on a loaded host):
 // the last command's motion, continued along its velocity feed-forward for
-// 10 ms (the stalls of a loaded host, 5-17 ms, are mostly shorter), then
+// timing::kRideThroughUs (a loaded host's stalls are mostly shorter), then
 // brought to rest with every leg decelerating in proportion, the fastest at
 // the legs' acceleration limit, so the platform stops along its path. A
-// stream that comes back within the 10 ms finds the drives where it would
+// stream that comes back within it finds the drives where it would
 // have put them; holding the last command's position would pull them back
 // by the distance already continued and send them forward again when the
 // stream came back (a 5 ms stall at 0.2 m/s under 800 kg: the platform
@@ -14,12 +14,13 @@
 #include <cstdint>
 
 #include "edsp/drive_io/drive_backend.h"
+#include "edsp/timing_contract.h"
 
 namespace edsp {
 
 struct RideThrough {
-  double continue_s = 10e-3;  // along the feed-forward, before the ramp
-  double stop_s = 0.0;        // the ramp's length: the fastest leg's speed / its deceleration
+  double continue_s = timing::kRideThroughS;  // along the feed-forward, before the ramp
+  double stop_s = 0.0;                        // the ramp's length: the fastest leg's speed / its deceleration
 };
 
 // The ramp's length for `command`: its fastest leg (`leg_m_per_rad` of leg

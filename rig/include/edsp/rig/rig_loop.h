@@ -19,6 +19,7 @@
 #include "edsp/node_status_t.hpp"
 #include "edsp/rig/drive_image_server.h"
 #include "edsp/rig/rig_cycle.h"
+#include "edsp/timing_contract.h"
 #include "edsp/transport/bus.h"
 
 namespace edsp {
@@ -26,12 +27,12 @@ namespace edsp {
 // The drives' cycle on the host's grid, 100 µs after the bridge's write
 // (drives on their master's distributed clock): a setpoint reaches them
 // 0.5 ms after the planner's tick, or a cycle later when the bridge wrote it
-// late. A command is continued by at most 2.5 ms, where the bridge stops the
-// feed-forward of a command it has not renewed (kFeedForwardLapseUs); the
+// late. A command is continued by at most the feed-forward lapse, where the bridge stops the
+// feed-forward of a command it has not renewed (timing_contract.h); the
 // drives' watchdog holds them after --drive-watchdog-ms.
 inline constexpr std::chrono::microseconds kRigPeriod{1000};
 inline constexpr std::chrono::microseconds kRigPhase{500};
-inline constexpr double kRigCommandHorizon_s = 2.5e-3;
+inline constexpr double kRigCommandHorizon_s = timing::kFeedForwardLapseS;
 // A wake up to 50 cycles late runs the cycles it missed (the command ring
 // holds 16 of them; before those the drives take the command between, for
 // gaps up to RigCycle's 50 ms, the same span). Later than that the emulator
