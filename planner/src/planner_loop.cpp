@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "edsp/channels.h"
+#include "edsp/node/scheduling.h"
 
 namespace edsp {
 
@@ -50,6 +51,7 @@ void PlannerLoop::OnRequest(const motion_request_t& request) {
 }
 
 void PlannerLoop::PlanRequests() {
+  LeaveRealTime();  // the loop's cycles preempt a check, however long it takes
   std::unique_lock<std::mutex> lock(mutex_);
   while (true) {
     wake_.wait(lock, [this] { return quit_ || !to_plan_.empty(); });

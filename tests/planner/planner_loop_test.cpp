@@ -3,8 +3,12 @@
 // the status running then holding, and the end of the hold it was told.
 #include "edsp/planner/planner_loop.h"
 
+#include <pthread.h>
+#include <sched.h>
+
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <memory>
 #include <thread>
 #include <vector>
@@ -166,6 +170,79 @@ TEST(PlannerLoop, AMoveIsPlannedBesideTheCyclesAndItsReplyPrecedesALaterHalts) {
   EXPECT_TRUE(replies[1].accepted);
   EXPECT_GT(setpoints.back().pose[0], 0.0) << "the move ran before the halt";
   EXPECT_LT(setpoints.back().pose[0], 0.05);
+}
+
+// The calling thread as a launcher sets a real-time node: SCHED_FIFO on one
+// CPU. Undone when the test ends (the binary runs its other tests after).
+class RealTimeOnOneCpu {
+ public:
+  RealTimeOnOneCpu() {
+    sched_getaffinity(0, sizeof all_, &all_);
+    cpu_set_t one;
+    CPU_ZERO(&one);
+    CPU_SET(sched_getcpu(), &one);
+    sched_param param{};
+    param.sched_priority = 10;
+    ok_ = sched_setaffinity(0, sizeof one, &one) == 0 && pthread_setschedparam(pthread_self(), SCHED_FIFO, &param) == 0;
+  }
+  ~RealTimeOnOneCpu() {
+    sched_param param{};
+    pthread_setschedparam(pthread_self(), SCHED_OTHER, &param);
+    sched_setaffinity(0, sizeof all_, &all_);
+  }
+  bool ok() const { return ok_; }
+
+ private:
+  cpu_set_t all_{};
+  bool ok_ = false;
+};
+
+// A node's worker thread inherits its real-time priority and CPU. Were the
+// whole-path check of a program run at it, the cycle (of equal priority, on
+// the one CPU) would wait for the check to end: no setpoint for as long as
+// it takes. The check is timed by the run itself (request to reply), and no
+// gap between two cycles may come near it.
+TEST(PlannerLoop, AProgramBeingCheckedNeverHoldsTheCyclesBack) {
+  RealTimeOnOneCpu real_time;
+  if (!real_time.ok()) GTEST_SKIP() << "SCHED_FIFO refused here (needs root or CAP_SYS_NICE)";
+  Bus bus{test_support::MemqConfig("planner_loop_rt")};
+  const PlatformModel model{Huang2021Config()};
+  MotionService service{model, ServiceOptions()};
+  PlannerLoop loop(bus, service, PlannerLoopOptions{});
+  std::vector<motion_reply_t> replies;
+  bus.Subscribe<motion_reply_t>("EDSP_MOTION_REPLY", [&](const motion_reply_t& r) { replies.push_back(r); });
+  leg_state_t legs{};
+  for (auto& d : legs.drive_status) d = leg_state_t::DRIVE_ENABLED;
+  std::vector<std::int64_t> cycles_utime;
+  const auto cycle = [&] {
+    legs.utime = UtimeNow();
+    bus.Publish("EDSP_LEG_STATE", legs);
+    while (bus.Handle(std::chrono::milliseconds(0)) > 0) {
+    }
+    loop.RunCycle(UtimeNow(), 0);
+    cycles_utime.push_back(UtimeNow());
+    while (bus.Handle(std::chrono::milliseconds(0)) > 0) {
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  };
+  test_support::MotionRequests requests(kSession);
+  cycle();
+  motion_request_t run = requests.Make(motion_request_t::KIND_CHECK, UtimeNow());
+  run.kind = motion_request_t::KIND_RUN;
+  run.motions = "Lz,Lx,Ly,Rz,Rx,Ry,M1,M2,M3,Lz,Lx,Ly,Rz,Rx,Ry,M1,M2,M3";
+  const std::int64_t asked_utime = UtimeNow();
+  bus.Publish("EDSP_MOTION_REQUEST", run);
+  while (replies.empty() && UtimeNow() - asked_utime < 120'000'000) cycle();
+  ASSERT_EQ(replies.size(), 1u) << "the worker answered";
+  const std::int64_t answered_utime = cycles_utime.back();
+  const std::int64_t check_us = answered_utime - asked_utime;
+  ASSERT_GT(check_us, 10'000) << "a check this short tells nothing here: give the test a longer program";
+  std::int64_t largest_gap_us = 0;
+  for (std::size_t k = 1; k < cycles_utime.size(); ++k) {
+    if (cycles_utime[k] < asked_utime) continue;
+    largest_gap_us = std::max(largest_gap_us, cycles_utime[k] - cycles_utime[k - 1]);
+  }
+  EXPECT_LT(largest_gap_us, check_us / 4) << "the check took " << check_us << " us";
 }
 
 }  // namespace

@@ -7,8 +7,8 @@
 // EDSP_PLATFORM_STATE (the measured pose). edsp-planner's main only parses
 // options, builds the service and runs this; tests run it on an in-process
 // bus with their own clock. Moves, checks and runs are planned on a worker
-// thread (a long program's check takes tens of milliseconds, and the
-// setpoints must not wait); halt, stop and the rest are answered on the
+// thread, not real-time (a long program's check takes tens of milliseconds,
+// and the setpoints must not wait: scheduling.h); halt, stop and the rest are answered on the
 // loop's thread at once. Every reply goes out at the next cycle, in the
 // order the requests were acted on; a request's age is taken when it came.
 

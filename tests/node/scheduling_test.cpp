@@ -1,0 +1,54 @@
+// A thread that leaves real-time scheduling is normal afterwards, and one
+// that never was stays as it is.
+#include "edsp/node/scheduling.h"
+
+#include <pthread.h>
+#include <sched.h>
+
+#include <gtest/gtest.h>
+
+#include <thread>
+
+namespace edsp {
+namespace {
+
+int PolicyOfThisThread() {
+  int policy = -1;
+  sched_param param{};
+  pthread_getschedparam(pthread_self(), &policy, &param);
+  return policy;
+}
+
+TEST(LeaveRealTime, AThreadStartedByARealTimeOneBecomesNormal) {
+  int inherited = -1, after = -1;
+  bool left = false;
+  std::thread([&] {
+    sched_param param{};
+    param.sched_priority = 10;
+    if (pthread_setschedparam(pthread_self(), SCHED_FIFO, &param) != 0) return;
+    // A worker started here inherits SCHED_FIFO, as a node's do.
+    std::thread([&] {
+      inherited = PolicyOfThisThread();
+      left = LeaveRealTime();
+      after = PolicyOfThisThread();
+    }).join();
+  }).join();
+  if (inherited == -1) GTEST_SKIP() << "SCHED_FIFO refused here (needs root or CAP_SYS_NICE)";
+  EXPECT_EQ(inherited, SCHED_FIFO);
+  EXPECT_TRUE(left);
+  EXPECT_EQ(after, SCHED_OTHER);
+}
+
+TEST(LeaveRealTime, ANormalThreadStaysNormal) {
+  int after = -1;
+  bool left = false;
+  std::thread([&] {
+    left = LeaveRealTime();
+    after = PolicyOfThisThread();
+  }).join();
+  EXPECT_TRUE(left);
+  EXPECT_EQ(after, SCHED_OTHER);
+}
+
+}  // namespace
+}  // namespace edsp
