@@ -48,6 +48,7 @@ int Run(int argc, char** argv) {
   }
   options.session_id = node.session_id;
   options.stale_us = std::int64_t{stale_ms} * 1000;
+  options.calibration_starts_from_drives = !replay;  // a replay has no drives: its commands are the log's
   const std::string config_text = ReadTextFile(node.config_path);
   const PlatformConfig config = LoadConfigFile(node.config_path);
   const PlatformModel model(config);

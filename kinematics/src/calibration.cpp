@@ -201,7 +201,27 @@ CalibrationModel ParseCalibration(const std::string& text, const std::string& or
     }
     out.applied.push_back(std::move(e));
   }
+  RequireWithinTheStrokes(out, model);
   return out;
+}
+
+void RequireWithinTheStrokes(const CalibrationModel& calibration, const PlatformModel& model) {
+  // At home, at rest: the static part of the correction, which every start
+  // and every dwell carries.
+  LegCompensator at_home(model, calibration);
+  const Pose home = model.home_pose();
+  const Vector6 nominal = model.Solve(home).length_m - model.PrLengthError(model.Solve(home), PrMode::kSigned);
+  const Vector6 correction = at_home.Step(0.0, home, Vector6::Zero(), Vector6::Zero(), nominal).command_m;
+  const WorkspaceLimits& limits = model.config().limits;
+  for (int i = 0; i < kNumLegs; ++i) {
+    const double length = nominal(i) - correction(i);
+    if (!std::isfinite(length) || length < limits.leg_min_m || length > limits.leg_max_m) {
+      throw CalibrationError(
+          fmt::format("{}: leg {} at home would be commanded {:.6f} m (a correction of {:.6f} m), outside its stroke "
+                      "{:.3f}..{:.3f} m: not a calibration of this platform",
+                      calibration.origin, i + 1, length, -correction(i), limits.leg_min_m, limits.leg_max_m));
+    }
+  }
 }
 
 CalibrationModel LoadCalibration(const std::string& path, const PlatformModel& model, bool apply_ambiguous) {

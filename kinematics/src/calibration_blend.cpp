@@ -16,20 +16,29 @@ LegCompensator::Correction StepOrZero(LegCompensator* compensator, double time_s
 }  // namespace
 
 CalibrationBlend::CalibrationBlend(std::unique_ptr<LegCompensator> in_force, std::int64_t blend_us)
-    : next_(std::move(in_force)), blend_us_(std::max<std::int64_t>(blend_us, 1)) {}
+    : next_(std::move(in_force)), blend_us_(std::max<std::int64_t>(blend_us, 1)), running_us_(blend_us_) {}
 
 bool CalibrationBlend::SwitchTo(std::unique_ptr<LegCompensator> next, std::string* why_not) {
   if (blending_) {
-    const double left_ms = (static_cast<double>(blend_us_) - elapsed_us_) * 1e-3;
+    const double left_ms = (static_cast<double>(running_us_) - elapsed_us_) * 1e-3;
     *why_not = fmt::format("the last switch is still blending ({:.0f} of {} ms of setpoint time left)",
-                           std::ceil(left_ms), blend_us_ / 1000);
+                           std::ceil(left_ms), running_us_ / 1000);
     return false;
   }
   previous_ = std::move(next_);
   next_ = std::move(next);
   blending_ = true;
+  running_us_ = blend_us_;
   elapsed_us_ = 0.0;
   return true;
+}
+
+void CalibrationBlend::BlendInFrom(double weight, std::int64_t blend_us) {
+  if (!next_ || blending_ || !(weight < 1.0)) return;
+  previous_.reset();
+  blending_ = true;
+  running_us_ = std::max<std::int64_t>(blend_us, 1);
+  elapsed_us_ = std::clamp(weight, 0.0, 1.0) * static_cast<double>(running_us_);
 }
 
 double CalibrationBlend::AdvanceBlend(std::int64_t setpoint_utime) {
@@ -39,12 +48,12 @@ double CalibrationBlend::AdvanceBlend(std::int64_t setpoint_utime) {
   last_setpoint_utime_ = setpoint_utime;
   if (!blending_) return 1.0;
   elapsed_us_ += std::clamp(since_last, 0.0, kMaxAdvance_us);
-  if (elapsed_us_ >= static_cast<double>(blend_us_)) {
+  if (elapsed_us_ >= static_cast<double>(running_us_)) {
     blending_ = false;
     previous_.reset();
     return 1.0;
   }
-  return elapsed_us_ / static_cast<double>(blend_us_);
+  return elapsed_us_ / static_cast<double>(running_us_);
 }
 
 LegCompensator::Correction CalibrationBlend::Step(std::int64_t setpoint_utime, const Pose& pose,

@@ -59,6 +59,7 @@ void KinematicsLoop::OnSetpoint(const pose_setpoint_t& setpoint) {
 
 void KinematicsLoop::OnLegState(const leg_state_t& legs) {
   reporting_.status().CountIn();
+  kinematics_.NoteDrives(legs);
   if (++leg_states_ % options_.leg_state_decimation != 0) return;
   platform_state_t state;
   fault_t fault;

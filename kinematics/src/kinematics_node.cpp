@@ -16,6 +16,10 @@ namespace edsp {
 
 namespace {
 
+// A calibration in force at start blends in with its fastest leg at this
+// share of the legs' speed limit.
+constexpr double kStartPace = 0.05;
+
 template <std::size_t N>
 bool AllFinite(const double (&values)[N]) {
   for (double v : values) {
@@ -37,7 +41,8 @@ KinematicsNode::KinematicsNode(PlatformModel model, KinematicsNodeOptions option
       options_(std::move(options)),
       last_target_(model_.home_pose()),
       last_estimate_(model_.home_pose()),
-      calibration_(Compensator(model_, options_.calibration), options_.calibration_blend_us) {
+      calibration_(Compensator(model_, options_.calibration), options_.calibration_blend_us),
+      calibration_start_pending_(options_.calibration.has_value() && options_.calibration_starts_from_drives) {
   last_weights_[static_cast<std::size_t>(options_.pr_mode)] = 1.0;
 }
 
@@ -121,7 +126,8 @@ std::string KinematicsNode::DescribeCalibration() const {
   auto name = [](const calibration::CalibrationModel* c) { return c ? c->Describe() : std::string("none"); };
   if (!calibration_.blending()) return name(calibration_.target());
   return fmt::format("blending from {} to {} ({:.0f}% of {} ms)", name(calibration_.source()),
-                     name(calibration_.target()), 100.0 * calibration_.weight(), calibration_.blend_us() / 1000);
+                     name(calibration_.target()), 100.0 * calibration_.weight(),
+                     calibration_.running_blend_us() / 1000);
 }
 
 bool KinematicsNode::SwitchCalibration(std::optional<calibration::CalibrationModel> next, std::string* why_not) {
@@ -218,8 +224,16 @@ bool KinematicsNode::ApplyCalibration(const pose_setpoint_t& sp, const Pose& tar
                                       std::int64_t now_utime, Vector6* calibrated, fault_t* fault) {
   Vector6 velocity, acceleration;
   for (int k = 0; k < 6; ++k) velocity(k) = sp.velocity[k], acceleration(k) = sp.acceleration[k];
-  const calibration::LegCompensator::Correction c =
-      calibration_.Step(sp.utime, target, velocity, acceleration, nominal);
+  if (calibration_start_pending_ && !drives_m_) {
+    *fault = Fault(FaultCode::kStale,
+                   fmt::format("setpoint seq {}: no reading of the drives yet; the calibration in force at start "
+                               "blends in from where they hold; not forwarded",
+                               sp.seq),
+                   now_utime, channel::kSetpoint);
+    return false;
+  }
+  calibration::LegCompensator::Correction c = calibration_.Step(sp.utime, target, velocity, acceleration, nominal);
+  if (calibration_start_pending_) StartCalibrationFromTheDrives(nominal, &c);
   if (!c.command_m.allFinite() || !c.encoder_m.allFinite()) {
     *fault = Fault(FaultCode::kNonFinite,
                    fmt::format("setpoint seq {} ({}): the calibration's correction is not finite; not forwarded",
@@ -232,6 +246,33 @@ bool KinematicsNode::ApplyCalibration(const pose_setpoint_t& sp, const Pose& tar
   return true;
 }
 
+void KinematicsNode::StartCalibrationFromTheDrives(const Vector6& nominal, calibration::LegCompensator::Correction* c) {
+  calibration_start_pending_ = false;
+  // The share of the correction that puts the command nearest the drives:
+  // 0 where they hold at the nominal command, 1 where they already carry
+  // the calibration (a restarted kinematics node). Anything else the bridge
+  // judges as it would without a calibration.
+  const double squared = c->command_m.squaredNorm();
+  if (!(squared > 0.0)) return;
+  const double weight = std::clamp((nominal - *drives_m_).dot(c->command_m) / squared, 0.0, 1.0);
+  if (!(weight < 1.0 - 1e-6)) return;  // a millionth of it short: the rounding of the drives' reading
+  // Its fastest leg at kStartPace of the legs' speed limit: a correction of
+  // millimetres in tenths of a second, one of tenths of a millimetre in a
+  // few cycles (few tracker samples see it while the platform moves).
+  const double pace_m_s = kStartPace * model_.config().limits.leg_speed_max_m_s;
+  const double blend_s = c->command_m.cwiseAbs().maxCoeff() / pace_m_s;
+  calibration_.BlendInFrom(weight, std::max<std::int64_t>(std::llround(std::ceil(blend_s * 1e3)) * 1000, 1000));
+  c->command_m *= weight;
+  c->encoder_m *= weight;
+}
+
+void KinematicsNode::NoteDrives(const leg_state_t& legs) {
+  if (!AllFinite(legs.encoder_length_m)) return;
+  Vector6 lengths;
+  for (int i = 0; i < kNumLegs; ++i) lengths(i) = legs.encoder_length_m[i];
+  drives_m_ = lengths;
+}
+
 bool KinematicsNode::HandleLegState(const leg_state_t& legs, std::int64_t now_utime, platform_state_t* state,
                                     fault_t* fault) {
   constexpr const char* kChannel = channel::kLegState;
@@ -240,6 +281,7 @@ bool KinematicsNode::HandleLegState(const leg_state_t& legs, std::int64_t now_ut
                    now_utime, kChannel);
     return false;
   }
+  NoteDrives(legs);
   Vector6 lengths;
   for (int i = 0; i < kNumLegs; ++i) lengths(i) = legs.encoder_length_m[i] + encoder_correction_(i);
   const FkResult fk = SolveForward(model_, lengths, last_estimate_);

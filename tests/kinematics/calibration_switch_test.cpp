@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "edsp/kinematics/config.h"
+#include "calibrated_node.h"
 #include "edsp/kinematics/kinematics_node.h"
 
 namespace edsp {
@@ -30,12 +31,11 @@ const char kModelJson[] = R"({"format": "edsp-gap-model/1", "effects": [
 
 calibration::CalibrationModel Model() { return calibration::ParseCalibration(kModelJson, "rig7.json", Nominal()); }
 
+// A node with `calibration` in force from its first command: the reference
+// the switches are held to (how a calibration in force at start blends in
+// from the drives is calibration_start_test's).
 KinematicsNode MakeNode(std::optional<calibration::CalibrationModel> calibration) {
-  KinematicsNodeOptions options;
-  options.session_id = 9;
-  options.calibration = std::move(calibration);
-  options.calibration_blend_us = kBlendUs;
-  return KinematicsNode(Nominal(), options);
+  return test_support::CalibratedNode(std::move(calibration), kBlendUs, test_support::CalibrationStart::kInForceAtOnce);
 }
 
 // Cycle k of a move up along z at 0.1 m/s, 1 kHz.
@@ -50,13 +50,7 @@ pose_setpoint_t Setpoint(int k) {
   return sp;
 }
 
-leg_command_t Command(KinematicsNode& node, int k) {
-  leg_command_t c;
-  fault_t fault;
-  const pose_setpoint_t sp = Setpoint(k);
-  EXPECT_TRUE(node.HandleSetpoint(sp, sp.utime, &c, &fault)) << fault.reason;
-  return c;
-}
+leg_command_t Command(KinematicsNode& node, int k) { return test_support::CommandFor(node, Setpoint(k)); }
 
 calibration_t Request(const std::string& json, std::int64_t utime, std::int64_t session_id = 9) {
   calibration_t r{};

@@ -50,6 +50,11 @@ CalibrationModel LoadCalibration(const std::string& path, const PlatformModel& m
 CalibrationModel ParseCalibration(const std::string& text, const std::string& origin, const PlatformModel& model,
                                   bool apply_ambiguous = false);
 
+// Refuses (CalibrationError, naming the leg and the size) a calibration
+// that would command a leg outside its stroke at home: no correction of a
+// real platform comes near that. ParseCalibration checks it.
+void RequireWithinTheStrokes(const CalibrationModel& calibration, const PlatformModel& model);
+
 // Whether a model file's entry is applied: as its "apply" says when it has
 // one (edsp-gap's calibration set: the effects that best predict held-out
 // error, named or not), else when it is identified; an ambiguous entry also

@@ -32,6 +32,13 @@ class CalibrationBlend {
   // of two models has no third to blend from.
   bool SwitchTo(std::unique_ptr<LegCompensator> next, std::string* why_not);
 
+  // The calibration in force is not in the drives yet (a start where they
+  // hold at the nominal model's command, or partway): from the next Step on
+  // it blends in from `weight` of it (0: none) to all of it over `blend_us`
+  // of setpoint time (this blend's own length; a switch's stays blend_us()).
+  // The caller scales the correction it already has for this setpoint.
+  void BlendInFrom(double weight, std::int64_t blend_us);
+
   // The correction for one setpoint (LegCompensator::Step's arguments),
   // blended while a switch is under way.
   LegCompensator::Correction Step(std::int64_t setpoint_utime, const Pose& pose, const Vector6& pose_velocity,
@@ -44,8 +51,9 @@ class CalibrationBlend {
   const CalibrationModel* source() const { return previous_ ? &previous_->calibration() : nullptr; }
   bool blending() const { return blending_; }
   // How far the blend has come, 0..1 (1 when none runs).
-  double weight() const { return blending_ ? elapsed_us_ / static_cast<double>(blend_us_) : 1.0; }
+  double weight() const { return blending_ ? elapsed_us_ / static_cast<double>(running_us_) : 1.0; }
   std::int64_t blend_us() const { return blend_us_; }
+  std::int64_t running_blend_us() const { return running_us_; }  // the blend under way's length
 
  private:
   // Moves the blend on to `setpoint_utime` and returns the new
@@ -56,6 +64,7 @@ class CalibrationBlend {
   std::unique_ptr<LegCompensator> previous_;  // blended from; null: nominal
   std::unique_ptr<LegCompensator> next_;      // in force (or blended to); null: nominal
   std::int64_t blend_us_;
+  std::int64_t running_us_;  // the blend under way's: blend_us_ for a switch
   bool blending_ = false;
   double elapsed_us_ = 0.0;  // of the blend, in setpoint time
   std::optional<std::int64_t> last_setpoint_utime_;

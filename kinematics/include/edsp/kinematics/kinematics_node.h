@@ -39,6 +39,12 @@ struct KinematicsNodeOptions {
   // A calibration switched live blends over this much setpoint time (not a
   // setting: a test's).
   std::int64_t calibration_blend_us = 1000000;
+  // A calibration in force at start blends in, over calibration_blend_us,
+  // from where the drives hold (their first reading, NoteDrives) rather than
+  // stepping the first command by its correction at home, which the bridge
+  // refuses as a jump once it is more than a cycle's travel. A setpoint
+  // before any reading is then refused. Off for a replay (no drives).
+  bool calibration_starts_from_drives = true;
 };
 
 class KinematicsNode {
@@ -47,6 +53,10 @@ class KinematicsNode {
 
   // True: *command is the leg command for the setpoint. False: *fault says why.
   bool HandleSetpoint(const pose_setpoint_t& setpoint, std::int64_t now_utime, leg_command_t* command, fault_t* fault);
+
+  // Where the drives hold (their encoders' lengths), from every reading:
+  // where a calibration in force at start blends in from.
+  void NoteDrives(const leg_state_t& legs);
 
   // True: *state is the pose the encoders imply. False: *fault says why.
   bool HandleLegState(const leg_state_t& legs, std::int64_t now_utime, platform_state_t* state, fault_t* fault);
@@ -95,6 +105,9 @@ class KinematicsNode {
   // (*fault) when it is not finite: never forwarded.
   bool ApplyCalibration(const pose_setpoint_t& sp, const Pose& target, const Vector6& nominal, std::int64_t now_utime,
                         Vector6* calibrated, fault_t* fault);
+  // At the first command of a calibration in force at start: how much of
+  // its correction the drives already carry (0..1), and the blend from it.
+  void StartCalibrationFromTheDrives(const Vector6& nominal, calibration::LegCompensator::Correction* c);
   OperatorRequestAnswers pr_mode_answers_;
   OperatorRequestAnswers calibration_answers_;
 
@@ -116,6 +129,8 @@ class KinematicsNode {
   Pose last_estimate_;
   calibration::CalibrationBlend calibration_;
   Vector6 encoder_correction_ = Vector6::Zero();  // the calibration's, at the last command
+  bool calibration_start_pending_ = false;        // a calibration in force at start, no command yet
+  std::optional<Vector6> drives_m_;               // the drives' last reading (encoder lengths)
 };
 
 }  // namespace edsp

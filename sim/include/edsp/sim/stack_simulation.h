@@ -62,6 +62,9 @@ class StackSimulation {
   KinematicsNode& kinematics() { return kinematics_; }
 
  private:
+  void BlendTheCalibrationInAtHome();  // before the first motion, when a calibration is in force
+  void RunCycle(StackSample* s);       // its setpoint through kinematics, bridge and drives
+  void AdvanceRig();                   // one cycle of the rig's physics and the clock
   void InformService(const leg_state_t& legs);
 
   StackOptions options_;
