@@ -20,11 +20,11 @@ MotionCheck MeasureClosedLoop(const PlatformModel& model, const std::string& con
   run.calibration_path = model_path;
   run.out_dir = dir + "/closed_loop_with";
   const OfflineRunResult with = RunOffline(config_path, effects, run);
-  // A run the stack refused commands in (a calibration whose start the
-  // bridge took for a jump) measured a platform that stood, not the model.
+  // A run with faults (a command refused: a calibration whose start the
+  // bridge took for a jump, say) measured a platform that stood, not the model.
   for (const OfflineRunResult* r : {&without, &with}) {
     if (r->faults > 0) {
-      throw std::runtime_error(fmt::format("{}: {} command(s) refused (EDSP_FAULT in {}): not a measurement of the {}",
+      throw std::runtime_error(fmt::format("{}: {} fault(s) (EDSP_FAULT in {}): not a measurement of the {}",
                                            r == &with ? "the run with the calibration" : "the run without it",
                                            r->faults, r->log_path, r == &with ? "calibration" : "rig"));
     }

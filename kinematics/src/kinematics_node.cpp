@@ -131,6 +131,13 @@ std::string KinematicsNode::DescribeCalibration() const {
 }
 
 bool KinematicsNode::SwitchCalibration(std::optional<calibration::CalibrationModel> next, std::string* why_not) {
+  if (calibration_start_pending_) {
+    // Nothing commanded yet: the new model is the one in force at start,
+    // and it starts from the drives in its turn (none: nothing to start).
+    calibration_start_pending_ = next.has_value();
+    calibration_ = calibration::CalibrationBlend(Compensator(model_, std::move(next)), options_.calibration_blend_us);
+    return true;
+  }
   return calibration_.SwitchTo(Compensator(model_, std::move(next)), why_not);
 }
 

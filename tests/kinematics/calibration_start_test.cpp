@@ -33,9 +33,9 @@ calibration::CalibrationModel Millimetres() {
 }
 
 KinematicsNode MakeNode(std::optional<calibration::CalibrationModel> calibration, bool from_drives = true) {
-  return test_support::CalibratedNode(std::move(calibration), kBlendUs,
-                                      from_drives ? test_support::CalibrationStart::kFromTheDrives
-                                                  : test_support::CalibrationStart::kInForceAtOnce);
+  return test_support::CalibratedNode(
+      std::move(calibration), kBlendUs,
+      from_drives ? test_support::CalibrationStart::kFromTheDrives : test_support::CalibrationStart::kInForceAtOnce);
 }
 
 // Cycle k at home, held: the start of every session.
@@ -106,6 +106,29 @@ TEST(CalibrationStart, DrivesPartwayStartItPartway) {
       << node.DescribeCalibration();
   EXPECT_NE(node.DescribeCalibration().find("(30% of 180 ms)"), std::string::npos)
       << node.DescribeCalibration() << ": 4.5 mm at 25 mm/s";
+}
+
+// A switch before the first command: the model it names is the one that
+// starts from the drives (none: the nominal command at once), never a blend
+// from a model the drives never carried.
+TEST(CalibrationStart, ASwitchBeforeTheFirstCommandStartsFromTheDrivesToo) {
+  KinematicsNode without = MakeNode(std::nullopt);
+  const Vector6 nominal = Command(without, 0);
+  for (const bool off : {true, false}) {
+    KinematicsNode node = MakeNode(Millimetres());
+    node.NoteDrives(DrivesAt(nominal));
+    std::string why_not;
+    ASSERT_TRUE(node.SwitchCalibration(off ? std::nullopt : std::optional(Millimetres()), &why_not)) << why_not;
+    Vector6 previous = Command(node, 0);
+    EXPECT_LT((previous - nominal).cwiseAbs().maxCoeff(), 1e-12) << (off ? "off" : "again");
+    double largest_step = 0.0;
+    for (int k = 1; k < 400; ++k) {
+      const Vector6 now = Command(node, k);
+      largest_step = std::max(largest_step, (now - previous).cwiseAbs().maxCoeff());
+      previous = now;
+    }
+    EXPECT_LT(largest_step, 30e-6) << (off ? "off" : "again") << ": 25 um a cycle at most";
+  }
 }
 
 TEST(CalibrationStart, BeforeAnyReadingOfTheDrivesNothingIsForwarded) {

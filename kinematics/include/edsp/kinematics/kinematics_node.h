@@ -39,8 +39,8 @@ struct KinematicsNodeOptions {
   // A calibration switched live blends over this much setpoint time (not a
   // setting: a test's).
   std::int64_t calibration_blend_us = 1000000;
-  // A calibration in force at start blends in, over calibration_blend_us,
-  // from where the drives hold (their first reading, NoteDrives) rather than
+  // A calibration in force at start blends in, its fastest leg at 5% of the
+  // legs' speed limit, from where the drives hold (their first reading, NoteDrives) rather than
   // stepping the first command by its correction at home, which the bridge
   // refuses as a jump once it is more than a cycle's travel. A setpoint
   // before any reading is then refused. Off for a replay (no drives).

@@ -26,13 +26,14 @@
 #include "edsp/node_status_t.hpp"
 #include "edsp/planner/motion_service.h"
 #include "edsp/pose_setpoint_t.hpp"
+#include "edsp/timing_contract.h"
 #include "edsp/transport/bus.h"
 
 namespace edsp {
 
 // On the host's millisecond grid, phase 0: the bridge ticks a fixed phase
 // after it.
-inline constexpr std::chrono::microseconds kPlannerPeriod{1000};
+inline constexpr std::chrono::microseconds kPlannerPeriod{timing::kCycleUs};
 
 struct PlannerLoopOptions {
   double exit_after_hold_s = -1.0;  // after the launch program, hold this long and stop (< 0: until stopped)

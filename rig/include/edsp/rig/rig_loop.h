@@ -30,7 +30,7 @@ namespace edsp {
 // late. A command is continued by at most the feed-forward lapse, where the bridge stops the
 // feed-forward of a command it has not renewed (timing_contract.h); the
 // drives' watchdog holds them after --drive-watchdog-ms.
-inline constexpr std::chrono::microseconds kRigPeriod{1000};
+inline constexpr std::chrono::microseconds kRigPeriod{timing::kCycleUs};
 inline constexpr std::chrono::microseconds kRigPhase{500};
 inline constexpr double kRigCommandHorizon_s = timing::kFeedForwardLapseS;
 // A wake up to 50 cycles late runs the cycles it missed (the command ring
