@@ -145,10 +145,15 @@ std::string UnexplainedFaultLines(const std::string& log_path, bool count_info) 
   // The bridge's cumulative deadline misses at each of its EDSP_STATUS (1 Hz).
   std::vector<std::pair<std::int64_t, std::int64_t>> bridge_misses;  // utime, misses so far
   std::vector<fault_t> faults;
+  std::int64_t last_setpoint_utime = 0;
   LogReader reader(log_path);
   LogEvent event;
   while (reader.Next(&event)) {
     const int size = static_cast<int>(event.data.size());
+    EdspHeader header;
+    if (event.channel == "EDSP_SETPOINT" && ParseEdspHeader(event.data, &header)) {
+      last_setpoint_utime = std::max(last_setpoint_utime, header.utime);
+    }
     if (event.channel == "EDSP_STATUS") {
       node_status_t st;
       if (st.decode(event.data.data(), 0, size) >= 0 && st.node == "actuator_bridge") {
@@ -175,6 +180,12 @@ std::string UnexplainedFaultLines(const std::string& log_path, bool count_info) 
   std::string lines;
   bool explained_trips = true;  // the "commands again" note goes with its trip
   for (const fault_t& f : faults) {
+    // The planner's program over, the group is stopped member by member: a
+    // bridge still running past its stale limit then holds, as it must, on
+    // a stream that ended (a slow shutdown of the members before it).
+    const bool stream_ended = f.node == "actuator_bridge" && f.code == static_cast<std::int32_t>(FaultCode::kLatched) &&
+                              f.utime > last_setpoint_utime;
+    if (stream_ended) continue;
     const bool watchdog = f.node == "rig" && f.code == static_cast<std::int32_t>(FaultCode::kStale);
     if (watchdog && f.severity != fault_t::SEVERITY_INFO) explained_trips = bridge_stalled_around(f.utime);
     if ((watchdog && explained_trips) || (!count_info && f.severity == fault_t::SEVERITY_INFO)) continue;
