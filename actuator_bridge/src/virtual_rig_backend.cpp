@@ -5,6 +5,8 @@
 #include <cstring>
 #include <thread>
 
+#include <fmt/format.h>
+
 namespace edsp {
 
 VirtualRigBackend::VirtualRigBackend(std::string segment_prefix, mode_t permissions, std::int64_t timeout_us)
@@ -95,7 +97,10 @@ bool VirtualRigBackend::Read(std::int64_t now_utime, DriveFeedback* feedback) {
         last_.status[i] = static_cast<DriveStatus>(f.status[i]);
       }
       last_.utime = f.utime;
-      last_feedback_utime_ = now_utime;
+      heard_ = true;
+      silence_.Heard(now_utime);
+    } else {
+      silence_.Missed(now_utime);
     }
   }
   *feedback = last_;
@@ -103,7 +108,20 @@ bool VirtualRigBackend::Read(std::int64_t now_utime, DriveFeedback* feedback) {
   // others must stop too, which the bridge does for drives it has lost.
   const bool faulted =
       std::any_of(last_.status.begin(), last_.status.end(), [](DriveStatus s) { return s == DriveStatus::kFault; });
-  return !faulted && last_feedback_utime_ >= 0 && now_utime - last_feedback_utime_ <= timeout_us_;
+  return !faulted && heard_ && silence_.silent_us() <= timeout_us_;
+}
+
+std::string VirtualRigBackend::Detail() const {
+  // Worded the same for the whole outage: the bridge reports each new reason once.
+  if (!heard_) return DriveFeedbackSegment(prefix_) + ": no feedback from the drives yet";
+  for (int i = 0; i < 6; ++i) {
+    if (last_.status[i] == DriveStatus::kFault) return fmt::format("drive {} in fault (braked)", i + 1);
+  }
+  if (silence_.silent_us() > timeout_us_) {
+    return fmt::format("{}: no feedback through {:.0f} ms of this bridge's own cycles", DriveFeedbackSegment(prefix_),
+                       static_cast<double>(timeout_us_) * 1e-3);
+  }
+  return "";
 }
 
 }  // namespace edsp

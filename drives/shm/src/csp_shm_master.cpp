@@ -66,7 +66,7 @@ bool CspShmMaster::Connect(std::string* error) {
   }
   feedback_ = std::move(reader.value);
   has_image_ = false;
-  last_latched_utime_ = SteadyUs();
+  silence_.Heard(SteadyUs());
   CspFeedbacks first;
   return TakeLatest(&first, error);
 }
@@ -98,7 +98,7 @@ bool CspShmMaster::TakeLatest(CspFeedbacks* feedback, std::string* error) {
   }
   if (status == TakeStatus::kMessage) {
     for (std::size_t d = 0; d < last_.size(); ++d) last_[d] = image.drives[d];
-    last_latched_utime_ = now;
+    silence_.Heard(now);
     has_image_ = true;
     *feedback = last_;
     return true;
@@ -108,11 +108,12 @@ bool CspShmMaster::TakeLatest(CspFeedbacks* feedback, std::string* error) {
     next_alive_check_utime_ = now + kAliveCheckEveryUs;
     if (!feedback_->WriterAlive()) return DrivesLeft(error);
   }
-  if (now - last_latched_utime_ > response_timeout_us_) {
+  // This master's own pauses are not the drives' silence.
+  if (silence_.Missed(now) > response_timeout_us_) {
     if (!feedback_->WriterAlive()) return DrivesLeft(error);  // killed, rather than silent
-    return Fail(fmt::format("{}: the drives latched nothing for {:.1f} ms (response timeout {:.1f} ms): they are "
-                            "silent",
-                            endpoint(), static_cast<double>(now - last_latched_utime_) * 1e-3,
+    return Fail(fmt::format("{}: the drives latched nothing through {:.1f} ms of this master's exchanges (response "
+                            "timeout {:.1f} ms): they are silent",
+                            endpoint(), static_cast<double>(silence_.silent_us()) * 1e-3,
                             static_cast<double>(response_timeout_us_) * 1e-3),
                 error);
   }

@@ -1,7 +1,8 @@
 #pragma once
 // DriveBackend for drives behind the shared-memory process image (the
 // edsp-rig process today; the same image could front a fieldbus master).
-// Read() reports failure when the drives have been silent for `timeout_us`,
+// Read() reports failure when the bridge has watched the drives stay silent
+// for `timeout_us` (its own pauses not counted: transport/watched_silence.h),
 // or when one reports a fault (it braked: the rig's following-error window).
 // Its drives reset their faults when disabled, so it is never in fault
 // itself: their silence or a drive's fault is the bridge's to latch.
@@ -12,6 +13,7 @@
 #include "edsp/drive_io/backend_lifecycle.h"
 #include "edsp/drive_io/drive_process_image.h"
 #include "edsp/transport/shm_channel.h"
+#include "edsp/transport/watched_silence.h"
 
 namespace edsp {
 
@@ -26,6 +28,7 @@ class VirtualRigBackend final : public DriveBackend {
   bool Read(std::int64_t now_utime, DriveFeedback* feedback) override;
   bool Write(std::int64_t now_utime, const DriveSetpoint& setpoint) override;
   BackendState state() const override { return lifecycle_.state(); }
+  std::string Detail() const override;
 
  private:
   bool Publish(std::int64_t now_utime, const DriveSetpoint& setpoint, bool enable);
@@ -37,7 +40,8 @@ class VirtualRigBackend final : public DriveBackend {
   std::unique_ptr<ShmWriter> commands_;
   std::unique_ptr<ShmReader> feedback_;
   DriveFeedback last_;
-  std::int64_t last_feedback_utime_ = -1;
+  bool heard_ = false;
+  WatchedSilence silence_;
   std::int64_t cycle_ = 0;
 };
 

@@ -12,6 +12,7 @@
 
 #include "edsp/drives/csp_link.h"
 #include "edsp/transport/shm_channel.h"
+#include "edsp/transport/watched_silence.h"
 
 namespace edsp::cia402 {
 
@@ -39,7 +40,7 @@ class CspShmMaster final : public CspLink {
   std::unique_ptr<ShmWriter> commands_;
   std::unique_ptr<ShmReader> feedback_;
   CspFeedbacks last_{};
-  std::int64_t last_latched_utime_ = -1;  // when the newest image was taken (steady clock)
+  WatchedSilence silence_;  // this master's looks since the newest image (steady clock)
   std::int64_t next_alive_check_utime_ = 0;
   bool has_image_ = false;  // an image taken since Connect: last_ is the drives'
 
