@@ -136,8 +136,34 @@ bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utim
   if (std::optional<Refusal> refusal = WhyNotTheseLengths(c, step, &command_m)) {
     return Reject(refusal->code, std::move(refusal->reason), now_utime, fault);
   }
-  Accept(c, command_m, step, now_utime);
+  Accept(c, command_m, CatchAStreamThatWentOn(command_m, step, now_utime), now_utime);
   return true;  // to the drives at the next cycle's write
+}
+
+ActuatorBridge::StepLimit ActuatorBridge::CatchAStreamThatWentOn(const Vector6& command_m, const StepLimit& step,
+                                                                 std::int64_t now_utime) {
+  // Only a stream back after a silence, to drives that say they stood on
+  // their own watchdog meanwhile (drives that went on, or were bridged over
+  // the pause by whoever drives them, follow it as they always do).
+  if (!Moving() || SinceLastCommandUs(now_utime) <= timing::kFeedForwardLapseUs) return step;
+  const bool stood = std::any_of(feedback_.status.begin(), feedback_.status.end(),
+                                 [](DriveStatus s) { return s == DriveStatus::kHolding; });
+  if (!stood) return step;
+  Vector6 drives_m;
+  for (int i = 0; i < kNumLegs; ++i) drives_m(i) = model_.LengthFromMotorAngle(i, feedback_.motor_angle_rad[i]);
+  const double one_cycle_m = options_.max_leg_speed_m_s * static_cast<double>(timing::kCycleUs) * 1e-6;
+  if ((command_m - drives_m).cwiseAbs().maxCoeff() <= one_cycle_m) return step;
+  // Farther than the legs go in a cycle: a step there would be caught by
+  // the servo faster than the legs may go. Rejoin it from where the drives
+  // stand, a rejoin step a cycle.
+  Apply(BridgeEvent::kStreamAhead);
+  for (int i = 0; i < kNumLegs; ++i) {
+    target_.motor_angle_rad[i] = feedback_.motor_angle_rad[i];
+    target_length_m_(i) = drives_m(i);
+  }
+  StepLimit from_the_drives = step;
+  from_the_drives.elapsed_s = static_cast<double>(timing::kCycleUs) * 1e-6;
+  return from_the_drives;
 }
 
 std::optional<ActuatorBridge::Refusal> ActuatorBridge::WhyNotListening(const leg_command_t& c, std::int64_t now_utime) {
@@ -266,6 +292,7 @@ void ActuatorBridge::Accept(const leg_command_t& c, const Vector6& command_m, co
   target_.utime = step.basis_utime;
   target_utime_ = now_utime;
   paused_since_command_ = false;
+  written_since_command_.reset();
   ride_.stop_s = StopTimeS(target_, model_.LengthFromMotorAngle(0, 1.0) - model_.LengthFromMotorAngle(0, 0.0),
                            options_.stop_decel_m_s2);
   last_basis_utime_ = step.basis_utime;
@@ -323,16 +350,28 @@ DriveSetpoint ActuatorBridge::SetpointNow(std::int64_t now_utime) const {
 
 DriveSetpoint ActuatorBridge::RiddenThrough(std::int64_t now_utime) const {
   const std::int64_t silent_us = SinceLastCommandUs(now_utime);
-  // Within the lapse, or after a pause of its own, the command itself under
-  // its own stamp, feed-forward and all: the drives continue it from that
-  // instant as far as they do, and a copy is not a new command to them. (A
-  // copy with the feed-forward dropped would be one: the emulator's drives
-  // would go back to the command's place, transients of 1.4-2.7 mm after
-  // pauses of the whole host.)
-  if (target_.utime == 0 || silent_us <= timing::kFeedForwardLapseUs || paused_since_command_) return target_;
+  if (target_.utime == 0 || silent_us <= timing::kFeedForwardLapseUs) return target_;
+  // After a pause of its own, what the drives were last told, under its own
+  // stamp, feed-forward and all: they continued it from that instant as far
+  // as they do, and a copy is not a new command to them. (A copy with the
+  // feed-forward dropped would be one: the emulator's drives would go back
+  // to the command's place, transients of 1.4-2.7 mm after pauses of the
+  // whole host; and the command itself, once its motion was ridden through,
+  // pulled them back as far: 3 mm on a pulled link.)
+  if (paused_since_command_) return written_since_command_.value_or(target_);
   DriveSetpoint ridden = RideThroughSetpoint(target_, ride_, static_cast<double>(silent_us) * 1e-6);
   KeepWithinStroke(&ridden);
   return ridden;
+}
+
+std::array<double, 6> ActuatorBridge::RestAngles(std::int64_t now_utime) const {
+  if (!paused_since_command_) return RiddenThrough(now_utime).motor_angle_rad;  // the rest of the ramp is the servo's
+  const DriveSetpoint last = written_since_command_.value_or(target_);
+  const bool at_rest = std::all_of(last.motor_velocity_rad_s.begin(), last.motor_velocity_rad_s.end(),
+                                   [](double v) { return v == 0.0; });
+  // A setpoint still moving: the drives went on along it by themselves and
+  // stopped on their own watchdog, wherever their reading now says.
+  return at_rest ? last.motor_angle_rad : feedback_.motor_angle_rad;
 }
 
 void ActuatorBridge::KeepWithinStroke(DriveSetpoint* setpoint) const {
@@ -349,12 +388,11 @@ void ActuatorBridge::KeepWithinStroke(DriveSetpoint* setpoint) const {
 }
 
 void ActuatorBridge::HoldAtRest(std::int64_t now_utime) {
-  // Where the late command's motion was brought to rest (or is on its way
-  // to: the rest of the ramp is the servo's), not back at the command.
-  const DriveSetpoint stopped = RiddenThrough(now_utime);
+  // Where the late command's motion comes to rest, never back at the command.
+  const std::array<double, 6> rest = RestAngles(now_utime);
   for (int i = 0; i < kNumLegs; ++i) {
-    target_.motor_angle_rad[i] = stopped.motor_angle_rad[i];
-    target_length_m_(i) = model_.LengthFromMotorAngle(i, stopped.motor_angle_rad[i]);
+    target_.motor_angle_rad[i] = rest[i];
+    target_length_m_(i) = model_.LengthFromMotorAngle(i, rest[i]);
   }
   target_.motor_velocity_rad_s.fill(0.0);
   target_.utime = 0;
@@ -399,7 +437,9 @@ bool ActuatorBridge::Cycle(std::int64_t now_utime, leg_state_t* state, fault_t* 
   }
   if (!read_ok && backend_ok_) raised = LoseDrives(now_utime, fault);  // this cycle writes at rest
   // The write phase: the cycle's one setpoint.
-  const bool write_ok = backend_->Write(now_utime, SetpointNow(now_utime));
+  const DriveSetpoint setpoint = SetpointNow(now_utime);
+  const bool write_ok = backend_->Write(now_utime, setpoint);
+  if (Moving()) written_since_command_ = setpoint;
   if (read_ok && !write_ok && backend_ok_) raised = LoseDrives(now_utime, fault);  // at rest from the next write
   const bool backend_ok = read_ok && write_ok;
   if (backend_ok && !backend_ok_ && !raised) {

@@ -53,6 +53,12 @@ BridgeTransition NextBridgeState(BridgeState state, BridgeEvent event) {
     case BridgeEvent::kStale:
     case BridgeEvent::kDrivesLost: return OnStaleOrDrivesLost(state, event);
     case BridgeEvent::kRearm: return OnRearm(state);
+    // A moving bridge catches a stream that went on without its drives at the
+    // rejoin speed, as after a re-arm, rather than by a step (no latch: every
+    // command stayed valid).
+    case BridgeEvent::kStreamAhead:
+      return state == BridgeState::kFollowing || state == BridgeState::kRejoining ? To(BridgeState::kRejoining)
+                                                                                  : kRefused;
   }
   return kRefused;
 }
@@ -81,6 +87,7 @@ const char* BridgeEventName(BridgeEvent event) {
     case BridgeEvent::kStale: return "stale";
     case BridgeEvent::kDrivesLost: return "drives lost";
     case BridgeEvent::kRearm: return "re-arm";
+    case BridgeEvent::kStreamAhead: return "stream ahead";
   }
   return "?";
 }

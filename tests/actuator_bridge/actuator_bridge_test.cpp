@@ -528,6 +528,86 @@ TEST(ActuatorBridge, AfterItsOwnPauseItWritesTheLastCommandAsItWas) {
   EXPECT_EQ(f.backend.written.utime, t + 28000);
 }
 
+// Commands stopped and the motion is being ridden through when the bridge
+// itself pauses 10 ms: the drives went on along what they were last told
+// and stopped on their own watchdog. The bridge repeats that setpoint as it
+// was, never the command behind it, and its stale hold holds the drives
+// where they stopped (a pulled link did this and the platform rose 3 mm
+// back to the command).
+TEST(ActuatorBridge, APauseOfItsOwnDuringARideThroughNeverPullsTheDrivesBack) {
+  Fixture f;
+  fault_t fault;
+  leg_state_t state;
+  std::int64_t t = kStart;
+  MoveUp(f, &t, 1e-4, 5);  // 0.1 m/s up; the last command at t - 1000
+  const Vector6 command = WrittenLengths(f);
+  for (int k = 0; k < 15; ++k, t += 1000) f.bridge.Cycle(t, &state, &fault);  // riding through
+  const DriveSetpoint ridden = f.backend.written;
+  const std::int64_t last_cycle = t - 1000;
+  const Vector6 ridden_m = WrittenLengths(f);
+  ASSERT_GT((ridden_m - command).minCoeff(), 1e-3 * 0.1);  // a millimetre's tenth past the command
+  // The drives continue it 4 ms by themselves, then hold (the rig's watchdog).
+  std::array<double, 6> stopped{};
+  for (int i = 0; i < kNumLegs; ++i) stopped[i] = ridden.motor_angle_rad[i] + ridden.motor_velocity_rad_s[i] * 4e-3;
+  f.backend.stopped_at = stopped;
+  t = last_cycle + 10000;  // the pause
+  const Vector6 up = (ridden_m - command).cwiseSign();
+  bool held = false;
+  for (; t < last_cycle + 80000; t += 1000) {
+    held = f.bridge.Cycle(t, &state, &fault) || held;
+    if (f.bridge.holding()) break;
+    EXPECT_EQ(f.backend.written.motor_angle_rad, ridden.motor_angle_rad) << "at " << t - last_cycle << " us";
+    EXPECT_EQ(f.backend.written.motor_velocity_rad_s, ridden.motor_velocity_rad_s);
+    EXPECT_EQ(f.backend.written.utime, ridden.utime);
+  }
+  ASSERT_TRUE(held) << "no stale hold";
+  EXPECT_EQ(f.backend.written.motor_angle_rad, stopped);  // held where they stopped
+  for (double v : f.backend.written.motor_velocity_rad_s) EXPECT_EQ(v, 0.0);
+  EXPECT_GT((WrittenLengths(f) - ridden_m).cwiseProduct(up).minCoeff(), 0.0);  // on from the ride, never back
+}
+
+// The whole host stood 39 ms mid-motion, the bridge with it: the drives
+// stopped on their watchdog 4 ms on while the planner's time ran on, and its
+// stream comes back 3.9 mm ahead. Passed on as it came, the servo caught it
+// at 0.7 m/s (a multi-host run); the bridge rejoins it from where the drives
+// stand at the rejoin speed instead, and follows it again once caught.
+TEST(ActuatorBridge, AStreamThatWentOnWithoutTheDrivesIsRejoinedNotStepped) {
+  Fixture f;
+  fault_t fault;
+  leg_state_t state;
+  std::int64_t t = kStart;
+  MoveUp(f, &t, 1e-4, 5);  // 0.1 m/s up; the last command, dz 0.5 mm, at t - 1000
+  const DriveSetpoint last = f.backend.written;
+  std::array<double, 6> stood{};
+  for (int i = 0; i < kNumLegs; ++i) stood[i] = last.motor_angle_rad[i] + last.motor_velocity_rad_s[i] * 4e-3;
+  f.backend.stopped_at = stood;
+  f.backend.status.fill(DriveStatus::kHolding);  // as the rig emulator's drives say
+  const std::int64_t back = t - 1000 + 39000;
+  f.bridge.Cycle(back, &state, &fault);  // its first cycle after the stall reads where they stood
+  const double rejoin_step_m = Fixture::Options().rejoin_speed_m_s * 1e-3;
+  Vector6 told;  // from where they stood
+  for (int i = 0; i < kNumLegs; ++i) told(i) = f.model.LengthFromMotorAngle(i, stood[i]);
+  int k = 0;
+  for (; k < 400; ++k) {  // the stream goes on 30 ms more, then holds its last pose
+    const double dz = 1e-4 * 5 + 1e-4 * (39 + std::min(k, 30));
+    const std::int64_t now = back + 1000 * k + 300;
+    ASSERT_TRUE(f.bridge.HandleCommand(f.Command(dz, now, 6 + k), now, &fault)) << k << ": " << fault.reason;
+    if (k == 0) {
+      EXPECT_TRUE(f.bridge.rejoining());
+    }
+    f.backend.stopped_at.reset();  // following what they are told from here
+    f.backend.status.fill(DriveStatus::kEnabled);
+    f.bridge.Cycle(back + 1000 * (k + 1), &state, &fault);
+    const Vector6 now_told = WrittenLengths(f);
+    EXPECT_LE((now_told - told).cwiseAbs().maxCoeff(), rejoin_step_m + 1e-9) << "cycle " << k;
+    told = now_told;
+    if (!f.bridge.rejoining()) break;
+  }
+  EXPECT_FALSE(f.bridge.rejoining()) << "never caught the stream";
+  EXPECT_FALSE(f.bridge.holding());
+  EXPECT_FALSE(f.bridge.latched());
+}
+
 TEST(ActuatorBridge, WhileRejoiningAJumpInTheStreamIsStillRefused) {
   Fixture f;
   fault_t fault;

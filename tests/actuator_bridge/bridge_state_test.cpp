@@ -21,7 +21,8 @@ using S = BridgeState;
 using E = BridgeEvent;
 
 constexpr std::array<S, 5> kStates{S::kStartupHold, S::kFollowing, S::kLatched, S::kArmed, S::kRejoining};
-constexpr std::array<E, 5> kEvents{E::kCommandAccepted, E::kCaughtUp, E::kStale, E::kDrivesLost, E::kRearm};
+constexpr std::array<E, 6> kEvents{E::kCommandAccepted, E::kCaughtUp, E::kStale,
+                                   E::kDrivesLost,      E::kRearm,    E::kStreamAhead};
 
 struct Expected {
   S from;
@@ -58,6 +59,11 @@ constexpr Expected kSpec[] = {
     {S::kRejoining, E::kStale, true, S::kLatched},
     {S::kRejoining, E::kDrivesLost, true, S::kLatched},
     {S::kRejoining, E::kRearm, true, S::kRejoining},
+    {S::kStartupHold, E::kStreamAhead, false, S::kStartupHold},  // holding: no stream to catch
+    {S::kFollowing, E::kStreamAhead, true, S::kRejoining},
+    {S::kLatched, E::kStreamAhead, false, S::kStartupHold},
+    {S::kArmed, E::kStreamAhead, false, S::kStartupHold},
+    {S::kRejoining, E::kStreamAhead, true, S::kRejoining},
 };
 
 TEST(BridgeState, EveryPairOfStateAndEventIsAsSpecified) {

@@ -29,8 +29,7 @@ TEST(WatchedSilence, TheReadersOwnPauseCountsOneLapseAtMost) {
   EXPECT_EQ(silence.Missed(kStartUs + timing::kCycleUs), timing::kCycleUs);
   EXPECT_EQ(silence.Missed(kStartUs + timing::kCycleUs + 49'000), timing::kCycleUs + timing::kFeedForwardLapseUs);
   // A reader that keeps its time from there counts again at the wall's rate.
-  EXPECT_EQ(silence.Missed(kStartUs + timing::kCycleUs + 50'000),
-            2 * timing::kCycleUs + timing::kFeedForwardLapseUs);
+  EXPECT_EQ(silence.Missed(kStartUs + timing::kCycleUs + 50'000), 2 * timing::kCycleUs + timing::kFeedForwardLapseUs);
 }
 
 TEST(WatchedSilence, ASourceSilentThroughAStarvedReaderIsStillFoundSilent) {

@@ -6,6 +6,7 @@
 // valid position and stays latched there until explicitly re-armed.
 
 #include <cstdint>
+#include <array>
 #include <optional>
 #include <set>
 #include <string>
@@ -114,6 +115,10 @@ class ActuatorBridge {
   std::optional<Refusal> WhyNotTheseLengths(const leg_command_t& c, const StepLimit& step, Vector6* command_m) const;
   // The command becomes the drives' target (while rejoining, a step towards it).
   void Accept(const leg_command_t& c, const Vector6& command_m, const StepLimit& step, std::int64_t now_utime);
+  // A stream back after a silence, farther than a cycle's travel from
+  // drives that stood on their watchdog meanwhile, is rejoined from where
+  // they stand; the step limit the rejoin takes.
+  StepLimit CatchAStreamThatWentOn(const Vector6& command_m, const StepLimit& step, std::int64_t now_utime);
   // The target this command allows: itself, or while rejoining a bounded
   // step towards it. Ends the rejoin once the stream is within one rejoin step
   // (a stream moving faster than the rejoin speed is caught when it slows).
@@ -127,10 +132,14 @@ class ActuatorBridge {
   std::int64_t SinceLastCommandUs(std::int64_t now_utime) const {
     return target_utime_ ? now_utime - *target_utime_ : 0;
   }
-  // What this cycle writes: the target, or while commands are late (and
-  // this bridge has not paused since the last) its motion ridden through.
+  // What this cycle writes: the target, or while commands are late its
+  // motion ridden through (after a pause of this bridge's own since the
+  // last command: what it last wrote, as it was).
   DriveSetpoint SetpointNow(std::int64_t now_utime) const;
   DriveSetpoint RiddenThrough(std::int64_t now_utime) const;  // the last command, continued or slowed
+  // Where the drives come to rest on the motion under way: the ride-through's
+  // end, or after a pause of this bridge, where they stopped by themselves.
+  std::array<double, 6> RestAngles(std::int64_t now_utime) const;
   void KeepWithinStroke(DriveSetpoint* setpoint) const;
   void NoteOwnPause(std::int64_t now_utime);                // a cycle of this bridge too late
   void HoldAtRest(std::int64_t now_utime);                  // where the last valid command was brought to rest
@@ -151,6 +160,9 @@ class ActuatorBridge {
   std::optional<std::int64_t> target_utime_;  // receipt time of the last valid command
   std::int64_t last_cycle_utime_ = -1;
   bool paused_since_command_ = false;  // this bridge itself, since the last valid command
+  // What the drives were last told since the last valid command (its own
+  // setpoint, or the motion ridden through): a pause of this bridge repeats it.
+  std::optional<DriveSetpoint> written_since_command_;
   RideThrough ride_;                   // how the last valid command is brought to rest
   std::int64_t last_basis_utime_ = 0;  // its planner time (setpoint_utime)
   std::int64_t last_command_seq_ = 0;

@@ -11,6 +11,7 @@
 //     kArmed ◀─────────── re-arm ───────── kLatched ◀── stale, ── kRejoining
 //      │  └──────────── drives lost ──────────▲       drives lost    ▲
 //      └──────────────── command (from anywhere) ────────────────────┘
+//   following ── stream ahead (after a silence, more than a cycle away) ──▶ rejoining
 //
 // Drive health is an input, not a state: while the drives do not answer,
 // every command is refused in every state; losing them latches a bridge that
@@ -34,6 +35,7 @@ enum class BridgeEvent : std::uint8_t {
   kStale,            // no valid command for the stale limit (or this process starved as long)
   kDrivesLost,       // the drives stopped answering or left operation
   kRearm,            // an operator's EDSP_ARM (drives already reset)
+  kStreamAhead,      // the stream came back farther from the drives than they go in a cycle
 };
 
 struct BridgeTransition {
