@@ -3,6 +3,7 @@
 // LCM (never shm: the launcher is no member of the routes), as node
 // "launcher", or "launcher@<host>" for one host's members (one per host).
 
+#include <chrono>
 #include <cstdint>
 #include <string>
 
@@ -23,6 +24,10 @@ class GroupReport {
   // EDSP_STATUS once a second, and at once when health changes; `healthy`:
   // no member frozen or waiting to restart.
   void Tick(bool healthy);
+  // The time from one watch step's start to the next's (10 ms when on
+  // time): EDSP_STATUS's loop_*_us for the launcher, so a report that came
+  // late says how late the launcher itself ran.
+  void RecordStepInterval(std::chrono::nanoseconds interval) { status_.RecordLoop(interval); }
 
  private:
   std::string node_;

@@ -147,7 +147,11 @@ int GroupSupervisor::Run(std::chrono::duration<double> duration, const std::func
                static_cast<long long>(options_.session_id), members_.size());
   StartAll(stop);
   const auto started = Clock::now();
+  auto last_step = started;
   for (;;) {
+    const auto step_start = Clock::now();
+    report_.RecordStepInterval(step_start - last_step);
+    last_step = step_start;
     const bool go_on = Step();
     if (!go_on || stop()) break;
     if (duration.count() > 0.0 && Clock::now() - started >= duration) break;
