@@ -201,13 +201,13 @@ void ClassifyAppliedPr(const PlatformModel& model, const std::vector<calibration
   d->applied_pr_ratio = pp > 0.0 ? cp / pp : 0.0;
   const double misfit = cc - 2.0 * d->applied_pr_ratio * cp + d->applied_pr_ratio * d->applied_pr_ratio * pp;
   if (cc <= 1e-6 * std::max(pp, 1e-30))
-    d->applied_pr = "none";
+    d->applied_pr = PrMode::kNone;
   else if (misfit <= 1e-4 * cc && std::abs(d->applied_pr_ratio - 1.0) < 1e-3)
-    d->applied_pr = "signed";
+    d->applied_pr = PrMode::kSigned;
   else if (unsigned_misfit <= 1e-4 * cc)
-    d->applied_pr = "unsigned";  // the paper's Eq. (9)
+    d->applied_pr = PrMode::kUnsigned;  // the paper's Eq. (9)
   else
-    d->applied_pr = "other";
+    d->applied_pr = std::nullopt;
 }
 
 // Pass 2: the frame estimate, then the linear columns around it.
@@ -245,5 +245,7 @@ Design BuildDesign(const PlatformModel& model, const MeasurementData& data, cons
   FillColumns(model, samples, &d);
   return d;
 }
+
+const char* AppliedPrName(const std::optional<PrMode>& applied) { return applied ? PrModeName(*applied) : "other"; }
 
 }  // namespace edsp::gap

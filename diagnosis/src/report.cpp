@@ -65,16 +65,16 @@ nlohmann::json Compensation(const Diagnosis& d) {
     const double scale = r.theta(0) + (1.0 + r.theta(1)) * d.applied_pr_ratio;
     nlohmann::json c = {{"pr_mode", "signed"},
                         {"pr_scale", scale},
-                        {"applied", d.applied_pr},
+                        {"applied", AppliedPrName(d.applied_pr)},
                         {"applied_ratio_to_signed", d.applied_pr_ratio}};
     c["note"] = fmt::format(
         "the screws follow {:.3f} × the signed PR model (pr_sign × lead relative to the config); "
         "the data's controller applied '{}' compensation: run PR mode signed{}",
-        scale, d.applied_pr,
+        scale, AppliedPrName(d.applied_pr),
         std::abs(scale - 1.0) > 0.02 ? fmt::format(" with pr_sign·lead scaled by {:.3f}", scale) : "");
     return c;
   }
-  return {{"pr_mode", d.applied_pr == "other" ? "unchanged" : d.applied_pr}, {"note", "no PR change indicated"}};
+  return {{"pr_mode", d.applied_pr ? PrModeName(*d.applied_pr) : "unchanged"}, {"note", "no PR change indicated"}};
 }
 
 // Without encoders: whether the servo_lag found is one a clock offset

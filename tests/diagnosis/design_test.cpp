@@ -102,15 +102,15 @@ TEST(Design, TrackerFrameIsEstimatedAndExactDataLeavesNoResidual) {
   EXPECT_LT((d.R0 - RotationFromRpy(X_TB.rpy_rad)).norm(), 1e-9);
   EXPECT_LT((d.t0 - X_TB.p_BoMo_B).norm(), 1e-9);
   EXPECT_LT(d.residual.cwiseAbs().maxCoeff(), 1e-9);
-  EXPECT_EQ(d.applied_pr, "signed");
+  EXPECT_EQ(d.applied_pr, PrMode::kSigned);
   EXPECT_EQ(d.run_samples.size(), 3u);
 }
 
 TEST(Design, AppliedCompensationIsRecognised) {
   const PlatformModel model = Model();
-  EXPECT_EQ(BuildDesign(model, ExactData(model, Pose{}, 30, PrMode::kNone)).applied_pr, "none");
+  EXPECT_EQ(BuildDesign(model, ExactData(model, Pose{}, 30, PrMode::kNone)).applied_pr, PrMode::kNone);
   const Design unsigned_pr = BuildDesign(model, ExactData(model, Pose{}, 30, PrMode::kUnsigned));
-  EXPECT_EQ(unsigned_pr.applied_pr, "unsigned");
+  EXPECT_EQ(unsigned_pr.applied_pr, PrMode::kUnsigned);
 }
 
 TEST(Design, BacklashBasisFollowsThePlayOperatorHomedExtending) {

@@ -254,7 +254,7 @@ TEST(Diagnose, ThePapersUnsignedCompensationIsPassiveRotationAndSignedClosesIt) 
   ASSERT_FALSE(d.effects.empty());
   EXPECT_EQ(d.effects.front().effect, Effect::kPassiveRotation);
   EXPECT_EQ(d.effects.front().verdict, Verdict::kIdentified);
-  EXPECT_EQ(d.applied_pr, "unsigned");
+  EXPECT_EQ(d.applied_pr, PrMode::kUnsigned);
   const nlohmann::json j = ToJson(d);
   EXPECT_EQ(j["compensation"]["pr_mode"], "signed");
   EXPECT_NEAR(j["compensation"]["pr_scale"].get<double>(), 1.0, 0.02);

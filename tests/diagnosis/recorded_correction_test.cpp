@@ -179,8 +179,8 @@ TEST(RecordedCorrection, AgainstTheNominalModelACalibratedSessionShowsTheWholeRi
   EXPECT_EQ(nominal.against, Against::kNominal);
   EXPECT_EQ(left.against, Against::kCalibration);
   // The PR compensation the data shows is the PR's alone in both readings.
-  EXPECT_EQ(nominal.applied_pr, "signed");
-  EXPECT_EQ(left.applied_pr, "signed");
+  EXPECT_EQ(nominal.applied_pr, PrMode::kSigned);
+  EXPECT_EQ(left.applied_pr, PrMode::kSigned);
 }
 
 // Calibrating twice converges: a second calibration diagnosed on data

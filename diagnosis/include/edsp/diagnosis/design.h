@@ -9,6 +9,7 @@
 // Rows are stored grouped by run (each run a contiguous block).
 
 #include <array>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -16,6 +17,7 @@
 #include "edsp/diagnosis/effects.h"
 #include "edsp/diagnosis/measurement_data.h"
 #include "edsp/kinematics/leg_error_model.h"
+#include "edsp/kinematics/passive_rotation.h"
 #include "edsp/kinematics/platform_model.h"
 
 namespace edsp::gap {
@@ -58,7 +60,7 @@ struct Design {
   // The PR compensation the data's controller applied (IK length − command)
   // against the signed PR model: least-squares ratio κ, and a name for it.
   double applied_pr_ratio = 0.0;
-  std::string applied_pr = "none";  // none | signed | unsigned | other
+  std::optional<PrMode> applied_pr = PrMode::kNone;  // none of edsp's modes: nullopt
 
   // Frame estimate the residual is taken around: point = R0·A + t0.
   Matrix3 R0 = Matrix3::Identity();
@@ -68,6 +70,9 @@ struct Design {
   int parameters() const { return static_cast<int>(columns.cols()); }
   const ColumnRange& Of(Effect e) const { return effect[static_cast<std::size_t>(e)]; }
 };
+
+// The applied compensation's name in reports: a PR mode's, or "other".
+const char* AppliedPrName(const std::optional<PrMode>& applied);
 
 // Throws MeasurementError if a commanded pose is outside what the model can
 // solve (names the run and time).

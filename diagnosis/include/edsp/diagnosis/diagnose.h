@@ -160,8 +160,8 @@ struct Diagnosis {
   ClockOffsetCheck clock_offset;  //   a lag that may be the clock's, and a lag the encoders miss
   std::string unexplained_note;
   std::vector<SampleGap> series;
-  TimeOffset time_offset;  // the tracker's clock, a nuisance (time_offset.h)
-  std::string applied_pr;  // the compensation found in the data: none | signed | unsigned | other
+  TimeOffset time_offset;            // the tracker's clock, a nuisance (time_offset.h)
+  std::optional<PrMode> applied_pr;  // the compensation found in the data (nullopt: another)
   double applied_pr_ratio = 0.0;
   RobustFitSummary robust;
   double condition_number = 0.0;  // of the selected model's column-scaled Jacobian
