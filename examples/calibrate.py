@@ -73,8 +73,13 @@ def measure(rig: edsp.Platform, motions: str, log: str, attempts: int = 3) -> st
     machine, no real-time priority) latches the bridge: the legs hold and the
     run measured a platform that stood. Such a recording is thrown away, the
     bridge re-armed, and once the platform has rejoined and finished what ran
-    the motions run again, as an operator would."""
+    the motions run again, as an operator would. So is a bridge that latched
+    while the platform stood (the machine stalled meanwhile, by the
+    diagnosis' own load on a slow machine, say): re-armed before the run."""
     for attempt in range(1, attempts + 1):
+        if rig.status()["state"] == "fault":
+            print(f"  {motions}: the bridge held while the platform stood; re-arming")
+            recover(rig)
         with rig.recorder() as recording:
             try:
                 rig.run(motions=motions, timeout_s=600)
