@@ -355,9 +355,8 @@ DriveSetpoint ActuatorBridge::RiddenThrough(std::int64_t now_utime) const {
   // stamp, feed-forward and all: they continued it from that instant as far
   // as they do, and a copy is not a new command to them. (A copy with the
   // feed-forward dropped would be one: the emulator's drives would go back
-  // to the command's place, transients of 1.4-2.7 mm after pauses of the
-  // whole host; and the command itself, once its motion was ridden through,
-  // pulled them back as far: 3 mm on a pulled link.)
+  // to the command's place after pauses of the whole host; and the command
+  // itself, once its motion was ridden through, pulled them back as far.)
   if (paused_since_command_) return written_since_command_.value_or(target_);
   DriveSetpoint ridden = RideThroughSetpoint(target_, ride_, static_cast<double>(silent_us) * 1e-6);
   KeepWithinStroke(&ridden);
