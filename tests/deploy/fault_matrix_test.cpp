@@ -573,9 +573,8 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
     // From when the kernel had stopped or reaped-to-zombie the member: the
     // launcher cannot see it earlier.
     // Late by the group's 1 kHz loops, or by the launcher's own watch steps
-    // (its first status from its report on: a launcher starved by the
-    // sanitized nodes at half speed reported a kill 111 ms on, its loops
-    // 15 ms late).
+    // (its first status from its report on): the sanitized nodes on a slow
+    // machine starve the launcher longer than their own loops run late.
     EXPECT_LT(*a.launcher_report_utime - std::max(t.fault_utime, t.taken_effect_utime),
               50000 + std::max(late_us, a.launcher_late_us))
         << "the launcher's steps ran late by " << a.launcher_late_us / 1000 << " ms at most";
@@ -655,10 +654,9 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
       // 0.5 s of the group's ~5 000 packets a second overflow the socket and
       // LCM's receive ring when the logger thaws: lost, but counted and
       // reported (EDSP_STATUS drops), never more than the freeze.
-      // Within the freeze's window; a logger that cannot keep up drops
-      // some all along (a sanitized one at half speed lost 330 samples
-      // outside the freeze of a 9 s run), so the window may lose that many
-      // more at the rate it lost them outside.
+      // Within the freeze's window; a logger that cannot keep up (sanitized,
+      // on a slow machine) drops some all along, so the window may lose as
+      // many more as it lost outside it at the same rate.
       const std::int64_t frozen_ms = (t.end_utime - t.fault_utime + late_us) / 1000;
       const std::int64_t ordinary = OrdinaryLossInWindow(a, t);
       EXPECT_LT(a.tracker_gaps_in_window, frozen_ms + 100 + ordinary)
