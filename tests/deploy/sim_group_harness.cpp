@@ -179,6 +179,7 @@ std::string UnexplainedFaultLines(const std::string& log_path, bool count_info) 
   };
   std::string lines;
   bool explained_trips = true;  // the "commands again" note goes with its trip
+  bool tripped = false;         // a rejoin follows a hold: a drive trip or a stale stream
   for (const fault_t& f : faults) {
     // The planner's program over, the group is stopped member by member: a
     // bridge still running past its stale limit then holds, as it must, on
@@ -187,8 +188,17 @@ std::string UnexplainedFaultLines(const std::string& log_path, bool count_info) 
                               f.utime > last_setpoint_utime;
     if (stream_ended) continue;
     const bool watchdog = f.node == "rig" && f.code == static_cast<std::int32_t>(FaultCode::kStale);
-    if (watchdog && f.severity != fault_t::SEVERITY_INFO) explained_trips = bridge_stalled_around(f.utime);
-    if ((watchdog && explained_trips) || (!count_info && f.severity == fault_t::SEVERITY_INFO)) continue;
+    if (watchdog && f.severity != fault_t::SEVERITY_INFO) {
+      explained_trips = bridge_stalled_around(f.utime);
+      tripped = true;
+    }
+    // The bridge following the stream again after the drives held (or after
+    // its own stale hold) is the end of that trip, explained with it.
+    const bool rejoin = f.node == "actuator_bridge" && f.code == static_cast<std::int32_t>(FaultCode::kStale) &&
+                        f.severity == fault_t::SEVERITY_INFO;
+    const bool explained_rejoin = rejoin && ((tripped && explained_trips) || bridge_stalled_around(f.utime));
+    if ((watchdog && explained_trips) || explained_rejoin) continue;
+    if (!count_info && f.severity == fault_t::SEVERITY_INFO) continue;
     lines += fmt::format("{} {} {} code {}: {}\n", f.utime, f.node, f.channel, f.code, f.reason);
   }
   return lines;
