@@ -13,7 +13,6 @@ namespace edsp::blind {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kGravity = 9.81;
 
 double Wrap(double angle) { return std::remainder(angle, 2.0 * kPi); }

@@ -12,8 +12,6 @@ namespace edsp::blind {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 class Draw {
  public:
   explicit Draw(std::uint64_t seed) : rng_(seed) {}

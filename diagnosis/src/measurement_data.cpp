@@ -45,7 +45,7 @@ std::string Trim(const std::string& s) {
 }
 
 // Column indices of the §3 columns in this file's header.
-struct Columns {
+struct CsvColumns {
   int time = -1, run = -1;
   int pose[6] = {}, leg_cmd[6] = {}, leg_enc[6] = {-1, -1, -1, -1, -1, -1}, point[3] = {};
   bool has_encoder = false;
@@ -55,7 +55,8 @@ struct Columns {
 
 // leg_corr_1_m … leg_corr_6_m: all six or none (a correction of some legs
 // only would be read as zero on the others, a wrong nominal residual).
-void FindCorrectionColumns(const std::map<std::string, int>& index, const std::string& origin, int line, Columns* c) {
+void FindCorrectionColumns(const std::map<std::string, int>& index, const std::string& origin, int line,
+                           CsvColumns* c) {
   int found = 0;
   for (int k = 0; k < 6; ++k) {
     const auto it = index.find(fmt::format("leg_corr_{}_m", k + 1));
@@ -71,7 +72,7 @@ void FindCorrectionColumns(const std::map<std::string, int>& index, const std::s
   }
 }
 
-Columns FindColumns(const std::vector<Field>& header, const std::string& origin, int line) {
+CsvColumns FindColumns(const std::vector<Field>& header, const std::string& origin, int line) {
   std::map<std::string, int> index;
   for (std::size_t k = 0; k < header.size(); ++k) index[Trim(header[k].text)] = static_cast<int>(k);
   auto required = [&](const std::string& name) {
@@ -81,7 +82,7 @@ Columns FindColumns(const std::vector<Field>& header, const std::string& origin,
     }
     return it->second;
   };
-  Columns c;
+  CsvColumns c;
   c.time = required("time_s");
   c.run = required("run");
   const char* pose_names[6] = {"pose_cmd_x_m",      "pose_cmd_y_m",       "pose_cmd_z_m",
@@ -169,7 +170,7 @@ bool FlaggedTimingEvent(const RowParser& p, int column) {
 
 // A row's correction: six numbers, or six empty cells (none); a row with
 // some would leave the others' at zero, a wrong nominal residual.
-void ReadCorrection(const RowParser& p, const Columns& columns, MeasurementRow* row) {
+void ReadCorrection(const RowParser& p, const CsvColumns& columns, MeasurementRow* row) {
   int given = 0;
   for (int k = 0; k < 6; ++k) {
     double c = 0.0;
@@ -195,7 +196,7 @@ MeasurementData ParseMeasurementCsv(const std::string& text, const std::string& 
   std::istringstream in(text);
   std::string line;
   int line_number = 0;
-  Columns columns;
+  CsvColumns columns;
   bool have_header = false;
   std::map<std::string, int> run_index;
   std::map<int, double> last_time;

@@ -9,8 +9,6 @@ namespace edsp::gap {
 
 namespace {
 
-constexpr double kTwoPi = 6.283185307179586;
-
 // The mode's response at unit gain (structural_mode.h) at every sample, in
 // the order of the design's samples and carried from run to run as the
 // leg-error model's is (design.cpp), so that these columns are the

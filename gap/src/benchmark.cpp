@@ -20,18 +20,11 @@
 #include "edsp/diagnosis/report.h"
 #include "edsp/kinematics/config.h"
 #include "edsp/sim/offline_run.h"
+#include "draws.h"
 
 namespace edsp::gap {
 
 namespace {
-
-using Rng = std::mt19937_64;
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
 
 void Progress(const BenchmarkOptions& o, int done, int total, const std::string& what) {
   if (!o.progress) return;

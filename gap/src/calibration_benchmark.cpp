@@ -24,16 +24,11 @@
 #include "edsp/kinematics/config.h"
 #include "edsp/rig/payload_rating.h"
 #include "edsp/sim/offline_run.h"
+#include "draws.h"
 
 namespace edsp::gap {
 
 namespace {
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
 
 // The benchmark's motions (benchmark.cpp): five stops, half a second at
 // each, a quarter metre and half a radian per second at most.

@@ -18,14 +18,11 @@
 #include "edsp/kinematics/config.h"
 #include "edsp/rig/payload_rating.h"
 #include "edsp/sim/offline_run.h"
+#include "draws.h"
 
 namespace edsp::gap {
 
 namespace {
-
-using Rng = std::mt19937_64;
-
-double Uniform(Rng& rng, double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
 
 OfflineRunOptions SessionRun(const DriftBenchmarkOptions& o, Rng& rng, std::uint64_t seed) {
   OfflineRunOptions run;

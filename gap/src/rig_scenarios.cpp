@@ -1,4 +1,5 @@
 #include "edsp/gap/rig_scenarios.h"
+#include "draws.h"
 
 #include <algorithm>
 #include <array>
@@ -10,9 +11,6 @@ namespace edsp::gap {
 
 namespace {
 
-using Rng = std::mt19937_64;
-
-double Uniform(Rng& rng, double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
 double Signed(Rng& rng, double lo, double hi) { return Uniform(rng, lo, hi) * (Uniform(rng, 0, 1) < 0.5 ? -1 : 1); }
 
 // A wrong PR compensation in the controller, or screws whose PR is not the model's.

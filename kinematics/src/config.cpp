@@ -15,8 +15,6 @@ namespace edsp {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 void ReadGeometry(const SectionReader& s, const std::string& origin, PlatformConfig* config) {
   s.RejectUnknownKeys({"preset", "home_height_m", "base_joints_m", "platform_joints_m", "base_axes", "platform_axes"});
   config->preset = s.String("preset", "");

@@ -11,8 +11,6 @@ namespace edsp {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 double Deg(double degrees) { return degrees * kPi / 180.0; }
 
 Vector3 OnCircle(double radius_m, double angle_rad) {

@@ -12,8 +12,6 @@ namespace edsp::calibration {
 
 namespace {
 
-constexpr double kTwoPi = 6.283185307179586;
-
 Eigen::Matrix<double, 6, 4> LoadColumns(const PlatformModel& model, const Pose& pose, const Vector3& accel,
                                         const LegErrorOptions& o) {
   const Vector3 coms[4] = {Vector3::Zero(), Vector3::UnitX(), Vector3::UnitY(), Vector3::UnitZ()};

@@ -6,10 +6,6 @@
 
 namespace edsp {
 
-namespace {
-constexpr double kPi = 3.14159265358979323846;
-}
-
 const char* PrModeName(PrMode mode) {
   switch (mode) {
     case PrMode::kNone: return "none";

@@ -5,10 +5,6 @@
 
 namespace edsp {
 
-namespace {
-constexpr double kTwoPi = 2.0 * 3.14159265358979323846;
-}
-
 PlatformModel::PlatformModel(PlatformConfig config) : config_(std::move(config)) {
   home_pose_.p_BoMo_B = Vector3(0.0, 0.0, config_.geometry.home_height_m);
   const LegSolution home = Solve(home_pose_);

@@ -7,7 +7,6 @@
 namespace edsp {
 
 namespace {
-constexpr double kTwoPi = 6.283185307179586;
 // Integration steps per period of the mode: semi-implicit Euler keeps a
 // lightly damped oscillator's energy, and 1/64 of a period puts its
 // frequency within 0.1%.

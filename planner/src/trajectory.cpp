@@ -10,8 +10,6 @@ namespace edsp {
 
 namespace {
 
-constexpr double kTwoPi = 2.0 * 3.14159265358979323846;
-
 // s(τ) = 10τ³ − 15τ⁴ + 6τ⁵ and its first two derivatives in τ.
 struct Quintic {
   double s, ds, dds;

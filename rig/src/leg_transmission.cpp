@@ -4,10 +4,6 @@
 
 namespace edsp {
 
-namespace {
-constexpr double kTwoPi = 2.0 * 3.14159265358979323846;
-}
-
 LegTransmission::LegTransmission(int leg, double zero_length_m, const DriveParameters& drive, const RigEffects& effects)
     : zero_length_m_(zero_length_m), lead_m_(drive.lead_m), gear_ratio_(drive.gear_ratio) {
   const auto i = static_cast<std::size_t>(leg);

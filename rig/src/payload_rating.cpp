@@ -9,8 +9,6 @@ namespace edsp {
 
 namespace {
 
-constexpr double kTwoPi = 2.0 * 3.14159265358979323846;
-
 Pose DrawPose(const PlatformModel& model, std::mt19937_64& rng) {
   std::uniform_real_distribution<double> across(-0.5, 0.5), up(-0.3, 0.3), turn(-kTwoPi / 12.0, kTwoPi / 12.0);
   Vector6 q = model.home_pose().ToVector();

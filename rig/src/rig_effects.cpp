@@ -269,19 +269,17 @@ RigEffects ParseRigEffects(const std::string& toml_text, const std::string& orig
 
 RigEffects LoadRigEffects(const std::string& path) { return ParseRigEffects(ReadConfigText(path), path); }
 
-std::vector<std::string> EnabledEffects(const RigEffects& e) {
-  std::vector<std::string> names;
+std::vector<calibration::Effect> EnabledEffects(const RigEffects& e) {
+  std::vector<calibration::Effect> enabled;
   for (const EffectRow& row : kEffects) {
-    if (row.is_enabled(e)) names.emplace_back(NameOf(row));
+    if (row.is_enabled(e)) enabled.push_back(row.effect);
   }
-  return names;
+  return enabled;
 }
 
-RigEffects OnlyEffect(const RigEffects& e, const std::string& name) {
-  const EffectRow* alone = FindEffect(name);
-  if (alone == nullptr) throw std::invalid_argument("no effect named " + name + " (known: " + KnownEffects() + ")");
+RigEffects OnlyEffect(const RigEffects& e, calibration::Effect effect) {
   RigEffects only = e;
-  for (const EffectRow& row : kEffects) row.enabled(only) = &row == alone && row.is_enabled(e);
+  for (const EffectRow& row : kEffects) row.enabled(only) = row.effect == effect && row.is_enabled(e);
   return only;
 }
 

@@ -8,10 +8,6 @@
 
 namespace edsp {
 
-namespace {
-constexpr double kTwoPi = 2.0 * 3.14159265358979323846;
-}
-
 RigParameters IdealRig(const PlatformConfig& nominal) {
   RigParameters p;
   p.nominal = nominal;

@@ -149,10 +149,11 @@ OfflineRunResult RunOffline(const std::string& config_path, const RigEffects& ef
 std::vector<EffectError> PerEffectErrors(const std::string& config_path, const OfflineRunOptions& options) {
   const RigEffects all = LoadRigEffects(config_path);
   std::vector<EffectError> table;
-  for (const std::string& name : EnabledEffects(all)) {
+  for (const calibration::Effect effect : EnabledEffects(all)) {
+    const std::string name = calibration::EffectName(effect);
     OfflineRunOptions o = options;
     o.out_dir = (std::filesystem::path(options.out_dir) / name).string();
-    const OfflineRunResult r = RunOffline(config_path, OnlyEffect(all, name), o);
+    const OfflineRunResult r = RunOffline(config_path, OnlyEffect(all, effect), o);
     table.push_back({name, r.max_error_m, r.rms_error_m});
   }
   return table;

@@ -16,7 +16,7 @@ namespace {
 
 using test_support::CountingClock;
 
-struct Fixture {
+struct LoopFixture {
   PlatformModel model{Huang2021Config()};
   RecordingBackend backend;
   ActuatorBridge bridge{model, &backend, Options()};
@@ -24,7 +24,7 @@ struct Fixture {
   BridgeLoop loop{bus, bridge};
   std::vector<leg_state_t> states;
   std::vector<fault_t> faults;
-  Fixture() {
+  LoopFixture() {
     bus.Subscribe<leg_state_t>("EDSP_LEG_STATE", [this](const leg_state_t& s) { states.push_back(s); });
     bus.Subscribe<fault_t>("EDSP_FAULT", [this](const fault_t& f) { faults.push_back(f); });
     backend.exchanges.clear();
@@ -49,7 +49,7 @@ struct Fixture {
 };
 
 TEST(BridgeLoop, ACommandOnTheBusReachesTheDrivesAtTheNextCycleAndIsReportedAsALegState) {
-  Fixture f;
+  LoopFixture f;
   const leg_command_t c = f.Command(1e-5, 1);
   f.bus.Publish("EDSP_LEG_COMMAND", c);
   EXPECT_GE(f.bus.Handle(std::chrono::milliseconds(100)), 1);
@@ -76,7 +76,7 @@ TEST(BridgeLoop, ACommandOnTheBusReachesTheDrivesAtTheNextCycleAndIsReportedAsAL
 }
 
 TEST(BridgeLoop, ALatchedBridgeIsReArmedOverEdspArmAndAnswersOnEdspFault) {
-  Fixture f;
+  LoopFixture f;
   f.bus.Publish("EDSP_LEG_COMMAND", f.Command(0.0, 1));
   f.bus.Handle(std::chrono::milliseconds(100));
   const std::int64_t t = UtimeNow();
@@ -102,7 +102,7 @@ TEST(BridgeLoop, ALatchedBridgeIsReArmedOverEdspArmAndAnswersOnEdspFault) {
 // commands that came are still taken, cycle by cycle, not left in the
 // socket until the bridge latches on a stream that is there.
 TEST(BridgeLoop, ABridgeWhoseCyclesOverrunStillTakesItsCommands) {
-  Fixture f;
+  LoopFixture f;
   f.bus.Publish("EDSP_LEG_COMMAND", f.Command(1e-5, 1));
   CountingClock clock(3);
   f.loop.Run(clock, [&] { return clock.done(); });
@@ -113,7 +113,7 @@ TEST(BridgeLoop, ABridgeWhoseCyclesOverrunStillTakesItsCommands) {
 }
 
 TEST(BridgeLoop, RunTicksOnTheClockItIsGivenOneExchangePerTick) {
-  Fixture f;
+  LoopFixture f;
   CountingClock clock(25);
   f.loop.Run(clock, [&] { return clock.done(); });
   std::string expected;

@@ -15,7 +15,8 @@
 #include "recording_backend.h"
 
 namespace edsp {
-namespace {
+// Named, not anonymous: its helpers share names with other tests of its binary.
+namespace bridge_state_table {
 
 using S = BridgeState;
 using E = BridgeEvent;
@@ -264,5 +265,5 @@ TEST_F(BridgeTour, AnArmThatCannotResetTheDrivesLeavesTheBridgeLatchedAndSaysWhy
   EXPECT_EQ(State(), "latched");
 }
 
-}  // namespace
+}  // namespace bridge_state_table
 }  // namespace edsp

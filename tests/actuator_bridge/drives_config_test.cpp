@@ -19,7 +19,7 @@ std::string ErrorOf(const std::string& text) {
                                                   "no error");
 }
 
-const std::string kModbus =
+const std::string kModbusSection =
     "[drives]\nbackend = \"modbus-tcp\"\nhost = \"10.0.0.7\"\nport = 502\nresponse_timeout_ms = 4\n"
     "counts_per_m = 104857600\n";
 // A Modbus rig's [drives] with its counts per metre given as `counts` (line 3).
@@ -66,7 +66,7 @@ TEST(DrivesConfig, AModbusRigsDrivesAndTheirScaling) {
   drive.lead_m = 0.005;
   drive.gear_ratio = 2.0;
   const DrivesConfig c = ParseDrivesConfig(
-      kModbus + "offset_counts = [0, 1, 2, 3, 4, -5]\ndirection = [1, 1, 1, -1, -1, -1]\n", "rig.toml", drive);
+      kModbusSection + "offset_counts = [0, 1, 2, 3, 4, -5]\ndirection = [1, 1, 1, -1, -1, -1]\n", "rig.toml", drive);
   EXPECT_EQ(c.backend, "modbus-tcp");
   EXPECT_EQ(c.host, "10.0.0.7");
   EXPECT_EQ(c.port, 502);
@@ -83,7 +83,8 @@ TEST(DrivesConfig, BadValuesAreNamedWithTheirLine) {
   EXPECT_NE(ErrorOf("[drives]\nbackend = \"ethercat\"\n").find("rig.toml:2: [drives] backend = \"ethercat\""),
             std::string::npos);
   EXPECT_NE(ErrorOf("[drives]\nbackend = \"modbus-tcp\"\n").find("needs counts_per_m"), std::string::npos);
-  EXPECT_NE(ErrorOf(kModbus + "port = 0\n").find("rig.toml:7:"), std::string::npos) << "TOML refuses a second port";
+  EXPECT_NE(ErrorOf(kModbusSection + "port = 0\n").find("rig.toml:7:"), std::string::npos)
+      << "TOML refuses a second port";
   EXPECT_NE(ErrorOf("[drives]\nport = 70000\n").find("rig.toml:2: [drives] port = 70000"), std::string::npos);
   EXPECT_NE(ErrorOf("[drives]\nport = 4294968798\n").find("port = 4294968798"), std::string::npos) << "never wrapped";
   EXPECT_NE(ErrorOf("[drives]\nport = 502.5\n").find("must be an integer"), std::string::npos);
@@ -93,10 +94,10 @@ TEST(DrivesConfig, BadValuesAreNamedWithTheirLine) {
   EXPECT_NE(ErrorOf(ModbusCounts("[1, 2, 3, 4, 5, 0]")).find("leg 6: counts_per_m = 0"), std::string::npos);
   EXPECT_NE(ErrorOf(ModbusCounts("nan")).find("must be finite"), std::string::npos);
   EXPECT_NE(ErrorOf(ModbusCounts("[1, 2]")).find("array of 6"), std::string::npos);
-  EXPECT_NE(ErrorOf(kModbus + "direction = [1, 1, 0, 1, 1, 1]\n").find("leg 3: direction"), std::string::npos);
-  EXPECT_NE(ErrorOf(kModbus + "offset_counts = 0.5\n").find("offset_counts of leg 1 = 0.5"), std::string::npos);
-  EXPECT_NE(ErrorOf(kModbus + "offset_counts = 3e9\n").find("32-bit"), std::string::npos);
-  EXPECT_NE(ErrorOf(kModbus + "counts = 1\n").find("unknown key [drives] counts"), std::string::npos);
+  EXPECT_NE(ErrorOf(kModbusSection + "direction = [1, 1, 0, 1, 1, 1]\n").find("leg 3: direction"), std::string::npos);
+  EXPECT_NE(ErrorOf(kModbusSection + "offset_counts = 0.5\n").find("offset_counts of leg 1 = 0.5"), std::string::npos);
+  EXPECT_NE(ErrorOf(kModbusSection + "offset_counts = 3e9\n").find("32-bit"), std::string::npos);
+  EXPECT_NE(ErrorOf(kModbusSection + "counts = 1\n").find("unknown key [drives] counts"), std::string::npos);
 }
 
 }  // namespace

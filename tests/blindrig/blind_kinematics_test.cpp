@@ -11,8 +11,6 @@
 namespace edsp::blind {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 std::vector<Vec6> RandomPoses(const Vec6& home, int count) {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);

@@ -192,7 +192,7 @@ TEST(MemberUnits, OneHostsMembersInStartOrderWithTheirPolicies) {
 namespace edsp {
 namespace {
 
-std::string ShippedGroup(const std::string& name) {
+std::string ShippedGroupFile(const std::string& name) {
   return std::string(EDSP_SOURCE_DIR) + "/deploy/groups/" + name + ".toml";
 }
 
@@ -203,7 +203,7 @@ std::string WriteScratch(const std::string& name, const std::string& text) {
 }
 
 TEST(GroupFile, MembersTakeTheRoutesTheLauncherReadWithEachMembersHost) {
-  const std::string path = ShippedGroup("multihost");
+  const std::string path = ShippedGroupFile("multihost");
   const TransportConfig members = LoadTransportConfig(path);  // as a member reads it: no launcher environment
   const GroupSpec launcher = LoadGroupFile(path);
   const HostAssignment hosts = {{"rig", "drive"},
@@ -226,8 +226,8 @@ TEST(GroupFile, MembersTakeTheRoutesTheLauncherReadWithEachMembersHost) {
   EXPECT_EQ(RoutesForMember(members, "actuator_bridge").Route("EDSP_LEG_COMMAND").path, ChannelPath::kLcm);
   EXPECT_EQ(RoutesForMember(members, "actuator_bridge").Route("EDSP_LEG_STATE").path, ChannelPath::kBoth);
   // A one-host group: every member "local", routes as written.
-  const TransportConfig sim = LoadTransportConfig(ShippedGroup("sim"));
-  for (const MemberSpec& m : LoadGroupFile(ShippedGroup("sim")).members) {
+  const TransportConfig sim = LoadTransportConfig(ShippedGroupFile("sim"));
+  for (const MemberSpec& m : LoadGroupFile(ShippedGroupFile("sim")).members) {
     EXPECT_EQ(sim.member_hosts.at(m.name), "local") << m.name;
   }
   EXPECT_EQ(GroupHosts(sim), std::vector<std::string>{"local"});

@@ -93,12 +93,12 @@ TEST(CalibrationLoop, EveryEffectAtOnceLandsAtTheNoiseFloorOnMotionsTheFitNeverS
 // The example rig's effect `name` alone, made large enough to stand clear
 // of the tracker's noise (the example's periodic error, thermal drift and
 // stiff drive loop are realistic but, alone, barely above it).
-RigEffects Alone(const std::string& name) {
-  RigEffects e = OnlyEffect(LoadRigEffects(Config()), name);
+RigEffects Alone(calibration::Effect effect) {
+  RigEffects e = OnlyEffect(LoadRigEffects(Config()), effect);
   for (double& v : e.leg_offset.offset_m) v *= 3.0;
   for (double& v : e.periodic_lead_error.amplitude_m) v = 12e-6;
   e.thermal_drift.heating_K_per_m = 6.0;
-  if (name == "servo_lag") {
+  if (effect == calibration::Effect::kServoLag) {
     e.servo_lag.bandwidth_hz = 12.0;  // a soft loop without integral action
     e.servo_lag.integral_time_s = 0.0;
   }
@@ -109,12 +109,13 @@ RigEffects Alone(const std::string& name) {
 // that compensates it. Alone and small, leg offsets and compliance can be
 // `ambiguous` with a neighbour (frame-like signatures), so the model is
 // applied as an operator would with --apply-ambiguous.
-class CalibrationOfOneEffect : public testing::TestWithParam<std::string> {};
+class CalibrationOfOneEffect : public testing::TestWithParam<calibration::Effect> {};
 
 TEST_P(CalibrationOfOneEffect, ClosesItsOwnGap) {
-  const LoopResult r = CloseTheLoop(Alone(GetParam()), GetParam(), true);
-  std::printf("CALIBRATION_ROW | %s | %s\n", GetParam().c_str(), Describe(r).c_str());
-  EXPECT_NE(r.calibration.find(GetParam()), std::string::npos) << Describe(r);
+  const std::string name = calibration::EffectName(GetParam());
+  const LoopResult r = CloseTheLoop(Alone(GetParam()), name, true);
+  std::printf("CALIBRATION_ROW | %s | %s\n", name.c_str(), Describe(r).c_str());
+  EXPECT_NE(r.calibration.find(name), std::string::npos) << Describe(r);
   EXPECT_LT(r.after_m, 1.5 * kNoiseFloor) << Describe(r);
   // The effect alone must stand clear of the noise, or the test could not
   // tell a working correction from none.
@@ -129,7 +130,7 @@ TEST_P(CalibrationOfOneEffect, ClosesItsOwnGap) {
 // cancel it change what drives it: the calibration must apply the mode's
 // inverse (mass 1 − g, calibration.h), not the sway the diagnosis fitted.
 TEST(CalibrationLoop, AStructuralModeIsCancelledByTheLegs) {
-  RigEffects e = OnlyEffect(LoadRigEffects(Config()), "servo_lag");
+  RigEffects e = OnlyEffect(LoadRigEffects(Config()), calibration::Effect::kServoLag);
   e.structural_resonance.enabled = true;
   e.structural_resonance.frequency_hz = 5.0;
   e.structural_resonance.damping = 0.03;
@@ -143,7 +144,9 @@ TEST(CalibrationLoop, AStructuralModeIsCancelledByTheLegs) {
 
 INSTANTIATE_TEST_SUITE_P(ExampleRig, CalibrationOfOneEffect,
                          testing::ValuesIn(EnabledEffects(LoadRigEffects(Config()))),
-                         [](const testing::TestParamInfo<std::string>& p) { return p.param; });
+                         [](const testing::TestParamInfo<calibration::Effect>& p) {
+                           return std::string(calibration::EffectName(p.param));
+                         });
 
 }  // namespace
 }  // namespace edsp::gap

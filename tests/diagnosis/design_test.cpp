@@ -9,11 +9,10 @@
 #include "edsp/kinematics/config.h"
 #include "edsp/kinematics/forward_kinematics.h"
 #include "random_pose_rows.h"
+#include "platform_models.h"
 
 namespace edsp::gap {
 namespace {
-
-PlatformModel Model() { return PlatformModel(Huang2021Config()); }
 
 // Rows at random poses, measured exactly in a tracker frame X_TB.
 MeasurementData ExactData(const PlatformModel& model, const Pose& X_TB, int rows, PrMode compensation) {
@@ -22,7 +21,7 @@ MeasurementData ExactData(const PlatformModel& model, const Pose& X_TB, int rows
 }
 
 TEST(Design, PointPerLegMatchesForwardKinematicsOfPerturbedLegs) {
-  const PlatformModel model = Model();
+  const PlatformModel model = test_support::Huang2021Model();
   const Design d = BuildDesign(model, ExactData(model, Pose{}, 30, PrMode::kSigned));
   for (int k = 0; k < d.samples(); k += 7) {
     const Vector6 q = ExactData(model, Pose{}, 30, PrMode::kSigned)
@@ -49,7 +48,7 @@ TEST(Design, PointPerLegMatchesForwardKinematicsOfPerturbedLegs) {
 // check's load use is the motion's, not the jitter's (the evenly spaced
 // second difference was off by ~1 m/s² here).
 TEST(Design, AccelerationsOfUnevenlySpacedSamplesAreTheMotions) {
-  const PlatformModel model = Model();
+  const PlatformModel model = test_support::Huang2021Model();
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> jitter(-3e-4, 3e-4);
   MeasurementData d;
@@ -94,7 +93,7 @@ TEST(Design, AccelerationsOfUnevenlySpacedSamplesAreTheMotions) {
 }
 
 TEST(Design, TrackerFrameIsEstimatedAndExactDataLeavesNoResidual) {
-  const PlatformModel model = Model();
+  const PlatformModel model = test_support::Huang2021Model();
   Pose X_TB;
   X_TB.p_BoMo_B = Vector3(2.0, -1.5, 0.3);
   X_TB.rpy_rad = Vector3(0.01, -0.02, 2.5);
@@ -107,14 +106,14 @@ TEST(Design, TrackerFrameIsEstimatedAndExactDataLeavesNoResidual) {
 }
 
 TEST(Design, AppliedCompensationIsRecognised) {
-  const PlatformModel model = Model();
+  const PlatformModel model = test_support::Huang2021Model();
   EXPECT_EQ(BuildDesign(model, ExactData(model, Pose{}, 30, PrMode::kNone)).applied_pr, PrMode::kNone);
   const Design unsigned_pr = BuildDesign(model, ExactData(model, Pose{}, 30, PrMode::kUnsigned));
   EXPECT_EQ(unsigned_pr.applied_pr, PrMode::kUnsigned);
 }
 
 TEST(Design, BacklashBasisFollowsThePlayOperatorHomedExtending) {
-  const PlatformModel model = Model();
+  const PlatformModel model = test_support::Huang2021Model();
   MeasurementData d;
   d.runs = {"legs"};
   d.source = "synthetic";

@@ -19,14 +19,12 @@
 #include "edsp/kinematics/config.h"
 #include "edsp/sim/offline_run.h"
 #include "scratch_dir.h"
+#include "platform_models.h"
 
 namespace edsp::gap {
 namespace {
 
-const std::string kConfig = std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml";
 constexpr double kNoise = 5e-6;
-
-PlatformModel Model() { return PlatformModel(LoadConfigFile(kConfig)); }
 
 // A well-tuned drive (integral action) and strong enough motors: no effect.
 RigEffects Baseline() {
@@ -55,7 +53,7 @@ Simulated Simulate(const std::string& name, const RigEffects& fx, PrMode compens
   o.tracker.seed = seed;
   o.tracker.X_TB = Pose::FromVector(frame);
   o.out_dir = test_support::ScratchDir("gap_" + name);
-  return {RunOffline(kConfig, fx, o).csv_path};
+  return {RunOffline(test_support::kShippedConfig, fx, o).csv_path};
 }
 
 std::vector<std::string> Found(const Diagnosis& d) {
@@ -83,7 +81,7 @@ void ExpectClosed(const Diagnosis& d) {
 }
 
 TEST(Diagnose, EffectFreeDataIdentifiesNothing) {
-  const Diagnosis d = Diagnose(Model(), LoadMeasurement(Simulate("clean", Baseline()).csv));
+  const Diagnosis d = Diagnose(test_support::ShippedConfigModel(), LoadMeasurement(Simulate("clean", Baseline()).csv));
   EXPECT_EQ(d.conclusion, Conclusion::kNone);
   EXPECT_TRUE(d.selected.empty());
   for (const EffectResult& r : d.effects) EXPECT_EQ(r.verdict, Verdict::kRejected) << EffectName(r.effect);
@@ -103,7 +101,8 @@ class SingleEffect : public testing::TestWithParam<SingleCase> {};
 TEST_P(SingleEffect, IsRankedFirstAndClosesTheHeldOutGap) {
   RigEffects fx = Baseline();
   GetParam().set(&fx);
-  const Diagnosis d = Diagnose(Model(), LoadMeasurement(Simulate(EffectName(GetParam().effect), fx).csv));
+  const Diagnosis d =
+      Diagnose(test_support::ShippedConfigModel(), LoadMeasurement(Simulate(EffectName(GetParam().effect), fx).csv));
   ASSERT_FALSE(d.effects.empty());
   EXPECT_EQ(EffectName(d.effects.front().effect), std::string(EffectName(GetParam().effect)))
       << "found: " << fmt::format("{}", fmt::join(Found(d), ", "));
@@ -174,7 +173,8 @@ TEST(Diagnose, AnAlternativeThatTakesUpHalfTheGainIsNoTie) {
   }
   ASSERT_EQ(drawn.truth, std::vector<Effect>{Effect::kLeadError}) << drawn.description;
   RigEffects fx = drawn.effects;
-  const Diagnosis d = Diagnose(Model(), LoadMeasurement(Simulate("lead_vs_compliance", fx).csv));
+  const Diagnosis d =
+      Diagnose(test_support::ShippedConfigModel(), LoadMeasurement(Simulate("lead_vs_compliance", fx).csv));
   EXPECT_EQ(ResultFor(d, Effect::kLeadError).verdict, Verdict::kIdentified)
       << fmt::format("{}", fmt::join(Found(d), ", "));
   EXPECT_EQ(ResultFor(d, Effect::kCompliance).verdict, Verdict::kRejected)
@@ -193,7 +193,7 @@ TEST(Diagnose, WithoutEncodersADrivesLoopIsNotTakenForAClockOffset) {
   fx.servo_lag.bandwidth_hz = 12.0, fx.servo_lag.integral_time_s = 0.0;
   MeasurementData data = LoadMeasurement(Simulate("lag_without_encoders", fx).csv);
   for (MeasurementRow& row : data.rows) row.has_encoder = false;
-  const Diagnosis d = Diagnose(Model(), data);
+  const Diagnosis d = Diagnose(test_support::ShippedConfigModel(), data);
   ASSERT_TRUE(d.clock_offset.tested);
   EXPECT_FALSE(d.clock_offset.replaces_lag) << d.unexplained_note;
   EXPECT_EQ(ResultFor(d, Effect::kServoLag).verdict, Verdict::kIdentified)
@@ -207,7 +207,7 @@ TEST(Diagnose, BacklashAndLeadErrorAreRecoveredWithTheirSizes) {
   fx.backlash.backlash_m = {20e-6, 30e-6, 40e-6, 50e-6, 25e-6, 35e-6};
   fx.lead_error.enabled = true;
   fx.lead_error.epsilon = {1.5e-4, -1e-4, 2e-4, 0.5e-4, -1.5e-4, 1e-4};
-  const Diagnosis d = Diagnose(Model(), LoadMeasurement(Simulate("pair", fx).csv));
+  const Diagnosis d = Diagnose(test_support::ShippedConfigModel(), LoadMeasurement(Simulate("pair", fx).csv));
   ASSERT_EQ(d.selected.size(), 2u) << fmt::format("{}", fmt::join(Found(d), ", "));
   const EffectResult& backlash = ResultFor(d, Effect::kBacklash);
   const EffectResult& lead = ResultFor(d, Effect::kLeadError);
@@ -237,7 +237,7 @@ TEST(Diagnose, AnEffectOutsideTheVocabularyIsUnknown) {
     f[f.size() - 3] = fmt::format("{:.12f}", std::stod(f[f.size() - 3]) + 40e-6 * std::sin(2 * M_PI * 1.3 * t));
     swayed << fmt::format("{}", fmt::join(f, ",")) << "\n";
   }
-  const Diagnosis d = Diagnose(Model(), ParseMeasurementCsv(swayed.str(), "swayed.csv"));
+  const Diagnosis d = Diagnose(test_support::ShippedConfigModel(), ParseMeasurementCsv(swayed.str(), "swayed.csv"));
   EXPECT_EQ(d.conclusion, Conclusion::kUnknown) << d.unexplained_note;
   EXPECT_FALSE(d.whiteness.white);
   const nlohmann::json j = ToJson(d);
@@ -250,7 +250,8 @@ TEST(Diagnose, AnEffectOutsideTheVocabularyIsUnknown) {
 // compensates with Eq. (9)'s unsigned angle. The diagnosis names PR, and the
 // signed model closes the gap.
 TEST(Diagnose, ThePapersUnsignedCompensationIsPassiveRotationAndSignedClosesIt) {
-  const Diagnosis d = Diagnose(Model(), LoadMeasurement(Simulate("paper", Baseline(), PrMode::kUnsigned).csv));
+  const Diagnosis d = Diagnose(test_support::ShippedConfigModel(),
+                               LoadMeasurement(Simulate("paper", Baseline(), PrMode::kUnsigned).csv));
   ASSERT_FALSE(d.effects.empty());
   EXPECT_EQ(d.effects.front().effect, Effect::kPassiveRotation);
   EXPECT_EQ(d.effects.front().verdict, Verdict::kIdentified);
@@ -272,7 +273,7 @@ TEST(Evaluate, ASavedModelShrinksTheGapOnDataItNeverSaw) {
   fx.compliance.enabled = true;
   fx.compliance.stiffness_N_m = {2e7, 2e7, 2e7, 2e7, 2e7, 2e7};
   fx.compliance.mass_kg = 600.0;
-  const PlatformModel model = Model();
+  const PlatformModel model = test_support::ShippedConfigModel();
   const Diagnosis d = Diagnose(model, LoadMeasurement(Simulate("train", fx).csv));
   const nlohmann::json saved = ModelJson(d);
   const Evaluation ev = Evaluate(

@@ -20,13 +20,10 @@
 #include "command_output.h"
 #include "offline_session.h"
 #include "scratch_dir.h"
+#include "platform_models.h"
 
 namespace edsp::gap {
 namespace {
-
-const std::string kConfig = std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml";
-
-PlatformModel Model() { return PlatformModel(LoadConfigFile(kConfig)); }
 
 RigEffects Rig() { return test_support::OffsetsBacklashAndLead(); }
 
@@ -40,14 +37,14 @@ std::string Session(const std::string& name, const RigEffects& fx, const std::ve
   OfflineRunOptions o =
       test_support::OfflineSession(motions, 4, 0.3, 5e-6, seed, tracker, test_support::ScratchDir("drift_" + name));
   o.calibration_path = model;
-  return RunOffline(kConfig, fx, o).csv_path;
+  return RunOffline(test_support::kShippedConfig, fx, o).csv_path;
 }
 
 // The calibration in force: diagnosed on six motions, saved as a user saves it.
 const std::string& Baseline() {
   static const std::string path = [] {
     const std::string csv = Session("fit", Rig(), {"Lz", "Lx", "Rz", "Ry", "M1", "M2"}, "", 1);
-    const Diagnosis d = Diagnose(Model(), LoadMeasurement(csv));
+    const Diagnosis d = Diagnose(test_support::ShippedConfigModel(), LoadMeasurement(csv));
     const std::string out = test_support::ScratchDir("drift_baseline") + "/model.json";
     std::ofstream(out) << ModelJson(d).dump(2);
     return out;
@@ -75,7 +72,7 @@ DriftOptions Team() {
 }
 
 TEST(Drift, ARigThatDidNotChangeNeedsNoRecalibration) {
-  const DriftReport r = Drift(Model(), BaselineJson(), Baseline(),
+  const DriftReport r = Drift(test_support::ShippedConfigModel(), BaselineJson(), Baseline(),
                               LoadMeasurement(Session("same", Rig(), kSession, Baseline(), 2)), Team());
   EXPECT_TRUE(r.changed.empty()) << DriftText(r);
   EXPECT_TRUE(r.appeared.empty()) << DriftText(r);
@@ -95,7 +92,8 @@ TEST(Drift, WornBacklashAndAJumpedOffsetAreNamedAndSized) {
     DriftOptions o = Team();
     o.recorded_with_baseline = with;
     const std::string csv = Session(with ? "worn_with" : "worn_without", worn, kSession, with ? Baseline() : "", 3);
-    const DriftReport r = Drift(Model(), BaselineJson(), Baseline(), LoadMeasurement(csv), o);
+    const DriftReport r =
+        Drift(test_support::ShippedConfigModel(), BaselineJson(), Baseline(), LoadMeasurement(csv), o);
     SCOPED_TRACE(DriftText(r));
     const ParameterChange* backlash = Find(r.changed, Effect::kBacklash, 3);
     const ParameterChange* offset = Find(r.changed, Effect::kLegOffset, 2);
@@ -117,7 +115,7 @@ TEST(Drift, AnEffectTheBaselineDoesNotHoldAppears) {
   loaded.compliance.enabled = true;
   loaded.compliance.stiffness_N_m.fill(1.5e7);
   loaded.compliance.mass_kg = 1200.0;
-  const DriftReport r = Drift(Model(), BaselineJson(), Baseline(),
+  const DriftReport r = Drift(test_support::ShippedConfigModel(), BaselineJson(), Baseline(),
                               LoadMeasurement(Session("loaded", loaded, kSession, Baseline(), 4)), Team());
   EXPECT_NE(std::find(r.appeared.begin(), r.appeared.end(), Effect::kCompliance), r.appeared.end()) << DriftText(r);
   EXPECT_TRUE(r.recalibrate) << DriftText(r);
@@ -134,25 +132,25 @@ TEST(Drift, TheChangeThresholdKeepsNoiseFromCountingAsChange) {
 
 TEST(Drift, TheCommandLineSaysWhatChangedAndRefusesABadBaseline) {
   const std::string csv = Session("cli", Rig(), kSession, Baseline(), 5);
-  const auto ok = test_support::RunCommand(
-      fmt::format("{} drift --config {} --baseline {} --data {} --json", EDSP_GAP_BINARY, kConfig, Baseline(), csv));
+  const auto ok = test_support::RunCommand(fmt::format("{} drift --config {} --baseline {} --data {} --json",
+                                                       EDSP_GAP_BINARY, test_support::kShippedConfig, Baseline(), csv));
   ASSERT_EQ(ok.exit_code, 0) << ok.text;
   const nlohmann::json j = nlohmann::json::parse(ok.text.substr(ok.text.find('{')));
   for (const char* key : {"changed", "appeared", "vanished", "heldout_rms_m", "recalibrate"})
     EXPECT_TRUE(j.contains(key)) << key;
   // By default the data says whether the baseline was applied (its leg_corr columns).
   EXPECT_TRUE(j["recorded_with_baseline"].get<bool>());
-  const auto without =
-      test_support::RunCommand(fmt::format("{} drift --config {} --baseline {} --data {} --json", EDSP_GAP_BINARY,
-                                           kConfig, Baseline(), Session("cli_without", Rig(), kSession, "", 5)));
+  const auto without = test_support::RunCommand(fmt::format("{} drift --config {} --baseline {} --data {} --json",
+                                                            EDSP_GAP_BINARY, test_support::kShippedConfig, Baseline(),
+                                                            Session("cli_without", Rig(), kSession, "", 5)));
   ASSERT_EQ(without.exit_code, 0) << without.text;
   const nlohmann::json w = nlohmann::json::parse(without.text.substr(without.text.find('{')));
   EXPECT_FALSE(w["recorded_with_baseline"].get<bool>());
   EXPECT_TRUE(w["changed"].empty()) << without.text;
   const std::string bad = test_support::ScratchDir("drift_bad") + "/bad.json";
   std::ofstream(bad) << R"({"format": "edsp-gap-model/1", "effects": [{"name": "backlash", "theta": [1, 2]}]})";
-  const auto refused = test_support::RunCommand(
-      fmt::format("{} drift --config {} --baseline {} --data {}", EDSP_GAP_BINARY, kConfig, bad, csv));
+  const auto refused = test_support::RunCommand(fmt::format("{} drift --config {} --baseline {} --data {}",
+                                                            EDSP_GAP_BINARY, test_support::kShippedConfig, bad, csv));
   EXPECT_EQ(refused.exit_code, 1) << refused.text;
   EXPECT_NE(refused.text.find(bad), std::string::npos) << refused.text;
   EXPECT_NE(refused.text.find("needs 6 parameters"), std::string::npos) << refused.text;

@@ -17,11 +17,10 @@
 #include "edsp/kinematics/config.h"
 #include "offline_session.h"
 #include "scratch_dir.h"
+#include "platform_models.h"
 
 namespace edsp::gap {
 namespace {
-
-const std::string kConfig = std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml";
 
 // The tracker turned 0.9 rad about z from {B}: an arbitrary frame is far off.
 const Pose kTrackerStand = Pose::FromVector((Vector6() << 3.2, -0.8, 0.15, 0.004, -0.006, 0.9).finished());
@@ -44,13 +43,13 @@ TEST(EvaluateFrame, ThePredictionForRxAndLyIsTurnedByTheFitsFrame) {
   const std::string dir = test_support::ScratchDir("evaluate_frame");
   const OfflineRunOptions fit =
       test_support::OfflineSession({"Lz", "Lx", "Rz", "Ry", "M1", "M2"}, 5, 0.5, 5e-6, 3, kTrackerStand, dir + "/fit");
-  const Diagnosis d = Diagnose(model, LoadMeasurement(RunOffline(kConfig, rig, fit).csv_path));
+  const Diagnosis d = Diagnose(model, LoadMeasurement(RunOffline(test_support::kShippedConfig, rig, fit).csv_path));
   const nlohmann::json saved = ModelJson(d);
   ASSERT_TRUE(saved.contains("tracker_rotation"));
   for (const char* motion : {"Rx", "Ly"}) {
     const std::string out = dir + "/" + motion;
     std::filesystem::create_directories(out);
-    const MotionCheck loop = MeasureClosedLoop(model, kConfig, rig, fit, saved, {motion}, out);
+    const MotionCheck loop = MeasureClosedLoop(model, test_support::kShippedConfig, rig, fit, saved, {motion}, out);
     ASSERT_TRUE(loop.predicted.has_value());
     EXPECT_LT(loop.after.rms_m, 0.5 * loop.before.rms_m) << motion;
     EXPECT_NEAR(loop.predicted->rms_m, loop.after.rms_m, 0.15 * loop.after.rms_m)

@@ -20,15 +20,13 @@
 #include "command_output.h"
 #include "offline_session.h"
 #include "scratch_dir.h"
+#include "platform_models.h"
 
 namespace edsp::gap {
 namespace {
 
-const std::string kConfig = std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml";
 const std::vector<std::string> kFit = {"Lz", "Lx", "Rz", "Ry", "M1", "M2"};
 const std::vector<std::string> kHeldOut = {"Ly", "Rx", "M3"};
-
-PlatformModel Model() { return PlatformModel(LoadConfigFile(kConfig)); }
 
 RigEffects Rig() { return test_support::OffsetsBacklashAndLead(); }
 
@@ -40,7 +38,7 @@ std::string Session(const std::string& name, const std::vector<std::string>& mot
       motions, 4, 0.3, noise_m, seed, Pose::FromVector((Vector6() << 1.5, -2.0, 0.2, 0.01, -0.01, 0.4).finished()),
       test_support::ScratchDir("recorded_correction_" + name));
   o.calibration_path = model;
-  return RunOffline(kConfig, Rig(), o).csv_path;
+  return RunOffline(test_support::kShippedConfig, Rig(), o).csv_path;
 }
 
 std::string SaveModel(const Diagnosis& d, const std::string& name) {
@@ -51,7 +49,8 @@ std::string SaveModel(const Diagnosis& d, const std::string& name) {
 
 // The first calibration, diagnosed on a session run without one.
 const std::string& First() {
-  static const std::string path = SaveModel(Diagnose(Model(), LoadMeasurement(Session("fit", kFit, "", 1))), "first");
+  static const std::string path =
+      SaveModel(Diagnose(test_support::ShippedConfigModel(), LoadMeasurement(Session("fit", kFit, "", 1))), "first");
   return path;
 }
 
@@ -63,7 +62,7 @@ const std::string& RecordedWithFirst() {
 
 // Point A's error as measured in `csv` (held-out motions, a model applied).
 double MeasuredRms(const std::string& csv) {
-  return Evaluate(Model(), LoadMeasurement(csv), EmptyModelJson(), "none").before.rms_m;
+  return Evaluate(test_support::ShippedConfigModel(), LoadMeasurement(csv), EmptyModelJson(), "none").before.rms_m;
 }
 
 const EffectResult* Find(const Diagnosis& d, Effect e) {
@@ -80,7 +79,7 @@ const EffectResult* Find(const Diagnosis& d, Effect e) {
 // linearisation's error is quadratic in c); the command and encoders gain
 // c, and a row without a correction is left as it was.
 TEST(RecordedCorrection, ReadNominallyARowIsWhereTheNominalCommandPutsA) {
-  const PlatformModel model = Model();
+  const PlatformModel model = test_support::ShippedConfigModel();
   MeasurementData data;
   data.runs = {"poses"};
   data.has_correction = true;
@@ -161,11 +160,11 @@ TEST(RecordedCorrection, TheExportCarriesTheCorrectionTheKinematicsTookOff) {
 TEST(RecordedCorrection, AgainstTheNominalModelACalibratedSessionShowsTheWholeRig) {
   const MeasurementData plain = LoadMeasurement(Session("plain_noisy", {"M1", "Lx"}, "", 4));
   const MeasurementData calibrated = LoadMeasurement(Session("calibrated_noisy", {"M1", "Lx"}, First(), 4));
-  const double whole = Diagnose(Model(), plain).gap.overall.rms_m;
-  const Diagnosis nominal = Diagnose(Model(), calibrated);
+  const double whole = Diagnose(test_support::ShippedConfigModel(), plain).gap.overall.rms_m;
+  const Diagnosis nominal = Diagnose(test_support::ShippedConfigModel(), calibrated);
   DiagnoseOptions against_calibration;
   against_calibration.against = Against::kCalibration;
-  const Diagnosis left = Diagnose(Model(), calibrated, against_calibration);
+  const Diagnosis left = Diagnose(test_support::ShippedConfigModel(), calibrated, against_calibration);
   const std::string figures = fmt::format(
       "gap: uncalibrated {:.2f} µm, calibrated against nominal {:.2f} µm, against the calibration {:.2f} µm; the "
       "correction at A {:.2f} µm",
@@ -187,7 +186,7 @@ TEST(RecordedCorrection, AgainstTheNominalModelACalibratedSessionShowsTheWholeRi
 // recorded with the first (against the nominal model) names the rig's
 // offsets within their σ of the truth and holds out as well as the first.
 TEST(RecordedCorrection, ASecondCalibrationOnDataRecordedWithTheFirstHoldsAsWell) {
-  const Diagnosis second = Diagnose(Model(), LoadMeasurement(RecordedWithFirst()));
+  const Diagnosis second = Diagnose(test_support::ShippedConfigModel(), LoadMeasurement(RecordedWithFirst()));
   const EffectResult* offsets = Find(second, Effect::kLegOffset);
   ASSERT_NE(offsets, nullptr);
   ASSERT_EQ(offsets->theta.size(), 6);
@@ -209,8 +208,8 @@ TEST(RecordedCorrection, ASecondCalibrationOnDataRecordedWithTheFirstHoldsAsWell
   EXPECT_LE(again, 1.1 * first);
   // evaluate predicts it from the session recorded with the first: the
   // second model takes the first's place, as in the kinematics.
-  const Evaluation predicted =
-      Evaluate(Model(), LoadMeasurement(with_first), nlohmann::json::parse(std::ifstream(second_model)), second_model);
+  const Evaluation predicted = Evaluate(test_support::ShippedConfigModel(), LoadMeasurement(with_first),
+                                        nlohmann::json::parse(std::ifstream(second_model)), second_model);
   EXPECT_TRUE(predicted.against_nominal);
   EXPECT_NEAR(predicted.after.rms_m, again, 0.2 * again);
   EXPECT_NEAR(predicted.before.rms_m, none, 0.1 * none);  // the rig's whole gap
@@ -218,8 +217,8 @@ TEST(RecordedCorrection, ASecondCalibrationOnDataRecordedWithTheFirstHoldsAsWell
 
 TEST(RecordedCorrection, TheCommandLineSaysWhatItReadAgainstAndSavesOnlyAWholeCalibration) {
   const std::string data = RecordedWithFirst();
-  const auto json =
-      test_support::RunCommand(fmt::format("{} diagnose --config {} --data {} --json", EDSP_GAP_BINARY, kConfig, data));
+  const auto json = test_support::RunCommand(
+      fmt::format("{} diagnose --config {} --data {} --json", EDSP_GAP_BINARY, test_support::kShippedConfig, data));
   ASSERT_EQ(json.exit_code, 0) << json.text;
   const nlohmann::json j = nlohmann::json::parse(json.text.substr(json.text.find('{')));
   EXPECT_EQ(j["recorded_correction"]["against"], "nominal");
@@ -227,17 +226,17 @@ TEST(RecordedCorrection, TheCommandLineSaysWhatItReadAgainstAndSavesOnlyAWholeCa
   const std::string model = test_support::ScratchDir("recorded_correction_cli") + "/increments.json";
   const auto refused =
       test_support::RunCommand(fmt::format("{} diagnose --config {} --data {} --against calibration --save-model {}",
-                                           EDSP_GAP_BINARY, kConfig, data, model));
+                                           EDSP_GAP_BINARY, test_support::kShippedConfig, data, model));
   EXPECT_EQ(refused.exit_code, 1) << refused.text;
   EXPECT_NE(refused.text.find("--save-model with --against calibration"), std::string::npos) << refused.text;
   EXPECT_NE(refused.text.find(data), std::string::npos) << refused.text;
   EXPECT_FALSE(std::ifstream(model).good());
-  const auto text = test_support::RunCommand(
-      fmt::format("{} diagnose --config {} --data {} --against calibration", EDSP_GAP_BINARY, kConfig, data));
+  const auto text = test_support::RunCommand(fmt::format("{} diagnose --config {} --data {} --against calibration",
+                                                         EDSP_GAP_BINARY, test_support::kShippedConfig, data));
   ASSERT_EQ(text.exit_code, 0) << text.text;
   EXPECT_NE(text.text.find("diagnosed against it, so the effects are what it leaves"), std::string::npos) << text.text;
-  const auto bad = test_support::RunCommand(
-      fmt::format("{} diagnose --config {} --data {} --against factory", EDSP_GAP_BINARY, kConfig, data));
+  const auto bad = test_support::RunCommand(fmt::format("{} diagnose --config {} --data {} --against factory",
+                                                        EDSP_GAP_BINARY, test_support::kShippedConfig, data));
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.text.find("factory"), std::string::npos) << bad.text;
 }

@@ -15,12 +15,12 @@ namespace edsp::gap {
 namespace {
 
 const Vector6 kOffset = (Vector6() << 80e-6, -60e-6, 40e-6, -100e-6, 50e-6, -20e-6).finished();
-constexpr double kNoise = 5e-6;
+constexpr double kRobustFitNoise = 5e-6;
 
 MeasurementData OffsetData(const PlatformModel& model, double spike_share) {
   std::mt19937_64 rng(21);
   std::uniform_real_distribution<double> u(-1.0, 1.0), share(0.0, 1.0);
-  std::normal_distribution<double> noise(0.0, kNoise);
+  std::normal_distribution<double> noise(0.0, kRobustFitNoise);
   const Matrix3 R = RotationFromRpy(Vector3(0.01, 0.02, 1.0));
   const Vector3 t(1.0, -2.0, 0.5);
   MeasurementData d;
@@ -54,7 +54,7 @@ Columns OffsetColumns(const Design& d) {
 TEST(RobustFit, RecoversLegOffsetsWithUncertaintiesThatCoverThem) {
   const PlatformModel model(Huang2021Config());
   const Design d = BuildDesign(model, OffsetData(model, 0.0));
-  const RobustFit fit = FitRobust(d, OffsetColumns(d), Vector6::Zero(), 3.0 * std::sqrt(3.0) * kNoise);
+  const RobustFit fit = FitRobust(d, OffsetColumns(d), Vector6::Zero(), 3.0 * std::sqrt(3.0) * kRobustFitNoise);
   ASSERT_TRUE(fit.converged);
   ASSERT_TRUE(fit.covariance_ok);
   for (int i = 0; i < 6; ++i) {
@@ -62,13 +62,13 @@ TEST(RobustFit, RecoversLegOffsetsWithUncertaintiesThatCoverThem) {
     EXPECT_GT(fit.sigma(i), 0.0);
     EXPECT_LT(fit.sigma(i), 20e-6);  // offsets resemble a frame shift: loosely determined
   }
-  EXPECT_NEAR(std::sqrt(fit.residual.squaredNorm() / d.samples()), std::sqrt(3.0) * kNoise, 1e-6);
+  EXPECT_NEAR(std::sqrt(fit.residual.squaredNorm() / d.samples()), std::sqrt(3.0) * kRobustFitNoise, 1e-6);
 }
 
 TEST(RobustFit, TrackerSpikesDoNotPullTheHuberFitWhereLeastSquaresIsPulled) {
   const PlatformModel model(Huang2021Config());
   const Design d = BuildDesign(model, OffsetData(model, 0.02));
-  const RobustFit fit = FitRobust(d, OffsetColumns(d), Vector6::Zero(), 3.0 * std::sqrt(3.0) * kNoise);
+  const RobustFit fit = FitRobust(d, OffsetColumns(d), Vector6::Zero(), 3.0 * std::sqrt(3.0) * kRobustFitNoise);
   const GramSet gram(d, MakeFolds(d));
   Columns all_cols = ColumnsOf(d, {Effect::kLegOffset});
   const Eigen::VectorXd plain = gram.Solve(all_cols, gram.AllFolds(), Eigen::VectorXd::Zero(d.parameters()));

@@ -6,11 +6,10 @@
 #include "edsp/diagnosis/structure_nuisance.h"
 #include "edsp/kinematics/config.h"
 #include "random_pose_rows.h"
+#include "platform_models.h"
 
 namespace edsp::gap {
 namespace {
-
-PlatformModel Model() { return PlatformModel(Huang2021Config()); }
 
 // A payload of mass m with its c.o.m. at c in {M}, on a base that turns by
 // θ = C·M about {B}'s origin under the moment M of the payload's weight:
@@ -35,7 +34,7 @@ MeasurementData TiltedData(const PlatformModel& model, const Pose& X_TB, const T
 }
 
 TEST(StructureNuisance, BaseTiltColumnsAreTheBaseTurningUnderThePayloadsWeight) {
-  const PlatformModel model = Model();
+  const PlatformModel model = test_support::Huang2021Model();
   Pose X_TB;
   X_TB.p_BoMo_B = Vector3(2.0, -1.5, 0.3);
   X_TB.rpy_rad = Vector3(0.01, -0.02, 2.5);

@@ -27,10 +27,10 @@ namespace edsp::gap {
 namespace {
 
 const std::string kConfig = std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml";
-constexpr double kNoise = 5e-6;
+constexpr double kWholeRigNoise = 5e-6;
 
 OfflineRunOptions BenchmarkRun(const std::string& dir) {
-  return test_support::OfflineSession({"calibration"}, 5, 0.5, kNoise, 11,
+  return test_support::OfflineSession({"calibration"}, 5, 0.5, kWholeRigNoise, 11,
                                       Pose::FromVector((Vector6() << 1.5, -2.0, 0.2, 0.01, -0.01, 2.0).finished()),
                                       dir);
 }
@@ -62,7 +62,7 @@ TEST(WholeRigCalibration, TheDesignedMotionsCalibrateAWholeRig) {
   EXPECT_LT(d.calibration.heldout_rms_m, 0.5 * d.calibration.identified_heldout_rms_m);
   ASSERT_EQ(d.calibration.theta.size(), d.calibration.effects.size());
 
-  const double floor = std::sqrt(3.0) * kNoise;
+  const double floor = std::sqrt(3.0) * kWholeRigNoise;
   const std::vector<std::string> held_out = {"Ly", "Rx", "M3"};
   std::filesystem::create_directories(dir + "/set");
   std::filesystem::create_directories(dir + "/named");

@@ -14,6 +14,7 @@
 #include "edsp/kinematics/config.h"
 #include "calibrated_node.h"
 #include "edsp/kinematics/kinematics_node.h"
+#include "platform_models.h"
 
 namespace edsp {
 namespace {
@@ -21,15 +22,13 @@ namespace {
 constexpr std::int64_t kStart = 2000000000;
 constexpr std::int64_t kBlendUs = 200000;  // a switch's: not the start's
 
-PlatformModel Nominal() { return PlatformModel(Huang2021Config()); }
-
 // Leg offsets of millimetres, as whole rigs' offsets and joint centres add
 // up to at home: one cycle of such a step is far past the bridge's jump.
 calibration::CalibrationModel Millimetres() {
   return calibration::ParseCalibration(
       R"({"format": "edsp-gap-model/1", "effects": [{"name": "leg_offset", "verdict": "identified",
           "theta": [4e-3, -3e-3, 2.5e-3, -1e-3, 3.5e-3, -4.5e-3]}]})",
-      "whole-rig.json", Nominal());
+      "whole-rig.json", test_support::Huang2021Model());
 }
 
 KinematicsNode MakeNode(std::optional<calibration::CalibrationModel> calibration, bool from_drives = true) {
@@ -44,7 +43,7 @@ pose_setpoint_t AtHome(int k) {
   sp.utime = kStart + 1000 * k;
   sp.seq = k + 1;
   sp.session_id = 9;
-  const Vector6 home = Nominal().home_pose().ToVector();
+  const Vector6 home = test_support::Huang2021Model().home_pose().ToVector();
   for (int i = 0; i < 6; ++i) sp.pose[i] = home(i);
   return sp;
 }
@@ -72,7 +71,7 @@ TEST(CalibrationStart, FromDrivesAtTheNominalCommandItBlendsInWithoutAStep) {
   EXPECT_LT((Command(node, 0) - nominal).cwiseAbs().maxCoeff(), 1e-12) << "the first command is where they hold";
   EXPECT_TRUE(node.calibration_blending());
   // Its fastest leg at 5% of the legs' speed limit, a cycle at a time.
-  const double pace_m_per_cycle = 0.05 * Nominal().config().limits.leg_speed_max_m_s * 1e-3;
+  const double pace_m_per_cycle = 0.05 * test_support::Huang2021Model().config().limits.leg_speed_max_m_s * 1e-3;
   const int blend_cycles = static_cast<int>(std::ceil(correction / pace_m_per_cycle));
   Vector6 previous = nominal;
   double largest_step = 0.0;

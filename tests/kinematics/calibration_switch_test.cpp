@@ -14,14 +14,14 @@
 #include "edsp/kinematics/config.h"
 #include "calibrated_node.h"
 #include "edsp/kinematics/kinematics_node.h"
+#include "platform_models.h"
 
 namespace edsp {
-namespace {
+// Named, not anonymous: its helpers share names with other tests of its binary.
+namespace calibration_switch {
 
-constexpr std::int64_t kStart = 2000000000;
-constexpr std::int64_t kBlendUs = 200000;
-
-PlatformModel Nominal() { return PlatformModel(Huang2021Config()); }
+constexpr std::int64_t kSwitchStart = 2000000000;
+constexpr std::int64_t kSwitchBlendUs = 200000;
 
 // Leg offsets and lead errors: corrections that depend on the pose only, so
 // a compensator started mid-run agrees with one that ran from the start.
@@ -29,19 +29,22 @@ const char kModelJson[] = R"({"format": "edsp-gap-model/1", "effects": [
     {"name": "leg_offset", "verdict": "identified", "theta": [2e-4, -1.5e-4, 1e-4, -2.5e-4, 1.2e-4, -0.5e-4]},
     {"name": "lead_error", "verdict": "identified", "theta": [1.5e-4, -1e-4, 2e-4, 0.5e-4, -1.5e-4, 1e-4]}]})";
 
-calibration::CalibrationModel Model() { return calibration::ParseCalibration(kModelJson, "rig7.json", Nominal()); }
+calibration::CalibrationModel Model() {
+  return calibration::ParseCalibration(kModelJson, "rig7.json", test_support::Huang2021Model());
+}
 
 // A node with `calibration` in force from its first command: the reference
 // the switches are held to (how a calibration in force at start blends in
 // from the drives is calibration_start_test's).
 KinematicsNode MakeNode(std::optional<calibration::CalibrationModel> calibration) {
-  return test_support::CalibratedNode(std::move(calibration), kBlendUs, test_support::CalibrationStart::kInForceAtOnce);
+  return test_support::CalibratedNode(std::move(calibration), kSwitchBlendUs,
+                                      test_support::CalibrationStart::kInForceAtOnce);
 }
 
 // Cycle k of a move up along z at 0.1 m/s, 1 kHz.
 pose_setpoint_t Setpoint(int k) {
   pose_setpoint_t sp{};
-  sp.utime = kStart + 1000 * k;
+  sp.utime = kSwitchStart + 1000 * k;
   sp.seq = k + 1;
   sp.session_id = 9;
   const double pose[6] = {0.05, -0.02, 1.45 + 1e-4 * k, 0.02, -0.03, 0.1};
@@ -50,7 +53,7 @@ pose_setpoint_t Setpoint(int k) {
   return sp;
 }
 
-leg_command_t Command(KinematicsNode& node, int k) { return test_support::CommandFor(node, Setpoint(k)); }
+leg_command_t SwitchCommand(KinematicsNode& node, int k) { return test_support::CommandFor(node, Setpoint(k)); }
 
 calibration_t Request(const std::string& json, std::int64_t utime, std::int64_t session_id = 9) {
   calibration_t r{};
@@ -79,10 +82,10 @@ double RunSwitch(KinematicsNode& node, bool to_calibrated, int at, int n, const 
       EXPECT_EQ(answer.code, static_cast<std::int32_t>(FaultCode::kOperatorAction)) << answer.reason;
       EXPECT_TRUE(node.calibration_blending());
     }
-    const leg_command_t c = Command(node, k), a = Command(without, k), b = Command(with, k);
+    const leg_command_t c = SwitchCommand(node, k), a = SwitchCommand(without, k), b = SwitchCommand(with, k);
     // The blend advances by the setpoint time since the last setpoint: the
     // first setpoint after the request carries one cycle of it.
-    const double w = k < at ? 0.0 : std::min(1.0, (k - at + 1) * 1000.0 / kBlendUs);
+    const double w = k < at ? 0.0 : std::min(1.0, (k - at + 1) * 1000.0 / kSwitchBlendUs);
     const double weight_new = to_calibrated ? w : 1.0 - w;
     for (int i = 0; i < kNumLegs; ++i) {
       const double expected = (1.0 - weight_new) * a.command_length_m[i] + weight_new * b.command_length_m[i];
@@ -98,7 +101,7 @@ double RunSwitch(KinematicsNode& node, bool to_calibrated, int at, int n, const 
 
 TEST(CalibrationSwitch, ACalibrationSwitchedOnMidMotionBlendsIntoItWithoutAStep) {
   KinematicsNode node = MakeNode(std::nullopt);
-  const double largest = RunSwitch(node, true, 100, 400, Request(kModelJson, kStart));
+  const double largest = RunSwitch(node, true, 100, 400, Request(kModelJson, kSwitchStart));
   EXPECT_FALSE(node.calibration_blending());
   const calibration::CalibrationModel* in_force = node.calibration();
   ASSERT_NE(in_force, nullptr);
@@ -111,7 +114,7 @@ TEST(CalibrationSwitch, ACalibrationSwitchedOnMidMotionBlendsIntoItWithoutAStep)
 
 TEST(CalibrationSwitch, SwitchedOffItBlendsBackToTheNominalModel) {
   KinematicsNode node = MakeNode(Model());
-  const double largest = RunSwitch(node, false, 100, 400, Request("", kStart));
+  const double largest = RunSwitch(node, false, 100, 400, Request("", kSwitchStart));
   EXPECT_EQ(node.calibration(), nullptr);
   EXPECT_LT(largest, 0.3e-3 / 200.0);
 }
@@ -122,7 +125,7 @@ Vector3 EstimatedA(KinematicsNode& node, const leg_command_t& lengths) {
   for (int i = 0; i < kNumLegs; ++i) legs.encoder_length_m[i] = lengths.command_length_m[i];
   platform_state_t state;
   fault_t fault;
-  EXPECT_TRUE(node.HandleLegState(legs, kStart, &state, &fault)) << fault.reason;
+  EXPECT_TRUE(node.HandleLegState(legs, kSwitchStart, &state, &fault)) << fault.reason;
   return Vector3(state.observation_point_m[0], state.observation_point_m[1], state.observation_point_m[2]);
 }
 
@@ -132,15 +135,17 @@ Vector3 EstimatedA(KinematicsNode& node, const leg_command_t& lengths) {
 // blend, the calibrated node's.
 TEST(CalibrationSwitch, ForwardKinematicsBlendsWithTheSwitch) {
   KinematicsNode node = MakeNode(std::nullopt), with = MakeNode(Model()), without = MakeNode(std::nullopt);
-  ASSERT_EQ(node.HandleCalibrationRequest(Request(kModelJson, kStart), kStart).severity, fault_t::SEVERITY_INFO);
-  for (int k = 0; k <= 100; ++k) Command(node, k), Command(with, k), Command(without, k);  // 100 of 200 ms
-  const leg_command_t encoders = Command(without, 101);
-  Command(node, 101), Command(with, 101);  // 101 ms: w = 0.505
+  ASSERT_EQ(node.HandleCalibrationRequest(Request(kModelJson, kSwitchStart), kSwitchStart).severity,
+            fault_t::SEVERITY_INFO);
+  for (int k = 0; k <= 100; ++k)
+    SwitchCommand(node, k), SwitchCommand(with, k), SwitchCommand(without, k);  // 100 of 200 ms
+  const leg_command_t encoders = SwitchCommand(without, 101);
+  SwitchCommand(node, 101), SwitchCommand(with, 101);  // 101 ms: w = 0.505
   const Vector3 nominal = EstimatedA(without, encoders), calibrated = EstimatedA(with, encoders);
   ASSERT_GT((calibrated - nominal).norm(), 1e-5);  // the calibration does change the estimate
   const Vector3 half_way = EstimatedA(node, encoders);
   EXPECT_NEAR((half_way - nominal).norm() / (calibrated - nominal).norm(), 0.505, 0.01);
-  for (int k = 102; k < 250; ++k) Command(node, k), Command(with, k);
+  for (int k = 102; k < 250; ++k) SwitchCommand(node, k), SwitchCommand(with, k);
   EXPECT_LT((EstimatedA(node, encoders) - EstimatedA(with, encoders)).norm(), 1e-9);
 }
 
@@ -150,10 +155,17 @@ TEST(CalibrationSwitch, ForwardKinematicsBlendsWithTheSwitch) {
 // never overflows (the sanitized build checks that).
 TEST(CalibrationSwitch, JumpsInSetpointTimeNeverJumpTheCorrection) {
   KinematicsNode node = MakeNode(std::nullopt), without = MakeNode(std::nullopt), with = MakeNode(Model());
-  ASSERT_EQ(node.HandleCalibrationRequest(Request(kModelJson, kStart), kStart).severity, fault_t::SEVERITY_INFO);
-  const std::int64_t stamps[] = {kStart,           kStart + 1000,    kStart - 40000,
-                                 kStart + 5000000, kStart + 5001000, INT64_MIN + 1,
-                                 INT64_MAX,        INT64_MAX,        kStart};
+  ASSERT_EQ(node.HandleCalibrationRequest(Request(kModelJson, kSwitchStart), kSwitchStart).severity,
+            fault_t::SEVERITY_INFO);
+  const std::int64_t stamps[] = {kSwitchStart,
+                                 kSwitchStart + 1000,
+                                 kSwitchStart - 40000,
+                                 kSwitchStart + 5000000,
+                                 kSwitchStart + 5001000,
+                                 INT64_MIN + 1,
+                                 INT64_MAX,
+                                 INT64_MAX,
+                                 kSwitchStart};
   double last_weight = 0.0;
   for (std::int64_t stamp : stamps) {
     pose_setpoint_t sp = Setpoint(3);
@@ -166,7 +178,7 @@ TEST(CalibrationSwitch, JumpsInSetpointTimeNeverJumpTheCorrection) {
     const double weight =
         (c.command_length_m[3] - a.command_length_m[3]) / (b.command_length_m[3] - a.command_length_m[3]);
     EXPECT_GE(weight, last_weight - 1e-9) << "stamp " << stamp;
-    EXPECT_LE(weight - last_weight, calibration::CalibrationBlend::kMaxAdvance_us / kBlendUs + 1e-9)
+    EXPECT_LE(weight - last_weight, calibration::CalibrationBlend::kMaxAdvance_us / kSwitchBlendUs + 1e-9)
         << "stamp " << stamp;
     last_weight = weight;
   }
@@ -183,8 +195,8 @@ std::string Answer(KinematicsNode& node, const calibration_t& request) {
 // calibration in force stays.
 TEST(CalibrationSwitch, RequestsAreConfirmedNamingTheModelOrRefusedNamingWhy) {
   KinematicsNode node = MakeNode(std::nullopt);
-  const calibration_t on = Request(kModelJson, kStart);
-  const fault_t confirmed = node.HandleCalibrationRequest(on, kStart);
+  const calibration_t on = Request(kModelJson, kSwitchStart);
+  const fault_t confirmed = node.HandleCalibrationRequest(on, kSwitchStart);
   EXPECT_EQ(confirmed.severity, fault_t::SEVERITY_INFO);
   EXPECT_EQ(confirmed.channel, "EDSP_CALIBRATION");
   EXPECT_NE(confirmed.reason.find("calibration none → rig7.json (" + Model().hash +
@@ -195,34 +207,34 @@ TEST(CalibrationSwitch, RequestsAreConfirmedNamingTheModelOrRefusedNamingWhy) {
   EXPECT_TRUE(node.calibration_blending());
 
   // While the blend runs, another switch waits.
-  for (int k = 0; k < 50; ++k) Command(node, k);
-  const std::string busy = Answer(node, Request("", kStart + 100000));
+  for (int k = 0; k < 50; ++k) SwitchCommand(node, k);
+  const std::string busy = Answer(node, Request("", kSwitchStart + 100000));
   EXPECT_NE(busy.find("still blending (151 of 200 ms"), std::string::npos) << busy;
-  for (int k = 50; k < 250; ++k) Command(node, k);
+  for (int k = 50; k < 250; ++k) SwitchCommand(node, k);
   EXPECT_FALSE(node.calibration_blending());
 
   // A refusal holds nothing back: another session's request stamped later
   // than the next genuine one does not make that one "older".
   KinematicsNode fresh = MakeNode(std::nullopt);
-  EXPECT_NE(Answer(fresh, Request("", kStart + 2000000, 4)).find("from session 4"), std::string::npos);
-  EXPECT_EQ(fresh.HandleCalibrationRequest(Request(kModelJson, kStart + 1000000), kStart).severity,
+  EXPECT_NE(Answer(fresh, Request("", kSwitchStart + 2000000, 4)).find("from session 4"), std::string::npos);
+  EXPECT_EQ(fresh.HandleCalibrationRequest(Request(kModelJson, kSwitchStart + 1000000), kSwitchStart).severity,
             fault_t::SEVERITY_INFO);
 
   const std::string in_force = "in force stays rig7.json (" + Model().hash + ")";
-  const std::string other_session = Answer(node, Request("", kStart + 300000, 4));
+  const std::string other_session = Answer(node, Request("", kSwitchStart + 300000, 4));
   EXPECT_NE(other_session.find("from session 4 (this group is session 9)"), std::string::npos) << other_session;
   EXPECT_NE(other_session.find(in_force), std::string::npos) << other_session;
-  const std::string not_json = Answer(node, Request("{", kStart + 400000));
+  const std::string not_json = Answer(node, Request("{", kSwitchStart + 400000));
   EXPECT_NE(not_json.find("rig7.json: not JSON"), std::string::npos) << not_json;
   const std::string absurd = Answer(
       node, Request(R"({"format": "edsp-gap-model/1", "effects": [{"name": "leg_offset", "theta": [0.05,0,0,0,0,0]}]})",
-                    kStart + 500000));
+                    kSwitchStart + 500000));
   EXPECT_NE(absurd.find("theta[0] = 0.05"), std::string::npos) << absurd;
   const std::string elsewhere =
       Answer(node, Request(R"({"format": "edsp-gap-model/1", "platform": "home_length_m=2,2,2,2,2,2", "effects": []})",
-                           kStart + 600000));
+                           kSwitchStart + 600000));
   EXPECT_NE(elsewhere.find("another platform"), std::string::npos) << elsewhere;
-  const std::string late = Answer(node, Request("", kStart - 1));
+  const std::string late = Answer(node, Request("", kSwitchStart - 1));
   EXPECT_NE(late.find("older than the one acted on"), std::string::npos) << late;
   EXPECT_FALSE(node.calibration_blending());
   const calibration::CalibrationModel* kept = node.calibration();
@@ -236,7 +248,7 @@ TEST(CalibrationSwitch, AmbiguousEffectsAreAppliedOnlyWhenTheRequestAsks) {
   const std::string json = R"({"format": "edsp-gap-model/1", "effects": [
       {"name": "leg_offset", "verdict": "ambiguous", "theta": [1e-4, 0, 0, 0, 0, 0]}]})";
   KinematicsNode strict = MakeNode(std::nullopt), lenient = MakeNode(std::nullopt);
-  calibration_t request = Request(json, kStart);
+  calibration_t request = Request(json, kSwitchStart);
   EXPECT_NE(Answer(strict, request).find("not applied: leg_offset (ambiguous)"), std::string::npos);
   request.apply_ambiguous = 1;
   EXPECT_NE(Answer(lenient, request).find("applies leg_offset"), std::string::npos);
@@ -246,5 +258,5 @@ TEST(CalibrationSwitch, AmbiguousEffectsAreAppliedOnlyWhenTheRequestAsks) {
   EXPECT_EQ(applied->applied.size(), 1u);
 }
 
-}  // namespace
+}  // namespace calibration_switch
 }  // namespace edsp

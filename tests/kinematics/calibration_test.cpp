@@ -11,11 +11,10 @@
 
 #include "edsp/kinematics/calibration.h"
 #include "edsp/kinematics/config.h"
+#include "platform_models.h"
 
 namespace edsp::calibration {
 namespace {
-
-PlatformModel Nominal() { return PlatformModel(Huang2021Config()); }
 
 std::string Model(const std::string& effects, const std::string& extra = "") {
   return R"({"format": "edsp-gap-model/1", )" + extra + R"("effects": [)" + effects + "]}";
@@ -23,7 +22,7 @@ std::string Model(const std::string& effects, const std::string& extra = "") {
 
 std::string Refusal(const std::string& text) {
   try {
-    ParseCalibration(text, "m.json", Nominal());
+    ParseCalibration(text, "m.json", test_support::Huang2021Model());
   } catch (const CalibrationError& e) {
     return e.what();
   }
@@ -62,19 +61,20 @@ TEST(Calibration, WrongModelsAreRefusedNamingFileAndKey) {
             std::string::npos);
   EXPECT_EQ(Refusal(Model(mode, R"("structural_mode_hz": 5, )")), "accepted");
   EXPECT_EQ(Refusal(Model("")), "accepted");  // an empty model is valid
-  EXPECT_EQ(Refusal(Model("", "\"platform\": \"" + PlatformFingerprint(Nominal()) + "\", ")), "accepted");
+  EXPECT_EQ(Refusal(Model("", "\"platform\": \"" + PlatformFingerprint(test_support::Huang2021Model()) + "\", ")),
+            "accepted");
 }
 
 TEST(Calibration, AmbiguousEffectsAreAppliedOnlyWhenAsked) {
   const std::string text = Model(R"({"name": "leg_offset", "verdict": "identified", "theta": [1e-4,0,0,0,0,0]},
                                      {"name": "lead_error", "verdict": "ambiguous", "theta": [1e-4,0,0,0,0,0]})");
-  const CalibrationModel strict = ParseCalibration(text, "m.json", Nominal());
+  const CalibrationModel strict = ParseCalibration(text, "m.json", test_support::Huang2021Model());
   ASSERT_EQ(strict.applied.size(), 1u);
   EXPECT_EQ(strict.applied[0].effect, Effect::kLegOffset);
   EXPECT_NE(strict.Describe().find("not applied: lead_error (ambiguous)"), std::string::npos) << strict.Describe();
-  EXPECT_EQ(ParseCalibration(text, "m.json", Nominal(), true).applied.size(), 2u);
+  EXPECT_EQ(ParseCalibration(text, "m.json", test_support::Huang2021Model(), true).applied.size(), 2u);
   EXPECT_EQ(strict.hash.size(), 16u);
-  EXPECT_NE(strict.hash, ParseCalibration(text + " ", "m.json", Nominal()).hash);
+  EXPECT_NE(strict.hash, ParseCalibration(text + " ", "m.json", test_support::Huang2021Model()).hash);
 }
 
 // A model whose entries say "apply" (edsp-gap's calibration set: the best
@@ -92,15 +92,15 @@ TEST(Calibration, EntriesThatSayApplyAreAppliedAsTheySay) {
     for (const CalibratedEffect& e : m.applied) out.push_back(e.effect);
     return out;
   };
-  const CalibrationModel as_saved = ParseCalibration(text, "m.json", Nominal());
+  const CalibrationModel as_saved = ParseCalibration(text, "m.json", test_support::Huang2021Model());
   EXPECT_EQ(names(as_saved), (std::vector<Effect>{Effect::kLeadError, Effect::kBacklash}));
   EXPECT_NE(as_saved.Describe().find("not applied: leg_offset (identified), compliance (ambiguous)"), std::string::npos)
       << as_saved.Describe();
-  EXPECT_EQ(names(ParseCalibration(text, "m.json", Nominal(), true)),
+  EXPECT_EQ(names(ParseCalibration(text, "m.json", test_support::Huang2021Model(), true)),
             (std::vector<Effect>{Effect::kLeadError, Effect::kBacklash, Effect::kCompliance}));
   // Without "apply", a rejected entry is not applied; a wrong "apply" is named.
   EXPECT_TRUE(ParseCalibration(Model(R"({"name": "backlash", "verdict": "rejected", "theta": [0,0,0,0,0,0]})"),
-                               "m.json", Nominal())
+                               "m.json", test_support::Huang2021Model())
                   .applied.empty());
   EXPECT_NE(
       Refusal(Model(R"({"name": "leg_offset", "theta": [0,0,0,0,0,0], "apply": "yes"})")).find("\"apply\" must be"),
@@ -129,7 +129,7 @@ TEST(Calibration, JointCentreCorrectionIsTheMovedGeometrysInverseKinematics) {
       moved.geometry.p_MoPi_M(a, i) += theta(18 + 3 * i + a);
     }
   }
-  const PlatformModel nominal = Nominal(), truth(moved);
+  const PlatformModel nominal = test_support::Huang2021Model(), truth(moved);
   const Vector6 home = nominal.home_pose().ToVector();
   for (const Vector6& dq : {Vector6((Vector6() << 0.1, -0.05, 0.2, 0.05, -0.1, 0.3).finished()),
                             Vector6((Vector6() << -0.2, 0.1, -0.1, 0.0, 0.1, -0.2).finished())}) {
@@ -154,7 +154,7 @@ TEST(Calibration, FeedForwardOfAJumpingVelocityNeverSteps) {
   theta.head(6).setConstant(0.013);  // a 13 ms lag
   CalibrationModel m;
   m.applied.push_back({Effect::kServoLag, theta, Verdict::kIdentified});
-  const PlatformModel nominal = Nominal();
+  const PlatformModel nominal = test_support::Huang2021Model();
   LegCompensator compensator(nominal, m);
   const Pose home = nominal.home_pose();
   const Vector6 command = nominal.Solve(home).length_m;
@@ -179,7 +179,7 @@ TEST(Calibration, FeedForwardOfAJumpingVelocityNeverSteps) {
 // here by fixed-point iteration on that formula, not at the nominal
 // stroke (there it would differ by micrometres).
 TEST(Calibration, APeriodicErrorIsCorrectedWhereTheCorrectedCommandTurnsTheScrew) {
-  const PlatformModel nominal = Nominal();
+  const PlatformModel nominal = test_support::Huang2021Model();
   Eigen::VectorXd periodic(12);
   for (int i = 0; i < 6; ++i) periodic(2 * i) = 10e-6, periodic(2 * i + 1) = -6e-6;
   CalibrationModel m;

@@ -21,7 +21,7 @@ Pose Reached(const PlatformModel& model, const Pose& target, PrMode mode) {
 TEST(Compensation, SignedLandsPointAWithin1nm) {
   const PlatformModel model(Huang2021Config());
   double worst = 0.0;
-  for (const Pose& target : testing::RandomWorkspacePoses(model, 2000, 41)) {
+  for (const Pose& target : test_support::RandomWorkspacePoses(model, 2000, 41)) {
     const Pose reached = Reached(model, target, PrMode::kSigned);
     worst = std::max(worst, (model.ObservationPoint(reached) - model.ObservationPoint(target)).norm());
   }
@@ -30,7 +30,7 @@ TEST(Compensation, SignedLandsPointAWithin1nm) {
 
 TEST(Compensation, CommandIsIkLengthMinusPrError) {
   const PlatformModel model(Huang2021Config());
-  for (const Pose& pose : testing::RandomWorkspacePoses(model, 100, 42)) {
+  for (const Pose& pose : test_support::RandomWorkspacePoses(model, 100, 42)) {
     for (PrMode mode : {PrMode::kNone, PrMode::kUnsigned, PrMode::kSigned, PrMode::kAsin}) {
       const Vector6 expected = model.LegLengths(pose) - model.PrLengthError(pose, mode);
       EXPECT_LT((model.CompensatedLengths(pose, mode) - expected).cwiseAbs().maxCoeff(), 1e-15);
@@ -42,7 +42,7 @@ TEST(Compensation, UncompensatedMissMatchesLinearisedPrediction) {
   // Commanding plain IK lengths, the legs grow by the PR error e, so the pose
   // moves by about J⁻¹·e: an estimate that uses no Newton iteration at all.
   const PlatformModel model(Huang2021Config());
-  for (const Pose& target : testing::RandomWorkspacePoses(model, 200, 43)) {
+  for (const Pose& target : test_support::RandomWorkspacePoses(model, 200, 43)) {
     const Vector6 e = model.PrLengthError(target, PrMode::kSigned);
     if (e.norm() < 1e-5) continue;
     const Vector6 predicted = model.LengthJacobian(target).partialPivLu().solve(e);

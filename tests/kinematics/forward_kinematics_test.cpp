@@ -24,7 +24,7 @@ RoundTripStats RoundTrips(const PlatformModel& model, bool with_pr, int count, u
   FkOptions options;
   options.with_pr = with_pr;
   RoundTripStats stats;
-  for (const Pose& truth : testing::RandomWorkspacePoses(model, count, seed)) {
+  for (const Pose& truth : test_support::RandomWorkspacePoses(model, count, seed)) {
     const Vector6 lengths = with_pr ? model.EncoderLengths(truth) : model.LegLengths(truth);
     Pose guess = truth;
     for (int k = 0; k < 3; ++k) guess.p_BoMo_B(k) += dx(rng);

@@ -24,7 +24,7 @@ Matrix6 CentralDifference(const Pose& pose, F f) {
 
 TEST(Jacobian, LengthJacobianMatchesFiniteDifferences) {
   const PlatformModel model(Huang2021Config());
-  for (const Pose& pose : testing::RandomWorkspacePoses(model, 300, 21)) {
+  for (const Pose& pose : test_support::RandomWorkspacePoses(model, 300, 21)) {
     const Matrix6 fd = CentralDifference(pose, [&](const Pose& p) { return model.LegLengths(p); });
     EXPECT_LT((model.LengthJacobian(pose) - fd).cwiseAbs().maxCoeff(), 1e-8);
   }
@@ -34,7 +34,7 @@ TEST(Jacobian, PrErrorJacobianMatchesFiniteDifferences) {
   PlatformConfig config = Huang2021Config();
   config.drive.pr_sign = -1;  // the sign must flow through
   const PlatformModel model(config);
-  for (const Pose& pose : testing::RandomWorkspacePoses(model, 300, 22)) {
+  for (const Pose& pose : test_support::RandomWorkspacePoses(model, 300, 22)) {
     const Matrix6 fd = CentralDifference(pose, [&](const Pose& p) { return model.PrLengthError(p, PrMode::kSigned); });
     const Matrix6 analytic = model.PrLengthErrorJacobian(pose);
     EXPECT_LT((analytic - fd).cwiseAbs().maxCoeff(), 1e-10);
@@ -50,7 +50,7 @@ TEST(Jacobian, TwistJacobianMatchesSmallSpatialMotions) {
   auto lengths = [&](const Matrix3& R, const Vector3& p) {
     return Vector6(((R * g.p_MoPi_M - g.p_BoBi_B).colwise() + p).colwise().norm().transpose());
   };
-  for (const Pose& pose : testing::RandomWorkspacePoses(model, 300, 23)) {
+  for (const Pose& pose : test_support::RandomWorkspacePoses(model, 300, 23)) {
     const Matrix3 R = RotationFromRpy(pose.rpy_rad);
     Matrix6 fd;
     for (int k = 0; k < 6; ++k) {

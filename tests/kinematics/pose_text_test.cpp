@@ -5,7 +5,8 @@
 #include "edsp/kinematics/pose_text.h"
 
 namespace edsp {
-namespace {
+// Named, not anonymous: its helpers share names with other tests of its binary.
+namespace pose_text {
 
 TEST(PoseText, ParsesSixNumbersInOrder) {
   const Pose pose = ParsePoseText("0.1,-0.2,1.6,0.01,-2e-2,0.3");
@@ -26,7 +27,7 @@ TEST(PoseText, RejectsWhatIsNotSixFiniteNumbers) {
   EXPECT_NE(ErrorOf("").find("exactly six"), std::string::npos);
 }
 
-}  // namespace
+}  // namespace pose_text
 }  // namespace edsp
 
 namespace edsp {

@@ -6,7 +6,7 @@
 
 #include "edsp/kinematics/workspace.h"
 
-namespace edsp::testing {
+namespace edsp::test_support {
 
 // Uniform in ±0.5 m, ±30° about home (the paper's ranges), rejecting poses the
 // workspace checks refuse.
@@ -25,4 +25,4 @@ inline std::vector<Pose> RandomWorkspacePoses(const PlatformModel& model, int co
   return poses;
 }
 
-}  // namespace edsp::testing
+}  // namespace edsp::test_support

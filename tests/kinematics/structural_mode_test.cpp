@@ -11,8 +11,6 @@
 namespace edsp {
 namespace {
 
-constexpr double kTwoPi = 6.283185307179586;
-
 // Amplitude of x for m·ẍ + 2ζω₀ẋ + ω₀²x = −A·sin(ωt), after the transient.
 double SteadyAmplitude(double f0, double zeta, double f, double mass, double accel) {
   const double w0 = kTwoPi * f0, w = kTwoPi * f;

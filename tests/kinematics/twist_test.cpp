@@ -48,7 +48,7 @@ TEST(SignedTwist, ChangeFromHomeMatchesHookeJointCompositionOver5000Poses) {
   const PlatformModel model(Huang2021Config());
   const Vector6 home = TwistByJointComposition(model, model.home_pose());
   double worst = 0.0;
-  for (const Pose& pose : testing::RandomWorkspacePoses(model, 5000, 11)) {
+  for (const Pose& pose : test_support::RandomWorkspacePoses(model, 5000, 11)) {
     const Vector6 composed = TwistByJointComposition(model, pose) - home;
     const Vector6 formula = model.Solve(pose).twist_rad - model.home_twist_rad();
     for (int i = 0; i < kNumLegs; ++i) {
@@ -61,7 +61,7 @@ TEST(SignedTwist, ChangeFromHomeMatchesHookeJointCompositionOver5000Poses) {
 TEST(SignedTwist, UnsignedModeIsThePapersArccos) {
   const PlatformModel model(Huang2021Config());
   const PlatformGeometry& g = model.config().geometry;
-  for (const Pose& pose : testing::RandomWorkspacePoses(model, 500, 12)) {
+  for (const Pose& pose : test_support::RandomWorkspacePoses(model, 500, 12)) {
     const LegSolution legs = model.Solve(pose);
     for (int i = 0; i < kNumLegs; ++i) {
       const Vector3 u = legs.u_B.col(i);
@@ -77,7 +77,7 @@ TEST(SignedTwist, AsinModeIsGenhexkinsDotProduct) {
   // LinuxCNC: nb3 = u×(ja×u), na2 = (R·jd0)×u, correction ∝ asin(nb3·na2).
   const PlatformModel model(Huang2021Config());
   const PlatformGeometry& g = model.config().geometry;
-  for (const Pose& pose : testing::RandomWorkspacePoses(model, 500, 13)) {
+  for (const Pose& pose : test_support::RandomWorkspacePoses(model, 500, 13)) {
     const LegSolution legs = model.Solve(pose);
     for (int i = 0; i < kNumLegs; ++i) {
       const Vector3 u = legs.u_B.col(i);

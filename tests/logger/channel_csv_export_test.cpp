@@ -57,7 +57,7 @@ std::vector<std::vector<std::string>> ReadCsv(const std::string& path) {
   return rows;
 }
 
-std::size_t Column(const std::vector<std::string>& header, const std::string& name) {
+std::size_t HeaderIndex(const std::vector<std::string>& header, const std::string& name) {
   for (std::size_t i = 0; i < header.size(); ++i) {
     if (header[i] == name) return i;
   }
@@ -128,28 +128,28 @@ TEST_F(ChannelCsvExportTest, EveryFieldOfEveryMessageOneFilePerChannel) {
   EXPECT_EQ(h.size(), 1u + 3 + 18 + 2);
   for (std::size_t r = 1; r < sp.size(); ++r) EXPECT_EQ(sp[r].size(), h.size());
   EXPECT_EQ(h[0], "log_time_s");
-  EXPECT_EQ(std::stod(sp[2][Column(h, "log_time_s")]), 0.001);
-  EXPECT_EQ(std::stoll(sp[3][Column(h, "utime")]), 1002);
-  EXPECT_EQ(std::stoll(sp[3][Column(h, "session_id")]), 42);
-  EXPECT_EQ(std::stod(sp[3][Column(h, "pose_3")]), 1.511 + 2 / 3.0);
-  EXPECT_EQ(std::stod(sp[3][Column(h, "pose_6")]), -0.1 - 1e-17);
-  EXPECT_EQ(sp[3][Column(h, "trajectory")], "Rz/move 2");
-  EXPECT_EQ(sp[3][Column(h, "segment")], "2");
+  EXPECT_EQ(std::stod(sp[2][HeaderIndex(h, "log_time_s")]), 0.001);
+  EXPECT_EQ(std::stoll(sp[3][HeaderIndex(h, "utime")]), 1002);
+  EXPECT_EQ(std::stoll(sp[3][HeaderIndex(h, "session_id")]), 42);
+  EXPECT_EQ(std::stod(sp[3][HeaderIndex(h, "pose_3")]), 1.511 + 2 / 3.0);
+  EXPECT_EQ(std::stod(sp[3][HeaderIndex(h, "pose_6")]), -0.1 - 1e-17);
+  EXPECT_EQ(sp[3][HeaderIndex(h, "trajectory")], "Rz/move 2");
+  EXPECT_EQ(sp[3][HeaderIndex(h, "segment")], "2");
 
   const auto lc = ReadCsv(dir_ + "/EDSP_LEG_COMMAND.csv");
   ASSERT_EQ(lc.size(), 2u);
-  EXPECT_EQ(lc[1][Column(lc[0], "pr_mode")], "2");
-  EXPECT_EQ(std::stod(lc[1][Column(lc[0], "command_length_m_6")]), 1.9 + 5e-13);
+  EXPECT_EQ(lc[1][HeaderIndex(lc[0], "pr_mode")], "2");
+  EXPECT_EQ(std::stod(lc[1][HeaderIndex(lc[0], "command_length_m_6")]), 1.9 + 5e-13);
 
   const auto cfg = ReadCsv(dir_ + "/EDSP_CONFIG.csv");
   ASSERT_EQ(cfg.size(), 2u);
-  EXPECT_EQ(cfg[1][Column(cfg[0], "config_toml")], "[geometry]\npreset = \"huang2021\"\n");
-  EXPECT_EQ(std::stod(cfg[1][Column(cfg[0], "base_joints_m_6_3")]), 0.25);
-  EXPECT_EQ(std::stod(cfg[1][Column(cfg[0], "base_joints_m_1_1")]), 0.0);
+  EXPECT_EQ(cfg[1][HeaderIndex(cfg[0], "config_toml")], "[geometry]\npreset = \"huang2021\"\n");
+  EXPECT_EQ(std::stod(cfg[1][HeaderIndex(cfg[0], "base_joints_m_6_3")]), 0.25);
+  EXPECT_EQ(std::stod(cfg[1][HeaderIndex(cfg[0], "base_joints_m_1_1")]), 0.0);
 
   const auto faults = ReadCsv(dir_ + "/EDSP_FAULT.csv");
   ASSERT_EQ(faults.size(), 2u);
-  EXPECT_EQ(faults[1][Column(faults[0], "reason")], "setpoint x = nan, \"refused\"");
+  EXPECT_EQ(faults[1][HeaderIndex(faults[0], "reason")], "setpoint x = nan, \"refused\"");
 }
 
 TEST_F(ChannelCsvExportTest, ChannelFilterAndDamage) {
@@ -208,8 +208,8 @@ TEST(ChannelCsvExport, EveryChannelOfTheTableExportsItsType) {
     EXPECT_EQ(e.channels.at(name).rows, 1);
     const auto rows = ReadCsv(e.channels.at(name).path);
     ASSERT_EQ(rows.size(), 2u) << name;
-    EXPECT_EQ(rows[1][Column(rows[0], "utime")], "7") << name;
-    EXPECT_EQ(rows[1][Column(rows[0], "seq")], "3") << name;
+    EXPECT_EQ(rows[1][HeaderIndex(rows[0], "utime")], "7") << name;
+    EXPECT_EQ(rows[1][HeaderIndex(rows[0], "seq")], "3") << name;
   }
   std::filesystem::remove_all(stem + "_csv");
   std::filesystem::remove(stem + ".lcmlog");

@@ -23,9 +23,9 @@
 
 namespace edsp::test_support {
 
-namespace {
-
 void Pause(int ms) { std::this_thread::sleep_for(std::chrono::milliseconds(ms)); }
+
+namespace {
 
 template <typename Msg, typename Fn>
 void ForEach(const std::string& log_path, const std::string& channel, Fn fn) {

@@ -74,6 +74,9 @@ class MultiHostGroup {
   std::vector<int> background_exits_;
 };
 
+// Sleeps this thread for `ms` milliseconds.
+void Pause(int ms);
+
 // What the tests read back from the operator's log.
 struct TruthSample {
   std::int64_t utime;

@@ -27,8 +27,6 @@ namespace {
 
 const std::vector<std::string> kHosts = {"operator", "controller", "drive"};
 
-void Pause(int ms) { std::this_thread::sleep_for(std::chrono::milliseconds(ms)); }
-
 std::string Slurp(const std::string& path) {
   std::ifstream in(path);
   std::ostringstream text;

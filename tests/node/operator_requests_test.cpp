@@ -19,7 +19,7 @@ arm_t Request(std::int64_t utime, std::int64_t seq, const std::string& who) {
   return r;
 }
 
-constexpr std::int64_t kNow = 5000;
+constexpr std::int64_t kRequestNow = 5000;
 
 struct Counter {
   int acted = 0;
@@ -43,17 +43,17 @@ TEST(OperatorRequestAnswers, ActsOnceAndAnswersEveryCopyAlike) {
   const arm_t a = Request(1000, 1, "alice");
   EXPECT_EQ(answers
                 .Answer(
-                    a, kNow, [&] { return c.Act(); }, Refuse)
+                    a, kRequestNow, [&] { return c.Act(); }, Refuse)
                 .reason,
             "acted 1");
   EXPECT_EQ(answers
                 .Answer(
-                    a, kNow, [&] { return c.Act(); }, Refuse)
+                    a, kRequestNow, [&] { return c.Act(); }, Refuse)
                 .reason,
             "acted 1");
   EXPECT_EQ(answers
                 .Answer(
-                    a, kNow, [&] { return c.Act(); }, Refuse)
+                    a, kRequestNow, [&] { return c.Act(); }, Refuse)
                 .reason,
             "acted 1");
   EXPECT_EQ(c.acted, 1);
@@ -63,20 +63,20 @@ TEST(OperatorRequestAnswers, ANewRequestIsActedOnEvenWithTheSameTimeOrSeq) {
   OperatorRequestAnswers answers;
   Counter c;
   answers.Answer(
-      Request(1000, 1, "alice"), kNow, [&] { return c.Act(); }, Refuse);
+      Request(1000, 1, "alice"), kRequestNow, [&] { return c.Act(); }, Refuse);
   EXPECT_EQ(answers
                 .Answer(
-                    Request(1000, 2, "alice"), kNow, [&] { return c.Act(); }, Refuse)
+                    Request(1000, 2, "alice"), kRequestNow, [&] { return c.Act(); }, Refuse)
                 .reason,
             "acted 2");
   EXPECT_EQ(answers
                 .Answer(
-                    Request(1000, 2, "bob"), kNow, [&] { return c.Act(); }, Refuse)
+                    Request(1000, 2, "bob"), kRequestNow, [&] { return c.Act(); }, Refuse)
                 .reason,
             "acted 3");
   EXPECT_EQ(answers
                 .Answer(
-                    Request(2000, 2, "bob"), kNow, [&] { return c.Act(); }, Refuse)
+                    Request(2000, 2, "bob"), kRequestNow, [&] { return c.Act(); }, Refuse)
                 .reason,
             "acted 4");
 }
@@ -86,18 +86,18 @@ TEST(OperatorRequestAnswers, ALateCopyOfAnOlderRequestIsRefusedNotActedOn) {
   Counter c;
   const arm_t first = Request(1000, 1, "alice"), second = Request(2000, 1, "bob");
   answers.Answer(
-      first, kNow, [&] { return c.Act(); }, Refuse);
+      first, kRequestNow, [&] { return c.Act(); }, Refuse);
   answers.Answer(
-      second, kNow, [&] { return c.Act(); }, Refuse);
+      second, kRequestNow, [&] { return c.Act(); }, Refuse);
   const fault_t late = answers.Answer(
-      first, kNow, [&] { return c.Act(); }, Refuse);
+      first, kRequestNow, [&] { return c.Act(); }, Refuse);
   EXPECT_EQ(c.acted, 2);
   EXPECT_EQ(late.reason,
             "refused: request from alice at utime 1000 ignored: older than the one acted on (bob at utime 2000)");
   // The one in force is still answered alike.
   EXPECT_EQ(answers
                 .Answer(
-                    second, kNow, [&] { return c.Act(); }, Refuse)
+                    second, kRequestNow, [&] { return c.Act(); }, Refuse)
                 .reason,
             "acted 2");
 }
@@ -114,10 +114,10 @@ TEST(OperatorRequestAnswers, ARefusalHoldsNothingBack) {
     f.reason = "not yours";
     return f;
   };
-  EXPECT_EQ(answers.Answer(Request(4000, 1, "mallory"), kNow, refuse, Refuse).reason, "not yours");
+  EXPECT_EQ(answers.Answer(Request(4000, 1, "mallory"), kRequestNow, refuse, Refuse).reason, "not yours");
   EXPECT_EQ(answers
                 .Answer(
-                    Request(1000, 1, "alice"), kNow, [&] { return c.Act(); }, Refuse)
+                    Request(1000, 1, "alice"), kRequestNow, [&] { return c.Act(); }, Refuse)
                 .reason,
             "acted 1");
   EXPECT_EQ(c.acted, 1);
@@ -130,7 +130,7 @@ TEST(OperatorRequestAnswers, ARequestFromTheFutureIsRefused) {
   OperatorRequestAnswers answers;
   Counter c;
   const fault_t ahead = answers.Answer(
-      Request(kNow + 20000000, 1, "alice"), kNow, [&] { return c.Act(); }, Refuse);
+      Request(kRequestNow + 20000000, 1, "alice"), kRequestNow, [&] { return c.Act(); }, Refuse);
   EXPECT_EQ(ahead.reason, "refused: request from alice at utime 20005000 ignored: 20.0 s ahead of this node's clock");
   const fault_t forged = answers.Answer(
       Request(INT64_MAX, 1, "mallory"), INT64_MIN, [&] { return c.Act(); }, Refuse);
@@ -139,7 +139,7 @@ TEST(OperatorRequestAnswers, ARequestFromTheFutureIsRefused) {
   // Within the clocks' tolerance it is acted on.
   EXPECT_EQ(answers
                 .Answer(
-                    Request(kNow + 5000000, 1, "bob"), kNow, [&] { return c.Act(); }, Refuse)
+                    Request(kRequestNow + 5000000, 1, "bob"), kRequestNow, [&] { return c.Act(); }, Refuse)
                 .reason,
             "acted 1");
 }

@@ -21,8 +21,8 @@
 namespace edsp {
 namespace {
 
-constexpr std::int64_t kSession = 7;
-constexpr std::int64_t kT0 = 1'700'000'000'000'000;
+constexpr std::int64_t kServiceSession = 7;
+constexpr std::int64_t kServiceT0 = 1'700'000'000'000'000;
 
 Vector6 Vec(double x, double y, double z, double roll = 0, double pitch = 0, double yaw = 0) {
   Vector6 v;
@@ -33,13 +33,13 @@ Vector6 Vec(double x, double y, double z, double roll = 0, double pitch = 0, dou
 class Served {
  public:
   explicit Served(const PlatformConfig& config = Huang2021Config())
-      : model_(config), service_(model_, Options()), requests_(kSession) {
+      : model_(config), service_(model_, Options()), requests_(kServiceSession) {
     Cycle();
   }
 
   static MotionServiceOptions Options() {
     MotionServiceOptions o;
-    o.session_id = kSession;
+    o.session_id = kServiceSession;
     return o;
   }
   // One planner cycle with a bridge whose drives all follow (or hold).
@@ -60,7 +60,7 @@ class Served {
   PlatformModel model_;
   MotionService service_;
   test_support::MotionRequests requests_;
-  std::int64_t now_ = kT0;
+  std::int64_t now_ = kServiceT0;
 };
 
 void ExpectRefused(const motion_reply_t& reply, const std::string& names) {
@@ -86,7 +86,7 @@ TEST(MotionService, BadRequestsAreRefusedByNameAndMoveNothing) {
   motion_request_t hostile = r.Move(Vec(0.01, 0, 1.5), std::numeric_limits<std::int64_t>::min());
   ExpectRefused(s.Ask(hostile), "replayed");
   motion_request_t foreign = r.Move(Vec(0.01, 0, 1.5), s.now_);
-  foreign.session_id = kSession + 1;
+  foreign.session_id = kServiceSession + 1;
   ExpectRefused(s.Ask(foreign), "from session 8");
   motion_request_t replayed = r.Move(Vec(0.01, 0, 1.5), s.now_ - 60'000'000);
   ExpectRefused(s.Ask(replayed), "replayed");
@@ -115,11 +115,11 @@ TEST(MotionService, WhileTheBridgeHoldsAMoveIsRefusedNamingTheReArm) {
 TEST(MotionService, BeforeTheBridgeFirstFollowsAMoveIsRefusedWithoutAskingForAReArm) {
   const PlatformModel model(Huang2021Config());
   MotionService service(model, Served::Options());
-  test_support::MotionRequests r(kSession);
+  test_support::MotionRequests r(kServiceSession);
   leg_state_t legs{};
   for (auto& d : legs.drive_status) d = leg_state_t::DRIVE_HOLDING;  // the bridge's start-up hold
-  service.OnLegState(legs, kT0);
-  const motion_reply_t reply = service.Handle(r.Move(Vec(0.01, 0, 0), kT0, true), kT0);
+  service.OnLegState(legs, kServiceT0);
+  const motion_reply_t reply = service.Handle(r.Move(Vec(0.01, 0, 0), kServiceT0, true), kServiceT0);
   ExpectRefused(reply, "does not follow yet");
   EXPECT_EQ(reply.reason.find("edsp-ctl arm"), std::string::npos) << reply.reason;
 }
@@ -140,7 +140,7 @@ TEST(MotionService, CopiesOfOneRequestGetOneReplyAndOneMotion) {
 
 TEST(MotionService, TwoClientsAtOnceAreServedInTurnEachWithItsOwnReply) {
   Served s;
-  test_support::MotionRequests alice(kSession), bob(kSession);
+  test_support::MotionRequests alice(kServiceSession), bob(kServiceSession);
   motion_request_t a = alice.Move(Vec(0.02, 0, 0), s.now_, true), b = bob.Move(Vec(0, 0.03, 0), s.now_, true);
   b.request_id += 1'000'000;  // each client numbers its own
   const motion_reply_t to_a = s.Ask(a), to_b = s.Ask(b);

@@ -21,7 +21,7 @@ std::string ErrorOf(const std::string& text) {
 }
 
 TEST(RigEffectsConfig, NoSectionMeansEveryEffectOffButTheDriveLoop) {
-  const std::vector<std::string> only_servo = {"servo_lag"};
+  const std::vector<calibration::Effect> only_servo = {calibration::Effect::kServoLag};
   EXPECT_EQ(EnabledEffects(ParseRigEffects(kNominal, "rig.toml")), only_servo);
   EXPECT_EQ(EnabledEffects(LoadRigEffects(std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml")), only_servo);
   EXPECT_FALSE(ParseRigEffects(kNominal + "[rig.effects.servo_lag]\nenabled = false\n", "rig.toml").any());
@@ -86,8 +86,10 @@ time_constant_s = 900
   EXPECT_EQ(e.thermal_drift.heating_K_per_m, 1.5);
   EXPECT_EQ(e.thermal_drift.alpha_per_K, 11.7e-6);  // steel by default
   EXPECT_EQ(EnabledEffects(e).size(), 8u);          // backlash is off
-  EXPECT_EQ(EnabledEffects(OnlyEffect(e, "compliance")), std::vector<std::string>{"compliance"});
-  EXPECT_THROW(OnlyEffect(e, "wobble"), std::invalid_argument);
+  EXPECT_EQ(EnabledEffects(OnlyEffect(e, calibration::Effect::kCompliance)),
+            std::vector<calibration::Effect>{calibration::Effect::kCompliance});
+  // An effect that is off stays off alone.
+  EXPECT_FALSE(OnlyEffect(e, calibration::Effect::kBacklash).any());
   const PlatformConfig truth = TrueConfig(Huang2021Config(), e);
   EXPECT_NEAR(truth.geometry.p_BoBi_B(0, 0) - Huang2021Config().geometry.p_BoBi_B(0, 0), 1e-4, 1e-15);
 }
@@ -115,13 +117,16 @@ TEST(RigEffectsConfig, EveryEffectIsParsedListedAndSwitchedAloneByItsName) {
   for (const std::string& name : vocabulary) text += section(name, true);
   const RigEffects all = ParseRigEffects(text, "rig.toml");
   // Each once, in the rig's own order (kEffects).
-  std::vector<std::string> enabled = EnabledEffects(all), expected = vocabulary;
+  std::vector<std::string> enabled, expected = vocabulary;
+  for (const calibration::Effect e : EnabledEffects(all)) enabled.emplace_back(calibration::EffectName(e));
   std::sort(enabled.begin(), enabled.end());
   std::sort(expected.begin(), expected.end());
   EXPECT_EQ(enabled, expected);
   for (const std::string& name : vocabulary) {
-    const RigEffects alone = OnlyEffect(all, name);
-    EXPECT_EQ(EnabledEffects(alone), std::vector<std::string>{name});
+    calibration::Effect effect;
+    ASSERT_TRUE(calibration::ParseEffect(name, &effect)) << name;
+    const RigEffects alone = OnlyEffect(all, effect);
+    EXPECT_EQ(EnabledEffects(alone), std::vector<calibration::Effect>{effect});
     EXPECT_TRUE(alone.any()) << name;
     EXPECT_EQ(EnabledEffects(ParseRigEffects(kNominal + section(name, false), "rig.toml")).size(),
               name == "servo_lag" ? 0u : 1u)  // servo_lag is on unless switched off
@@ -138,7 +143,10 @@ TEST(RigEffectsConfig, EveryEffectOfTheVocabularyIsTheRigsByItsName) {
   const std::string known = ErrorOf(kNominal + "[rig.effects.wobble]\nenabled = true\n");
   for (calibration::Effect effect : calibration::AllEffects()) {
     const std::string name = calibration::EffectName(effect);
-    EXPECT_NO_THROW(OnlyEffect(RigEffects{}, name)) << name;
+    const RigEffects on = ParseRigEffects(kNominal + "[rig.effects." + name + "]\nenabled = true\n" +
+                                              (name == "compliance" ? "stiffness_N_m = 2e7\nmass_kg = 800\n" : ""),
+                                          "rig.toml");
+    EXPECT_EQ(EnabledEffects(OnlyEffect(on, effect)), std::vector<calibration::Effect>{effect}) << name;
     EXPECT_NE(known.find(name), std::string::npos) << known;
   }
 }

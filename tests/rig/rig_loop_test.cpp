@@ -20,7 +20,7 @@
 namespace edsp {
 namespace {
 
-constexpr std::int64_t kT0 = 1800000000000000;
+constexpr std::int64_t kLoopT0 = 1800000000000000;
 constexpr std::int64_t kCycle = 1000;
 
 std::string Prefix(const std::string& name) { return "edsp.rigloop." + name + "." + std::to_string(::getpid()); }
@@ -84,7 +84,7 @@ struct Fixture {
   DriveImageServer image;
   Bus bus;
   RigLoop loop;
-  std::int64_t now = kT0;
+  std::int64_t now = kLoopT0;
   std::vector<rig_truth_t> truths;
   std::vector<tracker_point_t> trackers;
   std::vector<fault_t> faults;
@@ -106,7 +106,7 @@ TEST(RigLoop, EveryCycleWritesTheDrivesFeedbackAndTheTruthAndTheTrackerAtItsRate
   }
   ASSERT_FALSE(cycles.empty());
   EXPECT_EQ(cycles.back(), 100);
-  EXPECT_EQ(last.utime, kT0 + 99 * kCycle) << "stamped with the cycle's start";
+  EXPECT_EQ(last.utime, kLoopT0 + 99 * kCycle) << "stamped with the cycle's start";
   const DriveFeedback now = f.rig.Feedback();
   for (int i = 0; i < 6; ++i) EXPECT_EQ(last.motor_angle_rad[i], now.motor_angle_rad[static_cast<std::size_t>(i)]);
   EXPECT_EQ(f.truths.size(), 100u);
@@ -131,7 +131,7 @@ TEST(RigLoop, ALateWakePublishesEveryCycleItMissedAtItsOwnInstant) {
   ASSERT_EQ(f.truths.size(), 16u);
   ASSERT_EQ(f.trackers.size(), 16u);
   for (std::size_t k = 0; k < f.truths.size(); ++k) {
-    EXPECT_EQ(f.truths[k].utime, kT0 + static_cast<std::int64_t>(k) * kCycle) << k;
+    EXPECT_EQ(f.truths[k].utime, kLoopT0 + static_cast<std::int64_t>(k) * kCycle) << k;
     EXPECT_EQ(f.trackers[k].utime, f.truths[k].utime) << k;
   }
   auto reader = ShmReader::Open(
@@ -144,7 +144,7 @@ TEST(RigLoop, ALateWakePublishesEveryCycleItMissedAtItsOwnInstant) {
     return size == sizeof last;
   }),
             TakeStatus::kMessage);
-  EXPECT_EQ(last.utime, kT0 + 15 * kCycle) << "the newest cycle's instant, not the wake's";
+  EXPECT_EQ(last.utime, kLoopT0 + 15 * kCycle) << "the newest cycle's instant, not the wake's";
   EXPECT_EQ(last.cycle, 16);
   EXPECT_TRUE(f.faults.empty());
 }
@@ -189,7 +189,7 @@ TEST(RigLoop, ARestartedRigContinuesFromItsKilledPredecessorsLastFeedback) {
   if (child == 0) {  // the predecessor: writes its feedback and dies without cleaning up
     try {
       DriveImageServer image(prefix, 0600);
-      image.PublishFeedback(left, kT0, 1);
+      image.PublishFeedback(left, kLoopT0, 1);
       ::_exit(0);
     } catch (...) {
       ::_exit(1);  // never back into the test runner

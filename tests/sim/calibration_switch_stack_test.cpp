@@ -29,7 +29,7 @@ std::string Config() { return std::string(EDSP_SOURCE_DIR) + "/config/huang2021-
 // The example rig's leg offsets, three times over by default (about 0.3 mm
 // at A), or scaled until the largest is `largest_m`.
 RigEffects Offsets(double largest_m = 0.0) {
-  RigEffects e = OnlyEffect(LoadRigEffects(Config()), "leg_offset");
+  RigEffects e = OnlyEffect(LoadRigEffects(Config()), calibration::Effect::kLegOffset);
   double largest = 0.0;
   for (double v : e.leg_offset.offset_m) largest = std::max(largest, std::abs(v));
   const double scale = largest_m > 0.0 ? largest_m / largest : 3.0;

@@ -67,7 +67,7 @@ struct Ticks {
 // The platform's true position each cycle over 300 ms; the planner's ticks
 // in `stalled` never come, and in `paused` nothing runs (the whole host
 // descheduled: planner, bridge and emulator).
-std::vector<Vector3> RunStack(Ticks stalled, Ticks paused = {}) {
+std::vector<Vector3> RunStalledStack(Ticks stalled, Ticks paused = {}) {
   const PlatformModel model(Huang2021Config());
   VirtualRig rig(RigWithEffects());
   RigDrives drives(&rig);
@@ -115,9 +115,9 @@ double FurthestApart(const std::vector<Vector3>& a, const std::vector<Vector3>& 
 // instead pulls the drives 0.5 mm back and the torque-limited servo takes
 // the platform 1.1 mm off its path.
 TEST(ControllerStall, AFiveMillisecondStallOfThePlannerLeavesThePlatformOnItsPath) {
-  const std::vector<Vector3> on_time = RunStack({});
+  const std::vector<Vector3> on_time = RunStalledStack({});
   ASSERT_GT(on_time.back().z() - on_time.front().z(), 0.04);  // it moved 4 cm
-  const double furthest = FurthestApart(RunStack({150, 155}), on_time);
+  const double furthest = FurthestApart(RunStalledStack({150, 155}), on_time);
   EXPECT_LT(furthest, 2e-6);
   std::printf("STALL_ROW | 5 ms planner stall at 0.2 m/s | furthest from the run without it %.1f um\n", furthest * 1e6);
 }
@@ -127,7 +127,7 @@ TEST(ControllerStall, AFiveMillisecondStallOfThePlannerLeavesThePlatformOnItsPat
 // catches up (under 800 kg, the legs' compliance adds to that); back on
 // the path after it. Holding the last command's position: 5.4 mm off.
 TEST(ControllerStall, ATwentyMillisecondStallSlowsThePlatformAndCatchesUp) {
-  const std::vector<Vector3> on_time = RunStack({}), stalled = RunStack({150, 170});
+  const std::vector<Vector3> on_time = RunStalledStack({}), stalled = RunStalledStack({150, 170});
   const double furthest = FurthestApart(stalled, on_time);
   EXPECT_LT(furthest, 1e-3);
   EXPECT_LT((stalled.back() - on_time.back()).norm(), 10e-6) << "not back on its path";
@@ -144,10 +144,10 @@ TEST(ControllerStall, ATwentyMillisecondStallSlowsThePlatformAndCatchesUp) {
 // bridge: a motion the bridge had continued and stamped after the pause
 // would have been taken for a command of that instant (7 mm off, live).
 TEST(ControllerStall, APauseOfTheWholeHostIsBridgedWhateverStalledFirst) {
-  const std::vector<Vector3> on_time = RunStack({});
-  const double host = FurthestApart(RunStack({}, {150, 166}), on_time);
-  const double planner_first = FurthestApart(RunStack({147, 150}, {150, 166}), on_time);
-  const double planner_last = FurthestApart(RunStack({147, 167}, {150, 166}), on_time);
+  const std::vector<Vector3> on_time = RunStalledStack({});
+  const double host = FurthestApart(RunStalledStack({}, {150, 166}), on_time);
+  const double planner_first = FurthestApart(RunStalledStack({147, 150}, {150, 166}), on_time);
+  const double planner_last = FurthestApart(RunStalledStack({147, 167}, {150, 166}), on_time);
   EXPECT_LT(host, 10e-6);
   EXPECT_LT(planner_first, 10e-6);
   EXPECT_LT(planner_last, 10e-6);

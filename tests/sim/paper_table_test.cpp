@@ -8,7 +8,7 @@
 namespace edsp {
 namespace {
 
-constexpr std::size_t kNone = 0, kUnsigned = 1, kSigned = 2, kAsin = 3;
+constexpr std::size_t kNoneColumn = 0, kUnsignedColumn = 1, kSignedColumn = 2, kAsinColumn = 3;
 
 TEST(PaperTable, MotionsSpanThePapersRangesIn41Poses) {
   const PlatformModel model(Huang2021Config());
@@ -27,9 +27,9 @@ TEST(PaperTable, SignedCompensationIsExactUnsignedIsWorseThanNone) {
   const PlatformModel model(Huang2021Config());
   for (const MotionRow& row : PaperTable(model)) {
     SCOPED_TRACE(row.motion.name);
-    EXPECT_LT(row.max_error_m[kSigned], 1e-9);
-    EXPECT_GT(row.max_error_m[kNone], 1e-4);  // PR at a 10 mm lead is ~0.1 mm or more
-    EXPECT_GT(row.max_error_m[kUnsigned], row.max_error_m[kNone]);
+    EXPECT_LT(row.max_error_m[kSignedColumn], 1e-9);
+    EXPECT_GT(row.max_error_m[kNoneColumn], 1e-4);  // PR at a 10 mm lead is ~0.1 mm or more
+    EXPECT_GT(row.max_error_m[kUnsignedColumn], row.max_error_m[kNoneColumn]);
   }
 }
 
@@ -39,7 +39,8 @@ TEST(PaperTable, ErrorScalesWithTheLead) {
   config.drive.lead_m = 0.005;
   const auto half = PaperTable(PlatformModel(config), 11);
   for (std::size_t m = 0; m < base.size(); ++m) {
-    EXPECT_NEAR(half[m].max_error_m[kNone], 0.5 * base[m].max_error_m[kNone], 0.01 * base[m].max_error_m[kNone]);
+    EXPECT_NEAR(half[m].max_error_m[kNoneColumn], 0.5 * base[m].max_error_m[kNoneColumn],
+                0.01 * base[m].max_error_m[kNoneColumn]);
   }
 }
 
@@ -55,9 +56,9 @@ TEST(PaperTable, LinuxCncAsinHoldsUpToAbout13DegOfYawThenBreaks) {
   EXPECT_GT(miss(14.0, PrMode::kAsin), 1e-5);
   EXPECT_GT(miss(30.0, PrMode::kAsin), miss(30.0, PrMode::kNone));
   const auto rows = PaperTable(model);
-  EXPECT_LT(rows[0].max_error_m[kAsin], 1e-9);  // Lz, Lx, Ry never fold
-  EXPECT_LT(rows[1].max_error_m[kAsin], 1e-9);
-  EXPECT_LT(rows[3].max_error_m[kAsin], 1e-9);
+  EXPECT_LT(rows[0].max_error_m[kAsinColumn], 1e-9);  // Lz, Lx, Ry never fold
+  EXPECT_LT(rows[1].max_error_m[kAsinColumn], 1e-9);
+  EXPECT_LT(rows[3].max_error_m[kAsinColumn], 1e-9);
 }
 
 TEST(PaperTable, PoseOutsideTheWorkspaceIsNamed) {

@@ -17,13 +17,12 @@
 #include "edsp/sim/stack_report.h"
 #include "edsp/tracker_point_t.hpp"
 #include "scratch_dir.h"
+#include "platform_models.h"
 
 namespace edsp {
 namespace {
 
 using test_support::LogBuilder;
-
-PlatformModel Model() { return PlatformModel(Huang2021Config()); }
 
 class RunLog {
  public:
@@ -71,7 +70,7 @@ class StackReportTest : public ::testing::Test {
     std::filesystem::remove(log_);
     std::filesystem::remove_all(plots_);
   }
-  const PlatformModel model_ = Model();
+  const PlatformModel model_ = test_support::Huang2021Model();
   const Vector6 home_ = model_.home_pose().ToVector();
   const std::string log_ = test_support::ScratchRoot() + "/stack_report.lcmlog";
   const std::string plots_ = test_support::ScratchRoot() + "/stack_plots";

@@ -15,10 +15,10 @@
 namespace edsp {
 namespace {
 
-using testing::Decoded;
-using testing::DecodePattern;
-using testing::EncodePattern;
-using testing::TestSpec;
+using test_support::Decoded;
+using test_support::DecodePattern;
+using test_support::EncodePattern;
+using test_support::TestSpec;
 
 std::unique_ptr<ShmWriter> OpenWriter(const ShmChannelSpec& spec) {
   auto result = ShmWriter::Open(spec);
@@ -266,7 +266,7 @@ TEST(ShmChannel, SecondLiveWriterIsRefused) {
   const ShmChannelSpec spec = TestSpec("two-writers");
   int ready[2];
   ASSERT_EQ(::pipe(ready), 0);
-  const pid_t child = testing::Spawn([&] {
+  const pid_t child = test_support::Spawn([&] {
     auto writer = ShmWriter::Open(spec);
     const char byte = writer.ok() ? 'y' : 'n';
     (void)!::write(ready[1], &byte, 1);
@@ -280,20 +280,20 @@ TEST(ShmChannel, SecondLiveWriterIsRefused) {
   EXPECT_EQ(second.error, ShmError::kWriterAlive);
   EXPECT_NE(second.message.find(std::to_string(child)), std::string::npos) << second.message;
   ::kill(child, SIGKILL);
-  testing::WaitExit(child);
+  test_support::WaitExit(child);
   // Its writer is dead now: the segment is taken over, not refused.
   EXPECT_TRUE(ShmWriter::Open(spec).ok());
 }
 
 TEST(ShmChannel, StaleSegmentOfADeadWriterIsReclaimedEvenIfIncompatible) {
   const ShmChannelSpec old_spec = TestSpec("stale");
-  const pid_t child = testing::Spawn([&] {
+  const pid_t child = test_support::Spawn([&] {
     auto writer = ShmWriter::Open(old_spec);
     Publish(*writer.value, 1);
     ::kill(::getpid(), SIGKILL);  // dies without cleaning up
     return 0;
   });
-  EXPECT_EQ(testing::WaitExit(child), 128 + SIGKILL);
+  EXPECT_EQ(test_support::WaitExit(child), 128 + SIGKILL);
   EXPECT_EQ(SegmentMode(old_spec.segment_name), 0600u) << "the crash should leave it behind";
   ShmChannelSpec new_spec = old_spec;
   new_spec.type_fingerprint = 99;
@@ -334,7 +334,7 @@ double ThreadCpuSeconds() {
 }
 
 TEST(ShmChannel, IdleWaitingReaderSleepsInsteadOfSpinning) {
-  const ShmChannelSpec spec = testing::TestSpec("idle");
+  const ShmChannelSpec spec = test_support::TestSpec("idle");
   auto writer = ShmWriter::Open(spec);
   ASSERT_TRUE(writer.ok());
   auto reader = ShmReader::Open(spec);
@@ -358,7 +358,7 @@ TEST(ShmChannel, WaitAnySleepsOnEveryChannelAndWakesOnTheOneThatIsWritten) {
   std::vector<std::unique_ptr<ShmReader>> readers;
   std::vector<ShmReader*> raw;
   for (int i = 0; i < 3; ++i) {
-    const ShmChannelSpec spec = testing::TestSpec("any" + std::to_string(i));
+    const ShmChannelSpec spec = test_support::TestSpec("any" + std::to_string(i));
     writers.push_back(OpenWriter(spec));
     readers.push_back(OpenReader(spec));
     raw.push_back(readers.back().get());

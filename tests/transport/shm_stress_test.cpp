@@ -22,9 +22,9 @@ namespace edsp {
 namespace {
 
 using namespace std::chrono_literals;
-using testing::Decoded;
-using testing::DecodePattern;
-using testing::EncodePattern;
+using test_support::Decoded;
+using test_support::DecodePattern;
+using test_support::EncodePattern;
 
 // A one-way channel between processes (one per direction: a process that
 // writes and then reads the same pipe reads its own message back). Receive
@@ -92,13 +92,13 @@ TEST(ShmStress, MillionMessagesPastASlowReaderNoTornReadEveryLossCounted) {
   // machine) has not yet taken kEnough of them, so the torn-read check always
   // runs on a large sample whatever the load.
   constexpr std::uint64_t kMessages = 1000000, kEnough = 20000;
-  const ShmChannelSpec spec = testing::TestSpec("million", 64, 512);
+  const ShmChannelSpec spec = test_support::TestSpec("million", 64, 512);
   auto* enough = static_cast<std::atomic<bool>*>(
       ::mmap(nullptr, sizeof(std::atomic<bool>), PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0));
   ASSERT_NE(enough, MAP_FAILED);
   new (enough) std::atomic<bool>(false);
   Pipe writer_ready, reader_ready, writer_done, reader_done;
-  const pid_t writer = testing::Spawn([&] {
+  const pid_t writer = test_support::Spawn([&] {
     auto w = ShmWriter::Open(spec);
     if (!w.ok()) return 2;
     writer_ready.Send(1);
@@ -138,7 +138,7 @@ TEST(ShmStress, MillionMessagesPastASlowReaderNoTornReadEveryLossCounted) {
     if (reader->next_message() > published) break;  // every number read or counted lost
   }
   reader_done.Send(1);
-  EXPECT_EQ(testing::WaitExit(writer), 0);
+  EXPECT_EQ(test_support::WaitExit(writer), 0);
   ::munmap(enough, sizeof(std::atomic<bool>));
   const ShmReaderStats& s = reader->stats();
   EXPECT_GE(published, kMessages);
@@ -155,7 +155,7 @@ TEST(ShmStress, MillionMessagesPastASlowReaderNoTornReadEveryLossCounted) {
 }
 
 TEST(ShmStress, WriterKilledAndRestartedMidStreamReadersCarryOn) {
-  const ShmChannelSpec spec = testing::TestSpec("restart", 64, 256);
+  const ShmChannelSpec spec = test_support::TestSpec("restart", 64, 256);
   auto publish_forever = [&](std::uint32_t tag, std::uint64_t limit) {
     return [&spec, tag, limit] {
       auto w = ShmWriter::Open(spec);
@@ -169,7 +169,7 @@ TEST(ShmStress, WriterKilledAndRestartedMidStreamReadersCarryOn) {
       return 0;
     };
   };
-  const pid_t first = testing::Spawn(publish_forever(1, ~0ull));
+  const pid_t first = test_support::Spawn(publish_forever(1, ~0ull));
   auto reader = OpenReaderWhenReady(spec);
   ASSERT_NE(reader, nullptr);
   const std::uint32_t generation = reader->writer_generation();
@@ -192,17 +192,17 @@ TEST(ShmStress, WriterKilledAndRestartedMidStreamReadersCarryOn) {
   read_until([&] { return from_first >= 500; }, 20s);
   ASSERT_GE(from_first, 500u);
   ::kill(first, SIGKILL);  // mid-stream, possibly mid-slot
-  EXPECT_EQ(testing::WaitExit(first), 128 + SIGKILL);
+  EXPECT_EQ(test_support::WaitExit(first), 128 + SIGKILL);
   EXPECT_FALSE(reader->WriterAlive());
 
-  const pid_t second = testing::Spawn(publish_forever(2, 2000));
+  const pid_t second = test_support::Spawn(publish_forever(2, 2000));
   read_until([&] { return from_second >= 1000; }, 20s);  // same reader, never reopened
   EXPECT_GE(from_second, 1000u);
   EXPECT_EQ(out_of_order, 0u) << "message numbers continue across the restart";
   EXPECT_TRUE(reader->WriterAlive());
   EXPECT_EQ(reader->writer_generation(), generation + 1);
   ::kill(second, SIGKILL);
-  testing::WaitExit(second);
+  test_support::WaitExit(second);
   RemoveSegment(spec.segment_name);
 }
 
@@ -236,7 +236,7 @@ TEST(BusMultiprocess, ShmReaderAndLcmMirrorReaderSeeTheSameSequence) {
       return 0;
     };
   };
-  const pid_t publisher = testing::Spawn([&] {
+  const pid_t publisher = test_support::Spawn([&] {
     Bus bus(BothConfig(prefix));
     auto out = bus.Advertise<pose_setpoint_t>("EDSP_SETPOINT");
     go.Receive();
@@ -255,8 +255,8 @@ TEST(BusMultiprocess, ShmReaderAndLcmMirrorReaderSeeTheSameSequence) {
     return 0;
   });
   std::this_thread::sleep_for(50ms);  // the writer creates the segment first
-  const pid_t shm_reader = testing::Spawn(reader(true, &shm_ready, &shm_result));
-  const pid_t lcm_reader = testing::Spawn(reader(false, &lcm_ready, &lcm_result));
+  const pid_t shm_reader = test_support::Spawn(reader(true, &shm_ready, &shm_result));
+  const pid_t lcm_reader = test_support::Spawn(reader(false, &lcm_ready, &lcm_result));
   shm_ready.Receive();
   lcm_ready.Receive();
   std::this_thread::sleep_for(200ms);  // the shm reader attaches (retried every 100 ms)
@@ -264,9 +264,9 @@ TEST(BusMultiprocess, ShmReaderAndLcmMirrorReaderSeeTheSameSequence) {
   const auto via_shm = shm_result.ReceiveVector<std::int64_t>();
   const auto via_lcm = lcm_result.ReceiveVector<std::int64_t>();
   go.Send(1);
-  EXPECT_EQ(testing::WaitExit(shm_reader), 0);
-  EXPECT_EQ(testing::WaitExit(lcm_reader), 0);
-  EXPECT_EQ(testing::WaitExit(publisher), 0);
+  EXPECT_EQ(test_support::WaitExit(shm_reader), 0);
+  EXPECT_EQ(test_support::WaitExit(lcm_reader), 0);
+  EXPECT_EQ(test_support::WaitExit(publisher), 0);
   std::vector<std::int64_t> expected(kMessages);
   for (int k = 0; k < kMessages; ++k) expected[static_cast<std::size_t>(k)] = k + 1;
   EXPECT_EQ(via_shm, expected) << via_shm.size() << " of " << kMessages << " via shm";

@@ -11,7 +11,7 @@
 
 #include "edsp/transport/shm_channel.h"
 
-namespace edsp::testing {
+namespace edsp::test_support {
 
 inline std::string UniqueSegmentName(const std::string& what) {
   return "edsp.test." + what + "." + std::to_string(::getpid());
@@ -73,4 +73,4 @@ inline int WaitExit(pid_t pid) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
-}  // namespace edsp::testing
+}  // namespace edsp::test_support

@@ -16,11 +16,6 @@ std::int64_t SteadyUs() {
       .count();
 }
 
-std::int64_t WallUs() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
-
 // A new image proves the drives' side alive; without one, a side that
 // closed its ring is seen at once, and whether a killed one's process
 // still runs is looked up (in /proc, tens of µs) at this pace.
@@ -124,7 +119,7 @@ bool CspShmMaster::TakeLatest(CspFeedbacks* feedback, std::string* error) {
 bool CspShmMaster::Exchange(const CspCommands& commands, CspFeedbacks* feedback, std::string* error) {
   if (!connected()) return Fail(endpoint() + ": not connected", error);
   CspRxImage image{};
-  image.utime = WallUs();
+  image.utime = ImageUtimeNow();
   image.cycle = ++cycle_;
   for (std::size_t d = 0; d < commands.size(); ++d) image.drives[d] = commands[d];
   commands_->Publish([&](std::uint8_t* buffer, std::uint32_t) -> std::int64_t {

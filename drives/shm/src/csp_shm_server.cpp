@@ -12,11 +12,6 @@
 namespace edsp::cia402 {
 namespace {
 
-std::int64_t WallUs() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
-
 // Looking for an absent ring costs an exception inside Boost.Interprocess,
 // and whether a silent master's process still runs a /proc lookup: both at
 // this pace, not at the drives' 1 kHz.
@@ -54,7 +49,7 @@ void CspShmServer::TakeCommands() {
       return;                                   // its master wrote it since the last cycle: no need to look for one
     }
   }
-  const std::int64_t now = WallUs();
+  const std::int64_t now = ImageUtimeNow();
   if (now < next_look_utime_) return;
   next_look_utime_ = now + kLookForMasterEveryUs;
   if (commands_ != nullptr && !commands_->WriterLeft() && commands_->WriterAlive()) return;
@@ -67,7 +62,7 @@ void CspShmServer::TakeCommands() {
 
 void CspShmServer::Latch() {
   CspTxImage image{};
-  image.utime = WallUs();
+  image.utime = ImageUtimeNow();
   for (std::size_t d = 0; d < cabinet_.latched().size(); ++d) image.drives[d] = cabinet_.latched()[d];
   feedback_->Publish([&](std::uint8_t* buffer, std::uint32_t) -> std::int64_t {
     std::memcpy(buffer, &image, sizeof image);

@@ -11,6 +11,8 @@
 
 namespace edsp::blind {
 
+inline constexpr double kPi = 3.14159265358979323846;
+
 using Vec3 = Eigen::Vector3d;
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 using Mat3 = Eigen::Matrix3d;

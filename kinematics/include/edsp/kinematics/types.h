@@ -8,6 +8,8 @@
 namespace edsp {
 
 inline constexpr int kNumLegs = 6;
+inline constexpr double kPi = 3.14159265358979323846;
+inline constexpr double kTwoPi = 2.0 * kPi;
 
 using Vector3 = Eigen::Vector3d;
 using Vector6 = Eigen::Matrix<double, 6, 1>;

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "edsp/kinematics/config.h"
+#include "edsp/kinematics/leg_effects.h"
 #include "edsp/kinematics/types.h"
 
 namespace edsp {
@@ -119,11 +120,12 @@ struct RigEffects {
 RigEffects ParseRigEffects(const std::string& toml_text, const std::string& origin);
 RigEffects LoadRigEffects(const std::string& path);
 
-// Names (interfaces.md §4 vocabulary) of the enabled effects, in a fixed order.
-std::vector<std::string> EnabledEffects(const RigEffects& effects);
-// `effects` with every effect but `name` switched off. Throws
-// std::invalid_argument for a name that is not an effect.
-RigEffects OnlyEffect(const RigEffects& effects, const std::string& name);
+// The enabled effects, in a fixed order (their names, interfaces.md §4:
+// calibration::EffectName).
+std::vector<calibration::Effect> EnabledEffects(const RigEffects& effects);
+// `effects` with every effect but `effect` switched off (and that one as
+// it was).
+RigEffects OnlyEffect(const RigEffects& effects, calibration::Effect effect);
 
 // The rig as built: the nominal geometry with the joint positions moved.
 PlatformConfig TrueConfig(const PlatformConfig& nominal, const RigEffects& effects);

@@ -10,6 +10,7 @@
 //   <prefix>.cia402.rxpdo   written by the master (the bridge)
 //   <prefix>.cia402.txpdo   written by the drives' side, once per drive cycle
 
+#include <chrono>
 #include <cstdint>
 #include <string>
 
@@ -28,6 +29,12 @@ struct CspTxImage {
   std::int64_t utime;                  // when the drives latched it
   CspFeedback drives[kCabinetDrives];  // cycle_count: the drives' cycle (mod 2^16)
 };
+
+// The images' utime: wall clock, µs since the epoch, like every edsp stamp.
+inline std::int64_t ImageUtimeNow() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
 
 // Layout fingerprints checked by the segments (bump on any change).
 inline constexpr std::int64_t kCspRxImageFingerprint = 0x4544535043525831;  // "EDSPCRX1"
