@@ -73,8 +73,8 @@ void StackSimulation::BlendTheCalibrationInAtHome() {
   if (!options_.calibration) return;
   const std::int64_t began_utime = now_utime_;
   const std::int64_t cycle_us = std::llround(options_.cycle_s * 1e6);
-  leg_state_t first_reading;
-  fault_t fault;
+  leg_state_t first_reading{};
+  fault_t fault{};
   if (bridge_.Cycle(now_utime_ - cycle_us, &first_reading, &fault)) faults_.push_back(fault);
   kinematics_.NoteDrives(first_reading);
   const auto held_long_enough = [&] {

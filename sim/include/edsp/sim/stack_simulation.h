@@ -26,14 +26,17 @@ struct StackOptions {
   std::optional<calibration::CalibrationModel> calibration;  // the kinematics applies it
 };
 
+// Every field zero until set: the messages are lcm-gen's plain structs, and
+// a field the simulation does not set (a held setpoint's velocity) must not
+// carry whatever the stack held before.
 struct StackSample {
-  pose_setpoint_t setpoint;
+  pose_setpoint_t setpoint{};
   bool command_valid = false;
-  leg_command_t command;
-  leg_state_t legs;
-  rig_truth_t truth;
+  leg_command_t command{};
+  leg_state_t legs{};
+  rig_truth_t truth{};
   bool tracker_due = false;
-  tracker_point_t tracker;
+  tracker_point_t tracker{};
 };
 
 class StackSimulation {
