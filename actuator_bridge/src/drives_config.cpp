@@ -52,7 +52,7 @@ DrivesConfig ParseDrivesConfig(const std::string& toml_text, const std::string& 
   const auto offsets = s.PerLeg("offset_counts", {});
   const auto directions = s.PerLeg("direction", {1, 1, 1, 1, 1, 1});
   // Leg travel per motor radian: lead / (2π · gear).
-  const double m_per_rad = drive.lead_m / (2.0 * M_PI * drive.gear_ratio);
+  const double m_per_rad = drive.lead_m / (kTwoPi * drive.gear_ratio);
   for (std::size_t i = 0; i < 6; ++i) {
     if (real && !(counts_per_m[i] > 0.0)) {
       s.Fail(NodeOf(s, "counts_per_m"),

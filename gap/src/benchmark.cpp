@@ -39,7 +39,7 @@ void Progress(const BenchmarkOptions& o, int done, int total, const std::string&
 // What a generator hands the scorer: the truth, kept from the diagnosis,
 // and the measurement CSV the diagnosis sees.
 struct Drawn {
-  std::string kind;
+  ScenarioKind kind = ScenarioKind::kNone;
   std::vector<std::string> truth;
   std::string description;
   std::string csv_path;
@@ -50,15 +50,16 @@ struct Drawn {
   RigEffects effects;
 };
 
-std::string KindOf(std::size_t effects) { return effects == 0 ? "none" : effects == 1 ? "single" : "pair"; }
-
 // A scenario of the vocabulary (or effect-free) scored short of its truth:
 // a false effect identified, a single effect not identified first, a pair
 // not both identified. Out of vocabulary there is no truth to compare with.
 bool IsMiss(const ScenarioScore& s) {
-  if (s.kind == "none") return s.false_identified;
-  if (s.kind == "single") return s.false_identified || !s.top_identified_true;
-  if (s.kind == "pair") return s.false_identified || !s.all_identified;
+  switch (s.kind) {
+    case ScenarioKind::kNone: return s.false_identified;
+    case ScenarioKind::kSingle: return s.false_identified || !s.top_identified_true;
+    case ScenarioKind::kPair: return s.false_identified || !s.all_identified;
+    case ScenarioKind::kOutOfVocabulary: return false;
+  }
   return false;
 }
 
@@ -140,7 +141,7 @@ Drawn DrawOnRig(const BenchmarkOptions& options, const std::string& config, Rng&
   run.tracker.X_TB = DrawTrackerStand(frames);
   run.out_dir = dir;
   Drawn drawn;
-  drawn.kind = KindOf(s.truth.size());
+  drawn.kind = KindOfEffects(s.truth.size());
   for (Effect e : s.truth) drawn.truth.push_back(EffectName(e));
   drawn.description = s.description;
   drawn.noise_sigma_m = run.tracker.noise_sigma_m;
@@ -165,7 +166,10 @@ Drawn DrawOnBlindRig(const BenchmarkOptions& options, const PlatformConfig& conf
   blind::BlindRigSetup setup = blind::SetupFromConfig(config);
   setup.motions = options.motions;
   Drawn drawn;
-  drawn.kind = s.kind;
+  const std::optional<ScenarioKind> kind = ParseScenarioKind(s.kind);
+  if (!kind)
+    throw std::runtime_error(fmt::format("blind scenario {}: a kind the benchmark cannot score: {}", k, s.kind));
+  drawn.kind = *kind;
   drawn.truth = s.truth;
   drawn.description = s.description;
   drawn.noise_sigma_m = s.tracker.noise_m;
@@ -194,19 +198,19 @@ void Tally(BenchmarkResult* r) {
     r->misses += s.miss;
     r->misses_told_apart += s.miss && s.data_tell_apart;
     r->any_false_identified += s.false_identified;
-    if (s.kind == "none") {
+    if (s.kind == ScenarioKind::kNone) {
       ++r->clean;
       r->clean_nothing_identified += !s.false_identified;
       r->clean_none += s.conclusion == Conclusion::kNone;
       continue;
     }
-    if (s.kind == "out_of_vocabulary") {
+    if (s.kind == ScenarioKind::kOutOfVocabulary) {
       ++r->out_of_vocabulary;
       r->out_of_vocabulary_unknown += s.conclusion == Conclusion::kUnknown && !s.false_identified;
       continue;
     }
     r->extra_identified += s.false_identified;
-    if (s.kind == "single") {
+    if (s.kind == ScenarioKind::kSingle) {
       ++r->single;
       r->single_top_true += s.top_true;
       r->single_identified_top_true += s.top_identified_true;
@@ -227,7 +231,7 @@ void Tally(BenchmarkResult* r) {
   r->median_diagnose_s = Median(seconds);
   std::vector<double> measured, predicted, measured_gap, predicted_gap;
   for (const ScenarioScore& s : r->scores) {
-    if (!s.closed_loop || s.kind == "none" || s.kind == "out_of_vocabulary") continue;
+    if (!s.closed_loop || s.kind == ScenarioKind::kNone || s.kind == ScenarioKind::kOutOfVocabulary) continue;
     ++r->closed_loop;
     measured.push_back(s.closed_shrink);
     predicted.push_back(s.closed_predicted_shrink);
@@ -330,7 +334,7 @@ BenchmarkResult RunBenchmark(const BenchmarkOptions& options) {
     }
     if (!options.keep_dir.empty()) {
       std::ofstream(dir + "/diagnosis.json") << ToJson(d).dump(2) << "\n";
-      std::ofstream(dir + "/truth.txt") << drawn.kind << ": " << drawn.description << "\n";
+      std::ofstream(dir + "/truth.txt") << ScenarioKindName(drawn.kind) << ": " << drawn.description << "\n";
     } else {
       std::filesystem::remove_all(dir);
     }
@@ -397,7 +401,7 @@ nlohmann::json ToJson(const BenchmarkResult& r) {
   j["results"] = nlohmann::json::array();
   for (const ScenarioScore& s : r.scores) {
     j["results"].push_back({{"index", s.index},
-                            {"kind", s.kind},
+                            {"kind", ScenarioKindName(s.kind)},
                             {"truth", s.truth},
                             {"description", s.description},
                             {"found", s.found},
@@ -441,7 +445,7 @@ void PrintBenchmark(const BenchmarkResult& r) {
               static_cast<unsigned long long>(r.options.seed), "#", "kind", "truth", "found (ranked)", "conclusion",
               "before", "after", "shrink", "gap");
   for (const ScenarioScore& s : r.scores) {
-    std::printf("%-3d %-18s %-40s %-40s %-16s %6.1fµm %6.1fµm %6.0f%% %6.0f%%\n", s.index, s.kind.c_str(),
+    std::printf("%-3d %-18s %-40s %-40s %-16s %6.1fµm %6.1fµm %6.0f%% %6.0f%%\n", s.index, ScenarioKindName(s.kind),
                 (s.truth.empty() ? std::string("-") : fmt::format("{}", fmt::join(s.truth, ","))).c_str(),
                 (s.found.empty() ? s.top : fmt::format("{}", fmt::join(s.found, ","))).c_str(),
                 ConclusionName(s.conclusion), s.before_rms_m * 1e6, s.after_rms_m * 1e6, 100 * s.shrink,
@@ -474,7 +478,7 @@ void PrintBenchmark(const BenchmarkResult& r) {
         fmt::format("{}", fmt::join(r.options.closed_loop_motions, ",")).c_str(), r.closed_loop, "#", "truth", "before",
         "after", "shrink", "predicted", "pred.shrink");
     for (const ScenarioScore& s : r.scores) {
-      if (!s.closed_loop || s.kind == "none") continue;
+      if (!s.closed_loop || s.kind == ScenarioKind::kNone) continue;
       std::printf("%-3d %-40s %6.1fµm %6.1fµm %7.0f%% %6.1fµm %9.0f%%\n", s.index,
                   fmt::format("{}", fmt::join(s.truth, ",")).c_str(), s.closed_before_rms_m * 1e6,
                   s.closed_after_rms_m * 1e6, 100 * s.closed_shrink, s.closed_predicted_rms_m * 1e6,

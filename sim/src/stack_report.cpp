@@ -35,7 +35,7 @@ bool IsAngular(const std::string& motion) { return !motion.empty() && motion[0] 
 
 // Displacement in the unit the paper plots: mm or degrees.
 double PlotDisplacement(const DwellError& d) {
-  return IsAngular(d.motion) ? d.displacement * 180.0 / M_PI : d.displacement * 1e3;
+  return IsAngular(d.motion) ? d.displacement * 180.0 / kPi : d.displacement * 1e3;
 }
 
 }  // namespace

@@ -4,8 +4,10 @@
 // are taken over the same scenarios.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -20,6 +22,26 @@ double Median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   const std::size_t n = v.size();
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// The kinds the benchmark scores by, under the names its JSON and the blind
+// rig's draws use: each kind has its name, each name reads back as its kind,
+// and nothing else reads.
+TEST(ScenarioKinds, EachNameReadsBackAsItsKindAndNoOtherNameReads) {
+  const std::vector<std::pair<ScenarioKind, std::string>> contract = {
+      {ScenarioKind::kNone, "none"},
+      {ScenarioKind::kSingle, "single"},
+      {ScenarioKind::kPair, "pair"},
+      {ScenarioKind::kOutOfVocabulary, "out_of_vocabulary"}};
+  for (const auto& [kind, name] : contract) {
+    EXPECT_EQ(ScenarioKindName(kind), name);
+    EXPECT_EQ(ParseScenarioKind(name), kind) << name;
+  }
+  for (const char* foreign : {"", "whole_rig", "None", "pairs"}) EXPECT_FALSE(ParseScenarioKind(foreign)) << foreign;
+  EXPECT_EQ(KindOfEffects(0), ScenarioKind::kNone);
+  EXPECT_EQ(KindOfEffects(1), ScenarioKind::kSingle);
+  EXPECT_EQ(KindOfEffects(2), ScenarioKind::kPair);
+  EXPECT_EQ(KindOfEffects(3), ScenarioKind::kPair);
 }
 
 TEST(Benchmark, TheGapIsTheDepartureAboveTheTrackersNoise) {

@@ -18,6 +18,7 @@
 #include "edsp/diagnosis/diagnose.h"
 #include "edsp/diagnosis/gap_shrink.h"
 #include "edsp/gap/rig_scenarios.h"
+#include "edsp/gap/scenario_kind.h"
 
 namespace edsp::gap {
 
@@ -48,7 +49,7 @@ struct BenchmarkOptions {
 // Scored, whichever generator drew it.
 struct ScenarioScore {
   int index = 0;
-  std::string kind;                // none | single | pair | out_of_vocabulary
+  ScenarioKind kind = ScenarioKind::kNone;
   std::vector<std::string> truth;  // effect names; out of vocabulary: its own name
   std::string description;
   std::vector<std::string> found;  // identified or ambiguous, ranked
