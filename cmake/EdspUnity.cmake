@@ -2,7 +2,7 @@
 # at a time, as one translation unit that includes them, so the headers they
 # all include (Eigen, GoogleTest, CLI11, Ceres, nlohmann-json) are parsed and
 # their templates instantiated once a batch instead of once a file. A cold
-# tree then takes about a third less CPU (docs/figures.md).
+# tree then takes up to a third less CPU (docs/figures.md).
 #
 # Not CMake's UNITY_BUILD: CMake 3.25 writes each file's absolute path into
 # its batch, so a checkout anywhere else (CI's fresh clone) would miss the

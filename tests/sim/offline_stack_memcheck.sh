@@ -9,7 +9,8 @@
 set -euo pipefail
 sim=$1 gap=$2 config=$3
 work=$(mktemp -d /tmp/edsp_test_memcheck_XXXXXX)
-trap 'rm -rf "$work"' EXIT
+# Removed when memcheck found nothing; kept, and named, for a failure.
+trap 'status=$?; if [ $status -eq 0 ]; then rm -rf "$work"; else echo "kept $work for inspection" >&2; fi' EXIT
 # A calibration of the example rig, as an operator would make it (natively).
 "$sim" rig --config "$config" --out "$work/fit" --motions Lz Lx Rz Ry M1 M2 --stops 3 --dwell-s 0.2 \
   --tracker-noise-m 5e-6 --seed 7 >/dev/null
