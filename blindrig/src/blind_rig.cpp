@@ -137,6 +137,8 @@ class Session {
         true_sign_(e.pr_override ? e.true_pr_sign : setup.pr_sign),
         tracker_R_(Rotation(tracker.frame)),
         tracker_t_(tracker.frame.head<3>()),
+        moved_R_(Rotation(tracker.frame + e.change_tracker)),
+        moved_t_((tracker.frame + e.change_tracker).head<3>()),
         draw_(tracker.seed),
         noise_(0.0, tracker.noise_m),
         floor_direction_(e.floor_direction.normalized()),
@@ -235,6 +237,7 @@ class Session {
   // The legs' true lengths: drive trains, offsets, and the legs' give under load.
   Vec6 TrueLengths(const BlindMotion& motion, const Vec6& q_cmd, double t) const {
     Vec6 target = encoder_zero_ + e_.leg_offset_m;
+    if (Changed(session_s_ + t) && e_.change_leg >= 0) target(e_.change_leg) += e_.change_m;
     for (int i = 0; i < 6; ++i) target(i) += legs_[static_cast<std::size_t>(i)].Extension(e_, i, setup_.lead_m);
     if (e_.mass_kg > 0.0 && e_.stiffness_N_m.minCoeff() > 0.0) {
       const Vec3 com_accel = motion.Acceleration(t).head<3>();
@@ -242,6 +245,8 @@ class Session {
     }
     return target;
   }
+
+  bool Changed(double session_time_s) const { return e_.change_time_s >= 0.0 && session_time_s >= e_.change_time_s; }
 
   // An operator takes the target out of its nest between runs and puts it
   // back: its centre lands a little apart each time (a nest's seat, a speck
@@ -266,7 +271,7 @@ class Session {
 
   // What the tracker reads: its frame, its stand's vibration and settling, its noise.
   Vec3 Reading(const Vec3& point, double time_s) {
-    Vec3 measured = tracker_R_ * point + tracker_t_;
+    Vec3 measured = Changed(time_s) ? Vec3(moved_R_ * point + moved_t_) : Vec3(tracker_R_ * point + tracker_t_);
     measured += e_.floor_amplitude_m * std::sin(2.0 * kPi * e_.floor_hz * time_s) * floor_direction_;
     measured += e_.stand_drift_m_per_s * e_.stand_settle_s * (1.0 - std::exp(-time_s / e_.stand_settle_s));
     for (int a = 0; a < 3; ++a) measured(a) += noise_(draw_);
@@ -295,6 +300,8 @@ class Session {
   const int true_sign_;
   const Mat3 tracker_R_;
   const Vec3 tracker_t_;
+  const Mat3 moved_R_;  // the tracker's frame after the session's change
+  const Vec3 moved_t_;
   std::mt19937_64 draw_;
   std::normal_distribution<double> noise_;
   const Vec3 floor_direction_;

@@ -563,11 +563,18 @@ Diagnosis Diagnose(const PlatformModel& model, const MeasurementData& recorded, 
   const bool corrected = CarriesACorrection(recorded);
   const MeasurementData nominal =
       corrected ? AsCommandedNominally(model, recorded, &correction_rms_m) : MeasurementData{};
-  const MeasurementData& data = corrected && options.against == Against::kNominal ? nominal : recorded;
+  const MeasurementData& as_recorded = corrected && options.against == Against::kNominal ? nominal : recorded;
+  // A rig that changed within the session is diagnosed as it is after the
+  // change (the rows before it moved to that rig); the change is reported.
+  MeasurementData as_after;
+  ChangeSearch changes =
+      FindChanges(model, Decimated(as_recorded, options.max_rate_hz), options.design, options.changes, &as_after);
+  const MeasurementData& data = changes.events.empty() ? as_recorded : as_after;
   const double reading_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   Diagnosis d = WithStructuralMode(model, data, options,
                                    WithBacklashWidth(model, data, options, DiagnoseOnce(model, data, options)));
   d = WithThermalTimeConstant(model, data, options, std::move(d));
+  d.changes = std::move(changes);
   d.against = options.against;
   d.recorded_correction_rms_m = correction_rms_m;
   d.seconds += reading_s;

@@ -205,7 +205,69 @@ nlohmann::json RankedJson(const Diagnosis& d, const RankedEntry& e) {
   return j;
 }
 
+// A change of the rig within the session (change_point.h): the fields of
+// interfaces.md §4's `events`, then the evidence.
+nlohmann::json EventJson(const ChangeEvent& e) {
+  nlohmann::json j = {{"time_s", e.time_s},
+                      {"after_s", e.after_s},
+                      {"run", e.run},
+                      {"kind", ChangeKindName(e.kind)},
+                      {"leg", e.kind == ChangeKind::kLegLength ? nlohmann::json(e.leg + 1) : nlohmann::json(nullptr)}};
+  if (e.kind == ChangeKind::kLegLength) {
+    j["parameter"] = "length_m";
+    j["size"] = e.size(0);
+    j["sigma"] = e.sigma(0);
+  } else {
+    const Vector3 t = e.size.head<3>(), w = e.size.tail<3>();
+    j["parameter"] = "translation_m";
+    j["size"] = t.norm();
+    j["sigma"] = e.sigma.head<3>().norm();
+    j["translation_m"] = {t.x(), t.y(), t.z()};
+    j["rotation_rad"] = {w.x(), w.y(), w.z()};
+    j["sigma_translation_m"] = {e.sigma(0), e.sigma(1), e.sigma(2)};
+    j["sigma_rotation_rad"] = {e.sigma(3), e.sigma(4), e.sigma(5)};
+  }
+  j["evidence"] = {{"wald", e.wald},
+                   {"threshold", e.threshold},
+                   {"variance_inflation", e.inflation},
+                   {"step_sigma2", e.step_sigma2},
+                   {"drift_sigma2", e.drift_sigma2},
+                   {"drift", e.drift},
+                   {"left_sigma2", e.left_sigma2},
+                   {"left_threshold", e.left_threshold}};
+  if (!e.alternative.empty()) j["alternative"] = e.alternative;
+  return j;
+}
+
+nlohmann::json EventsJson(const std::vector<ChangeEvent>& events) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const ChangeEvent& e : events) j.push_back(EventJson(e));
+  return j;
+}
+
 }  // namespace
+
+std::string ChangesText(const Diagnosis& d) {
+  if (!d.changes.searched) return "not searched";
+  std::string text;
+  for (const ChangeEvent& e : d.changes.events) text += (text.empty() ? "" : "; ") + DescribeEvent(e);
+  if (text.empty())
+    text = "none: one rig explains the whole session";
+  else
+    text += "; the diagnosis is of the rig after the last change";
+  for (const ChangeEvent& e : d.changes.rejected) {
+    if (e.alternative == "structure") {
+      text += fmt::format(
+          "; a step {} was rejected: its signature varies block by block beyond it ({:.0f} σ² "
+          "left against {:.0f}), structure rather than one change",
+          DescribeEvent(e), e.left_sigma2, e.left_threshold);
+    } else {
+      text += fmt::format("; a step {} was rejected: a drift ({}) explains it as well ({:.0f} σ² against {:.0f})",
+                          DescribeEvent(e), e.drift, e.drift_sigma2, e.step_sigma2);
+    }
+  }
+  return text;
+}
 
 nlohmann::json ToJson(const Diagnosis& d) {
   nlohmann::json j;
@@ -214,6 +276,11 @@ nlohmann::json ToJson(const Diagnosis& d) {
   for (const RankedEntry& e : Ranking(d)) j["effects"].push_back(RankedJson(d, e));
   j["selected"] = nlohmann::json::array();
   for (Effect e : d.selected) j["selected"].push_back(EffectName(e));
+  j["events"] = EventsJson(d.changes.events);
+  j["change_search"] = {{"searched", d.changes.searched},
+                        {"rejected", EventsJson(d.changes.rejected)},
+                        {"blocks", d.changes.blocks},
+                        {"candidates", d.changes.candidates}};
   j["conclusion"] = ConclusionName(d.conclusion);
   j["calibration"] = CalibrationJson(d.calibration);
   j["holdout"] = {{"runs", d.holdout_runs},
@@ -556,6 +623,8 @@ std::string ReportMarkdown(const Diagnosis& d) {
         d.timing_excluded);
   }
   if (const std::string recorded = RecordedCorrectionText(d); !recorded.empty()) md += "Data " + recorded + ".\n\n";
+  md += fmt::format("Changes of the rig within the session (searched in {:.1f} s): {}.\n\n", d.changes.seconds,
+                    ChangesText(d));
   return md + VerdictMarkdown(d) + ParametersMarkdown(d) + WhereMarkdown(d) + NextStepsMarkdown(d);
 }
 

@@ -67,6 +67,7 @@ void PrintText(const Diagnosis& d) {
                 static_cast<long long>(d.timing_excluded));
   }
   if (const std::string recorded = RecordedCorrectionText(d); !recorded.empty()) std::printf("%s\n", recorded.c_str());
+  std::printf("changes within the session: %s\n", ChangesText(d).c_str());
   std::printf("%s\n\n", d.gap.where.c_str());
   std::printf("%-4s %-20s %-11s %9s %9s  %s\n", "rank", "effect", "verdict", "explained", "cv gain", "with");
   for (std::size_t k = 0; k < d.effects.size(); ++k) {

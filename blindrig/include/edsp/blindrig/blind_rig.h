@@ -51,6 +51,15 @@ struct BlindEffects {
                                             //   its readings fall later and later over the session
   double target_reseat_m = 0.0;             // the tracker's target re-seated in its nest before each run:
                                  //   A sits this far (RMS) from its nominal centre, drawn anew each run, in {M}
+  // A change within the session, not an effect: from `change_time_s` of the
+  // session on (< 0: never), leg `change_leg` (0-based; -1: none) is
+  // `change_m` longer (a coupling slipping, a joint re-seated) and the
+  // tracker's pose of {B} has moved by `change_tracker` (x y z, roll pitch
+  // yaw: its stand knocked).
+  double change_time_s = -1.0;
+  int change_leg = -1;
+  double change_m = 0.0;
+  Vec6 change_tracker = Vec6::Zero();
 };
 
 struct TrackerOptions {

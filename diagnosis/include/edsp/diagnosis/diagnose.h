@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include "edsp/diagnosis/change_point.h"
 #include "edsp/diagnosis/chosen_by.h"
 #include "edsp/diagnosis/conclusion.h"
 #include "edsp/diagnosis/design.h"
@@ -40,6 +41,9 @@ struct DiagnoseOptions {
   // design.structural_mode_hz is 0; a given frequency is used as it is.
   bool fit_structural_mode = true;
   StructureOptions structure;  // when what is left counts as structure (unknown)
+  // Whether one rig explains the session, asked first (change_point.h):
+  // with a change found, the rest diagnoses the rig after it.
+  ChangePointOptions changes;
 };
 
 struct EffectResult {
@@ -138,6 +142,7 @@ struct Diagnosis {
   int samples = 0;
   std::int64_t timing_excluded = 0;  // samples the data flagged timing_event, left out
   std::vector<std::string> runs;
+  ChangeSearch changes;               // the rig's changes within the session, found before anything else
   GapSummary gap;                     // before any effect (frame estimated)
   std::vector<EffectResult> effects;  // ranked: selected first, then rejected by gain
   std::vector<Effect> selected;

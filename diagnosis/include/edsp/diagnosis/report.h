@@ -39,6 +39,11 @@ Verdict RankedVerdict(const RankedEntry& entry);
 // fast it drifts over the session (the clock checks).
 std::string TrackerClockNote(const Diagnosis& diagnosis);
 
+// The rig's changes within the session (change_point.h) in one sentence:
+// each event, or that one rig explains the session, and the steps a drift
+// explained as well.
+std::string ChangesText(const Diagnosis& diagnosis);
+
 // What a calibration recorded with the data did at point A and what the
 // diagnosis read it against, in one sentence ("" when the data carried none).
 std::string RecordedCorrectionText(const Diagnosis& diagnosis);

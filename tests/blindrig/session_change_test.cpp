@@ -1,0 +1,142 @@
+// A rig that changes during a session, on data from the independently
+// written rig: one leg's length stepping, the tracker's stand knocked. Each
+// is an event (when, what, how much), the diagnosis is of the rig after it,
+// and a step is never taken for a drift, nor a drift for a step. A rig that
+// did not change has no event, whatever else it has.
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "edsp/blindrig/blind_setup.h"
+#include "edsp/diagnosis/diagnose.h"
+#include "edsp/diagnosis/report.h"
+
+namespace edsp::blind {
+namespace {
+
+const std::vector<std::string> kMotions = {"Lz", "Lx", "Rz", "Ry", "M1", "M2"};
+
+BlindRigSetup SessionSetup() {
+  BlindRigSetup setup = SetupFromConfig(Huang2021Config());
+  setup.motions = kMotions;
+  return setup;
+}
+
+// The session's length as the blind rig runs it (a second between motions).
+double SessionSeconds() {
+  double total = 0.0;
+  for (const std::string& name : kMotions) total += MotionNamed(SessionSetup(), name).duration_s() + 1.0;
+  return total;
+}
+
+gap::Diagnosis DiagnoseSession(const BlindEffects& effects, unsigned seed = 5) {
+  TrackerOptions tracker;
+  tracker.rate_hz = 100.0;
+  tracker.noise_m = 10e-6;
+  tracker.seed = seed;
+  const gap::MeasurementData data =
+      gap::ParseMeasurementCsv(GenerateMeasurementCsv(SessionSetup(), effects, tracker), "blind");
+  return gap::Diagnose(PlatformModel(Huang2021Config()), data);
+}
+
+bool Selected(const gap::Diagnosis& d, gap::Effect e) {
+  return std::find(d.selected.begin(), d.selected.end(), e) != d.selected.end();
+}
+
+// A coupling slips in the middle of a motion: leg 4 is 80 µm longer from then on.
+TEST(SessionChanges, AStepInOneLegIsAnEventAtItsTimeOfItsSize) {
+  BlindEffects e;
+  e.change_time_s = 0.55 * SessionSeconds();
+  e.change_leg = 3;
+  e.change_m = 80e-6;
+  const gap::Diagnosis d = DiagnoseSession(e);
+  ASSERT_EQ(d.changes.events.size(), 1u) << gap::ChangesText(d);
+  const gap::ChangeEvent& ev = d.changes.events.front();
+  EXPECT_EQ(ev.kind, gap::ChangeKind::kLegLength);
+  EXPECT_EQ(ev.leg, 3);
+  EXPECT_LE(std::abs(ev.time_s - e.change_time_s), 1.0) << gap::DescribeEvent(ev);
+  EXPECT_LE(std::abs(ev.size(0) - e.change_m), 0.2 * e.change_m) << gap::DescribeEvent(ev);
+  EXPECT_LE(std::abs(ev.size(0) - e.change_m), 5.0 * ev.sigma(0)) << gap::DescribeEvent(ev);
+  // The rig after the change has leg 4 longer than nominal: a leg offset,
+  // never a drift.
+  EXPECT_FALSE(Selected(d, gap::Effect::kThermalDrift)) << gap::ChangesText(d);
+  EXPECT_LT(d.holdout_after.rms_m, 1.5 * d.noise_floor_rms_m) << d.unexplained_note;
+}
+
+// The same beside effects the rig has all session: they are named as
+// before, the step as an event, and the leg's length after it as the
+// offset a calibration applies.
+TEST(SessionChanges, AStepBesideTheRigsOwnEffectsLeavesThemNamed) {
+  BlindEffects e;
+  e.lead_error << 300e-6, -200e-6, 150e-6, -250e-6, 200e-6, -100e-6;
+  e.change_time_s = 0.3 * SessionSeconds();
+  e.change_leg = 1;
+  e.change_m = -60e-6;
+  const gap::Diagnosis d = DiagnoseSession(e, 7);
+  ASSERT_EQ(d.changes.events.size(), 1u) << gap::ChangesText(d);
+  const gap::ChangeEvent& ev = d.changes.events.front();
+  EXPECT_EQ(ev.leg, 1);
+  EXPECT_LE(std::abs(ev.time_s - e.change_time_s), 1.0) << gap::DescribeEvent(ev);
+  EXPECT_LE(std::abs(ev.size(0) - e.change_m), 0.2 * std::abs(e.change_m)) << gap::DescribeEvent(ev);
+  EXPECT_TRUE(Selected(d, gap::Effect::kLeadError)) << gap::ChangesText(d);
+  EXPECT_FALSE(Selected(d, gap::Effect::kThermalDrift));
+  EXPECT_LT(d.holdout_after.rms_m, 1.5 * d.noise_floor_rms_m) << d.unexplained_note;
+}
+
+// The tracker's stand knocked: an event of the tracker, no leg's.
+TEST(SessionChanges, AKnockedTrackerIsAnEventOfTheTrackerNeverOfALeg) {
+  BlindEffects e;
+  e.change_time_s = 0.45 * SessionSeconds();
+  e.change_tracker << 60e-6, -40e-6, 30e-6, 30e-6, 0.0, -40e-6;
+  const gap::Diagnosis d = DiagnoseSession(e);
+  ASSERT_FALSE(d.changes.events.empty()) << gap::ChangesText(d);
+  for (const gap::ChangeEvent& ev : d.changes.events) {
+    EXPECT_EQ(ev.kind, gap::ChangeKind::kTrackerFrame) << gap::DescribeEvent(ev);
+    EXPECT_LE(std::abs(ev.time_s - e.change_time_s), 1.0) << gap::DescribeEvent(ev);
+  }
+  EXPECT_TRUE(d.selected.empty()) << gap::ChangesText(d);
+  EXPECT_LT(d.holdout_after.rms_m, 1.5 * d.noise_floor_rms_m) << d.unexplained_note;
+}
+
+// A screw warming under power drifts: it is the thermal effect, no event.
+TEST(SessionChanges, AThermalDriftIsNeverAStep) {
+  BlindEffects e;
+  e.alpha_per_K = 11.5e-6;
+  e.heating_K_per_s = 0.02;
+  e.thermal_tau_s = 600.0;
+  const gap::Diagnosis d = DiagnoseSession(e);
+  EXPECT_TRUE(d.changes.events.empty()) << gap::ChangesText(d);
+  EXPECT_TRUE(Selected(d, gap::Effect::kThermalDrift)) << gap::ChangesText(d);
+}
+
+// The tracker's stand settling drifts too, on the tracker's side: no event.
+TEST(SessionChanges, ATrackerStandSettlingIsNeverAStep) {
+  BlindEffects e;
+  e.stand_drift_m_per_s << 0.3e-6, -0.25e-6, 0.1e-6;
+  e.stand_settle_s = 400.0;
+  const gap::Diagnosis d = DiagnoseSession(e);
+  EXPECT_TRUE(d.changes.events.empty()) << gap::ChangesText(d);
+}
+
+// Rigs that did not change, as the blind rig draws them (effect-free, one
+// effect, two, one outside the vocabulary): no event. A target re-seated
+// before each run did change, on the tracker's side: never a leg's event.
+TEST(SessionChanges, ARigThatDidNotChangeHasNoEvent) {
+  for (int index = 0; index < 5; ++index) {
+    const BlindScenario s = DrawBlindScenario(4711, index);
+    const gap::MeasurementData data =
+        gap::ParseMeasurementCsv(GenerateMeasurementCsv(SessionSetup(), s.effects, s.tracker), "blind");
+    const gap::Diagnosis d = gap::Diagnose(PlatformModel(Huang2021Config()), data);
+    const bool reseated = s.effects.target_reseat_m > 0.0;
+    for (const gap::ChangeEvent& ev : d.changes.events) {
+      EXPECT_TRUE(reseated && ev.kind == gap::ChangeKind::kTrackerFrame)
+          << "scenario " << index << " (" << s.description << "): " << gap::DescribeEvent(ev);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace edsp::blind
