@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
-#include <functional>
 #include <cmath>
+#include <functional>
 #include <numeric>
-#include <tuple>
 #include <optional>
+#include <tuple>
 
 #include <boost/math/distributions/chi_squared.hpp>
 #include <Eigen/Cholesky>
@@ -95,18 +95,19 @@ struct PrefixSums {
 
 // Samples in time order, the blocks the noise is read over and the candidate instants.
 struct Timeline {
-  std::vector<int> order;           // samples by time
-  std::vector<int> block;           // of each position in `order`
-  std::vector<char> candidate;      // a step may start at this position
-  std::vector<int> grid;            // the positions the coarse scan evaluates
+  std::vector<int> order;       // samples by time
+  std::vector<int> block;       // of each position in `order`
+  std::vector<char> candidate;  // a step may start at this position
+  std::vector<int> grid;        // the positions the coarse scan evaluates
   int blocks = 0;
 
   Timeline(const Design& d, const ChangePointOptions& o) {
     const int n = d.samples();
     order.resize(static_cast<std::size_t>(n));
     std::iota(order.begin(), order.end(), 0);
-    std::stable_sort(order.begin(), order.end(),
-                     [&](int a, int b) { return d.time_s[static_cast<std::size_t>(a)] < d.time_s[static_cast<std::size_t>(b)]; });
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+      return d.time_s[static_cast<std::size_t>(a)] < d.time_s[static_cast<std::size_t>(b)];
+    });
     block.resize(order.size());
     candidate.assign(order.size(), 0);
     const int side = std::max(kMinSideSamples, static_cast<int>(std::ceil(o.min_side_share * n)));
@@ -314,9 +315,8 @@ Eigen::MatrixXd DriftColumns(const Design& d, int signature, const std::function
 std::pair<std::string, double> BestDrift(const Base& b, int signature, const ChangePointOptions& o) {
   const auto [lo, hi] = std::minmax_element(b.d.time_s.begin(), b.d.time_s.end());
   const double t0 = *lo, span = std::max(*hi - *lo, 1e-9);
-  std::pair<std::string, double> best{"linear", FitBeside(b, DriftColumns(b.d, signature, [&](double t) {
-                                                            return (t - t0) / span;
-                                                          })).gain};
+  std::pair<std::string, double> best{
+      "linear", FitBeside(b, DriftColumns(b.d, signature, [&](double t) { return (t - t0) / span; })).gain};
   for (double tau : o.drift_time_constants_s) {
     const double gain =
         FitBeside(b, DriftColumns(b.d, signature, [&](double t) { return 1.0 - std::exp(-(t - t0) / tau); })).gain;
@@ -342,6 +342,32 @@ ChangeEvent EventOf(const Design& d, const Timeline& line, int signature, int po
   return ev;
 }
 
+// The step of `signature` at `pos` judged against the noise and the
+// structure (Judge, LeftBlockByBlock): nothing when it is within the
+// noise; an event whose `alternative` is "structure" when what is left
+// along its signature is more than one step.
+std::optional<ChangeEvent> Assess(const Base& base, const Timeline& line, int signature, int pos,
+                                  const ChangePointOptions& o, Fitted* step) {
+  const double threshold = Threshold(Width(signature), static_cast<int>(line.grid.size()), o);
+  Judge(base, line, signature, step);
+  if (!(step->wald >= threshold)) return std::nullopt;
+  ChangeEvent ev = EventOf(base.d, line, signature, pos, *step, threshold);
+  ev.step_sigma2 = step->wald;
+  std::tie(ev.left_sigma2, ev.left_threshold) = LeftBlockByBlock(base.d, line, signature, *step);
+  if (ev.left_sigma2 > ev.left_threshold) ev.alternative = "structure";
+  return ev;
+}
+
+// The step against the best drift of its signature (BestDrift), in the
+// step's σ²: `alternative` "drift" when the step does not beat it by
+// step_over_drift.
+void AgainstADrift(const Base& base, int signature, const Fitted& step, const ChangePointOptions& o, ChangeEvent* ev) {
+  const auto [drift, drift_gain] = BestDrift(base, signature, o);
+  ev->drift = drift;
+  ev->drift_sigma2 = drift_gain / (step.sigma2 * step.inflation);
+  if (ev->step_sigma2 - ev->drift_sigma2 < o.step_over_drift) ev->alternative = "drift";
+}
+
 Eigen::VectorXd PriorFor(const Design& d) {
   const double sigma_axis = std::max(NoiseFloorRms(d) / std::sqrt(3.0), 1e-8);
   const Eigen::MatrixXd F = d.columns.middleCols(d.frame.begin, d.frame.count);
@@ -361,9 +387,7 @@ MeasurementData Shifted(const MeasurementData& data, const Design& d, const Eige
 
 }  // namespace
 
-const char* ChangeKindName(ChangeKind kind) {
-  return kind == ChangeKind::kLegLength ? "leg_length" : "tracker_frame";
-}
+const char* ChangeKindName(ChangeKind kind) { return kind == ChangeKind::kLegLength ? "leg_length" : "tracker_frame"; }
 
 std::string DescribeEvent(const ChangeEvent& e) {
   const std::string when = fmt::format("at {:.2f} s (run {})", e.time_s, e.run);
@@ -372,16 +396,11 @@ std::string DescribeEvent(const ChangeEvent& e) {
                        e.sigma(0) * 1e6, e.size(0) >= 0.0 ? "longer" : "shorter");
   }
   const Vector3 t = e.size.head<3>(), w = e.size.tail<3>();
-  return fmt::format("{}, the tracker's frame moved by ({:.1f}, {:.1f}, {:.1f}) µm and turned by ({:.1f}, {:.1f}, "
-                     "{:.1f}) µrad (σ {:.1f} µm, {:.1f} µrad)",
-                     when, t.x() * 1e6, t.y() * 1e6, t.z() * 1e6, w.x() * 1e6, w.y() * 1e6, w.z() * 1e6,
-                     e.sigma.head<3>().maxCoeff() * 1e6, e.sigma.tail<3>().maxCoeff() * 1e6);
-}
-
-std::vector<std::string> ChangeSearch::Describe() const {
-  std::vector<std::string> lines;
-  for (const ChangeEvent& e : events) lines.push_back(DescribeEvent(e));
-  return lines;
+  return fmt::format(
+      "{}, the tracker's frame moved by ({:.1f}, {:.1f}, {:.1f}) µm and turned by ({:.1f}, {:.1f}, "
+      "{:.1f}) µrad (σ {:.1f} µm, {:.1f} µrad)",
+      when, t.x() * 1e6, t.y() * 1e6, t.z() * 1e6, w.x() * 1e6, w.y() * 1e6, w.z() * 1e6,
+      e.sigma.head<3>().maxCoeff() * 1e6, e.sigma.tail<3>().maxCoeff() * 1e6);
 }
 
 ChangeSearch FindChanges(const PlatformModel& model, const MeasurementData& data, const DesignOptions& design,
@@ -400,46 +419,48 @@ ChangeSearch FindChanges(const PlatformModel& model, const MeasurementData& data
   if (line.grid.empty()) return search;
   Base base(d, prior);
   Eigen::VectorXd shift = Eigen::VectorXd::Zero(d.residual.size());
-  std::vector<char> settled(kSignatures, 0);  // a signature a drift explained: not tried again
   while (static_cast<int>(search.events.size()) < o.max_events) {
     const std::vector<Best> best = Scan(base, line, &search.candidates);
-    std::vector<int> by_gain;
+    // Every signature's best step judged; of those that are events, the one
+    // past its bar by the most (a leg's step must not go to the tracker's
+    // frame, whose six columns mimic part of it, by their number alone),
+    // unless a drift explains it as well; then the next.
+    std::vector<std::pair<ChangeEvent, Fitted>> steps;
+    std::vector<int> signature_of;
     for (int s = 0; s < kSignatures; ++s) {
-      if (best[static_cast<std::size_t>(s)].pos > 0) by_gain.push_back(s);
-    }
-    std::sort(by_gain.begin(), by_gain.end(), [&](int a, int b) {
-      return best[static_cast<std::size_t>(a)].gain > best[static_cast<std::size_t>(b)].gain;
-    });
-    bool found = false;
-    for (int s : by_gain) {
-      if (settled[static_cast<std::size_t>(s)]) continue;
-      const double threshold = Threshold(Width(s), static_cast<int>(line.grid.size()), o);
-      Fitted step = FitBeside(base, StepColumns(d, line, s, best[static_cast<std::size_t>(s)].pos));
-      Judge(base, line, s, &step);
-      if (!(step.wald >= threshold)) continue;
-      ChangeEvent ev = EventOf(d, line, s, best[static_cast<std::size_t>(s)].pos, step, threshold);
-      const double unit = step.sigma2 * step.inflation;
-      const auto [drift, drift_gain] = BestDrift(base, s, o);
-      ev.step_sigma2 = step.gain / unit;
-      ev.drift_sigma2 = drift_gain / unit;
-      ev.drift = drift;
-      std::tie(ev.left_sigma2, ev.left_threshold) = LeftBlockByBlock(d, line, s, step);
-      const bool structure = ev.left_sigma2 > ev.left_threshold;
-      if (structure || ev.step_sigma2 - ev.drift_sigma2 < o.step_over_drift) {
-        ev.alternative = structure ? "structure" : "drift";
-        search.rejected.push_back(ev);
-        settled[static_cast<std::size_t>(s)] = 1;
-        continue;
+      const int pos = best[static_cast<std::size_t>(s)].pos;
+      if (pos <= 0) continue;
+      Fitted step = FitBeside(base, StepColumns(d, line, s, pos));
+      if (std::optional<ChangeEvent> ev = Assess(base, line, s, pos, o, &step)) {
+        steps.emplace_back(std::move(*ev), std::move(step));
+        signature_of.push_back(s);
       }
-      const Eigen::VectorXd moved = step.Z * step.a;
-      d.residual -= moved;
-      shift += moved;
-      base.Refit();
-      search.events.push_back(std::move(ev));
-      found = true;
+    }
+    std::vector<std::size_t> order(steps.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      return steps[a].first.wald - steps[a].first.threshold > steps[b].first.wald - steps[b].first.threshold;
+    });
+    std::optional<std::pair<ChangeEvent, Fitted>> chosen;
+    std::vector<ChangeEvent> explained;
+    for (std::size_t k : order) {
+      auto& [ev, step] = steps[k];
+      if (ev.alternative.empty()) AgainstADrift(base, signature_of[k], step, o, &ev);
+      if (ev.alternative.empty()) {
+        chosen.emplace(std::move(ev), std::move(step));
+        break;
+      }
+      explained.push_back(ev);
+    }
+    if (!chosen) {
+      search.rejected = std::move(explained);
       break;
     }
-    if (!found) break;
+    const Eigen::VectorXd moved = chosen->second.Z * chosen->second.a;
+    d.residual -= moved;
+    shift += moved;
+    base.Refit();
+    search.events.push_back(std::move(chosen->first));
   }
   if (!search.events.empty()) *corrected = Shifted(data, d, shift);
   search.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -63,10 +63,10 @@ struct ChangePointOptions {
 
 struct ChangeEvent {
   ChangeKind kind = ChangeKind::kLegLength;
-  int leg = -1;             // 0-based (kLegLength)
-  double time_s = 0.0;      // the first sample of the rig after the change
-  double after_s = 0.0;     //   the last sample of the rig before it: the change lies between
-  std::string run;          // of the first sample after
+  int leg = -1;          // 0-based (kLegLength)
+  double time_s = 0.0;   // the first sample of the rig after the change
+  double after_s = 0.0;  //   the last sample of the rig before it: the change lies between
+  std::string run;       // of the first sample after
   // leg: 1 value, its length after − before (m); tracker: its frame after −
   // before, δt (m, 3) then δω (rad, 3), as the design's frame columns.
   Eigen::VectorXd size, sigma;
@@ -86,12 +86,10 @@ struct ChangeSearch {
   std::vector<ChangeEvent> rejected;  // significant steps a drift explained as well: not events
   int blocks = 0, candidates = 0;     // blocks of the noise's reading; instants the scan tried
   double seconds = 0.0;
-
-  // "at 123.40 s (run Lx), leg 4 became 80.1 µm ± 0.9 longer" per event.
-  std::vector<std::string> Describe() const;
 };
 
-// One sentence for an event, as the report and the text give it.
+// One sentence for an event, as the report and the text give it: "at
+// 123.40 s (run Lx), leg 4 became 80.1 µm ± 0.9 longer".
 std::string DescribeEvent(const ChangeEvent& event);
 
 // Searches `data` (rows already thinned as the diagnosis thins them); with
