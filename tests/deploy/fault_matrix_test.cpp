@@ -651,7 +651,9 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
     // socket buffer holds 0.5 s), a kill loses its restart time and no more.
     // Only a later latch the test re-armed (each explained by a stall,
     // checked above) makes the bridge rejoin the stream.
-    if (t.extra_arms == 0) EXPECT_FALSE(a.rejoined_utime.has_value());
+    if (t.extra_arms == 0) {
+      EXPECT_FALSE(a.rejoined_utime.has_value());
+    }
     if (!kill) {
       // 0.5 s of the group's ~5 000 packets a second overflow the socket and
       // LCM's receive ring when the logger thaws: lost, but counted and
