@@ -14,6 +14,7 @@
 
 #include <fmt/format.h>
 
+#include "edsp/kinematics/config.h"
 #include "edsp/logger/log_reader.h"
 #include "edsp/node_status_t.hpp"
 #include "edsp/pose_setpoint_t.hpp"
@@ -146,8 +147,9 @@ int MultiHostGroup::Ctl(const std::string& host, const std::string& arguments) c
 std::vector<TruthSample> TruthOf(const std::string& log_path) {
   std::vector<TruthSample> out;
   ForEach<rig_truth_t>(log_path, "EDSP_RIG_TRUTH", [&](const rig_truth_t& t) {
-    TruthSample s{t.utime, t.seq, {}};
+    TruthSample s{t.utime, t.seq, {}, {}};
     std::copy(t.pose, t.pose + 6, s.pose);
+    std::copy(t.leg_length_m, t.leg_length_m + 6, s.leg_length_m);
     out.push_back(s);
   });
   return out;
@@ -184,16 +186,112 @@ std::map<std::string, std::int64_t> StatusGapsByNode(const std::string& log_path
   return gaps;
 }
 
-double LargestTrueStep(const std::vector<TruthSample>& truth, std::int64_t from_utime, std::int64_t to_utime) {
+namespace {
+
+// The largest of `distance` between consecutive truth samples within the
+// window, shared among the cycles whose samples the log lost.
+template <typename Distance>
+double LargestPerCycle(const std::vector<TruthSample>& truth, std::int64_t from_utime, std::int64_t to_utime,
+                       Distance distance) {
   double largest = 0.0;
   for (std::size_t i = 1; i < truth.size(); ++i) {
     if (truth[i - 1].utime < from_utime || truth[i].utime > to_utime) continue;
-    const double d = std::hypot(truth[i].pose[0] - truth[i - 1].pose[0], truth[i].pose[1] - truth[i - 1].pose[1],
-                                truth[i].pose[2] - truth[i - 1].pose[2]);
     const std::int64_t cycles = std::max<std::int64_t>(1, truth[i].seq - truth[i - 1].seq);
-    largest = std::max(largest, d / static_cast<double>(cycles));
+    largest = std::max(largest, distance(truth[i - 1], truth[i]) / static_cast<double>(cycles));
   }
   return largest;
+}
+
+}  // namespace
+
+double LargestTrueStep(const std::vector<TruthSample>& truth, std::int64_t from_utime, std::int64_t to_utime) {
+  return LargestPerCycle(truth, from_utime, to_utime, [](const TruthSample& a, const TruthSample& b) {
+    return std::hypot(b.pose[0] - a.pose[0], b.pose[1] - a.pose[1], b.pose[2] - a.pose[2]);
+  });
+}
+
+double LargestTrueLegStep(const std::vector<TruthSample>& truth, std::int64_t from_utime, std::int64_t to_utime) {
+  return LargestPerCycle(truth, from_utime, to_utime, [](const TruthSample& a, const TruthSample& b) {
+    double largest = 0.0;
+    for (int i = 0; i < 6; ++i) largest = std::max(largest, std::abs(b.leg_length_m[i] - a.leg_length_m[i]));
+    return largest;
+  });
+}
+
+namespace {
+
+// A stall of the loops around the bridge: when it ended, how late.
+struct Stall {
+  std::int64_t end_utime;
+  std::int64_t late_us;
+};
+
+// Late cycles of the commands the bridge took and of its own (their stamps),
+// and stands of the rig emulator (its truth unreceived while the bridge's
+// readings kept coming: a stalled logger is no stalled rig).
+std::vector<Stall> StallsAroundTheBridge(const std::string& log_path) {
+  constexpr std::int64_t kPeriodUs = 1000;
+  std::vector<Stall> stalls;
+  std::map<std::string, EdspHeader> last;
+  std::int64_t last_truth = -1, last_reading = -1, widest_reading_gap = 0;
+  LogReader reader(log_path);
+  LogEvent event;
+  while (reader.Next(&event)) {
+    const std::int64_t t = event.timestamp_utime;
+    if (event.channel == "EDSP_LEG_STATE") {
+      if (last_truth >= 0) widest_reading_gap = std::max(widest_reading_gap, t - std::max(last_reading, last_truth));
+      last_reading = t;
+    }
+    if (event.channel == "EDSP_RIG_TRUTH") {
+      const std::int64_t silence = t - last_truth;
+      if (last_truth >= 0 && silence > kPeriodUs && last_reading > last_truth && widest_reading_gap < silence / 4) {
+        stalls.push_back({t, silence - kPeriodUs});
+      }
+      last_truth = t;
+      widest_reading_gap = 0;
+      continue;
+    }
+    if (event.channel != "EDSP_SETPOINT" && event.channel != "EDSP_LEG_COMMAND" && event.channel != "EDSP_LEG_STATE")
+      continue;
+    EdspHeader header;
+    if (!ParseEdspHeader(event.data, &header)) continue;
+    const auto [it, fresh] = last.emplace(event.channel, header);
+    if (!fresh && header.seq == it->second.seq + 1 && header.utime - it->second.utime > kPeriodUs) {
+      stalls.push_back({header.utime, header.utime - it->second.utime - kPeriodUs});
+    }
+    it->second = header;
+  }
+  return stalls;
+}
+
+}  // namespace
+
+std::string LegStepCheck::Describe() const {
+  return fmt::format("a leg moved {:.1f} µm in a cycle at {}, {:.1f} µm allowed there", step_m * 1e6, utime,
+                     allowed_m * 1e6);
+}
+
+LegStepCheck CheckLegSteps(const std::string& log_path, const std::vector<TruthSample>& truth, std::int64_t from_utime,
+                           std::int64_t to_utime) {
+  constexpr std::int64_t kCatchUpUs = 50000;
+  static const double leg_speed_m_s =
+      LoadConfigFile(std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml").limits.leg_speed_max_m_s;
+  const std::vector<Stall> stalls = StallsAroundTheBridge(log_path);
+  LegStepCheck check;
+  for (std::size_t i = 1; i < truth.size(); ++i) {
+    const TruthSample &a = truth[i - 1], &b = truth[i];
+    if (a.utime < from_utime || b.utime > to_utime) continue;
+    const std::vector<TruthSample> pair = {a, b};
+    const double step = LargestTrueLegStep(pair);
+    std::int64_t late_us = 0;
+    for (const Stall& stall : stalls) {
+      if (stall.end_utime >= b.utime - kCatchUpUs && stall.end_utime <= b.utime + 1000)
+        late_us = std::max(late_us, stall.late_us);
+    }
+    const double allowed = leg_speed_m_s * (1e-3 + static_cast<double>(late_us) * 1e-6);
+    if (step / allowed > check.worst_ratio) check = {step / allowed, step, allowed, b.utime};
+  }
+  return check;
 }
 
 std::vector<double> LastSetpoint(const std::string& log_path) {

@@ -82,6 +82,7 @@ struct TruthSample {
   std::int64_t utime;
   std::int64_t seq;  // the rig numbers every cycle it runs
   double pose[6];
+  double leg_length_m[6];
 };
 std::vector<TruthSample> TruthOf(const std::string& log_path);
 std::vector<fault_t> FaultsOf(const std::string& log_path);
@@ -96,6 +97,27 @@ std::map<std::string, std::int64_t> StatusGapsByNode(const std::string& log_path
 // outrun the network), so a lost message is not taken for a jump.
 double LargestTrueStep(const std::vector<TruthSample>& truth, std::int64_t from_utime = 0,
                        std::int64_t to_utime = INT64_MAX);
+// The same of the legs' true lengths, m: the largest any leg changed in one
+// cycle of the rig.
+double LargestTrueLegStep(const std::vector<TruthSample>& truth, std::int64_t from_utime = 0,
+                          std::int64_t to_utime = INT64_MAX);
+
+// A leg's largest step in a cycle against what it may move then: the legs'
+// speed limit ([limits] leg_speed_max_m_s of the shipped config) over the
+// cycle and over the stall that ended within the 50 ms before (the bridge's
+// commands late, its own cycles late, or the rig's drives standing). The
+// bridge passes a command that moved at that speed over the whole time
+// since the last one, and the drives close that gap in a few cycles; a
+// jump (a bridge that rejoined the stream at once) needs no stall.
+struct LegStepCheck {
+  double worst_ratio = 0.0;  // the largest step / allowed of any cycle
+  double step_m = 0.0;       // that cycle's step
+  double allowed_m = 0.0;    // and what it was allowed
+  std::int64_t utime = 0;    // when
+  std::string Describe() const;
+};
+LegStepCheck CheckLegSteps(const std::string& log_path, const std::vector<TruthSample>& truth,
+                           std::int64_t from_utime = 0, std::int64_t to_utime = INT64_MAX);
 // The last setpoint's pose.
 std::vector<double> LastSetpoint(const std::string& log_path);
 

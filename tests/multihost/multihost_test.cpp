@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -15,9 +16,12 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "edsp/kinematics/config.h"
+#include "edsp/kinematics/platform_model.h"
 #include "edsp/logger/log_summary.h"
 #include "edsp/node/fault.h"
 #include "edsp/node/runtime.h"
+#include "explained_losses.h"
 #include "late_cycles.h"
 #include "multihost_group.h"
 #include "scratch_dir.h"
@@ -55,6 +59,18 @@ void ExpectSettledOnTheLastSetpoint(const std::string& log_path, double toleranc
   for (int k = 3; k < 6; ++k) EXPECT_NEAR(last.pose[k], target[k], 5e-6) << "angle " << k;
 }
 
+// No leg moved faster in a cycle than the legs' speed limit allows over
+// the cycle and a stall just before it, before the fault and after the
+// re-arm (the hold between is checked on its own: it never moves).
+void ExpectNoLegJump(const std::string& log_path, const std::vector<TruthSample>& truth, std::int64_t fault_utime,
+                     std::int64_t armed_utime) {
+  const LegStepCheck before = CheckLegSteps(log_path, truth, 0, fault_utime);
+  const LegStepCheck after = CheckLegSteps(log_path, truth, armed_utime);
+  std::printf("before the fault: %s; after the re-arm: %s\n", before.Describe().c_str(), after.Describe().c_str());
+  EXPECT_LT(before.worst_ratio, 1.0) << before.Describe();
+  EXPECT_LT(after.worst_ratio, 1.0) << after.Describe();
+}
+
 // Two of the paper's motions, a translation and a rotation (about 28 000
 // cycles; the single-host groups run all four).
 TEST(MultiHost, PaperMotionsRunAcrossThreeHostsAndTheOperatorLogsEveryMessage) {
@@ -82,19 +98,31 @@ TEST(MultiHost, PaperMotionsRunAcrossThreeHostsAndTheOperatorLogsEveryMessage) {
   EXPECT_TRUE(unexplained.empty()) << Describe(unexplained) << "(the largest setpoint -> drive latency: " << stall_ms
                                    << " ms)";
   // Every node's output crossed the bridge to the operator's logger: none
-  // lost while the machine kept up. Only a run that measured stalls (the
-  // bridge missed cycles: a busy machine) may lose, and at most one message
-  // in a thousand (a CPU-bound process pinned to a core here: 1 in 55 000).
-  const long bridge_misses = LatencyOf(group).at("deadline_misses").get<long>();
-  for (const char* channel : {"EDSP_SETPOINT", "EDSP_LEG_COMMAND", "EDSP_LEG_STATE", "EDSP_PLATFORM_STATE",
-                              "EDSP_TRACKER", "EDSP_RIG_TRUTH", "EDSP_CONFIG"}) {
+  // lost while the machine kept up. Where this run's messages waited (the
+  // one after the loss came 5 ms or more after its stamp) the logger may
+  // lose what its socket could not hold (a CPU-bound process pinned to a
+  // core here: 1 message in 55 000); where the stream flowed, a channel may
+  // lose no larger a share than the share of the run's messages that came
+  // backed up (a starved machine's network stack drops packets unseen):
+  // none on a machine that kept up, and a lossy link is caught anywhere.
+  const std::set<std::string> channels = {"EDSP_SETPOINT", "EDSP_LEG_COMMAND", "EDSP_LEG_STATE", "EDSP_PLATFORM_STATE",
+                                          "EDSP_TRACKER",  "EDSP_RIG_TRUTH",   "EDSP_CONFIG"};
+  const LossesInLog losses = LossesExplainedByStalls(group.log_path(), channels);
+  for (const std::string& channel : channels) {
     ASSERT_TRUE(summary.channels.count(channel)) << channel << " never reached the operator host";
     const ChannelSummary& c = summary.channels.at(channel);
-    const std::int64_t allowed = bridge_misses == 0 ? 0 : std::min<std::int64_t>(bridge_misses, c.messages / 1000);
-    EXPECT_LE(c.seq_gaps, allowed) << channel << ": " << c.seq_gaps << " of " << c.messages << " lost ("
-                                   << bridge_misses << " bridge cycles missed)";
-    ::testing::Test::RecordProperty(std::string(channel) + "_messages", static_cast<int>(c.messages));
+    const std::int64_t lost = losses.lost.count(channel) ? losses.lost.at(channel) : 0;
+    const std::int64_t lost_unstalled = losses.unexplained.count(channel) ? losses.unexplained.at(channel) : 0;
+    EXPECT_EQ(lost, c.seq_gaps) << channel << ": the log's summary and the test count losses alike";
+    EXPECT_LE(lost_unstalled, losses.UnexplainedAllowed(c.messages))
+        << channel << ": " << lost_unstalled << " of " << c.messages << " lost where the stream flowed (" << lost
+        << " lost in all; " << losses.backed_up << " of " << losses.messages << " backed up)";
+    ::testing::Test::RecordProperty(channel + "_messages", static_cast<int>(c.messages));
+    ::testing::Test::RecordProperty(channel + "_lost", static_cast<int>(lost));
   }
+  const long bridge_misses = LatencyOf(group).at("deadline_misses").get<long>();
+  std::printf("bridge cycles missed %ld; %lld of %lld messages received 5 ms or more after their stamp\n",
+              bridge_misses, static_cast<long long>(losses.backed_up), static_cast<long long>(losses.messages));
   EXPECT_GT(summary.channels.at("EDSP_LEG_COMMAND").messages, 20000);
   // EDSP_STATUS: five nodes and a launcher per host (launcher@<host>) on
   // one channel, so each publisher's own count.
@@ -138,12 +166,25 @@ TEST(MultiHost, TwoPercentLossOnTheControllersLinkIsCountedAndNeverMakesAJump) {
   ::testing::Test::RecordProperty("bridge_drops", static_cast<int>(bridge_drops));
   EXPECT_GT(bridge_drops, 50);
   EXPECT_GT(kinematics_drops, 50);
-  // A lost command leaves the last one in force: the platform never jumps
-  // (a cycle's true step stays below the 0.25 m/s motion's 0.25 mm, with margin).
+  // The operator's log lost the controller's leg commands on that link too,
+  // most of them where the stream flowed: the paper test's check of losses
+  // sees a lossy link for what it is.
+  const LossesInLog losses = LossesExplainedByStalls(group.log_path(), {"EDSP_LEG_COMMAND"});
+  const std::int64_t lost = losses.lost.count("EDSP_LEG_COMMAND") ? losses.lost.at("EDSP_LEG_COMMAND") : 0;
+  const std::int64_t unexplained =
+      losses.unexplained.count("EDSP_LEG_COMMAND") ? losses.unexplained.at("EDSP_LEG_COMMAND") : 0;
+  std::printf("leg commands lost at the operator: %lld, %lld where the stream flowed; %lld of %lld backed up\n",
+              static_cast<long long>(lost), static_cast<long long>(unexplained),
+              static_cast<long long>(losses.backed_up), static_cast<long long>(losses.messages));
+  EXPECT_GT(unexplained, lost / 2);
+  EXPECT_GT(unexplained, losses.UnexplainedAllowed(losses.messages));
+  // A lost command leaves the last one in force: the legs never jump (a
+  // cycle's true step of a leg stays within the legs' speed limit over the
+  // cycle and however late this run's commands came).
   const std::vector<TruthSample> truth = TruthOf(group.log_path());
-  const double step = LargestTrueStep(truth);
-  ::testing::Test::RecordProperty("largest_step_um", static_cast<int>(step * 1e6));
-  EXPECT_LT(step, 1e-3);
+  const LegStepCheck steps = CheckLegSteps(group.log_path(), truth);
+  ::testing::Test::RecordProperty("largest_leg_step_um", static_cast<int>(LargestTrueLegStep(truth) * 1e6));
+  EXPECT_LT(steps.worst_ratio, 1.0) << steps.Describe();
   if (exit == 0) ExpectSettledOnTheLastSetpoint(group.log_path(), 5e-6);
 }
 
@@ -229,10 +270,11 @@ TEST(MultiHost, ControllerLinkDownHoldsWithin50msAndResumesOnlyAfterReArm) {
   EXPECT_LT(drift, 1e-6) << "moved " << drift * 1e6 << " µm while held";
   // Re-armed: the legs rejoin the stream (at 0.05 m/s: unit-tested in
   // actuator_bridge_test), the motion goes on and ends where the planner
-  // does (held mid-way up, it ends at home); never a step beyond the legs'
-  // 0.5 m/s in a cycle, even when a late rig cycle makes the servo catch up.
-  EXPECT_LT(LargestTrueStep(truth, armed_utime), 0.5e-3);
-  EXPECT_LT(LargestTrueStep(truth), 1e-3);
+  // does (held mid-way up, it ends at home); never a leg's step beyond the
+  // legs' speed limit over a cycle and this run's stalls (a stalled
+  // controller's commands catch up at that speed, and the drives with them;
+  // a rejoin at once would be a jump of the hold's whole lag).
+  ExpectNoLegJump(group.log_path(), truth, down_utime, armed_utime);
   EXPECT_GT(std::abs(truth.back().pose[2] - settled), 1e-3) << "the motion never resumed";
   ExpectSettledOnTheLastSetpoint(group.log_path(), 5e-6);
 }
@@ -338,8 +380,7 @@ TEST(MultiHost, DrivesLinkPulledOverModbusHoldsNamesTheDrivesAndResumesOnlyAfter
   // what it travelled before the pull took effect, plus the lapse.
   EXPECT_LT(run_on, 0.1 * (Ms(cut_done_utime - cut_utime) + 2.5 + Ms(late_us) + 5.0) * 1e-3);
   EXPECT_LT(drift, 1e-6) << "moved " << drift * 1e6 << " µm while held";
-  EXPECT_LT(LargestTrueStep(truth, armed_utime), 0.5e-3);
-  EXPECT_LT(LargestTrueStep(truth), 1e-3);
+  ExpectNoLegJump(group.log_path(), truth, cut_utime, armed_utime);
   EXPECT_GT(std::abs(truth.back().pose[2] - settled), 1e-3) << "the motion never resumed";
   ExpectSettledOnTheLastSetpoint(group.log_path(), 5e-6);
 }
@@ -412,15 +453,23 @@ TEST(MultiHost, AnUnrelatedGroupOnTheSameNetworkCannotCommandThisRig) {
     if (f.node == "actuator_bridge" && f.code == static_cast<std::int32_t>(FaultCode::kForeignSession)) ++foreign;
   }
   EXPECT_GT(foreign, 0) << "the bridge never saw the other group's commands:\n" << Describe(faults);
-  // Our rig never turned: the other group's ±30° yaw sweep moved nothing
-  // (what yaw there is, ~1e-7 rad, is our own z motion's servo coupling).
+  // Our rig never turned: the other group's ±30° yaw sweep moved nothing.
+  // One of its commands taken by the drives for a single cycle would turn
+  // the rig by what the legs move in a cycle at their speed limit; what yaw
+  // there is is our own z motion's servo coupling (0.25 µrad at full speed,
+  // up to 24 µrad at half speed, where the drives catch up after stalls).
+  const PlatformModel model(LoadConfigFile(std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml"));
+  const double one_foreign_cycle_rad = model.config().limits.leg_speed_max_m_s * 1e-3 /
+                                       model.LengthJacobian(model.home_pose()).col(5).cwiseAbs().maxCoeff();
   double largest_yaw = 0.0;
   for (const TruthSample& s : TruthOf(ours.log_path())) largest_yaw = std::max(largest_yaw, std::abs(s.pose[5]));
   ::testing::Test::RecordProperty("largest_yaw_urad", static_cast<int>(largest_yaw * 1e6));
-  EXPECT_LT(largest_yaw, 1e-5);
+  EXPECT_LT(largest_yaw, one_foreign_cycle_rad / 2)
+      << "a foreign command's cycle turns the rig " << one_foreign_cycle_rad * 1e6 << " µrad";
   // The other group's command stream is not counted as our losses.
   EXPECT_LT(LatencyOf(ours).at("command_seq_gaps").get<long>(), 10);
-  std::printf("foreign commands refused (throttled reports): %d; largest yaw %.2g rad\n", foreign, largest_yaw);
+  std::printf("foreign commands refused (throttled reports): %d; largest yaw %.2g rad (one foreign cycle: %.2g rad)\n",
+              foreign, largest_yaw, one_foreign_cycle_rad);
   ExpectSettledOnTheLastSetpoint(ours.log_path(), 5e-6);
 }
 
