@@ -113,18 +113,24 @@ fault_t ActuatorBridge::ActOnArm(const arm_t& arm, std::int64_t now_utime) {
       now_utime);
 }
 
-Vector6 ActuatorBridge::NextTarget(const Vector6& command_m, double max_step_m, double elapsed_s,
-                                   bool* caught_up) const {
+Vector6 ActuatorBridge::NextTarget(const Vector6& command_m, const Vector6& stream_motion_m, double max_step_m,
+                                   double elapsed_s, bool* caught_up) const {
   *caught_up = false;
   if (!IsRejoining(state_)) return command_m;
-  const Vector6 gap = command_m - target_length_m_;
+  // The legs go with the stream's own motion and close the gap to it at the
+  // rejoin speed on top, never beyond the legs' step: a stream that moves
+  // faster than the rejoin speed is still caught (closing at the rejoin
+  // speed alone, the legs would trail it for as long as it moved).
+  const Vector6 carried = target_length_m_ + stream_motion_m;
+  const Vector6 gap = command_m - carried;
   const double largest = gap.cwiseAbs().maxCoeff();
-  const double step = std::min(max_step_m, options_.rejoin_speed_m_s * elapsed_s);
+  const double room = std::max(0.0, max_step_m - stream_motion_m.cwiseAbs().maxCoeff());
+  const double step = std::min(room, options_.rejoin_speed_m_s * elapsed_s);
   if (largest <= step) {
     *caught_up = true;  // the stream again
     return command_m;
   }
-  return target_length_m_ + gap * (step / largest);
+  return carried + gap * (step / largest);
 }
 
 bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utime, fault_t* fault) {
@@ -157,6 +163,9 @@ ActuatorBridge::StepLimit ActuatorBridge::CatchAStreamThatWentOn(const Vector6& 
   // the servo faster than the legs may go. Rejoin it from where the drives
   // stand, a rejoin step a cycle.
   Apply(BridgeEvent::kStreamAhead);
+  // Where the stream went during the silence is the gap to close, not a
+  // motion of the stream's to carry the legs along.
+  stream_length_m_ = command_m;
   for (int i = 0; i < kNumLegs; ++i) {
     target_.motor_angle_rad[i] = feedback_.motor_angle_rad[i];
     target_length_m_(i) = drives_m(i);
@@ -261,10 +270,13 @@ std::optional<ActuatorBridge::Refusal> ActuatorBridge::WhyNotTheseLengths(const 
 
 void ActuatorBridge::Accept(const leg_command_t& c, const Vector6& command_m, const StepLimit& step,
                             std::int64_t now_utime) {
+  // A stream that starts now (re-armed) has no motion of its own yet.
+  const Vector6 stream_motion_m =
+      state_ == BridgeState::kArmed ? Vector6::Zero().eval() : (command_m - stream_length_m_).eval();
   stream_length_m_ = command_m;
   bool caught_up = false;
   const bool rejoining = IsRejoining(state_);
-  const Vector6 next = NextTarget(command_m, step.max_step_m, step.elapsed_s, &caught_up);
+  const Vector6 next = NextTarget(command_m, stream_motion_m, step.max_step_m, step.elapsed_s, &caught_up);
   Apply(BridgeEvent::kCommandAccepted);
   if (caught_up) Apply(BridgeEvent::kCaughtUp);
   // The feed-forward over the planner time the step took: a setpoint 0.3 ms

@@ -268,8 +268,8 @@ TEST(MultiHost, ControllerLinkDownHoldsWithin50msAndResumesOnlyAfterReArm) {
   std::printf("after the hold: ran on %.1f µm, then drifted %.3f µm\n", run_on * 1e6, drift * 1e6);
   EXPECT_LT(run_on, 5e-6);
   EXPECT_LT(drift, 1e-6) << "moved " << drift * 1e6 << " µm while held";
-  // Re-armed: the legs rejoin the stream (at 0.05 m/s: unit-tested in
-  // actuator_bridge_test), the motion goes on and ends where the planner
+  // Re-armed: the legs rejoin the stream (closing on it at the rejoin speed
+  // while going with it: unit-tested in actuator_bridge_test), the motion goes on and ends where the planner
   // does (held mid-way up, it ends at home); never a leg's step beyond the
   // legs' speed limit over a cycle and this run's stalls (a stalled
   // controller's commands catch up at that speed, and the drives with them;

@@ -33,7 +33,7 @@ struct BridgeOptions {
   std::int64_t stale_us = 50000;    // no valid command for this long: hold
   double max_leg_speed_m_s = -1.0;  // faster changes are jumps; < 0: the config's
                                     // [limits] leg_speed_max_m_s
-  double rejoin_speed_m_s = 0.02;   // after a re-arm: how fast the held legs go to the stream
+  double rejoin_speed_m_s = 0.02;   // after a re-arm: how fast the held legs close on the stream
   double stop_decel_m_s2 = -1.0;    // late commands: the fastest leg's deceleration to rest;
                                     // < 0: the config's [motion] leg_accel_max_m_s2
 };
@@ -60,10 +60,11 @@ class ActuatorBridge {
   // After a stale hold, or drives that stopped answering, the bridge refuses
   // every command until an operator re-arms it (the stream may come back anywhere; resuming by itself when the
   // trajectory happens to pass the held pose would start the platform with a
-  // jerk). After Rearm() the bridge rejoins the stream: the held legs move to
-  // the latest command along a straight line in leg space at no more than
-  // rejoin_speed_m_s, then follow it as before (caught up: within one rejoin
-  // step). While rejoining, the stream itself must stay continuous (a jump
+  // jerk). After Rearm() the bridge rejoins the stream: the held legs close
+  // the gap to the latest command along a straight line in leg space at
+  // rejoin_speed_m_s, carried along by the stream's own motion once it
+  // moves (never beyond the legs' speed limit), then follow it as before
+  // (caught up: within one rejoin step). While rejoining, the stream itself must stay continuous (a jump
   // in it is refused, as ever). A bridge started (or restarted) into a
   // stream that is elsewhere refuses it as a jump until re-armed likewise.
   // Also resets drives that left operation (DriveBackend::Reset); false
@@ -123,7 +124,8 @@ class ActuatorBridge {
   // step towards it. Ends the rejoin once the stream is within one rejoin step
   // (a stream moving faster than the rejoin speed is caught when it slows).
   // (Which may move the state: see Apply.)
-  Vector6 NextTarget(const Vector6& command_m, double max_step_m, double elapsed_s, bool* caught_up) const;
+  Vector6 NextTarget(const Vector6& command_m, const Vector6& stream_motion_m, double max_step_m, double elapsed_s,
+                     bool* caught_up) const;
   // The state after `event` (bridge_state.h). An event the table does not
   // allow is a bug here: the bridge then latches, the safe side.
   void Apply(BridgeEvent event);
