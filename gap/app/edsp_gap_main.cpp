@@ -12,6 +12,7 @@
 //   edsp-gap benchmark --mode calibration --scenarios N --seed S [--generator rig|blind] [--held-out Ly,Rx,M3,M4]
 //                      [--noise-m 5e-6] [--json] [--keep DIR]   (whole rigs: docs/calibration.md)
 //   edsp-gap benchmark --mode drift --scenarios N --seed S [--noise-m 5e-6] [--json]   (drift on whole rigs)
+//   edsp-gap benchmark --mode events --scenarios N --seed S [--motions …] [--json]   (changes within a session)
 #include <unistd.h>
 
 #include <cstdio>
@@ -29,6 +30,7 @@
 #include "edsp/diagnosis/calibration_check.h"
 #include "edsp/diagnosis/drift.h"
 #include "edsp/gap/drift_benchmark.h"
+#include "edsp/gap/events_benchmark.h"
 #include "edsp/diagnosis/gap_shrink.h"
 #include "edsp/diagnosis/report.h"
 #include "edsp/kinematics/config.h"
@@ -124,6 +126,8 @@ struct BenchmarkArgs {
   std::vector<std::string> held_out = CalibrationBenchmarkOptions{}.held_out;
   std::string keep_dir;
   bool json = false;
+  const CLI::Option* generator = nullptr;  // to tell --generator and --motions given from their defaults
+  const CLI::Option* motions = nullptr;
 };
 
 constexpr char kKeepTimingEventsHelp[] =
@@ -206,14 +210,14 @@ CLI::App* AddBenchmark(CLI::App& app, BenchmarkArgs* a) {
   c->add_option("--seed", bench.seed, "scenario draw seed");
   c->add_option("--config", bench.config_path, "nominal platform config");
   c->add_option("--noise-m", bench.tracker_noise_m, "tracker noise, 1-σ per axis")->check(CLI::Range(0.0, 1e-3));
-  c->add_option("--generator", bench.generator,
-                "rig: edsp's own virtual rig; blind: the independently written rig (blindrig/), "
-                "out-of-vocabulary scenarios and its own tracker draws")
-      ->check(CLI::IsMember({"rig", "blind"}));
+  a->generator = c->add_option("--generator", bench.generator,
+                               "rig: edsp's own virtual rig; blind: the independently written rig (blindrig/), "
+                               "out-of-vocabulary scenarios and its own tracker draws")
+                     ->check(CLI::IsMember({"rig", "blind"}));
   c->add_option("--encoders", bench.encoders,
                 "blind generator: encoder columns as drawn, in every scenario, or in none")
       ->check(CLI::IsMember({"drawn", "with", "without"}));
-  c->add_option("--motions", bench.motions, "motions of every scenario, comma-separated")->delimiter(',');
+  a->motions = c->add_option("--motions", bench.motions, "motions of every scenario, comma-separated")->delimiter(',');
   c->add_option("--closed-loop-motions", bench.closed_loop_motions,
                 "rig generator: motions no fit saw, run without and with the model applied (\"none\": skip)")
       ->delimiter(',');
@@ -221,8 +225,8 @@ CLI::App* AddBenchmark(CLI::App& app, BenchmarkArgs* a) {
                 "effects: which effect the diagnosis names; calibration: the loop closed on whole rigs, "
                 "designed motions against six; drift: what edsp-gap drift names on rigs that "
                 "changed or not "
-                "(--scenarios rigs)")
-      ->check(CLI::IsMember({"effects", "calibration", "drift"}));
+                "(--scenarios rigs); events: changes within a session found as events, on the blind rig")
+      ->check(CLI::IsMember({"effects", "calibration", "drift", "events"}));
   c->add_option("--held-out", a->held_out, "calibration mode: motions no fit sees, comma-separated")->delimiter(',');
   c->add_option("--keep", a->keep_dir, "keep each scenario's data and report here");
   c->add_flag("--json", a->json, "print JSON");
@@ -366,8 +370,24 @@ int RunDriftBenchmarkCommand(const BenchmarkArgs& a) {
   return Emit(RunDriftBenchmark(o), a.json, PrintDriftBenchmark);
 }
 
+// Rigs that change within a session (or not), on the blind rig.
+int RunEventsBenchmarkCommand(const BenchmarkArgs& a) {
+  if (a.generator != nullptr && a.generator->count() > 0 && a.bench.generator != "blind") {
+    throw std::invalid_argument("benchmark --mode events --generator " + a.bench.generator +
+                                ": events are scored on the blind rig only (--generator blind)");
+  }
+  EventsBenchmarkOptions o;
+  o.scenarios = a.bench.scenarios;
+  o.seed = a.bench.seed;
+  o.config_path = a.bench.config_path;
+  if (a.motions != nullptr && a.motions->count() > 0) o.motions = a.bench.motions;
+  o.progress = !a.json || isatty(fileno(stderr));
+  return Emit(RunEventsBenchmark(o), a.json, PrintEventsBenchmark);
+}
+
 int RunBenchmarkCommand(BenchmarkArgs a) {
   if (a.mode == "calibration") return RunCalibrationBenchmarkCommand(a);
+  if (a.mode == "events") return RunEventsBenchmarkCommand(a);
   if (a.mode == "drift") return RunDriftBenchmarkCommand(a);
   a.bench.keep_dir = a.keep_dir;
   if (a.bench.closed_loop_motions == std::vector<std::string>{"none"}) a.bench.closed_loop_motions.clear();

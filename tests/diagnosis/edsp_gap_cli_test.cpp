@@ -203,6 +203,38 @@ TEST(EdspGapCli, BenchmarkOnTheBlindRigScoresEveryKindWithItsTargets) {
   EXPECT_NE(bad.text.find("sim"), std::string::npos) << bad.text;
 }
 
+// Changes within a session on the blind rig, one of each kind the mode
+// draws (a leg's step, the tracker knocked, screws warming, no change):
+// both steps found as events of their kind within a second, none on the
+// drift or the unchanged rig, and the mode refuses edsp's rig by name.
+TEST(EdspGapCli, EventsBenchmarkFindsEachStepAndNoEventWhereNothingStepped) {
+  const Output out = Gap("benchmark --mode events --scenarios 4 --seed 61 --motions Lz,Rz,M1,M2 --json");
+  ASSERT_EQ(out.exit_code, 0) << out.text;
+  const nlohmann::json j = nlohmann::json::parse(out.text);
+  EXPECT_EQ(j["mode"], "events");
+  ASSERT_EQ(j["scenarios"].size(), 4u);
+  const std::vector<std::string> kinds = {"leg_step", "tracker_step", "drift", "none"};
+  for (std::size_t k = 0; k < kinds.size(); ++k) {
+    const nlohmann::json& s = j["scenarios"][k];
+    EXPECT_EQ(s["kind"], kinds[k]);
+    EXPECT_FALSE(s.contains("error")) << s.dump();
+    if (k < 2) {
+      EXPECT_TRUE(s["detected"].get<bool>()) << s.dump();
+      EXPECT_TRUE(s["timed"].get<bool>()) << s.dump();
+    } else {
+      EXPECT_TRUE(s["events"].empty()) << s.dump();
+    }
+    EXPECT_EQ(s["false_events"], 0) << s.dump();
+  }
+  EXPECT_EQ(j["steps"], 2);
+  EXPECT_EQ(j["detected"], 2);
+  EXPECT_EQ(j["unchanged_with_event"], 0);
+  EXPECT_EQ(j["drifts_as_steps"], 0);
+  const Output bad = Gap("benchmark --mode events --generator rig --scenarios 1");
+  EXPECT_EQ(bad.exit_code, 1) << bad.text;
+  EXPECT_NE(bad.text.find("--mode events --generator rig"), std::string::npos) << bad.text;
+}
+
 // The closed loop on edsp's rig: scenario 1 (one effect) is measured again
 // on motions no fit saw, without and with its saved model applied by the
 // kinematics. The calibration must close most of the gap above the

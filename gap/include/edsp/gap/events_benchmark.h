@@ -1,0 +1,67 @@
+#pragma once
+// edsp-gap benchmark --mode events: the search for changes within a session
+// (diagnosis/change_point.h) scored on the independently written rig
+// (blindrig/). Scenario k is a rig the blind rig draws (none, one or two
+// effects of the vocabulary; index % 5 < 4 of DrawBlindScenario, its own
+// tracker rate, noise and encoders) that, by k % 4,
+//   0: one leg's length steps (±20–100 µm, a random leg, at a random instant
+//      in the middle 70% of the session),
+//   1: the tracker's stand is knocked (30–80 µm and 20–60 µrad, random
+//      directions, at a random instant),
+//   2: drifts slowly (a screw warming under power: thermal, τ 300–900 s),
+//   3: does not change.
+// Scored: a step found as an event of its kind (a leg's on its leg) timed
+// within 1 s, a leg's sized within 20% and the tracker's rotation within
+// 20%; a false event (any event of a rig without a step, or of another kind
+// or leg beside the step); a step the diagnosis still names thermal_drift
+// for; a drift reported as a step.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+namespace edsp::gap {
+
+struct EventsBenchmarkOptions {
+  int scenarios = 8;
+  std::uint64_t seed = 1;
+  std::string config_path;  // nominal model; default: the paper's platform
+  std::vector<std::string> motions = {"Lz", "Lx", "Rz", "Ry", "M1", "M2"};
+  bool progress = true;
+};
+
+struct EventScenario {
+  int index = 0;
+  std::string kind;         // leg_step | tracker_step | drift | none
+  std::string rig;          // the blind rig's draw, as it describes it
+  std::string description;  // the change, as drawn
+  double time_s = -1.0;     // the change's instant (steps)
+  int leg = -1;             // 0-based (leg_step)
+  double size = 0.0;        // leg: m; tracker: its rotation, rad
+  // What the diagnosis said.
+  std::vector<std::string> events;  // DescribeEvent of each
+  bool detected = false, timed = false, sized = false;
+  double time_error_s = 0.0, size_error = 0.0;  // of the matching event; size: relative
+  int false_events = 0;
+  bool step_named_thermal = false;  // a step with thermal_drift still selected
+  bool drift_as_step = false;       // a drift with an event
+  double diagnose_s = 0.0;
+  std::string error;
+};
+
+struct EventsBenchmarkResult {
+  EventsBenchmarkOptions options;
+  std::vector<EventScenario> scenarios;
+  int steps = 0, detected = 0, timed = 0, sized = 0;
+  int unchanged = 0, unchanged_with_event = 0;  // rigs without a step (drifts included)
+  int false_events = 0, steps_named_thermal = 0, drifts_as_steps = 0;
+  double median_diagnose_s = 0.0;
+};
+
+EventsBenchmarkResult RunEventsBenchmark(const EventsBenchmarkOptions& options);
+nlohmann::json ToJson(const EventsBenchmarkResult& result);
+void PrintEventsBenchmark(const EventsBenchmarkResult& result);
+
+}  // namespace edsp::gap
