@@ -117,20 +117,21 @@ Vector6 ActuatorBridge::NextTarget(const Vector6& command_m, const Vector6& stre
                                    double elapsed_s, bool* caught_up) const {
   *caught_up = false;
   if (!IsRejoining(state_)) return command_m;
-  // The legs go with the stream's own motion and close the gap to it at the
-  // rejoin speed on top, never beyond the legs' step: a stream that moves
-  // faster than the rejoin speed is still caught (closing at the rejoin
-  // speed alone, the legs would trail it for as long as it moved).
-  const Vector6 carried = target_length_m_ + stream_motion_m;
-  const Vector6 gap = command_m - carried;
+  // Towards the command along the straight line in leg space (between two
+  // checked points: within the strokes), far enough that the gap the last
+  // step left to the stream shrinks by the rejoin step: a stream moving
+  // away is gone after as it moves, so one faster than the rejoin speed is
+  // still caught; never less than the rejoin step, never past the legs'.
+  const Vector6 gap = command_m - target_length_m_;
   const double largest = gap.cwiseAbs().maxCoeff();
-  const double room = std::max(0.0, max_step_m - stream_motion_m.cwiseAbs().maxCoeff());
-  const double step = std::min(room, options_.rejoin_speed_m_s * elapsed_s);
+  const double rejoin_step_m = options_.rejoin_speed_m_s * elapsed_s;
+  const double left_before = (gap - stream_motion_m).cwiseAbs().maxCoeff();
+  const double step = std::min(max_step_m, std::max(rejoin_step_m, largest - (left_before - rejoin_step_m)));
   if (largest <= step) {
     *caught_up = true;  // the stream again
     return command_m;
   }
-  return carried + gap * (step / largest);
+  return target_length_m_ + gap * (step / largest);
 }
 
 bool ActuatorBridge::HandleCommand(const leg_command_t& c, std::int64_t now_utime, fault_t* fault) {
@@ -284,8 +285,8 @@ void ActuatorBridge::Accept(const leg_command_t& c, const Vector6& command_m, co
   // third of the speed, a kick the servo turned into ±0.4 mm at 0.25 m/s
   // (docs/calibration.md). Stamps closer than kShortestFeedForwardBasisS (a
   // repeated or reordered setpoint) keep the last feed-forward. A rejoin's
-  // step (and its last, the rest of the gap) is the rejoin speed over the
-  // clamped time, and so is its velocity; so is a step the jump check let
+  // step (and its last, the rest of the gap) is over the clamped time, and
+  // so is its velocity; so is a step the jump check let
   // through that the time since the last setpoint does not explain (faster
   // than the legs go), which over that time would be a kick of its own.
   const bool explained =

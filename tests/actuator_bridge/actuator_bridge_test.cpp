@@ -332,21 +332,17 @@ TEST(ActuatorBridge, AReArmedBridgeRejoinsAMovedStreamAtTheRejoinSpeed) {
   f.bridge.Rearm();
   // The planner moved on by 20 mm in z meanwhile, and goes on 0.01 mm per ms.
   const double speed = Fixture::Options().rejoin_speed_m_s;
-  Vector6 previous = held, previous_command = CommandLengths(f.Command(0.02, t, 2));
-  const double first_gap = (previous_command - held).cwiseAbs().maxCoeff();
-  double largest_closing = 0.0;
+  const double first_gap = (CommandLengths(f.Command(0.02, t, 2)) - held).cwiseAbs().maxCoeff();
+  double gap_left = first_gap, largest_closing = 0.0;
   int k = 0;
   for (; k < 3000 && (k == 0 || f.bridge.rejoining()); ++k, t += 1000) {
     const double dz = 0.02 + 1e-5 * k;
-    const Vector6 command = CommandLengths(f.Command(dz, t, 2 + k));
     ASSERT_TRUE(f.bridge.HandleCommand(f.Command(dz, t, 2 + k), t, &fault)) << k << ": " << fault.reason;
     f.bridge.Cycle(t, &state, &fault);
-    const Vector6 now = WrittenLengths(f);
-    // Carried by the stream's own motion, closing on it at the rejoin speed.
-    largest_closing =
-        std::max(largest_closing, ((now - previous) - (command - previous_command)).cwiseAbs().maxCoeff());
-    previous = now;
-    previous_command = command;
+    // The gap to the stream closes at the rejoin speed, the stream's motion included.
+    const double gap = (CommandLengths(f.Command(dz, t, 2 + k)) - WrittenLengths(f)).cwiseAbs().maxCoeff();
+    if (k > 0) largest_closing = std::max(largest_closing, gap_left - gap);
+    gap_left = gap;
   }
   EXPECT_FALSE(f.bridge.rejoining()) << "never caught up";
   EXPECT_LE(largest_closing, speed * 1e-3 + 1e-9);                 // never closing faster than the rejoin speed
@@ -599,11 +595,12 @@ TEST(ActuatorBridge, AStreamThatWentOnWithoutTheDrivesIsRejoinedNotStepped) {
   Vector6 told;  // from where they stood
   for (int i = 0; i < kNumLegs; ++i) told(i) = f.model.LengthFromMotorAngle(i, stood[i]);
   int k = 0;
-  Vector6 previous_command = CommandLengths(f.Command(1e-4 * 5 + 1e-4 * 39, back, 6));
+  double gap_left = 0.0;
   for (; k < 400; ++k) {  // the stream goes on 30 ms more, then holds its last pose
     const double dz = 1e-4 * 5 + 1e-4 * (39 + std::min(k, 30));
     const std::int64_t now = back + 1000 * k + 300;
     const Vector6 command = CommandLengths(f.Command(dz, now, 6 + k));
+    if (k == 0) gap_left = (command - told).cwiseAbs().maxCoeff();
     ASSERT_TRUE(f.bridge.HandleCommand(f.Command(dz, now, 6 + k), now, &fault)) << k << ": " << fault.reason;
     if (k == 0) {
       EXPECT_TRUE(f.bridge.rejoining());
@@ -612,12 +609,12 @@ TEST(ActuatorBridge, AStreamThatWentOnWithoutTheDrivesIsRejoinedNotStepped) {
     f.backend.status.fill(DriveStatus::kEnabled);
     f.bridge.Cycle(back + 1000 * (k + 1), &state, &fault);
     const Vector6 now_told = WrittenLengths(f);
-    // Carried by the stream's own motion (none at its first command: the
-    // stream's step from the one before the stall), closing at the rejoin speed.
-    const Vector6 stream_motion = k == 0 ? Vector6::Zero().eval() : (command - previous_command).eval();
-    EXPECT_LE(((now_told - told) - stream_motion).cwiseAbs().maxCoeff(), rejoin_step_m + 1e-9) << "cycle " << k;
+    // The gap to the stream closes at the rejoin speed (where the stream
+    // went during the stall is the gap), never by a step.
+    const double gap = (command - now_told).cwiseAbs().maxCoeff();
+    EXPECT_LE(gap_left - gap, rejoin_step_m + 1e-9) << "cycle " << k;
+    gap_left = gap;
     told = now_told;
-    previous_command = command;
     if (!f.bridge.rejoining()) break;
   }
   EXPECT_FALSE(f.bridge.rejoining()) << "never caught the stream";
@@ -664,6 +661,42 @@ TEST(ActuatorBridge, AStreamFasterThanTheRejoinSpeedIsCaughtWhileItMoves) {
   EXPECT_FALSE(f.bridge.rejoining()) << "still trailing the stream after " << k << " ms";
   EXPECT_LE(k, static_cast<int>(gap / (Fixture::Options().rejoin_speed_m_s * 1e-3)) + 2);
   EXPECT_LE(largest_step, limit_m);
+}
+
+// A stream that moves nearly at the legs' speed limit leaves the rejoin
+// less than its speed to close with: the legs never step past the limit,
+// close what is left, and catch it still.
+TEST(ActuatorBridge, ARejoinNeverStepsPastTheLegsLimitBesideAStreamNearIt) {
+  Fixture f;
+  fault_t fault;
+  leg_state_t state;
+  std::int64_t t = LatchAtHome(f);
+  f.bridge.Rearm();
+  // The stream's fastest leg at up to 97% of the legs' limit (its largest
+  // rate of length in z along the path).
+  const double limit_m = f.model.config().limits.leg_speed_max_m_s * 1e-3;
+  double leg_per_z = 0.0;
+  for (double z = 0.0; z < 0.12; z += 0.005) {
+    leg_per_z = std::max(
+        leg_per_z,
+        (CommandLengths(f.Command(z + 1e-4, t, 2)) - CommandLengths(f.Command(z, t, 2))).cwiseAbs().maxCoeff() / 1e-4);
+  }
+  const double dz_per_ms = 0.97 * limit_m / leg_per_z;
+  Vector6 told = WrittenLengths(f);
+  const double first_gap = (CommandLengths(f.Command(0.005, t, 2)) - told).cwiseAbs().maxCoeff();
+  double largest_step = 0.0;
+  int k = 0;
+  for (; k < 1500 && (k == 0 || f.bridge.rejoining()); ++k, t += 1000) {
+    const double dz = 0.005 + dz_per_ms * k;  // 5 mm ahead, running away
+    ASSERT_TRUE(f.bridge.HandleCommand(f.Command(dz, t, 2 + k), t, &fault)) << k << ": " << fault.reason;
+    f.bridge.Cycle(t, &state, &fault);
+    largest_step = std::max(largest_step, (WrittenLengths(f) - told).cwiseAbs().maxCoeff());
+    told = WrittenLengths(f);
+  }
+  EXPECT_LE(largest_step, limit_m + 1e-6 + 1e-12);  // the bridge's own slack of 1 µm
+  EXPECT_FALSE(f.bridge.rejoining()) << "never caught a stream near the legs' limit";
+  // Never closing faster than the rejoin speed.
+  EXPECT_GE(k, static_cast<int>(first_gap / (Fixture::Options().rejoin_speed_m_s * 1e-3)) - 1);
 }
 
 TEST(ActuatorBridge, WhileRejoiningAJumpInTheStreamIsStillRefused) {

@@ -60,11 +60,11 @@ class ActuatorBridge {
   // After a stale hold, or drives that stopped answering, the bridge refuses
   // every command until an operator re-arms it (the stream may come back anywhere; resuming by itself when the
   // trajectory happens to pass the held pose would start the platform with a
-  // jerk). After Rearm() the bridge rejoins the stream: the held legs close
-  // the gap to the latest command along a straight line in leg space at
-  // rejoin_speed_m_s, carried along by the stream's own motion once it
-  // moves (never beyond the legs' speed limit), then follow it as before
-  // (caught up: within one rejoin step). While rejoining, the stream itself must stay continuous (a jump
+  // jerk). After Rearm() the bridge rejoins the stream: the held legs go
+  // towards the latest command along a straight line in leg space, far
+  // enough each cycle that the gap shrinks at rejoin_speed_m_s however the
+  // stream moves (never beyond the legs' speed limit), then follow it as
+  // before (caught up: within one step). While rejoining, the stream itself must stay continuous (a jump
   // in it is refused, as ever). A bridge started (or restarted) into a
   // stream that is elsewhere refuses it as a jump until re-armed likewise.
   // Also resets drives that left operation (DriveBackend::Reset); false
@@ -121,8 +121,9 @@ class ActuatorBridge {
   // they stand; the step limit the rejoin takes.
   StepLimit CatchAStreamThatWentOn(const Vector6& command_m, const StepLimit& step, std::int64_t now_utime);
   // The target this command allows: itself, or while rejoining a bounded
-  // step towards it. Ends the rejoin once the stream is within one rejoin step
-  // (a stream moving faster than the rejoin speed is caught when it slows).
+  // step towards it that closes the gap at the rejoin speed, a moving
+  // stream's motion included (`stream_motion_m`: since its last command).
+  // Ends the rejoin once the stream is within one step.
   // (Which may move the state: see Apply.)
   Vector6 NextTarget(const Vector6& command_m, const Vector6& stream_motion_m, double max_step_m, double elapsed_s,
                      bool* caught_up) const;
