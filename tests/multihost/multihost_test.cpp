@@ -177,7 +177,11 @@ TEST(MultiHost, TwoPercentLossOnTheControllersLinkIsCountedAndNeverMakesAJump) {
               static_cast<long long>(lost), static_cast<long long>(unexplained),
               static_cast<long long>(losses.backed_up), static_cast<long long>(losses.messages));
   EXPECT_GT(unexplained, lost / 2);
-  EXPECT_GT(unexplained, losses.UnexplainedAllowed(losses.messages));
+  // On a machine that kept up (under 1% of messages backed up: half the
+  // link's loss) the paper test's allowance is far below the link's loss.
+  if (losses.backed_up * 100 < losses.messages) {
+    EXPECT_GT(unexplained, losses.UnexplainedAllowed(losses.messages));
+  }
   // A lost command leaves the last one in force: the legs never jump (a
   // cycle's true step of a leg stays within the legs' speed limit over the
   // cycle and however late this run's commands came).
@@ -455,7 +459,8 @@ TEST(MultiHost, AnUnrelatedGroupOnTheSameNetworkCannotCommandThisRig) {
   EXPECT_GT(foreign, 0) << "the bridge never saw the other group's commands:\n" << Describe(faults);
   // Our rig never turned: the other group's ±30° yaw sweep moved nothing.
   // One of its commands taken by the drives for a single cycle would turn
-  // the rig by what the legs move in a cycle at their speed limit; what yaw
+  // the rig by what the legs move in a cycle at their speed limit (a quarter
+  // of that is the bound); what yaw
   // there is is our own z motion's servo coupling (0.25 µrad at full speed,
   // up to 24 µrad at half speed, where the drives catch up after stalls).
   const PlatformModel model(LoadConfigFile(std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml"));
@@ -464,7 +469,7 @@ TEST(MultiHost, AnUnrelatedGroupOnTheSameNetworkCannotCommandThisRig) {
   double largest_yaw = 0.0;
   for (const TruthSample& s : TruthOf(ours.log_path())) largest_yaw = std::max(largest_yaw, std::abs(s.pose[5]));
   ::testing::Test::RecordProperty("largest_yaw_urad", static_cast<int>(largest_yaw * 1e6));
-  EXPECT_LT(largest_yaw, one_foreign_cycle_rad / 2)
+  EXPECT_LT(largest_yaw, one_foreign_cycle_rad / 4)
       << "a foreign command's cycle turns the rig " << one_foreign_cycle_rad * 1e6 << " µrad";
   // The other group's command stream is not counted as our losses.
   EXPECT_LT(LatencyOf(ours).at("command_seq_gaps").get<long>(), 10);

@@ -10,11 +10,13 @@
 //      directions, at a random instant),
 //   2: drifts slowly (a screw warming under power: thermal, τ 300–900 s),
 //   3: does not change.
-// Scored: a step found as an event of its kind (a leg's on its leg) timed
-// within 1 s, a leg's sized within 20% and the tracker's rotation within
-// 20%; a false event (any event of a rig without a step, or of another kind
-// or leg beside the step); a step the diagnosis still names thermal_drift
-// for; a drift reported as a step.
+// Scored: a step found (an event of its kind, a leg's on its leg: the
+// closest in time), and apart whether it was timed within 1 s and sized
+// within 20% (a leg's length; the tracker's rotation); a false event (any
+// event of a rig without a step, or beside the step's); a step the
+// diagnosis still names thermal_drift for (on a rig drawn without it); a
+// drift reported as a step. A scenario that fails to run counts as an
+// error and in nothing else.
 
 #include <cstdint>
 #include <string>
@@ -58,6 +60,7 @@ struct EventsBenchmarkResult {
   int unchanged = 0, unchanged_with_event = 0;  // rigs without a step (drifts included)
   int false_events = 0, steps_named_thermal = 0, drifts_as_steps = 0;
   double median_diagnose_s = 0.0;
+  int errors = 0;  // scenarios that failed to run
 };
 
 EventsBenchmarkResult RunEventsBenchmark(const EventsBenchmarkOptions& options);
