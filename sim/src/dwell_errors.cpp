@@ -53,6 +53,8 @@ bool Close(const OpenDwell& open, const PlatformModel& model, double fraction, D
   out->displacement = axis < 0 ? 0.0 : out->target(axis) - model.home_pose().ToVector()(axis);
   out->error_m = sum / n - model.ObservationPoint(Pose::FromVector(out->target));
   out->samples = n;
+  out->averaged_from_utime = from;
+  out->averaged_to_utime = open.last_utime;
   return true;
 }
 

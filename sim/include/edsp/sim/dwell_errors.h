@@ -12,13 +12,15 @@
 namespace edsp {
 
 struct DwellError {
-  std::string motion;                 // "Lz" (the trajectory name up to '/')
-  std::string segment;                // "Lz/dwell 3"
-  PrMode pr_mode = PrMode::kNone;     // of the leg commands during the dwell
-  Vector6 target = Vector6::Zero();   // pose, m and rad
-  double displacement = 0.0;          // along the motion's axis from home, m or rad
-  Vector3 error_m = Vector3::Zero();  // measured − target point A, tracker frame = {B}
-  int samples = 0;                    // tracker samples averaged
+  std::string motion;                    // "Lz" (the trajectory name up to '/')
+  std::string segment;                   // "Lz/dwell 3"
+  PrMode pr_mode = PrMode::kNone;        // of the leg commands during the dwell
+  Vector6 target = Vector6::Zero();      // pose, m and rad
+  double displacement = 0.0;             // along the motion's axis from home, m or rad
+  Vector3 error_m = Vector3::Zero();     // measured − target point A, tracker frame = {B}
+  int samples = 0;                       // tracker samples averaged
+  std::int64_t averaged_from_utime = 0;  // the window they were averaged over,
+  std::int64_t averaged_to_utime = 0;    // by the dwell's setpoint stamps
   double error_norm_m() const { return error_m.norm(); }
 };
 
