@@ -510,6 +510,7 @@ nlohmann::json ToJson(const Evaluation& e) {
           {"gap_shrink", e.gap_shrink},
           {"samples", e.samples},
           {"timing_excluded_samples", e.timing_excluded},
+          {"timing_excluded_share", e.timing_excluded_share},
           {"by_run", by_run},
           {"noise_floor_rms_m", e.noise_floor_rms_m},
           {"time_offset", TimeOffsetJson(e.time_offset)},

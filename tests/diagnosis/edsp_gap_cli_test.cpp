@@ -80,6 +80,31 @@ TEST(EdspGapCli, DiagnoseJsonHasTheInterfaceKeysAndAModelThatEvaluates) {
   // The gap above the noise floor the data show.
   EXPECT_DOUBLE_EQ(e["gap_shrink"].get<double>(),
                    edsp::gap::GapShrink(e["before"]["rms_m"], e["after"]["rms_m"], e["noise_floor_rms_m"]));
+
+  // Rows flagged near a stall are left out, counted, and their share of all
+  // the rows given: every fourth row flagged here.
+  const std::string flagged = Dir() + "/flagged.csv";
+  std::ifstream in(csv);
+  std::ofstream out_csv(flagged);
+  std::string line;
+  std::getline(in, line);
+  out_csv << line << "\n";
+  int rows = 0, marked = 0;
+  for (; std::getline(in, line); ++rows) {
+    if (rows % 4 == 0 && line.back() == '0') {
+      line.back() = '1';
+      ++marked;
+    }
+    out_csv << line << "\n";
+  }
+  out_csv.close();
+  ASSERT_GT(marked, 10);
+  const Output fe = Gap(fmt::format("evaluate --config {}/config/huang2021.toml --model {} --data {} --json",
+                                    EDSP_SOURCE_DIR, model, flagged));
+  ASSERT_EQ(fe.exit_code, 0) << fe.text;
+  const nlohmann::json f = nlohmann::json::parse(fe.text);
+  EXPECT_EQ(f["timing_excluded_samples"].get<int>(), marked);
+  EXPECT_DOUBLE_EQ(f["timing_excluded_share"].get<double>(), static_cast<double>(marked) / rows);
 }
 
 // compare: the same motions without and with the correction (here the

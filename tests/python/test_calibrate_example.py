@@ -2,7 +2,10 @@
 namespace ctest gives this test): it starts the calibrate group, measures,
 diagnoses, applies the model live and verifies on a motion the fit never
 saw. The held-out error must fall to less than half, and the model's own
-prediction of it must be within a factor of two of what was measured."""
+prediction of it must be within a factor of two of what was measured.
+Unless the run itself measured that it could not tell: more than half of a
+recording near stalls of the real-time system (a starved machine), when the
+example exits 2 and says so, its logs and model still written."""
 import os
 import re
 import signal
@@ -24,13 +27,18 @@ def test_the_example_closes_the_calibration_loop(tmp_path):
         os.killpg(run.pid, signal.SIGINT)
         stdout, stderr = run.communicate(timeout=60)
     print(stdout, stderr)
-    assert run.returncode == 0, stdout + stderr
+    shares = re.search(r"near a stall of the real-time system, left out: fit (\d+)%, before (\d+)%, after (\d+)%",
+                       stdout)
+    assert shares, stdout + stderr
+    disturbed = max(int(v) for v in shares.groups()) > 50
+    assert run.returncode == (2 if disturbed else 0), stdout + stderr
     figures = re.search(r"([\d.]+) µm RMS without, ([\d.]+) µm RMS with the calibration "
                         r"\(the model predicted ([\d.]+) µm\)", stdout)
     assert figures, stdout
     before, after, predicted = (float(v) for v in figures.groups())
-    assert after < 0.5 * before, (before, after)
-    assert 0.5 * after < predicted < 2 * after, (after, predicted)
+    if not disturbed:
+        assert after < 0.5 * before, (before, after)
+        assert 0.5 * after < predicted < 2 * after, (after, predicted)
     for log in ("fit", "before", "after"):
         assert os.path.getsize(tmp_path / f"{log}.lcmlog") > 1e6
     assert (tmp_path / "model.json").exists()
