@@ -13,10 +13,11 @@
 // first '/'), so hold-out splits can be by run. `leg_corr_*_m` is the
 // calibration's correction the kinematics took off that command (its own
 // fields: IK − PR − command; zero without a calibration). `timing_event` is 1 for a
-// sample from 2 ms before a stall of the real-time system to 100 ms + 10×
-// its length after it: the drives more than 2.5 ms without a new command
-// (EDSP_LEG_STATE's command_seq) or a reading, a transient no calibration
-// can model (docs/calibration.md).
+// sample near a stall of the real-time system (stall_watch.h: the drives
+// more than 10 ms without a new command, EDSP_LEG_STATE's command_seq, or
+// 2.5 ms without a reading; the rig emulator's cycles 1.5 cycles apart),
+// until the drives have recovered: a transient no calibration can model
+// (docs/calibration.md).
 
 #include <cstdint>
 #include <ostream>
