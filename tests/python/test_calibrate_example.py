@@ -30,7 +30,9 @@ def test_the_example_closes_the_calibration_loop(tmp_path):
     shares = re.search(r"near a stall of the real-time system, left out: fit (\d+)%, before (\d+)%, after (\d+)%",
                        stdout)
     assert shares, stdout + stderr
-    disturbed = max(int(v) for v in shares.groups()) > 50
+    disturbed = "undecided:" in stdout
+    most = max(int(v) for v in shares.groups())  # rounded to a percent
+    assert most >= 50 if disturbed else most <= 50, stdout
     assert run.returncode == (2 if disturbed else 0), stdout + stderr
     figures = re.search(r"([\d.]+) µm RMS without, ([\d.]+) µm RMS with the calibration "
                         r"\(the model predicted ([\d.]+) µm\)", stdout)
