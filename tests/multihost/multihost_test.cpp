@@ -273,9 +273,10 @@ TEST(MultiHost, ControllerLinkDownHoldsWithin50msAndResumesOnlyAfterReArm) {
   std::printf("after the hold: ran on %.1f µm, then drifted %.3f µm\n", run_on * 1e6, drift * 1e6);
   EXPECT_LT(run_on, 5e-6);
   EXPECT_LT(drift, 1e-6) << "moved " << drift * 1e6 << " µm while held";
-  // Re-armed: the legs rejoin the stream (closing on it at the rejoin speed
-  // while going with it: unit-tested in actuator_bridge_test), the motion goes on and ends where the planner
-  // does (held mid-way up, it ends at home); never a leg's step beyond the
+  // Re-armed: the legs rejoin the stream (closing on it at the rejoin
+  // speed while going with it: unit-tested in actuator_bridge_test), the
+  // motion goes on and ends where the planner does (held mid-way up, it
+  // ends at home); never a leg's step beyond the
   // legs' speed limit over a cycle and this run's stalls (a stalled
   // controller's commands catch up at that speed, and the drives with them;
   // a rejoin at once would be a jump of the hold's whole lag).
@@ -460,10 +461,10 @@ TEST(MultiHost, AnUnrelatedGroupOnTheSameNetworkCannotCommandThisRig) {
   EXPECT_GT(foreign, 0) << "the bridge never saw the other group's commands:\n" << Describe(faults);
   // Our rig never turned: the other group's ±30° yaw sweep moved nothing.
   // One of its commands taken by the drives for a single cycle would turn
-  // the rig by what the legs move in a cycle at their speed limit (a quarter
-  // of that is the bound); what yaw
-  // there is is our own z motion's servo coupling (0.25 µrad at full speed,
-  // up to 24 µrad at half speed, where the drives catch up after stalls).
+  // the rig by what the legs move in a cycle at their speed limit; the
+  // bound is a quarter of that. What yaw there is is our own z motion's
+  // servo coupling (0.25 µrad at full speed, up to 24 µrad at half speed,
+  // where the drives catch up after stalls).
   const PlatformModel model(LoadConfigFile(std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml"));
   const double one_foreign_cycle_rad = model.config().limits.leg_speed_max_m_s * 1e-3 /
                                        model.LengthJacobian(model.home_pose()).col(5).cwiseAbs().maxCoeff();

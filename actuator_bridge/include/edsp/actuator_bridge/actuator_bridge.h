@@ -58,13 +58,14 @@ class ActuatorBridge {
   std::int64_t written_setpoint_utime() const { return target_.utime; }
 
   // After a stale hold, or drives that stopped answering, the bridge refuses
-  // every command until an operator re-arms it (the stream may come back anywhere; resuming by itself when the
-  // trajectory happens to pass the held pose would start the platform with a
-  // jerk). After Rearm() the bridge rejoins the stream: the held legs go
-  // towards the latest command along a straight line in leg space, far
-  // enough each cycle that the gap shrinks at rejoin_speed_m_s however the
-  // stream moves (never beyond the legs' speed limit), then follow it as
-  // before (caught up: within one step). While rejoining, the stream itself must stay continuous (a jump
+  // every command until an operator re-arms it (the stream may come back
+  // anywhere; resuming by itself when the trajectory happens to pass the
+  // held pose would start the platform with a jerk). After Rearm() the
+  // bridge rejoins the stream: the held legs go towards the latest command
+  // along a straight line in leg space, far enough each cycle that the gap
+  // shrinks at rejoin_speed_m_s however the stream moves (never beyond the
+  // legs' speed limit), then follow it as before (caught up: within one
+  // step). While rejoining, the stream itself must stay continuous (a jump
   // in it is refused, as ever). A bridge started (or restarted) into a
   // stream that is elsewhere refuses it as a jump until re-armed likewise.
   // Also resets drives that left operation (DriveBackend::Reset); false
