@@ -20,8 +20,8 @@ group's URL has ttl=0), or in a private network namespace as the tests do:
 Exits 0 when the calibration shrinks the held-out error, 1 when it does not,
 2 when it cannot tell: more than half of a recording's samples lay near a
 stall of the real-time system (a starved machine: edsp-gap leaves those
-samples out, and what is left is too little of the motion to fit or score;
-the stalls may also have left a leg's backlash on its other side).
+samples out, and what is left covers the motions too unevenly to fit or
+score: stalls come in bursts, and thin some runs to a fifth).
 For your own rig: your group file and config, and skip the launch.
 """
 import argparse
