@@ -22,8 +22,11 @@ CONFIG = os.path.join(SOURCE, "config", "huang2021-rig-effects.toml")
 
 
 def rig_run(out, *extra):
+    # At the calibration group's speeds (deploy/groups/calibrate.toml): the
+    # motions in half the samples, so each diagnosis here takes seconds.
     subprocess.run([os.path.join(BIN, "edsp-sim"), "rig", "--config", CONFIG, "--out", str(out), "--stops", "3",
-                    "--dwell-s", "0.2", "--tracker-noise-m", "5e-6", *extra], check=True, stdout=subprocess.DEVNULL)
+                    "--dwell-s", "0.2", "--tracker-noise-m", "5e-6", "--max-speed-m-s", "0.25",
+                    "--max-speed-rad-s", "0.5", *extra], check=True, stdout=subprocess.DEVNULL)
     return str(out / "run.lcmlog"), str(out / "measurement.csv")
 
 
@@ -60,6 +63,12 @@ def same(ours, theirs, path=""):
 
 
 @pytest.fixture(scope="module")
+def columns(fit):
+    """The fit's CSV export as numpy's structured array (read once: numpy parses it slowly)."""
+    return np.genfromtxt(fit[1], delimiter=",", names=True, dtype=None, encoding="utf-8", comments="#")
+
+
+@pytest.fixture(scope="module")
 def report(fit):
     return edsp.gap.diagnose(CONFIG, fit[0])
 
@@ -76,8 +85,7 @@ def test_diagnose_returns_what_edsp_gap_prints_and_saves(fit, report, tmp_path):
     assert json.loads(open(saved).read()) == report.model
 
 
-def test_numpy_columns_reach_the_verdicts_of_the_csv_file(fit, report):
-    columns = np.genfromtxt(fit[1], delimiter=",", names=True, dtype=None, encoding="utf-8", comments="#")
+def test_numpy_columns_reach_the_verdicts_of_the_csv_file(fit, columns, report):
     from_arrays = edsp.gap.diagnose(CONFIG, columns)
     from_file = edsp.gap.diagnose(CONFIG, fit[1])
     verdicts = lambda r: [(e["name"], e["verdict"]) for e in r["effects"]]  # noqa: E731
@@ -116,8 +124,7 @@ def test_kinematics_with_the_calibration_commands_what_the_node_did(report, tmp_
     assert np.abs(calibrated - node).max() < 0.05 * correction
 
 
-def test_bad_data_and_options_are_named(fit):
-    columns = np.genfromtxt(fit[1], delimiter=",", names=True, dtype=None, encoding="utf-8", comments="#")
+def test_bad_data_and_options_are_named(fit, columns):
     no_run = {name: columns[name] for name in columns.dtype.names if name != "run"}
     with pytest.raises(ValueError, match="run"):
         edsp.gap.diagnose(CONFIG, no_run)
