@@ -12,6 +12,7 @@
 #include "edsp/planner/identifiability.h"
 #include "edsp/planner/motion_library.h"
 #include "edsp/planner/planner.h"
+#include "sanitized_build.h"
 
 namespace edsp {
 namespace {
@@ -89,6 +90,10 @@ TEST(Identifiability, WholeBaseMovedAsOneIsAChangeOfFrame) {
 // identifiable as with the paper's four motions, all together far better,
 // in less time.
 TEST(CalibrationMotions, IdentifyEveryEffectBetterThanThePapersFourInLessTime) {
+  if (test_support::kSanitizedBuild) {
+    GTEST_SKIP() << "a claim about the design, checked in the release build; the sanitized run assesses the same "
+                    "motions through EdspPlannerCli.IdentifiabilityJsonIsTheLibrarysForTheSameMotions";
+  }
   const auto paper = MotionSequence(Model(), PaperMotionNames(), PaperMotionOptions{});
   EXPECT_LT(Calibration().duration_s(), paper->duration_s());
   const IdentifiabilityOptions o;
