@@ -146,6 +146,52 @@ void PreferByNesting(Evaluator& eval, const DiagnoseOptions& o, Selection* s) {
   }
 }
 
+// Backward elimination within `set`: out goes whichever effect the held-out
+// error misses least, while the rest predicts without it within
+// min_cv_gain or it does not beat the set without it run by run.
+std::vector<Effect> Eliminate(Evaluator& eval, const DiagnoseOptions& o, std::vector<Effect> set) {
+  double cv = eval.Cv(set);
+  while (set.size() > 1) {
+    std::optional<Effect> drop;
+    double drop_cv = std::numeric_limits<double>::infinity();
+    for (Effect e : set) {
+      const double without = eval.Cv(Without(set, e));
+      const bool missed =
+          without >= cv / (1.0 - o.min_cv_gain) && eval.SignificantlyBetter(set, Without(set, e), o.significance);
+      if (!missed && without < drop_cv) drop = e, drop_cv = without;
+    }
+    if (!drop) break;
+    set = Without(set, *drop);
+    cv = drop_cv;
+  }
+  return set;
+}
+
+// Effects that only predict together (joint centres, leg offsets and lead
+// errors: each alone a poor stand-in for the others) are not reached one
+// at a time: the whole vocabulary, eliminated backward the same way, wins
+// over the forward path if it predicts the held-out runs clearly better and
+// BIC agrees. Searched only where the whole vocabulary itself predicts them
+// clearly better than the forward path (else the path missed nothing that
+// effects explain together; the search costs some fifty fits of every
+// column).
+void PreferEliminatedWhole(Evaluator& eval, const DiagnoseOptions& o, double n_res, Selection* s) {
+  if (!(eval.Cv(AllEffects()) < s->cv * (1.0 - o.min_cv_gain))) return;
+  const std::vector<Effect> whole = Eliminate(eval, o, AllEffects());
+  if (static_cast<int>(whole.size()) > o.max_effects) return;
+  const double cv = eval.Cv(whole), rss = eval.Rss(whole);
+  if (!(cv < s->cv * (1.0 - o.min_cv_gain))) return;
+  int extra_parameters = 0;
+  for (Effect e : whole) extra_parameters += ParameterCount(e);
+  for (Effect e : s->effects) extra_parameters -= ParameterCount(e);
+  const double bic_change =
+      n_res * std::log(std::max(rss, 1e-300) / std::max(s->rss, 1e-300)) + extra_parameters * std::log(n_res);
+  if (bic_change > -o.min_bic_drop) return;
+  s->effects = whole;
+  s->cv = cv;
+  s->rss = rss;
+}
+
 Selection SelectEffects(Evaluator& eval, const DiagnoseOptions& o, double n_res) {
   Selection s;
   s.cv0 = s.cv = eval.Cv({});
@@ -167,19 +213,10 @@ Selection SelectEffects(Evaluator& eval, const DiagnoseOptions& o, double n_res)
     s.cv = best_cv;
     s.rss = rss_new;
   }
-  for (bool removed = true; removed && s.effects.size() > 1;) {
-    removed = false;
-    for (Effect e : s.effects) {
-      const double without = eval.Cv(Without(s.effects, e));
-      if (without < s.cv / (1.0 - o.min_cv_gain) ||
-          !eval.SignificantlyBetter(s.effects, Without(s.effects, e), o.significance)) {
-        s.effects = Without(s.effects, e);
-        s.cv = without;
-        removed = true;
-        break;
-      }
-    }
-  }
+  s.effects = Eliminate(eval, o, s.effects);
+  s.cv = eval.Cv(s.effects);
+  s.rss = eval.Rss(s.effects);
+  PreferEliminatedWhole(eval, o, n_res, &s);
   PreferByNesting(eval, o, &s);
   s.rss = eval.Rss(s.effects);
   std::vector<Effect> so_far;
