@@ -146,6 +146,14 @@ void PreferByNesting(Evaluator& eval, const DiagnoseOptions& o, Selection* s) {
   }
 }
 
+// Whether going from in-sample SSE `rss` to `rss_new` with `extra_parameters`
+// more lowers BIC by at least min_bic_drop.
+bool BicDrops(double n_res, double rss, double rss_new, int extra_parameters, const DiagnoseOptions& o) {
+  const double change =
+      n_res * std::log(std::max(rss_new, 1e-300) / std::max(rss, 1e-300)) + extra_parameters * std::log(n_res);
+  return change <= -o.min_bic_drop;
+}
+
 // Backward elimination within `set`: out goes whichever effect the held-out
 // error misses least, while the rest predicts without it within
 // min_cv_gain or it does not beat the set without it run by run.
@@ -184,9 +192,7 @@ void PreferEliminatedWhole(Evaluator& eval, const DiagnoseOptions& o, double n_r
   int extra_parameters = 0;
   for (Effect e : whole) extra_parameters += ParameterCount(e);
   for (Effect e : s->effects) extra_parameters -= ParameterCount(e);
-  const double bic_change =
-      n_res * std::log(std::max(rss, 1e-300) / std::max(s->rss, 1e-300)) + extra_parameters * std::log(n_res);
-  if (bic_change > -o.min_bic_drop) return;
+  if (!BicDrops(n_res, s->rss, rss, extra_parameters, o)) return;
   s->effects = whole;
   s->cv = cv;
   s->rss = rss;
@@ -206,9 +212,7 @@ Selection SelectEffects(Evaluator& eval, const DiagnoseOptions& o, double n_res)
     }
     if (best_cv >= s.cv * (1.0 - o.min_cv_gain)) break;
     const double rss_new = eval.Rss(With(s.effects, best));
-    const double bic_change =
-        n_res * std::log(std::max(rss_new, 1e-300) / std::max(s.rss, 1e-300)) + ParameterCount(best) * std::log(n_res);
-    if (bic_change > -o.min_bic_drop) break;
+    if (!BicDrops(n_res, s.rss, rss_new, ParameterCount(best), o)) break;
     s.effects.push_back(best);
     s.cv = best_cv;
     s.rss = rss_new;
