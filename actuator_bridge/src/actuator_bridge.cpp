@@ -82,35 +82,33 @@ bool ActuatorBridge::Rearm(std::string* error) {
   return true;
 }
 
-fault_t ActuatorBridge::HandleArm(const arm_t& arm, std::int64_t now_utime) {
-  return arm_answers_.Answer(
-      arm, now_utime, [&] { return ActOnArm(arm, now_utime); },
-      [&](std::string reason) {
-        return MakeFault(options_.node_name, channel::kArm, FaultCode::kBadRequest, fault_t::SEVERITY_WARNING,
-                         "re-arm " + reason, now_utime);
-      });
+RequestService<reply_t>::Answer ActuatorBridge::HandleArm(const arm_t& arm, std::int64_t now_utime) {
+  return arm_requests_.Handle(
+      arm, now_utime, [&](ReplyCode code, std::string reason) { return ArmReply(code, "re-arm " + reason); },
+      [&] { return ActOnArm(arm); });
 }
 
-fault_t ActuatorBridge::ActOnArm(const arm_t& arm, std::int64_t now_utime) {
-  if (arm.session_id != options_.session_id) {
-    return MakeFault(
-        options_.node_name, channel::kArm, FaultCode::kForeignSession, fault_t::SEVERITY_WARNING,
-        fmt::format("re-arm from session {} ignored (this group is session {})", arm.session_id, options_.session_id),
-        now_utime);
-  }
+reply_t ActuatorBridge::ArmReply(ReplyCode code, std::string reason) const {
+  reply_t reply{};
+  reply.node = options_.node_name;
+  reply.request_channel = channel::kArm;
+  reply.code = static_cast<std::int8_t>(code);
+  reply.reason = std::move(reason);
+  return reply;
+}
+
+reply_t ActuatorBridge::ActOnArm(const arm_t& arm) {
   const bool was_latched = latched();
   std::string error;
   if (!Rearm(&error)) {
-    return MakeFault(options_.node_name, channel::kArm, FaultCode::kBackend, fault_t::SEVERITY_ERROR,
-                     fmt::format("re-arm by {} failed: the drives cannot be enabled: {}", arm.operator_name, error),
-                     now_utime);
+    return ArmReply(ReplyCode::kFailed,
+                    fmt::format("re-arm by {} failed: the drives cannot be enabled: {}", arm.operator_name, error));
   }
-  return MakeFault(
-      options_.node_name, channel::kArm, FaultCode::kOperatorAction, fault_t::SEVERITY_INFO,
+  return ArmReply(
+      ReplyCode::kDone,
       fmt::format("re-armed by {}{}", arm.operator_name,
                   was_latched ? fmt::format("; rejoining the command stream at {:.3f} m/s", options_.rejoin_speed_m_s)
-                              : std::string(" (was not latched)")),
-      now_utime);
+                              : std::string(" (was not latched)")));
 }
 
 Vector6 ActuatorBridge::NextTarget(const Vector6& command_m, const Vector6& stream_motion_m, double max_step_m,

@@ -11,6 +11,7 @@ BridgeLoop::BridgeLoop(Bus& bus, ActuatorBridge& bridge)
     : bus_(bus),
       bridge_(bridge),
       states_(bus.Advertise<leg_state_t>(channel::kLegState)),
+      replies_(bus.Advertise<reply_t>(channel::kReply)),
       reporting_(bus, "actuator_bridge"),
       commands_in_(bus.Counters(channel::kLegCommand)) {
   bus.Subscribe<leg_command_t>(channel::kLegCommand, [this](const leg_command_t& c) { OnCommand(c); });
@@ -36,11 +37,9 @@ void BridgeLoop::OnCommand(const leg_command_t& command) {
 }
 
 void BridgeLoop::OnArm(const arm_t& arm) {
-  const fault_t answer = bridge_.HandleArm(arm, UtimeNow());
-  if (answer.code == static_cast<std::int32_t>(FaultCode::kOperatorAction)) {
-    std::fprintf(stderr, "edsp-actuator-bridge: re-armed by %s\n", arm.operator_name.c_str());
-  }
-  reporting_.Fault(answer);
+  const auto answer = bridge_.HandleArm(arm, UtimeNow());
+  if (answer.acted) std::fprintf(stderr, "edsp-actuator-bridge: %s\n", answer.reply.reason.c_str());
+  replies_.Publish(answer.reply);
 }
 
 void BridgeLoop::RunCycle(std::int64_t now_utime, std::int64_t deadline_misses) {

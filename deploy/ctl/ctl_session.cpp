@@ -8,18 +8,32 @@
 #include <fmt/format.h>
 
 #include "edsp/node/group_file.h"
-#include "edsp/node/session_discovery.h"
+#include "edsp/reply_codes.h"
 
 namespace edsp::ctl {
 
-Clock::time_point Deadline(double seconds) {
-  return Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+int ExitFor(std::int8_t reply_code) {
+  switch (FamilyOf(reply_code)) {
+    case ReplyFamily::kDone: return kDone;
+    case ReplyFamily::kRefused: return kRefused;
+    case ReplyFamily::kFailed: return kError;
+  }
+  return kError;
+}
+
+void AddCommonOptions(CLI::App* cmd, CtlOptions* o) {
+  cmd->add_option("--session-id", o->session, "the group's session, or auto (from its traffic)");
+  cmd->add_option("--operator", o->operator_name, "who asks, for the log");
+  cmd->add_option("--group", o->group_file, "take the LCM URL from this group file");
+  cmd->add_option("--lcm-url", o->lcm_url, "LCM URL (default: the edsp default, host-only)");
+  cmd->add_option("--answer-timeout-s", o->timeout_s, "how long to wait for the group's traffic and the reply")
+      ->check(CLI::Range(0.1, 600.0));
 }
 
 TransportConfig Transport(const CtlOptions& o) {
   TransportConfig config = o.group_file.empty() ? TransportConfig{} : LoadTransportConfig(o.group_file);
   if (!o.lcm_url.empty()) config.lcm_url = o.lcm_url;
-  config.channels.clear();  // the operator's commands and the confirmations all travel on LCM
+  config.channels.clear();  // the operator's requests and the replies all travel on LCM
   return config;
 }
 
@@ -32,11 +46,6 @@ std::optional<std::int64_t> GivenSession(const CtlOptions& o) {
   } catch (const std::exception&) {
   }
   throw std::runtime_error("--session-id " + o.session + ": give a non-negative integer or auto");
-}
-
-std::int64_t SessionId(Bus& bus, const CtlOptions& o) {
-  const std::optional<std::int64_t> given = GivenSession(o);
-  return given ? *given : DiscoverSession(bus, o.timeout_s);
 }
 
 std::string OperatorName(const CtlOptions& o) {

@@ -1,4 +1,5 @@
 // edsp-ctl: an operator's commands to a running group, over LCM.
+//   edsp-ctl [common options] COMMAND [options]
 //   edsp-ctl move|check|run|halt|stop|wait|status|frame|pivot|limits ...
 //       the planner's motion service (motion_commands.h, docs/operating.md)
 //   edsp-ctl arm [--operator NAME] [--session-id N|auto] [--group FILE | --lcm-url URL]
@@ -8,14 +9,14 @@
 //   edsp-ctl calibration MODEL|off [--apply-ambiguous] [same options]
 //       switch the kinematics node's calibration live (EDSP_CALIBRATION): the
 //       edsp-gap-model/1 file MODEL (sent whole), or none; blended over 1 s
-// --session-id auto (the default) listens for up to --timeout-s (2 s) for
-// the group's leg commands or setpoints and takes their session; several
-// sessions on the bus (two groups) is an error naming them. The command then
-// waits up to --timeout-s for the node's confirmation on EDSP_FAULT and
-// prints it; exit 0 only if confirmed, 2 if refused or unanswered. Request
-// and answer are single UDP datagrams among the group's kHz traffic, so the
-// same request goes out again every 0.5 s until answered: the node acts on
-// it once and answers every copy alike (node/operator_requests.h).
+// The common options (session, operator, group, LCM URL, answer timeout)
+// go before the command or after it. --session-id auto (the default)
+// listens for up to the answer timeout (2 s) for the group's leg commands
+// or setpoints and takes their session; several sessions on the bus (two
+// groups) is an error naming them. The command then waits as long for the
+// node's reply on EDSP_REPLY (node/request_client.h: sent again every
+// 0.5 s until answered) and prints it; the exit code comes from the
+// reply's code: 0 done, 2 refused or unanswered, 1 failed.
 #include <unistd.h>
 
 #include <cstdio>
@@ -29,15 +30,10 @@
 #include "edsp/arm_t.hpp"
 #include "edsp/calibration_t.hpp"
 #include "edsp/channels.h"
-#include "edsp/fault_t.hpp"
 #include "edsp/kinematics/passive_rotation.h"
-#include "edsp/leg_command_t.hpp"
-#include "edsp/node/fault.h"
-#include "edsp/node/operator_client.h"
-#include "edsp/node/runtime.h"
-#include "edsp/pose_setpoint_t.hpp"
+#include "edsp/planner/motion_client.h"
+#include "edsp/reply_t.hpp"
 #include "edsp/pr_mode_t.hpp"
-#include "edsp/transport/bus.h"
 #include "ctl_session.h"
 #include "motion_commands.h"
 
@@ -45,27 +41,22 @@ namespace edsp {
 namespace {
 
 using ctl::CtlOptions;
-using ctl::SessionId;
-using ctl::Transport;
 
-// Fills the request's session and operator, sends it until `node` answers
-// (operator_client.h), and prints the answer: 0 if it acted, 2 if it
-// refused or did not answer.
+// Sends the operator's request to its node and prints the reply; the exit
+// code from the reply's code.
 template <typename Msg>
-int SendAndConfirm(const CtlOptions& o, const std::string& channel, Msg request, const std::string& node) {
-  Bus bus(Transport(o));
-  request.session_id = SessionId(bus, o);
-  request.operator_name = ctl::OperatorName(o);
-  const OperatorAnswer answer = SendOperatorRequest(bus, channel, request, node, o.timeout_s);
-  if (!answer.given) {
-    std::fprintf(stderr, "edsp-ctl: no answer from %s within %g s\n", node.c_str(), o.timeout_s);
-    return 2;
+int SendAndConfirm(const CtlOptions& o, const std::string& channel, const Msg& request) {
+  MotionClient link(ctl::Transport(o), ctl::GivenSession(o), o.timeout_s, ctl::OperatorName(o));
+  const std::optional<reply_t> reply = link.SendOperator(channel, request);
+  if (!reply) {
+    std::fprintf(stderr, "edsp-ctl: no reply to %s within %g s\n", channel.c_str(), o.timeout_s);
+    return ctl::kRefused;
   }
-  std::printf("%s: %s\n", node.c_str(), answer.reason.c_str());
-  return answer.confirmed ? 0 : 2;
+  std::printf("%s: %s\n", reply->node.c_str(), reply->reason.c_str());
+  return ctl::ExitFor(reply->code);
 }
 
-int Arm(const CtlOptions& o) { return SendAndConfirm(o, channel::kArm, arm_t{}, "actuator_bridge"); }
+int Arm(const CtlOptions& o) { return SendAndConfirm(o, channel::kArm, arm_t{}); }
 
 int SetPrMode(const CtlOptions& o, const std::string& mode_text) {
   PrMode mode;
@@ -74,7 +65,7 @@ int SetPrMode(const CtlOptions& o, const std::string& mode_text) {
   }
   pr_mode_t request{};
   request.pr_mode = static_cast<std::int8_t>(mode);
-  return SendAndConfirm(o, channel::kPrMode, request, "kinematics");
+  return SendAndConfirm(o, channel::kPrMode, request);
 }
 
 // The model file's text, read before anything goes on the bus: a file that
@@ -96,15 +87,13 @@ int SetCalibration(const CtlOptions& o, const std::string& model, bool apply_amb
   request.origin = model;
   request.model_json = model == "off" ? "" : ModelText(model);
   request.apply_ambiguous = apply_ambiguous ? 1 : 0;
-  return SendAndConfirm(o, channel::kCalibration, request, "kinematics");
+  return SendAndConfirm(o, channel::kCalibration, request);
 }
 
+// The operator commands' own: --timeout-s is their answer timeout.
 void AddCommon(CLI::App* cmd, CtlOptions* o) {
-  cmd->add_option("--session-id", o->session, "the group's session, or auto (from its traffic)");
-  cmd->add_option("--operator", o->operator_name, "who does it, for the log");
-  cmd->add_option("--group", o->group_file, "take the LCM URL from this group file");
-  cmd->add_option("--lcm-url", o->lcm_url, "LCM URL (default: the edsp default, host-only)");
-  cmd->add_option("--timeout-s", o->timeout_s, "how long to wait for the group's traffic and for the answer")
+  ctl::AddCommonOptions(cmd, o);
+  cmd->add_option("--timeout-s", o->timeout_s, "how long to wait for the group's traffic and for the reply")
       ->check(CLI::Range(0.1, 600.0));
 }
 
@@ -115,6 +104,7 @@ int main(int argc, char** argv) {
   CLI::App app{"edsp-ctl: operator commands to a running edsp group"};
   app.require_subcommand(1);
   edsp::CtlOptions options;
+  edsp::ctl::AddCommonOptions(&app, &options);
   std::string mode;
   CLI::App* arm = app.add_subcommand("arm", "re-arm the actuator bridge after a latched hold");
   edsp::AddCommon(arm, &options);

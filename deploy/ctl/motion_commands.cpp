@@ -16,12 +16,11 @@
 #include "edsp/motion_request_t.hpp"
 #include "edsp/motion_status_t.hpp"
 #include "edsp/planner/motion_client.h"
+#include "edsp/reply_codes.h"
 
 namespace edsp::ctl {
 
 namespace {
-
-enum Exit { kDone = 0, kError = 1, kRefused = 2, kTimedOut = 3, kInterrupted = 4 };
 
 template <std::size_t N>
 nlohmann::json Array(const double (&v)[N]) {
@@ -48,11 +47,8 @@ nlohmann::json StatusJson(const motion_status_t& s) {
 }
 
 nlohmann::json ReplyJson(const motion_reply_t& r) {
-  return {{"accepted", r.accepted != 0},
-          {"reason", r.reason},
-          {"duration_s", r.duration_s},
-          {"start_delay_s", r.start_delay_s},
-          {"request_id", r.request_id}};
+  return {{"accepted", r.accepted != 0}, {"code", std::string(ReplyCodeName(r.code))}, {"reason", r.reason},
+          {"duration_s", r.duration_s},  {"start_delay_s", r.start_delay_s},           {"request_id", r.request_id}};
 }
 
 std::string FileText(const std::string& path) {
@@ -88,9 +84,10 @@ int SendAndReport(MotionClient& link, const motion_request_t& r, const MotionArg
     return kError;
   }
   if (a.json) std::printf("%s\n", ReplyJson(*reply).dump().c_str());
-  if (!reply->accepted) {
-    std::fprintf(stderr, "edsp-ctl: refused: %s\n", reply->reason.c_str());
-    return kRefused;
+  if (FamilyOf(reply->code) != ReplyFamily::kDone) {
+    std::fprintf(stderr, "edsp-ctl: refused (%s): %s\n", std::string(ReplyCodeName(reply->code)).c_str(),
+                 reply->reason.c_str());
+    return ExitFor(reply->code);
   }
   if (!a.json) std::printf("planner: %s\n", reply->reason.c_str());
   if (!wait) return kDone;
@@ -142,14 +139,7 @@ int Status(MotionClient& link, const CtlOptions& o, const MotionArgs& a) {
 }  // namespace
 
 void AddMotionCommands(CLI::App* app, CtlOptions* o, MotionArgs* a) {
-  const auto common = [o](CLI::App* cmd) {
-    cmd->add_option("--session-id", o->session, "the group's session, or auto (from its traffic)");
-    cmd->add_option("--operator", o->operator_name, "who asks, for the log");
-    cmd->add_option("--group", o->group_file, "take the LCM URL from this group file");
-    cmd->add_option("--lcm-url", o->lcm_url, "LCM URL (default: the edsp default, host-only)");
-    cmd->add_option("--answer-timeout-s", o->timeout_s, "how long to wait for the group's traffic and the reply")
-        ->check(CLI::Range(0.1, 600.0));
-  };
+  const auto common = [o](CLI::App* cmd) { AddCommonOptions(cmd, o); };
   const auto pose = [a](CLI::App* cmd) {
     cmd->add_option("--pose", a->pose, "X,Y,Z,ROLL,PITCH,YAW (m, rad); --pose=-0.05,... for a leading minus")
         ->required();

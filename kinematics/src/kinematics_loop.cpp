@@ -22,6 +22,7 @@ KinematicsLoop::KinematicsLoop(Bus& bus, KinematicsNode& kinematics, KinematicsL
       commands_(bus.Advertise<leg_command_t>(channel::kLegCommand)),
       states_(bus.Advertise<platform_state_t>(channel::kPlatformState)),
       config_out_(bus.Advertise<platform_config_t>(channel::kConfig)),
+      replies_(bus.Advertise<reply_t>(channel::kReply)),
       reporting_(bus, "kinematics"),
       setpoints_in_(bus.Counters(channel::kSetpoint)) {
   if (options_.leg_state_decimation < 1) {
@@ -29,16 +30,23 @@ KinematicsLoop::KinematicsLoop(Bus& bus, KinematicsNode& kinematics, KinematicsL
                                 ": one platform state per N >= 1 leg states");
   }
   bus.Subscribe<pose_setpoint_t>(channel::kSetpoint, [this](const pose_setpoint_t& sp) { OnSetpoint(sp); });
+  // Replayed from a log, a request is judged by its own clock, as setpoints
+  // are: the switches the operator made then are made again.
   bus.Subscribe<pr_mode_t>(channel::kPrMode, [this](const pr_mode_t& request) {
-    reporting_.Fault(kinematics_.HandlePrModeRequest(request, UtimeNow()));
+    Answer(kinematics_.HandlePrModeRequest(request, options_.replay ? request.utime : UtimeNow()));
   });
   bus.Subscribe<calibration_t>(channel::kCalibration, [this](const calibration_t& request) {
-    const fault_t answer = kinematics_.HandleCalibrationRequest(request, UtimeNow());
-    if (answer.severity == fault_t::SEVERITY_INFO) std::fprintf(stderr, "edsp-kinematics: %s\n", answer.reason.c_str());
-    reporting_.Fault(answer);
+    Answer(kinematics_.HandleCalibrationRequest(request, options_.replay ? request.utime : UtimeNow()));
   });
   bus.Subscribe<leg_state_t>(channel::kLegState, [this](const leg_state_t& legs) { OnLegState(legs); });
   ReportCalibration();
+}
+
+void KinematicsLoop::Answer(const RequestService<reply_t>::Answer& answer) {
+  if (answer.acted && answer.reply.code == reply_t::CODE_DONE) {
+    std::fprintf(stderr, "edsp-kinematics: %s\n", answer.reply.reason.c_str());
+  }
+  replies_.Publish(answer.reply);
 }
 
 void KinematicsLoop::OnSetpoint(const pose_setpoint_t& setpoint) {

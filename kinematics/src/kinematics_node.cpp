@@ -50,76 +50,72 @@ fault_t KinematicsNode::Fault(FaultCode code, std::string reason, std::int64_t n
   return MakeFault(options_.node_name, channel, code, fault_t::SEVERITY_ERROR, std::move(reason), now_utime);
 }
 
-fault_t KinematicsNode::HandlePrModeRequest(const pr_mode_t& request, std::int64_t now_utime) {
-  return pr_mode_answers_.Answer(
-      request, now_utime, [&] { return ActOnPrModeRequest(request, now_utime); },
-      [&](std::string reason) {
-        return MakeFault(options_.node_name, channel::kPrMode, FaultCode::kBadRequest, fault_t::SEVERITY_WARNING,
-                         fmt::format("PR mode {}; mode stays {}", reason, PrModeName(options_.pr_mode)), now_utime);
-      });
+reply_t KinematicsNode::Reply(const char* channel, ReplyCode code, std::string reason) const {
+  reply_t reply{};
+  reply.node = options_.node_name;
+  reply.request_channel = channel;
+  reply.code = static_cast<std::int8_t>(code);
+  reply.reason = std::move(reason);
+  return reply;
 }
 
-fault_t KinematicsNode::ActOnPrModeRequest(const pr_mode_t& request, std::int64_t now_utime) {
-  const std::string& node = options_.node_name;
-  if (request.session_id != options_.session_id) {
-    return MakeFault(node, channel::kPrMode, FaultCode::kForeignSession, fault_t::SEVERITY_WARNING,
-                     fmt::format("PR mode request from session {} ignored (this group is session {})",
-                                 request.session_id, options_.session_id),
-                     now_utime);
-  }
+RequestService<reply_t>::Answer KinematicsNode::HandlePrModeRequest(const pr_mode_t& request, std::int64_t now_utime) {
+  return pr_mode_requests_.Handle(
+      request, now_utime,
+      [&](ReplyCode code, const std::string& reason) {
+        return Reply(channel::kPrMode, code,
+                     fmt::format("PR mode {}; mode stays {}", reason, PrModeName(options_.pr_mode)));
+      },
+      [&] { return ActOnPrModeRequest(request); });
+}
+
+reply_t KinematicsNode::ActOnPrModeRequest(const pr_mode_t& request) {
   PrMode mode;
   const std::string text = std::to_string(request.pr_mode);
   if (!ParsePrMode(text.c_str(), &mode)) {
-    return MakeFault(node, channel::kPrMode, FaultCode::kBadRequest, fault_t::SEVERITY_WARNING,
-                     fmt::format("PR mode {} from {} is not 0..3; mode stays {}", text, request.operator_name,
-                                 PrModeName(options_.pr_mode)),
-                     now_utime);
+    return Reply(channel::kPrMode, ReplyCode::kInvalid,
+                 fmt::format("PR mode {} from {} is not 0..3; mode stays {}", text, request.operator_name,
+                             PrModeName(options_.pr_mode)));
   }
   const PrMode before = options_.pr_mode;
   SwitchPrMode(mode);
-  return MakeFault(node, channel::kPrMode, FaultCode::kOperatorAction, fault_t::SEVERITY_INFO,
-                   fmt::format("PR mode {} → {} (requested by {}), blended over {} ms", PrModeName(before),
-                               PrModeName(mode), request.operator_name, options_.pr_blend_us / 1000),
-                   now_utime);
+  return Reply(channel::kPrMode, ReplyCode::kDone,
+               fmt::format("PR mode {} → {} (requested by {}), blended over {} ms", PrModeName(before),
+                           PrModeName(mode), request.operator_name, options_.pr_blend_us / 1000));
 }
 
-fault_t KinematicsNode::HandleCalibrationRequest(const calibration_t& request, std::int64_t now_utime) {
-  return calibration_answers_.Answer(
-      request, now_utime, [&] { return ActOnCalibrationRequest(request, now_utime); },
-      [&](std::string reason) {
-        return MakeFault(options_.node_name, channel::kCalibration, FaultCode::kBadRequest, fault_t::SEVERITY_WARNING,
-                         "calibration " + reason, now_utime);
-      });
+RequestService<reply_t>::Answer KinematicsNode::HandleCalibrationRequest(const calibration_t& request,
+                                                                         std::int64_t now_utime) {
+  return calibration_requests_.Handle(
+      request, now_utime,
+      [&](ReplyCode code, const std::string& reason) {
+        return Reply(channel::kCalibration, code,
+                     fmt::format("calibration {}; in force stays {}", reason, DescribeCalibration()));
+      },
+      [&] { return ActOnCalibrationRequest(request); });
 }
 
-fault_t KinematicsNode::ActOnCalibrationRequest(const calibration_t& request, std::int64_t now_utime) {
-  const std::string& node = options_.node_name;
-  auto refuse = [&](FaultCode code, const std::string& why) {
-    return MakeFault(node, channel::kCalibration, code, fault_t::SEVERITY_WARNING,
-                     fmt::format("calibration {} from {} refused: {}; in force stays {}", request.origin,
-                                 request.operator_name, why, DescribeCalibration()),
-                     now_utime);
+reply_t KinematicsNode::ActOnCalibrationRequest(const calibration_t& request) {
+  auto refuse = [&](ReplyCode code, const std::string& why) {
+    return Reply(channel::kCalibration, code,
+                 fmt::format("calibration {} from {} refused: {}; in force stays {}", request.origin,
+                             request.operator_name, why, DescribeCalibration()));
   };
-  if (request.session_id != options_.session_id) {
-    return refuse(FaultCode::kForeignSession,
-                  fmt::format("from session {} (this group is session {})", request.session_id, options_.session_id));
-  }
   std::optional<calibration::CalibrationModel> next;
   if (!request.model_json.empty()) {
     try {
       next = calibration::ParseCalibration(request.model_json, request.origin, model_, request.apply_ambiguous != 0);
     } catch (const calibration::CalibrationError& e) {
-      return refuse(FaultCode::kBadRequest, e.what());
+      return refuse(ReplyCode::kInvalid, e.what());
     }
   }
   const std::string before = DescribeCalibration();
   const std::string after = next ? next->Describe() : "none";
   std::string why_not;
-  if (!SwitchCalibration(std::move(next), &why_not)) return refuse(FaultCode::kBadRequest, why_not);
-  return MakeFault(node, channel::kCalibration, FaultCode::kOperatorAction, fault_t::SEVERITY_INFO,
-                   fmt::format("calibration {} → {} (requested by {}), blended over {} ms", before, after,
-                               request.operator_name, calibration_.blend_us() / 1000),
-                   now_utime);
+  if (!SwitchCalibration(std::move(next), &why_not)) return refuse(ReplyCode::kNotNow, why_not);
+  return Reply(channel::kCalibration, ReplyCode::kDone,
+               fmt::format("calibration {} → {} (requested by {}), blended over {} ms", before, after,
+                           request.operator_name, calibration_.blend_us() / 1000));
 }
 
 std::string KinematicsNode::DescribeCalibration() const {

@@ -17,8 +17,7 @@ const char* PrModeName(PrMode mode) {
 }
 
 bool ParsePrMode(const char* text, PrMode* mode) {
-  constexpr PrMode kModes[] = {PrMode::kNone, PrMode::kUnsigned, PrMode::kSigned, PrMode::kAsin};
-  for (PrMode m : kModes) {
+  for (PrMode m : kPrModes) {
     const char digit[2] = {static_cast<char>('0' + static_cast<int>(m)), '\0'};
     if (std::strcmp(text, PrModeName(m)) == 0 || std::strcmp(text, digit) == 0) {
       *mode = m;

@@ -3,7 +3,6 @@
 #include <chrono>
 #include <memory>
 #include <set>
-#include <stdexcept>
 #include <string>
 
 #include <fmt/format.h>
@@ -26,7 +25,7 @@ std::int64_t DiscoverSession(Bus& bus, double timeout_s) {
   while (Clock::now() < until && sessions.empty()) bus.Handle(std::chrono::milliseconds(50));
   bus.Handle(std::chrono::milliseconds(50));  // one more round: a second group shows itself
   if (sessions.empty()) {
-    throw std::runtime_error(
+    throw SessionNotFound(
         fmt::format("no leg commands or setpoints on {} within {} s: is the group running "
                     "on this network? (or give the session id)",
                     bus.config().lcm_url, timeout_s));
@@ -34,7 +33,7 @@ std::int64_t DiscoverSession(Bus& bus, double timeout_s) {
   if (sessions.size() > 1) {
     std::string list;
     for (std::int64_t s : sessions) list += (list.empty() ? "" : ", ") + std::to_string(s);
-    throw std::runtime_error("several groups on the bus (sessions " + list + "): give the session id");
+    throw SessionNotFound("several groups on the bus (sessions " + list + "): give the session id");
   }
   return *sessions.begin();
 }

@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <limits>
-#include <random>
 #include <stdexcept>
 
 #include "edsp/channels.h"
@@ -15,16 +13,9 @@ namespace edsp {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-constexpr auto kResend = std::chrono::milliseconds(500);
 
 Clock::time_point Deadline(double seconds) {
   return Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
-}
-
-std::int64_t NewRequestId() {
-  std::random_device device;
-  std::uniform_int_distribution<std::int64_t> id(1, std::numeric_limits<std::int64_t>::max());
-  return id(device);
 }
 
 }  // namespace
@@ -60,35 +51,19 @@ MotionClient::MotionClient(const TransportConfig& transport, std::optional<std::
                                   [inbox = inbox_, session = session_](const motion_status_t& s) {
                                     if (s.session_id == session) inbox->status = s;
                                   });
-  bus_.Subscribe<motion_reply_t>(channel::kMotionReply, [inbox = inbox_, session = session_](const motion_reply_t& r) {
-    if (r.session_id == session && r.request_id == inbox->awaited) inbox->reply = r;
-  });
 }
 
 motion_request_t MotionClient::Request(std::int8_t kind) const {
   motion_request_t r{};
-  r.seq = 1;
   r.session_id = session_;
-  r.request_id = NewRequestId();
+  r.request_id = RequestClient::NewRequestId();
   r.client = client_;
   r.kind = kind;
   return r;
 }
 
 std::optional<motion_reply_t> MotionClient::Send(motion_request_t r) {
-  inbox_->awaited = r.request_id;
-  inbox_->reply.reset();
-  const auto until = Deadline(answer_timeout_s_);
-  auto next = Clock::now();
-  while (!inbox_->reply && Clock::now() < until) {
-    if (Clock::now() >= next) {
-      r.utime = UtimeNow();
-      if (!bus_.Publish(channel::kMotionRequest, r)) throw std::runtime_error("EDSP_MOTION_REQUEST could not be sent");
-      next = Clock::now() + kResend;
-    }
-    bus_.Handle(std::chrono::milliseconds(20));
-  }
-  return inbox_->reply;
+  return requests_.Send<motion_reply_t>(channel::kMotionRequest, channel::kMotionReply, r, answer_timeout_s_);
 }
 
 std::optional<motion_status_t> MotionClient::NextStatus(double seconds) {

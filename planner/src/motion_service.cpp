@@ -16,10 +16,6 @@ namespace edsp {
 
 namespace {
 
-// Replies are kept for twice the window a copy of a request is taken in:
-// a client still resending always gets the reply it was given.
-constexpr double kReplyKeep_s = 10.0;
-constexpr std::size_t kRepliesMost = 100000;
 // A move asked to go slower than this share of the config's speed is a
 // typo (and one longer than kLongestMove_s, planned_motion.h).
 constexpr double kSlowestShare = 1e-3;
@@ -110,44 +106,14 @@ bool MotionService::IsQuick(const motion_request_t& r) {
 
 motion_reply_t MotionService::Handle(const motion_request_t& r, std::int64_t now_utime) {
   Lock lock(mutex_);
-  if (std::string problem = RequestProblem(r, now_utime); !problem.empty()) {
-    // Another session's, a stale copy, no id: our state and cache untouched.
-    motion_reply_t reply = Reply(r, false, std::move(problem));
-    reply.utime = now_utime;
-    return reply;
+  const auto answer = requests_.Handle(
+      r, now_utime, [&](ReplyCode code, std::string reason) { return Reply(r, code, std::move(reason)); },
+      [&] { return Act(r, now_utime, lock); });
+  if (answer.acted) {
+    refused_ = answer.reply.accepted ? "" : Kind(r.kind) + " refused: " + answer.reply.reason;
+    Changed();
   }
-  if (const auto it = replies_.find(r.request_id); it != replies_.end()) return it->second;
-  motion_reply_t reply = Act(r, now_utime, lock);
-  if (const auto it = replies_.find(r.request_id); it != replies_.end()) return it->second;  // a copy, meanwhile
-  refused_ = reply.accepted ? "" : Kind(r.kind) + " refused: " + reply.reason;
-  Changed();
-  reply.utime = now_utime;
-  reply.seq = ++seq_;
-  replies_[r.request_id] = reply;
-  reply_order_.emplace_back(now_utime, r.request_id);
-  while (!reply_order_.empty() && (reply_order_.size() > kRepliesMost ||
-                                   static_cast<double>(now_utime - reply_order_.front().first) * 1e-6 > kReplyKeep_s)) {
-    replies_.erase(reply_order_.front().second);
-    reply_order_.pop_front();
-  }
-  return reply;
-}
-
-std::string MotionService::RequestProblem(const motion_request_t& r, std::int64_t now_utime) const {
-  if (r.session_id != options_.session_id) {
-    return fmt::format("request {} from session {} ignored: this group is session {}", r.request_id, r.session_id,
-                       options_.session_id);
-  }
-  const double age_s =
-      (static_cast<double>(now_utime) - static_cast<double>(r.utime)) * 1e-6;  // any int64, no overflow
-  if (!(std::abs(age_s) <= options_.request_window_s)) {
-    return fmt::format(
-        "request {} stamped {:.1f} s {} this planner's clock ignored (a replayed log, or a clock "
-        "off by more than {} s)",
-        r.request_id, std::abs(age_s), age_s > 0 ? "before" : "after", options_.request_window_s);
-  }
-  if (r.request_id == 0) return "request_id 0: give each request a unique non-zero id";
-  return "";
+  return answer.reply;
 }
 
 motion_reply_t MotionService::Act(const motion_request_t& r, std::int64_t now_utime, Lock& lock) {
@@ -161,16 +127,17 @@ motion_reply_t MotionService::Act(const motion_request_t& r, std::int64_t now_ut
     case motion_request_t::KIND_PIVOT: return SetPivot(r);
     case motion_request_t::KIND_LIMITS: return SetLimits(r);
   }
-  return Reply(r, false, fmt::format("unknown request kind {} (1 move … 8 limits)", r.kind));
+  return Reply(r, ReplyCode::kInvalid, fmt::format("unknown request kind {} (1 move … 8 limits)", r.kind));
 }
 
-motion_reply_t MotionService::Reply(const motion_request_t& r, bool accepted, std::string reason, double duration_s,
+motion_reply_t MotionService::Reply(const motion_request_t& r, ReplyCode code, std::string reason, double duration_s,
                                     double start_delay_s) const {
   motion_reply_t reply{};
   reply.session_id = options_.session_id;
   reply.request_id = r.request_id;
   reply.kind = r.kind;
-  reply.accepted = accepted;
+  reply.code = static_cast<std::int8_t>(code);
+  reply.accepted = code == ReplyCode::kDone;
   reply.reason = std::move(reason);
   reply.duration_s = duration_s;
   reply.start_delay_s = start_delay_s;
@@ -230,21 +197,21 @@ double MotionService::TimeToIdle(std::int64_t now_utime) const {
 }
 
 motion_reply_t MotionService::Move(const motion_request_t& r, bool check_only, std::int64_t now_utime, Lock& lock) {
-  if (!AllFinite(r.pose, 6)) return Reply(r, false, "pose has a non-finite value (NaN or infinity)");
+  if (!AllFinite(r.pose, 6)) return Reply(r, ReplyCode::kInvalid, "pose has a non-finite value (NaN or infinity)");
   const WorkFrame* found = FindFrame(r.frame);
   if (found == nullptr) {
     std::string known;
     for (const auto& [name, f] : frames_) known += (known.empty() ? "" : ", ") + name;
-    return Reply(r, false,
+    return Reply(r, ReplyCode::kInvalid,
                  fmt::format("unknown frame \"{}\" (known: {}; define one with edsp-ctl frame)", r.frame, known));
   }
   const WorkFrame frame = *found;
   const Vector3 pivot = pivot_M_;
   MoveLimits limits;
-  if (std::string p = LimitsProblem(r, &limits); !p.empty()) return Reply(r, false, p);
+  if (std::string p = LimitsProblem(r, &limits); !p.empty()) return Reply(r, ReplyCode::kInvalid, p);
   if (!check_only) {
-    if (std::string p = BridgeProblem(now_utime); !p.empty()) return Reply(r, false, p);
-    if (std::string p = QueueProblem(); !p.empty()) return Reply(r, false, p);
+    if (std::string p = BridgeProblem(now_utime); !p.empty()) return Reply(r, ReplyCode::kNotNow, p);
+    if (std::string p = QueueProblem(); !p.empty()) return Reply(r, ReplyCode::kNotNow, p);
   }
   const Transform from = PlannedEnd();
   FramedPose to = FramedPoseOf(PoseField(r));
@@ -256,7 +223,7 @@ motion_reply_t MotionService::Move(const motion_request_t& r, bool check_only, s
   const Vector6 target = PoseOf(PlatformPose(frame, pivot, to)).ToVector();
   const WorkspaceCheck end = CheckWorkspace(model_, Pose::FromVector(target));
   if (!end.ok()) {
-    return Reply(r, false,
+    return Reply(r, ReplyCode::kOutOfLimits,
                  fmt::format("target {} (in {}) is outside the workspace: {}", DescribeVector(target), frame.name,
                              end.Describe()));
   }
@@ -265,9 +232,9 @@ motion_reply_t MotionService::Move(const motion_request_t& r, bool check_only, s
   lock.unlock();
   PlannedMotion m = PlanMove(model_, frame, pivot, from, to, limits, options_.check_rate_hz);
   lock.lock();
-  if (m.check.limit == PathLimit::kDuration) return Reply(r, false, m.check.Describe());
+  if (m.check.limit == PathLimit::kDuration) return Reply(r, ReplyCode::kOutOfLimits, m.check.Describe());
   if (!m.check.ok()) {
-    return Reply(r, false,
+    return Reply(r, ReplyCode::kOutOfLimits,
                  fmt::format("the path to {} crosses a limit (both ends are reachable) {}", DescribeVector(target),
                              m.check.Describe()));
   }
@@ -276,9 +243,9 @@ motion_reply_t MotionService::Move(const motion_request_t& r, bool check_only, s
       "{} to {} in {} ({:.4f} m, {:.4f} rad about the pivot) in {:.3f} s, {}", check_only ? "would move" : "moves",
       DescribeVector(target), frame.name, std::static_pointer_cast<const PivotPath>(m.path)->distance_m(),
       std::static_pointer_cast<const PivotPath>(m.path)->angle_rad(), m.duration_s(), m.check.Describe());
-  if (check_only) return Reply(r, true, what, m.duration_s(), TimeToIdle(now_utime));
-  if (std::string p = PlanOutdated(from, decelerations); !p.empty()) return Reply(r, false, p);
-  if (std::string p = QueueProblem(); !p.empty()) return Reply(r, false, p);
+  if (check_only) return Reply(r, ReplyCode::kDone, what, m.duration_s(), TimeToIdle(now_utime));
+  if (std::string p = PlanOutdated(from, decelerations); !p.empty()) return Reply(r, ReplyCode::kNotNow, p);
+  if (std::string p = QueueProblem(); !p.empty()) return Reply(r, ReplyCode::kNotNow, p);
   std::deque<PlannedMotion> motions;
   motions.push_back(std::move(m));
   motion_reply_t reply = Enqueue(r, std::move(motions), now_utime);
@@ -295,9 +262,10 @@ std::string MotionService::PlanOutdated(const Transform& from, std::uint64_t dec
 }
 
 motion_reply_t MotionService::Run(const motion_request_t& r, std::int64_t now_utime, Lock& lock) {
-  if (std::string p = BridgeProblem(now_utime); !p.empty()) return Reply(r, false, p);
-  if (std::string p = QueueProblem(); !p.empty()) return Reply(r, false, p);
-  if (r.motions.empty() == r.csv_text.empty()) return Reply(r, false, "give either motions or a CSV, not both");
+  if (std::string p = BridgeProblem(now_utime); !p.empty()) return Reply(r, ReplyCode::kNotNow, p);
+  if (std::string p = QueueProblem(); !p.empty()) return Reply(r, ReplyCode::kNotNow, p);
+  if (r.motions.empty() == r.csv_text.empty())
+    return Reply(r, ReplyCode::kInvalid, "give either motions or a CSV, not both");
   const Transform from = PlannedEnd();
   const MoveLimits limits = default_limits_;
   const std::uint64_t decelerations = decelerations_;
@@ -305,6 +273,7 @@ motion_reply_t MotionService::Run(const motion_request_t& r, std::int64_t now_ut
   std::deque<PlannedMotion> motions;
   const std::string name = !r.motions.empty() ? r.motions : r.csv_origin.empty() ? "csv" : r.csv_origin;
   std::string problem;
+  ReplyCode problem_code = ReplyCode::kOutOfLimits;  // a path that crosses a limit, unless it cannot be built
   try {
     std::unique_ptr<TrajectorySequence> program;
     if (!r.motions.empty()) {
@@ -330,11 +299,12 @@ motion_reply_t MotionService::Run(const motion_request_t& r, std::int64_t now_ut
     motions.push_back(std::move(played));
   } catch (const std::exception& e) {
     problem = e.what();
+    problem_code = ReplyCode::kInvalid;
   }
   lock.lock();
-  if (!problem.empty()) return Reply(r, false, problem);
-  if (std::string p = PlanOutdated(from, decelerations); !p.empty()) return Reply(r, false, p);
-  if (std::string p = QueueProblem(); !p.empty()) return Reply(r, false, p);
+  if (!problem.empty()) return Reply(r, problem_code, problem);
+  if (std::string p = PlanOutdated(from, decelerations); !p.empty()) return Reply(r, ReplyCode::kNotNow, p);
+  if (std::string p = QueueProblem(); !p.empty()) return Reply(r, ReplyCode::kNotNow, p);
   return Enqueue(r, std::move(motions), now_utime);
 }
 
@@ -347,8 +317,9 @@ motion_reply_t MotionService::Enqueue(const motion_request_t& r, std::deque<Plan
     queue_.push_back(std::move(m));
   }
   ever_moved_ = true;
-  return Reply(r, true, fmt::format("{} in {:.3f} s, starting in {:.3f} s", queue_.back().activity, duration, delay),
-               duration, delay);
+  return Reply(r, ReplyCode::kDone,
+               fmt::format("{} in {:.3f} s, starting in {:.3f} s", queue_.back().activity, duration, delay), duration,
+               delay);
 }
 
 motion_reply_t MotionService::Decelerate(const motion_request_t& r, bool stop, std::int64_t now_utime) {
@@ -359,12 +330,12 @@ motion_reply_t MotionService::Decelerate(const motion_request_t& r, bool stop, s
   const std::string what = stop ? "stop" : "halt";
   const std::string queued = cancelled == 0 ? "" : fmt::format("; {} queued motion(s) cancelled", cancelled);
   if (cancelled > 0) last_end_ = end;
-  if (!current_) return Reply(r, true, "nothing moving" + queued);
+  if (!current_) return Reply(r, ReplyCode::kDone, "nothing moving" + queued);
   Running& c = *current_;
   if (c.start_utime == 0 || c.start_utime > now_utime) {  // not started: it never will
     current_.reset();
     last_end_ = end;
-    return Reply(r, true, fmt::format("{}: the motion had not started{}", what, queued));
+    return Reply(r, ReplyCode::kDone, fmt::format("{}: the motion had not started{}", what, queued));
   }
   // A halt while stopping, or either while already braking as hard: the
   // deceleration in progress is at least as short.
@@ -385,35 +356,37 @@ motion_reply_t MotionService::Decelerate(const motion_request_t& r, bool stop, s
     c.halting = true;
   }
   const double left = c.motion.duration_s() - static_cast<double>(now_utime - c.start_utime) * 1e-6;
-  return Reply(r, true, fmt::format("{}: at rest in {:.3f} s{}", what, left, queued), left);
+  return Reply(r, ReplyCode::kDone, fmt::format("{}: at rest in {:.3f} s{}", what, left, queued), left);
 }
 
 motion_reply_t MotionService::DefineFrame(const motion_request_t& r) {
   const std::string& name = r.frame;
   if (name.empty() || name == "base" || name == "home") {
-    return Reply(r, false, fmt::format("frame name \"{}\": give a new name (base and home are built in)", name));
+    return Reply(r, ReplyCode::kInvalid,
+                 fmt::format("frame name \"{}\": give a new name (base and home are built in)", name));
   }
-  if (!AllFinite(r.pose, 6)) return Reply(r, false, fmt::format("frame {}: pose has a non-finite value", name));
+  if (!AllFinite(r.pose, 6))
+    return Reply(r, ReplyCode::kInvalid, fmt::format("frame {}: pose has a non-finite value", name));
   const Pose pose = Pose::FromVector(PoseField(r));
   if (pose.p_BoMo_B.norm() > kMaxFrameOffset_m) {
-    return Reply(r, false,
+    return Reply(r, ReplyCode::kInvalid,
                  fmt::format("frame {}: origin {:.3f} m from {{B}}, beyond {} m", name, pose.p_BoMo_B.norm(),
                              kMaxFrameOffset_m));
   }
   frames_[name] = WorkFrame{name, TransformOf(pose)};
-  return Reply(r, true, fmt::format("frame {} = {} in {{B}}", name, DescribeVector(PoseField(r))));
+  return Reply(r, ReplyCode::kDone, fmt::format("frame {} = {} in {{B}}", name, DescribeVector(PoseField(r))));
 }
 
 motion_reply_t MotionService::SetPivot(const motion_request_t& r) {
   const Vector3 c(r.point[0], r.point[1], r.point[2]);
   if (!c.allFinite() || c.norm() > kMaxPivotOffset_m) {
-    return Reply(r, false,
+    return Reply(r, ReplyCode::kInvalid,
                  fmt::format("pivot ({}, {}, {}) m: give a finite point within {} m of {{M}}'s origin", c(0), c(1),
                              c(2), kMaxPivotOffset_m));
   }
   pivot_M_ = c;
   return Reply(
-      r, true,
+      r, ReplyCode::kDone,
       fmt::format("pivot ({:.6f}, {:.6f}, {:.6f}) m in {{M}}: moves from now turn about it", c(0), c(1), c(2)));
 }
 
@@ -426,9 +399,9 @@ motion_reply_t MotionService::SetLimits(const motion_request_t& r) {
   if (p.empty()) {
     p = TakeLimit(r.accel_rad_s2, config_limits_.accel_rad_s2, "accel_rad_s2", "accel_max_rad_s2", &l.accel_rad_s2);
   }
-  if (!p.empty()) return Reply(r, false, p);
+  if (!p.empty()) return Reply(r, ReplyCode::kInvalid, p);
   default_limits_ = l;
-  return Reply(r, true,
+  return Reply(r, ReplyCode::kDone,
                fmt::format("moves from now: {} m/s, {} rad/s, {} m/s^2, {} rad/s^2", l.speed_m_s, l.speed_rad_s,
                            l.accel_m_s2, l.accel_rad_s2));
 }

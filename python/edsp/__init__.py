@@ -17,28 +17,39 @@ from typing import Optional, Sequence
 from . import _edsp, gap
 from ._data import CHANNELS, Recording, read_log, record_for
 
-__all__ = ["Kinematics", "Platform", "Recording", "read_log", "gap", "CHANNELS",
-           "EdspError", "Refused", "Timeout", "Halted", "Fault"]
+__all__ = ["Kinematics", "Platform", "Recording", "read_log", "gap", "CHANNELS", "PrMode", "WaitOutcome",
+           "REPLY_CODES", "EdspError", "RefusedError", "TimeoutError", "HaltedError", "FaultError",
+           "Refused", "Timeout", "Halted", "Fault"]
+
+# Made by the C++ module from its own tables (reply codes, wait outcomes,
+# PR modes): raised by it as replies and waits end. Each has `.code`, the
+# reply code's or the outcome's name. edsp.TimeoutError is also Python's.
+EdspError = _edsp.EdspError
+RefusedError = _edsp.RefusedError
+TimeoutError = _edsp.TimeoutError  # noqa: A001 (is-a builtins.TimeoutError)
+HaltedError = _edsp.HaltedError
+FaultError = _edsp.FaultError
+PrMode = _edsp.PrMode
+WaitOutcome = _edsp.WaitOutcome
+REPLY_CODES = _edsp.REPLY_CODES  # name -> the wire's code (reply_t.CODE_*)
+# The names of earlier releases.
+Refused, Timeout, Halted, Fault = RefusedError, TimeoutError, HaltedError, FaultError
 
 
-class EdspError(Exception):
-    """Anything edsp refuses or cannot do; the message says why."""
+def _mode_text(mode) -> str:
+    """A PR mode given as PrMode or as its name ("signed")."""
+    if isinstance(mode, PrMode):
+        return mode.name.lower()
+    if not isinstance(mode, str):
+        raise TypeError(f"pr_mode: want an edsp.PrMode or its name, got {type(mode).__name__}")
+    return mode
 
 
-class Refused(EdspError):
-    """The planner refused the request (the reason is the message)."""
-
-
-class Timeout(EdspError):
-    """No reply, or not on target, within the timeout."""
-
-
-class Halted(EdspError):
-    """The motion ended in a halt or a stop requested by someone else."""
-
-
-class Fault(EdspError):
-    """The actuator bridge stopped following while waiting (re-arm it)."""
+def _timeout(timeout, timeout_s, default):
+    """`timeout` in seconds, as threading and subprocess spell it; `timeout_s` its alias."""
+    if timeout is not None and timeout_s is not None:
+        raise TypeError("give timeout or timeout_s, not both")
+    return timeout if timeout is not None else timeout_s if timeout_s is not None else default
 
 
 class Kinematics:
@@ -75,11 +86,11 @@ class Kinematics:
         except RuntimeError as e:
             raise ValueError(str(e)) from None
 
-    def ik(self, poses, pr_mode: str = "signed", times_s=None):
-        return self._k.ik(poses, pr_mode, times_s)
+    def ik(self, poses, pr_mode="signed", times_s=None):
+        return self._k.ik(poses, _mode_text(pr_mode), times_s)
 
-    def compensate(self, poses, pr_mode: str = "signed", times_s=None):
-        return self._k.compensate(poses, pr_mode, times_s)
+    def compensate(self, poses, pr_mode="signed", times_s=None):
+        return self._k.compensate(poses, _mode_text(pr_mode), times_s)
 
     def pr_twist(self, poses):
         return self._k.pr_twist(poses)
@@ -128,8 +139,9 @@ class Platform:
     """A running group's platform, through the planner's motion service.
 
     The same requests and semantics as edsp-ctl (docs/operating.md): every
-    method raises Refused with the planner's reason, Timeout, Halted or
-    Fault; none waits longer than its timeout.
+    method raises RefusedError with the node's reason (its .code says why),
+    TimeoutError, HaltedError or FaultError; none waits longer than its
+    timeout (seconds; `timeout=`, or `timeout_s=` as before).
     """
 
     def __init__(self, group_file: Optional[str] = None, session_id: Optional[int] = None,
@@ -142,12 +154,9 @@ class Platform:
                 raise ValueError(f"session_id = {session_id!r}: want a non-negative int, or None to find it")
             session_id = session_id.__index__()
         try:
+            # No group (or several) on the bus raises TimeoutError itself.
             self._c = _edsp.Client(group_file or "", lcm_url, session_id, float(answer_timeout_s), client)
-        except RuntimeError as e:
-            # No group (or several) on the bus is a wait that ran out; anything
-            # else (a malformed group file, a bus that cannot open) is named as is.
-            if "no leg commands or setpoints" in str(e) or "several groups" in str(e):
-                raise Timeout(str(e)) from None
+        except RuntimeError as e:  # a malformed group file, a bus that cannot open
             raise EdspError(str(e)) from None
 
     @property
@@ -171,45 +180,41 @@ class Platform:
 
     def _send(self, kind, pose=(), relative=False, frame="", point=(), speed_m_s=0.0, speed_rad_s=0.0,
               accel_m_s2=0.0, accel_rad_s2=0.0, motions="", csv_text="", csv_origin=""):
+        # Raises the exception of the reply's code, or TimeoutError.
         try:
-            reply = self._c.send(kind, list(pose), relative, frame or "", list(point), speed_m_s, speed_rad_s,
-                                 accel_m_s2, accel_rad_s2, motions, csv_text, csv_origin)
+            return self._c.send(kind, list(pose), relative, frame or "", list(point), speed_m_s, speed_rad_s,
+                                accel_m_s2, accel_rad_s2, motions, csv_text, csv_origin)
+        except EdspError:
+            raise
         except RuntimeError as e:
             raise EdspError(str(e)) from None
-        if not reply:
-            raise Timeout("no reply from the planner (is the group running, its planner serving requests?)")
-        if not reply["accepted"]:
-            raise Refused(reply["reason"])
-        return reply
 
-    def _wait(self, request_id: int, timeout_s: Optional[float], reply: dict) -> dict:
-        limit = timeout_s if timeout_s is not None else reply["start_delay_s"] + reply["duration_s"] + 30.0
-        outcome, message = self._c.wait(request_id, float(limit))
-        if outcome == "halted":
-            raise Halted(message)
-        if outcome == "fault":
-            raise Fault(message)
-        if outcome == "timeout":
-            raise Timeout(message)
+    def _wait(self, request_id: int, timeout: Optional[float], reply: dict) -> dict:
+        limit = timeout if timeout is not None else reply["start_delay_s"] + reply["duration_s"] + 30.0
+        self._c.wait(request_id, float(limit))  # raises HaltedError, FaultError or TimeoutError
         return reply
 
     def move(self, pose: Sequence[float], frame: Optional[str] = None, relative: bool = False,
              speed_m_s: Optional[float] = None, speed_rad_s: Optional[float] = None, wait: bool = True,
-             timeout_s: Optional[float] = None) -> dict:
-        """Move to `pose` (in `frame`, about the pivot); returns the reply."""
+             timeout: Optional[float] = None, timeout_s: Optional[float] = None) -> dict:
+        """Move to `pose` (in `frame`, about the pivot); returns the reply.
+        `timeout` (s): how long to wait for on-target (default: the motion's
+        duration and 30 s beside)."""
+        limit = _timeout(timeout, timeout_s, None)
         reply = self._send(_edsp.KIND_MOVE, _six("pose", pose), relative, frame or "",
                            speed_m_s=_speed("speed_m_s", speed_m_s), speed_rad_s=_speed("speed_rad_s", speed_rad_s))
-        return self._wait(reply["request_id"], timeout_s, reply) if wait else reply
+        return self._wait(reply["request_id"], limit, reply) if wait else reply
 
     def check(self, pose: Sequence[float], frame: Optional[str] = None, relative: bool = False,
               speed_m_s: Optional[float] = None, speed_rad_s: Optional[float] = None) -> dict:
-        """Whether a move would run (raises Refused naming why not); nothing moves."""
+        """Whether a move would run (raises RefusedError naming why not); nothing moves."""
         return self._send(_edsp.KIND_CHECK, _six("pose", pose), relative, frame or "",
                           speed_m_s=_speed("speed_m_s", speed_m_s), speed_rad_s=_speed("speed_rad_s", speed_rad_s))
 
     def run(self, motions: Optional[str] = None, csv: Optional[str] = None, wait: bool = True,
-            timeout_s: Optional[float] = None) -> dict:
+            timeout: Optional[float] = None, timeout_s: Optional[float] = None) -> dict:
         """Run named motions ("Lz,Rz") or a trajectory CSV file."""
+        limit = _timeout(timeout, timeout_s, None)
         if (motions is None) == (csv is None):
             raise ValueError("run: give motions or csv, not both")
         text = ""
@@ -217,7 +222,7 @@ class Platform:
             with open(csv, encoding="utf-8") as f:
                 text = f.read()
         reply = self._send(_edsp.KIND_RUN, motions=motions or "", csv_text=text, csv_origin=csv or "")
-        return self._wait(reply["request_id"], timeout_s, reply) if wait else reply
+        return self._wait(reply["request_id"], limit, reply) if wait else reply
 
     def halt(self) -> dict:
         return self._send(_edsp.KIND_HALT)
@@ -225,14 +230,18 @@ class Platform:
     def stop(self) -> dict:
         return self._send(_edsp.KIND_STOP)
 
-    def wait(self, timeout_s: float = 60.0) -> None:
-        """Until whatever runs is on target (raises Halted, Fault, Timeout)."""
-        self._wait(0, timeout_s, {"start_delay_s": 0.0, "duration_s": 0.0})
+    def wait(self, timeout: Optional[float] = None, timeout_s: Optional[float] = None) -> "WaitOutcome":
+        """Until whatever runs is on target, at most `timeout` s (default 60):
+        WaitOutcome.ON_TARGET, else raises HaltedError, FaultError, TimeoutError."""
+        return self._c.wait(0, float(_timeout(timeout, timeout_s, 60.0)))
 
-    def status(self, timeout_s: float = 2.0) -> dict:
-        s = self._c.status(float(timeout_s))
+    def status(self, timeout: Optional[float] = None, timeout_s: Optional[float] = None) -> dict:
+        limit = _timeout(timeout, timeout_s, 2.0)
+        s = self._c.status(float(limit))
         if s is None:
-            raise Timeout(f"no EDSP_MOTION_STATUS within {timeout_s} s (is the planner running?)")
+            error = TimeoutError(f"no EDSP_MOTION_STATUS within {limit} s (is the planner running?)")
+            error.code = "timeout"
+            raise error
         return s
 
     def frame(self, name: str, pose: Sequence[float]) -> dict:
@@ -240,23 +249,15 @@ class Platform:
             raise ValueError(f"frame name {name!r}: want a non-empty string")
         return self._send(_edsp.KIND_FRAME, _six("pose", pose), frame=name)
 
-    def _confirm(self, answer, what: str) -> str:
-        given, confirmed, reason = answer
-        if not given:
-            raise Timeout(f"{what}: no answer within the answer timeout (is the group running?)")
-        if not confirmed:
-            raise Refused(reason)
-        return reason
-
     def arm(self) -> str:
-        """Re-arm the actuator bridge after it latched a hold; returns its confirmation."""
-        return self._confirm(self._c.arm(), "arm")
+        """Re-arm the actuator bridge after it latched a hold; returns its reply's words
+        (FaultError if the drives could not be enabled)."""
+        return self._c.arm()["reason"]
 
-    def pr_mode(self, mode: str) -> str:
-        """Switch the PR compensation live (none, unsigned, signed, asin), blended over 0.5 s."""
-        if mode not in ("none", "unsigned", "signed", "asin"):
-            raise ValueError(f"pr_mode {mode!r}: use none, unsigned, signed or asin")
-        return self._confirm(self._c.pr_mode(mode), "pr_mode")
+    def pr_mode(self, mode) -> str:
+        """Switch the PR compensation live (an edsp.PrMode, or its name: none,
+        unsigned, signed, asin), blended over 0.5 s; returns the node's words."""
+        return self._c.pr_mode(_mode_text(mode))["reason"]
 
     def calibration(self, model: Optional[str], apply_ambiguous: bool = False) -> str:
         """Switch the kinematics' calibration live to the edsp-gap model file
@@ -268,7 +269,7 @@ class Platform:
             if not text:
                 raise ValueError(f"calibration {model}: the file is empty (None switches the calibration off)")
             origin = os.fspath(model)
-        return self._confirm(self._c.calibration(text, origin, bool(apply_ambiguous)), "calibration")
+        return self._c.calibration(text, origin, bool(apply_ambiguous))["reason"]
 
     def pivot(self, point: Sequence[float]) -> dict:
         if isinstance(point, (str, bytes)):

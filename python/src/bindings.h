@@ -5,6 +5,7 @@
 //   motion_binding.cpp      the motion service's client on edsp's Bus
 //   data_binding.cpp        LCM logs and live recordings as numpy columns
 //   gap_binding.cpp         the gap diagnosis (edsp-gap's JSON)
+//   errors.cpp              edsp's exceptions, one class per reply family
 // and what they share: arguments checked and named.
 
 #include <pybind11/numpy.h>
@@ -25,6 +26,7 @@ Rows SixColumns(const py::handle& value, const char* argument);
 // "none", "unsigned", "signed", "asin", or a ValueError naming it.
 PrMode ModeOf(const std::string& text);
 
+void BindErrors(py::module_& m);
 void BindKinematics(py::module_& m);
 void BindMotion(py::module_& m);
 void BindData(py::module_& m);

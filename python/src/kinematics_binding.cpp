@@ -3,6 +3,7 @@
 // (N, 6) numpy arrays, each loop run with the GIL released.
 #include <pybind11/stl.h>
 
+#include <cctype>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -210,6 +211,15 @@ void BindKinematics(py::module_& m) {
       .def("check", &Kinematics::Check, py::arg("poses"))
       .def("home", &Kinematics::Home)
       .def("calibration", &Kinematics::CalibrationText);
+  // The PR modes by their C++ names, upper-cased (PrMode.SIGNED is "signed").
+  py::enum_<PrMode> modes(m, "PrMode", "The passive-rotation compensation modes (docs/kinematics.md).");
+  std::vector<std::string> names;  // pybind11 copies each name
+  for (PrMode mode : kPrModes) {
+    std::string name = PrModeName(mode);
+    for (char& c : name) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    names.push_back(name);
+  }
+  for (std::size_t k = 0; k < names.size(); ++k) modes.value(names[k].c_str(), kPrModes[k]);
 }
 
 }  // namespace edsp::python

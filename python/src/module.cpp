@@ -3,6 +3,7 @@
 
 PYBIND11_MODULE(_edsp, m) {
   m.doc() = "edsp's C++ core: kinematics, logs and recordings, the gap diagnosis, the motion service's client";
+  edsp::python::BindErrors(m);
   edsp::python::BindKinematics(m);
   edsp::python::BindMotion(m);
   edsp::python::BindData(m);

@@ -1,6 +1,6 @@
 // edsp.Platform's core: the planner's motion service and the operator's
 // requests, through the client edsp-ctl uses (planner/motion_client.h,
-// node/operator_client.h) on edsp's Bus.
+// node/request_client.h) on edsp's Bus.
 #include <pybind11/stl.h>
 
 #include <algorithm>
@@ -8,30 +8,52 @@
 #include <mutex>
 #include <optional>
 #include <string>
-#include <tuple>
 #include <vector>
 
 #include <fmt/format.h>
 
 #include "bindings.h"
+#include "errors.h"
 #include "edsp/arm_t.hpp"
 #include "edsp/calibration_t.hpp"
 #include "edsp/channels.h"
 #include "edsp/node/group_file.h"
-#include "edsp/node/operator_client.h"
+#include "edsp/node/session_discovery.h"
 #include "edsp/planner/motion_client.h"
 #include "edsp/pr_mode_t.hpp"
+#include "edsp/reply_codes.h"
 
 namespace edsp::python {
 
 namespace {
 
+std::string CodeName(std::int8_t code) { return std::string(ReplyCodeName(code)); }
+
+// A reply that is not "done" as the exception of its family.
+void RaiseUnlessDone(std::int8_t code, const std::string& reason) {
+  switch (FamilyOf(code)) {
+    case ReplyFamily::kDone: return;
+    case ReplyFamily::kRefused: throw RequestError(ErrorFamily::kRefused, CodeName(code), reason);
+    case ReplyFamily::kFailed: throw RequestError(ErrorFamily::kFault, CodeName(code), reason);
+  }
+}
+
 py::dict ReplyDict(const motion_reply_t& r) {
   py::dict d;
   d["accepted"] = r.accepted != 0;
+  d["code"] = CodeName(r.code);
   d["reason"] = r.reason;
   d["duration_s"] = r.duration_s;
   d["start_delay_s"] = r.start_delay_s;
+  d["request_id"] = r.request_id;
+  return d;
+}
+
+py::dict ReplyDict(const reply_t& r) {
+  py::dict d;
+  d["node"] = r.node;
+  d["code"] = CodeName(r.code);
+  d["reason"] = r.reason;
   d["request_id"] = r.request_id;
   return d;
 }
@@ -72,7 +94,7 @@ class Client {
  public:
   Client(const std::string& group_file, const std::string& lcm_url, std::optional<std::int64_t> session_id,
          double answer_timeout_s, const std::string& client_name)
-      : client_(Transport(group_file, lcm_url), session_id, answer_timeout_s, client_name) {}
+      : client_(Connect(group_file, lcm_url, session_id, answer_timeout_s, client_name)) {}
 
   std::int64_t session_id() const { return client_.session_id(); }
 
@@ -94,7 +116,11 @@ class Client {
       const std::lock_guard<std::mutex> lock(mutex_);
       reply = client_.Send(r);
     }
-    if (!reply) return py::dict();
+    if (!reply) {
+      throw RequestError(ErrorFamily::kTimeout, "timeout",
+                         "no reply from the planner (is the group running, its planner serving requests?)");
+    }
+    RaiseUnlessDone(reply->code, reply->reason);
     return ReplyDict(*reply);
   }
 
@@ -109,28 +135,25 @@ class Client {
     return StatusDict(*s);
   }
 
-  // An operator's request to a node, as edsp-ctl sends it: (answered,
-  // confirmed, the node's words).
-  std::tuple<bool, bool, std::string> Arm() {
-    arm_t request{};
-    return Operator(channel::kArm, request, "actuator_bridge");
-  }
-  std::tuple<bool, bool, std::string> PrMode(const std::string& mode_text) {
+  // An operator's request to a node, as edsp-ctl sends it: the node's
+  // reply, or the exception of its family.
+  py::dict Arm() { return Operator(channel::kArm, arm_t{}); }
+  py::dict SetPrMode(const std::string& mode_text) {
     pr_mode_t request{};
     request.pr_mode = static_cast<std::int8_t>(ModeOf(mode_text));
-    return Operator(channel::kPrMode, request, "kinematics");
+    return Operator(channel::kPrMode, request);
   }
-  std::tuple<bool, bool, std::string> Calibration(const std::string& model_json, const std::string& origin,
-                                                  bool apply_ambiguous) {
+  py::dict Calibration(const std::string& model_json, const std::string& origin, bool apply_ambiguous) {
     calibration_t request{};
     request.model_json = model_json;
     request.origin = origin;
     request.apply_ambiguous = apply_ambiguous ? 1 : 0;
-    return Operator(channel::kCalibration, request, "kinematics");
+    return Operator(channel::kCalibration, request);
   }
 
-  // (outcome, message): "on_target", "halted", "fault" or "timeout".
-  std::pair<std::string, std::string> Wait(std::int64_t request_id, double timeout_s) {
+  // Until motion `request_id` (0: whatever runs) is on target (returned);
+  // else the exception of the outcome (halted, fault, timeout).
+  WaitOutcome Wait(std::int64_t request_id, double timeout_s) {
     constexpr double kSlice_s = 0.1;
     WaitResult r;
     bool seen = false;
@@ -147,28 +170,42 @@ class Client {
       if (r.outcome != WaitOutcome::kTimedOut || left <= kSlice_s) break;
       if (PyErr_CheckSignals() != 0) throw py::error_already_set();
     }
-    if (r.outcome == WaitOutcome::kTimedOut) r.message = fmt::format("not on target within {} s", timeout_s);
     switch (r.outcome) {
-      case WaitOutcome::kOnTarget: return {"on_target", ""};
-      case WaitOutcome::kHaltedOrStopped: return {"halted", r.message};
-      case WaitOutcome::kFault: return {"fault", r.message};
-      case WaitOutcome::kTimedOut: return {"timeout", r.message};
+      case WaitOutcome::kOnTarget: return r.outcome;
+      case WaitOutcome::kHaltedOrStopped: throw RequestError(ErrorFamily::kHalted, "halted", r.message);
+      case WaitOutcome::kFault: throw RequestError(ErrorFamily::kFault, "fault", r.message);
+      case WaitOutcome::kTimedOut: break;
     }
-    return {"timeout", r.message};
+    throw RequestError(ErrorFamily::kTimeout, "timeout", fmt::format("not on target within {} s", timeout_s));
   }
 
  private:
   template <typename Msg>
-  std::tuple<bool, bool, std::string> Operator(const char* channel, Msg request, const std::string& node) {
-    request.session_id = client_.session_id();
-    request.operator_name = client_.client_name();
-    OperatorAnswer answer;
+  py::dict Operator(const char* channel, const Msg& request) {
+    std::optional<reply_t> reply;
     {
       py::gil_scoped_release release;
       const std::lock_guard<std::mutex> lock(mutex_);
-      answer = SendOperatorRequest(client_.bus(), channel, request, node, client_.answer_timeout_s());
+      reply = client_.SendOperator(channel, request);
     }
-    return {answer.given, answer.confirmed, answer.reason};
+    if (!reply) {
+      throw RequestError(ErrorFamily::kTimeout, "timeout",
+                         fmt::format("no reply on EDSP_REPLY to {} within {} s (is the group running?)", channel,
+                                     client_.answer_timeout_s()));
+    }
+    RaiseUnlessDone(reply->code, reply->reason);
+    return ReplyDict(*reply);
+  }
+
+  // No group (or several) on the bus is a wait that ran out.
+  static MotionClient Connect(const std::string& group_file, const std::string& lcm_url,
+                              std::optional<std::int64_t> session_id, double answer_timeout_s,
+                              const std::string& client_name) {
+    try {
+      return MotionClient(Transport(group_file, lcm_url), session_id, answer_timeout_s, client_name);
+    } catch (const SessionNotFound& e) {
+      throw RequestError(ErrorFamily::kTimeout, "no_session", e.what());
+    }
   }
 
   static TransportConfig Transport(const std::string& group_file, const std::string& lcm_url) {
@@ -194,7 +231,7 @@ void BindMotion(py::module_& m) {
       .def("status", &Client::Status)
       .def("wait", &Client::Wait)
       .def("arm", &Client::Arm)
-      .def("pr_mode", &Client::PrMode)
+      .def("pr_mode", &Client::SetPrMode)
       .def("calibration", &Client::Calibration);
   m.attr("KIND_MOVE") = motion_request_t::KIND_MOVE;
   m.attr("KIND_CHECK") = motion_request_t::KIND_CHECK;
@@ -204,6 +241,11 @@ void BindMotion(py::module_& m) {
   m.attr("KIND_FRAME") = motion_request_t::KIND_FRAME;
   m.attr("KIND_PIVOT") = motion_request_t::KIND_PIVOT;
   m.attr("KIND_LIMITS") = motion_request_t::KIND_LIMITS;
+  py::enum_<WaitOutcome>(m, "WaitOutcome", "How a wait for a motion ended (planner/motion_client.h).")
+      .value("ON_TARGET", WaitOutcome::kOnTarget)
+      .value("HALTED_OR_STOPPED", WaitOutcome::kHaltedOrStopped)
+      .value("FAULT", WaitOutcome::kFault)
+      .value("TIMED_OUT", WaitOutcome::kTimedOut);
 }
 
 }  // namespace edsp::python

@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include "edsp/actuator_bridge/bridge_loop.h"
+
+#include "edsp/reply_t.hpp"
 #include "edsp/kinematics/config.h"
 #include "counting_clock.h"  // tests/support
 #include "memq_bus.h"
@@ -75,27 +77,34 @@ TEST(BridgeLoop, ACommandOnTheBusReachesTheDrivesAtTheNextCycleAndIsReportedAsAL
   EXPECT_EQ(report.at("deadline_misses").get<int>(), 3);
 }
 
-TEST(BridgeLoop, ALatchedBridgeIsReArmedOverEdspArmAndAnswersOnEdspFault) {
+TEST(BridgeLoop, ALatchedBridgeIsReArmedOverEdspArmAndAnswersOnEdspReply) {
   LoopFixture f;
+  std::vector<reply_t> replies;
+  f.bus.Subscribe<reply_t>("EDSP_REPLY", [&](const reply_t& r) { replies.push_back(r); });
   f.bus.Publish("EDSP_LEG_COMMAND", f.Command(0.0, 1));
   f.bus.Handle(std::chrono::milliseconds(100));
   const std::int64_t t = UtimeNow();
   for (int k = 0; k < 60; ++k) f.loop.RunCycle(t + k * 1000, 0);  // 60 ms without a command
   ASSERT_TRUE(f.bridge.latched());
+  const std::size_t faults_before = f.faults.size();
   arm_t arm{};
   arm.utime = UtimeNow();
   arm.seq = 1;
   arm.session_id = 5;
+  arm.request_id = 99;
   arm.operator_name = "test";
   f.bus.Publish("EDSP_ARM", arm);
   for (int k = 0; k < 3 && f.bridge.latched(); ++k) f.bus.Handle(std::chrono::milliseconds(100));
   EXPECT_FALSE(f.bridge.latched());
   f.bus.Handle(std::chrono::milliseconds(10));
-  bool answered = false;
-  for (const fault_t& fault : f.faults) {
-    answered |= fault.reason.find("re-armed by test") != std::string::npos;
+  ASSERT_EQ(replies.size(), 1u);
+  EXPECT_EQ(replies[0].request_id, 99);
+  EXPECT_EQ(replies[0].code, reply_t::CODE_DONE);
+  EXPECT_NE(replies[0].reason.find("re-armed by test"), std::string::npos) << replies[0].reason;
+  for (std::size_t k = faults_before; k < f.faults.size(); ++k) {
+    EXPECT_EQ(f.faults[k].reason.find("re-armed by"), std::string::npos)
+        << "confirmed as a fault: " << f.faults[k].reason;
   }
-  EXPECT_TRUE(answered);
 }
 
 // Every cycle overran (the clock never leaves time to wait in): the

@@ -192,62 +192,65 @@ TEST_F(BridgeTour, ARestartedBridgeLeavesItsStartupHoldOnlyByAReArm) {
   EXPECT_EQ(State(), "rejoining");
 }
 
-// Each call a new request, as edsp-ctl makes them (its own utime).
-arm_t Arm(std::int64_t session_id) {
-  static std::int64_t utime = 0;
+// Each call a new request (a fresh id), stamped at `utime` by its sender.
+arm_t Arm(std::int64_t session_id, std::int64_t utime) {
+  static std::int64_t id = 0;
   arm_t arm{};
-  arm.utime = ++utime;
+  arm.utime = utime;
   arm.seq = 1;
   arm.session_id = session_id;
+  arm.request_id = ++id;
   arm.operator_name = "tester";
   return arm;
 }
 
-// EDSP_ARM as the bridge answers it (edsp-ctl waits for that answer).
+// EDSP_ARM as the bridge answers it (edsp-ctl waits for that reply).
 TEST_F(BridgeTour, AnArmFromAnotherSessionIsIgnoredAndSaysSo) {
   ASSERT_TRUE(Send(0.0));
   Cycles(60);
   ASSERT_EQ(State(), "latched");
-  const fault_t answer = bridge_.HandleArm(Arm(10), t_);
-  EXPECT_EQ(answer.code, static_cast<std::int32_t>(FaultCode::kForeignSession));
-  EXPECT_EQ(answer.severity, fault_t::SEVERITY_WARNING);
-  EXPECT_NE(answer.reason.find("session 10 ignored (this group is session 9)"), std::string::npos) << answer.reason;
+  const reply_t answer = bridge_.HandleArm(Arm(10, t_), t_).reply;
+  EXPECT_EQ(answer.code, reply_t::CODE_OTHER_SESSION);
+  EXPECT_EQ(answer.request_channel, "EDSP_ARM");
+  EXPECT_NE(answer.reason.find("from session 10 ignored: this group is session 9"), std::string::npos) << answer.reason;
   EXPECT_EQ(State(), "latched");
 }
 
 TEST_F(BridgeTour, AnArmFromTheGroupReArmsALatchedBridgeAndConfirms) {
   ASSERT_TRUE(Send(0.0));
-  const fault_t not_latched = bridge_.HandleArm(Arm(9), t_);
-  EXPECT_EQ(not_latched.code, static_cast<std::int32_t>(FaultCode::kOperatorAction));
+  const reply_t not_latched = bridge_.HandleArm(Arm(9, t_), t_).reply;
+  EXPECT_EQ(not_latched.code, reply_t::CODE_DONE);
   EXPECT_NE(not_latched.reason.find("(was not latched)"), std::string::npos) << not_latched.reason;
   EXPECT_EQ(State(), "following");
   Cycles(60);
-  const fault_t answer = bridge_.HandleArm(Arm(9), t_);
-  EXPECT_EQ(answer.code, static_cast<std::int32_t>(FaultCode::kOperatorAction));
-  EXPECT_EQ(answer.severity, fault_t::SEVERITY_INFO);
+  const reply_t answer = bridge_.HandleArm(Arm(9, t_), t_).reply;
+  EXPECT_EQ(answer.code, reply_t::CODE_DONE);
+  EXPECT_EQ(answer.node, "actuator_bridge");
   EXPECT_NE(answer.reason.find("re-armed by tester; rejoining the command stream at 0.020 m/s"), std::string::npos)
       << answer.reason;
   EXPECT_EQ(State(), "armed");
 }
 
-// edsp-ctl sends its request again until it hears the answer: a copy of a
+// edsp-ctl sends its request again until it hears the reply: a copy of a
 // re-arm is answered as the re-arm was (not "was not latched"), and nothing
-// is re-armed twice; a late copy of an older request changes nothing.
+// is re-armed twice; a late older request changes nothing.
 TEST_F(BridgeTour, ACopyOfAReArmGetsTheSameAnswerAndReArmsNothingMore) {
   ASSERT_TRUE(Send(0.0));
   Cycles(60);
   ASSERT_EQ(State(), "latched");
-  const arm_t older = Arm(9);
-  const arm_t arm = Arm(9);
-  const fault_t answer = bridge_.HandleArm(arm, t_);
-  ASSERT_NE(answer.reason.find("rejoining the command stream"), std::string::npos) << answer.reason;
-  const fault_t copy = bridge_.HandleArm(arm, t_ + 500000);
-  EXPECT_EQ(copy.reason, answer.reason);
-  EXPECT_EQ(copy.utime, answer.utime);
+  const arm_t older = Arm(9, t_ - 100000);
+  const arm_t arm = Arm(9, t_);
+  const auto answer = bridge_.HandleArm(arm, t_);
+  ASSERT_TRUE(answer.acted);
+  ASSERT_NE(answer.reply.reason.find("rejoining the command stream"), std::string::npos) << answer.reply.reason;
+  const auto copy = bridge_.HandleArm(arm, t_ + 500000);
+  EXPECT_FALSE(copy.acted);
+  EXPECT_EQ(copy.reply.reason, answer.reply.reason);
+  EXPECT_EQ(copy.reply.utime, answer.reply.utime);
   EXPECT_EQ(State(), "armed");
-  const fault_t late = bridge_.HandleArm(older, t_ + 600000);
-  EXPECT_EQ(late.code, static_cast<std::int32_t>(FaultCode::kBadRequest));
-  EXPECT_NE(late.reason.find("older than the one acted on"), std::string::npos) << late.reason;
+  const auto late = bridge_.HandleArm(older, t_ + 600000);
+  EXPECT_EQ(late.reply.code, reply_t::CODE_STALE);
+  EXPECT_NE(late.reply.reason.find("before the last one acted on"), std::string::npos) << late.reply.reason;
   EXPECT_EQ(State(), "armed");
 }
 
@@ -258,9 +261,8 @@ TEST_F(BridgeTour, AnArmThatCannotResetTheDrivesLeavesTheBridgeLatchedAndSaysWhy
   backend_.resettable = false;
   Cycles(1);
   ASSERT_EQ(State(), "latched");
-  const fault_t answer = bridge_.HandleArm(Arm(9), t_);
-  EXPECT_EQ(answer.code, static_cast<std::int32_t>(FaultCode::kBackend));
-  EXPECT_EQ(answer.severity, fault_t::SEVERITY_ERROR);
+  const reply_t answer = bridge_.HandleArm(Arm(9, t_), t_).reply;
+  EXPECT_EQ(answer.code, reply_t::CODE_FAILED);
   EXPECT_NE(answer.reason.find("fault 7500h"), std::string::npos) << answer.reason;
   EXPECT_EQ(State(), "latched");
 }

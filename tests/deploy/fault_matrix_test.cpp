@@ -34,6 +34,7 @@
 #include "edsp/node/runtime.h"
 #include "edsp/node_status_t.hpp"
 #include "edsp/pose_setpoint_t.hpp"
+#include "edsp/reply_t.hpp"
 #include "edsp/rig_truth_t.hpp"
 #include "edsp/tracker_point_t.hpp"
 #include "edsp/transport/seq_gap.h"
@@ -252,6 +253,13 @@ Analysis Analyse(const std::string& log_path, const Timeline& t) {
     } else if (e.channel == "EDSP_SETPOINT") {
       pose_setpoint_t m;
       if (m.decode(e.data.data(), 0, size) >= 0) a.last_setpoint = m;
+    } else if (e.channel == "EDSP_REPLY") {
+      // The first re-arm (an unanswered one is retried).
+      reply_t r;
+      if (r.decode(e.data.data(), 0, size) >= 0 && r.node == "actuator_bridge" && r.code == reply_t::CODE_DONE &&
+          !a.armed_utime) {
+        a.armed_utime = r.utime;
+      }
     } else if (e.channel == "EDSP_FAULT") {
       fault_t f;
       if (f.decode(e.data.data(), 0, size) < 0) continue;
@@ -262,11 +270,7 @@ Analysis Analyse(const std::string& log_path, const Timeline& t) {
       if (f.node == "launcher" && f.utime >= t.fault_utime && !a.launcher_report_utime)
         a.launcher_report_utime = f.utime;
       if (f.node == "launcher" && f.reason.find("restarted as pid") != std::string::npos) a.restarted_utime = f.utime;
-      // The first re-arm (an unanswered one is retried) and the rejoin after it.
-      if (f.node == "actuator_bridge" && f.code == static_cast<std::int32_t>(FaultCode::kOperatorAction) &&
-          !a.armed_utime) {
-        a.armed_utime = f.utime;
-      }
+      // The rejoin after the first re-arm.
       if (f.node == "actuator_bridge" && f.reason.find("rejoined the command stream") != std::string::npos &&
           a.armed_utime && !a.rejoined_utime) {
         a.rejoined_utime = f.utime;

@@ -36,12 +36,14 @@ struct CtlResult {
 
 // edsp-ctl on the group's bus. The waits are the machine's, not what is
 // tested: a loaded CI host may take seconds to answer.
-CtlResult Ctl(const std::string& dir, const std::string& args) {
+// The common options after the command, or before it (as git users type them).
+CtlResult Ctl(const std::string& dir, const std::string& args, bool options_first = false) {
   static int n = 0;
   const std::string out = fmt::format("{}/ctl{}.out", dir, ++n), err = fmt::format("{}/ctl{}.err", dir, n);
-  const int status = std::system(
-      fmt::format("{} {} --answer-timeout-s 30 --group {}/group.toml >{} 2>{}", EDSP_CTL_BINARY, args, dir, out, err)
-          .c_str());
+  const std::string common = fmt::format("--answer-timeout-s 30 --group {}/group.toml", dir);
+  const int status = std::system(fmt::format("{} {} {} >{} 2>{}", EDSP_CTL_BINARY, options_first ? common : args,
+                                             options_first ? args : common, out, err)
+                                     .c_str());
   CtlResult r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   for (auto [path, text] : {std::pair{out, &r.out}, std::pair{err, &r.err}}) {
@@ -76,7 +78,7 @@ TEST(MotionServiceGroup, AnOperatorsScriptThroughEdspCtl) {
   const GroupRun run = LaunchSimGroup("motion-script", "signed", kIdlePlanner, [&](const std::string& dir) {
     GroupWatch watch(kGroupLcmUrl, "");
     watch.WaitForSetpoint([](const pose_setpoint_t& s) { return s.session_id == 77; }, std::chrono::seconds(60));
-    const CtlResult idle = Ctl(dir, "status --json");
+    const CtlResult idle = Ctl(dir, "status --json", true);
     ASSERT_EQ(idle.exit_code, 0) << idle.err;
     EXPECT_EQ(nlohmann::json::parse(idle.out)["state"], "idle") << idle.out;
     ASSERT_EQ(Ctl(dir, "frame fixture --pose 0.05,-0.02,1.55,0,0,0.3").exit_code, 0);
@@ -92,6 +94,7 @@ TEST(MotionServiceGroup, AnOperatorsScriptThroughEdspCtl) {
     const CtlResult check = Ctl(dir, "check --pose 0,0,3.0,0,0,0 --json");
     EXPECT_EQ(check.exit_code, 2) << check.err;
     EXPECT_FALSE(nlohmann::json::parse(check.out)["accepted"].get<bool>());
+    EXPECT_EQ(nlohmann::json::parse(check.out)["code"], "out_of_limits") << check.out;
     EXPECT_NE(check.err.find("outside the workspace"), std::string::npos) << check.err;
     EXPECT_EQ(Ctl(dir, "move --pose nan,0,1.5,0,0,0").exit_code, 1);
     const CtlResult frame = Ctl(dir, "move --frame nowhere --pose 0,0,0,0,0,0");

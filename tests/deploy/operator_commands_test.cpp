@@ -25,6 +25,7 @@
 #include "edsp/node/fault.h"
 #include "edsp/node/runtime.h"
 #include "edsp/pr_mode_t.hpp"
+#include "edsp/reply_t.hpp"
 #include "edsp/transport/bus.h"
 #include "edsp/sim/dwell_errors.h"
 #include "scratch_dir.h"
@@ -53,9 +54,8 @@ bool Decode(const LogEvent& e, Msg* m) {
   return m->decode(e.data.data(), 0, static_cast<int>(e.data.size())) >= 0;
 }
 
-// A request or its answer lost on the way (one UDP datagram among the
-// group's kHz traffic: a fresh-clone CI run saw the kinematics answer within
-// 50 µs and edsp-ctl never hear it): edsp-ctl sends the same request again
+// A request or its reply lost on the way (one UDP datagram among the
+// group's kHz traffic): edsp-ctl sends the same request (same id) again
 // until answered. Here a stand-in node loses the first two copies.
 TEST(OperatorCommands, EdspCtlSendsTheRequestAgainUntilItIsAnswered) {
   TransportConfig config;
@@ -65,8 +65,15 @@ TEST(OperatorCommands, EdspCtlSendsTheRequestAgainUntilItIsAnswered) {
   node.Subscribe<pr_mode_t>("EDSP_PR_MODE", [&](const pr_mode_t& r) {
     received.push_back(r);
     if (received.size() < 3) return;  // lost
-    node.Publish("EDSP_FAULT", MakeFault("kinematics", "EDSP_PR_MODE", FaultCode::kOperatorAction,
-                                         fault_t::SEVERITY_INFO, "PR mode none → signed (stand-in)", UtimeNow()));
+    reply_t reply{};
+    reply.utime = UtimeNow();
+    reply.session_id = r.session_id;
+    reply.request_id = r.request_id;
+    reply.node = "kinematics";
+    reply.request_channel = "EDSP_PR_MODE";
+    reply.code = reply_t::CODE_DONE;
+    reply.reason = "PR mode none → signed (stand-in)";
+    node.Publish("EDSP_REPLY", reply);
   });
   std::string out;
   std::atomic<int> status{-1};
@@ -87,8 +94,8 @@ TEST(OperatorCommands, EdspCtlSendsTheRequestAgainUntilItIsAnswered) {
   EXPECT_NE(out.find("none → signed (stand-in)"), std::string::npos) << out;
   ASSERT_GE(received.size(), 3u);
   for (const pr_mode_t& r : received) {  // copies, not new requests
-    EXPECT_EQ(r.utime, received[0].utime);
-    EXPECT_EQ(r.seq, received[0].seq);
+    EXPECT_EQ(r.request_id, received[0].request_id);
+    EXPECT_NE(r.request_id, 0);
     EXPECT_EQ(r.session_id, 77);
   }
 }
@@ -329,10 +336,14 @@ TEST(OperatorCommands, LatchedBridgeResumesOnlyWhenReArmed) {
   std::int64_t armed_utime = -1, refused_before = 0, refused_after = 0;
   leg_state_t last_state{};
   while (reader.Next(&event)) {
-    if (event.channel == "EDSP_FAULT") {
+    if (event.channel == "EDSP_REPLY") {
+      reply_t r;
+      if (Decode(event, &r) && r.node == "actuator_bridge" && r.code == reply_t::CODE_DONE && armed_utime < 0) {
+        armed_utime = r.utime;
+      }
+    } else if (event.channel == "EDSP_FAULT") {
       fault_t f;
       if (!Decode(event, &f) || f.node != "actuator_bridge") continue;
-      if (f.code == static_cast<std::int32_t>(FaultCode::kOperatorAction)) armed_utime = f.utime;
       if (f.reason.find("re-arm required") != std::string::npos) {
         (armed_utime < 0 ? refused_before : refused_after) += 1;
       }
@@ -341,7 +352,7 @@ TEST(OperatorCommands, LatchedBridgeResumesOnlyWhenReArmed) {
     }
   }
   EXPECT_TRUE(successor_seen) << "the restarted kinematics never published";
-  ASSERT_GT(armed_utime, 0) << "no re-arm confirmation in the log";
+  ASSERT_GT(armed_utime, 0) << "no re-arm reply in the log";
   EXPECT_GT(refused_before, 5) << "the restarted kinematics' commands must be refused until re-armed";
   EXPECT_EQ(refused_after, 0) << "after the re-arm the commands are accepted";
   for (int i = 0; i < 6; ++i) EXPECT_EQ(last_state.drive_status[i], leg_state_t::DRIVE_ENABLED) << "leg " << i + 1;

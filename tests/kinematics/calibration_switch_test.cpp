@@ -55,8 +55,11 @@ pose_setpoint_t Setpoint(int k) {
 
 leg_command_t SwitchCommand(KinematicsNode& node, int k) { return test_support::CommandFor(node, Setpoint(k)); }
 
+// Each call a new request (a fresh id).
 calibration_t Request(const std::string& json, std::int64_t utime, std::int64_t session_id = 9) {
+  static std::int64_t id = 0;
   calibration_t r{};
+  r.request_id = ++id;
   r.utime = utime;
   r.seq = 1;
   r.session_id = session_id;
@@ -78,8 +81,8 @@ double RunSwitch(KinematicsNode& node, bool to_calibrated, int at, int n, const 
   std::array<double, kNumLegs> last_correction{};  // switched − nominal, the cycle before
   for (int k = 0; k < n; ++k) {
     if (k == at) {
-      const fault_t answer = node.HandleCalibrationRequest(request, Setpoint(k).utime);
-      EXPECT_EQ(answer.code, static_cast<std::int32_t>(FaultCode::kOperatorAction)) << answer.reason;
+      const reply_t answer = node.HandleCalibrationRequest(request, Setpoint(k).utime).reply;
+      EXPECT_EQ(answer.code, reply_t::CODE_DONE) << answer.reason;
       EXPECT_TRUE(node.calibration_blending());
     }
     const leg_command_t c = SwitchCommand(node, k), a = SwitchCommand(without, k), b = SwitchCommand(with, k);
@@ -135,8 +138,8 @@ Vector3 EstimatedA(KinematicsNode& node, const leg_command_t& lengths) {
 // blend, the calibrated node's.
 TEST(CalibrationSwitch, ForwardKinematicsBlendsWithTheSwitch) {
   KinematicsNode node = MakeNode(std::nullopt), with = MakeNode(Model()), without = MakeNode(std::nullopt);
-  ASSERT_EQ(node.HandleCalibrationRequest(Request(kModelJson, kSwitchStart), kSwitchStart).severity,
-            fault_t::SEVERITY_INFO);
+  ASSERT_EQ(node.HandleCalibrationRequest(Request(kModelJson, kSwitchStart), kSwitchStart).reply.code,
+            reply_t::CODE_DONE);
   for (int k = 0; k <= 100; ++k)
     SwitchCommand(node, k), SwitchCommand(with, k), SwitchCommand(without, k);  // 100 of 200 ms
   const leg_command_t encoders = SwitchCommand(without, 101);
@@ -155,8 +158,8 @@ TEST(CalibrationSwitch, ForwardKinematicsBlendsWithTheSwitch) {
 // never overflows (the sanitized build checks that).
 TEST(CalibrationSwitch, JumpsInSetpointTimeNeverJumpTheCorrection) {
   KinematicsNode node = MakeNode(std::nullopt), without = MakeNode(std::nullopt), with = MakeNode(Model());
-  ASSERT_EQ(node.HandleCalibrationRequest(Request(kModelJson, kSwitchStart), kSwitchStart).severity,
-            fault_t::SEVERITY_INFO);
+  ASSERT_EQ(node.HandleCalibrationRequest(Request(kModelJson, kSwitchStart), kSwitchStart).reply.code,
+            reply_t::CODE_DONE);
   const std::int64_t stamps[] = {kSwitchStart,
                                  kSwitchStart + 1000,
                                  kSwitchStart - 40000,
@@ -186,7 +189,7 @@ TEST(CalibrationSwitch, JumpsInSetpointTimeNeverJumpTheCorrection) {
 }
 
 std::string Answer(KinematicsNode& node, const calibration_t& request) {
-  return node.HandleCalibrationRequest(request, request.utime).reason;
+  return node.HandleCalibrationRequest(request, request.utime).reply.reason;
 }
 
 // The confirmation names what is switched from and to (file, hash,
@@ -196,9 +199,9 @@ std::string Answer(KinematicsNode& node, const calibration_t& request) {
 TEST(CalibrationSwitch, RequestsAreConfirmedNamingTheModelOrRefusedNamingWhy) {
   KinematicsNode node = MakeNode(std::nullopt);
   const calibration_t on = Request(kModelJson, kSwitchStart);
-  const fault_t confirmed = node.HandleCalibrationRequest(on, kSwitchStart);
-  EXPECT_EQ(confirmed.severity, fault_t::SEVERITY_INFO);
-  EXPECT_EQ(confirmed.channel, "EDSP_CALIBRATION");
+  const reply_t confirmed = node.HandleCalibrationRequest(on, kSwitchStart).reply;
+  EXPECT_EQ(confirmed.code, reply_t::CODE_DONE);
+  EXPECT_EQ(confirmed.request_channel, "EDSP_CALIBRATION");
   EXPECT_NE(confirmed.reason.find("calibration none → rig7.json (" + Model().hash +
                                   "): applies leg_offset, lead_error (requested by tester), blended over 200 ms"),
             std::string::npos)
@@ -217,12 +220,12 @@ TEST(CalibrationSwitch, RequestsAreConfirmedNamingTheModelOrRefusedNamingWhy) {
   // than the next genuine one does not make that one "older".
   KinematicsNode fresh = MakeNode(std::nullopt);
   EXPECT_NE(Answer(fresh, Request("", kSwitchStart + 2000000, 4)).find("from session 4"), std::string::npos);
-  EXPECT_EQ(fresh.HandleCalibrationRequest(Request(kModelJson, kSwitchStart + 1000000), kSwitchStart).severity,
-            fault_t::SEVERITY_INFO);
+  EXPECT_EQ(fresh.HandleCalibrationRequest(Request(kModelJson, kSwitchStart + 1000000), kSwitchStart).reply.code,
+            reply_t::CODE_DONE);
 
   const std::string in_force = "in force stays rig7.json (" + Model().hash + ")";
   const std::string other_session = Answer(node, Request("", kSwitchStart + 300000, 4));
-  EXPECT_NE(other_session.find("from session 4 (this group is session 9)"), std::string::npos) << other_session;
+  EXPECT_NE(other_session.find("from session 4 ignored: this group is session 9"), std::string::npos) << other_session;
   EXPECT_NE(other_session.find(in_force), std::string::npos) << other_session;
   const std::string not_json = Answer(node, Request("{", kSwitchStart + 400000));
   EXPECT_NE(not_json.find("rig7.json: not JSON"), std::string::npos) << not_json;
@@ -235,7 +238,7 @@ TEST(CalibrationSwitch, RequestsAreConfirmedNamingTheModelOrRefusedNamingWhy) {
                            kSwitchStart + 600000));
   EXPECT_NE(elsewhere.find("another platform"), std::string::npos) << elsewhere;
   const std::string late = Answer(node, Request("", kSwitchStart - 1));
-  EXPECT_NE(late.find("older than the one acted on"), std::string::npos) << late;
+  EXPECT_NE(late.find("before the last one acted on"), std::string::npos) << late;
   EXPECT_FALSE(node.calibration_blending());
   const calibration::CalibrationModel* kept = node.calibration();
   ASSERT_NE(kept, nullptr);

@@ -23,6 +23,7 @@ struct Fixture {
     bus.Subscribe<platform_state_t>("EDSP_PLATFORM_STATE", [this](const platform_state_t& s) { states.push_back(s); });
     bus.Subscribe<platform_config_t>("EDSP_CONFIG", [this](const platform_config_t& c) { configs.push_back(c); });
     bus.Subscribe<fault_t>("EDSP_FAULT", [this](const fault_t& f) { faults.push_back(f); });
+    bus.Subscribe<reply_t>("EDSP_REPLY", [this](const reply_t& r) { replies.push_back(r); });
   }
   static KinematicsNodeOptions NodeOptions() {
     KinematicsNodeOptions o;
@@ -57,6 +58,7 @@ struct Fixture {
   std::vector<platform_state_t> states;
   std::vector<platform_config_t> configs;
   std::vector<fault_t> faults;
+  std::vector<reply_t> replies;
 };
 
 TEST(KinematicsLoop, ASetpointBecomesTheModelsCompensatedLegCommand) {
@@ -125,14 +127,37 @@ TEST(KinematicsLoop, AnOperatorsPrModeRequestSwitchesTheModeAndIsConfirmed) {
   request.utime = UtimeNow();
   request.seq = 1;
   request.session_id = kSession;
+  request.request_id = 11;
   request.pr_mode = leg_command_t::PR_NONE;
   request.operator_name = "tester";
   f.bus.Publish("EDSP_PR_MODE", request);
   f.HandleAll();
   EXPECT_EQ(f.node.pr_mode(), PrMode::kNone);
-  ASSERT_EQ(f.faults.size(), 1u);
-  EXPECT_EQ(f.faults[0].severity, fault_t::SEVERITY_INFO);
-  EXPECT_EQ(f.faults[0].code, static_cast<std::int32_t>(FaultCode::kOperatorAction));
+  ASSERT_EQ(f.replies.size(), 1u);
+  EXPECT_EQ(f.replies[0].code, reply_t::CODE_DONE);
+  EXPECT_EQ(f.replies[0].request_id, 11);
+  EXPECT_EQ(f.replies[0].node, "kinematics");
+  EXPECT_TRUE(f.faults.empty()) << "a request is answered on EDSP_REPLY, never confirmed as a fault";
+}
+
+// Live, a request stamped an hour ago (a log played onto a running group)
+// switches nothing; replayed (--replay), it is judged by its own clock, as
+// the log's setpoints are, and the operator's switch is made again.
+TEST(KinematicsLoop, AnOldPrModeRequestIsStaleLiveAndTakenInAReplay) {
+  pr_mode_t request{};
+  request.utime = UtimeNow() - 3600 * 1000000LL;
+  request.session_id = kSession;
+  request.request_id = 13;
+  request.pr_mode = leg_command_t::PR_NONE;
+  request.operator_name = "tester";
+  for (const bool replay : {false, true}) {
+    Fixture f(replay);
+    f.bus.Publish("EDSP_PR_MODE", request);
+    f.HandleAll();
+    ASSERT_EQ(f.replies.size(), 1u) << "replay " << replay;
+    EXPECT_EQ(f.replies[0].code, replay ? reply_t::CODE_DONE : reply_t::CODE_STALE) << f.replies[0].reason;
+    EXPECT_EQ(f.node.pr_mode(), replay ? PrMode::kNone : PrMode::kSigned);
+  }
 }
 
 // EDSP_CALIBRATION carries the model file's text: the node switches to it
@@ -143,6 +168,7 @@ TEST(KinematicsLoop, AnOperatorsCalibrationRequestSwitchesTheCalibrationAndIsCon
   request.utime = UtimeNow();
   request.seq = 1;
   request.session_id = kSession;
+  request.request_id = 12;
   request.operator_name = "tester";
   request.origin = "rig7.json";
   request.model_json = R"({"format": "edsp-gap-model/1", "effects": [{"name": "leg_offset",
@@ -152,10 +178,9 @@ TEST(KinematicsLoop, AnOperatorsCalibrationRequestSwitchesTheCalibrationAndIsCon
   const calibration::CalibrationModel* in_force = f.node.calibration();
   ASSERT_NE(in_force, nullptr);
   EXPECT_EQ(in_force->origin, "rig7.json");
-  ASSERT_EQ(f.faults.size(), 1u);
-  EXPECT_EQ(f.faults[0].severity, fault_t::SEVERITY_INFO);
-  EXPECT_EQ(f.faults[0].channel, "EDSP_CALIBRATION");
-  EXPECT_EQ(f.faults[0].code, static_cast<std::int32_t>(FaultCode::kOperatorAction));
+  ASSERT_EQ(f.replies.size(), 1u);
+  EXPECT_EQ(f.replies[0].request_channel, "EDSP_CALIBRATION");
+  EXPECT_EQ(f.replies[0].code, reply_t::CODE_DONE);
   EXPECT_TRUE(f.node.calibration_blending());  // from the next setpoint on
   f.loop.Poll(UtimeNow());
   f.HandleAll();

@@ -53,44 +53,48 @@ TEST(KinematicsNode, CommandIsTheCompensatedLengthAndItsMotorAngle) {
   EXPECT_EQ(command.session_id, 9);
 }
 
+// Each call a new request (a fresh id).
 pr_mode_t ModeRequest(std::int8_t mode, std::int64_t utime, std::int64_t session_id = 9) {
+  static std::int64_t id = 0;
   pr_mode_t r{};
   r.utime = utime;
   r.seq = 1;
   r.session_id = session_id;
+  r.request_id = ++id;
   r.pr_mode = mode;
   r.operator_name = "tester";
   return r;
 }
 
-// EDSP_PR_MODE as the node answers it (edsp-ctl waits for that answer and
-// resends until it comes): the switch confirmed once, every copy answered
-// alike (not "signed → signed"), a late copy of an older request refused
-// without switching back, another session or an unknown mode ignored.
+// EDSP_PR_MODE as the node answers it (edsp-ctl waits for that reply and
+// resends until it comes): the switch made once, every copy answered alike
+// (not "signed → signed"), a late older request refused without switching
+// back, another session or an unknown mode refused with their codes.
 TEST(KinematicsNode, PrModeRequestsAreConfirmedOnceAndCopiesChangeNothing) {
   KinematicsNode node = MakeNode(PrMode::kNone);
   const pr_mode_t to_signed = ModeRequest(leg_command_t::PR_SIGNED, kNow);
-  const fault_t answer = node.HandlePrModeRequest(to_signed, kNow);
-  EXPECT_EQ(answer.code, static_cast<std::int32_t>(FaultCode::kOperatorAction));
-  EXPECT_EQ(answer.severity, fault_t::SEVERITY_INFO);
-  EXPECT_EQ(answer.channel, "EDSP_PR_MODE");
+  const reply_t answer = node.HandlePrModeRequest(to_signed, kNow).reply;
+  EXPECT_EQ(answer.code, reply_t::CODE_DONE);
+  EXPECT_EQ(answer.request_channel, "EDSP_PR_MODE");
   EXPECT_NE(answer.reason.find("none → signed (requested by tester), blended over 500 ms"), std::string::npos)
       << answer.reason;
   EXPECT_EQ(node.pr_mode(), PrMode::kSigned);
-  EXPECT_EQ(node.HandlePrModeRequest(to_signed, kNow + 500000).reason, answer.reason);
+  EXPECT_EQ(node.HandlePrModeRequest(to_signed, kNow + 500000).reply.reason, answer.reason);
 
   const pr_mode_t to_none = ModeRequest(leg_command_t::PR_NONE, kNow + 1000000);
-  EXPECT_NE(node.HandlePrModeRequest(to_none, kNow + 1000000).reason.find("signed → none"), std::string::npos);
-  const fault_t late = node.HandlePrModeRequest(to_signed, kNow + 1100000);
-  EXPECT_EQ(late.code, static_cast<std::int32_t>(FaultCode::kBadRequest));
-  EXPECT_NE(late.reason.find("older than the one acted on"), std::string::npos) << late.reason;
+  EXPECT_NE(node.HandlePrModeRequest(to_none, kNow + 1000000).reply.reason.find("signed → none"), std::string::npos);
+  const reply_t late =
+      node.HandlePrModeRequest(ModeRequest(leg_command_t::PR_SIGNED, kNow + 900000), kNow + 1100000).reply;
+  EXPECT_EQ(late.code, reply_t::CODE_STALE);
+  EXPECT_NE(late.reason.find("before the last one acted on"), std::string::npos) << late.reason;
   EXPECT_EQ(node.pr_mode(), PrMode::kNone);
 
-  const fault_t foreign = node.HandlePrModeRequest(ModeRequest(leg_command_t::PR_SIGNED, kNow + 2000000, 10), kNow);
-  EXPECT_EQ(foreign.code, static_cast<std::int32_t>(FaultCode::kForeignSession));
-  EXPECT_NE(foreign.reason.find("session 10 ignored (this group is session 9)"), std::string::npos) << foreign.reason;
-  const fault_t unknown = node.HandlePrModeRequest(ModeRequest(7, kNow + 3000000), kNow);
-  EXPECT_EQ(unknown.code, static_cast<std::int32_t>(FaultCode::kBadRequest));
+  const reply_t foreign =
+      node.HandlePrModeRequest(ModeRequest(leg_command_t::PR_SIGNED, kNow + 2000000, 10), kNow + 2000000).reply;
+  EXPECT_EQ(foreign.code, reply_t::CODE_OTHER_SESSION);
+  EXPECT_NE(foreign.reason.find("session 10 ignored: this group is session 9"), std::string::npos) << foreign.reason;
+  const reply_t unknown = node.HandlePrModeRequest(ModeRequest(7, kNow + 3000000), kNow + 3000000).reply;
+  EXPECT_EQ(unknown.code, reply_t::CODE_INVALID);
   EXPECT_NE(unknown.reason.find("PR mode 7 from tester is not 0..3; mode stays none"), std::string::npos)
       << unknown.reason;
   EXPECT_EQ(node.pr_mode(), PrMode::kNone);

@@ -55,6 +55,25 @@ TEST(ChannelTable, TheMessageTypesAreTheOnesLcmGenBuilds) {
   EXPECT_EQ(built, MessageTypeNames());
 }
 
+// The older layouts a log may hold: built from lcmtypes/legacy/, and each
+// the older layout of a type still carried (its name and "_v1").
+TEST(ChannelTable, TheLegacyTypesAreTheOnesLcmGenBuildsAndEachIsAnOlderCarriedType) {
+  const std::string cmake = Slurp(EDSP_SOURCE_DIR "/lcmtypes/CMakeLists.txt");
+  std::smatch list;
+  ASSERT_TRUE(std::regex_search(cmake, list, std::regex(R"(set\(EDSP_LCM_LEGACY_TYPES([^)]*)\))")));
+  std::set<std::string> built, legacy;
+  std::istringstream words(list[1].str());
+  for (std::string word; words >> word;) built.insert(word);
+  detail::ForEachMessageType<LegacyMessageTypes>([&](auto tag) { legacy.insert(decltype(tag)::type::getTypeName()); },
+                                                 std::make_index_sequence<std::tuple_size_v<LegacyMessageTypes>>{});
+  EXPECT_EQ(built, legacy);
+  const std::set<std::string> types = MessageTypeNames();
+  for (const std::string& old : legacy) {
+    const std::string today = old.substr(0, old.rfind("_v1_t")) + "_t";
+    EXPECT_EQ(types.count(today), 1u) << old << ": no " << today << " is carried";
+  }
+}
+
 TEST(ChannelTable, InterfacesMdListsEveryChannelWithItsType) {
   const std::string doc = Slurp(EDSP_SOURCE_DIR "/docs/interfaces.md");
   const std::regex row(R"(\n\| `(EDSP_[A-Z_]+)` \| `([a-z_]+_t)` \|)");
@@ -67,13 +86,13 @@ TEST(ChannelTable, InterfacesMdListsEveryChannelWithItsType) {
   EXPECT_EQ(documented, table);
 }
 
-TEST(ChannelTable, OnlyStatusFaultsAndRequestsInterleaveSeveralSeqStreams) {
+TEST(ChannelTable, OnlyStatusFaultsRequestsAndTheirRepliesInterleaveSeveralSeqStreams) {
   std::set<std::string> many;
   for (const channel::Channel& c : channel::kChannels) {
     if (channel::HasManyPublishers(c.name)) many.insert(std::string(c.name));
   }
   EXPECT_EQ(many, (std::set<std::string>{"EDSP_STATUS", "EDSP_FAULT", "EDSP_ARM", "EDSP_PR_MODE", "EDSP_CALIBRATION",
-                                         "EDSP_MOTION_REQUEST"}));
+                                         "EDSP_REPLY", "EDSP_MOTION_REQUEST"}));
   EXPECT_FALSE(channel::HasManyPublishers("OTHER_APP"));
   EXPECT_EQ(channel::Find("EDSP_NOPE"), nullptr);
   static_assert(channel::Find(channel::kLegCommand)->rate_hz == 1000.0, "usable at compile time");

@@ -16,10 +16,15 @@
 
 #include <gtest/gtest.h>
 
+#include "edsp/arm_t.hpp"
+#include "edsp/arm_v1_t.hpp"
+#include "edsp/calibration_v1_t.hpp"
 #include "edsp/leg_state_t.hpp"
 #include "edsp/logger/bus_recording.h"
 #include "edsp/logger/message_columns.h"
+#include "edsp/motion_reply_v1_t.hpp"
 #include "edsp/platform_config_t.hpp"
+#include "edsp/pr_mode_v1_t.hpp"
 #include "edsp/tracker_point_t.hpp"
 #include "log_builder.h"  // tests/support
 #include "memq_bus.h"     // tests/support
@@ -103,6 +108,35 @@ TEST(MessageColumns, MatricesAreRowMajorAndTextIsKept) {
   EXPECT_EQ(t.Value<double>(0, Index(t, "base_joints_m"), 4 * 3 + 2), 42.0);
   EXPECT_EQ(Named(t, "config_toml").text, std::vector<std::string>{config.config_toml});
   EXPECT_EQ(Named(t, "preset").kind, ColumnKind::kText);
+}
+
+// A log recorded before requests carried a request_id and replies a code
+// holds the older layouts: their fingerprints are what lcm-gen gave those
+// layouts (an independent truth: generated from the .lcm files as they
+// were), and such a log reads with the fields it has.
+TEST(MessageColumns, ALogOfTheOlderRequestLayoutsReadsWithTheirFields) {
+  EXPECT_EQ(static_cast<std::uint64_t>(arm_v1_t::getHash()), 0xd1a6f4727f28a861ULL);
+  EXPECT_EQ(static_cast<std::uint64_t>(pr_mode_v1_t::getHash()), 0xb10443baebef808eULL);
+  EXPECT_EQ(static_cast<std::uint64_t>(calibration_v1_t::getHash()), 0x6c966427a672532fULL);
+  EXPECT_EQ(static_cast<std::uint64_t>(motion_reply_v1_t::getHash()), 0x0174a79cff17ce1dULL);
+  EXPECT_NE(arm_v1_t::getHash(), arm_t::getHash());  // the layout did change
+  MessageColumns columns;
+  arm_v1_t arm{};
+  arm.utime = 7, arm.seq = 1, arm.session_id = 9, arm.operator_name = "alice";
+  const auto old_arm = Encode(arm);
+  columns.Add("EDSP_ARM", old_arm.data(), old_arm.size(), 11);
+  motion_reply_v1_t reply{};
+  reply.request_id = 5, reply.accepted = 1, reply.reason = "moves";
+  const auto old_reply = Encode(reply);
+  columns.Add("EDSP_MOTION_REPLY", old_reply.data(), old_reply.size(), 12);
+  const ChannelColumns& a = columns.channels().at("EDSP_ARM");
+  EXPECT_EQ(a.type, "edsp.arm_v1_t");
+  EXPECT_EQ(Named(a, "operator_name").text, std::vector<std::string>{"alice"});
+  EXPECT_EQ(a.Value<std::int64_t>(0, Index(a, "session_id")), 9);
+  const ChannelColumns& r = columns.channels().at("EDSP_MOTION_REPLY");
+  EXPECT_EQ(r.type, "edsp.motion_reply_v1_t");
+  EXPECT_EQ(r.Value<std::int64_t>(0, Index(r, "request_id")), 5);
+  for (const Column& c : r.columns) EXPECT_NE(c.name, "code");
 }
 
 TEST(MessageColumns, AChannelKeepsItsFirstTypeAndForeignPacketsAreCounted) {

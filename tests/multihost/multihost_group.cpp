@@ -18,6 +18,7 @@
 #include "edsp/logger/log_reader.h"
 #include "edsp/node_status_t.hpp"
 #include "edsp/pose_setpoint_t.hpp"
+#include "edsp/reply_t.hpp"
 #include "edsp/rig_truth_t.hpp"
 #include "edsp/transport/seq_gap.h"
 #include "scratch_dir.h"
@@ -159,6 +160,14 @@ std::vector<fault_t> FaultsOf(const std::string& log_path) {
   std::vector<fault_t> out;
   ForEach<fault_t>(log_path, "EDSP_FAULT", [&](const fault_t& f) { out.push_back(f); });
   return out;
+}
+
+std::int64_t FirstReArmUtime(const std::string& log_path) {
+  std::int64_t armed_utime = -1;
+  ForEach<reply_t>(log_path, "EDSP_REPLY", [&](const reply_t& r) {
+    if (r.node == "actuator_bridge" && r.code == reply_t::CODE_DONE && armed_utime < 0) armed_utime = r.utime;
+  });
+  return armed_utime;
 }
 
 std::string Describe(const std::vector<fault_t>& faults) {

@@ -86,6 +86,8 @@ struct TruthSample {
 };
 std::vector<TruthSample> TruthOf(const std::string& log_path);
 std::vector<fault_t> FaultsOf(const std::string& log_path);
+// The bridge's first reply that it re-armed (EDSP_REPLY), by its clock; -1 if none.
+std::int64_t FirstReArmUtime(const std::string& log_path);
 std::string Describe(const std::vector<fault_t>& faults);
 // The largest `drops` a node reported on EDSP_STATUS.
 std::int64_t StatusDrops(const std::string& log_path, const std::string& node);

@@ -53,6 +53,7 @@ def test_a_script_through_a_work_frame_lands_each_move_on_target(group, tmp_path
             time.sleep(hold_s)
             settled.append((target, start, time.time_ns() // 1000))
     elapsed_s = time.monotonic() - began
+    assert rig.wait(timeout=10) == edsp.WaitOutcome.ON_TARGET  # nothing runs: it holds the last target
     final = rig.status()
     assert np.abs(np.array(final["pose_commanded"]) - [0, 0, 1.511, 0, 0, 0]).max() < 1e-12
     assert final["frame"] == "base" and list(final["pivot"]) == [0, 0, 0.3]
@@ -100,10 +101,12 @@ def test_record_for_a_time_and_its_bad_arguments(group):
 
 def test_refusals_halts_and_bad_input_raise_what_names_them(group):
     rig = connect(group)
-    with pytest.raises(edsp.Refused, match="outside the workspace"):
+    with pytest.raises(edsp.RefusedError, match="outside the workspace") as outside:
         rig.check([0, 0, 3.0, 0, 0, 0])
-    with pytest.raises(edsp.Refused, match='unknown frame "nowhere"'):
+    assert outside.value.code == "out_of_limits"
+    with pytest.raises(edsp.Refused, match='unknown frame "nowhere"') as unknown:
         rig.move([0] * 6, frame="nowhere")
+    assert unknown.value.code == "invalid" and isinstance(unknown.value, edsp.EdspError)
     with pytest.raises(edsp.Refused, match="speed_max_m_s"):
         rig.move([0.01, 0, 1.5, 0, 0, 0], speed_m_s=1000)
     with pytest.raises(ValueError, match=r"pose\[0\] = nan"):
@@ -115,18 +118,22 @@ def test_refusals_halts_and_bad_input_raise_what_names_them(group):
     with pytest.raises(ValueError, match="speed_m_s"):
         rig.move([0.01, 0, 1.5, 0, 0, 0], speed_m_s=-1)
     reply = rig.move([0.2, 0, 1.5, 0, 0, 0], wait=False)
-    assert reply["accepted"] and reply["duration_s"] > 1.0
+    assert reply["accepted"] and reply["code"] == "done" and reply["duration_s"] > 1.0
     time.sleep(0.5)
     rig.halt()
-    with pytest.raises(edsp.Halted):
-        rig.wait(timeout_s=30)
+    with pytest.raises(edsp.HaltedError) as halted:
+        rig.wait(timeout=30)
+    assert halted.value.code == "halted"
+    with pytest.raises(TypeError, match="timeout or timeout_s"):
+        rig.wait(timeout=1, timeout_s=1)
     assert rig.status()["last_end"] == "halted"
 
 
 def test_the_operators_requests_are_confirmed_or_refused_by_the_node(group):
     rig = connect(group)
-    assert "none" in rig.pr_mode("none")
+    assert "none" in rig.pr_mode(edsp.PrMode.NONE)
     assert "signed" in rig.pr_mode("signed")
+    assert [m.name for m in edsp.PrMode.__members__.values()] == ["NONE", "UNSIGNED", "SIGNED", "ASIN"]
     with pytest.raises(ValueError, match="sideways"):
         rig.pr_mode("sideways")
     assert "was not latched" in rig.arm()
@@ -135,12 +142,22 @@ def test_the_operators_requests_are_confirmed_or_refused_by_the_node(group):
     bad = os.path.join(os.path.dirname(group), "not_a_model.json")
     with open(bad, "w", encoding="utf-8") as f:
         f.write("{}")
-    with pytest.raises(edsp.Refused):
+    with pytest.raises(edsp.Refused) as refused:
         rig.calibration(bad)
+    assert refused.value.code == "invalid"
+    # Another group's request is refused by its code, not matched by its words.
+    other = edsp.Platform(group, session_id=rig.session_id + 1, answer_timeout_s=5)
+    with pytest.raises(edsp.RefusedError) as foreign:
+        other.arm()
+    assert foreign.value.code == "other_session"
+    with pytest.raises(edsp.RefusedError) as foreign_move:
+        other.check([0, 0, 1.5, 0, 0, 0])
+    assert foreign_move.value.code == "other_session"
 
 
 def test_a_group_that_is_not_running_raises_timeout_without_hanging():
     began = time.monotonic()
-    with pytest.raises(edsp.Timeout, match="no leg commands or setpoints"):
+    with pytest.raises(TimeoutError, match="no leg commands or setpoints") as none:  # Python's own, too
         edsp.Platform(lcm_url="udpm://239.255.76.99:7699?ttl=0", answer_timeout_s=0.5)
+    assert isinstance(none.value, edsp.TimeoutError) and none.value.code == "no_session"
     assert time.monotonic() - began < 10

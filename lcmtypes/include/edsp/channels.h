@@ -23,6 +23,7 @@ inline constexpr char kFault[] = "EDSP_FAULT";
 inline constexpr char kArm[] = "EDSP_ARM";
 inline constexpr char kPrMode[] = "EDSP_PR_MODE";
 inline constexpr char kCalibration[] = "EDSP_CALIBRATION";
+inline constexpr char kReply[] = "EDSP_REPLY";
 inline constexpr char kMotionRequest[] = "EDSP_MOTION_REQUEST";
 inline constexpr char kMotionReply[] = "EDSP_MOTION_REPLY";
 inline constexpr char kMotionStatus[] = "EDSP_MOTION_STATUS";
@@ -54,6 +55,7 @@ inline constexpr Channel kChannels[] = {
     {kArm, "arm_t", "edsp-ctl", 0.0, Publishers::kMany},
     {kPrMode, "pr_mode_t", "edsp-ctl", 0.0, Publishers::kMany},
     {kCalibration, "calibration_t", "edsp-ctl", 0.0, Publishers::kMany},
+    {kReply, "reply_t", "actuator_bridge, kinematics", 0.0, Publishers::kMany},
     {kMotionRequest, "motion_request_t", "edsp-ctl (any client)", 0.0, Publishers::kMany},
     {kMotionReply, "motion_reply_t", "planner", 0.0, Publishers::kOne},
     {kMotionStatus, "motion_status_t", "planner", 50.0, Publishers::kOne},

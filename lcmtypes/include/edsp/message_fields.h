@@ -77,16 +77,19 @@ void VisitFields(const fault_t& m, V* r) {
 template <typename V>
 void VisitFields(const arm_t& m, V* r) {
   r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("session_id", m.session_id);
+  r->Add("request_id", m.request_id);
   r->Add("operator_name", m.operator_name);
 }
 template <typename V>
 void VisitFields(const pr_mode_t& m, V* r) {
   r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("session_id", m.session_id);
+  r->Add("request_id", m.request_id);
   r->Add("pr_mode", m.pr_mode), r->Add("operator_name", m.operator_name);
 }
 template <typename V>
 void VisitFields(const calibration_t& m, V* r) {
   r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("session_id", m.session_id);
+  r->Add("request_id", m.request_id);
   r->Add("operator_name", m.operator_name), r->Add("origin", m.origin), r->Add("model_json", m.model_json);
   r->Add("apply_ambiguous", m.apply_ambiguous);
 }
@@ -103,6 +106,38 @@ void VisitFields(const motion_request_t& m, V* r) {
 
 template <typename V>
 void VisitFields(const motion_reply_t& m, V* r) {
+  r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("session_id", m.session_id);
+  r->Add("request_id", m.request_id), r->Add("kind", m.kind), r->Add("accepted", m.accepted);
+  r->Add("code", m.code), r->Add("reason", m.reason), r->Add("duration_s", m.duration_s),
+      r->Add("start_delay_s", m.start_delay_s);
+}
+
+template <typename V>
+void VisitFields(const reply_t& m, V* r) {
+  r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("session_id", m.session_id);
+  r->Add("request_id", m.request_id), r->Add("node", m.node), r->Add("request_channel", m.request_channel);
+  r->Add("code", m.code), r->Add("reason", m.reason);
+}
+
+// The older layouts, field for field as they were.
+template <typename V>
+void VisitFields(const arm_v1_t& m, V* r) {
+  r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("session_id", m.session_id);
+  r->Add("operator_name", m.operator_name);
+}
+template <typename V>
+void VisitFields(const pr_mode_v1_t& m, V* r) {
+  r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("session_id", m.session_id);
+  r->Add("pr_mode", m.pr_mode), r->Add("operator_name", m.operator_name);
+}
+template <typename V>
+void VisitFields(const calibration_v1_t& m, V* r) {
+  r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("session_id", m.session_id);
+  r->Add("operator_name", m.operator_name), r->Add("origin", m.origin), r->Add("model_json", m.model_json);
+  r->Add("apply_ambiguous", m.apply_ambiguous);
+}
+template <typename V>
+void VisitFields(const motion_reply_v1_t& m, V* r) {
   r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("session_id", m.session_id);
   r->Add("request_id", m.request_id), r->Add("kind", m.kind), r->Add("accepted", m.accepted);
   r->Add("reason", m.reason), r->Add("duration_s", m.duration_s), r->Add("start_delay_s", m.start_delay_s);

@@ -15,11 +15,12 @@
 #include "edsp/actuator_bridge/ride_through.h"
 #include "edsp/drive_io/drive_backend.h"
 #include "edsp/node/fault.h"
-#include "edsp/node/operator_requests.h"
+#include "edsp/node/request_service.h"
 #include "edsp/kinematics/platform_model.h"
 #include "edsp/arm_t.hpp"
 #include "edsp/leg_command_t.hpp"
 #include "edsp/leg_state_t.hpp"
+#include "edsp/reply_t.hpp"
 #include "edsp/timing_contract.h"
 
 namespace edsp {
@@ -71,13 +72,11 @@ class ActuatorBridge {
   // Also resets drives that left operation (DriveBackend::Reset); false
   // with *error when that failed (still latched).
   bool Rearm(std::string* error = nullptr);
-  // An operator's EDSP_ARM: re-arms if it comes from this group's session.
-  // Returns what to publish on EDSP_FAULT, which edsp-ctl waits for: the
-  // confirmation (info), a foreign session ignored (warning), or drives that
-  // could not be reset (error, still latched). A copy of the last request
-  // (edsp-ctl sends it again until answered) gets the same answer and is not
-  // acted on again.
-  fault_t HandleArm(const arm_t& arm, std::int64_t now_utime);
+  // An operator's EDSP_ARM, answered as every request (request_service.h):
+  // the reply to publish on EDSP_REPLY, done, or failed when the drives
+  // could not be reset (still latched). A copy (edsp-ctl sends it again
+  // until answered) gets the same reply and re-arms nothing again.
+  RequestService<reply_t>::Answer HandleArm(const arm_t& arm, std::int64_t now_utime);
   BridgeState state() const { return state_; }
   bool rejoining() const { return IsRejoining(state_); }
   bool latched() const { return state_ == BridgeState::kLatched; }
@@ -86,8 +85,8 @@ class ActuatorBridge {
   std::int64_t rejected() const { return rejected_; }
 
  private:
-  fault_t ActOnArm(const arm_t& arm, std::int64_t now_utime);
-  OperatorRequestAnswers arm_answers_;
+  reply_t ActOnArm(const arm_t& arm);
+  reply_t ArmReply(ReplyCode code, std::string reason) const;
   fault_t Fault(FaultCode code, std::string reason, std::int64_t now_utime) const;
   bool Reject(FaultCode code, std::string reason, std::int64_t now_utime, fault_t* fault);
 
@@ -157,7 +156,8 @@ class ActuatorBridge {
   PlatformModel model_;
   DriveBackend* backend_;
   BridgeOptions options_;
-  DriveSetpoint target_;  // what the drives are told
+  RequestService<reply_t> arm_requests_{RequestPolicy{options_.session_id, 5.0, true}};  // a late re-arm never acts
+  DriveSetpoint target_;                                                                 // what the drives are told
   Vector6 target_length_m_;
   BridgeState state_ = BridgeState::kStartupHold;
   const char* latch_cause_ = "";              // why it is latched, for the refusals that follow

@@ -1,6 +1,6 @@
 #pragma once
 // The actuator bridge on a bus: EDSP_LEG_COMMAND and EDSP_ARM in,
-// EDSP_LEG_STATE, EDSP_FAULT and EDSP_STATUS out, and the drive cycle on a
+// EDSP_LEG_STATE, EDSP_REPLY, EDSP_FAULT and EDSP_STATUS out, and the drive cycle on a
 // clock (the bridge's own, or one its backend owns). The process's main only
 // parses options, builds the backend and runs this; tests run it on an
 // in-process bus with a clock of their own.
@@ -52,6 +52,7 @@ class BridgeLoop {
   Bus& bus_;
   ActuatorBridge& bridge_;
   Bus::Publisher<leg_state_t> states_;
+  Bus::Publisher<reply_t> replies_;
   NodeReporting reporting_;
   const ChannelCounters& commands_in_;  // node-based map: no lookup per cycle
   LatencyRecorder arrival_, written_;

@@ -2,7 +2,8 @@
 // The kinematics node on a bus: EDSP_SETPOINT, EDSP_LEG_STATE and the
 // operator's EDSP_PR_MODE and EDSP_CALIBRATION in; EDSP_LEG_COMMAND,
 // EDSP_PLATFORM_STATE (every 10th leg state: 1 kHz in, 100 Hz out),
-// EDSP_CONFIG (latched, once a second), EDSP_FAULT and EDSP_STATUS out. The
+// EDSP_CONFIG (latched, once a second), EDSP_REPLY (the operator's
+// answers), EDSP_FAULT and EDSP_STATUS out. The
 // process's main only parses options, builds the KinematicsNode and runs
 // this; tests run it on an in-process bus.
 
@@ -42,6 +43,7 @@ class KinematicsLoop {
   void OnSetpoint(const pose_setpoint_t& setpoint);
   void OnLegState(const leg_state_t& legs);
   void ReportCalibration();
+  void Answer(const RequestService<reply_t>::Answer& answer);  // on EDSP_REPLY; a switch made, on stderr
 
   Bus& bus_;
   KinematicsNode& kinematics_;
@@ -49,6 +51,7 @@ class KinematicsLoop {
   Bus::Publisher<leg_command_t> commands_;
   Bus::Publisher<platform_state_t> states_;
   Bus::Publisher<platform_config_t> config_out_;
+  Bus::Publisher<reply_t> replies_;
   NodeReporting reporting_;
   const ChannelCounters& setpoints_in_;  // node-based map: no lookup per message
   std::int64_t leg_states_ = 0;

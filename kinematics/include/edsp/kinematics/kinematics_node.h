@@ -13,9 +13,10 @@
 #include <string>
 
 #include "edsp/node/fault.h"
-#include "edsp/node/operator_requests.h"
+#include "edsp/node/request_service.h"
 #include "edsp/calibration_t.hpp"
 #include "edsp/pr_mode_t.hpp"
+#include "edsp/reply_t.hpp"
 #include "edsp/kinematics/calibration.h"
 #include "edsp/kinematics/calibration_blend.h"
 #include "edsp/kinematics/platform_model.h"
@@ -69,22 +70,19 @@ class KinematicsNode {
   // next setpoint: switching none → signed at Rz 30° is a 1.4 mm change,
   // which in one step the bridge would (rightly) refuse as a jump.
   void SwitchPrMode(PrMode mode);
-  // An operator's EDSP_PR_MODE: switches (blended) if it comes from this
-  // group's session. Returns what to publish on EDSP_FAULT, which edsp-ctl
-  // waits for: the confirmation (info), or why it was ignored (warning). A
-  // copy of the last request gets the same answer and switches nothing.
-  fault_t HandlePrModeRequest(const pr_mode_t& request, std::int64_t now_utime);
+  // An operator's EDSP_PR_MODE, answered as every request (request_service.h):
+  // switches (blended) and returns the reply to publish on EDSP_REPLY, done
+  // or why not. A copy gets the same reply and switches nothing.
+  RequestService<reply_t>::Answer HandlePrModeRequest(const pr_mode_t& request, std::int64_t now_utime);
   // Switches the calibration live (null: the nominal model alone), blended
   // over calibration_blend_us of setpoint time from the next setpoint on.
   // False, *why_not saying so, while the last switch still blends.
   bool SwitchCalibration(std::optional<calibration::CalibrationModel> next, std::string* why_not);
-  // An operator's EDSP_CALIBRATION: the model in the request is checked
-  // against this platform as at start-up (calibration.h) and switched to,
-  // blended, if it comes from this group's session. Returns what to
-  // publish on EDSP_FAULT: the confirmation naming file, hash and effects
-  // (info), or why it was refused (warning; the calibration in force
-  // stays). A copy of the last request gets the same answer.
-  fault_t HandleCalibrationRequest(const calibration_t& request, std::int64_t now_utime);
+  // An operator's EDSP_CALIBRATION, answered likewise: the model in the
+  // request is checked against this platform as at start-up (calibration.h)
+  // and switched to, blended. The reply names file, hash and effects, or
+  // why it was refused (the calibration in force stays).
+  RequestService<reply_t>::Answer HandleCalibrationRequest(const calibration_t& request, std::int64_t now_utime);
   PrMode pr_mode() const { return options_.pr_mode; }
   bool blending() const { return blending_; }
   const PlatformModel& model() const { return model_; }
@@ -99,8 +97,9 @@ class KinematicsNode {
  private:
   fault_t Fault(FaultCode code, std::string reason, std::int64_t now_utime, const char* channel) const;
   Vector6 BlendedPrError(const LegSolution& legs, std::int64_t setpoint_utime);
-  fault_t ActOnPrModeRequest(const pr_mode_t& request, std::int64_t now_utime);
-  fault_t ActOnCalibrationRequest(const calibration_t& request, std::int64_t now_utime);
+  reply_t ActOnPrModeRequest(const pr_mode_t& request);
+  reply_t ActOnCalibrationRequest(const calibration_t& request);
+  reply_t Reply(const char* channel, ReplyCode code, std::string reason) const;
   // The calibration's correction of the nominal command for `sp`; false
   // (*fault) when it is not finite: never forwarded.
   bool ApplyCalibration(const pose_setpoint_t& sp, const Pose& target, const Vector6& nominal, std::int64_t now_utime,
@@ -108,11 +107,12 @@ class KinematicsNode {
   // At the first command of a calibration in force at start: how much of
   // its correction the drives already carry (0..1), and the blend from it.
   void StartCalibrationFromTheDrives(const Vector6& nominal, calibration::LegCompensator::Correction* c);
-  OperatorRequestAnswers pr_mode_answers_;
-  OperatorRequestAnswers calibration_answers_;
 
   PlatformModel model_;
   KinematicsNodeOptions options_;
+  // Switches: a late request never undoes a later one.
+  RequestService<reply_t> pr_mode_requests_{RequestPolicy{options_.session_id, 5.0, true}};
+  RequestService<reply_t> calibration_requests_{RequestPolicy{options_.session_id, 5.0, true}};
   std::int64_t command_seq_ = 0;
   std::int64_t state_seq_ = 0;
   std::int64_t config_seq_ = 0;

@@ -21,6 +21,9 @@ enum class PrMode : std::int8_t {
   kAsin = 3,      // LinuxCNC genhexkins: asin(sin theta), folds past ±90°
 };
 
+// Every mode, in wire order (leg_command_t.PR_*): what lists them (Python's enum) reads this.
+inline constexpr PrMode kPrModes[] = {PrMode::kNone, PrMode::kUnsigned, PrMode::kSigned, PrMode::kAsin};
+
 const char* PrModeName(PrMode mode);               // "none", "unsigned", "signed", "asin"
 bool ParsePrMode(const char* text, PrMode* mode);  // accepts names and 0..3
 

@@ -14,14 +14,15 @@
 namespace edsp {
 
 // Decodes `data` as the edsp type its fingerprint names and calls
-// f(const Msg&, "edsp.<type>"). False, without calling f, for a foreign
-// fingerprint or bytes that do not decode (truncated, damaged).
+// f(const Msg&, "edsp.<type>"): a type of today's or an older layout that
+// logs recorded (LegacyMessageTypes). False, without calling f, for a
+// foreign fingerprint or bytes that do not decode (truncated, damaged).
 template <typename F>
 bool DecodeEdspMessage(const std::uint8_t* data, std::size_t size, F&& f) {
   EdspHeader header;
   if (!ParseEdspHeader(data, size, &header)) return false;
   bool decoded = false;
-  ForEachMessageType([&](auto tag) {
+  ForEachLoggedMessageType([&](auto tag) {
     using Msg = typename decltype(tag)::type;
     if (decoded || Msg::getHash() != header.fingerprint) return;
     Msg msg;

@@ -23,7 +23,7 @@ enum class FaultCode : std::int32_t {
   kForwardKinematics = 8,  // the pose could not be computed from the encoders
   kBackend = 9,            // the drive backend failed
   kBadRequest = 10,        // an operator request with a value out of range
-  kOperatorAction = 11,    // not a fault: an operator's action confirmed (severity info)
+  kOperatorAction = 11,    // reserved: logs of older groups confirm operator requests with it (now EDSP_REPLY)
   kStorage = 12,           // the log's disk refused writes (info: it accepts them again)
   kProcess = 13,           // a group member froze, exited or restarted (the launcher)
   kCalibration = 14,       // not a fault: the calibration a node applies (severity info)

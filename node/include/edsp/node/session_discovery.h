@@ -4,13 +4,20 @@
 // requests to when it is not told.
 
 #include <cstdint>
+#include <stdexcept>
 
 #include "edsp/transport/bus.h"
 
 namespace edsp {
 
+// No one session to address: none within the timeout, or several.
+class SessionNotFound : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 // The one session whose leg commands or setpoints are on `bus` within
-// `timeout_s`. Throws std::runtime_error naming the bus when there are none
+// `timeout_s`. Throws SessionNotFound naming the bus when there are none
 // (the group is not running there) or naming the sessions when there are
 // several (two groups on one network). Its handlers stay subscribed for the
 // bus's life.

@@ -25,6 +25,7 @@
 #include "edsp/motion_reply_t.hpp"
 #include "edsp/motion_request_t.hpp"
 #include "edsp/motion_status_t.hpp"
+#include "edsp/node/request_service.h"
 #include "edsp/planner/paper_motions.h"
 #include "edsp/planner/planned_motion.h"
 #include "edsp/platform_state_t.hpp"
@@ -79,7 +80,7 @@ class MotionService {
   using Lock = std::unique_lock<std::mutex>;
 
   motion_reply_t Act(const motion_request_t& r, std::int64_t now_utime, Lock& lock);
-  motion_reply_t Reply(const motion_request_t& r, bool accepted, std::string reason, double duration_s = 0.0,
+  motion_reply_t Reply(const motion_request_t& r, ReplyCode code, std::string reason, double duration_s = 0.0,
                        double start_delay_s = 0.0) const;
   motion_reply_t Move(const motion_request_t& r, bool check_only, std::int64_t now_utime, Lock& lock);
   motion_reply_t Run(const motion_request_t& r, std::int64_t now_utime, Lock& lock);
@@ -89,7 +90,6 @@ class MotionService {
   motion_reply_t SetLimits(const motion_request_t& r);
   motion_reply_t Enqueue(const motion_request_t& r, std::deque<PlannedMotion> motions, std::int64_t now_utime);
 
-  std::string RequestProblem(const motion_request_t& r, std::int64_t now_utime) const;
   std::string BridgeProblem(std::int64_t now_utime) const;
   std::string LimitsProblem(const motion_request_t& r, MoveLimits* limits) const;
   const WorkFrame* FindFrame(const std::string& name) const;
@@ -127,11 +127,9 @@ class MotionService {
   std::string refused_;  // the last request's refusal, until one is accepted
   bool changed_ = true;
   std::uint64_t decelerations_ = 0;  // halts and stops so far: a plan older than the last is refused
-  std::int64_t seq_ = 0;             // of the replies
   std::int64_t setpoint_seq_ = 0;
 
-  std::map<std::int64_t, motion_reply_t> replies_;                 // by request_id: every copy gets the same reply
-  std::deque<std::pair<std::int64_t, std::int64_t>> reply_order_;  // (utime answered, request_id)
+  RequestService<motion_reply_t> requests_{RequestPolicy{options_.session_id, options_.request_window_s}};
 
   std::int64_t leg_state_utime_ = 0;
   std::string bridge_holds_;            // "" while every drive follows

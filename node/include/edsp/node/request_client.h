@@ -1,0 +1,80 @@
+#pragma once
+// A client's side of request_service.h, for edsp-ctl, the Python Platform
+// and the planner's motion client alike: a request goes out with a fresh
+// request_id, re-stamped and sent again every 0.5 s until the reply with
+// that id comes, or the timeout.
+
+#include <chrono>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include "edsp/node/runtime.h"
+#include "edsp/transport/bus.h"
+
+namespace edsp {
+
+class RequestClient {
+ public:
+  static constexpr std::chrono::milliseconds kResend{500};
+
+  explicit RequestClient(Bus& bus) : bus_(bus) {}
+
+  // Random, never 0: clients on several hosts need no coordination.
+  static std::int64_t NewRequestId();
+
+  // `request` (its session, id and fields the caller's) on `channel` until
+  // its reply on `reply_channel`, or none within `timeout_s`. Throws
+  // std::runtime_error naming the channel if it cannot be sent.
+  template <typename Reply, typename Request>
+  std::optional<Reply> Send(const std::string& channel, const std::string& reply_channel, Request request,
+                            double timeout_s) {
+    Inbox<Reply>& inbox = InboxFor<Reply>(reply_channel);
+    inbox.awaited = request.request_id;
+    inbox.reply.reset();
+    using Clock = std::chrono::steady_clock;
+    const auto until =
+        Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(timeout_s));
+    auto next = Clock::now();
+    while (!inbox.reply && Clock::now() < until) {
+      if (Clock::now() >= next) {
+        request.utime = UtimeNow();
+        ++request.seq;
+        if (!bus_.Publish(channel, request)) throw std::runtime_error(channel + " could not be sent");
+        next = Clock::now() + kResend;
+      }
+      bus_.Handle(std::chrono::milliseconds(20));
+    }
+    return inbox.reply;
+  }
+
+ private:
+  template <typename Reply>
+  struct Inbox {
+    std::int64_t awaited = 0;
+    std::optional<Reply> reply;
+  };
+
+  // Subscribed once per reply channel (Bus has no unsubscribe); the handler
+  // shares ownership of what it fills.
+  template <typename Reply>
+  Inbox<Reply>& InboxFor(const std::string& reply_channel) {
+    auto& slot = inboxes_[reply_channel];
+    if (!slot) {
+      auto inbox = std::make_shared<Inbox<Reply>>();
+      bus_.Subscribe<Reply>(reply_channel, [inbox](const Reply& r) {
+        if (r.request_id == inbox->awaited) inbox->reply = r;
+      });
+      slot = inbox;
+    }
+    return *std::static_pointer_cast<Inbox<Reply>>(slot);
+  }
+
+  Bus& bus_;
+  std::map<std::string, std::shared_ptr<void>> inboxes_;
+};
+
+}  // namespace edsp
