@@ -13,7 +13,7 @@
 // EDSP_PR_MODE (pr_mode_t, e.g. from `edsp-ctl pr-mode signed`) switches the
 // mode live, blended over 0.5 s; EDSP_CALIBRATION (calibration_t, from
 // `edsp-ctl calibration MODEL|off`) switches the calibration live, blended
-// over 1 s. Both are confirmed, or refused with the reason, on EDSP_FAULT.
+// over 1 s. Both are answered on EDSP_REPLY: done, or refused with the reason.
 // The node on its bus: KinematicsLoop (edsp/kinematics/kinematics_loop.h).
 #include "edsp/kinematics/config.h"
 #include "edsp/kinematics/kinematics_loop.h"

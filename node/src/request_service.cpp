@@ -15,15 +15,16 @@ Refusal AddressProblem(const RequestPolicy& policy, std::int64_t session_id, std
   if (request_id == 0) return {ReplyCode::kInvalid, "request_id 0: give each request a unique non-zero id"};
   const double age_s = (static_cast<double>(now_utime) - static_cast<double>(utime)) * 1e-6;
   if (!(std::abs(age_s) <= policy.window_s)) {
-    return {ReplyCode::kStale, fmt::format("request {} stamped {:.1f} s {} this node's clock ignored (a replayed "
-                                           "log, or a clock off by more than {} s)",
-                                           request_id, std::abs(age_s), age_s > 0 ? "before" : "after",
-                                           policy.window_s)};
+    return {ReplyCode::kStale,
+            fmt::format("request {} stamped {:.1f} s {} this node's clock ignored (a replayed "
+                        "log, or a clock off by more than {} s)",
+                        request_id, std::abs(age_s), age_s > 0 ? "before" : "after", policy.window_s)};
   }
   if (policy.refuse_older_than_acted && utime < acted_utime) {
-    return {ReplyCode::kStale, fmt::format("request {} stamped {:.3f} s before the last one acted on ignored: a late "
-                                           "request does not undo a later one",
-                                           request_id, (static_cast<double>(acted_utime) - static_cast<double>(utime)) * 1e-6)};
+    return {ReplyCode::kStale,
+            fmt::format("request {} stamped {:.3f} s before the last one acted on ignored: a late "
+                        "request does not undo a later one",
+                        request_id, (static_cast<double>(acted_utime) - static_cast<double>(utime)) * 1e-6)};
   }
   return {};
 }

@@ -239,10 +239,9 @@ motion_reply_t MotionService::Move(const motion_request_t& r, bool check_only, s
                              m.check.Describe()));
   }
   m.request_id = r.request_id;
-  const std::string what = fmt::format(
-      "{} to {} in {} ({:.4f} m, {:.4f} rad about the pivot) in {:.3f} s, {}", check_only ? "would move" : "moves",
-      DescribeVector(target), frame.name, std::static_pointer_cast<const PivotPath>(m.path)->distance_m(),
-      std::static_pointer_cast<const PivotPath>(m.path)->angle_rad(), m.duration_s(), m.check.Describe());
+  const std::string what =
+      fmt::format("{} to {} in {} ({}) in {:.3f} s, {}", check_only ? "would move" : "moves", DescribeVector(target),
+                  frame.name, m.path->Extent(), m.duration_s(), m.check.Describe());
   if (check_only) return Reply(r, ReplyCode::kDone, what, m.duration_s(), TimeToIdle(now_utime));
   if (std::string p = PlanOutdated(from, decelerations); !p.empty()) return Reply(r, ReplyCode::kNotNow, p);
   if (std::string p = QueueProblem(); !p.empty()) return Reply(r, ReplyCode::kNotNow, p);
@@ -500,15 +499,10 @@ pose_setpoint_t MotionService::Step(std::int64_t now_utime) {
   if (current_) {
     const double t = static_cast<double>(now_utime - current_->start_utime) * 1e-6;
     sample = SampleMotion(current_->motion, t);
-    if (current_->motion.program) {
-      const auto& program = std::static_pointer_cast<const ProgramPath>(current_->motion.path)->program();
-      const double u = MotionState(current_->motion, t).position;
-      hold_segment_ = program.SegmentAt(u);
-      hold_name_ = program.SegmentName(hold_segment_);
-    } else {
-      hold_segment_ = 0;
-      hold_name_ = current_->motion.activity;
-    }
+    const PathSegment segment =
+        current_->motion.path->SegmentAt(MotionState(current_->motion, t).position, current_->motion.activity);
+    hold_name_ = segment.name;
+    hold_segment_ = segment.index;
   }
   for (int k = 0; k < 6; ++k) {
     sp.pose[k] = sample.pose(k);

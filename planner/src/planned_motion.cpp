@@ -46,7 +46,7 @@ ScalarLimits StopLimits(const PlatformModel& model, const PosePath& path, const 
 
 PathCheck CheckMotion(const PlatformModel& model, const PlannedMotion& m, double rate_hz) {
   PathLimits limits = PathLimitsOf(model);
-  if (m.program) limits.leg_accel_max_m_s2 = 0.0;  // as CheckTrajectory: a CSV's steps are its data's
+  if (!m.path->ChecksLegAcceleration()) limits.leg_accel_max_m_s2 = 0.0;
   return CheckPath(
       model, limits, [&](double t) { return m.path->PoseAt(MotionState(m, t).position); }, m.duration_s(), rate_hz);
 }
@@ -96,7 +96,6 @@ PlannedMotion PlanProgram(const PlatformModel& model, std::unique_ptr<Trajectory
     peak_rad_s = std::max(peak_rad_s, v.tail<3>().norm());
   }
   PlannedMotion m;
-  m.program = true;
   m.path = path;
   m.timing = JerkProfile::Clock(path->length());
   const double a = std::min(PathRate(l.accel_m_s2, peak_m_s, l.accel_rad_s2, peak_rad_s), 1e3);

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include <fmt/format.h>
+
 namespace edsp {
 
 PivotPath::PivotPath(const WorkFrame& frame, const Vector3& pivot_M, const FramedPose& from, const FramedPose& to)
@@ -31,6 +33,17 @@ PoseSample PivotPath::At(double u) const {
   s.velocity = (ahead - behind) / span;
   if (u - h >= 0.0 && u + h <= 1.0) s.acceleration = (ahead - 2.0 * s.pose + behind) / (h * h);
   return s;
+}
+
+std::string PivotPath::Extent() const {
+  return fmt::format("{:.4f} m, {:.4f} rad about the pivot", distance_m(), angle_rad());
+}
+
+std::string ProgramPath::Extent() const { return fmt::format("{:.3f} s of its own clock", length()); }
+
+PathSegment ProgramPath::SegmentAt(double u, const std::string& /*activity*/) const {
+  const int index = program_->SegmentAt(u);
+  return {program_->SegmentName(index), static_cast<std::int32_t>(index)};
 }
 
 }  // namespace edsp

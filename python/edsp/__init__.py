@@ -261,7 +261,7 @@ class Platform:
 
     def calibration(self, model: Optional[str], apply_ambiguous: bool = False) -> str:
         """Switch the kinematics' calibration live to the edsp-gap model file
-        `model` (None: off), blended over 1 s; returns the node's confirmation."""
+        `model` (None: off), blended over 1 s; returns the node's reply's words."""
         text, origin = "", "off"
         if model is not None:
             with open(model, encoding="utf-8") as f:

@@ -14,8 +14,8 @@ namespace {
 
 py::object NewClass(py::module_& m, const char* name, const py::handle& bases, const char* doc) {
   const std::string qualified = std::string("edsp.") + name;
-  py::object cls = py::reinterpret_steal<py::object>(
-      PyErr_NewExceptionWithDoc(qualified.c_str(), doc, bases.ptr(), nullptr));
+  py::object cls =
+      py::reinterpret_steal<py::object>(PyErr_NewExceptionWithDoc(qualified.c_str(), doc, bases.ptr(), nullptr));
   if (!cls) throw py::error_already_set();
   m.attr(name) = cls;
   return cls;
@@ -30,7 +30,8 @@ Classes* classes = nullptr;
 }  // namespace
 
 void BindErrors(py::module_& m) {
-  py::object base = NewClass(m, "EdspError", PyExc_Exception, "Anything edsp refuses or cannot do; the message says why.");
+  py::object base =
+      NewClass(m, "EdspError", PyExc_Exception, "Anything edsp refuses or cannot do; the message says why.");
   classes = new Classes{
       NewClass(m, "RefusedError", base,
                "The node refused the request (its reason is the message; .code names why: invalid, not_now, "

@@ -53,7 +53,8 @@ TEST(RequestService, ActsOnceAndAnswersEveryCopyAlike) {
   EXPECT_EQ(first.reply.session_id, kServiceSession);
   EXPECT_EQ(first.reply.utime, kServiceNow);
   for (int copy = 0; copy < 3; ++copy) {
-    const auto again = node.Ask(ArmRequest(7, kServiceNow + 500'000), kServiceNow + 600'000);  // re-stamped by the client
+    const auto again =
+        node.Ask(ArmRequest(7, kServiceNow + 500'000), kServiceNow + 600'000);  // re-stamped by the client
     EXPECT_FALSE(again.acted);
     EXPECT_EQ(again.reply.reason, "acted 1");
     EXPECT_EQ(again.reply.seq, first.reply.seq);

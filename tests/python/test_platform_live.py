@@ -69,7 +69,12 @@ def test_a_script_through_a_work_frame_lands_each_move_on_target(group, tmp_path
     truth = data["EDSP_RIG_TRUTH"]
     for target, start, end in settled:
         held = truth[(truth["utime"] >= start) & (truth["utime"] <= end)]
-        assert len(held) > 0.5 * 1000 * hold_s * 0.5, len(held)
+        # Enough of the rig's cycles to judge where it stood, and the
+        # recorder kept most of what the rig published in the window (by the
+        # rig's seq: a host that stalls the rig itself shortens the window's
+        # cycles, not the recorder's share of them).
+        assert len(held) >= 10, len(held)
+        assert len(held) > 0.5 * (held["seq"][-1] - held["seq"][0] + 1), (len(held), held["seq"][[0, -1]])
         error = np.abs(held["pose"] - target)
         assert error[:, :3].max() < truth_tolerance_m, (target, error[:, :3].max())
         assert error[:, 3:].max() < truth_tolerance_m, (target, error[:, 3:].max())

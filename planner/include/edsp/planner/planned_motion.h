@@ -38,7 +38,6 @@ struct PlannedMotion {
   ScalarLimits halt;   // u-space acceleration and jerk a halt keeps within
   ScalarLimits stop;   // u-space: the shortest stop the legs' acceleration allows
   PathCheck check;
-  bool program = false;  // setpoints named by the program's segments
 
   double duration_s() const { return timing.duration_s(); }
   Vector6 end_pose() const { return path->At(timing.end().position).pose; }

@@ -4,12 +4,20 @@
 // setpoint's velocity and acceleration follow from u's). A move's u runs
 // over [0, 1] along a PivotPath; a program's u is its own time.
 
+#include <cstdint>
 #include <memory>
+#include <string>
 
 #include "edsp/planner/trajectory.h"
 #include "edsp/planner/work_frame.h"
 
 namespace edsp {
+
+// What the setpoints at u are named: a program's segment, else the motion's activity.
+struct PathSegment {
+  std::string name;
+  std::int32_t index = 0;
+};
 
 class PosePath {
  public:
@@ -19,6 +27,12 @@ class PosePath {
   virtual PoseSample At(double u) const = 0;
   // P(u) alone (what the path check samples).
   virtual Vector6 PoseAt(double u) const = 0;
+  // How far it goes, for the reply ("0.0200 m, 0.0000 rad about the pivot").
+  virtual std::string Extent() const = 0;
+  virtual PathSegment SegmentAt(double /*u*/, const std::string& activity) const { return {activity, 0}; }
+  // Whether the legs' acceleration limit is checked along it: a program's
+  // steps are its data's (as CheckTrajectory takes them), a move's are planned.
+  virtual bool ChecksLegAcceleration() const { return true; }
 };
 
 // The pivot on a straight line from `from` to `to` (in `frame`, about
@@ -29,6 +43,7 @@ class PivotPath final : public PosePath {
   double length() const override { return 1.0; }
   PoseSample At(double u) const override;
   Vector6 PoseAt(double u) const override;
+  std::string Extent() const override;
   double distance_m() const { return (to_.t - from_.t).norm(); }
   double angle_rad() const { return angle_rad_; }
 
@@ -47,6 +62,9 @@ class ProgramPath final : public PosePath {
   double length() const override { return program_->duration_s(); }
   PoseSample At(double u) const override { return program_->Sample(u); }
   Vector6 PoseAt(double u) const override { return program_->Sample(u).pose; }
+  std::string Extent() const override;
+  PathSegment SegmentAt(double u, const std::string& activity) const override;
+  bool ChecksLegAcceleration() const override { return false; }
   const TrajectorySequence& program() const { return *program_; }
 
  private:
