@@ -15,8 +15,9 @@
 // or setpoints and takes their session; several sessions on the bus (two
 // groups) is an error naming them. The command then waits as long for the
 // node's reply on EDSP_REPLY (node/request_client.h: sent again every
-// 0.5 s until answered) and prints it; the exit code comes from the
-// reply's code: 0 done, 2 refused or unanswered, 1 failed.
+// 0.5 s until answered) and prints it (a refusal on stderr, with its
+// code's name); the exit code comes from the reply's code: 0 done, 2
+// refused or unanswered, 1 failed.
 #include <unistd.h>
 
 #include <cstdio>
@@ -32,6 +33,7 @@
 #include "edsp/channels.h"
 #include "edsp/kinematics/passive_rotation.h"
 #include "edsp/planner/motion_client.h"
+#include "edsp/reply_codes.h"
 #include "edsp/reply_t.hpp"
 #include "edsp/pr_mode_t.hpp"
 #include "ctl_session.h"
@@ -52,8 +54,13 @@ int SendAndConfirm(const CtlOptions& o, const std::string& channel, const Msg& r
     std::fprintf(stderr, "edsp-ctl: no reply to %s within %g s\n", channel.c_str(), o.timeout_s);
     return ctl::kRefused;
   }
+  if (FamilyOf(reply->code) != ReplyFamily::kDone) {
+    std::fprintf(stderr, "edsp-ctl: %s refused (%s): %s\n", reply->node.c_str(),
+                 std::string(ReplyCodeName(reply->code)).c_str(), reply->reason.c_str());
+    return ctl::ExitFor(reply->code);
+  }
   std::printf("%s: %s\n", reply->node.c_str(), reply->reason.c_str());
-  return ctl::ExitFor(reply->code);
+  return ctl::kDone;
 }
 
 int Arm(const CtlOptions& o) { return SendAndConfirm(o, channel::kArm, arm_t{}); }

@@ -499,9 +499,9 @@ pose_setpoint_t MotionService::Step(std::int64_t now_utime) {
   if (current_) {
     const double t = static_cast<double>(now_utime - current_->start_utime) * 1e-6;
     sample = SampleMotion(current_->motion, t);
-    const PathSegment segment =
-        current_->motion.path->SegmentAt(MotionState(current_->motion, t).position, current_->motion.activity);
-    hold_name_ = segment.name;
+    // Assigned, not built: the name's memory is reused cycle after cycle.
+    const PathSegment segment = current_->motion.path->SegmentAt(MotionState(current_->motion, t).position);
+    hold_name_ = segment.name != nullptr ? *segment.name : current_->motion.activity;
     hold_segment_ = segment.index;
   }
   for (int k = 0; k < 6; ++k) {

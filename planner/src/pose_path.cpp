@@ -41,9 +41,9 @@ std::string PivotPath::Extent() const {
 
 std::string ProgramPath::Extent() const { return fmt::format("{:.3f} s of its own clock", length()); }
 
-PathSegment ProgramPath::SegmentAt(double u, const std::string& /*activity*/) const {
+PathSegment ProgramPath::SegmentAt(double u) const {
   const int index = program_->SegmentAt(u);
-  return {program_->SegmentName(index), static_cast<std::int32_t>(index)};
+  return {&program_->SegmentName(index), static_cast<std::int32_t>(index)};
 }
 
 }  // namespace edsp

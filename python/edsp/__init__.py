@@ -249,15 +249,25 @@ class Platform:
             raise ValueError(f"frame name {name!r}: want a non-empty string")
         return self._send(_edsp.KIND_FRAME, _six("pose", pose), frame=name)
 
+    @staticmethod
+    def _operator(request, *args) -> dict:
+        """An operator's request: the node's reply, or the exception of its code."""
+        try:
+            return request(*args)
+        except EdspError:
+            raise
+        except RuntimeError as e:  # the request could not be sent
+            raise EdspError(str(e)) from None
+
     def arm(self) -> str:
         """Re-arm the actuator bridge after it latched a hold; returns its reply's words
         (FaultError if the drives could not be enabled)."""
-        return self._c.arm()["reason"]
+        return self._operator(self._c.arm)["reason"]
 
     def pr_mode(self, mode) -> str:
         """Switch the PR compensation live (an edsp.PrMode, or its name: none,
         unsigned, signed, asin), blended over 0.5 s; returns the node's words."""
-        return self._c.pr_mode(_mode_text(mode))["reason"]
+        return self._operator(self._c.pr_mode, _mode_text(mode))["reason"]
 
     def calibration(self, model: Optional[str], apply_ambiguous: bool = False) -> str:
         """Switch the kinematics' calibration live to the edsp-gap model file
@@ -269,7 +279,7 @@ class Platform:
             if not text:
                 raise ValueError(f"calibration {model}: the file is empty (None switches the calibration off)")
             origin = os.fspath(model)
-        return self._c.calibration(text, origin, bool(apply_ambiguous))["reason"]
+        return self._operator(self._c.calibration, text, origin, bool(apply_ambiguous))["reason"]
 
     def pivot(self, point: Sequence[float]) -> dict:
         if isinstance(point, (str, bytes)):

@@ -93,8 +93,9 @@ TEST(OperatorCommands, EdspCtlSendsTheRequestAgainUntilItIsAnswered) {
   EXPECT_EQ(status.load(), 0) << out;
   EXPECT_NE(out.find("none → signed (stand-in)"), std::string::npos) << out;
   ASSERT_GE(received.size(), 3u);
-  for (const pr_mode_t& r : received) {  // copies, not new requests
+  for (const pr_mode_t& r : received) {  // copies, not new requests: stamped once
     EXPECT_EQ(r.request_id, received[0].request_id);
+    EXPECT_EQ(r.utime, received[0].utime);
     EXPECT_NE(r.request_id, 0);
     EXPECT_EQ(r.session_id, 77);
   }

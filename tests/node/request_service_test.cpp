@@ -119,15 +119,21 @@ TEST(RequestService, ASwitchRefusesARequestOlderThanTheOneActedOn) {
   EXPECT_EQ(motions.Ask(ArmRequest(1, kServiceNow - 1'000'000)).reply.code, reply_t::CODE_DONE);
 }
 
-// A client flooding new ids: the replies kept stay bounded by time.
-TEST(RequestService, RepliesAreForgottenAfterTwiceTheWindow) {
+// The replies kept stay bounded by time, and a copy that comes after its
+// reply was forgotten is older than the window (a client stamps a request
+// once): stale, never acted on a second time.
+TEST(RequestService, ACopyAfterItsReplyWasForgottenIsStaleNotActedOnAgain) {
   ServiceNode node;
   node.Ask(ArmRequest(1));
   const std::int64_t later = kServiceNow + 11'000'000;
   node.Ask(ArmRequest(2, later), later);  // evicts what is older than 10 s
-  const auto again = node.Ask(ArmRequest(1, later), later);
-  EXPECT_TRUE(again.acted);  // forgotten: acted on as new
-  EXPECT_EQ(node.acted, 3);
+  const auto again = node.Ask(ArmRequest(1), later);
+  EXPECT_FALSE(again.acted);
+  EXPECT_EQ(again.reply.code, reply_t::CODE_STALE);
+  EXPECT_EQ(node.acted, 2);
+  // Replayed stamps at the int64 limits evict without overflow.
+  constexpr std::int64_t kLowest = std::numeric_limits<std::int64_t>::min();
+  EXPECT_EQ(node.Ask(ArmRequest(3, kLowest), kLowest).reply.code, reply_t::CODE_DONE);
 }
 
 }  // namespace

@@ -43,7 +43,7 @@ inline constexpr ReplyCodeRow kReplyCodes[] = {
 };
 
 // The row of a code as it came off the wire; a code this build does not
-// know (a newer node's) is a refusal named "code N" by the caller.
+// know (a newer node's) is a refusal named "unknown".
 constexpr const ReplyCodeRow* FindReplyCode(std::int8_t wire) {
   for (const ReplyCodeRow& row : kReplyCodes) {
     if (static_cast<std::int8_t>(row.code) == wire) return &row;

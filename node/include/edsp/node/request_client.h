@@ -1,8 +1,10 @@
 #pragma once
 // A client's side of request_service.h, for edsp-ctl, the Python Platform
 // and the planner's motion client alike: a request goes out with a fresh
-// request_id, re-stamped and sent again every 0.5 s until the reply with
-// that id comes, or the timeout.
+// request_id, stamped once, and is sent again every 0.5 s until the reply
+// with that id comes, or the timeout. Copies keep the first stamp: the
+// node's window then bounds when any copy can still be taken (its reply
+// cache outlives it), and a late copy stays as old as the request was.
 
 #include <chrono>
 #include <cstdint>
@@ -39,9 +41,9 @@ class RequestClient {
     const auto until =
         Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(timeout_s));
     auto next = Clock::now();
+    request.utime = UtimeNow();
     while (!inbox.reply && Clock::now() < until) {
       if (Clock::now() >= next) {
-        request.utime = UtimeNow();
         ++request.seq;
         if (!bus_.Publish(channel, request)) throw std::runtime_error(channel + " could not be sent");
         next = Clock::now() + kResend;

@@ -46,8 +46,10 @@ Refusal AddressProblem(const RequestPolicy& policy, std::int64_t session_id, std
 template <typename Reply>
 class RequestService {
  public:
-  // Replies are kept twice as long as a copy can still be taken, and at most
-  // this many (a client flooding new ids cannot grow the node without bound).
+  // Replies are kept twice as long as a copy can still be taken (clients
+  // stamp a request once: a copy older than the window is stale), and at
+  // most this many (a client flooding new ids cannot grow the node without
+  // bound). The clock is the node's, or a replay's stamps: any int64.
   static constexpr std::size_t kRepliesMost = 100000;
 
   explicit RequestService(RequestPolicy policy) : policy_(std::move(policy)) {}
@@ -100,7 +102,8 @@ class RequestService {
     order_.emplace_back(now_utime, request_id);
     const double keep_s = 2.0 * policy_.window_s;
     while (!order_.empty() &&
-           (order_.size() > kRepliesMost || static_cast<double>(now_utime - order_.front().first) * 1e-6 > keep_s)) {
+           (order_.size() > kRepliesMost ||
+            (static_cast<double>(now_utime) - static_cast<double>(order_.front().first)) * 1e-6 > keep_s)) {
       replies_.erase(order_.front().second);
       order_.pop_front();
     }

@@ -13,9 +13,10 @@
 
 namespace edsp {
 
-// What the setpoints at u are named: a program's segment, else the motion's activity.
+// What the setpoints at u are named: a program's segment (its name lives
+// as long as the path), else the motion's activity (name null).
 struct PathSegment {
-  std::string name;
+  const std::string* name = nullptr;
   std::int32_t index = 0;
 };
 
@@ -29,7 +30,7 @@ class PosePath {
   virtual Vector6 PoseAt(double u) const = 0;
   // How far it goes, for the reply ("0.0200 m, 0.0000 rad about the pivot").
   virtual std::string Extent() const = 0;
-  virtual PathSegment SegmentAt(double /*u*/, const std::string& activity) const { return {activity, 0}; }
+  virtual PathSegment SegmentAt(double /*u*/) const { return {}; }
   // Whether the legs' acceleration limit is checked along it: a program's
   // steps are its data's (as CheckTrajectory takes them), a move's are planned.
   virtual bool ChecksLegAcceleration() const { return true; }
@@ -63,7 +64,7 @@ class ProgramPath final : public PosePath {
   PoseSample At(double u) const override { return program_->Sample(u); }
   Vector6 PoseAt(double u) const override { return program_->Sample(u).pose; }
   std::string Extent() const override;
-  PathSegment SegmentAt(double u, const std::string& activity) const override;
+  PathSegment SegmentAt(double u) const override;
   bool ChecksLegAcceleration() const override { return false; }
   const TrajectorySequence& program() const { return *program_; }
 
