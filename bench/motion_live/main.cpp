@@ -37,6 +37,7 @@
 #include "edsp/transport/private_network.h"
 #include "edsp/transport/transport_config.h"
 #include "group_file_editor.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp {
 namespace {
@@ -51,9 +52,9 @@ double Ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(
 // the logger and lcm-spy): a ring has one writer, so such a group serves
 // this one client; the shipped groups keep requests on LCM for any number.
 std::string WriteGroup(const std::string& dir, bool over_shm) {
-  GroupFileEditor group = GroupFileEditor::Load(std::string(EDSP_SOURCE_DIR) + "/deploy/groups/sim.toml");
+  GroupFileEditor group = GroupFileEditor::Load(SourcePath("deploy/groups/sim.toml"));
   group.SetGroup("name", "bench-motion")
-      .SetGroup("config", std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml")
+      .SetGroup("config", SourcePath("config/huang2021.toml"))
       .SetGroup("session_id", kSession)
       .SetTransport("shm_prefix", fmt::format("edsp.benchmotion.{}", ::getpid()))
       .SetArg("logger", "--output", dir + "/run.lcmlog");

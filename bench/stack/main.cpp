@@ -31,6 +31,7 @@
 #include "edsp/logger/log_reader.h"
 #include "edsp/node_status_t.hpp"
 #include "edsp/transport/private_network.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp {
 namespace {
@@ -72,9 +73,9 @@ void Partition(GroupFileEditor* group) {
 // The demo group (deploy/groups/demo.toml: the paper's four motions, 9
 // stops, tracker noise 10 µm at 1 kHz) as this benchmark runs it.
 void WriteGroupFile(const std::string& transport, const std::string& dir, bool rt) {
-  GroupFileEditor group = GroupFileEditor::Load(std::string(EDSP_SOURCE_DIR) + "/deploy/groups/demo.toml");
+  GroupFileEditor group = GroupFileEditor::Load(SourcePath("deploy/groups/demo.toml"));
   group.SetGroup("name", "bench-" + transport)
-      .SetGroup("config", std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml")
+      .SetGroup("config", SourcePath("config/huang2021.toml"))
       .SetTransport("shm_prefix", fmt::format("edsp.bench.{}.{}", ::getpid(), transport))
       .SetArg("kinematics", "--pr-mode", "signed")
       .SetArg("actuator_bridge", "--latency-report", dir + "/latency.json")
@@ -106,7 +107,7 @@ nlohmann::json RunOnce(const std::string& transport, double duration_s, bool rt)
   std::filesystem::create_directories(dir);
   WriteGroupFile(transport, dir, rt);
   const std::string command =
-      fmt::format("cd {} && {}/edsp-launch {}/group.toml --bin-dir {} --duration-s {} 2>{}/launch.err", EDSP_SOURCE_DIR,
+      fmt::format("cd {} && {}/edsp-launch {}/group.toml --bin-dir {} --duration-s {} 2>{}/launch.err", SourceDir(),
                   BinDir(), dir, BinDir(), duration_s, dir);
   const int status = std::system(command.c_str());
   std::ifstream report_file(dir + "/latency.json");

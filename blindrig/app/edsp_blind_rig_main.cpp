@@ -11,6 +11,7 @@
 
 #include "edsp/blindrig/blind_setup.h"
 #include "edsp/node/runtime.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp::blind {
 namespace {
@@ -25,7 +26,7 @@ int Run(int argc, char** argv) {
   CLI::App app{
       "edsp-blind-rig: measurement CSVs (interfaces.md §3) of a scenario drawn on an independently "
       "written virtual rig, the truth kept apart"};
-  std::string config_path = EDSP_DEFAULT_CONFIG, out_path, truth_path;
+  std::string config_path = SourcePath("config/huang2021.toml"), out_path, truth_path;
   std::uint64_t seed = 1;
   int index = 1;
   double rate_hz = 0.0, noise_m = -1.0, time_offset_s = 0.0;

@@ -21,6 +21,7 @@
 #include "edsp/kinematics/config.h"
 #include "edsp/sim/offline_run.h"
 #include "draws.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp::gap {
 
@@ -287,7 +288,7 @@ BenchmarkResult RunBenchmark(const BenchmarkOptions& options) {
   }
   BenchmarkResult result;
   result.options = options;
-  const std::string config = options.config_path.empty() ? EDSP_DEFAULT_CONFIG : options.config_path;
+  const std::string config = options.config_path.empty() ? SourcePath("config/huang2021.toml") : options.config_path;
   const PlatformConfig platform = LoadConfigFile(config);
   const PlatformModel model(platform);
   const std::string root =

@@ -25,6 +25,7 @@
 #include "edsp/rig/payload_rating.h"
 #include "edsp/sim/offline_run.h"
 #include "draws.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp::gap {
 
@@ -158,7 +159,7 @@ CalibrationBenchmarkResult RunCalibrationBenchmark(const CalibrationBenchmarkOpt
   }
   CalibrationBenchmarkResult result;
   result.options = options;
-  const std::string config = options.config_path.empty() ? EDSP_DEFAULT_CONFIG : options.config_path;
+  const std::string config = options.config_path.empty() ? SourcePath("config/huang2021.toml") : options.config_path;
   const PlatformConfig platform = LoadConfigFile(config);
   const PlatformModel model(platform);
   result.rated_payload_kg =

@@ -19,6 +19,7 @@
 #include "edsp/rig/payload_rating.h"
 #include "edsp/sim/offline_run.h"
 #include "draws.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp::gap {
 
@@ -104,7 +105,7 @@ void Score(const DriftReport& changed, DriftScenario* s) {
 DriftBenchmarkResult RunDriftBenchmark(const DriftBenchmarkOptions& o) {
   DriftBenchmarkResult result;
   result.options = o;
-  const std::string config = o.config_path.empty() ? EDSP_DEFAULT_CONFIG : o.config_path;
+  const std::string config = o.config_path.empty() ? SourcePath("config/huang2021.toml") : o.config_path;
   const PlatformModel model(LoadConfigFile(config));
   const double rating = RatePayload(model, RigEffects{}.servo_lag, Vector3(0, 0, kWholeRigComHeightMaxM)).payload_kg;
   const std::string root =

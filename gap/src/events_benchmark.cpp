@@ -14,6 +14,7 @@
 #include "edsp/blindrig/blind_setup.h"
 #include "edsp/diagnosis/diagnose.h"
 #include "edsp/kinematics/config.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp::gap {
 
@@ -126,7 +127,8 @@ double SecondsSince(std::chrono::steady_clock::time_point t0) {
 EventsBenchmarkResult RunEventsBenchmark(const EventsBenchmarkOptions& o) {
   EventsBenchmarkResult result;
   result.options = o;
-  const PlatformConfig config = LoadConfigFile(o.config_path.empty() ? EDSP_DEFAULT_CONFIG : o.config_path);
+  const PlatformConfig config =
+      LoadConfigFile(o.config_path.empty() ? SourcePath("config/huang2021.toml") : o.config_path);
   const PlatformModel model(config);
   blind::BlindRigSetup setup = blind::SetupFromConfig(config);
   setup.motions = o.motions;

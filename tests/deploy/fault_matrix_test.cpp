@@ -41,6 +41,7 @@
 #include "group_watch.h"
 #include "late_cycles.h"
 #include "sim_group_harness.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp {
 namespace {
@@ -134,7 +135,7 @@ int Arm(const std::string& dir) {
   for (int attempt = 0; attempt < 3 && status != 0; ++attempt) {
     status =
         std::system(fmt::format("{} arm --operator fault-matrix --timeout-s 30 --group {}/group.toml >>{}/ctl.out 2>&1",
-                                EDSP_CTL_BINARY, dir, dir)
+                                BuiltProgram("edsp-ctl"), dir, dir)
                         .c_str());
   }
   return status;

@@ -14,13 +14,12 @@
 
 #include "edsp/node/group_file.h"
 #include "scratch_dir.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp {
 namespace {
 
-std::string Shipped(const std::string& group) {
-  return std::string(EDSP_SOURCE_DIR) + "/deploy/groups/" + group + ".toml";
-}
+std::string Shipped(const std::string& group) { return SourcePath("deploy/groups/") + group + ".toml"; }
 
 std::string Scratch(const std::string& name) { return test_support::ScratchDir("group_file_editor") + "/" + name; }
 

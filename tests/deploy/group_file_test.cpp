@@ -14,6 +14,7 @@
 #include "systemd_units.h"
 #include "scratch_dir.h"
 #include "thrown_message.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp {
 namespace {
@@ -192,9 +193,7 @@ TEST(MemberUnits, OneHostsMembersInStartOrderWithTheirPolicies) {
 namespace edsp {
 namespace {
 
-std::string ShippedGroupFile(const std::string& name) {
-  return std::string(EDSP_SOURCE_DIR) + "/deploy/groups/" + name + ".toml";
-}
+std::string ShippedGroupFile(const std::string& name) { return SourcePath("deploy/groups/") + name + ".toml"; }
 
 std::string WriteScratch(const std::string& name, const std::string& text) {
   const std::string path = test_support::ScratchRoot() + "/" + name;

@@ -33,6 +33,7 @@
 #include "edsp/tracker_point_t.hpp"
 #include "edsp/transport/seq_gap.h"
 #include "sim_group_harness.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp {
 namespace {
@@ -184,7 +185,7 @@ TEST(LogStorage, AFullDiskIsReportedKeepsTheLogReadableAndRecoversWhenThereIsRoo
 }
 
 int RunTool(const std::string& args, const std::string& out, std::string* text) {
-  const int status = std::system(fmt::format("{} {} >{} 2>&1", EDSP_LOG_BINARY, args, out).c_str());
+  const int status = std::system(fmt::format("{} {} >{} 2>&1", BuiltProgram("edsp-log"), args, out).c_str());
   std::ifstream in(out);
   std::ostringstream s;
   s << in.rdbuf();

@@ -23,6 +23,7 @@
 #include "edsp/rig_truth_t.hpp"
 #include "group_watch.h"
 #include "sim_group_harness.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp {
 namespace {
@@ -41,8 +42,8 @@ CtlResult Ctl(const std::string& dir, const std::string& args, bool options_firs
   static int n = 0;
   const std::string out = fmt::format("{}/ctl{}.out", dir, ++n), err = fmt::format("{}/ctl{}.err", dir, n);
   const std::string common = fmt::format("--answer-timeout-s 30 --group {}/group.toml", dir);
-  const int status = std::system(fmt::format("{} {} {} >{} 2>{}", EDSP_CTL_BINARY, options_first ? common : args,
-                                             options_first ? args : common, out, err)
+  const int status = std::system(fmt::format("{} {} {} >{} 2>{}", BuiltProgram("edsp-ctl"),
+                                             options_first ? common : args, options_first ? args : common, out, err)
                                      .c_str());
   CtlResult r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

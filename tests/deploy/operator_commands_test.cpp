@@ -29,6 +29,7 @@
 #include "edsp/transport/bus.h"
 #include "edsp/sim/dwell_errors.h"
 #include "scratch_dir.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp {
 namespace {
@@ -41,7 +42,8 @@ using namespace test_support;  // sim_group_harness.h
 int Ctl(const std::string& dir, const std::string& args, std::string* out) {
   const std::string path = dir + "/ctl.out";
   const int status = std::system(
-      fmt::format("{} {} --timeout-s 30 --group {}/group.toml >{} 2>&1", EDSP_CTL_BINARY, args, dir, path).c_str());
+      fmt::format("{} {} --timeout-s 30 --group {}/group.toml >{} 2>&1", BuiltProgram("edsp-ctl"), args, dir, path)
+          .c_str());
   std::ifstream in(path);
   std::ostringstream text;
   text << in.rdbuf();
@@ -169,7 +171,7 @@ TEST(OperatorCommands, PrModeSwitchedLiveBlendsWithoutAStepAndTheDwellsLandSigne
 constexpr double kLegOffsets_m[6] = {240e-6, -180e-6, 120e-6, -300e-6, 150e-6, -60e-6};
 
 std::string LegOffsetRigConfig(const std::string& dir) {
-  std::ifstream nominal(std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml");
+  std::ifstream nominal(SourcePath("config/huang2021.toml"));
   std::ostringstream text;
   text << nominal.rdbuf() << "\n[rig.effects.leg_offset]\noffset_m = ["
        << fmt::format("{}", fmt::join(kLegOffsets_m, ", ")) << "]\n";

@@ -16,6 +16,7 @@
 #include "edsp/rig_truth_t.hpp"
 #include "edsp/sim/dwell_errors.h"
 #include "edsp/sim/offline_run.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp {
 namespace {
@@ -69,7 +70,7 @@ TEST(RigEffectsLive, TheLiveGroupMeasuresWhatEdspSimRigComputes) {
   o.paper.max_speed_m_s = 0.25;
   o.paper.max_speed_rad_s = 0.4;
   o.out_dir = test_support::RunDir(live) + "/offline";
-  const std::string config_path = std::string(EDSP_SOURCE_DIR) + "/" + config;
+  const std::string config_path = SourcePath("") + config;
   const OfflineRunResult offline = RunOffline(config_path, o);
   ASSERT_EQ(offline.faults, 0);
 

@@ -21,6 +21,7 @@
 #include "edsp/node/node_options.h"
 #include "edsp/node/runtime.h"
 #include "scratch_dir.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp::test_support {
 
@@ -35,7 +36,7 @@ SimGroupExtras OverModbus(const std::string& dir, int stall_ms, std::string* con
         .SetArg("drive_sim", "--following-window-counts",
                 fmt::format("{:.0f}", kLegSpeedMS * stall_ms * 1e-3 * kCountsPerM));
   };
-  std::string text = ReadTextFile(std::string(EDSP_SOURCE_DIR) + "/" + kDefaultConfig);
+  std::string text = ReadTextFile(SourcePath("") + kDefaultConfig);
   const std::string key = fmt::format("counts_per_m = {:.0f}", kCountsPerM);
   const std::size_t at = text.find(key);
   config->clear();
@@ -80,10 +81,9 @@ GroupRun LaunchSimGroup(const std::string& name, const std::string& pr_mode, con
   run.dir = dir;
   run.log_path = extras.log_path.empty() ? dir + "/run.lcmlog" : extras.log_path;
   const std::string stale = std::to_string(stale_ms);
-  GroupFileEditor group =
-      GroupFileEditor::Load(std::string(EDSP_SOURCE_DIR) + "/deploy/groups/" + extras.group + ".toml");
+  GroupFileEditor group = GroupFileEditor::Load(SourcePath("deploy/groups/") + extras.group + ".toml");
   group.SetGroup("name", name)
-      .SetGroup("config", config.front() == '/' ? config : std::string(EDSP_SOURCE_DIR) + "/" + config)
+      .SetGroup("config", config.front() == '/' ? config : SourcePath("") + config)
       .SetGroup("session_id", session_id)
       .SetTransport("lcm_url", kGroupLcmUrl)
       .SetTransport("shm_prefix", fmt::format("edsp.test.{}.{}", ::getpid(), name))
@@ -96,7 +96,7 @@ GroupRun LaunchSimGroup(const std::string& name, const std::string& pr_mode, con
   if (extras.edit) extras.edit(group);
   group.Write(dir + "/group.toml");
   const std::string command = fmt::format("{} {}/group.toml --until-exit planner --duration-s 120 2>{}/launch.err",
-                                          EDSP_LAUNCH_BINARY, dir, dir);
+                                          BuiltProgram("edsp-launch"), dir, dir);
   std::thread action;
   run.launch_utime = UtimeNow();
   const CpuTicks before = ReadCpuTicks();

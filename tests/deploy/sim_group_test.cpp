@@ -30,6 +30,7 @@
 #include "edsp/node/runtime.h"
 #include "edsp/rig_truth_t.hpp"
 #include "edsp/tracker_point_t.hpp"
+#include "edsp/node/build_paths.h"
 
 namespace edsp {
 namespace {
@@ -66,7 +67,7 @@ void ExpectReplayReproducesTheCommands(const GroupRun& run) {
   const std::string command = fmt::format(
       "cd {0} && EDSP_REPLAY_LOG={1} EDSP_LOG={2} {3} deploy/groups/replay.toml --session-id 77 "
       "--until-exit player --duration-s 120 2>{4}/replay.err",
-      EDSP_SOURCE_DIR, run.log_path, replayed, EDSP_LAUNCH_BINARY, dir);
+      SourceDir(), run.log_path, replayed, BuiltProgram("edsp-launch"), dir);
   ASSERT_EQ(std::system(command.c_str()), 0) << "see " << dir << "/replay.err";
   const auto recorded = CommandsBySetpoint(run.log_path);
   const auto reproduced = CommandsBySetpoint(replayed);

@@ -18,6 +18,7 @@
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/transport/bus.h"
 #include "scratch_dir.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp {
 namespace {
@@ -54,8 +55,7 @@ TEST(LcmSpy, DecodesEdspMessagesOnJava17UnderXvfb) {
       "Xvfb :{0} -screen 0 1024x768x24 -nolisten tcp >{1}/xvfb.log 2>&1 & X=$!; sleep 1; "
       "DISPLAY=:{0} EDSP_BUILD_DIR={2} EDSP_SPY_MAIN=SpyProbe EDSP_SPY_EXTRA_CP={3} "
       "{4}/deploy/edsp-spy --lcm-url='{5}' 5 {1}/spy.ready >{1}/probe.out 2>{1}/probe.err; S=$?; kill $X; exit $S",
-      display, dir, std::string(EDSP_LCMTYPES_JAR).substr(0, std::string(EDSP_LCMTYPES_JAR).rfind("/lcmtypes/")),
-      EDSP_SPY_PROBE_JAR, EDSP_SOURCE_DIR, url);
+      display, dir, BuildPath("."), BuildPath("tests/deploy/spy_probe.jar"), SourceDir(), url);
   int status = -1;
   std::thread spy([&] { status = std::system(script.c_str()); });
   TransportConfig config;

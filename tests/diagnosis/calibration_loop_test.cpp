@@ -22,6 +22,7 @@
 #include "edsp/kinematics/config.h"
 #include "edsp/sim/offline_run.h"
 #include "scratch_dir.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp::gap {
 namespace {
@@ -29,7 +30,7 @@ namespace {
 constexpr double kNoiseSigma = 5e-6;
 const double kNoiseFloor = std::sqrt(3.0) * kNoiseSigma;  // RMS of the tracker's noise at A
 
-std::string Config() { return std::string(EDSP_SOURCE_DIR) + "/config/huang2021-rig-effects.toml"; }
+std::string Config() { return SourcePath("config/huang2021-rig-effects.toml"); }
 
 OfflineRunOptions Run(const std::string& dir, std::vector<std::string> motions, std::uint64_t seed) {
   OfflineRunOptions o;

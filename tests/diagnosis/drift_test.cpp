@@ -21,6 +21,7 @@
 #include "offline_session.h"
 #include "scratch_dir.h"
 #include "platform_models.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp::gap {
 namespace {
@@ -132,31 +133,33 @@ TEST(Drift, TheChangeThresholdKeepsNoiseFromCountingAsChange) {
 
 TEST(Drift, TheCommandLineSaysWhatChangedAndRefusesABadBaseline) {
   const std::string csv = Session("cli", Rig(), kSession, Baseline(), 5);
-  const auto ok = test_support::RunCommand(fmt::format("{} drift --config {} --baseline {} --data {} --json",
-                                                       EDSP_GAP_BINARY, test_support::kShippedConfig, Baseline(), csv));
+  const auto ok =
+      test_support::RunCommand(fmt::format("{} drift --config {} --baseline {} --data {} --json",
+                                           BuiltProgram("edsp-gap"), test_support::kShippedConfig, Baseline(), csv));
   ASSERT_EQ(ok.exit_code, 0) << ok.text;
   const nlohmann::json j = nlohmann::json::parse(ok.text.substr(ok.text.find('{')));
   for (const char* key : {"changed", "appeared", "vanished", "heldout_rms_m", "recalibrate"})
     EXPECT_TRUE(j.contains(key)) << key;
   // By default the data says whether the baseline was applied (its leg_corr columns).
   EXPECT_TRUE(j["recorded_with_baseline"].get<bool>());
-  const auto without = test_support::RunCommand(fmt::format("{} drift --config {} --baseline {} --data {} --json",
-                                                            EDSP_GAP_BINARY, test_support::kShippedConfig, Baseline(),
-                                                            Session("cli_without", Rig(), kSession, "", 5)));
+  const auto without = test_support::RunCommand(
+      fmt::format("{} drift --config {} --baseline {} --data {} --json", BuiltProgram("edsp-gap"),
+                  test_support::kShippedConfig, Baseline(), Session("cli_without", Rig(), kSession, "", 5)));
   ASSERT_EQ(without.exit_code, 0) << without.text;
   const nlohmann::json w = nlohmann::json::parse(without.text.substr(without.text.find('{')));
   EXPECT_FALSE(w["recorded_with_baseline"].get<bool>());
   EXPECT_TRUE(w["changed"].empty()) << without.text;
   const std::string bad = test_support::ScratchDir("drift_bad") + "/bad.json";
   std::ofstream(bad) << R"({"format": "edsp-gap-model/1", "effects": [{"name": "backlash", "theta": [1, 2]}]})";
-  const auto refused = test_support::RunCommand(fmt::format("{} drift --config {} --baseline {} --data {}",
-                                                            EDSP_GAP_BINARY, test_support::kShippedConfig, bad, csv));
+  const auto refused =
+      test_support::RunCommand(fmt::format("{} drift --config {} --baseline {} --data {}", BuiltProgram("edsp-gap"),
+                                           test_support::kShippedConfig, bad, csv));
   EXPECT_EQ(refused.exit_code, 1) << refused.text;
   EXPECT_NE(refused.text.find(bad), std::string::npos) << refused.text;
   EXPECT_NE(refused.text.find("needs 6 parameters"), std::string::npos) << refused.text;
   // Drift is scored on edsp's rig only.
   const auto blind = test_support::RunCommand(
-      fmt::format("{} benchmark --mode drift --generator blind --scenarios 1", EDSP_GAP_BINARY));
+      fmt::format("{} benchmark --mode drift --generator blind --scenarios 1", BuiltProgram("edsp-gap")));
   EXPECT_EQ(blind.exit_code, 1) << blind.text;
   EXPECT_NE(blind.text.find("--mode drift --generator blind"), std::string::npos) << blind.text;
 }

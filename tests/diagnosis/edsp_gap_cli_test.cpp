@@ -14,13 +14,14 @@
 #include "command_output.h"
 #include "edsp/diagnosis/gap_shrink.h"
 #include "scratch_dir.h"
+#include "edsp/node/build_paths.h"
 
 namespace {
 
 using Output = edsp::test_support::CommandOutput;
 
 Output Gap(const std::string& args) {
-  return edsp::test_support::RunCommand(fmt::format("{} {}", EDSP_GAP_BINARY, args));
+  return edsp::test_support::RunCommand(fmt::format("{} {}", edsp::BuiltProgram("edsp-gap"), args));
 }
 
 std::string Dir() { return edsp::test_support::ScratchDir("gap_cli"); }
@@ -33,7 +34,7 @@ std::string SimulatedCsv(const std::string& pr_mode = "unsigned", const std::str
       "{} rig --config {}/config/huang2021.toml --out {} --motions {} --pr-mode {} "
       "--stops 3 --dwell-s 0.3 --max-speed-m-s 0.25 --max-speed-rad-s 0.5 --tracker-noise-m 5e-6 "
       "--tracker-rate-hz 100 >/dev/null",
-      EDSP_SIM_BINARY, EDSP_SOURCE_DIR, dir, motions, pr_mode);
+      edsp::BuiltProgram("edsp-sim"), edsp::SourceDir(), dir, motions, pr_mode);
   EXPECT_EQ(std::system(command.c_str()), 0);
   return dir + "/measurement.csv";
 }
@@ -43,7 +44,7 @@ TEST(EdspGapCli, DiagnoseJsonHasTheInterfaceKeysAndAModelThatEvaluates) {
   const std::string model = Dir() + "/model.json", report = Dir() + "/report";
   const Output out =
       Gap(fmt::format("diagnose --config {}/config/huang2021.toml --data {} --json --save-model {} --report {}",
-                      EDSP_SOURCE_DIR, csv, model, report));
+                      edsp::SourceDir(), csv, model, report));
   ASSERT_EQ(out.exit_code, 0) << out.text;
   const nlohmann::json j = nlohmann::json::parse(out.text);
   for (const char* key : {"rms_m", "max_m", "by_run", "by_leg_m", "where"}) EXPECT_TRUE(j["gap"].contains(key)) << key;
@@ -72,7 +73,7 @@ TEST(EdspGapCli, DiagnoseJsonHasTheInterfaceKeysAndAModelThatEvaluates) {
   EXPECT_EQ(text.find("{\""), std::string::npos) << "JSON in report.md:\n" << text;
 
   const Output ev = Gap(fmt::format("evaluate --config {}/config/huang2021.toml --model {} --data {} --json",
-                                    EDSP_SOURCE_DIR, model, csv));
+                                    edsp::SourceDir(), model, csv));
   ASSERT_EQ(ev.exit_code, 0) << ev.text;
   const nlohmann::json e = nlohmann::json::parse(ev.text);
   EXPECT_GT(e["shrink"].get<double>(), 0.9);
@@ -100,7 +101,7 @@ TEST(EdspGapCli, DiagnoseJsonHasTheInterfaceKeysAndAModelThatEvaluates) {
   out_csv.close();
   ASSERT_GT(marked, 10);
   const Output fe = Gap(fmt::format("evaluate --config {}/config/huang2021.toml --model {} --data {} --json",
-                                    EDSP_SOURCE_DIR, model, flagged));
+                                    edsp::SourceDir(), model, flagged));
   ASSERT_EQ(fe.exit_code, 0) << fe.text;
   const nlohmann::json f = nlohmann::json::parse(fe.text);
   EXPECT_EQ(f["timing_excluded_samples"].get<int>(), marked);
@@ -114,7 +115,7 @@ TEST(EdspGapCli, DiagnoseJsonHasTheInterfaceKeysAndAModelThatEvaluates) {
 TEST(EdspGapCli, CompareGivesEachMotionBeforeAndAfterTheCorrection) {
   const std::string before = SimulatedCsv("unsigned"), after = SimulatedCsv("signed");
   const std::string model = Dir() + "/pr_model.json", plot = Dir() + "/compare";
-  const std::string config = fmt::format("{}/config/huang2021.toml", EDSP_SOURCE_DIR);
+  const std::string config = fmt::format("{}/config/huang2021.toml", edsp::SourceDir());
   ASSERT_EQ(Gap(fmt::format("diagnose --config {} --data {} --save-model {}", config, before, model)).exit_code, 0);
   const Output out = Gap(fmt::format("compare --config {} --before {} --after {} --model {} --plot {} --json", config,
                                      before, after, model, plot));
@@ -166,27 +167,27 @@ TEST(EdspGapCli, WrongInputsAreNamedWithANonZeroExit) {
                         "point_x_m,point_y_m,point_z_m\n"
                         "0,Lz,0,0,1.511,0,0,0,1.9,1.9,1.9,1.9,1.9,1.9,1.2,0,1.5\n"
                         "0.01,Lz,0,0,1.511,0,0,0,1.9,1.9,x1.9,1.9,1.9,1.9,1.2,0,1.5\n";
-  Output out = Gap(fmt::format("diagnose --config {}/config/huang2021.toml --data {}", EDSP_SOURCE_DIR, bad));
+  Output out = Gap(fmt::format("diagnose --config {}/config/huang2021.toml --data {}", edsp::SourceDir(), bad));
   EXPECT_NE(out.exit_code, 0);
   EXPECT_NE(out.text.find(bad + ":3:"), std::string::npos) << out.text;
   EXPECT_NE(out.text.find("\"x1.9\" is not a number"), std::string::npos) << out.text;
 
-  out = Gap(fmt::format("diagnose --config {}/config/huang2021.toml --data /nonexistent.csv", EDSP_SOURCE_DIR));
+  out = Gap(fmt::format("diagnose --config {}/config/huang2021.toml --data /nonexistent.csv", edsp::SourceDir()));
   EXPECT_NE(out.exit_code, 0);
   EXPECT_NE(out.text.find("/nonexistent.csv: cannot open"), std::string::npos) << out.text;
 
   const std::string model = Dir() + "/broken_model.json";
   std::ofstream(model) << "{\"format\": \"edsp-gap-model/1\", \"effects\": [{\"name\": \"gremlins\", \"theta\": []}]}";
-  out =
-      Gap(fmt::format("evaluate --config {}/config/huang2021.toml --model {} --data {}", EDSP_SOURCE_DIR, model, bad));
+  out = Gap(
+      fmt::format("evaluate --config {}/config/huang2021.toml --model {} --data {}", edsp::SourceDir(), model, bad));
   EXPECT_NE(out.exit_code, 0);
   std::ofstream(model) << "{not json";
-  out = Gap(fmt::format("evaluate --config {}/config/huang2021.toml --model {} --data {}", EDSP_SOURCE_DIR, model,
+  out = Gap(fmt::format("evaluate --config {}/config/huang2021.toml --model {} --data {}", edsp::SourceDir(), model,
                         SimulatedCsv()));
   EXPECT_NE(out.exit_code, 0);
   EXPECT_NE(out.text.find("not JSON"), std::string::npos) << out.text;
   std::ofstream(model) << "{\"format\": \"edsp-gap-model/1\", \"effects\": [{\"name\": \"gremlins\", \"theta\": []}]}";
-  out = Gap(fmt::format("evaluate --config {}/config/huang2021.toml --model {} --data {}", EDSP_SOURCE_DIR, model,
+  out = Gap(fmt::format("evaluate --config {}/config/huang2021.toml --model {} --data {}", edsp::SourceDir(), model,
                         SimulatedCsv()));
   EXPECT_NE(out.exit_code, 0);
   EXPECT_NE(out.text.find("unknown effect \"gremlins\""), std::string::npos) << out.text;

@@ -21,6 +21,7 @@
 #include "offline_session.h"
 #include "scratch_dir.h"
 #include "platform_models.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp::gap {
 namespace {
@@ -217,8 +218,8 @@ TEST(RecordedCorrection, ASecondCalibrationOnDataRecordedWithTheFirstHoldsAsWell
 
 TEST(RecordedCorrection, TheCommandLineSaysWhatItReadAgainstAndSavesOnlyAWholeCalibration) {
   const std::string data = RecordedWithFirst();
-  const auto json = test_support::RunCommand(
-      fmt::format("{} diagnose --config {} --data {} --json", EDSP_GAP_BINARY, test_support::kShippedConfig, data));
+  const auto json = test_support::RunCommand(fmt::format("{} diagnose --config {} --data {} --json",
+                                                         BuiltProgram("edsp-gap"), test_support::kShippedConfig, data));
   ASSERT_EQ(json.exit_code, 0) << json.text;
   const nlohmann::json j = nlohmann::json::parse(json.text.substr(json.text.find('{')));
   EXPECT_EQ(j["recorded_correction"]["against"], "nominal");
@@ -226,17 +227,17 @@ TEST(RecordedCorrection, TheCommandLineSaysWhatItReadAgainstAndSavesOnlyAWholeCa
   const std::string model = test_support::ScratchDir("recorded_correction_cli") + "/increments.json";
   const auto refused =
       test_support::RunCommand(fmt::format("{} diagnose --config {} --data {} --against calibration --save-model {}",
-                                           EDSP_GAP_BINARY, test_support::kShippedConfig, data, model));
+                                           BuiltProgram("edsp-gap"), test_support::kShippedConfig, data, model));
   EXPECT_EQ(refused.exit_code, 1) << refused.text;
   EXPECT_NE(refused.text.find("--save-model with --against calibration"), std::string::npos) << refused.text;
   EXPECT_NE(refused.text.find(data), std::string::npos) << refused.text;
   EXPECT_FALSE(std::ifstream(model).good());
   const auto text = test_support::RunCommand(fmt::format("{} diagnose --config {} --data {} --against calibration",
-                                                         EDSP_GAP_BINARY, test_support::kShippedConfig, data));
+                                                         BuiltProgram("edsp-gap"), test_support::kShippedConfig, data));
   ASSERT_EQ(text.exit_code, 0) << text.text;
   EXPECT_NE(text.text.find("diagnosed against it, so the effects are what it leaves"), std::string::npos) << text.text;
   const auto bad = test_support::RunCommand(fmt::format("{} diagnose --config {} --data {} --against factory",
-                                                        EDSP_GAP_BINARY, test_support::kShippedConfig, data));
+                                                        BuiltProgram("edsp-gap"), test_support::kShippedConfig, data));
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.text.find("factory"), std::string::npos) << bad.text;
 }

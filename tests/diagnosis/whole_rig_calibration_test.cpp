@@ -22,11 +22,12 @@
 #include "edsp/sim/offline_run.h"
 #include "offline_session.h"
 #include "scratch_dir.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp::gap {
 namespace {
 
-const std::string kConfig = std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml";
+const std::string kConfig = SourcePath("config/huang2021.toml");
 constexpr double kWholeRigNoise = 5e-6;
 
 OfflineRunOptions BenchmarkRun(const std::string& dir) {

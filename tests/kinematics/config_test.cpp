@@ -9,6 +9,7 @@
 
 #include "edsp/kinematics/config.h"
 #include "edsp/kinematics/platform_model.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp {
 namespace {
@@ -47,7 +48,7 @@ std::string ErrorOf(const std::string& text) {
   } while (0)
 
 TEST(Config, RepositoryFileIsThePresetWithItsDefaults) {
-  const PlatformConfig file = LoadConfigFile(EDSP_SOURCE_DIR "/config/huang2021.toml");
+  const PlatformConfig file = LoadConfigFile(SourcePath("config/huang2021.toml"));
   const PlatformConfig preset = Huang2021Config();
   EXPECT_TRUE(file.geometry.p_BoBi_B.isApprox(preset.geometry.p_BoBi_B));
   EXPECT_TRUE(file.geometry.jd_M.isApprox(preset.geometry.jd_M));

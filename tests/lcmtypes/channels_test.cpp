@@ -13,6 +13,7 @@
 
 #include "edsp/channels.h"
 #include "edsp/message_types.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp {
 namespace {
@@ -46,7 +47,7 @@ TEST(ChannelTable, EveryChannelCarriesAKnownTypeAndEveryTypeHasAChannel) {
 }
 
 TEST(ChannelTable, TheMessageTypesAreTheOnesLcmGenBuilds) {
-  const std::string cmake = Slurp(EDSP_SOURCE_DIR "/lcmtypes/CMakeLists.txt");
+  const std::string cmake = Slurp(SourcePath("lcmtypes/CMakeLists.txt"));
   std::smatch list;
   ASSERT_TRUE(std::regex_search(cmake, list, std::regex(R"(set\(EDSP_LCM_TYPES([^)]*)\))")));
   std::set<std::string> built;
@@ -58,7 +59,7 @@ TEST(ChannelTable, TheMessageTypesAreTheOnesLcmGenBuilds) {
 // The older layouts a log may hold: built from lcmtypes/legacy/, and each
 // the older layout of a type still carried (its name and "_v1").
 TEST(ChannelTable, TheLegacyTypesAreTheOnesLcmGenBuildsAndEachIsAnOlderCarriedType) {
-  const std::string cmake = Slurp(EDSP_SOURCE_DIR "/lcmtypes/CMakeLists.txt");
+  const std::string cmake = Slurp(SourcePath("lcmtypes/CMakeLists.txt"));
   std::smatch list;
   ASSERT_TRUE(std::regex_search(cmake, list, std::regex(R"(set\(EDSP_LCM_LEGACY_TYPES([^)]*)\))")));
   std::set<std::string> built, legacy;
@@ -75,7 +76,7 @@ TEST(ChannelTable, TheLegacyTypesAreTheOnesLcmGenBuildsAndEachIsAnOlderCarriedTy
 }
 
 TEST(ChannelTable, InterfacesMdListsEveryChannelWithItsType) {
-  const std::string doc = Slurp(EDSP_SOURCE_DIR "/docs/interfaces.md");
+  const std::string doc = Slurp(SourcePath("docs/interfaces.md"));
   const std::regex row(R"(\n\| `(EDSP_[A-Z_]+)` \| `([a-z_]+_t)` \|)");
   std::map<std::string, std::string> documented;
   for (auto it = std::sregex_iterator(doc.begin(), doc.end(), row); it != std::sregex_iterator(); ++it) {

@@ -10,6 +10,7 @@
 #include "edsp/channels.h"
 #include "edsp/node/fault.h"
 #include "scratch_dir.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp {
 namespace {
@@ -21,7 +22,7 @@ struct CliRun {
 
 CliRun EdspLog(const std::string& args) {
   CliRun run{-1, {}};
-  FILE* pipe = popen((std::string(EDSP_LOG_BINARY) + " " + args + " 2>&1").c_str(), "r");
+  FILE* pipe = popen((BuiltProgram("edsp-log") + " " + args + " 2>&1").c_str(), "r");
   if (pipe == nullptr) return run;
   char buffer[512];
   while (fgets(buffer, sizeof buffer, pipe) != nullptr) run.out += buffer;

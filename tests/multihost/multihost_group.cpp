@@ -22,6 +22,7 @@
 #include "edsp/rig_truth_t.hpp"
 #include "edsp/transport/seq_gap.h"
 #include "scratch_dir.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp::test_support {
 
@@ -45,10 +46,9 @@ void ForEach(const std::string& log_path, const std::string& channel, Fn fn) {
 MultiHostGroup::MultiHostGroup(const VirtualNetwork& network, const std::string& name, MultiHostOptions options)
     : network_(network), options_(std::move(options)), dir_(test_support::ScratchDir("multihost_" + name)) {
   std::system(("rm -rf " + dir_ + " && mkdir -p " + dir_).c_str());
-  const std::string config =
-      options_.drives_over_modbus ? ModbusConfig() : std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml";
+  const std::string config = options_.drives_over_modbus ? ModbusConfig() : SourcePath("config/huang2021.toml");
   const std::string stale = std::to_string(options_.stale_ms);
-  GroupFileEditor group = GroupFileEditor::Load(std::string(EDSP_SOURCE_DIR) + "/deploy/groups/multihost.toml");
+  GroupFileEditor group = GroupFileEditor::Load(SourcePath("deploy/groups/multihost.toml"));
   group.SetGroup("name", name)
       .SetGroup("config", config)
       .SetGroup("session_id", options_.session_id)
@@ -100,7 +100,7 @@ void MultiHostGroup::PlaceMembers(GroupFileEditor* group) const {
 // The shipped config with the drive host's server as the bridge's
 // [drives] endpoint, its response timeout the stale limit.
 std::string MultiHostGroup::ModbusConfig() const {
-  std::ifstream in(std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml");
+  std::ifstream in(SourcePath("config/huang2021.toml"));
   std::stringstream text;
   text << in.rdbuf();
   std::string config = text.str();
@@ -116,7 +116,8 @@ std::string MultiHostGroup::ModbusConfig() const {
 
 void MultiHostGroup::Start() {
   auto launch = [&](const std::string& host, const std::string& extra) {
-    return network_.Spawn(host, fmt::format("{} {} --host {} {}", EDSP_LAUNCH_BINARY, group_path(), host, extra),
+    return network_.Spawn(host,
+                          fmt::format("{} {} --host {} {}", BuiltProgram("edsp-launch"), group_path(), host, extra),
                           fmt::format("{}/launch.{}.err", dir_, host));
   };
   // One launcher per distinct host; the operator's last, until its planner exits.
@@ -141,7 +142,7 @@ int MultiHostGroup::Finish(int timeout_ms) {
 }
 
 int MultiHostGroup::Ctl(const std::string& host, const std::string& arguments) const {
-  return network_.Run(host, fmt::format("{} {} --session-id {} --group {} >>{}/ctl.out 2>&1", EDSP_CTL_BINARY,
+  return network_.Run(host, fmt::format("{} {} --session-id {} --group {} >>{}/ctl.out 2>&1", BuiltProgram("edsp-ctl"),
                                         arguments, options_.session_id, group_path(), dir_));
 }
 
@@ -283,8 +284,7 @@ std::string LegStepCheck::Describe() const {
 LegStepCheck CheckLegSteps(const std::string& log_path, const std::vector<TruthSample>& truth, std::int64_t from_utime,
                            std::int64_t to_utime) {
   constexpr std::int64_t kCatchUpUs = 50000;
-  static const double leg_speed_m_s =
-      LoadConfigFile(std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml").limits.leg_speed_max_m_s;
+  static const double leg_speed_m_s = LoadConfigFile(SourcePath("config/huang2021.toml")).limits.leg_speed_max_m_s;
   const std::vector<Stall> stalls = StallsAroundTheBridge(log_path);
   LegStepCheck check;
   for (std::size_t i = 1; i < truth.size(); ++i) {

@@ -26,6 +26,7 @@
 #include "late_cycles.h"
 #include "multihost_group.h"
 #include "scratch_dir.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp::test_support {
 namespace {
@@ -391,7 +392,7 @@ TEST(MultiHost, DrivesLinkPulledOverModbusHoldsNamesTheDrivesAndResumesOnlyAfter
   ExpectSettledOnTheLastSetpoint(group.log_path(), 5e-6);
 }
 
-#ifdef EDSP_BENCH_DRIVES_BINARY
+#ifdef EDSP_HAVE_BENCH_DRIVES
 // What one Modbus TCP cycle (six drives, one function-23 request) costs
 // between two hosts, beside the same on loopback, in one run: the master
 // (edsp-bench-drives) on the controller, edsp-drive-sim on the drive host.
@@ -402,12 +403,14 @@ TEST(MultiHost, ModbusCycleBetweenHostsAgainstLoopback) {
   std::system(("mkdir -p " + dir).c_str());
   const std::string endpoint = fmt::format("{}:{}", network.Address("drive"), kModbusPort);
   const pid_t server = network.Spawn(
-      "drive", fmt::format("{} --host {} --port {}", EDSP_DRIVE_SIM_BINARY, network.Address("drive"), kModbusPort),
+      "drive",
+      fmt::format("{} --host {} --port {}", BuiltProgram("edsp-drive-sim"), network.Address("drive"), kModbusPort),
       dir + "/drive_sim.out");  // the benchmark waits up to 5 s for it to listen
   constexpr int kCycles = 3000;
   auto bench = [&](const std::string& host, const std::string& extra, const std::string& name) {
-    const int exit = network.Run(host, fmt::format("{} --cycles {} --json {} >{}/{}.json 2>{}/{}.err",
-                                                   EDSP_BENCH_DRIVES_BINARY, kCycles, extra, dir, name, dir, name));
+    const int exit =
+        network.Run(host, fmt::format("{} --cycles {} --json {} >{}/{}.json 2>{}/{}.err",
+                                      BuiltProgram("edsp-bench-drives"), kCycles, extra, dir, name, dir, name));
     EXPECT_EQ(exit, 0) << name << ": " << Slurp(dir + "/" + name + ".err");
     return nlohmann::json::parse(Slurp(dir + "/" + name + ".json"), nullptr, false);
   };
@@ -445,10 +448,10 @@ TEST(MultiHost, AnUnrelatedGroupOnTheSameNetworkCannotCommandThisRig) {
   MultiHostGroup other(network, "other", other_options);
   ours.Start();
   Pause(1000);
-  const pid_t intruder = network.Spawn(
-      "intruder",
-      fmt::format("{} {} --host intruder --duration-s 8 --session-id 99", EDSP_LAUNCH_BINARY, other.group_path()),
-      other.dir() + "/launch.intruder.err");
+  const pid_t intruder = network.Spawn("intruder",
+                                       fmt::format("{} {} --host intruder --duration-s 8 --session-id 99",
+                                                   BuiltProgram("edsp-launch"), other.group_path()),
+                                       other.dir() + "/launch.intruder.err");
   const int exit = ours.Finish();
   VirtualNetwork::Stop(intruder);
   EXPECT_EQ(exit, 0) << LaunchLogs(ours);
@@ -465,7 +468,7 @@ TEST(MultiHost, AnUnrelatedGroupOnTheSameNetworkCannotCommandThisRig) {
   // bound is a quarter of that. What yaw there is is our own z motion's
   // servo coupling (0.25 µrad at full speed, up to 24 µrad at half speed,
   // where the drives catch up after stalls).
-  const PlatformModel model(LoadConfigFile(std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml"));
+  const PlatformModel model(LoadConfigFile(SourcePath("config/huang2021.toml")));
   const double one_foreign_cycle_rad = model.config().limits.leg_speed_max_m_s * 1e-3 /
                                        model.LengthJacobian(model.home_pose()).col(5).cwiseAbs().maxCoeff();
   double largest_yaw = 0.0;
@@ -498,8 +501,8 @@ TEST(MultiHost, ALauncherRefusesAHostWhoseMulticastLeavesByAnotherInterface) {
   std::system(("rm -rf " + dir + " && mkdir -p " + dir).c_str());
   std::ofstream(dir + "/group.toml") << "[group]\nname = \"iface\"\n[hosts.solo]\ninterface = \"eth9\"\n"
                                         "[[member]]\nname = \"rig\"\nhost = \"solo\"\ncommand = \"edsp-rig\"\n";
-  const int exit = network.Run(
-      "solo", fmt::format("{} {}/group.toml --host solo --duration-s 1 2>{}/launch.err", EDSP_LAUNCH_BINARY, dir, dir));
+  const int exit = network.Run("solo", fmt::format("{} {}/group.toml --host solo --duration-s 1 2>{}/launch.err",
+                                                   BuiltProgram("edsp-launch"), dir, dir));
   const std::string err = Slurp(dir + "/launch.err");
   EXPECT_EQ(exit, 2) << err;
   EXPECT_NE(err.find("[hosts.solo] interface = \"eth9\""), std::string::npos) << err;

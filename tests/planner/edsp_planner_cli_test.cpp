@@ -13,14 +13,15 @@
 #include "edsp/kinematics/config.h"
 #include "edsp/planner/identifiability.h"
 #include "edsp/planner/motion_library.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp {
 namespace {
 
-const std::string kConfig = std::string(" --config ") + EDSP_SOURCE_DIR + "/config/huang2021.toml";
+const std::string kConfig = std::string(" --config ") + SourceDir() + "/config/huang2021.toml";
 
 test_support::CommandOutput Planner(const std::string& arguments) {
-  return test_support::RunCommand(std::string(EDSP_PLANNER_BINARY) + kConfig + " " + arguments);
+  return test_support::RunCommand(BuiltProgram("edsp-planner") + kConfig + " " + arguments);
 }
 
 TEST(EdspPlannerCli, IdentifiabilityJsonIsTheLibrarysForTheSameMotions) {

@@ -12,6 +12,7 @@
 #include "edsp/kinematics/config.h"
 #include "edsp/rig/rig_cycle.h"
 #include "edsp/rig/rig_effects.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp {
 namespace {
@@ -140,7 +141,7 @@ TEST(RigCycle, AStaleCommandReSentEveryCycleHoldsAsOneThatStopped) {
 // The rig of config/huang2021-rig-effects.toml: its drives a torque-limited
 // servo with integral action, its legs compliant under 800 kg.
 RigParameters RigWithEffects() {
-  const std::string path = std::string(EDSP_SOURCE_DIR) + "/config/huang2021-rig-effects.toml";
+  const std::string path = SourcePath("config/huang2021-rig-effects.toml");
   RigParameters p = IdealRig(LoadConfigFile(path));
   p.effects = LoadRigEffects(path);
   p.tracker.rate_hz = 1000.0;

@@ -10,6 +10,7 @@
 #include "edsp/kinematics/config.h"
 #include "edsp/kinematics/leg_effects.h"
 #include "edsp/rig/rig_effects.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp {
 namespace {
@@ -23,7 +24,7 @@ std::string ErrorOf(const std::string& text) {
 TEST(RigEffectsConfig, NoSectionMeansEveryEffectOffButTheDriveLoop) {
   const std::vector<calibration::Effect> only_servo = {calibration::Effect::kServoLag};
   EXPECT_EQ(EnabledEffects(ParseRigEffects(kNominal, "rig.toml")), only_servo);
-  EXPECT_EQ(EnabledEffects(LoadRigEffects(std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml")), only_servo);
+  EXPECT_EQ(EnabledEffects(LoadRigEffects(SourcePath("config/huang2021.toml"))), only_servo);
   EXPECT_FALSE(ParseRigEffects(kNominal + "[rig.effects.servo_lag]\nenabled = false\n", "rig.toml").any());
 }
 

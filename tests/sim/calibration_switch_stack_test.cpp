@@ -20,11 +20,12 @@
 #include "edsp/planner/paper_motions.h"
 #include "edsp/rig/rig_effects.h"
 #include "edsp/sim/stack_simulation.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp {
 namespace {
 
-std::string Config() { return std::string(EDSP_SOURCE_DIR) + "/config/huang2021-rig-effects.toml"; }
+std::string Config() { return SourcePath("config/huang2021-rig-effects.toml"); }
 
 // The example rig's leg offsets, three times over by default (about 0.3 mm
 // at A), or scaled until the largest is `largest_m`.

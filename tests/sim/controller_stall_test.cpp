@@ -16,6 +16,7 @@
 #include "edsp/rig/rig_cycle.h"
 #include "edsp/rig/rig_effects.h"
 #include "edsp/rig/virtual_rig.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp {
 namespace {
@@ -48,7 +49,7 @@ class RigDrives final : public DriveBackend {
 };
 
 RigParameters RigWithEffects() {
-  const std::string path = std::string(EDSP_SOURCE_DIR) + "/config/huang2021-rig-effects.toml";
+  const std::string path = SourcePath("config/huang2021-rig-effects.toml");
   RigParameters p = IdealRig(LoadConfigFile(path));
   p.effects = LoadRigEffects(path);
   p.tracker.noise_sigma_m = 0.0;

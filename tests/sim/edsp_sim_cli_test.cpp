@@ -12,6 +12,7 @@
 #include "edsp/kinematics/config.h"
 #include "edsp/sim/paper_table.h"
 #include "command_output.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp {
 namespace {
@@ -19,10 +20,10 @@ namespace {
 using CommandRun = test_support::CommandOutput;
 
 CommandRun RunSim(const std::string& arguments) {
-  return test_support::RunCommand(std::string(EDSP_SIM_BINARY) + " " + arguments);
+  return test_support::RunCommand(BuiltProgram("edsp-sim") + " " + arguments);
 }
 
-const std::string kConfig = std::string("--config ") + EDSP_SOURCE_DIR + "/config/huang2021.toml";
+const std::string kConfig = std::string("--config ") + SourceDir() + "/config/huang2021.toml";
 
 TEST(EdspSimCli, PrJsonMatchesTheLibrary) {
   const CommandRun run = RunSim("pr " + kConfig + " --pose=0.1,-0.05,1.6,0.05,-0.1,0.2 --json");

@@ -14,6 +14,7 @@
 #include "edsp/logger/log_summary.h"
 #include "edsp/sim/offline_run.h"
 #include "scratch_dir.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp {
 namespace {
@@ -65,7 +66,7 @@ class OfflineRunTest : public ::testing::Test {
     return o;
   }
   const std::string dir_ = test_support::ScratchRoot() + "/offline_run";
-  const std::string source_ = EDSP_SOURCE_DIR;
+  const std::string source_ = SourceDir();
 };
 
 TEST_F(OfflineRunTest, LogAndMeasurementOfARigBuiltToTheModel) {

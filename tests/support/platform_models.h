@@ -6,10 +6,11 @@
 
 #include "edsp/kinematics/config.h"
 #include "edsp/kinematics/platform_model.h"
+#include "edsp/node/build_paths.h"
 
 namespace edsp::test_support {
 
-inline const std::string kShippedConfig = std::string(EDSP_SOURCE_DIR) + "/config/huang2021.toml";
+inline const std::string kShippedConfig = SourcePath("config/huang2021.toml");
 
 inline PlatformModel Huang2021Model() { return PlatformModel(Huang2021Config()); }
 inline PlatformModel ShippedConfigModel() { return PlatformModel(LoadConfigFile(kShippedConfig)); }
