@@ -2,20 +2,17 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <initializer_list>
-#include <sstream>
 
 #include <fmt/format.h>
-#include <toml++/toml.h>
 
-#include "edsp/kinematics/toml_section.h"
+#include "edsp/kinematics/config_values.h"
 
 namespace edsp {
 
 namespace {
 
-void ReadGeometry(const SectionReader& s, const std::string& origin, PlatformConfig* config) {
+void ReadGeometry(const ConfigSection& s, const std::string& origin, PlatformConfig* config) {
   s.RejectUnknownKeys({"preset", "home_height_m", "base_joints_m", "platform_joints_m", "base_axes", "platform_axes"});
   config->preset = s.String("preset", "");
   if (!config->preset.empty() && config->preset != "huang2021") {
@@ -31,7 +28,7 @@ void ReadGeometry(const SectionReader& s, const std::string& origin, PlatformCon
   const char* keys[] = {"base_joints_m", "platform_joints_m", "base_axes", "platform_axes"};
   Matrix36* targets[] = {&g.p_BoBi_B, &g.p_MoPi_M, &g.ja_B, &g.jd_M};
   for (int k = 0; k < 4; ++k) {
-    if (!s.Rows6(keys[k], targets[k]) && config->preset.empty()) {
+    if (!ReadLegRows(s, keys[k], targets[k]) && config->preset.empty()) {
       throw ConfigError(
           fmt::format("{}: missing key [geometry] {} (give it, or set preset = \"huang2021\")", origin, keys[k]));
     }
@@ -42,14 +39,14 @@ void ReadGeometry(const SectionReader& s, const std::string& origin, PlatformCon
   g.home_height_m = dims.home_height_m;
 }
 
-void ReadDrive(const SectionReader& s, DriveParameters* drive) {
+void ReadDrive(const ConfigSection& s, DriveParameters* drive) {
   s.RejectUnknownKeys({"lead_m", "pr_sign", "gear_ratio"});
   drive->lead_m = s.Number("lead_m", drive->lead_m);
-  drive->pr_sign = s.Integer("pr_sign", drive->pr_sign);
+  drive->pr_sign = static_cast<int>(s.Integer("pr_sign", drive->pr_sign));
   drive->gear_ratio = s.Number("gear_ratio", drive->gear_ratio);
 }
 
-void ReadLimits(const SectionReader& s, WorkspaceLimits* limits) {
+void ReadLimits(const ConfigSection& s, WorkspaceLimits* limits) {
   s.RejectUnknownKeys({"leg_min_m", "leg_max_m", "joint_angle_max_rad", "jacobian_condition_max", "leg_speed_max_m_s"});
   limits->leg_speed_max_m_s = s.Number("leg_speed_max_m_s", limits->leg_speed_max_m_s);
   limits->leg_min_m = s.Number("leg_min_m", limits->leg_min_m);
@@ -58,7 +55,7 @@ void ReadLimits(const SectionReader& s, WorkspaceLimits* limits) {
   limits->jacobian_condition_max = s.Number("jacobian_condition_max", limits->jacobian_condition_max);
 }
 
-void ReadMotion(const SectionReader& s, MotionLimits* m) {
+void ReadMotion(const ConfigSection& s, MotionLimits* m) {
   s.RejectUnknownKeys({"speed_max_m_s", "speed_max_rad_s", "accel_max_m_s2", "accel_max_rad_s2", "jerk_max_m_s3",
                        "jerk_max_rad_s3", "leg_accel_max_m_s2", "on_target_tolerance_m", "on_target_tolerance_rad",
                        "on_target_settle_s"});
@@ -134,21 +131,21 @@ void ValidateConfig(const PlatformConfig& c, const std::string& origin) {
 }
 
 PlatformConfig ParseConfig(const std::string& toml_text, const std::string& origin) {
-  const toml::table root = ParseTomlText(toml_text, origin);
+  const ConfigFile file = ConfigFile::Parse(toml_text, origin);
   PlatformConfig config;
-  const SectionReader geometry(root, "geometry", origin);
+  const ConfigSection geometry = file.Section("geometry");
   Require(geometry.present(), origin, "missing section [geometry]");
   ReadGeometry(geometry, origin, &config);
-  ReadDrive(SectionReader(root, "drive", origin), &config.drive);
-  ReadLimits(SectionReader(root, "limits", origin), &config.limits);
-  ReadMotion(SectionReader(root, "motion", origin), &config.motion);
-  const SectionReader observation(root, "observation", origin);
+  ReadDrive(file.Section("drive"), &config.drive);
+  ReadLimits(file.Section("limits"), &config.limits);
+  ReadMotion(file.Section("motion"), &config.motion);
+  const ConfigSection observation = file.Section("observation");
   observation.RejectUnknownKeys({"point_m"});
   const bool preset_point = !config.preset.empty();
   Require(preset_point || observation.Has("point_m"), origin,
           "missing key [observation] point_m (no preset gives a default)");
-  config.p_MoA_M = observation.Vector("point_m", Vector3(Huang2021Dimensions{}.platform_radius_m, 0.0, 0.0));
-  const SectionReader calibration(root, "calibration", origin);
+  config.p_MoA_M = ReadVector3(observation, "point_m", Vector3(Huang2021Dimensions{}.platform_radius_m, 0.0, 0.0));
+  const ConfigSection calibration = file.Section("calibration");
   calibration.RejectUnknownKeys({"model", "apply_ambiguous"});
   config.calibration_model = calibration.String("model", "");
   config.calibration_apply_ambiguous = calibration.Bool("apply_ambiguous", false);
@@ -156,13 +153,7 @@ PlatformConfig ParseConfig(const std::string& toml_text, const std::string& orig
   return config;
 }
 
-std::string ReadConfigText(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw ConfigError(fmt::format("{}: cannot open config file", path));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+std::string ReadConfigText(const std::string& path) { return ConfigFile::ReadText(path); }
 
 PlatformConfig LoadConfigFile(const std::string& path) {
   PlatformConfig config = ParseConfig(ReadConfigText(path), path);

@@ -6,10 +6,9 @@
 #include <utility>
 
 #include <fmt/format.h>
-#include <toml++/toml.h>
 
 #include "edsp/kinematics/leg_effects.h"
-#include "edsp/kinematics/toml_section.h"
+#include "edsp/kinematics/config_values.h"
 
 namespace edsp {
 
@@ -17,69 +16,67 @@ namespace {
 
 // Bounds that catch unit typos (mm for m, ppm for a fraction) on a platform
 // of metres: an effect this large is a mistake, not a rig.
-void RequireAll(const SectionReader& s, const LegValues& v, const char* key, double lo, double hi, const char* what) {
+void RequireAll(const ConfigSection& s, const LegValues& v, const char* key, double lo, double hi, const char* what) {
   for (std::size_t i = 0; i < v.size(); ++i) {
     if (!(v[i] >= lo && v[i] <= hi)) {
-      s.Fail(*s.table(),
-             fmt::format("[{}] {} = {} (leg {}) must be in [{}, {}] {}", s.name(), key, v[i], i + 1, lo, hi, what));
+      s.Fail("", fmt::format("[{}] {} = {} (leg {}) must be in [{}, {}] {}", s.name(), key, v[i], i + 1, lo, hi, what));
     }
   }
 }
 
-void ReadLegOffset(const SectionReader& s, RigEffects::LegOffset* e) {
+void ReadLegOffset(const ConfigSection& s, RigEffects::LegOffset* e) {
   s.RejectUnknownKeys({"enabled", "offset_m"});
   e->enabled = s.Bool("enabled", true);
-  e->offset_m = s.PerLeg("offset_m", e->offset_m);
+  e->offset_m = ReadPerLeg(s, "offset_m", e->offset_m);
   RequireAll(s, e->offset_m, "offset_m", -0.01, 0.01, "m");
 }
 
-void ReadJointPosition(const SectionReader& s, RigEffects::JointPosition* e) {
+void ReadJointPosition(const ConfigSection& s, RigEffects::JointPosition* e) {
   s.RejectUnknownKeys({"enabled", "base_m", "platform_m"});
   e->enabled = s.Bool("enabled", true);
-  s.Rows6("base_m", &e->base_m);
-  s.Rows6("platform_m", &e->platform_m);
+  ReadLegRows(s, "base_m", &e->base_m);
+  ReadLegRows(s, "platform_m", &e->platform_m);
   if (e->base_m.cwiseAbs().maxCoeff() > 0.01 || e->platform_m.cwiseAbs().maxCoeff() > 0.01) {
-    s.Fail(*s.table(), fmt::format("[{}] joint offsets must be within ±0.01 m", s.name()));
+    s.Fail("", fmt::format("[{}] joint offsets must be within ±0.01 m", s.name()));
   }
 }
 
-void ReadPassiveRotation(const SectionReader& s, RigEffects::PassiveRotation* e) {
+void ReadPassiveRotation(const ConfigSection& s, RigEffects::PassiveRotation* e) {
   s.RejectUnknownKeys({"enabled", "pr_sign", "pr_lead_m"});
   e->enabled = s.Bool("enabled", true);
-  e->pr_sign = s.Integer("pr_sign", e->pr_sign);
+  e->pr_sign = static_cast<int>(s.Integer("pr_sign", e->pr_sign));
   e->pr_lead_m = s.Number("pr_lead_m", e->pr_lead_m);
   if (e->pr_sign < -1 || e->pr_sign > 1) {
-    s.Fail(*s.table(), fmt::format("[{}] pr_sign = {} must be 1, -1 or 0 (no PR)", s.name(), e->pr_sign));
+    s.Fail("", fmt::format("[{}] pr_sign = {} must be 1, -1 or 0 (no PR)", s.name(), e->pr_sign));
   }
   if (e->pr_lead_m < 0.0 || e->pr_lead_m > 0.5) {
-    s.Fail(*s.table(),
-           fmt::format("[{}] pr_lead_m = {} must be in [0, 0.5] m (0: the nominal lead)", s.name(), e->pr_lead_m));
+    s.Fail("", fmt::format("[{}] pr_lead_m = {} must be in [0, 0.5] m (0: the nominal lead)", s.name(), e->pr_lead_m));
   }
 }
 
-void ReadLeadError(const SectionReader& s, RigEffects::LeadError* e) {
+void ReadLeadError(const ConfigSection& s, RigEffects::LeadError* e) {
   s.RejectUnknownKeys({"enabled", "epsilon"});
   e->enabled = s.Bool("enabled", true);
-  e->epsilon = s.PerLeg("epsilon", e->epsilon);
+  e->epsilon = ReadPerLeg(s, "epsilon", e->epsilon);
   RequireAll(s, e->epsilon, "epsilon", -0.01, 0.01, "(a fraction: 100 ppm is 1e-4)");
 }
 
-void ReadPeriodicLeadError(const SectionReader& s, RigEffects::PeriodicLeadError* e) {
+void ReadPeriodicLeadError(const ConfigSection& s, RigEffects::PeriodicLeadError* e) {
   s.RejectUnknownKeys({"enabled", "amplitude_m", "phase_rad"});
   e->enabled = s.Bool("enabled", true);
-  e->amplitude_m = s.PerLeg("amplitude_m", e->amplitude_m);
-  e->phase_rad = s.PerLeg("phase_rad", e->phase_rad);
+  e->amplitude_m = ReadPerLeg(s, "amplitude_m", e->amplitude_m);
+  e->phase_rad = ReadPerLeg(s, "phase_rad", e->phase_rad);
   RequireAll(s, e->amplitude_m, "amplitude_m", 0.0, 0.001, "m");
 }
 
-void ReadBacklash(const SectionReader& s, RigEffects::Backlash* e) {
+void ReadBacklash(const ConfigSection& s, RigEffects::Backlash* e) {
   s.RejectUnknownKeys({"enabled", "backlash_m"});
   e->enabled = s.Bool("enabled", true);
-  e->backlash_m = s.PerLeg("backlash_m", e->backlash_m);
+  e->backlash_m = ReadPerLeg(s, "backlash_m", e->backlash_m);
   RequireAll(s, e->backlash_m, "backlash_m", 0.0, 0.005, "m");
 }
 
-void ReadServoLag(const SectionReader& s, RigEffects::ServoLag* e) {
+void ReadServoLag(const ConfigSection& s, RigEffects::ServoLag* e) {
   s.RejectUnknownKeys({"enabled", "inertia_kg_m2", "viscous_N_m_s", "torque_limit_N_m", "bandwidth_hz", "loop_rate_hz",
                        "coulomb_N_m", "integral_time_s", "screw_efficiency", "load_mass_kg",
                        "following_error_window_m"});
@@ -95,7 +92,7 @@ void ReadServoLag(const SectionReader& s, RigEffects::ServoLag* e) {
   e->bandwidth_hz = s.Number("bandwidth_hz", e->bandwidth_hz);
   e->loop_rate_hz = s.Number("loop_rate_hz", e->loop_rate_hz);
   auto require = [&](bool ok, const char* key, double value, const char* range) {
-    if (!ok) s.Fail(*s.table(), fmt::format("[{}] {} = {} must be {}", s.name(), key, value, range));
+    if (!ok) s.Fail("", fmt::format("[{}] {} = {} must be {}", s.name(), key, value, range));
   };
   require(e->inertia_kg_m2 > 0.0 && e->inertia_kg_m2 < 1.0, "inertia_kg_m2", e->inertia_kg_m2, "in (0, 1) kg m²");
   require(e->viscous_N_m_s >= 0.0 && e->viscous_N_m_s < 10.0, "viscous_N_m_s", e->viscous_N_m_s, "in [0, 10) N m s");
@@ -117,29 +114,29 @@ void ReadServoLag(const SectionReader& s, RigEffects::ServoLag* e) {
           e->following_error_window_m, "in [0, 0.1] m (0: none)");
 }
 
-void ReadCompliance(const SectionReader& s, RigEffects::Compliance* e) {
+void ReadCompliance(const ConfigSection& s, RigEffects::Compliance* e) {
   s.RejectUnknownKeys({"enabled", "stiffness_N_m", "mass_kg", "com_m", "payload_kg", "payload_com_m", "gravity_m_s2"});
   e->payload_kg = s.Number("payload_kg", e->payload_kg);
-  e->payload_com_m = s.Vector("payload_com_m", e->payload_com_m);
+  e->payload_com_m = ReadVector3(s, "payload_com_m", e->payload_com_m);
   if (!(e->payload_kg >= 0.0 && e->payload_kg <= 1e5) || e->payload_com_m.norm() > 10.0) {
-    s.Fail(*s.table(), fmt::format("[{}] payload_kg = {} must be in [0, 1e5] kg, payload_com_m within 10 m", s.name(),
-                                   e->payload_kg));
+    s.Fail("", fmt::format("[{}] payload_kg = {} must be in [0, 1e5] kg, payload_com_m within 10 m", s.name(),
+                           e->payload_kg));
   }
   e->enabled = s.Bool("enabled", true);
-  e->stiffness_N_m = s.PerLeg("stiffness_N_m", e->stiffness_N_m);
+  e->stiffness_N_m = ReadPerLeg(s, "stiffness_N_m", e->stiffness_N_m);
   e->mass_kg = s.Number("mass_kg", e->mass_kg);
-  e->com_m = s.Vector("com_m", e->com_m);
-  e->gravity_m_s2 = s.Vector("gravity_m_s2", e->gravity_m_s2);
+  e->com_m = ReadVector3(s, "com_m", e->com_m);
+  e->gravity_m_s2 = ReadVector3(s, "gravity_m_s2", e->gravity_m_s2);
   RequireAll(s, e->stiffness_N_m, "stiffness_N_m", 1e5, 1e11, "N/m");
   if (!(e->mass_kg > 0.0 && e->mass_kg <= 1e5)) {
-    s.Fail(*s.table(), fmt::format("[{}] mass_kg = {} must be in (0, 1e5] kg", s.name(), e->mass_kg));
+    s.Fail("", fmt::format("[{}] mass_kg = {} must be in (0, 1e5] kg", s.name(), e->mass_kg));
   }
   if (e->com_m.norm() > 10.0 || e->gravity_m_s2.norm() > 100.0) {
-    s.Fail(*s.table(), fmt::format("[{}] com_m must be within 10 m of {{M}} and |gravity_m_s2| ≤ 100", s.name()));
+    s.Fail("", fmt::format("[{}] com_m must be within 10 m of {{M}} and |gravity_m_s2| ≤ 100", s.name()));
   }
 }
 
-void ReadThermalDrift(const SectionReader& s, RigEffects::ThermalDrift* e) {
+void ReadThermalDrift(const ConfigSection& s, RigEffects::ThermalDrift* e) {
   s.RejectUnknownKeys({"enabled", "alpha_per_K", "heating_K_per_m", "time_constant_s", "screw_length_m"});
   e->enabled = s.Bool("enabled", true);
   e->alpha_per_K = s.Number("alpha_per_K", e->alpha_per_K);
@@ -147,7 +144,7 @@ void ReadThermalDrift(const SectionReader& s, RigEffects::ThermalDrift* e) {
   e->time_constant_s = s.Number("time_constant_s", e->time_constant_s);
   e->screw_length_m = s.Number("screw_length_m", e->screw_length_m);
   auto require = [&](bool ok, const char* key, double value, const char* range) {
-    if (!ok) s.Fail(*s.table(), fmt::format("[{}] {} = {} must be {}", s.name(), key, value, range));
+    if (!ok) s.Fail("", fmt::format("[{}] {} = {} must be {}", s.name(), key, value, range));
   };
   require(e->alpha_per_K >= 0.0 && e->alpha_per_K < 1e-3, "alpha_per_K", e->alpha_per_K, "in [0, 1e-3) per K");
   require(e->heating_K_per_m >= 0.0 && e->heating_K_per_m < 100.0, "heating_K_per_m", e->heating_K_per_m,
@@ -156,14 +153,14 @@ void ReadThermalDrift(const SectionReader& s, RigEffects::ThermalDrift* e) {
   require(e->screw_length_m > 0.0 && e->screw_length_m < 10.0, "screw_length_m", e->screw_length_m, "in (0, 10) m");
 }
 
-void ReadStructuralResonance(const SectionReader& s, RigEffects::StructuralResonance* e) {
+void ReadStructuralResonance(const ConfigSection& s, RigEffects::StructuralResonance* e) {
   s.RejectUnknownKeys({"enabled", "frequency_hz", "damping", "gain"});
   e->enabled = s.Bool("enabled", true);
   e->frequency_hz = s.Number("frequency_hz", e->frequency_hz);
   e->damping = s.Number("damping", e->damping);
-  e->gain = s.Vector("gain", e->gain);
+  e->gain = ReadVector3(s, "gain", e->gain);
   auto require = [&](bool ok, const char* key, double value, const char* range) {
-    if (!ok) s.Fail(*s.table(), fmt::format("[{}] {} = {} must be {}", s.name(), key, value, range));
+    if (!ok) s.Fail("", fmt::format("[{}] {} = {} must be {}", s.name(), key, value, range));
   };
   require(e->frequency_hz >= 0.5 && e->frequency_hz <= 100.0, "frequency_hz", e->frequency_hz, "in [0.5, 100] Hz");
   require(e->damping > 0.0 && e->damping < 1.0, "damping", e->damping, "in (0, 1)");
@@ -181,14 +178,14 @@ struct EffectRow {
   calibration::Effect effect;
   bool& (*enabled)(RigEffects& e);
   bool (*is_enabled)(const RigEffects& e);
-  void (*read)(const SectionReader& s, RigEffects* e);
+  void (*read)(const ConfigSection& s, RigEffects* e);
 };
 
-template <typename Physics, Physics RigEffects::*kMember, void (*kRead)(const SectionReader&, Physics*)>
+template <typename Physics, Physics RigEffects::*kMember, void (*kRead)(const ConfigSection&, Physics*)>
 constexpr EffectRow Row(calibration::Effect effect) {
   return {effect, [](RigEffects& e) -> bool& { return (e.*kMember).enabled; },
           [](const RigEffects& e) { return (e.*kMember).enabled; },
-          [](const SectionReader& s, RigEffects* e) { kRead(s, &(e->*kMember)); }};
+          [](const ConfigSection& s, RigEffects* e) { kRead(s, &(e->*kMember)); }};
 }
 
 using E = RigEffects;
@@ -249,20 +246,15 @@ bool RigEffects::any() const {
 }
 
 RigEffects ParseRigEffects(const std::string& toml_text, const std::string& origin) {
-  const toml::table root = ParseTomlText(toml_text, origin);
   RigEffects effects;
-  const SectionReader rig(root.get("rig"), "rig", origin);
+  const ConfigSection rig = ConfigFile::Parse(toml_text, origin).Section("rig");
   rig.RejectUnknownKeys({"effects"});
-  if (!rig.present()) return effects;
-  const SectionReader all(rig.table()->get("effects"), "rig.effects", origin);
-  if (!all.present()) return effects;
-  for (auto&& [key, node] : *all.table()) {
-    const std::string name(key.str());
-    const SectionReader s(&node, "rig.effects." + name, origin);
+  const ConfigSection all = rig.Table("effects");
+  for (const std::string& name : all.Keys()) {
     const EffectRow* row = FindEffect(name);
     if (row == nullptr)
-      all.Fail(node, fmt::format("unknown effect [rig.effects.{}] (known: {})", name, KnownEffects()));
-    row->read(s, &effects);
+      all.Fail(name, fmt::format("unknown effect [rig.effects.{}] (known: {})", name, KnownEffects()));
+    row->read(all.Table(name), &effects);
   }
   return effects;
 }

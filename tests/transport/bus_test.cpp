@@ -9,6 +9,7 @@
 
 #include "thrown_message.h"
 
+#include "edsp/config_file/config_error.h"
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/leg_command_t.hpp"
 #include "edsp/transport/bus.h"
@@ -293,21 +294,20 @@ path = "shm"
   EXPECT_EQ(ParseTransportConfig("", "empty.toml", {}).lcm_url, kDefaultLcmUrl);
 }
 
-std::string TransportErrorOf(const std::string& text) {
-  return test_support::ThrownMessage<TransportError>([&] { ParseTransportConfig(text, "group.toml", {}); });
+std::string ConfigErrorOf(const std::string& text) {
+  return test_support::ThrownMessage<ConfigError>([&] { ParseTransportConfig(text, "group.toml", {}); });
 }
 
 TEST(TransportConfig, ErrorsNameFileLineAndKey) {
   const std::string head = "[transport.channels.EDSP_X]\n";
-  EXPECT_NE(
-      TransportErrorOf(head + "path = \"udp\"\n").find("group.toml:2: [transport.channels.EDSP_X] path = \"udp\""),
-      std::string::npos);
-  EXPECT_NE(TransportErrorOf(head + "slots = 100\n").find("power of two"), std::string::npos);
-  EXPECT_NE(TransportErrorOf(head + "mirror_every = 0\n").find("mirror_every"), std::string::npos);
-  EXPECT_NE(TransportErrorOf(head + "slot = 8\n").find("unknown key"), std::string::npos);
-  EXPECT_NE(TransportErrorOf("[transport]\nshm_permissions = \"0044\"\n").find("shm_permissions"), std::string::npos);
-  EXPECT_NE(TransportErrorOf("[transport]\nurl = \"x\"\n").find("unknown key [transport] url"), std::string::npos);
-  EXPECT_NE(TransportErrorOf("[transport\n").find("group.toml:1:"), std::string::npos);
+  EXPECT_NE(ConfigErrorOf(head + "path = \"udp\"\n").find("group.toml:2: [transport.channels.EDSP_X] path = \"udp\""),
+            std::string::npos);
+  EXPECT_NE(ConfigErrorOf(head + "slots = 100\n").find("power of two"), std::string::npos);
+  EXPECT_NE(ConfigErrorOf(head + "mirror_every = 0\n").find("mirror_every"), std::string::npos);
+  EXPECT_NE(ConfigErrorOf(head + "slot = 8\n").find("unknown key"), std::string::npos);
+  EXPECT_NE(ConfigErrorOf("[transport]\nshm_permissions = \"0044\"\n").find("shm_permissions"), std::string::npos);
+  EXPECT_NE(ConfigErrorOf("[transport]\nurl = \"x\"\n").find("unknown key [transport] url"), std::string::npos);
+  EXPECT_NE(ConfigErrorOf("[transport\n").find("group.toml:1:"), std::string::npos);
 }
 
 }  // namespace

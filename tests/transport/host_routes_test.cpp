@@ -7,6 +7,7 @@
 
 #include "thrown_message.h"
 
+#include "edsp/config_file/config_error.h"
 #include "edsp/transport/error.h"
 #include "edsp/transport/host_routes.h"
 
@@ -40,6 +41,11 @@ TransportConfig OnThreeHosts(const std::string& text) { return ParseTransportCon
 
 std::string ErrorOf(const std::string& text) {
   return test_support::ThrownMessage<TransportError>([&] { OnThreeHosts(text); }, "no error");
+}
+
+// A value of the wrong type is the file's error, not the routes'.
+std::string FileErrorOf(const std::string& text) {
+  return test_support::ThrownMessage<ConfigError>([&] { OnThreeHosts(text); }, "no error");
 }
 
 TEST(HostRoutes, WriterPublishesBothWhenAReaderIsElsewhereAndRemoteReadersUseLcm) {
@@ -105,7 +111,8 @@ TEST(HostRoutes, SharedMemoryChannelsOfAMultiHostGroupNameAKnownWriter) {
   EXPECT_NE(ErrorOf(ThreeHosts(kTtl1, "path = \"shm\"\nwriter = \"kinematics\"\nreaders = [\"bridge\"]"))
                 .find("readers: \"bridge\" is no member"),
             std::string::npos);
-  EXPECT_NE(ErrorOf(ThreeHosts(kTtl1, "path = \"shm\"\nwriter = 3")).find("writer must be a member's name"),
+  EXPECT_NE(FileErrorOf(ThreeHosts(kTtl1, "path = \"shm\"\nwriter = 3"))
+                .find("[transport.channels.EDSP_LEG_COMMAND] writer must be a string"),
             std::string::npos);
 }
 

@@ -3,17 +3,12 @@
 // Loading validates everything; a bad file throws ConfigError whose message
 // names the file, the [section] key and the value that is wrong.
 
-#include <stdexcept>
 #include <string>
 
+#include "edsp/config_file/config_error.h"
 #include "edsp/kinematics/geometry.h"
 
 namespace edsp {
-
-class ConfigError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 struct DriveParameters {
   double lead_m = 0.010;    // screw lead: travel per screw turn

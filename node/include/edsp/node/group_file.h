@@ -56,8 +56,8 @@ struct GroupSpec {
 // The value of the variable NAME of ${NAME} in member args; nullptr if unset.
 using VariableLookup = std::function<const char*(const std::string&)>;
 
-// Reads the group file at `path`. Throws std::runtime_error naming the file,
-// line and key (a TransportError for [transport]). Checked as well: a group
+// Reads the group file at `path`. Throws ConfigError naming the file,
+// line and key (TransportError for routes the hosts cannot carry). Checked as well: a group
 // spanning hosts needs ttl ≥ 1, a writer per shared-memory channel and a
 // fixed session id (every host's launcher must agree on it).
 //

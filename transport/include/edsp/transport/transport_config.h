@@ -58,8 +58,8 @@ struct TransportConfig {
 
 // Parses the [transport] section of TOML text (absent section: defaults) for
 // members on `member_hosts`, then checks a group that spans hosts
-// (CheckHostRoutes). Throws TransportError naming `origin`, the line and the
-// key. A group file's routes, its members' hosts included, come from
+// (CheckHostRoutes). Throws ConfigError naming `origin`, the line and the
+// key (TransportError for routes the hosts cannot carry). A group file's routes, its members' hosts included, come from
 // LoadTransportConfig (edsp/node/group_file.h).
 TransportConfig ParseTransportConfig(const std::string& toml_text, const std::string& origin,
                                      const HostAssignment& member_hosts);

@@ -1,13 +1,12 @@
 #pragma once
 // How the group file's one parser (edsp/node/group_file.h) hands transport
-// its section: the file already parsed as TOML, and the members' hosts it
-// read from [[member]]. Transport reads [transport] from it and nothing else,
-// so the file is read once and each part of it in one place. Includes
-// toml++: for that parser, not for users of the bus.
+// its section: the file already parsed, and the members' hosts it read from
+// [[member]]. Transport reads [transport] from it and nothing else, so the
+// file is read once and each part of it in one place.
 
 #include <string>
 
-#include <toml++/toml.h>
+#include "edsp/config_file/config_file.h"
 
 #include "edsp/transport/transport_config.h"
 
@@ -15,8 +14,7 @@ namespace edsp {
 
 // The routes of `file`'s [transport] section (absent: the defaults) for
 // members on `member_hosts`, checked as ParseTransportConfig checks them.
-// Throws TransportError naming `origin`, the line and the key.
-TransportConfig ReadTransportSection(const toml::table& file, const std::string& origin,
-                                     const HostAssignment& member_hosts);
+// Throws ConfigError naming the file, the line and the key.
+TransportConfig ReadTransportSection(const ConfigFile& file, const HostAssignment& member_hosts);
 
 }  // namespace edsp
