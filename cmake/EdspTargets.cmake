@@ -16,7 +16,8 @@ include(GNUInstallDirs)
 # What a program outside the tree builds on: the kinematics and its
 # calibration, the message types and the bus, a node's plumbing, the planner
 # and its motion client, the log reader. The rest serves edsp's own programs.
-set(EDSP_EXPORTED_LIBRARIES config_file transport node kinematics calibration kinematics_node planner planner_node logger)
+set(EDSP_EXPORTED_LIBRARIES config_file transport node kinematics calibration kinematics_node planner planner_node motion_design
+    logger)
 
 # Installs <dir>/include once for all the libraries a folder declares.
 function(edsp_install_headers dir)

@@ -1,5 +1,6 @@
 #include "edsp/actuator_bridge/bridge_loop.h"
 #include "edsp/channels.h"
+#include "edsp/node/node_loop.h"
 
 #include <cstdio>
 
@@ -62,20 +63,10 @@ void BridgeLoop::RunCycle(std::int64_t now_utime, std::int64_t deadline_misses) 
 }
 
 void BridgeLoop::Run(CycleClock& clock, const std::function<bool()>& stop) {
-  while (!stop()) {
-    bool handled = false;
-    for (auto left = clock.UntilNext(); left.count() > 0 && !stop(); left = clock.UntilNext()) {
-      bus_.Handle(std::chrono::duration_cast<std::chrono::microseconds>(left));
-      handled = true;
-    }
-    // A cycle that overran its period (a slow drive exchange, a starved
-    // host) left no time to wait in: what came meanwhile is still taken
-    // before the next cycle, or a bridge that keeps overrunning never reads
-    // its commands and latches on a stream that is there.
-    if (!handled) bus_.Handle(std::chrono::microseconds(0));
-    clock.WaitNext();
-    RunCycle(UtimeNow(), clock.missed());
-  }
+  RunOnClock(bus_, clock, stop, [this](std::int64_t now, std::int64_t missed) {
+    RunCycle(now, missed);
+    return true;
+  });
 }
 
 nlohmann::json LatencyReport(const BridgeLoop& loop, std::int64_t deadline_misses) {

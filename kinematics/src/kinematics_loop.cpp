@@ -6,6 +6,7 @@
 #include <string>
 
 #include "edsp/channels.h"
+#include "edsp/node/node_loop.h"
 #include "edsp/node/runtime.h"
 
 namespace edsp {
@@ -98,10 +99,7 @@ void KinematicsLoop::Poll(std::int64_t now) {
 }
 
 void KinematicsLoop::Run(const std::function<bool()>& stop) {
-  while (!stop()) {
-    bus_.Handle(kPollInterval);
-    Poll(UtimeNow());
-  }
+  RunPolled(bus_, kPollInterval, stop, [this](std::int64_t now) { Poll(now); });
 }
 
 }  // namespace edsp

@@ -8,6 +8,7 @@
 #include "edsp/channels.h"
 #include "edsp/logger/log_reader.h"
 #include "edsp/node/fault.h"
+#include "edsp/node/node_loop.h"
 
 namespace edsp {
 
@@ -16,11 +17,7 @@ constexpr auto kPollInterval = std::chrono::milliseconds(20);
 }  // namespace
 
 LoggerNode::LoggerNode(Bus& bus, LoggerOptions options)
-    : bus_(bus),
-      writer_(options.writer),
-      status_out_(bus.Advertise<node_status_t>(channel::kStatus)),
-      faults_(bus.Advertise<fault_t>(channel::kFault)) {
-  status_.SetState(node_status_t::STATE_RUNNING);
+    : bus_(bus), writer_(options.writer), reporting_(bus, "logger") {
   shm_channels_ = bus.SubscribeRaw(options.channels, [this](const std::string& channel, const std::uint8_t* data,
                                                             std::uint32_t size) { Record(channel, data, size); });
   // After subscribing: the logger records its own report (multicast loops back).
@@ -28,8 +25,8 @@ LoggerNode::LoggerNode(Bus& bus, LoggerOptions options)
 }
 
 void LoggerNode::Record(const std::string& channel, const std::uint8_t* data, std::uint32_t size) {
-  status_.CountIn();
-  if (writer_.Enqueue(channel, data, size, UtimeNow())) status_.CountOut();
+  reporting_.status().CountIn();
+  if (writer_.Enqueue(channel, data, size, UtimeNow())) reporting_.status().CountOut();
   // EDSP_STATUS/EDSP_FAULT: several publishers' seq numbers interleave there.
   if (channel::HasManyPublishers(channel) || IsOnSharedMemory(channel)) return;
   EdspHeader header;
@@ -57,7 +54,7 @@ void LoggerNode::ReportOpened() {
       "{}: resumed after {} events already recorded{}", w.path, w.resumed_events,
       w.torn_bytes_cut > 0 ? fmt::format("; cut a torn last event of {} bytes", w.torn_bytes_cut) : std::string());
   std::fprintf(stderr, "edsp-logger: %s\n", reason.c_str());
-  faults_.Publish(MakeFault("logger", "", FaultCode::kStorage, fault_t::SEVERITY_INFO, reason, UtimeNow()));
+  reporting_.Fault(MakeFault("logger", "", FaultCode::kStorage, fault_t::SEVERITY_INFO, reason, UtimeNow()));
 }
 
 void LoggerNode::ReportUnreadableRings(std::int64_t now) {
@@ -66,11 +63,11 @@ void LoggerNode::ReportUnreadableRings(std::int64_t now) {
     std::string& reported = reported_ring_errors_[channel];
     if (error.empty() || error == reported) continue;
     reported = error;
-    faults_.Publish(MakeFault("logger", channel, FaultCode::kTransport, fault_t::SEVERITY_WARNING,
-                              fmt::format("{}: cannot read its shared memory ({}); recording its LCM copy, which may "
-                                          "be a decimated mirror",
-                                          channel, error),
-                              now));
+    reporting_.Fault(MakeFault("logger", channel, FaultCode::kTransport, fault_t::SEVERITY_WARNING,
+                               fmt::format("{}: cannot read its shared memory ({}); recording its LCM copy, which may "
+                                           "be a decimated mirror",
+                                           channel, error),
+                               now));
   }
 }
 
@@ -79,19 +76,15 @@ void LoggerNode::Poll(std::int64_t now) {
   const LogWriterStats w = writer_.stats();
   fault_t fault;
   const bool changed = disk_.Update(w, now, &fault);
-  if (changed) faults_.Publish(fault);
-  if (status_.Due(now) || changed) {
-    status_.SetDrops(lost() + w.dropped);
-    status_.SetState(disk_.failing() ? node_status_t::STATE_FAULT : node_status_t::STATE_RUNNING);
-    status_out_.Publish(status_.Report(now, 0));
-  }
+  if (changed) reporting_.Fault(fault);
+  NodeStatus& status = reporting_.status();
+  status.SetDrops(lost() + w.dropped);
+  status.SetState(disk_.failing() ? node_status_t::STATE_FAULT : node_status_t::STATE_RUNNING);
+  reporting_.StatusTick(now, 0);  // at once when the state changed
 }
 
 void LoggerNode::Run(const std::function<bool()>& stop) {
-  while (!stop()) {
-    bus_.Handle(kPollInterval);
-    Poll(UtimeNow());
-  }
+  RunPolled(bus_, kPollInterval, stop, [this](std::int64_t now) { Poll(now); });
   // Its rings are read every few ms, not on each message: what came since
   // the last read is taken before the log closes.
   bus_.Handle(std::chrono::microseconds(0));

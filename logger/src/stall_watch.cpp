@@ -26,7 +26,7 @@ constexpr double kFlagBeforeUs = 2'000;
 // normal again for a while; at most the longest catch-up measured live.
 constexpr double kSettleUs = 10'000;
 constexpr double kNormalForUs = 20'000;
-constexpr double kNormalFloorM = 20e-6;  // the live rig's tracking error: 1.4 µm median, 15.5 µm p99.9
+constexpr double kNormalFloorM = 20e-6;  // above the live rig's tracking error outside stalls (docs/figures.md)
 constexpr double kNormalFactor = 2.0;    // of the largest before the stall
 constexpr double kNormalLookbackUs = 50'000;
 constexpr double kFlagAfterUs = 100'000;

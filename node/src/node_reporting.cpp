@@ -23,10 +23,13 @@ void NodeReporting::StatusTick(std::int64_t now_utime, std::int64_t deadline_mis
   if (status_.Due(now_utime)) status_out_.Publish(status_.Report(now_utime, deadline_misses));
 }
 
-void NodeReporting::ReportUndecodable(const std::string& channel, const ChannelCounters& in, std::int64_t now_utime) {
-  std::uint64_t& reported = reported_decode_errors_[channel];
+void NodeReporting::ReportUndecodable(std::string_view channel, const ChannelCounters& in, std::int64_t now_utime) {
+  if (in.decode_errors == 0) return;
+  auto it = reported_decode_errors_.find(channel);
+  if (it == reported_decode_errors_.end()) it = reported_decode_errors_.emplace(std::string(channel), 0).first;
+  std::uint64_t& reported = it->second;
   if (in.decode_errors <= reported) return;
-  Fault(MakeFault(node_, channel, FaultCode::kUndecodable, fault_t::SEVERITY_WARNING,
+  Fault(MakeFault(node_, std::string(channel), FaultCode::kUndecodable, fault_t::SEVERITY_WARNING,
                   fmt::format("{} undecodable packets; last: {}", in.decode_errors - reported, in.last_error),
                   now_utime));
   reported = in.decode_errors;

@@ -61,7 +61,7 @@ int Run(int argc, char** argv) {
   }
   MotionServiceOptions serve;
   serve.session_id = node.session_id;
-  serve.programs = paper;
+  serve.programs = [&model, paper](const std::string& list) { return MotionSequence(model, MotionNames(list), paper); };
   MotionService service(model, serve);
   if (program) {
     auto trajectory = PlannedTrajectory(model, motions, csv, paper);

@@ -23,20 +23,6 @@ std::unique_ptr<TrajectorySequence> MotionSequence(const PlatformModel& model, c
   return sequence;
 }
 
-std::vector<std::string> MotionNames(const std::string& list) {
-  std::vector<std::string> names;
-  std::string name;
-  for (char c : list + ",") {
-    if (c != ',') {
-      name += c;
-    } else if (!name.empty()) {
-      names.push_back(name);
-      name.clear();
-    }
-  }
-  return names;
-}
-
 std::unique_ptr<TrajectorySequence> PlannedTrajectory(const PlatformModel& model, const std::string& motions,
                                                       const std::string& csv_path, const PaperMotionOptions& paper) {
   if (csv_path.empty()) return MotionSequence(model, MotionNames(motions), paper);

@@ -9,61 +9,17 @@
 
 #include "edsp/kinematics/workspace.h"
 #include "edsp/planner/csv_trajectory.h"
-#include "edsp/planner/motion_library.h"
+#include "edsp/planner/motion_request_checks.h"
 #include "edsp/planner/planner.h"
 
 namespace edsp {
 
 namespace {
 
-// A move asked to go slower than this share of the config's speed is a
-// typo (and one longer than kLongestMove_s, planned_motion.h).
-constexpr double kSlowestShare = 1e-3;
-constexpr double kMaxFrameOffset_m = 100.0;
-constexpr double kMaxPivotOffset_m = 10.0;
-
 std::int64_t Micros(double s) { return std::llround(s * 1e6); }
-
-bool AllFinite(const double* v, int n) {
-  for (int k = 0; k < n; ++k) {
-    if (!std::isfinite(v[k])) return false;
-  }
-  return true;
-}
-
-Vector6 PoseField(const motion_request_t& r) {
-  Vector6 q;
-  for (int k = 0; k < 6; ++k) q(k) = r.pose[k];
-  return q;
-}
-
-std::string Kind(std::int8_t kind) {
-  switch (kind) {
-    case motion_request_t::KIND_MOVE: return "move";
-    case motion_request_t::KIND_CHECK: return "check";
-    case motion_request_t::KIND_RUN: return "run";
-    case motion_request_t::KIND_HALT: return "halt";
-    case motion_request_t::KIND_STOP: return "stop";
-    case motion_request_t::KIND_FRAME: return "frame";
-    case motion_request_t::KIND_PIVOT: return "pivot";
-    case motion_request_t::KIND_LIMITS: return "limits";
-  }
-  return fmt::format("kind {}", kind);
-}
 
 std::string DescribeVector(const Vector6& q) {
   return fmt::format("({:.6f}, {:.6f}, {:.6f} m; {:.6f}, {:.6f}, {:.6f} rad)", q(0), q(1), q(2), q(3), q(4), q(5));
-}
-
-// One requested limit: 0 keeps `current`; else it must be in [most/1000, most].
-std::string TakeLimit(double asked, double most, const char* field, const char* key, double* current) {
-  if (asked == 0.0) return "";
-  if (!std::isfinite(asked) || asked < most * kSlowestShare || asked > most) {
-    return fmt::format("{} = {} is not in [{}, {}] (the config's [motion] {} and a thousandth of it)", field, asked,
-                       most * kSlowestShare, most, key);
-  }
-  *current = asked;
-  return "";
 }
 
 // The pivot's distance and the rotation's angle between two poses.
@@ -110,7 +66,7 @@ motion_reply_t MotionService::Handle(const motion_request_t& r, std::int64_t now
       r, now_utime, [&](ReplyCode code, std::string reason) { return Reply(r, code, std::move(reason)); },
       [&] { return Act(r, now_utime, lock); });
   if (answer.acted) {
-    refused_ = answer.reply.accepted ? "" : Kind(r.kind) + " refused: " + answer.reply.reason;
+    refused_ = answer.reply.accepted ? "" : RequestKindName(r.kind) + " refused: " + answer.reply.reason;
     Changed();
   }
   return answer.reply;
@@ -160,15 +116,6 @@ std::string MotionService::BridgeProblem(std::int64_t now_utime) const {
   return "";
 }
 
-std::string MotionService::LimitsProblem(const motion_request_t& r, MoveLimits* l) const {
-  *l = default_limits_;
-  std::string p = TakeLimit(r.speed_m_s, config_limits_.speed_m_s, "speed_m_s", "speed_max_m_s", &l->speed_m_s);
-  if (p.empty()) {
-    p = TakeLimit(r.speed_rad_s, config_limits_.speed_rad_s, "speed_rad_s", "speed_max_rad_s", &l->speed_rad_s);
-  }
-  return p;
-}
-
 std::string MotionService::QueueProblem() const {
   if (queue_.size() < options_.queue_max) return "";
   return fmt::format("{} motions already queued: wait, or halt", queue_.size());
@@ -197,7 +144,7 @@ double MotionService::TimeToIdle(std::int64_t now_utime) const {
 }
 
 motion_reply_t MotionService::Move(const motion_request_t& r, bool check_only, std::int64_t now_utime, Lock& lock) {
-  if (!AllFinite(r.pose, 6)) return Reply(r, ReplyCode::kInvalid, "pose has a non-finite value (NaN or infinity)");
+  if (std::string p = PoseProblem(r); !p.empty()) return Reply(r, ReplyCode::kInvalid, p);
   const WorkFrame* found = FindFrame(r.frame);
   if (found == nullptr) {
     std::string known;
@@ -207,14 +154,16 @@ motion_reply_t MotionService::Move(const motion_request_t& r, bool check_only, s
   }
   const WorkFrame frame = *found;
   const Vector3 pivot = pivot_M_;
-  MoveLimits limits;
-  if (std::string p = LimitsProblem(r, &limits); !p.empty()) return Reply(r, ReplyCode::kInvalid, p);
+  MoveLimits limits = default_limits_;
+  if (std::string p = SpeedLimitsProblem(r, config_limits_, &limits); !p.empty()) {
+    return Reply(r, ReplyCode::kInvalid, p);
+  }
   if (!check_only) {
     if (std::string p = BridgeProblem(now_utime); !p.empty()) return Reply(r, ReplyCode::kNotNow, p);
     if (std::string p = QueueProblem(); !p.empty()) return Reply(r, ReplyCode::kNotNow, p);
   }
   const Transform from = PlannedEnd();
-  FramedPose to = FramedPoseOf(PoseField(r));
+  FramedPose to = FramedPoseOf(RequestPose(r));
   if (r.relative) {
     const FramedPose now = InFrame(frame, pivot, from);
     to.t = now.t + to.t;
@@ -263,8 +212,7 @@ std::string MotionService::PlanOutdated(const Transform& from, std::uint64_t dec
 motion_reply_t MotionService::Run(const motion_request_t& r, std::int64_t now_utime, Lock& lock) {
   if (std::string p = BridgeProblem(now_utime); !p.empty()) return Reply(r, ReplyCode::kNotNow, p);
   if (std::string p = QueueProblem(); !p.empty()) return Reply(r, ReplyCode::kNotNow, p);
-  if (r.motions.empty() == r.csv_text.empty())
-    return Reply(r, ReplyCode::kInvalid, "give either motions or a CSV, not both");
+  if (std::string p = ProgramProblem(r); !p.empty()) return Reply(r, ReplyCode::kInvalid, p);
   const Transform from = PlannedEnd();
   const MoveLimits limits = default_limits_;
   const std::uint64_t decelerations = decelerations_;
@@ -276,7 +224,9 @@ motion_reply_t MotionService::Run(const motion_request_t& r, std::int64_t now_ut
   try {
     std::unique_ptr<TrajectorySequence> program;
     if (!r.motions.empty()) {
-      program = MotionSequence(model_, MotionNames(r.motions), options_.programs);
+      program = options_.programs
+                    ? options_.programs(r.motions)
+                    : PaperMotionSequence(MotionNames(r.motions), model_.home_pose().ToVector(), PaperMotionOptions{});
     } else {
       program = std::make_unique<TrajectorySequence>();
       program->Append(name, std::make_unique<CsvTrajectory>(CsvTrajectory::Parse(r.csv_text, name)));
@@ -359,30 +309,14 @@ motion_reply_t MotionService::Decelerate(const motion_request_t& r, bool stop, s
 }
 
 motion_reply_t MotionService::DefineFrame(const motion_request_t& r) {
-  const std::string& name = r.frame;
-  if (name.empty() || name == "base" || name == "home") {
-    return Reply(r, ReplyCode::kInvalid,
-                 fmt::format("frame name \"{}\": give a new name (base and home are built in)", name));
-  }
-  if (!AllFinite(r.pose, 6))
-    return Reply(r, ReplyCode::kInvalid, fmt::format("frame {}: pose has a non-finite value", name));
-  const Pose pose = Pose::FromVector(PoseField(r));
-  if (pose.p_BoMo_B.norm() > kMaxFrameOffset_m) {
-    return Reply(r, ReplyCode::kInvalid,
-                 fmt::format("frame {}: origin {:.3f} m from {{B}}, beyond {} m", name, pose.p_BoMo_B.norm(),
-                             kMaxFrameOffset_m));
-  }
-  frames_[name] = WorkFrame{name, TransformOf(pose)};
-  return Reply(r, ReplyCode::kDone, fmt::format("frame {} = {} in {{B}}", name, DescribeVector(PoseField(r))));
+  if (std::string p = FrameDefinitionProblem(r); !p.empty()) return Reply(r, ReplyCode::kInvalid, p);
+  frames_[r.frame] = WorkFrame{r.frame, TransformOf(Pose::FromVector(RequestPose(r)))};
+  return Reply(r, ReplyCode::kDone, fmt::format("frame {} = {} in {{B}}", r.frame, DescribeVector(RequestPose(r))));
 }
 
 motion_reply_t MotionService::SetPivot(const motion_request_t& r) {
+  if (std::string p = PivotProblem(r); !p.empty()) return Reply(r, ReplyCode::kInvalid, p);
   const Vector3 c(r.point[0], r.point[1], r.point[2]);
-  if (!c.allFinite() || c.norm() > kMaxPivotOffset_m) {
-    return Reply(r, ReplyCode::kInvalid,
-                 fmt::format("pivot ({}, {}, {}) m: give a finite point within {} m of {{M}}'s origin", c(0), c(1),
-                             c(2), kMaxPivotOffset_m));
-  }
   pivot_M_ = c;
   return Reply(
       r, ReplyCode::kDone,
@@ -391,14 +325,7 @@ motion_reply_t MotionService::SetPivot(const motion_request_t& r) {
 
 motion_reply_t MotionService::SetLimits(const motion_request_t& r) {
   MoveLimits l = default_limits_;
-  std::string p = TakeLimit(r.speed_m_s, config_limits_.speed_m_s, "speed_m_s", "speed_max_m_s", &l.speed_m_s);
-  if (p.empty())
-    p = TakeLimit(r.speed_rad_s, config_limits_.speed_rad_s, "speed_rad_s", "speed_max_rad_s", &l.speed_rad_s);
-  if (p.empty()) p = TakeLimit(r.accel_m_s2, config_limits_.accel_m_s2, "accel_m_s2", "accel_max_m_s2", &l.accel_m_s2);
-  if (p.empty()) {
-    p = TakeLimit(r.accel_rad_s2, config_limits_.accel_rad_s2, "accel_rad_s2", "accel_max_rad_s2", &l.accel_rad_s2);
-  }
-  if (!p.empty()) return Reply(r, ReplyCode::kInvalid, p);
+  if (std::string p = AllLimitsProblem(r, config_limits_, &l); !p.empty()) return Reply(r, ReplyCode::kInvalid, p);
   default_limits_ = l;
   return Reply(r, ReplyCode::kDone,
                fmt::format("moves from now: {} m/s, {} rad/s, {} m/s^2, {} rad/s^2", l.speed_m_s, l.speed_rad_s,

@@ -76,4 +76,25 @@ void AppendPaperMotion(const std::string& name, const Vector6& home, const Paper
   move_to(home, "home");
 }
 
+std::vector<std::string> MotionNames(const std::string& list) {
+  std::vector<std::string> names;
+  std::string name;
+  for (char c : list + ",") {
+    if (c != ',') {
+      name += c;
+    } else if (!name.empty()) {
+      names.push_back(name);
+      name.clear();
+    }
+  }
+  return names;
+}
+
+std::unique_ptr<TrajectorySequence> PaperMotionSequence(const std::vector<std::string>& names, const Vector6& home,
+                                                        const PaperMotionOptions& options) {
+  auto sequence = std::make_unique<TrajectorySequence>();
+  for (const std::string& name : names) AppendPaperMotion(name, home, options, sequence.get());
+  return sequence;
+}
+
 }  // namespace edsp

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "edsp/channels.h"
+#include "edsp/node/node_loop.h"
 #include "edsp/node/scheduling.h"
 
 namespace edsp {
@@ -14,8 +15,8 @@ PlannerLoop::PlannerLoop(Bus& bus, MotionService& service, PlannerLoopOptions op
       setpoints_(bus.Advertise<pose_setpoint_t>(channel::kSetpoint)),
       replies_(bus.Advertise<motion_reply_t>(channel::kMotionReply)),
       motion_status_(bus.Advertise<motion_status_t>(channel::kMotionStatus)),
-      status_out_(bus.Advertise<node_status_t>(channel::kStatus)) {
-  status_.SetState(node_status_t::STATE_RUNNING);
+      reporting_(bus, "planner"),
+      requests_in_(bus.Counters(channel::kMotionRequest)) {
   bus.Subscribe<motion_request_t>(channel::kMotionRequest,
                                   [this](const motion_request_t& request) { OnRequest(request); });
   bus.Subscribe<leg_state_t>(channel::kLegState,
@@ -34,7 +35,7 @@ PlannerLoop::~PlannerLoop() {
 }
 
 void PlannerLoop::OnRequest(const motion_request_t& request) {
-  status_.CountIn();
+  reporting_.status().CountIn();
   const std::int64_t came_utime = UtimeNow();
   if (MotionService::IsQuick(request)) {
     const motion_reply_t reply = service_.Handle(request, came_utime);
@@ -72,14 +73,14 @@ void PlannerLoop::PublishReplies() {
     out.swap(replies_out_);
   }
   for (const motion_reply_t& reply : out) {
-    if (!reply.accepted) status_.CountRejected();
+    if (!reply.accepted) reporting_.status().CountRejected();
     replies_.Publish(reply);
   }
 }
 
 bool PlannerLoop::RunCycle(std::int64_t now_utime, std::int64_t deadline_misses) {
   const auto began = std::chrono::steady_clock::now();
-  if (setpoints_.Publish(service_.Step(now_utime))) status_.CountOut();
+  if (setpoints_.Publish(service_.Step(now_utime))) reporting_.status().CountOut();
   PublishReplies();
   if (service_.TakeChange() || now_utime >= next_motion_status_utime_) {
     motion_status_t status = service_.Status(now_utime);
@@ -89,28 +90,20 @@ bool PlannerLoop::RunCycle(std::int64_t now_utime, std::int64_t deadline_misses)
   }
   bool go_on = true;
   if (!service_.busy() && service_.ended_utime() != 0) {
-    status_.SetState(node_status_t::STATE_HOLDING);
+    reporting_.status().SetState(node_status_t::STATE_HOLDING);
     go_on = options_.exit_after_hold_s < 0.0 ||
             now_utime < service_.ended_utime() + std::llround(options_.exit_after_hold_s * 1e6);
   } else {
-    status_.SetState(node_status_t::STATE_RUNNING);
+    reporting_.status().SetState(node_status_t::STATE_RUNNING);
   }
-  status_.RecordLoop(std::chrono::steady_clock::now() - began);
-  if (status_.Due(now_utime)) status_out_.Publish(status_.Report(now_utime, deadline_misses));
+  reporting_.status().RecordLoop(std::chrono::steady_clock::now() - began);
+  reporting_.ReportUndecodable(channel::kMotionRequest, requests_in_, now_utime);
+  reporting_.StatusTick(now_utime, deadline_misses);
   return go_on;
 }
 
 void PlannerLoop::Run(CycleClock& clock, const std::function<bool()>& stop) {
-  while (!stop()) {
-    bool handled = false;
-    for (auto left = clock.UntilNext(); left.count() > 0 && !stop(); left = clock.UntilNext()) {
-      bus_.Handle(std::chrono::duration_cast<std::chrono::microseconds>(left));
-      handled = true;
-    }
-    if (!handled) bus_.Handle(std::chrono::microseconds(0));  // an overrun cycle still takes its input
-    clock.WaitNext();
-    if (!RunCycle(UtimeNow(), clock.missed())) break;
-  }
+  RunOnClock(bus_, clock, stop, [this](std::int64_t now, std::int64_t missed) { return RunCycle(now, missed); });
 }
 
 }  // namespace edsp

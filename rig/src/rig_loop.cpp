@@ -6,6 +6,7 @@
 
 #include "edsp/channels.h"
 #include "edsp/node/fault.h"
+#include "edsp/node/node_loop.h"
 
 namespace edsp {
 
@@ -41,17 +42,15 @@ RigLoop::RigLoop(Bus& bus, VirtualRig& rig, DriveImageServer& image, const Image
       cycle_(&rig, std::chrono::duration<double>(kRigPeriod).count(), kRigCommandHorizon_s, kRigLongestCatchUp),
       tracker_out_(bus.Advertise<tracker_point_t>(channel::kTracker)),
       truth_out_(bus.Advertise<rig_truth_t>(channel::kRigTruth)),
-      faults_(bus.Advertise<fault_t>(channel::kFault)),
-      status_out_(bus.Advertise<node_status_t>(channel::kStatus)) {
+      reporting_(bus, "rig") {
   image_commands_.reserve(16);  // what the command ring holds
   commands_.reserve(16);
   if (!restore.note.empty()) {
     std::fprintf(stderr, "edsp-rig: %s\n", restore.note.c_str());
-    faults_.Publish(MakeFault("rig", image.feedback_segment(), FaultCode::kProcess,
-                              restore.restored ? fault_t::SEVERITY_INFO : fault_t::SEVERITY_WARNING, restore.note,
-                              UtimeNow()));
+    reporting_.Fault(MakeFault("rig", image.feedback_segment(), FaultCode::kProcess,
+                               restore.restored ? fault_t::SEVERITY_INFO : fault_t::SEVERITY_WARNING, restore.note,
+                               UtimeNow()));
   }
-  status_.SetState(node_status_t::STATE_RUNNING);
 }
 
 void RigLoop::RunCycle(std::int64_t now, std::int64_t deadline_misses) {
@@ -60,36 +59,36 @@ void RigLoop::RunCycle(std::int64_t now, std::int64_t deadline_misses) {
   image_.NewCommands(&image_commands_);
   commands_.clear();
   for (const DriveImageCommand& c : image_commands_) commands_.push_back(DriveCommand{SetpointOf(c), c.enable != 0});
-  status_.CountIn(static_cast<std::int64_t>(commands_.size()));
+  reporting_.status().CountIn(static_cast<std::int64_t>(commands_.size()));
   const std::vector<RigCycleReport>& reports = cycle_.Wake(now, commands_);
   for (const RigCycleReport& report : reports) Publish(report);
   if (!reports.empty()) {  // none while the rig waits for its controller to catch up
     cycles_ += static_cast<std::int64_t>(reports.size());
     image_.PublishFeedback(reports.back().feedback, reports.back().utime, cycles_);
   }
-  status_.RecordLoop(std::chrono::steady_clock::now() - start);
-  if (status_.Due(now)) status_out_.Publish(status_.Report(now, deadline_misses));
+  reporting_.status().RecordLoop(std::chrono::steady_clock::now() - start);
+  reporting_.StatusTick(now, deadline_misses);
 }
 
 void RigLoop::Publish(const RigCycleReport& report) {
   truth_out_.Publish(report.truth);
-  if (report.tracker_due && tracker_out_.Publish(report.tracker)) status_.CountOut();
+  if (report.tracker_due && tracker_out_.Publish(report.tracker)) reporting_.status().CountOut();
   if (report.watchdog_changed) {
-    faults_.Publish(
+    reporting_.Fault(
         WatchdogFault(image_.command_segment(), report.watchdog_tripped, report.since_command_s, report.utime));
   }
   if (report.physics_failed) {
-    faults_.Publish(MakeFault("rig", "", FaultCode::kForwardKinematics, fault_t::SEVERITY_ERROR,
-                              "the virtual platform's pose could not be found", report.utime));
-    status_.SetState(node_status_t::STATE_FAULT);
+    reporting_.Fault(MakeFault("rig", "", FaultCode::kForwardKinematics, fault_t::SEVERITY_ERROR,
+                               "the virtual platform's pose could not be found", report.utime));
+    reporting_.status().SetState(node_status_t::STATE_FAULT);
   }
 }
 
 void RigLoop::Run(CycleClock& clock, const std::function<bool()>& stop) {
-  while (!stop()) {
-    clock.WaitNext();
-    RunCycle(UtimeNow(), clock.missed());
-  }
+  RunOnClock(clock, stop, [this](std::int64_t now, std::int64_t missed) {
+    RunCycle(now, missed);
+    return true;
+  });
 }
 
 }  // namespace edsp

@@ -14,6 +14,7 @@
 #include "edsp/fault_t.hpp"
 #include "edsp/logger/disk_health.h"
 #include "edsp/logger/log_writer.h"
+#include "edsp/node/node_reporting.h"
 #include "edsp/node/runtime.h"
 #include "edsp/node_status_t.hpp"
 #include "edsp/transport/bus.h"
@@ -57,9 +58,7 @@ class LoggerNode {
 
   Bus& bus_;
   LogWriter writer_;
-  Bus::Publisher<node_status_t> status_out_;
-  Bus::Publisher<fault_t> faults_;
-  NodeStatus status_{"logger"};
+  NodeReporting reporting_;
   DiskHealth disk_;
   std::map<std::string, SeqTracker> seqs_;  // LCM channels with one publisher
   std::int64_t lcm_seq_gaps_ = 0;

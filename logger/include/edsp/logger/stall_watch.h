@@ -10,9 +10,8 @@
 // least 10 ms more for the servo, then the drives' tracking error (command
 // − encoder, at the reading's instant) back under twice what it was before
 // the stall (at least 20 µm) for 20 ms; at most 100 ms + 10 ms per ms
-// stalled (at most 1 s more), the longest catch-up measured live (a
-// torque-limited servo after an 18.8 ms stall: 6 mm off 90 ms after it). A
-// stall still open when a sample is written flags it too. Stamps are the
+// stalled (at most 1 s more), beyond the longest catch-up measured live
+// (docs/figures.md, "The stack"). A stall still open when a sample is written flags it too. Stamps are the
 // senders' word: the arithmetic is in double.
 
 #include <cstdint>

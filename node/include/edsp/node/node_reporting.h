@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <map>
 #include <string>
+#include <string_view>
 
 #include "edsp/node/fault.h"
 #include "edsp/node/runtime.h"
@@ -24,8 +25,9 @@ class NodeReporting {
   void StatusTick(std::int64_t now_utime, std::int64_t deadline_misses);
   // An EDSP_FAULT (undecodable, throttled) for packets on `channel` that did
   // not decode since the last call: a foreign or truncated packet is refused
-  // by the Bus, and the rig's operator must hear of it.
-  void ReportUndecodable(const std::string& channel, const ChannelCounters& in, std::int64_t now_utime);
+  // by the Bus, and the rig's operator must hear of it. Costs nothing (no
+  // allocation) on a channel that never had one: loops call it every cycle.
+  void ReportUndecodable(std::string_view channel, const ChannelCounters& in, std::int64_t now_utime);
 
  private:
   Bus::Publisher<fault_t> faults_;
@@ -33,7 +35,7 @@ class NodeReporting {
   FaultThrottle throttle_;
   NodeStatus status_;
   std::string node_;
-  std::map<std::string, std::uint64_t> reported_decode_errors_;
+  std::map<std::string, std::uint64_t, std::less<>> reported_decode_errors_;
 };
 
 }  // namespace edsp

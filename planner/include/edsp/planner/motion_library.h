@@ -1,7 +1,9 @@
 #pragma once
 // Every motion edsp plans by name: the paper's single-axis motions and the
 // mixed ones (paper_motions.h), and "calibration", the motion set designed
-// for identification (calibration_motions.h).
+// for identification (calibration_motions.h). Part of the motion design
+// (edsp_motion_design), not of the planner's core: the planner's motion
+// service is given it as its ProgramLibrary by edsp-planner.
 
 #include <string>
 #include <vector>
@@ -20,9 +22,6 @@ void AppendMotion(const PlatformModel& model, const std::string& name, const Pap
 std::unique_ptr<TrajectorySequence> MotionSequence(const PlatformModel& model, const std::vector<std::string>& names,
                                                    const PaperMotionOptions& paper,
                                                    const CalibrationMotionOptions& calibration = {});
-
-// "Lz,Lx,Rz" → {"Lz", "Lx", "Rz"}; empty names are dropped.
-std::vector<std::string> MotionNames(const std::string& list);
 
 // What edsp-planner plays: the trajectory CSV `csv_path` (approached from
 // home by a quintic move within the speed limits when it starts

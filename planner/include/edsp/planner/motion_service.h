@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <memory>
@@ -33,6 +34,8 @@
 
 namespace edsp {
 
+using ProgramLibrary = std::function<std::unique_ptr<TrajectorySequence>(const std::string& motions)>;
+
 struct MotionServiceOptions {
   std::int64_t session_id = 0;
   double request_window_s = 5.0;  // a request stamped further from this clock is refused (replayed, or a clock off)
@@ -40,7 +43,11 @@ struct MotionServiceOptions {
   double measured_stale_s = 0.5;  // no platform state this long: no measured pose
   std::size_t queue_max = 64;
   double check_rate_hz = 1000.0;  // the planner's cycle: every path is checked at it
-  PaperMotionOptions programs;    // how named motions are planned for run requests
+  // The programs a run request names, as a list ("Lz,Lx", "calibration"),
+  // planned one after another from home; throws std::invalid_argument naming
+  // an unknown one. Unset: the paper's motions with their default options
+  // (edsp-planner gives the whole motion library, motion_library.h).
+  ProgramLibrary programs;
 };
 
 class MotionService {
@@ -91,7 +98,6 @@ class MotionService {
   motion_reply_t Enqueue(const motion_request_t& r, std::deque<PlannedMotion> motions, std::int64_t now_utime);
 
   std::string BridgeProblem(std::int64_t now_utime) const;
-  std::string LimitsProblem(const motion_request_t& r, MoveLimits* limits) const;
   const WorkFrame* FindFrame(const std::string& name) const;
   Transform PlannedEnd() const;
   double TimeToIdle(std::int64_t now_utime) const;

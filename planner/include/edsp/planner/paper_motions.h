@@ -4,6 +4,7 @@
 // `stops` evenly spaced poses across the range, dwelling at each, then home.
 // Segments are named "<motion>/move <k>" and "<motion>/dwell <k>".
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -29,5 +30,13 @@ void AppendPaperMotion(const std::string& name, const Vector6& home, const Paper
 
 // Lz, Lx, Rz, Ry one after another (the paper's order).
 std::vector<std::string> PaperMotionNames();
+
+// "Lz,Lx,Rz" → {"Lz", "Lx", "Rz"}; empty names are dropped.
+std::vector<std::string> MotionNames(const std::string& list);
+
+// The named paper motions one after another, from `home`. Throws
+// std::invalid_argument naming an unknown one.
+std::unique_ptr<TrajectorySequence> PaperMotionSequence(const std::vector<std::string>& names, const Vector6& home,
+                                                        const PaperMotionOptions& options);
 
 }  // namespace edsp

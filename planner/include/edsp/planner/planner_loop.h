@@ -22,8 +22,8 @@
 
 #include "edsp/motion_reply_t.hpp"
 #include "edsp/motion_status_t.hpp"
+#include "edsp/node/node_reporting.h"
 #include "edsp/node/runtime.h"
-#include "edsp/node_status_t.hpp"
 #include "edsp/planner/motion_service.h"
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/timing_contract.h"
@@ -68,8 +68,8 @@ class PlannerLoop {
   Bus::Publisher<pose_setpoint_t> setpoints_;
   Bus::Publisher<motion_reply_t> replies_;
   Bus::Publisher<motion_status_t> motion_status_;
-  Bus::Publisher<node_status_t> status_out_;
-  NodeStatus status_{"planner"};
+  NodeReporting reporting_;
+  const ChannelCounters& requests_in_;  // node-based map: no lookup per cycle
   std::int64_t next_motion_status_utime_ = 0;
   std::int64_t motion_status_seq_ = 0;  // the publisher's own count: a reader's seq gaps are losses
 

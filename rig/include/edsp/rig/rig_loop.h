@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "edsp/fault_t.hpp"
+#include "edsp/node/node_reporting.h"
 #include "edsp/node/runtime.h"
-#include "edsp/node_status_t.hpp"
 #include "edsp/rig/drive_image_server.h"
 #include "edsp/rig/rig_cycle.h"
 #include "edsp/timing_contract.h"
@@ -63,9 +63,7 @@ class RigLoop {
   RigCycle cycle_;
   Bus::Publisher<tracker_point_t> tracker_out_;
   Bus::Publisher<rig_truth_t> truth_out_;
-  Bus::Publisher<fault_t> faults_;
-  Bus::Publisher<node_status_t> status_out_;
-  NodeStatus status_{"rig"};
+  NodeReporting reporting_;
   std::int64_t cycles_ = 0;
   std::vector<DriveImageCommand> image_commands_;  // this wake's, reused
   std::vector<DriveCommand> commands_;

@@ -1,0 +1,39 @@
+#pragma once
+// What a motion request must be on its own, before the motion service acts
+// on it: finite numbers, a frame it may define, a pivot within reach, a
+// program named one way, limits within the config's. Each check returns ""
+// or why the request is refused (ReplyCode::kInvalid), naming the field and
+// the value. The service (motion_service.h) checks the rest, which depends
+// on its state: the bridge following, the queue, the frames it knows, the
+// path whole.
+
+#include <cstdint>
+#include <string>
+
+#include "edsp/kinematics/types.h"
+#include "edsp/motion_request_t.hpp"
+#include "edsp/planner/planned_motion.h"
+
+namespace edsp {
+
+// "move", "check", … "limits"; "kind N" for one no client should send.
+std::string RequestKindName(std::int8_t kind);
+// The request's pose field as x, y, z, roll, pitch, yaw.
+Vector6 RequestPose(const motion_request_t& r);
+
+// A move's or a check's pose: every value finite.
+std::string PoseProblem(const motion_request_t& r);
+// A frame's definition: a new name (not base or home), a finite pose whose
+// origin lies within 100 m of {B}.
+std::string FrameDefinitionProblem(const motion_request_t& r);
+// A pivot: finite, within 10 m of {M}'s origin.
+std::string PivotProblem(const motion_request_t& r);
+// A run: named motions or a CSV, not both and not neither.
+std::string ProgramProblem(const motion_request_t& r);
+// The speeds a move asks for (0: `limits`' own), each in [most/1000, most];
+// on success `limits` holds them.
+std::string SpeedLimitsProblem(const motion_request_t& r, const MoveLimits& most, MoveLimits* limits);
+// The same for a limits request's speeds and accelerations.
+std::string AllLimitsProblem(const motion_request_t& r, const MoveLimits& most, MoveLimits* limits);
+
+}  // namespace edsp

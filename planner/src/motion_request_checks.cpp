@@ -1,0 +1,102 @@
+#include "edsp/planner/motion_request_checks.h"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "edsp/kinematics/pose.h"
+
+namespace edsp {
+
+namespace {
+
+// A move asked to go slower than this share of the config's speed is a
+// typo (and one longer than kLongestMove_s, planned_motion.h).
+constexpr double kSlowestShare = 1e-3;
+constexpr double kMaxFrameOffset_m = 100.0;
+constexpr double kMaxPivotOffset_m = 10.0;
+
+bool AllFinite(const double* v, int n) {
+  for (int k = 0; k < n; ++k) {
+    if (!std::isfinite(v[k])) return false;
+  }
+  return true;
+}
+
+// One requested limit: 0 keeps `current`; else it must be in [most/1000, most].
+std::string TakeLimit(double asked, double most, const char* field, const char* key, double* current) {
+  if (asked == 0.0) return "";
+  if (!std::isfinite(asked) || asked < most * kSlowestShare || asked > most) {
+    return fmt::format("{} = {} is not in [{}, {}] (the config's [motion] {} and a thousandth of it)", field, asked,
+                       most * kSlowestShare, most, key);
+  }
+  *current = asked;
+  return "";
+}
+
+}  // namespace
+
+std::string RequestKindName(std::int8_t kind) {
+  switch (kind) {
+    case motion_request_t::KIND_MOVE: return "move";
+    case motion_request_t::KIND_CHECK: return "check";
+    case motion_request_t::KIND_RUN: return "run";
+    case motion_request_t::KIND_HALT: return "halt";
+    case motion_request_t::KIND_STOP: return "stop";
+    case motion_request_t::KIND_FRAME: return "frame";
+    case motion_request_t::KIND_PIVOT: return "pivot";
+    case motion_request_t::KIND_LIMITS: return "limits";
+  }
+  return fmt::format("kind {}", kind);
+}
+
+Vector6 RequestPose(const motion_request_t& r) {
+  Vector6 q;
+  for (int k = 0; k < 6; ++k) q(k) = r.pose[k];
+  return q;
+}
+
+std::string PoseProblem(const motion_request_t& r) {
+  return AllFinite(r.pose, 6) ? "" : "pose has a non-finite value (NaN or infinity)";
+}
+
+std::string FrameDefinitionProblem(const motion_request_t& r) {
+  const std::string& name = r.frame;
+  if (name.empty() || name == "base" || name == "home") {
+    return fmt::format("frame name \"{}\": give a new name (base and home are built in)", name);
+  }
+  if (!AllFinite(r.pose, 6)) return fmt::format("frame {}: pose has a non-finite value", name);
+  const double offset_m = Pose::FromVector(RequestPose(r)).p_BoMo_B.norm();
+  if (offset_m > kMaxFrameOffset_m) {
+    return fmt::format("frame {}: origin {:.3f} m from {{B}}, beyond {} m", name, offset_m, kMaxFrameOffset_m);
+  }
+  return "";
+}
+
+std::string PivotProblem(const motion_request_t& r) {
+  const Vector3 c(r.point[0], r.point[1], r.point[2]);
+  if (c.allFinite() && c.norm() <= kMaxPivotOffset_m) return "";
+  return fmt::format("pivot ({}, {}, {}) m: give a finite point within {} m of {{M}}'s origin", c(0), c(1), c(2),
+                     kMaxPivotOffset_m);
+}
+
+std::string ProgramProblem(const motion_request_t& r) {
+  return r.motions.empty() == r.csv_text.empty() ? "give either motions or a CSV, not both" : "";
+}
+
+std::string SpeedLimitsProblem(const motion_request_t& r, const MoveLimits& most, MoveLimits* limits) {
+  std::string p = TakeLimit(r.speed_m_s, most.speed_m_s, "speed_m_s", "speed_max_m_s", &limits->speed_m_s);
+  if (p.empty()) p = TakeLimit(r.speed_rad_s, most.speed_rad_s, "speed_rad_s", "speed_max_rad_s", &limits->speed_rad_s);
+  return p;
+}
+
+std::string AllLimitsProblem(const motion_request_t& r, const MoveLimits& most, MoveLimits* limits) {
+  std::string p = SpeedLimitsProblem(r, most, limits);
+  if (p.empty()) p = TakeLimit(r.accel_m_s2, most.accel_m_s2, "accel_m_s2", "accel_max_m_s2", &limits->accel_m_s2);
+  if (p.empty()) {
+    p = TakeLimit(r.accel_rad_s2, most.accel_rad_s2, "accel_rad_s2", "accel_max_rad_s2", &limits->accel_rad_s2);
+  }
+  return p;
+}
+
+}  // namespace edsp
