@@ -52,7 +52,7 @@ class ConfigSection {
   const std::string& label() const { return label_; }
   const std::string& origin() const;
   bool Has(std::string_view key) const;
-  // The keys in the order the file gives them.
+  // The keys, sorted by name (a table's order in TOML carries no meaning).
   std::vector<std::string> Keys() const;
 
   // Every key must be one of `known`: a typo such as `lead = 0.01` must not
@@ -76,7 +76,7 @@ class ConfigSection {
 
   // The table under `key` (absent: not present()), named "<name>.<key>".
   ConfigSection Table(std::string_view key) const;
-  // Every table under this one with its key, in file order ([rig.effects.*]).
+  // Every table under this one with its key, sorted by key ([rig.effects.*]).
   std::vector<std::pair<std::string, ConfigSection>> Tables() const;
   // The array of tables under `key` ([[member]]), in file order.
   std::vector<ConfigSection> TableArray(std::string_view key) const;
