@@ -1,0 +1,107 @@
+// A motion request's own checks, apart from the service's state: each
+// refusal names the field and the value, and what passes is taken whole.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "edsp/planner/motion_request_checks.h"
+
+namespace edsp {
+namespace {
+
+motion_request_t PoseRequest(double x, double z) {
+  motion_request_t r{};
+  r.pose[0] = x;
+  r.pose[2] = z;
+  return r;
+}
+
+MoveLimits ConfigLimits() {
+  MoveLimits most;
+  most.speed_m_s = 0.1;
+  most.speed_rad_s = 0.2;
+  most.accel_m_s2 = 0.5;
+  most.accel_rad_s2 = 1.0;
+  return most;
+}
+
+TEST(MotionRequestChecks, APoseMustBeFinite) {
+  EXPECT_EQ(PoseProblem(PoseRequest(0.1, 1.5)), "");
+  EXPECT_NE(PoseProblem(PoseRequest(std::nan(""), 1.5)).find("non-finite"), std::string::npos);
+  EXPECT_NE(PoseProblem(PoseRequest(0.0, std::numeric_limits<double>::infinity())).find("non-finite"),
+            std::string::npos);
+  EXPECT_EQ(RequestPose(PoseRequest(0.1, 1.5))(2), 1.5);
+}
+
+TEST(MotionRequestChecks, AFrameNeedsANewNameAndAnOriginWithinReach) {
+  motion_request_t r = PoseRequest(0.05, 1.55);
+  r.frame = "fixture";
+  EXPECT_EQ(FrameDefinitionProblem(r), "");
+  for (const char* built_in : {"", "base", "home"}) {
+    r.frame = built_in;
+    EXPECT_NE(FrameDefinitionProblem(r).find("base and home are built in"), std::string::npos) << built_in;
+  }
+  r.frame = "far";
+  r.pose[0] = 100.5;
+  EXPECT_NE(FrameDefinitionProblem(r).find("frame far: origin 100.5"), std::string::npos) << FrameDefinitionProblem(r);
+  r.pose[0] = std::nan("");
+  EXPECT_NE(FrameDefinitionProblem(r).find("non-finite"), std::string::npos);
+}
+
+TEST(MotionRequestChecks, APivotMustBeFiniteAndWithinTenMetres) {
+  motion_request_t r{};
+  r.point[2] = 0.3;
+  EXPECT_EQ(PivotProblem(r), "");
+  r.point[2] = 10.01;
+  EXPECT_NE(PivotProblem(r).find("within 10 m"), std::string::npos);
+  r.point[2] = std::nan("");
+  EXPECT_NE(PivotProblem(r).find("finite"), std::string::npos);
+}
+
+TEST(MotionRequestChecks, AProgramIsNamedOrGivenAsCsvNotBoth) {
+  motion_request_t r{};
+  EXPECT_NE(ProgramProblem(r), "");
+  r.motions = "Lz";
+  EXPECT_EQ(ProgramProblem(r), "");
+  r.csv_text = "t,x,y,z,roll,pitch,yaw\n";
+  EXPECT_NE(ProgramProblem(r), "");
+}
+
+TEST(MotionRequestChecks, LimitsAreTakenWithinTheConfigsAndZeroKeepsTheCurrent) {
+  const MoveLimits most = ConfigLimits();
+  MoveLimits current = most;
+  current.speed_m_s = 0.05;
+  motion_request_t r{};
+  MoveLimits taken = current;
+  EXPECT_EQ(SpeedLimitsProblem(r, most, &taken), "");
+  EXPECT_EQ(taken.speed_m_s, 0.05);  // 0 asked: the current one kept
+  r.speed_m_s = 0.08;
+  r.speed_rad_s = 0.1;
+  EXPECT_EQ(SpeedLimitsProblem(r, most, &taken), "");
+  EXPECT_EQ(taken.speed_m_s, 0.08);
+  EXPECT_EQ(taken.speed_rad_s, 0.1);
+  r.speed_m_s = 0.2;  // above the config's
+  EXPECT_NE(SpeedLimitsProblem(r, most, &taken).find("speed_m_s = 0.2 is not in [0.0001, 0.1]"), std::string::npos)
+      << SpeedLimitsProblem(r, most, &taken);
+  r.speed_m_s = 0.5e-4;  // below a thousandth of it: a typo
+  EXPECT_NE(SpeedLimitsProblem(r, most, &taken), "");
+  r = motion_request_t{};
+  r.accel_rad_s2 = 2.0;
+  taken = current;
+  EXPECT_EQ(SpeedLimitsProblem(r, most, &taken), "");  // a move's limits are speeds only
+  EXPECT_NE(AllLimitsProblem(r, most, &taken).find("accel_rad_s2 = 2"), std::string::npos);
+  r.accel_rad_s2 = 0.5;
+  EXPECT_EQ(AllLimitsProblem(r, most, &taken), "");
+  EXPECT_EQ(taken.accel_rad_s2, 0.5);
+}
+
+TEST(MotionRequestChecks, EveryKindHasItsNameAndAnUnknownOneItsNumber) {
+  EXPECT_EQ(RequestKindName(motion_request_t::KIND_MOVE), "move");
+  EXPECT_EQ(RequestKindName(motion_request_t::KIND_LIMITS), "limits");
+  EXPECT_EQ(RequestKindName(42), "kind 42");
+}
+
+}  // namespace
+}  // namespace edsp
