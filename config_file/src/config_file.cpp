@@ -238,7 +238,9 @@ std::vector<std::int64_t> ConfigSection::Integers(std::string_view key, std::int
 ConfigSection ConfigSection::Table(std::string_view key) const {
   const std::string name = name_.empty() ? std::string(key) : fmt::format("{}.{}", name_, key);
   const toml::node* node = NodeOf(Node(key));
-  const std::string label = "[" + name + "]";
+  // Under an element of an array of tables, "[[member]] #1 env"; else "[member.env]".
+  const bool in_element = label_.rfind("[[", 0) == 0;
+  const std::string label = in_element ? fmt::format("{} {}", label_, key) : "[" + name + "]";
   if (node == nullptr) return ConfigSection(document_, nullptr, name, label, origin_, line_);
   if (!node->is_table()) FailAtLine(LineOf(*node), label + " must be a table");
   return ConfigSection(document_, node->as_table(), name, label, origin_, LineOf(*node));

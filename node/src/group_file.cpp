@@ -4,7 +4,6 @@
 #include <cctype>
 #include <sched.h>
 
-#include <limits>
 #include <set>
 #include <stdexcept>
 
@@ -74,7 +73,8 @@ void ReadGroupSection(const ConfigFile& file, GroupSpec* group) {
   g.RejectUnknownKeys({"name", "config", "session_id"});
   group->name = g.String("name", group->name);
   group->config = g.String("config", group->config);
-  group->session_id = g.Integer("session_id", group->session_id, 0, std::numeric_limits<std::int64_t>::max());
+  group->session_id = g.Integer("session_id", group->session_id);
+  if (group->session_id < 0) g.Fail("session_id", "[group] session_id must be a non-negative integer");
 }
 
 std::vector<MemberSpec> ReadMembers(const ConfigFile& file, const VariableLookup& variables) {

@@ -19,9 +19,14 @@ namespace {
 void RequireAll(const ConfigSection& s, const LegValues& v, const char* key, double lo, double hi, const char* what) {
   for (std::size_t i = 0; i < v.size(); ++i) {
     if (!(v[i] >= lo && v[i] <= hi)) {
-      s.Fail("", fmt::format("[{}] {} = {} (leg {}) must be in [{}, {}] {}", s.name(), key, v[i], i + 1, lo, hi, what));
+      s.Fail(key, fmt::format("{} {} = {} (leg {}) must be in [{}, {}] {}", s.label(), key, v[i], i + 1, lo, hi, what));
     }
   }
+}
+
+// One value of a section in its range, or an error at its key's line.
+void Require(const ConfigSection& s, bool ok, const char* key, double value, const char* range) {
+  if (!ok) s.Fail(key, fmt::format("{} {} = {} must be {}", s.label(), key, value, range));
 }
 
 void ReadLegOffset(const ConfigSection& s, RigEffects::LegOffset* e) {
@@ -37,7 +42,7 @@ void ReadJointPosition(const ConfigSection& s, RigEffects::JointPosition* e) {
   ReadLegRows(s, "base_m", &e->base_m);
   ReadLegRows(s, "platform_m", &e->platform_m);
   if (e->base_m.cwiseAbs().maxCoeff() > 0.01 || e->platform_m.cwiseAbs().maxCoeff() > 0.01) {
-    s.Fail("", fmt::format("[{}] joint offsets must be within ±0.01 m", s.name()));
+    s.Fail("", fmt::format("{} joint offsets must be within ±0.01 m", s.label()));
   }
 }
 
@@ -47,10 +52,11 @@ void ReadPassiveRotation(const ConfigSection& s, RigEffects::PassiveRotation* e)
   e->pr_sign = static_cast<int>(s.Integer("pr_sign", e->pr_sign));
   e->pr_lead_m = s.Number("pr_lead_m", e->pr_lead_m);
   if (e->pr_sign < -1 || e->pr_sign > 1) {
-    s.Fail("", fmt::format("[{}] pr_sign = {} must be 1, -1 or 0 (no PR)", s.name(), e->pr_sign));
+    s.Fail("pr_sign", fmt::format("{} pr_sign = {} must be 1, -1 or 0 (no PR)", s.label(), e->pr_sign));
   }
   if (e->pr_lead_m < 0.0 || e->pr_lead_m > 0.5) {
-    s.Fail("", fmt::format("[{}] pr_lead_m = {} must be in [0, 0.5] m (0: the nominal lead)", s.name(), e->pr_lead_m));
+    s.Fail("pr_lead_m",
+           fmt::format("{} pr_lead_m = {} must be in [0, 0.5] m (0: the nominal lead)", s.label(), e->pr_lead_m));
   }
 }
 
@@ -91,26 +97,24 @@ void ReadServoLag(const ConfigSection& s, RigEffects::ServoLag* e) {
   e->torque_limit_N_m = s.Number("torque_limit_N_m", e->torque_limit_N_m);
   e->bandwidth_hz = s.Number("bandwidth_hz", e->bandwidth_hz);
   e->loop_rate_hz = s.Number("loop_rate_hz", e->loop_rate_hz);
-  auto require = [&](bool ok, const char* key, double value, const char* range) {
-    if (!ok) s.Fail("", fmt::format("[{}] {} = {} must be {}", s.name(), key, value, range));
-  };
-  require(e->inertia_kg_m2 > 0.0 && e->inertia_kg_m2 < 1.0, "inertia_kg_m2", e->inertia_kg_m2, "in (0, 1) kg m²");
-  require(e->viscous_N_m_s >= 0.0 && e->viscous_N_m_s < 10.0, "viscous_N_m_s", e->viscous_N_m_s, "in [0, 10) N m s");
-  require(e->torque_limit_N_m > 0.0 && e->torque_limit_N_m < 1000.0, "torque_limit_N_m", e->torque_limit_N_m,
+  Require(s, e->inertia_kg_m2 > 0.0 && e->inertia_kg_m2 < 1.0, "inertia_kg_m2", e->inertia_kg_m2, "in (0, 1) kg m²");
+  Require(s, e->viscous_N_m_s >= 0.0 && e->viscous_N_m_s < 10.0, "viscous_N_m_s", e->viscous_N_m_s, "in [0, 10) N m s");
+  Require(s, e->torque_limit_N_m > 0.0 && e->torque_limit_N_m < 1000.0, "torque_limit_N_m", e->torque_limit_N_m,
           "in (0, 1000) N m");
-  require(e->bandwidth_hz > 0.0 && e->bandwidth_hz <= e->loop_rate_hz / 10.0, "bandwidth_hz", e->bandwidth_hz,
+  Require(s, e->bandwidth_hz > 0.0 && e->bandwidth_hz <= e->loop_rate_hz / 10.0, "bandwidth_hz", e->bandwidth_hz,
           "positive and at most a tenth of loop_rate_hz");
-  require(e->loop_rate_hz >= 1000.0 && e->loop_rate_hz <= 100000.0, "loop_rate_hz", e->loop_rate_hz,
+  Require(s, e->loop_rate_hz >= 1000.0 && e->loop_rate_hz <= 100000.0, "loop_rate_hz", e->loop_rate_hz,
           "in [1000, 100000] Hz");
-  require(e->coulomb_N_m >= 0.0 && e->coulomb_N_m < e->torque_limit_N_m, "coulomb_N_m", e->coulomb_N_m,
+  Require(s, e->coulomb_N_m >= 0.0 && e->coulomb_N_m < e->torque_limit_N_m, "coulomb_N_m", e->coulomb_N_m,
           "in [0, torque_limit_N_m) N m");
-  require(e->integral_time_s == 0.0 ||
+  Require(s,
+          e->integral_time_s == 0.0 ||
               (e->integral_time_s >= 4.0 / (2.0 * 3.14159265358979 * e->bandwidth_hz) && e->integral_time_s <= 100.0),
           "integral_time_s", e->integral_time_s, "0 (none) or between 4/(2π·bandwidth_hz) and 100 s");
-  require(e->screw_efficiency > 0.1 && e->screw_efficiency <= 1.0, "screw_efficiency", e->screw_efficiency,
+  Require(s, e->screw_efficiency > 0.1 && e->screw_efficiency <= 1.0, "screw_efficiency", e->screw_efficiency,
           "in (0.1, 1]");
-  require(e->load_mass_kg >= 0.0 && e->load_mass_kg <= 1e5, "load_mass_kg", e->load_mass_kg, "in [0, 1e5] kg");
-  require(e->following_error_window_m >= 0.0 && e->following_error_window_m <= 0.1, "following_error_window_m",
+  Require(s, e->load_mass_kg >= 0.0 && e->load_mass_kg <= 1e5, "load_mass_kg", e->load_mass_kg, "in [0, 1e5] kg");
+  Require(s, e->following_error_window_m >= 0.0 && e->following_error_window_m <= 0.1, "following_error_window_m",
           e->following_error_window_m, "in [0, 0.1] m (0: none)");
 }
 
@@ -119,7 +123,7 @@ void ReadCompliance(const ConfigSection& s, RigEffects::Compliance* e) {
   e->payload_kg = s.Number("payload_kg", e->payload_kg);
   e->payload_com_m = ReadVector3(s, "payload_com_m", e->payload_com_m);
   if (!(e->payload_kg >= 0.0 && e->payload_kg <= 1e5) || e->payload_com_m.norm() > 10.0) {
-    s.Fail("", fmt::format("[{}] payload_kg = {} must be in [0, 1e5] kg, payload_com_m within 10 m", s.name(),
+    s.Fail("", fmt::format("{} payload_kg = {} must be in [0, 1e5] kg, payload_com_m within 10 m", s.label(),
                            e->payload_kg));
   }
   e->enabled = s.Bool("enabled", true);
@@ -129,10 +133,10 @@ void ReadCompliance(const ConfigSection& s, RigEffects::Compliance* e) {
   e->gravity_m_s2 = ReadVector3(s, "gravity_m_s2", e->gravity_m_s2);
   RequireAll(s, e->stiffness_N_m, "stiffness_N_m", 1e5, 1e11, "N/m");
   if (!(e->mass_kg > 0.0 && e->mass_kg <= 1e5)) {
-    s.Fail("", fmt::format("[{}] mass_kg = {} must be in (0, 1e5] kg", s.name(), e->mass_kg));
+    s.Fail("mass_kg", fmt::format("{} mass_kg = {} must be in (0, 1e5] kg", s.label(), e->mass_kg));
   }
   if (e->com_m.norm() > 10.0 || e->gravity_m_s2.norm() > 100.0) {
-    s.Fail("", fmt::format("[{}] com_m must be within 10 m of {{M}} and |gravity_m_s2| ≤ 100", s.name()));
+    s.Fail("", fmt::format("{} com_m must be within 10 m of {{M}} and |gravity_m_s2| ≤ 100", s.label()));
   }
 }
 
@@ -143,14 +147,12 @@ void ReadThermalDrift(const ConfigSection& s, RigEffects::ThermalDrift* e) {
   e->heating_K_per_m = s.Number("heating_K_per_m", e->heating_K_per_m);
   e->time_constant_s = s.Number("time_constant_s", e->time_constant_s);
   e->screw_length_m = s.Number("screw_length_m", e->screw_length_m);
-  auto require = [&](bool ok, const char* key, double value, const char* range) {
-    if (!ok) s.Fail("", fmt::format("[{}] {} = {} must be {}", s.name(), key, value, range));
-  };
-  require(e->alpha_per_K >= 0.0 && e->alpha_per_K < 1e-3, "alpha_per_K", e->alpha_per_K, "in [0, 1e-3) per K");
-  require(e->heating_K_per_m >= 0.0 && e->heating_K_per_m < 100.0, "heating_K_per_m", e->heating_K_per_m,
+  Require(s, e->alpha_per_K >= 0.0 && e->alpha_per_K < 1e-3, "alpha_per_K", e->alpha_per_K, "in [0, 1e-3) per K");
+  Require(s, e->heating_K_per_m >= 0.0 && e->heating_K_per_m < 100.0, "heating_K_per_m", e->heating_K_per_m,
           "in [0, 100) K/m");
-  require(e->time_constant_s > 0.0 && e->time_constant_s < 1e6, "time_constant_s", e->time_constant_s, "in (0, 1e6) s");
-  require(e->screw_length_m > 0.0 && e->screw_length_m < 10.0, "screw_length_m", e->screw_length_m, "in (0, 10) m");
+  Require(s, e->time_constant_s > 0.0 && e->time_constant_s < 1e6, "time_constant_s", e->time_constant_s,
+          "in (0, 1e6) s");
+  Require(s, e->screw_length_m > 0.0 && e->screw_length_m < 10.0, "screw_length_m", e->screw_length_m, "in (0, 10) m");
 }
 
 void ReadStructuralResonance(const ConfigSection& s, RigEffects::StructuralResonance* e) {
@@ -159,12 +161,9 @@ void ReadStructuralResonance(const ConfigSection& s, RigEffects::StructuralReson
   e->frequency_hz = s.Number("frequency_hz", e->frequency_hz);
   e->damping = s.Number("damping", e->damping);
   e->gain = ReadVector3(s, "gain", e->gain);
-  auto require = [&](bool ok, const char* key, double value, const char* range) {
-    if (!ok) s.Fail("", fmt::format("[{}] {} = {} must be {}", s.name(), key, value, range));
-  };
-  require(e->frequency_hz >= 0.5 && e->frequency_hz <= 100.0, "frequency_hz", e->frequency_hz, "in [0.5, 100] Hz");
-  require(e->damping > 0.0 && e->damping < 1.0, "damping", e->damping, "in (0, 1)");
-  require(e->gain.cwiseAbs().maxCoeff() < 1.0, "gain", e->gain.cwiseAbs().maxCoeff(),
+  Require(s, e->frequency_hz >= 0.5 && e->frequency_hz <= 100.0, "frequency_hz", e->frequency_hz, "in [0.5, 100] Hz");
+  Require(s, e->damping > 0.0 && e->damping < 1.0, "damping", e->damping, "in (0, 1)");
+  Require(s, e->gain.cwiseAbs().maxCoeff() < 1.0, "gain", e->gain.cwiseAbs().maxCoeff(),
           "below 1 on every axis (1: A on a free mass)");
 }
 

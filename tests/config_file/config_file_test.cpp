@@ -69,7 +69,7 @@ TEST(ConfigFile, ErrorsNameTheFileLineSectionAndKey) {
 TEST(ConfigFile, NestedTablesComeByKeyAndArraysOfTablesInFileOrderWithTheirLines) {
   const ConfigFile file = ConfigFile::Parse(
       "[rig.effects.zeta]\nk = 1\n[rig.effects.alpha]\nk = 2\n[[member]]\nname = \"a\"\n[[member]]\nname = \"b\"\n"
-      "args = [\"x\",\n  \"${Y}\"]\n",
+      "env = { X = 1 }\nargs = [\"x\",\n  \"${Y}\"]\n",
       "g.toml");
   const auto effects = file.Section("rig").Table("effects").Tables();
   ASSERT_EQ(effects.size(), 2u);
@@ -81,8 +81,11 @@ TEST(ConfigFile, NestedTablesComeByKeyAndArraysOfTablesInFileOrderWithTheirLines
   ASSERT_EQ(members.size(), 2u);
   EXPECT_EQ(members[1].String("name", ""), "b");
   EXPECT_EQ(members[1].label(), "[[member]] #2");
+  // A value under an element is named by the element: "[[member]] #2 env X".
+  EXPECT_EQ(test_support::ThrownMessage<ConfigError>([&] { members[1].Table("env").String("X", ""); }),
+            "g.toml:9: [[member]] #2 env X must be a string");
   EXPECT_EQ(test_support::ThrownMessage<ConfigError>([&] { members[1].FailAtElement("args", 1, "bad arg"); }),
-            "g.toml:10: bad arg");
+            "g.toml:11: bad arg");
 }
 
 TEST(ConfigFile, ASectionOutlivesTheFileItCameFrom) {
