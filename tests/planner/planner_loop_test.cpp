@@ -15,6 +15,7 @@
 
 #include "counting_clock.h"  // tests/support
 #include "edsp/kinematics/config.h"
+#include "edsp/node/fault.h"
 #include "edsp/planner/motion_library.h"
 #include "memq_bus.h"         // tests/support
 #include "motion_requests.h"  // tests/support
@@ -243,6 +244,35 @@ TEST(PlannerLoop, AProgramBeingCheckedNeverHoldsTheCyclesBack) {
     largest_gap_us = std::max(largest_gap_us, cycles_utime[k] - cycles_utime[k - 1]);
   }
   EXPECT_LT(largest_gap_us, check_us / 4) << "the check took " << check_us << " us";
+}
+
+// Packets on the request channel that are no motion_request_t (noise, a
+// request cut short) are refused by the bus and reported once each by the
+// planner as undecodable, naming how many; its cycle goes on.
+TEST(PlannerLoop, ForeignRequestPacketsAreReportedAsUndecodableAndTheCycleGoesOn) {
+  Fixture f;
+  std::vector<fault_t> faults;
+  f.bus.Subscribe<fault_t>("EDSP_FAULT", [&](const fault_t& fault) { faults.push_back(fault); });
+  test_support::MotionRequests requests(kSession);
+  const motion_request_t whole = requests.Make(motion_request_t::KIND_HALT, kT0);
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(whole.getEncodedSize()));
+  whole.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  const std::uint8_t noise[5] = {1, 2, 3, 4, 5};
+  f.bus.lcm().Publish("EDSP_MOTION_REQUEST", noise, 5);
+  f.bus.lcm().Publish("EDSP_MOTION_REQUEST", bytes.data(), static_cast<std::uint32_t>(bytes.size() / 2));
+  f.HandleAll();
+  ASSERT_TRUE(f.loop.RunCycle(kT0, 0));
+  ASSERT_TRUE(f.loop.RunCycle(kT0 + 1000, 0));  // nothing new: no second report
+  f.HandleAll();
+  EXPECT_EQ(f.setpoints.size(), 2u);
+  std::vector<fault_t> undecodable;
+  for (const fault_t& fault : faults) {
+    if (fault.code == static_cast<std::int32_t>(FaultCode::kUndecodable)) undecodable.push_back(fault);
+  }
+  ASSERT_EQ(undecodable.size(), 1u);
+  EXPECT_EQ(undecodable[0].node, "planner");
+  EXPECT_EQ(undecodable[0].channel, "EDSP_MOTION_REQUEST");
+  EXPECT_EQ(undecodable[0].reason.rfind("2 undecodable packets", 0), 0u) << undecodable[0].reason;
 }
 
 }  // namespace
