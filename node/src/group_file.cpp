@@ -47,7 +47,7 @@ std::map<std::string, std::string> ReadEnv(const ConfigSection& member) {
 
 MemberSpec ReadMember(const ConfigSection& member, const VariableLookup& variables) {
   member.RejectUnknownKeys({"name", "command", "args", "env", "host", "restart", "max_restarts", "start_delay_ms",
-                            "realtime_priority", "cpus", "requires", "node_options"});
+                            "realtime_priority", "cpus", "requires", "node_options", "enabled"});
   MemberSpec m;
   m.name = member.String("name", "");
   m.command = member.String("command", "");
@@ -86,6 +86,9 @@ std::vector<MemberSpec> ReadMembers(const ConfigFile& file, const VariableLookup
     if (!names.insert(out.back().name).second) {
       member.Fail("name", fmt::format("two members named \"{}\"", out.back().name));
     }
+    // Checked as any member, then left out: `enabled = false` is a shipped
+    // member one line away from running (edsp-web in the sim groups).
+    if (!member.Bool("enabled", true)) out.pop_back();
   }
   return out;
 }

@@ -69,7 +69,7 @@ TEST_P(ShippedGroup, WrittenBackUnchangedItIsTheSameGroupAndTheSameRoutes) {
 }
 
 INSTANTIATE_TEST_SUITE_P(DeployGroups, ShippedGroup,
-                         testing::Values("sim", "sim-modbus", "sim-cia402", "demo", "calibrate", "replay",
+                         testing::Values("sim", "sim-web", "sim-modbus", "sim-cia402", "demo", "calibrate", "replay",
                                          "multihost"));
 
 TEST(GroupFileEditor, EachEditChangesWhatItSaysAndNothingElse) {

@@ -252,6 +252,28 @@ TEST(GroupFile, AMalformedMemberIsOneErrorNamingFileLineAndKeyWhoeverReads) {
             path + ": cannot open file");
 }
 
+TEST(GroupFile, ADisabledMemberIsCheckedButNotStarted) {
+  const std::string path = WriteScratch("group_file_enabled.toml",
+                                        "[[member]]\nname = \"rig\"\ncommand = \"edsp-rig\"\n"
+                                        "[[member]]\nname = \"web\"\ncommand = \"edsp-web\"\nenabled = false\n");
+  const GroupSpec group = LoadGroupFile(path);
+  ASSERT_EQ(group.members.size(), 1u);
+  EXPECT_EQ(group.members[0].name, "rig");
+  // Still read as any member: an error in it is an error.
+  std::ofstream(path) << "[[member]]\nname = \"web\"\ncommand = \"edsp-web\"\nenabled = false\nhost = 5\n";
+  EXPECT_NE(test_support::ThrownMessage<std::runtime_error>([&] { LoadGroupFile(path); }).find(":5:"),
+            std::string::npos);
+  std::ofstream(path) << "[[member]]\nname = \"web\"\ncommand = \"edsp-web\"\nenabled = \"no\"\n";
+  EXPECT_NE(test_support::ThrownMessage<std::runtime_error>([&] { LoadGroupFile(path); }).find(":4:"),
+            std::string::npos);
+  // The shipped sim group carries the panel, off.
+  for (const MemberSpec& m : LoadGroupFile(ShippedGroupFile("sim")).members) EXPECT_NE(m.name, "web");
+  bool web = false;
+  for (const MemberSpec& m : LoadGroupFile(ShippedGroupFile("sim-web")).members) web = web || m.name == "web";
+  EXPECT_TRUE(web);
+  ::unlink(path.c_str());
+}
+
 TEST(GroupFile, MembersKeepArgsAsWrittenOnlyTheLauncherExpandsThem) {
   const std::string path =
       WriteScratch("group_file_args.toml",

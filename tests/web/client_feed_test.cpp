@@ -1,0 +1,143 @@
+// A client's feed on a board filled as the bus would, on a clock of the
+// test's own: the rate cap of a cyclic channel (and the newest message, not
+// a backlog), every message of an event channel in order, what a slow
+// client lost counted, and the protocol's refusals.
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "edsp/channels.h"
+#include "edsp/fault_t.hpp"
+#include "edsp/leg_state_t.hpp"
+#include "edsp/web/client_feed.h"
+#include "edsp/web/foxglove_protocol.h"
+
+namespace edsp::web {
+namespace {
+
+using json = nlohmann::ordered_json;
+constexpr std::int64_t kMs = 1'000'000;
+
+template <typename Msg>
+void Post(ChannelBoard* board, const char* channel, const Msg& msg, std::int64_t at_ns) {
+  std::string bytes(static_cast<std::size_t>(msg.getEncodedSize()), '\0');
+  msg.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  board->Post(channel, at_ns, reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
+}
+
+std::uint32_t IdOf(const char* channel) { return static_cast<std::uint32_t>(ChannelBoard::IndexOf(channel) + 1); }
+
+leg_state_t LegState(std::int64_t seq) {
+  leg_state_t s{};
+  s.seq = seq;
+  return s;
+}
+
+fault_t Fault(std::int64_t seq) {
+  fault_t f{};
+  f.seq = seq;
+  f.reason = "fault " + std::to_string(seq);
+  return f;
+}
+
+TEST(ChannelBoard, EventChannelsAreTheTablesOnEventRows) {
+  for (const channel::Channel& c : channel::kChannels) {
+    EXPECT_EQ(ChannelBoard::KeepsEveryMessage(ChannelBoard::IndexOf(c.name)), c.rate_hz == 0.0) << c.name;
+  }
+  EXPECT_EQ(ChannelBoard::IndexOf("NOT_EDSP"), ChannelBoard::ChannelCount());
+}
+
+// 1 kHz in, a tick every 5 ms for 10 s: 30 frames a second, each the newest
+// message there was at its tick.
+TEST(ClientFeed, ACyclicChannelComesAtTheCapAndAlwaysTheNewest) {
+  ChannelBoard board;
+  ClientFeed feed(&board, 30.0);
+  feed.Subscribe(7, IdOf(channel::kLegState));
+  std::int64_t frames = 0;
+  std::int64_t newest_seq = 0;
+  for (std::int64_t ms = 0; ms < 10'000; ++ms) {
+    Post(&board, channel::kLegState, LegState(ms + 1), ms * kMs);
+    newest_seq = ms + 1;
+    if (ms % 5 != 0) continue;
+    for (const FeedFrame& f : feed.Due(ms * kMs)) {
+      EXPECT_EQ(f.subscription_id, 7u);
+      EXPECT_EQ(json::parse(*f.json).at("seq").get<std::int64_t>(), newest_seq);
+      EXPECT_EQ(f.receive_ns, ms * kMs);
+      ++frames;
+    }
+  }
+  EXPECT_GE(frames, 299);  // 30 Hz over 10 s, on a 5 ms grid
+  EXPECT_LE(frames, 301);
+}
+
+TEST(ClientFeed, NothingNewIsNotSentAgainAndAStallGivesOneFrameNotABurst) {
+  ChannelBoard board;
+  ClientFeed feed(&board, 30.0);
+  feed.Subscribe(1, IdOf(channel::kLegState));
+  EXPECT_TRUE(feed.Due(0).empty());  // nothing posted yet
+  Post(&board, channel::kLegState, LegState(1), 0);
+  EXPECT_EQ(feed.Due(1 * kMs).size(), 1u);
+  EXPECT_TRUE(feed.Due(100 * kMs).empty());  // the same message: not again
+  // The client's socket took nothing for 2 s; then the newest, once.
+  for (int i = 2; i < 2000; ++i) Post(&board, channel::kLegState, LegState(i), i * kMs);
+  EXPECT_EQ(feed.Due(2000 * kMs).size(), 1u);
+  Post(&board, channel::kLegState, LegState(2001), 2001 * kMs);
+  EXPECT_TRUE(feed.Due(2005 * kMs).empty());  // a cap's interval (33 ms) has not passed
+  EXPECT_EQ(feed.Due(2034 * kMs).size(), 1u);
+}
+
+TEST(ClientFeed, AnEventChannelGivesEveryMessageInOrderBeyondTheCap) {
+  ChannelBoard board;
+  ClientFeed feed(&board, 30.0);
+  Post(&board, channel::kFault, Fault(0), 0);  // before the subscription: not sent
+  feed.Subscribe(2, IdOf(channel::kFault));
+  for (int i = 1; i <= 50; ++i) Post(&board, channel::kFault, Fault(i), i);  // 50 within a microsecond
+  const auto frames = feed.Due(1 * kMs);
+  ASSERT_EQ(frames.size(), 50u);
+  for (int i = 0; i < 50; ++i) EXPECT_EQ(json::parse(*frames[i].json).at("seq").get<int>(), i + 1);
+  EXPECT_TRUE(feed.Due(2 * kMs).empty());
+  EXPECT_EQ(feed.lost(), 0u);
+}
+
+TEST(ClientFeed, WhatTheBoardOverwroteBeforeASlowClientReadIsCounted) {
+  ChannelBoard board(16);
+  ClientFeed feed(&board, 30.0);
+  feed.Subscribe(2, IdOf(channel::kFault));
+  for (int i = 1; i <= 40; ++i) Post(&board, channel::kFault, Fault(i), i);
+  const auto frames = feed.Due(1 * kMs);
+  ASSERT_EQ(frames.size(), 16u);
+  EXPECT_EQ(json::parse(*frames.front().json).at("seq").get<int>(), 25);
+  EXPECT_EQ(feed.lost(), 24u);
+}
+
+TEST(ClientFeed, UndecodableBytesAreCountedAndNeverSent) {
+  ChannelBoard board;
+  ClientFeed feed(&board, 30.0);
+  feed.Subscribe(1, IdOf(channel::kLegState));
+  feed.Subscribe(2, IdOf(channel::kFault));
+  const std::uint8_t junk[5] = {1, 2, 3, 4, 5};
+  board.Post(channel::kLegState, 0, junk, sizeof junk);
+  board.Post(channel::kFault, 0, junk, sizeof junk);
+  EXPECT_TRUE(feed.Due(1 * kMs).empty());
+  EXPECT_EQ(board.undecodable(), 2u);
+  board.Post("NOT_EDSP", 0, junk, sizeof junk);  // not a channel of the table: ignored
+  EXPECT_EQ(board.undecodable(), 2u);
+}
+
+TEST(ClientFeed, SubscriptionsTheProtocolForbidsAreRefusedByName) {
+  ChannelBoard board;
+  ClientFeed feed(&board, 30.0);
+  feed.Subscribe(1, 1);
+  EXPECT_THROW(feed.Subscribe(1, 2), foxglove::ProtocolError);  // id in use
+  EXPECT_THROW(feed.Subscribe(2, 0), foxglove::ProtocolError);
+  EXPECT_THROW(feed.Subscribe(2, static_cast<std::uint32_t>(ChannelBoard::ChannelCount() + 1)),
+               foxglove::ProtocolError);
+  EXPECT_THROW(feed.Unsubscribe(9), foxglove::ProtocolError);
+  feed.Unsubscribe(1);
+  EXPECT_EQ(feed.subscriptions(), 0u);
+  feed.Subscribe(1, 2);  // an id may be used again after its unsubscribe
+  EXPECT_EQ(feed.subscriptions(), 1u);
+}
+
+}  // namespace
+}  // namespace edsp::web

@@ -1,0 +1,336 @@
+"""edsp-web beside a live sim group, through a foxglove.websocket.v1 client
+written here from the protocol's specification (github.com/foxglove/
+ws-protocol, docs/spec.md), not from edsp's code, on python3-websockets;
+schemas and messages held to the .lcm files as lcm_pure reads them.
+
+Rates: a cyclic channel must come at most at the cap (plus the one frame a
+window's edges can add) and at no less than a third of it: the server looks
+for due frames every 5 ms, so a third leaves a starved machine two of every
+three cap intervals to lose and still fails a feed that stops or collapses."""
+import asyncio
+import json
+import os
+import re
+import signal
+import struct
+import subprocess
+import time
+import http.client
+
+import pytest
+import websockets
+
+import lcm_pure
+import live_group
+
+SOURCE = os.environ["EDSP_SOURCE_DIR"]
+BIN = os.environ["EDSP_BIN_DIR"]
+SUBPROTOCOL = "foxglove.websocket.v1"
+CAP_HZ = 30.0
+LCM_TYPES = lcm_pure.parse_lcm_types(os.path.join(SOURCE, "lcmtypes"))
+CYCLIC = ["EDSP_SETPOINT", "EDSP_LEG_COMMAND", "EDSP_LEG_STATE", "EDSP_PLATFORM_STATE", "EDSP_TRACKER",
+          "EDSP_RIG_TRUTH"]
+
+
+def _edsp_channels():
+    """Every EDSP_* channel name of interfaces.md's table."""
+    text = open(os.path.join(SOURCE, "docs", "interfaces.md"), encoding="utf-8").read()
+    return set(re.findall(r"^\| `(EDSP_[A-Z_]+)` \|", text, flags=re.M))
+
+
+def _rss_kib(pid):
+    with open(f"/proc/{pid}/status", encoding="ascii") as f:
+        return int(re.search(r"VmRSS:\s+(\d+)", f.read()).group(1))
+
+
+@pytest.fixture(scope="module")
+def served(tmp_path_factory):
+    work = tmp_path_factory.mktemp("web")
+    tokens = str(work / "tokens.toml")
+    web = os.path.join(BIN, "edsp-web")
+
+    def add(name, role):
+        return subprocess.check_output([web, "token", "add", name, "--role", role, "--tokens", tokens],
+                                       text=True, stderr=subprocess.DEVNULL).strip()
+
+    operator, viewer = add("alice", "operator"), add("bob", "viewer")
+    with live_group.sim_group(SOURCE, BIN, "web") as group:
+        live_group.connect(group)
+        err_path = str(work / "web.err")
+        with open(err_path, "w") as err:
+            server = subprocess.Popen([web, "--group", group, "--port", "0", "--tokens", tokens], stderr=err)
+        deadline = time.monotonic() + 30
+        port = None
+        while port is None:
+            match = re.search(r"on http://127\.0\.0\.1:(\d+) ", open(err_path).read())
+            if match:
+                port = int(match.group(1))
+            elif server.poll() is not None or time.monotonic() > deadline:
+                raise RuntimeError("edsp-web did not start: " + open(err_path).read())
+            else:
+                time.sleep(0.05)
+        yield {"port": port, "operator": operator, "viewer": viewer, "group": group, "pid": server.pid}
+        server.send_signal(signal.SIGINT)
+        assert server.wait(timeout=15) == 0, open(err_path).read()
+
+
+class Client:
+    """A foxglove.websocket.v1 client: server info, channels, subscriptions,
+    message data frames decoded by the spec's layout."""
+
+    def __init__(self, ws, info, channels):
+        self.ws, self.info = ws, info
+        self.channels = {c["topic"]: c for c in channels}
+        self.topics = {}  # subscription id -> topic
+        self.statuses = []
+
+    @classmethod
+    async def open(cls, port, token, origin=None, max_queue=64):
+        ws = await websockets.connect(f"ws://127.0.0.1:{port}/?token={token}", subprotocols=[SUBPROTOCOL],
+                                      origin=origin, max_queue=max_queue, max_size=1 << 24)
+        info = json.loads(await ws.recv())
+        advertise = json.loads(await ws.recv())
+        assert info["op"] == "serverInfo" and advertise["op"] == "advertise"
+        return cls(ws, info, advertise["channels"])
+
+    async def subscribe(self, topics):
+        subscriptions = []
+        for topic in topics:
+            sid = len(self.topics) + 100
+            self.topics[sid] = topic
+            subscriptions.append({"id": sid, "channelId": self.channels[topic]["id"]})
+        await self.ws.send(json.dumps({"op": "subscribe", "subscriptions": subscriptions}))
+
+    async def collect(self, seconds):
+        """{topic: [(receive ns, message)]} of what came in `seconds`, and the
+        time it really took."""
+        got = {topic: [] for topic in self.topics.values()}
+        start = time.monotonic()
+        while (left := seconds - (time.monotonic() - start)) > 0:
+            try:
+                frame = await asyncio.wait_for(self.ws.recv(), timeout=left)
+            except asyncio.TimeoutError:
+                break
+            if isinstance(frame, str):
+                self.statuses.append(json.loads(frame))
+                continue
+            assert frame[0] == 0x01, f"opcode {frame[0]}"
+            sid, receive_ns = struct.unpack_from("<IQ", frame, 1)
+            got[self.topics[sid]].append((receive_ns, json.loads(frame[13:])))
+        return got, time.monotonic() - start
+
+
+def run(coroutine):
+    return asyncio.run(coroutine)
+
+
+def _expect_lcm_fields(message, type_name):
+    fields = LCM_TYPES[type_name]
+    assert list(message) == [f for f, _, _ in fields]
+    for name, lcm_type, dims in fields:
+        value = message[name]
+        for n in dims:
+            assert isinstance(value, list) and len(value) == n, name
+            value = value[0]
+        expected = {"string": str, "double": (float, int, type(None))}.get(lcm_type, int)
+        assert isinstance(value, expected), (name, lcm_type, value)
+
+
+def test_every_channel_is_advertised_with_its_lcm_fields_as_schema(served):
+    async def body():
+        client = await Client.open(served["port"], served["viewer"])
+        await client.ws.close()
+        return client
+
+    client = run(body())
+    assert client.info["sessionId"]
+    assert set(client.channels) == _edsp_channels()
+    for topic, channel in client.channels.items():
+        type_name = channel["schemaName"].removeprefix("edsp.")
+        assert channel["encoding"] == "json" and channel["schemaEncoding"] == "jsonschema"
+        schema = json.loads(channel["schema"])
+        assert schema["required"] == [f for f, _, _ in LCM_TYPES[type_name]], topic
+
+
+def test_cyclic_channels_come_at_the_cap_newest_first_and_as_the_lcm_types_say(served):
+    async def body():
+        client = await Client.open(served["port"], served["viewer"])
+        await client.subscribe(CYCLIC)
+        got, elapsed = await client.collect(4.0)
+        await client.ws.close()
+        return got, elapsed, client
+
+    got, elapsed, client = run(body())
+    for topic in CYCLIC:
+        frames = got[topic]
+        assert len(frames) <= CAP_HZ * elapsed + 2, (topic, len(frames), elapsed)
+        assert len(frames) >= CAP_HZ * elapsed / 3, (topic, len(frames), elapsed)
+        type_name = client.channels[topic]["schemaName"].removeprefix("edsp.")
+        for _, message in frames:
+            _expect_lcm_fields(message, type_name)
+        seqs = [m["seq"] for _, m in frames]
+        assert seqs == sorted(seqs) and len(set(seqs)) == len(seqs), topic  # never a message twice, never older
+        times = [t for t, _ in frames]
+        assert times == sorted(times)
+        # Latest-wins: a 1 kHz channel's frames skip the messages between them.
+        if topic in ("EDSP_LEG_STATE", "EDSP_RIG_TRUTH"):
+            assert (seqs[-1] - seqs[0]) / max(len(seqs) - 1, 1) > 5, topic
+    # The platform stands at home: the measured pose is the rig's truth.
+    measured = got["EDSP_PLATFORM_STATE"][-1][1]["pose"]
+    truth = got["EDSP_RIG_TRUTH"][-1][1]["pose"]
+    assert max(abs(a - b) for a, b in zip(measured[:3], truth[:3])) < 1e-4, (measured, truth)
+
+
+def test_every_request_and_reply_arrives_however_fast_they_come(served):
+    ctl = os.path.join(BIN, "edsp-ctl")
+    n = 12
+
+    async def body():
+        client = await Client.open(served["port"], served["viewer"])
+        await client.subscribe(["EDSP_MOTION_REQUEST", "EDSP_MOTION_REPLY"])
+        await asyncio.sleep(0.2)
+        for _ in range(n):  # out of reach: each refused, with a reply
+            proc = await asyncio.create_subprocess_exec(
+                ctl, "check", "--pose", "0,0,5,0,0,0", "--group", served["group"], "--json",
+                stdout=asyncio.subprocess.DEVNULL, stderr=asyncio.subprocess.DEVNULL)
+            await proc.wait()
+        got, _ = await client.collect(1.5)
+        await client.ws.close()
+        return got
+
+    got = run(body())
+    replies = [m for _, m in got["EDSP_MOTION_REPLY"]]
+    requests = [m for _, m in got["EDSP_MOTION_REQUEST"]]
+    assert len({r["request_id"] for r in replies}) == n, replies
+    assert all(not r["accepted"] for r in replies)
+    assert {r["request_id"] for r in replies} <= {r["request_id"] for r in requests}
+
+
+def _get(port, path, headers=None):
+    conn = http.client.HTTPConnection("127.0.0.1", port, timeout=10)
+    conn.request("GET", path, headers=headers or {})
+    response = conn.getresponse()
+    body = response.read().decode("utf-8", "replace")
+    conn.close()
+    return response.status, body
+
+
+def test_pages_need_a_token_and_stay_inside_the_panel(served):
+    port, viewer = served["port"], served["viewer"]
+    status, body = _get(port, f"/?token={viewer}")
+    assert status == 200 and "edsp panel" in body
+    assert _get(port, "/panel.js", {"Authorization": f"Bearer {viewer}"})[0] == 200
+    status, body = _get(port, "/")
+    assert status == 401 and "token" in body
+    assert _get(port, "/?token=0123")[0] == 401
+    assert _get(port, f"/../../etc/passwd?token={viewer}")[0] == 404
+    assert _get(port, f"/.hidden?token={viewer}")[0] == 404
+
+
+def test_websockets_refuse_a_wrong_token_a_foreign_origin_and_no_subprotocol(served):
+    port, viewer = served["port"], served["viewer"]
+
+    async def status_of(url, **kwargs):
+        try:
+            ws = await websockets.connect(url, **kwargs)
+        except websockets.exceptions.InvalidStatusCode as e:
+            return e.status_code
+        await ws.close()
+        return 101
+
+    assert run(status_of(f"ws://127.0.0.1:{port}/?token=nope", subprotocols=[SUBPROTOCOL])) == 401
+    assert run(status_of(f"ws://127.0.0.1:{port}/", subprotocols=[SUBPROTOCOL])) == 401
+    assert run(status_of(f"ws://127.0.0.1:{port}/?token={viewer}", subprotocols=[SUBPROTOCOL],
+                         origin="http://evil.example")) == 403
+    assert run(status_of(f"ws://127.0.0.1:{port}/?token={viewer}")) == 400
+    assert run(status_of(f"ws://127.0.0.1:{port}/?token={viewer}", subprotocols=[SUBPROTOCOL],
+                         origin=f"http://127.0.0.1:{port}")) == 101
+
+
+def test_ten_thousand_bad_frames_are_answered_change_nothing_and_starve_no_one(served):
+    port, viewer = served["port"], served["viewer"]
+    bad = ["not json", "[]", '{"op":"publish"}', '{"op":"subscribe","subscriptions":[{"id":-1,"channelId":1}]}',
+           '{"op":"unsubscribe","subscriptionIds":[12345]}', b"\x01\x00\x00\x00\x00{}"]
+
+    async def flood(client):
+        """How many it sent before the server let it go (a client that sends
+        and does not read its answers is dropped: also serving the others)."""
+        for i in range(10000):
+            try:
+                await client.ws.send(bad[i % len(bad)])
+            except websockets.exceptions.ConnectionClosed:
+                return i
+            if i % 100 == 0:
+                await asyncio.sleep(0)
+        return 10000
+
+    async def drain(client, flooding):
+        """Every answer, until the flood is over and 2 s pass without one;
+        True if the server closed the connection."""
+        quiet_since = None
+        while True:
+            try:
+                frame = await asyncio.wait_for(client.ws.recv(), timeout=0.2)
+                quiet_since = None
+                if isinstance(frame, str):
+                    client.statuses.append(json.loads(frame))
+            except asyncio.TimeoutError:
+                if flooding.done():
+                    quiet_since = quiet_since or time.monotonic()
+                    if time.monotonic() - quiet_since > 2.0:
+                        return False
+            except websockets.exceptions.ConnectionClosed:
+                return True
+
+    async def body():
+        watcher = await Client.open(served["port"], viewer)
+        await watcher.subscribe(["EDSP_LEG_STATE", "EDSP_RIG_TRUTH"])
+        before, before_s = await watcher.collect(2.0)
+        attacker = await Client.open(served["port"], viewer)
+        flooding = asyncio.ensure_future(flood(attacker))
+        draining = asyncio.ensure_future(drain(attacker, flooding))
+        during, during_s = await watcher.collect(4.0)
+        sent = await flooding
+        closed = await draining
+        await attacker.ws.close()
+        after, _ = await watcher.collect(0.5)
+        await watcher.ws.close()
+        newcomer = await Client.open(served["port"], viewer)  # still serving
+        await newcomer.ws.close()
+        return before, before_s, during, during_s, after, attacker, sent, closed
+
+    before, before_s, during, during_s, after, attacker, sent, closed = run(body())
+    errors = [s for s in attacker.statuses if s.get("level") == 2]
+    # Each bad frame answered, unless the server let the client go (it
+    # holds at most 256 unread answers for anyone).
+    assert len(errors) == sent or (closed and errors), (sent, len(errors), closed)
+    assert all(s["message"] for s in errors)
+    assert {s["message"] for s in errors} > {errors[0]["message"]}  # each names its own fault
+    assert len(during["EDSP_LEG_STATE"]) >= CAP_HZ * during_s / 3
+    # Nothing moved: the rig's truth before and after the flood.
+    p0, p1 = before["EDSP_RIG_TRUTH"][-1][1]["pose"], after["EDSP_RIG_TRUTH"][-1][1]["pose"]
+    assert max(abs(a - b) for a, b in zip(p0, p1)) < 1e-6
+
+
+def test_a_client_that_stops_reading_slows_no_one_and_holds_no_backlog(served):
+    port, viewer, pid = served["port"], served["viewer"], served["pid"]
+
+    async def body():
+        watcher = await Client.open(port, viewer)
+        await watcher.subscribe(["EDSP_LEG_STATE"])
+        before, before_s = await watcher.collect(2.0)
+        rss_before = _rss_kib(pid)
+        stalled = await Client.open(port, viewer, max_queue=1)
+        await stalled.subscribe(list(stalled.channels))  # everything, and then reads nothing
+        during, during_s = await watcher.collect(12.0)
+        rss_after = _rss_kib(pid)
+        await stalled.ws.close()
+        await watcher.ws.close()
+        return len(before["EDSP_LEG_STATE"]) / before_s, len(during["EDSP_LEG_STATE"]) / during_s, \
+            rss_before, rss_after
+
+    rate_before, rate_during, rss_before, rss_after = run(body())
+    assert rate_during >= 0.7 * rate_before, (rate_before, rate_during)
+    assert rate_during >= CAP_HZ / 3
+    # One frame batch in flight for the stalled client, not twelve seconds of them.
+    assert rss_after - rss_before < 16 * 1024, (rss_before, rss_after)

@@ -1,0 +1,131 @@
+// edsp-web: the rig's operator panel and its WebSocket protocol on one port.
+//   edsp-web [--group FILE] [--port 8765] [--bind ADDR] [--tokens FILE] [--public-view]
+//            [--allow-origin ORIGIN]... [--panel DIR] [--rate-hz 30]
+//   edsp-web token add NAME --role viewer|operator [--tokens FILE]   (prints the new token once)
+//   edsp-web token list [--tokens FILE]
+//   edsp-web token revoke NAME [--tokens FILE]
+// It reads every EDSP_* channel of the group (--group, as a member or beside
+// a running group) and serves them as foxglove.websocket.v1 (JSON messages
+// with the .lcm field names, a JSON schema each), latest-wins at --rate-hz
+// per client for the cyclic channels, every message for faults and replies.
+// Localhost only unless --bind says otherwise; every client presents a
+// token (?token=T or Authorization: Bearer T) unless --public-view.
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "edsp/node/build_paths.h"
+#include "edsp/node/node_options.h"
+#include "edsp/node/runtime.h"
+#include "edsp/web/board_feeder.h"
+#include "edsp/web/channel_board.h"
+#include "edsp/web/token_store.h"
+#include "edsp/web/web_server.h"
+
+namespace edsp {
+namespace {
+
+// The panel beside an installed edsp-web (<prefix>/share/edsp/panel), else
+// this build's checkout's.
+std::string DefaultPanelDir() {
+  std::error_code error;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", error);
+  if (!error) {
+    const std::filesystem::path installed = exe.parent_path().parent_path() / "share/edsp/panel";
+    if (std::filesystem::is_regular_file(installed / "index.html", error)) return installed.string();
+  }
+  return SourcePath("web/panel");
+}
+
+int TokenAdd(const std::string& path, const std::string& name, const std::string& role) {
+  web::TokenStore store = web::TokenStore::Load(path);
+  const std::string token = store.Add(name, web::ParseRole(role));
+  store.Save(path);
+  std::printf("%s\n", token.c_str());
+  std::fprintf(stderr, "edsp-web: token for %s (%s) added to %s; it is shown only now\n", name.c_str(), role.c_str(),
+               path.c_str());
+  return 0;
+}
+
+int TokenList(const std::string& path) {
+  const web::TokenStore store = web::TokenStore::Load(path);
+  for (const web::TokenEntry& e : store.entries()) {
+    std::printf("%-24s %s\n", e.name.c_str(), web::RoleName(e.role));
+  }
+  return 0;
+}
+
+int TokenRevoke(const std::string& path, const std::string& name) {
+  web::TokenStore store = web::TokenStore::Load(path);
+  store.Revoke(name);
+  store.Save(path);
+  return 0;
+}
+
+int Serve(const NodeOptions& node, web::WebServerOptions options, const std::string& tokens_path) {
+  options.tokens = web::TokenStore::Load(tokens_path);
+  if (options.tokens.entries().empty() && !options.public_view) {
+    throw std::runtime_error(tokens_path +
+                             " has no token, so nobody could connect: add one with `edsp-web token add NAME --role "
+                             "operator`, or serve --public-view");
+  }
+  options.session_id = std::to_string(node.session_id);
+  options.metadata = {{"group", node.group_path}, {"session_id", std::to_string(node.session_id)}};
+  web::ChannelBoard board;
+  web::BoardFeeder feeder(TransportFor(node), &board);
+  web::WebServer server(&board, options);
+  std::fprintf(stderr, "edsp-web: serving %s on http://%s:%u (panel %s)\n",
+               node.group_path.empty() ? "the default bus" : node.group_path.c_str(), options.bind.c_str(),
+               static_cast<unsigned>(server.port()), options.panel_dir.c_str());
+  InstallStopSignals();
+  server.Run([&] { return StopRequested() || !feeder.error().empty(); });
+  feeder.Stop();
+  if (!feeder.error().empty()) throw std::runtime_error("the bus failed: " + feeder.error());
+  return 0;
+}
+
+int Run(int argc, char** argv) {
+  CLI::App app{"edsp-web: the rig's panel and its WebSocket protocol (foxglove.websocket.v1)"};
+  NodeOptions node;
+  AddNodeOptions(&app, &node);
+  web::WebServerOptions options;
+  options.panel_dir = DefaultPanelDir();
+  std::string tokens_path = web::DefaultTokensPath();
+  app.add_option("--port", options.port, "TCP port (0: any free one)");
+  app.add_option("--bind", options.bind, "address to listen on (default localhost only)");
+  app.add_option("--tokens", tokens_path, "tokens file (hashes only, mode 0600)");
+  app.add_flag("--public-view", options.public_view, "viewers need no token");
+  app.add_option("--allow-origin", options.allowed_origins, "a browser Origin allowed besides the served host");
+  app.add_option("--panel", options.panel_dir, "the panel's static files")->check(CLI::ExistingDirectory);
+  app.add_option("--rate-hz", options.rate_cap_hz, "most frames per second of a cyclic channel, per client")
+      ->check(CLI::Range(0.1, 1000.0));
+
+  CLI::App* token = app.add_subcommand("token", "manage the tokens file")->require_subcommand(1);
+  std::string name;
+  std::string role;
+  CLI::App* add = token->add_subcommand("add", "a new token for NAME; prints it once");
+  add->add_option("name", name, "who it is for")->required();
+  add->add_option("--role", role, "viewer or operator")->required()->check(CLI::IsMember({"viewer", "operator"}));
+  CLI::App* list = token->add_subcommand("list", "names and roles");
+  CLI::App* revoke = token->add_subcommand("revoke", "remove NAME's token");
+  revoke->add_option("name", name, "whose token")->required();
+  for (CLI::App* sub : {add, list, revoke}) sub->add_option("--tokens", tokens_path, "tokens file");
+  CLI11_PARSE(app, argc, argv);
+
+  if (add->parsed()) return TokenAdd(tokens_path, name, role);
+  if (list->parsed()) return TokenList(tokens_path);
+  if (revoke->parsed()) return TokenRevoke(tokens_path, name);
+  return Serve(node, options, tokens_path);
+}
+
+}  // namespace
+}  // namespace edsp
+
+int main(int argc, char** argv) { return edsp::RunMain("edsp-web", edsp::Run, argc, argv); }

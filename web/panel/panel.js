@@ -1,0 +1,138 @@
+// The panel: a foxglove.websocket.v1 client of edsp-web. The token the page
+// was opened with (?token=T) opens the WebSocket too.
+"use strict";
+
+const SUBPROTOCOL = "foxglove.websocket.v1";
+const WATCHED = ["EDSP_PLATFORM_STATE", "EDSP_LEG_STATE", "EDSP_MOTION_STATUS", "EDSP_STATUS", "EDSP_FAULT"];
+const FAULT_SEVERITY = ["info", "warning", "error"];
+const MAX_FAULTS = 200;
+
+const panel = {
+  channels: new Map(),      // id -> advertised channel
+  subscriptions: new Map(), // subscription id -> topic
+  nodes: new Map(),         // node name -> its table row
+  shown: {},                // what the page shows now, for tests and tools
+};
+window.edspPanel = panel;
+
+function socketUrl() {
+  const url = new URL(window.location.href);
+  const scheme = url.protocol === "https:" ? "wss:" : "ws:";
+  const token = url.searchParams.get("token");
+  return `${scheme}//${url.host}/` + (token ? `?token=${encodeURIComponent(token)}` : "");
+}
+
+function setConnection(text, cls) {
+  const el = document.getElementById("connection");
+  el.textContent = text;
+  el.className = "state " + cls;
+}
+
+function subscribe(ws) {
+  const subscriptions = [];
+  let next = 1;
+  for (const [id, channel] of panel.channels) {
+    if (WATCHED.includes(channel.topic)) {
+      panel.subscriptions.set(next, channel.topic);
+      subscriptions.push({ id: next++, channelId: id });
+    }
+  }
+  ws.send(JSON.stringify({ op: "subscribe", subscriptions }));
+}
+
+function showPose(state) {
+  const p = state.pose;
+  const values = [p[0] * 1e3, p[1] * 1e3, p[2] * 1e3, p[3] * 180 / Math.PI, p[4] * 180 / Math.PI, p[5] * 180 / Math.PI];
+  values.forEach((v, i) => { document.getElementById(`pose-${i}`).textContent = v === null ? "–" : v.toFixed(i < 3 ? 3 : 4); });
+  document.getElementById("fk").textContent = `forward kinematics status ${state.fk_status}, residual ${(state.fk_residual_m * 1e6).toFixed(2)} µm`;
+  panel.shown.pose = p;
+}
+
+function showLegs(state) {
+  const table = document.getElementById("legs");
+  state.encoder_length_m.forEach((length, i) => {
+    let row = table.rows[i + 1];
+    if (!row) {
+      row = table.insertRow();
+      for (let c = 0; c < 3; ++c) row.insertCell();
+      row.cells[0].textContent = `${i + 1}`;
+    }
+    row.cells[1].textContent = length === null ? "–" : (length * 1e3).toFixed(3);
+    row.cells[2].textContent = `${state.drive_status[i]}`;
+  });
+  panel.shown.legs = state.encoder_length_m;
+}
+
+function showNode(status) {
+  let row = panel.nodes.get(status.node);
+  if (!row) {
+    row = document.getElementById("nodes").insertRow();
+    for (let c = 0; c < 5; ++c) row.insertCell();
+    row.cells[0].textContent = status.node;
+    panel.nodes.set(status.node, row);
+  }
+  row.cells[1].textContent = `${status.state}`;
+  row.cells[2].textContent = `${status.loop_p99_us}`;
+  row.cells[3].textContent = `${status.deadline_misses}`;
+  row.cells[4].textContent = `${status.rejected}`;
+}
+
+function showFault(fault) {
+  const list = document.getElementById("faults");
+  const item = document.createElement("li");
+  const when = new Date(fault.utime / 1000).toISOString().substring(11, 23);
+  item.textContent = `${when} ${fault.node} [${FAULT_SEVERITY[fault.severity] ?? fault.severity}] code ${fault.code} on ${fault.channel}: ${fault.reason}`;
+  if (fault.severity >= 2) item.className = "error";
+  list.prepend(item);
+  while (list.children.length > MAX_FAULTS) list.lastChild.remove();
+  panel.shown.faults = (panel.shown.faults ?? 0) + 1;
+}
+
+function showMotion(status) {
+  document.getElementById("motion").textContent =
+    `state ${status.state}, ${status.activity || "idle"}, progress ${(status.progress * 100).toFixed(0)}%, ${status.queued} queued`;
+}
+
+const SHOW = {
+  EDSP_PLATFORM_STATE: showPose,
+  EDSP_LEG_STATE: showLegs,
+  EDSP_MOTION_STATUS: showMotion,
+  EDSP_STATUS: showNode,
+  EDSP_FAULT: showFault,
+};
+
+function onBinary(data) {
+  const view = new DataView(data);
+  if (view.getUint8(0) !== 1) return;  // message data only
+  const topic = panel.subscriptions.get(view.getUint32(1, true));
+  const message = JSON.parse(new TextDecoder().decode(new Uint8Array(data, 13)));
+  if (topic && SHOW[topic]) SHOW[topic](message);
+}
+
+function onText(text) {
+  const message = JSON.parse(text);
+  if (message.op === "serverInfo") {
+    document.getElementById("server").textContent = `${message.name}, session ${message.sessionId}`;
+  } else if (message.op === "advertise") {
+    for (const channel of message.channels) panel.channels.set(channel.id, channel);
+    subscribe(panel.ws);
+  } else if (message.op === "status") {
+    console.warn(`edsp-web: ${message.message}`);
+  }
+}
+
+function connect() {
+  const ws = new WebSocket(socketUrl(), [SUBPROTOCOL]);
+  ws.binaryType = "arraybuffer";
+  panel.ws = ws;
+  ws.onopen = () => setConnection("connected", "open");
+  ws.onclose = () => {
+    setConnection("disconnected: retrying", "closed");
+    panel.channels.clear();
+    panel.subscriptions.clear();
+    setTimeout(connect, 1000);
+  };
+  ws.onmessage = (event) => (typeof event.data === "string" ? onText(event.data) : onBinary(event.data));
+}
+
+connect();

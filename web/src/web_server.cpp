@@ -1,0 +1,410 @@
+#include "edsp/web/web_server.h"
+
+#include <atomic>
+#include <deque>
+#include <fstream>
+#include <iterator>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <utility>
+
+#include <boost/asio.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <boost/beast/websocket.hpp>
+
+#include "edsp/channels.h"
+#include "edsp/web/client_feed.h"
+#include "edsp/web/foxglove_protocol.h"
+#include "edsp/web/http_access.h"
+#include "edsp/web/message_json.h"
+
+namespace edsp::web {
+// Named, not anonymous: WebServer::Impl holds a Shared.
+namespace web_server_internal {
+
+namespace net = boost::asio;
+namespace beast = boost::beast;
+namespace http = beast::http;
+namespace websocket = beast::websocket;
+using tcp = net::ip::tcp;
+using Request = http::request<http::string_body>;
+
+// How much one client may make the server hold or do.
+constexpr std::size_t kMaxQueuedFrames = 256;  // errors it does not read, plus one batch of due frames
+constexpr std::size_t kMaxItemsPerOp = 256;    // subscriptions in one subscribe
+constexpr std::int64_t kMaxClients = 64;
+constexpr std::size_t kMaxRequestBytes = 8192;  // a panel's GET or an upgrade: headers only
+
+// Beast's string_view is Boost's.
+std::string_view View(beast::string_view text) { return {text.data(), text.size()}; }
+
+std::int64_t SteadyNs() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+std::vector<foxglove::ServerChannel> AdvertisedChannels() {
+  std::vector<foxglove::ServerChannel> channels;
+  for (std::size_t i = 0; i < ChannelBoard::ChannelCount(); ++i) {
+    const channel::Channel& c = channel::kChannels[i];
+    channels.push_back(foxglove::ServerChannel{static_cast<std::uint32_t>(i + 1), std::string(c.name),
+                                               "edsp." + std::string(c.type), MessageSchema(c.type)});
+  }
+  return channels;
+}
+
+struct Counters {
+  std::atomic<std::int64_t> clients{0};
+  std::atomic<std::int64_t> connections{0};
+  std::atomic<std::int64_t> refused{0};
+  std::atomic<std::int64_t> frames_sent{0};
+  std::atomic<std::int64_t> protocol_errors{0};
+  std::atomic<std::int64_t> stalled_clients{0};
+};
+
+// What every session reads (the io thread's alone, but for the counters).
+struct Shared {
+  ChannelBoard* board = nullptr;
+  WebServerOptions options;
+  std::string server_info;
+  std::string advertise;
+  Counters counters;
+  LoginLimiter limiter{10, std::chrono::seconds(60)};
+};
+
+// One client's WebSocket: the protocol's session.
+class WsSession : public std::enable_shared_from_this<WsSession> {
+ public:
+  WsSession(tcp::socket&& socket, std::shared_ptr<Shared> shared)
+      : ws_(std::move(socket)),
+        timer_(ws_.get_executor()),
+        shared_(std::move(shared)),
+        feed_(shared_->board, shared_->options.rate_cap_hz) {}
+
+  ~WsSession() {
+    if (open_) --shared_->counters.clients;
+  }
+
+  void Start(Request request) {
+    ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
+    ws_.set_option(websocket::stream_base::decorator([](websocket::response_type& response) {
+      response.set(http::field::sec_websocket_protocol, foxglove::kSubprotocol);
+      response.set(http::field::server, "edsp-web");
+    }));
+    ws_.read_message_max(shared_->options.max_client_frame_bytes);
+    ws_.async_accept(request, beast::bind_front_handler(&WsSession::OnAccept, shared_from_this()));
+  }
+
+ private:
+  void OnAccept(beast::error_code error) {
+    if (error) return;
+    open_ = true;
+    ++shared_->counters.clients;
+    ++shared_->counters.connections;
+    Queue(true, shared_->server_info);
+    Queue(true, shared_->advertise);
+    WriteNext();
+    Read();
+    Tick();
+  }
+
+  void Read() { ws_.async_read(in_, beast::bind_front_handler(&WsSession::OnRead, shared_from_this())); }
+
+  void OnRead(beast::error_code error, std::size_t) {
+    if (error) {
+      Close();
+      return;
+    }
+    const bool text = ws_.got_text();
+    const std::string frame = beast::buffers_to_string(in_.data());
+    in_.consume(in_.size());
+    Handle(text, frame);
+    if (!closed_) Read();
+  }
+
+  // A client frame: its operation done, or an error status naming what is
+  // wrong with it and nothing changed.
+  void Handle(bool text, const std::string& frame) {
+    try {
+      if (!text) throw foxglove::ProtocolError("binary frames (client publishing) are not offered by this server");
+      const foxglove::ClientOp op = foxglove::ParseClientText(frame, kMaxItemsPerOp);
+      if (op.kind == foxglove::ClientOp::kSubscribe) {
+        for (const foxglove::Subscription& s : op.subscriptions) feed_.Subscribe(s.id, s.channel_id);
+      } else {
+        for (std::uint32_t id : op.ids) feed_.Unsubscribe(id);
+      }
+    } catch (const foxglove::ProtocolError& e) {
+      ++shared_->counters.protocol_errors;
+      Queue(true, foxglove::Status(foxglove::kError, e.what()));
+      WriteNext();
+    }
+  }
+
+  void Tick() {
+    timer_.expires_after(shared_->options.tick);
+    timer_.async_wait([self = shared_from_this()](beast::error_code error) {
+      if (error || self->closed_) return;
+      self->OnTick();
+      if (!self->closed_) self->Tick();
+    });
+  }
+
+  // Due frames only when the socket has taken the last ones: a slow client
+  // gets the newest, not a backlog; one that takes nothing is let go.
+  void OnTick() {
+    if (writing_) {
+      if (std::chrono::steady_clock::now() - write_started_ > shared_->options.stall_timeout) {
+        ++shared_->counters.stalled_clients;
+        Close();
+      }
+      return;
+    }
+    for (const FeedFrame& f : feed_.Due(SteadyNs())) {
+      Queue(false, foxglove::MessageData(f.subscription_id, static_cast<std::uint64_t>(f.receive_ns), *f.json));
+      ++shared_->counters.frames_sent;
+    }
+    WriteNext();
+  }
+
+  void Queue(bool text, std::string data) {
+    if (queue_.size() >= kMaxQueuedFrames) {  // it sends and does not read: it goes
+      Close();
+      return;
+    }
+    queue_.push_back(Outgoing{text, std::move(data)});
+  }
+
+  void WriteNext() {
+    if (writing_ || queue_.empty() || closed_) return;
+    writing_ = true;
+    write_started_ = std::chrono::steady_clock::now();
+    ws_.text(queue_.front().text);
+    ws_.async_write(net::buffer(queue_.front().data),
+                    beast::bind_front_handler(&WsSession::OnWrite, shared_from_this()));
+  }
+
+  void OnWrite(beast::error_code error, std::size_t) {
+    writing_ = false;
+    if (error) {
+      Close();
+      return;
+    }
+    queue_.pop_front();
+    WriteNext();
+  }
+
+  void Close() {
+    if (closed_) return;
+    closed_ = true;
+    timer_.cancel();
+    beast::error_code ignored;
+    beast::get_lowest_layer(ws_).socket().shutdown(tcp::socket::shutdown_both, ignored);
+    beast::get_lowest_layer(ws_).socket().close(ignored);
+  }
+
+  struct Outgoing {
+    bool text = true;
+    std::string data;
+  };
+
+  websocket::stream<beast::tcp_stream> ws_;
+  net::steady_timer timer_;
+  std::shared_ptr<Shared> shared_;
+  ClientFeed feed_;
+  beast::flat_buffer in_;
+  std::deque<Outgoing> queue_;
+  bool writing_ = false;
+  bool open_ = false;
+  bool closed_ = false;
+  std::chrono::steady_clock::time_point write_started_;
+};
+
+// One HTTP connection: who it is, then a static file or the upgrade to a
+// WebSocket session.
+class HttpSession : public std::enable_shared_from_this<HttpSession> {
+ public:
+  HttpSession(tcp::socket&& socket, std::shared_ptr<Shared> shared)
+      : stream_(std::move(socket)), shared_(std::move(shared)) {}
+
+  void Read() {
+    parser_.emplace();
+    parser_->header_limit(kMaxRequestBytes);
+    parser_->body_limit(kMaxRequestBytes);
+    stream_.expires_after(std::chrono::seconds(30));
+    http::async_read(stream_, buffer_, *parser_, beast::bind_front_handler(&HttpSession::OnRead, shared_from_this()));
+  }
+
+ private:
+  void OnRead(beast::error_code error, std::size_t) {
+    if (error == http::error::end_of_stream) return Shutdown();
+    if (error) {
+      if (error == http::error::header_limit || error == http::error::body_limit) {
+        return Respond(http::status::payload_too_large,
+                       "request larger than " + std::to_string(kMaxRequestBytes) + " bytes", 11, false);
+      }
+      return;
+    }
+    Route(parser_->release());
+  }
+
+  void Route(Request request) {
+    std::optional<Role> role = Authorize(request);
+    if (!role) return;
+    if (websocket::is_upgrade(request)) return Upgrade(std::move(request));
+    if (request.method() != http::verb::get && request.method() != http::verb::head) {
+      return Refuse(http::status::method_not_allowed, "only GET and HEAD are served", request);
+    }
+    const std::optional<std::string> file = StaticFile(shared_->options.panel_dir, TargetPath(View(request.target())));
+    std::ifstream in;
+    if (file) in.open(*file, std::ios::binary);
+    if (!file || !in.is_open())
+      return Refuse(http::status::not_found, "no such page: " + std::string(TargetPath(View(request.target()))),
+                    request);
+    std::ostringstream body;
+    body << in.rdbuf();
+    Respond(http::status::ok, body.str(), request.version(), request.keep_alive(), ContentType(*file),
+            request.method() == http::verb::head);
+  }
+
+  // The role the request's token gives (a viewer without one under
+  // --public-view); none, with the refusal sent, otherwise.
+  std::optional<Role> Authorize(const Request& request) {
+    const auto now = std::chrono::steady_clock::now();
+    beast::error_code ignored;
+    const std::string address = stream_.socket().remote_endpoint(ignored).address().to_string();
+    if (shared_->limiter.Blocked(address, now)) {
+      Refuse(http::status::too_many_requests, "too many wrong tokens from " + address + "; try again in a minute",
+             request);
+      return std::nullopt;
+    }
+    const std::optional<std::string> token =
+        PresentedToken(View(request.target()), View(request[http::field::authorization]));
+    if (!token) {
+      if (shared_->options.public_view) return Role::kViewer;
+      Refuse(http::status::unauthorized, "a token is needed: ?token=T on the URL or Authorization: Bearer T", request);
+      return std::nullopt;
+    }
+    const std::optional<TokenEntry> entry = shared_->options.tokens.Check(*token);
+    if (!entry) {
+      shared_->limiter.Failed(address, now);
+      Refuse(http::status::unauthorized, "unknown token", request);
+      return std::nullopt;
+    }
+    return entry->role;
+  }
+
+  void Upgrade(Request request) {
+    const std::string_view origin = View(request[http::field::origin]);
+    if (!OriginAllowed(origin, View(request[http::field::host]), shared_->options.allowed_origins)) {
+      return Refuse(http::status::forbidden,
+                    "Origin " + std::string(origin) + " is not this server's (edsp-web --allow-origin adds one)",
+                    request);
+    }
+    const std::string_view offered = View(request[http::field::sec_websocket_protocol]);
+    if (offered.find(foxglove::kSubprotocol) == std::string_view::npos) {
+      return Refuse(http::status::bad_request,
+                    std::string("the WebSocket subprotocol must be ") + foxglove::kSubprotocol, request);
+    }
+    if (shared_->counters.clients >= kMaxClients) {
+      return Refuse(http::status::service_unavailable, "already " + std::to_string(kMaxClients) + " clients", request);
+    }
+    stream_.expires_never();
+    std::make_shared<WsSession>(stream_.release_socket(), shared_)->Start(std::move(request));
+  }
+
+  void Refuse(http::status status, const std::string& reason, const Request& request) {
+    ++shared_->counters.refused;
+    Respond(status, reason + "\n", request.version(), false);
+  }
+
+  void Respond(http::status status, std::string body, unsigned version, bool keep_alive,
+               const char* content_type = "text/plain; charset=utf-8", bool head = false) {
+    auto response = std::make_shared<http::response<http::string_body>>(status, version);
+    response->set(http::field::server, "edsp-web");
+    response->set(http::field::content_type, content_type);
+    response->set(http::field::cache_control, "no-store");
+    if (status == http::status::unauthorized) response->set(http::field::www_authenticate, "Bearer");
+    response->keep_alive(keep_alive);
+    response->body() = std::move(body);
+    response->prepare_payload();
+    if (head) response->body().clear();
+    http::async_write(stream_, *response,
+                      [self = shared_from_this(), response, keep_alive](beast::error_code error, std::size_t) {
+                        if (error) return;
+                        if (keep_alive) return self->Read();
+                        self->Shutdown();
+                      });
+  }
+
+  void Shutdown() {
+    beast::error_code ignored;
+    stream_.socket().shutdown(tcp::socket::shutdown_send, ignored);
+  }
+
+  beast::tcp_stream stream_;
+  beast::flat_buffer buffer_;
+  std::optional<http::request_parser<http::string_body>> parser_;
+  std::shared_ptr<Shared> shared_;
+};
+
+}  // namespace web_server_internal
+
+namespace net = boost::asio;
+namespace beast = boost::beast;
+using web_server_internal::Counters;
+using web_server_internal::HttpSession;
+using web_server_internal::Shared;
+using tcp = net::ip::tcp;
+
+struct WebServer::Impl {
+  net::io_context io{1};
+  tcp::acceptor acceptor{io};
+  std::shared_ptr<Shared> shared = std::make_shared<Shared>();
+
+  void Accept() {
+    acceptor.async_accept([this](beast::error_code error, tcp::socket socket) {
+      if (error == net::error::operation_aborted) return;
+      if (!error) std::make_shared<HttpSession>(std::move(socket), shared)->Read();
+      Accept();
+    });
+  }
+};
+
+WebServer::WebServer(ChannelBoard* board, WebServerOptions options) : impl_(std::make_unique<Impl>()) {
+  Shared& shared = *impl_->shared;
+  shared.board = board;
+  shared.options = std::move(options);
+  shared.server_info = foxglove::ServerInfo(shared.options.name, shared.options.session_id, shared.options.metadata);
+  shared.advertise = foxglove::Advertise(web_server_internal::AdvertisedChannels());
+  const std::string where = shared.options.bind + ":" + std::to_string(shared.options.port);
+  beast::error_code error;
+  const net::ip::address address = net::ip::make_address(shared.options.bind, error);
+  if (error) throw std::runtime_error("--bind " + shared.options.bind + ": not an IP address");
+  const tcp::endpoint endpoint(address, shared.options.port);
+  impl_->acceptor.open(endpoint.protocol(), error);
+  if (!error) impl_->acceptor.set_option(net::socket_base::reuse_address(true), error);
+  if (!error) impl_->acceptor.bind(endpoint, error);
+  if (!error) impl_->acceptor.listen(net::socket_base::max_listen_connections, error);
+  if (error) throw std::runtime_error("cannot listen on " + where + ": " + error.message());
+  impl_->Accept();
+}
+
+WebServer::~WebServer() = default;
+
+std::uint16_t WebServer::port() const { return impl_->acceptor.local_endpoint().port(); }
+
+void WebServer::Run(const std::function<bool()>& stop, std::chrono::milliseconds poll) {
+  while (!stop()) {
+    impl_->io.run_for(poll);
+    if (impl_->io.stopped()) impl_->io.restart();
+  }
+}
+
+WebServerStats WebServer::stats() const {
+  const Counters& c = impl_->shared->counters;
+  return WebServerStats{c.clients, c.connections, c.refused, c.frames_sent, c.protocol_errors, c.stalled_clients};
+}
+
+}  // namespace edsp::web
