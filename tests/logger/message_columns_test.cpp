@@ -27,6 +27,7 @@
 #include "edsp/pr_mode_v1_t.hpp"
 #include "edsp/tracker_point_t.hpp"
 #include "log_builder.h"  // tests/support
+#include "encoded.h"      // tests/support
 #include "memq_bus.h"     // tests/support
 
 namespace edsp {
@@ -34,9 +35,7 @@ namespace {
 
 template <typename Msg>
 std::vector<std::uint8_t> Encode(const Msg& msg) {
-  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(msg.getEncodedSize()));
-  msg.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
-  return bytes;
+  return test_support::Encoded(msg);
 }
 
 leg_state_t LegState(std::int64_t seq) {

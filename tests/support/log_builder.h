@@ -8,6 +8,8 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "encoded.h"
+
 namespace edsp::test_support {
 
 class LogBuilder {
@@ -15,9 +17,7 @@ class LogBuilder {
   explicit LogBuilder(const std::string& path) : log_(path, "w") {}
   template <typename Msg>
   void Add(const std::string& channel, const Msg& msg) {
-    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(msg.getEncodedSize()));
-    msg.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
-    AddBytes(channel, bytes);
+    AddBytes(channel, Encoded(msg));
   }
   void AddBytes(const std::string& channel, std::vector<std::uint8_t> bytes) {
     lcm::LogEvent e{};

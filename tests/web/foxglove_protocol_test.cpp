@@ -19,12 +19,16 @@ TEST(FoxgloveFrames, MessageDataIsOpcodeThenLittleEndianIdAndTimeThenThePayload)
 }
 
 TEST(FoxgloveFrames, ServerInfoStatusAndAdvertiseCarryTheSpecsFields) {
-  const json info = json::parse(ServerInfo("edsp-web", "7", {{"group", "sim.toml"}}));
+  const json info = json::parse(ServerInfo("edsp-web", "7", {{"group", "sim.toml"}}, false));
   EXPECT_EQ(info.at("op"), "serverInfo");
   EXPECT_EQ(info.at("name"), "edsp-web");
-  EXPECT_TRUE(info.at("capabilities").is_array());
+  EXPECT_EQ(info.at("capabilities"), json::array());
+  EXPECT_FALSE(info.contains("supportedEncodings"));
   EXPECT_EQ(info.at("sessionId"), "7");
   EXPECT_EQ(info.at("metadata").at("group"), "sim.toml");
+  const json publisher = json::parse(ServerInfo("edsp-web", "7", json::object(), true));
+  EXPECT_EQ(publisher.at("capabilities"), json::array({"clientPublish"}));
+  EXPECT_EQ(publisher.at("supportedEncodings"), json::array({"json"}));
 
   const json status = json::parse(Status(kError, "bad \"frame\""));
   EXPECT_EQ(status.at("op"), "status");
@@ -55,6 +59,31 @@ TEST(FoxgloveClientFrames, SubscribeAndUnsubscribeParse) {
   EXPECT_EQ(u.ids, (std::vector<std::uint32_t>{0, 4294967295u}));
 }
 
+TEST(FoxgloveClientFrames, AdvertiseUnadvertiseAndClientMessageDataParse) {
+  const ClientOp a = ParseClientText(
+      R"({"op":"advertise","channels":[{"id":4,"topic":"EDSP_MOTION_REQUEST","encoding":"json","schemaName":"edsp.motion_request_t"}]})",
+      8);
+  ASSERT_EQ(a.kind, ClientOp::kAdvertise);
+  ASSERT_EQ(a.channels.size(), 1u);
+  EXPECT_EQ(a.channels[0].id, 4u);
+  EXPECT_EQ(a.channels[0].topic, "EDSP_MOTION_REQUEST");
+  EXPECT_EQ(a.channels[0].encoding, "json");
+  EXPECT_EQ(a.channels[0].schema_name, "edsp.motion_request_t");
+  const ClientOp u = ParseClientText(R"({"op":"unadvertise","channelIds":[4]})", 8);
+  ASSERT_EQ(u.kind, ClientOp::kUnadvertise);
+  EXPECT_EQ(u.ids, std::vector<std::uint32_t>{4});
+
+  const std::string frame = std::string("\x01\x04\x03\x02\x01", 5) + "{\"kind\":4}";
+  const ClientMessage m = ParseClientBinary(frame);
+  EXPECT_EQ(m.channel_id, 0x01020304u);
+  EXPECT_EQ(m.payload, "{\"kind\":4}");
+  EXPECT_EQ(ParseClientBinary(std::string("\x01\x00\x00\x00\x00", 5)).payload, "");
+  for (const std::string& bad :
+       {std::string(), std::string("\x02\x00\x00\x00\x00{}", 7), std::string("\x01\x00\x00", 3)}) {
+    EXPECT_THROW(ParseClientBinary(bad), ProtocolError) << bad.size();
+  }
+}
+
 // Each malformed frame throws, and its message names what is at fault.
 TEST(FoxgloveClientFrames, MalformedFramesAreRefusedNamingTheFault) {
   const std::pair<const char*, const char*> cases[] = {
@@ -72,6 +101,9 @@ TEST(FoxgloveClientFrames, MalformedFramesAreRefusedNamingTheFault) {
       {R"({"op":"subscribe","subscriptions":[{"id":1,"channelId":1},{"id":2,"channelId":1},{"id":3,"channelId":1}]})",
        "3 items"},
       {R"({"op":"unsubscribe","subscriptionIds":["a"]})", "\"a\""},
+      {R"({"op":"advertise","channels":[{"id":1,"encoding":"json"}]})", "\"topic\""},
+      {R"({"op":"advertise","channels":[{"id":1,"topic":"EDSP_ARM"}]})", "\"encoding\""},
+      {R"({"op":"unadvertise","channelIds":[-2]})", "-2"},
   };
   for (const auto& [frame, named] : cases) {
     try {
@@ -81,6 +113,10 @@ TEST(FoxgloveClientFrames, MalformedFramesAreRefusedNamingTheFault) {
       EXPECT_NE(std::string(e.what()).find(named), std::string::npos) << frame << ": " << e.what();
     }
   }
+  // Nesting is refused before any JSON parser recurses on it; brackets in strings do not nest.
+  const std::string deep = R"({"op":"subscribe","subscriptions":)" + std::string(20, '[') + std::string(20, ']') + "}";
+  EXPECT_THROW(ParseClientText(deep, 2), ProtocolError);
+  EXPECT_NO_THROW(ParseClientText(R"({"op":"unsubscribe","subscriptionIds":[],"x":"[[[[[[[[[[[[[[[[[[[[\"[["})", 2));
 }
 
 }  // namespace

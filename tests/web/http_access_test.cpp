@@ -29,6 +29,16 @@ TEST(HttpAccess, AWebSocketsOriginMustBeTheServedHostOrOneAllowed) {
   EXPECT_TRUE(OriginAllowed("https://app.lichtblick.example", "rig:8765", {"https://app.lichtblick.example"}));
 }
 
+TEST(HttpAccess, OnLoopbackOnlyLoopbackNamesAreServed) {
+  for (const char* ok : {"localhost", "localhost:8765", "127.0.0.1:8765", "127.1.2.3", "[::1]:8765", "[::1]"}) {
+    EXPECT_TRUE(LoopbackHost(ok)) << ok;
+  }
+  for (const char* bad : {"", "evil.example", "evil.example:8765", "127.0.0.1.evil.example", "127.0.0.1.",
+                          "localhost.evil.example", "10.0.0.1:8765", "[::2]:8765", "127.a.0.1"}) {
+    EXPECT_FALSE(LoopbackHost(bad)) << bad;
+  }
+}
+
 TEST(HttpAccess, StaticFilesStayInsideThePanelsFolder) {
   EXPECT_EQ(StaticFile("/p", "/"), "/p/index.html");
   EXPECT_EQ(StaticFile("/p", "/panel.js"), "/p/panel.js");

@@ -18,18 +18,14 @@
 #include "edsp/platform_config_t.hpp"
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/web/message_json.h"
+#include "encoded.h"  // tests/support
 
 namespace edsp::web {
 namespace {
 
 using json = nlohmann::ordered_json;
 
-template <typename Msg>
-std::vector<std::uint8_t> Encoded(const Msg& msg) {
-  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(msg.getEncodedSize()));
-  msg.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
-  return bytes;
-}
+using test_support::Encoded;
 
 template <typename Msg>
 json AsJson(const Msg& msg, std::string* type = nullptr) {

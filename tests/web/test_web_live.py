@@ -334,3 +334,75 @@ def test_a_client_that_stops_reading_slows_no_one_and_holds_no_backlog(served):
     assert rate_during >= CAP_HZ / 3
     # One frame batch in flight for the stalled client, not twelve seconds of them.
     assert rss_after - rss_before < 16 * 1024, (rss_before, rss_after)
+
+
+async def _until(client, seconds, done):
+    """Frames until done(got) or `seconds`; what came."""
+    got = {topic: [] for topic in client.topics.values()}
+    deadline = time.monotonic() + seconds
+    while not done(got) and time.monotonic() < deadline:
+        more, _ = await client.collect(0.2)
+        for topic, frames in more.items():
+            got[topic].extend(frames)
+    return got
+
+
+def _request_frame(channel_id, request):
+    return b"\x01" + struct.pack("<I", channel_id) + json.dumps(request).encode()
+
+
+ADVERTISE_MOTION = json.dumps({"op": "advertise", "channels": [
+    {"id": 1, "topic": "EDSP_MOTION_REQUEST", "encoding": "json", "schemaName": "edsp.motion_request_t"}]})
+
+
+def test_an_operators_move_lands_and_one_out_of_reach_is_refused_with_the_planners_reason(served):
+    async def body():
+        op = await Client.open(served["port"], served["operator"])
+        await op.subscribe(["EDSP_MOTION_REPLY", "EDSP_MOTION_STATUS", "EDSP_RIG_TRUTH", "EDSP_MOTION_REQUEST"])
+        before = await _until(op, 5, lambda g: g["EDSP_RIG_TRUTH"])
+        await op.ws.send(ADVERTISE_MOTION)
+        await op.ws.send(_request_frame(1, {"request_id": 9001, "kind": 1, "pose": [0, 0, 5, 0, 0, 0]}))
+        await op.ws.send(_request_frame(1, {"request_id": 9002, "kind": 1, "relative": 1,
+                                            "pose": [0, 0, 0.005, 0, 0, 0]}))
+
+        def landed(got):
+            return any(m["request_id"] == 9002 and m["on_target"] for _, m in got["EDSP_MOTION_STATUS"])
+
+        moving = await _until(op, 60, landed)
+        after = await _until(op, 2, lambda g: len(g["EDSP_RIG_TRUTH"]) > 5)
+        await op.ws.close()
+        return op, before, moving, after
+
+    op, before, moving, after = run(body())
+    assert "clientPublish" in op.info["capabilities"] and op.info["supportedEncodings"] == ["json"]
+    assert not [s for s in op.statuses if s.get("level") == 2], op.statuses
+    replies = {m["request_id"]: m for _, m in moving["EDSP_MOTION_REPLY"]}
+    assert not replies[9001]["accepted"] and replies[9001]["reason"], replies[9001]
+    assert replies[9002]["accepted"], replies[9002]
+    requests = [m for _, m in moving["EDSP_MOTION_REQUEST"] if m["request_id"] in (9001, 9002)]
+    assert requests and all(m["client"] == "web:alice" for m in requests)
+    status = [m for _, m in moving["EDSP_MOTION_STATUS"] if m["request_id"] == 9002 and m["on_target"]][-1]
+    start, end = before["EDSP_RIG_TRUTH"][-1][1]["pose"], after["EDSP_RIG_TRUTH"][-1][1]["pose"]
+    assert abs((end[2] - start[2]) - 0.005) < 5e-6, (start, end)
+    assert max(abs(a - b) for a, b in zip(end[:3], status["pose_target"][:3])) < 5e-6, (end, status["pose_target"])
+
+
+def test_a_viewer_cannot_send_a_request_and_nothing_moves(served):
+    async def body():
+        viewer = await Client.open(served["port"], served["viewer"])
+        await viewer.subscribe(["EDSP_RIG_TRUTH", "EDSP_MOTION_REQUEST"])
+        before = await _until(viewer, 5, lambda g: g["EDSP_RIG_TRUTH"])
+        await viewer.ws.send(ADVERTISE_MOTION)
+        await viewer.ws.send(_request_frame(1, {"request_id": 9101, "kind": 1, "relative": 1,
+                                                "pose": [0, 0, 0.01, 0, 0, 0]}))
+        after = await _until(viewer, 2.0, lambda g: False)
+        await viewer.ws.close()
+        return viewer, before, after
+
+    viewer, before, after = run(body())
+    assert viewer.info["capabilities"] == []
+    errors = [s["message"] for s in viewer.statuses if s.get("level") == 2]
+    assert len(errors) == 2 and all("viewer" in e for e in errors), errors
+    assert not [m for _, m in after["EDSP_MOTION_REQUEST"] if m["request_id"] == 9101]
+    p0, p1 = before["EDSP_RIG_TRUTH"][-1][1]["pose"], after["EDSP_RIG_TRUTH"][-1][1]["pose"]
+    assert max(abs(a - b) for a, b in zip(p0, p1)) < 1e-6

@@ -7,7 +7,10 @@
 // It reads every EDSP_* channel of the group (--group, as a member or beside
 // a running group) and serves them as foxglove.websocket.v1 (JSON messages
 // with the .lcm field names, a JSON schema each), latest-wins at --rate-hz
-// per client for the cyclic channels, every message for faults and replies.
+// per client for the cyclic channels, every message for faults and replies;
+// an operator's client may publish requests (EDSP_MOTION_REQUEST, EDSP_ARM,
+// EDSP_PR_MODE, EDSP_CALIBRATION), stamped with the group's session and
+// "web:NAME", which the nodes check as they check edsp-ctl's.
 // Localhost only unless --bind says otherwise; every client presents a
 // token (?token=T or Authorization: Bearer T) unless --public-view.
 #include <unistd.h>
@@ -16,6 +19,7 @@
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -24,6 +28,7 @@
 #include "edsp/node/build_paths.h"
 #include "edsp/node/node_options.h"
 #include "edsp/node/runtime.h"
+#include "edsp/transport/bus.h"
 #include "edsp/web/board_feeder.h"
 #include "edsp/web/channel_board.h"
 #include "edsp/web/token_store.h"
@@ -45,6 +50,7 @@ std::string DefaultPanelDir() {
 }
 
 int TokenAdd(const std::string& path, const std::string& name, const std::string& role) {
+  const web::TokenFileLock lock(path);
   web::TokenStore store = web::TokenStore::Load(path);
   const std::string token = store.Add(name, web::ParseRole(role));
   store.Save(path);
@@ -63,23 +69,29 @@ int TokenList(const std::string& path) {
 }
 
 int TokenRevoke(const std::string& path, const std::string& name) {
+  const web::TokenFileLock lock(path);
   web::TokenStore store = web::TokenStore::Load(path);
   store.Revoke(name);
   store.Save(path);
   return 0;
 }
 
-int Serve(const NodeOptions& node, web::WebServerOptions options, const std::string& tokens_path) {
+int Serve(const NodeOptions& node, bool session_given, web::WebServerOptions options, const std::string& tokens_path) {
   options.tokens = web::TokenStore::Load(tokens_path);
   if (options.tokens.entries().empty() && !options.public_view) {
     throw std::runtime_error(tokens_path +
                              " has no token, so nobody could connect: add one with `edsp-web token add NAME --role "
                              "operator`, or serve --public-view");
   }
-  options.session_id = std::to_string(node.session_id);
-  options.metadata = {{"group", node.group_path}, {"session_id", std::to_string(node.session_id)}};
+  // A member gets its group's session; beside a group, the planner says it.
+  options.session_id = session_given ? node.session_id : 0;
+  options.metadata = {{"group", node.group_path}};
   web::ChannelBoard board;
   web::BoardFeeder feeder(TransportFor(node), &board);
+  Bus requests(TransportFor(node));  // operators' requests go out on it, from the server's thread alone
+  options.publish = [&requests](const std::string& channel, const web::RequestMessage& request) {
+    return std::visit([&](const auto& m) { return requests.Publish(channel, m); }, request);
+  };
   web::WebServer server(&board, options);
   std::fprintf(stderr, "edsp-web: serving %s on http://%s:%u (panel %s)\n",
                node.group_path.empty() ? "the default bus" : node.group_path.c_str(), options.bind.c_str(),
@@ -122,7 +134,7 @@ int Run(int argc, char** argv) {
   if (add->parsed()) return TokenAdd(tokens_path, name, role);
   if (list->parsed()) return TokenList(tokens_path);
   if (revoke->parsed()) return TokenRevoke(tokens_path, name);
-  return Serve(node, options, tokens_path);
+  return Serve(node, app.count("--session-id") > 0, options, tokens_path);
 }
 
 }  // namespace

@@ -8,11 +8,14 @@
 namespace edsp::web {
 namespace {
 
-// The message as JSON text, or null if the bytes do not decode as an edsp type.
+// The message as JSON text, or null if the bytes do not decode as an edsp
+// type. Text that is not UTF-8 (a node's reason, an operator's name) is
+// sent with U+FFFD where it breaks, not refused.
 std::shared_ptr<const std::string> JsonText(const std::string& bytes) {
   nlohmann::ordered_json message;
   if (!MessageToJson(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size(), &message)) return nullptr;
-  return std::make_shared<const std::string>(message.dump());
+  return std::make_shared<const std::string>(
+      message.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace));
 }
 
 }  // namespace
@@ -67,6 +70,7 @@ BoardMessage ChannelBoard::Latest(std::size_t channel) {
     newest.number = slot.number;
     newest.receive_ns = slot.receive_ns;
     if (slot.json_number == slot.number) {
+      if (slot.json == nullptr) return {};  // it did not decode: counted once, never sent
       newest.json = slot.json;
       return newest;
     }
@@ -88,18 +92,23 @@ BoardMessage ChannelBoard::Latest(std::size_t channel) {
   return newest;
 }
 
-std::vector<BoardMessage> ChannelBoard::Since(std::size_t channel, std::uint64_t* after, std::uint64_t* lost) {
+std::vector<BoardMessage> ChannelBoard::Since(std::size_t channel, std::uint64_t* after, std::uint64_t* lost,
+                                              std::size_t max_count) {
   std::vector<BoardMessage> out;
   if (!KeepsEveryMessage(channel)) return out;
   const std::lock_guard<std::mutex> lock(mutex_);
   const Slot& slot = slots_[channel];
   if (slot.events.empty() || slot.events.back().number <= *after) return out;
   const std::uint64_t first = slot.events.front().number;
-  if (first > *after + 1) *lost += first - (*after + 1);
+  if (first > *after + 1) {
+    *lost += first - (*after + 1);
+    *after = first - 1;
+  }
   for (const BoardMessage& m : slot.events) {
+    if (out.size() == max_count) break;
     if (m.number > *after) out.push_back(m);
   }
-  *after = slot.events.back().number;
+  if (!out.empty()) *after = out.back().number;
   return out;
 }
 

@@ -16,6 +16,12 @@ void ClientFeed::Subscribe(std::uint32_t subscription_id, std::uint32_t channel_
   if (channel_id == 0 || channel_id > ChannelBoard::ChannelCount()) {
     throw foxglove::ProtocolError("subscribe: no channel " + std::to_string(channel_id) + " was advertised");
   }
+  for (const auto& [id, other] : subscriptions_) {
+    if (other.channel == channel_id - 1) {
+      throw foxglove::ProtocolError("subscribe: channel " + std::to_string(channel_id) + " is subscribed already (id " +
+                                    std::to_string(id) + ")");
+    }
+  }
   Cursor cursor;
   cursor.channel = channel_id - 1;
   if (ChannelBoard::KeepsEveryMessage(cursor.channel)) {
@@ -32,11 +38,12 @@ void ClientFeed::Unsubscribe(std::uint32_t subscription_id) {
   }
 }
 
-std::vector<FeedFrame> ClientFeed::Due(std::int64_t now_ns) {
+std::vector<FeedFrame> ClientFeed::Due(std::int64_t now_ns, std::size_t max_frames) {
   std::vector<FeedFrame> frames;
   for (auto& [id, cursor] : subscriptions_) {
+    if (frames.size() >= max_frames) break;
     if (ChannelBoard::KeepsEveryMessage(cursor.channel)) {
-      for (BoardMessage& m : board_->Since(cursor.channel, &cursor.last_number, &lost_)) {
+      for (BoardMessage& m : board_->Since(cursor.channel, &cursor.last_number, &lost_, max_frames - frames.size())) {
         frames.push_back(FeedFrame{id, m.receive_ns, std::move(m.json)});
       }
       continue;

@@ -66,6 +66,26 @@ bool OriginAllowed(std::string_view origin, std::string_view host, const std::ve
   return false;
 }
 
+bool LoopbackHost(std::string_view host) {
+  std::string_view name = host;
+  if (!name.empty() && name.front() == '[') {
+    name = name.substr(0, name.find(']') + 1);  // [::1]:8765 -> [::1]
+  } else {
+    name = name.substr(0, name.find(':'));
+  }
+  if (name == "localhost" || name == "[::1]") return true;
+  // 127.0.0.0/8, as four decimal numbers
+  if (name.substr(0, 4) != "127.") return false;
+  int dots = 0;
+  for (char c : name) {
+    if (c == '.')
+      ++dots;
+    else if (c < '0' || c > '9')
+      return false;
+  }
+  return dots == 3 && name.back() != '.';
+}
+
 std::optional<std::string> StaticFile(const std::string& root, std::string_view path) {
   if (path.empty() || path.front() != '/') return std::nullopt;
   std::string_view name = path.substr(1);

@@ -1,6 +1,7 @@
 #include "edsp/web/token_store.h"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -135,24 +136,49 @@ void TokenStore::Save(const std::string& path) const {
     text += fmt::format("\n[[token]]\nname = \"{}\"\nrole = \"{}\"\nsha256 = \"{}\"\n", e.name, RoleName(e.role),
                         e.sha256_hex);
   }
-  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  if (parent.empty()) parent = ".";
   std::error_code ignored;
-  if (!parent.empty()) std::filesystem::create_directories(parent, ignored);  // open() below says what failed
-  const std::string temporary = path + ".new";
-  const int fd = open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
-  if (fd < 0) throw std::runtime_error(temporary + ": cannot create (" + std::strerror(errno) + ")");
+  std::filesystem::create_directories(parent, ignored);  // what fails is said below
+  // A name of its own (mkstemp: created new, 0600, never through a link),
+  // renamed over the file once whole and on disk.
+  std::string temporary = path + ".XXXXXX";
+  const int fd = mkstemp(temporary.data());
+  if (fd < 0) throw std::runtime_error(path + ": cannot create a file beside it (" + std::strerror(errno) + ")");
   std::string failure;
-  if (fchmod(fd, 0600) != 0 || write(fd, text.data(), text.size()) != static_cast<ssize_t>(text.size()) ||
-      fsync(fd) != 0) {
-    failure = std::strerror(errno);
+  for (std::size_t done = 0; failure.empty() && done < text.size();) {
+    const ssize_t n = write(fd, text.data() + done, text.size() - done);
+    if (n < 0 && errno != EINTR) failure = std::strerror(errno);
+    if (n > 0) done += static_cast<std::size_t>(n);
   }
+  if (failure.empty() && (fchmod(fd, 0600) != 0 || fsync(fd) != 0)) failure = std::strerror(errno);
   close(fd);
   if (failure.empty() && std::rename(temporary.c_str(), path.c_str()) != 0) failure = std::strerror(errno);
   if (!failure.empty()) {
     std::remove(temporary.c_str());
     throw std::runtime_error(path + ": cannot write (" + failure + ")");
   }
+  const int dir = open(parent.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dir >= 0) {  // the rename itself on disk
+    fsync(dir);
+    close(dir);
+  }
 }
+
+TokenFileLock::TokenFileLock(const std::string& path) {
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  std::error_code ignored;
+  if (!parent.empty()) std::filesystem::create_directories(parent, ignored);
+  const std::string lock_path = path + ".lock";
+  fd_ = open(lock_path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0600);
+  if (fd_ < 0 || flock(fd_, LOCK_EX) != 0) {
+    const std::string error = std::strerror(errno);
+    if (fd_ >= 0) close(fd_);
+    throw std::runtime_error(lock_path + ": cannot lock (" + error + ")");
+  }
+}
+
+TokenFileLock::~TokenFileLock() { close(fd_); }  // the lock goes with it
 
 std::optional<TokenEntry> TokenStore::Check(std::string_view token) const {
   const std::string hash = Sha256Hex(token);

@@ -1,9 +1,11 @@
 #include "edsp/web/web_server.h"
 
+#include <algorithm>
 #include <atomic>
+#include <cstdio>
 #include <deque>
 #include <fstream>
-#include <iterator>
+#include <map>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -15,6 +17,7 @@
 #include <boost/beast/websocket.hpp>
 
 #include "edsp/channels.h"
+#include "edsp/node/runtime.h"
 #include "edsp/web/client_feed.h"
 #include "edsp/web/foxglove_protocol.h"
 #include "edsp/web/http_access.h"
@@ -32,8 +35,9 @@ using tcp = net::ip::tcp;
 using Request = http::request<http::string_body>;
 
 // How much one client may make the server hold or do.
-constexpr std::size_t kMaxQueuedFrames = 256;  // errors it does not read, plus one batch of due frames
-constexpr std::size_t kMaxItemsPerOp = 256;    // subscriptions in one subscribe
+constexpr std::size_t kMaxQueuedFrames = 256;   // errors it does not read, plus one batch of due frames
+constexpr std::size_t kMaxItemsPerOp = 256;     // subscriptions in one subscribe
+constexpr std::size_t kMaxClientChannels = 16;  // channels one client advertises
 constexpr std::int64_t kMaxClients = 64;
 constexpr std::size_t kMaxRequestBytes = 8192;  // a panel's GET or an upgrade: headers only
 
@@ -62,29 +66,41 @@ struct Counters {
   std::atomic<std::int64_t> frames_sent{0};
   std::atomic<std::int64_t> protocol_errors{0};
   std::atomic<std::int64_t> stalled_clients{0};
+  std::atomic<std::int64_t> requests{0};
 };
 
 // What every session reads (the io thread's alone, but for the counters).
 struct Shared {
   ChannelBoard* board = nullptr;
   WebServerOptions options;
-  std::string server_info;
+  std::string server_info_viewer;
+  std::string server_info_operator;  // with clientPublish, when requests can be sent
   std::string advertise;
   Counters counters;
   LoginLimiter limiter{10, std::chrono::seconds(60)};
+  std::unique_ptr<RequestRelay> relay;  // null: nobody publishes
+  bool loopback_only = false;           // listening on loopback: Host must name it too
+};
+
+// Who a connection is: a token's name and role, or a public viewer.
+struct Identity {
+  std::string name;
+  Role role = Role::kViewer;
 };
 
 // One client's WebSocket: the protocol's session.
 class WsSession : public std::enable_shared_from_this<WsSession> {
  public:
-  WsSession(tcp::socket&& socket, std::shared_ptr<Shared> shared)
+  WsSession(tcp::socket&& socket, std::shared_ptr<Shared> shared, Identity identity)
       : ws_(std::move(socket)),
         timer_(ws_.get_executor()),
         shared_(std::move(shared)),
+        identity_(std::move(identity)),
         feed_(shared_->board, shared_->options.rate_cap_hz) {}
 
   ~WsSession() {
     if (open_) --shared_->counters.clients;
+    if (shared_->relay) shared_->relay->ForgetOwner(reinterpret_cast<std::uintptr_t>(this));
   }
 
   void Start(Request request) {
@@ -103,7 +119,7 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     open_ = true;
     ++shared_->counters.clients;
     ++shared_->counters.connections;
-    Queue(true, shared_->server_info);
+    Queue(true, MayPublish() ? shared_->server_info_operator : shared_->server_info_viewer);
     Queue(true, shared_->advertise);
     WriteNext();
     Read();
@@ -128,18 +144,83 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
   // wrong with it and nothing changed.
   void Handle(bool text, const std::string& frame) {
     try {
-      if (!text) throw foxglove::ProtocolError("binary frames (client publishing) are not offered by this server");
+      if (!text) return Publish(foxglove::ParseClientBinary(frame));
       const foxglove::ClientOp op = foxglove::ParseClientText(frame, kMaxItemsPerOp);
-      if (op.kind == foxglove::ClientOp::kSubscribe) {
-        for (const foxglove::Subscription& s : op.subscriptions) feed_.Subscribe(s.id, s.channel_id);
-      } else {
-        for (std::uint32_t id : op.ids) feed_.Unsubscribe(id);
+      switch (op.kind) {
+        case foxglove::ClientOp::kSubscribe:
+          for (const foxglove::Subscription& s : op.subscriptions) feed_.Subscribe(s.id, s.channel_id);
+          break;
+        case foxglove::ClientOp::kUnsubscribe:
+          for (std::uint32_t id : op.ids) feed_.Unsubscribe(id);
+          break;
+        case foxglove::ClientOp::kAdvertise:
+          for (const foxglove::ClientChannel& c : op.channels) Advertised(c);
+          break;
+        case foxglove::ClientOp::kUnadvertise:
+          for (std::uint32_t id : op.ids) {
+            if (client_channels_.erase(id) == 0) {
+              throw foxglove::ProtocolError("unadvertise: no client channel " + std::to_string(id));
+            }
+          }
+          break;
       }
     } catch (const foxglove::ProtocolError& e) {
       ++shared_->counters.protocol_errors;
       Queue(true, foxglove::Status(foxglove::kError, e.what()));
       WriteNext();
+    } catch (const std::exception& e) {  // the bus refused a request: said, and the server goes on
+      ++shared_->counters.protocol_errors;
+      Queue(true, foxglove::Status(foxglove::kError, std::string("not done: ") + e.what()));
+      WriteNext();
     }
+  }
+
+  bool MayPublish() const { return identity_.role == Role::kOperator && shared_->relay != nullptr; }
+
+  void RequirePublisher(const char* what) const {
+    if (MayPublish()) return;
+    throw foxglove::ProtocolError(std::string(what) + ": " +
+                                  (shared_->relay == nullptr
+                                       ? std::string("this server relays no requests")
+                                       : identity_.name + " is a viewer; requests need an operator's token"));
+  }
+
+  void Advertised(const foxglove::ClientChannel& c) {
+    RequirePublisher("advertise");
+    if (!IsRequestChannel(c.topic)) {
+      throw foxglove::ProtocolError(
+          "advertise: " + c.topic +
+          " is not a request channel (EDSP_MOTION_REQUEST, EDSP_ARM, EDSP_PR_MODE, EDSP_CALIBRATION)");
+    }
+    if (c.encoding != "json") throw foxglove::ProtocolError("advertise: " + c.topic + ": encoding must be json");
+    if (client_channels_.size() >= kMaxClientChannels && client_channels_.count(c.id) == 0) {
+      throw foxglove::ProtocolError("advertise: at most " + std::to_string(kMaxClientChannels) + " client channels");
+    }
+    client_channels_[c.id] = c.topic;
+  }
+
+  // An operator's request: on the bus through the relay, at most
+  // max_requests_per_s a second from this client.
+  void Publish(const foxglove::ClientMessage& m) {
+    RequirePublisher("client message data");
+    const auto channel = client_channels_.find(m.channel_id);
+    if (channel == client_channels_.end()) {
+      throw foxglove::ProtocolError("client message data on channel " + std::to_string(m.channel_id) +
+                                    ", which this client did not advertise");
+    }
+    const auto now = std::chrono::steady_clock::now();
+    while (!recent_requests_.empty() && now - recent_requests_.front() > std::chrono::seconds(1)) {
+      recent_requests_.pop_front();
+    }
+    if (static_cast<double>(recent_requests_.size()) >= shared_->options.max_requests_per_s) {
+      throw foxglove::ProtocolError(channel->second + ": more than " +
+                                    std::to_string(static_cast<int>(shared_->options.max_requests_per_s)) +
+                                    " requests a second; this one was not sent");
+    }
+    recent_requests_.push_back(now);
+    shared_->relay->Submit(channel->second, m.payload, "web:" + identity_.name, SteadyNs(), UtimeNow(),
+                           reinterpret_cast<std::uintptr_t>(this));
+    ++shared_->counters.requests;
   }
 
   void Tick() {
@@ -161,7 +242,8 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
       }
       return;
     }
-    for (const FeedFrame& f : feed_.Due(SteadyNs())) {
+    const std::size_t room = kMaxQueuedFrames / 2 - std::min(queue_.size(), kMaxQueuedFrames / 2);
+    for (const FeedFrame& f : feed_.Due(SteadyNs(), room)) {
       Queue(false, foxglove::MessageData(f.subscription_id, static_cast<std::uint64_t>(f.receive_ns), *f.json));
       ++shared_->counters.frames_sent;
     }
@@ -212,7 +294,10 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
   websocket::stream<beast::tcp_stream> ws_;
   net::steady_timer timer_;
   std::shared_ptr<Shared> shared_;
+  Identity identity_;
   ClientFeed feed_;
+  std::map<std::uint32_t, std::string> client_channels_;  // advertised by the client: id -> request channel
+  std::deque<std::chrono::steady_clock::time_point> recent_requests_;
   beast::flat_buffer in_;
   std::deque<Outgoing> queue_;
   bool writing_ = false;
@@ -250,9 +335,15 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   }
 
   void Route(Request request) {
-    std::optional<Role> role = Authorize(request);
-    if (!role) return;
-    if (websocket::is_upgrade(request)) return Upgrade(std::move(request));
+    if (shared_->loopback_only && !LoopbackHost(View(request[http::field::host]))) {
+      return Refuse(http::status::forbidden,
+                    "Host " + std::string(View(request[http::field::host])) +
+                        " is not this host's loopback, where this server listens (--bind opens it to a network)",
+                    request);
+    }
+    std::optional<Identity> identity = Authorize(request);
+    if (!identity) return;
+    if (websocket::is_upgrade(request)) return Upgrade(std::move(request), std::move(*identity));
     if (request.method() != http::verb::get && request.method() != http::verb::head) {
       return Refuse(http::status::method_not_allowed, "only GET and HEAD are served", request);
     }
@@ -268,9 +359,9 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
             request.method() == http::verb::head);
   }
 
-  // The role the request's token gives (a viewer without one under
+  // Who the request's token says it is (a public viewer without one under
   // --public-view); none, with the refusal sent, otherwise.
-  std::optional<Role> Authorize(const Request& request) {
+  std::optional<Identity> Authorize(const Request& request) {
     const auto now = std::chrono::steady_clock::now();
     beast::error_code ignored;
     const std::string address = stream_.socket().remote_endpoint(ignored).address().to_string();
@@ -282,7 +373,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     const std::optional<std::string> token =
         PresentedToken(View(request.target()), View(request[http::field::authorization]));
     if (!token) {
-      if (shared_->options.public_view) return Role::kViewer;
+      if (shared_->options.public_view) return Identity{"public", Role::kViewer};
       Refuse(http::status::unauthorized, "a token is needed: ?token=T on the URL or Authorization: Bearer T", request);
       return std::nullopt;
     }
@@ -292,10 +383,10 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
       Refuse(http::status::unauthorized, "unknown token", request);
       return std::nullopt;
     }
-    return entry->role;
+    return Identity{entry->name, entry->role};
   }
 
-  void Upgrade(Request request) {
+  void Upgrade(Request request, Identity identity) {
     const std::string_view origin = View(request[http::field::origin]);
     if (!OriginAllowed(origin, View(request[http::field::host]), shared_->options.allowed_origins)) {
       return Refuse(http::status::forbidden,
@@ -311,7 +402,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
       return Refuse(http::status::service_unavailable, "already " + std::to_string(kMaxClients) + " clients", request);
     }
     stream_.expires_never();
-    std::make_shared<WsSession>(stream_.release_socket(), shared_)->Start(std::move(request));
+    std::make_shared<WsSession>(stream_.release_socket(), shared_, std::move(identity))->Start(std::move(request));
   }
 
   void Refuse(http::status status, const std::string& reason, const Request& request) {
@@ -361,7 +452,22 @@ using tcp = net::ip::tcp;
 struct WebServer::Impl {
   net::io_context io{1};
   tcp::acceptor acceptor{io};
+  net::steady_timer relay_timer{io};
   std::shared_ptr<Shared> shared = std::make_shared<Shared>();
+
+  // Requests sent again until answered, every 50 ms looked at.
+  void TickRelay() {
+    relay_timer.expires_after(std::chrono::milliseconds(50));
+    relay_timer.async_wait([this](beast::error_code error) {
+      if (error) return;
+      try {
+        shared->relay->Tick(web_server_internal::SteadyNs());
+      } catch (const std::exception& e) {  // a resend the bus refused: the next tick tries again
+        std::fprintf(stderr, "edsp-web: a request could not be sent again: %s\n", e.what());
+      }
+      TickRelay();
+    });
+  }
 
   void Accept() {
     acceptor.async_accept([this](beast::error_code error, tcp::socket socket) {
@@ -376,19 +482,27 @@ WebServer::WebServer(ChannelBoard* board, WebServerOptions options) : impl_(std:
   Shared& shared = *impl_->shared;
   shared.board = board;
   shared.options = std::move(options);
-  shared.server_info = foxglove::ServerInfo(shared.options.name, shared.options.session_id, shared.options.metadata);
+  const std::string session = std::to_string(shared.options.session_id);
+  shared.server_info_viewer = foxglove::ServerInfo(shared.options.name, session, shared.options.metadata, false);
+  shared.server_info_operator =
+      foxglove::ServerInfo(shared.options.name, session, shared.options.metadata, shared.options.publish != nullptr);
+  if (shared.options.publish) {
+    shared.relay = std::make_unique<RequestRelay>(board, shared.options.publish, shared.options.session_id);
+  }
   shared.advertise = foxglove::Advertise(web_server_internal::AdvertisedChannels());
   const std::string where = shared.options.bind + ":" + std::to_string(shared.options.port);
   beast::error_code error;
   const net::ip::address address = net::ip::make_address(shared.options.bind, error);
   if (error) throw std::runtime_error("--bind " + shared.options.bind + ": not an IP address");
   const tcp::endpoint endpoint(address, shared.options.port);
+  shared.loopback_only = address.is_loopback();
   impl_->acceptor.open(endpoint.protocol(), error);
   if (!error) impl_->acceptor.set_option(net::socket_base::reuse_address(true), error);
   if (!error) impl_->acceptor.bind(endpoint, error);
   if (!error) impl_->acceptor.listen(net::socket_base::max_listen_connections, error);
   if (error) throw std::runtime_error("cannot listen on " + where + ": " + error.message());
   impl_->Accept();
+  if (impl_->shared->relay) impl_->TickRelay();
 }
 
 WebServer::~WebServer() = default;
@@ -404,7 +518,8 @@ void WebServer::Run(const std::function<bool()>& stop, std::chrono::milliseconds
 
 WebServerStats WebServer::stats() const {
   const Counters& c = impl_->shared->counters;
-  return WebServerStats{c.clients, c.connections, c.refused, c.frames_sent, c.protocol_errors, c.stalled_clients};
+  return WebServerStats{c.clients,         c.connections,     c.refused, c.frames_sent,
+                        c.protocol_errors, c.stalled_clients, c.requests};
 }
 
 }  // namespace edsp::web

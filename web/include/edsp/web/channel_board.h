@@ -14,6 +14,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <deque>
 #include <memory>
 #include <mutex>
@@ -46,8 +47,10 @@ class ChannelBoard {
   // come, or when it did not decode: counted in undecodable()).
   BoardMessage Latest(std::size_t channel);
   // The messages of an every-message channel numbered after `*after`, in
-  // order; advances `*after` and adds to `*lost` those overwritten unread.
-  std::vector<BoardMessage> Since(std::size_t channel, std::uint64_t* after, std::uint64_t* lost);
+  // order, at most `max_count`; advances `*after` past those returned and
+  // adds to `*lost` those overwritten unread.
+  std::vector<BoardMessage> Since(std::size_t channel, std::uint64_t* after, std::uint64_t* lost,
+                                  std::size_t max_count = std::numeric_limits<std::size_t>::max());
 
   std::uint64_t undecodable() const;
 

@@ -31,12 +31,14 @@ class ClientFeed {
   ClientFeed(ChannelBoard* board, double rate_cap_hz);
 
   // channel_id: the board's row + 1, as advertised. Throws
-  // foxglove::ProtocolError naming an id in use or a channel not advertised.
+  // foxglove::ProtocolError naming an id in use, a channel not advertised
+  // or one this client already subscribed (the protocol allows one each).
   void Subscribe(std::uint32_t subscription_id, std::uint32_t channel_id);
   // Throws foxglove::ProtocolError naming an id not subscribed.
   void Unsubscribe(std::uint32_t subscription_id);
 
-  std::vector<FeedFrame> Due(std::int64_t now_ns);
+  // At most `max_frames`: an event channel's rest waits for the next call.
+  std::vector<FeedFrame> Due(std::int64_t now_ns, std::size_t max_frames);
 
   // Every-message channels' messages overwritten before this client read them.
   std::uint64_t lost() const { return lost_; }

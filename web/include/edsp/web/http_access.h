@@ -31,6 +31,12 @@ std::optional<std::string> PresentedToken(std::string_view target, std::string_v
 // port included), or one of `allowed` exactly.
 bool OriginAllowed(std::string_view origin, std::string_view host, const std::vector<std::string>& allowed);
 
+// Whether a request's Host header may be served by a server listening on
+// loopback only: a loopback name (localhost, 127.x.x.x, [::1]), any port.
+// A page on another site whose name an attacker re-points at 127.0.0.1 (DNS
+// rebinding) sends its own name, and is refused.
+bool LoopbackHost(std::string_view host);
+
 // The file under `root` a GET of `path` serves ("/" → index.html), or none
 // for a path that is not a plain file name under it (no "..", no hidden
 // files, no back-slashes, no NUL).

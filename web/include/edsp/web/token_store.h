@@ -52,6 +52,20 @@ class TokenStore {
   std::vector<TokenEntry> entries_;
 };
 
+// Holds the tokens file for one read-change-write (`edsp-web token add`
+// and `revoke` at once must not lose one's change): an exclusive flock on
+// FILE.lock until destroyed. Throws std::runtime_error naming it.
+class TokenFileLock {
+ public:
+  explicit TokenFileLock(const std::string& path);
+  ~TokenFileLock();
+  TokenFileLock(const TokenFileLock&) = delete;
+  TokenFileLock& operator=(const TokenFileLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
+
 // The default tokens file: $XDG_CONFIG_HOME/edsp/web_tokens.toml, else
 // ~/.config/edsp/web_tokens.toml.
 std::string DefaultTokensPath();

@@ -4,7 +4,8 @@
 // Every client is fed from the ChannelBoard by its own ClientFeed whenever
 // its socket has taken the last frame, so a slow client gets fewer, newer
 // frames, holds one frame in flight, and never slows the others or the bus;
-// one that takes nothing for `stall_timeout` is disconnected.
+// one that takes nothing for `stall_timeout` is disconnected. An operator's
+// client may also publish requests (request_relay.h); a viewer's may not.
 
 #include <chrono>
 #include <cstddef>
@@ -17,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "edsp/web/channel_board.h"
+#include "edsp/web/request_relay.h"
 #include "edsp/web/token_store.h"
 
 namespace edsp::web {
@@ -33,8 +35,12 @@ struct WebServerOptions {
   std::chrono::milliseconds stall_timeout{10000};
   std::chrono::milliseconds tick{5};  // how often a client's due frames are looked for
   std::string name = "edsp-web";
-  std::string session_id;   // the group's, for serverInfo
-  nlohmann::json metadata;  // serverInfo's
+  std::int64_t session_id = 0;  // the group's: serverInfo's, and every request's
+  nlohmann::json metadata;      // serverInfo's
+  // How an operator's request reaches the bus (request_relay.h); none: no
+  // client publishes, whatever its role.
+  RequestRelay::Publish publish;
+  double max_requests_per_s = 20.0;  // per client
 };
 
 struct WebServerStats {
@@ -43,6 +49,7 @@ struct WebServerStats {
   std::int64_t refused = 0;          // requests refused (token, origin, limit)
   std::int64_t frames_sent = 0;      // message data frames
   std::int64_t protocol_errors = 0;  // client frames answered with an error status
+  std::int64_t requests = 0;         // operators' requests relayed to the bus
   std::int64_t stalled_clients = 0;  // disconnected for taking nothing
 };
 
