@@ -11,9 +11,7 @@ const panel = {
   channels: new Map(),      // id -> advertised channel
   subscriptions: new Map(), // subscription id -> topic
   nodes: new Map(),         // node name -> its table row
-  shown: {},                // what the page shows now, for tests and tools
 };
-window.edspPanel = panel;
 
 function socketUrl() {
   const url = new URL(window.location.href);
@@ -41,11 +39,13 @@ function subscribe(ws) {
 }
 
 function showPose(state) {
-  const p = state.pose;
-  const values = [p[0] * 1e3, p[1] * 1e3, p[2] * 1e3, p[3] * 180 / Math.PI, p[4] * 180 / Math.PI, p[5] * 180 / Math.PI];
-  values.forEach((v, i) => { document.getElementById(`pose-${i}`).textContent = v === null ? "–" : v.toFixed(i < 3 ? 3 : 4); });
-  document.getElementById("fk").textContent = `forward kinematics status ${state.fk_status}, residual ${(state.fk_residual_m * 1e6).toFixed(2)} µm`;
-  panel.shown.pose = p;
+  // mm and degrees; a value the server sent as null (not finite) shown as a dash
+  state.pose.forEach((v, i) => {
+    const shown = v === null ? "–" : (i < 3 ? v * 1e3 : v * 180 / Math.PI).toFixed(i < 3 ? 3 : 4);
+    document.getElementById(`pose-${i}`).textContent = shown;
+  });
+  const residual = state.fk_residual_m === null ? "–" : (state.fk_residual_m * 1e6).toFixed(2);
+  document.getElementById("fk").textContent = `forward kinematics status ${state.fk_status}, residual ${residual} µm`;
 }
 
 function showLegs(state) {
@@ -60,7 +60,6 @@ function showLegs(state) {
     row.cells[1].textContent = length === null ? "–" : (length * 1e3).toFixed(3);
     row.cells[2].textContent = `${state.drive_status[i]}`;
   });
-  panel.shown.legs = state.encoder_length_m;
 }
 
 function showNode(status) {
@@ -85,12 +84,11 @@ function showFault(fault) {
   if (fault.severity >= 2) item.className = "error";
   list.prepend(item);
   while (list.children.length > MAX_FAULTS) list.lastChild.remove();
-  panel.shown.faults = (panel.shown.faults ?? 0) + 1;
 }
 
 function showMotion(status) {
   document.getElementById("motion").textContent =
-    `state ${status.state}, ${status.activity || "idle"}, progress ${(status.progress * 100).toFixed(0)}%, ${status.queued} queued`;
+    `state ${status.state}, ${status.activity || "idle"}, progress ${((status.progress ?? 0) * 100).toFixed(0)}%, ${status.queued} queued`;
 }
 
 const SHOW = {
