@@ -11,9 +11,7 @@ import asyncio
 import json
 import os
 import re
-import signal
 import struct
-import subprocess
 import time
 import http.client
 
@@ -21,7 +19,7 @@ import pytest
 import websockets
 
 import lcm_pure
-import live_group
+import served_web
 
 SOURCE = os.environ["EDSP_SOURCE_DIR"]
 BIN = os.environ["EDSP_BIN_DIR"]
@@ -45,33 +43,8 @@ def _rss_kib(pid):
 
 @pytest.fixture(scope="module")
 def served(tmp_path_factory):
-    work = tmp_path_factory.mktemp("web")
-    tokens = str(work / "tokens.toml")
-    web = os.path.join(BIN, "edsp-web")
-
-    def add(name, role):
-        return subprocess.check_output([web, "token", "add", name, "--role", role, "--tokens", tokens],
-                                       text=True, stderr=subprocess.DEVNULL).strip()
-
-    operator, viewer = add("alice", "operator"), add("bob", "viewer")
-    with live_group.sim_group(SOURCE, BIN, "web") as group:
-        live_group.connect(group)
-        err_path = str(work / "web.err")
-        with open(err_path, "w") as err:
-            server = subprocess.Popen([web, "--group", group, "--port", "0", "--tokens", tokens], stderr=err)
-        deadline = time.monotonic() + 30
-        port = None
-        while port is None:
-            match = re.search(r"on http://127\.0\.0\.1:(\d+) ", open(err_path).read())
-            if match:
-                port = int(match.group(1))
-            elif server.poll() is not None or time.monotonic() > deadline:
-                raise RuntimeError("edsp-web did not start: " + open(err_path).read())
-            else:
-                time.sleep(0.05)
-        yield {"port": port, "operator": operator, "viewer": viewer, "group": group, "pid": server.pid}
-        server.send_signal(signal.SIGINT)
-        assert server.wait(timeout=15) == 0, open(err_path).read()
+    with served_web.serve(tmp_path_factory.mktemp("web")) as server:
+        yield server
 
 
 class Client:

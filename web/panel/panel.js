@@ -1,10 +1,16 @@
 // The panel: a foxglove.websocket.v1 client of edsp-web. The token the page
-// was opened with (?token=T) opens the WebSocket too.
+// was opened with (?token=T) opens the WebSocket too (and edsp-web hands it
+// to the page's other requests in a cookie). The 3-D view is view3d.js, the
+// operator's requests controls.js.
 "use strict";
 
 const SUBPROTOCOL = "foxglove.websocket.v1";
-const WATCHED = ["EDSP_PLATFORM_STATE", "EDSP_LEG_STATE", "EDSP_MOTION_STATUS", "EDSP_STATUS", "EDSP_FAULT"];
+const WATCHED = ["EDSP_CONFIG", "EDSP_PLATFORM_STATE", "EDSP_LEG_STATE", "EDSP_MOTION_STATUS", "EDSP_STATUS",
+  "EDSP_FAULT", "EDSP_MOTION_REPLY", "EDSP_REPLY"];
 const FAULT_SEVERITY = ["info", "warning", "error"];
+// motion_status_t's STATE_* and END_*, by value
+const MOTION_STATE = ["idle", "moving", "halting", "holding", "refused", "fault"];
+const MOTION_END = ["", "completed", "halted", "stopped"];
 const MAX_FAULTS = 200;
 
 const panel = {
@@ -38,6 +44,24 @@ function subscribe(ws) {
   ws.send(JSON.stringify({ op: "subscribe", subscriptions }));
 }
 
+function showPlatform(state) {
+  showPose(state);
+  view3d.setPlatformState(state);
+  controls.prefill(state.target_pose);
+  showStroke();
+}
+
+// Each leg's share of its stroke, from the 3-D view's legs as drawn.
+function showStroke() {
+  const legs = view3d.legs();
+  const table = document.getElementById("legs");
+  if (!legs) return;
+  legs.forEach((leg, i) => {
+    const row = table.rows[i + 1];
+    if (row) row.cells[3].textContent = (leg.stroke_share * 100).toFixed(1);
+  });
+}
+
 function showPose(state) {
   // mm and degrees; a value the server sent as null (not finite) shown as a dash
   state.pose.forEach((v, i) => {
@@ -54,7 +78,7 @@ function showLegs(state) {
     let row = table.rows[i + 1];
     if (!row) {
       row = table.insertRow();
-      for (let c = 0; c < 3; ++c) row.insertCell();
+      for (let c = 0; c < 4; ++c) row.insertCell();
       row.cells[0].textContent = `${i + 1}`;
     }
     row.cells[1].textContent = length === null ? "–" : (length * 1e3).toFixed(3);
@@ -87,16 +111,27 @@ function showFault(fault) {
 }
 
 function showMotion(status) {
-  document.getElementById("motion").textContent =
-    `state ${status.state}, ${status.activity || "idle"}, progress ${((status.progress ?? 0) * 100).toFixed(0)}%, ${status.queued} queued`;
+  view3d.setPivot(status.pivot);
+  const ended = MOTION_END[status.last_end] ? `, last motion ${MOTION_END[status.last_end]}` : "";
+  const onTarget = status.on_target ? ", on target" : "";
+  const motion = document.getElementById("motion");
+  motion.textContent = `${MOTION_STATE[status.state] ?? status.state}${onTarget}: ${status.activity || "nothing asked yet"}, ` +
+    `progress ${((status.progress ?? 0) * 100).toFixed(0)}%, ${status.queued} queued${ended}` +
+    (status.reason ? ` (${status.reason})` : "");
+  motion.dataset.state = MOTION_STATE[status.state] ?? "";
+  motion.dataset.requestId = `${status.request_id}`;
+  motion.dataset.onTarget = status.on_target ? "1" : "0";
 }
 
 const SHOW = {
-  EDSP_PLATFORM_STATE: showPose,
+  EDSP_CONFIG: (config) => view3d.setConfig(config, document.getElementById("view")),
+  EDSP_PLATFORM_STATE: showPlatform,
   EDSP_LEG_STATE: showLegs,
   EDSP_MOTION_STATUS: showMotion,
   EDSP_STATUS: showNode,
   EDSP_FAULT: showFault,
+  EDSP_MOTION_REPLY: (reply) => controls.onReply(reply),
+  EDSP_REPLY: (reply) => controls.onReply(reply),
 };
 
 function onBinary(data) {
@@ -111,6 +146,7 @@ function onText(text) {
   const message = JSON.parse(text);
   if (message.op === "serverInfo") {
     document.getElementById("server").textContent = `${message.name}, session ${message.sessionId}`;
+    controls.attach(panel.ws, message);
   } else if (message.op === "advertise") {
     for (const channel of message.channels) panel.channels.set(channel.id, channel);
     subscribe(panel.ws);
@@ -126,6 +162,7 @@ function connect() {
   ws.onopen = () => setConnection("connected", "open");
   ws.onclose = () => {
     setConnection("disconnected: retrying", "closed");
+    controls.detach();
     panel.channels.clear();
     panel.subscriptions.clear();
     setTimeout(connect, 1000);
@@ -133,4 +170,6 @@ function connect() {
   ws.onmessage = (event) => (typeof event.data === "string" ? onText(event.data) : onBinary(event.data));
 }
 
+controls.bind();
+view3d.start();
 connect();

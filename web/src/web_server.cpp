@@ -41,6 +41,16 @@ constexpr std::size_t kMaxClientChannels = 16;  // channels one client advertise
 constexpr std::int64_t kMaxClients = 64;
 constexpr std::size_t kMaxRequestBytes = 8192;  // a panel's GET or an upgrade: headers only
 
+// Where the panel's browser libraries are served from (WebServerOptions::javascript_dir).
+constexpr std::string_view kJavascriptPrefix = "/javascript/";
+
+// What an HTTP response carries besides its status.
+struct Page {
+  std::string body;
+  const char* content_type;
+  std::optional<std::string> set_cookie;
+};
+
 // Beast's string_view is Boost's.
 std::string_view View(beast::string_view text) { return {text.data(), text.size()}; }
 
@@ -327,7 +337,9 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     if (error) {
       if (error == http::error::header_limit || error == http::error::body_limit) {
         return Respond(http::status::payload_too_large,
-                       "request larger than " + std::to_string(kMaxRequestBytes) + " bytes", 11, false);
+                       Page{"request larger than " + std::to_string(kMaxRequestBytes) + " bytes\n",
+                            "text/plain; charset=utf-8", std::nullopt},
+                       11, false);
       }
       return;
     }
@@ -347,16 +359,27 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     if (request.method() != http::verb::get && request.method() != http::verb::head) {
       return Refuse(http::status::method_not_allowed, "only GET and HEAD are served", request);
     }
-    const std::optional<std::string> file = StaticFile(shared_->options.panel_dir, TargetPath(View(request.target())));
+    const std::string_view path = TargetPath(View(request.target()));
+    std::optional<Page> page =
+        path.substr(0, kJavascriptPrefix.size()) == kJavascriptPrefix
+            ? FilePage(shared_->options.javascript_dir, path.substr(kJavascriptPrefix.size() - 1))
+            : FilePage(shared_->options.panel_dir, path);
+    if (!page) return Refuse(http::status::not_found, "no such page: " + std::string(path), request);
+    // A page opened with ?token=T hands it on to the requests its page makes.
+    const std::optional<std::string> query_token = QueryValue(View(request.target()), "token");
+    page->set_cookie = query_token ? TokenCookie(*query_token) : std::nullopt;
+    Respond(http::status::ok, std::move(*page), request.version(), request.keep_alive(),
+            request.method() == http::verb::head);
+  }
+
+  static std::optional<Page> FilePage(const std::string& root, std::string_view path) {
+    const std::optional<std::string> file = StaticFile(root, path);
     std::ifstream in;
     if (file) in.open(*file, std::ios::binary);
-    if (!file || !in.is_open())
-      return Refuse(http::status::not_found, "no such page: " + std::string(TargetPath(View(request.target()))),
-                    request);
+    if (!file || !in.is_open()) return std::nullopt;
     std::ostringstream body;
     body << in.rdbuf();
-    Respond(http::status::ok, body.str(), request.version(), request.keep_alive(), ContentType(*file),
-            request.method() == http::verb::head);
+    return Page{body.str(), ContentType(*file), std::nullopt};
   }
 
   // Who the request's token says it is (a public viewer without one under
@@ -370,8 +393,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
              request);
       return std::nullopt;
     }
-    const std::optional<std::string> token =
-        PresentedToken(View(request.target()), View(request[http::field::authorization]));
+    const std::optional<std::string> token = PresentedToken(
+        View(request.target()), View(request[http::field::authorization]), View(request[http::field::cookie]));
     if (!token) {
       if (shared_->options.public_view) return Identity{"public", Role::kViewer};
       Refuse(http::status::unauthorized, "a token is needed: ?token=T on the URL or Authorization: Bearer T", request);
@@ -407,18 +430,19 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
 
   void Refuse(http::status status, const std::string& reason, const Request& request) {
     ++shared_->counters.refused;
-    Respond(status, reason + "\n", request.version(), false);
+    Respond(status, Page{reason + "\n", "text/plain; charset=utf-8", std::nullopt}, request.version(), false,
+            request.method() == http::verb::head);
   }
 
-  void Respond(http::status status, std::string body, unsigned version, bool keep_alive,
-               const char* content_type = "text/plain; charset=utf-8", bool head = false) {
+  void Respond(http::status status, Page page, unsigned version, bool keep_alive, bool head = false) {
     auto response = std::make_shared<http::response<http::string_body>>(status, version);
     response->set(http::field::server, "edsp-web");
-    response->set(http::field::content_type, content_type);
+    response->set(http::field::content_type, page.content_type);
     response->set(http::field::cache_control, "no-store");
+    if (page.set_cookie) response->set(http::field::set_cookie, *page.set_cookie);
     if (status == http::status::unauthorized) response->set(http::field::www_authenticate, "Bearer");
     response->keep_alive(keep_alive);
-    response->body() = std::move(body);
+    response->body() = std::move(page.body);
     response->prepare_payload();
     if (head) response->body().clear();
     http::async_write(stream_, *response,

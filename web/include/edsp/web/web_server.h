@@ -27,6 +27,9 @@ struct WebServerOptions {
   std::string bind = "127.0.0.1";  // localhost unless told otherwise (--bind)
   std::uint16_t port = 8765;       // 0: any free port (tests)
   std::string panel_dir;           // the panel's static files
+  // Debian's browser libraries (libjs-*), served under /javascript/ as
+  // their own pages link them (/javascript/three/three.min.js).
+  std::string javascript_dir = "/usr/share/javascript";
   TokenStore tokens;
   bool public_view = false;  // viewers need no token
   std::vector<std::string> allowed_origins;
