@@ -76,7 +76,7 @@ else()
       "libc6, libstdc++6, libgcc-s1, liblcm1, libglib2.0-0, libmodbus5, libfmt9, libtomlplusplus3, \
 libgoogle-glog0v6, libcholmod3, libspqr2, libcxsparse3, liblapack3, libatlas3-base")
 endif()
-set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "python3-numpy, libjs-three")  # the panel's 3-D view
+set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "python3-numpy, libjs-three, libjs-dygraphs")  # the panel's 3-D view and plots
 # What find_package(edsp) finds its dependencies with, and lcm-spy's jar.
 set(CPACK_DEBIAN_PACKAGE_SUGGESTS "libeigen3-dev, libtomlplusplus-dev, libfmt-dev, libcli11-dev, nlohmann-json3-dev, \
 libboost-dev, liblcm-dev, pkg-config, liblcm-java")

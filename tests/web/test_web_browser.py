@@ -4,7 +4,9 @@ the page and its libraries load with the token of its URL alone, the 3-D
 view draws the platform from EDSP_CONFIG where the legs' encoders put it
 (checked at a tilted pose, where a wrong angle order or frame would be
 centimetres off), an operator moves, halts and re-arms from the page and
-reads the answers, and a viewer's page offers no live control.
+reads the answers (the planner's whole-path check shown as the form is
+edited), the plots hold what the tables showed, and a viewer's page offers
+no live control.
 
 The drawn legs are held to the encoders within 0.5 mm: the encoders carry
 the passive-rotation correction (tens of µm at these angles) and the page
@@ -17,7 +19,9 @@ import time
 import pytest
 from selenium import webdriver
 from selenium.webdriver.chrome.service import Service
+from selenium.webdriver.common.action_chains import ActionChains
 from selenium.webdriver.common.by import By
+from selenium.webdriver.common.keys import Keys
 
 import served_web
 
@@ -107,7 +111,7 @@ def _drawn(driver):
         return [drawn / (px.length / 4), green / (px.length / 4)];""")
 
 
-def _move_from_page(driver, goal, relative=False):
+def _fill_goal(driver, goal, relative=False):
     for i, value in enumerate(goal):
         if value is None:
             continue
@@ -117,12 +121,16 @@ def _move_from_page(driver, goal, relative=False):
     box = driver.find_element(By.ID, "goal-relative")
     if box.is_selected() != relative:
         box.click()
+
+
+def _move_from_page(driver, goal, relative=False):
+    _fill_goal(driver, goal, relative)
     driver.find_element(By.ID, "move").click()
 
 
-def _reply(driver, seconds, prefix):
+def _reply(driver, seconds, prefix, line="control-reply"):
     return _until(driver, seconds, f"""
-        const t = document.getElementById('control-reply').textContent;
+        const t = document.getElementById('{line}').textContent;
         return t.startsWith('{prefix}') && !t.endsWith(': sent') ? t : null;""", f"an answer to '{prefix}'")
 
 
@@ -131,11 +139,17 @@ def test_an_operator_tilts_the_platform_from_the_page_and_the_view_draws_it_wher
     _until(driver, 30, "return typeof view3d !== 'undefined' && view3d.rendered()", "a rendered 3-D view")
     drawn, green = _drawn(driver)
     assert drawn > 0.02 and green > 0.0005, (drawn, green)
-    assert driver.find_element(By.ID, "control-role").text == "operator"
+    assert driver.find_element(By.ID, "control-role").text.startswith("operator (Esc halts"), driver.find_element(By.ID, "control-role").text
     # the form starts at the held target: z is the home height
     z = float(_until(driver, 10, "return document.getElementById('goal-2').value", "a prefilled form"))
     assert 1400 < z < 1600, z
-    _move_from_page(driver, TILT)
+    # the planner's whole-path check answers as the form is edited, before any move is sent
+    _fill_goal(driver, TILT)
+    checked = _until(driver, 20, """const t = document.getElementById('check-reply').textContent;
+        return t.includes('(0.012000, -0.008000, ') ? t : null;""", "the check of the whole form")
+    assert checked.startswith("path check: accepted, "), checked
+    assert float(checked.split(", ")[1].split(" s")[0]) > 0, checked
+    driver.find_element(By.ID, "move").click()
     assert _reply(driver, 20, "move to").startswith("move to: accepted"), driver.find_element(By.ID, "control-reply").text
     _until(driver, 60, "const m = document.getElementById('motion');"
                        "return m.dataset.state === 'holding' && m.dataset.onTarget === '1'", "the move on target")
@@ -149,16 +163,40 @@ def test_an_operator_tilts_the_platform_from_the_page_and_the_view_draws_it_wher
     pose_text = [float(driver.find_element(By.ID, f"pose-{i}").text) for i in range(6)]
     for i in (0, 1, 3, 4, 5):
         assert math.isclose(pose_text[i], TILT[i], abs_tol=0.01 if i < 3 else 0.001), (pose_text, TILT)
+    # the plots hold what the tables showed: the CSV's last legs are the encoders' within the settled jitter
+    _until(driver, 10, "return plots.rows('legs') > 10 && plots.rows('tracking') > 10", "plotted rows")
+    rows = [line for line in driver.execute_script("return plots.csv('legs')").splitlines() if not line.startswith("#")]
+    assert rows[0].startswith('"t (s)","leg 1"') and len(rows) > 10, rows[:3]
+    last = [float(v) for v in rows[-1].split(",")[1:]]
+    assert max(abs(a - b) for a, b in zip(last, _encoder_lengths_mm(driver))) < 0.05, (last, encoders)
     assert not _severe_console(driver)
 
 
-def test_halt_from_the_page_stops_a_move_short_and_re_arm_is_answered(page, served):
+def test_a_pose_out_of_reach_is_refused_on_the_page_with_the_planners_reason_and_nothing_moves(page, served):
+    driver = page(served["operator"])
+    _until(driver, 30, "return typeof view3d !== 'undefined' && view3d.rendered()", "a rendered 3-D view")
+    before = _encoder_lengths_mm(driver)
+    _fill_goal(driver, [0, 0, 800, 0, 0, 0], relative=True)
+    driver.find_element(By.ID, "check").click()  # after the whole form: the answer shown is this one's
+    checked = _reply(driver, 20, "path check", line="check-reply")
+    assert checked.startswith("path check: refused: ") and len(checked) > 30, checked
+    driver.find_element(By.ID, "move").click()
+    refused = _reply(driver, 20, "move by")
+    assert refused.startswith("move by: refused: "), refused
+    assert refused.split("refused: ", 1)[1] == checked.split("refused: ", 1)[1], (refused, checked)
+    time.sleep(1.0)
+    after = _encoder_lengths_mm(driver)
+    assert max(abs(a - b) for a, b in zip(before, after)) < 0.01, (before, after)
+    assert not _severe_console(driver)
+
+
+def test_escape_on_the_page_halts_a_move_short_and_re_arm_is_answered(page, served):
     driver = page(served["operator"])
     _until(driver, 30, "return typeof view3d !== 'undefined' && view3d.rendered()", "a rendered 3-D view")
     _move_from_page(driver, [0, 0, 150, 0, 0, 0], relative=True)
     assert _reply(driver, 20, "move by").startswith("move by: accepted")
     _until(driver, 20, "return document.getElementById('motion').dataset.state === 'moving'", "the move under way")
-    driver.find_element(By.ID, "halt").click()
+    ActionChains(driver).send_keys(Keys.ESCAPE).perform()  # the key the Halt button also has
     assert _reply(driver, 20, "halt").startswith("halt: accepted")
     motion = _until(driver, 30, "const m = document.getElementById('motion');"
                                 "return m.dataset.state === 'holding' ? m.textContent : null", "holding after the halt")
@@ -175,7 +213,7 @@ def test_a_viewers_page_shows_the_rig_and_offers_no_control(page, served):
     _until(driver, 30, "return typeof view3d !== 'undefined' && view3d.rendered()", "a rendered 3-D view")
     _until(driver, 10, "return document.getElementById('control-role').textContent === 'viewer: read-only'",
            "the viewer's role shown")
-    for button in ("move", "halt", "stop", "rearm"):
+    for button in ("move", "check", "halt", "stop", "rearm"):
         assert not driver.find_element(By.ID, button).is_enabled(), button
     assert not _severe_console(driver)
 

@@ -4,6 +4,9 @@
 // a request published through the protocol's clientPublish, which edsp-web
 // offers to operators only, and stamps with the group's session and
 // "web:NAME"; the answer (EDSP_MOTION_REPLY, EDSP_REPLY) is shown beside it.
+// The form's pose is checked along its whole path by the planner as it is
+// edited (a check request), so its answer shows before the move is sent.
+// Escape halts and Shift+Escape stops, wherever the focus is.
 "use strict";
 
 const controls = (() => {
@@ -11,17 +14,19 @@ const controls = (() => {
     { id: 1, topic: "EDSP_MOTION_REQUEST", schemaName: "edsp.motion_request_t" },
     { id: 2, topic: "EDSP_ARM", schemaName: "edsp.arm_t" },
   ];
-  const KIND = { move: 1, halt: 4, stop: 5 };
+  const KIND = { move: 1, check: 2, halt: 4, stop: 5 };
+  const CHECK_AFTER_EDIT_MS = 400;
   const MM = 1e-3, DEG = Math.PI / 180;
   const POSE_UNITS = [MM, MM, MM, DEG, DEG, DEG];
 
-  const pending = new Map();  // request id -> what it asked, for the answer's line
-  let socket = null, nextId = Date.now() * 1000, formTouched = false;
+  const pending = new Map();  // request id -> {what, line}: the answer's line
+  let socket = null, nextId = Date.now() * 1000, formTouched = false, operator = false, checkTimer = null;
+  let latestCheck = 0;  // only the answer to the form as it is now is shown
 
   function channelId(topic) { return PUBLISHED.find((c) => c.topic === topic).id; }
 
-  function note(text, cls) {
-    const el = document.getElementById("control-reply");
+  function note(text, cls, line = "control-reply") {
+    const el = document.getElementById(line);
     el.textContent = text;
     el.className = cls || "";
   }
@@ -37,10 +42,12 @@ const controls = (() => {
     return id;
   }
 
-  function ask(topic, request, what) {
-    if (!socket || socket.readyState !== WebSocket.OPEN) return note("not connected", "error");
-    pending.set(publish(topic, request), what);
-    note(`${what}: sent`);
+  function ask(topic, request, what, line = "control-reply") {
+    if (!socket || socket.readyState !== WebSocket.OPEN) return note("not connected", "error", line);
+    const id = publish(topic, request);
+    pending.set(id, { what, line });
+    note(`${what}: sent`, "", line);
+    return id;
   }
 
   // The form's pose in SI units, or why it is not one.
@@ -55,15 +62,42 @@ const controls = (() => {
     return { pose };
   }
 
-  function move() {
+  function goal(kind) {
     const { pose, error } = formPose();
+    if (error) return { error };
+    return { request: { kind, relative: document.getElementById("goal-relative").checked, pose } };
+  }
+
+  function move() {
+    const { request, error } = goal(KIND.move);
     if (error) return note(error, "error");
-    const relative = document.getElementById("goal-relative").checked;
-    ask("EDSP_MOTION_REQUEST", { kind: KIND.move, relative, pose }, relative ? "move by" : "move to");
+    ask("EDSP_MOTION_REQUEST", request, request.relative ? "move by" : "move to");
+  }
+
+  function check() {
+    const { request, error } = goal(KIND.check);
+    if (error) return note(error, "error", "check-reply");
+    latestCheck = ask("EDSP_MOTION_REQUEST", request, "path check", "check-reply") || 0;
+  }
+
+  function checkSoon() {
+    formTouched = true;
+    clearTimeout(checkTimer);
+    if (operator) checkTimer = setTimeout(check, CHECK_AFTER_EDIT_MS);
+  }
+
+  function halt() { ask("EDSP_MOTION_REQUEST", { kind: KIND.halt }, "halt"); }
+  function stop() { ask("EDSP_MOTION_REQUEST", { kind: KIND.stop }, "stop"); }
+
+  function onKey(event) {
+    if (event.key !== "Escape" || !operator) return;
+    event.preventDefault();
+    if (event.shiftKey) stop(); else halt();
   }
 
   function setEnabled(enabled, why) {
-    for (const id of ["move", "halt", "stop", "rearm"]) document.getElementById(id).disabled = !enabled;
+    operator = enabled;
+    for (const id of ["move", "check", "halt", "stop", "rearm"]) document.getElementById(id).disabled = !enabled;
     document.getElementById("control-role").textContent = why;
   }
 
@@ -71,9 +105,9 @@ const controls = (() => {
     // serverInfo: operators may publish; a viewer's panel shows no live controls.
     attach(ws, info) {
       socket = ws;
-      const operator = (info.capabilities || []).includes("clientPublish");
-      setEnabled(operator, operator ? "operator" : "viewer: read-only");
-      if (operator) {
+      const mayPublish = (info.capabilities || []).includes("clientPublish");
+      setEnabled(mayPublish, mayPublish ? "operator (Esc halts, Shift+Esc stops)" : "viewer: read-only");
+      if (mayPublish) {
         ws.send(JSON.stringify({ op: "advertise",
           channels: PUBLISHED.map((c) => ({ ...c, encoding: "json" })) }));
       }
@@ -84,10 +118,13 @@ const controls = (() => {
     },
     bind() {
       document.getElementById("move").onclick = move;
-      document.getElementById("halt").onclick = () => ask("EDSP_MOTION_REQUEST", { kind: KIND.halt }, "halt");
-      document.getElementById("stop").onclick = () => ask("EDSP_MOTION_REQUEST", { kind: KIND.stop }, "stop");
+      document.getElementById("check").onclick = check;
+      document.getElementById("halt").onclick = halt;
+      document.getElementById("stop").onclick = stop;
       document.getElementById("rearm").onclick = () => ask("EDSP_ARM", {}, "re-arm");
-      for (let i = 0; i < 6; ++i) document.getElementById(`goal-${i}`).oninput = () => { formTouched = true; };
+      for (let i = 0; i < 6; ++i) document.getElementById(`goal-${i}`).oninput = checkSoon;
+      document.getElementById("goal-relative").onchange = checkSoon;
+      document.addEventListener("keydown", onKey);
       setEnabled(false, "connecting");
     },
     // The form starts at the target the platform holds, until edited.
@@ -100,11 +137,14 @@ const controls = (() => {
     },
     // EDSP_MOTION_REPLY and EDSP_REPLY: the answer to one of this page's requests.
     onReply(reply) {
-      const what = pending.get(reply.request_id);
-      if (what === undefined) return;
+      const asked = pending.get(reply.request_id);
+      if (asked === undefined) return;
       pending.delete(reply.request_id);
+      if (asked.line === "check-reply" && reply.request_id !== latestCheck) return;  // the form changed since
       const ok = reply.accepted !== undefined ? reply.accepted : reply.code === 0;
-      note(`${what}: ${ok ? "accepted" : "refused"}${reply.reason ? ": " + reply.reason : ""}`, ok ? "" : "error");
+      const took = ok && reply.kind === KIND.check ? `, ${reply.duration_s.toFixed(2)} s` : "";
+      note(`${asked.what}: ${ok ? "accepted" : "refused"}${took}${reply.reason ? ": " + reply.reason : ""}`,
+           ok ? "" : "error", asked.line);
     },
   };
 })();

@@ -46,6 +46,7 @@ function subscribe(ws) {
 
 function showPlatform(state) {
   showPose(state);
+  plots.onPlatformState(state);
   view3d.setPlatformState(state);
   controls.prefill(state.target_pose);
   showStroke();
@@ -73,6 +74,7 @@ function showPose(state) {
 }
 
 function showLegs(state) {
+  plots.onLegState(state);
   const table = document.getElementById("legs");
   state.encoder_length_m.forEach((length, i) => {
     let row = table.rows[i + 1];
@@ -87,6 +89,7 @@ function showLegs(state) {
 }
 
 function showNode(status) {
+  plots.onStatus(status);
   let row = panel.nodes.get(status.node);
   if (!row) {
     row = document.getElementById("nodes").insertRow();
@@ -171,5 +174,6 @@ function connect() {
 }
 
 controls.bind();
+plots.bind();
 view3d.start();
 connect();

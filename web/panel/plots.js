@@ -1,0 +1,122 @@
+// The panel's live plots (dygraphs from Debian's libjs-dygraphs: canvas
+// drawing that redraws thousands of points in a few ms, so the panel keeps
+// up at the channels' 30 frames a second): the legs' encoder lengths, the
+// platform's tracking error (commanded − measured pose, both from one
+// EDSP_PLATFORM_STATE message, so no two clocks are mixed), and every
+// node's loop time (EDSP_STATUS, once a second). Pause, a window of the
+// last minutes, drag to zoom (double-click: back), export of what is shown
+// as CSV.
+"use strict";
+
+const plots = (() => {
+  const KEEP_S = 600;     // history kept, whatever the window shown
+  const REDRAW_MS = 200;  // five redraws a second: a plot needs no more
+  const series = {
+    legs: { labels: ["t (s)", "leg 1", "leg 2", "leg 3", "leg 4", "leg 5", "leg 6"], unit: "mm", rows: [] },
+    tracking: { labels: ["t (s)", "x", "y", "z", "rotation"], unit: "µm, µrad", rows: [] },
+    loops: { labels: ["t (s)"], unit: "µs (p99)", rows: [], nodes: [] },
+  };
+  const graphs = {};
+  let t0 = null, paused = false, windowS = 120, lastDraw = 0;
+
+  function seconds(utime) {
+    if (t0 === null) t0 = utime;
+    return (utime - t0) / 1e6;
+  }
+
+  function keep(rows, t) {
+    while (rows.length && rows[0][0] < t - KEEP_S) rows.shift();
+  }
+
+  // In time order: messages of several publishers (EDSP_STATUS) arrive a
+  // little out of it.
+  function add(name, row) {
+    const rows = series[name].rows;
+    let at = rows.length;
+    while (at > 0 && rows[at - 1][0] > row[0]) --at;
+    rows.splice(at, 0, row);
+    keep(rows, rows[rows.length - 1][0]);
+  }
+
+  function shown(name) {
+    const rows = series[name].rows;
+    if (!rows.length) return [];
+    const end = rows[rows.length - 1][0];
+    return rows.filter((r) => r[0] >= end - windowS);
+  }
+
+  function draw(now) {
+    if (paused || typeof Dygraph === "undefined") return;
+    if (now - lastDraw < REDRAW_MS) return;
+    lastDraw = now;
+    for (const name of Object.keys(series)) {
+      const rows = shown(name);
+      if (!rows.length) continue;
+      const labels = series[name].labels;
+      if (!graphs[name] || graphs[name].numColumns() !== labels.length) {
+        if (graphs[name]) graphs[name].destroy();
+        graphs[name] = new Dygraph(document.getElementById(`plot-${name}`), rows,
+          { labels, ylabel: series[name].unit, legend: "always", labelsSeparateLines: false, animatedZooms: false,
+            connectSeparatedPoints: true, strokeWidth: 1.2 });
+      } else if (!graphs[name].isZoomed()) {
+        graphs[name].updateOptions({ file: rows });
+      }
+    }
+  }
+
+  function finite(v) { return typeof v === "number" && Number.isFinite(v); }
+
+  function csv(name) {
+    const head = series[name].labels.map((l) => `"${l.replace(/"/g, '""')}"`).join(",");
+    const unit = `# ${series[name].unit}`;
+    const body = shown(name).map((r) => r.map((v) => (v === null ? "" : `${v}`)).join(","));
+    return [unit, head, ...body].join("\n") + "\n";
+  }
+
+  function download(name) {
+    const link = document.createElement("a");
+    link.href = URL.createObjectURL(new Blob([csv(name)], { type: "text/csv" }));
+    link.download = `edsp-${name}.csv`;
+    link.click();
+    setTimeout(() => URL.revokeObjectURL(link.href), 1000);
+  }
+
+  return {
+    bind() {
+      document.getElementById("plot-pause").onclick = (event) => {
+        paused = !paused;
+        event.target.textContent = paused ? "Resume" : "Pause";
+      };
+      document.getElementById("plot-window").onchange = (event) => { windowS = Number(event.target.value); };
+      for (const name of Object.keys(series)) {
+        document.getElementById(`csv-${name}`).onclick = () => download(name);
+      }
+      const frame = (now) => { draw(now); requestAnimationFrame(frame); };
+      requestAnimationFrame(frame);
+    },
+    onLegState(state) {
+      add("legs", [seconds(state.utime), ...state.encoder_length_m.map((v) => (finite(v) ? v * 1e3 : null))]);
+    },
+    onPlatformState(state) {
+      if (![...state.pose, ...state.target_pose].every(finite)) return;
+      const d = state.target_pose.map((v, i) => v - state.pose[i]);
+      add("tracking", [seconds(state.utime), d[0] * 1e6, d[1] * 1e6, d[2] * 1e6, Math.hypot(d[3], d[4], d[5]) * 1e6]);
+    },
+    // One row per status message: its node's loop p99, the others' left
+    // empty (dygraphs joins a series' points across them).
+    onStatus(status) {
+      const s = series.loops;
+      if (!s.nodes.includes(status.node)) {
+        s.nodes.push(status.node);
+        s.labels.push(status.node);
+        s.rows.forEach((r) => r.push(null));
+      }
+      const row = new Array(s.labels.length).fill(null);
+      row[0] = seconds(status.utime);
+      row[s.nodes.indexOf(status.node) + 1] = finite(status.loop_p99_us) ? status.loop_p99_us : null;
+      add("loops", row);
+    },
+    csv,
+    rows(name) { return series[name].rows.length; },
+  };
+})();
