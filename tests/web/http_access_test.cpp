@@ -18,20 +18,10 @@ TEST(HttpAccess, TheTokenComesFromTheQueryElseTheBearerHeader) {
   EXPECT_EQ(TargetPath("/a/b.js?token=x"), "/a/b.js");
 }
 
-TEST(HttpAccess, APageOpenedWithATokenHandsItOnInACookieItsOwnRequestsCarry) {
-  const std::optional<std::string> cookie = TokenCookie("0123abcdef");
-  ASSERT_TRUE(cookie.has_value());
-  EXPECT_EQ(*cookie, "edsp_token=0123abcdef; Path=/; HttpOnly; SameSite=Strict");
-  // What the browser sends back: the pair before the first attribute.
-  const std::string sent = cookie->substr(0, cookie->find(';'));
-  EXPECT_EQ(PresentedToken("/panel.js", "", sent), "0123abcdef");
-  EXPECT_EQ(PresentedToken("/panel.js", "", "theme=dark;  " + sent + "; other=1"), "0123abcdef");
-  EXPECT_EQ(PresentedToken("/?token=q", "", sent), "q");  // the URL's wins: a new token replaces the cookie
-  EXPECT_EQ(PresentedToken("/", "Bearer h", sent), "h");
-  EXPECT_FALSE(PresentedToken("/panel.js", "", "edsp_tokens=x; xedsp_token=y").has_value());
-  // A value a cookie cannot carry as it is gets no cookie (it would arrive changed, or split).
-  for (const char* bad : {"", "a b", "a;b", "a,b", "a\"b", "a\\b", "\x7f"}) {
-    EXPECT_FALSE(TokenCookie(bad).has_value()) << bad;
+TEST(HttpAccess, PagesNeedATokenTheirScriptsStylesAndLibrariesDoNot) {
+  for (const char* page : {"/", "", "/index.html", "/a/b.html"}) EXPECT_TRUE(PathNeedsToken(page)) << page;
+  for (const char* asset : {"/panel.js", "/panel.css", "/javascript/three/three.min.js", "/html", "/x.htm"}) {
+    EXPECT_FALSE(PathNeedsToken(asset)) << asset;
   }
 }
 

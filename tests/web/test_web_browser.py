@@ -27,6 +27,8 @@ import served_web
 
 CHROMIUM = shutil.which("chromium")
 CHROMEDRIVER = shutil.which("chromedriver")
+# Not a skip: a suite that cannot run its browser tests must say so (deploy/edsp deps installs both).
+assert CHROMIUM and CHROMEDRIVER, "chromium and chromedriver are needed (Debian: chromium chromium-driver)"
 TILT = [12.0, -8.0, None, 3.0, -2.0, 4.0]  # x, y mm; z kept; roll, pitch, yaw deg
 
 
@@ -88,6 +90,7 @@ def _severe_console(driver):
 
 
 def _encoder_lengths_mm(driver):
+    _until(driver, 10, "return document.querySelectorAll('#legs tr').length === 7", "the legs' table")
     rows = driver.find_elements(By.CSS_SELECTOR, "#legs tr")[1:]
     return [float(r.find_elements(By.TAG_NAME, "td")[1].text) for r in rows]
 
@@ -162,7 +165,8 @@ def test_an_operator_tilts_the_platform_from_the_page_and_the_view_draws_it_wher
     assert max(encoders) - min(encoders) > 5.0, encoders
     pose_text = [float(driver.find_element(By.ID, f"pose-{i}").text) for i in range(6)]
     for i in (0, 1, 3, 4, 5):
-        assert math.isclose(pose_text[i], TILT[i], abs_tol=0.01 if i < 3 else 0.001), (pose_text, TILT)
+        # on target: within 10 µm and 50 µrad (config [motion]), shown to 1 µm and 0.0001°
+        assert math.isclose(pose_text[i], TILT[i], abs_tol=0.011 if i < 3 else 0.0030), (pose_text, TILT)
     # the plots hold what the tables showed: the CSV's last legs are the encoders' within the settled jitter
     _until(driver, 10, "return plots.rows('legs') > 10 && plots.rows('tracking') > 10", "plotted rows")
     rows = [line for line in driver.execute_script("return plots.csv('legs')").splitlines() if not line.startswith("#")]
@@ -186,14 +190,15 @@ def test_a_pose_out_of_reach_is_refused_on_the_page_with_the_planners_reason_and
     assert refused.split("refused: ", 1)[1] == checked.split("refused: ", 1)[1], (refused, checked)
     time.sleep(1.0)
     after = _encoder_lengths_mm(driver)
-    assert max(abs(a - b) for a, b in zip(before, after)) < 0.01, (before, after)
+    # held: the legs keep still to the jitter of a held pose (a move would be millimetres)
+    assert max(abs(a - b) for a, b in zip(before, after)) < 0.05, (before, after)
     assert not _severe_console(driver)
 
 
 def test_escape_on_the_page_halts_a_move_short_and_re_arm_is_answered(page, served):
     driver = page(served["operator"])
     _until(driver, 30, "return typeof view3d !== 'undefined' && view3d.rendered()", "a rendered 3-D view")
-    _move_from_page(driver, [0, 0, 150, 0, 0, 0], relative=True)
+    _move_from_page(driver, [0, 0, 300, 0, 0, 0], relative=True)  # 3 s or more: time to see it move
     assert _reply(driver, 20, "move by").startswith("move by: accepted")
     _until(driver, 20, "return document.getElementById('motion').dataset.state === 'moving'", "the move under way")
     ActionChains(driver).send_keys(Keys.ESCAPE).perform()  # the key the Halt button also has
@@ -218,7 +223,7 @@ def test_a_viewers_page_shows_the_rig_and_offers_no_control(page, served):
     assert not _severe_console(driver)
 
 
-def test_without_a_token_the_page_is_refused_and_no_script_loads(page, served):
+def test_with_a_wrong_token_the_page_is_refused_and_no_script_runs(page, served):
     driver = page("wrong")
     assert "unknown token" in driver.find_element(By.TAG_NAME, "body").text
     assert driver.execute_script("return typeof view3d") == "undefined"

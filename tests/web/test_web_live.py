@@ -188,16 +188,22 @@ def _get(port, path, headers=None):
     return response.status, body
 
 
-def test_pages_need_a_token_and_stay_inside_the_panel(served):
+def test_pages_need_a_token_their_assets_none_and_both_stay_inside_their_folders(served):
     port, viewer = served["port"], served["viewer"]
     status, body = _get(port, f"/?token={viewer}")
     assert status == 200 and "edsp panel" in body
-    assert _get(port, "/panel.js", {"Authorization": f"Bearer {viewer}"})[0] == 200
+    assert _get(port, f"/index.html?token={viewer}")[0] == 200
     status, body = _get(port, "/")
     assert status == 401 and "token" in body
+    assert _get(port, "/index.html")[0] == 401
     assert _get(port, "/?token=0123")[0] == 401
-    assert _get(port, f"/../../etc/passwd?token={viewer}")[0] == 404
-    assert _get(port, f"/.hidden?token={viewer}")[0] == 404
+    # the panel's code and Debian's libraries are the same for everyone: no token, nothing of the rig
+    assert _get(port, "/panel.js")[0] == 200
+    status, body = _get(port, "/javascript/three/three.min.js")
+    assert status == 200 and "REVISION" in body
+    for escape in ("/../../etc/passwd", "/javascript/../../../etc/passwd", "/javascript/%2e%2e/x", "/.hidden",
+                   "/javascript/three/", "/javascript/"):
+        assert _get(port, f"{escape}?token={viewer}")[0] == 404, escape
 
 
 def test_websockets_refuse_a_wrong_token_a_foreign_origin_and_no_subprotocol(served):

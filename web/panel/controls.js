@@ -76,12 +76,15 @@ const controls = (() => {
 
   function check() {
     const { request, error } = goal(KIND.check);
+    latestCheck = 0;
     if (error) return note(error, "error", "check-reply");
     latestCheck = ask("EDSP_MOTION_REQUEST", request, "path check", "check-reply") || 0;
   }
 
   function checkSoon() {
     formTouched = true;
+    latestCheck = 0;  // what was checked is no longer the form
+    note("", "", "check-reply");
     clearTimeout(checkTimer);
     if (operator) checkTimer = setTimeout(check, CHECK_AFTER_EDIT_MS);
   }
@@ -90,7 +93,7 @@ const controls = (() => {
   function stop() { ask("EDSP_MOTION_REQUEST", { kind: KIND.stop }, "stop"); }
 
   function onKey(event) {
-    if (event.key !== "Escape" || !operator) return;
+    if (event.key !== "Escape" || event.repeat || !operator) return;
     event.preventDefault();
     if (event.shiftKey) stop(); else halt();
   }
@@ -135,6 +138,15 @@ const controls = (() => {
       });
       formTouched = true;  // once: a held pose's jitter never rewrites what the operator reads
     },
+    // A status of level 2 from edsp-web: a request of this page it refused
+    // (malformed, too many a second): the requests still waiting are not
+    // coming back, and the operator reads why.
+    onServerError(message) {
+      if (pending.size === 0) return;
+      pending.clear();
+      latestCheck = 0;
+      note(`edsp-web refused: ${message}`, "error");
+    },
     // EDSP_MOTION_REPLY and EDSP_REPLY: the answer to one of this page's requests.
     onReply(reply) {
       const asked = pending.get(reply.request_id);
@@ -142,7 +154,8 @@ const controls = (() => {
       pending.delete(reply.request_id);
       if (asked.line === "check-reply" && reply.request_id !== latestCheck) return;  // the form changed since
       const ok = reply.accepted !== undefined ? reply.accepted : reply.code === 0;
-      const took = ok && reply.kind === KIND.check ? `, ${reply.duration_s.toFixed(2)} s` : "";
+      const took = ok && reply.kind === KIND.check && Number.isFinite(reply.duration_s)
+        ? `, ${reply.duration_s.toFixed(2)} s` : "";
       note(`${asked.what}: ${ok ? "accepted" : "refused"}${took}${reply.reason ? ": " + reply.reason : ""}`,
            ok ? "" : "error", asked.line);
     },

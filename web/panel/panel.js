@@ -1,6 +1,6 @@
 // The panel: a foxglove.websocket.v1 client of edsp-web. The token the page
-// was opened with (?token=T) opens the WebSocket too (and edsp-web hands it
-// to the page's other requests in a cookie). The 3-D view is view3d.js, the
+// was opened with (?token=T) opens the WebSocket too; the page's scripts and
+// styles need none. The 3-D view is view3d.js, the plots plots.js, the
 // operator's requests controls.js.
 "use strict";
 
@@ -155,6 +155,7 @@ function onText(text) {
     subscribe(panel.ws);
   } else if (message.op === "status") {
     console.warn(`edsp-web: ${message.message}`);
+    if (message.level === 2) controls.onServerError(message.message);
   }
 }
 

@@ -66,10 +66,18 @@ const plots = (() => {
 
   function finite(v) { return typeof v === "number" && Number.isFinite(v); }
 
+  // What the plot shows: its zoomed or paused range, else the window.
+  function visible(name) {
+    const graph = graphs[name];
+    if (!graph) return shown(name);
+    const [from, to] = graph.xAxisRange();
+    return series[name].rows.filter((r) => r[0] >= from && r[0] <= to);
+  }
+
   function csv(name) {
     const head = series[name].labels.map((l) => `"${l.replace(/"/g, '""')}"`).join(",");
     const unit = `# ${series[name].unit}`;
-    const body = shown(name).map((r) => r.map((v) => (v === null ? "" : `${v}`)).join(","));
+    const body = visible(name).map((r) => r.map((v) => (v === null ? "" : `${v}`)).join(","));
     return [unit, head, ...body].join("\n") + "\n";
   }
 

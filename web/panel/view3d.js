@@ -152,17 +152,18 @@ const view3d = (() => {
 
   return {
     // EDSP_CONFIG: the first one builds the scene; a later one with other
-    // joints (another model) rebuilds it.
+    // joints or point A (another model) rebuilds it; the strokes are read
+    // from the latest whatever it changed.
     setConfig(config, canvas) {
-      const same = state.config &&
-        JSON.stringify(state.config.base_joints_m) === JSON.stringify(config.base_joints_m) &&
-        JSON.stringify(state.config.platform_joints_m) === JSON.stringify(config.platform_joints_m);
-      if (same) return;
+      const drawn = (c) => JSON.stringify([c.base_joints_m, c.platform_joints_m, c.observation_point_m, c.home_height_m]);
+      const same = state.config && drawn(state.config) === drawn(config);
       if (typeof THREE === "undefined") {
         document.getElementById("view-note").textContent = "no 3-D view: three.js did not load";
         return;
       }
       state.config = config;
+      state.dirty = true;
+      if (same) return;
       if (renderer) renderer.dispose();
       build(config, canvas);
       state.ready = true;

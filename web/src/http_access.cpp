@@ -25,28 +25,6 @@ std::string PercentDecoded(std::string_view text) {
   return out;
 }
 
-// RFC 6265's cookie-octet: printable ASCII but space, '"', ',', ';' and '\\'.
-bool IsCookieOctet(char c) { return c > 0x20 && c < 0x7f && c != '"' && c != ',' && c != ';' && c != '\\'; }
-
-std::string_view Trimmed(std::string_view text) {
-  while (!text.empty() && (text.front() == ' ' || text.front() == '\t')) text.remove_prefix(1);
-  while (!text.empty() && (text.back() == ' ' || text.back() == '\t')) text.remove_suffix(1);
-  return text;
-}
-
-// The value of cookie `name` in a Cookie header ("a=1; b=2"); none if absent.
-std::optional<std::string> CookieValue(std::string_view header, std::string_view name) {
-  while (!header.empty()) {
-    const std::size_t semicolon = header.find(';');
-    const std::string_view pair = Trimmed(header.substr(0, semicolon));
-    const std::size_t eq = pair.find('=');
-    if (eq != std::string_view::npos && pair.substr(0, eq) == name) return std::string(pair.substr(eq + 1));
-    if (semicolon == std::string_view::npos) break;
-    header.remove_prefix(semicolon + 1);
-  }
-  return std::nullopt;
-}
-
 }  // namespace
 
 std::string_view TargetPath(std::string_view target) { return target.substr(0, target.find('?')); }
@@ -68,22 +46,19 @@ std::optional<std::string> QueryValue(std::string_view target, std::string_view 
   return std::nullopt;
 }
 
-std::optional<std::string> PresentedToken(std::string_view target, std::string_view authorization_header,
-                                          std::string_view cookie_header) {
+std::optional<std::string> PresentedToken(std::string_view target, std::string_view authorization_header) {
   if (auto token = QueryValue(target, "token")) return token;
   constexpr std::string_view kBearer = "Bearer ";
   if (authorization_header.substr(0, kBearer.size()) == kBearer) {
     return std::string(authorization_header.substr(kBearer.size()));
   }
-  return CookieValue(cookie_header, kTokenCookie);
+  return std::nullopt;
 }
 
-std::optional<std::string> TokenCookie(std::string_view token) {
-  if (token.empty()) return std::nullopt;
-  for (const char c : token) {
-    if (!IsCookieOctet(c)) return std::nullopt;
-  }
-  return std::string(kTokenCookie) + "=" + std::string(token) + "; Path=/; HttpOnly; SameSite=Strict";
+bool PathNeedsToken(std::string_view path) {
+  constexpr std::string_view kHtml = ".html";
+  return path == "/" || path.empty() ||
+         (path.size() >= kHtml.size() && path.substr(path.size() - kHtml.size()) == kHtml);
 }
 
 bool OriginAllowed(std::string_view origin, std::string_view host, const std::vector<std::string>& allowed) {

@@ -48,7 +48,6 @@ constexpr std::string_view kJavascriptPrefix = "/javascript/";
 struct Page {
   std::string body;
   const char* content_type;
-  std::optional<std::string> set_cookie;
 };
 
 // Beast's string_view is Boost's.
@@ -336,10 +335,10 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     if (error == http::error::end_of_stream) return Shutdown();
     if (error) {
       if (error == http::error::header_limit || error == http::error::body_limit) {
-        return Respond(http::status::payload_too_large,
-                       Page{"request larger than " + std::to_string(kMaxRequestBytes) + " bytes\n",
-                            "text/plain; charset=utf-8", std::nullopt},
-                       11, false);
+        return Respond(
+            http::status::payload_too_large,
+            Page{"request larger than " + std::to_string(kMaxRequestBytes) + " bytes\n", "text/plain; charset=utf-8"},
+            11, false);
       }
       return;
     }
@@ -353,21 +352,20 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
                         " is not this host's loopback, where this server listens (--bind opens it to a network)",
                     request);
     }
-    std::optional<Identity> identity = Authorize(request);
-    if (!identity) return;
-    if (websocket::is_upgrade(request)) return Upgrade(std::move(request), std::move(*identity));
+    const std::string_view path = TargetPath(View(request.target()));
+    if (websocket::is_upgrade(request) || PathNeedsToken(path)) {
+      std::optional<Identity> identity = Authorize(request);
+      if (!identity) return;
+      if (websocket::is_upgrade(request)) return Upgrade(std::move(request), std::move(*identity));
+    }
     if (request.method() != http::verb::get && request.method() != http::verb::head) {
       return Refuse(http::status::method_not_allowed, "only GET and HEAD are served", request);
     }
-    const std::string_view path = TargetPath(View(request.target()));
     std::optional<Page> page =
         path.substr(0, kJavascriptPrefix.size()) == kJavascriptPrefix
             ? FilePage(shared_->options.javascript_dir, path.substr(kJavascriptPrefix.size() - 1))
             : FilePage(shared_->options.panel_dir, path);
     if (!page) return Refuse(http::status::not_found, "no such page: " + std::string(path), request);
-    // A page opened with ?token=T hands it on to the requests its page makes.
-    const std::optional<std::string> query_token = QueryValue(View(request.target()), "token");
-    page->set_cookie = query_token ? TokenCookie(*query_token) : std::nullopt;
     Respond(http::status::ok, std::move(*page), request.version(), request.keep_alive(),
             request.method() == http::verb::head);
   }
@@ -379,7 +377,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     if (!file || !in.is_open()) return std::nullopt;
     std::ostringstream body;
     body << in.rdbuf();
-    return Page{body.str(), ContentType(*file), std::nullopt};
+    return Page{body.str(), ContentType(*file)};
   }
 
   // Who the request's token says it is (a public viewer without one under
@@ -393,8 +391,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
              request);
       return std::nullopt;
     }
-    const std::optional<std::string> token = PresentedToken(
-        View(request.target()), View(request[http::field::authorization]), View(request[http::field::cookie]));
+    const std::optional<std::string> token =
+        PresentedToken(View(request.target()), View(request[http::field::authorization]));
     if (!token) {
       if (shared_->options.public_view) return Identity{"public", Role::kViewer};
       Refuse(http::status::unauthorized, "a token is needed: ?token=T on the URL or Authorization: Bearer T", request);
@@ -430,7 +428,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
 
   void Refuse(http::status status, const std::string& reason, const Request& request) {
     ++shared_->counters.refused;
-    Respond(status, Page{reason + "\n", "text/plain; charset=utf-8", std::nullopt}, request.version(), false,
+    Respond(status, Page{reason + "\n", "text/plain; charset=utf-8"}, request.version(), false,
             request.method() == http::verb::head);
   }
 
@@ -439,7 +437,6 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     response->set(http::field::server, "edsp-web");
     response->set(http::field::content_type, page.content_type);
     response->set(http::field::cache_control, "no-store");
-    if (page.set_cookie) response->set(http::field::set_cookie, *page.set_cookie);
     if (status == http::status::unauthorized) response->set(http::field::www_authenticate, "Bearer");
     response->keep_alive(keep_alive);
     response->body() = std::move(page.body);

@@ -2,9 +2,10 @@
 // Who a request is and what it may see, decided from its parts alone (no
 // socket here, so every rule is tested as a function):
 //  - its token: `?token=T` on the URL (what a browser can send on a page's
-//    and a WebSocket's URL), `Authorization: Bearer T`, or the cookie a
-//    page opened with ?token=T was given (so that the page's own scripts,
-//    styles and data, which the browser fetches without the query, carry it);
+//    and a WebSocket's URL) or `Authorization: Bearer T`, needed for the
+//    pages and the WebSocket; the panel's scripts, styles and libraries are
+//    the same for everyone and carry nothing of the rig, so the browser
+//    fetches them without one (their URLs cannot carry the page's token);
 //  - its Origin: a browser's WebSocket from another site's page is refused
 //    (a page on evil.example must not drive the rig through a logged-in
 //    operator's browser); none (a script) passes;
@@ -25,15 +26,11 @@ namespace edsp::web {
 std::string_view TargetPath(std::string_view target);
 // The value of `key` in the target's query, percent-decoded; none if absent.
 std::optional<std::string> QueryValue(std::string_view target, std::string_view key);
-// The token a request presents: the query's, else the bearer header's, else
-// the cookie's (kTokenCookie in the Cookie header).
-std::optional<std::string> PresentedToken(std::string_view target, std::string_view authorization_header,
-                                          std::string_view cookie_header = {});
-inline constexpr std::string_view kTokenCookie = "edsp_token";
-// The Set-Cookie value that hands a page's token to the page's other
-// requests: this server's paths only, not readable by scripts, never sent
-// from another site's page. None for a token a cookie cannot carry as it is.
-std::optional<std::string> TokenCookie(std::string_view token);
+// The token a request presents (the query's, else the bearer header's).
+std::optional<std::string> PresentedToken(std::string_view target, std::string_view authorization_header);
+// Whether a GET of `path` needs a token: a page ("/", *.html) does; a
+// script, style or library does not.
+bool PathNeedsToken(std::string_view path);
 
 // Whether a WebSocket's Origin header may open it: absent, the served host
 // itself ("http://HOST" or "https://HOST" with HOST the Host header,
