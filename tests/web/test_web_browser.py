@@ -13,7 +13,10 @@ the passive-rotation correction (tens of µm at these angles) and the page
 draws the joint centres; an angle order swapped or a frame mixed up moves a
 leg by centimetres at 3°."""
 import math
+import os
 import shutil
+import signal
+import subprocess
 import time
 
 import pytest
@@ -210,6 +213,36 @@ def test_escape_on_the_page_halts_a_move_short_and_re_arm_is_answered(page, serv
     answer = _reply(driver, 20, "re-arm")
     assert answer.startswith("re-arm: accepted") or answer.startswith("re-arm: refused: "), answer
     assert len(answer) > len("re-arm: refused: "), answer  # the bridge says what it did, or why not
+    assert not _severe_console(driver)
+
+
+def test_a_killed_kinematics_node_shows_the_bridges_hold_and_re_arm_from_the_page_resumes(page, served):
+    """The bridge holds when its commands stop; the page shows the fault
+    state and the bridge's fault; the launcher restarts the node, and the
+    operator's re-arm from the page lets a move through again. How soon the
+    page showed the hold is printed (the issue's target is 1 s; a test of a
+    shared, possibly slow machine asserts only that it was shown)."""
+    driver = page(served["operator"])
+    _until(driver, 30, "return typeof view3d !== 'undefined' && view3d.rendered()", "a rendered 3-D view")
+    kinematics = subprocess.check_output(["pgrep", "-f", f"edsp-kinematics .*--group {served['group']}"], text=True)
+    killed = time.monotonic()
+    os.kill(int(kinematics.split()[0]), signal.SIGKILL)
+    _until(driver, 20, "return document.getElementById('motion').dataset.state === 'fault'", "the hold shown")
+    print(f"the page showed the bridge's hold {time.monotonic() - killed:.3f} s after the kill")
+    faults = driver.find_element(By.ID, "faults").text
+    assert "actuator_bridge" in faults, faults
+    deadline = time.monotonic() + 60
+    while True:  # refused (with its reason) until the restarted node's commands flow again
+        driver.find_element(By.ID, "rearm").click()
+        answer = _reply(driver, 20, "re-arm")
+        if answer.startswith("re-arm: accepted"):
+            break
+        assert answer.startswith("re-arm: refused: ") and time.monotonic() < deadline, answer
+        time.sleep(1.0)
+    _until(driver, 20, "return document.getElementById('motion').dataset.state !== 'fault'", "the hold lifted")
+    _fill_goal(driver, [0, 0, 2, 0, 0, 0], relative=True)
+    driver.find_element(By.ID, "move").click()
+    assert _reply(driver, 20, "move by").startswith("move by: accepted"), driver.find_element(By.ID, "control-reply").text
     assert not _severe_console(driver)
 
 
