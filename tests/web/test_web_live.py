@@ -125,6 +125,25 @@ def test_every_channel_is_advertised_with_its_lcm_fields_as_schema(served):
         assert schema["required"] == [f for f, _, _ in LCM_TYPES[type_name]], topic
 
 
+def test_the_server_reports_on_edsp_status_as_every_node_does(served):
+    """Once a second: running, what it took from the bus and what it sent,
+    both growing while a client watches (its own frames among them)."""
+    async def body():
+        client = await Client.open(served["port"], served["viewer"])
+        await client.subscribe(["EDSP_STATUS", "EDSP_PLATFORM_STATE"])
+        got, _ = await client.collect(3.5)
+        await client.ws.close()
+        return got
+
+    got = run(body())
+    web = [m for _, m in got["EDSP_STATUS"] if m["node"] == "web"]
+    assert len(web) >= 2, [m["node"] for _, m in got["EDSP_STATUS"]]
+    assert all(m["state"] == 1 for m in web), web  # STATE_RUNNING
+    assert web[-1]["messages_in"] > web[0]["messages_in"] > 0, web
+    assert web[-1]["messages_out"] > web[0]["messages_out"], web
+    assert web[-1]["pid"] == served["pid"], web
+
+
 def test_cyclic_channels_come_at_the_cap_newest_first_and_as_the_lcm_types_say(served):
     async def body():
         client = await Client.open(served["port"], served["viewer"])

@@ -27,6 +27,7 @@
 
 #include "edsp/node/build_paths.h"
 #include "edsp/node/node_options.h"
+#include "edsp/node/node_reporting.h"
 #include "edsp/node/runtime.h"
 #include "edsp/transport/bus.h"
 #include "edsp/web/board_feeder.h"
@@ -76,6 +77,34 @@ int TokenRevoke(const std::string& path, const std::string& name) {
   return 0;
 }
 
+// EDSP_STATUS as every node reports it, once a second: messages in (from
+// the bus), out (frames to clients), rejected (requests and frames refused).
+class WebStatus {
+ public:
+  WebStatus(Bus* bus, const web::ChannelBoard* board, const web::WebServer* server)
+      : reporting_(*bus, "web"), board_(board), server_(server) {
+    reporting_.status().SetState(node_status_t::STATE_RUNNING);
+  }
+  void Tick() {
+    const web::WebServerStats now = server_->stats();
+    const auto posted = static_cast<std::int64_t>(board_->posted());
+    reporting_.status().CountIn(posted - posted_);
+    reporting_.status().CountOut(now.frames_sent - last_.frames_sent);
+    for (std::int64_t i = Refusals(last_); i < Refusals(now); ++i) reporting_.status().CountRejected();
+    posted_ = posted;
+    last_ = now;
+    reporting_.StatusTick(UtimeNow(), 0);
+  }
+
+ private:
+  static std::int64_t Refusals(const web::WebServerStats& s) { return s.refused + s.protocol_errors; }
+  NodeReporting reporting_;
+  const web::ChannelBoard* board_;
+  const web::WebServer* server_;
+  web::WebServerStats last_{};
+  std::int64_t posted_ = 0;
+};
+
 int Serve(const NodeOptions& node, bool session_given, web::WebServerOptions options, const std::string& tokens_path) {
   options.tokens = web::TokenStore::Load(tokens_path);
   if (options.tokens.entries().empty() && !options.public_view) {
@@ -96,8 +125,12 @@ int Serve(const NodeOptions& node, bool session_given, web::WebServerOptions opt
   std::fprintf(stderr, "edsp-web: serving %s on http://%s:%u (panel %s)\n",
                node.group_path.empty() ? "the default bus" : node.group_path.c_str(), options.bind.c_str(),
                static_cast<unsigned>(server.port()), options.panel_dir.c_str());
+  WebStatus status(&requests, &board, &server);
   InstallStopSignals();
-  server.Run([&] { return StopRequested() || !feeder.error().empty(); });
+  server.Run([&] {
+    status.Tick();
+    return StopRequested() || !feeder.error().empty();
+  });
   feeder.Stop();
   if (!feeder.error().empty()) throw std::runtime_error("the bus failed: " + feeder.error());
   return 0;

@@ -112,6 +112,13 @@ std::vector<BoardMessage> ChannelBoard::Since(std::size_t channel, std::uint64_t
   return out;
 }
 
+std::uint64_t ChannelBoard::posted() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  std::uint64_t n = 0;
+  for (const Slot& slot : slots_) n += slot.number;
+  return n;
+}
+
 std::uint64_t ChannelBoard::undecodable() const {
   const std::lock_guard<std::mutex> lock(mutex_);
   return undecodable_;

@@ -53,6 +53,8 @@ class ChannelBoard {
                                   std::size_t max_count = std::numeric_limits<std::size_t>::max());
 
   std::uint64_t undecodable() const;
+  // Messages taken in so far, every channel (the node's messages_in).
+  std::uint64_t posted() const;
 
  private:
   struct Slot {
