@@ -41,7 +41,7 @@ def served(tmp_path_factory):
         yield server
 
 
-def _browser(tmp_path):
+def _browser(tmp_path, extra_args=()):
     """Chromium at idle priority: in the test it shares the machine's cores
     with the group's 1 kHz loops, as a rig's controller never shares them
     with an operator's browser; a page loading at normal priority on two
@@ -54,7 +54,7 @@ def _browser(tmp_path):
     options.binary_location = str(idle)
     for arg in ["--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--window-size=1400,1000",
                 "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--no-first-run",
-                f"--user-data-dir={tmp_path}"]:
+                f"--user-data-dir={tmp_path}", *extra_args]:
         options.add_argument(arg)
     options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
     return webdriver.Chrome(service=Service(CHROMEDRIVER), options=options)
@@ -254,6 +254,23 @@ def test_a_viewers_page_shows_the_rig_and_offers_no_control(page, served):
     for button in ("move", "check", "halt", "stop", "rearm"):
         assert not driver.find_element(By.ID, button).is_enabled(), button
     assert not _severe_console(driver)
+
+
+def test_over_tls_the_page_draws_and_its_websocket_is_wss(served, tmp_path):
+    """--tls-cert/--tls-key: the page at https, its scripts, and the
+    WebSocket the page opens (wss, from the page's scheme). The browser is
+    told to accept the test's self-signed certificate."""
+    cert, key = served_web.certificate(tmp_path)
+    with served_web.server(tmp_path / "tls.err", served["group"], served["tokens"],
+                           ["--tls-cert", cert, "--tls-key", key]) as (port, _):
+        driver = _browser(tmp_path / "profile", ["--ignore-certificate-errors"])
+        try:
+            driver.get(f"https://127.0.0.1:{port}/?token={served['viewer']}")
+            _until(driver, 30, "return typeof view3d !== 'undefined' && view3d.rendered()", "a rendered 3-D view")
+            assert driver.execute_script("return panel.ws.url").startswith(f"wss://127.0.0.1:{port}/")
+            assert not _severe_console(driver)
+        finally:
+            driver.quit()
 
 
 def test_with_a_wrong_token_the_page_is_refused_and_no_script_runs(page, served):

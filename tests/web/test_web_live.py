@@ -14,6 +14,8 @@ import re
 import struct
 import time
 import http.client
+import ssl
+import subprocess
 
 import pytest
 import websockets
@@ -223,6 +225,53 @@ def test_pages_need_a_token_their_assets_none_and_both_stay_inside_their_folders
     for escape in ("/../../etc/passwd", "/javascript/../../../etc/passwd", "/javascript/%2e%2e/x", "/.hidden",
                    "/javascript/three/", "/javascript/"):
         assert _get(port, f"{escape}?token={viewer}")[0] == 404, escape
+
+
+def test_over_tls_the_pages_and_the_protocol_need_the_certificate_and_a_token(served):
+    """--tls-cert/--tls-key: https and wss with the given certificate; a
+    client that trusts it gets the page and the protocol with a token and
+    is refused without one; plain HTTP on the port gets nothing served."""
+    work = served["work"]
+    cert, key = served_web.certificate(work)
+    trusting = ssl.create_default_context(cafile=cert)
+    with served_web.server(work / "tls.err", served["group"], served["tokens"],
+                           ["--tls-cert", cert, "--tls-key", key]) as (port, _):
+        def get(path):
+            conn = http.client.HTTPSConnection("127.0.0.1", port, timeout=10, context=trusting)
+            conn.request("GET", path)
+            response = conn.getresponse()
+            return response.status, response.read().decode()
+
+        status, body = get(f"/?token={served['viewer']}")
+        assert status == 200 and "edsp panel" in body
+        assert get("/")[0] == 401
+
+        async def watch():
+            async with websockets.connect(f"wss://127.0.0.1:{port}/?token={served['viewer']}",
+                                          subprotocols=[SUBPROTOCOL], ssl=trusting) as ws:
+                return json.loads(await ws.recv())
+
+        assert run(watch())["op"] == "serverInfo"
+        # a client that does not trust the certificate is refused by its own TLS
+        with pytest.raises(ssl.SSLCertVerificationError):
+            http.client.HTTPSConnection("127.0.0.1", port, timeout=10,
+                                        context=ssl.create_default_context()).request("GET", "/")
+        plain = http.client.HTTPConnection("127.0.0.1", port, timeout=10)
+        with pytest.raises((http.client.HTTPException, ConnectionError, OSError)):
+            plain.request("GET", f"/?token={served['viewer']}")
+            plain.getresponse().read()
+
+
+def test_a_key_that_is_not_the_certificates_is_refused_at_start_naming_it(served):
+    work = served["work"]
+    cert, _ = served_web.certificate(work, "one")
+    _, other_key = served_web.certificate(work, "two")
+    result = subprocess.run([served_web.WEB, "--group", served["group"], "--port", "0", "--tokens", served["tokens"],
+                             "--tls-cert", cert, "--tls-key", other_key], capture_output=True, text=True, timeout=30)
+    assert result.returncode != 0 and other_key in result.stderr and cert in result.stderr, result.stderr
+    result = subprocess.run([served_web.WEB, "--group", served["group"], "--port", "0", "--tokens", served["tokens"],
+                             "--tls-cert", cert], capture_output=True, text=True, timeout=30)
+    assert result.returncode != 0 and "--tls-key" in result.stderr, result.stderr
 
 
 def test_websockets_refuse_a_wrong_token_a_foreign_origin_and_no_subprotocol(served):

@@ -1,6 +1,6 @@
 // edsp-web: the rig's operator panel and its WebSocket protocol on one port.
 //   edsp-web [--group FILE] [--port 8765] [--bind ADDR] [--tokens FILE] [--public-view]
-//            [--allow-origin ORIGIN]... [--panel DIR] [--rate-hz 30]
+//            [--tls-cert C --tls-key K] [--allow-origin ORIGIN]... [--panel DIR] [--rate-hz 30]
 //   edsp-web token add NAME --role viewer|operator [--tokens FILE]   (prints the new token once)
 //   edsp-web token list [--tokens FILE]
 //   edsp-web token revoke NAME [--tokens FILE]
@@ -122,9 +122,10 @@ int Serve(const NodeOptions& node, bool session_given, web::WebServerOptions opt
     return std::visit([&](const auto& m) { return requests.Publish(channel, m); }, request);
   };
   web::WebServer server(&board, options);
-  std::fprintf(stderr, "edsp-web: serving %s on http://%s:%u (panel %s)\n",
-               node.group_path.empty() ? "the default bus" : node.group_path.c_str(), options.bind.c_str(),
-               static_cast<unsigned>(server.port()), options.panel_dir.c_str());
+  std::fprintf(stderr, "edsp-web: serving %s on %s://%s:%u (panel %s)\n",
+               node.group_path.empty() ? "the default bus" : node.group_path.c_str(),
+               options.tls_cert.empty() ? "http" : "https", options.bind.c_str(), static_cast<unsigned>(server.port()),
+               options.panel_dir.c_str());
   WebStatus status(&requests, &board, &server);
   InstallStopSignals();
   server.Run([&] {
@@ -147,6 +148,12 @@ int Run(int argc, char** argv) {
   app.add_option("--bind", options.bind, "address to listen on (default localhost only)");
   app.add_option("--tokens", tokens_path, "tokens file (hashes only, mode 0600)");
   app.add_flag("--public-view", options.public_view, "viewers need no token");
+  CLI::Option* cert = app.add_option("--tls-cert", options.tls_cert, "TLS: PEM certificate chain (https, wss)")
+                          ->check(CLI::ExistingFile);
+  CLI::Option* key =
+      app.add_option("--tls-key", options.tls_key, "TLS: the certificate's PEM private key")->check(CLI::ExistingFile);
+  cert->needs(key);
+  key->needs(cert);
   app.add_option("--allow-origin", options.allowed_origins, "a browser Origin allowed besides the served host");
   app.add_option("--panel", options.panel_dir, "the panel's static files")->check(CLI::ExistingDirectory);
   app.add_option("--rate-hz", options.rate_cap_hz, "most frames per second of a cyclic channel, per client")

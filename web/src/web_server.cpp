@@ -12,9 +12,12 @@
 #include <utility>
 
 #include <boost/asio.hpp>
+#include <boost/asio/ssl.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
+#include <boost/beast/ssl.hpp>
 #include <boost/beast/websocket.hpp>
+#include <boost/beast/websocket/ssl.hpp>
 
 #include "edsp/channels.h"
 #include "edsp/node/runtime.h"
@@ -33,6 +36,9 @@ namespace http = beast::http;
 namespace websocket = beast::websocket;
 using tcp = net::ip::tcp;
 using Request = http::request<http::string_body>;
+// A connection's stream: plain TCP, or TLS over it (--tls-cert, --tls-key).
+using PlainStream = beast::tcp_stream;
+using TlsStream = beast::ssl_stream<beast::tcp_stream>;
 
 // How much one client may make the server hold or do.
 constexpr std::size_t kMaxQueuedFrames = 256;   // errors it does not read, plus one batch of due frames
@@ -87,9 +93,33 @@ struct Shared {
   std::string advertise;
   Counters counters;
   LoginLimiter limiter{10, std::chrono::seconds(60)};
-  std::unique_ptr<RequestRelay> relay;  // null: nobody publishes
-  bool loopback_only = false;           // listening on loopback: Host must name it too
+  std::unique_ptr<RequestRelay> relay;     // null: nobody publishes
+  bool loopback_only = false;              // listening on loopback: Host must name it too
+  std::unique_ptr<net::ssl::context> tls;  // null: plain HTTP and WebSocket
 };
+
+// The server's TLS context from a PEM certificate chain and its private
+// key; throws std::runtime_error naming the file that cannot be used.
+std::unique_ptr<net::ssl::context> TlsContext(const std::string& cert, const std::string& key) {
+  if (cert.empty() || key.empty()) {
+    throw std::runtime_error("TLS needs both a certificate (--tls-cert) and its key (--tls-key)");
+  }
+  auto context = std::make_unique<net::ssl::context>(net::ssl::context::tls_server);
+  context->set_options(net::ssl::context::default_workarounds | net::ssl::context::no_sslv2 |
+                       net::ssl::context::no_sslv3 | net::ssl::context::no_tlsv1 | net::ssl::context::no_tlsv1_1);
+  beast::error_code error;
+  context->use_certificate_chain_file(cert, error);
+  if (error) {
+    throw std::runtime_error("--tls-cert " + cert + ": not a readable PEM certificate chain (" + error.message() + ")");
+  }
+  // OpenSSL checks here that the key is the certificate's too.
+  context->use_private_key_file(key, net::ssl::context::pem, error);
+  if (error || SSL_CTX_check_private_key(context->native_handle()) != 1) {
+    throw std::runtime_error("--tls-key " + key + ": not a readable PEM private key of the certificate in " + cert +
+                             (error ? " (" + error.message() + ")" : std::string()));
+  }
+  return context;
+}
 
 // Who a connection is: a token's name and role, or a public viewer.
 struct Identity {
@@ -98,10 +128,11 @@ struct Identity {
 };
 
 // One client's WebSocket: the protocol's session.
-class WsSession : public std::enable_shared_from_this<WsSession> {
+template <class Stream>
+class WsSession : public std::enable_shared_from_this<WsSession<Stream>> {
  public:
-  WsSession(tcp::socket&& socket, std::shared_ptr<Shared> shared, Identity identity)
-      : ws_(std::move(socket)),
+  WsSession(Stream&& stream, std::shared_ptr<Shared> shared, Identity identity)
+      : ws_(std::move(stream)),
         timer_(ws_.get_executor()),
         shared_(std::move(shared)),
         identity_(std::move(identity)),
@@ -119,7 +150,7 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
       response.set(http::field::server, "edsp-web");
     }));
     ws_.read_message_max(shared_->options.max_client_frame_bytes);
-    ws_.async_accept(request, beast::bind_front_handler(&WsSession::OnAccept, shared_from_this()));
+    ws_.async_accept(request, beast::bind_front_handler(&WsSession::OnAccept, this->shared_from_this()));
   }
 
  private:
@@ -135,7 +166,7 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     Tick();
   }
 
-  void Read() { ws_.async_read(in_, beast::bind_front_handler(&WsSession::OnRead, shared_from_this())); }
+  void Read() { ws_.async_read(in_, beast::bind_front_handler(&WsSession::OnRead, this->shared_from_this())); }
 
   void OnRead(beast::error_code error, std::size_t) {
     if (error) {
@@ -234,7 +265,7 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
 
   void Tick() {
     timer_.expires_after(shared_->options.tick);
-    timer_.async_wait([self = shared_from_this()](beast::error_code error) {
+    timer_.async_wait([self = this->shared_from_this()](beast::error_code error) {
       if (error || self->closed_) return;
       self->OnTick();
       if (!self->closed_) self->Tick();
@@ -273,7 +304,7 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     write_started_ = std::chrono::steady_clock::now();
     ws_.text(queue_.front().text);
     ws_.async_write(net::buffer(queue_.front().data),
-                    beast::bind_front_handler(&WsSession::OnWrite, shared_from_this()));
+                    beast::bind_front_handler(&WsSession::OnWrite, this->shared_from_this()));
   }
 
   void OnWrite(beast::error_code error, std::size_t) {
@@ -300,7 +331,7 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     std::string data;
   };
 
-  websocket::stream<beast::tcp_stream> ws_;
+  websocket::stream<Stream> ws_;
   net::steady_timer timer_;
   std::shared_ptr<Shared> shared_;
   Identity identity_;
@@ -315,19 +346,37 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
   std::chrono::steady_clock::time_point write_started_;
 };
 
-// One HTTP connection: who it is, then a static file or the upgrade to a
-// WebSocket session.
-class HttpSession : public std::enable_shared_from_this<HttpSession> {
+// One HTTP connection: its TLS handshake where it has one, who it is, then
+// a static file or the upgrade to a WebSocket session.
+template <class Stream>
+class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
  public:
-  HttpSession(tcp::socket&& socket, std::shared_ptr<Shared> shared)
-      : stream_(std::move(socket)), shared_(std::move(shared)) {}
+  static constexpr bool kTls = std::is_same_v<Stream, TlsStream>;
+
+  template <class... StreamArgs>
+  explicit HttpSession(std::shared_ptr<Shared> shared, StreamArgs&&... stream_args)
+      : stream_(std::forward<StreamArgs>(stream_args)...), shared_(std::move(shared)) {}
+
+  void Start() {
+    if constexpr (kTls) {
+      beast::get_lowest_layer(stream_).expires_after(std::chrono::seconds(30));
+      stream_.async_handshake(net::ssl::stream_base::server,
+                              [self = this->shared_from_this()](beast::error_code error) {
+                                if (!error)
+                                  self->Read();  // not TLS, or a certificate the client refused: nothing to answer
+                              });
+    } else {
+      Read();
+    }
+  }
 
   void Read() {
     parser_.emplace();
     parser_->header_limit(kMaxRequestBytes);
     parser_->body_limit(kMaxRequestBytes);
-    stream_.expires_after(std::chrono::seconds(30));
-    http::async_read(stream_, buffer_, *parser_, beast::bind_front_handler(&HttpSession::OnRead, shared_from_this()));
+    beast::get_lowest_layer(stream_).expires_after(std::chrono::seconds(30));
+    http::async_read(stream_, buffer_, *parser_,
+                     beast::bind_front_handler(&HttpSession::OnRead, this->shared_from_this()));
   }
 
  private:
@@ -385,7 +434,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   std::optional<Identity> Authorize(const Request& request) {
     const auto now = std::chrono::steady_clock::now();
     beast::error_code ignored;
-    const std::string address = stream_.socket().remote_endpoint(ignored).address().to_string();
+    const std::string address =
+        beast::get_lowest_layer(stream_).socket().remote_endpoint(ignored).address().to_string();
     if (shared_->limiter.Blocked(address, now)) {
       Refuse(http::status::too_many_requests, "too many wrong tokens from " + address + "; try again in a minute",
              request);
@@ -422,8 +472,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     if (shared_->counters.clients >= kMaxClients) {
       return Refuse(http::status::service_unavailable, "already " + std::to_string(kMaxClients) + " clients", request);
     }
-    stream_.expires_never();
-    std::make_shared<WsSession>(stream_.release_socket(), shared_, std::move(identity))->Start(std::move(request));
+    beast::get_lowest_layer(stream_).expires_never();
+    std::make_shared<WsSession<Stream>>(std::move(stream_), shared_, std::move(identity))->Start(std::move(request));
   }
 
   void Refuse(http::status status, const std::string& reason, const Request& request) {
@@ -443,7 +493,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     response->prepare_payload();
     if (head) response->body().clear();
     http::async_write(stream_, *response,
-                      [self = shared_from_this(), response, keep_alive](beast::error_code error, std::size_t) {
+                      [self = this->shared_from_this(), response, keep_alive](beast::error_code error, std::size_t) {
                         if (error) return;
                         if (keep_alive) return self->Read();
                         self->Shutdown();
@@ -451,11 +501,16 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   }
 
   void Shutdown() {
-    beast::error_code ignored;
-    stream_.socket().shutdown(tcp::socket::shutdown_send, ignored);
+    if constexpr (kTls) {
+      beast::get_lowest_layer(stream_).expires_after(std::chrono::seconds(5));
+      stream_.async_shutdown([self = this->shared_from_this()](beast::error_code) {});
+    } else {
+      beast::error_code ignored;
+      stream_.socket().shutdown(tcp::socket::shutdown_send, ignored);
+    }
   }
 
-  beast::tcp_stream stream_;
+  Stream stream_;
   beast::flat_buffer buffer_;
   std::optional<http::request_parser<http::string_body>> parser_;
   std::shared_ptr<Shared> shared_;
@@ -467,7 +522,9 @@ namespace net = boost::asio;
 namespace beast = boost::beast;
 using web_server_internal::Counters;
 using web_server_internal::HttpSession;
+using web_server_internal::PlainStream;
 using web_server_internal::Shared;
+using web_server_internal::TlsStream;
 using tcp = net::ip::tcp;
 
 struct WebServer::Impl {
@@ -493,7 +550,11 @@ struct WebServer::Impl {
   void Accept() {
     acceptor.async_accept([this](beast::error_code error, tcp::socket socket) {
       if (error == net::error::operation_aborted) return;
-      if (!error) std::make_shared<HttpSession>(std::move(socket), shared)->Read();
+      if (!error && shared->tls) {
+        std::make_shared<HttpSession<TlsStream>>(shared, std::move(socket), *shared->tls)->Start();
+      } else if (!error) {
+        std::make_shared<HttpSession<PlainStream>>(shared, std::move(socket))->Start();
+      }
       Accept();
     });
   }
@@ -511,6 +572,9 @@ WebServer::WebServer(ChannelBoard* board, WebServerOptions options) : impl_(std:
     shared.relay = std::make_unique<RequestRelay>(board, shared.options.publish, shared.options.session_id);
   }
   shared.advertise = foxglove::Advertise(web_server_internal::AdvertisedChannels());
+  if (!shared.options.tls_cert.empty() || !shared.options.tls_key.empty()) {
+    shared.tls = web_server_internal::TlsContext(shared.options.tls_cert, shared.options.tls_key);
+  }
   const std::string where = shared.options.bind + ":" + std::to_string(shared.options.port);
   beast::error_code error;
   const net::ip::address address = net::ip::make_address(shared.options.bind, error);

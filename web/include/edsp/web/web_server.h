@@ -25,8 +25,12 @@ namespace edsp::web {
 
 struct WebServerOptions {
   std::string bind = "127.0.0.1";  // localhost unless told otherwise (--bind)
-  std::uint16_t port = 8765;       // 0: any free port (tests)
-  std::string panel_dir;           // the panel's static files
+  // TLS (https, wss) with this PEM certificate chain and private key; both
+  // empty: plain HTTP and WebSocket.
+  std::string tls_cert;
+  std::string tls_key;
+  std::uint16_t port = 8765;  // 0: any free port (tests)
+  std::string panel_dir;      // the panel's static files
   // Debian's browser libraries (libjs-*), served under /javascript/ as
   // their own pages link them (/javascript/three/three.min.js).
   std::string javascript_dir = "/usr/share/javascript";
