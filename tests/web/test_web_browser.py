@@ -42,13 +42,15 @@ def served(tmp_path_factory):
 
 
 def _browser(tmp_path, extra_args=()):
-    """Chromium at idle priority: in the test it shares the machine's cores
-    with the group's 1 kHz loops, as a rig's controller never shares them
-    with an operator's browser; a page loading at normal priority on two
-    cores stalls the loops until the bridge latches a hold."""
+    """Chromium at the lowest nice level: in the test it shares the
+    machine's cores with the group's 1 kHz loops, as a rig's controller
+    never shares them with an operator's browser (a page loading at normal
+    priority on two cores stalls the loops until the bridge latches a
+    hold); not SCHED_IDLE, where it would share only what the suite's
+    idle-priority compiles leave (a page redrawing seconds late)."""
     tmp_path.mkdir(parents=True, exist_ok=True)
-    idle = tmp_path / "chromium-idle"
-    idle.write_text(f'#!/bin/sh\nexec chrt --idle 0 {CHROMIUM} "$@"\n')
+    idle = tmp_path / "chromium-nice"
+    idle.write_text(f'#!/bin/sh\nexec nice -n 19 {CHROMIUM} "$@"\n')
     idle.chmod(0o755)
     options = webdriver.ChromeOptions()
     options.binary_location = str(idle)
@@ -170,8 +172,10 @@ def test_an_operator_tilts_the_platform_from_the_page_and_the_view_draws_it_wher
     for i in (0, 1, 3, 4, 5):
         # on target: within 10 µm and 50 µrad (config [motion]), shown to 1 µm and 0.0001°
         assert math.isclose(pose_text[i], TILT[i], abs_tol=0.011 if i < 3 else 0.0030), (pose_text, TILT)
-    # the plots hold what the tables showed: the CSV's last legs are the encoders' within the settled jitter
+    # the plots hold what the tables showed: once the plot has drawn the settled pose (a busy browser
+    # redraws late, and the CSV is what the plot shows), the CSV's last legs are the encoders'
     _until(driver, 10, "return plots.rows('legs') > 10 && plots.rows('tracking') > 10", "plotted rows")
+    _until(driver, 30, "return plots.lag('legs') < 0.3", "the plot drawn up to its newest rows")
     rows = [line for line in driver.execute_script("return plots.csv('legs')").splitlines() if not line.startswith("#")]
     assert rows[0].startswith('"t (s)","leg 1"') and len(rows) > 10, rows[:3]
     last = [float(v) for v in rows[-1].split(",")[1:]]

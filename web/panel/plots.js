@@ -126,5 +126,12 @@ const plots = (() => {
     },
     csv,
     rows(name) { return series[name].rows.length; },
+    // How far behind its newest row the plot shows (s): a busy browser
+    // redraws late, and the CSV exports what is shown.
+    lag(name) {
+      const rows = series[name].rows;
+      if (!graphs[name] || !rows.length) return Infinity;
+      return rows[rows.length - 1][0] - graphs[name].xAxisRange()[1];
+    },
   };
 })();
