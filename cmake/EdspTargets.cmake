@@ -56,8 +56,8 @@ function(edsp_add_program name)
   edsp_set_warnings(${name})
   # A program's own sources parse its options and wire libraries together;
   # its work runs in the libraries, at the build type's optimisation. At -O1
-  # they compile in about 60% of the time -O3 takes, most of it CLI11's
-  # header (every program includes it). The benchmarks, whose own code is
+  # they compile much faster (most of their time is CLI11's header, which
+  # every program includes; docs/figures.md). The benchmarks, whose own code is
   # what they measure, keep the build type's level.
   if(NOT EDSP_PROGRAMS_OPTIMIZED)
     target_compile_options(${name} PRIVATE $<$<NOT:$<CONFIG:Debug>>:-O1>)
