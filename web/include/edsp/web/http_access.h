@@ -9,7 +9,8 @@
 //  - its Origin: a browser's WebSocket from another site's page is refused
 //    (a page on evil.example must not drive the rig through a logged-in
 //    operator's browser); none (a script) passes;
-//  - the static file a path names, inside the panel's folder only;
+//  - the static file a path names, inside its folder only (the panel's, or
+//    Debian's browser libraries' under /javascript/);
 //  - too many wrong tokens from one address: refused for a while.
 
 #include <chrono>
