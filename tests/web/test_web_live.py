@@ -140,10 +140,12 @@ def test_the_server_reports_on_edsp_status_as_every_node_does(served):
     got = run(body())
     web = [m for _, m in got["EDSP_STATUS"] if m["node"] == "web"]
     assert len(web) >= 2, [m["node"] for _, m in got["EDSP_STATUS"]]
+    assert all(m["pid"] == served["pid"] for m in web), web
     assert all(m["state"] == 1 for m in web), web  # STATE_RUNNING
-    assert web[-1]["messages_in"] > web[0]["messages_in"] > 0, web
+    # The first may be the report the server sent as it started, before the
+    # bus brought it anything: a subscriber is given the channel's recent ones.
+    assert web[-1]["messages_in"] > web[0]["messages_in"], web
     assert web[-1]["messages_out"] > web[0]["messages_out"], web
-    assert web[-1]["pid"] == served["pid"], web
 
 
 def test_cyclic_channels_come_at_the_cap_newest_first_and_as_the_lcm_types_say(served):
@@ -371,7 +373,9 @@ def test_a_client_that_stops_reading_slows_no_one_and_holds_no_backlog(served):
         await stalled.subscribe(list(stalled.channels))  # everything, and then reads nothing
         during, during_s = await watcher.collect(12.0)
         rss_after = _rss_kib(pid)
-        await stalled.ws.close()
+        # It vanishes as a stalled client does: a close handshake would wait
+        # on the frames it never read (websockets' close_timeout, twice).
+        stalled.ws.transport.abort()
         await watcher.ws.close()
         return len(before["EDSP_LEG_STATE"]) / before_s, len(during["EDSP_LEG_STATE"]) / during_s, \
             rss_before, rss_after
