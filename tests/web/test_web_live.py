@@ -297,7 +297,7 @@ def test_websockets_refuse_a_wrong_token_a_foreign_origin_and_no_subprotocol(ser
 
 
 def test_ten_thousand_bad_frames_are_answered_change_nothing_and_starve_no_one(served):
-    port, viewer = served["port"], served["viewer"]
+    viewer = served["viewer"]
     bad = ["not json", "[]", '{"op":"publish"}', '{"op":"subscribe","subscriptions":[{"id":-1,"channelId":1}]}',
            '{"op":"unsubscribe","subscriptionIds":[12345]}', b"\x01\x00\x00\x00\x00{}"]
 
