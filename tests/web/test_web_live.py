@@ -139,13 +139,12 @@ def test_the_server_reports_on_edsp_status_as_every_node_does(served):
 
     got = run(body())
     web = [m for _, m in got["EDSP_STATUS"] if m["node"] == "web"]
+    seen = [(m["pid"], m["seq"], m["utime"], m["state"], m["messages_in"], m["messages_out"]) for m in web]
     assert len(web) >= 2, [m["node"] for _, m in got["EDSP_STATUS"]]
-    assert all(m["pid"] == served["pid"] for m in web), web
-    assert all(m["state"] == 1 for m in web), web  # STATE_RUNNING
-    # The first may be the report the server sent as it started, before the
-    # bus brought it anything: a subscriber is given the channel's recent ones.
-    assert web[-1]["messages_in"] > web[0]["messages_in"], web
-    assert web[-1]["messages_out"] > web[0]["messages_out"], web
+    assert all(m["pid"] == served["pid"] for m in web), (served["pid"], seen)
+    assert all(m["state"] == 1 for m in web), seen  # STATE_RUNNING
+    assert web[-1]["messages_in"] > web[0]["messages_in"], seen
+    assert web[-1]["messages_out"] > web[0]["messages_out"], seen
 
 
 def test_cyclic_channels_come_at_the_cap_newest_first_and_as_the_lcm_types_say(served):
