@@ -31,6 +31,49 @@ struct Fitted {
   std::map<Effect, Eigen::VectorXd> delta, sigma;  // per effect: its change and that change's 1-σ
 };
 
+bool IsGeometry(Effect e) { return e == Effect::kLegOffset || e == Effect::kJointPosition; }
+
+// Each leg's length change (LegChange): the six offsets fitted from zero
+// beside the frame and the parameters found changed (`changed`, design
+// columns), everything else held at the baseline's. Beside the joint
+// centres' 36 changes and the frame, a leg's length is not known to within
+// 100 µm on a session's motions (they mimic it over a small workspace);
+// beside every other effect's change, a lead error or a lag takes part of
+// it; beside the frame alone it is known to a few µm.
+std::vector<LegChange> LegLengths(const Design& d, const Columns& changed, double noise_floor_rms_m) {
+  const GramSet gram(d, MakeFolds(d));
+  const std::vector<int> all = gram.AllFolds();
+  Columns cols = ColumnsOf(d, {});
+  for (int c : changed) {
+    if (std::find(cols.begin(), cols.end(), c) == cols.end()) cols.push_back(c);
+  }
+  const ColumnRange& offsets = d.Of(Effect::kLegOffset);
+  cols.erase(std::remove_if(cols.begin(), cols.end(),
+                            [&](int c) { return c >= offsets.begin && c < offsets.begin + offsets.count; }),
+             cols.end());
+  for (int leg = 0; leg < 6; ++leg) cols.push_back(offsets.begin + leg);
+  const double sigma_axis = std::max(noise_floor_rms_m / std::sqrt(3.0), 1e-8);
+  const Eigen::VectorXd prior = PriorWeights(d, sigma_axis * sigma_axis);
+  const Eigen::VectorXd theta = gram.Solve(cols, all, prior);
+  const double sigma2 = gram.Sse(cols, theta, all) / std::max(1, gram.Residuals(all) - static_cast<int>(cols.size()));
+  const Eigen::VectorXd rest = d.residual - d.columns(Eigen::all, cols) * theta;
+  const Eigen::MatrixXd covariance = gram.Covariance(cols, all, prior, sigma2) * CorrelationInflation(rest);
+  const Eigen::VectorXd jackknife = JackknifeSigma(gram, cols, prior);
+  std::vector<LegChange> legs;
+  const auto first = static_cast<Eigen::Index>(cols.size()) - 6;
+  for (int leg = 0; leg < 6; ++leg) {
+    const Eigen::Index k = first + leg;
+    LegChange c;
+    c.leg = leg + 1;
+    c.change_m = theta(k);
+    // √2: the baseline's own error in this length, which the model does
+    // not save, taken as large as the session's (LegChange).
+    c.sigma_m = std::sqrt(2.0) * std::max(std::sqrt(std::max(0.0, covariance(k, k))), jackknife(k));
+    legs.push_back(c);
+  }
+  return legs;
+}
+
 // δ of every effect the baseline applies, fitted together on what the
 // baseline leaves, with the diagnosis's ridge (towards no change) and its
 // robust fit: the new session's estimate of each parameter beside all the
@@ -157,7 +200,7 @@ DriftReport Drift(const PlatformModel& model, const nlohmann::json& baseline, co
   const Fitted fit = FitChange(d, baseline_effects, r.noise_floor_rms_m);
   for (const SavedEffect& e : effects) Compare(e, fit.delta.at(e.effect), fit.sigma.at(e.effect), &r.parameters);
   r.z_threshold = ChangeThreshold(static_cast<int>(
-      std::count_if(r.parameters.begin(), r.parameters.end(), [](const ParameterChange& c) { return c.applied; })));
+      6 + std::count_if(r.parameters.begin(), r.parameters.end(), [](const ParameterChange& c) { return c.applied; })));
   const double samples = std::max(1, d.samples());
   for (ParameterChange& c : r.parameters) {
     c.z = c.sigma > 0.0 ? c.change / c.sigma : 0.0;
@@ -165,6 +208,19 @@ DriftReport Drift(const PlatformModel& model, const nlohmann::json& baseline, co
     c.at_a_m = std::abs(fit.delta.at(c.effect)(c.theta_index)) * d.columns.col(column).norm() / std::sqrt(samples);
     if (c.applied && std::abs(c.z) >= r.z_threshold && c.at_a_m >= kChangeAtAShare * r.noise_floor_rms_m) {
       r.changed.push_back(c);
+    }
+  }
+  Columns changed_columns;
+  for (const ParameterChange& c : r.changed) {
+    if (!IsGeometry(c.effect)) changed_columns.push_back(d.Of(c.effect).begin + c.theta_index);
+  }
+  for (LegChange c : LegLengths(d, changed_columns, r.noise_floor_rms_m)) {
+    c.z = c.sigma_m > 0.0 ? c.change_m / c.sigma_m : 0.0;
+    c.at_a_m =
+        std::abs(c.change_m) * d.columns.col(d.Of(Effect::kLegOffset).begin + c.leg - 1).norm() / std::sqrt(samples);
+    r.legs.push_back(c);
+    if (std::abs(c.z) >= r.z_threshold && c.at_a_m >= kChangeAtAShare * r.noise_floor_rms_m) {
+      r.legs_changed.push_back(c);
     }
   }
   for (const SavedEffect& e : effects) {
@@ -214,8 +270,16 @@ nlohmann::json ToJson(const DriftReport& r) {
     for (Effect e : effects) out.push_back(EffectName(e));
     return out;
   };
+  const auto leg = [](const LegChange& c) {
+    return nlohmann::json{
+        {"leg", c.leg}, {"change_m", c.change_m}, {"sigma_m", c.sigma_m}, {"z", c.z}, {"at_a_m", c.at_a_m}};
+  };
   nlohmann::json j;
   j["recorded_with_baseline"] = r.recorded_with_baseline;
+  j["legs_changed"] = nlohmann::json::array();
+  for (const LegChange& c : r.legs_changed) j["legs_changed"].push_back(leg(c));
+  j["legs"] = nlohmann::json::array();
+  for (const LegChange& c : r.legs) j["legs"].push_back(leg(c));
   j["samples"] = r.samples;
   j["changed"] = nlohmann::json::array();
   for (const ParameterChange& c : r.changed) j["changed"].push_back(entry(c));
@@ -245,10 +309,18 @@ std::string ChangeText(const ParameterChange& c) {
                      c.sigma * scale, decimals, unit, std::abs(c.z));
 }
 
+std::string LegChangeText(const LegChange& c) {
+  return fmt::format("leg {} length: {:+.1f} ± {:.1f} µm ({:.1f}σ)", c.leg, c.change_m * 1e6, c.sigma_m * 1e6,
+                     std::abs(c.z));
+}
+
 std::string DriftText(const DriftReport& r) {
   std::string text;
+  for (const LegChange& c : r.legs_changed) text += LegChangeText(c) + "\n";
   for (const ParameterChange& c : r.changed) text += ChangeText(c) + "\n";
-  if (r.changed.empty()) text += fmt::format("no parameter changed beyond {:.1f}σ\n", r.z_threshold);
+  if (r.changed.empty() && r.legs_changed.empty()) {
+    text += fmt::format("no leg's length and no parameter changed beyond {:.1f}σ\n", r.z_threshold);
+  }
   const auto list = [](const std::vector<Effect>& effects) {
     std::string s;
     for (Effect e : effects) s += (s.empty() ? "" : ", ") + std::string(EffectName(e));

@@ -11,7 +11,8 @@
 //                  [--apply-ambiguous] [--json]
 //   edsp-gap benchmark --mode calibration --scenarios N --seed S [--generator rig|blind] [--held-out Ly,Rx,M3,M4]
 //                      [--noise-m 5e-6] [--json] [--keep DIR]   (whole rigs: docs/calibration.md)
-//   edsp-gap benchmark --mode drift --scenarios N --seed S [--noise-m 5e-6] [--json]   (drift on whole rigs)
+//   edsp-gap benchmark --mode drift --scenarios N --seed S [--noise-m 5e-6] [--session-motions Lz,…] [--json]
+//                      (drift on whole rigs)
 //   edsp-gap benchmark --mode events --scenarios N --seed S [--motions …] [--json]   (changes within a session)
 #include <unistd.h>
 
@@ -124,6 +125,7 @@ struct BenchmarkArgs {
   BenchmarkOptions bench;
   std::string mode = "effects";
   std::vector<std::string> held_out = CalibrationBenchmarkOptions{}.held_out;
+  std::vector<std::string> session_motions = DriftBenchmarkOptions{}.session_motions;
   std::string keep_dir;
   bool json = false;
   const CLI::Option* generator = nullptr;  // to tell --generator and --motions given from their defaults
@@ -228,6 +230,9 @@ CLI::App* AddBenchmark(CLI::App& app, BenchmarkArgs* a) {
                 "(--scenarios rigs); events: changes within a session found as events, on the blind rig")
       ->check(CLI::IsMember({"effects", "calibration", "drift", "events"}));
   c->add_option("--held-out", a->held_out, "calibration mode: motions no fit sees, comma-separated")->delimiter(',');
+  c->add_option("--session-motions", a->session_motions,
+                "drift mode: the motions of the sessions after the calibration, comma-separated")
+      ->delimiter(',');
   c->add_option("--keep", a->keep_dir, "keep each scenario's data and report here");
   c->add_flag("--json", a->json, "print JSON");
   return c;
@@ -366,6 +371,7 @@ int RunDriftBenchmarkCommand(const BenchmarkArgs& a) {
   o.seed = a.bench.seed;
   o.config_path = a.bench.config_path;
   o.tracker_noise_m = a.bench.tracker_noise_m;
+  o.session_motions = a.session_motions;
   o.progress = !a.json || isatty(fileno(stderr));
   return Emit(RunDriftBenchmark(o), a.json, PrintDriftBenchmark);
 }

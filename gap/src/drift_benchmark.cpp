@@ -38,12 +38,20 @@ OfflineRunOptions SessionRun(const DriftBenchmarkOptions& o, Rng& rng, std::uint
   return run;
 }
 
+// Leg `leg` (0–5) jumped by 30–150 µm either way.
+void JumpLeg(int leg, double min_m, double max_m, Rng& rng, RigEffects* fx, DriftScenario* s) {
+  const double jump = Uniform(rng, min_m, max_m) * (Uniform(rng, 0, 1) < 0.5 ? -1 : 1);
+  fx->leg_offset.offset_m[static_cast<std::size_t>(leg)] += jump;
+  s->truth.push_back({"leg_offset", leg + 1, jump});
+  s->description += fmt::format("leg {} re-seated: {:+.1f} µm", leg + 1, jump * 1e6);
+}
+
 // What changed between the calibration and the second session.
 RigEffects Changed(const RigEffects& before, int index, Rng& rng, DriftScenario* s) {
   RigEffects after = before;
   const int leg = static_cast<int>(Uniform(rng, 0, 6));
   const auto l = static_cast<std::size_t>(leg);
-  switch (index % 3) {
+  switch (index % 4) {
     case 0: {
       s->kind = "backlash";
       const double grown = Uniform(rng, 10e-6, 30e-6);
@@ -52,12 +60,19 @@ RigEffects Changed(const RigEffects& before, int index, Rng& rng, DriftScenario*
       s->description = fmt::format("backlash leg {} grown by {:.1f} µm", leg + 1, grown * 1e6);
       break;
     }
-    case 1: {
+    case 1:
       s->kind = "offset";
-      const double jump = Uniform(rng, 50e-6, 150e-6) * (Uniform(rng, 0, 1) < 0.5 ? -1 : 1);
-      after.leg_offset.offset_m[l] += jump;
-      s->truth.push_back({"leg_offset", leg + 1, jump});
-      s->description = fmt::format("leg {} re-seated: offset {:+.1f} µm", leg + 1, jump * 1e6);
+      JumpLeg(leg, 50e-6, 150e-6, rng, &after, s);
+      break;
+    case 2: {
+      // A screw worn to 2.5× its play (at least 10 µm more) and another leg
+      // re-seated, in one session.
+      s->kind = "two_at_once";
+      const double grown = std::max(1.5 * before.backlash.backlash_m[l], 10e-6);
+      after.backlash.backlash_m[l] += grown;
+      s->truth.push_back({"backlash", leg + 1, grown});
+      s->description = fmt::format("backlash leg {} +{:.1f} µm, ", leg + 1, grown * 1e6);
+      JumpLeg((leg + 1 + static_cast<int>(Uniform(rng, 0, 5))) % 6, 30e-6, 60e-6, rng, &after, s);
       break;
     }
     default: {
@@ -82,22 +97,45 @@ const ParameterChange* Reported(const std::string& effect, int leg, const std::v
   return nullptr;
 }
 
+const LegChange* ReportedLeg(int leg, const std::vector<LegChange>& among) {
+  for (const LegChange& c : among) {
+    if (c.leg == leg) return &c;
+  }
+  return nullptr;
+}
+
+bool IsGeometry(Effect e) { return e == Effect::kLegOffset || e == Effect::kJointPosition; }
+
+// A leg's jump is scored as the leg's length change, however the baseline
+// holds the leg's geometry; a geometric parameter of that leg that changed
+// with it is the same change, not a false one.
 void Score(const DriftReport& changed, DriftScenario* s) {
   for (TrueChange& t : s->truth) {
-    const ParameterChange* p = Reported(t.effect, t.leg, changed.parameters);
-    if (p == nullptr) continue;  // the calibration does not apply that effect
-    t.reported = p->change;
-    t.sigma = p->sigma;
-    t.eligible = std::abs(t.change) >= 3.0 * p->sigma;
-    t.named = Reported(t.effect, t.leg, changed.changed) != nullptr;
-    t.sized = std::abs(p->change - t.change) <= 3.0 * p->sigma;
+    double reported = 0.0, sigma = 0.0;
+    if (t.effect == "leg_offset") {
+      const LegChange* leg = ReportedLeg(t.leg, changed.legs);
+      if (leg == nullptr) continue;
+      reported = leg->change_m, sigma = leg->sigma_m;
+      t.named = ReportedLeg(t.leg, changed.legs_changed) != nullptr;
+    } else {
+      const ParameterChange* p = Reported(t.effect, t.leg, changed.parameters);
+      if (p == nullptr) continue;  // the calibration does not apply that effect
+      reported = p->change, sigma = p->sigma;
+      t.named = Reported(t.effect, t.leg, changed.changed) != nullptr;
+    }
+    t.reported = reported;
+    t.sigma = sigma;
+    t.eligible = std::abs(t.change) >= 3.0 * sigma;
+    t.sized = std::abs(reported - t.change) <= 3.0 * sigma;
   }
+  const auto truly = [&](const std::string& effect, int leg) {
+    return std::any_of(s->truth.begin(), s->truth.end(),
+                       [&](const TrueChange& t) { return t.effect == effect && t.leg == leg; });
+  };
   for (const ParameterChange& c : changed.changed) {
-    const bool real = std::any_of(s->truth.begin(), s->truth.end(), [&](const TrueChange& t) {
-      return t.effect == EffectName(c.effect) && t.leg == c.leg;
-    });
-    s->false_changes += !real;
+    s->false_changes += !truly(EffectName(c.effect), c.leg) && !(IsGeometry(c.effect) && truly("leg_offset", c.leg));
   }
+  for (const LegChange& c : changed.legs_changed) s->false_changes += !truly("leg_offset", c.leg);
 }
 
 }  // namespace
@@ -129,16 +167,15 @@ DriftBenchmarkResult RunDriftBenchmark(const DriftBenchmarkOptions& o) {
       const auto session = [&](const RigEffects& fx, const char* name, std::uint64_t seed) {
         OfflineRunOptions run = SessionRun(o, rng, seed);
         run.motions = o.session_motions;
-        if (!getenv("EDSP_DRIFT_WITHOUT")) run.calibration_path = model_path;
-        DriftOptions dop;
-        dop.recorded_with_baseline = !getenv("EDSP_DRIFT_WITHOUT");
+        run.calibration_path = model_path;
         run.out_dir = dir + "/" + name;
-        return Drift(model, baseline, model_path, LoadMeasurement(RunOffline(config, fx, run).csv_path), dop);
+        return Drift(model, baseline, model_path, LoadMeasurement(RunOffline(config, fx, run).csv_path));
       };
       const DriftReport same = session(rig.effects, "same", o.seed * 7919 + static_cast<std::uint64_t>(3 * k + 1));
       const DriftReport changed = session(after, "changed", o.seed * 7919 + static_cast<std::uint64_t>(3 * k + 2));
-      s.unchanged_named = static_cast<int>(same.changed.size());
-      s.unchanged_quiet = same.changed.empty();
+      s.unchanged_named = static_cast<int>(same.changed.size() + same.legs_changed.size());
+      s.unchanged_quiet = s.unchanged_named == 0;
+      for (const LegChange& c : same.legs_changed) s.unchanged_changes.push_back(LegChangeText(c));
       for (const ParameterChange& c : same.changed) s.unchanged_changes.push_back(ChangeText(c));
       s.recalibrate_unchanged = same.recalibrate;
       s.recalibrate_changed = changed.recalibrate;

@@ -56,6 +56,7 @@ const std::string& Baseline() {
 nlohmann::json BaselineJson() { return nlohmann::json::parse(std::ifstream(Baseline())); }
 
 const std::vector<std::string> kSession = {"Lz", "Lx", "Ry", "M3"};
+const std::vector<std::string> kFit = {"Lz", "Lx", "Rz", "Ry", "M1", "M2"};
 
 const ParameterChange* Find(const std::vector<ParameterChange>& changes, Effect e, int leg) {
   for (const ParameterChange& c : changes) {
@@ -109,6 +110,55 @@ TEST(Drift, WornBacklashAndAJumpedOffsetAreNamedAndSized) {
   }
 }
 
+// The rig with its joint centres off too: a calibration of it holds the
+// legs' lengths in joint centres, beside which an offset cannot be told
+// apart on a session's motions.
+RigEffects WithJointCentres() {
+  RigEffects fx = Rig();
+  fx.joint_position.enabled = true;
+  for (int leg = 0; leg < 6; ++leg) {
+    for (int axis = 0; axis < 3; ++axis) {
+      fx.joint_position.base_m(axis, leg) = 150e-6 * std::sin(1.0 + 2.1 * leg + 0.7 * axis);
+      fx.joint_position.platform_m(axis, leg) = 120e-6 * std::cos(0.4 + 1.3 * leg + 1.9 * axis);
+    }
+  }
+  return fx;
+}
+
+// A screw worn to 2.5× its play and another leg re-seated 40 µm longer, in
+// one session, on a rig whose calibration holds joint centres: the leg is
+// named by its length, on its own leg, and sized; the backlash too; no
+// other leg and no parameter of another leg changed.
+TEST(Drift, AGrownBacklashBesideAJumpedLegAreEachNamedOnTheirOwnLeg) {
+  const std::string fit = Session("joints_fit", WithJointCentres(), kFit, "", 6);
+  const Diagnosis d = Diagnose(test_support::ShippedConfigModel(), LoadMeasurement(fit));
+  const std::string model = test_support::ScratchDir("drift_joints") + "/model.json";
+  std::ofstream(model) << ModelJson(d).dump(2);
+  const nlohmann::json baseline = nlohmann::json::parse(std::ifstream(model));
+  RigEffects changed = WithJointCentres();
+  changed.backlash.backlash_m[1] *= 2.5;
+  changed.leg_offset.offset_m[3] += 40e-6;
+  const DriftReport r = Drift(test_support::ShippedConfigModel(), baseline, model,
+                              LoadMeasurement(Session("joints_changed", changed, kFit, model, 7)), Team());
+  std::string applied;
+  for (const auto& e : baseline["effects"])
+    applied += " " + e.value("name", "") + (e.value("apply", false) ? "" : "(not applied)");
+  std::string legs;
+  for (const LegChange& c : r.legs) legs += LegChangeText(c) + fmt::format(" at A {:.1f} µm\n", c.at_a_m * 1e6);
+  SCOPED_TRACE(DriftText(r) + legs + "baseline:" + applied);
+  ASSERT_EQ(r.legs.size(), 6u);
+  ASSERT_EQ(r.legs_changed.size(), 1u);
+  EXPECT_EQ(r.legs_changed[0].leg, 4);
+  EXPECT_NEAR(r.legs_changed[0].change_m, 40e-6, 3.0 * r.legs_changed[0].sigma_m);
+  const ParameterChange* backlash = Find(r.changed, Effect::kBacklash, 2);
+  ASSERT_NE(backlash, nullptr);
+  EXPECT_NEAR(backlash->change, 1.5 * Rig().backlash.backlash_m[1], 3.0 * backlash->sigma + 1e-6);
+  for (const ParameterChange& c : r.changed) {
+    EXPECT_TRUE(c.leg == 2 || c.leg == 4) << ChangeText(c);
+  }
+  EXPECT_TRUE(r.recalibrate);
+}
+
 // A payload the calibration never saw: the legs give under it, an effect
 // the baseline does not hold.
 TEST(Drift, AnEffectTheBaselineDoesNotHoldAppears) {
@@ -138,7 +188,7 @@ TEST(Drift, TheCommandLineSaysWhatChangedAndRefusesABadBaseline) {
                                            BuiltProgram("edsp-gap"), test_support::kShippedConfig, Baseline(), csv));
   ASSERT_EQ(ok.exit_code, 0) << ok.text;
   const nlohmann::json j = nlohmann::json::parse(ok.text.substr(ok.text.find('{')));
-  for (const char* key : {"changed", "appeared", "vanished", "heldout_rms_m", "recalibrate"})
+  for (const char* key : {"changed", "legs", "legs_changed", "appeared", "vanished", "heldout_rms_m", "recalibrate"})
     EXPECT_TRUE(j.contains(key)) << key;
   // By default the data says whether the baseline was applied (its leg_corr columns).
   EXPECT_TRUE(j["recorded_with_baseline"].get<bool>());

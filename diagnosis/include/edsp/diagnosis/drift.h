@@ -55,12 +55,31 @@ struct ParameterChange {
   bool applied = true;  // the kinematics applies it (calibration::UnappliedParameters): only such can count as changed
 };
 
+// A leg's constant length, changed (a joint re-seated, a coupling slipped),
+// asked of every leg whatever the baseline holds of the legs' geometry: the
+// six offsets fitted from zero beside the frame and the parameters found
+// changed, every other parameter (the joint centres among them) held at the
+// baseline's. Beside the joint centres' 36 changes a leg's length is not
+// known to within 100 µm on a session's motions (they and the frame mimic it
+// over a small workspace); held, it is known to a few µm. σ is the larger of
+// the formal one (grown for a residual that is not white) and the
+// jackknife's over the session's runs, times √2: the baseline's own error in
+// that length (its joint centres' errors seen on motions the fit did not
+// run), which the model does not save, taken as large as the session's.
+struct LegChange {
+  int leg = 0;  // 1–6
+  double change_m = 0.0, sigma_m = 0.0, z = 0.0;
+  double at_a_m = 0.0;  // how far it moves point A on this session (RMS)
+};
+
 struct DriftReport {
   bool recorded_with_baseline = true;
   int samples = 0;
   std::vector<ParameterChange> parameters;  // every parameter the baseline applies
   std::vector<ParameterChange> changed;     // those the kinematics applies with |z| ≥ z_threshold
                                             // that move A by kChangeAtAShare of the noise floor
+  std::vector<LegChange> legs;              // every leg's length
+  std::vector<LegChange> legs_changed;      // those past the same two bars
   double z_threshold = 3.0;
   std::vector<Effect> appeared;  // identified now, not in the baseline
   std::vector<Effect> vanished;  // in the baseline, now within z_threshold·σ of zero
@@ -82,7 +101,9 @@ double ChangeThreshold(int parameters);
 nlohmann::json ToJson(const DriftReport& report);
 // One change: "backlash play leg 3: 22.0 → 37.0 µm, +15.0 ± 2.0 µm (7.5σ)".
 std::string ChangeText(const ParameterChange& change);
-// "backlash leg 3: 22.0 → 37.0 µm, +15.0 ± 2.0 µm" per change, then what
+// "leg 4 length: +40.2 ± 3.1 µm (13.0σ)".
+std::string LegChangeText(const LegChange& change);
+// Each leg whose length changed, each parameter that changed, then what
 // appeared, vanished, and the verdict.
 std::string DriftText(const DriftReport& report);
 

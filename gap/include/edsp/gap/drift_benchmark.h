@@ -38,7 +38,7 @@ struct TrueChange {
 
 struct DriftScenario {
   int index = 0;
-  std::string description, kind;  // kind: backlash | offset | warmer_hall
+  std::string description, kind;  // kind: backlash | offset | two_at_once | warmer_hall
   std::vector<TrueChange> truth;
   int false_changes = 0;                       // parameters named in the changed session that did not change
   bool unchanged_quiet = false;                // the unchanged session named no change
