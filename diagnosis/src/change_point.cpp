@@ -342,6 +342,8 @@ ChangeEvent EventOf(const Design& d, const Timeline& line, int signature, int po
   return ev;
 }
 
+inline constexpr double kLargestSigma = 1e-3;  // m or rad
+
 // The step of `signature` at `pos` judged against the noise and the
 // structure (Judge, LeftBlockByBlock): nothing when it is within the
 // noise; an event whose `alternative` is "structure" when what is left
@@ -355,6 +357,11 @@ std::optional<ChangeEvent> Assess(const Base& base, const Timeline& line, int si
   ev.step_sigma2 = step->wald;
   std::tie(ev.left_sigma2, ev.left_threshold) = LeftBlockByBlock(base.d, line, signature, *step);
   if (ev.left_sigma2 > ev.left_threshold) ev.alternative = "structure";
+  // A step the session cannot size to within a millimetre or a milliradian
+  // in some direction (its columns all but collinear with the rest there)
+  // passes its bar on the directions it can size, but is no change a rig
+  // engineer could look for.
+  if (!(ev.sigma.maxCoeff() <= kLargestSigma)) ev.alternative = "undetermined";
   return ev;
 }
 

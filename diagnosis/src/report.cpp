@@ -280,7 +280,8 @@ nlohmann::json ToJson(const Diagnosis& d) {
   j["change_search"] = {{"searched", d.changes.searched},
                         {"rejected", EventsJson(d.changes.rejected)},
                         {"blocks", d.changes.blocks},
-                        {"candidates", d.changes.candidates}};
+                        {"candidates", d.changes.candidates},
+                        {"structural_mode_hz", d.changes.structural_mode_hz}};
   j["conclusion"] = ConclusionName(d.conclusion);
   j["calibration"] = CalibrationJson(d.calibration);
   j["holdout"] = {{"runs", d.holdout_runs},

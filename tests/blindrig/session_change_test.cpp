@@ -101,6 +101,28 @@ TEST(SessionChanges, AKnockedTrackerIsAnEventOfTheTrackerNeverOfALeg) {
   EXPECT_LT(d.holdout_after.rms_m, 1.5 * d.noise_floor_rms_m) << d.unexplained_note;
 }
 
+// The same knock on a rig whose structure sways at 4.3 Hz: judged beside the
+// vocabulary before the mode's frequency is known, the sway left along the
+// tracker's signature turned the step away as structure; the search runs
+// again beside the mode, and the knock is an event of its time and size.
+TEST(SessionChanges, AKnockedTrackerBesideASwayingStructureIsStillAnEvent) {
+  BlindEffects e;
+  e.resonance_hz = 4.3;
+  e.resonance_damping = 0.028;
+  e.resonance_gain = 0.4;
+  e.change_time_s = 0.45 * SessionSeconds();
+  e.change_tracker << 60e-6, -40e-6, 30e-6, 30e-6, 0.0, -40e-6;
+  const gap::Diagnosis d = DiagnoseSession(e);
+  ASSERT_EQ(d.changes.events.size(), 1u) << gap::ChangesText(d);
+  const gap::ChangeEvent& ev = d.changes.events.front();
+  EXPECT_EQ(ev.kind, gap::ChangeKind::kTrackerFrame) << gap::DescribeEvent(ev);
+  EXPECT_LE(std::abs(ev.time_s - e.change_time_s), 1.0) << gap::DescribeEvent(ev);
+  EXPECT_NEAR(ev.size.tail<3>().norm(), e.change_tracker.tail<3>().norm(), 0.2 * e.change_tracker.tail<3>().norm())
+      << gap::DescribeEvent(ev);
+  EXPECT_NEAR(d.changes.structural_mode_hz, 4.3, 0.3);
+  EXPECT_TRUE(Selected(d, gap::Effect::kStructuralResonance)) << gap::ChangesText(d);
+}
+
 // A screw warming under power drifts: it is the thermal effect, no event.
 TEST(SessionChanges, AThermalDriftIsNeverAStep) {
   BlindEffects e;

@@ -27,7 +27,8 @@
 //     it removes clearly more than the best drift (step_over_drift, in the
 //     same widened σ²).
 // A step that fails either of the last two is named as rejected, with the
-// alternative that won and its evidence, and is not an event.
+// alternative that won and its evidence, and is not an event; so is a step
+// whose size is unknown to a millimetre or a milliradian in some direction.
 // An event found is removed from the data (the rows before it moved to the
 // rig after it), and the search runs again for the next, up to max_events.
 // The diagnosis then works on the corrected data: the rig as it is at the
@@ -77,7 +78,8 @@ struct ChangeEvent {
   std::string drift;                   //   that drift: "linear" or "tau_600s"
   double left_sigma2 = 0.0;            // what the signature holds block by block after the step, in σ²
   double left_threshold = 0.0;         //   and its χ² bar (1%): past it, structure, not one change
-  std::string alternative;             // rejected: what won, "drift" or "structure"
+  std::string alternative;             // rejected: what won, "drift" or "structure", or "undetermined"
+                                       //   (its σ past 1 mm or 1 mrad in some direction)
 };
 
 struct ChangeSearch {
@@ -86,6 +88,7 @@ struct ChangeSearch {
   std::vector<ChangeEvent> rejected;  // significant steps a drift explained as well: not events
   int blocks = 0, candidates = 0;     // blocks of the noise's reading; instants the scan tried
   double seconds = 0.0;
+  double structural_mode_hz = 0.0;  // the sway searched beside the steps (0: none; diagnose.cpp)
 };
 
 // One sentence for an event, as the report and the text give it: "at
