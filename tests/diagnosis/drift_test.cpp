@@ -207,6 +207,13 @@ TEST(Drift, TheCommandLineSaysWhatChangedAndRefusesABadBaseline) {
   EXPECT_EQ(refused.exit_code, 1) << refused.text;
   EXPECT_NE(refused.text.find(bad), std::string::npos) << refused.text;
   EXPECT_NE(refused.text.find("needs 6 parameters"), std::string::npos) << refused.text;
+  // The benchmark's sessions run the motions asked for.
+  const auto bench = test_support::RunCommand(fmt::format(
+      "{} benchmark --mode drift --scenarios 1 --seed 3 --session-motions Lz,Rz --json", BuiltProgram("edsp-gap")));
+  ASSERT_EQ(bench.exit_code, 0) << bench.text;
+  const nlohmann::json b = nlohmann::json::parse(bench.text.substr(bench.text.find('{')));
+  EXPECT_EQ(b["session_motions"], (std::vector<std::string>{"Lz", "Rz"})) << bench.text;
+  EXPECT_TRUE(b["scenarios"][0]["truth"][0].contains("reported")) << bench.text;
   // Drift is scored on edsp's rig only.
   const auto blind = test_support::RunCommand(
       fmt::format("{} benchmark --mode drift --generator blind --scenarios 1", BuiltProgram("edsp-gap")));
