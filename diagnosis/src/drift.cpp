@@ -31,8 +31,6 @@ struct Fitted {
   std::map<Effect, Eigen::VectorXd> delta, sigma;  // per effect: its change and that change's 1-σ
 };
 
-bool IsGeometry(Effect e) { return e == Effect::kLegOffset || e == Effect::kJointPosition; }
-
 // Each leg's length change (LegChange): the six offsets fitted from zero
 // beside the frame and the parameters found changed (`changed`, design
 // columns), everything else held at the baseline's. Beside the joint
@@ -156,6 +154,8 @@ void Compare(const SavedEffect& e, const Eigen::VectorXd& delta, const Eigen::Ve
 
 }  // namespace
 
+bool IsLegGeometry(Effect e) { return e == Effect::kLegOffset || e == Effect::kJointPosition; }
+
 double ChangeThreshold(int parameters) {
   const double p = 0.05 / std::max(1, parameters);
   double lo = 0.0, hi = 40.0;
@@ -212,7 +212,7 @@ DriftReport Drift(const PlatformModel& model, const nlohmann::json& baseline, co
   }
   Columns changed_columns;
   for (const ParameterChange& c : r.changed) {
-    if (!IsGeometry(c.effect)) changed_columns.push_back(d.Of(c.effect).begin + c.theta_index);
+    if (!IsLegGeometry(c.effect)) changed_columns.push_back(d.Of(c.effect).begin + c.theta_index);
   }
   for (LegChange c : LegLengths(d, changed_columns, r.noise_floor_rms_m)) {
     c.z = c.sigma_m > 0.0 ? c.change_m / c.sigma_m : 0.0;

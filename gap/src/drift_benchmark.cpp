@@ -38,7 +38,7 @@ OfflineRunOptions SessionRun(const DriftBenchmarkOptions& o, Rng& rng, std::uint
   return run;
 }
 
-// Leg `leg` (0–5) jumped by 30–150 µm either way.
+// Leg `leg` (0–5) jumped by min_m–max_m either way.
 void JumpLeg(int leg, double min_m, double max_m, Rng& rng, RigEffects* fx, DriftScenario* s) {
   const double jump = Uniform(rng, min_m, max_m) * (Uniform(rng, 0, 1) < 0.5 ? -1 : 1);
   fx->leg_offset.offset_m[static_cast<std::size_t>(leg)] += jump;
@@ -104,8 +104,6 @@ const LegChange* ReportedLeg(int leg, const std::vector<LegChange>& among) {
   return nullptr;
 }
 
-bool IsGeometry(Effect e) { return e == Effect::kLegOffset || e == Effect::kJointPosition; }
-
 // A leg's jump is scored as the leg's length change, however the baseline
 // holds the leg's geometry; a geometric parameter of that leg that changed
 // with it is the same change, not a false one.
@@ -133,7 +131,7 @@ void Score(const DriftReport& changed, DriftScenario* s) {
                        [&](const TrueChange& t) { return t.effect == effect && t.leg == leg; });
   };
   for (const ParameterChange& c : changed.changed) {
-    s->false_changes += !truly(EffectName(c.effect), c.leg) && !(IsGeometry(c.effect) && truly("leg_offset", c.leg));
+    s->false_changes += !truly(EffectName(c.effect), c.leg) && !(IsLegGeometry(c.effect) && truly("leg_offset", c.leg));
   }
   for (const LegChange& c : changed.legs_changed) s->false_changes += !truly("leg_offset", c.leg);
 }

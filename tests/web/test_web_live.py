@@ -143,6 +143,9 @@ def test_the_server_reports_on_edsp_status_as_every_node_does(served):
     assert len(web) >= 2, [m["node"] for _, m in got["EDSP_STATUS"]]
     assert all(m["pid"] == served["pid"] for m in web), (served["pid"], seen)
     assert all(m["state"] == 1 for m in web), seen  # STATE_RUNNING
+    # Growth, not a count: the first report seen may be the one the server
+    # sent as it started, before the bus brought it anything, reaching the
+    # board after the subscription on a slow machine.
     assert web[-1]["messages_in"] > web[0]["messages_in"], seen
     assert web[-1]["messages_out"] > web[0]["messages_out"], seen
 

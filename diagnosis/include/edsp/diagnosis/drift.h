@@ -66,6 +66,9 @@ struct ParameterChange {
 // jackknife's over the session's runs, times √2: the baseline's own error in
 // that length (its joint centres' errors seen on motions the fit did not
 // run), which the model does not save, taken as large as the session's.
+// The effects that set a leg's constant length (leg offsets, joint centres).
+bool IsLegGeometry(Effect effect);
+
 struct LegChange {
   int leg = 0;  // 1–6
   double change_m = 0.0, sigma_m = 0.0, z = 0.0;
