@@ -44,6 +44,16 @@ void ReadCueing(const ConfigSection& s, CueingConfig& config) {
   }
 }
 
+void ReadInput(const ConfigSection& s, VehicleInputParameters& input) {
+  s.RejectUnknownKeys({"timeout_s", "fade_s"});
+  input.timeout_s = Positive(s, "timeout_s", input.timeout_s);
+  input.fade_s = Positive(s, "fade_s", input.fade_s);
+  if (input.timeout_s > 1.0) {
+    s.Fail("timeout_s", fmt::format("{} timeout_s = {}: a rider would ride a second on a dead input (at most 1 s)",
+                                    s.label(), input.timeout_s));
+  }
+}
+
 void ReadWashout(const ConfigSection& s, ClassicalWashoutParameters& w) {
   s.RejectUnknownKeys({"specific_force_scale", "angular_velocity_scale", "translation_break_rad_s",
                        "translation_damping", "translation_washout_rad_s", "tilt_break_rad_s", "tilt_damping",
@@ -85,9 +95,10 @@ void ReadPerception(const ConfigSection& s, VestibularParameters& p) {
 
 CueingConfig ParseCueingConfig(const std::string& toml_text, const std::string& origin) {
   const ConfigFile file = ConfigFile::Parse(toml_text, origin);
-  file.Root().RejectUnknownKeys({"cueing", "washout", "perception"});
+  file.Root().RejectUnknownKeys({"cueing", "input", "washout", "perception"});
   CueingConfig config;
   ReadCueing(file.Section("cueing"), config);
+  ReadInput(file.Section("input"), config.input);
   ReadWashout(file.Section("washout"), config.washout);
   ReadPerception(file.Section("perception"), config.perception);
   return config;

@@ -1,0 +1,77 @@
+#include "edsp/cueing/vehicle_input.h"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+namespace edsp {
+namespace {
+
+double RaisedCosineWeight(double x) {
+  if (x <= 0.0) return 0.0;
+  if (x >= 1.0) return 1.0;
+  return 0.5 * (1.0 - std::cos(3.14159265358979323846 * x));
+}
+
+}  // namespace
+
+const char* VehicleInputStateName(VehicleInputState state) {
+  switch (state) {
+    case VehicleInputState::kWaiting: return "waiting";
+    case VehicleInputState::kLive: return "live";
+    case VehicleInputState::kLost: return "lost";
+  }
+  return "?";
+}
+
+VehicleInput::VehicleInput(const VehicleInputParameters& parameters) : parameters_(parameters) {}
+
+std::optional<std::string> VehicleInput::Accept(const VehiclePacket& packet, double now_s) {
+  if (latest_) {
+    // Ahead by less than half the sequence space: newer, across a wrap too.
+    const auto ahead = static_cast<std::int32_t>(packet.sequence - latest_->sequence);
+    if (ahead <= 0) {
+      return fmt::format("sequence {} after {}: out of order or repeated", packet.sequence, latest_->sequence);
+    }
+    if (!(packet.time_s > latest_->time_s)) {
+      return fmt::format("time_s {} after {}: the vehicle's time must advance", packet.time_s, latest_->time_s);
+    }
+    missed_packets_ += static_cast<std::uint64_t>(ahead - 1);
+  }
+  latest_ = packet;
+  latest_receive_s_ = now_s;
+  return std::nullopt;
+}
+
+VehicleInputState VehicleInput::state(double now_s) const {
+  if (!latest_) return VehicleInputState::kWaiting;
+  return now_s - latest_receive_s_ <= parameters_.timeout_s ? VehicleInputState::kLive : VehicleInputState::kLost;
+}
+
+std::optional<CueCommand> VehicleInput::command() const {
+  if (!latest_) return std::nullopt;
+  return latest_->command;
+}
+
+VehicleSample VehicleInput::At(double now_s) {
+  const bool live = state(now_s) == VehicleInputState::kLive;
+  if (live != following_live_) {
+    following_live_ = live;
+    fade_start_s_ = now_s;
+    fade_from_ = output_;
+  }
+  VehicleSample source;  // a rider at rest
+  if (live) {
+    source.specific_force_m_s2 = latest_->specific_force_m_s2;
+    source.angular_velocity_rad_s = latest_->angular_velocity_rad_s;
+  }
+  const double w = RaisedCosineWeight((now_s - fade_start_s_) / parameters_.fade_s);
+  output_.t_s = now_s;
+  output_.specific_force_m_s2 =
+      fade_from_.specific_force_m_s2 + w * (source.specific_force_m_s2 - fade_from_.specific_force_m_s2);
+  output_.angular_velocity_rad_s =
+      fade_from_.angular_velocity_rad_s + w * (source.angular_velocity_rad_s - fade_from_.angular_velocity_rad_s);
+  return output_;
+}
+
+}  // namespace edsp

@@ -1,0 +1,109 @@
+// The vehicle's UDP packet: what is sent is what is read, byte for byte as
+// documented, and every way a sender gets it wrong is refused by name.
+#include "edsp/cueing/vehicle_packet.h"
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <random>
+
+#include <gtest/gtest.h>
+
+namespace edsp {
+namespace {
+
+VehiclePacket Sample(std::mt19937& random) {
+  std::uniform_real_distribution<double> force(-30.0, 30.0), omega(-3.0, 3.0), alpha(-40.0, 40.0);
+  VehiclePacket p;
+  p.command = static_cast<CueCommand>(1 + random() % 4);
+  p.sequence = static_cast<std::uint32_t>(random());
+  p.time_s = std::uniform_real_distribution<double>(0.0, 1e5)(random);
+  p.specific_force_m_s2 = Vector3(force(random), force(random), force(random));
+  p.angular_velocity_rad_s = Vector3(omega(random), omega(random), omega(random));
+  if (random() % 2 == 0) p.angular_acceleration_rad_s2 = Vector3(alpha(random), alpha(random), alpha(random));
+  return p;
+}
+
+std::string Refusal(const std::array<std::uint8_t, kVehiclePacketBytes>& bytes) {
+  const ParsedVehiclePacket parsed = ParseVehiclePacket(bytes.data(), bytes.size());
+  return parsed.packet ? "(accepted)" : parsed.error;
+}
+
+TEST(VehiclePacket, WhatIsSentIsWhatIsReadToFloatPrecision) {
+  std::mt19937 random(20261205);
+  for (int i = 0; i < 1000; ++i) {
+    const VehiclePacket sent = Sample(random);
+    const auto bytes = EncodeVehiclePacket(sent);
+    const ParsedVehiclePacket parsed = ParseVehiclePacket(bytes.data(), bytes.size());
+    ASSERT_TRUE(parsed.packet) << parsed.error;
+    const VehiclePacket& read = *parsed.packet;
+    EXPECT_EQ(read.command, sent.command);
+    EXPECT_EQ(read.sequence, sent.sequence);
+    EXPECT_EQ(read.time_s, sent.time_s);  // float64 on the wire
+    for (int axis = 0; axis < 3; ++axis) {
+      EXPECT_EQ(read.specific_force_m_s2(axis),
+                static_cast<double>(static_cast<float>(sent.specific_force_m_s2(axis))));
+      EXPECT_EQ(read.angular_velocity_rad_s(axis),
+                static_cast<double>(static_cast<float>(sent.angular_velocity_rad_s(axis))));
+    }
+    ASSERT_EQ(read.angular_acceleration_rad_s2.has_value(), sent.angular_acceleration_rad_s2.has_value());
+  }
+}
+
+TEST(VehiclePacket, TheBytesAreTheDocumentedLayout) {
+  VehiclePacket p;
+  p.command = CueCommand::kFreeze;
+  p.sequence = 0x01020304;
+  p.time_s = 2.5;
+  p.specific_force_m_s2 = Vector3(-4.5, 0.25, 9.75);
+  p.angular_velocity_rad_s = Vector3(0.5, -0.125, 1.0);
+  const auto bytes = EncodeVehiclePacket(p);
+  EXPECT_EQ(std::string(reinterpret_cast<const char*>(bytes.data()), 4), "EDSV");
+  EXPECT_EQ(bytes[4], 1);  // version, little-endian
+  EXPECT_EQ(bytes[5], 0);
+  EXPECT_EQ(bytes[6], 3);     // freeze
+  EXPECT_EQ(bytes[8], 0x04);  // sequence, least significant byte first
+  EXPECT_EQ(bytes[11], 0x01);
+  EXPECT_EQ(bytes[12], 0);  // no angular acceleration
+  double time;
+  std::memcpy(&time, bytes.data() + 16, 8);  // this host is little-endian, as the wire
+  EXPECT_EQ(time, 2.5);
+  float fx, wz;
+  std::memcpy(&fx, bytes.data() + 24, 4);
+  std::memcpy(&wz, bytes.data() + 44, 4);
+  EXPECT_EQ(fx, -4.5f);
+  EXPECT_EQ(wz, 1.0f);
+}
+
+TEST(VehiclePacket, EveryWayASenderGetsItWrongIsRefusedByName) {
+  const auto good = EncodeVehiclePacket(VehiclePacket{});
+  EXPECT_EQ(Refusal(good), "(accepted)");
+  EXPECT_NE(ParseVehiclePacket(good.data(), 59).error.find("60 bytes, this one 59"), std::string::npos);
+  auto bad = good;
+  bad[0] = 'X';
+  EXPECT_NE(Refusal(bad).find("is not \"EDSV\""), std::string::npos);
+  bad = good;
+  bad[4] = 2;
+  EXPECT_NE(Refusal(bad).find("version 2"), std::string::npos);
+  bad = good;
+  bad[6] = 9;
+  EXPECT_NE(Refusal(bad).find("command 9"), std::string::npos);
+  bad = good;
+  bad[12] = 2;
+  EXPECT_NE(Refusal(bad).find("flags 0x2"), std::string::npos);
+  VehiclePacket p;
+  p.time_s = std::numeric_limits<double>::infinity();
+  EXPECT_NE(Refusal(EncodeVehiclePacket(p)).find("time_s = inf"), std::string::npos);
+  p = VehiclePacket{};
+  p.specific_force_m_s2.y() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_NE(Refusal(EncodeVehiclePacket(p)).find("specific force y = nan"), std::string::npos);
+  p = VehiclePacket{};
+  p.angular_velocity_rad_s.z() = 90.0;  // deg/s sent as rad/s
+  EXPECT_NE(Refusal(EncodeVehiclePacket(p)).find("angular velocity z = 90 rad/s"), std::string::npos);
+  p = VehiclePacket{};
+  p.angular_acceleration_rad_s2 = Vector3(0.0, 100.0, 0.0);
+  EXPECT_NE(Refusal(EncodeVehiclePacket(p)).find("angular acceleration y = 100"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace edsp
