@@ -1,5 +1,8 @@
 #include "group_watch.h"
 
+#include <pthread.h>
+#include <sched.h>
+
 #include "edsp/fault_t.hpp"
 #include "edsp/node/runtime.h"
 
@@ -23,7 +26,14 @@ GroupWatch::~GroupWatch() {
   if (listener_.joinable()) listener_.join();
 }
 
+// Under the nodes' priorities (60-85 in the shipped groups) and above
+// every normal thread; without the privilege it stays a normal thread.
+constexpr int kListenerPriority = 20;
+
 void GroupWatch::Listen() {
+  sched_param param{};
+  param.sched_priority = kListenerPriority;
+  (void)pthread_setschedparam(pthread_self(), SCHED_FIFO, &param);
   for (;;) {
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -70,6 +80,7 @@ void GroupWatch::OnMessage(const lcm::ReceiveBuffer* buffer, const std::string& 
     self->last_seq_[channel] = seq;
     if (is_setpoint) {
       self->setpoint_ = setpoint;
+      self->setpoint_lag_us_ = now - setpoint.utime;
       self->have_setpoint_ = true;
     }
     fault_t fault;
@@ -85,6 +96,11 @@ bool GroupWatch::WaitForSetpoint(const std::function<bool(const pose_setpoint_t&
                                  std::chrono::milliseconds timeout) {
   std::unique_lock<std::mutex> lock(mutex_);
   return changed_.wait_for(lock, timeout, [&] { return have_setpoint_ && reached(setpoint_); });
+}
+
+std::int64_t GroupWatch::SetpointLagUs() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return setpoint_lag_us_;
 }
 
 int GroupWatch::Restarts(const std::string& channel) {

@@ -3,6 +3,11 @@
 // acts on what the group does (the platform moving, a restarted member
 // publishing again) rather than on a sleep tuned to one machine's start-up:
 // a sanitized node on a busy two-core machine starts several times slower.
+// Its listener runs at a real-time priority below the nodes' when it may:
+// it takes every datagram of the group (some 5 000 a second), and starved
+// by other work on a busy machine its socket's backlog grew to seconds, so
+// a test acted on the platform's motion seconds after it happened (a fault
+// meant for mid-motion landed in a hold).
 
 #include <chrono>
 #include <condition_variable>
@@ -33,6 +38,9 @@ class GroupWatch {
 
   bool ok() const { return lcm_.good(); }
 
+  // How far behind the group this watch reads: when the newest setpoint
+  // arrived here minus when the planner stamped it (µs).
+  std::int64_t SetpointLagUs();
   // Waits until the newest setpoint satisfies `reached`; false on timeout.
   bool WaitForSetpoint(const std::function<bool(const pose_setpoint_t&)>& reached, std::chrono::milliseconds timeout);
   // Waits until a message on `channel` arrives at or after `after_utime`
@@ -65,6 +73,7 @@ class GroupWatch {
   std::int64_t last_rearm_request_utime_ = 0;
   std::vector<fault_t> faults_;
   pose_setpoint_t setpoint_{};
+  std::int64_t setpoint_lag_us_ = 0;
   bool have_setpoint_ = false;
   bool stop_ = false;
   std::thread listener_;
