@@ -1,13 +1,17 @@
 // edsp-cueing: motion cueing (docs/cueing.md).
-//   edsp-cueing offline --config FILE --cueing FILE --manoeuvre FILE... [--csv-dir DIR] [--json]
+//   edsp-cueing offline --config FILE --cueing FILE --manoeuvre FILE... [--rig-effects FILE]
+//                       [--csv-dir DIR] [--json]
 //       each manoeuvre through classical washout at the cueing rate: every
 //       setpoint through the kinematics' whole-path check, and what a rider
-//       on the commanded platform perceives against the vehicle.
+//       on the commanded platform perceives against the vehicle; with
+//       --rig-effects, also on the platform's real motion (the setpoints
+//       played through the stack and a rig with that file's [rig.effects]).
 
 #include <cstdio>
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,7 +20,10 @@
 #include <nlohmann/json.hpp>
 
 #include "edsp/cueing/cueing_run.h"
+#include "edsp/cueing/platform_motion.h"
 #include "edsp/kinematics/config.h"
+#include "edsp/rig/rig_effects.h"
+#include "edsp/sim/played_poses.h"
 
 namespace edsp {
 namespace {
@@ -25,9 +32,19 @@ struct OfflineOptions {
   std::string config_path;
   std::string cueing_path;
   std::vector<std::string> manoeuvre_paths;
+  std::string rig_effects_path;
   std::string csv_dir;
   bool json = false;
 };
+
+// What a rider on the rig feels: the commanded poses played through the
+// stack and a rig with its effects.
+PerceptionScore ScoreOnTheRig(const PlatformConfig& nominal, const RigEffects& effects, const CueingConfig& config,
+                              const CueingRun& run) {
+  const std::vector<Pose> truth = PlayPosesThroughTheStack(nominal, effects, run.commanded, 1.0 / config.rate_hz);
+  const VehicleSeries felt = PlatformMotionAtHead(truth, 1.0 / config.rate_hz, config.head_in_platform_m);
+  return ScorePerception(config.perception, run.vehicle, felt);
+}
 
 nlohmann::json ChannelsJson(const PerceptionScore& score) {
   nlohmann::json channels = nlohmann::json::object();
@@ -41,7 +58,7 @@ nlohmann::json ChannelsJson(const PerceptionScore& score) {
   return channels;
 }
 
-nlohmann::json RunJson(const Manoeuvre& manoeuvre, const CueingRun& run) {
+nlohmann::json RunJson(const Manoeuvre& manoeuvre, const CueingRun& run, const std::optional<PerceptionScore>& real) {
   nlohmann::json out = {{"name", manoeuvre.name},
                         {"file", manoeuvre.origin},
                         {"duration_s", manoeuvre.duration_s},
@@ -52,52 +69,63 @@ nlohmann::json RunJson(const Manoeuvre& manoeuvre, const CueingRun& run) {
                         {"peak_leg_speed_m_s", run.path.peak_leg_speed_m_s},
                         {"peak_leg_accel_m_s2", run.path.peak_leg_accel_m_s2}};
   if (!run.path.ok()) out["violation"] = run.path.Describe();
+  if (real) out["real"] = {{"perception_error", real->overall}, {"channels", ChannelsJson(*real)}};
   return out;
 }
 
-void PrintRow(const Manoeuvre& manoeuvre, const CueingRun& run) {
+void PrintRow(const Manoeuvre& manoeuvre, const CueingRun& run, const std::optional<PerceptionScore>& real) {
   std::string channels;
   for (int channel = 0; channel < kCueChannels; ++channel) {
     channels += fmt::format(" {:6.2f}", run.score.channels[static_cast<std::size_t>(channel)].in_thresholds);
   }
-  std::printf("%-22s %6.2f %s %6.0f%%  %s\n", manoeuvre.name.c_str(), run.score.overall, channels.c_str(),
-              100.0 * run.peak_stroke_used, run.path.ok() ? "ok" : run.path.Describe().c_str());
+  const std::string on_rig = real ? fmt::format(" {:8.2f}", real->overall) : "";
+  std::printf("%-22s %6.2f %s%s %6.0f%%  %s\n", manoeuvre.name.c_str(), run.score.overall, channels.c_str(),
+              on_rig.c_str(), 100.0 * run.peak_stroke_used, run.path.ok() ? "ok" : run.path.Describe().c_str());
 }
 
 int RunOffline(const OfflineOptions& options) {
-  const PlatformModel model(LoadConfigFile(options.config_path));
+  const PlatformConfig nominal = LoadConfigFile(options.config_path);
+  const PlatformModel model(nominal);
   const CueingConfig config = LoadCueingConfig(options.cueing_path);
+  std::optional<RigEffects> effects;
+  if (!options.rig_effects_path.empty()) effects = LoadRigEffects(options.rig_effects_path);
   std::vector<Manoeuvre> manoeuvres;
   for (const std::string& path : options.manoeuvre_paths) manoeuvres.push_back(LoadManoeuvre(path));
   if (!options.csv_dir.empty()) std::filesystem::create_directories(options.csv_dir);
   nlohmann::json runs = nlohmann::json::array();
-  double error_sum = 0.0;
+  double error_sum = 0.0, real_sum = 0.0;
   int violations = 0;
   if (!options.json) {
-    std::printf("classical washout: perceived error in thresholds (overall, then fx fy fz wx wy wz), stroke used\n");
+    std::printf("classical washout: perceived error in thresholds (overall, then fx fy fz wx wy wz%s), stroke used\n",
+                effects ? ", then overall on the rig" : "");
   }
   for (const Manoeuvre& manoeuvre : manoeuvres) {
     const CueingRun run = RunClassicalWashout(model, config, manoeuvre);
+    std::optional<PerceptionScore> real;
+    if (effects) real = ScoreOnTheRig(nominal, *effects, config, run);
     error_sum += run.score.overall;
+    if (real) real_sum += real->overall;
     violations += run.path.ok() ? 0 : 1;
     if (!options.csv_dir.empty()) {
       const std::string path = (std::filesystem::path(options.csv_dir) / (manoeuvre.name + ".csv")).string();
       std::ofstream(path) << CueingRunCsv(run);
     }
     if (options.json)
-      runs.push_back(RunJson(manoeuvre, run));
+      runs.push_back(RunJson(manoeuvre, run, real));
     else
-      PrintRow(manoeuvre, run);
+      PrintRow(manoeuvre, run, real);
   }
-  const double mean_error = error_sum / static_cast<double>(manoeuvres.size());
+  const double count = static_cast<double>(manoeuvres.size());
   if (options.json) {
-    const nlohmann::json out = {{"algorithm", "classical_washout"},
-                                {"manoeuvres", runs},
-                                {"perception_error", mean_error},
-                                {"limit_violations", violations}};
+    nlohmann::json out = {{"algorithm", "classical_washout"},
+                          {"manoeuvres", runs},
+                          {"perception_error", error_sum / count},
+                          {"limit_violations", violations}};
+    if (effects) out["perception_error_real"] = real_sum / count;
     std::printf("%s\n", out.dump(2).c_str());
   } else {
-    std::printf("mean perception error %.3f thresholds; %d of %zu manoeuvres leave a limit\n", mean_error, violations,
+    std::printf("mean perception error %.3f thresholds%s; %d of %zu manoeuvres leave a limit\n", error_sum / count,
+                effects ? fmt::format(" ({:.3f} on the rig)", real_sum / count).c_str() : "", violations,
                 manoeuvres.size());
   }
   return 0;
@@ -120,6 +148,10 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   offline_command->add_option("--manoeuvre", offline.manoeuvre_paths, "manoeuvre file(s) (TOML)")
       ->required()
+      ->check(CLI::ExistingFile);
+  offline_command
+      ->add_option("--rig-effects", offline.rig_effects_path,
+                   "score on the real motion too: a config whose [rig.effects] the rig has")
       ->check(CLI::ExistingFile);
   offline_command->add_option("--csv-dir", offline.csv_dir, "write <manoeuvre>.csv per manoeuvre here");
   offline_command->add_flag("--json", offline.json, "JSON on stdout");

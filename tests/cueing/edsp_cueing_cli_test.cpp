@@ -56,6 +56,22 @@ TEST(EdspCueingCli, EveryShippedManoeuvreStaysInsideEveryLimitAndItsJsonMatchesT
   EXPECT_NEAR(out["perception_error"].get<double>(), sum / static_cast<double>(out["manoeuvres"].size()), 1e-12);
 }
 
+TEST(EdspCueingCli, OnARigItScoresTheRealMotionBesideTheCommanded) {
+  const auto run = RunCueing("offline" + kConfigs + " --manoeuvre " + SourceDir() +
+                             "/config/manoeuvres/braking.toml --json --rig-effects " + SourceDir() +
+                             "/config/huang2021-rig-effects.toml");
+  ASSERT_EQ(run.exit_code, 0) << run.text;
+  const auto out = nlohmann::json::parse(run.text);
+  const auto& braking = out["manoeuvres"][0];
+  ASSERT_TRUE(braking["real"]["perception_error"].is_number()) << run.text;
+  EXPECT_DOUBLE_EQ(out["perception_error_real"].get<double>(), braking["real"]["perception_error"].get<double>());
+  // The example rig follows within micrometres: a rider feels its
+  // commands, within a percent.
+  EXPECT_NEAR(braking["real"]["perception_error"].get<double>(), braking["perception_error"].get<double>(),
+              0.01 * braking["perception_error"].get<double>());
+  EXPECT_TRUE(braking["real"]["channels"]["fx"]["delay_s"].is_number());
+}
+
 TEST(EdspCueingCli, WritesOneCsvPerManoeuvre) {
   const std::string dir = test_support::ScratchDir("cueing_csv");
   const auto run = RunCueing("offline" + kConfigs + " --manoeuvre " + SourceDir() +
