@@ -6,6 +6,9 @@
 //       on the commanded platform perceives against the vehicle; with
 //       --rig-effects, also on the platform's real motion (the setpoints
 //       played through the stack and a rig with that file's [rig.effects]).
+//   edsp-cueing omct --config FILE --cueing FILE [--json]
+//       the Objective Motion Cueing Test's direct responses: gain and phase
+//       per channel at the test's twelve frequencies.
 
 #include <cstdio>
 #include <exception>
@@ -20,6 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "edsp/cueing/cueing_run.h"
+#include "edsp/cueing/omct.h"
 #include "edsp/cueing/platform_motion.h"
 #include "edsp/kinematics/config.h"
 #include "edsp/rig/rig_effects.h"
@@ -131,6 +135,35 @@ int RunOffline(const OfflineOptions& options) {
   return 0;
 }
 
+int RunOmctTable(const std::string& config_path, const std::string& cueing_path, bool json) {
+  const PlatformModel model(LoadConfigFile(config_path));
+  const CueingConfig config = LoadCueingConfig(cueing_path);
+  const std::vector<OmctPoint> points = RunOmct(model, config);
+  if (json) {
+    nlohmann::json out = nlohmann::json::object();
+    for (const OmctPoint& p : points) {
+      out["omct"][CueChannelName(p.channel)].push_back(
+          {{"frequency_rad_s", p.frequency_rad_s}, {"gain", p.gain}, {"phase_deg", p.phase_deg}});
+    }
+    out["algorithm"] = "classical_washout";
+    std::printf("%s\n", out.dump(2).c_str());
+    return 0;
+  }
+  std::printf("OMCT, classical washout: gain / phase (deg) of what the head feels per unit of vehicle motion\n");
+  std::printf("%9s", "rad/s");
+  for (int channel = 0; channel < kCueChannels; ++channel) std::printf(" %14s", CueChannelName(channel));
+  std::printf("\n");
+  for (std::size_t f = 0; f < kOmctFrequencies_rad_s.size(); ++f) {
+    std::printf("%9.3f", kOmctFrequencies_rad_s[f]);
+    for (int channel = 0; channel < kCueChannels; ++channel) {
+      const OmctPoint& p = points[static_cast<std::size_t>(channel) * kOmctFrequencies_rad_s.size() + f];
+      std::printf(" %6.3f / %5.0f", p.gain, p.phase_deg);
+    }
+    std::printf("\n");
+  }
+  return 0;
+}
+
 }  // namespace
 }  // namespace edsp
 
@@ -155,8 +188,15 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   offline_command->add_option("--csv-dir", offline.csv_dir, "write <manoeuvre>.csv per manoeuvre here");
   offline_command->add_flag("--json", offline.json, "JSON on stdout");
+  std::string omct_config, omct_cueing;
+  bool omct_json = false;
+  CLI::App* omct_command = app.add_subcommand("omct", "the OMCT's direct responses of classical washout");
+  omct_command->add_option("--config", omct_config, "platform config (TOML)")->required()->check(CLI::ExistingFile);
+  omct_command->add_option("--cueing", omct_cueing, "cueing config (TOML)")->required()->check(CLI::ExistingFile);
+  omct_command->add_flag("--json", omct_json, "JSON on stdout");
   CLI11_PARSE(app, argc, argv);
   try {
+    if (omct_command->parsed()) return edsp::RunOmctTable(omct_config, omct_cueing, omct_json);
     return edsp::RunOffline(offline);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "edsp-cueing: %s\n", e.what());

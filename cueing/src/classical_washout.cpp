@@ -46,7 +46,7 @@ void ValidateWashout(const ClassicalWashoutParameters& p) {
   RequirePositive(p.tilt_rate_max_rad_s, "tilt_rate_max_rad_s");
   RequirePositive(p.tilt_accel_max_rad_s2, "tilt_accel_max_rad_s2");
   RequirePositive(p.rotation_damping, "rotation_damping");
-  if (!(p.tilt_max_rad > 0.0 && p.tilt_max_rad < 0.5 * 3.14159265358979323846)) {
+  if (!(p.tilt_max_rad > 0.0 && p.tilt_max_rad < 0.5 * kPi)) {
     throw std::invalid_argument(fmt::format("washout tilt_max_rad = {}: must be in (0, π/2)", p.tilt_max_rad));
   }
 }
@@ -67,12 +67,19 @@ ClassicalWashout::ClassicalWashout(const ClassicalWashoutParameters& parameters,
 }
 
 double ClassicalWashout::LimitedTilt(int axis, double wanted_rad) {
-  double& tilt = tilt_rad_[static_cast<std::size_t>(axis)];
-  double& rate = tilt_rate_rad_s_[static_cast<std::size_t>(axis)];
+  const auto i = static_cast<std::size_t>(axis);
+  double& tilt = tilt_rad_[i];
+  double& rate = tilt_rate_rad_s_[i];
   const double accel = parameters_.tilt_accel_max_rad_s2, error = wanted_rad - tilt;
-  // The rate from which the acceleration limit still stops on the target.
-  const double stopping = std::copysign(std::sqrt(2.0 * accel * std::fabs(error)), error);
-  const double wanted_rate = std::clamp(stopping, -parameters_.tilt_rate_max_rad_s, parameters_.tilt_rate_max_rad_s);
+  // The target's own rate, and on top of it the rate that closes the gap
+  // in one cycle, at most the one from which the acceleration limit still
+  // stops on the target: within the limits the tilt is the target, exactly.
+  const double target_rate = (wanted_rad - last_wanted_rad_[i]) / period_s_;
+  last_wanted_rad_[i] = wanted_rad;
+  const double closing_max = std::sqrt(2.0 * accel * std::fabs(error));
+  const double closing = std::clamp(error / period_s_, -closing_max, closing_max);
+  const double wanted_rate =
+      std::clamp(target_rate + closing, -parameters_.tilt_rate_max_rad_s, parameters_.tilt_rate_max_rad_s);
   rate += std::clamp(wanted_rate - rate, -accel * period_s_, accel * period_s_);
   tilt += rate * period_s_;
   return tilt;

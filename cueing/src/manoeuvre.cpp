@@ -5,18 +5,10 @@
 #include <fmt/format.h>
 
 #include "edsp/config_file/config_file.h"
+#include "edsp/cueing/raised_cosine.h"
 
 namespace edsp {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-
-// 0 → 1 over [0, 1] with no step in value or slope.
-double RaisedCosine(double x) {
-  if (x <= 0.0) return 0.0;
-  if (x >= 1.0) return 1.0;
-  return 0.5 * (1.0 - std::cos(kPi * x));
-}
 
 double PulseAt(const CuePulse& p, double t) {
   const double rise_end = p.start_s + p.rise_s, fall_start = rise_end + p.hold_s;

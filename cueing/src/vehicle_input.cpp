@@ -4,17 +4,9 @@
 
 #include <fmt/format.h>
 
+#include "edsp/cueing/raised_cosine.h"
+
 namespace edsp {
-namespace {
-
-double RaisedCosineWeight(double x) {
-  if (x <= 0.0) return 0.0;
-  if (x >= 1.0) return 1.0;
-  return 0.5 * (1.0 - std::cos(3.14159265358979323846 * x));
-}
-
-}  // namespace
-
 const char* VehicleInputStateName(VehicleInputState state) {
   switch (state) {
     case VehicleInputState::kWaiting: return "waiting";
@@ -65,7 +57,7 @@ VehicleSample VehicleInput::At(double now_s) {
     source.specific_force_m_s2 = latest_->specific_force_m_s2;
     source.angular_velocity_rad_s = latest_->angular_velocity_rad_s;
   }
-  const double w = RaisedCosineWeight((now_s - fade_start_s_) / parameters_.fade_s);
+  const double w = RaisedCosine((now_s - fade_start_s_) / parameters_.fade_s);
   output_.t_s = now_s;
   output_.specific_force_m_s2 =
       fade_from_.specific_force_m_s2 + w * (source.specific_force_m_s2 - fade_from_.specific_force_m_s2);

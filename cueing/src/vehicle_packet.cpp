@@ -12,7 +12,7 @@ constexpr std::uint32_t kMagic = 0x56534445;  // "EDSV" read little-endian
 constexpr std::uint16_t kVersion = 1;
 constexpr std::uint32_t kAngularAccelerationFlag = 1;
 constexpr double kMaxSpecificForce_m_s2 = 5.0 * kStandardGravity_m_s2;
-constexpr double kMaxAngularVelocity_rad_s = 2.0 * 3.14159265358979323846;
+constexpr double kMaxAngularVelocity_rad_s = kTwoPi;
 constexpr double kMaxAngularAcceleration_rad_s2 = 50.0;
 
 // Little-endian reads and writes whatever the host's order.

@@ -31,7 +31,7 @@ std::vector<Pose> SustainedSurge(const ClassicalWashoutParameters& parameters, d
   std::vector<Pose> poses;
   for (int k = 0; k * kPeriod <= seconds; ++k) {
     const double t = k * kPeriod;
-    const double ramp = t < 0.5 ? 0.0 : t > 0.8 ? 1.0 : 0.5 * (1.0 - std::cos(3.14159265358979 * (t - 0.5) / 0.3));
+    const double ramp = t < 0.5 ? 0.0 : t > 0.8 ? 1.0 : 0.5 * (1.0 - std::cos(kPi * (t - 0.5) / 0.3));
     VehicleSample sample;
     sample.t_s = t;
     sample.specific_force_m_s2.x() = force * ramp;

@@ -10,6 +10,7 @@
 
 #include "command_output.h"
 #include "edsp/cueing/cueing_run.h"
+#include "edsp/cueing/omct.h"
 #include "edsp/kinematics/config.h"
 #include "edsp/node/build_paths.h"
 #include "scratch_dir.h"
@@ -70,6 +71,22 @@ TEST(EdspCueingCli, OnARigItScoresTheRealMotionBesideTheCommanded) {
   EXPECT_NEAR(braking["real"]["perception_error"].get<double>(), braking["perception_error"].get<double>(),
               0.01 * braking["perception_error"].get<double>());
   EXPECT_TRUE(braking["real"]["channels"]["fx"]["delay_s"].is_number());
+}
+
+TEST(EdspCueingCli, OmctJsonHasEveryChannelAtEveryFrequencyAsTheLibraryMeasures) {
+  const auto run = RunCueing("omct" + kConfigs + " --json");
+  ASSERT_EQ(run.exit_code, 0) << run.text;
+  const auto out = nlohmann::json::parse(run.text);
+  const PlatformModel model(LoadConfigFile(SourceDir() + "/config/huang2021.toml"));
+  const CueingConfig config = LoadCueingConfig(SourceDir() + "/config/cueing.toml");
+  for (int channel = 0; channel < kCueChannels; ++channel) {
+    const auto& points = out["omct"][CueChannelName(channel)];
+    ASSERT_EQ(points.size(), kOmctFrequencies_rad_s.size()) << CueChannelName(channel);
+    const OmctPoint one = MeasureOmct(model, config, channel, kOmctFrequencies_rad_s[5], OmctAmplitude(channel));
+    EXPECT_DOUBLE_EQ(points[5]["frequency_rad_s"].get<double>(), kOmctFrequencies_rad_s[5]);
+    EXPECT_DOUBLE_EQ(points[5]["gain"].get<double>(), one.gain) << CueChannelName(channel);
+    EXPECT_DOUBLE_EQ(points[5]["phase_deg"].get<double>(), one.phase_deg) << CueChannelName(channel);
+  }
 }
 
 TEST(EdspCueingCli, WritesOneCsvPerManoeuvre) {

@@ -41,7 +41,7 @@ amplitude = 2.0
   EXPECT_EQ(series.samples.size(), 5001u);
   for (std::size_t k = 1; k < series.samples.size(); ++k) {
     ASSERT_LE(std::fabs(series.samples[k].specific_force_m_s2.y() - series.samples[k - 1].specific_force_m_s2.y()),
-              3.14159265358979 * 2.0 / (2.0 * 0.5) * 1e-3 * 1.001);
+              kPi * 2.0 / (2.0 * 0.5) * 1e-3 * 1.001);
   }
 }
 
@@ -58,7 +58,7 @@ frequency_hz = 0.25
 )",
                                      "s.toml");
   EXPECT_EQ(m.At(1.0).angular_velocity_rad_s.z(), 0.0);
-  EXPECT_NEAR(m.At(2.0 + 1.0).angular_velocity_rad_s.z(), 0.3 * std::sin(2.0 * 3.14159265358979 * 0.25), 1e-12);
+  EXPECT_NEAR(m.At(2.0 + 1.0).angular_velocity_rad_s.z(), 0.3 * std::sin(2.0 * kPi * 0.25), 1e-12);
   EXPECT_NEAR(m.At(8.0).angular_velocity_rad_s.z(), 0.0, 1e-12);
 }
 

@@ -9,8 +9,6 @@
 namespace edsp {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 TEST(PlatformMotion, AHeadOnATiltedPlatformFeelsGravityAlongItsTilt) {
   Pose tilted;
   tilted.p_BoMo_B << 0.0, 0.0, 1.5;

@@ -50,7 +50,7 @@ TEST(RealMotion, ASlowLoadedDriveLoopIsFeltAsTheDelayItAdds) {
   // feed-forward leaves no delay a rider could feel: 1 ms at most.)
   slow.servo_lag.bandwidth_hz = 2.0;
   slow.servo_lag.load_mass_kg = 2000.0;
-  const double expected_lag_s = 1.0 / (2.0 * 3.14159265358979 * slow.servo_lag.bandwidth_hz);
+  const double expected_lag_s = 1.0 / (2.0 * kPi * slow.servo_lag.bandwidth_hz);
   const std::vector<Pose> truth = PlayPosesThroughTheStack(c.nominal, slow, c.run.commanded, 1e-3);
   const double period = 1.0 / c.config.rate_hz;
   // The rider on the real platform against the rider on the commanded one.

@@ -47,7 +47,7 @@ TEST(VehicleInput, ALostInputFadesToRestWithoutAStepAndFadesBackIn) {
   const double fx = -4.9, period = 1e-3;
   std::uint32_t sequence = 0;
   double previous = 0.0;
-  const double step_bound = 3.14159265358979 / 2.0 * std::fabs(fx) / parameters.fade_s * period * 1.001;
+  const double step_bound = kPi / 2.0 * std::fabs(fx) / parameters.fade_s * period * 1.001;
   for (int k = 0; k <= 8000; ++k) {
     const double t = k * period;
     // Packets at 100 Hz up to 2 s, none until 5 s, then again.

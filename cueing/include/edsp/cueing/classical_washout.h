@@ -32,9 +32,9 @@ struct ClassicalWashoutParameters {
   Vector3 translation_washout_rad_s = Vector3(0.5, 0.5, 1.0);  // ωb
   double tilt_break_rad_s = 5.0;                               // the tilt's second-order low-pass
   double tilt_damping = 1.0;
-  double tilt_rate_max_rad_s = 3.0 * 3.14159265358979323846 / 180.0;
+  double tilt_rate_max_rad_s = 3.0 * kPi / 180.0;
   double tilt_accel_max_rad_s2 = 0.5;
-  double tilt_max_rad = 15.0 * 3.14159265358979323846 / 180.0;
+  double tilt_max_rad = 15.0 * kPi / 180.0;
   Vector3 rotation_break_rad_s = Vector3(1.0, 1.0, 1.0);
   double rotation_damping = 1.0;
 };
@@ -58,7 +58,8 @@ class ClassicalWashout {
 
  private:
   // The tilt moved towards `wanted_rad` as fast as its rate and
-  // acceleration limits allow, braking in time to stop on it.
+  // acceleration limits allow, braking in time to stop on it; within the
+  // limits, `wanted_rad` itself.
   double LimitedTilt(int axis, double wanted_rad);
 
   ClassicalWashoutParameters parameters_;
@@ -68,6 +69,7 @@ class ClassicalWashout {
   std::array<std::optional<DiscreteFilter>, 3> rotation_;
   std::array<double, 2> tilt_rad_{};  // roll, pitch of the tilt coordination
   std::array<double, 2> tilt_rate_rad_s_{};
+  std::array<double, 2> last_wanted_rad_{};
 };
 
 // The platform pose ({M} in {B}) that puts a head at `head_in_platform_m`

@@ -28,7 +28,7 @@ struct CanalParameters {
   double tau_l_s = 5.73;
   double tau_s_s = 0.005;
   double tau_a_s = 80.0;
-  Vector3 threshold_rad_s = Vector3(3.0, 3.6, 2.6) * (3.14159265358979323846 / 180.0);
+  Vector3 threshold_rad_s = Vector3(3.0, 3.6, 2.6) * (kPi / 180.0);
 };
 
 struct VestibularParameters {
