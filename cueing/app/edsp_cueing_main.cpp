@@ -9,6 +9,11 @@
 //   edsp-cueing omct --config FILE --cueing FILE [--json]
 //       the Objective Motion Cueing Test's direct responses: gain and phase
 //       per channel at the test's twelve frequencies.
+//   edsp-cueing bench --config FILE --cueing FILE --manoeuvre FILE... [--rig-effects FILE]
+//                     [--cycles 1000000] [--seed 1] [--json]
+//       deploy/edsp bench cueing: the manoeuvres' perception errors (commanded
+//       and real), a soak of random vehicle motion counting refused
+//       setpoints, the washout step's time, and the OMCT.
 
 #include <cstdio>
 #include <exception>
@@ -23,6 +28,7 @@
 #include <nlohmann/json.hpp>
 
 #include "edsp/cueing/cueing_run.h"
+#include "edsp/cueing/cueing_soak.h"
 #include "edsp/cueing/omct.h"
 #include "edsp/cueing/platform_motion.h"
 #include "edsp/kinematics/config.h"
@@ -135,16 +141,21 @@ int RunOffline(const OfflineOptions& options) {
   return 0;
 }
 
+nlohmann::json OmctJson(const std::vector<OmctPoint>& points) {
+  nlohmann::json out = nlohmann::json::object();
+  for (const OmctPoint& p : points) {
+    out[CueChannelName(p.channel)].push_back(
+        {{"frequency_rad_s", p.frequency_rad_s}, {"gain", p.gain}, {"phase_deg", p.phase_deg}});
+  }
+  return out;
+}
+
 int RunOmctTable(const std::string& config_path, const std::string& cueing_path, bool json) {
   const PlatformModel model(LoadConfigFile(config_path));
   const CueingConfig config = LoadCueingConfig(cueing_path);
   const std::vector<OmctPoint> points = RunOmct(model, config);
   if (json) {
-    nlohmann::json out = nlohmann::json::object();
-    for (const OmctPoint& p : points) {
-      out["omct"][CueChannelName(p.channel)].push_back(
-          {{"frequency_rad_s", p.frequency_rad_s}, {"gain", p.gain}, {"phase_deg", p.phase_deg}});
-    }
+    nlohmann::json out = {{"omct", OmctJson(points)}};
     out["algorithm"] = "classical_washout";
     std::printf("%s\n", out.dump(2).c_str());
     return 0;
@@ -161,6 +172,72 @@ int RunOmctTable(const std::string& config_path, const std::string& cueing_path,
     }
     std::printf("\n");
   }
+  return 0;
+}
+
+struct BenchOptions {
+  OfflineOptions offline;
+  std::int64_t cycles = 1'000'000;
+  std::uint64_t seed = 1;
+};
+
+// The figures of docs/cueing.md's "Bench", one algorithm so far: what
+// needs a second one (the ratio) or the live group (the delay) is null,
+// with the reason.
+int RunBench(const BenchOptions& options) {
+  const PlatformConfig nominal = LoadConfigFile(options.offline.config_path);
+  const PlatformModel model(nominal);
+  const CueingConfig config = LoadCueingConfig(options.offline.cueing_path);
+  std::optional<RigEffects> effects;
+  if (!options.offline.rig_effects_path.empty()) effects = LoadRigEffects(options.offline.rig_effects_path);
+  nlohmann::json commanded = nlohmann::json::object(), real = nlohmann::json::object();
+  double sum = 0.0, real_sum = 0.0;
+  std::int64_t violations = 0;
+  for (const std::string& path : options.offline.manoeuvre_paths) {
+    const Manoeuvre manoeuvre = LoadManoeuvre(path);
+    const CueingRun run = RunClassicalWashout(model, config, manoeuvre);
+    commanded[manoeuvre.name] = run.score.overall;
+    sum += run.score.overall;
+    violations += run.path.ok() ? 0 : 1;
+    if (effects) {
+      const double on_rig = ScoreOnTheRig(nominal, *effects, config, run).overall;
+      real[manoeuvre.name] = on_rig;
+      real_sum += on_rig;
+    }
+  }
+  const double count = static_cast<double>(options.offline.manoeuvre_paths.size());
+  commanded["overall"] = sum / count;
+  if (effects) real["overall"] = real_sum / count;
+  const CueingSoak soak = SoakClassicalWashout(model, config, RandomVehicleParameters{}, options.cycles, options.seed);
+  nlohmann::json washout = {{"perception_error", commanded},
+                            {"limit_violations", violations + soak.refused_setpoints},
+                            {"soak",
+                             {{"cycles", soak.cycles},
+                              {"seed", options.seed},
+                              {"refused_setpoints", soak.refused_setpoints},
+                              {"first_refusal", soak.first_refusal},
+                              {"peak_stroke_used", soak.peak_stroke_used}}},
+                            {"solve_ms", {{"p50", soak.step_p50_us * 1e-3}, {"p99", soak.step_p99_us * 1e-3}}}};
+  if (effects) washout["perception_error_real"] = real;
+  nlohmann::json out = {{"algorithms", {{"classical_washout", washout}}},
+                        {"ratio", nullptr},
+                        {"ratio_why_null", "one algorithm: model-predictive cueing is not built yet"},
+                        {"omct", OmctJson(RunOmct(model, config))},
+                        {"delay_p99_ms", nullptr},
+                        {"delay_why_null", "no live cueing group yet"}};
+  if (options.offline.json) {
+    std::printf("%s\n", out.dump(2).c_str());
+    return 0;
+  }
+  std::printf("classical washout: mean perception error %.3f thresholds", sum / count);
+  if (effects) std::printf(" (%.3f on the rig)", real_sum / count);
+  std::printf("; manoeuvres leaving a limit %lld\n", static_cast<long long>(violations));
+  std::printf(
+      "soak: %lld cycles of random vehicle motion (seed %llu), %lld setpoints refused%s%s; stroke used %.0f%%\n",
+      static_cast<long long>(soak.cycles), static_cast<unsigned long long>(options.seed),
+      static_cast<long long>(soak.refused_setpoints), soak.first_refusal.empty() ? "" : ", the first ",
+      soak.first_refusal.c_str(), 100.0 * soak.peak_stroke_used);
+  std::printf("washout step: p50 %.3f us, p99 %.3f us\n", soak.step_p50_us, soak.step_p99_us);
   return 0;
 }
 
@@ -194,9 +271,27 @@ int main(int argc, char** argv) {
   omct_command->add_option("--config", omct_config, "platform config (TOML)")->required()->check(CLI::ExistingFile);
   omct_command->add_option("--cueing", omct_cueing, "cueing config (TOML)")->required()->check(CLI::ExistingFile);
   omct_command->add_flag("--json", omct_json, "JSON on stdout");
+  edsp::BenchOptions bench;
+  CLI::App* bench_command = app.add_subcommand("bench", "the cueing's figures (deploy/edsp bench cueing)");
+  bench_command->add_option("--config", bench.offline.config_path, "platform config (TOML)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  bench_command->add_option("--cueing", bench.offline.cueing_path, "cueing config (TOML)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  bench_command->add_option("--manoeuvre", bench.offline.manoeuvre_paths, "manoeuvre file(s) (TOML)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  bench_command->add_option("--rig-effects", bench.offline.rig_effects_path, "score on the real motion too")
+      ->check(CLI::ExistingFile);
+  bench_command->add_option("--cycles", bench.cycles, "cycles of random vehicle motion")
+      ->check(CLI::Range(1, 100'000'000));
+  bench_command->add_option("--seed", bench.seed, "the random vehicle's seed");
+  bench_command->add_flag("--json", bench.offline.json, "JSON on stdout");
   CLI11_PARSE(app, argc, argv);
   try {
     if (omct_command->parsed()) return edsp::RunOmctTable(omct_config, omct_cueing, omct_json);
+    if (bench_command->parsed()) return edsp::RunBench(bench);
     return edsp::RunOffline(offline);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "edsp-cueing: %s\n", e.what());

@@ -89,6 +89,26 @@ TEST(EdspCueingCli, OmctJsonHasEveryChannelAtEveryFrequencyAsTheLibraryMeasures)
   }
 }
 
+TEST(EdspCueingCli, BenchJsonHasEveryFigureAndSaysWhyTheMissingAreNull) {
+  const auto run = RunCueing("bench" + kConfigs + " --manoeuvre " + SourceDir() +
+                             "/config/manoeuvres/braking.toml --cycles 3000 --seed 9 --json");
+  ASSERT_EQ(run.exit_code, 0) << run.text;
+  const auto out = nlohmann::json::parse(run.text);
+  const auto& washout = out["algorithms"]["classical_washout"];
+  EXPECT_TRUE(washout["perception_error"]["braking"].is_number());
+  EXPECT_DOUBLE_EQ(washout["perception_error"]["overall"].get<double>(),
+                   washout["perception_error"]["braking"].get<double>());
+  EXPECT_FALSE(washout.contains("perception_error_real"));  // no --rig-effects
+  EXPECT_EQ(washout["soak"]["cycles"], 3000);
+  EXPECT_EQ(washout["soak"]["seed"], 9);
+  EXPECT_EQ(washout["limit_violations"], washout["soak"]["refused_setpoints"]);  // braking leaves none
+  EXPECT_GT(washout["solve_ms"]["p99"].get<double>(), 0.0);
+  EXPECT_TRUE(out["ratio"].is_null());
+  EXPECT_FALSE(out["ratio_why_null"].get<std::string>().empty());
+  EXPECT_TRUE(out["delay_p99_ms"].is_null());
+  EXPECT_EQ(out["omct"]["wz"].size(), kOmctFrequencies_rad_s.size());
+}
+
 TEST(EdspCueingCli, WritesOneCsvPerManoeuvre) {
   const std::string dir = test_support::ScratchDir("cueing_csv");
   const auto run = RunCueing("offline" + kConfigs + " --manoeuvre " + SourceDir() +
