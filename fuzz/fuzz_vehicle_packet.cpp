@@ -17,8 +17,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   const auto again = edsp::EncodeVehiclePacket(*parsed.packet);
   const edsp::ParsedVehiclePacket reparsed = edsp::ParseVehiclePacket(again.data(), again.size());
-  if (!reparsed.packet || reparsed.packet->sequence != parsed.packet->sequence ||
-      reparsed.packet->time_s != parsed.packet->time_s ||
+  if (!reparsed.packet || reparsed.packet->command != parsed.packet->command ||
+      reparsed.packet->angular_acceleration_rad_s2 != parsed.packet->angular_acceleration_rad_s2 ||
+      reparsed.packet->sequence != parsed.packet->sequence || reparsed.packet->time_s != parsed.packet->time_s ||
       reparsed.packet->specific_force_m_s2 != parsed.packet->specific_force_m_s2 ||
       reparsed.packet->angular_velocity_rad_s != parsed.packet->angular_velocity_rad_s) {
     std::abort();

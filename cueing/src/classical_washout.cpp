@@ -70,10 +70,13 @@ double ClassicalWashout::LimitedTilt(int axis, double wanted_rad) {
   const auto i = static_cast<std::size_t>(axis);
   double& tilt = tilt_rad_[i];
   double& rate = tilt_rate_rad_s_[i];
-  const double accel = parameters_.tilt_accel_max_rad_s2, error = wanted_rad - tilt;
+  const double accel = parameters_.tilt_accel_max_rad_s2;
   // The target's own rate, and on top of it the rate that closes the gap
-  // in one cycle, at most the one from which the acceleration limit still
-  // stops on the target: within the limits the tilt is the target, exactly.
+  // left to where the target was, in one cycle, at most the rate from
+  // which the acceleration limit still stops on it: within the limits the
+  // tilt is the target, exactly (the gap to the new target would count the
+  // target's step twice and run a cycle ahead).
+  const double error = last_wanted_rad_[i] - tilt;
   const double target_rate = (wanted_rad - last_wanted_rad_[i]) / period_s_;
   last_wanted_rad_[i] = wanted_rad;
   const double closing_max = std::sqrt(2.0 * accel * std::fabs(error));
@@ -87,6 +90,10 @@ double ClassicalWashout::LimitedTilt(int axis, double wanted_rad) {
 
 HeadCue ClassicalWashout::Step(const VehicleSample& sample) {
   const auto& p = parameters_;
+  // A value that is not finite would stay in the filters' states for good.
+  if (!sample.specific_force_m_s2.allFinite() || !sample.angular_velocity_rad_s.allFinite()) {
+    throw std::invalid_argument(fmt::format("washout: the vehicle sample at t = {} s is not finite", sample.t_s));
+  }
   // The rider at rest feels gravity: only the departure from it is cued.
   Vector3 force = sample.specific_force_m_s2 - Vector3(0.0, 0.0, kStandardGravity_m_s2);
   HeadCue cue;

@@ -31,6 +31,13 @@ Vector3 PositiveVector(const ConfigSection& section, const char* key, const Vect
   return value;
 }
 
+double Scale(const ConfigSection& section, const char* key, double fallback) {
+  const double value = section.Number(key, fallback);
+  if (!(value > 0.0 && value <= 1.0))
+    section.Fail(key, fmt::format("{} {} = {} must be in (0, 1]", section.label(), key, value));
+  return value;
+}
+
 void ReadCueing(const ConfigSection& s, CueingConfig& config) {
   s.RejectUnknownKeys({"rate_hz", "head_in_platform_m"});
   config.rate_hz = Positive(s, "rate_hz", config.rate_hz);
@@ -59,8 +66,8 @@ void ReadWashout(const ConfigSection& s, ClassicalWashoutParameters& w) {
                        "translation_damping", "translation_washout_rad_s", "tilt_break_rad_s", "tilt_damping",
                        "tilt_rate_max_rad_s", "tilt_accel_max_rad_s2", "tilt_max_rad", "rotation_break_rad_s",
                        "rotation_damping"});
-  w.specific_force_scale = s.Number("specific_force_scale", w.specific_force_scale);
-  w.angular_velocity_scale = s.Number("angular_velocity_scale", w.angular_velocity_scale);
+  w.specific_force_scale = Scale(s, "specific_force_scale", w.specific_force_scale);
+  w.angular_velocity_scale = Scale(s, "angular_velocity_scale", w.angular_velocity_scale);
   w.translation_break_rad_s = PositiveVector(s, "translation_break_rad_s", w.translation_break_rad_s);
   w.translation_damping = Positive(s, "translation_damping", w.translation_damping);
   w.translation_washout_rad_s = PositiveVector(s, "translation_washout_rad_s", w.translation_washout_rad_s);
@@ -69,6 +76,8 @@ void ReadWashout(const ConfigSection& s, ClassicalWashoutParameters& w) {
   w.tilt_rate_max_rad_s = Positive(s, "tilt_rate_max_rad_s", w.tilt_rate_max_rad_s);
   w.tilt_accel_max_rad_s2 = Positive(s, "tilt_accel_max_rad_s2", w.tilt_accel_max_rad_s2);
   w.tilt_max_rad = Positive(s, "tilt_max_rad", w.tilt_max_rad);
+  if (w.tilt_max_rad >= 0.5 * kPi)
+    s.Fail("tilt_max_rad", fmt::format("{} tilt_max_rad = {} must be under π/2", s.label(), w.tilt_max_rad));
   w.rotation_break_rad_s = PositiveVector(s, "rotation_break_rad_s", w.rotation_break_rad_s);
   w.rotation_damping = Positive(s, "rotation_damping", w.rotation_damping);
   try {

@@ -1,5 +1,6 @@
 #include "edsp/cueing/manoeuvre.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -40,10 +41,47 @@ double NonNegative(const ConfigSection& s, const char* key, double fallback) {
   return value;
 }
 
+// A pulse's rise or fall: a step would be a jolt no vehicle makes, and a
+// step in specific force is a step in the platform's acceleration.
+double Ramp(const ConfigSection& s, const char* key) {
+  if (!s.Has(key)) s.Fail("", fmt::format("{} needs {} > 0 (a step is no vehicle's motion)", s.label(), key));
+  const double value = s.Number(key, 0.0);
+  if (!(value > 0.0))
+    s.Fail(key, fmt::format("{} {} = {} must be > 0 (a step is no vehicle's motion)", s.label(), key, value));
+  return value;
+}
+
+// Beyond what any vehicle a rider survives makes, on one channel.
+double ChannelLimit(int channel) { return channel < 3 ? 5.0 * kStandardGravity_m_s2 : kTwoPi; }
+
+// Pulses and sines that add up past a channel's limit, found on the
+// manoeuvre sampled at 1 kHz: the channel, the value and when.
+void CheckSums(const ConfigSection& root, const Manoeuvre& m) {
+  constexpr double kCheckPeriod_s = 1e-3;
+  for (double t = 0.0; t <= m.duration_s; t += kCheckPeriod_s) {
+    const VehicleSample sample = m.At(t);
+    for (int channel = 0; channel < kCueChannels; ++channel) {
+      const double value = ChannelValue(sample, channel) - (channel == 2 ? kStandardGravity_m_s2 : 0.0);
+      if (std::fabs(value) > ChannelLimit(channel)) {
+        root.Fail("", fmt::format("{} adds up to {:.4g} at t = {:.3f} s: beyond {:.4g}", CueChannelName(channel), value,
+                                  t, ChannelLimit(channel)));
+      }
+    }
+  }
+}
+
+// A name that is safe as a file name (the CSV of a run is named after it).
+void CheckName(const ConfigSection& root, const std::string& name) {
+  const bool safe = !name.empty() && name.size() <= 64 && std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
+  });
+  if (!safe) root.Fail("name", fmt::format("name = \"{}\": lower-case letters, digits and _ (at most 64)", name));
+}
+
 // A channel's amplitude beyond what any vehicle a rider survives makes:
 // a unit mistake (deg/s for rad/s, g for m/s²), refused.
 void CheckAmplitude(const ConfigSection& s, int channel, double amplitude) {
-  const double limit = channel < 3 ? 5.0 * kStandardGravity_m_s2 : 2.0 * kPi;
+  const double limit = ChannelLimit(channel);
   if (std::fabs(amplitude) > limit) {
     s.Fail("amplitude", fmt::format("{} amplitude = {} {} on {}: beyond {} (a unit mistake?)", s.label(), amplitude,
                                     channel < 3 ? "m/s²" : "rad/s", CueChannelName(channel), limit));
@@ -55,9 +93,9 @@ CuePulse ReadPulse(const ConfigSection& s, double duration_s) {
   CuePulse p;
   p.channel = ReadChannel(s);
   p.start_s = NonNegative(s, "start_s", 0.0);
-  p.rise_s = NonNegative(s, "rise_s", 0.0);
+  p.rise_s = Ramp(s, "rise_s");
   p.hold_s = NonNegative(s, "hold_s", 0.0);
-  p.fall_s = NonNegative(s, "fall_s", 0.0);
+  p.fall_s = Ramp(s, "fall_s");
   p.amplitude = s.Number("amplitude", 0.0);
   CheckAmplitude(s, p.channel, p.amplitude);
   if (p.start_s + p.rise_s + p.hold_s + p.fall_s > duration_s) {
@@ -116,14 +154,16 @@ Manoeuvre ParseManoeuvre(const std::string& toml_text, const std::string& origin
   m.origin = origin;
   m.name = root.String("name", "");
   if (m.name.empty()) root.Fail("name", "a manoeuvre needs a name = \"...\"");
+  CheckName(root, m.name);
   m.description = root.String("description", "");
   m.duration_s = root.Number("duration_s", 0.0);
-  if (!(m.duration_s > 0.0 && m.duration_s <= 3600.0)) {
-    root.Fail("duration_s", fmt::format("duration_s = {} must be in (0, 3600] s", m.duration_s));
+  if (!(m.duration_s >= 0.1 && m.duration_s <= 3600.0)) {
+    root.Fail("duration_s", fmt::format("duration_s = {} must be in [0.1, 3600] s", m.duration_s));
   }
   for (const ConfigSection& s : root.TableArray("pulse")) m.pulses.push_back(ReadPulse(s, m.duration_s));
   for (const ConfigSection& s : root.TableArray("sine")) m.sines.push_back(ReadSine(s, m.duration_s));
   if (m.pulses.empty() && m.sines.empty()) root.Fail("", "a manoeuvre needs at least one [[pulse]] or [[sine]]");
+  CheckSums(root, m);
   return m;
 }
 

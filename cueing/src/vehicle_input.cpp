@@ -1,6 +1,8 @@
 #include "edsp/cueing/vehicle_input.h"
 
 #include <cmath>
+#include <stdexcept>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -16,19 +18,29 @@ const char* VehicleInputStateName(VehicleInputState state) {
   return "?";
 }
 
-VehicleInput::VehicleInput(const VehicleInputParameters& parameters) : parameters_(parameters) {}
+VehicleInput::VehicleInput(const VehicleInputParameters& parameters) : parameters_(parameters) {
+  for (auto [value, name] : {std::pair{parameters.timeout_s, "timeout_s"}, std::pair{parameters.fade_s, "fade_s"}}) {
+    if (!(value > 0.0) || !std::isfinite(value)) {
+      throw std::invalid_argument(fmt::format("vehicle input {} = {}: must be finite and > 0", name, value));
+    }
+  }
+}
 
 std::optional<std::string> VehicleInput::Accept(const VehiclePacket& packet, double now_s) {
-  if (latest_) {
+  // Once lost, the next packet starts a stream of its own: a vehicle model
+  // restarted (sequence and time from 0) or one garbled packet must not
+  // lock the input out for good.
+  if (latest_ && state(now_s) != VehicleInputState::kLost) {
     // Ahead by less than half the sequence space: newer, across a wrap too.
-    const auto ahead = static_cast<std::int32_t>(packet.sequence - latest_->sequence);
-    if (ahead <= 0) {
+    const std::uint32_t ahead = packet.sequence - latest_->sequence;
+    if (ahead == 0 || ahead >= 0x80000000u) {
       return fmt::format("sequence {} after {}: out of order or repeated", packet.sequence, latest_->sequence);
     }
-    if (!(packet.time_s > latest_->time_s)) {
-      return fmt::format("time_s {} after {}: the vehicle's time must advance", packet.time_s, latest_->time_s);
+    // Equal times are a paused (frozen) vehicle; earlier ones are not its.
+    if (packet.time_s < latest_->time_s) {
+      return fmt::format("time_s {} after {}: the vehicle's time went back", packet.time_s, latest_->time_s);
     }
-    missed_packets_ += static_cast<std::uint64_t>(ahead - 1);
+    missed_packets_ += ahead - 1;
   }
   latest_ = packet;
   latest_receive_s_ = now_s;

@@ -5,10 +5,12 @@
 #include "edsp/cueing/classical_washout.h"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include <gtest/gtest.h>
 
+#include "edsp/cueing/linear_filter.h"
 #include "edsp/cueing/platform_motion.h"
 #include "thrown_message.h"
 
@@ -84,6 +86,25 @@ TEST(ClassicalWashout, AnOnsetIsFeltInItsDirectionBeforeTiltCouldGiveIt) {
     EXPECT_GT(felt_x * force, 0.0) << "force " << force << " felt as " << felt_x;
     EXPECT_GT(std::fabs(felt_x), 0.2 * parameters.specific_force_scale * std::fabs(force));
   }
+}
+
+TEST(ClassicalWashout, WithinItsLimitsTheTiltIsTheLowPassedForceExactly) {
+  const ClassicalWashoutParameters p;
+  ClassicalWashout washout(p, kPeriod);
+  // The tilt's target, computed apart: the scaled force through its own low-pass.
+  const double w = p.tilt_break_rad_s;
+  DiscreteFilter low_pass({{w * w}, {1.0, 2.0 * p.tilt_damping * w, w * w}}, kPeriod);
+  for (int k = 0; k < 20000; ++k) {
+    const double fx = 0.3 * std::sin(0.7 * k * kPeriod);  // small: no limit acts
+    VehicleSample sample;
+    sample.specific_force_m_s2.x() = fx;
+    const HeadCue cue = washout.Step(sample);
+    const double target = -std::asin(low_pass.Step(p.specific_force_scale * fx) / kStandardGravity_m_s2);
+    ASSERT_NEAR(cue.rpy_rad.y(), target, 1e-12) << "at t = " << k * kPeriod;
+  }
+  VehicleSample bad;
+  bad.angular_velocity_rad_s.z() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(washout.Step(bad), std::invalid_argument);
 }
 
 TEST(ClassicalWashout, AbsurdParametersAreRefusedByName) {

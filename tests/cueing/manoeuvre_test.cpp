@@ -66,10 +66,12 @@ TEST(Manoeuvre, AWrongFileIsRefusedNamingTheLineAndKey) {
   EXPECT_NE(ParseError("name = \"x\"\nduration_s = 5\n[[pulse]]\nchannel = \"ax\"\namplitude = 1\n")
                 .find("m.toml:4: [[pulse]] #1 channel = \"ax\""),
             std::string::npos);
-  EXPECT_NE(ParseError("name = \"x\"\nduration_s = 5\n[[pulse]]\nchannel = \"wx\"\namplitude = 20\n")
-                .find("amplitude = 20 rad/s on wx"),
-            std::string::npos);
-  EXPECT_NE(ParseError("name = \"x\"\nduration_s = 5\n[[pulse]]\nchannel = \"fx\"\nstart_s = 4\nhold_s = 2\n")
+  EXPECT_NE(
+      ParseError("name = \"x\"\nduration_s = 5\n[[pulse]]\nchannel = \"wx\"\nrise_s = 1\nfall_s = 1\namplitude = 20\n")
+          .find("amplitude = 20 rad/s on wx"),
+      std::string::npos);
+  EXPECT_NE(ParseError("name = \"x\"\nduration_s = 5\n[[pulse]]\nchannel = \"fx\"\nstart_s = 3\nrise_s = 1\nhold_s = "
+                       "1\nfall_s = 1\n")
                 .find("ends at 6 s, after the manoeuvre's duration_s = 5"),
             std::string::npos);
   EXPECT_NE(ParseError("name = \"x\"\nduration_s = 5\n[[sine]]\nchannel = \"fx\"\nfreq = 1\n").find("unknown key"),
@@ -78,6 +80,30 @@ TEST(Manoeuvre, AWrongFileIsRefusedNamingTheLineAndKey) {
             std::string::npos);
   EXPECT_NE(ParseError("duration_s = 5\n[[sine]]\nchannel = \"fx\"\n").find("needs a name"), std::string::npos);
   EXPECT_NE(ParseError("name = \"x\"\nduration_s = 5\n").find("at least one"), std::string::npos);
+  // A step, a name that is no file name, one too short to score, two
+  // pulses adding up past 5 g, a negative time, a fade longer than half
+  // its sine, a frequency beyond any motion base, a sine past the end.
+  const std::string pulse = "[[pulse]]\nchannel = \"fx\"\nrise_s = 0.5\nhold_s = 1\nfall_s = 0.5\namplitude = 30\n";
+  EXPECT_NE(ParseError("name = \"x\"\nduration_s = 5\n[[pulse]]\nchannel = \"fx\"\nrise_s = 0\nfall_s = 1\n")
+                .find("m.toml:5: [[pulse]] #1 rise_s = 0 must be > 0"),
+            std::string::npos);
+  EXPECT_NE(ParseError("name = \"../x\"\nduration_s = 5\n" + pulse).find("m.toml:1: name = \"../x\""),
+            std::string::npos);
+  EXPECT_NE(ParseError("name = \"x\"\nduration_s = 0.05\n" + pulse).find("duration_s = 0.05"), std::string::npos);
+  EXPECT_NE(ParseError("name = \"x\"\nduration_s = 5\n" + pulse + pulse)
+                .find("fx adds up to 49.12 at t = 0.360 s: beyond 49.03"),
+            std::string::npos);
+  EXPECT_NE(ParseError("name = \"x\"\nduration_s = 5\n[[sine]]\nchannel = \"fy\"\nstart_s = -1\n").find("start_s = -1"),
+            std::string::npos);
+  EXPECT_NE(ParseError("name = \"x\"\nduration_s = 5\n[[sine]]\nchannel = \"fy\"\nduration_s = 2\nfade_s = 1.5\n")
+                .find("fade_s = 1.5 is more than half"),
+            std::string::npos);
+  EXPECT_NE(ParseError("name = \"x\"\nduration_s = 5\n[[sine]]\nchannel = \"fy\"\nfrequency_hz = 80\n")
+                .find("frequency_hz = 80: beyond 50 Hz"),
+            std::string::npos);
+  EXPECT_NE(ParseError("name = \"x\"\nduration_s = 5\n[[sine]]\nchannel = \"fy\"\nstart_s = 4\nduration_s = 2\n")
+                .find("ends at 6 s"),
+            std::string::npos);
 }
 
 TEST(Manoeuvre, EveryShippedManoeuvreLoads) {

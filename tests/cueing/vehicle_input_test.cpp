@@ -4,6 +4,8 @@
 #include "edsp/cueing/vehicle_input.h"
 
 #include <cmath>
+#include <limits>
+#include <stdexcept>
 
 #include <gtest/gtest.h>
 
@@ -30,8 +32,7 @@ TEST(VehicleInput, StaleRepeatedAndBackwardPacketsAreRefused) {
   EXPECT_FALSE(input.Accept(Packet(41, 1.0, 0.0), 0.0));
   EXPECT_EQ(input.Accept(Packet(41, 1.1, 0.0), 0.01).value_or(""), "sequence 41 after 41: out of order or repeated");
   EXPECT_EQ(input.Accept(Packet(40, 1.1, 0.0), 0.01).value_or(""), "sequence 40 after 41: out of order or repeated");
-  EXPECT_EQ(input.Accept(Packet(42, 0.9, 0.0), 0.01).value_or(""),
-            "time_s 0.9 after 1: the vehicle's time must advance");
+  EXPECT_EQ(input.Accept(Packet(42, 0.9, 0.0), 0.01).value_or(""), "time_s 0.9 after 1: the vehicle's time went back");
   EXPECT_FALSE(input.Accept(Packet(45, 1.2, 0.0), 0.02));
   EXPECT_EQ(input.missed_packets(), 3u);
   // Across the sequence's wrap.
@@ -39,6 +40,31 @@ TEST(VehicleInput, StaleRepeatedAndBackwardPacketsAreRefused) {
   EXPECT_FALSE(wrapping.Accept(Packet(0xFFFFFFFFu, 1.0, 0.0), 0.0));
   EXPECT_FALSE(wrapping.Accept(Packet(0, 1.001, 0.0), 0.001));
   EXPECT_EQ(wrapping.missed_packets(), 0u);
+}
+
+TEST(VehicleInput, AFrozenVehicleARestartedOneAndBadParametersAreHandled) {
+  VehicleInput input(VehicleInputParameters{});
+  EXPECT_FALSE(input.Accept(Packet(7, 5.0, 0.0), 0.0));
+  EXPECT_FALSE(input.Accept(Packet(8, 5.0, 0.0), 0.01));  // paused: its time stands
+  // The vehicle model restarted while the input was live: refused...
+  EXPECT_TRUE(input.Accept(Packet(1, 0.0, 0.0), 0.02));
+  // ...and, once the input is lost, a new stream.
+  EXPECT_EQ(input.state(0.5), VehicleInputState::kLost);
+  EXPECT_FALSE(input.Accept(Packet(1, 0.0, 0.0), 0.5));
+  EXPECT_EQ(input.state(0.5), VehicleInputState::kLive);
+  // Gaps counted across the wrap.
+  VehicleInput wrapping(VehicleInputParameters{});
+  EXPECT_FALSE(wrapping.Accept(Packet(0xFFFFFFFEu, 1.0, 0.0), 0.0));
+  EXPECT_FALSE(wrapping.Accept(Packet(2, 1.1, 0.0), 0.01));
+  EXPECT_EQ(wrapping.missed_packets(), 3u);
+  for (double bad : {0.0, -1.0, std::numeric_limits<double>::quiet_NaN()}) {
+    VehicleInputParameters p;
+    p.fade_s = bad;
+    EXPECT_THROW(VehicleInput{p}, std::invalid_argument) << bad;
+    p = VehicleInputParameters{};
+    p.timeout_s = bad;
+    EXPECT_THROW(VehicleInput{p}, std::invalid_argument) << bad;
+  }
 }
 
 TEST(VehicleInput, ALostInputFadesToRestWithoutAStepAndFadesBackIn) {

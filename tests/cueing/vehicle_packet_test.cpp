@@ -2,6 +2,7 @@
 // documented, and every way a sender gets it wrong is refused by name.
 #include "edsp/cueing/vehicle_packet.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -47,6 +48,12 @@ TEST(VehiclePacket, WhatIsSentIsWhatIsReadToFloatPrecision) {
                 static_cast<double>(static_cast<float>(sent.angular_velocity_rad_s(axis))));
     }
     ASSERT_EQ(read.angular_acceleration_rad_s2.has_value(), sent.angular_acceleration_rad_s2.has_value());
+    if (sent.angular_acceleration_rad_s2) {
+      for (int axis = 0; axis < 3; ++axis) {
+        EXPECT_EQ((*read.angular_acceleration_rad_s2)(axis),
+                  static_cast<double>(static_cast<float>((*sent.angular_acceleration_rad_s2)(axis))));
+      }
+    }
   }
 }
 
@@ -79,6 +86,9 @@ TEST(VehiclePacket, EveryWayASenderGetsItWrongIsRefusedByName) {
   const auto good = EncodeVehiclePacket(VehiclePacket{});
   EXPECT_EQ(Refusal(good), "(accepted)");
   EXPECT_NE(ParseVehiclePacket(good.data(), 59).error.find("60 bytes, this one 59"), std::string::npos);
+  std::array<std::uint8_t, 61> longer{};
+  std::copy(good.begin(), good.end(), longer.begin());
+  EXPECT_NE(ParseVehiclePacket(longer.data(), longer.size()).error.find("this one 61"), std::string::npos);
   auto bad = good;
   bad[0] = 'X';
   EXPECT_NE(Refusal(bad).find("is not \"EDSV\""), std::string::npos);
@@ -94,6 +104,15 @@ TEST(VehiclePacket, EveryWayASenderGetsItWrongIsRefusedByName) {
   VehiclePacket p;
   p.time_s = std::numeric_limits<double>::infinity();
   EXPECT_NE(Refusal(EncodeVehiclePacket(p)).find("time_s = inf"), std::string::npos);
+  p = VehiclePacket{};
+  p.time_s = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_NE(Refusal(EncodeVehiclePacket(p)).find("time_s = nan"), std::string::npos);
+  p = VehiclePacket{};
+  p.specific_force_m_s2.x() = -60.0;  // beyond 5 g
+  EXPECT_NE(Refusal(EncodeVehiclePacket(p)).find("specific force x = -60 m/s²"), std::string::npos);
+  p = VehiclePacket{};
+  p.angular_acceleration_rad_s2 = Vector3(std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0);
+  EXPECT_NE(Refusal(EncodeVehiclePacket(p)).find("angular acceleration x = nan"), std::string::npos);
   p = VehiclePacket{};
   p.specific_force_m_s2.y() = std::numeric_limits<double>::quiet_NaN();
   EXPECT_NE(Refusal(EncodeVehiclePacket(p)).find("specific force y = nan"), std::string::npos);

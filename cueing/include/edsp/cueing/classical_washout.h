@@ -6,8 +6,8 @@
 //     twice: onsets are felt, sustained force washes out to neutral);
 //   tilt coordination, x and y: the low-passed scaled specific force taken
 //     up by tilting the rider in gravity, pitch = −asin(fx/g),
-//     roll = asin(fy/g), at most tilt_rate_max (under the canals'
-//     threshold, so the tilt itself is not felt as a rotation) and
+//     roll = asin(fy/g), at most tilt_rate_max (at the canals'
+//     threshold, so the tilt itself is barely felt as a rotation) and
 //     tilt_accel_max (a rate limit alone steps the tilt's rate, and the
 //     legs' acceleration with it: 50 m/s² in one 1 ms cycle);
 //   rotation, per axis:  angle(s) / ω(s) = k_ω s / (s² + 2ζ ω s + ω²)
@@ -53,6 +53,8 @@ struct HeadCue {
 class ClassicalWashout {
  public:
   ClassicalWashout(const ClassicalWashoutParameters& parameters, double period_s);
+  // Throws std::invalid_argument for a sample that is not finite (the
+  // packet parser and the input guard refuse one before it gets here).
   HeadCue Step(const VehicleSample& sample);
   const ClassicalWashoutParameters& parameters() const { return parameters_; }
 

@@ -20,7 +20,7 @@ struct CueingSoak {
   std::int64_t refused_setpoints = 0;           // setpoints the checks refuse
   std::string first_refusal;                    // "at cycle N: …", or empty
   double peak_stroke_used = 0.0;                // as CueingRun's
-  double step_p50_us = 0.0, step_p99_us = 0.0;  // one washout step, timed
+  double step_p50_us = 0.0, step_p99_us = 0.0;  // one washout step, timed (float resolution)
 };
 
 CueingSoak SoakClassicalWashout(const PlatformModel& model, const CueingConfig& config,

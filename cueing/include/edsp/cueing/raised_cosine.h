@@ -9,7 +9,7 @@
 namespace edsp {
 
 inline double RaisedCosine(double x) {
-  if (x <= 0.0) return 0.0;
+  if (!(x > 0.0)) return 0.0;  // NaN too
   if (x >= 1.0) return 1.0;
   return 0.5 * (1.0 - std::cos(kPi * x));
 }

@@ -1,7 +1,8 @@
 #pragma once
 // The vehicle's samples as the cueing uses them: packets refused when
 // they arrive out of order, repeated, or with the vehicle's time going
-// back; and when none has come for `timeout_s` the input fades to a rider
+// back (the first packet after a loss starts a new stream); and when none
+// has come for `timeout_s` the input fades to a rider
 // at rest (gravity, no rotation) over `fade_s` along a raised cosine, so
 // the washout brings the platform home with no step in acceleration.
 // Input that comes back fades in the same way.
@@ -24,6 +25,7 @@ const char* VehicleInputStateName(VehicleInputState state);
 
 class VehicleInput {
  public:
+  // Throws std::invalid_argument naming a parameter not finite and > 0.
   explicit VehicleInput(const VehicleInputParameters& parameters);
 
   // A packet received at `now_s` (the receiver's monotonic clock, s):
