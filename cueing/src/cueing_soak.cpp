@@ -22,7 +22,7 @@ double Percentile(std::vector<float> values, double q) {
   if (values.empty()) return 0.0;
   const auto k = static_cast<std::size_t>(q * static_cast<double>(values.size() - 1));
   std::nth_element(values.begin(), values.begin() + static_cast<long>(k), values.end());
-  return values[k];
+  return static_cast<double>(values[k]);
 }
 
 // Why the setpoint of `cycle` is refused, or empty.
