@@ -5,9 +5,9 @@
 // a sanitized node on a busy two-core machine starts several times slower.
 // Its listener runs at a real-time priority below the nodes' when it may:
 // it takes every datagram of the group (some 5 000 a second), and starved
-// by other work on a busy machine its socket's backlog grew to seconds, so
-// a test acted on the platform's motion seconds after it happened (a fault
-// meant for mid-motion landed in a hold).
+// by other work on a busy machine its socket's backlog grows to seconds, so
+// a test would act on the platform's motion seconds after it happened (a
+// fault meant for mid-motion would land in a hold).
 
 #include <chrono>
 #include <condition_variable>

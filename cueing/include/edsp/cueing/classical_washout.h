@@ -9,7 +9,8 @@
 //     roll = asin(fy/g), at most tilt_rate_max (at the canals'
 //     threshold, so the tilt itself is barely felt as a rotation) and
 //     tilt_accel_max (a rate limit alone steps the tilt's rate, and the
-//     legs' acceleration with it: 50 m/s² in one 1 ms cycle);
+//     legs' acceleration with it: up to 122 m/s² in one 1 ms cycle on the
+//     paper's platform);
 //   rotation, per axis:  angle(s) / ω(s) = k_ω s / (s² + 2ζ ω s + ω²)
 //     (the scaled angular velocity high-passed to second order and integrated).
 // Its output is the rider's head pose relative to the neutral one; the
