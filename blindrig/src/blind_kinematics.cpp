@@ -30,6 +30,11 @@ Vec3 InnerAxisOfLegBody(const Vec3& outer, const Vec3& leg) {
   return cross_piece * k0;
 }
 
+// Leg i's vector for a pose whose rotation R = Rotation(q) is already known.
+Vec3 LegVectorAt(const BlindGeometry& g, const Vec6& q, const Mat3& R, int leg) {
+  return q.head<3>() + R * g.platform_joint.col(leg) - g.base_joint.col(leg);
+}
+
 }  // namespace
 
 Mat3 Rotation(const Vec6& q) {
@@ -44,13 +49,12 @@ Vec6 HomePose(const BlindGeometry& g) {
   return q;
 }
 
-Vec3 LegVector(const BlindGeometry& g, const Vec6& q, int leg) {
-  return q.head<3>() + Rotation(q) * g.platform_joint.col(leg) - g.base_joint.col(leg);
-}
+Vec3 LegVector(const BlindGeometry& g, const Vec6& q, int leg) { return LegVectorAt(g, q, Rotation(q), leg); }
 
 Vec6 LegLengths(const BlindGeometry& g, const Vec6& q) {
+  const Mat3 R = Rotation(q);
   Vec6 l;
-  for (int i = 0; i < 6; ++i) l(i) = LegVector(g, q, i).norm();
+  for (int i = 0; i < 6; ++i) l(i) = LegVectorAt(g, q, R, i).norm();
   return l;
 }
 
@@ -58,7 +62,7 @@ Vec6 LegBodyTwist(const BlindGeometry& g, const Vec6& q) {
   const Mat3 R = Rotation(q);
   Vec6 twist;
   for (int i = 0; i < 6; ++i) {
-    const Vec3 u = LegVector(g, q, i).normalized();
+    const Vec3 u = LegVectorAt(g, q, R, i).normalized();
     // Lower body: joint on the base, leg pointing up the leg.
     const Vec3 lower = InnerAxisOfLegBody(g.base_axis.col(i), u);
     // Upper body: joint on the platform, solved in {M}, leg pointing down.

@@ -159,7 +159,7 @@ class Session {
       next_sample_s += sample_period;
       const double late_s = tracker_.time_offset_s + e_.clock_drift * (session_s_ + now.t);
       const Instant read = At(instants, now.t - late_s);
-      q_true_ = SolvePose(
+      q_true_ = pose_solver_.Solve(
           [&](const Vec6& q) {
             return Vec6(LegLengths(truth_, q) -
                         PassiveRotation(truth_, q, true_home_twist_, true_sign_, setup_.lead_m) - read.lengths);
@@ -308,6 +308,7 @@ class Session {
   std::array<LegDrive, 6> legs_;
   Sway sway_;
   Vec6 q_true_;
+  PoseSolver pose_solver_;  // its Jacobian carried from one tracker sample to the next
   double session_s_ = 0.0;
   std::mt19937_64 reseat_draw_{tracker_.seed ^ 0x5ea7ULL};  // its own stream: the noise stays the same draw
   Vec3 target_offset_ = Vec3::Zero();  // where the target sits in {M} this run, from its nominal centre

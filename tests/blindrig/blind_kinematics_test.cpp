@@ -64,5 +64,37 @@ TEST(BlindKinematics, NewtonOnFiniteDifferencesInvertsTheLegLengths) {
   }
 }
 
+// Along a sampled path one solver keeps its Jacobian, which costs twelve
+// residuals to build: a path of small steps then costs a few residuals a
+// pose, however far each path starts from where the last ended (a kept
+// Jacobian that no longer shrinks the residual a hundredfold a step is built
+// again). Each pose is the one a fresh Newton solve finds.
+TEST(BlindKinematics, AKeptJacobianFindsThePosesAFreshSolveFinds) {
+  const BlindRigSetup setup = SetupFromConfig(Huang2021Config());
+  const Vec6 home = HomePose(setup.geometry);
+  const std::vector<Vec6> ends = RandomPoses(home, 6);
+  PoseSolver solver;
+  Vec6 carried = home;
+  for (std::size_t p = 0; p + 1 < ends.size(); ++p) {
+    constexpr int kSamples = 2000;  // 0.3 mm and 0.4 mrad apart at most: 0.3 m/s sampled at 1 kHz
+    int evaluations = 0;
+    for (int k = 0; k <= kSamples; ++k) {
+      const Vec6 q = ends[p] + (ends[p + 1] - ends[p]) * (static_cast<double>(k) / kSamples);
+      const Vec6 lengths = LegLengths(setup.geometry, q);
+      const auto residual = [&](const Vec6& x) { return Vec6(LegLengths(setup.geometry, x) - lengths); };
+      const auto counted = [&](const Vec6& x) {
+        ++evaluations;
+        return residual(x);
+      };
+      carried = solver.Solve(counted, carried);
+      EXPECT_LT((carried - q).cwiseAbs().maxCoeff(), 1e-10) << "path " << p << ", sample " << k;
+      if (k % 500 == 0) {
+        EXPECT_LT((carried - SolvePose(residual, home)).cwiseAbs().maxCoeff(), 1e-11);
+      }
+    }
+    EXPECT_LT(evaluations, 8 * (kSamples + 1)) << "path " << p;  // a fresh solve: 27 or more
+  }
+}
+
 }  // namespace
 }  // namespace edsp::blind
