@@ -1,7 +1,6 @@
 #pragma once
 // Newton's method for PoseSolver and SolvePose (blind_kinematics.h).
 
-#include <limits>
 #include <stdexcept>
 
 namespace edsp::blind {
@@ -23,16 +22,28 @@ void PoseSolver::Factor(const Residual& residual, const Vec6& q) {
 template <typename Residual>
 Vec6 PoseSolver::Solve(const Residual& residual, Vec6 q, double tolerance) {
   constexpr double kContraction = 0.01;  // what a kept Jacobian must still do each step (fewest residuals on a 1 kHz path)
-  double previous = std::numeric_limits<double>::infinity();  // the residual before the last step
+  bool fresh = !factored_;
+  if (fresh) Factor(residual, q);
   Vec6 r = residual(q);
+  double size = r.cwiseAbs().maxCoeff();
   for (int iteration = 0; iteration < 50; ++iteration) {
-    const double size = r.cwiseAbs().maxCoeff();
     if (size < tolerance) return q;
-    if (!factored_ || !(size < kContraction * previous)) Factor(residual, q);
-    previous = size;
-    q -= jacobian_.solve(r);
-    r = residual(q);
+    const Vec6 next = q - jacobian_.solve(r);
+    const Vec6 r_next = residual(next);
+    const double next_size = r_next.cwiseAbs().maxCoeff();
+    // A fresh Jacobian's step is Newton's, taken as it comes; a kept one's
+    // only if it contracts (NaN does not), else a fresh one where q is.
+    if (fresh || next_size < kContraction * size) {
+      q = next;
+      r = r_next;
+      size = next_size;
+      fresh = false;
+    } else {
+      Factor(residual, q);
+      fresh = true;
+    }
   }
+  factored_ = false;  // whatever it was, the next solve starts afresh
   throw std::runtime_error("blind rig: forward kinematics did not converge");
 }
 
