@@ -17,6 +17,7 @@
 #include "edsp/node/fault.h"
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/transport/lcm_transport.h"
+#include "group_watch.h"
 #include "late_cycles.h"
 #include "sim_group_harness.h"
 
@@ -65,7 +66,17 @@ TEST(FaultInjection, AFloodOfForeignPacketsOnEveryInputMovesNothingAndStopsNoNod
   const GroupRun run = LaunchSimGroup(
       "flood", "signed", test_support::kDefaultPlannerArgs,
       [&](const std::string&) {
-        std::this_thread::sleep_for(std::chrono::seconds(2));
+        {
+          // Once the nodes that decode commands publish, not after a sleep:
+          // a sanitized node on a busy two-core machine starts several
+          // times slower. The watch is gone before the flood, which it
+          // would otherwise take whole.
+          test_support::GroupWatch watch(test_support::kGroupLcmUrl, "EDSP_LEG_COMMAND|EDSP_LEG_STATE");
+          if (!watch.WaitForMessage("EDSP_LEG_COMMAND", 0, std::chrono::seconds(60)) ||
+              !watch.WaitForMessage("EDSP_LEG_STATE", 0, std::chrono::seconds(60))) {
+            return;  // fails below: nothing sent
+          }
+        }
         sent = Flood(4.0);
       },
       77, test_support::kDefaultConfig, test_support::kStallTolerantStaleMs);

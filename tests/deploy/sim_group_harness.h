@@ -23,6 +23,9 @@ struct GroupRun {
   // The share of the run's CPU time the hypervisor took (/proc/stat steal,
   // both CPUs): a virtual machine's neighbours stall every process at once.
   double steal_fraction = 0.0;
+  // The share of the run's wall time a CPU quota throttled this process's
+  // cgroup (cpu.stat): every member stopped until the next period.
+  double throttled_fraction = 0.0;
 };
 
 inline constexpr const char* kDefaultPlannerArgs =

@@ -163,7 +163,9 @@ TEST(PlannerLoop, AMoveIsPlannedBesideTheCyclesAndItsReplyPrecedesALaterHalts) {
   for (int k = 0; k < 5000 && replies.empty(); ++k) cycle();  // the machine's pace, not a timing assertion
   ASSERT_EQ(replies.size(), 1u) << "the worker answered";
   EXPECT_TRUE(replies[0].accepted) << replies[0].reason;
-  for (int k = 0; k < 200; ++k) cycle();
+  // Halted a tenth of the way, however slowly this machine cycles (a fixed
+  // count of cycles would be the whole move on a starved one).
+  for (int k = 0; k < 5000 && (setpoints.empty() || setpoints.back().pose[0] <= 0.005); ++k) cycle();
   bus.Publish("EDSP_MOTION_REQUEST", requests.Make(motion_request_t::KIND_HALT, UtimeNow()));
   for (int k = 0; k < 5 && replies.size() < 2; ++k) cycle();
   ASSERT_EQ(replies.size(), 2u) << "a halt is answered at the next cycle";
