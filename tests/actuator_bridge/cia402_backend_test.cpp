@@ -119,6 +119,24 @@ std::unique_ptr<Cia402Backend> BackendTo(Link link, const Cabinet& drives) {
   return BackendTo(link, drives.port(), drives.prefix());
 }
 
+// Until the drives have run `cycles` more of their cycles (read over a link
+// of its own, by the cycle count their image carries): what a test needs
+// of the drives' clock, whatever the machine's speed. Fails after 10 s.
+void WaitForDriveCycles(Link link, const Cabinet& drives, int cycles) {
+  auto observer = LinkTo(link, drives.port(), drives.prefix());
+  std::string error;
+  ASSERT_TRUE(observer->Connect(&error)) << error;
+  cia402::CspFeedbacks feedback{};
+  ASSERT_TRUE(observer->ReadFeedback(&feedback, &error)) << error;
+  const std::uint16_t start = feedback[0].cycle_count;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (static_cast<std::uint16_t>(feedback[0].cycle_count - start) < cycles) {
+    ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "the drives stopped cycling";
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    ASSERT_TRUE(observer->ReadFeedback(&feedback, &error)) << error;
+  }
+}
+
 class Cia402Backends : public ::testing::TestWithParam<Link> {};
 
 // --backend modbus-tcp over a config whose [drives] declares no encoder
@@ -289,7 +307,7 @@ TEST_P(Cia402Backends, DeactivatedThenGoneItLeavesTheDrivesWithoutPower) {
     backend->Deactivate();
     backend->Cleanup();
   }
-  std::this_thread::sleep_for(std::chrono::milliseconds(20));  // 20 of the drives' cycles
+  ASSERT_NO_FATAL_FAILURE(WaitForDriveCycles(GetParam(), drives, 3));  // the last commands taken
   auto observer = LinkTo(GetParam(), drives.port(), drives.prefix());
   std::string error;
   ASSERT_TRUE(observer->Connect(&error)) << error;
@@ -361,7 +379,7 @@ TEST_P(Cia402Backends, AStartUpResetsNoFaultAndAReArmResetsOnlyTheFaultedDrive) 
     Ramp(&before, {1.0, 1.0, 1.0, 1.0, 1.0, 1.0});
     drives.InjectFault(4, 0x8130);
   }
-  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ASSERT_NO_FATAL_FAILURE(WaitForDriveCycles(GetParam(), drives, 2));  // a drive cycle raises the fault
   auto backend_owner = BackendTo(GetParam(), drives);
   Cia402Backend& backend = *backend_owner;
   std::string error;
@@ -504,7 +522,7 @@ TEST_P(Cia402Backends, ADriveFaultLatchesTheBridgeAndItsReArmResetsTheDrive) {
 TEST_P(Cia402Backends, AReArmBeforeTheFirstCycleResetsADriveFoundInFault) {
   Cabinet drives(GetParam());
   drives.InjectFault(2, 0x7500);
-  std::this_thread::sleep_for(std::chrono::milliseconds(20));  // a drive cycle raises it
+  ASSERT_NO_FATAL_FAILURE(WaitForDriveCycles(GetParam(), drives, 2));  // a drive cycle raises it
   auto backend_owner = BackendTo(GetParam(), drives);
   Cia402Backend& backend = *backend_owner;
   std::string error;

@@ -473,7 +473,11 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
           t.end_utime = UtimeNow();
         }
         if (motion_stops) {
-          std::this_thread::sleep_for(std::chrono::milliseconds(700));
+          // Re-armed once the hold has settled (the platform still for
+          // 300 ms from here on), however long a loaded machine takes to
+          // bring it to rest; an arm before it would cut the hold measured
+          // below (which then fails on it).
+          (void)watch.WaitForRest(UtimeNow(), std::chrono::milliseconds(300), std::chrono::seconds(30));
           t.arm_utime = UtimeNow();
           t.arm_status = Arm(d);
         }

@@ -3,8 +3,12 @@
 #include <pthread.h>
 #include <sched.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "edsp/fault_t.hpp"
 #include "edsp/node/runtime.h"
+#include "edsp/rig_truth_t.hpp"
 
 namespace edsp::test_support {
 
@@ -14,6 +18,7 @@ GroupWatch::GroupWatch(const std::string& lcm_url, const std::string& channels) 
   // member-function subscribe (transport/ does the same).
   lcm_.subscribeFunction("EDSP_SETPOINT", &GroupWatch::OnMessage, this);
   lcm_.subscribeFunction("EDSP_FAULT", &GroupWatch::OnMessage, this);
+  if (channels != "EDSP_RIG_TRUTH") lcm_.subscribeFunction("EDSP_RIG_TRUTH", &GroupWatch::OnMessage, this);
   if (!channels.empty()) lcm_.subscribeFunction(channels, &GroupWatch::OnMessage, this);
   listener_ = std::thread([this] { Listen(); });
 }
@@ -72,6 +77,9 @@ void GroupWatch::OnMessage(const lcm::ReceiveBuffer* buffer, const std::string& 
   pose_setpoint_t setpoint;
   const bool is_setpoint =
       channel == "EDSP_SETPOINT" && setpoint.decode(buffer->data, 0, static_cast<int>(buffer->data_size)) >= 0;
+  rig_truth_t truth;
+  const bool is_truth =
+      channel == "EDSP_RIG_TRUTH" && truth.decode(buffer->data, 0, static_cast<int>(buffer->data_size)) >= 0;
   {
     std::lock_guard<std::mutex> lock(self->mutex_);
     self->last_received_utime_[channel] = now;
@@ -83,6 +91,7 @@ void GroupWatch::OnMessage(const lcm::ReceiveBuffer* buffer, const std::string& 
       self->setpoint_lag_us_ = now - setpoint.utime;
       self->have_setpoint_ = true;
     }
+    if (is_truth) self->TrackRest(truth.pose, now);
     fault_t fault;
     if (DecodeFault(channel, buffer, &fault)) {
       if (AsksForReArm(fault)) self->last_rearm_request_utime_ = now;
@@ -90,6 +99,24 @@ void GroupWatch::OnMessage(const lcm::ReceiveBuffer* buffer, const std::string& 
     }
   }
   self->changed_.notify_all();
+}
+
+void GroupWatch::TrackRest(const double (&pose)[6], std::int64_t now) {
+  constexpr double kStill = 1e-6;  // m, as the fault tests' AtRestFrom reads the log
+  const double moved = std::hypot(pose[0] - rest_anchor_[0], pose[1] - rest_anchor_[1], pose[2] - rest_anchor_[2]);
+  if (last_truth_utime_ == 0 || moved > kStill) {
+    rest_anchor_ = {pose[0], pose[1], pose[2]};
+    rest_anchor_utime_ = now;
+  }
+  last_truth_utime_ = now;
+}
+
+bool GroupWatch::WaitForRest(std::int64_t after_utime, std::chrono::milliseconds still_for,
+                             std::chrono::milliseconds timeout) {
+  const std::int64_t still_us = std::chrono::duration_cast<std::chrono::microseconds>(still_for).count();
+  std::unique_lock<std::mutex> lock(mutex_);
+  return changed_.wait_for(lock, timeout,
+                           [&] { return last_truth_utime_ - std::max(rest_anchor_utime_, after_utime) >= still_us; });
 }
 
 bool GroupWatch::WaitForSetpoint(const std::function<bool(const pose_setpoint_t&)>& reached,

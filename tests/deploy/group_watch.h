@@ -9,6 +9,7 @@
 // a test would act on the platform's motion seconds after it happened (a
 // fault meant for mid-motion would land in a hold).
 
+#include <array>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
@@ -55,6 +56,11 @@ class GroupWatch {
   // command refused for it, which it repeats every 100 ms while latched),
   // on this process's clock; 0: never.
   std::int64_t LastReArmRequestUtime();
+  // Waits until the rig's true platform position (EDSP_RIG_TRUTH) has
+  // stayed within 1 µm for `still_for`, all of it seen at or after
+  // `after_utime`; false on timeout. The fault tests re-arm only then: a
+  // re-arm before the hold has settled would cut the hold they measure.
+  bool WaitForRest(std::int64_t after_utime, std::chrono::milliseconds still_for, std::chrono::milliseconds timeout);
   // Waits until `node` has said something containing `text` on EDSP_FAULT,
   // stamped at or after `after_utime`; false on timeout.
   bool WaitForFault(const std::string& node, const std::string& text, std::int64_t after_utime,
@@ -63,6 +69,7 @@ class GroupWatch {
  private:
   static void OnMessage(const lcm::ReceiveBuffer* buffer, const std::string& channel, GroupWatch* self);
   void Listen();
+  void TrackRest(const double (&pose)[6], std::int64_t now);  // under mutex_
 
   lcm::LCM lcm_;
   std::mutex mutex_;
@@ -72,6 +79,11 @@ class GroupWatch {
   std::map<std::string, int> restarts_;
   std::int64_t last_rearm_request_utime_ = 0;
   std::vector<fault_t> faults_;
+  // The platform's true position, where it last moved by more than 1 µm
+  // (and when), and when the newest truth came.
+  std::array<double, 3> rest_anchor_{};
+  std::int64_t rest_anchor_utime_ = 0;
+  std::int64_t last_truth_utime_ = 0;
   pose_setpoint_t setpoint_{};
   std::int64_t setpoint_lag_us_ = 0;
   bool have_setpoint_ = false;

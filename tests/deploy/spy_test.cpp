@@ -49,13 +49,17 @@ TEST(LcmSpy, DecodesEdspMessagesOnJava17UnderXvfb) {
   const std::string dir = test_support::ScratchDir("spy_test");
   std::system(("mkdir -p " + dir).c_str());
   const std::string url = "udpm://239.255.76.67:7667?ttl=0";
-  const int display = 90 + ::getpid() % 100;
-  // Xvfb, then the probe (the real lcm.spy.Spy) watching for 6 s.
+  // Xvfb on a display it finds free, which it names once it accepts
+  // clients (-displayfd; 60 s at most), then the probe (the real
+  // lcm.spy.Spy) watching for 5 s.
   const std::string script = fmt::format(
-      "Xvfb :{0} -screen 0 1024x768x24 -nolisten tcp >{1}/xvfb.log 2>&1 & X=$!; sleep 1; "
-      "DISPLAY=:{0} EDSP_BUILD_DIR={2} EDSP_SPY_MAIN=SpyProbe EDSP_SPY_EXTRA_CP={3} "
-      "{4}/deploy/edsp-spy --lcm-url='{5}' 5 {1}/spy.ready >{1}/probe.out 2>{1}/probe.err; S=$?; kill $X; exit $S",
-      display, dir, BuildPath("."), BuildPath("tests/deploy/spy_probe.jar"), SourceDir(), url);
+      "Xvfb -displayfd 3 -screen 0 1024x768x24 -nolisten tcp 3>{0}/xvfb.display >{0}/xvfb.log 2>&1 & X=$!; "
+      "for i in $(seq 600); do grep -q . {0}/xvfb.display && break; sleep 0.1; done; "
+      "D=$(head -n1 {0}/xvfb.display); [ -n \"$D\" ] || {{ kill $X; echo 'Xvfb named no display' >{0}/probe.err; exit "
+      "3; }}; "
+      "DISPLAY=:$D EDSP_BUILD_DIR={1} EDSP_SPY_MAIN=SpyProbe EDSP_SPY_EXTRA_CP={2} "
+      "{3}/deploy/edsp-spy --lcm-url='{4}' 5 {0}/spy.ready >{0}/probe.out 2>>{0}/probe.err; S=$?; kill $X; exit $S",
+      dir, BuildPath("."), BuildPath("tests/deploy/spy_probe.jar"), SourceDir(), url);
   int status = -1;
   std::thread spy([&] { status = std::system(script.c_str()); });
   TransportConfig config;

@@ -220,7 +220,7 @@ TransportConfig BothConfig(const std::string& prefix) {
 TEST(BusMultiprocess, ShmReaderAndLcmMirrorReaderSeeTheSameSequence) {
   constexpr int kMessages = 3000;
   const std::string prefix = "edsp.mirror." + std::to_string(::getpid());
-  Pipe shm_ready, lcm_ready, shm_result, lcm_result, go;
+  Pipe created, shm_ready, lcm_ready, shm_result, lcm_result, go;
   auto reader = [&](bool via_shm, Pipe* ready, Pipe* result) {
     return [&, via_shm, ready, result] {
       // A process on another host would have no shm route: plain LCM.
@@ -239,6 +239,7 @@ TEST(BusMultiprocess, ShmReaderAndLcmMirrorReaderSeeTheSameSequence) {
   const pid_t publisher = test_support::Spawn([&] {
     Bus bus(BothConfig(prefix));
     auto out = bus.Advertise<pose_setpoint_t>("EDSP_SETPOINT");
+    created.Send(1);
     go.Receive();
     for (int k = 1; k <= kMessages; ++k) {
       pose_setpoint_t m{};
@@ -254,12 +255,13 @@ TEST(BusMultiprocess, ShmReaderAndLcmMirrorReaderSeeTheSameSequence) {
     go.Receive();  // keep the segment until both readers are done
     return 0;
   });
-  std::this_thread::sleep_for(50ms);  // the writer creates the segment first
+  // The segment exists before the readers subscribe, so the shm reader
+  // attaches as it subscribes (no attach retry to wait for).
+  ASSERT_EQ(created.Receive(), 1u) << "the publisher never made its segment";
   const pid_t shm_reader = test_support::Spawn(reader(true, &shm_ready, &shm_result));
   const pid_t lcm_reader = test_support::Spawn(reader(false, &lcm_ready, &lcm_result));
   shm_ready.Receive();
   lcm_ready.Receive();
-  std::this_thread::sleep_for(200ms);  // the shm reader attaches (retried every 100 ms)
   go.Send(1);
   const auto via_shm = shm_result.ReceiveVector<std::int64_t>();
   const auto via_lcm = lcm_result.ReceiveVector<std::int64_t>();

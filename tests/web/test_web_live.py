@@ -183,16 +183,25 @@ def test_every_request_and_reply_arrives_however_fast_they_come(served):
     ctl = os.path.join(BIN, "edsp-ctl")
     n = 12
 
+    async def check_out_of_reach():  # refused, with a reply
+        proc = await asyncio.create_subprocess_exec(
+            ctl, "check", "--pose", "0,0,5,0,0,0", "--group", served["group"], "--json",
+            stdout=asyncio.subprocess.DEVNULL, stderr=asyncio.subprocess.DEVNULL)
+        await proc.wait()
+
     async def body():
         client = await Client.open(served["port"], served["viewer"])
         await client.subscribe(["EDSP_MOTION_REQUEST", "EDSP_MOTION_REPLY"])
-        await asyncio.sleep(0.2)
-        for _ in range(n):  # out of reach: each refused, with a reply
-            proc = await asyncio.create_subprocess_exec(
-                ctl, "check", "--pose", "0,0,5,0,0,0", "--group", served["group"], "--json",
-                stdout=asyncio.subprocess.DEVNULL, stderr=asyncio.subprocess.DEVNULL)
-            await proc.wait()
-        got, _ = await client.collect(1.5)
+        # The subscription holds once a reply comes through it (the protocol
+        # acknowledges none): one request first, then the n counted.
+        await check_out_of_reach()
+        warm = await _until(client, 30.0, lambda got: got["EDSP_MOTION_REPLY"])
+        assert warm["EDSP_MOTION_REPLY"], "no reply forwarded within 30 s"
+        for _ in range(n):
+            await check_out_of_reach()
+        # Each edsp-ctl had its reply before it exited: all are on their way.
+        got = await _until(client, 30.0, lambda got: all(
+            len({m["request_id"] for _, m in got[topic]}) >= n for topic in ("EDSP_MOTION_REQUEST", "EDSP_MOTION_REPLY")))
         await client.ws.close()
         return got
 
@@ -357,7 +366,8 @@ def test_ten_thousand_bad_frames_are_answered_change_nothing_and_starve_no_one(s
     assert len(errors) == sent or (closed and errors), (sent, len(errors), closed)
     assert all(s["message"] for s in errors)
     assert {s["message"] for s in errors} > {errors[0]["message"]}  # each names its own fault
-    assert len(during["EDSP_LEG_STATE"]) >= CAP_HZ * during_s / 3
+    # The watcher kept its feed: a third of the rate it had before the flood.
+    assert len(during["EDSP_LEG_STATE"]) / during_s >= len(before["EDSP_LEG_STATE"]) / before_s / 3
     # Nothing moved: the rig's truth before and after the flood.
     p0, p1 = before["EDSP_RIG_TRUTH"][-1][1]["pose"], after["EDSP_RIG_TRUTH"][-1][1]["pose"]
     assert max(abs(a - b) for a, b in zip(p0, p1)) < 1e-6
@@ -383,8 +393,8 @@ def test_a_client_that_stops_reading_slows_no_one_and_holds_no_backlog(served):
             rss_before, rss_after
 
     rate_before, rate_during, rss_before, rss_after = run(body())
+    assert rate_before > 0, "the watcher had no feed to compare with"
     assert rate_during >= 0.7 * rate_before, (rate_before, rate_during)
-    assert rate_during >= CAP_HZ / 3
     # One frame batch in flight for the stalled client, not twelve seconds of them.
     assert rss_after - rss_before < 16 * 1024, (rss_before, rss_after)
 
