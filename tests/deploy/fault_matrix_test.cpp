@@ -85,6 +85,7 @@ struct Timeline {
   std::int64_t fault_utime = 0;
   std::int64_t end_utime = 0;           // SIGCONT sent, or the killed member restarted
   std::int64_t arm_utime = 0;           // edsp-ctl arm sent (0: not needed)
+  bool at_rest_before_arm = false;      // the watch saw the platform still before it
   std::int64_t taken_effect_utime = 0;  // the member stopped or dead, as the kernel has it
   int arm_status = -1;
   int extra_arms = 0;                 // re-arms after a later latch of a stalled bridge
@@ -477,7 +478,8 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
           // 300 ms from here on), however long a loaded machine takes to
           // bring it to rest; an arm before it would cut the hold measured
           // below (which then fails on it).
-          (void)watch.WaitForRest(UtimeNow(), std::chrono::milliseconds(300), std::chrono::seconds(30));
+          t.at_rest_before_arm =
+              watch.WaitForRest(UtimeNow(), std::chrono::milliseconds(300), std::chrono::seconds(30));
           t.arm_utime = UtimeNow();
           t.arm_status = Arm(d);
         }
@@ -637,6 +639,7 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
     ASSERT_TRUE(a.hold_report_utime.has_value()) << "neither the bridge nor the drives reported a hold from "
                                                  << t.fault_utime << " (signal sent at " << sent_utime << ") on";
     hold_report_ms = static_cast<double>(*a.hold_report_utime - t.fault_utime) * 1e-3;
+    EXPECT_TRUE(t.at_rest_before_arm) << "the platform was not still for 300 ms within 30 s of the fault's end";
     // A frozen or killed rig is the world stopped: its platform cannot
     // move until it (or its successor) runs again, so its hold is timed
     // from its first cycle after the fault, not from its start-up time.

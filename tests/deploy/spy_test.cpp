@@ -54,7 +54,7 @@ TEST(LcmSpy, DecodesEdspMessagesOnJava17UnderXvfb) {
   // lcm.spy.Spy) watching for 5 s.
   const std::string script = fmt::format(
       "Xvfb -displayfd 3 -screen 0 1024x768x24 -nolisten tcp 3>{0}/xvfb.display >{0}/xvfb.log 2>&1 & X=$!; "
-      "for i in $(seq 600); do grep -q . {0}/xvfb.display && break; sleep 0.1; done; "
+      "for i in $(seq 600); do grep -q . {0}/xvfb.display && break; kill -0 $X 2>/dev/null || break; sleep 0.1; done; "
       "D=$(head -n1 {0}/xvfb.display); [ -n \"$D\" ] || {{ kill $X; echo 'Xvfb named no display' >{0}/probe.err; exit "
       "3; }}; "
       "DISPLAY=:$D EDSP_BUILD_DIR={1} EDSP_SPY_MAIN=SpyProbe EDSP_SPY_EXTRA_CP={2} "

@@ -1,14 +1,18 @@
 #include "multihost_group.h"
 
+#include <fcntl.h>
+#include <sched.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <cstring>
 #include <stdexcept>
 #include <thread>
 
@@ -16,6 +20,7 @@
 
 #include "edsp/kinematics/config.h"
 #include "edsp/logger/log_reader.h"
+#include "edsp/node/group_file.h"
 #include "edsp/node_status_t.hpp"
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/reply_t.hpp"
@@ -139,6 +144,27 @@ int MultiHostGroup::Finish(int timeout_ms) {
     if (pid > 0) background_exits_.push_back(VirtualNetwork::Stop(pid));
   }
   return operator_exit;
+}
+
+std::unique_ptr<GroupWatch> MultiHostGroup::WatchFrom(const std::string& host, const std::string& channels) const {
+  const std::string lcm_url = LoadTransportConfig(group_path()).lcm_url;
+  const std::string ns_path = "/var/run/netns/" + network_.Namespace(host);
+  std::unique_ptr<GroupWatch> watch;
+  std::string error;
+  // A thread of its own enters the namespace (setns moves only the calling
+  // thread); the watch's socket and its listener, started from there, stay in it.
+  std::thread([&] {
+    const int fd = ::open(ns_path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0 || ::setns(fd, CLONE_NEWNET) != 0) {
+      error = fmt::format("cannot enter {}: {}", ns_path, std::strerror(errno));
+    } else {
+      watch = std::make_unique<GroupWatch>(lcm_url, channels);
+      if (!watch->ok()) error = fmt::format("no LCM on {} in {}", lcm_url, ns_path);
+    }
+    if (fd >= 0) ::close(fd);
+  }).join();
+  if (!error.empty()) throw std::runtime_error("watch from host " + host + ": " + error);
+  return watch;
 }
 
 int MultiHostGroup::Ctl(const std::string& host, const std::string& arguments) const {

@@ -11,11 +11,13 @@
 
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "edsp/fault_t.hpp"
 #include "group_file_editor.h"
+#include "group_watch.h"
 #include "virtual_network.h"
 
 namespace edsp::test_support {
@@ -53,6 +55,13 @@ class MultiHostGroup {
   // Waits for the operator's launcher, then stops the others in reverse
   // order; returns the operator launcher's exit status.
   int Finish(int timeout_ms = 240000);
+
+  // The group's traffic as `host` sees it (EDSP_SETPOINT, EDSP_FAULT,
+  // EDSP_RIG_TRUTH and `channels`): a GroupWatch made in that host's network
+  // namespace, so that a test acts on what the group does, not on a pause
+  // tuned to one machine's start-up. Throws std::runtime_error naming the
+  // host if its namespace cannot be entered or the watch cannot listen.
+  std::unique_ptr<GroupWatch> WatchFrom(const std::string& host, const std::string& channels = "") const;
 
   // edsp-ctl on `host`, in this group's session; returns its exit status.
   int Ctl(const std::string& host, const std::string& arguments) const;

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <memory>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -22,6 +23,7 @@
 #include "edsp/logger/log_summary.h"
 #include "edsp/node/fault.h"
 #include "edsp/node/runtime.h"
+#include "edsp/pose_setpoint_t.hpp"
 #include "explained_losses.h"
 #include "late_cycles.h"
 #include "multihost_group.h"
@@ -48,6 +50,19 @@ std::string LaunchLogs(const MultiHostGroup& group) {
   std::string out;
   for (const std::string& host : kHosts) out += "--- " + host + "\n" + Slurp(group.dir() + "/launch." + host + ".err");
   return out;
+}
+
+// Until the platform's setpoint, as the operator's host sees it, is
+// `depth_m` below home on an Lz run's first move (down to its lowest stop),
+// however long the group took to start: its caller faults the group then,
+// mid-move.
+void WaitForTheFirstMoveUnderWay(const MultiHostGroup& group, double depth_m) {
+  const double home_z = PlatformModel(LoadConfigFile(SourcePath("config/huang2021.toml"))).home_pose().p_BoMo_B.z();
+  const std::unique_ptr<GroupWatch> watch = group.WatchFrom("operator");
+  const bool under_way = watch->WaitForSetpoint(
+      [&](const pose_setpoint_t& s) { return s.trajectory == "Lz/move 1" && s.pose[2] < home_z - depth_m; },
+      std::chrono::seconds(60));
+  ASSERT_TRUE(under_way) << "the platform's first move never came " << depth_m << " m down within 60 s";
 }
 
 // Where the platform ended against where the planner left it.
@@ -197,13 +212,14 @@ TEST(MultiHost, TwoPercentLossOnTheControllersLinkIsCountedAndNeverMakesAJump) {
 TEST(MultiHost, ControllerLinkDownHoldsWithin50msAndResumesOnlyAfterReArm) {
   VirtualNetwork network(kHosts);
   // Lz through its three stops and home at 0.15 m/s, dwelling 1 s at each
-  // (the link goes down 3 s in, mid-way through the first move).
+  // (the link goes down during the first move, 0.5 m down to the lowest).
   MultiHostOptions options{R"("--motions", "Lz", "--stops", "3", "--dwell-s", "1", "--max-speed-m-s", "0.15",
                                "--exit-after-hold-s", "2")"};
   options.stale_ms = 50;  // as shipped: this test is about the hold
   MultiHostGroup group(network, "linkdown", options);
   group.Start();
-  Pause(3000);  // mid-way up the first move
+  // 0.15 m into the first move's 0.5 m (over 2 s of it left at 0.15 m/s).
+  ASSERT_NO_FATAL_FAILURE(WaitForTheFirstMoveUnderWay(group, 0.15));
   const std::int64_t down_utime = UtimeNow();
   network.SetLink("controller", false);
   const std::int64_t down_done_utime = UtimeNow();  // `ip link set` ran somewhere in between
@@ -308,7 +324,8 @@ TEST(MultiHost, DrivesLinkPulledOverModbusHoldsNamesTheDrivesAndResumesOnlyAfter
   options.drives_over_modbus = true;
   MultiHostGroup group(network, "modbus_pulled", options);
   group.Start();
-  Pause(3000);  // mid-way up the first move
+  // 0.15 m into the first move's 0.5 m (over 3 s of it left at 0.1 m/s).
+  ASSERT_NO_FATAL_FAILURE(WaitForTheFirstMoveUnderWay(group, 0.15));
   const std::int64_t cut_utime = UtimeNow();
   network.BlockTcpPort("drive", kModbusPort, true);
   const std::int64_t cut_done_utime = UtimeNow();

@@ -365,8 +365,9 @@ TEST(Bus, MixedInputsWakeOnLcmAtOnceNotAtTheNextSlice) {
   msg.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
   // Timed from the publish, not from the call: a thread started late on a
   // busy machine delays the message, not the wake. Waiting for the 1 s slice
-  // would take the rest of it (≥ 950 ms after the publish); half of it is the
-  // bound, so only a stall of half a second could fail a correct wake.
+  // would take the rest of it (950 ms after a publish at 50 ms);
+  // half of it is the bound, so only a stall of half a second could fail a
+  // correct wake.
   constexpr auto kHalfSlice = std::chrono::milliseconds(500);
   for (int round = 0; round < 3; ++round) {  // the doorbell re-arms after each drain
     std::atomic<std::chrono::steady_clock::rep> published_at{0};

@@ -367,6 +367,7 @@ def test_ten_thousand_bad_frames_are_answered_change_nothing_and_starve_no_one(s
     assert all(s["message"] for s in errors)
     assert {s["message"] for s in errors} > {errors[0]["message"]}  # each names its own fault
     # The watcher kept its feed: a third of the rate it had before the flood.
+    assert before["EDSP_LEG_STATE"], "the watcher had no feed to compare with"
     assert len(during["EDSP_LEG_STATE"]) / during_s >= len(before["EDSP_LEG_STATE"]) / before_s / 3
     # Nothing moved: the rig's truth before and after the flood.
     p0, p1 = before["EDSP_RIG_TRUTH"][-1][1]["pose"], after["EDSP_RIG_TRUTH"][-1][1]["pose"]

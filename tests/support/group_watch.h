@@ -30,8 +30,10 @@ namespace edsp::test_support {
 
 class GroupWatch {
  public:
-  // Listens to EDSP_SETPOINT and every channel named in `channels` (a
-  // regex, as lcm::LCM::subscribe takes it) on `lcm_url` until destroyed.
+  // Listens to EDSP_SETPOINT, EDSP_FAULT, EDSP_RIG_TRUTH and every channel
+  // named in `channels` (a regex, as lcm::LCM::subscribe takes it; one that
+  // matches those three too hands their messages over twice, which no
+  // count here minds) on `lcm_url` until destroyed.
   GroupWatch(const std::string& lcm_url, const std::string& channels);
   ~GroupWatch();
   GroupWatch(const GroupWatch&) = delete;
