@@ -55,8 +55,8 @@ TEST(LcmSpy, DecodesEdspMessagesOnJava17UnderXvfb) {
   const std::string script = fmt::format(
       "Xvfb -displayfd 3 -screen 0 1024x768x24 -nolisten tcp 3>{0}/xvfb.display >{0}/xvfb.log 2>&1 & X=$!; "
       "for i in $(seq 600); do grep -q . {0}/xvfb.display && break; kill -0 $X 2>/dev/null || break; sleep 0.1; done; "
-      "D=$(head -n1 {0}/xvfb.display); [ -n \"$D\" ] || {{ kill $X; echo 'Xvfb named no display' >{0}/probe.err; exit "
-      "3; }}; "
+      "D=$(head -n1 {0}/xvfb.display); "
+      "[ -n \"$D\" ] || {{ kill $X; echo 'Xvfb named no display' >{0}/probe.err; exit 3; }}; "
       "DISPLAY=:$D EDSP_BUILD_DIR={1} EDSP_SPY_MAIN=SpyProbe EDSP_SPY_EXTRA_CP={2} "
       "{3}/deploy/edsp-spy --lcm-url='{4}' 5 {0}/spy.ready >{0}/probe.out 2>>{0}/probe.err; S=$?; kill $X; exit $S",
       dir, BuildPath("."), BuildPath("tests/deploy/spy_probe.jar"), SourceDir(), url);
