@@ -14,6 +14,11 @@
 //       deploy/edsp bench cueing: the manoeuvres' perception errors (commanded
 //       and real), a soak of random vehicle motion counting refused
 //       setpoints, the washout step's time, and the OMCT.
+//   edsp-cueing live --cueing FILE [--udp ADDRESS:PORT] [--config FILE] [--group FILE] [--session-id N]
+//       the cueing source in a running group (live_command.h).
+//   edsp-cueing send --manoeuvre FILE [--to ADDRESS:PORT] [--rate-hz 250] [--lead-s 5]
+//                    [--after disengage|silence|estop|freeze|engage] [--tail-s 20]
+//       a vehicle model's stand-in: the manoeuvre as packets, in real time (send_command.h).
 
 #include <cstdio>
 #include <exception>
@@ -35,6 +40,8 @@
 #include "edsp/kinematics/config.h"
 #include "edsp/rig/rig_effects.h"
 #include "edsp/sim/played_poses.h"
+#include "live_command.h"
+#include "send_command.h"
 
 namespace edsp {
 namespace {
@@ -294,8 +301,33 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 10'000'000));
   bench_command->add_option("--seed", bench.seed, "the random vehicle's seed");
   bench_command->add_flag("--json", bench.offline.json, "JSON on stdout");
+  edsp::LiveOptions live;
+  CLI::App* live_command = app.add_subcommand("live", "the cueing source in a running group (EDSP_CUE_SETPOINT)");
+  edsp::AddNodeOptions(live_command, &live.node);
+  live_command->add_option("--cueing", live.cueing_path, "cueing config (TOML)")->required()->check(CLI::ExistingFile);
+  live_command->add_option("--udp", live.udp, "the vehicle's packets: ADDRESS:PORT (\"\": none)")
+      ->capture_default_str();
+  edsp::SendOptions send;
+  CLI::App* send_command = app.add_subcommand("send", "a manoeuvre as the vehicle's packets, in real time");
+  send_command->add_option("--manoeuvre", send.manoeuvre_path, "manoeuvre file (TOML)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  send_command->add_option("--to", send.to, "ADDRESS:PORT")->capture_default_str();
+  send_command->add_option("--rate-hz", send.rate_hz, "packets per second")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 2000.0));
+  send_command->add_option("--lead-s", send.lead_s, "at rest with engage first")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 600.0));
+  send_command->add_option("--after", send.after, "then: disengage, silence, estop, freeze or engage")
+      ->capture_default_str();
+  send_command->add_option("--tail-s", send.tail_s, "for this long")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 600.0));
   CLI11_PARSE(app, argc, argv);
   try {
+    if (live_command->parsed()) return edsp::RunLive(live);
+    if (send_command->parsed()) return edsp::RunSend(send);
     if (omct_command->parsed()) return edsp::RunOmctTable(omct_config, omct_cueing, omct_json);
     if (bench_command->parsed()) return edsp::RunBench(bench);
     return edsp::RunOffline(offline);

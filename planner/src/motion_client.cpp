@@ -28,6 +28,7 @@ const char* MotionStateName(std::int8_t state) {
     case motion_status_t::STATE_HOLDING: return "holding";
     case motion_status_t::STATE_REFUSED: return "refused";
     case motion_status_t::STATE_FAULT: return "fault";
+    case motion_status_t::STATE_CUEING: return "cueing";
   }
   return "unknown";
 }

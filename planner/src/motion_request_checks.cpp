@@ -46,6 +46,8 @@ std::string RequestKindName(std::int8_t kind) {
     case motion_request_t::KIND_FRAME: return "frame";
     case motion_request_t::KIND_PIVOT: return "pivot";
     case motion_request_t::KIND_LIMITS: return "limits";
+    case motion_request_t::KIND_ENGAGE: return "engage";
+    case motion_request_t::KIND_DISENGAGE: return "disengage";
   }
   return fmt::format("kind {}", kind);
 }

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "edsp/channels.h"
+#include "edsp/node/fault.h"
 #include "edsp/node/node_loop.h"
 #include "edsp/node/scheduling.h"
 
@@ -23,6 +24,8 @@ PlannerLoop::PlannerLoop(Bus& bus, MotionService& service, PlannerLoopOptions op
                              [this](const leg_state_t& legs) { service_.OnLegState(legs, UtimeNow()); });
   bus.Subscribe<platform_state_t>(
       channel::kPlatformState, [this](const platform_state_t& state) { service_.OnPlatformState(state, UtimeNow()); });
+  bus.Subscribe<pose_setpoint_t>(channel::kCueSetpoint,
+                                 [this](const pose_setpoint_t& cue) { service_.OnCueSetpoint(cue, UtimeNow()); });
 }
 
 PlannerLoop::~PlannerLoop() {
@@ -95,6 +98,10 @@ bool PlannerLoop::RunCycle(std::int64_t now_utime, std::int64_t deadline_misses)
             now_utime < service_.ended_utime() + std::llround(options_.exit_after_hold_s * 1e6);
   } else {
     reporting_.status().SetState(node_status_t::STATE_RUNNING);
+  }
+  if (std::optional<MotionService::CueFault> fault = service_.TakeCueFault()) {
+    reporting_.Fault(MakeFault("planner", channel::kCueSetpoint, fault->code, fault_t::SEVERITY_ERROR,
+                               std::move(fault->reason), now_utime));
   }
   reporting_.status().RecordLoop(std::chrono::steady_clock::now() - began);
   reporting_.ReportUndecodable(channel::kMotionRequest, requests_in_, now_utime);

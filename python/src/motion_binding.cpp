@@ -241,6 +241,8 @@ void BindMotion(py::module_& m) {
   m.attr("KIND_FRAME") = motion_request_t::KIND_FRAME;
   m.attr("KIND_PIVOT") = motion_request_t::KIND_PIVOT;
   m.attr("KIND_LIMITS") = motion_request_t::KIND_LIMITS;
+  m.attr("KIND_ENGAGE") = motion_request_t::KIND_ENGAGE;
+  m.attr("KIND_DISENGAGE") = motion_request_t::KIND_DISENGAGE;
   py::enum_<WaitOutcome>(m, "WaitOutcome", "How a wait for a motion ended (planner/motion_client.h).")
       .value("ON_TARGET", WaitOutcome::kOnTarget)
       .value("HALTED_OR_STOPPED", WaitOutcome::kHaltedOrStopped)

@@ -56,20 +56,6 @@ CtlResult Ctl(const std::string& dir, const std::string& args, bool options_firs
   return r;
 }
 
-template <typename Msg>
-std::vector<Msg> Messages(const std::string& log_path, const std::string& channel) {
-  LogReader reader(log_path);
-  LogEvent event;
-  std::vector<Msg> out;
-  while (reader.Next(&event)) {
-    Msg m{};
-    if (event.channel == channel && m.decode(event.data.data(), 0, static_cast<int>(event.data.size())) >= 0) {
-      out.push_back(m);
-    }
-  }
-  return out;
-}
-
 // The idle planner ends 6 s after the last motion ends.
 constexpr const char* kIdlePlanner = R"("--exit-after-hold-s", "6")";
 
@@ -121,13 +107,13 @@ TEST(MotionServiceGroup, AnOperatorsScriptThroughEdspCtl) {
   EXPECT_GT(halted_at, -0.02) << "it moved toward 0.25 before the halt";
   EXPECT_LT(halted_at, 0.25) << "and stopped short of it";
   // The rig's truth, settled, is where the halted move holds.
-  const auto truths = Messages<rig_truth_t>(run.log_path, "EDSP_RIG_TRUTH");
+  const auto truths = LoggedMessages<rig_truth_t>(run.log_path, "EDSP_RIG_TRUTH");
   ASSERT_FALSE(truths.empty());
   EXPECT_NEAR(truths.back().pose[0], halted_at, 1e-6);
   // Every request, reply and status was recorded.
-  EXPECT_GE(Messages<motion_request_t>(run.log_path, "EDSP_MOTION_REQUEST").size(), 12u);
-  EXPECT_GE(Messages<motion_reply_t>(run.log_path, "EDSP_MOTION_REPLY").size(), 12u);
-  EXPECT_GT(Messages<motion_status_t>(run.log_path, "EDSP_MOTION_STATUS").size(), 500u) << "50 Hz";
+  EXPECT_GE(LoggedMessages<motion_request_t>(run.log_path, "EDSP_MOTION_REQUEST").size(), 12u);
+  EXPECT_GE(LoggedMessages<motion_reply_t>(run.log_path, "EDSP_MOTION_REPLY").size(), 12u);
+  EXPECT_GT(LoggedMessages<motion_status_t>(run.log_path, "EDSP_MOTION_STATUS").size(), 500u) << "50 Hz";
 
   // The same requests replayed onto another live group of the same session
   // (a log played back by mistake): stale, they move nothing.
@@ -145,7 +131,7 @@ TEST(MotionServiceGroup, AnOperatorsScriptThroughEdspCtl) {
       },
       77);
   ASSERT_EQ(live.exit_code, 0);
-  const auto replies = Messages<motion_reply_t>(live.log_path, "EDSP_MOTION_REPLY");
+  const auto replies = LoggedMessages<motion_reply_t>(live.log_path, "EDSP_MOTION_REPLY");
   EXPECT_FALSE(replies.empty()) << "the replayed requests reached the planner";
   for (const motion_reply_t& r : replies) {
     EXPECT_FALSE(r.accepted) << r.reason;
@@ -153,7 +139,7 @@ TEST(MotionServiceGroup, AnOperatorsScriptThroughEdspCtl) {
   }
   const Vector6 home = PlatformModel(Huang2021Config()).home_pose().ToVector();
   double furthest = 0.0;
-  for (const rig_truth_t& t : Messages<rig_truth_t>(live.log_path, "EDSP_RIG_TRUTH")) {
+  for (const rig_truth_t& t : LoggedMessages<rig_truth_t>(live.log_path, "EDSP_RIG_TRUTH")) {
     for (int k = 0; k < 6; ++k) furthest = std::max(furthest, std::abs(t.pose[k] - home(k)));
   }
   EXPECT_LT(furthest, 1e-6) << "a replayed request moved the platform";

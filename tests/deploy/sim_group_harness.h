@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "edsp/kinematics/platform_model.h"
+#include "edsp/logger/log_reader.h"
 #include "group_file_editor.h"
 
 namespace edsp::test_support {
@@ -103,6 +104,21 @@ struct DwellEnd {
 };
 // The last tracker sample of every dwell against the target's point A.
 std::vector<DwellEnd> DwellEnds(const std::string& log_path, const PlatformModel& model);
+
+// Every message on `channel` of the log that decodes as a Msg, in order.
+template <typename Msg>
+std::vector<Msg> LoggedMessages(const std::string& log_path, const std::string& channel) {
+  LogReader reader(log_path);
+  LogEvent event;
+  std::vector<Msg> out;
+  while (reader.Next(&event)) {
+    Msg m{};
+    if (event.channel == channel && m.decode(event.data.data(), 0, static_cast<int>(event.data.size())) >= 0) {
+      out.push_back(m);
+    }
+  }
+  return out;
+}
 
 // Directory of a run (where group.toml and launch.err are; the log too
 // unless SimGroupExtras::log_path put it elsewhere).

@@ -15,53 +15,17 @@
 
 #include "edsp/kinematics/config.h"
 #include "edsp/kinematics/workspace.h"
-#include "motion_requests.h"  // tests/support
-#include "sanitized_build.h"  // tests/support
+#include "motion_requests.h"        // tests/support
+#include "served_motion_service.h"  // tests/support
+#include "sanitized_build.h"        // tests/support
 
 namespace edsp {
 namespace {
 
-constexpr std::int64_t kServiceSession = 7;
-constexpr std::int64_t kServiceT0 = 1'700'000'000'000'000;
-
-Vector6 Vec(double x, double y, double z, double roll = 0, double pitch = 0, double yaw = 0) {
-  Vector6 v;
-  v << x, y, z, roll, pitch, yaw;
-  return v;
-}
-
-class Served {
- public:
-  explicit Served(const PlatformConfig& config = Huang2021Config())
-      : model_(config), service_(model_, Options()), requests_(kServiceSession) {
-    Cycle();
-  }
-
-  static MotionServiceOptions Options() {
-    MotionServiceOptions o;
-    o.session_id = kServiceSession;
-    return o;
-  }
-  // One planner cycle with a bridge whose drives all follow (or hold).
-  pose_setpoint_t Cycle(std::int8_t drives = leg_state_t::DRIVE_ENABLED) {
-    leg_state_t legs{};
-    for (auto& d : legs.drive_status) d = drives;
-    service_.OnLegState(legs, now_);
-    const pose_setpoint_t sp = service_.Step(now_);
-    now_ += 1000;
-    return sp;
-  }
-  motion_reply_t Ask(motion_request_t r) { return service_.Handle(r, now_); }
-  Vector6 Held() {
-    const pose_setpoint_t sp = Cycle();
-    return Eigen::Map<const Vector6>(sp.pose);
-  }
-
-  PlatformModel model_;
-  MotionService service_;
-  test_support::MotionRequests requests_;
-  std::int64_t now_ = kServiceT0;
-};
+using test_support::kServiceSession;
+using test_support::kServiceT0;
+using test_support::Served;
+using test_support::Vec;
 
 void ExpectRefused(const motion_reply_t& reply, const std::string& names) {
   EXPECT_FALSE(reply.accepted);

@@ -37,6 +37,18 @@ class MotionRequests {
     for (int k = 0; k < 6; ++k) r.pose[k] = pose(k);
     return r;
   }
+  // A cueing source's engage (to `neutral`) or disengage (to `pose`).
+  motion_request_t Engage(const Vector6& neutral, std::int64_t now_utime, const std::string& source) {
+    motion_request_t r = Move(neutral, now_utime);
+    r.kind = motion_request_t::KIND_ENGAGE;
+    r.client = source;
+    return r;
+  }
+  motion_request_t Disengage(const Vector6& pose, std::int64_t now_utime) {
+    motion_request_t r = Move(pose, now_utime);
+    r.kind = motion_request_t::KIND_DISENGAGE;
+    return r;
+  }
   motion_request_t Pivot(const Vector3& c, std::int64_t now_utime) {
     motion_request_t r = Make(motion_request_t::KIND_PIVOT, now_utime);
     for (int k = 0; k < 3; ++k) r.point[k] = c(k);

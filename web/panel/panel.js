@@ -9,7 +9,7 @@ const WATCHED = ["EDSP_CONFIG", "EDSP_PLATFORM_STATE", "EDSP_LEG_STATE", "EDSP_M
   "EDSP_FAULT", "EDSP_MOTION_REPLY", "EDSP_REPLY"];
 const FAULT_SEVERITY = ["info", "warning", "error"];
 // motion_status_t's STATE_* and END_*, by value
-const MOTION_STATE = ["idle", "moving", "halting", "holding", "refused", "fault"];
+const MOTION_STATE = ["idle", "moving", "halting", "holding", "refused", "fault", "cueing"];
 const MOTION_END = ["", "completed", "halted", "stopped"];
 const MAX_FAULTS = 200;
 

@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -34,23 +35,44 @@ class RequestClient {
   template <typename Reply, typename Request>
   std::optional<Reply> Send(const std::string& channel, const std::string& reply_channel, Request request,
                             double timeout_s) {
-    Inbox<Reply>& inbox = InboxFor<Reply>(reply_channel);
-    inbox.awaited = request.request_id;
-    inbox.reply.reset();
     using Clock = std::chrono::steady_clock;
     const auto until =
         Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(timeout_s));
-    auto next = Clock::now();
-    request.utime = UtimeNow();
-    while (!inbox.reply && Clock::now() < until) {
-      if (Clock::now() >= next) {
-        ++request.seq;
-        if (!bus_.Publish(channel, request)) throw std::runtime_error(channel + " could not be sent");
-        next = Clock::now() + kResend;
-      }
+    Start<Reply>(channel, reply_channel, std::move(request));
+    while (!Answer<Reply>(reply_channel) && Clock::now() < until) {
+      ResendIfDue();
       bus_.Handle(std::chrono::milliseconds(20));
     }
-    return inbox.reply;
+    return Answer<Reply>(reply_channel);
+  }
+
+  // The same without waiting, for a node whose cycle cannot block: Start
+  // sends the request; each cycle, ResendIfDue sends it again every kResend
+  // until Answer has its reply (the bus handled by the node's own loop).
+  // One request in flight at a time: a new Start replaces the last.
+  template <typename Reply, typename Request>
+  void Start(const std::string& channel, const std::string& reply_channel, Request request) {
+    Inbox<Reply>& inbox = InboxFor<Reply>(reply_channel);
+    inbox.awaited = request.request_id;
+    inbox.reply.reset();
+    request.utime = UtimeNow();
+    answered_ = [&inbox] { return inbox.reply.has_value(); };
+    resend_ = [this, channel, request]() mutable {
+      ++request.seq;
+      if (!bus_.Publish(channel, request)) throw std::runtime_error(channel + " could not be sent");
+    };
+    next_send_ = std::chrono::steady_clock::now();
+    ResendIfDue();
+  }
+  void ResendIfDue() {
+    if (!resend_ || answered_() || std::chrono::steady_clock::now() < next_send_) return;
+    resend_();
+    next_send_ = std::chrono::steady_clock::now() + kResend;
+  }
+  // The reply to the request last started on `reply_channel`, once it came.
+  template <typename Reply>
+  const std::optional<Reply>& Answer(const std::string& reply_channel) {
+    return InboxFor<Reply>(reply_channel).reply;
   }
 
  private:
@@ -77,6 +99,9 @@ class RequestClient {
 
   Bus& bus_;
   std::map<std::string, std::shared_ptr<void>> inboxes_;
+  std::function<bool()> answered_;  // the request in flight: its reply came
+  std::function<void()> resend_;    // sends it once more (its seq advanced)
+  std::chrono::steady_clock::time_point next_send_;
 };
 
 }  // namespace edsp

@@ -7,6 +7,15 @@
 // in progress along its own path and cancel the queue. Every path is
 // checked whole before its first setpoint. docs/operating.md.
 //
+// A cueing source (edsp-cueing, docs/cueing.md) is one more motion: an
+// engage request moves to its neutral pose by a checked move, and from the
+// move's end the setpoints follow the source's (EDSP_CUE_SETPOINT) while
+// each is valid: this session's, finite, inside the workspace, no leg
+// faster than the config allows since the last one followed, and fresh.
+// The first that is not ends the cueing where the platform stands: it
+// holds the last valid pose and the status says why. Disengage leaves the
+// cueing and moves to the pose asked for; halt and stop end it at once.
+//
 // Thread-safe: the planner's cycle (Step) runs on one thread while moves
 // are planned on another, the lock released while a path is checked (a
 // long program takes tens of milliseconds), so setpoints never wait for a
@@ -26,6 +35,7 @@
 #include "edsp/motion_reply_t.hpp"
 #include "edsp/motion_request_t.hpp"
 #include "edsp/motion_status_t.hpp"
+#include "edsp/node/fault.h"
 #include "edsp/node/request_service.h"
 #include "edsp/planner/paper_motions.h"
 #include "edsp/planner/planned_motion.h"
@@ -48,6 +58,7 @@ struct MotionServiceOptions {
   // an unknown one. Unset: the paper's motions with their default options
   // (edsp-planner gives the whole motion library, motion_library.h).
   ProgramLibrary programs;
+  double cue_stale_s = 0.02;  // while cueing: no valid EDSP_CUE_SETPOINT this long ends it (the source is gone)
 };
 
 class MotionService {
@@ -65,12 +76,21 @@ class MotionService {
   static bool IsQuick(const motion_request_t& request);
   void OnLegState(const leg_state_t& legs, std::int64_t now_utime);
   void OnPlatformState(const platform_state_t& state, std::int64_t now_utime);
+  // A cueing source's setpoint: kept while cueing is engaged, followed from
+  // the engage move's end (ignored while nothing is engaged).
+  void OnCueSetpoint(const pose_setpoint_t& cue, std::int64_t now_utime);
 
   // The setpoint for `now` (advances the motion; call once per cycle).
   pose_setpoint_t Step(std::int64_t now_utime);
   motion_status_t Status(std::int64_t now_utime) const;
   // True once after each change of state, request or end (publish the status at once).
   bool TakeChange();
+  // Why the last cueing ended on a cue it could not follow, once (the loop's EDSP_FAULT).
+  struct CueFault {
+    FaultCode code;
+    std::string reason;
+  };
+  std::optional<CueFault> TakeCueFault();
 
   bool busy() const;
   // The time the last motion ended (0: none has).
@@ -84,6 +104,17 @@ class MotionService {
     std::int8_t end = motion_status_t::END_COMPLETED;
   };
 
+  // An engaged cueing source.
+  struct Cueing {
+    std::string source;  // the client that engaged it
+    std::int64_t request_id = 0;
+    bool following = false;                 // the engage move has ended: the setpoints are the source's
+    std::int64_t following_utime = 0;       // since when
+    std::optional<pose_setpoint_t> latest;  // its last setpoint that was valid on its own
+    std::int64_t latest_utime = 0;          // when that came, on this service's clock
+    std::int64_t followed_utime = 0;        // the last cycle that followed one (0: none yet)
+  };
+
   using Lock = std::unique_lock<std::mutex>;
 
   motion_reply_t Act(const motion_request_t& r, std::int64_t now_utime, Lock& lock);
@@ -95,6 +126,19 @@ class MotionService {
   motion_reply_t DefineFrame(const motion_request_t& r);
   motion_reply_t SetPivot(const motion_request_t& r);
   motion_reply_t SetLimits(const motion_request_t& r);
+  motion_reply_t Engage(const motion_request_t& r, std::int64_t now_utime, Lock& lock);
+  motion_reply_t Disengage(const motion_request_t& r, std::int64_t now_utime, Lock& lock);
+  // Why a cue setpoint cannot be followed on its own ("" if it can).
+  std::string CueProblem(const pose_setpoint_t& cue, FaultCode* code) const;
+  // The setpoint `to` the latest cue gives at `now`, unless the cueing must end: then why.
+  std::string CueToFollow(std::int64_t now_utime, FaultCode* code, PoseSample* to) const;
+  // Ends the cueing where the platform stands; `why` (unless "") is the status's reason.
+  void EndCueing(std::string why, std::int64_t now_utime, std::int8_t end,
+                 std::optional<FaultCode> fault = std::nullopt);
+  std::string CueingProblem() const;  // why a move or run must wait ("" if nothing is engaged)
+  void StartCueing(const std::string& source, std::int64_t request_id);  // engaged, not yet following
+  // After a motion ends: an engage move's end starts the following.
+  void StartFollowingIfEngaged(std::int64_t now_utime);
   motion_reply_t Enqueue(const motion_request_t& r, std::deque<PlannedMotion> motions, std::int64_t now_utime);
 
   std::string BridgeProblem(std::int64_t now_utime) const;
@@ -106,7 +150,7 @@ class MotionService {
   std::int8_t State(std::int64_t now_utime) const;
   bool OnTarget(std::int64_t now_utime) const;
   void Changed() { changed_ = true; }
-  bool Busy() const { return current_.has_value() || !queue_.empty(); }
+  bool Busy() const { return current_.has_value() || !queue_.empty() || cueing_.has_value(); }
   std::string QueueProblem() const;
   // Why a plan made from `from` before `decelerations` halts may not be queued ("" if it may).
   std::string PlanOutdated(const Transform& from, std::uint64_t decelerations) const;
@@ -134,6 +178,8 @@ class MotionService {
   bool changed_ = true;
   std::uint64_t decelerations_ = 0;  // halts and stops so far: a plan older than the last is refused
   std::int64_t setpoint_seq_ = 0;
+  std::optional<Cueing> cueing_;
+  std::optional<CueFault> cue_fault_;
 
   RequestService<motion_reply_t> requests_{RequestPolicy{options_.session_id, options_.request_window_s}};
 

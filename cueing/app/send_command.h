@@ -1,0 +1,26 @@
+#pragma once
+// edsp-cueing send: a vehicle model's stand-in, for trying a rig and for
+// the tests. Sends the packet (docs/cueing.md) at --rate-hz in real time:
+// a rider at rest with "engage" for --lead-s (the platform engages), the
+// manoeuvre with "engage", then --tail-s of what --after says: "disengage"
+// (the cueing washes out and the platform parks), "silence" (no packets:
+// the input is lost), "estop", "freeze" or "engage" (at rest).
+//   edsp-cueing send --manoeuvre FILE [--to 127.0.0.1:7400] [--rate-hz 250]
+//                    [--lead-s 5] [--after disengage] [--tail-s 20]
+
+#include <string>
+
+namespace edsp {
+
+struct SendOptions {
+  std::string manoeuvre_path;
+  std::string to = "127.0.0.1:7400";
+  double rate_hz = 250.0;
+  double lead_s = 5.0;
+  std::string after = "disengage";
+  double tail_s = 20.0;
+};
+
+int RunSend(const SendOptions& options);
+
+}  // namespace edsp

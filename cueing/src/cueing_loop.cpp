@@ -1,0 +1,127 @@
+#include "edsp/cueing/cueing_loop.h"
+
+#include <utility>
+
+#include "edsp/channels.h"
+#include "edsp/cueing/vehicle_packet.h"
+#include "edsp/motion_reply_t.hpp"
+#include "edsp/motion_request_t.hpp"
+#include "edsp/node/fault.h"
+#include "edsp/node/node_loop.h"
+
+namespace edsp {
+
+namespace {
+
+std::int8_t KindOf(CueRequest request) {
+  switch (request) {
+    case CueRequest::kEngage: return motion_request_t::KIND_ENGAGE;
+    case CueRequest::kDisengage: return motion_request_t::KIND_DISENGAGE;
+    case CueRequest::kStop: return motion_request_t::KIND_STOP;
+  }
+  return motion_request_t::KIND_STOP;
+}
+
+}  // namespace
+
+CueingLoop::CueingLoop(Bus& bus, CueingSource& source, VehicleSocket* socket, CueingLoopOptions options)
+    : bus_(bus),
+      source_(source),
+      socket_(socket),
+      options_(std::move(options)),
+      cues_(bus.Advertise<pose_setpoint_t>(channel::kCueSetpoint)),
+      reporting_(bus, "cueing"),
+      requests_(bus) {
+  bus.Subscribe<motion_status_t>(channel::kMotionStatus, [this](const motion_status_t& s) { OnStatus(s); });
+}
+
+void CueingLoop::OnStatus(const motion_status_t& status) {
+  if (status.session_id != options_.session_id) return;
+  const bool follows = status.state == motion_status_t::STATE_CUEING && status.activity == "cueing " + options_.client;
+  source_.OnPlannerFollows(follows, status.reason);
+}
+
+void CueingLoop::TakePacket(const std::uint8_t* data, std::size_t size, std::int64_t now_utime) {
+  const ParsedVehiclePacket parsed = ParseVehiclePacket(data, size);
+  std::optional<std::string> refused;
+  FaultCode code = FaultCode::kUndecodable;
+  if (!parsed.packet) {
+    refused = parsed.error;
+  } else {
+    refused = source_.OnPacket(*parsed.packet, static_cast<double>(now_utime) * 1e-6);
+    code = FaultCode::kStale;
+  }
+  if (!refused) {
+    reporting_.status().CountIn();
+    return;
+  }
+  reporting_.status().CountRejected();
+  reporting_.Fault(MakeFault("cueing", options_.input_name, code, fault_t::SEVERITY_WARNING,
+                             "vehicle packet refused: " + *refused, now_utime));
+}
+
+void CueingLoop::Ask(CueRequest request) {
+  motion_request_t r{};
+  r.session_id = options_.session_id;
+  r.request_id = RequestClient::NewRequestId();
+  r.client = options_.client;
+  r.kind = KindOf(request);
+  for (int k = 0; k < 6; ++k) r.pose[k] = source_.neutral_pose()(k);
+  requests_.Start<motion_reply_t>(channel::kMotionRequest, channel::kMotionReply, r);
+  in_flight_ = request;
+  asked_at_ = std::chrono::steady_clock::now();
+}
+
+void CueingLoop::TakeAnswer(std::int64_t now_utime) {
+  if (!in_flight_) return;
+  requests_.ResendIfDue();
+  const std::optional<motion_reply_t>& reply = requests_.Answer<motion_reply_t>(channel::kMotionReply);
+  if (reply) {
+    source_.OnReply(*in_flight_, reply->accepted, reply->reason);
+    in_flight_.reset();
+    return;
+  }
+  const double waited_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - asked_at_).count();
+  if (waited_s < options_.answer_timeout_s) return;
+  const std::string why = "no reply from the planner within " + std::to_string(options_.answer_timeout_s) + " s";
+  reporting_.Fault(
+      MakeFault("cueing", channel::kMotionRequest, FaultCode::kStale, fault_t::SEVERITY_ERROR, why, now_utime));
+  source_.OnReply(*in_flight_, false, why);
+  in_flight_.reset();
+}
+
+void CueingLoop::Publish(const CueSetpoint& cue, std::int64_t now_utime) {
+  pose_setpoint_t sp{};
+  sp.utime = now_utime;
+  sp.seq = ++cue_seq_;
+  sp.session_id = options_.session_id;
+  for (int k = 0; k < 6; ++k) {
+    sp.pose[k] = cue.pose(k);
+    sp.velocity[k] = cue.velocity(k);
+    sp.acceleration[k] = cue.acceleration(k);
+  }
+  sp.trajectory = "cueing";
+  if (cues_.Publish(sp)) reporting_.status().CountOut();
+}
+
+bool CueingLoop::RunCycle(std::int64_t now_utime, std::int64_t deadline_misses) {
+  const auto began = std::chrono::steady_clock::now();
+  if (socket_ != nullptr) {
+    socket_->Drain([&](const std::uint8_t* data, std::size_t size) { TakePacket(data, size, now_utime); });
+  }
+  TakeAnswer(now_utime);
+  const CueingStep step = source_.Step(static_cast<double>(now_utime) * 1e-6);
+  if (step.cue) Publish(*step.cue, now_utime);
+  if (step.request) Ask(*step.request);
+  reporting_.status().SetState(source_.phase() == CueingPhase::kStopped ? node_status_t::STATE_HOLDING
+                                                                        : node_status_t::STATE_RUNNING);
+  reporting_.status().RecordLoop(std::chrono::steady_clock::now() - began);
+  reporting_.StatusTick(now_utime, deadline_misses);
+  return true;
+}
+
+void CueingLoop::Run(CycleClock& clock, const std::function<bool()>& stop) {
+  RunOnClock(bus_, clock, stop, [this](std::int64_t now, std::int64_t missed) { return RunCycle(now, missed); });
+}
+
+}  // namespace edsp

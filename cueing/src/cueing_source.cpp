@@ -1,0 +1,191 @@
+#include "edsp/cueing/cueing_source.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "edsp/cueing/raised_cosine.h"
+
+namespace edsp {
+
+namespace {
+
+// `sample` moved towards a rider at rest (gravity, no rotation): all of it at
+// gain 1, none at 0.
+VehicleSample TowardsRest(const VehicleSample& sample, double gain) {
+  const VehicleSample rest;
+  VehicleSample out = sample;
+  out.specific_force_m_s2 = rest.specific_force_m_s2 + gain * (sample.specific_force_m_s2 - rest.specific_force_m_s2);
+  out.angular_velocity_rad_s = gain * sample.angular_velocity_rad_s;
+  return out;
+}
+
+// `v` slowed by at most `brake` (a speed), its direction kept.
+Vector3 Slowed(const Vector3& v, double brake) {
+  const double speed = v.norm();
+  return speed <= brake ? Vector3::Zero() : Vector3(v * ((speed - brake) / speed));
+}
+
+}  // namespace
+
+const char* CueingPhaseName(CueingPhase phase) {
+  switch (phase) {
+    case CueingPhase::kDisengaged: return "disengaged";
+    case CueingPhase::kEngaging: return "engaging";
+    case CueingPhase::kEngaged: return "engaged";
+    case CueingPhase::kFrozen: return "frozen";
+    case CueingPhase::kWashingOut: return "washing out";
+    case CueingPhase::kDisengaging: return "disengaging";
+    case CueingPhase::kStopped: return "stopped";
+  }
+  return "?";
+}
+
+CueingSource::CueingSource(const CueingConfig& config, const Vector6& neutral_pose)
+    : config_(config), period_s_(1.0 / config.rate_hz), neutral_(neutral_pose), input_(config.input) {
+  if (!neutral_pose.allFinite()) throw std::invalid_argument("cueing: the neutral pose is not finite");
+  if (!(config.rate_hz > 0.0) || !std::isfinite(config.rate_hz)) {
+    throw std::invalid_argument(fmt::format("cueing: rate_hz = {}: must be finite and > 0", config.rate_hz));
+  }
+  ValidateWashout(config.washout);
+  last_.pose = neutral_;
+}
+
+std::optional<std::string> CueingSource::OnPacket(const VehiclePacket& packet, double now_s) {
+  return input_.Accept(packet, now_s);
+}
+
+void CueingSource::OnReply(CueRequest request, bool accepted, const std::string& reason) {
+  awaiting_reply_ = false;
+  if (request == CueRequest::kDisengage && accepted) {
+    phase_ = CueingPhase::kDisengaged;
+    return;
+  }
+  if (!accepted && request != CueRequest::kStop) {
+    Stop(fmt::format("{} refused by the planner: {}", request == CueRequest::kEngage ? "engage" : "disengage", reason));
+  }
+}
+
+void CueingSource::OnPlannerFollows(bool follows, const std::string& reason) {
+  const bool was = planner_follows_;
+  planner_follows_ = follows;
+  if (was && !follows &&
+      (phase_ == CueingPhase::kEngaged || phase_ == CueingPhase::kFrozen || phase_ == CueingPhase::kWashingOut)) {
+    Stop("the planner ended the cueing: " + (reason.empty() ? std::string("no reason given") : reason));
+  }
+}
+
+void CueingSource::Stop(std::string why) {
+  phase_ = CueingPhase::kStopped;
+  why_ = std::move(why);
+  washout_.reset();
+}
+
+CueSetpoint CueingSource::Held() const {
+  CueSetpoint held;
+  held.pose = last_.pose;
+  return held;
+}
+
+CueSetpoint CueingSource::Wash(const VehicleSample& input, double gain) {
+  head_ = washout_->Step(TowardsRest(input, gain));
+  CueSetpoint cue;
+  cue.pose = CueToPlatformPose(Pose::FromVector(neutral_), config_.head_in_platform_m, head_).ToVector();
+  cue.velocity = (cue.pose - last_.pose) / period_s_;
+  cue.acceleration = (cue.velocity - last_.velocity) / period_s_;
+  return cue;
+}
+
+CueSetpoint CueingSource::Brake() {
+  CueSetpoint cue;
+  cue.velocity.head<3>() = Slowed(last_.velocity.head<3>(), kFreezeBrake_m_s2 * period_s_);
+  cue.velocity.tail<3>() = Slowed(last_.velocity.tail<3>(), kFreezeBrake_rad_s2 * period_s_);
+  cue.pose = last_.pose + cue.velocity * period_s_;
+  cue.acceleration = (cue.velocity - last_.velocity) / period_s_;
+  return cue;
+}
+
+bool CueingSource::HeadHome(const HeadCue& head, const CueSetpoint& cue) const {
+  return head.position_m.norm() <= kHomeTolerance_m && head.rpy_rad.norm() <= kHomeTolerance_rad &&
+         cue.velocity.head<3>().norm() <= kHomeSpeed && cue.velocity.tail<3>().norm() <= kHomeSpeed;
+}
+
+CueingStep CueingSource::Step(double now_s) {
+  CueingStep out;
+  const VehicleSample input = input_.At(now_s);
+  const std::optional<CueCommand> command = input_.command();
+  const bool live = input_.state(now_s) == VehicleInputState::kLive;
+  const bool e_stop = command == CueCommand::kEStop;
+  const bool ask = !awaiting_reply_;
+  // An e-stop wins over everything but a cueing that never started.
+  if (e_stop && phase_ != CueingPhase::kDisengaged && phase_ != CueingPhase::kStopped) {
+    out.request = CueRequest::kStop;
+    awaiting_reply_ = true;
+    Stop("e-stop from the host");
+    return out;
+  }
+  switch (phase_) {
+    case CueingPhase::kDisengaged:
+      if (command == CueCommand::kEngage && live && ask) {
+        out.request = CueRequest::kEngage;
+        awaiting_reply_ = true;
+        phase_ = CueingPhase::kEngaging;
+        washout_.emplace(config_.washout, period_s_);
+        head_ = HeadCue{};
+        last_ = CueSetpoint{};
+        last_.pose = neutral_;
+        why_.clear();
+        out.cue = Held();  // before the request: the planner has a cue as soon as it follows
+      }
+      break;
+    case CueingPhase::kEngaging:
+      out.cue = Held();
+      if (planner_follows_) {
+        phase_ = CueingPhase::kEngaged;
+        engaged_s_ = now_s;
+      }
+      break;
+    case CueingPhase::kEngaged:
+      if (command == CueCommand::kDisengage) {
+        phase_ = CueingPhase::kWashingOut;
+        fade_out_s_ = now_s;
+        gain_at_fade_out_ = RaisedCosine((now_s - engaged_s_) / config_.input.fade_s);
+      } else if (command == CueCommand::kFreeze) {
+        phase_ = CueingPhase::kFrozen;
+        out.cue = Brake();
+        break;
+      }
+      out.cue = Wash(input, phase_ == CueingPhase::kEngaged ? RaisedCosine((now_s - engaged_s_) / config_.input.fade_s)
+                                                            : gain_at_fade_out_);
+      break;
+    case CueingPhase::kWashingOut: {
+      const double faded = (now_s - fade_out_s_) / config_.input.fade_s;
+      out.cue = Wash(input, gain_at_fade_out_ * (1.0 - RaisedCosine(faded)));
+      const bool home = faded >= 1.0 && HeadHome(head_, *out.cue);
+      if ((home || now_s - fade_out_s_ > kWashoutTimeout_s) && ask) {
+        out.request = CueRequest::kDisengage;
+        awaiting_reply_ = true;
+        phase_ = CueingPhase::kDisengaging;
+      }
+      break;
+    }
+    case CueingPhase::kFrozen:
+      out.cue = Brake();
+      if (command == CueCommand::kDisengage && out.cue->velocity.isZero(0.0) && ask) {
+        out.request = CueRequest::kDisengage;
+        awaiting_reply_ = true;
+        phase_ = CueingPhase::kDisengaging;
+      }
+      break;
+    case CueingPhase::kDisengaging: out.cue = Held(); break;
+    case CueingPhase::kStopped:
+      if (command == CueCommand::kDisengage && !planner_follows_) phase_ = CueingPhase::kDisengaged;
+      break;
+  }
+  if (out.cue) last_ = *out.cue;
+  return out;
+}
+
+}  // namespace edsp

@@ -1,0 +1,198 @@
+// edsp-cueing's cycle without a bus: the host's command word through
+// engage, washout, disengage, freeze and e-stop, the planner's refusals and
+// ends, and a lost input; each judged by the cue it publishes (continuous,
+// home where it should be, no leg accelerating beyond the platform's limit)
+// and the requests it sends (one per step, none twice).
+#include "edsp/cueing/cueing_source.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "edsp/kinematics/config.h"
+#include "edsp/kinematics/platform_model.h"
+#include "edsp/node/build_paths.h"
+
+namespace edsp {
+namespace {
+
+constexpr double kPeriod_s = 1e-3;
+
+// A host sending one packet a cycle, and the source it drives.
+class VehicleHost : public testing::Test {
+ protected:
+  VehicleHost()
+      : model_(LoadConfigFile(SourceDir() + "/config/huang2021.toml")),
+        config_(LoadCueingConfig(SourceDir() + "/config/cueing.toml")),
+        source_(config_, model_.home_pose().ToVector()) {}
+
+  // One cycle: a packet (unless silent), then the source's step.
+  CueingStep Cycle(CueCommand command, double fx = 0.0, bool silent = false) {
+    if (!silent) {
+      VehiclePacket p;
+      p.command = command;
+      p.sequence = ++sequence_;
+      p.time_s = now_s_;
+      p.specific_force_m_s2.x() = fx;
+      EXPECT_FALSE(source_.OnPacket(p, now_s_).has_value());
+    }
+    CueingStep step = source_.Step(now_s_);
+    now_s_ += kPeriod_s;
+    if (step.cue) cues_.push_back(*step.cue);
+    if (step.request) requests_.push_back(*step.request);
+    return step;
+  }
+  // Engaged, the planner following: the cycle the washout starts.
+  void Engage(double fx = 0.0) {
+    CueingStep first = Cycle(CueCommand::kEngage, fx);
+    ASSERT_EQ(first.request, CueRequest::kEngage);
+    ASSERT_TRUE(first.cue.has_value()) << "a cue goes out with the request: the planner may follow at once";
+    for (int cycle = 0; cycle < 50; ++cycle) {
+      const CueingStep s = Cycle(CueCommand::kEngage, fx);
+      ASSERT_TRUE(s.cue.has_value()) << "the cue waits at neutral while the planner moves there";
+      ASSERT_EQ(s.cue->pose, source_.neutral_pose());
+      ASSERT_FALSE(s.request.has_value()) << "one engage request";
+    }
+    source_.OnReply(CueRequest::kEngage, true, "");
+    source_.OnPlannerFollows(true, "");
+    Cycle(CueCommand::kEngage, fx);
+    ASSERT_EQ(source_.phase(), CueingPhase::kEngaged);
+  }
+  // The largest leg acceleration along the cues published (from the legs' own lengths).
+  double PeakLegAcceleration(std::size_t from = 0) const {
+    double peak = 0.0;
+    for (std::size_t k = from + 2; k < cues_.size(); ++k) {
+      const Vector6 a = model_.LegLengths(Pose::FromVector(cues_[k].pose)),
+                    b = model_.LegLengths(Pose::FromVector(cues_[k - 1].pose)),
+                    c = model_.LegLengths(Pose::FromVector(cues_[k - 2].pose));
+      peak = std::max(peak, ((a - 2.0 * b + c) / (kPeriod_s * kPeriod_s)).cwiseAbs().maxCoeff());
+    }
+    return peak;
+  }
+  double FromNeutral(const CueSetpoint& cue) const { return (cue.pose - source_.neutral_pose()).norm(); }
+
+  PlatformModel model_;
+  CueingConfig config_;
+  CueingSource source_;
+  double now_s_ = 100.0;
+  std::uint32_t sequence_ = 0;
+  std::vector<CueSetpoint> cues_;
+  std::vector<CueRequest> requests_;
+};
+
+TEST_F(VehicleHost, EngagingWaitsAtNeutralThenFadesTheBrakeInWithoutAStep) {
+  Engage(-4.9);
+  for (int cycle = 0; cycle < 3000; ++cycle) Cycle(CueCommand::kEngage, -4.9);
+  EXPECT_EQ(requests_.size(), 1u);
+  const std::size_t engaged = 52;  // the first cue of the washout: after the request's, 50 waiting, the switch's
+  EXPECT_LT(FromNeutral(cues_[engaged]), 1e-9) << "the washout starts from rest at neutral";
+  EXPECT_LT(cues_[engaged].acceleration.norm(), 1e-3);
+  EXPECT_GT(cues_.back().pose(4), 0.0) << "a brake tilts the rider nose down (pitch > 0, docs/cueing.md)";
+  EXPECT_LT(cues_[engaged + 500].pose(0), source_.neutral_pose()(0)) << "its onset surges the head back";
+  EXPECT_LE(PeakLegAcceleration(), model_.config().motion.leg_accel_max_m_s2);
+}
+
+TEST_F(VehicleHost, DisengageFadesOutWashesHomeThenAsksOnce) {
+  Engage(-4.9);
+  for (int cycle = 0; cycle < 2000; ++cycle) Cycle(CueCommand::kEngage, -4.9);
+  ASSERT_GT(FromNeutral(cues_.back()), 1e-3);
+  const std::size_t from = cues_.size();
+  int cycles = 0;
+  while (requests_.size() == 1 && cycles < 40'000) {
+    Cycle(CueCommand::kDisengage, -4.9);
+    ++cycles;
+  }
+  ASSERT_EQ(requests_.size(), 2u) << "never asked to disengage";
+  EXPECT_EQ(requests_.back(), CueRequest::kDisengage);
+  EXPECT_LT(cycles * kPeriod_s, kWashoutTimeout_s) << "home before the timeout";
+  EXPECT_LT(FromNeutral(cues_.back()), 3e-4) << "the platform at neutral when the planner is asked";
+  EXPECT_LE(PeakLegAcceleration(from - 2), model_.config().motion.leg_accel_max_m_s2);
+  for (int cycle = 0; cycle < 10; ++cycle) Cycle(CueCommand::kDisengage);
+  EXPECT_EQ(requests_.size(), 2u) << "asked once";
+  source_.OnReply(CueRequest::kDisengage, true, "");
+  source_.OnPlannerFollows(false, "");
+  EXPECT_FALSE(Cycle(CueCommand::kDisengage).cue.has_value());
+  EXPECT_EQ(source_.phase(), CueingPhase::kDisengaged);
+}
+
+TEST_F(VehicleHost, ALostInputWashesTheCueHomeEngagedWithinTheLegsLimit) {
+  Engage(-4.9);
+  for (int cycle = 0; cycle < 2500; ++cycle) Cycle(CueCommand::kEngage, -4.9);
+  const std::size_t from = cues_.size();
+  for (int cycle = 0; cycle < 30'000; ++cycle) Cycle(CueCommand::kEngage, 0.0, /*silent=*/true);
+  EXPECT_EQ(source_.phase(), CueingPhase::kEngaged);
+  EXPECT_LT(FromNeutral(cues_.back()), 1e-4) << "washed out to neutral";
+  EXPECT_LE(PeakLegAcceleration(from - 2), model_.config().motion.leg_accel_max_m_s2);
+  EXPECT_EQ(requests_.size(), 1u);
+}
+
+TEST_F(VehicleHost, AFreezeBrakesTheCueToRestAndHoldsIt) {
+  Engage(-4.9);
+  for (int cycle = 0; cycle < 1500; ++cycle) Cycle(CueCommand::kEngage, -4.9);
+  const double speed = cues_.back().velocity.head<3>().norm();
+  ASSERT_GT(speed, 1e-3);
+  const std::size_t from = cues_.size();
+  for (int cycle = 0; cycle < 2000; ++cycle) Cycle(CueCommand::kFreeze, -4.9);
+  EXPECT_EQ(source_.phase(), CueingPhase::kFrozen);
+  double previous = speed;
+  std::size_t translation_stopped = 0, stopped = 0;  // the first cue at rest in translation, then in all
+  for (std::size_t k = from; k < cues_.size(); ++k) {
+    const double v = cues_[k].velocity.head<3>().norm();
+    ASSERT_LE(v, previous + 1e-15) << "slows at every cycle";
+    ASSERT_LE(cues_[k].acceleration.head<3>().norm(), kFreezeBrake_m_s2 * (1 + 1e-9));
+    ASSERT_LE(cues_[k].acceleration.tail<3>().norm(), kFreezeBrake_rad_s2 * (1 + 1e-9));
+    if (v == 0.0 && translation_stopped == 0) translation_stopped = k;
+    if (cues_[k].velocity.isZero(0.0) && stopped == 0) stopped = k;
+    previous = v;
+  }
+  ASSERT_GT(translation_stopped, 0u);
+  ASSERT_GT(stopped, 0u);
+  EXPECT_NEAR(static_cast<double>(translation_stopped - from) * kPeriod_s, speed / kFreezeBrake_m_s2, 2e-3)
+      << "at the brake's deceleration";
+  EXPECT_EQ(cues_.back().pose, cues_[stopped].pose) << "held";
+  Cycle(CueCommand::kDisengage);
+  EXPECT_EQ(requests_.back(), CueRequest::kDisengage);
+}
+
+TEST_F(VehicleHost, AnEStopAsksForAStopOnceAndOnlyDisengageThenEngageRestarts) {
+  Engage();
+  for (int cycle = 0; cycle < 100; ++cycle) Cycle(CueCommand::kEngage);
+  for (int cycle = 0; cycle < 100; ++cycle) EXPECT_FALSE(Cycle(CueCommand::kEStop).cue.has_value());
+  ASSERT_EQ(requests_.size(), 2u);
+  EXPECT_EQ(requests_.back(), CueRequest::kStop);
+  EXPECT_EQ(source_.why_stopped(), "e-stop from the host");
+  source_.OnReply(CueRequest::kStop, true, "");
+  source_.OnPlannerFollows(false, "stop");
+  for (int cycle = 0; cycle < 100; ++cycle) Cycle(CueCommand::kEngage);
+  EXPECT_EQ(requests_.size(), 2u) << "engage alone does not restart after an e-stop";
+  Cycle(CueCommand::kDisengage);
+  EXPECT_EQ(source_.phase(), CueingPhase::kDisengaged);
+  Cycle(CueCommand::kEngage);
+  EXPECT_EQ(requests_.back(), CueRequest::kEngage);
+}
+
+TEST_F(VehicleHost, ARefusedEngageAndAPlannerThatEndsTheCueingStopItWithTheReason) {
+  Cycle(CueCommand::kEngage);
+  source_.OnReply(CueRequest::kEngage, false, "move is in progress");
+  Cycle(CueCommand::kEngage);
+  EXPECT_EQ(source_.phase(), CueingPhase::kStopped);
+  EXPECT_EQ(source_.why_stopped(), "engage refused by the planner: move is in progress");
+  Cycle(CueCommand::kDisengage);
+  Engage();
+  source_.OnPlannerFollows(false, "cueing from edsp-cueing ended: no EDSP_CUE_SETPOINT for 21 ms");
+  EXPECT_FALSE(Cycle(CueCommand::kEngage).cue.has_value());
+  EXPECT_EQ(source_.why_stopped(),
+            "the planner ended the cueing: cueing from edsp-cueing ended: no EDSP_CUE_SETPOINT for 21 ms");
+}
+
+TEST_F(VehicleHost, NothingIsAskedBeforeAnEngageWordArrives) {
+  for (int cycle = 0; cycle < 100; ++cycle) Cycle(CueCommand::kDisengage);
+  for (int cycle = 0; cycle < 100; ++cycle) Cycle(CueCommand::kEngage, 0.0, /*silent=*/true);
+  EXPECT_TRUE(requests_.empty());
+  EXPECT_TRUE(cues_.empty());
+}
+
+}  // namespace
+}  // namespace edsp

@@ -1,0 +1,164 @@
+// The sim-cueing group as real processes: a vehicle model's packets on UDP
+// (edsp-cueing send) engage the platform through the planner (at home: no
+// move to make), the brake is washed out onto the platform (the setpoints are the
+// cueing source's, the rig moves back and tilts nose down), then disengage
+// washes it home and parks it; and a host that falls silent has its
+// platform washed home while still engaged, then an e-stop word holds it.
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "edsp/kinematics/config.h"
+#include "edsp/motion_status_t.hpp"
+#include "edsp/node/build_paths.h"
+#include "edsp/pose_setpoint_t.hpp"
+#include "edsp/rig_truth_t.hpp"
+#include "group_watch.h"
+#include "sim_group_harness.h"
+
+namespace edsp {
+namespace {
+
+using namespace test_support;  // sim_group_harness.h
+
+// The planner ends this long after the platform parked (or held after an e-stop).
+constexpr const char* kCueingPlanner = R"("--exit-after-hold-s", "2")";
+constexpr std::int64_t kSession = 78;
+
+// edsp-cueing send into the group's socket (the test's private network); its exit code.
+int Send(const std::string& manoeuvre, const std::string& after, double lead_s, double tail_s) {
+  const std::string command =
+      fmt::format("{} send --manoeuvre {} --to 127.0.0.1:7400 --lead-s {} --after {} --tail-s {}",
+                  BuiltProgram("edsp-cueing"), manoeuvre, lead_s, after, tail_s);
+  const int status = std::system(command.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+void WaitForTheGroup() {
+  GroupWatch watch(kGroupLcmUrl, "");
+  ASSERT_TRUE(watch.WaitForSetpoint([](const pose_setpoint_t& s) { return s.session_id == kSession; },
+                                    std::chrono::seconds(60)));
+}
+
+// The shipped group, its cueing config found from the test's directory.
+SimGroupExtras CueingGroup() {
+  SimGroupExtras extras;
+  extras.group = "sim-cueing";
+  extras.edit = [](GroupFileEditor& group) { group.SetArg("cueing", "--cueing", SourcePath("config/cueing.toml")); };
+  return extras;
+}
+
+Vector6 TruthPose(const rig_truth_t& truth) { return Eigen::Map<const Vector6>(truth.pose); }
+
+TEST(CueingGroup, ABrakeFromUdpIsWashedOntoThePlatformThenDisengageParksItAtHome) {
+  const PlatformModel model(Huang2021Config());
+  const Vector6 home = model.home_pose().ToVector();
+  const GroupRun run = LaunchSimGroup(
+      "cueing-brake", "signed", kCueingPlanner,
+      [&](const std::string&) {
+        WaitForTheGroup();
+        // A short tail: once the word is seen the source washes out whether packets come or not.
+        EXPECT_EQ(Send(SourcePath("config/manoeuvres/braking.toml"), "disengage", 3.0, 3.0), 0);
+      },
+      kSession, kDefaultConfig, kShippedStaleMs, CueingGroup());
+  ASSERT_EQ(run.exit_code, 0) << "the planner ended after the platform parked";
+  EXPECT_EQ(FaultLines(run.log_path), "");
+
+  const auto statuses = LoggedMessages<motion_status_t>(run.log_path, "EDSP_MOTION_STATUS");
+  bool cueing = false;
+  for (const motion_status_t& s : statuses) {
+    cueing = cueing || (s.state == motion_status_t::STATE_CUEING && s.activity == "cueing edsp-cueing");
+  }
+  EXPECT_TRUE(cueing) << "the planner followed the cueing source";
+  ASSERT_FALSE(statuses.empty());
+  EXPECT_EQ(statuses.back().state, motion_status_t::STATE_HOLDING) << statuses.back().reason;
+
+  // Every setpoint while cueing is one of the source's cues of the last 20 ms
+  // carried to its time along the cue's velocity and acceleration (at most
+  // the 10 ms the bridge rides through). A cycle of the planner that ran
+  // late may take a cue stamped after its tick: then as it is.
+  const auto cues = LoggedMessages<pose_setpoint_t>(run.log_path, "EDSP_CUE_SETPOINT");
+  int followed = 0, carried = 0;
+  std::size_t next = 0;  // the first cue stamped more than a cycle after the setpoint
+  for (const pose_setpoint_t& s : LoggedMessages<pose_setpoint_t>(run.log_path, "EDSP_SETPOINT")) {
+    while (next < cues.size() && cues[next].utime <= s.utime + 1000) ++next;
+    if (s.trajectory != "cueing") continue;
+    ++followed;
+    bool found = false;
+    for (std::size_t back = 1; back <= next && !found; ++back) {
+      const pose_setpoint_t& c = cues[next - back];
+      if (s.utime - c.utime > 20'000) break;
+      const double dt = std::clamp(static_cast<double>(s.utime - c.utime) * 1e-6, 0.0, 10e-3);
+      double worst = 0.0;
+      for (int k = 0; k < 6; ++k) {
+        worst =
+            std::max(worst, std::abs(c.pose[k] + c.velocity[k] * dt + 0.5 * c.acceleration[k] * dt * dt - s.pose[k]));
+      }
+      found = worst < 1e-9;
+      carried += found && c.utime < s.utime - 1000;
+    }
+    ASSERT_TRUE(found) << "setpoint seq " << s.seq << " follows none of the cues before it";
+  }
+  EXPECT_GT(followed, 10'000) << "10 s of the brake and its washout at 1 kHz";
+  std::printf("%d setpoints followed the cues, %d of them carried from one over a cycle old\n", followed, carried);
+
+  // The rig itself: surged back (−x) and tilted nose down (pitch > 0) by the brake, then parked at home.
+  const auto truths = LoggedMessages<rig_truth_t>(run.log_path, "EDSP_RIG_TRUTH");
+  ASSERT_FALSE(truths.empty());
+  double least_x = 0.0, most_pitch = 0.0;
+  for (const rig_truth_t& t : truths) {
+    least_x = std::min(least_x, TruthPose(t)(0) - home(0));
+    most_pitch = std::max(most_pitch, TruthPose(t)(4) - home(4));
+  }
+  EXPECT_LT(least_x, -0.005);
+  EXPECT_GT(most_pitch, 0.01);
+  EXPECT_LT((TruthPose(truths.back()) - home).head<3>().norm(), 50e-6);
+}
+
+TEST(CueingGroup, ASilentHostIsWashedHomeStillEngagedAndAnEStopWordHoldsIt) {
+  const PlatformModel model(Huang2021Config());
+  const Vector6 home = model.home_pose().ToVector();
+  const GroupRun run = LaunchSimGroup(
+      "cueing-silent", "signed", kCueingPlanner,
+      [&](const std::string& dir) {
+        std::ofstream(dir + "/rest.toml")
+            << "name = \"rest\"\ndescription = \"a rider at rest\"\nduration_s = 0.1\n"
+               "[[pulse]]\nchannel = \"fx\"\nrise_s = 0.01\nfall_s = 0.01\namplitude = 0.0\n";
+        WaitForTheGroup();
+        // The brake, then silence mid-washout: the input fades to rest.
+        EXPECT_EQ(Send(SourcePath("config/manoeuvres/braking.toml"), "silence", 3.0, 12.0), 0);
+        // A host back with e-stop: the planner holds, and ends the run.
+        EXPECT_EQ(Send(dir + "/rest.toml", "estop", 0.0, 1.0), 0);
+      },
+      kSession, kDefaultConfig, kShippedStaleMs, CueingGroup());
+  ASSERT_EQ(run.exit_code, 0);
+  const auto statuses = LoggedMessages<motion_status_t>(run.log_path, "EDSP_MOTION_STATUS");
+  ASSERT_FALSE(statuses.empty());
+  EXPECT_EQ(statuses.back().last_end, motion_status_t::END_STOPPED) << statuses.back().reason;
+  // Still cueing when the host came back: the washout had brought the rig home.
+  std::int64_t ended_utime = 0;
+  for (const motion_status_t& s : statuses) {
+    if (ended_utime == 0 && s.state != motion_status_t::STATE_CUEING && s.request_id != 0 &&
+        s.last_end == motion_status_t::END_STOPPED) {
+      ended_utime = s.utime;
+    }
+  }
+  ASSERT_NE(ended_utime, 0);
+  const auto truths = LoggedMessages<rig_truth_t>(run.log_path, "EDSP_RIG_TRUTH");
+  const rig_truth_t* at_stop = nullptr;
+  for (const rig_truth_t& t : truths) {
+    if (t.utime <= ended_utime) at_stop = &t;
+  }
+  ASSERT_NE(at_stop, nullptr);
+  EXPECT_LT((TruthPose(*at_stop) - home).head<3>().norm(), 0.5e-3) << "washed home before the e-stop";
+}
+
+}  // namespace
+}  // namespace edsp
