@@ -448,7 +448,7 @@ std::string MotionService::CueProblem(const pose_setpoint_t& cue, FaultCode* cod
 }
 
 std::string MotionService::CueToFollow(std::int64_t now_utime, FaultCode* code, PoseSample* to) const {
-  const Cueing& c = *cueing_;
+  const EngagedCueing& c = *cueing_;
   *code = FaultCode::kStale;
   if (!c.latest) {  // the source's first cue may come a cycle after its engage was answered
     const double waited_s = static_cast<double>(now_utime - c.following_utime) * 1e-6;

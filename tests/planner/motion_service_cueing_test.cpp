@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "edsp/kinematics/config.h"
@@ -227,7 +228,7 @@ TEST(MotionServiceCueing, ACueNotFiniteOutsideTheWorkspaceOrTooFastForALegEndsIt
     CueSource source(s);
     const Vector6 neutral = s.Held();
     const Vector6 last = Swayed(s, source, neutral);
-    source.Send(Vec(NAN, 0, neutral(2)));
+    source.Send(Vec(std::numeric_limits<double>::quiet_NaN(), 0, neutral(2)));
     ExpectEndedHolding(s, last, "non-finite");
   }
   {

@@ -61,6 +61,19 @@ struct MotionServiceOptions {
   double cue_stale_s = 0.02;  // while cueing: no valid EDSP_CUE_SETPOINT this long ends it (the source is gone)
 };
 
+// A cueing source the motion service has engaged (at namespace scope: a
+// nested class with default member initializers is not yet default
+// constructible inside its enclosing class for clang's std::optional).
+struct EngagedCueing {
+  std::string source;  // the client that engaged it
+  std::int64_t request_id = 0;
+  bool following = false;                 // the engage move has ended: the setpoints are the source's
+  std::int64_t following_utime = 0;       // since when
+  std::optional<pose_setpoint_t> latest;  // its last setpoint that was valid on its own
+  std::int64_t latest_utime = 0;          // when that came, on this service's clock
+  std::int64_t followed_utime = 0;        // the last cycle that followed one (0: none yet)
+};
+
 class MotionService {
  public:
   MotionService(const PlatformModel& model, MotionServiceOptions options);
@@ -102,17 +115,6 @@ class MotionService {
     std::int64_t start_utime = 0;  // 0: at the next Step
     bool halting = false;
     std::int8_t end = motion_status_t::END_COMPLETED;
-  };
-
-  // An engaged cueing source.
-  struct Cueing {
-    std::string source;  // the client that engaged it
-    std::int64_t request_id = 0;
-    bool following = false;                 // the engage move has ended: the setpoints are the source's
-    std::int64_t following_utime = 0;       // since when
-    std::optional<pose_setpoint_t> latest;  // its last setpoint that was valid on its own
-    std::int64_t latest_utime = 0;          // when that came, on this service's clock
-    std::int64_t followed_utime = 0;        // the last cycle that followed one (0: none yet)
   };
 
   using Lock = std::unique_lock<std::mutex>;
@@ -178,7 +180,7 @@ class MotionService {
   bool changed_ = true;
   std::uint64_t decelerations_ = 0;  // halts and stops so far: a plan older than the last is refused
   std::int64_t setpoint_seq_ = 0;
-  std::optional<Cueing> cueing_;
+  std::optional<EngagedCueing> cueing_;
   std::optional<CueFault> cue_fault_;
 
   RequestService<motion_reply_t> requests_{RequestPolicy{options_.session_id, options_.request_window_s}};
