@@ -1,5 +1,6 @@
 #include "edsp/cueing/cueing_source.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <utility>
@@ -90,11 +91,15 @@ CueSetpoint CueingSource::Held() const {
 }
 
 CueSetpoint CueingSource::Wash(const VehicleSample& input, double gain) {
-  head_ = washout_->Step(TowardsRest(input, gain));
+  // One washout step per period since the last cycle: a cycle the host's
+  // scheduler delayed must not leave the cue behind the time it is stamped with.
+  const VehicleSample sample = TowardsRest(input, gain);
+  for (int k = 0; k < steps_; ++k) head_ = washout_->Step(sample);
+  const double dt = period_s_ * steps_;
   CueSetpoint cue;
   cue.pose = CueToPlatformPose(Pose::FromVector(neutral_), config_.head_in_platform_m, head_).ToVector();
-  cue.velocity = (cue.pose - last_.pose) / period_s_;
-  cue.acceleration = (cue.velocity - last_.velocity) / period_s_;
+  cue.velocity = (cue.pose - last_.pose) / dt;
+  cue.acceleration = (cue.velocity - last_.velocity) / dt;
   return cue;
 }
 
@@ -114,6 +119,10 @@ bool CueingSource::HeadHome(const HeadCue& head, const CueSetpoint& cue) const {
 
 CueingStep CueingSource::Step(double now_s) {
   CueingStep out;
+  steps_ = last_step_s_ < 0.0
+               ? 1
+               : static_cast<int>(std::clamp(std::lround((now_s - last_step_s_) / period_s_), 1L, kMaxCatchUpSteps));
+  last_step_s_ = now_s;
   const VehicleSample input = input_.At(now_s);
   const std::optional<CueCommand> command = input_.command();
   const bool live = input_.state(now_s) == VehicleInputState::kLive;

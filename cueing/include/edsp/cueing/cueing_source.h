@@ -53,6 +53,8 @@ inline constexpr double kFreezeBrake_rad_s2 = 1.0;
 inline constexpr double kHomeTolerance_m = 1e-4;
 inline constexpr double kHomeTolerance_rad = 1e-4;
 inline constexpr double kHomeSpeed = 1e-3;  // m/s and rad/s
+// At most this many washout steps to catch up on cycles the host delayed (20 ms: the planner's stale limit).
+inline constexpr long kMaxCatchUpSteps = 20;
 // The washout given this long to bring the head home before disengaging anyway.
 inline constexpr double kWashoutTimeout_s = 30.0;
 
@@ -96,6 +98,8 @@ class CueingSource {
   HeadCue head_;      // the washout's last output
   CueSetpoint last_;  // the cue published last
   std::string why_;
+  double last_step_s_ = -1.0;  // the last cycle's time (< 0: none yet)
+  int steps_ = 1;              // washout steps this cycle: the periods since the last
 };
 
 }  // namespace edsp
