@@ -196,3 +196,40 @@ TEST_F(VehicleHost, NothingIsAskedBeforeAnEngageWordArrives) {
 
 }  // namespace
 }  // namespace edsp
+
+namespace edsp {
+namespace {
+
+// A cycle the scheduler delayed: the source catches up one washout step per
+// period, so its cue equals that of a source that ran every cycle.
+TEST(CueingSourceCatchUp, ADelayedCycleGivesTheCueOfEveryCycleRun) {
+  const CueingConfig config = LoadCueingConfig(SourceDir() + "/config/cueing.toml");
+  const Vector6 neutral = PlatformModel(LoadConfigFile(SourceDir() + "/config/huang2021.toml")).home_pose().ToVector();
+  CueingSource every(config, neutral), delayed(config, neutral);
+  for (CueingSource* s : {&every, &delayed}) {
+    s->Step(0.0);
+    s->OnPlannerFollows(true, "");
+  }
+  VehiclePacket p;
+  p.specific_force_m_s2.x() = -4.9;
+  CueSetpoint last_every, last_delayed;
+  for (int cycle = 1; cycle <= 2500; ++cycle) {
+    const double t = cycle * 1e-3;
+    p.sequence = static_cast<std::uint32_t>(cycle);
+    p.time_s = t;
+    for (CueingSource* s : {&every, &delayed}) ASSERT_FALSE(s->OnPacket(p, t).has_value());
+    if (auto c = every.Step(t).cue) last_every = *c;
+    // Engaged together, faded in together (the input fades in over 1 s); then
+    // the delayed one misses three cycles in five.
+    if (cycle > 1100 && cycle % 5 != 0 && cycle % 5 != 1) continue;
+    if (auto c = delayed.Step(t).cue) last_delayed = *c;
+    // Past the input's fade-in (a constant brake): the catch-up steps see what every cycle saw.
+    if (cycle > 1200 && cycle % 5 == 0) {
+      ASSERT_LT((last_delayed.pose - last_every.pose).cwiseAbs().maxCoeff(), 1e-12) << "cycle " << cycle;
+    }
+  }
+  EXPECT_GT((last_every.pose - neutral).norm(), 1e-3) << "the brake moved the cue";
+}
+
+}  // namespace
+}  // namespace edsp
