@@ -1,5 +1,6 @@
 #include "edsp/cueing/cueing_loop.h"
 
+#include <cmath>
 #include <utility>
 
 #include "edsp/channels.h"
@@ -111,7 +112,7 @@ bool CueingLoop::RunCycle(std::int64_t now_utime, std::int64_t deadline_misses) 
   }
   TakeAnswer(now_utime);
   const CueingStep step = source_.Step(static_cast<double>(now_utime) * 1e-6);
-  if (step.cue) Publish(*step.cue, now_utime);
+  if (step.cue) Publish(*step.cue, std::llround(step.time_s * 1e6));
   if (step.request) Ask(*step.request);
   reporting_.status().SetState(source_.phase() == CueingPhase::kStopped ? node_status_t::STATE_HOLDING
                                                                         : node_status_t::STATE_RUNNING);

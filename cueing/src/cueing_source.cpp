@@ -91,8 +91,8 @@ CueSetpoint CueingSource::Held() const {
 }
 
 CueSetpoint CueingSource::Wash(const VehicleSample& input, double gain) {
-  // One washout step per period since the last cycle: a cycle the host's
-  // scheduler delayed must not leave the cue behind the time it is stamped with.
+  // One washout step per period the source's clock advanced: a cycle the
+  // host's scheduler delayed must not leave the cue behind its stamp.
   const VehicleSample sample = TowardsRest(input, gain);
   for (int k = 0; k < steps_; ++k) head_ = washout_->Step(sample);
   const double dt = period_s_ * steps_;
@@ -104,11 +104,13 @@ CueSetpoint CueingSource::Wash(const VehicleSample& input, double gain) {
 }
 
 CueSetpoint CueingSource::Brake() {
-  CueSetpoint cue;
-  cue.velocity.head<3>() = Slowed(last_.velocity.head<3>(), kFreezeBrake_m_s2 * period_s_);
-  cue.velocity.tail<3>() = Slowed(last_.velocity.tail<3>(), kFreezeBrake_rad_s2 * period_s_);
-  cue.pose = last_.pose + cue.velocity * period_s_;
-  cue.acceleration = (cue.velocity - last_.velocity) / period_s_;
+  CueSetpoint cue = last_;
+  for (int k = 0; k < steps_; ++k) {
+    cue.velocity.head<3>() = Slowed(cue.velocity.head<3>(), kFreezeBrake_m_s2 * period_s_);
+    cue.velocity.tail<3>() = Slowed(cue.velocity.tail<3>(), kFreezeBrake_rad_s2 * period_s_);
+    cue.pose += cue.velocity * period_s_;
+  }
+  cue.acceleration = (cue.velocity - last_.velocity) / (period_s_ * steps_);
   return cue;
 }
 
@@ -117,12 +119,27 @@ bool CueingSource::HeadHome(const HeadCue& head, const CueSetpoint& cue) const {
          cue.velocity.head<3>().norm() <= kHomeSpeed && cue.velocity.tail<3>().norm() <= kHomeSpeed;
 }
 
-CueingStep CueingSource::Step(double now_s) {
+int CueingSource::DueSteps(double now_s) {
+  if (origin_s_ < 0.0) {
+    origin_s_ = now_s;
+    return 1;
+  }
+  long due = std::lround((now_s - origin_s_) / period_s_) - periods_;
+  if (due > kMaxCatchUpSteps) {  // a stall longer than the catch-up: the washout skips the rest
+    periods_ += due - kMaxCatchUpSteps;
+    due = kMaxCatchUpSteps;
+  }
+  due = std::max(due, 0L);
+  periods_ += due;
+  return static_cast<int>(due);
+}
+
+CueingStep CueingSource::Step(double wall_s) {
   CueingStep out;
-  steps_ = last_step_s_ < 0.0
-               ? 1
-               : static_cast<int>(std::clamp(std::lround((now_s - last_step_s_) / period_s_), 1L, kMaxCatchUpSteps));
-  last_step_s_ = now_s;
+  steps_ = DueSteps(wall_s);
+  if (steps_ == 0) return out;  // woken early after a late cycle: no period is due
+  const double now_s = origin_s_ + static_cast<double>(periods_) * period_s_;
+  out.time_s = now_s;
   const VehicleSample input = input_.At(now_s);
   const std::optional<CueCommand> command = input_.command();
   const bool live = input_.state(now_s) == VehicleInputState::kLive;

@@ -38,6 +38,10 @@ int Run(int argc, char** argv) {
   PlannerLoopOptions loop;
   app.add_option("--exit-after-hold-s", loop.exit_after_hold_s,
                  "exit after holding the final pose this long (default: hold until stopped)");
+  int cue_stale_ms = 20;
+  app.add_option("--cue-stale-ms", cue_stale_ms,
+                 "while cueing: end it and hold when no valid EDSP_CUE_SETPOINT came for this long")
+      ->check(CLI::Range(1, 10000));
   bool identifiability = false, json = false;
   IdentifiabilityOptions assess;
   CLI::Option* assess_flag =
@@ -61,6 +65,7 @@ int Run(int argc, char** argv) {
   }
   MotionServiceOptions serve;
   serve.session_id = node.session_id;
+  serve.cue_stale_s = cue_stale_ms * 1e-3;
   serve.programs = [&model, paper](const std::string& list) { return MotionSequence(model, MotionNames(list), paper); };
   MotionService service(model, serve);
   if (program) {

@@ -9,6 +9,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <random>
+#include <utility>
 #include <vector>
 
 #include "edsp/kinematics/config.h"
@@ -229,6 +232,66 @@ TEST(CueingSourceCatchUp, ADelayedCycleGivesTheCueOfEveryCycleRun) {
     }
   }
   EXPECT_GT((last_every.pose - neutral).norm(), 1e-3) << "the brake moved the cue";
+}
+
+// A host whose scheduler wakes the cycle late by up to most of a period,
+// and now and then by several (the clock then skips the ticks it missed):
+// each cue is the one a source run on time gives for the instant it is
+// stamped with, through a brake and a freeze that brakes it to rest.
+TEST(CueingSourceClock, ACueIsOfTheTimeItIsStampedWithHoweverLateItsCycleWoke) {
+  const CueingConfig config = LoadCueingConfig(SourceDir() + "/config/cueing.toml");
+  const Vector6 neutral = PlatformModel(LoadConfigFile(SourceDir() + "/config/huang2021.toml")).home_pose().ToVector();
+  CueingSource on_time(config, neutral), woken_late(config, neutral);
+  for (CueingSource* s : {&on_time, &woken_late}) {
+    s->Step(0.0);
+    s->OnPlannerFollows(true, "");
+  }
+  std::mt19937 rng(20261206);
+  std::uniform_real_distribution<double> lateness(0.0, 0.95);
+  std::vector<Vector6> on_time_poses{neutral};
+  VehiclePacket p;
+  p.specific_force_m_s2.x() = -4.9;
+  double last_wake = 0.0;
+  std::vector<std::pair<long, Vector6>> late_cues;  // the late source's: the tick each is stamped at
+  int ahead = 0, skipped = 0;
+  for (int cycle = 1; cycle <= 4000; ++cycle) {
+    const double t = cycle * kPeriod_s;
+    p.command = cycle < 3000 ? CueCommand::kEngage : CueCommand::kFreeze;
+    p.sequence = static_cast<std::uint32_t>(cycle);
+    p.time_s = t;
+    for (CueingSource* s : {&on_time, &woken_late}) ASSERT_FALSE(s->OnPacket(p, t).has_value());
+    const CueingStep step = on_time.Step(t);
+    ASSERT_TRUE(step.cue.has_value());
+    ASSERT_NEAR(step.time_s, t, 1e-9);
+    on_time_poses.push_back(step.cue->pose);
+    if (t < last_wake) continue;  // the late cycle before overran this tick
+    // On time while the input and the engage fade in (each from the tick the
+    // source first saw the packet) and around the freeze word: a packet seen
+    // a tick later is another input, not what is compared.
+    const bool jitter = cycle > 1100 && std::abs(cycle - 3000) > 5;
+    const double late_periods = !jitter ? 0.0 : cycle % 97 == 0 ? 3.4 : lateness(rng);
+    last_wake = t + late_periods * kPeriod_s;
+    const CueingStep late = woken_late.Step(last_wake);
+    if (!late.cue) {
+      ++skipped;
+      continue;
+    }
+    ASSERT_LE(std::abs(late.time_s - last_wake), 0.5 * kPeriod_s + 1e-9) << "cycle " << cycle;
+    const long tick = std::lround(late.time_s / kPeriod_s);
+    ahead += tick > cycle;
+    late_cues.emplace_back(tick, late.cue->pose);
+  }
+  for (const auto& [tick, pose] : late_cues) {
+    if (tick >= static_cast<long>(on_time_poses.size())) continue;
+    ASSERT_LT((pose - on_time_poses[static_cast<std::size_t>(tick)]).cwiseAbs().maxCoeff(), 1e-9)
+        << "the cue stamped at tick " << tick;
+  }
+  EXPECT_GT((on_time_poses[2999] - neutral).norm(), 1e-3) << "the brake moved the cue";
+  EXPECT_GT(late_cues.size(), 2000u);
+  EXPECT_GT(ahead, 100) << "cycles woken over half a period late: their cue is of the next tick";
+  EXPECT_GT(skipped, 100) << "cycles woken early after such a one";
+  std::printf("%zu cues compared, %d of the tick after their cycle's, %d cycles gave none\n", late_cues.size(), ahead,
+              skipped);
 }
 
 }  // namespace

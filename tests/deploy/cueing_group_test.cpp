@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -28,8 +29,13 @@ namespace {
 
 using namespace test_support;  // sim_group_harness.h
 
-// The planner ends this long after the platform parked (or held after an e-stop).
-constexpr const char* kCueingPlanner = R"("--exit-after-hold-s", "2")";
+// The planner ends this long after the platform parked (or held after an
+// e-stop). These tests are of the path, not of the holds (the planner's
+// unit tests and the fault groups are): the shared CI host has stalled every
+// process for 100 ms, which ends a cueing (no cue for 20 ms) or latches the
+// bridge, correctly, so here the planner and the nodes wait out such a stall.
+constexpr int kCueStaleMs = kStallTolerantStaleMs;
+const std::string kCueingPlanner = fmt::format(R"("--exit-after-hold-s", "2", "--cue-stale-ms", "{}")", kCueStaleMs);
 constexpr std::int64_t kSession = 78;
 
 // edsp-cueing send into the group's socket (the test's private network); its exit code.
@@ -57,6 +63,14 @@ SimGroupExtras CueingGroup() {
 
 Vector6 TruthPose(const rig_truth_t& truth) { return Eigen::Map<const Vector6>(truth.pose); }
 
+// A setpoint that holds where the one before it was: the same pose, at rest.
+bool IsHoldOf(const pose_setpoint_t& s, const pose_setpoint_t& before) {
+  for (int k = 0; k < 6; ++k) {
+    if (s.pose[k] != before.pose[k] || s.velocity[k] != 0.0 || s.acceleration[k] != 0.0) return false;
+  }
+  return true;
+}
+
 TEST(CueingGroup, ABrakeFromUdpIsWashedOntoThePlatformThenDisengageParksItAtHome) {
   const PlatformModel model(Huang2021Config());
   const Vector6 home = model.home_pose().ToVector();
@@ -67,7 +81,7 @@ TEST(CueingGroup, ABrakeFromUdpIsWashedOntoThePlatformThenDisengageParksItAtHome
         // A short tail: once the word is seen the source washes out whether packets come or not.
         EXPECT_EQ(Send(SourcePath("config/manoeuvres/braking.toml"), "disengage", 3.0, 3.0), 0);
       },
-      kSession, kDefaultConfig, kShippedStaleMs, CueingGroup());
+      kSession, kDefaultConfig, kStallTolerantStaleMs, CueingGroup());
   ASSERT_EQ(run.exit_code, 0) << "the planner ended after the platform parked";
   EXPECT_EQ(FaultLines(run.log_path), "");
 
@@ -80,21 +94,27 @@ TEST(CueingGroup, ABrakeFromUdpIsWashedOntoThePlatformThenDisengageParksItAtHome
   ASSERT_FALSE(statuses.empty());
   EXPECT_EQ(statuses.back().state, motion_status_t::STATE_HOLDING) << statuses.back().reason;
 
-  // Every setpoint while cueing is one of the source's cues of the last 20 ms
+  // Every setpoint while cueing is one of the source's cues within the stale limit
   // carried to its time along the cue's velocity and acceleration (at most
   // the 10 ms the bridge rides through). A cycle of the planner that ran
-  // late may take a cue stamped after its tick: then as it is.
+  // late may take a cue stamped after its tick: then as it is. One near a cue
+  // the logger lost (a stall of the whole host) cannot be checked. Once the
+  // cueing ended, the hold at its last pose keeps its name (as a hold after
+  // a move keeps the move's) until the parking move starts: at rest, where
+  // the last setpoint was, and never followed by a cue again.
   const auto cues = LoggedMessages<pose_setpoint_t>(run.log_path, "EDSP_CUE_SETPOINT");
-  int followed = 0, carried = 0;
+  int followed = 0, carried = 0, held = 0, unverified = 0;
   std::size_t next = 0;  // the first cue stamped more than a cycle after the setpoint
+  pose_setpoint_t previous{};
   for (const pose_setpoint_t& s : LoggedMessages<pose_setpoint_t>(run.log_path, "EDSP_SETPOINT")) {
     while (next < cues.size() && cues[next].utime <= s.utime + 1000) ++next;
+    const pose_setpoint_t before = std::exchange(previous, s);
     if (s.trajectory != "cueing") continue;
-    ++followed;
-    bool found = false;
+    bool found = false, logged_all = true;
     for (std::size_t back = 1; back <= next && !found; ++back) {
       const pose_setpoint_t& c = cues[next - back];
-      if (s.utime - c.utime > 20'000) break;
+      if (s.utime - c.utime > kCueStaleMs * 1000) break;
+      logged_all = logged_all && (back == next || cues[next - back - 1].seq + 1 == c.seq);
       const double dt = std::clamp(static_cast<double>(s.utime - c.utime) * 1e-6, 0.0, 10e-3);
       double worst = 0.0;
       for (int k = 0; k < 6; ++k) {
@@ -104,10 +124,23 @@ TEST(CueingGroup, ABrakeFromUdpIsWashedOntoThePlatformThenDisengageParksItAtHome
       found = worst < 1e-9;
       carried += found && c.utime < s.utime - 1000;
     }
-    ASSERT_TRUE(found) << "setpoint seq " << s.seq << " follows none of the cues before it";
+    if (held == 0 && found) {
+      ++followed;
+      continue;
+    }
+    if (held == 0 && !logged_all) {  // the cue it followed may be one the logger lost in a stall
+      ++unverified;
+      continue;
+    }
+    ASSERT_TRUE(before.trajectory == "cueing" && IsHoldOf(s, before))
+        << "setpoint seq " << s.seq << (held == 0 ? " follows none of the cues before it" : " moves after the hold");
+    ++held;
   }
   EXPECT_GT(followed, 10'000) << "10 s of the brake and its washout at 1 kHz";
-  std::printf("%d setpoints followed the cues, %d of them carried from one over a cycle old\n", followed, carried);
+  EXPECT_LT(held, 50) << "the parking move starts within a cycle or two of the disengage";
+  EXPECT_LT(unverified, followed / 100) << "setpoints near a cue missing from the log";
+  std::printf("%d setpoints followed the cues, %d of them carried from one over a cycle old; %d held; %d unverified\n",
+              followed, carried, held, unverified);
 
   // The rig itself: surged back (−x) and tilted nose down (pitch > 0) by the brake, then parked at home.
   const auto truths = LoggedMessages<rig_truth_t>(run.log_path, "EDSP_RIG_TRUTH");
@@ -137,7 +170,7 @@ TEST(CueingGroup, ASilentHostIsWashedHomeStillEngagedAndAnEStopWordHoldsIt) {
         // A host back with e-stop: the planner holds, and ends the run.
         EXPECT_EQ(Send(dir + "/rest.toml", "estop", 0.0, 1.0), 0);
       },
-      kSession, kDefaultConfig, kShippedStaleMs, CueingGroup());
+      kSession, kDefaultConfig, kStallTolerantStaleMs, CueingGroup());
   ASSERT_EQ(run.exit_code, 0);
   const auto statuses = LoggedMessages<motion_status_t>(run.log_path, "EDSP_MOTION_STATUS");
   ASSERT_FALSE(statuses.empty());

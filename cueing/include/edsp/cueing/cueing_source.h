@@ -42,6 +42,7 @@ struct CueSetpoint {
 struct CueingStep {
   std::optional<CueSetpoint> cue;     // to publish now (engaging, engaged, washing out, frozen, disengaging)
   std::optional<CueRequest> request;  // to send now (at most one in flight)
+  double time_s = 0.0;                // the time the cue is of: its stamp (the source's clock)
 };
 
 // How hard a frozen cue brakes to rest: well inside any leg's acceleration
@@ -69,7 +70,10 @@ class CueingSource {
   void OnReply(CueRequest request, bool accepted, const std::string& reason);
   // From the planner's motion status: whether its setpoints follow this source now.
   void OnPlannerFollows(bool follows, const std::string& reason);
-  // One cycle at `now_s`.
+  // One cycle at `now_s`. The source's clock advances in whole periods, so
+  // that a cue is of the time it is stamped with: a cycle woken late runs
+  // the periods it missed (at most kMaxCatchUpSteps), one woken early after
+  // it runs none and gives nothing.
   CueingStep Step(double now_s);
 
   CueingPhase phase() const { return phase_; }
@@ -78,6 +82,7 @@ class CueingSource {
   const Vector6& neutral_pose() const { return neutral_; }
 
  private:
+  int DueSteps(double now_s);
   CueSetpoint Wash(const VehicleSample& input, double gain);
   CueSetpoint Brake();
   CueSetpoint Held() const;
@@ -98,8 +103,9 @@ class CueingSource {
   HeadCue head_;      // the washout's last output
   CueSetpoint last_;  // the cue published last
   std::string why_;
-  double last_step_s_ = -1.0;  // the last cycle's time (< 0: none yet)
-  int steps_ = 1;              // washout steps this cycle: the periods since the last
+  double origin_s_ = -1.0;  // the source's clock: origin_s_ + periods_ * period_s_ (origin < 0: no cycle yet)
+  std::int64_t periods_ = 0;
+  int steps_ = 1;  // washout (or brake) steps this cycle: the periods its clock advanced
 };
 
 }  // namespace edsp
