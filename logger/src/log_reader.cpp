@@ -47,8 +47,7 @@ bool LogReader::Next(LogEvent* event) {
   // Events are read one after the other from the start: the first bytes
   // that are not a whole event (a torn tail, a foreign byte) are the damage.
   // (LCM's own reader, in Debian's 1.3.1, takes a tail of 1 to 3 bytes, a
-  // cut inside a sync word, for a clean end: a fresh-clone CI run cut a log
-  // there and read it as whole.)
+  // cut inside a sync word, for a clean end, and reads such a log as whole.)
   if (damaged_ || whole_bytes_ >= file_size_) return false;
   if (!ReadEventAt(event)) {
     damaged_ = true;

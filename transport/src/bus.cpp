@@ -18,8 +18,8 @@ namespace {
 // exception inside Boost.Interprocess, which a SCHED_FIFO node should not
 // pay 100 times a second. A recorder reads a ring it found late from its
 // first message, which stays there for slots / rate (64 ms at 1 kHz): it
-// looks well within that (at 100 ms a 10-minute sim run's logger lost the
-// planner's first 7 setpoints).
+// looks well within that, or it loses the first messages of a ring that
+// appears while it runs.
 constexpr auto kAttachRetry = std::chrono::milliseconds(100);
 constexpr auto kRecorderAttachRetry = std::chrono::milliseconds(10);
 // A recorder's rings are read at this pace, not slept on: a reader asleep

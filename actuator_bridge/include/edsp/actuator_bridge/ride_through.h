@@ -8,8 +8,7 @@
 // stream that comes back within it finds the drives where it would
 // have put them; holding the last command's position would pull them back
 // by the distance already continued and send them forward again when the
-// stream came back (a 5 ms stall at 0.2 m/s under 800 kg: the platform
-// 1.1 mm off its path that way, 0.4 µm riding through; ControllerStall).
+// stream came back (test ControllerStall.*; its figures in docs/figures.md).
 
 #include <cstdint>
 
