@@ -38,7 +38,8 @@ CueingLoop::CueingLoop(Bus& bus, CueingSource& source, VehicleSocket* socket, Cu
 
 void CueingLoop::OnStatus(const motion_status_t& status) {
   if (status.session_id != options_.session_id) return;
-  const bool follows = status.state == motion_status_t::STATE_CUEING && status.activity == "cueing " + options_.client;
+  const bool follows =
+      status.state == motion_status_t::STATE_CUEING && engage_id_ != 0 && status.request_id == engage_id_;
   source_.OnPlannerFollows(follows, status.reason);
 }
 
@@ -68,6 +69,7 @@ void CueingLoop::Ask(CueRequest request) {
   r.client = options_.client;
   r.kind = KindOf(request);
   for (int k = 0; k < 6; ++k) r.pose[k] = source_.neutral_pose()(k);
+  if (request == CueRequest::kEngage) engage_id_ = r.request_id;
   requests_.Start<motion_reply_t>(channel::kMotionRequest, channel::kMotionReply, r);
   in_flight_ = request;
   asked_at_ = std::chrono::steady_clock::now();

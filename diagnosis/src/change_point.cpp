@@ -20,6 +20,16 @@
 
 namespace edsp::gap {
 
+const char* StepRejectionName(StepRejection why) {
+  switch (why) {
+    case StepRejection::kNone: return "";
+    case StepRejection::kDrift: return "drift";
+    case StepRejection::kStructure: return "structure";
+    case StepRejection::kUndetermined: return "undetermined";
+  }
+  return "";
+}
+
 namespace {
 
 constexpr int kLegSignatures = 6;
@@ -346,7 +356,7 @@ inline constexpr double kLargestSigma = 1e-3;  // m or rad
 
 // The step of `signature` at `pos` judged against the noise and the
 // structure (Judge, LeftBlockByBlock): nothing when it is within the
-// noise; an event whose `alternative` is "structure" when what is left
+// noise; an event whose `alternative` is kStructure when what is left
 // along its signature is more than one step.
 std::optional<ChangeEvent> Assess(const Base& base, const Timeline& line, int signature, int pos,
                                   const ChangePointOptions& o, Fitted* step) {
@@ -356,23 +366,23 @@ std::optional<ChangeEvent> Assess(const Base& base, const Timeline& line, int si
   ChangeEvent ev = EventOf(base.d, line, signature, pos, *step, threshold);
   ev.step_sigma2 = step->wald;
   std::tie(ev.left_sigma2, ev.left_threshold) = LeftBlockByBlock(base.d, line, signature, *step);
-  if (ev.left_sigma2 > ev.left_threshold) ev.alternative = "structure";
+  if (ev.left_sigma2 > ev.left_threshold) ev.alternative = StepRejection::kStructure;
   // A step the session cannot size to within a millimetre or a milliradian
   // in some direction (its columns all but collinear with the rest there)
   // passes its bar on the directions it can size, but is no change a rig
   // engineer could look for.
-  if (!(ev.sigma.maxCoeff() <= kLargestSigma)) ev.alternative = "undetermined";
+  if (!(ev.sigma.maxCoeff() <= kLargestSigma)) ev.alternative = StepRejection::kUndetermined;
   return ev;
 }
 
 // The step against the best drift of its signature (BestDrift), in the
-// step's σ²: `alternative` "drift" when the step does not beat it by
+// step's σ²: `alternative` kDrift when the step does not beat it by
 // step_over_drift.
 void AgainstADrift(const Base& base, int signature, const Fitted& step, const ChangePointOptions& o, ChangeEvent* ev) {
   const auto [drift, drift_gain] = BestDrift(base, signature, o);
   ev->drift = drift;
   ev->drift_sigma2 = drift_gain / (step.sigma2 * step.inflation);
-  if (ev->step_sigma2 - ev->drift_sigma2 < o.step_over_drift) ev->alternative = "drift";
+  if (ev->step_sigma2 - ev->drift_sigma2 < o.step_over_drift) ev->alternative = StepRejection::kDrift;
 }
 
 Eigen::VectorXd PriorFor(const Design& d) {
@@ -452,8 +462,8 @@ ChangeSearch FindChanges(const PlatformModel& model, const MeasurementData& data
     std::vector<ChangeEvent> explained;
     for (std::size_t k : order) {
       auto& [ev, step] = steps[k];
-      if (ev.alternative.empty()) AgainstADrift(base, signature_of[k], step, o, &ev);
-      if (ev.alternative.empty()) {
+      if (ev.alternative == StepRejection::kNone) AgainstADrift(base, signature_of[k], step, o, &ev);
+      if (ev.alternative == StepRejection::kNone) {
         chosen.emplace(std::move(ev), std::move(step));
         break;
       }

@@ -607,7 +607,7 @@ ChangeSearch SearchChanges(const PlatformModel& model, const MeasurementData& da
   const MeasurementData thinned = Decimated(data, options.max_rate_hz);
   ChangeSearch search = FindChanges(model, thinned, options.design, options.changes, after);
   const bool structure = std::any_of(search.rejected.begin(), search.rejected.end(),
-                                     [](const ChangeEvent& e) { return e.alternative == "structure"; });
+                                     [](const ChangeEvent& e) { return e.alternative == StepRejection::kStructure; });
   if (!structure || !options.fit_structural_mode || options.design.structural_mode_hz > 0.0) return search;
   const Design design = BuildDesign(model, thinned, options.design);
   const double sigma_axis = std::max(NoiseFloorRms(design) / std::sqrt(3.0), 1e-8);

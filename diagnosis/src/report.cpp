@@ -235,7 +235,7 @@ nlohmann::json EventJson(const ChangeEvent& e) {
                    {"drift", e.drift},
                    {"left_sigma2", e.left_sigma2},
                    {"left_threshold", e.left_threshold}};
-  if (!e.alternative.empty()) j["alternative"] = e.alternative;
+  if (e.alternative != StepRejection::kNone) j["alternative"] = StepRejectionName(e.alternative);
   return j;
 }
 
@@ -256,7 +256,7 @@ std::string ChangesText(const Diagnosis& d) {
   else
     text += "; the diagnosis is of the rig after the last change";
   for (const ChangeEvent& e : d.changes.rejected) {
-    if (e.alternative == "structure") {
+    if (e.alternative == StepRejection::kStructure) {
       text += fmt::format(
           "; a step {} was rejected: its signature varies block by block beyond it ({:.0f} σ² "
           "left against {:.0f}), structure rather than one change",

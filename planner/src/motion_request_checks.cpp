@@ -52,6 +52,10 @@ std::string RequestKindName(std::int8_t kind) {
   return fmt::format("kind {}", kind);
 }
 
+std::string PoseText(const Vector6& q) {
+  return fmt::format("({:.6f}, {:.6f}, {:.6f} m; {:.6f}, {:.6f}, {:.6f} rad)", q(0), q(1), q(2), q(3), q(4), q(5));
+}
+
 Vector6 RequestPose(const motion_request_t& r) {
   Vector6 q;
   for (int k = 0; k < 6; ++k) q(k) = r.pose[k];

@@ -13,26 +13,18 @@
 // "web:NAME", which the nodes check as they check edsp-ctl's.
 // Localhost only unless --bind says otherwise; every client presents a
 // token (?token=T or Authorization: Bearer T) unless --public-view.
-#include <unistd.h>
-
 #include <cstdio>
 #include <filesystem>
-#include <stdexcept>
 #include <string>
-#include <variant>
-#include <vector>
 
 #include <CLI/CLI.hpp>
-#include <fmt/format.h>
 
 #include "edsp/node/build_paths.h"
 #include "edsp/node/node_options.h"
-#include "edsp/node/node_reporting.h"
 #include "edsp/node/runtime.h"
-#include "edsp/transport/bus.h"
-#include "edsp/web/board_feeder.h"
-#include "edsp/web/channel_board.h"
+#include "edsp/web/token_commands.h"
 #include "edsp/web/token_store.h"
+#include "edsp/web/web_node.h"
 #include "edsp/web/web_server.h"
 
 namespace edsp {
@@ -50,90 +42,15 @@ std::string DefaultPanelDir() {
   return SourcePath("web/panel");
 }
 
-int TokenAdd(const std::string& path, const std::string& name, const std::string& role) {
-  const web::TokenFileLock lock(path);
-  web::TokenStore store = web::TokenStore::Load(path);
-  const std::string token = store.Add(name, web::ParseRole(role));
-  store.Save(path);
-  std::printf("%s\n", token.c_str());
-  std::fprintf(stderr, "edsp-web: token for %s (%s) added to %s; it is shown only now\n", name.c_str(), role.c_str(),
-               path.c_str());
-  return 0;
-}
-
-int TokenList(const std::string& path) {
-  const web::TokenStore store = web::TokenStore::Load(path);
-  for (const web::TokenEntry& e : store.entries()) {
-    std::printf("%-24s %s\n", e.name.c_str(), web::RoleName(e.role));
-  }
-  return 0;
-}
-
-int TokenRevoke(const std::string& path, const std::string& name) {
-  const web::TokenFileLock lock(path);
-  web::TokenStore store = web::TokenStore::Load(path);
-  store.Revoke(name);
-  store.Save(path);
-  return 0;
-}
-
-// EDSP_STATUS as every node reports it, once a second: messages in (from
-// the bus), out (frames to clients), rejected (requests and frames refused).
-class WebStatus {
- public:
-  WebStatus(Bus* bus, const web::ChannelBoard* board, const web::WebServer* server)
-      : reporting_(*bus, "web"), board_(board), server_(server) {
-    reporting_.status().SetState(node_status_t::STATE_RUNNING);
-  }
-  void Tick() {
-    const web::WebServerStats now = server_->stats();
-    const auto posted = static_cast<std::int64_t>(board_->posted());
-    reporting_.status().CountIn(posted - posted_);
-    reporting_.status().CountOut(now.frames_sent - last_.frames_sent);
-    for (std::int64_t i = Refusals(last_); i < Refusals(now); ++i) reporting_.status().CountRejected();
-    posted_ = posted;
-    last_ = now;
-    reporting_.StatusTick(UtimeNow(), 0);
-  }
-
- private:
-  static std::int64_t Refusals(const web::WebServerStats& s) { return s.refused + s.protocol_errors; }
-  NodeReporting reporting_;
-  const web::ChannelBoard* board_;
-  const web::WebServer* server_;
-  web::WebServerStats last_{};
-  std::int64_t posted_ = 0;
-};
-
-int Serve(const NodeOptions& node, bool session_given, web::WebServerOptions options, const std::string& tokens_path) {
-  options.tokens = web::TokenStore::Load(tokens_path);
-  if (options.tokens.entries().empty() && !options.public_view) {
-    throw std::runtime_error(tokens_path +
-                             " has no token, so nobody could connect: add one with `edsp-web token add NAME --role "
-                             "operator`, or serve --public-view");
-  }
-  // A member gets its group's session; beside a group, the planner says it.
-  options.session_id = session_given ? node.session_id : 0;
-  options.metadata = {{"group", node.group_path}};
-  web::ChannelBoard board;
-  web::BoardFeeder feeder(TransportFor(node), &board);
-  Bus requests(TransportFor(node));  // operators' requests go out on it, from the server's thread alone
-  options.publish = [&requests](const std::string& channel, const web::RequestMessage& request) {
-    return std::visit([&](const auto& m) { return requests.Publish(channel, m); }, request);
-  };
-  web::WebServer server(&board, options);
+int Serve(const NodeOptions& node, bool session_given, const web::WebServerOptions& options,
+          const std::string& tokens_path) {
+  web::WebNode web(node, session_given, options, tokens_path);
   std::fprintf(stderr, "edsp-web: serving %s on %s://%s:%u (panel %s)\n",
                node.group_path.empty() ? "the default bus" : node.group_path.c_str(),
-               options.tls_cert.empty() ? "http" : "https", options.bind.c_str(), static_cast<unsigned>(server.port()),
+               options.tls_cert.empty() ? "http" : "https", options.bind.c_str(), static_cast<unsigned>(web.port()),
                options.panel_dir.c_str());
-  WebStatus status(&requests, &board, &server);
   InstallStopSignals();
-  server.Run([&] {
-    status.Tick();
-    return StopRequested() || !feeder.error().empty();
-  });
-  feeder.Stop();
-  if (!feeder.error().empty()) throw std::runtime_error("the bus failed: " + feeder.error());
+  web.Run(StopRequested);
   return 0;
 }
 
@@ -171,9 +88,10 @@ int Run(int argc, char** argv) {
   for (CLI::App* sub : {add, list, revoke}) sub->add_option("--tokens", tokens_path, "tokens file");
   CLI11_PARSE(app, argc, argv);
 
-  if (add->parsed()) return TokenAdd(tokens_path, name, role);
-  if (list->parsed()) return TokenList(tokens_path);
-  if (revoke->parsed()) return TokenRevoke(tokens_path, name);
+  if (add->parsed()) web::AddToken(tokens_path, name, role);
+  if (list->parsed()) web::ListTokens(tokens_path);
+  if (revoke->parsed()) web::RevokeToken(tokens_path, name);
+  if (token->parsed()) return 0;
   return Serve(node, app.count("--session-id") > 0, options, tokens_path);
 }
 

@@ -58,6 +58,7 @@ class CueingLoop {
   NodeReporting reporting_;
   RequestClient requests_;
   std::optional<CueRequest> in_flight_;
+  std::int64_t engage_id_ = 0;  // the last engage's request id: the planner's status names it while it follows
   std::chrono::steady_clock::time_point asked_at_;
   std::int64_t cue_seq_ = 0;
 };

@@ -62,6 +62,14 @@ struct ChangePointOptions {
   std::vector<double> drift_time_constants_s = {150.0, 300.0, 600.0, 1200.0, 2400.0, 4800.0};
 };
 
+// Why a significant step is no event: a drift of the same signature
+// explains it as well; its signature varies block by block beyond it
+// (structure rather than one change); or the session cannot size it
+// (its σ past 1 mm or 1 mrad in some direction).
+enum class StepRejection { kNone, kDrift, kStructure, kUndetermined };
+// "drift", "structure", "undetermined" ("" for none): the report's words.
+const char* StepRejectionName(StepRejection why);
+
 struct ChangeEvent {
   ChangeKind kind = ChangeKind::kLegLength;
   int leg = -1;          // 0-based (kLegLength)
@@ -71,15 +79,14 @@ struct ChangeEvent {
   // leg: 1 value, its length after − before (m); tracker: its frame after −
   // before, δt (m, 3) then δω (rad, 3), as the design's frame columns.
   Eigen::VectorXd size, sigma;
-  double wald = 0.0, threshold = 0.0;  // the step's statistic and the bar it passed
-  double inflation = 1.0;              // the noise's variance along the signature over white noise's
-  double step_sigma2 = 0.0;            // squared error the step removes, in the widened σ²
-  double drift_sigma2 = 0.0;           //   and the best drift of the same signature
-  std::string drift;                   //   that drift: "linear" or "tau_600s"
-  double left_sigma2 = 0.0;            // what the signature holds block by block after the step, in σ²
-  double left_threshold = 0.0;         //   and its χ² bar (1%): past it, structure, not one change
-  std::string alternative;             // rejected: what won, "drift" or "structure", or "undetermined"
-                                       //   (its σ past 1 mm or 1 mrad in some direction)
+  double wald = 0.0, threshold = 0.0;                // the step's statistic and the bar it passed
+  double inflation = 1.0;                            // the noise's variance along the signature over white noise's
+  double step_sigma2 = 0.0;                          // squared error the step removes, in the widened σ²
+  double drift_sigma2 = 0.0;                         //   and the best drift of the same signature
+  std::string drift;                                 //   that drift: "linear" or "tau_600s"
+  double left_sigma2 = 0.0;                          // what the signature holds block by block after the step, in σ²
+  double left_threshold = 0.0;                       //   and its χ² bar (1%): past it, structure, not one change
+  StepRejection alternative = StepRejection::kNone;  // rejected: what won instead of one change
 };
 
 struct ChangeSearch {

@@ -20,6 +20,8 @@ namespace edsp {
 std::string RequestKindName(std::int8_t kind);
 // The request's pose field as x, y, z, roll, pitch, yaw.
 Vector6 RequestPose(const motion_request_t& r);
+// A pose as replies and faults write it: "(x, y, z m; roll, pitch, yaw rad)".
+std::string PoseText(const Vector6& q);
 
 // A move's or a check's pose: every value finite.
 std::string PoseProblem(const motion_request_t& r);

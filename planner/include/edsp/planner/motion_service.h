@@ -141,6 +141,8 @@ class MotionService {
   void StartCueing(const std::string& source, std::int64_t request_id);  // engaged, not yet following
   // After a motion ends: an engage move's end starts the following.
   void StartFollowingIfEngaged(std::int64_t now_utime);
+  // This cycle's setpoint from the latest cue into `sample`, or the cueing ended.
+  void FollowCue(std::int64_t now_utime, PoseSample* sample);
   motion_reply_t Enqueue(const motion_request_t& r, std::deque<PlannedMotion> motions, std::int64_t now_utime);
 
   std::string BridgeProblem(std::int64_t now_utime) const;

@@ -1,0 +1,222 @@
+// The motion service's cueing: engaging a cueing source (a checked move to
+// its neutral pose), following its cues on EDSP_CUE_SETPOINT each cycle
+// while each is valid, and ending it (disengage, halt, stop, or a cue it
+// cannot follow: then holding the last valid pose). motion_service.h says
+// what a client sees.
+#include <algorithm>
+#include <string>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "edsp/kinematics/workspace.h"
+#include "edsp/planner/motion_request_checks.h"
+#include "edsp/planner/motion_service.h"
+#include "edsp/timing_contract.h"
+
+namespace edsp {
+
+namespace {
+
+// The setpoints' trajectory name while they follow a cueing source.
+constexpr char kCueingTrajectory[] = "cueing";
+// How far ahead of a cue its setpoint may be carried along the cue's own
+// velocity and acceleration: as long as the bridge rides through late
+// commands (a cue a few cycles late must not make the setpoints stand, then
+// jump by what the legs cannot do in a cycle).
+constexpr double kCueLeadMax_s = timing::kRideThroughS;
+// Two poses closer than this are one: no move between them is planned.
+constexpr double kSamePose = 1e-9;
+// A leg's step may exceed its speed × time by this much (rounding, the
+// drives' encoder count), as the bridge's jump check allows.
+constexpr double kLegStepSlack_m = 1e-6;
+
+// An engage's or a disengage's move: to its pose, in {B}, at its speeds.
+motion_request_t MoveTo(const motion_request_t& r) {
+  motion_request_t move = r;
+  move.kind = motion_request_t::KIND_MOVE;
+  move.relative = false;
+  move.frame.clear();
+  return move;
+}
+
+// The cue carried to `now_utime` (by the source's stamp, at most kCueLeadMax_s ahead).
+PoseSample CueAt(const pose_setpoint_t& cue, std::int64_t now_utime) {
+  const double dt = std::clamp(static_cast<double>(now_utime - cue.utime) * 1e-6, 0.0, kCueLeadMax_s);
+  const Vector6 p = Eigen::Map<const Vector6>(cue.pose), v = Eigen::Map<const Vector6>(cue.velocity),
+                a = Eigen::Map<const Vector6>(cue.acceleration);
+  PoseSample s;
+  s.pose = p + v * dt + 0.5 * a * dt * dt;
+  s.velocity = v + a * dt;
+  s.acceleration = a;
+  return s;
+}
+
+}  // namespace
+
+std::string MotionService::CueingProblem() const {
+  if (!cueing_) return "";
+  return fmt::format("cueing from {} is engaged: disengage it first", cueing_->source);
+}
+
+motion_reply_t MotionService::Engage(const motion_request_t& r, std::int64_t now_utime, Lock& lock) {
+  if (std::string p = CueingProblem(); !p.empty()) return Reply(r, ReplyCode::kNotNow, p);
+  if (current_ || !queue_.empty()) {
+    return Reply(r, ReplyCode::kNotNow,
+                 fmt::format("{} is in progress: engage once it has ended, or halt it",
+                             current_ ? current_->motion.activity : queue_.front().activity));
+  }
+  if (std::string p = PoseProblem(r); !p.empty()) return Reply(r, ReplyCode::kInvalid, p);
+  if (std::string p = BridgeProblem(now_utime); !p.empty()) return Reply(r, ReplyCode::kNotNow, p);
+  const std::string source = r.client.empty() ? "an unnamed source" : r.client;
+  const Vector6 neutral = RequestPose(r);
+  if ((hold_pose_ - neutral).cwiseAbs().maxCoeff() <= kSamePose) {  // no move to plan: following from now
+    const WorkspaceCheck w = CheckWorkspace(model_, Pose::FromVector(neutral));
+    if (!w.ok()) {
+      return Reply(r, ReplyCode::kOutOfLimits,
+                   fmt::format("the neutral pose {} is outside the workspace: {}", PoseText(neutral), w.Describe()));
+    }
+    StartCueing(source, r.request_id);
+    ever_moved_ = true;
+    StartFollowingIfEngaged(now_utime);
+    return Reply(r, ReplyCode::kDone, fmt::format("cueing from {} engaged at {}", source, PoseText(neutral)));
+  }
+  motion_reply_t reply = Move(MoveTo(r), false, now_utime, lock);
+  reply.kind = r.kind;
+  if (!reply.accepted) return reply;
+  queue_.back().activity = "engage " + source;  // the lock held since Move queued it
+  StartCueing(source, r.request_id);
+  reply.reason = fmt::format("engaging cueing from {}: {}", source, reply.reason);
+  return reply;
+}
+
+motion_reply_t MotionService::Disengage(const motion_request_t& r, std::int64_t now_utime, Lock& lock) {
+  if (!cueing_) return Reply(r, ReplyCode::kNotNow, "no cueing is engaged");
+  if (std::string p = PoseProblem(r); !p.empty()) return Reply(r, ReplyCode::kInvalid, p);
+  const std::string source = cueing_->source;
+  EndCueing("", now_utime, motion_status_t::END_COMPLETED);
+  if ((PoseOf(PlannedEnd()).ToVector() - RequestPose(r)).cwiseAbs().maxCoeff() <= kSamePose) {
+    return Reply(r, ReplyCode::kDone, fmt::format("cueing from {} disengaged at {}", source, PoseText(hold_pose_)));
+  }
+  motion_reply_t reply = Move(MoveTo(r), false, now_utime, lock);
+  reply.kind = r.kind;
+  reply.reason = fmt::format("cueing from {} disengaged; {}", source, reply.reason);
+  return reply;
+}
+
+std::string MotionService::CueProblem(const pose_setpoint_t& cue, FaultCode* code) const {
+  const auto finite = [](const double* v) { return Eigen::Map<const Vector6>(v).allFinite(); };
+  if (!finite(cue.pose) || !finite(cue.velocity) || !finite(cue.acceleration)) {
+    *code = FaultCode::kNonFinite;
+    return fmt::format("EDSP_CUE_SETPOINT seq {} has a non-finite value (NaN or infinity)", cue.seq);
+  }
+  const Vector6 q = Eigen::Map<const Vector6>(cue.pose);
+  const WorkspaceCheck w = CheckWorkspace(model_, Pose::FromVector(q));
+  if (!w.ok()) {
+    *code = FaultCode::kOutsideWorkspace;
+    return fmt::format("EDSP_CUE_SETPOINT seq {} asks for {}, outside the workspace: {}", cue.seq, PoseText(q),
+                       w.Describe());
+  }
+  return "";
+}
+
+std::string MotionService::CueToFollow(std::int64_t now_utime, FaultCode* code, PoseSample* to) const {
+  const EngagedCueing& c = *cueing_;
+  *code = FaultCode::kStale;
+  if (!c.latest) {  // the source's first cue may come a cycle after its engage was answered
+    const double waited_s = static_cast<double>(now_utime - c.following_utime) * 1e-6;
+    if (waited_s <= options_.cue_stale_s) return "";
+    return fmt::format("cueing from {} ended: no EDSP_CUE_SETPOINT within {:.0f} ms of the engage; holding", c.source,
+                       options_.cue_stale_s * 1e3);
+  }
+  const double age_s = static_cast<double>(now_utime - c.latest_utime) * 1e-6;
+  if (age_s > options_.cue_stale_s) {
+    return fmt::format(
+        "cueing from {} ended: no EDSP_CUE_SETPOINT for {:.0f} ms (at most {:.0f}); holding the last pose", c.source,
+        age_s * 1e3, options_.cue_stale_s * 1e3);
+  }
+  // No leg faster than the drives follow since the cycle that followed
+  // last (or the neutral pose, at the first): what the bridge checks too.
+  *to = CueAt(*c.latest, now_utime);
+  const double since_s =
+      c.followed_utime == 0 ? 1e-3 : std::max(1e-3, static_cast<double>(now_utime - c.followed_utime) * 1e-6);
+  const Vector6 step =
+      (model_.LegLengths(Pose::FromVector(to->pose)) - model_.LegLengths(Pose::FromVector(hold_pose_))).cwiseAbs();
+  int leg = 0;
+  const double most = step.maxCoeff(&leg);
+  const double allowed = model_.config().limits.leg_speed_max_m_s * since_s + kLegStepSlack_m;
+  if (most <= allowed) return "";
+  *code = FaultCode::kJump;
+  return fmt::format(
+      "cueing from {} ended: EDSP_CUE_SETPOINT seq {} moves leg {} by {:.6f} m in {:.1f} ms (at most {:.6f} m at "
+      "[limits] leg_speed_max_m_s); holding the last pose",
+      c.source, c.latest->seq, leg + 1, most, since_s * 1e3, allowed);
+}
+
+void MotionService::EndCueing(std::string why, std::int64_t now_utime, std::int8_t end,
+                              std::optional<FaultCode> fault) {
+  if (!cueing_) return;
+  if (fault) cue_fault_ = CueFault{*fault, why};
+  if (cueing_->following) {
+    last_end_ = end;
+    ended_utime_ = now_utime;
+    within_since_ = 0;
+  }
+  cueing_.reset();
+  if (!why.empty()) refused_ = std::move(why);
+  Changed();
+}
+
+void MotionService::StartCueing(const std::string& source, std::int64_t request_id) {
+  cueing_.emplace();
+  cueing_->source = source;
+  cueing_->request_id = request_id;
+}
+
+void MotionService::StartFollowingIfEngaged(std::int64_t now_utime) {
+  if (!cueing_ || cueing_->following || current_ || !queue_.empty()) return;
+  cueing_->following = true;
+  cueing_->following_utime = now_utime;
+  request_id_ = cueing_->request_id;
+  activity_ = "cueing " + cueing_->source;
+  Changed();
+}
+
+void MotionService::OnCueSetpoint(const pose_setpoint_t& cue, std::int64_t now_utime) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  // Another group's, or nothing engaged: not this service's to follow.
+  if (!cueing_ || cue.session_id != options_.session_id) return;
+  if (cueing_->latest && cue.seq <= cueing_->latest->seq) return;  // a copy or one overtaken: the newer stands
+  FaultCode code{};
+  if (std::string p = CueProblem(cue, &code); !p.empty()) {
+    EndCueing(fmt::format("cueing from {} ended: {}; holding the last pose", cueing_->source, p), now_utime,
+              motion_status_t::END_STOPPED, code);
+    return;
+  }
+  cueing_->latest = cue;
+  cueing_->latest_utime = now_utime;
+}
+
+std::optional<MotionService::CueFault> MotionService::TakeCueFault() {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  std::optional<CueFault> fault;
+  fault.swap(cue_fault_);
+  return fault;
+}
+
+void MotionService::FollowCue(std::int64_t now_utime, PoseSample* sample) {
+  FaultCode code{};
+  PoseSample cue;
+  if (std::string why = CueToFollow(now_utime, &code, &cue); !why.empty()) {
+    EndCueing(std::move(why), now_utime, motion_status_t::END_STOPPED, code);
+    return;
+  }
+  if (!cueing_->latest) return;  // none yet, within the stale limit: the neutral pose held
+  *sample = cue;
+  hold_pose_ = sample->pose;
+  cueing_->followed_utime = now_utime;
+  hold_name_ = kCueingTrajectory;
+  hold_segment_ = 0;
+}
+
+}  // namespace edsp
