@@ -19,6 +19,8 @@
 //   edsp-cueing send --manoeuvre FILE [--to ADDRESS:PORT] [--rate-hz 250] [--lead-s 5]
 //                    [--after disengage|silence|estop|freeze|engage] [--tail-s 20]
 //       a vehicle model's stand-in: the manoeuvre as packets, in real time (send_command.h).
+//   edsp-cueing delay --log RUN.lcmlog --sent SENT.csv [--json]
+//       each sample's delay from its sender to the drives, traced through the log (delay_command.h).
 
 #include <cstdio>
 #include <exception>
@@ -40,6 +42,7 @@
 #include "edsp/kinematics/config.h"
 #include "edsp/rig/rig_effects.h"
 #include "edsp/sim/played_poses.h"
+#include "delay_command.h"
 #include "live_command.h"
 #include "send_command.h"
 
@@ -237,7 +240,7 @@ int RunBench(const BenchOptions& options) {
                         {"ratio_why_null", "one algorithm: model-predictive cueing is not built yet"},
                         {"omct", OmctJson(RunOmct(model, config))},
                         {"delay_p99_ms", nullptr},
-                        {"delay_why_null", "no live cueing group yet"}};
+                        {"delay_why_null", "measured on the live group: edsp-bench-cueing-live"}};
   if (options.offline.json) {
     std::printf("%s\n", out.dump(2).c_str());
     return 0;
@@ -324,10 +327,20 @@ int main(int argc, char** argv) {
   send_command->add_option("--tail-s", send.tail_s, "for this long")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 600.0));
+  send_command->add_option("--sent-log", send.sent_log_path, "CSV of each packet's sequence and send time");
+  edsp::DelayOptions delay;
+  CLI::App* delay_command =
+      app.add_subcommand("delay", "each vehicle sample's delay from its sender to the drives, from a group's log");
+  delay_command->add_option("--log", delay.log_path, "the group's log (.lcmlog)")->required()->check(CLI::ExistingFile);
+  delay_command->add_option("--sent", delay.sent_path, "edsp-cueing send --sent-log's CSV")
+      ->required()
+      ->check(CLI::ExistingFile);
+  delay_command->add_flag("--json", delay.json, "JSON on stdout");
   CLI11_PARSE(app, argc, argv);
   try {
     if (live_command->parsed()) return edsp::RunLive(live);
     if (send_command->parsed()) return edsp::RunSend(send);
+    if (delay_command->parsed()) return edsp::RunDelay(delay);
     if (omct_command->parsed()) return edsp::RunOmctTable(omct_config, omct_cueing, omct_json);
     if (bench_command->parsed()) return edsp::RunBench(bench);
     return edsp::RunOffline(offline);

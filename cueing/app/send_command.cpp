@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <fstream>
 #include <stdexcept>
 #include <thread>
 
@@ -11,6 +12,7 @@
 
 #include "edsp/cueing/manoeuvre.h"
 #include "edsp/cueing/vehicle_packet.h"
+#include "edsp/node/runtime.h"
 #include "live_command.h"
 
 namespace edsp {
@@ -36,6 +38,12 @@ int RunSend(const SendOptions& options) {
   const boost::asio::ip::udp::endpoint endpoint(boost::asio::ip::make_address(to.host, error), to.port);
   if (error) throw std::invalid_argument(fmt::format("--to \"{}\": not an IP address", options.to));
   boost::asio::ip::udp::socket socket(io, endpoint.protocol());
+  std::ofstream sent_log;
+  if (!options.sent_log_path.empty()) {
+    sent_log.open(options.sent_log_path);
+    if (!sent_log) throw std::runtime_error(fmt::format("--sent-log {}: cannot be written", options.sent_log_path));
+    sent_log << "sequence,sent_utime\n";
+  }
 
   const double period_s = 1.0 / options.rate_hz;
   const double end_s = options.lead_s + manoeuvre.duration_s + options.tail_s;
@@ -59,8 +67,10 @@ int RunSend(const SendOptions& options) {
       packet.angular_velocity_rad_s = sample.angular_velocity_rad_s;
     }
     const auto bytes = EncodeVehiclePacket(packet);
+    const std::int64_t sent_utime = UtimeNow();
     socket.send_to(boost::asio::buffer(bytes), endpoint, 0, error);
     if (error) throw std::runtime_error(fmt::format("sending to {}: {}", options.to, error.message()));
+    if (sent_log.is_open()) sent_log << packet.sequence << ',' << sent_utime << '\n';
   }
   std::fprintf(stderr, "edsp-cueing send: %u packets of %s to %s\n", sequence, manoeuvre.name.c_str(),
                options.to.c_str());

@@ -6,7 +6,7 @@
 // (the cueing washes out and the platform parks), "silence" (no packets:
 // the input is lost), "estop", "freeze" or "engage" (at rest).
 //   edsp-cueing send --manoeuvre FILE [--to 127.0.0.1:7400] [--rate-hz 250]
-//                    [--lead-s 5] [--after disengage] [--tail-s 20]
+//                    [--lead-s 5] [--after disengage] [--tail-s 20] [--sent-log FILE]
 
 #include <string>
 
@@ -19,6 +19,9 @@ struct SendOptions {
   double lead_s = 5.0;
   std::string after = "disengage";
   double tail_s = 20.0;
+  // Each packet's sequence and when it went out (the host's wall clock,
+  // µs), as CSV "sequence,sent_utime": what `edsp-cueing delay` traces.
+  std::string sent_log_path;
 };
 
 int RunSend(const SendOptions& options);

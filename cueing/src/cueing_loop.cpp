@@ -93,9 +93,9 @@ void CueingLoop::TakeAnswer(std::int64_t now_utime) {
   in_flight_.reset();
 }
 
-void CueingLoop::Publish(const CueSetpoint& cue, std::int64_t now_utime) {
+void CueingLoop::Publish(const CueSetpoint& cue, std::int64_t utime, std::uint32_t input_sequence) {
   pose_setpoint_t sp{};
-  sp.utime = now_utime;
+  sp.utime = utime;
   sp.seq = ++cue_seq_;
   sp.session_id = options_.session_id;
   for (int k = 0; k < 6; ++k) {
@@ -104,6 +104,7 @@ void CueingLoop::Publish(const CueSetpoint& cue, std::int64_t now_utime) {
     sp.acceleration[k] = cue.acceleration(k);
   }
   sp.trajectory = "cueing";
+  sp.segment = VehicleSequenceAsSegment(input_sequence);
   if (cues_.Publish(sp)) reporting_.status().CountOut();
 }
 
@@ -114,7 +115,7 @@ bool CueingLoop::RunCycle(std::int64_t now_utime, std::int64_t deadline_misses) 
   }
   TakeAnswer(now_utime);
   const CueingStep step = source_.Step(static_cast<double>(now_utime) * 1e-6);
-  if (step.cue) Publish(*step.cue, std::llround(step.time_s * 1e6));
+  if (step.cue) Publish(*step.cue, std::llround(step.time_s * 1e6), step.input_sequence);
   if (step.request) Ask(*step.request);
   reporting_.status().SetState(source_.phase() == CueingPhase::kStopped ? node_status_t::STATE_HOLDING
                                                                         : node_status_t::STATE_RUNNING);

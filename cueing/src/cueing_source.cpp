@@ -140,6 +140,7 @@ CueingStep CueingSource::Step(double wall_s) {
   if (steps_ == 0) return out;  // woken early after a late cycle: no period is due
   const double now_s = origin_s_ + static_cast<double>(periods_) * period_s_;
   out.time_s = now_s;
+  out.input_sequence = input_.latest_sequence();
   const VehicleSample input = input_.At(now_s);
   const std::optional<CueCommand> command = input_.command();
   const bool live = input_.state(now_s) == VehicleInputState::kLive;

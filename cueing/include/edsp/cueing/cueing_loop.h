@@ -47,7 +47,7 @@ class CueingLoop {
   void TakePacket(const std::uint8_t* data, std::size_t size, std::int64_t now_utime);
   void Ask(CueRequest request);
   void TakeAnswer(std::int64_t now_utime);
-  void Publish(const CueSetpoint& cue, std::int64_t now_utime);
+  void Publish(const CueSetpoint& cue, std::int64_t utime, std::uint32_t input_sequence);
   void OnStatus(const motion_status_t& status);
 
   Bus& bus_;

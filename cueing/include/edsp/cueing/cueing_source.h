@@ -43,6 +43,7 @@ struct CueingStep {
   std::optional<CueSetpoint> cue;     // to publish now (engaging, engaged, washing out, frozen, disengaging)
   std::optional<CueRequest> request;  // to send now (at most one in flight)
   double time_s = 0.0;                // the time the cue is of: its stamp (the source's clock)
+  std::uint32_t input_sequence = 0;   // the newest vehicle packet's when the cue was made (0: none yet)
 };
 
 // How hard a frozen cue brakes to rest: well inside any leg's acceleration

@@ -39,6 +39,8 @@ class VehicleInput {
   VehicleInputState state(double now_s) const;
   // The command of the last packet accepted (nothing before the first).
   std::optional<CueCommand> command() const;
+  // The sequence of the last packet accepted (0 before the first).
+  std::uint32_t latest_sequence() const { return latest_ ? latest_->sequence : 0; }
   // Packets missing from the sequence so far.
   std::uint64_t missed_packets() const { return missed_packets_; }
 

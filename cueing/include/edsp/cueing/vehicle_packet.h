@@ -49,6 +49,13 @@ struct ParsedVehiclePacket {
 };
 
 ParsedVehiclePacket ParseVehiclePacket(const std::uint8_t* data, std::size_t size);
+
+// A packet's sequence as a cue's and a cueing setpoint's `segment` carry it
+// (its low 31 bits): which vehicle sample a setpoint comes from, so that a
+// log traces each sample to the drives (edsp-cueing delay).
+inline std::int32_t VehicleSequenceAsSegment(std::uint32_t sequence) {
+  return static_cast<std::int32_t>(sequence & 0x7fffffffU);
+}
 // The bytes of `packet` (float64 time, float32 vectors).
 std::array<std::uint8_t, kVehiclePacketBytes> EncodeVehiclePacket(const VehiclePacket& packet);
 
