@@ -30,6 +30,9 @@ namespace edsp {
 namespace {
 
 constexpr double kTargetP99Ms = 5.0;
+// Samples sent that a run must trace (the rest: sent before the engage or
+// after the disengage).
+constexpr double kTracedShare = 0.75;
 
 std::string BinDir() { return std::filesystem::canonical("/proc/self/exe").parent_path().string(); }
 
@@ -59,14 +62,14 @@ nlohmann::json RunOnce(int index) {
   std::filesystem::create_directories(dir);
   WriteGroup(dir);
   const std::string bin = BinDir();
-  const int launched = Run(
-      fmt::format("cd {src} && {bin}/edsp-launch {dir}/group.toml --bin-dir {bin} --until-exit planner "
-                  "2>{dir}/launch.err & launch=$!; "
-                  "for i in $(seq 300); do {bin}/edsp-ctl --group {dir}/group.toml --answer-timeout-s 2 status --json "
-                  "2>/dev/null | grep -q '\"state\":\"idle\"' && break; sleep 0.2; done; "
-                  "{bin}/edsp-cueing send --manoeuvre {src}/config/manoeuvres/braking.toml --rate-hz 249.9 --lead-s 5 "
-                  "--after disengage --tail-s 3 --sent-log {dir}/sent.csv 2>{dir}/send.err; wait $launch",
-                  fmt::arg("src", SourceDir()), fmt::arg("bin", bin), fmt::arg("dir", dir)));
+  const int launched = Run(fmt::format(
+      "cd {src} && {bin}/edsp-launch {dir}/group.toml --bin-dir {bin} --until-exit planner "
+      "2>{dir}/launch.err & launch=$!; "
+      "for i in $(seq 300); do {bin}/edsp-ctl --group {dir}/group.toml --answer-timeout-s 2 status --json "
+      "2>/dev/null | grep -q '\"state\":\"idle\"' && break; sleep 0.2; done; "
+      "{bin}/edsp-cueing send --manoeuvre {src}/config/manoeuvres/braking.toml --rate-hz 249.9 --lead-s 5 "
+      "--after disengage --tail-s 3 --sent-log {dir}/sent.csv 2>{dir}/send.err || kill -INT $launch; wait $launch",
+      fmt::arg("src", SourceDir()), fmt::arg("bin", bin), fmt::arg("dir", dir)));
   if (launched != 0)
     throw std::runtime_error(fmt::format("run {}: the group ended with {} (see {})", index, launched, dir));
   if (Run(fmt::format("{}/edsp-cueing delay --log {d}/run.lcmlog --sent {d}/sent.csv --json >{d}/delay.json", bin,
@@ -75,6 +78,12 @@ nlohmann::json RunOnce(int index) {
   }
   std::ifstream in(dir + "/delay.json");
   nlohmann::json result = nlohmann::json::parse(in);
+  // A p99 of the few samples traced says nothing of the rest.
+  const double traced = result["samples_traced"].get<double>(), sent = result["samples_sent"].get<double>();
+  if (!(traced >= kTracedShare * sent)) {
+    throw std::runtime_error(fmt::format("run {}: {} of {} samples traced, fewer than {:.0f}% (see {})", index, traced,
+                                         sent, kTracedShare * 100.0, dir));
+  }
   std::filesystem::remove(dir + "/run.lcmlog");  // tens of MB; the rest stays
   return result;
 }

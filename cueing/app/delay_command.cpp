@@ -54,7 +54,7 @@ CueingDelays TraceLog(const std::string& log_path, const std::vector<SentSample>
   LogEvent event;
   while (reader.Next(&event)) {
     if (pose_setpoint_t s; event.channel == channel::kSetpoint && Decoded(event, &s)) {
-      if (s.trajectory == "cueing") setpoints.push_back({s.seq, s.segment});
+      if (s.trajectory == "cueing") setpoints.push_back({s.seq, s.segment, event.timestamp_utime});
     } else if (leg_command_t c; event.channel == channel::kLegCommand && Decoded(event, &c)) {
       commands.push_back({c.seq, c.setpoint_seq});
     } else if (leg_state_t w; event.channel == channel::kLegState && Decoded(event, &w)) {

@@ -120,11 +120,16 @@ bool CueingSource::HeadHome(const HeadCue& head, const CueSetpoint& cue) const {
 }
 
 int CueingSource::DueSteps(double now_s) {
-  if (origin_s_ < 0.0) {
+  if (!clock_started_) {
+    clock_started_ = true;
     origin_s_ = now_s;
     return 1;
   }
   long due = std::lround((now_s - origin_s_) / period_s_) - periods_;
+  if (due < -1) {  // the wall clock was stepped back: the source's follows it, one period on
+    origin_s_ = now_s - static_cast<double>(periods_ + 1) * period_s_;
+    due = 1;
+  }
   if (due > kMaxCatchUpSteps) {  // a stall longer than the catch-up: the washout skips the rest
     periods_ += due - kMaxCatchUpSteps;
     due = kMaxCatchUpSteps;
@@ -134,25 +139,32 @@ int CueingSource::DueSteps(double now_s) {
   return static_cast<int>(due);
 }
 
-CueingStep CueingSource::Step(double wall_s) {
+std::optional<CueingStep> CueingSource::EStop(double now_s) {
+  // An e-stop wins over everything but a cueing that never started.
+  if (input_.command() != CueCommand::kEStop || phase_ == CueingPhase::kDisengaged || phase_ == CueingPhase::kStopped) {
+    return std::nullopt;
+  }
   CueingStep out;
+  out.time_s = now_s;
+  out.request = CueRequest::kStop;
+  awaiting_reply_ = true;
+  Stop("e-stop from the host");
+  return out;
+}
+
+CueingStep CueingSource::Step(double wall_s) {
   steps_ = DueSteps(wall_s);
-  if (steps_ == 0) return out;  // woken early after a late cycle: no period is due
   const double now_s = origin_s_ + static_cast<double>(periods_) * period_s_;
+  // An e-stop is not left for the next period, even by a cycle with none due.
+  if (std::optional<CueingStep> stop = EStop(now_s)) return *stop;
+  CueingStep out;
+  if (steps_ == 0) return out;  // woken early after a late cycle: no period is due
   out.time_s = now_s;
   out.input_sequence = input_.latest_sequence();
   const VehicleSample input = input_.At(now_s);
   const std::optional<CueCommand> command = input_.command();
   const bool live = input_.state(now_s) == VehicleInputState::kLive;
-  const bool e_stop = command == CueCommand::kEStop;
   const bool ask = !awaiting_reply_;
-  // An e-stop wins over everything but a cueing that never started.
-  if (e_stop && phase_ != CueingPhase::kDisengaged && phase_ != CueingPhase::kStopped) {
-    out.request = CueRequest::kStop;
-    awaiting_reply_ = true;
-    Stop("e-stop from the host");
-    return out;
-  }
   switch (phase_) {
     case CueingPhase::kDisengaged:
       if (command == CueCommand::kEngage && live && ask) {

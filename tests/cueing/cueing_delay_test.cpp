@@ -14,7 +14,8 @@ TEST(CueingDelay, EachSampleIsTracedToTheFirstDriveWriteOfACommandMadeFromIt) {
   // Samples 1..4 sent at 0, 4, 8, 12 ms; setpoints 100.. at 1 kHz carry the
   // newest sample's sequence; sample 3 was overtaken by 4 before any cue.
   const std::vector<SentSample> sent = {{1, 0}, {2, 4'000}, {3, 8'000}, {4, 8'500}};
-  const std::vector<CueingSetpointLink> setpoints = {{100, 1}, {101, 1}, {102, 2}, {103, 2}, {104, 4}, {105, 4}};
+  const std::vector<CueingSetpointLink> setpoints = {{100, 1, 1'000}, {101, 1, 2'000}, {102, 2, 4'200},
+                                                     {103, 2, 5'000}, {104, 4, 9'000}, {105, 4, 10'000}};
   // Command 7 answers setpoint 102 late; setpoint 104's command was lost, 105's is 9.
   const std::vector<CommandLink> commands = {{5, 100}, {6, 101}, {7, 102}, {8, 103}, {9, 105}};
   // The bridge wrote command 5 at 1.2 ms, 7 at 5.1 ms (6 skipped), 9 at 10.3 ms.
@@ -27,6 +28,19 @@ TEST(CueingDelay, EachSampleIsTracedToTheFirstDriveWriteOfACommandMadeFromIt) {
   EXPECT_NEAR(d.delays_s[2], 1.8e-3, 1e-12) << "setpoint 104's command lost: 105's, written at 10.3 ms";
   EXPECT_NEAR(d.Percentile(0.5), 1.2e-3, 1e-12);
   EXPECT_NEAR(d.Percentile(1.0), 1.8e-3, 1e-12);
+}
+
+TEST(CueingDelay, ASenderRestartedInTheSameLogIsTracedToItsOwnSetpoints) {
+  // Two sends, each numbering from 1: the second's sample 1 (sent at 50 ms)
+  // to the setpoint logged after it, not the first send's.
+  const std::vector<SentSample> sent = {{1, 0}, {1, 50'000}};
+  const std::vector<CueingSetpointLink> setpoints = {{10, 1, 700}, {60, 1, 50'600}};
+  const std::vector<CommandLink> commands = {{10, 10}, {60, 60}};
+  const std::vector<DriveWrite> writes = {{1'300, 10}, {51'400, 60}};
+  const CueingDelays d = TraceCueingDelays(sent, setpoints, commands, writes);
+  ASSERT_EQ(d.delays_s.size(), 2u);
+  EXPECT_NEAR(d.delays_s[0], 1.3e-3, 1e-12);
+  EXPECT_NEAR(d.delays_s[1], 1.4e-3, 1e-12) << "not -48.7 ms through the first send's setpoint";
 }
 
 TEST(CueingDelay, NothingTracedGivesNoPercentile) {

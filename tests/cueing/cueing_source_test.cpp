@@ -246,7 +246,7 @@ TEST(CueingSourceClock, ACueIsOfTheTimeItIsStampedWithHoweverLateItsCycleWoke) {
     s->Step(0.0);
     s->OnPlannerFollows(true, "");
   }
-  std::mt19937 rng(20261206);
+  std::mt19937 rng(4242);
   std::uniform_real_distribution<double> lateness(0.0, 0.95);
   std::vector<Vector6> on_time_poses{neutral};
   VehiclePacket p;
@@ -292,6 +292,83 @@ TEST(CueingSourceClock, ACueIsOfTheTimeItIsStampedWithHoweverLateItsCycleWoke) {
   EXPECT_GT(skipped, 100) << "cycles woken early after such a one";
   std::printf("%zu cues compared, %d of the tick after their cycle's, %d cycles gave none\n", late_cues.size(), ahead,
               skipped);
+}
+
+// A source engaged on time and braking at a constant input until `until`
+// periods, packets from a host at 1 kHz.
+class BrakingSource {
+ public:
+  BrakingSource()
+      : source_(LoadCueingConfig(SourceDir() + "/config/cueing.toml"),
+                PlatformModel(LoadConfigFile(SourceDir() + "/config/huang2021.toml")).home_pose().ToVector()) {
+    source_.Step(0.0);
+    source_.OnPlannerFollows(true, "");
+  }
+  void Packet(int cycle, CueCommand command = CueCommand::kEngage) {
+    VehiclePacket p;
+    p.command = command;
+    p.specific_force_m_s2.x() = -4.9;
+    p.sequence = static_cast<std::uint32_t>(cycle);
+    p.time_s = cycle * kPeriod_s;
+    ASSERT_FALSE(source_.OnPacket(p, p.time_s).has_value());
+  }
+  CueingStep RunTo(int cycles) {
+    CueingStep last;
+    for (int cycle = 1; cycle <= cycles; ++cycle) {
+      Packet(cycle);
+      last = source_.Step(cycle * kPeriod_s);
+    }
+    return last;
+  }
+  CueingSource& source() { return source_; }
+
+ private:
+  CueingSource source_;
+};
+
+// A stall longer than the catch-up: twenty periods are run, the rest
+// skipped, and the cue is stamped with the wall time it ran at.
+TEST(CueingSourceClock, AStallLongerThanTheCatchUpRunsTwentyPeriodsAndIsStampedWhenItRan) {
+  BrakingSource stalled, reference;
+  stalled.RunTo(2000);
+  reference.RunTo(2000);
+  const CueingStep late = stalled.source().Step(2050.3 * kPeriod_s);
+  const CueingStep twenty = reference.source().Step(2020 * kPeriod_s);
+  ASSERT_TRUE(late.cue && twenty.cue);
+  EXPECT_NEAR(late.time_s, 2050 * kPeriod_s, 1e-9);
+  EXPECT_LT((late.cue->pose - twenty.cue->pose).cwiseAbs().maxCoeff(), 1e-12);
+  const CueingStep next = stalled.source().Step(2051.1 * kPeriod_s);
+  ASSERT_TRUE(next.cue);
+  EXPECT_NEAR(next.time_s, 2051 * kPeriod_s, 1e-9);
+}
+
+// An e-stop word that arrives before a cycle with no period due (woken
+// early after a late one) is answered in that cycle, not the next.
+TEST(CueingSourceClock, AnEStopIsAskedForInACycleWithNoPeriodDue) {
+  BrakingSource braking;
+  braking.RunTo(1500);
+  ASSERT_TRUE(braking.source().Step(1501.6 * kPeriod_s).cue) << "late: the tick after";
+  braking.Packet(1502, CueCommand::kEStop);
+  const CueingStep early = braking.source().Step(1502.05 * kPeriod_s);
+  EXPECT_FALSE(early.cue) << "no period due";
+  ASSERT_TRUE(early.request.has_value());
+  EXPECT_EQ(*early.request, CueRequest::kStop);
+  EXPECT_EQ(braking.source().phase(), CueingPhase::kStopped);
+}
+
+// The wall clock stepped back (NTP): the source's clock follows it and
+// steps on, one period a cycle, instead of going quiet until the wall
+// clock has caught up with it.
+TEST(CueingSourceClock, AWallClockSteppedBackTakesTheSourcesClockWithIt) {
+  BrakingSource braking;
+  braking.RunTo(1500);
+  for (int k = 0; k < 5; ++k) {
+    const double wall = (1500 - 200 + k) * kPeriod_s;
+    braking.Packet(1501 + k);
+    const CueingStep step = braking.source().Step(wall);
+    ASSERT_TRUE(step.cue) << "cycle " << k << " after the step back";
+    EXPECT_NEAR(step.time_s, wall, 0.5 * kPeriod_s + 1e-9);
+  }
 }
 
 }  // namespace

@@ -32,9 +32,9 @@ using namespace test_support;  // sim_group_harness.h
 
 // The planner ends this long after the platform parked (or held after an
 // e-stop). These tests are of the path, not of the holds (the planner's
-// unit tests and the fault groups are): the shared CI host has stalled every
-// process for 100 ms, which ends a cueing (no cue for 20 ms) or latches the
-// bridge, correctly, so here the planner and the nodes wait out such a stall.
+// unit tests and the fault groups are): a stall of the whole host longer
+// than 20 ms ends a cueing, one over 50 ms latches the bridge, correctly,
+// so here the planner and the nodes wait out a stall of up to 250 ms.
 constexpr int kCueStaleMs = kStallTolerantStaleMs;
 const std::string kCueingPlanner = fmt::format(R"("--exit-after-hold-s", "2", "--cue-stale-ms", "{}")", kCueStaleMs);
 constexpr std::int64_t kSession = 78;
@@ -162,11 +162,11 @@ TEST(CueingGroup, ABrakeFromUdpIsWashedOntoThePlatformThenDisengageParksItAtHome
   // overtaken), none sooner than the stack's phases allow: the cueing's
   // tick (800 µs into the millisecond) takes the packet, the planner's (at
   // 1000) the cue, the bridge's (at 1400) writes the command: 600 µs by the
-  // phases, 0.57 ms at least measured (the ticks wake on their clock, the
+  // phases (a little less as stamped: the ticks wake on their clock, the
   // stamps are another's), and never under the bridge's 400 µs behind the
-  // planner, which a trace to a write before the command came would be
-  // (the leg state's own stamp, the reading's instant, gave 0.23 ms at p50).
-  // How long it takes is the benchmark's figure.
+  // planner, which a trace to a write before its command came would be (the
+  // leg state's own stamp, its reading's instant, would give that). How
+  // long it takes is the benchmark's figure.
   constexpr double kShortestChainMs = 0.4;
   const std::string delay_json = run.dir + "/delay.json";
   ASSERT_EQ(std::system(fmt::format("{} delay --log {} --sent {}/sent.csv --json > {}", BuiltProgram("edsp-cueing"),
@@ -177,7 +177,6 @@ TEST(CueingGroup, ABrakeFromUdpIsWashedOntoThePlatformThenDisengageParksItAtHome
   const nlohmann::json delay = nlohmann::json::parse(delay_in);
   EXPECT_GT(delay["samples_traced"].get<double>(), 0.75 * delay["samples_sent"].get<double>()) << delay.dump();
   EXPECT_GE(delay["delay_min_ms"].get<double>(), kShortestChainMs) << delay.dump();
-  EXPECT_GE(delay["delay_max_ms"].get<double>(), delay["delay_p99_ms"].get<double>());
   std::printf("vehicle sample -> drive write: %s\n", delay.dump().c_str());
 }
 

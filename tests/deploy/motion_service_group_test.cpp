@@ -57,8 +57,8 @@ CtlResult Ctl(const std::string& dir, const std::string& args, bool options_firs
 }
 
 // The idle planner ends 6 s after the last motion ends. The script is of the
-// service, not of holding: the nodes wait out a stall of the shared host
-// (one of 100 ms latched the bridge mid-move, a correct hold).
+// service, not of holding: the nodes wait out a stall of the whole host of
+// up to 250 ms (one over 50 ms latches the bridge mid-move, a correct hold).
 constexpr const char* kIdlePlanner = R"("--exit-after-hold-s", "6")";
 
 TEST(MotionServiceGroup, AnOperatorsScriptThroughEdspCtl) {

@@ -57,6 +57,8 @@ WebServerOptions Completed(const NodeOptions& node, bool session_given, WebServe
 
 }  // namespace
 
+// In the order they are built and the reverse of their end: the feeder
+// writes the board, the server reads it and publishes on `requests`.
 struct WebNode::Parts {
   Parts(const NodeOptions& node, WebServerOptions options)
       : feeder(TransportFor(node), &board),

@@ -18,7 +18,8 @@ struct SentSample {
 };
 struct CueingSetpointLink {  // an EDSP_SETPOINT while cueing, in log order
   std::int64_t seq = 0;
-  std::int32_t segment = 0;  // the vehicle packet's sequence it comes from
+  std::int32_t segment = 0;       // the vehicle packet's sequence it comes from
+  std::int64_t logged_utime = 0;  // when the logger received it
 };
 struct CommandLink {  // an EDSP_LEG_COMMAND
   std::int64_t seq = 0;
@@ -41,7 +42,9 @@ struct CueingDelays {
 };
 
 // Each sent sample's delay, in a log of one run of each node (every seq
-// grows): the first setpoint that came from it (a sample
+// grows): the first setpoint that came from it, logged after it was sent
+// (a sender restarted in the same log numbers its packets from 1 again; a
+// log of another run traces nothing) (a sample
 // that a newer one overtook before any cue used it has none, and is not
 // traced), the first command for that setpoint or a later one, the first
 // drive write of that command or a later one.

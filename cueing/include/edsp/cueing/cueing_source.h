@@ -55,7 +55,8 @@ inline constexpr double kFreezeBrake_rad_s2 = 1.0;
 inline constexpr double kHomeTolerance_m = 1e-4;
 inline constexpr double kHomeTolerance_rad = 1e-4;
 inline constexpr double kHomeSpeed = 1e-3;  // m/s and rad/s
-// At most this many washout steps to catch up on cycles the host delayed (20 ms: the planner's stale limit).
+// At most this many washout steps to catch up on cycles the host delayed
+// (20 periods: at the stack's 1 kHz, the planner's default stale limit).
 inline constexpr long kMaxCatchUpSteps = 20;
 // The washout given this long to bring the head home before disengaging anyway.
 inline constexpr double kWashoutTimeout_s = 30.0;
@@ -74,7 +75,8 @@ class CueingSource {
   // One cycle at `now_s`. The source's clock advances in whole periods, so
   // that a cue is of the time it is stamped with: a cycle woken late runs
   // the periods it missed (at most kMaxCatchUpSteps), one woken early after
-  // it runs none and gives nothing.
+  // it runs none and gives nothing but an e-stop's request; a wall clock
+  // stepped back takes the source's clock with it.
   CueingStep Step(double now_s);
 
   CueingPhase phase() const { return phase_; }
@@ -84,6 +86,7 @@ class CueingSource {
 
  private:
   int DueSteps(double now_s);
+  std::optional<CueingStep> EStop(double now_s);
   CueSetpoint Wash(const VehicleSample& input, double gain);
   CueSetpoint Brake();
   CueSetpoint Held() const;
@@ -104,7 +107,8 @@ class CueingSource {
   HeadCue head_;      // the washout's last output
   CueSetpoint last_;  // the cue published last
   std::string why_;
-  double origin_s_ = -1.0;  // the source's clock: origin_s_ + periods_ * period_s_ (origin < 0: no cycle yet)
+  bool clock_started_ = false;  // the source's clock: origin_s_ + periods_ * period_s_, from the first cycle
+  double origin_s_ = 0.0;
   std::int64_t periods_ = 0;
   int steps_ = 1;  // washout (or brake) steps this cycle: the periods its clock advanced
 };
