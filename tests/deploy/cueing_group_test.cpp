@@ -112,7 +112,9 @@ TEST(CueingGroup, ABrakeFromUdpIsWashedOntoThePlatformThenDisengageParksItAtHome
     while (next < cues.size() && cues[next].utime <= s.utime + 1000) ++next;
     const pose_setpoint_t before = std::exchange(previous, s);
     if (s.trajectory != "cueing") continue;
-    bool found = false, logged_all = true;
+    // Every cue up to the first after the setpoint's cycle in the log: none
+    // the logger lost between the last one logged and the setpoint.
+    bool found = false, logged_all = next == 0 || next == cues.size() || cues[next - 1].seq + 1 == cues[next].seq;
     for (std::size_t back = 1; back <= next && !found; ++back) {
       const pose_setpoint_t& c = cues[next - back];
       if (s.utime - c.utime > kCueStaleMs * 1000) break;
