@@ -17,7 +17,7 @@
 //   edsp-cueing live --cueing FILE [--udp ADDRESS:PORT] [--config FILE] [--group FILE] [--session-id N]
 //       the cueing source in a running group (live_command.h).
 //   edsp-cueing send --manoeuvre FILE [--to ADDRESS:PORT] [--rate-hz 250] [--lead-s 5]
-//                    [--after disengage|silence|estop|freeze|engage] [--tail-s 20]
+//                    [--after disengage|silence|estop|freeze|engage] [--tail-s 20] [--sent-log FILE]
 //       a vehicle model's stand-in: the manoeuvre as packets, in real time (send_command.h).
 //   edsp-cueing delay --log RUN.lcmlog --sent SENT.csv [--json]
 //       each sample's delay from its sender to the drives, traced through the log (delay_command.h).
