@@ -136,95 +136,125 @@ int Status(MotionClient& link, const CtlOptions& o, const MotionArgs& a) {
   return kDone;
 }
 
+void PoseOptions(CLI::App* cmd, MotionArgs* a) {
+  cmd->add_option("--pose", a->pose, "X,Y,Z,ROLL,PITCH,YAW (m, rad); --pose=-0.05,... for a leading minus")->required();
+  cmd->add_flag("--relative", a->relative, "an increment of the last target, in the frame, about the pivot");
+  cmd->add_option("--frame", a->frame, "the work frame the pose is given in (base, home, or one defined)");
+  cmd->add_option("--speed-m-s", a->speed_m_s, "the pivot's speed (default and most: [motion] speed_max_m_s)");
+  cmd->add_option("--speed-rad-s", a->speed_rad_s, "the rotation's speed (most: [motion] speed_max_rad_s)");
+  cmd->add_flag("--json", a->json, "print the reply as JSON");
+}
+
+void WaitOptions(CLI::App* cmd, MotionArgs* a) {
+  cmd->add_flag("--no-wait", a->no_wait, "return once accepted");
+  cmd->add_option("--timeout-s", a->wait_timeout_s, "give up waiting for on-target after this (exit 3)");
+}
+
+// The reply alone, never as JSON (the commands that take no --json).
+MotionArgs Quiet(const MotionArgs& a) {
+  MotionArgs quiet = a;
+  quiet.json = false;
+  return quiet;
+}
+
+// One row per command: its name and help, its own options (the common
+// ones are added to each), and what it sends or reads. A new command is a
+// row here.
+struct MotionCommand {
+  const char* name;
+  const char* description;
+  void (*options)(CLI::App* cmd, MotionArgs* a);
+  int (*run)(MotionClient& link, const CtlOptions& o, const MotionArgs& a);
+};
+
+const MotionCommand kMotionCommands[] = {
+    {"move", "move to a pose (waits until on target)",
+     [](CLI::App* cmd, MotionArgs* a) {
+       PoseOptions(cmd, a);
+       WaitOptions(cmd, a);
+     },
+     [](MotionClient& link, const CtlOptions&, const MotionArgs& a) {
+       return Move(link, a, motion_request_t::KIND_MOVE);
+     }},
+    {"check", "check a move whole; nothing moves", PoseOptions,
+     [](MotionClient& link, const CtlOptions&, const MotionArgs& a) {
+       return Move(link, a, motion_request_t::KIND_CHECK);
+     }},
+    {"run", "run named motions or a trajectory CSV (waits until on target)",
+     [](CLI::App* cmd, MotionArgs* a) {
+       cmd->add_option("--motions", a->motions, "Lz,Lx,... M1…M999, calibration");
+       cmd->add_option("--csv", a->csv, "a trajectory CSV (sent whole)");
+       cmd->add_flag("--json", a->json, "print the reply as JSON");
+       WaitOptions(cmd, a);
+     },
+     [](MotionClient& link, const CtlOptions&, const MotionArgs& a) { return RunProgram(link, a); }},
+    {"halt", "decelerate along the path within the acceleration limit, and hold", [](CLI::App*, MotionArgs*) {},
+     [](MotionClient& link, const CtlOptions&, const MotionArgs& a) {
+       return SendAndReport(link, link.Request(motion_request_t::KIND_HALT), Quiet(a), false);
+     }},
+    {"stop", "the shortest stop the legs allow, and hold", [](CLI::App*, MotionArgs*) {},
+     [](MotionClient& link, const CtlOptions&, const MotionArgs& a) {
+       return SendAndReport(link, link.Request(motion_request_t::KIND_STOP), Quiet(a), false);
+     }},
+    {"wait", "wait until on target (0), halted or stopped (4), timed out (3)",
+     [](CLI::App* cmd, MotionArgs* a) { cmd->add_option("--timeout-s", a->wait_timeout_s, "seconds (default 60)"); },
+     [](MotionClient& link, const CtlOptions&, const MotionArgs& a) {
+       return Wait(link, 0, a.wait_timeout_s >= 0.0 ? a.wait_timeout_s : 60.0);
+     }},
+    {"status", "the motion service's state, poses, frame and pivot",
+     [](CLI::App* cmd, MotionArgs* a) { cmd->add_flag("--json", a->json, "as JSON"); }, Status},
+    {"frame", "define a work frame: a pose in {B}",
+     [](CLI::App* cmd, MotionArgs* a) {
+       cmd->add_option("name", a->frame, "its name")->required();
+       cmd->add_option("--pose", a->pose, "X,Y,Z,ROLL,PITCH,YAW of the frame in {B}")->required();
+     },
+     [](MotionClient& link, const CtlOptions&, const MotionArgs& a) {
+       motion_request_t r = link.Request(motion_request_t::KIND_FRAME);
+       r.frame = a.frame;
+       FillPose(a.pose, &r);
+       return SendAndReport(link, r, Quiet(a), false);
+     }},
+    {"pivot", "set the pivot point c in {M} that moves turn about",
+     [](CLI::App* cmd, MotionArgs* a) { cmd->add_option("--point", a->point, "X,Y,Z (m) in {M}")->required(); },
+     [](MotionClient& link, const CtlOptions&, const MotionArgs& a) {
+       motion_request_t r = link.Request(motion_request_t::KIND_PIVOT);
+       const Vector3 c = ParsePointText(a.point);
+       for (int k = 0; k < 3; ++k) r.point[k] = c(k);
+       return SendAndReport(link, r, Quiet(a), false);
+     }},
+    {"limits", "set the moves' default speeds and accelerations (within [motion])",
+     [](CLI::App* cmd, MotionArgs* a) {
+       cmd->add_option("--speed-m-s", a->speed_m_s);
+       cmd->add_option("--speed-rad-s", a->speed_rad_s);
+       cmd->add_option("--accel-m-s2", a->accel_m_s2);
+       cmd->add_option("--accel-rad-s2", a->accel_rad_s2);
+     },
+     [](MotionClient& link, const CtlOptions&, const MotionArgs& a) {
+       motion_request_t r = link.Request(motion_request_t::KIND_LIMITS);
+       r.speed_m_s = a.speed_m_s, r.speed_rad_s = a.speed_rad_s;
+       r.accel_m_s2 = a.accel_m_s2, r.accel_rad_s2 = a.accel_rad_s2;
+       return SendAndReport(link, r, Quiet(a), false);
+     }},
+};
+
 }  // namespace
 
 void AddMotionCommands(CLI::App* app, CtlOptions* o, MotionArgs* a) {
-  const auto common = [o](CLI::App* cmd) { AddCommonOptions(cmd, o); };
-  const auto pose = [a](CLI::App* cmd) {
-    cmd->add_option("--pose", a->pose, "X,Y,Z,ROLL,PITCH,YAW (m, rad); --pose=-0.05,... for a leading minus")
-        ->required();
-    cmd->add_flag("--relative", a->relative, "an increment of the last target, in the frame, about the pivot");
-    cmd->add_option("--frame", a->frame, "the work frame the pose is given in (base, home, or one defined)");
-    cmd->add_option("--speed-m-s", a->speed_m_s, "the pivot's speed (default and most: [motion] speed_max_m_s)");
-    cmd->add_option("--speed-rad-s", a->speed_rad_s, "the rotation's speed (most: [motion] speed_max_rad_s)");
-    cmd->add_flag("--json", a->json, "print the reply as JSON");
-  };
-  const auto waits = [a](CLI::App* cmd) {
-    cmd->add_flag("--no-wait", a->no_wait, "return once accepted");
-    cmd->add_option("--timeout-s", a->wait_timeout_s, "give up waiting for on-target after this (exit 3)");
-  };
-  CLI::App* move = app->add_subcommand("move", "move to a pose (waits until on target)");
-  pose(move), waits(move), common(move);
-  CLI::App* check = app->add_subcommand("check", "check a move whole; nothing moves");
-  pose(check), common(check);
-  CLI::App* run = app->add_subcommand("run", "run named motions or a trajectory CSV (waits until on target)");
-  run->add_option("--motions", a->motions, "Lz,Lx,... M1…M999, calibration");
-  run->add_option("--csv", a->csv, "a trajectory CSV (sent whole)");
-  run->add_flag("--json", a->json, "print the reply as JSON");
-  waits(run), common(run);
-  common(app->add_subcommand("halt", "decelerate along the path within the acceleration limit, and hold"));
-  common(app->add_subcommand("stop", "the shortest stop the legs allow, and hold"));
-  CLI::App* wait = app->add_subcommand("wait", "wait until on target (0), halted or stopped (4), timed out (3)");
-  wait->add_option("--timeout-s", a->wait_timeout_s, "seconds (default 60)");
-  common(wait);
-  CLI::App* status = app->add_subcommand("status", "the motion service's state, poses, frame and pivot");
-  status->add_flag("--json", a->json, "as JSON");
-  common(status);
-  CLI::App* frame = app->add_subcommand("frame", "define a work frame: a pose in {B}");
-  frame->add_option("name", a->frame, "its name")->required();
-  frame->add_option("--pose", a->pose, "X,Y,Z,ROLL,PITCH,YAW of the frame in {B}")->required();
-  common(frame);
-  CLI::App* pivot = app->add_subcommand("pivot", "set the pivot point c in {M} that moves turn about");
-  pivot->add_option("--point", a->point, "X,Y,Z (m) in {M}")->required();
-  common(pivot);
-  CLI::App* limits = app->add_subcommand("limits", "set the moves' default speeds and accelerations (within [motion])");
-  limits->add_option("--speed-m-s", a->speed_m_s);
-  limits->add_option("--speed-rad-s", a->speed_rad_s);
-  limits->add_option("--accel-m-s2", a->accel_m_s2);
-  limits->add_option("--accel-rad-s2", a->accel_rad_s2);
-  common(limits);
+  for (const MotionCommand& command : kMotionCommands) {
+    CLI::App* cmd = app->add_subcommand(command.name, command.description);
+    command.options(cmd, a);
+    AddCommonOptions(cmd, o);
+  }
 }
 
 bool RunMotionCommand(const CLI::App& app, const CtlOptions& o, const MotionArgs& a, int* exit_code) {
-  const auto given = [&](const char* name) { return app.got_subcommand(name); };
-  const char* kCommands[] = {"move", "check", "run", "halt", "stop", "wait", "status", "frame", "pivot", "limits"};
-  bool any = false;
-  for (const char* c : kCommands) any = any || given(c);
-  if (!any) return false;
-  MotionClient link(Transport(o), GivenSession(o), o.timeout_s, OperatorName(o));
-  MotionArgs quiet = a;
-  quiet.json = false;
-  if (given("move"))
-    *exit_code = Move(link, a, motion_request_t::KIND_MOVE);
-  else if (given("check"))
-    *exit_code = Move(link, a, motion_request_t::KIND_CHECK);
-  else if (given("run"))
-    *exit_code = RunProgram(link, a);
-  else if (given("halt"))
-    *exit_code = SendAndReport(link, link.Request(motion_request_t::KIND_HALT), quiet, false);
-  else if (given("stop"))
-    *exit_code = SendAndReport(link, link.Request(motion_request_t::KIND_STOP), quiet, false);
-  else if (given("wait"))
-    *exit_code = Wait(link, 0, a.wait_timeout_s >= 0.0 ? a.wait_timeout_s : 60.0);
-  else if (given("status"))
-    *exit_code = Status(link, o, a);
-  else if (given("frame")) {
-    motion_request_t r = link.Request(motion_request_t::KIND_FRAME);
-    r.frame = a.frame;
-    FillPose(a.pose, &r);
-    *exit_code = SendAndReport(link, r, quiet, false);
-  } else if (given("pivot")) {
-    motion_request_t r = link.Request(motion_request_t::KIND_PIVOT);
-    const Vector3 c = ParsePointText(a.point);
-    for (int k = 0; k < 3; ++k) r.point[k] = c(k);
-    *exit_code = SendAndReport(link, r, quiet, false);
-  } else {
-    motion_request_t r = link.Request(motion_request_t::KIND_LIMITS);
-    r.speed_m_s = a.speed_m_s, r.speed_rad_s = a.speed_rad_s;
-    r.accel_m_s2 = a.accel_m_s2, r.accel_rad_s2 = a.accel_rad_s2;
-    *exit_code = SendAndReport(link, r, quiet, false);
+  for (const MotionCommand& command : kMotionCommands) {
+    if (!app.got_subcommand(command.name)) continue;
+    MotionClient link(Transport(o), GivenSession(o), o.timeout_s, OperatorName(o));
+    *exit_code = command.run(link, o, a);
+    return true;
   }
-  return true;
+  return false;
 }
 
 }  // namespace edsp::ctl

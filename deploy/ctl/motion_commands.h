@@ -20,7 +20,8 @@ struct MotionArgs {
 };
 
 // Adds move, check, run, halt, stop, wait, status, frame, pivot and limits
-// to `app`; RunMotionCommand runs whichever was given (false: none was).
+// to `app` (one table, motion_commands.cpp's kMotionCommands);
+// RunMotionCommand runs whichever was given (false: none was).
 void AddMotionCommands(CLI::App* app, CtlOptions* options, MotionArgs* args);
 bool RunMotionCommand(const CLI::App& app, const CtlOptions& options, const MotionArgs& args, int* exit_code);
 

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include <fmt/format.h>
+#include <toml++/toml.h>
 
 namespace edsp {
 
@@ -20,101 +21,115 @@ toml::array ArrayOf(const std::vector<T>& values) {
 
 }  // namespace
 
-GroupFileEditor::GroupFileEditor(std::string origin, toml::table root)
-    : origin_(std::move(origin)), root_(std::move(root)) {}
+struct GroupFileEditor::Document {
+  std::string origin;  // the file loaded, for errors
+  toml::table root;
+
+  toml::table& Section(const std::string& name) {
+    if (!root.contains(name)) root.insert(name, toml::table{});
+    toml::table* section = root[name].as_table();
+    if (section == nullptr) throw std::invalid_argument(origin + ": [" + name + "] is not a table");
+    return *section;
+  }
+
+  toml::array& Members() {
+    toml::array* members = root["member"].as_array();
+    if (members == nullptr) throw std::invalid_argument(origin + ": no [[member]] entries");
+    return *members;
+  }
+
+  std::size_t MemberIndex(const std::string& member) const {
+    if (const toml::array* members = root["member"].as_array()) {
+      for (std::size_t i = 0; i < members->size(); ++i) {
+        const toml::table* t = (*members)[i].as_table();
+        if (t != nullptr && t->get("name") != nullptr && t->get("name")->value_or(std::string()) == member) return i;
+      }
+    }
+    throw std::invalid_argument(origin + ": no member \"" + member + "\"");
+  }
+
+  toml::table& Member(const std::string& member) { return *Members()[MemberIndex(member)].as_table(); }
+
+  toml::array& ArgsOf(const std::string& member) {
+    toml::table& m = Member(member);
+    if (!m.contains("args")) m.insert("args", toml::array{});
+    toml::array* args = m["args"].as_array();
+    if (args == nullptr) throw std::invalid_argument(origin + ": member \"" + member + "\" args is not a list");
+    return *args;
+  }
+};
+
+GroupFileEditor::GroupFileEditor(std::unique_ptr<Document> document) : document_(std::move(document)) {}
+GroupFileEditor::GroupFileEditor(const GroupFileEditor& other)
+    : document_(std::make_unique<Document>(*other.document_)) {}
+GroupFileEditor& GroupFileEditor::operator=(const GroupFileEditor& other) {
+  if (this != &other) document_ = std::make_unique<Document>(*other.document_);
+  return *this;
+}
+GroupFileEditor::GroupFileEditor(GroupFileEditor&&) noexcept = default;
+GroupFileEditor& GroupFileEditor::operator=(GroupFileEditor&&) noexcept = default;
+GroupFileEditor::~GroupFileEditor() = default;
 
 GroupFileEditor GroupFileEditor::Load(const std::string& path) {
   try {
-    return GroupFileEditor(path, toml::parse_file(path));
+    return GroupFileEditor(std::make_unique<Document>(Document{path, toml::parse_file(path)}));
   } catch (const toml::parse_error& e) {
     throw std::runtime_error(
         fmt::format("{}:{}:{}: {}", path, e.source().begin.line, e.source().begin.column, e.description()));
   }
 }
 
-toml::table& GroupFileEditor::Section(const std::string& name) {
-  if (!root_.contains(name)) root_.insert(name, toml::table{});
-  toml::table* section = root_[name].as_table();
-  if (section == nullptr) throw std::invalid_argument(origin_ + ": [" + name + "] is not a table");
-  return *section;
-}
-
 GroupFileEditor& GroupFileEditor::SetGroup(const std::string& key, const std::string& value) {
-  Section("group").insert_or_assign(key, value);
+  document_->Section("group").insert_or_assign(key, value);
   return *this;
 }
 
 GroupFileEditor& GroupFileEditor::SetGroup(const std::string& key, std::int64_t value) {
-  Section("group").insert_or_assign(key, value);
+  document_->Section("group").insert_or_assign(key, value);
   return *this;
 }
 
 GroupFileEditor& GroupFileEditor::SetTransport(const std::string& key, const std::string& value) {
-  Section("transport").insert_or_assign(key, value);
+  document_->Section("transport").insert_or_assign(key, value);
   return *this;
 }
 
 GroupFileEditor& GroupFileEditor::SetChannel(const std::string& channel, const std::string& key,
                                              const std::string& value) {
-  toml::table& transport = Section("transport");
+  toml::table& transport = document_->Section("transport");
   if (!transport.contains("channels")) transport.insert("channels", toml::table{});
   toml::table* channels = transport["channels"].as_table();
-  if (channels == nullptr) throw std::invalid_argument(origin_ + ": [transport.channels] is not a table");
+  if (channels == nullptr) throw std::invalid_argument(document_->origin + ": [transport.channels] is not a table");
   if (!channels->contains(channel)) channels->insert(channel, toml::table{});
   toml::table* route = channels->get_as<toml::table>(channel);
-  if (route == nullptr) throw std::invalid_argument(origin_ + ": [transport.channels." + channel + "] is not a table");
+  if (route == nullptr)
+    throw std::invalid_argument(document_->origin + ": [transport.channels." + channel + "] is not a table");
   route->insert_or_assign(key, value);
   return *this;
 }
 
 GroupFileEditor& GroupFileEditor::SetChannel(const std::string& channel, const std::string& key, std::int64_t value) {
   SetChannel(channel, key, std::string());  // makes and checks the tables
-  Section("transport")["channels"][channel].as_table()->insert_or_assign(key, value);
+  document_->Section("transport")["channels"][channel].as_table()->insert_or_assign(key, value);
   return *this;
 }
 
 GroupFileEditor& GroupFileEditor::SetHost(const std::string& host, const std::string& interface) {
-  toml::table& hosts = Section("hosts");
+  toml::table& hosts = document_->Section("hosts");
   if (!hosts.contains(host)) hosts.insert(host, toml::table{});
   toml::table* section = hosts.get_as<toml::table>(host);
-  if (section == nullptr) throw std::invalid_argument(origin_ + ": [hosts." + host + "] is not a table");
+  if (section == nullptr) throw std::invalid_argument(document_->origin + ": [hosts." + host + "] is not a table");
   section->insert_or_assign("interface", interface);
   return *this;
 }
 
 GroupFileEditor& GroupFileEditor::RemoveHosts() {
-  root_.erase("hosts");
+  document_->root.erase("hosts");
   return *this;
 }
 
-toml::array& GroupFileEditor::Members() {
-  toml::array* members = root_["member"].as_array();
-  if (members == nullptr) throw std::invalid_argument(origin_ + ": no [[member]] entries");
-  return *members;
-}
-
-std::size_t GroupFileEditor::MemberIndex(const std::string& member) const {
-  if (const toml::array* members = root_["member"].as_array()) {
-    for (std::size_t i = 0; i < members->size(); ++i) {
-      const toml::table* t = (*members)[i].as_table();
-      if (t != nullptr && t->get("name") != nullptr && t->get("name")->value_or(std::string()) == member) return i;
-    }
-  }
-  throw std::invalid_argument(origin_ + ": no member \"" + member + "\"");
-}
-
-toml::table& GroupFileEditor::Member(const std::string& member) { return *Members()[MemberIndex(member)].as_table(); }
-
-toml::array& GroupFileEditor::ArgsOf(const std::string& member) {
-  toml::table& m = Member(member);
-  if (!m.contains("args")) m.insert("args", toml::array{});
-  toml::array* args = m["args"].as_array();
-  if (args == nullptr) throw std::invalid_argument(origin_ + ": member \"" + member + "\" args is not a list");
-  return *args;
-}
-
 GroupFileEditor& GroupFileEditor::SetArg(const std::string& member, const std::string& flag, const std::string& value) {
-  toml::array& args = ArgsOf(member);
+  toml::array& args = document_->ArgsOf(member);
   for (std::size_t i = 0; i < args.size(); ++i) {
     if (args[i].value_or(std::string()) != flag) continue;
     if (i + 1 < args.size()) {
@@ -130,7 +145,7 @@ GroupFileEditor& GroupFileEditor::SetArg(const std::string& member, const std::s
 }
 
 GroupFileEditor& GroupFileEditor::RemoveArg(const std::string& member, const std::string& flag) {
-  toml::array& args = ArgsOf(member);
+  toml::array& args = document_->ArgsOf(member);
   for (std::size_t i = 0; i < args.size(); ++i) {
     if (args[i].value_or(std::string()) != flag) continue;
     const auto at = args.cbegin() + static_cast<std::ptrdiff_t>(i);
@@ -141,24 +156,24 @@ GroupFileEditor& GroupFileEditor::RemoveArg(const std::string& member, const std
 }
 
 GroupFileEditor& GroupFileEditor::AppendArgs(const std::string& member, const std::vector<std::string>& more) {
-  toml::array& args = ArgsOf(member);
+  toml::array& args = document_->ArgsOf(member);
   for (const std::string& a : more) args.push_back(a);
   return *this;
 }
 
 GroupFileEditor& GroupFileEditor::ReplaceArgs(const std::string& member, const std::vector<std::string>& args) {
-  Member(member).insert_or_assign("args", ArrayOf(args));
+  document_->Member(member).insert_or_assign("args", ArrayOf(args));
   return *this;
 }
 
 GroupFileEditor& GroupFileEditor::SetMember(const std::string& member, const std::string& key,
                                             const std::string& value) {
-  Member(member).insert_or_assign(key, value);
+  document_->Member(member).insert_or_assign(key, value);
   return *this;
 }
 
 GroupFileEditor& GroupFileEditor::SetMember(const std::string& member, const std::string& key, std::int64_t value) {
-  Member(member).insert_or_assign(key, value);
+  document_->Member(member).insert_or_assign(key, value);
   return *this;
 }
 
@@ -166,9 +181,9 @@ template <typename T>
 GroupFileEditor& GroupFileEditor::SetList(const std::string& member, const std::string& key,
                                           const std::vector<T>& values) {
   if (values.empty()) {
-    Member(member).erase(key);
+    document_->Member(member).erase(key);
   } else {
-    Member(member).insert_or_assign(key, ArrayOf(values));
+    document_->Member(member).insert_or_assign(key, ArrayOf(values));
   }
   return *this;
 }
@@ -185,26 +200,26 @@ GroupFileEditor& GroupFileEditor::SetMemberList(const std::string& member, const
 
 GroupFileEditor& GroupFileEditor::InsertMember(const std::string& after, const std::string& name,
                                                const std::string& command, const std::vector<std::string>& args) {
-  const std::size_t at = MemberIndex(after) + 1;
+  const std::size_t at = document_->MemberIndex(after) + 1;
   toml::table member;
   member.insert("name", name);
   member.insert("command", command);
   member.insert("args", ArrayOf(args));
-  toml::array& members = Members();
+  toml::array& members = document_->Members();
   members.insert(members.cbegin() + static_cast<std::ptrdiff_t>(at), std::move(member));
   return *this;
 }
 
 GroupFileEditor& GroupFileEditor::RemoveMember(const std::string& member) {
-  toml::array& members = Members();
-  members.erase(members.cbegin() + static_cast<std::ptrdiff_t>(MemberIndex(member)));
+  toml::array& members = document_->Members();
+  members.erase(members.cbegin() + static_cast<std::ptrdiff_t>(document_->MemberIndex(member)));
   return *this;
 }
 
 std::vector<std::string> GroupFileEditor::Args(const std::string& member) const {
   std::vector<std::string> out;
-  const std::size_t index = MemberIndex(member);  // throws unless the member is there
-  const toml::table* m = root_["member"][index].as_table();
+  const std::size_t index = document_->MemberIndex(member);  // throws unless the member is there
+  const toml::table* m = document_->root["member"][index].as_table();
   if (const toml::array* args = m != nullptr ? m->get_as<toml::array>("args") : nullptr) {
     for (const toml::node& a : *args) out.push_back(a.value_or(std::string()));
   }
@@ -213,7 +228,7 @@ std::vector<std::string> GroupFileEditor::Args(const std::string& member) const 
 
 std::string GroupFileEditor::Text() const {
   std::ostringstream out;
-  out << "# from " << origin_ << " (GroupFileEditor)\n" << root_ << "\n";
+  out << "# from " << document_->origin << " (GroupFileEditor)\n" << document_->root << "\n";
   return out.str();
 }
 

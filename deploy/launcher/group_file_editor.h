@@ -12,10 +12,9 @@
 //       .Write(dir + "/group.toml");
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
-
-#include <toml++/toml.h>
 
 #include "group_file.h"
 
@@ -25,6 +24,12 @@ class GroupFileEditor {
  public:
   // Throws std::runtime_error naming the file (unreadable, not TOML).
   static GroupFileEditor Load(const std::string& path);
+  // Copies are independent documents: a group edited two ways from one load.
+  GroupFileEditor(const GroupFileEditor& other);
+  GroupFileEditor& operator=(const GroupFileEditor& other);
+  GroupFileEditor(GroupFileEditor&&) noexcept;
+  GroupFileEditor& operator=(GroupFileEditor&&) noexcept;
+  ~GroupFileEditor();
 
   // [group] keys (name, config, session_id) and [transport] keys (lcm_url,
   // shm_prefix, ...); [transport.channels.CHANNEL] keys (path, writer, ...).
@@ -68,17 +73,13 @@ class GroupFileEditor {
   GroupSpec Write(const std::string& path) const;
 
  private:
-  GroupFileEditor(std::string origin, toml::table root);
-  toml::table& Section(const std::string& name);
-  toml::array& Members();
-  std::size_t MemberIndex(const std::string& member) const;
-  toml::table& Member(const std::string& member);
-  toml::array& ArgsOf(const std::string& member);
+  // The file as parsed, and the edits on it: toml++ stays in the .cpp.
+  struct Document;
+  explicit GroupFileEditor(std::unique_ptr<Document> document);
   template <typename T>
   GroupFileEditor& SetList(const std::string& member, const std::string& key, const std::vector<T>& values);
 
-  std::string origin_;  // the file loaded, for errors
-  toml::table root_;
+  std::unique_ptr<Document> document_;
 };
 
 // The strings of a TOML array's items written out (`"--motions", "Lz"`),

@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-#include "edsp/channels.h"
 #include "edsp/node/fault.h"
 
 namespace edsp {
@@ -16,24 +15,19 @@ TransportConfig LcmOnly(const GroupSpec& group) {
 }  // namespace
 
 GroupReport::GroupReport(const GroupSpec& group, const std::string& host)
-    : node_(host.empty() ? "launcher" : "launcher@" + host),
-      bus_(LcmOnly(group)),
-      faults_(bus_.Advertise<fault_t>(channel::kFault)),
-      status_out_(bus_.Advertise<node_status_t>(channel::kStatus)),
-      status_(node_) {
-  status_.SetState(node_status_t::STATE_RUNNING);
-}
+    : node_(host.empty() ? "launcher" : "launcher@" + host), bus_(LcmOnly(group)), reporting_(bus_, node_) {}
 
+// Each member's fault is its own event: two members dying in one instant are
+// two faults, never one held back behind the other.
 void GroupReport::Fault(const std::string& member, std::int8_t severity, const std::string& reason) {
-  faults_.Publish(
+  reporting_.Announce(
       MakeFault(node_, "", FaultCode::kProcess, severity, fmt::format("member {}: {}", member, reason), UtimeNow()));
-  status_.CountOut();
+  reporting_.status().CountOut();
 }
 
 void GroupReport::Tick(bool healthy) {
-  status_.SetState(healthy ? node_status_t::STATE_RUNNING : node_status_t::STATE_FAULT);
-  const std::int64_t now = UtimeNow();
-  if (status_.Due(now)) status_out_.Publish(status_.Report(now, 0));
+  reporting_.status().SetState(healthy ? node_status_t::STATE_RUNNING : node_status_t::STATE_FAULT);
+  reporting_.StatusTick(UtimeNow(), 0);
 }
 
 }  // namespace edsp

@@ -7,9 +7,7 @@
 #include <cstdint>
 #include <string>
 
-#include "edsp/fault_t.hpp"
-#include "edsp/node/runtime.h"
-#include "edsp/node_status_t.hpp"
+#include "edsp/node/node_reporting.h"
 #include "edsp/transport/bus.h"
 #include "group_file.h"
 
@@ -27,14 +25,12 @@ class GroupReport {
   // The time from one watch step's start to the next's (10 ms when on
   // time): EDSP_STATUS's loop_*_us for the launcher, so a report that came
   // late says how late the launcher itself ran.
-  void RecordStepInterval(std::chrono::nanoseconds interval) { status_.RecordLoop(interval); }
+  void RecordStepInterval(std::chrono::nanoseconds interval) { reporting_.status().RecordLoop(interval); }
 
  private:
   std::string node_;
   Bus bus_;
-  Bus::Publisher<fault_t> faults_;
-  Bus::Publisher<node_status_t> status_out_;
-  NodeStatus status_;
+  NodeReporting reporting_;
 };
 
 }  // namespace edsp

@@ -16,8 +16,14 @@ NodeReporting::NodeReporting(Bus& bus, const std::string& node)
 void NodeReporting::Fault(fault_t fault) {
   // Info is a transition (re-armed, rejoined, answering again): rare by
   // construction, and one held back behind a refusal would be lost.
-  if (fault.severity == fault_t::SEVERITY_INFO || throttle_.Admit(&fault)) faults_.Publish(fault);
+  if (fault.severity == fault_t::SEVERITY_INFO) {
+    Announce(fault);
+  } else if (throttle_.Admit(&fault)) {
+    faults_.Publish(fault);
+  }
 }
+
+void NodeReporting::Announce(const fault_t& fault) { faults_.Publish(fault); }
 
 void NodeReporting::StatusTick(std::int64_t now_utime, std::int64_t deadline_misses) {
   if (status_.Due(now_utime)) status_out_.Publish(status_.Report(now_utime, deadline_misses));

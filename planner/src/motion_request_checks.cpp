@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "edsp/kinematics/pose.h"
+#include "edsp/request_kinds.h"
 
 namespace edsp {
 
@@ -37,19 +38,8 @@ std::string TakeLimit(double asked, double most, const char* field, const char* 
 }  // namespace
 
 std::string RequestKindName(std::int8_t kind) {
-  switch (kind) {
-    case motion_request_t::KIND_MOVE: return "move";
-    case motion_request_t::KIND_CHECK: return "check";
-    case motion_request_t::KIND_RUN: return "run";
-    case motion_request_t::KIND_HALT: return "halt";
-    case motion_request_t::KIND_STOP: return "stop";
-    case motion_request_t::KIND_FRAME: return "frame";
-    case motion_request_t::KIND_PIVOT: return "pivot";
-    case motion_request_t::KIND_LIMITS: return "limits";
-    case motion_request_t::KIND_ENGAGE: return "engage";
-    case motion_request_t::KIND_DISENGAGE: return "disengage";
-  }
-  return fmt::format("kind {}", kind);
+  const RequestKindRow* row = FindRequestKind(kind);
+  return row != nullptr ? std::string(row->name) : fmt::format("kind {}", kind);
 }
 
 std::string PoseText(const Vector6& q) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <stdexcept>
 #include <utility>
 
@@ -11,6 +12,7 @@
 #include "edsp/planner/csv_trajectory.h"
 #include "edsp/planner/motion_request_checks.h"
 #include "edsp/planner/planner.h"
+#include "edsp/request_kinds.h"
 #include "edsp/timing_contract.h"
 
 namespace edsp {
@@ -53,9 +55,8 @@ void MotionService::StartProgram(std::unique_ptr<TrajectorySequence> program, co
 }
 
 bool MotionService::IsQuick(const motion_request_t& r) {
-  return r.kind != motion_request_t::KIND_MOVE && r.kind != motion_request_t::KIND_CHECK &&
-         r.kind != motion_request_t::KIND_RUN && r.kind != motion_request_t::KIND_ENGAGE &&
-         r.kind != motion_request_t::KIND_DISENGAGE;
+  const RequestKindRow* row = FindRequestKind(r.kind);
+  return row == nullptr || !row->plans_path;  // an unknown kind is refused at once
 }
 
 motion_reply_t MotionService::Handle(const motion_request_t& r, std::int64_t now_utime) {
@@ -70,6 +71,7 @@ motion_reply_t MotionService::Handle(const motion_request_t& r, std::int64_t now
   return answer.reply;
 }
 
+// What each kind does: a kind's row in request_kinds.h and its case here.
 motion_reply_t MotionService::Act(const motion_request_t& r, std::int64_t now_utime, Lock& lock) {
   switch (r.kind) {
     case motion_request_t::KIND_MOVE: return Move(r, false, now_utime, lock);
@@ -83,7 +85,11 @@ motion_reply_t MotionService::Act(const motion_request_t& r, std::int64_t now_ut
     case motion_request_t::KIND_ENGAGE: return Engage(r, now_utime, lock);
     case motion_request_t::KIND_DISENGAGE: return Disengage(r, now_utime, lock);
   }
-  return Reply(r, ReplyCode::kInvalid, fmt::format("unknown request kind {} (1 move … 10 disengage)", r.kind));
+  const RequestKindRow& first = kRequestKinds[0];
+  const RequestKindRow& last = kRequestKinds[std::size(kRequestKinds) - 1];
+  return Reply(
+      r, ReplyCode::kInvalid,
+      fmt::format("unknown request kind {} ({} {} … {} {})", r.kind, first.kind, first.name, last.kind, last.name));
 }
 
 motion_reply_t MotionService::Reply(const motion_request_t& r, ReplyCode code, std::string reason, double duration_s,

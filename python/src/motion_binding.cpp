@@ -4,6 +4,7 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <mutex>
 #include <optional>
@@ -22,6 +23,7 @@
 #include "edsp/planner/motion_client.h"
 #include "edsp/pr_mode_t.hpp"
 #include "edsp/reply_codes.h"
+#include "edsp/request_kinds.h"
 
 namespace edsp::python {
 
@@ -233,16 +235,12 @@ void BindMotion(py::module_& m) {
       .def("arm", &Client::Arm)
       .def("pr_mode", &Client::SetPrMode)
       .def("calibration", &Client::Calibration);
-  m.attr("KIND_MOVE") = motion_request_t::KIND_MOVE;
-  m.attr("KIND_CHECK") = motion_request_t::KIND_CHECK;
-  m.attr("KIND_RUN") = motion_request_t::KIND_RUN;
-  m.attr("KIND_HALT") = motion_request_t::KIND_HALT;
-  m.attr("KIND_STOP") = motion_request_t::KIND_STOP;
-  m.attr("KIND_FRAME") = motion_request_t::KIND_FRAME;
-  m.attr("KIND_PIVOT") = motion_request_t::KIND_PIVOT;
-  m.attr("KIND_LIMITS") = motion_request_t::KIND_LIMITS;
-  m.attr("KIND_ENGAGE") = motion_request_t::KIND_ENGAGE;
-  m.attr("KIND_DISENGAGE") = motion_request_t::KIND_DISENGAGE;
+  // KIND_MOVE, KIND_CHECK, …: one per row of request_kinds.h.
+  for (const RequestKindRow& row : kRequestKinds) {
+    std::string name = "KIND_" + std::string(row.name);
+    std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return std::toupper(c); });
+    m.attr(name.c_str()) = row.kind;
+  }
   py::enum_<WaitOutcome>(m, "WaitOutcome", "How a wait for a motion ended (planner/motion_client.h).")
       .value("ON_TARGET", WaitOutcome::kOnTarget)
       .value("HALTED_OR_STOPPED", WaitOutcome::kHaltedOrStopped)

@@ -4,9 +4,12 @@
 
 #include <cmath>
 #include <limits>
+#include <set>
 #include <string>
+#include <string_view>
 
 #include "edsp/planner/motion_request_checks.h"
+#include "edsp/request_kinds.h"
 
 namespace edsp {
 namespace {
@@ -100,7 +103,23 @@ TEST(MotionRequestChecks, LimitsAreTakenWithinTheConfigsAndZeroKeepsTheCurrent) 
 TEST(MotionRequestChecks, EveryKindHasItsNameAndAnUnknownOneItsNumber) {
   EXPECT_EQ(RequestKindName(motion_request_t::KIND_MOVE), "move");
   EXPECT_EQ(RequestKindName(motion_request_t::KIND_LIMITS), "limits");
+  EXPECT_EQ(RequestKindName(motion_request_t::KIND_DISENGAGE), "disengage");
   EXPECT_EQ(RequestKindName(42), "kind 42");
+}
+
+// One row per kind: a number or a name twice would make a client send one
+// kind for another.
+TEST(RequestKinds, EachKindAndEachNameIsInTheTableOnceAndFoundBothWays) {
+  std::set<int> kinds;
+  std::set<std::string> names;
+  for (const RequestKindRow& row : kRequestKinds) {
+    EXPECT_TRUE(kinds.insert(row.kind).second) << "kind " << int(row.kind) << " twice";
+    EXPECT_TRUE(names.insert(std::string(row.name)).second) << row.name << " twice";
+    EXPECT_EQ(FindRequestKind(row.kind), &row);
+    EXPECT_EQ(FindRequestKind(row.name), &row);
+  }
+  EXPECT_EQ(FindRequestKind(std::int8_t{0}), nullptr);
+  EXPECT_EQ(FindRequestKind(std::string_view("jump")), nullptr);
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 
 #include "edsp/kinematics/config.h"
 #include "edsp/kinematics/workspace.h"
+#include "edsp/request_kinds.h"
 #include "motion_requests.h"        // tests/support
 #include "served_motion_service.h"  // tests/support
 #include "sanitized_build.h"        // tests/support
@@ -30,6 +31,23 @@ using test_support::Vec;
 void ExpectRefused(const motion_reply_t& reply, const std::string& names) {
   EXPECT_FALSE(reply.accepted);
   EXPECT_NE(reply.reason.find(names), std::string::npos) << reply.reason;
+}
+
+// Every kind of request_kinds.h is acted on (none answered as unknown),
+// planned beside the cycle exactly when its row says it plans a path, and a
+// kind no row has is refused by number.
+TEST(MotionService, EveryKindInTheTableIsActedOnAndPlannedWhereItsRowSays) {
+  for (const RequestKindRow& row : kRequestKinds) {
+    Served s;
+    const motion_reply_t reply = s.Ask(s.requests_.Make(row.kind, s.now_));
+    EXPECT_EQ(reply.reason.find("unknown request kind"), std::string::npos) << row.name << ": " << reply.reason;
+    EXPECT_EQ(reply.kind, row.kind);
+    EXPECT_EQ(MotionService::IsQuick(s.requests_.Make(row.kind, s.now_)), !row.plans_path) << row.name;
+  }
+  Served s;
+  const motion_reply_t unknown = s.Ask(s.requests_.Make(42, s.now_));
+  ExpectRefused(unknown, "unknown request kind 42 (1 move … 10 disengage)");
+  EXPECT_TRUE(MotionService::IsQuick(s.requests_.Make(42, s.now_)));
 }
 
 TEST(MotionService, BadRequestsAreRefusedByNameAndMoveNothing) {

@@ -9,12 +9,31 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
+#include "edsp/channels.h"
 #include "edsp/fault_t.hpp"
+#include "edsp/message_types.h"
 #include "edsp/logger/log_reader.h"
 #include "edsp/node/fault.h"
 
 namespace edsp::test_support {
+
+// Whether `data` decodes whole as the type `channel` carries (channels.h):
+// a foreign or truncated packet someone else sent on it is no cycle of its
+// publisher's, and its seq must not break the publisher's pairs.
+inline bool DecodesAsItsChannelsType(const std::string& channel, const std::vector<std::uint8_t>& data) {
+  const channel::Channel* row = channel::Find(channel);
+  if (row == nullptr) return true;  // not edsp's: taken as it parses
+  bool decodes = false;
+  ForEachMessageType([&](auto tag) {
+    using Msg = typename decltype(tag)::type;
+    if (Msg::getTypeName() != row->type) return;
+    Msg message;
+    decodes = message.decode(data.data(), 0, static_cast<int>(data.size())) == static_cast<int>(data.size());
+  });
+  return decodes;
+}
 
 // The largest time beyond `period_us` between two messages of `channel`
 // with consecutive seq (a late cycle, not a lost packet), on the
@@ -22,6 +41,8 @@ namespace edsp::test_support {
 // overlap [skip_from, skip_to] (a fault the test caused there) and, when
 // given, pairs outside [within_from, within_to] (the time around a fault:
 // a stall at start-up says nothing about the machine when the fault came).
+// Only messages that decode whole as the channel's type count (a flood of
+// foreign packets on it would otherwise hide a stall between them).
 inline std::int64_t LargestLateCycleUs(const std::string& log_path, const std::string& channel, std::int64_t period_us,
                                        std::int64_t skip_from = 0, std::int64_t skip_to = -1,
                                        std::int64_t within_from = 0, std::int64_t within_to = INT64_MAX) {
@@ -32,6 +53,7 @@ inline std::int64_t LargestLateCycleUs(const std::string& log_path, const std::s
   std::int64_t late = 0;
   while (reader.Next(&event)) {
     if (event.channel != channel || !ParseEdspHeader(event.data, &header)) continue;
+    if (!DecodesAsItsChannelsType(channel, event.data)) continue;
     const bool overlaps = header.utime >= skip_from && previous.utime <= skip_to;
     const bool within = previous.utime >= within_from && header.utime <= within_to;
     if (have_previous && header.seq == previous.seq + 1 && !overlaps && within) {

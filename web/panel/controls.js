@@ -14,7 +14,7 @@ const controls = (() => {
     { id: 1, topic: "EDSP_MOTION_REQUEST", schemaName: "edsp.motion_request_t" },
     { id: 2, topic: "EDSP_ARM", schemaName: "edsp.arm_t" },
   ];
-  const KIND = { move: 1, check: 2, halt: 4, stop: 5 };
+  let KIND = {};  // the request kinds by name, from the server (serverInfo's metadata.request_kinds)
   const CHECK_AFTER_EDIT_MS = 400;
   const MM = 1e-3, DEG = Math.PI / 180;
   const POSE_UNITS = [MM, MM, MM, DEG, DEG, DEG];
@@ -108,6 +108,7 @@ const controls = (() => {
     // serverInfo: operators may publish; a viewer's panel shows no live controls.
     attach(ws, info) {
       socket = ws;
+      KIND = JSON.parse((info.metadata || {}).request_kinds || "{}");
       const mayPublish = (info.capabilities || []).includes("clientPublish");
       setEnabled(mayPublish, mayPublish ? "operator (Esc halts, Shift+Esc stops)" : "viewer: read-only");
       if (mayPublish) {

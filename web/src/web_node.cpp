@@ -4,8 +4,11 @@
 #include <utility>
 #include <variant>
 
+#include <nlohmann/json.hpp>
+
 #include "edsp/node/node_reporting.h"
 #include "edsp/node/runtime.h"
+#include "edsp/request_kinds.h"
 #include "edsp/transport/bus.h"
 #include "edsp/web/board_feeder.h"
 #include "edsp/web/channel_board.h"
@@ -42,6 +45,15 @@ class WebStatus {
   std::int64_t posted_ = 0;
 };
 
+// The motion request kinds by name ({"move": 1, …}, request_kinds.h) as one
+// metadata string (the protocol's metadata maps strings to strings): the
+// panel takes its kinds from it, never from numbers of its own.
+std::string RequestKindsJson() {
+  nlohmann::json kinds = nlohmann::json::object();
+  for (const RequestKindRow& row : kRequestKinds) kinds[std::string(row.name)] = row.kind;
+  return kinds.dump();
+}
+
 WebServerOptions Completed(const NodeOptions& node, bool session_given, WebServerOptions options,
                            const std::string& tokens_path) {
   options.tokens = TokenStore::Load(tokens_path);
@@ -51,7 +63,7 @@ WebServerOptions Completed(const NodeOptions& node, bool session_given, WebServe
                              "operator`, or serve --public-view");
   }
   options.session_id = session_given ? node.session_id : 0;
-  options.metadata = {{"group", node.group_path}};
+  options.metadata = {{"group", node.group_path}, {"request_kinds", RequestKindsJson()}};
   return options;
 }
 

@@ -20,6 +20,10 @@ class NodeReporting {
 
   // Publishes the fault unless the throttle holds it back (never info).
   void Fault(fault_t fault);
+  // Publishes the fault, never held back: for events that are rare by
+  // construction and each its own (a transition, a member of a group that
+  // died), which a throttle keyed by channel and code would merge.
+  void Announce(const fault_t& fault);
   NodeStatus& status() { return status_; }
   // Publishes EDSP_STATUS when a second has passed since the last one.
   void StatusTick(std::int64_t now_utime, std::int64_t deadline_misses);

@@ -16,7 +16,7 @@
 
 namespace edsp {
 
-// "move", "check", … "limits"; "kind N" for one no client should send.
+// The kind's name (request_kinds.h); "kind N" for one no client should send.
 std::string RequestKindName(std::int8_t kind);
 // The request's pose field as x, y, z, roll, pitch, yaw.
 Vector6 RequestPose(const motion_request_t& r);

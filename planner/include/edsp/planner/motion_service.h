@@ -84,8 +84,9 @@ class MotionService {
   void StartProgram(std::unique_ptr<TrajectorySequence> program, const std::string& name);
 
   motion_reply_t Handle(const motion_request_t& request, std::int64_t now_utime);
-  // Requests answered at once, without planning a path (halt, stop, frame,
-  // pivot, limits): the loop handles them on its own thread.
+  // Requests answered at once, without planning a path (request_kinds.h's
+  // plans_path false, and kinds it does not know): the loop handles them on
+  // its own thread.
   static bool IsQuick(const motion_request_t& request);
   void OnLegState(const leg_state_t& legs, std::int64_t now_utime);
   void OnPlatformState(const platform_state_t& state, std::int64_t now_utime);
