@@ -1,7 +1,7 @@
 // edsp-cueing: motion cueing (docs/cueing.md).
 //   edsp-cueing offline --config FILE --cueing FILE --manoeuvre FILE... [--rig-effects FILE]
-//                       [--csv-dir DIR] [--json]
-//       each manoeuvre through classical washout at the cueing rate: every
+//                       [--csv-dir DIR] [--algorithm classical_washout|mpc] [--json]
+//       each manoeuvre through a cueing algorithm at the cueing rate: every
 //       setpoint through the kinematics' whole-path check, and what a rider
 //       on the commanded platform perceives against the vehicle; with
 //       --rig-effects, also on the platform's real motion (the setpoints
@@ -11,9 +11,9 @@
 //       per channel at the test's twelve frequencies.
 //   edsp-cueing bench --config FILE --cueing FILE --manoeuvre FILE... [--rig-effects FILE]
 //                     [--cycles 1000000] [--seed 1] [--json]
-//       deploy/edsp bench cueing: the manoeuvres' perception errors (commanded
-//       and real), a soak of random vehicle motion counting refused
-//       setpoints, the washout step's time, and the OMCT.
+//       deploy/edsp bench cueing: per algorithm the manoeuvres' perception
+//       errors (commanded and real), a soak of random vehicle motion counting
+//       refused setpoints and the solve's time; their ratio; the OMCT.
 //   edsp-cueing live --cueing FILE [--udp ADDRESS:PORT] [--config FILE] [--group FILE] [--session-id N]
 //       the cueing source in a running group (live_command.h).
 //   edsp-cueing send --manoeuvre FILE [--to ADDRESS:PORT] [--rate-hz 250] [--lead-s 5]
@@ -26,6 +26,7 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -55,8 +56,17 @@ struct OfflineOptions {
   std::vector<std::string> manoeuvre_paths;
   std::string rig_effects_path;
   std::string csv_dir;
+  std::string algorithm;  // empty: the cueing config's [cueing] algorithm
   bool json = false;
 };
+
+CueingAlgorithm AlgorithmNamed(const std::string& name) {
+  const std::optional<CueingAlgorithm> algorithm = CueingAlgorithmFromName(name);
+  if (!algorithm) {
+    throw std::invalid_argument(fmt::format("--algorithm {}: not one of classical_washout, mpc", name));
+  }
+  return *algorithm;
+}
 
 // What a rider on the rig feels: the commanded poses played through the
 // stack and a rig with its effects.
@@ -116,12 +126,18 @@ int RunOffline(const OfflineOptions& options) {
   nlohmann::json runs = nlohmann::json::array();
   double error_sum = 0.0, real_sum = 0.0;
   int violations = 0;
+  const CueingAlgorithm algorithm = options.algorithm.empty() ? config.algorithm : AlgorithmNamed(options.algorithm);
   if (!options.json) {
-    std::printf("classical washout: perceived error in thresholds (overall, then fx fy fz wx wy wz%s), stroke used\n",
-                effects ? ", then overall on the rig" : "");
+    std::printf("%s: perceived error in thresholds (overall, then fx fy fz wx wy wz%s), stroke used\n",
+                CueingAlgorithmName(algorithm), effects ? ", then overall on the rig" : "");
+    if (algorithm == CueingAlgorithm::kModelPredictive) {
+      std::printf(
+          "the box: %s\n",
+          DeriveMpcLimits(model, model.home_pose(), config.mpc.wanted, config.mpc.leg_margin).Describe().c_str());
+    }
   }
   for (const Manoeuvre& manoeuvre : manoeuvres) {
-    const CueingRun run = RunClassicalWashout(model, config, manoeuvre);
+    const CueingRun run = RunCueing(model, config, algorithm, manoeuvre);
     std::optional<PerceptionScore> real;
     if (effects) real = ScoreOnTheRig(nominal, *effects, config, run);
     error_sum += run.score.overall;
@@ -140,7 +156,7 @@ int RunOffline(const OfflineOptions& options) {
   }
   const double count = static_cast<double>(manoeuvres.size());
   if (options.json) {
-    nlohmann::json out = {{"algorithm", "classical_washout"},
+    nlohmann::json out = {{"algorithm", CueingAlgorithmName(algorithm)},
                           {"manoeuvres", runs},
                           {"perception_error", error_sum / count},
                           {"limit_violations", violations}};
@@ -194,15 +210,17 @@ struct BenchOptions {
   std::uint64_t seed = 1;
 };
 
-// The figures of docs/cueing.md's "Bench", one algorithm so far: what
-// needs a second one (the ratio) or the live group (the delay) is null,
-// with the reason.
-int RunBench(const BenchOptions& options) {
-  const PlatformConfig nominal = LoadConfigFile(options.offline.config_path);
-  const PlatformModel model(nominal);
-  const CueingConfig config = LoadCueingConfig(options.offline.cueing_path);
-  std::optional<RigEffects> effects;
-  if (!options.offline.rig_effects_path.empty()) effects = LoadRigEffects(options.offline.rig_effects_path);
+// One algorithm's figures for the bench: its perception error per
+// manoeuvre (commanded, and on the rig's real motion with effects), the
+// manoeuvres and soak setpoints that leave a limit, and its step's time.
+struct AlgorithmFigures {
+  nlohmann::json json;
+  double commanded = 0.0, real = 0.0;  // the means over the manoeuvres
+};
+
+AlgorithmFigures BenchAlgorithm(const BenchOptions& options, CueingAlgorithm algorithm, const PlatformConfig& nominal,
+                                const PlatformModel& model, const CueingConfig& config,
+                                const std::optional<RigEffects>& effects) {
   nlohmann::json commanded = nlohmann::json::object(), real = nlohmann::json::object();
   double sum = 0.0, real_sum = 0.0;
   std::int64_t violations = 0;
@@ -211,7 +229,7 @@ int RunBench(const BenchOptions& options) {
     if (manoeuvre.name == "overall") {
       throw std::runtime_error(fmt::format("{}: a manoeuvre named \"overall\" would hide the bench's mean", path));
     }
-    const CueingRun run = RunClassicalWashout(model, config, manoeuvre);
+    const CueingRun run = RunCueing(model, config, algorithm, manoeuvre);
     commanded[manoeuvre.name] = run.score.overall;
     sum += run.score.overall;
     violations += run.path.ok() ? 0 : 1;
@@ -222,22 +240,63 @@ int RunBench(const BenchOptions& options) {
     }
   }
   const double count = static_cast<double>(options.offline.manoeuvre_paths.size());
-  commanded["overall"] = sum / count;
-  if (effects) real["overall"] = real_sum / count;
-  const CueingSoak soak = SoakClassicalWashout(model, config, RandomVehicleParameters{}, options.cycles, options.seed);
-  nlohmann::json washout = {{"perception_error", commanded},
-                            {"limit_violations", violations + soak.refused_setpoints},
-                            {"soak",
-                             {{"cycles", soak.cycles},
-                              {"seed", options.seed},
-                              {"refused_setpoints", soak.refused_setpoints},
-                              {"first_refusal", soak.first_refusal},
-                              {"peak_stroke_used", soak.peak_stroke_used}}},
-                            {"solve_ms", {{"p50", soak.step_p50_us * 1e-3}, {"p99", soak.step_p99_us * 1e-3}}}};
-  if (effects) washout["perception_error_real"] = real;
-  nlohmann::json out = {{"algorithms", {{"classical_washout", washout}}},
-                        {"ratio", nullptr},
-                        {"ratio_why_null", "one algorithm: model-predictive cueing is not built yet"},
+  AlgorithmFigures figures;
+  figures.commanded = sum / count;
+  figures.real = effects ? real_sum / count : figures.commanded;
+  commanded["overall"] = figures.commanded;
+  if (effects) real["overall"] = figures.real;
+  const CueingSoak soak = SoakCueing(model, config, algorithm, RandomVehicleParameters{}, options.cycles, options.seed);
+  figures.json = {
+      {"perception_error", commanded},
+      {"limit_violations", violations + soak.refused_setpoints},
+      {"soak",
+       {{"cycles", soak.cycles},
+        {"seed", options.seed},
+        {"refused_setpoints", soak.refused_setpoints},
+        {"first_refusal", soak.first_refusal},
+        {"peak_stroke_used", soak.peak_stroke_used}}},
+      {"solve_ms",
+       {{"p50", soak.solve_p50_us * 1e-3}, {"p99", soak.solve_p99_us * 1e-3}, {"max", soak.solve_max_us * 1e-3}}},
+      {"step_ms", {{"p50", soak.step_p50_us * 1e-3}, {"p99", soak.step_p99_us * 1e-3}}}};
+  if (algorithm == CueingAlgorithm::kModelPredictive)
+    figures.json["solve_period_ms"] = config.mpc.horizon.solve_period_s * 1e3;
+  if (effects) figures.json["perception_error_real"] = real;
+  if (!options.offline.json) {
+    std::printf("%s: mean perception error %.3f thresholds", CueingAlgorithmName(algorithm), figures.commanded);
+    if (effects) std::printf(" (%.3f on the rig)", figures.real);
+    std::printf("; manoeuvres leaving a limit %lld\n", static_cast<long long>(violations));
+    std::printf(
+        "  soak: %lld cycles of random vehicle motion (seed %llu), %lld setpoints refused%s%s; stroke used %.0f%%\n",
+        static_cast<long long>(soak.cycles), static_cast<unsigned long long>(options.seed),
+        static_cast<long long>(soak.refused_setpoints), soak.first_refusal.empty() ? "" : ", the first ",
+        soak.first_refusal.c_str(), 100.0 * soak.peak_stroke_used);
+    std::printf("  solve: p50 %.3f ms, p99 %.3f ms, max %.3f ms\n", soak.solve_p50_us * 1e-3, soak.solve_p99_us * 1e-3,
+                soak.solve_max_us * 1e-3);
+  }
+  return figures;
+}
+
+// The figures of docs/cueing.md's "Bench", for every algorithm, and the
+// model-predictive cueing's perception error over classical washout's (on
+// the rig's real motion when its effects are given). The delay needs the
+// live group: null here, with the reason.
+int RunBench(const BenchOptions& options) {
+  const PlatformConfig nominal = LoadConfigFile(options.offline.config_path);
+  const PlatformModel model(nominal);
+  const CueingConfig config = LoadCueingConfig(options.offline.cueing_path);
+  std::optional<RigEffects> effects;
+  if (!options.offline.rig_effects_path.empty()) effects = LoadRigEffects(options.offline.rig_effects_path);
+  nlohmann::json algorithms = nlohmann::json::object();
+  std::map<CueingAlgorithm, AlgorithmFigures> figures;
+  for (CueingAlgorithm algorithm : kCueingAlgorithms) {
+    figures[algorithm] = BenchAlgorithm(options, algorithm, nominal, model, config, effects);
+    algorithms[CueingAlgorithmName(algorithm)] = figures[algorithm].json;
+  }
+  const double ratio =
+      figures[CueingAlgorithm::kModelPredictive].real / figures[CueingAlgorithm::kClassicalWashout].real;
+  nlohmann::json out = {{"algorithms", algorithms},
+                        {"ratio", ratio},
+                        {"ratio_of", effects ? "perception_error_real" : "perception_error"},
                         {"omct", OmctJson(RunOmct(model, config))},
                         {"delay_p99_ms", nullptr},
                         {"delay_why_null", "measured on the live group: edsp-bench-cueing-live"}};
@@ -245,15 +304,7 @@ int RunBench(const BenchOptions& options) {
     std::printf("%s\n", out.dump(2).c_str());
     return 0;
   }
-  std::printf("classical washout: mean perception error %.3f thresholds", sum / count);
-  if (effects) std::printf(" (%.3f on the rig)", real_sum / count);
-  std::printf("; manoeuvres leaving a limit %lld\n", static_cast<long long>(violations));
-  std::printf(
-      "soak: %lld cycles of random vehicle motion (seed %llu), %lld setpoints refused%s%s; stroke used %.0f%%\n",
-      static_cast<long long>(soak.cycles), static_cast<unsigned long long>(options.seed),
-      static_cast<long long>(soak.refused_setpoints), soak.first_refusal.empty() ? "" : ", the first ",
-      soak.first_refusal.c_str(), 100.0 * soak.peak_stroke_used);
-  std::printf("washout step: p50 %.3f us, p99 %.3f us\n", soak.step_p50_us, soak.step_p99_us);
+  std::printf("ratio (mpc over classical washout, %s): %.3f\n", effects ? "on the rig" : "commanded", ratio);
   return 0;
 }
 
@@ -280,6 +331,8 @@ int main(int argc, char** argv) {
                    "score on the real motion too: a config whose [rig.effects] the rig has")
       ->check(CLI::ExistingFile);
   offline_command->add_option("--csv-dir", offline.csv_dir, "write <manoeuvre>.csv per manoeuvre here");
+  offline_command->add_option("--algorithm", offline.algorithm,
+                              "classical_washout or mpc (default: the cueing config's [cueing] algorithm)");
   offline_command->add_flag("--json", offline.json, "JSON on stdout");
   std::string omct_config, omct_cueing;
   bool omct_json = false;

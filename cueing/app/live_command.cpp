@@ -45,7 +45,7 @@ int RunLive(const LiveOptions& options) {
     throw std::invalid_argument(fmt::format("{}: [cueing] rate_hz = {}: live cueing runs at the stack's {} Hz",
                                             options.cueing_path, config.rate_hz, stack_hz));
   }
-  CueingSource source(config, model.home_pose().ToVector());
+  CueingSource source(config, model.home_pose().ToVector(), MakeCueingFilter(config.algorithm, model, config));
   std::unique_ptr<VehicleSocket> socket;
   CueingLoopOptions loop_options;
   loop_options.session_id = options.node.session_id;

@@ -111,6 +111,8 @@ HeadCue ClassicalWashout::Step(const VehicleSample& sample) {
   return cue;
 }
 
+void ClassicalWashout::Reset() { *this = ClassicalWashout(parameters_, period_s_); }
+
 Pose CueToPlatformPose(const Pose& neutral, const Vector3& head_in_platform_m, const HeadCue& cue) {
   const Vector3 neutral_head = PointInBase(neutral, head_in_platform_m);
   Pose pose;

@@ -1,6 +1,7 @@
 #include "edsp/cueing/cueing_config.h"
 
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -39,7 +40,13 @@ double Scale(const ConfigSection& section, const char* key, double fallback) {
 }
 
 void ReadCueing(const ConfigSection& s, CueingConfig& config) {
-  s.RejectUnknownKeys({"rate_hz", "head_in_platform_m"});
+  s.RejectUnknownKeys({"rate_hz", "head_in_platform_m", "algorithm"});
+  const std::string algorithm = s.String("algorithm", CueingAlgorithmName(config.algorithm));
+  const std::optional<CueingAlgorithm> named = CueingAlgorithmFromName(algorithm);
+  if (!named) {
+    s.Fail("algorithm", fmt::format("{} algorithm = \"{}\": not one of classical_washout, mpc", s.label(), algorithm));
+  }
+  config.algorithm = *named;
   config.rate_hz = Positive(s, "rate_hz", config.rate_hz);
   if (config.rate_hz < 50.0 || config.rate_hz > 10000.0) {
     s.Fail("rate_hz", fmt::format("{} rate_hz = {} is outside 50..10000 Hz", s.label(), config.rate_hz));
@@ -87,6 +94,59 @@ void ReadWashout(const ConfigSection& s, ClassicalWashoutParameters& w) {
   }
 }
 
+Vector6 PositiveAxes(const ConfigSection& section, const char* key, const Vector6& fallback) {
+  if (!section.Has(key)) return fallback;
+  const std::vector<double> v = section.Numbers(key, 6);
+  Vector6 value;
+  for (int j = 0; j < 6; ++j) {
+    if (!(v[static_cast<std::size_t>(j)] > 0.0)) {
+      section.FailAtElement(key, static_cast<std::size_t>(j),
+                            fmt::format("{} {}[{}] = {}: every axis's limit must be > 0 (x y z roll pitch yaw)",
+                                        section.label(), key, j, v[static_cast<std::size_t>(j)]));
+    }
+    value(j) = v[static_cast<std::size_t>(j)];
+  }
+  return value;
+}
+
+double NonNegative(const ConfigSection& section, const char* key, double fallback) {
+  const double value = section.Number(key, fallback);
+  if (!(value >= 0.0)) section.Fail(key, fmt::format("{} {} = {} must be ≥ 0", section.label(), key, value));
+  return value;
+}
+
+void ReadMpc(const ConfigSection& s, MpcCueingParameters& m) {
+  s.RejectUnknownKeys({"position_max", "velocity_max", "acceleration_max", "jerk_max", "leg_margin",
+                       "perceived_force_weight", "perceived_rate_weight", "position_penalty", "velocity_penalty",
+                       "acceleration_penalty", "jerk_penalty", "terminal_penalty", "solve_period_s", "fine_intervals",
+                       "coarse_interval_s", "coarse_intervals"});
+  m.wanted.position = PositiveAxes(s, "position_max", m.wanted.position);
+  m.wanted.velocity = PositiveAxes(s, "velocity_max", m.wanted.velocity);
+  m.wanted.acceleration = PositiveAxes(s, "acceleration_max", m.wanted.acceleration);
+  m.jerk_max = PositiveAxes(s, "jerk_max", m.jerk_max);
+  m.leg_margin = NonNegative(s, "leg_margin", m.leg_margin);
+  if (m.leg_margin > 0.5)
+    s.Fail("leg_margin", fmt::format("{} leg_margin = {} must be at most 0.5", s.label(), m.leg_margin));
+  MpcPenalties& w = m.penalties;
+  w.perceived_force = NonNegative(s, "perceived_force_weight", w.perceived_force);
+  w.perceived_rate = NonNegative(s, "perceived_rate_weight", w.perceived_rate);
+  w.position = NonNegative(s, "position_penalty", w.position);
+  w.velocity = NonNegative(s, "velocity_penalty", w.velocity);
+  w.acceleration = NonNegative(s, "acceleration_penalty", w.acceleration);
+  w.jerk = NonNegative(s, "jerk_penalty", w.jerk);
+  w.terminal = NonNegative(s, "terminal_penalty", w.terminal);
+  MpcHorizon& h = m.horizon;
+  h.solve_period_s = Positive(s, "solve_period_s", h.solve_period_s);
+  h.fine_intervals = static_cast<int>(s.Integer("fine_intervals", h.fine_intervals, 1, 100));
+  h.coarse_interval_s = Positive(s, "coarse_interval_s", h.coarse_interval_s);
+  h.coarse_intervals = static_cast<int>(s.Integer("coarse_intervals", h.coarse_intervals, 0, 100));
+  try {
+    ValidateMpc(m);
+  } catch (const std::invalid_argument& e) {
+    s.Fail("", e.what());
+  }
+}
+
 void ReadPerception(const ConfigSection& s, VestibularParameters& p) {
   s.RejectUnknownKeys({"otolith_tau_a_s", "otolith_tau_l_s", "otolith_tau_s_s", "otolith_threshold_m_s2",
                        "canal_tau_l_s", "canal_tau_s_s", "canal_tau_a_s", "canal_threshold_rad_s"});
@@ -104,11 +164,12 @@ void ReadPerception(const ConfigSection& s, VestibularParameters& p) {
 
 CueingConfig ParseCueingConfig(const std::string& toml_text, const std::string& origin) {
   const ConfigFile file = ConfigFile::Parse(toml_text, origin);
-  file.Root().RejectUnknownKeys({"cueing", "input", "washout", "perception"});
+  file.Root().RejectUnknownKeys({"cueing", "input", "washout", "mpc", "perception"});
   CueingConfig config;
   ReadCueing(file.Section("cueing"), config);
   ReadInput(file.Section("input"), config.input);
   ReadWashout(file.Section("washout"), config.washout);
+  ReadMpc(file.Section("mpc"), config.mpc);
   ReadPerception(file.Section("perception"), config.perception);
   return config;
 }

@@ -5,7 +5,6 @@
 
 #include <fmt/format.h>
 
-#include "edsp/cueing/classical_washout.h"
 #include "edsp/cueing/platform_motion.h"
 
 namespace edsp {
@@ -27,14 +26,15 @@ double PeakStrokeUsed(const PlatformModel& model, const std::vector<Pose>& poses
 
 }  // namespace
 
-CueingRun RunClassicalWashout(const PlatformModel& model, const CueingConfig& config, const Manoeuvre& manoeuvre) {
+CueingRun RunCueing(const PlatformModel& model, const CueingConfig& config, CueingAlgorithm algorithm,
+                    const Manoeuvre& manoeuvre) {
   const double period_s = 1.0 / config.rate_hz;
   CueingRun run;
   run.vehicle = SampleManoeuvre(manoeuvre, period_s);
-  ClassicalWashout washout(config.washout, period_s);
+  const std::unique_ptr<CueingFilter> filter = MakeCueingFilter(algorithm, model, config);
   run.commanded.reserve(run.vehicle.samples.size());
   for (const VehicleSample& sample : run.vehicle.samples) {
-    run.commanded.push_back(CueToPlatformPose(model.home_pose(), config.head_in_platform_m, washout.Step(sample)));
+    run.commanded.push_back(CueToPlatformPose(model.home_pose(), config.head_in_platform_m, filter->Step(sample)));
   }
   const auto& poses = run.commanded;
   run.path = CheckPath(

@@ -7,7 +7,6 @@
 
 #include <fmt/format.h>
 
-#include "edsp/cueing/classical_washout.h"
 #include "edsp/kinematics/path_check.h"
 #include "edsp/kinematics/workspace.h"
 
@@ -46,10 +45,17 @@ std::string Refusal(const PlatformModel& model, const PathLimits& limits, const 
 
 }  // namespace
 
-CueingSoak SoakClassicalWashout(const PlatformModel& model, const CueingConfig& config,
-                                const RandomVehicleParameters& vehicle, std::int64_t cycles, std::uint64_t seed) {
+CueingSoak SoakCueing(const PlatformModel& model, const CueingConfig& config, CueingAlgorithm algorithm,
+                      const RandomVehicleParameters& vehicle, std::int64_t cycles, std::uint64_t seed) {
   const double period_s = 1.0 / config.rate_hz;
-  ClassicalWashout washout(config.washout, period_s);
+  const std::unique_ptr<CueingFilter> filter = MakeCueingFilter(algorithm, model, config);
+  // A solve every this many steps (classical washout: every step).
+  const std::int64_t solve_every =
+      algorithm == CueingAlgorithm::kModelPredictive
+          ? std::max<std::int64_t>(1, std::llround(config.mpc.horizon.solve_period_s / period_s))
+          : 1;
+  std::vector<float> solve_us;
+  solve_us.reserve(static_cast<std::size_t>(cycles / solve_every + 1));
   RandomVehicle source(vehicle, period_s, seed);
   const PathLimits limits = PathLimitsOf(model);
   const WorkspaceLimits& workspace = model.config().limits;
@@ -62,8 +68,9 @@ CueingSoak SoakClassicalWashout(const PlatformModel& model, const CueingConfig& 
   for (std::int64_t cycle = 0; cycle < cycles; ++cycle) {
     const VehicleSample sample = source.Next();
     const auto start = std::chrono::steady_clock::now();
-    const HeadCue cue = washout.Step(sample);
+    const HeadCue cue = filter->Step(sample);
     step_us.push_back(std::chrono::duration<float, std::micro>(std::chrono::steady_clock::now() - start).count());
+    if (cycle % solve_every == 0) solve_us.push_back(step_us.back());
     const Pose pose = CueToPlatformPose(model.home_pose(), config.head_in_platform_m, cue);
     const Vector6 legs = model.LegLengths(pose);
     for (int leg = 0; leg < kNumLegs; ++leg) {
@@ -79,6 +86,9 @@ CueingSoak SoakClassicalWashout(const PlatformModel& model, const CueingConfig& 
   }
   soak.step_p50_us = Percentile(step_us, 0.5);
   soak.step_p99_us = Percentile(step_us, 0.99);
+  soak.solve_p50_us = Percentile(solve_us, 0.5);
+  soak.solve_p99_us = Percentile(solve_us, 0.99);
+  soak.solve_max_us = solve_us.empty() ? 0.0 : static_cast<double>(*std::max_element(solve_us.begin(), solve_us.end()));
   return soak;
 }
 

@@ -44,13 +44,19 @@ const char* CueingPhaseName(CueingPhase phase) {
   return "?";
 }
 
-CueingSource::CueingSource(const CueingConfig& config, const Vector6& neutral_pose)
-    : config_(config), period_s_(1.0 / config.rate_hz), neutral_(neutral_pose), input_(config.input) {
+CueingSource::CueingSource(const CueingConfig& config, const Vector6& neutral_pose,
+                           std::unique_ptr<CueingFilter> filter)
+    : config_(config),
+      period_s_(1.0 / config.rate_hz),
+      neutral_(neutral_pose),
+      input_(config.input),
+      filter_(std::move(filter)) {
   if (!neutral_pose.allFinite()) throw std::invalid_argument("cueing: the neutral pose is not finite");
   if (!(config.rate_hz > 0.0) || !std::isfinite(config.rate_hz)) {
     throw std::invalid_argument(fmt::format("cueing: rate_hz = {}: must be finite and > 0", config.rate_hz));
   }
   ValidateWashout(config.washout);
+  if (filter_ == nullptr) filter_ = MakeClassicalWashout(config.washout, period_s_);
   last_.pose = neutral_;
 }
 
@@ -81,7 +87,6 @@ void CueingSource::OnPlannerFollows(bool follows, const std::string& reason) {
 void CueingSource::Stop(std::string why) {
   phase_ = CueingPhase::kStopped;
   why_ = std::move(why);
-  washout_.reset();
 }
 
 CueSetpoint CueingSource::Held() const {
@@ -94,7 +99,7 @@ CueSetpoint CueingSource::Wash(const VehicleSample& input, double gain) {
   // One washout step per period the source's clock advanced: a cycle the
   // host's scheduler delayed must not leave the cue behind its stamp.
   const VehicleSample sample = TowardsRest(input, gain);
-  for (int k = 0; k < steps_; ++k) head_ = washout_->Step(sample);
+  for (int k = 0; k < steps_; ++k) head_ = filter_->Step(sample);
   const double dt = period_s_ * steps_;
   CueSetpoint cue;
   cue.pose = CueToPlatformPose(Pose::FromVector(neutral_), config_.head_in_platform_m, head_).ToVector();
@@ -171,7 +176,7 @@ CueingStep CueingSource::Step(double wall_s) {
         out.request = CueRequest::kEngage;
         awaiting_reply_ = true;
         phase_ = CueingPhase::kEngaging;
-        washout_.emplace(config_.washout, period_s_);
+        filter_->Reset();
         head_ = HeadCue{};
         last_ = CueSetpoint{};
         last_.pose = neutral_;

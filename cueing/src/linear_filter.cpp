@@ -65,32 +65,50 @@ TransferFunction Series(const TransferFunction& g1, const TransferFunction& g2) 
   return {multiply(g1.numerator, g2.numerator), multiply(g1.denominator, g2.denominator)};
 }
 
-DiscreteFilter::DiscreteFilter(const TransferFunction& tf, double period_s) : period_s_(period_s) {
-  CheckCoefficients(tf, period_s);
+StateSpace Realise(const TransferFunction& tf) {
+  CheckCoefficients(tf, 1.0);
   const int order = static_cast<int>(tf.denominator.size()) - 1;
   const double a0 = tf.denominator.front();
   // The numerator padded to the denominator's length, both made monic.
   std::vector<double> b(tf.denominator.size(), 0.0);
   std::copy(tf.numerator.begin(), tf.numerator.end(), b.end() - static_cast<long>(tf.numerator.size()));
-  d_ = b[0] / a0;
+  StateSpace ss;
+  ss.d = b[0] / a0;
   // Controllable canonical form of the strictly proper rest.
-  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(order, order);
-  Eigen::VectorXd input = Eigen::VectorXd::Zero(order);
-  c_ = Eigen::RowVectorXd::Zero(order);
-  for (int i = 0; i + 1 < order; ++i) a(i, i + 1) = 1.0;
+  ss.a = Eigen::MatrixXd::Zero(order, order);
+  ss.b = Eigen::VectorXd::Zero(order);
+  ss.c = Eigen::RowVectorXd::Zero(order);
+  for (int i = 0; i + 1 < order; ++i) ss.a(i, i + 1) = 1.0;
   for (int i = 1; i <= order; ++i) {
     const double ai = tf.denominator[static_cast<std::size_t>(i)] / a0;
-    a(order - 1, order - i) = -ai;
-    c_(order - i) = b[static_cast<std::size_t>(i)] / a0 - d_ * ai;
+    ss.a(order - 1, order - i) = -ai;
+    ss.c(order - i) = b[static_cast<std::size_t>(i)] / a0 - ss.d * ai;
   }
-  if (order > 0) input(order - 1) = 1.0;
-  // Zero-order hold: exp([[A, B], [0, 0]]·T) = [[Ad, Bd], [0, 1]].
-  Eigen::MatrixXd augmented = Eigen::MatrixXd::Zero(order + 1, order + 1);
-  augmented.topLeftCorner(order, order) = a * period_s;
-  augmented.topRightCorner(order, 1) = input * period_s;
+  if (order > 0) ss.b(order - 1) = 1.0;
+  return ss;
+}
+
+HeldSystem ZeroOrderHold(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b, double period_s) {
+  // exp([[A, B], [0, 0]]·T) = [[Ad, Bd], [0, I]].
+  const Eigen::Index n = a.rows(), m = b.cols();
+  Eigen::MatrixXd augmented = Eigen::MatrixXd::Zero(n + m, n + m);
+  augmented.topLeftCorner(n, n) = a * period_s;
+  augmented.topRightCorner(n, m) = b * period_s;
   const Eigen::MatrixXd held = augmented.exp();
-  a_ = held.topLeftCorner(order, order);
-  b_ = held.topRightCorner(order, 1);
+  return {held.topLeftCorner(n, n), held.topRightCorner(n, m)};
+}
+
+DiscreteFilter::DiscreteFilter(const TransferFunction& tf, double period_s) : period_s_(period_s) {
+  CheckCoefficients(tf, period_s);
+  const StateSpace ss = Realise(tf);
+  const auto order = static_cast<int>(ss.a.rows());
+  const Eigen::MatrixXd& a = ss.a;
+  const Eigen::VectorXd& input = ss.b;
+  c_ = ss.c;
+  d_ = ss.d;
+  const HeldSystem held = ZeroOrderHold(a, input, period_s);
+  a_ = held.ad;
+  b_ = held.bd.col(0);
   x_ = Eigen::VectorXd::Zero(order);
   // A pole at s = 0 has no steady state for a constant input: left at zero.
   const Eigen::MatrixXd settle = Eigen::MatrixXd::Identity(order, order) - a_;

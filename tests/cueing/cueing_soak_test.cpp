@@ -49,7 +49,7 @@ TEST_F(Soak, AGentleRideIsNeverRefused) {
   RandomVehicleParameters gentle;
   gentle.force_rms_m_s2 = Vector3::Constant(0.2);
   gentle.angular_velocity_rms_rad_s = Vector3::Constant(0.02);
-  const CueingSoak soak = SoakClassicalWashout(model, config, gentle, 100'000, 3);
+  const CueingSoak soak = SoakCueing(model, config, CueingAlgorithm::kClassicalWashout, gentle, 100'000, 3);
   EXPECT_EQ(soak.refused_setpoints, 0) << soak.first_refusal;
   EXPECT_GT(soak.peak_stroke_used, 0.0);
   EXPECT_GT(soak.step_p99_us, 0.0);
@@ -57,7 +57,7 @@ TEST_F(Soak, AGentleRideIsNeverRefused) {
 
 TEST_F(Soak, ARoughRideIsRefusedWhereTheWholePathCheckRefusesIt) {
   const RandomVehicleParameters rough;
-  const CueingSoak soak = SoakClassicalWashout(model, config, rough, 20'000, 5);
+  const CueingSoak soak = SoakCueing(model, config, CueingAlgorithm::kClassicalWashout, rough, 20'000, 5);
   ASSERT_GT(soak.refused_setpoints, 0);
   // The same ride again, its path judged by the kinematics' whole-path check.
   ClassicalWashout washout(config.washout, 1e-3);

@@ -44,7 +44,8 @@ TEST(EdspCueingCli, EveryShippedManoeuvreStaysInsideEveryLimitAndItsJsonMatchesT
   const CueingConfig config = LoadCueingConfig(SourceDir() + "/config/cueing.toml");
   double sum = 0.0;
   for (const auto& m : out["manoeuvres"]) {
-    const CueingRun library = RunClassicalWashout(model, config, LoadManoeuvre(m["file"].get<std::string>()));
+    const CueingRun library =
+        RunCueing(model, config, CueingAlgorithm::kClassicalWashout, LoadManoeuvre(m["file"].get<std::string>()));
     EXPECT_DOUBLE_EQ(m["perception_error"].get<double>(), library.score.overall) << m["name"];
     EXPECT_EQ(m["limit_violations"], 0) << m.dump();
     EXPECT_GT(m["peak_stroke_used"].get<double>(), 0.0) << m["name"];
@@ -89,7 +90,7 @@ TEST(EdspCueingCli, OmctJsonHasEveryChannelAtEveryFrequencyAsTheLibraryMeasures)
   }
 }
 
-TEST(EdspCueingCli, BenchJsonHasEveryFigureAndSaysWhyTheMissingAreNull) {
+TEST(EdspCueingCli, BenchJsonHasEveryFigureOfEveryAlgorithmAndTheirRatio) {
   const auto run = RunCueing("bench" + kConfigs + " --manoeuvre " + SourceDir() +
                              "/config/manoeuvres/braking.toml --cycles 3000 --seed 9 --json");
   ASSERT_EQ(run.exit_code, 0) << run.text;
@@ -103,9 +104,16 @@ TEST(EdspCueingCli, BenchJsonHasEveryFigureAndSaysWhyTheMissingAreNull) {
   EXPECT_EQ(washout["soak"]["seed"], 9);
   EXPECT_EQ(washout["limit_violations"], washout["soak"]["refused_setpoints"]);  // braking leaves none
   EXPECT_GT(washout["solve_ms"]["p99"].get<double>(), 0.0);
-  EXPECT_TRUE(out["ratio"].is_null());
-  EXPECT_FALSE(out["ratio_why_null"].get<std::string>().empty());
+  const auto& mpc = out["algorithms"]["mpc"];
+  EXPECT_EQ(mpc["soak"]["cycles"], 3000);
+  EXPECT_EQ(mpc["limit_violations"], 0) << mpc["soak"]["first_refusal"];
+  EXPECT_GT(mpc["solve_ms"]["p99"].get<double>(), mpc["solve_ms"]["p50"].get<double>() * 0.99);
+  EXPECT_DOUBLE_EQ(mpc["solve_period_ms"].get<double>(), 10.0);
+  EXPECT_EQ(out["ratio_of"], "perception_error");  // no --rig-effects: the commanded motion's
+  EXPECT_DOUBLE_EQ(out["ratio"].get<double>(), mpc["perception_error"]["overall"].get<double>() /
+                                                   washout["perception_error"]["overall"].get<double>());
   EXPECT_TRUE(out["delay_p99_ms"].is_null());
+  EXPECT_FALSE(out["delay_why_null"].get<std::string>().empty());
   EXPECT_EQ(out["omct"]["wz"].size(), kOmctFrequencies_rad_s.size());
 }
 

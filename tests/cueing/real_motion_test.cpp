@@ -17,8 +17,8 @@ namespace {
 struct LaneChange {
   PlatformConfig nominal = LoadConfigFile(SourceDir() + "/config/huang2021.toml");
   CueingConfig config = LoadCueingConfig(SourceDir() + "/config/cueing.toml");
-  CueingRun run = RunClassicalWashout(PlatformModel(nominal), config,
-                                      LoadManoeuvre(SourceDir() + "/config/manoeuvres/lane_change.toml"));
+  CueingRun run = RunCueing(PlatformModel(nominal), config, CueingAlgorithm::kClassicalWashout,
+                            LoadManoeuvre(SourceDir() + "/config/manoeuvres/lane_change.toml"));
 };
 
 PerceptionScore ScoreOn(const LaneChange& c, const std::vector<Pose>& truth) {

@@ -57,6 +57,8 @@ class ClassicalWashout {
   // Throws std::invalid_argument for a sample that is not finite (the
   // packet parser and the input guard refuse one before it gets here).
   HeadCue Step(const VehicleSample& sample);
+  // Back at the neutral pose with a rider at rest, as when made.
+  void Reset();
   const ClassicalWashoutParameters& parameters() const { return parameters_; }
 
  private:

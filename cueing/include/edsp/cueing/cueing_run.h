@@ -1,5 +1,5 @@
 #pragma once
-// A manoeuvre through a cueing algorithm offline, at the setpoint rate:
+// A manoeuvre through a cueing algorithm (cueing_algorithm.h) offline, at the setpoint rate:
 // every setpoint through the kinematics' whole-path check (the checks the
 // kinematics node applies at run time, and the legs' speed and
 // acceleration the drives follow), and what a rider on the commanded
@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "edsp/cueing/cueing_algorithm.h"
 #include "edsp/cueing/cueing_config.h"
 #include "edsp/cueing/manoeuvre.h"
 #include "edsp/cueing/perception_score.h"
@@ -25,7 +26,8 @@ struct CueingRun {
   PerceptionScore score;
 };
 
-CueingRun RunClassicalWashout(const PlatformModel& model, const CueingConfig& config, const Manoeuvre& manoeuvre);
+CueingRun RunCueing(const PlatformModel& model, const CueingConfig& config, CueingAlgorithm algorithm,
+                    const Manoeuvre& manoeuvre);
 
 // One CSV row per sample: t_s, the vehicle's six channels, the commanded
 // pose (x y z roll pitch yaw), the platform's six channels at the head.

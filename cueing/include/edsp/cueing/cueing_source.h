@@ -18,10 +18,12 @@
 // brings the platform home, still engaged.
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 
 #include "edsp/cueing/classical_washout.h"
+#include "edsp/cueing/cueing_algorithm.h"
 #include "edsp/cueing/cueing_config.h"
 #include "edsp/cueing/vehicle_input.h"
 #include "edsp/kinematics/pose.h"
@@ -63,8 +65,10 @@ inline constexpr double kWashoutTimeout_s = 30.0;
 
 class CueingSource {
  public:
-  // Throws std::invalid_argument naming a parameter that is absurd.
-  CueingSource(const CueingConfig& config, const Vector6& neutral_pose);
+  // `filter`: the cueing algorithm, made about `neutral_pose`
+  // (MakeCueingFilter); none: classical washout with the config's
+  // parameters. Throws std::invalid_argument naming a parameter that is absurd.
+  CueingSource(const CueingConfig& config, const Vector6& neutral_pose, std::unique_ptr<CueingFilter> filter = nullptr);
 
   // A packet that arrived at `now_s` (monotonic): nothing if accepted, else why not.
   std::optional<std::string> OnPacket(const VehiclePacket& packet, double now_s);
@@ -97,7 +101,7 @@ class CueingSource {
   double period_s_;
   Vector6 neutral_;
   VehicleInput input_;
-  std::optional<ClassicalWashout> washout_;
+  std::unique_ptr<CueingFilter> filter_;  // reset at each engage
   CueingPhase phase_ = CueingPhase::kDisengaged;
   bool awaiting_reply_ = false;
   bool planner_follows_ = false;

@@ -25,6 +25,24 @@ std::string Describe(const TransferFunction& tf);
 // The product G1(s)·G2(s).
 TransferFunction Series(const TransferFunction& g1, const TransferFunction& g2);
 
+// G(s) as x' = a x + b u, y = c x + d u: its controllable canonical
+// realisation. Throws std::invalid_argument as DiscreteFilter does.
+struct StateSpace {
+  Eigen::MatrixXd a;
+  Eigen::VectorXd b;
+  Eigen::RowVectorXd c;
+  double d = 0.0;
+};
+StateSpace Realise(const TransferFunction& tf);
+
+// x' = a x + b u sampled every `period_s` with u held between samples:
+// x[k+1] = ad x[k] + bd u[k], exactly (the matrix exponential).
+struct HeldSystem {
+  Eigen::MatrixXd ad;
+  Eigen::MatrixXd bd;
+};
+HeldSystem ZeroOrderHold(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b, double period_s);
+
 class DiscreteFilter {
  public:
   // Throws std::invalid_argument naming what is wrong (improper, a0 = 0,

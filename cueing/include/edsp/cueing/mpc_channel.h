@@ -1,0 +1,121 @@
+#pragma once
+// One channel of the model-predictive cueing (cueing/mpc_cueing.h): a
+// translation of the platform, a rotation, or a translation with the
+// rotation that tilts gravity into it (surge with pitch, sway with roll),
+// each driven by its jerk, and what it makes the rider feel against what
+// the vehicle would, through the vestibular models (cueing/vestibular.h).
+//
+// The state, in the platform's coordinates about the neutral pose:
+//   p v a      the translation, its velocity and acceleration
+//   θ ω α      the rotation (an Euler angle), its rate and acceleration
+//   f_v w_v    the vehicle's specific force and angular velocity on this
+//              channel, held over the horizon (no prediction beyond it)
+//   x_o, x_c   the otoliths' and the canals' states driven by the
+//              difference between the rider's and the vehicle's input:
+//                d_f = a + lever·α + tilt·θ − (f_v − offset)
+//                d_w = ω − w_v
+// so a perceived error is C x: the models are linear, and perceiving the
+// difference is the difference of the perceptions. Linearised about the
+// neutral pose (small angles), the head `lever` above the platform.
+//
+// Every solve period the jerks over a horizon of fine then coarse
+// intervals minimise Σ dt (perceived errors in thresholds² plus the
+// washout's penalties on p, v, a, θ, ω, α in their limits), subject to
+// every state's box at every interval's end and the jerks' box: a
+// condensed QP in the jerks (cueing/dense_qp.h). The first jerk is held
+// at the setpoint rate until the next solve, so the acceleration is
+// continuous and the jerk bounded by construction.
+
+#include <cstdint>
+#include <memory>
+
+#include <Eigen/Core>
+
+#include "edsp/cueing/dense_qp.h"
+#include "edsp/cueing/vestibular.h"
+
+namespace edsp {
+
+struct MpcAxisBox {
+  double position = 0.0, velocity = 0.0, acceleration = 0.0, jerk = 0.0;  // ± each
+};
+
+// The washout's penalties: each a weight on (value / its box)², beside the
+// perceived errors' weight on (error / threshold)².
+struct MpcPenalties {
+  double perceived_force = 1.0;
+  double perceived_rate = 1.0;
+  double position = 0.3, velocity = 0.05, acceleration = 0.0, jerk = 1e-4;
+  double terminal = 5.0;  // the last interval's position and velocity penalties, this many times
+};
+
+struct MpcHorizon {
+  double solve_period_s = 0.01;  // the first intervals: what is applied before the next solve
+  int fine_intervals = 4;
+  double coarse_interval_s = 0.075;
+  int coarse_intervals = 12;
+};
+
+struct MpcChannelSetup {
+  bool translation = false, rotation = false;
+  bool otolith = false;            // perceived specific force in the cost (translation, or a tilt into it)
+  bool canal = false;              // perceived angular velocity in the cost (rotation)
+  double tilt_m_s2_per_rad = 0.0;  // specific force per rad of the rotation: −g pitch → fx, +g roll → fy
+  double lever_m = 0.0;            // head translation per rad: +h pitch → x, −h roll → y
+  double force_offset_m_s2 = 0.0;  // the vehicle's force at rest on this channel (g on fz)
+  double force_threshold = 1.0, rate_threshold = 1.0;
+  MpcAxisBox translation_box, rotation_box;
+  MpcPenalties penalties;
+  MpcHorizon horizon;
+  VestibularParameters perception;
+  double period_s = 1e-3;  // a Step
+};
+
+class MpcChannel {
+ public:
+  // Throws std::invalid_argument naming what is absurd (a box ≤ 0, a
+  // period that does not divide the solve period, a horizon of no interval).
+  explicit MpcChannel(const MpcChannelSetup& setup);
+
+  // One setpoint period with the vehicle's newest force and rate on this
+  // channel; solves first when one is due.
+  void Step(double vehicle_force, double vehicle_rate);
+  // At rest at neutral, the next Step solving from a cold start.
+  void Reset();
+  double translation_m() const { return x_(kP); }
+  double rotation_rad() const { return x_(kTheta); }
+  double translation_velocity() const { return x_(kV); }
+  double rotation_rate() const { return x_(kOmega); }
+  const Eigen::VectorXd& state() const { return x_; }
+  // The last solve's figures.
+  const DenseQpResult& last_solve() const;
+  int variables() const;
+  int constraints() const;
+  // The last solve's problem whole, for checking the solver against another.
+  struct Problem {
+    Eigen::MatrixXd hessian, constraint;
+    Eigen::VectorXd g, lower, upper;
+  };
+  Problem last_problem() const;
+
+ private:
+  // The state's layout (every channel has all of it; an axis it does not
+  // move stays at zero): the otoliths' two states, then the canals' three.
+  static constexpr int kP = 0, kV = 1, kA = 2, kTheta = 3, kOmega = 4, kAlpha = 5, kForce = 6, kRate = 7, kOtolith = 8,
+                       kCanal = 10, kStates = 13;
+  void Solve();
+
+  MpcChannelSetup setup_;
+  int nu_ = 0;  // jerks: the translation's, the rotation's
+  int steps_per_solve_ = 1, step_ = 0;
+  Eigen::MatrixXd a_step_, b_step_;  // one setpoint period
+  Eigen::MatrixXd f_;                // g = f_ x0
+  Eigen::MatrixXd state_rows_;       // the boxed states' predictions: rows · x0 + (rows of Γ) U
+  Eigen::VectorXd state_bound_;
+  Eigen::VectorXd jerk_bound_;
+  Eigen::VectorXd x_, u_;
+  Eigen::VectorXd g_, lower_, upper_;
+  std::unique_ptr<DenseQp> qp_;
+};
+
+}  // namespace edsp

@@ -1,0 +1,119 @@
+#include "edsp/cueing/mpc_cueing.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "edsp/cueing/vehicle_motion.h"
+#include "edsp/kinematics/pose.h"
+
+namespace edsp {
+namespace {
+
+enum Axis { kX = 0, kY = 1, kZ = 2, kRoll = 3, kPitch = 4, kYaw = 5 };
+
+MpcAxisBox Box(const MpcAxisLimits& limits, const Vector6& jerk, int axis) {
+  return {limits.position(axis), limits.velocity(axis), limits.acceleration(axis), jerk(axis)};
+}
+
+MpcChannelSetup Common(const VestibularParameters& perception, const MpcCueingParameters& p, double period_s) {
+  MpcChannelSetup setup;
+  setup.penalties = p.penalties;
+  setup.horizon = p.horizon;
+  setup.perception = perception;
+  setup.period_s = period_s;
+  return setup;
+}
+
+}  // namespace
+
+void ValidateMpc(const MpcCueingParameters& p) {
+  for (int axis = 0; axis < 6; ++axis) {
+    if (!std::isfinite(p.jerk_max(axis)) || p.jerk_max(axis) <= 0.0) {
+      throw std::invalid_argument(
+          fmt::format("[mpc] jerk_max[{}] = {}: must be finite and > 0", axis, p.jerk_max(axis)));
+    }
+  }
+  const MpcPenalties& w = p.penalties;
+  for (double v : {w.perceived_force, w.perceived_rate, w.position, w.velocity, w.acceleration, w.jerk, w.terminal}) {
+    if (!std::isfinite(v) || v < 0.0) throw std::invalid_argument(fmt::format("[mpc] a penalty is {}: must be ≥ 0", v));
+  }
+  if (w.perceived_force + w.perceived_rate <= 0.0) {
+    throw std::invalid_argument("[mpc] perceived_force and perceived_rate are both 0: the cueing would cue nothing");
+  }
+}
+
+MpcCueing::MpcCueing(const PlatformModel& model, const Pose& neutral, const Vector3& head_in_platform_m,
+                     const VestibularParameters& perception, const MpcCueingParameters& p, double period_s)
+    : head_(head_in_platform_m), limits_(DeriveMpcLimits(model, neutral, p.wanted, p.leg_margin)) {
+  ValidateMpc(p);
+  const double h = head_in_platform_m.z();
+  MpcChannelSetup surge = Common(perception, p, period_s);
+  surge.translation = surge.rotation = surge.otolith = surge.canal = true;
+  surge.tilt_m_s2_per_rad = -kStandardGravity_m_s2;
+  surge.lever_m = h;
+  surge.force_threshold = perception.Threshold(0);
+  surge.rate_threshold = perception.Threshold(4);
+  surge.translation_box = Box(limits_, p.jerk_max, kX);
+  surge.rotation_box = Box(limits_, p.jerk_max, kPitch);
+  surge_ = std::make_unique<MpcChannel>(surge);
+
+  MpcChannelSetup sway = surge;
+  sway.tilt_m_s2_per_rad = kStandardGravity_m_s2;
+  sway.lever_m = -h;
+  sway.force_threshold = perception.Threshold(1);
+  sway.rate_threshold = perception.Threshold(3);
+  sway.translation_box = Box(limits_, p.jerk_max, kY);
+  sway.rotation_box = Box(limits_, p.jerk_max, kRoll);
+  sway_ = std::make_unique<MpcChannel>(sway);
+
+  MpcChannelSetup heave = Common(perception, p, period_s);
+  heave.translation = heave.otolith = true;
+  heave.force_offset_m_s2 = kStandardGravity_m_s2;
+  heave.force_threshold = perception.Threshold(2);
+  heave.translation_box = Box(limits_, p.jerk_max, kZ);
+  heave_ = std::make_unique<MpcChannel>(heave);
+
+  MpcChannelSetup yaw = Common(perception, p, period_s);
+  yaw.rotation = yaw.canal = true;
+  yaw.rate_threshold = perception.Threshold(5);
+  yaw.rotation_box = Box(limits_, p.jerk_max, kYaw);
+  yaw_ = std::make_unique<MpcChannel>(yaw);
+}
+
+HeadCue MpcCueing::Step(const VehicleSample& sample) {
+  if (!sample.specific_force_m_s2.allFinite() || !sample.angular_velocity_rad_s.allFinite()) {
+    throw std::invalid_argument("MPC cueing: a vehicle sample that is not finite");
+  }
+  const Vector3& f = sample.specific_force_m_s2;
+  const Vector3& w = sample.angular_velocity_rad_s;
+  surge_->Step(f.x(), w.y());
+  sway_->Step(f.y(), w.x());
+  heave_->Step(f.z(), 0.0);
+  yaw_->Step(0.0, w.z());
+  const Vector6 q = displacement();
+  HeadCue cue;
+  cue.rpy_rad = q.tail<3>();
+  // The head where the platform's displacement puts it (CueToPlatformPose
+  // takes it back exactly, about a level neutral pose).
+  cue.position_m = q.head<3>() + RotationFromRpy(cue.rpy_rad) * head_ - head_;
+  return cue;
+}
+
+void MpcCueing::Reset() {
+  for (MpcChannel* channel : {surge_.get(), sway_.get(), heave_.get(), yaw_.get()}) channel->Reset();
+}
+
+Vector6 MpcCueing::displacement() const {
+  Vector6 q;
+  q << surge_->translation_m(), sway_->translation_m(), heave_->translation_m(), sway_->rotation_rad(),
+      surge_->rotation_rad(), yaw_->rotation_rad();
+  return q;
+}
+
+std::array<const MpcChannel*, 4> MpcCueing::channels() const {
+  return {surge_.get(), sway_.get(), heave_.get(), yaw_.get()};
+}
+
+}  // namespace edsp
