@@ -1,6 +1,6 @@
 // edsp-ctl: an operator's commands to a running group, over LCM.
 //   edsp-ctl [common options] COMMAND [options]
-//   edsp-ctl move|check|run|halt|stop|wait|status|frame|pivot|limits ...
+//   edsp-ctl move|check|jog|run|halt|stop|wait|status|frame|pivot|limits ...
 //       the planner's motion service (motion_commands.h, docs/operating.md)
 //   edsp-ctl arm [--operator NAME] [--session-id N|auto] [--group FILE | --lcm-url URL]
 //       re-arm the actuator bridge after it latched a hold (EDSP_ARM)

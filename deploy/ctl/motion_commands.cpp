@@ -2,10 +2,13 @@
 
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <memory>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -16,6 +19,7 @@
 #include "edsp/motion_request_t.hpp"
 #include "edsp/motion_status_t.hpp"
 #include "edsp/planner/motion_client.h"
+#include "edsp/planner/motion_request_checks.h"
 #include "edsp/reply_codes.h"
 
 namespace edsp::ctl {
@@ -105,6 +109,17 @@ int Move(MotionClient& link, const MotionArgs& a, std::int8_t kind) {
   return SendAndReport(link, r, a, kind == motion_request_t::KIND_MOVE && !a.no_wait);
 }
 
+// A jog: `step` along one axis, the planner checks the step (motion_request_checks.h).
+int Jog(MotionClient& link, const MotionArgs& a) {
+  motion_request_t r = link.Request(motion_request_t::KIND_JOG);
+  r.pose[JogAxisIndex(a.axis)] = a.step;  // CLI11 took only a known axis
+  r.relative = true;
+  r.frame = a.frame;
+  r.speed_m_s = a.speed_m_s;
+  r.speed_rad_s = a.speed_rad_s;
+  return SendAndReport(link, r, a, !a.no_wait);
+}
+
 int RunProgram(MotionClient& link, const MotionArgs& a) {
   motion_request_t r = link.Request(motion_request_t::KIND_RUN);
   if (a.motions.empty() == a.csv.empty()) throw std::runtime_error("run: give --motions or --csv");
@@ -180,6 +195,19 @@ const MotionCommand kMotionCommands[] = {
      [](MotionClient& link, const CtlOptions&, const MotionArgs& a) {
        return Move(link, a, motion_request_t::KIND_CHECK);
      }},
+    {"jog", "a small relative move along one axis, about the pivot (waits until on target)",
+     [](CLI::App* cmd, MotionArgs* a) {
+       cmd->add_option("--axis", a->axis, "x, y, z (m) or roll, pitch, yaw (rad), of the frame")
+           ->required()
+           ->check(CLI::IsMember(std::vector<std::string>(std::begin(kJogAxes), std::end(kJogAxes))));
+       cmd->add_option("--step", a->step, "the step (m or rad, signed): at most 0.01 (10 mm, 10 mrad)")->required();
+       cmd->add_option("--frame", a->frame, "the work frame whose axis it is (base, home, or one defined)");
+       cmd->add_option("--speed-m-s", a->speed_m_s, "the pivot's speed (default and most: [motion] speed_max_m_s)");
+       cmd->add_option("--speed-rad-s", a->speed_rad_s, "the rotation's speed (most: [motion] speed_max_rad_s)");
+       cmd->add_flag("--json", a->json, "print the reply as JSON");
+       WaitOptions(cmd, a);
+     },
+     [](MotionClient& link, const CtlOptions&, const MotionArgs& a) { return Jog(link, a); }},
     {"run", "run named motions or a trajectory CSV (waits until on target)",
      [](CLI::App* cmd, MotionArgs* a) {
        cmd->add_option("--motions", a->motions, "Lz,Lx,... M1…M999, calibration");

@@ -13,13 +13,13 @@
 namespace edsp::ctl {
 
 struct MotionArgs {
-  std::string pose, point, frame, motions, csv;
+  std::string pose, point, frame, motions, csv, axis;
   bool relative = false, no_wait = false, json = false;
-  double speed_m_s = 0.0, speed_rad_s = 0.0, accel_m_s2 = 0.0, accel_rad_s2 = 0.0;
+  double step = 0.0, speed_m_s = 0.0, speed_rad_s = 0.0, accel_m_s2 = 0.0, accel_rad_s2 = 0.0;
   double wait_timeout_s = -1.0;  // < 0: the motion's duration and 30 s beside
 };
 
-// Adds move, check, run, halt, stop, wait, status, frame, pivot and limits
+// Adds move, check, jog, run, halt, stop, wait, status, frame, pivot and limits
 // to `app` (one table, motion_commands.cpp's kMotionCommands);
 // RunMotionCommand runs whichever was given (false: none was).
 void AddMotionCommands(CLI::App* app, CtlOptions* options, MotionArgs* args);

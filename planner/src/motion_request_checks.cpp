@@ -56,6 +56,35 @@ std::string PoseProblem(const motion_request_t& r) {
   return AllFinite(r.pose, 6) ? "" : "pose has a non-finite value (NaN or infinity)";
 }
 
+int JogAxisIndex(std::string_view name) {
+  for (int k = 0; k < 6; ++k) {
+    if (name == kJogAxes[k]) return k;
+  }
+  return -1;
+}
+
+std::string JogProblem(const motion_request_t& r) {
+  int axis = -1;
+  std::string axes;
+  for (int k = 0; k < 6; ++k) {
+    if (!std::isfinite(r.pose[k]))
+      return fmt::format("jog step along {} = {}: give a finite step", kJogAxes[k], r.pose[k]);
+    if (r.pose[k] == 0.0) continue;
+    axes += (axes.empty() ? "" : ", ") + std::string(kJogAxes[k]);
+    axis = axis < 0 ? k : 6;  // 6: more than one
+  }
+  if (axis < 0) return "jog step is zero (every pose value is 0): give one axis a nonzero step";
+  if (axis == 6) {
+    return fmt::format("jog steps along {}: a jog moves along one axis (move --relative for more)", axes);
+  }
+  const char* unit = axis < 3 ? "m" : "rad";
+  if (std::abs(r.pose[axis]) > kJogStepMax) {
+    return fmt::format("jog step along {} = {} {} is beyond {} {} (a jog is small: move --relative for more)",
+                       kJogAxes[axis], r.pose[axis], unit, kJogStepMax, unit);
+  }
+  return "";
+}
+
 std::string FrameDefinitionProblem(const motion_request_t& r) {
   const std::string& name = r.frame;
   if (name.empty() || name == "base" || name == "home") {

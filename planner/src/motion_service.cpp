@@ -84,6 +84,7 @@ motion_reply_t MotionService::Act(const motion_request_t& r, std::int64_t now_ut
     case motion_request_t::KIND_LIMITS: return SetLimits(r);
     case motion_request_t::KIND_ENGAGE: return Engage(r, now_utime, lock);
     case motion_request_t::KIND_DISENGAGE: return Disengage(r, now_utime, lock);
+    case motion_request_t::KIND_JOG: return Jog(r, now_utime, lock);
   }
   const RequestKindRow& first = kRequestKinds[0];
   const RequestKindRow& last = kRequestKinds[std::size(kRequestKinds) - 1];
@@ -205,6 +206,19 @@ motion_reply_t MotionService::Move(const motion_request_t& r, bool check_only, s
   motions.push_back(std::move(m));
   motion_reply_t reply = Enqueue(r, std::move(motions), now_utime);
   reply.reason = what;
+  return reply;
+}
+
+motion_reply_t MotionService::Jog(const motion_request_t& r, std::int64_t now_utime, Lock& lock) {
+  if (std::string p = JogProblem(r); !p.empty()) return Reply(r, ReplyCode::kInvalid, p);
+  motion_request_t move = r;
+  move.relative = true;  // whatever the client set: a jog is from the last target
+  motion_reply_t reply = Move(move, false, now_utime, lock);
+  if (!reply.accepted) return reply;
+  int axis = 0;
+  while (r.pose[axis] == 0.0) ++axis;  // JogProblem found exactly one
+  // The lock held since Move queued it.
+  queue_.back().activity = fmt::format("jog {} {:+g}", kJogAxes[axis], r.pose[axis]);
   return reply;
 }
 

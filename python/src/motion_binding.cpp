@@ -21,6 +21,7 @@
 #include "edsp/node/group_file.h"
 #include "edsp/node/session_discovery.h"
 #include "edsp/planner/motion_client.h"
+#include "edsp/planner/motion_request_checks.h"
 #include "edsp/pr_mode_t.hpp"
 #include "edsp/reply_codes.h"
 #include "edsp/request_kinds.h"
@@ -235,6 +236,8 @@ void BindMotion(py::module_& m) {
       .def("arm", &Client::Arm)
       .def("pr_mode", &Client::SetPrMode)
       .def("calibration", &Client::Calibration);
+  // A jog's axes in a pose's order, as the planner checks them.
+  m.attr("JOG_AXES") = py::make_tuple(kJogAxes[0], kJogAxes[1], kJogAxes[2], kJogAxes[3], kJogAxes[4], kJogAxes[5]);
   // KIND_MOVE, KIND_CHECK, …: one per row of request_kinds.h.
   for (const RequestKindRow& row : kRequestKinds) {
     std::string name = "KIND_" + std::string(row.name);

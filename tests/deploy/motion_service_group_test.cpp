@@ -1,6 +1,6 @@
 // The planner's motion service on the live sim group, driven by edsp-ctl as
 // an operator's script drives it: work frames, a pivot, absolute and
-// relative moves that each end on target, a check that refuses a path,
+// relative moves and a jog that each end on target, a check that refuses a path,
 // bad input refused by name, a halt mid-move that `wait` reports (exit 4),
 // status as JSON; then the requests of that log replayed onto another live
 // group move nothing.
@@ -77,7 +77,8 @@ TEST(MotionServiceGroup, AnOperatorsScriptThroughEdspCtl) {
         for (const char* move :
              {"move --pose 0.02,0,1.53,0,0,0", "move --relative --frame fixture --pose 0,0,0,0.02,0,0",
               "move --frame home --pose=-0.01,0.01,0,0,0,0.02", "move --frame fixture --pose 0,0,0,0,0,0",
-              "move --relative --pose 0,0,-0.01,0,0.01,0 --speed-m-s 0.05"}) {
+              "move --relative --pose 0,0,-0.01,0,0.01,0 --speed-m-s 0.05",
+              "jog --axis yaw --step=-0.005 --frame fixture"}) {
           const CtlResult r = Ctl(dir, std::string(move) + " --timeout-s 60");
           EXPECT_EQ(r.exit_code, 0) << move << ": " << r.err;
           moves_on_target += r.exit_code == 0;
@@ -92,6 +93,10 @@ TEST(MotionServiceGroup, AnOperatorsScriptThroughEdspCtl) {
         EXPECT_EQ(frame.exit_code, 2);
         EXPECT_NE(frame.err.find("unknown frame \"nowhere\""), std::string::npos) << frame.err;
         EXPECT_EQ(Ctl(dir, "move --pose 0,0,1.5,0,0,0 --speed-m-s 1000").exit_code, 2);
+        const CtlResult jog = Ctl(dir, "jog --axis x --step 0.02 --json");
+        EXPECT_EQ(jog.exit_code, 2) << jog.err;
+        EXPECT_NE(jog.err.find("beyond 0.01 m"), std::string::npos) << jog.err;
+        EXPECT_EQ(nlohmann::json::parse(jog.out)["code"], "invalid") << jog.out;
         ASSERT_EQ(Ctl(dir, "move --pose 0.25,0,1.5,0,0,0 --no-wait").exit_code, 0);
         ASSERT_EQ(Ctl(dir, "halt").exit_code, 0);
         const CtlResult wait = Ctl(dir, "wait --timeout-s 30");
@@ -102,7 +107,7 @@ TEST(MotionServiceGroup, AnOperatorsScriptThroughEdspCtl) {
       },
       77, kDefaultConfig, kStallTolerantStaleMs);
   ASSERT_EQ(run.exit_code, 0);
-  EXPECT_EQ(moves_on_target, 5);
+  EXPECT_EQ(moves_on_target, 6);
   ASSERT_TRUE(final_status.is_object());
   EXPECT_EQ(final_status["state"], "holding") << final_status.dump();
   EXPECT_EQ(final_status["last_end"], "halted");

@@ -38,6 +38,33 @@ TEST(MotionRequestChecks, APoseMustBeFinite) {
   EXPECT_EQ(RequestPose(PoseRequest(0.1, 1.5))(2), 1.5);
 }
 
+TEST(MotionRequestChecks, AJogIsOneSmallFiniteStepAlongOneAxis) {
+  motion_request_t r{};
+  r.kind = motion_request_t::KIND_JOG;
+  r.pose[0] = 0.01;  // 10 mm: the most
+  EXPECT_EQ(JogProblem(r), "");
+  r.pose[0] = 0.0;
+  r.pose[5] = -0.01;  // -10 mrad about yaw
+  EXPECT_EQ(JogProblem(r), "");
+  r.pose[5] = 0.0;
+  EXPECT_NE(JogProblem(r).find("zero"), std::string::npos) << JogProblem(r);
+  r.pose[1] = 0.002;
+  r.pose[4] = 0.001;
+  EXPECT_NE(JogProblem(r).find("along y, pitch: a jog moves along one axis"), std::string::npos) << JogProblem(r);
+  r = motion_request_t{};
+  r.pose[2] = -0.0101;
+  EXPECT_NE(JogProblem(r).find("along z = -0.0101 m is beyond 0.01 m"), std::string::npos) << JogProblem(r);
+  r.pose[2] = 0.0;
+  r.pose[3] = 0.02;
+  EXPECT_NE(JogProblem(r).find("along roll = 0.02 rad is beyond 0.01 rad"), std::string::npos) << JogProblem(r);
+  r.pose[3] = std::nan("");
+  EXPECT_NE(JogProblem(r).find("along roll = nan: give a finite step"), std::string::npos) << JogProblem(r);
+  r.pose[3] = std::numeric_limits<double>::infinity();
+  EXPECT_NE(JogProblem(r).find("finite"), std::string::npos) << JogProblem(r);
+  for (int k = 0; k < 6; ++k) EXPECT_EQ(JogAxisIndex(kJogAxes[k]), k);
+  EXPECT_EQ(JogAxisIndex("rx"), -1);
+}
+
 TEST(MotionRequestChecks, AFrameNeedsANewNameAndAnOriginWithinReach) {
   motion_request_t r = PoseRequest(0.05, 1.55);
   r.frame = "fixture";
@@ -104,6 +131,7 @@ TEST(MotionRequestChecks, EveryKindHasItsNameAndAnUnknownOneItsNumber) {
   EXPECT_EQ(RequestKindName(motion_request_t::KIND_MOVE), "move");
   EXPECT_EQ(RequestKindName(motion_request_t::KIND_LIMITS), "limits");
   EXPECT_EQ(RequestKindName(motion_request_t::KIND_DISENGAGE), "disengage");
+  EXPECT_EQ(RequestKindName(motion_request_t::KIND_JOG), "jog");
   EXPECT_EQ(RequestKindName(42), "kind 42");
 }
 

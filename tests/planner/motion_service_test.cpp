@@ -14,7 +14,9 @@
 #include <string>
 
 #include "edsp/kinematics/config.h"
+#include "edsp/kinematics/pose.h"
 #include "edsp/kinematics/workspace.h"
+#include "edsp/reply_codes.h"
 #include "edsp/request_kinds.h"
 #include "motion_requests.h"        // tests/support
 #include "served_motion_service.h"  // tests/support
@@ -46,7 +48,7 @@ TEST(MotionService, EveryKindInTheTableIsActedOnAndPlannedWhereItsRowSays) {
   }
   Served s;
   const motion_reply_t unknown = s.Ask(s.requests_.Make(42, s.now_));
-  ExpectRefused(unknown, "unknown request kind 42 (1 move … 10 disengage)");
+  ExpectRefused(unknown, "unknown request kind 42 (1 move … 11 jog)");
   EXPECT_TRUE(MotionService::IsQuick(s.requests_.Make(42, s.now_)));
 }
 
@@ -134,6 +136,66 @@ TEST(MotionService, TwoClientsAtOnceAreServedInTurnEachWithItsOwnReply) {
   const Vector6 end = s.Held();
   EXPECT_NEAR(end(0), 0.02, 1e-12);
   EXPECT_NEAR(end(1), 0.03, 1e-12) << "both moves ran, the second from where the first ended";
+}
+
+// A jog is a relative move by its step along one axis: from the last
+// target (queued behind a move still running), about the pivot, whatever
+// its relative flag says.
+TEST(MotionService, AJogLandsAtTheLastTargetPlusItsStepAlongItsAxis) {
+  Served s;
+  auto& r = s.requests_;
+  const Vector6 home = s.Held();
+  ASSERT_TRUE(s.Ask(r.Move(Vec(0.02, 0, 0), s.now_, true)).accepted);
+  s.Cycle();
+  ASSERT_TRUE(s.service_.busy());
+  motion_request_t down = r.Jog(2, -0.004, s.now_);
+  down.relative = false;  // a jog is relative anyway
+  const motion_reply_t reply = s.Ask(down);
+  ASSERT_TRUE(reply.accepted) << reply.reason;
+  EXPECT_EQ(reply.kind, motion_request_t::KIND_JOG);
+  EXPECT_GT(reply.start_delay_s, 0.0) << "queued behind the move";
+  while (s.service_.busy()) s.Cycle();
+  Vector6 end = s.Held();
+  EXPECT_NEAR(end(0), home(0) + 0.02, 1e-12) << "from the move's target";
+  EXPECT_NEAR(end(2), home(2) - 0.004, 1e-12);
+  EXPECT_EQ(s.service_.Status(s.now_).activity, "jog z -0.004");
+
+  // A turn about the pivot: the pivot stays where it is, yaw grows by the step.
+  const Vector3 c(0.0, 0.0, 0.3);
+  ASSERT_TRUE(s.Ask(r.Pivot(c, s.now_)).accepted);
+  const Vector3 pivot_before = PointInBase(Pose::FromVector(end), c);
+  ASSERT_TRUE(s.Ask(r.Jog(5, 0.01, s.now_, "home")).accepted);
+  while (s.service_.busy()) s.Cycle();
+  const Vector6 turned = s.Held();
+  EXPECT_NEAR(turned(5), end(5) + 0.01, 1e-9);
+  EXPECT_NEAR(turned(3), end(3), 1e-12);
+  EXPECT_NEAR(turned(4), end(4), 1e-12);
+  EXPECT_LT((PointInBase(Pose::FromVector(turned), c) - pivot_before).norm(), 1e-12) << "turned about the pivot";
+}
+
+TEST(MotionService, AJogOfNoStepSeveralAxesOrMoreThanTenMillimetresIsRefusedAndMovesNothing) {
+  Served s;
+  auto& r = s.requests_;
+  const Vector6 home = s.Held();
+  const auto expect_invalid = [&](const motion_request_t& jog, const std::string& names) {
+    const motion_reply_t reply = s.Ask(jog);
+    ExpectRefused(reply, names);
+    EXPECT_EQ(reply.code, static_cast<std::int8_t>(ReplyCode::kInvalid)) << reply.reason;
+  };
+  expect_invalid(r.Jog(0, 0.0, s.now_), "jog step is zero");
+  expect_invalid(r.Jog(1, NAN, s.now_), "jog step along y = nan");
+  expect_invalid(r.Jog(3, std::numeric_limits<double>::infinity(), s.now_), "give a finite step");
+  motion_request_t two = r.Jog(0, 0.001, s.now_);
+  two.pose[4] = 0.001;
+  expect_invalid(two, "jog steps along x, pitch");
+  expect_invalid(r.Jog(0, 0.0105, s.now_), "jog step along x = 0.0105 m is beyond 0.01 m");
+  expect_invalid(r.Jog(4, -0.011, s.now_), "jog step along pitch = -0.011 rad is beyond 0.01 rad");
+  expect_invalid(r.Jog(0, 0.001, s.now_, "nowhere"), "unknown frame \"nowhere\"");  // a move's checks too
+  motion_request_t fast = r.Jog(0, 0.001, s.now_);
+  fast.speed_m_s = 1e6;
+  expect_invalid(fast, "speed_max_m_s");
+  for (int k = 0; k < 100; ++k) ASSERT_EQ(s.Held(), home) << "something moved";
+  EXPECT_EQ(s.service_.Status(s.now_).reason.rfind("jog refused: ", 0), 0u) << s.service_.Status(s.now_).reason;
 }
 
 TEST(MotionService, ACheckMovesNothingAndSaysWhatAMoveWould) {

@@ -49,6 +49,13 @@ class MotionRequests {
     r.kind = motion_request_t::KIND_DISENGAGE;
     return r;
   }
+  // A jog by `step` along pose axis `axis` (0..5: x, y, z, roll, pitch, yaw) of `frame`.
+  motion_request_t Jog(int axis, double step, std::int64_t now_utime, const std::string& frame = "") {
+    motion_request_t r = Make(motion_request_t::KIND_JOG, now_utime);
+    r.pose[axis] = step;
+    r.frame = frame;
+    return r;
+  }
   motion_request_t Pivot(const Vector3& c, std::int64_t now_utime) {
     motion_request_t r = Make(motion_request_t::KIND_PIVOT, now_utime);
     for (int k = 0; k < 3; ++k) r.point[k] = c(k);

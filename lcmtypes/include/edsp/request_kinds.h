@@ -26,6 +26,7 @@ inline constexpr RequestKindRow kRequestKinds[] = {
     {motion_request_t::KIND_STOP, "stop", false},    {motion_request_t::KIND_FRAME, "frame", false},
     {motion_request_t::KIND_PIVOT, "pivot", false},  {motion_request_t::KIND_LIMITS, "limits", false},
     {motion_request_t::KIND_ENGAGE, "engage", true}, {motion_request_t::KIND_DISENGAGE, "disengage", true},
+    {motion_request_t::KIND_JOG, "jog", true},
 };
 
 // The row of a kind as it came off the wire; nullptr for a kind this build

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 
 #include "edsp/kinematics/types.h"
 #include "edsp/motion_request_t.hpp"
@@ -25,6 +26,15 @@ std::string PoseText(const Vector6& q);
 
 // A move's or a check's pose: every value finite.
 std::string PoseProblem(const motion_request_t& r);
+// A jog's axes, in the order of the pose field, as edsp-ctl and Python name them.
+inline constexpr const char* kJogAxes[6] = {"x", "y", "z", "roll", "pitch", "yaw"};
+// A jog is small: its step is at most 10 mm (x, y, z) or 10 mrad (roll, pitch, yaw).
+inline constexpr double kJogStepMax = 0.01;
+// The index of a jog axis in the pose field by its name; -1 for none.
+int JogAxisIndex(std::string_view name);
+// A jog's pose: exactly one value nonzero (the step along its axis), none
+// not finite, the step at most kJogStepMax.
+std::string JogProblem(const motion_request_t& r);
 // A frame's definition: a new name (not base or home), a finite pose whose
 // origin lies within 100 m of {B}.
 std::string FrameDefinitionProblem(const motion_request_t& r);

@@ -124,6 +124,8 @@ class MotionService {
   motion_reply_t Reply(const motion_request_t& r, ReplyCode code, std::string reason, double duration_s = 0.0,
                        double start_delay_s = 0.0) const;
   motion_reply_t Move(const motion_request_t& r, bool check_only, std::int64_t now_utime, Lock& lock);
+  // A move relative to the last target by one small step along one axis (JogProblem).
+  motion_reply_t Jog(const motion_request_t& r, std::int64_t now_utime, Lock& lock);
   motion_reply_t Run(const motion_request_t& r, std::int64_t now_utime, Lock& lock);
   motion_reply_t Decelerate(const motion_request_t& r, bool stop, std::int64_t now_utime);
   motion_reply_t DefineFrame(const motion_request_t& r);
