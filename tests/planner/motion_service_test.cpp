@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 #include <limits>
 #include <random>
+#include <set>
 #include <string>
 
 #include "edsp/kinematics/config.h"
@@ -36,10 +37,13 @@ void ExpectRefused(const motion_reply_t& reply, const std::string& names) {
 }
 
 // Every kind of request_kinds.h is acted on (none answered as unknown),
-// planned beside the cycle exactly when its row says it plans a path, and a
-// kind no row has is refused by number.
+// planned beside the cycle exactly when it plans a path (the kinds that
+// check a path whole, listed here apart from the table), and a kind no row
+// has is refused by number.
 TEST(MotionService, EveryKindInTheTableIsActedOnAndPlannedWhereItsRowSays) {
+  const std::set<std::string> plans_a_path = {"move", "check", "run", "engage", "disengage", "jog"};
   for (const RequestKindRow& row : kRequestKinds) {
+    EXPECT_EQ(row.plans_path, plans_a_path.count(std::string(row.name)) == 1) << row.name;
     Served s;
     const motion_reply_t reply = s.Ask(s.requests_.Make(row.kind, s.now_));
     EXPECT_EQ(reply.reason.find("unknown request kind"), std::string::npos) << row.name << ": " << reply.reason;
