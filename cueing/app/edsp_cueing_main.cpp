@@ -254,7 +254,8 @@ AlgorithmFigures BenchAlgorithm(const BenchOptions& options, CueingAlgorithm alg
         {"seed", options.seed},
         {"refused_setpoints", soak.refused_setpoints},
         {"first_refusal", soak.first_refusal},
-        {"peak_stroke_used", soak.peak_stroke_used}}},
+        {"peak_stroke_used", soak.peak_stroke_used},
+        {"unconverged_solves", soak.unconverged_solves}}},
       {"solve_ms",
        {{"p50", soak.solve_p50_us * 1e-3}, {"p99", soak.solve_p99_us * 1e-3}, {"max", soak.solve_max_us * 1e-3}}},
       {"step_ms", {{"p50", soak.step_p50_us * 1e-3}, {"p99", soak.step_p99_us * 1e-3}}}};
@@ -270,8 +271,9 @@ AlgorithmFigures BenchAlgorithm(const BenchOptions& options, CueingAlgorithm alg
         static_cast<long long>(soak.cycles), static_cast<unsigned long long>(options.seed),
         static_cast<long long>(soak.refused_setpoints), soak.first_refusal.empty() ? "" : ", the first ",
         soak.first_refusal.c_str(), 100.0 * soak.peak_stroke_used);
-    std::printf("  solve: p50 %.3f ms, p99 %.3f ms, max %.3f ms\n", soak.solve_p50_us * 1e-3, soak.solve_p99_us * 1e-3,
-                soak.solve_max_us * 1e-3);
+    std::printf("  solve: p50 %.3f ms, p99 %.3f ms, max %.3f ms; %lld stopped at the iteration limit\n",
+                soak.solve_p50_us * 1e-3, soak.solve_p99_us * 1e-3, soak.solve_max_us * 1e-3,
+                static_cast<long long>(soak.unconverged_solves));
   }
   return figures;
 }

@@ -1,5 +1,6 @@
 #include "edsp/cueing/cueing_algorithm.h"
 
+#include <type_traits>
 #include <utility>
 
 #include "edsp/cueing/cueing_config.h"
@@ -15,6 +16,13 @@ class FilterOf final : public CueingFilter {
   explicit FilterOf(Args&&... args) : algorithm_(std::forward<Args>(args)...) {}
   HeadCue Step(const VehicleSample& sample) override { return algorithm_.Step(sample); }
   void Reset() override { algorithm_.Reset(); }
+  std::int64_t unconverged_solves() const override {
+    if constexpr (std::is_same_v<Algorithm, MpcCueing>) {
+      return algorithm_.unconverged_solves();
+    } else {
+      return 0;
+    }
+  }
 
  private:
   Algorithm algorithm_;

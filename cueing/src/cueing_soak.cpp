@@ -86,6 +86,7 @@ CueingSoak SoakCueing(const PlatformModel& model, const CueingConfig& config, Cu
   }
   soak.step_p50_us = Percentile(step_us, 0.5);
   soak.step_p99_us = Percentile(step_us, 0.99);
+  soak.unconverged_solves = filter->unconverged_solves();
   soak.solve_p50_us = Percentile(solve_us, 0.5);
   soak.solve_p99_us = Percentile(solve_us, 0.99);
   soak.solve_max_us = solve_us.empty() ? 0.0 : static_cast<double>(*std::max_element(solve_us.begin(), solve_us.end()));

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -27,6 +28,12 @@ DenseQp::DenseQp(const Eigen::MatrixXd& H, const Eigen::MatrixXd& A, DenseQpSett
     throw std::invalid_argument(fmt::format("QP: A has {} columns, H {}", A.cols(), H.cols()));
   }
   if (!H.allFinite() || !A.allFinite()) throw std::invalid_argument("QP: H or A has a value that is not finite");
+  if (settings.check_every < 1 || settings.max_iterations < 1 || !(settings.rho > 0.0) || !(settings.sigma > 0.0) ||
+      !(settings.alpha > 0.0 && settings.alpha < 2.0)) {
+    throw std::invalid_argument(fmt::format(
+        "QP settings: check_every {} and max_iterations {} must be ≥ 1, rho {} and sigma {} > 0, alpha {} in (0, 2)",
+        settings.check_every, settings.max_iterations, settings.rho, settings.sigma, settings.alpha));
+  }
   // Variables scaled to a unit diagonal of H, then rows of A to unit ∞-norm.
   column_scale_ = Eigen::VectorXd::Ones(H.rows());
   for (Eigen::Index j = 0; j < H.rows(); ++j) {
@@ -63,7 +70,8 @@ const DenseQpResult& DenseQp::Solve(const Eigen::VectorXd& g, const Eigen::Vecto
   }
   if (!g.allFinite()) throw std::invalid_argument("QP: g has a value that is not finite");
   for (Eigen::Index i = 0; i < lower.size(); ++i) {
-    if (!(lower(i) <= upper(i))) {
+    if (!(lower(i) <= upper(i)) || lower(i) == std::numeric_limits<double>::infinity() ||
+        upper(i) == -std::numeric_limits<double>::infinity()) {
       throw std::invalid_argument(
           fmt::format("QP: row {}: lower bound {} is not at most the upper {}", i, lower(i), upper(i)));
     }
@@ -135,6 +143,9 @@ void DenseQp::Polish(const Eigen::VectorXd& g, const Eigen::VectorXd& l, const E
   }
   const Eigen::VectorXd solution = kkt.fullPivLu().solve(rhs);
   if (!solution.allFinite()) return;
+  // A singular system (active rows that depend on each other) gives some
+  // vector that need not solve it: taken only if it does.
+  if ((kkt * solution - rhs).cwiseAbs().maxCoeff() > settings_.eps_abs + settings_.eps_rel * InfNorm(rhs)) return;
   const Eigen::VectorXd x = solution.head(n), multipliers = solution.tail(active);
   const Eigen::VectorXd ax = a_ * x;
   const double tolerance = settings_.eps_abs + settings_.eps_rel * std::max(1.0, InfNorm(ax));
@@ -148,12 +159,16 @@ void DenseQp::Polish(const Eigen::VectorXd& g, const Eigen::VectorXd& l, const E
   for (std::size_t k = 0; k < upper.size(); ++k) {
     if (multipliers(static_cast<Eigen::Index>(lower.size() + k)) < -tolerance) return;
   }
+  Eigen::VectorXd y = Eigen::VectorXd::Zero(a_.rows());
+  Eigen::Index next = 0;
+  for (Eigen::Index i : lower) y(i) = multipliers(next++);
+  for (Eigen::Index i : upper) y(i) = multipliers(next++);
+  // No worse than ADMM's own answer in the dual residual (OSQP's rule).
+  const double dual = InfNorm(hs_ * x + g + a_.transpose() * y);
+  if (dual > std::max(InfNorm(hs_ * x_ + g + a_.transpose() * y_), settings_.eps_abs)) return;
   x_ = x;
   z_ = ax.cwiseMax(l).cwiseMin(u);
-  y_.setZero();
-  Eigen::Index k = 0;
-  for (Eigen::Index i : lower) y_(i) = multipliers(k++);
-  for (Eigen::Index i : upper) y_(i) = multipliers(k++);
+  y_ = y;
   result_.polished = true;
   result_.converged = true;  // the KKT conditions hold exactly on the active set
 }

@@ -195,6 +195,7 @@ void MpcChannel::Solve() {
   lower_.head(boxes) = -state_bound_ - offset;
   g_ = f_ * x_;
   const DenseQpResult& result = qp_->Solve(g_, lower_, upper_);
+  if (!result.converged) ++unconverged_;
   u_ = result.x.head(nu_).cwiseMax(-1.0).cwiseMin(1.0).cwiseProduct(jerk_bound_);
 }
 

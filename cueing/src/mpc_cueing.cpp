@@ -112,6 +112,12 @@ Vector6 MpcCueing::displacement() const {
   return q;
 }
 
+std::int64_t MpcCueing::unconverged_solves() const {
+  std::int64_t n = 0;
+  for (const MpcChannel* channel : channels()) n += channel->unconverged_solves();
+  return n;
+}
+
 std::array<const MpcChannel*, 4> MpcCueing::channels() const {
   return {surge_.get(), sway_.get(), heave_.get(), yaw_.get()};
 }

@@ -135,6 +135,9 @@ MpcAxisLimits DeriveMpcLimits(const PlatformModel& model, const Pose& neutral, c
   while (limits.position_scale > 1e-3 && !CornersReachable(model, neutral, limits.position_scale * wanted.position)) {
     limits.position_scale *= kShrink;
   }
+  if (!CornersReachable(model, neutral, limits.position_scale * wanted.position)) {
+    throw std::invalid_argument("[mpc]: no box about the neutral pose keeps its corners inside the workspace");
+  }
   limits.position = limits.position_scale * wanted.position;
   const Vector6 speed_budget = Vector6::Constant((1.0 - margin) * legs.leg_speed_max_m_s);
   limits.velocity_scale = Scale(slope, wanted.velocity, speed_budget);

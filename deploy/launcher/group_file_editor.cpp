@@ -61,9 +61,9 @@ struct GroupFileEditor::Document {
 
 GroupFileEditor::GroupFileEditor(std::unique_ptr<Document> document) : document_(std::move(document)) {}
 GroupFileEditor::GroupFileEditor(const GroupFileEditor& other)
-    : document_(std::make_unique<Document>(*other.document_)) {}
+    : document_(other.document_ ? std::make_unique<Document>(*other.document_) : nullptr) {}
 GroupFileEditor& GroupFileEditor::operator=(const GroupFileEditor& other) {
-  if (this != &other) document_ = std::make_unique<Document>(*other.document_);
+  if (this != &other) document_ = other.document_ ? std::make_unique<Document>(*other.document_) : nullptr;
   return *this;
 }
 GroupFileEditor::GroupFileEditor(GroupFileEditor&&) noexcept = default;

@@ -4,6 +4,7 @@
 // (classical washout, cueing/classical_washout.h; model-predictive,
 // cueing/mpc_cueing.h).
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string_view>
@@ -31,6 +32,8 @@ class CueingFilter {
   virtual HeadCue Step(const VehicleSample& sample) = 0;
   // Back at the neutral pose with a rider at rest, as when made.
   virtual void Reset() = 0;
+  // Solves that stopped at their iteration limit (model-predictive cueing; 0 for a filter).
+  virtual std::int64_t unconverged_solves() const = 0;
 };
 
 // Classical washout alone needs no platform model.

@@ -26,6 +26,7 @@ struct CueingSoak {
   // The steps that solved (the model-predictive cueing's, one per solve
   // period; every step for classical washout), timed.
   double solve_p50_us = 0.0, solve_p99_us = 0.0, solve_max_us = 0.0;
+  std::int64_t unconverged_solves = 0;  // stopped at the iteration limit
 };
 
 CueingSoak SoakCueing(const PlatformModel& model, const CueingConfig& config, CueingAlgorithm algorithm,

@@ -65,9 +65,9 @@ inline constexpr double kWashoutTimeout_s = 30.0;
 
 class CueingSource {
  public:
-  // `filter`: the cueing algorithm, made about `neutral_pose`
-  // (MakeCueingFilter); none: classical washout with the config's
-  // parameters. Throws std::invalid_argument naming a parameter that is absurd.
+  // `filter`: the cueing algorithm (MakeCueingFilter, about the model's
+  // home pose: `neutral_pose` should be it); none: classical washout with
+  // the config's parameters. Throws std::invalid_argument naming a parameter that is absurd.
   CueingSource(const CueingConfig& config, const Vector6& neutral_pose, std::unique_ptr<CueingFilter> filter = nullptr);
 
   // A packet that arrived at `now_s` (monotonic): nothing if accepted, else why not.

@@ -24,7 +24,7 @@ struct DenseQpSettings {
   double sigma = 1e-6;  // keeps the system positive definite for a semidefinite H
   double alpha = 1.6;   // over-relaxation
   int max_iterations = 400;
-  double eps_abs = 1e-6;  // residuals in the problem's own units, scaled by the data as OSQP does
+  double eps_abs = 1e-6;  // on the residuals of the scaled problem (unit diagonal of H, unit rows of A)
   double eps_rel = 1e-5;
   int check_every = 5;  // iterations between convergence checks (and ρ updates)
   // Then the rows ADMM found active held as equalities and the KKT system
@@ -47,12 +47,12 @@ struct DenseQpResult {
 class DenseQp {
  public:
   // Throws std::invalid_argument when H is not square, A does not have
-  // H's columns, or either is not finite.
+  // H's columns, either is not finite, or a setting is absurd.
   DenseQp(const Eigen::MatrixXd& H, const Eigen::MatrixXd& A, DenseQpSettings settings = {});
 
   // Warm-started from the last solution. `lower` ≤ `upper` row by row
-  // (±infinity for a side without a bound); throws std::invalid_argument
-  // naming the first row that is not.
+  // (−infinity, +infinity for a side without a bound); throws
+  // std::invalid_argument naming the first row that is not.
   const DenseQpResult& Solve(const Eigen::VectorXd& g, const Eigen::VectorXd& lower, const Eigen::VectorXd& upper);
   // Forgets the last solution: the next Solve starts from zero.
   void Reset();

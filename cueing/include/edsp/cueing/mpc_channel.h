@@ -87,8 +87,10 @@ class MpcChannel {
   double translation_velocity() const { return x_(kV); }
   double rotation_rate() const { return x_(kOmega); }
   const Eigen::VectorXd& state() const { return x_; }
-  // The last solve's figures.
+  // The last solve's figures, and how many solves so far stopped at the
+  // iteration limit before the tolerance (their jerks clipped and applied).
   const DenseQpResult& last_solve() const;
+  std::int64_t unconverged_solves() const { return unconverged_; }
   int variables() const;
   int constraints() const;
   // The last solve's problem whole, for checking the solver against another.
@@ -108,6 +110,7 @@ class MpcChannel {
   MpcChannelSetup setup_;
   int nu_ = 0;  // jerks: the translation's, the rotation's
   int steps_per_solve_ = 1, step_ = 0;
+  std::int64_t unconverged_ = 0;
   Eigen::MatrixXd a_step_, b_step_;  // one setpoint period
   Eigen::MatrixXd f_;                // g = f_ x0
   Eigen::MatrixXd state_rows_;       // the boxed states' predictions: rows · x0 + (rows of Γ) U

@@ -56,6 +56,8 @@ class MpcCueing {
   const MpcAxisLimits& limits() const { return limits_; }
   // The platform's displacement from the neutral pose (x y z roll pitch yaw).
   Vector6 displacement() const;
+  // Over every channel since made.
+  std::int64_t unconverged_solves() const;
   // The channels: surge, sway, heave, yaw.
   std::array<const MpcChannel*, 4> channels() const;
 
