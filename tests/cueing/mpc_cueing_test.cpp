@@ -77,8 +77,8 @@ TEST_F(Mpc, ARoughRideNeverLeavesALimit) {
 
 // Perception error over every manoeuvre of the repo, commanded motion:
 // the model-predictive cueing feels closer than classical washout on
-// average (0.79 of it measured; docs/cueing.md says why not the 0.7 aimed
-// at), on every manoeuvre with a sustained cue (the tilt it plans), and no
+// average (docs/cueing.md gives the figure and why it is not the 0.7
+// aimed at), on every manoeuvre with a sustained cue (the tilt it plans), and no
 // manoeuvre leaves a limit.
 TEST_F(Mpc, TheManoeuvresAreFeltCloserThanClassicalWashoutFeelsThem) {
   double mpc_sum = 0.0, washout_sum = 0.0;
