@@ -123,6 +123,18 @@ TEST_F(Mpc, ARiderAtRestAfterABrakeIsWashedBackToNeutral) {
   EXPECT_LT(last_peak, 1e-3) << "the last 10 s of a minute at rest: " << mpc.displacement().transpose();
 }
 
+TEST(MpcConfig, AnAlgorithmOfAnotherNameIsRefusedNamingIt) {
+  EXPECT_EQ(ParseCueingConfig("[cueing]\nalgorithm = \"mpc\"\n", "cueing.toml").algorithm,
+            CueingAlgorithm::kModelPredictive);
+  try {
+    ParseCueingConfig("[cueing]\nalgorithm = \"mcp\"\n", "cueing.toml");
+    ADD_FAILURE() << "accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("cueing.toml:2"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("\"mcp\""), std::string::npos) << e.what();
+  }
+}
+
 TEST(MpcConfig, AnAbsurdValueIsNamedWithItsKeyAndLine) {
   const std::string base = "[cueing]\n[input]\n[washout]\n[perception]\n[mpc]\n";
   for (const auto& [line, key] :
