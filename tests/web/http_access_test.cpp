@@ -18,9 +18,12 @@ TEST(HttpAccess, TheTokenComesFromTheQueryElseTheBearerHeader) {
   EXPECT_EQ(TargetPath("/a/b.js?token=x"), "/a/b.js");
 }
 
-TEST(HttpAccess, PagesNeedATokenTheirScriptsStylesAndLibrariesDoNot) {
-  for (const char* page : {"/", "", "/index.html", "/a/b.html"}) EXPECT_TRUE(PathNeedsToken(page)) << page;
-  for (const char* asset : {"/panel.js", "/panel.css", "/javascript/three/three.min.js", "/html", "/x.htm"}) {
+TEST(HttpAccess, PagesAndTheRigsDataNeedATokenTheirScriptsStylesAndLibrariesDoNot) {
+  for (const char* page : {"/", "", "/index.html", "/a/b.html", "/drift-report.json"}) {
+    EXPECT_TRUE(PathNeedsToken(page)) << page;
+  }
+  for (const char* asset :
+       {"/panel.js", "/panel.css", "/javascript/three/three.min.js", "/html", "/x.htm", "/json", "/x.jso"}) {
     EXPECT_FALSE(PathNeedsToken(asset)) << asset;
   }
 }

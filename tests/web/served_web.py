@@ -18,8 +18,9 @@ WEB = os.path.join(BIN, "edsp-web")
 
 
 @contextlib.contextmanager
-def serve(work):
-    """Yields {port, operator, viewer, group, pid, tokens, work} while the group and the server run."""
+def serve(work, extra=()):
+    """Yields {port, operator, viewer, group, pid, tokens, work} while the
+    group and the server (with edsp-web's options `extra`) run."""
     tokens = str(work / "tokens.toml")
 
     def add(name, role):
@@ -29,7 +30,7 @@ def serve(work):
     operator, viewer = add("alice", "operator"), add("bob", "viewer")
     with live_group.sim_group(SOURCE, BIN, "web") as group:
         live_group.connect(group)
-        with server(work / "web.err", group, tokens) as (port, pid):
+        with server(work / "web.err", group, tokens, extra) as (port, pid):
             yield {"port": port, "operator": operator, "viewer": viewer, "group": group, "pid": pid,
                    "tokens": tokens, "work": work}
 

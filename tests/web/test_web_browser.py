@@ -5,13 +5,18 @@ view draws the platform from EDSP_CONFIG where the legs' encoders put it
 (checked at a tilted pose, where a wrong angle order or frame would be
 centimetres off), an operator moves, halts and re-arms from the page and
 reads the answers (the planner's whole-path check shown as the form is
-edited), the plots hold what the tables showed, and a viewer's page offers
-no live control.
+edited), jogs along a work frame's axis, sets the pivot and a speed, runs
+a program by name and as a CSV, halt and stop stay in view however far the
+page scrolls, the calibration view shows the model in force, what it takes
+off each leg and the drift verdict of the file edsp-web was given, the
+plots hold what the tables showed, and a viewer's page offers no live
+control.
 
 The drawn legs are held to the encoders within 0.5 mm: the encoders carry
 the passive-rotation correction (tens of µm at these angles) and the page
 draws the joint centres; an angle order swapped or a frame mixed up moves a
 leg by centimetres at 3°."""
+import json
 import math
 import os
 import shutil
@@ -25,6 +30,7 @@ from selenium.webdriver.chrome.service import Service
 from selenium.webdriver.common.action_chains import ActionChains
 from selenium.webdriver.common.by import By
 from selenium.webdriver.common.keys import Keys
+from selenium.webdriver.support.ui import Select
 
 import live_group  # tests/python
 import served_web
@@ -34,12 +40,21 @@ CHROMEDRIVER = shutil.which("chromedriver")
 # Not a skip: a suite that cannot run its browser tests must say so (deploy/edsp deps installs both).
 assert CHROMIUM and CHROMEDRIVER, "chromium and chromedriver are needed (Debian: chromium chromium-driver)"
 TILT = [12.0, -8.0, None, 3.0, -2.0, 4.0]  # x, y mm; z kept; roll, pitch, yaw deg
+# docs/interfaces.md's example of `edsp-gap drift --json`, as the server's --drift-report file
+DRIFT = {"legs_changed": [{"leg": 4, "change_m": 37.7e-6, "sigma_m": 6.8e-6, "z": 5.5, "at_a_m": 18e-6}],
+         "changed": [{"effect": "backlash", "parameter": "backlash_m", "index": 2, "leg": 3, "before": 22e-6,
+                      "after": 37e-6, "change": 15e-6, "sigma": 2e-6, "z": 7.5, "at_a_m": 5e-6, "applied": True}],
+         "appeared": ["compliance"], "vanished": [], "heldout_rms_m": 12.5e-6, "recalibrate": False}
+CONTROLS = ("move", "check", "halt", "stop", "rearm", "jog-minus", "jog-plus", "set-pivot", "run")
 
 
 @pytest.fixture(scope="module")
 def served(tmp_path_factory):
-    with served_web.serve(tmp_path_factory.mktemp("web")) as server:
-        yield server
+    work = tmp_path_factory.mktemp("web")
+    drift = work / "drift.json"
+    drift.write_text(json.dumps(DRIFT))
+    with served_web.serve(work, ["--drift-report", str(drift)]) as server:
+        yield {**server, "drift": drift}
 
 
 def _browser(tmp_path, extra_args=()):
@@ -272,12 +287,192 @@ def test_a_killed_kinematics_node_shows_the_bridges_hold_and_re_arm_from_the_pag
     assert not _severe_console(driver)
 
 
+def _on_target(driver, seconds=60):
+    """Holding (idle where nothing was asked yet, refused after a refused check) and on target."""
+    _until(driver, seconds, "const m = document.getElementById('motion');"
+                            "return ['idle', 'holding', 'refused'].includes(m.dataset.state) && "
+                            "m.dataset.onTarget === '1'",
+           "on target")
+
+
+def _field(driver, id_, value):
+    field = driver.find_element(By.ID, id_)
+    field.clear()
+    if value != "":
+        field.send_keys(str(value))
+
+
+def _checked_duration_s(driver):
+    """The duration the planner's check of the whole form gave, once it answers the form as it is now."""
+    driver.find_element(By.ID, "check").click()
+    checked = _reply(driver, 20, "path check", line="check-reply")
+    assert checked.startswith("path check: accepted, "), checked
+    return float(checked.split(", ")[1].split(" s")[0])
+
+
+def test_halt_and_stop_stay_in_view_however_far_the_page_is_scrolled_on_a_laptop_and_a_tablet(page, served):
+    driver = page(served["operator"])
+    _until(driver, 30, "return typeof view3d !== 'undefined' && view3d.rendered()", "a rendered 3-D view")
+    for width, height in ((1400, 1000), (800, 1280)):
+        driver.set_window_size(width, height)
+        driver.execute_script("window.scrollTo(0, document.body.scrollHeight)")
+        assert driver.execute_script("return window.scrollY") > 200, (width, height)  # the page did scroll
+        for button in ("halt", "stop"):
+            # the button itself is what a tap at its centre reaches: in view, nothing over it
+            on_top = driver.execute_script("""
+                const b = document.getElementById(arguments[0]), r = b.getBoundingClientRect();
+                return r.top >= 0 && r.bottom <= window.innerHeight &&
+                       document.elementFromPoint((r.left + r.right) / 2, (r.top + r.bottom) / 2) === b;""", button)
+            assert on_top, (button, width, height)
+    driver.find_element(By.ID, "halt").click()  # scrolled down, one click away
+    assert _reply(driver, 20, "halt").startswith("halt: accepted"), driver.find_element(By.ID, "control-reply").text
+    assert not _severe_console(driver)
+
+
+def test_a_jog_along_a_work_frames_axis_a_pivot_and_a_speed_from_the_page_are_what_the_planner_does(page, served):
+    """The frame's yaw turns a jog along its x into base x and y by the
+    frame's cos and sin (worked out here from the frame's pose, not by
+    edsp); the pivot set on the page is the planner's; a move at 5 mm/s is
+    planned to take at least its length over that speed, longer than at the
+    default speed."""
+    driver = page(served["operator"])
+    _until(driver, 30, "return typeof view3d !== 'undefined' && view3d.rendered()", "a rendered 3-D view")
+    rig = live_group.connect(served["group"])
+    yaw = 0.3
+    assert rig.frame("bench", [0.05, -0.02, 1.5, 0.0, 0.0, yaw])["accepted"]
+    _on_target(driver)
+    before = rig.status()["pose_target"]
+    _fill_goal(driver, [0] * 6, relative=True)  # the form's check, in the frame named next, stays a null move
+    _field(driver, "goal-frame", "bench")
+    Select(driver.find_element(By.ID, "jog-axis")).select_by_visible_text("x")
+    _field(driver, "jog-step", 2)
+    driver.find_element(By.ID, "jog-plus").click()
+    assert _reply(driver, 20, "jog x +").startswith("jog x +: accepted"), driver.find_element(By.ID, "control-reply").text
+    _on_target(driver)
+    after = rig.status()["pose_target"]
+    expected = [before[0] + 0.002 * math.cos(yaw), before[1] + 0.002 * math.sin(yaw), *before[2:]]
+    assert all(math.isclose(a, e, abs_tol=1e-9) for a, e in zip(after, expected)), (before, after, expected)
+
+    pivot = rig.status()["pivot"]
+    for i, value in enumerate((10, -20, 30)):
+        _field(driver, f"pivot-{i}", value)
+    driver.find_element(By.ID, "set-pivot").click()
+    assert _reply(driver, 20, "pivot").startswith("pivot: accepted"), driver.find_element(By.ID, "control-reply").text
+    assert all(math.isclose(a, e, abs_tol=1e-12) for a, e in zip(rig.status()["pivot"], (0.010, -0.020, 0.030)))
+    assert rig.pivot(pivot)["accepted"]  # back as it was, for the tests after this one
+
+    _field(driver, "goal-frame", "")
+    _fill_goal(driver, [0, 0, 20, 0, 0, 0], relative=True)
+    default_s = _checked_duration_s(driver)
+    _field(driver, "goal-speed", 5)
+    slow_s = _checked_duration_s(driver)
+    assert slow_s >= 0.020 / 0.005 and slow_s > 1.5 * default_s, (slow_s, default_s)
+    _field(driver, "goal-speed", -5)
+    driver.find_element(By.ID, "check").click()
+    assert "speed (mm/s) must be a positive number" in driver.find_element(By.ID, "check-reply").text
+    _field(driver, "goal-speed", "")
+    assert not _severe_console(driver)
+
+
+def test_a_program_runs_from_the_page_by_name_and_as_a_csv_file(page, served, tmp_path):
+    """A named motion starts and the header's Stop ends it; a CSV chosen
+    on the page rises 2 mm from the held target and ends there; a CSV over
+    what one protocol frame carries is refused on the page, unsent."""
+    driver = page(served["operator"])
+    _until(driver, 30, "return typeof view3d !== 'undefined' && view3d.rendered()", "a rendered 3-D view")
+    rig = live_group.connect(served["group"])
+    _on_target(driver)
+    _field(driver, "run-motions", "Lz")
+    driver.find_element(By.ID, "run").click()
+    assert _reply(driver, 20, "run Lz").startswith("run Lz: accepted"), driver.find_element(By.ID, "control-reply").text
+    # after the approach to its start, the program itself
+    _until(driver, 30, "const m = document.getElementById('motion');"
+                       "return m.dataset.state === 'moving' && m.textContent.includes('run Lz')", "the program under way")
+    driver.find_element(By.ID, "stop").click()
+    assert _reply(driver, 20, "stop").startswith("stop: accepted")
+    _until(driver, 30, "const m = document.getElementById('motion');"
+                       "return m.dataset.state === 'holding' && m.textContent.includes('last motion stopped')",
+           "holding after the stop")
+    _on_target(driver)
+
+    start = rig.status()["pose_target"]
+    rows = ["time_s,x_m,y_m,z_m,roll_rad,pitch_rad,yaw_rad"]
+    for k in range(201):  # 2 s at 100 Hz: up 2 mm along a smooth step
+        t = k / 100
+        z = start[2] + 0.002 * (3 * (t / 2) ** 2 - 2 * (t / 2) ** 3)
+        rows.append(",".join(f"{v:.9f}" for v in [t, start[0], start[1], z, *start[3:]]))
+    csv_file = tmp_path / "rise.csv"
+    csv_file.write_text("\n".join(rows) + "\n")
+    _field(driver, "run-motions", "")
+    driver.find_element(By.ID, "run-csv").send_keys(str(csv_file))
+    driver.find_element(By.ID, "run").click()
+    assert _reply(driver, 20, "run rise.csv").startswith("run rise.csv: accepted"), \
+        driver.find_element(By.ID, "control-reply").text
+    _until(driver, 20, "return document.getElementById('motion').dataset.state === 'moving'", "the CSV under way")
+    _on_target(driver)
+    end = rig.status()["pose_target"]
+    assert math.isclose(end[2] - start[2], 0.002, abs_tol=1e-8), (start, end)
+
+    big = tmp_path / "big.csv"
+    big.write_text(rows[0] + "\n" + ("\n".join(rows[1:]) + "\n") * 20)
+    driver.find_element(By.ID, "run-csv").send_keys(str(big))
+    driver.find_element(By.ID, "run").click()
+    refused = driver.find_element(By.ID, "control-reply").text
+    assert "big.csv is" in refused and "the panel sends at most 60 KiB" in refused, refused
+    assert not _severe_console(driver)
+
+
+def test_the_calibration_view_shows_the_model_in_force_what_it_takes_off_each_leg_and_the_drift_verdict(page, served):
+    """A leg-offset model switched in live (through Python, as a script
+    would) shows by its file's name and as each leg's θ in the calibration
+    column; off again, the column is back at zero. The drift verdict is
+    the file's, and a new file shows without a reload, a bad one with why."""
+    driver = page(served["operator"])
+    _until(driver, 30, "return typeof view3d !== 'undefined' && view3d.rendered()", "a rendered 3-D view")
+    _until(driver, 10, "return document.getElementById('calibration-model').textContent.includes('none')",
+           "no calibration in force")
+    theta = [2e-4, -1.5e-4, 1e-4, -2.5e-4, 1.2e-4, -0.5e-4]
+    model = served["work"] / "offsets.json"
+    model.write_text(json.dumps({"format": "edsp-gap-model/1",
+                                 "effects": [{"name": "leg_offset", "verdict": "identified", "theta": theta}]}))
+    rig = live_group.connect(served["group"])
+    try:
+        assert "offsets.json" in rig.calibration(str(model))
+        _until(driver, 20, "return document.getElementById('calibration-model').textContent.includes('offsets.json')",
+               "the model named")
+        shown = _until(driver, 20, f"""const rows = [...document.querySelectorAll('#calibration-legs tr')].slice(1);
+            const v = rows.map((r) => Number(r.cells[3].textContent));
+            return v.length === 6 && Math.abs(v[0] - {theta[0] * 1e6}) < 0.05 ? v : null;""", "the offsets applied")
+        assert all(math.isclose(v, t * 1e6, abs_tol=0.05) for v, t in zip(shown, theta)), (shown, theta)
+    finally:
+        rig.calibration(None)
+    _until(driver, 20, """const rows = [...document.querySelectorAll('#calibration-legs tr')].slice(1);
+        return rows.length === 6 && rows.every((r) => Math.abs(Number(r.cells[3].textContent)) < 0.005);""",
+           "the calibration column back at zero")
+
+    drift = driver.find_element(By.ID, "drift-report")
+    _until(driver, 20, "return document.getElementById('drift-report').dataset.recalibrate === '0'", "the verdict")
+    assert "no recalibration needed" in drift.text and "leg 4 +37.7 µm (z 5.5)" in drift.text, drift.text
+    assert "backlash leg 3 backlash_m 2.20e-5 → 3.70e-5" in drift.text and "appeared: compliance" in drift.text
+    served["drift"].write_text(json.dumps({**DRIFT, "recalibrate": True, "heldout_rms_m": 41e-6}))
+    _until(driver, 20, "return document.getElementById('drift-report').dataset.recalibrate === '1'",
+           "the new verdict without a reload")
+    assert "recalibrate;" in drift.text and "41.0 µm RMS" in drift.text, drift.text
+    served["drift"].write_text("{\"recalibrate\": tr")
+    text = _until(driver, 20, "const t = document.getElementById('drift-report').textContent;"
+                              "return t.includes('not a JSON object') ? t : null", "the bad file named")
+    assert str(served["drift"]) in text, text
+    served["drift"].write_text(json.dumps(DRIFT))
+    # the 422 of the bad file is the browser's one console error
+    assert all("drift-report.json" in m for m in _severe_console(driver)), _severe_console(driver)
+
+
 def test_a_viewers_page_shows_the_rig_and_offers_no_control(page, served):
     driver = page(served["viewer"])
     _until(driver, 30, "return typeof view3d !== 'undefined' && view3d.rendered()", "a rendered 3-D view")
     _until(driver, 10, "return document.getElementById('control-role').textContent === 'viewer: read-only'",
            "the viewer's role shown")
-    for button in ("move", "check", "halt", "stop", "rearm"):
+    for button in CONTROLS:
         assert not driver.find_element(By.ID, button).is_enabled(), button
     assert not _severe_console(driver)
 

@@ -73,6 +73,8 @@ int Run(int argc, char** argv) {
   key->needs(cert);
   app.add_option("--allow-origin", options.allowed_origins, "a browser Origin allowed besides the served host");
   app.add_option("--panel", options.panel_dir, "the panel's static files")->check(CLI::ExistingDirectory);
+  app.add_option("--drift-report", options.drift_report,
+                 "edsp-gap drift --json's output, shown in the panel's calibration view (read at each look)");
   app.add_option("--rate-hz", options.rate_cap_hz, "most frames per second of a cyclic channel, per client")
       ->check(CLI::Range(0.1, 1000.0));
 

@@ -1,12 +1,15 @@
-// The operator's controls: a move to a pose (in {B}, or relative to the last
-// target), halt (the planner decelerates along the path), stop (at the legs'
-// limit) and re-arm (the actuator bridge, after it latched a hold). Each is
-// a request published through the protocol's clientPublish, which edsp-web
-// offers to operators only, and stamps with the group's session and
-// "web:NAME"; the answer (EDSP_MOTION_REPLY, EDSP_REPLY) is shown beside it.
-// The form's pose is checked along its whole path by the planner as it is
-// edited (a check request), so its answer shows before the move is sent.
-// Escape halts and Shift+Escape stops, wherever the focus is.
+// The operator's controls: a move to a pose (in {B} or a work frame, or
+// relative to the last target, at a speed or the default), a jog along one
+// axis, the pivot, a program run (named motions or a trajectory CSV), halt
+// (the planner decelerates along the path), stop (at the legs' limit) and
+// re-arm (the actuator bridge, after it latched a hold). Each is a request
+// published through the protocol's clientPublish, which edsp-web offers to
+// operators only, and stamps with the group's session and "web:NAME"; the
+// answer (EDSP_MOTION_REPLY, EDSP_REPLY) is shown beside it. The form's
+// move is checked along its whole path by the planner as it is edited (a
+// check request), so its answer shows before the move is sent. Halt and
+// stop sit in the page's header, always in view; Escape halts and
+// Shift+Escape stops, wherever the focus is.
 "use strict";
 
 const controls = (() => {
@@ -18,6 +21,10 @@ const controls = (() => {
   const CHECK_AFTER_EDIT_MS = 400;
   const MM = 1e-3, DEG = Math.PI / 180;
   const POSE_UNITS = [MM, MM, MM, DEG, DEG, DEG];
+  const AXES = ["x", "y", "z", "roll", "pitch", "yaw"];
+  // edsp-web refuses a client frame over 64 KiB: a CSV is sent whole in one.
+  const MAX_CSV_BYTES = 60 * 1024;
+  const CONTROLS = ["move", "check", "halt", "stop", "rearm", "jog-minus", "jog-plus", "set-pivot", "run"];
 
   const pending = new Map();  // request id -> {what, line}: the answer's line
   let socket = null, nextId = Date.now() * 1000, formTouched = false, operator = false, checkTimer = null;
@@ -50,22 +57,41 @@ const controls = (() => {
     return id;
   }
 
-  // The form's pose in SI units, or why it is not one.
-  function formPose() {
-    const pose = [];
-    for (let i = 0; i < 6; ++i) {
-      const text = document.getElementById(`goal-${i}`).value.trim();
+  // Numbers typed in fields `ids`, each times its unit, or why one is not a number.
+  function numbers(ids, names, units) {
+    const values = [];
+    for (let i = 0; i < ids.length; ++i) {
+      const text = document.getElementById(ids[i]).value.trim();
       const value = Number(text);
-      if (text === "" || !Number.isFinite(value)) return { error: `${["x", "y", "z", "roll", "pitch", "yaw"][i]} is not a number` };
-      pose.push(value * POSE_UNITS[i]);
+      if (text === "" || !Number.isFinite(value)) return { error: `${names[i]} is not a number` };
+      values.push(value * units[i]);
     }
-    return { pose };
+    return { values };
+  }
+
+  // A speed field: empty is the planner's default (0 on the wire).
+  function speed(id, what, unit) {
+    const text = document.getElementById(id).value.trim();
+    if (text === "") return { value: 0 };
+    const value = Number(text);
+    if (!Number.isFinite(value) || value <= 0) return { error: `${what} must be a positive number or empty (the default)` };
+    return { value: value * unit };
+  }
+
+  // What a move, check or jog carries besides its pose: the frame and the speeds.
+  function moveSettings() {
+    const linear = speed("goal-speed", "speed (mm/s)", MM);
+    const angular = speed("goal-speed-rot", "speed (°/s)", DEG);
+    const error = linear.error || angular.error;
+    if (error) return { error };
+    return { frame: document.getElementById("goal-frame").value.trim(), speed_m_s: linear.value, speed_rad_s: angular.value };
   }
 
   function goal(kind) {
-    const { pose, error } = formPose();
-    if (error) return { error };
-    return { request: { kind, relative: document.getElementById("goal-relative").checked, pose } };
+    const { values: pose, error } = numbers(AXES.map((_, i) => `goal-${i}`), AXES, POSE_UNITS);
+    const settings = moveSettings();
+    if (error || settings.error) return { error: error || settings.error };
+    return { request: { kind, relative: document.getElementById("goal-relative").checked, pose, ...settings } };
   }
 
   function move() {
@@ -89,6 +115,38 @@ const controls = (() => {
     if (operator) checkTimer = setTimeout(check, CHECK_AFTER_EDIT_MS);
   }
 
+  // One step along one axis of the form's frame, from the last target (the
+  // planner allows at most 10 mm or 10 mrad a step).
+  function jog(sign) {
+    const axis = Number(document.getElementById("jog-axis").value);
+    const { values, error } = numbers(["jog-step"], ["jog step"], [POSE_UNITS[axis]]);
+    const settings = moveSettings();
+    if (error || settings.error) return note(error || settings.error, "error");
+    const pose = [0, 0, 0, 0, 0, 0];
+    pose[axis] = sign * values[0];
+    ask("EDSP_MOTION_REQUEST", { kind: KIND.jog, pose, ...settings }, `jog ${AXES[axis]} ${sign > 0 ? "+" : "−"}`);
+  }
+
+  function setPivot() {
+    const { values, error } = numbers(["pivot-0", "pivot-1", "pivot-2"], ["pivot x", "pivot y", "pivot z"], [MM, MM, MM]);
+    if (error) return note(error, "error");
+    ask("EDSP_MOTION_REQUEST", { kind: KIND.pivot, point: values }, "pivot");
+  }
+
+  // A program: the named motions typed, or the trajectory CSV chosen (its whole text).
+  function run() {
+    const motions = document.getElementById("run-motions").value.trim();
+    const file = document.getElementById("run-csv").files[0];
+    if (!motions === !file) return note("run: name motions (Lz,Lx) or choose a trajectory CSV, not both", "error");
+    if (motions) return ask("EDSP_MOTION_REQUEST", { kind: KIND.run, motions }, `run ${motions}`);
+    if (file.size > MAX_CSV_BYTES) {
+      return note(`run: ${file.name} is ${Math.ceil(file.size / 1024)} KiB; the panel sends at most ` +
+                  `${MAX_CSV_BYTES / 1024} KiB (edsp-ctl run --csv has no such limit)`, "error");
+    }
+    file.text().then((text) => ask("EDSP_MOTION_REQUEST", { kind: KIND.run, csv_text: text, csv_origin: file.name },
+                                   `run ${file.name}`));
+  }
+
   function halt() { ask("EDSP_MOTION_REQUEST", { kind: KIND.halt }, "halt"); }
   function stop() { ask("EDSP_MOTION_REQUEST", { kind: KIND.stop }, "stop"); }
 
@@ -100,7 +158,7 @@ const controls = (() => {
 
   function setEnabled(enabled, why) {
     operator = enabled;
-    for (const id of ["move", "check", "halt", "stop", "rearm"]) document.getElementById(id).disabled = !enabled;
+    for (const id of CONTROLS) document.getElementById(id).disabled = !enabled;
     document.getElementById("control-role").textContent = why;
   }
 
@@ -126,7 +184,13 @@ const controls = (() => {
       document.getElementById("halt").onclick = halt;
       document.getElementById("stop").onclick = stop;
       document.getElementById("rearm").onclick = () => ask("EDSP_ARM", {}, "re-arm");
-      for (let i = 0; i < 6; ++i) document.getElementById(`goal-${i}`).oninput = checkSoon;
+      document.getElementById("jog-minus").onclick = () => jog(-1);
+      document.getElementById("jog-plus").onclick = () => jog(+1);
+      document.getElementById("set-pivot").onclick = setPivot;
+      document.getElementById("run").onclick = run;
+      for (const id of [...AXES.map((_, i) => `goal-${i}`), "goal-frame", "goal-speed", "goal-speed-rot"]) {
+        document.getElementById(id).oninput = checkSoon;
+      }
       document.getElementById("goal-relative").onchange = checkSoon;
       document.addEventListener("keydown", onKey);
       setEnabled(false, "connecting");
@@ -138,6 +202,12 @@ const controls = (() => {
         document.getElementById(`goal-${i}`).value = (v / POSE_UNITS[i]).toFixed(i < 3 ? 3 : 4);
       });
       formTouched = true;  // once: a held pose's jitter never rewrites what the operator reads
+    },
+    // The pivot fields start at the pivot in force, until edited.
+    prefillPivot(point) {
+      const fields = [0, 1, 2].map((i) => document.getElementById(`pivot-${i}`));
+      if (!Array.isArray(point) || fields.some((f) => f.value !== "" || f === document.activeElement)) return;
+      point.forEach((v, i) => { fields[i].value = typeof v === "number" ? (v / MM).toFixed(3) : ""; });
     },
     // A status of level 2 from edsp-web: a request of this page it refused
     // (malformed, too many a second): the requests still waiting are not

@@ -1,12 +1,12 @@
 // The panel: a foxglove.websocket.v1 client of edsp-web. The token the page
 // was opened with (?token=T) opens the WebSocket too; the page's scripts and
 // styles need none. The 3-D view is view3d.js, the plots plots.js, the
-// operator's requests controls.js.
+// operator's requests controls.js, the calibration view calibration.js.
 "use strict";
 
 const SUBPROTOCOL = "foxglove.websocket.v1";
-const WATCHED = ["EDSP_CONFIG", "EDSP_PLATFORM_STATE", "EDSP_LEG_STATE", "EDSP_MOTION_STATUS", "EDSP_STATUS",
-  "EDSP_FAULT", "EDSP_MOTION_REPLY", "EDSP_REPLY"];
+const WATCHED = ["EDSP_CONFIG", "EDSP_PLATFORM_STATE", "EDSP_LEG_STATE", "EDSP_LEG_COMMAND", "EDSP_MOTION_STATUS",
+  "EDSP_STATUS", "EDSP_FAULT", "EDSP_MOTION_REPLY", "EDSP_REPLY"];
 const FAULT_SEVERITY = ["info", "warning", "error"];
 // motion_status_t's STATE_* and END_*, by value
 const MOTION_STATE = ["idle", "moving", "halting", "holding", "refused", "fault", "cueing"];
@@ -19,11 +19,12 @@ const panel = {
   nodes: new Map(),         // node name -> its table row
 };
 
+const TOKEN = new URL(window.location.href).searchParams.get("token");
+
 function socketUrl() {
   const url = new URL(window.location.href);
   const scheme = url.protocol === "https:" ? "wss:" : "ws:";
-  const token = url.searchParams.get("token");
-  return `${scheme}//${url.host}/` + (token ? `?token=${encodeURIComponent(token)}` : "");
+  return `${scheme}//${url.host}/` + (TOKEN ? `?token=${encodeURIComponent(TOKEN)}` : "");
 }
 
 function setConnection(text, cls) {
@@ -115,11 +116,12 @@ function showFault(fault) {
 
 function showMotion(status) {
   view3d.setPivot(status.pivot);
+  controls.prefillPivot(status.pivot);
   const ended = MOTION_END[status.last_end] ? `, last motion ${MOTION_END[status.last_end]}` : "";
   const onTarget = status.on_target ? ", on target" : "";
   const motion = document.getElementById("motion");
   motion.textContent = `${MOTION_STATE[status.state] ?? status.state}${onTarget}: ${status.activity || "nothing asked yet"}, ` +
-    `progress ${((status.progress ?? 0) * 100).toFixed(0)}%, ${status.queued} queued${ended}` +
+    `progress ${((status.progress ?? 0) * 100).toFixed(0)}%, ${status.queued} queued${ended}, frame ${status.frame || "base"}` +
     (status.reason ? ` (${status.reason})` : "");
   motion.dataset.state = MOTION_STATE[status.state] ?? "";
   motion.dataset.requestId = `${status.request_id}`;
@@ -127,7 +129,11 @@ function showMotion(status) {
 }
 
 const SHOW = {
-  EDSP_CONFIG: (config) => view3d.setConfig(config, document.getElementById("view")),
+  EDSP_CONFIG: (config) => {
+    view3d.setConfig(config, document.getElementById("view"));
+    calibration.onConfig(config);
+  },
+  EDSP_LEG_COMMAND: (command) => calibration.onLegCommand(command),
   EDSP_PLATFORM_STATE: showPlatform,
   EDSP_LEG_STATE: showLegs,
   EDSP_MOTION_STATUS: showMotion,
@@ -150,6 +156,7 @@ function onText(text) {
   if (message.op === "serverInfo") {
     document.getElementById("server").textContent = `${message.name}, session ${message.sessionId}`;
     controls.attach(panel.ws, message);
+    calibration.attach(message, TOKEN);
   } else if (message.op === "advertise") {
     for (const channel of message.channels) panel.channels.set(channel.id, channel);
     subscribe(panel.ws);

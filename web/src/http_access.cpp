@@ -56,9 +56,10 @@ std::optional<std::string> PresentedToken(std::string_view target, std::string_v
 }
 
 bool PathNeedsToken(std::string_view path) {
-  constexpr std::string_view kHtml = ".html";
-  return path == "/" || path.empty() ||
-         (path.size() >= kHtml.size() && path.substr(path.size() - kHtml.size()) == kHtml);
+  const auto ends_with = [path](std::string_view end) {
+    return path.size() >= end.size() && path.substr(path.size() - end.size()) == end;
+  };
+  return path == "/" || path.empty() || ends_with(".html") || ends_with(".json");
 }
 
 bool OriginAllowed(std::string_view origin, std::string_view host, const std::vector<std::string>& allowed) {

@@ -22,6 +22,7 @@
 #include "edsp/channels.h"
 #include "edsp/node/runtime.h"
 #include "edsp/web/client_feed.h"
+#include "edsp/web/drift_report_page.h"
 #include "edsp/web/foxglove_protocol.h"
 #include "edsp/web/http_access.h"
 #include "edsp/web/message_json.h"
@@ -410,6 +411,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
     if (request.method() != http::verb::get && request.method() != http::verb::head) {
       return Refuse(http::status::method_not_allowed, "only GET and HEAD are served", request);
     }
+    if (path == kDriftReportPath) return ServeDriftReport(request);
     std::optional<Page> page =
         path.substr(0, kJavascriptPrefix.size()) == kJavascriptPrefix
             ? FilePage(shared_->options.javascript_dir, path.substr(kJavascriptPrefix.size() - 1))
@@ -417,6 +419,15 @@ class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
     if (!page) return Refuse(http::status::not_found, "no such page: " + std::string(path), request);
     Respond(http::status::ok, std::move(*page), request.version(), request.keep_alive(),
             request.method() == http::verb::head);
+  }
+
+  void ServeDriftReport(const Request& request) {
+    DriftReportAnswer answer = DriftReportPage(shared_->options.drift_report);
+    const bool ok = answer.http_status == 200;
+    Respond(
+        static_cast<http::status>(answer.http_status),
+        Page{ok ? std::move(answer.body) : answer.body + "\n", ok ? "application/json" : "text/plain; charset=utf-8"},
+        request.version(), request.keep_alive(), request.method() == http::verb::head);
   }
 
   static std::optional<Page> FilePage(const std::string& root, std::string_view path) {

@@ -29,8 +29,9 @@ std::string_view TargetPath(std::string_view target);
 std::optional<std::string> QueryValue(std::string_view target, std::string_view key);
 // The token a request presents (the query's, else the bearer header's).
 std::optional<std::string> PresentedToken(std::string_view target, std::string_view authorization_header);
-// Whether a GET of `path` needs a token: a page ("/", *.html) does; a
-// script, style or library does not.
+// Whether a GET of `path` needs a token: a page ("/", *.html) and the
+// rig's data (*.json: the drift report) do; a script, style or library
+// does not.
 bool PathNeedsToken(std::string_view path);
 
 // Whether a WebSocket's Origin header may open it: absent, the served host

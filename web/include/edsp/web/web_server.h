@@ -48,6 +48,9 @@ struct WebServerOptions {
   // client publishes, whatever its role.
   RequestRelay::Publish publish;
   double max_requests_per_s = 20.0;  // per client
+  // `edsp-gap drift --json`'s output, served at /drift-report.json for the
+  // panel's calibration view (drift_report_page.h); empty: none.
+  std::string drift_report;
 };
 
 struct WebServerStats {
