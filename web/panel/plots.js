@@ -55,8 +55,11 @@ const plots = (() => {
       const labels = series[name].labels;
       if (!graphs[name] || graphs[name].numColumns() !== labels.length) {
         if (graphs[name]) graphs[name].destroy();
+        // A copy: the loops' labels grow as nodes appear, and a graph redrawn
+        // (a resize) with its labels grown under it throws "Unknown series"
+        // (its rows are replaced, not grown, for the same reason).
         graphs[name] = new Dygraph(document.getElementById(`plot-${name}`), rows,
-          { labels, ylabel: series[name].unit, legend: "always", labelsSeparateLines: false, animatedZooms: false,
+          { labels: [...labels], ylabel: series[name].unit, legend: "always", labelsSeparateLines: false, animatedZooms: false,
             connectSeparatedPoints: true, strokeWidth: 1.2 });
       } else if (!graphs[name].isZoomed()) {
         graphs[name].updateOptions({ file: rows });
@@ -117,7 +120,7 @@ const plots = (() => {
       if (!s.nodes.includes(status.node)) {
         s.nodes.push(status.node);
         s.labels.push(status.node);
-        s.rows.forEach((r) => r.push(null));
+        s.rows = s.rows.map((r) => [...r, null]);  // new rows: the graph drawn keeps the ones it was given
       }
       const row = new Array(s.labels.length).fill(null);
       row[0] = seconds(status.utime);

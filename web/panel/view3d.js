@@ -194,6 +194,7 @@ const view3d = (() => {
       });
     },
     rendered() { return state.ready && renderer.info.render.frame > 0; },
+    renders() { return renderer ? renderer.info.render.frame : 0; },  // drawn so far (the web benchmark's counter)
     start() { requestAnimationFrame(frame); },
   };
 })();
