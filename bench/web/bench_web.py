@@ -34,7 +34,6 @@ import json
 import os
 import re
 import shutil
-import signal
 import statistics
 import struct
 import subprocess
@@ -46,6 +45,9 @@ import numpy as np
 import websockets
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "tests", "python"))
+import live_group  # noqa: E402
+
 import edsp  # noqa: E402
 
 SUBPROTOCOL = "foxglove.websocket.v1"
@@ -104,7 +106,9 @@ def process_cpu_s(pid):
 
 def web_pid(group):
     out = subprocess.run(["pgrep", "-f", f"edsp-web .*{group}"], capture_output=True, text=True).stdout.split()
-    return int(out[0]) if out else None
+    if not out:
+        raise RuntimeError(f"no edsp-web of {group} runs (its launch.err says why)")
+    return int(out[0])
 
 
 async def watch(seconds, topics):
@@ -193,21 +197,9 @@ def run_group(bin_dir, seconds, realtime, clients=0, page=False):
     """One run of the group for `seconds` of watching (0 clients: none)."""
     work = tempfile.mkdtemp(prefix="edsp_bench_web_")
     group = group_file(work, realtime)
-    with open(os.path.join(work, "launch.err"), "w") as err:
-        launch = subprocess.Popen([os.path.join(bin_dir, "edsp-launch"), group, "--bin-dir", bin_dir], cwd=work,
-                                  stdout=subprocess.DEVNULL, stderr=err)
     result = {"clients": clients}
-    try:
-        rig = None
-        deadline = time.monotonic() + 60
-        while rig is None:  # the group up, its web member serving
-            try:
-                rig = edsp.Platform(group, answer_timeout_s=5)
-                rig.status()
-            except (edsp.Timeout, TimeoutError):
-                rig = None
-                if time.monotonic() > deadline:
-                    raise RuntimeError(f"the group did not start: {open(os.path.join(work, 'launch.err')).read()}")
+    with live_group.launched(group, bin_dir, work):
+        live_group.connect(group)  # up, measuring, its bridge following
         pid = web_pid(group)
         time.sleep(1.0)  # past the start-up's burst
         cpu0, began = process_cpu_s(pid), time.monotonic()
@@ -227,12 +219,6 @@ def run_group(bin_dir, seconds, realtime, clients=0, page=False):
             time.sleep(seconds)
             elapsed = time.monotonic() - began
         result["web_cpu_share"] = (process_cpu_s(pid) - cpu0) / elapsed  # of one core
-    finally:
-        launch.send_signal(signal.SIGINT)
-        try:
-            launch.wait(timeout=30)
-        except subprocess.TimeoutExpired:
-            launch.kill()
     result["stack"] = stack_figures(work)
     shutil.rmtree(work, ignore_errors=True)
     return result

@@ -34,11 +34,19 @@ def sim_group(source, bin_dir, tag, launch_args=()):
     path = os.path.join(work, "group.toml")
     with open(path, "w", encoding="utf-8") as f:
         f.write(text)
+    with launched(path, bin_dir, work, launch_args):
+        yield path
+
+
+@contextlib.contextmanager
+def launched(path, bin_dir, work, launch_args=()):
+    """edsp-launch running the group file `path` in `work` (its stderr in
+    work/launch.err), stopped in order at the end; yields the process."""
     with open(os.path.join(work, "launch.err"), "w") as err:
         launch = subprocess.Popen([os.path.join(bin_dir, "edsp-launch"), path, "--bin-dir", bin_dir, *launch_args],
                                   cwd=work, stdout=subprocess.DEVNULL, stderr=err, preexec_fn=_die_with_parent)
     try:
-        yield path
+        yield launch
     finally:
         launch.send_signal(signal.SIGINT)
         try:
