@@ -23,14 +23,19 @@ def _die_with_parent():
 
 
 @contextlib.contextmanager
-def sim_group(source, bin_dir, tag, launch_args=()):
-    """Yields the group file's path while the group runs."""
+def sim_group(source, bin_dir, tag, launch_args=(), rig_args=()):
+    """Yields the group file's path while the group runs; `rig_args` after the rig's own."""
     work = tempfile.mkdtemp(prefix=f"edsp_{tag}_")
     bin_dir = os.path.abspath(bin_dir)  # the group runs in `work`
     with open(os.path.join(source, "deploy", "groups", "sim.toml"), encoding="utf-8") as f:
         text = f.read()
     text = text.replace('shm_prefix = "edsp.sim"', f'shm_prefix = "edsp.{tag}.{os.getpid()}"')
     text = text.replace('config = "config/', f'config = "{os.path.abspath(source)}/config/')
+    if rig_args:
+        rig = 'args = ["--tracker-noise-m", "0"'
+        if text.count(rig) != 1:
+            raise RuntimeError("deploy/groups/sim.toml's rig no longer starts with the args this edits")
+        text = text.replace(rig, rig + "".join(f', "{a}"' for a in rig_args))
     path = os.path.join(work, "group.toml")
     with open(path, "w", encoding="utf-8") as f:
         f.write(text)

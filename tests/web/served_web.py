@@ -18,9 +18,10 @@ WEB = os.path.join(BIN, "edsp-web")
 
 
 @contextlib.contextmanager
-def serve(work, extra=()):
+def serve(work, extra=(), rig_args=()):
     """Yields {port, operator, viewer, group, pid, tokens, work} while the
-    group and the server (with edsp-web's options `extra`) run."""
+    group (its rig with `rig_args`) and the server (with edsp-web's options
+    `extra`) run."""
     tokens = str(work / "tokens.toml")
 
     def add(name, role):
@@ -28,7 +29,7 @@ def serve(work, extra=()):
                                        text=True, stderr=subprocess.DEVNULL).strip()
 
     operator, viewer = add("alice", "operator"), add("bob", "viewer")
-    with live_group.sim_group(SOURCE, BIN, "web") as group:
+    with live_group.sim_group(SOURCE, BIN, "web", rig_args=rig_args) as group:
         live_group.connect(group)
         with server(work / "web.err", group, tokens, extra) as (port, pid):
             yield {"port": port, "operator": operator, "viewer": viewer, "group": group, "pid": pid,

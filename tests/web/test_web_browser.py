@@ -46,6 +46,9 @@ DRIFT = {"legs_changed": [{"leg": 4, "change_m": 37.7e-6, "sigma_m": 6.8e-6, "z"
                       "after": 37e-6, "change": 15e-6, "sigma": 2e-6, "z": 7.5, "at_a_m": 5e-6, "applied": True}],
          "appeared": ["compliance"], "vanished": [], "heldout_rms_m": 12.5e-6, "recalibrate": False}
 CONTROLS = ("move", "check", "halt", "stop", "rearm", "jog-minus", "jog-plus", "set-pivot", "run")
+# The rig's tracker stands where a real one would: its frame turned and moved
+# from {B} (the pose of {B} in it: x, y, z m, roll, pitch, yaw rad).
+TRACKER_FRAME = [1.2, -0.4, 0.7, 0.3, -0.2, 1.1]
 
 
 @pytest.fixture(scope="module")
@@ -53,7 +56,8 @@ def served(tmp_path_factory):
     work = tmp_path_factory.mktemp("web")
     drift = work / "drift.json"
     drift.write_text(json.dumps(DRIFT))
-    with served_web.serve(work, ["--drift-report", str(drift)]) as server:
+    with served_web.serve(work, ["--drift-report", str(drift)],
+                          ["--tracker-frame", ",".join(str(v) for v in TRACKER_FRAME)]) as server:
         yield {**server, "drift": drift}
 
 
@@ -287,6 +291,15 @@ def test_a_killed_kinematics_node_shows_the_bridges_hold_and_re_arm_from_the_pag
     assert not _severe_console(driver)
 
 
+def _rotation(roll, pitch, yaw):
+    """Rz(yaw)·Ry(pitch)·Rx(roll), row by row."""
+    cr, sr, cp, sp, cy, sy = (math.cos(roll), math.sin(roll), math.cos(pitch), math.sin(pitch), math.cos(yaw),
+                              math.sin(yaw))
+    return [[cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
+            [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
+            [-sp, cp * sr, cp * cr]]
+
+
 def _on_target(driver, seconds=60):
     """Holding (idle where nothing was asked yet, refused after a refused check) and on target."""
     _until(driver, seconds, "const m = document.getElementById('motion');"
@@ -465,6 +478,45 @@ def test_the_calibration_view_shows_the_model_in_force_what_it_takes_off_each_le
     served["drift"].write_text(json.dumps(DRIFT))
     # the 422 of the bad file is the browser's one console error
     assert all("drift-report.json" in m for m in _severe_console(driver)), _severe_console(driver)
+
+
+def test_the_trackers_point_is_plotted_against_the_models_in_a_frame_fitted_to_base(page, served):
+    """The rig's tracker measures in a frame turned by a radian and moved
+    by a metre from {B}: the raw points differ from the model's by metres.
+    Once the platform has moved over a plane, the page fits the frame and
+    plots what is left, which on the sim rig with the signed PR
+    compensation is micrometres (the tracker noiseless: the model's own
+    error and the interpolation between its 30 Hz points)."""
+    driver = page(served["operator"])
+    _until(driver, 30, "return typeof view3d !== 'undefined' && view3d.rendered()", "a rendered 3-D view")
+    # the fit alone, on points carried by a rotation and translation written here (roll, pitch, yaw as edsp's R_BM)
+    r, t = _rotation(0.3, -0.2, 1.1), [1.2, -0.4, 0.7]
+    to = [[0.05 * math.sin(3 * k), 0.04 * math.cos(5 * k), 1.5 + 0.01 * math.sin(7 * k)] for k in range(40)]
+    frm = [[sum(r[j][i] * (p[j] - t[j]) for j in range(3)) for i in range(3)] for p in to]  # Rᵀ (p − t)
+    found = driver.execute_script("const f = rigidFit.fit(arguments[0], arguments[1], 1e-6);"
+                                  "return [f.rotation, f.translation, f.rotated];", frm, to)
+    assert found[2] and all(math.isclose(found[0][i][j], r[i][j], abs_tol=1e-12) for i in range(3) for j in range(3))
+    assert all(math.isclose(a, b, abs_tol=1e-12) for a, b in zip(found[1], t)), found
+    on_a_line = [[0.0, 0.0, 1.5 + 1e-3 * k] for k in range(40)]
+    assert not driver.execute_script("return rigidFit.fit(arguments[0], arguments[1], 1e-6).rotated", frm, on_a_line)
+
+    _on_target(driver)
+    for step in ([15, 0, 0, 0, 0, 0], [0, 15, 0, 0, 0, 0], [-15, -15, 0, 0, 0, 0]):  # a triangle in x, y
+        _fill_goal(driver, step, relative=True)
+        driver.find_element(By.ID, "move").click()
+        assert _reply(driver, 20, "move by").startswith("move by: accepted")
+        _until(driver, 20, "return document.getElementById('motion').dataset.state === 'moving'", "the move under way")
+        _on_target(driver)
+    fitted = _until(driver, 10, "const t = document.getElementById('tracker-fit').textContent;"
+                                "return t.includes('fitted to {B}') ? t : null", "the tracker's frame fitted")
+    _until(driver, 10, "return plots.rows('tracker') > 30", "tracker pairs")
+    time.sleep(2.5)  # one refit after the last pairs
+    rows = [line.split(",") for line in driver.execute_script("return plots.csv('tracker')").splitlines()
+            if not line.startswith("#")]
+    assert rows[0] == ['"t (s)"', '"x"', '"y"', '"z"', '"distance"'], rows[0]
+    distances = [float(r[4]) for r in rows[1:]]
+    assert len(distances) > 30 and max(distances[-30:]) < 20.0, (fitted, distances[-30:])
+    assert not _severe_console(driver)
 
 
 def test_a_viewers_page_shows_the_rig_and_offers_no_control(page, served):

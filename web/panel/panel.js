@@ -5,8 +5,8 @@
 "use strict";
 
 const SUBPROTOCOL = "foxglove.websocket.v1";
-const WATCHED = ["EDSP_CONFIG", "EDSP_PLATFORM_STATE", "EDSP_LEG_STATE", "EDSP_LEG_COMMAND", "EDSP_MOTION_STATUS",
-  "EDSP_STATUS", "EDSP_FAULT", "EDSP_MOTION_REPLY", "EDSP_REPLY"];
+const WATCHED = ["EDSP_CONFIG", "EDSP_PLATFORM_STATE", "EDSP_LEG_STATE", "EDSP_LEG_COMMAND", "EDSP_TRACKER",
+  "EDSP_MOTION_STATUS", "EDSP_STATUS", "EDSP_FAULT", "EDSP_MOTION_REPLY", "EDSP_REPLY"];
 const FAULT_SEVERITY = ["info", "warning", "error"];
 // motion_status_t's STATE_* and END_*, by value
 const MOTION_STATE = ["idle", "moving", "halting", "holding", "refused", "fault", "cueing"];
@@ -134,6 +134,7 @@ const SHOW = {
     calibration.onConfig(config);
   },
   EDSP_LEG_COMMAND: (command) => calibration.onLegCommand(command),
+  EDSP_TRACKER: (sample) => plots.onTracker(sample),
   EDSP_PLATFORM_STATE: showPlatform,
   EDSP_LEG_STATE: showLegs,
   EDSP_MOTION_STATUS: showMotion,

@@ -2,10 +2,12 @@
 // drawing that redraws thousands of points in a few ms, so the panel keeps
 // up at the channels' 30 frames a second): the legs' encoder lengths, the
 // platform's tracking error (commanded − measured pose, both from one
-// EDSP_PLATFORM_STATE message, so no two clocks are mixed), and every
-// node's loop time (EDSP_STATUS, once a second). Pause, a window of the
-// last minutes, drag to zoom (double-click: back), export of what is shown
-// as CSV.
+// EDSP_PLATFORM_STATE message, so no two clocks are mixed), the tracker's
+// point A against the model's (EDSP_TRACKER against EDSP_PLATFORM_STATE's
+// point, interpolated to the tracker's instant, the tracker's frame fitted
+// to {B} over the pairs kept: rigid_fit.js), and every node's loop time
+// (EDSP_STATUS, once a second). Pause, a window of the last minutes, drag
+// to zoom (double-click: back), export of what is shown as CSV.
 "use strict";
 
 const plots = (() => {
@@ -14,10 +16,20 @@ const plots = (() => {
   const series = {
     legs: { labels: ["t (s)", "leg 1", "leg 2", "leg 3", "leg 4", "leg 5", "leg 6"], unit: "mm", rows: [] },
     tracking: { labels: ["t (s)", "x", "y", "z", "rotation"], unit: "µm, µrad", rows: [] },
+    tracker: { labels: ["t (s)", "x", "y", "z", "distance"], unit: "µm", rows: [] },
     loops: { labels: ["t (s)"], unit: "µs (p99)", rows: [], nodes: [] },
   };
   const graphs = {};
   let t0 = null, paused = false, windowS = 120, lastDraw = 0;
+  // Tracker against model: the model's point A of the last seconds (to
+  // interpolate at a tracker sample's instant), tracker samples waiting for
+  // the model's point after them, the pairs made, and the frame fitted.
+  const MODEL_KEEP_S = 2;
+  const REFIT_MS = 2000;
+  const MAX_FIT_PAIRS = 2000;
+  const MIN_SPREAD_M2 = 2e-3 * 2e-3;  // the model's points over a plane 2 mm across before a rotation is fitted
+  const modelPoints = [], waiting = [], pairs = [];
+  let fit = null, lastRotation = null, lastFit = -Infinity;
 
   function seconds(utime) {
     if (t0 === null) t0 = utime;
@@ -45,7 +57,52 @@ const plots = (() => {
     return rows.filter((r) => r[0] >= end - windowS);
   }
 
+  // The model's point A at instant t, between the two kept around it; none past the newest.
+  function modelAt(t) {
+    for (let k = modelPoints.length - 1; k > 0; --k) {
+      const [t1, p1] = modelPoints[k], [t0_, p0] = modelPoints[k - 1];
+      if (t0_ <= t && t <= t1) {
+        const w = t1 > t0_ ? (t - t0_) / (t1 - t0_) : 0;
+        return p0.map((v, i) => v + w * (p1[i] - v));
+      }
+    }
+    return null;
+  }
+
+  function residualRow(pair) {
+    const d = rigidFit.apply(fit, pair.tracker).map((v, i) => (v - pair.model[i]) * 1e6);
+    return [pair.t, d[0], d[1], d[2], Math.hypot(d[0], d[1], d[2])];
+  }
+
+  // The tracker's frame fitted again over the pairs kept (every pair's row
+  // recomputed with it): a rotation once the model's points span a plane.
+  function refit(now) {
+    if (pairs.length < 3 || now - lastFit < REFIT_MS) return;
+    lastFit = now;
+    const step = Math.max(1, Math.floor(pairs.length / MAX_FIT_PAIRS));
+    const used = pairs.filter((_, k) => k % step === 0);
+    fit = rigidFit.fit(used.map((p) => p.tracker), used.map((p) => p.model), MIN_SPREAD_M2, lastRotation);
+    if (fit.rotated) lastRotation = fit.rotation;
+    series.tracker.rows = pairs.map(residualRow);
+    document.getElementById("tracker-fit").textContent = fit.rotated || lastRotation
+      ? `the tracker's frame fitted to {B} over ${used.length} pairs`
+      : "the tracker's frame only translated onto {B}: the platform has not moved over a plane yet";
+  }
+
+  function pairWaiting() {
+    while (waiting.length && modelPoints.length && waiting[0].t <= modelPoints[modelPoints.length - 1][0]) {
+      const sample = waiting.shift();
+      const model = modelAt(sample.t);
+      if (!model) continue;  // older than the points kept
+      const pair = { t: sample.t, tracker: sample.point, model };
+      pairs.push(pair);
+      while (pairs.length && pairs[0].t < pair.t - KEEP_S) pairs.shift();
+      if (fit) add("tracker", residualRow(pair));
+    }
+  }
+
   function draw(now) {
+    refit(now);
     if (paused || typeof Dygraph === "undefined") return;
     if (now - lastDraw < REDRAW_MS) return;
     lastDraw = now;
@@ -109,9 +166,22 @@ const plots = (() => {
       add("legs", [seconds(state.utime), ...state.encoder_length_m.map((v) => (finite(v) ? v * 1e3 : null))]);
     },
     onPlatformState(state) {
+      if (state.observation_point_m.every(finite) && state.fk_status === 0) {
+        const t = seconds(state.utime);
+        modelPoints.push([t, state.observation_point_m]);
+        while (modelPoints.length > 2 && modelPoints[0][0] < t - MODEL_KEEP_S) modelPoints.shift();
+        pairWaiting();
+      }
       if (![...state.pose, ...state.target_pose].every(finite)) return;
       const d = state.target_pose.map((v, i) => v - state.pose[i]);
       add("tracking", [seconds(state.utime), d[0] * 1e6, d[1] * 1e6, d[2] * 1e6, Math.hypot(d[3], d[4], d[5]) * 1e6]);
+    },
+    // EDSP_TRACKER: a valid sample waits for the model's point after it.
+    onTracker(sample) {
+      if (!sample.valid || !sample.point_m.every(finite)) return;
+      waiting.push({ t: seconds(sample.utime), point: sample.point_m });
+      if (waiting.length > 100) waiting.shift();  // the model silent: keep the newest
+      pairWaiting();
     },
     // One row per status message: its node's loop p99, the others' left
     // empty (dygraphs joins a series' points across them).
