@@ -524,6 +524,9 @@ motion_status_t MotionService::Status(std::int64_t now_utime) const {
       measured_converged_ && static_cast<double>(now_utime - measured_utime_) * 1e-6 <= options_.measured_stale_s;
   s.on_target = OnTarget(now_utime);
   s.frame = frame_;
+  const WorkFrame* frame = FindFrame(frame_);
+  const Vector6 frame_pose = frame ? PoseOf(frame->X_BW).ToVector() : Vector6::Zero();
+  for (int k = 0; k < 6; ++k) s.frame_pose[k] = frame_pose(k);
   for (int k = 0; k < 3; ++k) s.pivot[k] = pivot_M_(k);
   if (s.state == motion_status_t::STATE_FAULT)
     s.reason = BridgeProblem(now_utime);

@@ -82,6 +82,7 @@ py::dict StatusDict(const motion_status_t& s) {
   d["pose_measured"] = Array(s.pose_measured);
   d["measured_valid"] = s.measured_valid != 0;
   d["frame"] = s.frame;
+  d["frame_pose"] = Array(s.frame_pose);
   d["pivot"] = Array(s.pivot);
   d["reason"] = s.reason;
   d["session_id"] = s.session_id;

@@ -23,6 +23,7 @@
 #include "edsp/logger/bus_recording.h"
 #include "edsp/logger/message_columns.h"
 #include "edsp/motion_reply_v1_t.hpp"
+#include "edsp/motion_status_v1_t.hpp"
 #include "edsp/platform_config_t.hpp"
 #include "edsp/pr_mode_v1_t.hpp"
 #include "edsp/tracker_point_t.hpp"
@@ -118,7 +119,9 @@ TEST(MessageColumns, ALogOfTheOlderRequestLayoutsReadsWithTheirFields) {
   EXPECT_EQ(static_cast<std::uint64_t>(pr_mode_v1_t::getHash()), 0xb10443baebef808eULL);
   EXPECT_EQ(static_cast<std::uint64_t>(calibration_v1_t::getHash()), 0x6c966427a672532fULL);
   EXPECT_EQ(static_cast<std::uint64_t>(motion_reply_v1_t::getHash()), 0x0174a79cff17ce1dULL);
+  EXPECT_EQ(static_cast<std::uint64_t>(motion_status_v1_t::getHash()), 0x3262226a3b339d61ULL);
   EXPECT_NE(arm_v1_t::getHash(), arm_t::getHash());  // the layout did change
+  EXPECT_NE(motion_status_v1_t::getHash(), motion_status_t::getHash());
   MessageColumns columns;
   arm_v1_t arm{};
   arm.utime = 7, arm.seq = 1, arm.session_id = 9, arm.operator_name = "alice";
@@ -136,6 +139,14 @@ TEST(MessageColumns, ALogOfTheOlderRequestLayoutsReadsWithTheirFields) {
   EXPECT_EQ(r.type, "edsp.motion_reply_v1_t");
   EXPECT_EQ(r.Value<std::int64_t>(0, Index(r, "request_id")), 5);
   for (const Column& c : r.columns) EXPECT_NE(c.name, "code");
+  motion_status_v1_t status{};
+  status.frame = "fixture";
+  const auto old_status = Encode(status);
+  columns.Add("EDSP_MOTION_STATUS", old_status.data(), old_status.size(), 13);
+  const ChannelColumns& st = columns.channels().at("EDSP_MOTION_STATUS");
+  EXPECT_EQ(st.type, "edsp.motion_status_v1_t");
+  EXPECT_EQ(Named(st, "frame").text, std::vector<std::string>{"fixture"});
+  for (const Column& c : st.columns) EXPECT_EQ(c.name.rfind("frame_pose", 0), std::string::npos) << c.name;
 }
 
 TEST(MessageColumns, AChannelKeepsItsFirstTypeAndForeignPacketsAreCounted) {

@@ -177,6 +177,29 @@ TEST(MotionService, AJogLandsAtTheLastTargetPlusItsStepAlongItsAxis) {
   EXPECT_LT((PointInBase(Pose::FromVector(turned), c) - pivot_before).norm(), 1e-12) << "turned about the pivot";
 }
 
+// The status names the frame of the last move and gives its pose in {B}
+// as it was defined (what the panel draws): zero for the base, the
+// defining pose for a frame of the operator's.
+TEST(MotionService, TheStatusCarriesTheLastMovesFrameAndItsPose) {
+  Served s;
+  auto& r = s.requests_;
+  motion_status_t status = s.service_.Status(s.now_);
+  EXPECT_EQ(status.frame, "base");
+  for (double v : status.frame_pose) EXPECT_EQ(v, 0.0);
+  Vector6 fixture;
+  fixture << 0.05, -0.02, 1.45, 0.01, -0.02, 0.3;
+  ASSERT_TRUE(s.Ask(r.Frame("fixture", fixture, s.now_)).accepted);
+  ASSERT_TRUE(s.Ask(r.Move(Vec(0, 0, 0.01), s.now_, false, "fixture")).accepted);
+  while (s.service_.busy()) s.Cycle();
+  status = s.service_.Status(s.now_);
+  EXPECT_EQ(status.frame, "fixture");
+  for (int k = 0; k < 6; ++k) EXPECT_NEAR(status.frame_pose[k], fixture(k), 1e-12) << k;
+  // and the move landed in it: {M} at the frame's origin raised 10 mm along the frame's z
+  const Vector6 held = s.Held();
+  const Vector3 expected = fixture.head<3>() + RotationFromRpy(fixture.tail<3>()) * Vector3(0, 0, 0.01);
+  EXPECT_LT((held.head<3>() - expected).norm(), 1e-9);
+}
+
 TEST(MotionService, AJogOfNoStepSeveralAxesOrMoreThanTenMillimetresIsRefusedAndMovesNothing) {
   Served s;
   auto& r = s.requests_;

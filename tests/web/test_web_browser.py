@@ -345,7 +345,8 @@ def test_halt_and_stop_stay_in_view_however_far_the_page_is_scrolled_on_a_laptop
 def test_a_jog_along_a_work_frames_axis_a_pivot_and_a_speed_from_the_page_are_what_the_planner_does(page, served):
     """The frame's yaw turns a jog along its x into base x and y by the
     frame's cos and sin (worked out here from the frame's pose, not by
-    edsp); the pivot set on the page is the planner's; a move at 5 mm/s is
+    edsp), and the 3-D view draws that frame where it was defined; the
+    pivot set on the page is the planner's; a move at 5 mm/s is
     planned to take at least its length over that speed, longer than at the
     default speed."""
     driver = page(served["operator"])
@@ -365,6 +366,12 @@ def test_a_jog_along_a_work_frames_axis_a_pivot_and_a_speed_from_the_page_are_wh
     after = rig.status()["pose_target"]
     expected = [before[0] + 0.002 * math.cos(yaw), before[1] + 0.002 * math.sin(yaw), *before[2:]]
     assert all(math.isclose(a, e, abs_tol=1e-9) for a, e in zip(after, expected)), (before, after, expected)
+    # the 3-D view draws the frame the jog was in, where it was defined
+    drawn = _until(driver, 10, "const f = view3d.workFrame(); return f && f.name === 'bench' ? f : null",
+                   "the work frame drawn")
+    assert drawn["visible"], drawn
+    assert all(math.isclose(a, e, abs_tol=1e-9) for a, e in zip(drawn["origin"], [0.05, -0.02, 1.5])), drawn
+    assert all(math.isclose(a, e, abs_tol=1e-9) for a, e in zip(drawn["x_axis"], [math.cos(yaw), math.sin(yaw), 0])), drawn
 
     pivot = rig.status()["pivot"]
     for i, value in enumerate((10, -20, 30)):

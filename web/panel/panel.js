@@ -116,6 +116,7 @@ function showFault(fault) {
 
 function showMotion(status) {
   view3d.setPivot(status.pivot);
+  view3d.setWorkFrame(status.frame, status.frame_pose);
   controls.prefillPivot(status.pivot);
   const ended = MOTION_END[status.last_end] ? `, last motion ${MOTION_END[status.last_end]}` : "";
   const onTarget = status.on_target ? ", on target" : "";

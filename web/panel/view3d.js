@@ -1,7 +1,8 @@
 // The panel's 3-D view (three.js from Debian's libjs-three): the base and
 // its joints, the legs coloured by the stroke they use, the platform at the
 // measured pose (EDSP_PLATFORM_STATE.pose) and a ghost at the commanded one
-// (target_pose), point A, the pivot and the base frame. The geometry is
+// (target_pose), point A, the pivot, the base frame and the work frame of
+// the last move (EDSP_MOTION_STATUS: its name and pose). The geometry is
 // what the kinematics node runs with (EDSP_CONFIG), so the view is drawn
 // from the model in use, not from a file the panel read. edsp's frames are
 // z up; R_BM = Rz(yaw)·Ry(pitch)·Rx(roll), three.js's Euler order "ZYX".
@@ -14,8 +15,9 @@ const view3d = (() => {
   // of the stroke away from both ends.
   const GREEN_FROM_SHARE = 0.25;
 
-  const state = { ready: false, config: null, pose: null, target: null, pivot: [0, 0, 0], dirty: false };
-  let scene, camera, renderer, controls, platform, ghost, pivot, legs = [], baseJoints = [];
+  const state = { ready: false, config: null, pose: null, target: null, pivot: [0, 0, 0], dirty: false,
+                  frame: { name: "base", pose: [0, 0, 0, 0, 0, 0] } };
+  let scene, camera, renderer, controls, platform, ghost, pivot, workFrame, legs = [], baseJoints = [];
 
   function vec(xyz) { return new THREE.Vector3(xyz[0], xyz[1], xyz[2]); }
 
@@ -63,6 +65,8 @@ const view3d = (() => {
     sun.position.set(3, -4, 6);
     scene.add(sun);
     scene.add(new THREE.AxesHelper(0.5));  // {B}: x red, y green, z blue
+    workFrame = new THREE.AxesHelper(0.3);  // the last move's work frame, where it is not {B}
+    scene.add(workFrame);
     const base = plate(config.base_joints_m, new THREE.MeshLambertMaterial({ color: 0x8a8f98, side: THREE.DoubleSide }));
     scene.add(base);
     baseJoints = config.base_joints_m.map((p) => {
@@ -146,6 +150,8 @@ const view3d = (() => {
     if (state.pose) place(platform, state.pose);
     if (state.target) place(ghost, state.target);
     pivot.position.copy(vec(state.pivot));
+    place(workFrame, state.frame.pose);
+    workFrame.visible = state.frame.name !== "base";
     updateLegs();
     renderer.render(scene, camera);
   }
@@ -179,6 +185,19 @@ const view3d = (() => {
     setPivot(point) {
       if (Array.isArray(point) && point.every((v) => typeof v === "number")) state.pivot = point;
       state.dirty = true;
+    },
+    // EDSP_MOTION_STATUS: the last move's frame and its pose in {B}.
+    setWorkFrame(name, pose) {
+      if (typeof name === "string" && finitePose(pose)) state.frame = { name: name || "base", pose };
+      state.dirty = true;
+    },
+    // The work frame as drawn: its name, whether it shows, its origin and x axis in {B}.
+    workFrame() {
+      if (!state.ready) return null;
+      workFrame.updateMatrixWorld(true);
+      const origin = workFrame.getWorldPosition(new THREE.Vector3());
+      const x = new THREE.Vector3(1, 0, 0).applyQuaternion(workFrame.getWorldQuaternion(new THREE.Quaternion()));
+      return { name: state.frame.name, visible: workFrame.visible, origin: origin.toArray(), x_axis: x.toArray() };
     },
     // The legs as drawn: length (m) and share of the stroke used, each
     // from the scene's own joint positions (what the browser tests check

@@ -7,6 +7,8 @@
 // array of them (arrays of arrays for matrices). A message type without an
 // overload here does not compile where every type is visited.
 
+#include <type_traits>
+
 #include "edsp/message_types.h"
 
 namespace edsp {
@@ -143,14 +145,25 @@ void VisitFields(const motion_reply_v1_t& m, V* r) {
   r->Add("reason", m.reason), r->Add("duration_s", m.duration_s), r->Add("start_delay_s", m.start_delay_s);
 }
 
-template <typename V>
-void VisitFields(const motion_status_t& m, V* r) {
+// motion_status_t and its older layout, which has no frame_pose.
+template <typename Status, typename V>
+void VisitMotionStatusFields(const Status& m, V* r) {
   r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("session_id", m.session_id);
   r->Add("state", m.state), r->Add("request_id", m.request_id), r->Add("activity", m.activity);
   r->Add("progress", m.progress), r->Add("queued", m.queued), r->Add("last_end", m.last_end);
   r->Add("pose_commanded", m.pose_commanded), r->Add("pose_target", m.pose_target);
   r->Add("pose_measured", m.pose_measured), r->Add("measured_valid", m.measured_valid);
-  r->Add("on_target", m.on_target), r->Add("frame", m.frame), r->Add("pivot", m.pivot), r->Add("reason", m.reason);
+  r->Add("on_target", m.on_target), r->Add("frame", m.frame);
+  if constexpr (std::is_same_v<Status, motion_status_t>) r->Add("frame_pose", m.frame_pose);
+  r->Add("pivot", m.pivot), r->Add("reason", m.reason);
+}
+template <typename V>
+void VisitFields(const motion_status_v1_t& m, V* r) {
+  VisitMotionStatusFields(m, r);
+}
+template <typename V>
+void VisitFields(const motion_status_t& m, V* r) {
+  VisitMotionStatusFields(m, r);
 }
 
 }  // namespace edsp

@@ -19,6 +19,7 @@
 #include "edsp/motion_reply_v1_t.hpp"
 #include "edsp/motion_request_t.hpp"
 #include "edsp/motion_status_t.hpp"
+#include "edsp/motion_status_v1_t.hpp"
 #include "edsp/node_status_t.hpp"
 #include "edsp/platform_config_t.hpp"
 #include "edsp/platform_state_t.hpp"
@@ -39,7 +40,7 @@ inline constexpr std::size_t kMessageTypeCount = std::tuple_size_v<MessageTypes>
 
 // Older layouts of changed types (lcmtypes/legacy/), read from the logs
 // that carry them and never sent: a log's reader knows them by fingerprint.
-using LegacyMessageTypes = std::tuple<arm_v1_t, pr_mode_v1_t, calibration_v1_t, motion_reply_v1_t>;
+using LegacyMessageTypes = std::tuple<arm_v1_t, pr_mode_v1_t, calibration_v1_t, motion_reply_v1_t, motion_status_v1_t>;
 
 // A message type as a value, for the visitors below.
 template <typename Msg>
