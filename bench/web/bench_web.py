@@ -104,10 +104,10 @@ def process_cpu_s(pid):
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
-def web_pid(group):
-    out = subprocess.run(["pgrep", "-f", f"edsp-web .*{group}"], capture_output=True, text=True).stdout.split()
+def member_pid(program, group):
+    out = subprocess.run(["pgrep", "-f", f"{program} .*{group}"], capture_output=True, text=True).stdout.split()
     if not out:
-        raise RuntimeError(f"no edsp-web of {group} runs (its launch.err says why)")
+        raise RuntimeError(f"no {program} of {group} runs (its launch.err says why)")
     return int(out[0])
 
 
@@ -200,7 +200,9 @@ def run_group(bin_dir, seconds, realtime, clients=0, page=False):
     result = {"clients": clients}
     with live_group.launched(group, bin_dir, work):
         live_group.connect(group)  # up, measuring, its bridge following
-        pid = web_pid(group)
+        pid = member_pid("edsp-web", group)
+        # what the launcher got: SCHED_FIFO needs root outside a user namespace
+        result["realtime_applied"] = os.sched_getscheduler(member_pid("edsp-actuator-bridge", group)) == os.SCHED_FIFO
         time.sleep(1.0)  # past the start-up's burst
         cpu0, began = process_cpu_s(pid), time.monotonic()
         if clients:

@@ -61,6 +61,27 @@ long Flood(double seconds) {
   return sent;
 }
 
+// The flood's program (kDefaultPlannerArgs: Lz and Rz, three stops and
+// home each, dwells of 0.6 s): dwell ends followed by another segment.
+constexpr std::size_t kFloodProgramDwellEnds = 7;
+constexpr double kDwellS = 0.6;
+
+// The longest stretch (s) of the log without a setpoint that decodes as
+// one: what a logger that lost packets at its socket leaves out.
+double LongestSetpointSilenceS(const std::string& log_path) {
+  LogReader reader(log_path);
+  LogEvent event;
+  std::int64_t previous = 0, longest = 0;
+  while (reader.Next(&event)) {
+    if (event.channel != "EDSP_SETPOINT" || !test_support::DecodesAsItsChannelsType(event.channel, event.data)) {
+      continue;
+    }
+    if (previous != 0) longest = std::max(longest, event.timestamp_utime - previous);
+    previous = event.timestamp_utime;
+  }
+  return static_cast<double>(longest) * 1e-6;
+}
+
 TEST(FaultInjection, AFloodOfForeignPacketsOnEveryInputMovesNothingAndStopsNoNode) {
   long sent = 0;
   const GroupRun run = LaunchSimGroup(
@@ -121,10 +142,20 @@ TEST(FaultInjection, AFloodOfForeignPacketsOnEveryInputMovesNothingAndStopsNoNod
         << "the bridge latched under the flood with no stall to explain it: " << late.Describe();
     return;
   }
-  // Moved exactly as without the flood: every dwell within 5 µm.
+  // Moved exactly as without the flood: every dwell the log holds within
+  // 5 µm. A sanitized logger taking the flood on a busy machine can lose
+  // seconds of every channel at its socket (counted: seq gaps); a dwell
+  // inside such a stretch cannot be checked, and only such a loss may hide
+  // one.
   const std::vector<DwellEnd> ends = DwellEnds(run.log_path, PlatformModel(Huang2021Config()));
-  ASSERT_GE(ends.size(), 5u);
   for (const DwellEnd& d : ends) EXPECT_LT(d.miss_m, 5e-6) << d.segment;
+  if (ends.size() < kFloodProgramDwellEnds) {
+    const double silence_s = LongestSetpointSilenceS(run.log_path);
+    std::printf("%zu of the program's %zu dwell ends in the log; it holds no setpoint for %.2f s at most\n",
+                ends.size(), kFloodProgramDwellEnds, silence_s);
+    EXPECT_GT(silence_s, kDwellS) << "dwells missing from the log with no loss of the logger's to hide them";
+    EXPECT_GE(ends.size(), 2u) << "too little of the run logged to check that the flood moved nothing";
+  }
 }
 
 }  // namespace

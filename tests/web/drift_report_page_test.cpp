@@ -1,6 +1,8 @@
 // The drift report the panel shows: a report as edsp-gap drift writes it is
-// served as JSON; no file named, none there yet, a file that is not JSON or
-// not a drift report are each answered with why, naming the file.
+// served as JSON; no file named, none there yet or an empty one (being
+// written), something that is not a plain file of a report's size, a file
+// that is not JSON or not a drift report are each answered with why,
+// naming the file.
 #include <fstream>
 #include <string>
 
@@ -41,7 +43,13 @@ TEST(DriftReportPage, WhatIsNoReportIsAnsweredWithWhyNamingTheFile) {
   EXPECT_EQ(absent.http_status, 404);
   EXPECT_NE(absent.body.find(dir + "/not-yet.json"), std::string::npos) << absent.body;
 
-  for (const std::string& text : {std::string("{\"recalibrate\": tru"), std::string("[1, 2]"), std::string("")}) {
+  const DriftReportAnswer empty = DriftReportPage(Written(dir + "/empty.json", ""));
+  EXPECT_EQ(empty.http_status, 404);  // `edsp-gap drift --json > FILE` still writing
+  EXPECT_NE(empty.body.find("empty"), std::string::npos) << empty.body;
+  EXPECT_EQ(DriftReportPage(dir).http_status, 422);  // a directory, say
+  EXPECT_EQ(DriftReportPage(Written(dir + "/huge.json", std::string(2 << 20, ' '))).http_status, 422);
+
+  for (const std::string& text : {std::string("{\"recalibrate\": tru"), std::string("[1, 2]")}) {
     const DriftReportAnswer bad = DriftReportPage(Written(dir + "/bad.json", text));
     EXPECT_EQ(bad.http_status, 422) << text;
     EXPECT_NE(bad.body.find(dir + "/bad.json"), std::string::npos) << bad.body;

@@ -13,6 +13,8 @@ const calibration = (() => {
   const UM = 1e6;
 
   function um(metres, digits = 1) { return typeof metres === "number" ? (metres * UM).toFixed(digits) : "–"; }
+  // A report's number as written (NaN and infinities come as null): "–" when it is none.
+  function shown(value, format) { return typeof value === "number" ? format(value) : "–"; }
 
   // "# edsp-kinematics applies the calibration …" or "… switches the calibration: …", last of the text.
   function modelInForce(configToml) {
@@ -37,9 +39,10 @@ const calibration = (() => {
 
   function showDrift(report) {
     const el = document.getElementById("drift-report");
-    const legs = listed(report.legs_changed, (l) => `leg ${l.leg} ${l.change_m > 0 ? "+" : ""}${um(l.change_m)} µm (z ${Number(l.z).toFixed(1)})`);
+    const z = (v) => shown(v, (x) => x.toFixed(1));
+    const legs = listed(report.legs_changed, (l) => `leg ${l.leg} ${l.change_m > 0 ? "+" : ""}${um(l.change_m)} µm (z ${z(l.z)})`);
     const changed = listed(report.changed, (c) => `${c.effect}${c.leg ? " leg " + c.leg : ""} ${c.parameter} ` +
-      `${c.before.toExponential(2)} → ${c.after.toExponential(2)} (z ${Number(c.z).toFixed(1)})`);
+      `${shown(c.before, (x) => x.toExponential(2))} → ${shown(c.after, (x) => x.toExponential(2))} (z ${z(c.z)})`);
     el.textContent = `last drift check: ${report.recalibrate ? "recalibrate" : "no recalibration needed"}; ` +
       `the calibration leaves ${um(report.heldout_rms_m)} µm RMS; legs changed: ${legs}; parameters changed: ${changed}; ` +
       `appeared: ${listed(report.appeared, String)}; vanished: ${listed(report.vanished, String)}`;
@@ -54,25 +57,36 @@ const calibration = (() => {
     delete el.dataset.recalibrate;
   }
 
+  let driftTimer = null;
+
   async function readDrift(token) {
+    let response;
     try {
-      const response = await fetch("drift-report.json" + (token ? `?token=${encodeURIComponent(token)}` : ""),
-                                   { cache: "no-store" });
-      const body = await response.text();
-      if (response.ok) showDrift(JSON.parse(body)); else showDriftAbsent(body.trim());
+      response = await fetch("drift-report.json" + (token ? `?token=${encodeURIComponent(token)}` : ""),
+                             { cache: "no-store" });
     } catch (error) {
-      showDriftAbsent(`edsp-web did not answer (${error.message})`);
+      return showDriftAbsent(`edsp-web did not answer (${error.message})`);
+    }
+    const body = await response.text();
+    if (response.status === 401 || response.status === 429) {
+      clearInterval(driftTimer);  // a revoked token asking again would only get this address blocked
+      return showDriftAbsent(`${body.trim()} (no longer asked: reload the page)`);
+    }
+    if (!response.ok) return showDriftAbsent(body.trim());
+    try {
+      showDrift(JSON.parse(body));
+    } catch (error) {
+      showDriftAbsent(`the report could not be shown (${error.message})`);
     }
   }
-
-  let driftTimer = null;
 
   return {
     // serverInfo: its metadata names the drift report's file when edsp-web has one.
     attach(info, token) {
       clearInterval(driftTimer);
-      const file = (info.metadata || {}).drift_report;
-      if (!file) return showDriftAbsent("edsp-web was started without --drift-report FILE");
+      if ((info.metadata || {}).drift_report !== "true") {
+        return showDriftAbsent("edsp-web was started without --drift-report FILE");
+      }
       readDrift(token);
       driftTimer = setInterval(() => readDrift(token), DRIFT_EVERY_MS);
     },

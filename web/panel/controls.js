@@ -22,13 +22,17 @@ const controls = (() => {
   const MM = 1e-3, DEG = Math.PI / 180;
   const POSE_UNITS = [MM, MM, MM, DEG, DEG, DEG];
   const AXES = ["x", "y", "z", "roll", "pitch", "yaw"];
-  // edsp-web refuses a client frame over 64 KiB: a CSV is sent whole in one.
+  // edsp-web closes a client that sends a frame over 64 KiB (its Halt with
+  // it): a request that would be larger is refused here, unsent. A CSV is
+  // sent whole in one frame.
+  const MAX_FRAME_BYTES = 64 * 1024;
   const MAX_CSV_BYTES = 60 * 1024;
   const CONTROLS = ["move", "check", "halt", "stop", "rearm", "jog-minus", "jog-plus", "set-pivot", "run"];
 
   const pending = new Map();  // request id -> {what, line}: the answer's line
   let socket = null, nextId = Date.now() * 1000, formTouched = false, operator = false, checkTimer = null;
   let latestCheck = 0;  // only the answer to the form as it is now is shown
+  let halts = 0;  // halts and stops sent: a program read from a file before one is not sent after it
 
   function channelId(topic) { return PUBLISHED.find((c) => c.topic === topic).id; }
 
@@ -38,9 +42,11 @@ const controls = (() => {
     el.className = cls || "";
   }
 
+  // The request's id, or 0 when it would be a frame too large to send.
   function publish(topic, request) {
     const id = nextId++;
     const payload = new TextEncoder().encode(JSON.stringify({ ...request, request_id: id }));
+    if (5 + payload.length > MAX_FRAME_BYTES) return 0;
     const frame = new Uint8Array(5 + payload.length);
     frame[0] = 0x01;  // client message data
     new DataView(frame.buffer).setUint32(1, channelId(topic), true);
@@ -52,6 +58,7 @@ const controls = (() => {
   function ask(topic, request, what, line = "control-reply") {
     if (!socket || socket.readyState !== WebSocket.OPEN) return note("not connected", "error", line);
     const id = publish(topic, request);
+    if (!id) return note(`${what}: not sent, more than the ${MAX_FRAME_BYTES / 1024} KiB edsp-web takes in one frame`, "error", line);
     pending.set(id, { what, line });
     note(`${what}: sent`, "", line);
     return id;
@@ -143,12 +150,15 @@ const controls = (() => {
       return note(`run: ${file.name} is ${Math.ceil(file.size / 1024)} KiB; the panel sends at most ` +
                   `${MAX_CSV_BYTES / 1024} KiB (edsp-ctl run --csv has no such limit)`, "error");
     }
-    file.text().then((text) => ask("EDSP_MOTION_REQUEST", { kind: KIND.run, csv_text: text, csv_origin: file.name },
-                                   `run ${file.name}`));
+    const haltsBefore = halts;
+    file.text().then((text) => {
+      if (halts !== haltsBefore) return note(`run ${file.name}: not sent, halted while the file was read`, "error");
+      ask("EDSP_MOTION_REQUEST", { kind: KIND.run, csv_text: text, csv_origin: file.name }, `run ${file.name}`);
+    });
   }
 
-  function halt() { ask("EDSP_MOTION_REQUEST", { kind: KIND.halt }, "halt"); }
-  function stop() { ask("EDSP_MOTION_REQUEST", { kind: KIND.stop }, "stop"); }
+  function halt() { ++halts; ask("EDSP_MOTION_REQUEST", { kind: KIND.halt }, "halt"); }
+  function stop() { ++halts; ask("EDSP_MOTION_REQUEST", { kind: KIND.stop }, "stop"); }
 
   function onKey(event) {
     if (event.key !== "Escape" || event.repeat || !operator) return;

@@ -27,7 +27,7 @@ const plots = (() => {
   const MODEL_KEEP_S = 2;
   const REFIT_MS = 2000;
   const MAX_FIT_PAIRS = 2000;
-  const MIN_SPREAD_M2 = 2e-3 * 2e-3;  // the model's points over a plane 2 mm across before a rotation is fitted
+  const MIN_SPREAD_M2 = 2e-3 * 2e-3;  // the model's points 2 mm RMS along a plane's second axis before a rotation
   const modelPoints = [], waiting = [], pairs = [];
   let fit = null, lastRotation = null, lastFit = -Infinity;
 

@@ -64,8 +64,9 @@ WebServerOptions Completed(const NodeOptions& node, bool session_given, WebServe
   }
   options.session_id = session_given ? node.session_id : 0;
   options.metadata = {{"group", node.group_path}, {"request_kinds", RequestKindsJson()}};
-  // The panel looks for a drift report only where there is one to read.
-  if (!options.drift_report.empty()) options.metadata["drift_report"] = options.drift_report;
+  // The panel looks for a drift report only where there is one to read
+  // (said, not where: the path is the server's business).
+  if (!options.drift_report.empty()) options.metadata["drift_report"] = "true";
   return options;
 }
 

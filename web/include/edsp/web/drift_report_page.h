@@ -14,7 +14,7 @@ namespace edsp::web {
 inline constexpr std::string_view kDriftReportPath = "/drift-report.json";
 
 struct DriftReportAnswer {
-  int http_status;   // 200, or 404 (no file named or none there yet), 422 (not a drift report)
+  int http_status;   // 200, or 404 (no file named, none there or empty yet), 422 (not a drift report)
   std::string body;  // the report as JSON, or why not (text)
 };
 
