@@ -61,6 +61,16 @@ CtlResult Ctl(const std::string& dir, const std::string& args, bool options_firs
 // up to 250 ms (one over 50 ms latches the bridge mid-move, a correct hold).
 constexpr const char* kIdlePlanner = R"("--exit-after-hold-s", "6")";
 
+// edsp-ctl's --json output; a failure naming the output, never an abort, when it is none.
+nlohmann::json Parsed(const std::string& out) {
+  nlohmann::json parsed = nlohmann::json::parse(out, nullptr, false);
+  if (parsed.is_discarded() || !parsed.is_object()) {
+    ADD_FAILURE() << "edsp-ctl printed no JSON object: \"" << out << "\"";
+    return nlohmann::json::object();
+  }
+  return parsed;
+}
+
 TEST(MotionServiceGroup, AnOperatorsScriptThroughEdspCtl) {
   nlohmann::json final_status;
   int moves_on_target = 0;
@@ -71,7 +81,7 @@ TEST(MotionServiceGroup, AnOperatorsScriptThroughEdspCtl) {
         watch.WaitForSetpoint([](const pose_setpoint_t& s) { return s.session_id == 77; }, std::chrono::seconds(60));
         const CtlResult idle = Ctl(dir, "status --json", true);
         ASSERT_EQ(idle.exit_code, 0) << idle.err;
-        EXPECT_EQ(nlohmann::json::parse(idle.out)["state"], "idle") << idle.out;
+        EXPECT_EQ(Parsed(idle.out)["state"], "idle") << idle.out;
         ASSERT_EQ(Ctl(dir, "frame fixture --pose 0.05,-0.02,1.55,0,0,0.3").exit_code, 0);
         ASSERT_EQ(Ctl(dir, "pivot --point 0,0,0.3").exit_code, 0);
         for (const char* move :
@@ -85,8 +95,8 @@ TEST(MotionServiceGroup, AnOperatorsScriptThroughEdspCtl) {
         }
         const CtlResult check = Ctl(dir, "check --pose 0,0,3.0,0,0,0 --json");
         EXPECT_EQ(check.exit_code, 2) << check.err;
-        EXPECT_FALSE(nlohmann::json::parse(check.out)["accepted"].get<bool>());
-        EXPECT_EQ(nlohmann::json::parse(check.out)["code"], "out_of_limits") << check.out;
+        EXPECT_EQ(Parsed(check.out)["accepted"], false) << check.out;
+        EXPECT_EQ(Parsed(check.out)["code"], "out_of_limits") << check.out;
         EXPECT_NE(check.err.find("outside the workspace"), std::string::npos) << check.err;
         EXPECT_EQ(Ctl(dir, "move --pose nan,0,1.5,0,0,0").exit_code, 1);
         const CtlResult frame = Ctl(dir, "move --frame nowhere --pose 0,0,0,0,0,0");
@@ -96,14 +106,14 @@ TEST(MotionServiceGroup, AnOperatorsScriptThroughEdspCtl) {
         const CtlResult jog = Ctl(dir, "jog --axis x --step 0.02 --json");
         EXPECT_EQ(jog.exit_code, 2) << jog.err;
         EXPECT_NE(jog.err.find("beyond 0.01 m"), std::string::npos) << jog.err;
-        EXPECT_EQ(nlohmann::json::parse(jog.out)["code"], "invalid") << jog.out;
+        EXPECT_EQ(Parsed(jog.out)["code"], "invalid") << jog.out;
         ASSERT_EQ(Ctl(dir, "move --pose 0.25,0,1.5,0,0,0 --no-wait").exit_code, 0);
         ASSERT_EQ(Ctl(dir, "halt").exit_code, 0);
         const CtlResult wait = Ctl(dir, "wait --timeout-s 30");
         EXPECT_EQ(wait.exit_code, 4) << wait.err;
         const CtlResult status = Ctl(dir, "status --json");
         ASSERT_EQ(status.exit_code, 0) << status.err;
-        final_status = nlohmann::json::parse(status.out);
+        final_status = Parsed(status.out);
       },
       77, kDefaultConfig, kStallTolerantStaleMs);
   ASSERT_EQ(run.exit_code, 0);
