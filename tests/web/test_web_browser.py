@@ -125,6 +125,22 @@ def _until(driver, seconds, script, what):
                          driver.find_element(By.TAG_NAME, "body").text[:2000])
 
 
+def _press(driver, element_id, seconds=10):
+    """Click a control the way an operator does on a page that still
+    fills in (plots, the calibration view and replies reflow it): brought
+    to the middle of the window, clicked once nothing lies over it. The
+    WebDriver click alone clicks wherever the control was when it looked,
+    which the sticky header can cover a moment later."""
+    _until(driver, seconds, """
+        const b = document.getElementById(arguments[0]);
+        b.scrollIntoView({block: 'center', inline: 'nearest'});
+        const r = b.getBoundingClientRect();
+        const hit = document.elementFromPoint((r.left + r.right) / 2, (r.top + r.bottom) / 2);
+        return hit !== null && b.contains(hit);""".replace("arguments[0]", json.dumps(element_id)),
+           f"#{element_id} clear to click")
+    driver.find_element(By.ID, element_id).click()
+
+
 def _severe_console(driver):
     return [e["message"] for e in driver.get_log("browser") if e["level"] == "SEVERE"]
 
@@ -163,12 +179,12 @@ def _fill_goal(driver, goal, relative=False):
         field.send_keys(str(value))
     box = driver.find_element(By.ID, "goal-relative")
     if box.is_selected() != relative:
-        box.click()
+        _press(driver, "goal-relative")
 
 
 def _move_from_page(driver, goal, relative=False):
     _fill_goal(driver, goal, relative)
-    driver.find_element(By.ID, "move").click()
+    _press(driver, "move")
 
 
 def _reply(driver, seconds, prefix, line="control-reply"):
@@ -192,7 +208,7 @@ def test_an_operator_tilts_the_platform_from_the_page_and_the_view_draws_it_wher
         return t.includes('(0.012000, -0.008000, ') ? t : null;""", "the check of the whole form")
     assert checked.startswith("path check: accepted, "), checked
     assert float(checked.split(", ")[1].split(" s")[0]) > 0, checked
-    driver.find_element(By.ID, "move").click()
+    _press(driver, "move")
     assert _reply(driver, 20, "move to").startswith("move to: accepted"), driver.find_element(By.ID, "control-reply").text
     _until(driver, 60, "const m = document.getElementById('motion');"
                        "return m.dataset.state === 'holding' && m.dataset.onTarget === '1'", "the move on target")
@@ -229,10 +245,10 @@ def test_a_pose_out_of_reach_is_refused_on_the_page_with_the_planners_reason_and
     _until(driver, 30, "return typeof view3d !== 'undefined' && view3d.rendered()", "a rendered 3-D view")
     before = _encoder_lengths_mm(driver)
     _fill_goal(driver, [0, 0, 800, 0, 0, 0], relative=True)
-    driver.find_element(By.ID, "check").click()  # after the whole form: the answer shown is this one's
+    _press(driver, "check")  # after the whole form: the answer shown is this one's
     checked = _reply(driver, 20, "path check", line="check-reply")
     assert checked.startswith("path check: refused: ") and len(checked) > 30, checked
-    driver.find_element(By.ID, "move").click()
+    _press(driver, "move")
     refused = _reply(driver, 20, "move by")
     assert refused.startswith("move by: refused: "), refused
     assert refused.split("refused: ", 1)[1] == checked.split("refused: ", 1)[1], (refused, checked)
@@ -254,7 +270,7 @@ def test_escape_on_the_page_halts_a_move_short_and_re_arm_is_answered(page, serv
     motion = _until(driver, 30, "const m = document.getElementById('motion');"
                                 "return m.dataset.state === 'holding' ? m.textContent : null", "holding after the halt")
     assert "last motion halted" in motion, motion
-    driver.find_element(By.ID, "rearm").click()
+    _press(driver, "rearm")
     answer = _reply(driver, 20, "re-arm")
     assert answer.startswith("re-arm: accepted") or answer.startswith("re-arm: refused: "), answer
     assert len(answer) > len("re-arm: refused: "), answer  # the bridge says what it did, or why not
@@ -278,7 +294,7 @@ def test_a_killed_kinematics_node_shows_the_bridges_hold_and_re_arm_from_the_pag
     assert "actuator_bridge" in faults, faults
     deadline = time.monotonic() + 60
     while True:  # refused (with its reason) until the restarted node's commands flow again
-        driver.find_element(By.ID, "rearm").click()
+        _press(driver, "rearm")
         answer = _reply(driver, 20, "re-arm")
         if answer.startswith("re-arm: accepted"):
             break
@@ -286,7 +302,7 @@ def test_a_killed_kinematics_node_shows_the_bridges_hold_and_re_arm_from_the_pag
         time.sleep(1.0)
     _until(driver, 20, "return document.getElementById('motion').dataset.state !== 'fault'", "the hold lifted")
     _fill_goal(driver, [0, 0, 2, 0, 0, 0], relative=True)
-    driver.find_element(By.ID, "move").click()
+    _press(driver, "move")
     assert _reply(driver, 20, "move by").startswith("move by: accepted"), driver.find_element(By.ID, "control-reply").text
     assert not _severe_console(driver)
 
@@ -317,7 +333,7 @@ def _field(driver, id_, value):
 
 def _checked_duration_s(driver):
     """The duration the planner's check of the whole form gave, once it answers the form as it is now."""
-    driver.find_element(By.ID, "check").click()
+    _press(driver, "check")
     checked = _reply(driver, 20, "path check", line="check-reply")
     assert checked.startswith("path check: accepted, "), checked
     return float(checked.split(", ")[1].split(" s")[0])
@@ -360,7 +376,7 @@ def test_a_jog_along_a_work_frames_axis_a_pivot_and_a_speed_from_the_page_are_wh
     _field(driver, "goal-frame", "bench")
     Select(driver.find_element(By.ID, "jog-axis")).select_by_visible_text("x")
     _field(driver, "jog-step", 2)
-    driver.find_element(By.ID, "jog-plus").click()
+    _press(driver, "jog-plus")
     assert _reply(driver, 20, "jog x +").startswith("jog x +: accepted"), driver.find_element(By.ID, "control-reply").text
     _on_target(driver)
     after = rig.status()["pose_target"]
@@ -376,7 +392,7 @@ def test_a_jog_along_a_work_frames_axis_a_pivot_and_a_speed_from_the_page_are_wh
     pivot = rig.status()["pivot"]
     for i, value in enumerate((10, -20, 30)):
         _field(driver, f"pivot-{i}", value)
-    driver.find_element(By.ID, "set-pivot").click()
+    _press(driver, "set-pivot")
     assert _reply(driver, 20, "pivot").startswith("pivot: accepted"), driver.find_element(By.ID, "control-reply").text
     assert all(math.isclose(a, e, abs_tol=1e-12) for a, e in zip(rig.status()["pivot"], (0.010, -0.020, 0.030)))
     assert rig.pivot(pivot)["accepted"]  # back as it was, for the tests after this one
@@ -388,7 +404,7 @@ def test_a_jog_along_a_work_frames_axis_a_pivot_and_a_speed_from_the_page_are_wh
     slow_s = _checked_duration_s(driver)
     assert slow_s >= 0.020 / 0.005 and slow_s > 1.5 * default_s, (slow_s, default_s)
     _field(driver, "goal-speed", -5)
-    driver.find_element(By.ID, "check").click()
+    _press(driver, "check")
     assert "speed (mm/s) must be a positive number" in driver.find_element(By.ID, "check-reply").text
     _field(driver, "goal-speed", "")
     assert not _severe_console(driver)
@@ -403,12 +419,12 @@ def test_a_program_runs_from_the_page_by_name_and_as_a_csv_file(page, served, tm
     rig = live_group.connect(served["group"])
     _on_target(driver)
     _field(driver, "run-motions", "Lz")
-    driver.find_element(By.ID, "run").click()
+    _press(driver, "run")
     assert _reply(driver, 20, "run Lz").startswith("run Lz: accepted"), driver.find_element(By.ID, "control-reply").text
     # after the approach to its start, the program itself
     _until(driver, 30, "const m = document.getElementById('motion');"
                        "return m.dataset.state === 'moving' && m.textContent.includes('run Lz')", "the program under way")
-    driver.find_element(By.ID, "stop").click()
+    _press(driver, "stop")
     assert _reply(driver, 20, "stop").startswith("stop: accepted")
     _until(driver, 30, "const m = document.getElementById('motion');"
                        "return m.dataset.state === 'holding' && m.textContent.includes('last motion stopped')",
@@ -425,7 +441,7 @@ def test_a_program_runs_from_the_page_by_name_and_as_a_csv_file(page, served, tm
     csv_file.write_text("\n".join(rows) + "\n")
     _field(driver, "run-motions", "")
     driver.find_element(By.ID, "run-csv").send_keys(str(csv_file))
-    driver.find_element(By.ID, "run").click()
+    _press(driver, "run")
     assert _reply(driver, 20, "run rise.csv").startswith("run rise.csv: accepted"), \
         driver.find_element(By.ID, "control-reply").text
     _until(driver, 20, "return document.getElementById('motion').dataset.state === 'moving'", "the CSV under way")
@@ -436,7 +452,7 @@ def test_a_program_runs_from_the_page_by_name_and_as_a_csv_file(page, served, tm
     big = tmp_path / "big.csv"
     big.write_text(rows[0] + "\n" + ("\n".join(rows[1:]) + "\n") * 20)
     driver.find_element(By.ID, "run-csv").send_keys(str(big))
-    driver.find_element(By.ID, "run").click()
+    _press(driver, "run")
     refused = driver.find_element(By.ID, "control-reply").text
     assert "big.csv is" in refused and "the panel sends at most 60 KiB" in refused, refused
     assert not _severe_console(driver)
@@ -510,7 +526,7 @@ def test_the_trackers_point_is_plotted_against_the_models_in_a_frame_fitted_to_b
     _on_target(driver)
     for step in ([15, 0, 0, 0, 0, 0], [0, 15, 0, 0, 0, 0], [-15, -15, 0, 0, 0, 0]):  # a triangle in x, y
         _fill_goal(driver, step, relative=True)
-        driver.find_element(By.ID, "move").click()
+        _press(driver, "move")
         assert _reply(driver, 20, "move by").startswith("move by: accepted")
         _until(driver, 20, "return document.getElementById('motion').dataset.state === 'moving'", "the move under way")
         _on_target(driver)
