@@ -28,6 +28,7 @@ import pytest
 from selenium import webdriver
 from selenium.webdriver.chrome.service import Service
 from selenium.webdriver.common.action_chains import ActionChains
+from selenium.common.exceptions import WebDriverException
 from selenium.webdriver.common.by import By
 from selenium.webdriver.common.keys import Keys
 from selenium.webdriver.support.ui import Select
@@ -96,21 +97,56 @@ def _following(group):
             time.sleep(0.05)
 
 
+class _SharedBrowser:
+    """One Chromium for the module's pages (its start is most of a short
+    test's time on a busy machine): each test opens the panel afresh in it,
+    a new document at the default window size with the console drained, so
+    it reads only its own page. A browser that died is started again."""
+
+    def __init__(self, profile):
+        self._profile = profile
+        self._driver = None
+
+    def fresh(self):
+        if self._driver is not None:
+            try:
+                self._driver.get("about:blank")
+                self._driver.get_log("browser")
+            except WebDriverException as error:
+                print(f"the shared Chromium is gone ({error.msg}): a new one")
+                self.quit()
+        if self._driver is None:
+            self._driver = _browser(self._profile)
+        self._driver.set_window_size(1400, 1000)
+        return self._driver
+
+    def quit(self):
+        if self._driver is not None:
+            try:
+                self._driver.quit()
+            except WebDriverException:
+                pass
+            self._driver = None
+
+
+@pytest.fixture(scope="module")
+def browser(tmp_path_factory):
+    shared = _SharedBrowser(tmp_path_factory.mktemp("chromium"))
+    yield shared
+    shared.quit()
+
+
 @pytest.fixture
-def page(served, tmp_path):
+def page(served, browser):
     """A function that opens the panel with a token and returns the driver."""
     _following(served["group"])
-    drivers = []
 
     def open_panel(token):
-        driver = _browser(tmp_path / f"profile{len(drivers)}")
-        drivers.append(driver)
+        driver = browser.fresh()
         driver.get(f"http://127.0.0.1:{served['port']}/?token={token}")
         return driver
 
-    yield open_panel
-    for driver in drivers:
-        driver.quit()
+    return open_panel
 
 
 def _until(driver, seconds, script, what):
