@@ -14,10 +14,12 @@
 //       deploy/edsp bench cueing: per algorithm the manoeuvres' perception
 //       errors (commanded and real), a soak of random vehicle motion counting
 //       refused setpoints and the solve's time; their ratio; the OMCT.
-//   edsp-cueing live --cueing FILE [--udp ADDRESS:PORT] [--config FILE] [--group FILE] [--session-id N]
+//   edsp-cueing live --cueing FILE [--input udp|lcm] [--udp ADDRESS:PORT] [--config FILE] [--group FILE]
+//                    [--session-id N]
 //       the cueing source in a running group (live_command.h).
-//   edsp-cueing send --manoeuvre FILE [--to ADDRESS:PORT] [--rate-hz 250] [--lead-s 5]
+//   edsp-cueing send --manoeuvre FILE [--to ADDRESS:PORT|lcm] [--rate-hz 250] [--lead-s 5]
 //                    [--after disengage|silence|estop|freeze|engage] [--tail-s 20] [--sent-log FILE]
+//                    [--group FILE | --lcm-url URL] [--session-id N|auto]
 //       a vehicle model's stand-in: the manoeuvre as packets, in real time (send_command.h).
 //   edsp-cueing delay --log RUN.lcmlog --sent SENT.csv [--json]
 //       each sample's delay from its sender to the drives, traced through the log (delay_command.h).
@@ -363,6 +365,8 @@ int main(int argc, char** argv) {
   CLI::App* live_command = app.add_subcommand("live", "the cueing source in a running group (EDSP_CUE_SETPOINT)");
   edsp::AddNodeOptions(live_command, &live.node);
   live_command->add_option("--cueing", live.cueing_path, "cueing config (TOML)")->required()->check(CLI::ExistingFile);
+  live_command->add_option("--input", live.input, "the vehicle's samples: udp (--udp) or lcm (EDSP_VEHICLE)")
+      ->capture_default_str();
   live_command->add_option("--udp", live.udp, "the vehicle's packets: ADDRESS:PORT (\"\": none)")
       ->capture_default_str();
   edsp::SendOptions send;
@@ -370,7 +374,13 @@ int main(int argc, char** argv) {
   send_command->add_option("--manoeuvre", send.manoeuvre_path, "manoeuvre file (TOML)")
       ->required()
       ->check(CLI::ExistingFile);
-  send_command->add_option("--to", send.to, "ADDRESS:PORT")->capture_default_str();
+  send_command->add_option("--to", send.to, "ADDRESS:PORT, or lcm: EDSP_VEHICLE on the group's bus")
+      ->capture_default_str();
+  send_command->add_option("--group", send.group_path, "with --to lcm: the bus of this group file")
+      ->check(CLI::ExistingFile);
+  send_command->add_option("--lcm-url", send.lcm_url, "with --to lcm: this LCM URL");
+  send_command->add_option("--session-id", send.session, "with --to lcm: the session, or auto (from its traffic)")
+      ->capture_default_str();
   send_command->add_option("--rate-hz", send.rate_hz, "packets per second")
       ->capture_default_str()
       ->check(CLI::Range(1.0, 2000.0));

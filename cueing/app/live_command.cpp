@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "edsp/channels.h"
 #include "edsp/cueing/cueing_loop.h"
 #include "edsp/kinematics/config.h"
 #include "edsp/kinematics/platform_model.h"
@@ -46,10 +47,18 @@ int RunLive(const LiveOptions& options) {
                                             options.cueing_path, config.rate_hz, stack_hz));
   }
   CueingSource source(config, model.home_pose().ToVector(), MakeCueingFilter(config.algorithm, model, config));
+  if (options.input != "udp" && options.input != "lcm") {
+    throw std::invalid_argument(fmt::format("--input \"{}\": udp or lcm", options.input));
+  }
   std::unique_ptr<VehicleSocket> socket;
   CueingLoopOptions loop_options;
   loop_options.session_id = options.node.session_id;
-  if (!options.udp.empty()) {
+  if (options.input == "lcm") {
+    loop_options.vehicle_on_bus = true;
+    loop_options.input_name = channel::kVehicle;
+    std::fprintf(stderr, "edsp-cueing: vehicle samples on %s, session %lld\n", channel::kVehicle,
+                 static_cast<long long>(options.node.session_id));
+  } else if (!options.udp.empty()) {
     const HostPort at = ParseHostPort(options.udp, "--udp");
     socket = std::make_unique<VehicleSocket>(at.host, at.port);
     loop_options.input_name = fmt::format("UDP {}:{}", at.host, socket->port());

@@ -3,6 +3,8 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <functional>
+#include <memory>
 #include <stdexcept>
 #include <thread>
 
@@ -10,9 +12,14 @@
 #include <boost/asio/ip/udp.hpp>
 #include <fmt/format.h>
 
+#include "edsp/channels.h"
 #include "edsp/cueing/manoeuvre.h"
+#include "edsp/cueing/vehicle_message.h"
 #include "edsp/cueing/vehicle_packet.h"
+#include "edsp/node/group_file.h"
 #include "edsp/node/runtime.h"
+#include "edsp/node/session_discovery.h"
+#include "edsp/transport/bus.h"
 #include "live_command.h"
 
 namespace edsp {
@@ -27,17 +34,69 @@ CueCommand AfterCommand(const std::string& after) {
   throw std::invalid_argument(fmt::format("--after \"{}\": one of disengage, silence, estop, freeze, engage", after));
 }
 
+// Sends one packet (throws std::runtime_error naming where it failed to go).
+using PacketSender = std::function<void(const VehiclePacket&)>;
+
+PacketSender UdpSender(const std::string& to_text) {
+  const HostPort to = ParseHostPort(to_text, "--to");
+  auto io = std::make_shared<boost::asio::io_context>();
+  boost::system::error_code error;
+  const boost::asio::ip::udp::endpoint endpoint(boost::asio::ip::make_address(to.host, error), to.port);
+  if (error) throw std::invalid_argument(fmt::format("--to \"{}\": not an IP address", to_text));
+  auto socket = std::make_shared<boost::asio::ip::udp::socket>(*io, endpoint.protocol());
+  return [io, socket, endpoint, to_text](const VehiclePacket& packet) {
+    const auto bytes = EncodeVehiclePacket(packet);
+    boost::system::error_code send_error;
+    socket->send_to(boost::asio::buffer(bytes), endpoint, 0, send_error);
+    if (send_error) throw std::runtime_error(fmt::format("sending to {}: {}", to_text, send_error.message()));
+  };
+}
+
+std::int64_t SessionToAddress(const SendOptions& options, Bus& bus) {
+  if (options.session == "auto") return DiscoverSession(bus, 5.0);
+  std::size_t used = 0;
+  long long id = -1;
+  try {
+    id = std::stoll(options.session, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != options.session.size() || id < 0) {
+    throw std::invalid_argument(fmt::format("--session-id \"{}\": a non-negative integer or auto", options.session));
+  }
+  return id;
+}
+
+// The bus and its publisher, torn down in that order's reverse.
+struct VehicleBus {
+  explicit VehicleBus(const TransportConfig& transport)
+      : bus(transport), out(bus.Advertise<vehicle_motion_t>(channel::kVehicle)) {}
+  Bus bus;
+  Bus::Publisher<vehicle_motion_t> out;
+};
+
+// EDSP_VEHICLE on the group's bus, over LCM: a host's samples come from
+// outside the group's shared memory.
+PacketSender BusSender(const SendOptions& options) {
+  TransportConfig transport = options.group_path.empty() ? TransportConfig{} : LoadTransportConfig(options.group_path);
+  if (!options.lcm_url.empty()) transport.lcm_url = options.lcm_url;
+  transport.channels.clear();
+  auto link = std::make_shared<VehicleBus>(transport);
+  const std::int64_t session = SessionToAddress(options, link->bus);
+  std::fprintf(stderr, "edsp-cueing send: to %s, session %lld\n", channel::kVehicle, static_cast<long long>(session));
+  return [link, session](const VehiclePacket& packet) {
+    if (!link->out.Publish(VehicleMessage(packet, session, UtimeNow()))) {
+      throw std::runtime_error(fmt::format("publishing on {}: the bus refused it", channel::kVehicle));
+    }
+  };
+}
+
 }  // namespace
 
 int RunSend(const SendOptions& options) {
   const Manoeuvre manoeuvre = LoadManoeuvre(options.manoeuvre_path);
   const CueCommand after = AfterCommand(options.after);
-  const HostPort to = ParseHostPort(options.to, "--to");
-  boost::asio::io_context io;
-  boost::system::error_code error;
-  const boost::asio::ip::udp::endpoint endpoint(boost::asio::ip::make_address(to.host, error), to.port);
-  if (error) throw std::invalid_argument(fmt::format("--to \"{}\": not an IP address", options.to));
-  boost::asio::ip::udp::socket socket(io, endpoint.protocol());
+  const PacketSender send = options.to == "lcm" ? BusSender(options) : UdpSender(options.to);
   std::ofstream sent_log;
   if (!options.sent_log_path.empty()) {
     sent_log.open(options.sent_log_path);
@@ -66,10 +125,8 @@ int RunSend(const SendOptions& options) {
       packet.specific_force_m_s2 = sample.specific_force_m_s2;
       packet.angular_velocity_rad_s = sample.angular_velocity_rad_s;
     }
-    const auto bytes = EncodeVehiclePacket(packet);
     const std::int64_t sent_utime = UtimeNow();
-    socket.send_to(boost::asio::buffer(bytes), endpoint, 0, error);
-    if (error) throw std::runtime_error(fmt::format("sending to {}: {}", options.to, error.message()));
+    send(packet);
     if (sent_log.is_open()) sent_log << packet.sequence << ',' << sent_utime << '\n';
   }
   std::fprintf(stderr, "edsp-cueing send: %u packets of %s to %s\n", sequence, manoeuvre.name.c_str(),

@@ -4,7 +4,7 @@
 #include <utility>
 
 #include "edsp/channels.h"
-#include "edsp/cueing/vehicle_packet.h"
+#include "edsp/cueing/vehicle_message.h"
 #include "edsp/motion_reply_t.hpp"
 #include "edsp/motion_request_t.hpp"
 #include "edsp/node/fault.h"
@@ -23,6 +23,8 @@ std::int8_t KindOf(CueRequest request) {
   return motion_request_t::KIND_STOP;
 }
 
+constexpr std::size_t kMaxQueuedVehicleMessages = 1000;
+
 }  // namespace
 
 CueingLoop::CueingLoop(Bus& bus, CueingSource& source, VehicleSocket* socket, CueingLoopOptions options)
@@ -34,6 +36,18 @@ CueingLoop::CueingLoop(Bus& bus, CueingSource& source, VehicleSocket* socket, Cu
       reporting_(bus, "cueing"),
       requests_(bus) {
   bus.Subscribe<motion_status_t>(channel::kMotionStatus, [this](const motion_status_t& s) { OnStatus(s); });
+  if (options_.vehicle_on_bus) {
+    bus.Subscribe<vehicle_motion_t>(channel::kVehicle, [this](const vehicle_motion_t& m) { OnVehicleMessage(m); });
+    vehicle_in_ = &bus.Counters(channel::kVehicle);
+  }
+}
+
+void CueingLoop::OnVehicleMessage(const vehicle_motion_t& message) {
+  if (vehicle_messages_.size() >= kMaxQueuedVehicleMessages) {
+    ++vehicle_messages_dropped_;
+    return;
+  }
+  vehicle_messages_.push_back(message);
 }
 
 void CueingLoop::OnStatus(const motion_status_t& status) {
@@ -43,8 +57,7 @@ void CueingLoop::OnStatus(const motion_status_t& status) {
   source_.OnPlannerFollows(follows, status.reason);
 }
 
-void CueingLoop::TakePacket(const std::uint8_t* data, std::size_t size, std::int64_t now_utime) {
-  const ParsedVehiclePacket parsed = ParseVehiclePacket(data, size);
+void CueingLoop::TakeSample(const ParsedVehiclePacket& parsed, const char* what, std::int64_t now_utime) {
   std::optional<std::string> refused;
   FaultCode code = FaultCode::kUndecodable;
   if (!parsed.packet) {
@@ -59,7 +72,31 @@ void CueingLoop::TakePacket(const std::uint8_t* data, std::size_t size, std::int
   }
   reporting_.status().CountRejected();
   reporting_.Fault(MakeFault("cueing", options_.input_name, code, fault_t::SEVERITY_WARNING,
-                             "vehicle packet refused: " + *refused, now_utime));
+                             std::string(what) + " refused: " + *refused, now_utime));
+}
+
+void CueingLoop::TakeVehicleMessages(std::int64_t now_utime) {
+  for (; !vehicle_messages_.empty(); vehicle_messages_.pop_front()) {
+    const vehicle_motion_t& message = vehicle_messages_.front();
+    if (message.session_id != options_.session_id) {
+      // A log replayed into a live group, or another group's host: never cued.
+      reporting_.status().CountRejected();
+      reporting_.Fault(MakeFault("cueing", channel::kVehicle, FaultCode::kForeignSession, fault_t::SEVERITY_WARNING,
+                                 "vehicle message of session " + std::to_string(message.session_id) +
+                                     " refused: this group's is " + std::to_string(options_.session_id),
+                                 now_utime));
+      continue;
+    }
+    TakeSample(ReadVehicleMessage(message), "vehicle message", now_utime);
+  }
+  if (vehicle_messages_dropped_ > 0) {
+    reporting_.Fault(MakeFault("cueing", channel::kVehicle, FaultCode::kTransport, fault_t::SEVERITY_WARNING,
+                               std::to_string(vehicle_messages_dropped_) + " vehicle messages dropped: more than " +
+                                   std::to_string(kMaxQueuedVehicleMessages) + " came within one cycle",
+                               now_utime));
+    vehicle_messages_dropped_ = 0;
+  }
+  reporting_.ReportUndecodable(channel::kVehicle, *vehicle_in_, now_utime);
 }
 
 void CueingLoop::Ask(CueRequest request) {
@@ -111,8 +148,11 @@ void CueingLoop::Publish(const CueSetpoint& cue, std::int64_t utime, std::uint32
 bool CueingLoop::RunCycle(std::int64_t now_utime, std::int64_t deadline_misses) {
   const auto began = std::chrono::steady_clock::now();
   if (socket_ != nullptr) {
-    socket_->Drain([&](const std::uint8_t* data, std::size_t size) { TakePacket(data, size, now_utime); });
+    socket_->Drain([&](const std::uint8_t* data, std::size_t size) {
+      TakeSample(ParseVehiclePacket(data, size), "vehicle packet", now_utime);
+    });
   }
+  if (vehicle_in_ != nullptr) TakeVehicleMessages(now_utime);
   TakeAnswer(now_utime);
   const CueingStep step = source_.Step(static_cast<double>(now_utime) * 1e-6);
   if (step.cue) Publish(*step.cue, std::llround(step.time_s * 1e6), step.input_sequence);

@@ -95,14 +95,33 @@ CueSetpoint CueingSource::Held() const {
   return held;
 }
 
-CueSetpoint CueingSource::Wash(const VehicleSample& input, double gain) {
+Vector6 CueingSource::ReturnOffset(double now_s) const {
+  if (return_from_.isZero(0.0)) return Vector6::Zero();
+  return return_from_ * (1.0 - RaisedCosine((now_s - return_start_s_) / return_s_));
+}
+
+void CueingSource::Resume(double now_s) {
+  filter_->Reset();
+  head_ = HeadCue{};  // the restarted washout's cue: neutral, at rest
+  engaged_s_ = now_s;
+  return_from_ = last_.pose - neutral_;
+  return_start_s_ = now_s;
+  // A raised cosine of amplitude A over T peaks at π²A/(2T²): no harder than the brake.
+  const auto no_harder = [](double amplitude, double limit) { return kPi * std::sqrt(amplitude / (2.0 * limit)); };
+  return_s_ = std::max({config_.input.fade_s, no_harder(return_from_.head<3>().norm(), kFreezeBrake_m_s2),
+                        no_harder(return_from_.tail<3>().norm(), kFreezeBrake_rad_s2)});
+  phase_ = CueingPhase::kEngaged;
+}
+
+CueSetpoint CueingSource::Wash(const VehicleSample& input, double gain, double now_s) {
   // One washout step per period the source's clock advanced: a cycle the
   // host's scheduler delayed must not leave the cue behind its stamp.
   const VehicleSample sample = TowardsRest(input, gain);
   for (int k = 0; k < steps_; ++k) head_ = filter_->Step(sample);
   const double dt = period_s_ * steps_;
   CueSetpoint cue;
-  cue.pose = CueToPlatformPose(Pose::FromVector(neutral_), config_.head_in_platform_m, head_).ToVector();
+  cue.pose =
+      CueToPlatformPose(Pose::FromVector(neutral_), config_.head_in_platform_m, head_).ToVector() + ReturnOffset(now_s);
   cue.velocity = (cue.pose - last_.pose) / dt;
   cue.acceleration = (cue.velocity - last_.velocity) / dt;
   return cue;
@@ -178,6 +197,7 @@ CueingStep CueingSource::Step(double wall_s) {
         phase_ = CueingPhase::kEngaging;
         filter_->Reset();
         head_ = HeadCue{};
+        return_from_ = Vector6::Zero();
         last_ = CueSetpoint{};
         last_.pose = neutral_;
         why_.clear();
@@ -201,13 +221,15 @@ CueingStep CueingSource::Step(double wall_s) {
         out.cue = Brake();
         break;
       }
-      out.cue = Wash(input, phase_ == CueingPhase::kEngaged ? RaisedCosine((now_s - engaged_s_) / config_.input.fade_s)
-                                                            : gain_at_fade_out_);
+      out.cue = Wash(input,
+                     phase_ == CueingPhase::kEngaged ? RaisedCosine((now_s - engaged_s_) / config_.input.fade_s)
+                                                     : gain_at_fade_out_,
+                     now_s);
       break;
     case CueingPhase::kWashingOut: {
       const double faded = (now_s - fade_out_s_) / config_.input.fade_s;
-      out.cue = Wash(input, gain_at_fade_out_ * (1.0 - RaisedCosine(faded)));
-      const bool home = faded >= 1.0 && HeadHome(head_, *out.cue);
+      out.cue = Wash(input, gain_at_fade_out_ * (1.0 - RaisedCosine(faded)), now_s);
+      const bool home = faded >= 1.0 && ReturnOffset(now_s).isZero(0.0) && HeadHome(head_, *out.cue);
       if ((home || now_s - fade_out_s_ > kWashoutTimeout_s) && ask) {
         out.request = CueRequest::kDisengage;
         awaiting_reply_ = true;
@@ -221,6 +243,9 @@ CueingStep CueingSource::Step(double wall_s) {
         out.request = CueRequest::kDisengage;
         awaiting_reply_ = true;
         phase_ = CueingPhase::kDisengaging;
+      } else if (command == CueCommand::kEngage && live && out.cue->velocity.isZero(0.0)) {
+        last_ = *out.cue;
+        Resume(now_s);
       }
       break;
     case CueingPhase::kDisengaging: out.cue = Held(); break;

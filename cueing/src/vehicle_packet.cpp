@@ -55,18 +55,21 @@ void WriteDouble(std::uint8_t* p, double value) {
   WriteUnsigned(p, bits);
 }
 
-// Three float32 at `p` as a vector, or an error naming `field` and the axis.
-std::optional<Vector3> ReadVector(const std::uint8_t* p, const char* field, double limit, const char* unit,
-                                  std::string& error) {
+// Three float32 at `p` as a vector.
+Vector3 ReadVector(const std::uint8_t* p) {
   Vector3 v;
+  for (int axis = 0; axis < 3; ++axis) v(axis) = static_cast<double>(ReadFloat(p + 4 * axis));
+  return v;
+}
+
+// Why `v` is no vector of `field` (an axis not finite or beyond `limit`), naming the axis.
+std::optional<std::string> VectorError(const Vector3& v, const char* field, double limit, const char* unit) {
   for (int axis = 0; axis < 3; ++axis) {
-    v(axis) = static_cast<double>(ReadFloat(p + 4 * axis));
     if (!std::isfinite(v(axis)) || std::fabs(v(axis)) > limit) {
-      error = fmt::format("{} {} = {} {}: must be finite and within ±{:.4g}", field, "xyz"[axis], v(axis), unit, limit);
-      return std::nullopt;
+      return fmt::format("{} {} = {} {}: must be finite and within ±{:.4g}", field, "xyz"[axis], v(axis), unit, limit);
     }
   }
-  return v;
+  return std::nullopt;
 }
 
 ParsedVehiclePacket Refused(std::string error) { return {std::nullopt, std::move(error)}; }
@@ -83,6 +86,27 @@ const char* CueCommandName(CueCommand command) {
   return "?";
 }
 
+std::optional<CueCommand> CueCommandFromNumber(int value) {
+  if (value < static_cast<int>(CueCommand::kEngage) || value > static_cast<int>(CueCommand::kEStop))
+    return std::nullopt;
+  return static_cast<CueCommand>(value);
+}
+
+std::optional<std::string> VehicleNumbersError(const VehiclePacket& packet) {
+  if (!std::isfinite(packet.time_s)) return fmt::format("time_s = {}: must be finite", packet.time_s);
+  if (auto error = VectorError(packet.specific_force_m_s2, "specific force", kMaxSpecificForce_m_s2, "m/s²")) {
+    return error;
+  }
+  if (auto error = VectorError(packet.angular_velocity_rad_s, "angular velocity", kMaxAngularVelocity_rad_s, "rad/s")) {
+    return error;
+  }
+  if (packet.angular_acceleration_rad_s2) {
+    return VectorError(*packet.angular_acceleration_rad_s2, "angular acceleration", kMaxAngularAcceleration_rad_s2,
+                       "rad/s²");
+  }
+  return std::nullopt;
+}
+
 ParsedVehiclePacket ParseVehiclePacket(const std::uint8_t* data, std::size_t size) {
   if (size != kVehiclePacketBytes) {
     return Refused(fmt::format("a vehicle packet is {} bytes, this one {}", kVehiclePacketBytes, size));
@@ -93,30 +117,21 @@ ParsedVehiclePacket ParseVehiclePacket(const std::uint8_t* data, std::size_t siz
   if (const auto version = ReadUnsigned<std::uint16_t>(data + 4); version != kVersion) {
     return Refused(fmt::format("version {} (this edsp reads version {})", version, kVersion));
   }
-  const auto command = ReadUnsigned<std::uint16_t>(data + 6);
-  if (command < 1 || command > 4) {
-    return Refused(fmt::format("command {}: must be 1 engage, 2 disengage, 3 freeze or 4 e-stop", command));
+  const auto command = CueCommandFromNumber(ReadUnsigned<std::uint16_t>(data + 6));
+  if (!command) {
+    return Refused(fmt::format("command {}: must be {}", ReadUnsigned<std::uint16_t>(data + 6), kCueCommandsText));
   }
   const auto flags = ReadUnsigned<std::uint32_t>(data + 12);
   if ((flags & ~kAngularAccelerationFlag) != 0)
     return Refused(fmt::format("flags 0x{:x}: only bit 0 is defined", flags));
   VehiclePacket packet;
-  packet.command = static_cast<CueCommand>(command);
+  packet.command = *command;
   packet.sequence = ReadUnsigned<std::uint32_t>(data + 8);
   packet.time_s = ReadDouble(data + 16);
-  if (!std::isfinite(packet.time_s)) return Refused(fmt::format("time_s = {}: must be finite", packet.time_s));
-  std::string error;
-  const auto force = ReadVector(data + 24, "specific force", kMaxSpecificForce_m_s2, "m/s²", error);
-  if (!force) return Refused(error);
-  const auto omega = ReadVector(data + 36, "angular velocity", kMaxAngularVelocity_rad_s, "rad/s", error);
-  if (!omega) return Refused(error);
-  packet.specific_force_m_s2 = *force;
-  packet.angular_velocity_rad_s = *omega;
-  if ((flags & kAngularAccelerationFlag) != 0) {
-    packet.angular_acceleration_rad_s2 =
-        ReadVector(data + 48, "angular acceleration", kMaxAngularAcceleration_rad_s2, "rad/s²", error);
-    if (!packet.angular_acceleration_rad_s2) return Refused(error);
-  }
+  packet.specific_force_m_s2 = ReadVector(data + 24);
+  packet.angular_velocity_rad_s = ReadVector(data + 36);
+  if ((flags & kAngularAccelerationFlag) != 0) packet.angular_acceleration_rad_s2 = ReadVector(data + 48);
+  if (auto error = VehicleNumbersError(packet)) return Refused(std::move(*error));
   return {packet, ""};
 }
 

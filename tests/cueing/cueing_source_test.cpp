@@ -234,6 +234,89 @@ TEST(CueingSourceCatchUp, ADelayedCycleGivesTheCueOfEveryCycleRun) {
   EXPECT_GT((last_every.pose - neutral).norm(), 1e-3) << "the brake moved the cue";
 }
 
+// Leaving a freeze by engage: the washout restarts from rest where a source
+// engaged at that instant starts (run beside it, on the same packets), and
+// the cue returns from where the freeze held it to that one's along a
+// raised cosine: no step in pose or velocity, no harder than the freeze's
+// brake, and after the return the two are one cue.
+TEST(CueingSourceFreeze, EngageAfterAFreezeReturnsIntoTheWashoutOfASourceEngagedThen) {
+  const CueingConfig config = LoadCueingConfig(SourceDir() + "/config/cueing.toml");
+  const Vector6 neutral = PlatformModel(LoadConfigFile(SourceDir() + "/config/huang2021.toml")).home_pose().ToVector();
+  CueingSource resumed(config, neutral), fresh(config, neutral);
+  const auto send = [](CueingSource& source, int cycle, CueCommand command) {
+    VehiclePacket p;
+    p.command = command;
+    p.sequence = static_cast<std::uint32_t>(cycle + 1);
+    p.time_s = cycle * 1e-3;
+    p.specific_force_m_s2.x() = -4.9;  // braking throughout
+    return source.OnPacket(p, cycle * 1e-3);
+  };
+  constexpr int kFreezeAt = 1500, kEngageAt = 3500;
+  std::vector<CueSetpoint> a, b;  // resumed's and fresh's cues, from the engage word on
+  int resumed_at = -1;
+  for (int cycle = 0; cycle < kEngageAt + 8000; ++cycle) {
+    const double t = cycle * 1e-3;
+    ASSERT_FALSE(
+        send(resumed, cycle, cycle < kFreezeAt || cycle >= kEngageAt ? CueCommand::kEngage : CueCommand::kFreeze));
+    const CueingStep step = resumed.Step(t);
+    if (cycle == 0) {
+      ASSERT_EQ(step.request, CueRequest::kEngage);
+      resumed.OnReply(CueRequest::kEngage, true, "");
+      resumed.OnPlannerFollows(true, "");
+    }
+    // The other source hears the vehicle from the freeze on (its input faded
+    // in by then), disengaged until a cycle before the engage word: its
+    // request then, the planner following it at once.
+    if (cycle >= kFreezeAt) {
+      ASSERT_FALSE(send(fresh, cycle, cycle < kEngageAt - 1 ? CueCommand::kDisengage : CueCommand::kEngage));
+      const CueingStep other = fresh.Step(t);
+      if (other.request) {
+        ASSERT_EQ(*other.request, CueRequest::kEngage);
+        fresh.OnReply(CueRequest::kEngage, true, "");
+        fresh.OnPlannerFollows(true, "");
+      }
+      if (cycle >= kEngageAt) {
+        ASSERT_TRUE(step.cue && other.cue) << "cycle " << cycle;
+        a.push_back(*step.cue);
+        b.push_back(*other.cue);
+      }
+    }
+    if (cycle == kEngageAt - 1) {
+      ASSERT_EQ(resumed.phase(), CueingPhase::kFrozen);
+      ASSERT_TRUE(step.cue->velocity.isZero(0.0)) << "braked to rest by then";
+    }
+    if (resumed_at < 0 && cycle >= kEngageAt && resumed.phase() == CueingPhase::kEngaged) resumed_at = cycle;
+  }
+  ASSERT_EQ(resumed_at, kEngageAt) << "engage at rest leaves the freeze at once";
+  const Vector6 held = a.front().pose;
+  const Vector6 offset = held - neutral;
+  ASSERT_GT(offset.head<3>().norm(), 1e-3) << "the freeze held the cue away from neutral";
+  // The longest return the brake allows (a raised cosine of amplitude A over T peaks at π²A/(2T²)).
+  const double longest_s =
+      std::max({config.input.fade_s, kPi * std::sqrt(offset.head<3>().norm() / (2.0 * kFreezeBrake_m_s2)),
+                kPi * std::sqrt(offset.tail<3>().norm() / (2.0 * kFreezeBrake_rad_s2))});
+  std::size_t joined = 0;  // the first cue equal to the fresh source's
+  for (std::size_t k = 1; k < a.size(); ++k) {
+    ASSERT_LT((a[k].velocity - a[k - 1].velocity).norm(), 5e-3) << "no step in velocity at cue " << k;
+    if (k >= 2) {
+      // The return alone: the difference from the washout engaged then.
+      const Vector6 d2 =
+          ((a[k].pose - b[k].pose) - 2.0 * (a[k - 1].pose - b[k - 1].pose) + (a[k - 2].pose - b[k - 2].pose)) / 1e-6;
+      ASSERT_LE(d2.head<3>().norm(), kFreezeBrake_m_s2 * (1 + 1e-3) + 1e-6) << "cue " << k;
+      ASSERT_LE(d2.tail<3>().norm(), kFreezeBrake_rad_s2 * (1 + 1e-3) + 1e-6) << "cue " << k;
+    }
+    if (joined == 0 && (a[k].pose - b[k].pose).norm() < 1e-9) joined = k;
+  }
+  EXPECT_LT((a[1].pose - b[1].pose - offset).norm(), 1e-3 * offset.norm()) << "the return starts from the hold";
+  EXPECT_LT(a[1].velocity.norm(), 1e-3) << "and from rest";
+  ASSERT_GT(joined, 0u) << "the cue never joined the washout";
+  EXPECT_LE(static_cast<double>(joined) * 1e-3, longest_s + 2e-3);
+  for (std::size_t k = joined; k < a.size(); ++k) {
+    ASSERT_LT((a[k].pose - b[k].pose).norm(), 1e-9) << "one cue from the return's end on, cue " << k;
+  }
+  EXPECT_GT((a.back().pose - neutral).norm(), 1e-3) << "still braking: the washout moves the cue";
+}
+
 // A host whose scheduler wakes the cycle late by up to most of a period,
 // and now and then by several (the clock then skips the ticks it missed):
 // each cue is the one a source run on time gives for the instant it is

@@ -1,5 +1,7 @@
-// The vehicle's UDP packet: what is sent is what is read, byte for byte as
-// documented, and every way a sender gets it wrong is refused by name.
+// The vehicle's samples by either input: the UDP packet (what is sent is
+// what is read, byte for byte as documented) and EDSP_VEHICLE's message
+// (through LCM's own encoding), every way a sender gets either wrong refused
+// by name, and one sample read the same by both.
 #include "edsp/cueing/vehicle_packet.h"
 
 #include <algorithm>
@@ -7,8 +9,12 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
+
+#include "edsp/cueing/vehicle_message.h"
 
 namespace edsp {
 namespace {
@@ -122,6 +128,83 @@ TEST(VehiclePacket, EveryWayASenderGetsItWrongIsRefusedByName) {
   p = VehiclePacket{};
   p.angular_acceleration_rad_s2 = Vector3(0.0, 100.0, 0.0);
   EXPECT_NE(Refusal(EncodeVehiclePacket(p)).find("angular acceleration y = 100"), std::string::npos);
+}
+
+// `message` through LCM's encoding and back, then read as the cueing reads it.
+ParsedVehiclePacket OverTheBus(const vehicle_motion_t& message) {
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(message.getEncodedSize()));
+  EXPECT_EQ(message.encode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
+  vehicle_motion_t received;
+  EXPECT_EQ(received.decode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
+  return ReadVehicleMessage(received);
+}
+
+std::string Refusal(const vehicle_motion_t& message) {
+  const ParsedVehiclePacket parsed = OverTheBus(message);
+  return parsed.packet ? "(accepted)" : parsed.error;
+}
+
+void ExpectSame(const VehiclePacket& read, const VehiclePacket& sent) {
+  EXPECT_EQ(read.command, sent.command);
+  EXPECT_EQ(read.sequence, sent.sequence);
+  EXPECT_EQ(read.time_s, sent.time_s);
+  EXPECT_EQ(read.specific_force_m_s2, sent.specific_force_m_s2);
+  EXPECT_EQ(read.angular_velocity_rad_s, sent.angular_velocity_rad_s);
+  ASSERT_EQ(read.angular_acceleration_rad_s2.has_value(), sent.angular_acceleration_rad_s2.has_value());
+  if (sent.angular_acceleration_rad_s2) {
+    EXPECT_EQ(*read.angular_acceleration_rad_s2, *sent.angular_acceleration_rad_s2);
+  }
+}
+
+TEST(VehicleMessage, WhatIsSentOnTheBusIsWhatIsReadExactlyAndAsTheUdpPacketReadsIt) {
+  std::mt19937 random(4711);
+  for (int i = 0; i < 1000; ++i) {
+    const VehiclePacket sent = Sample(random);
+    const vehicle_motion_t message = VehicleMessage(sent, 78, 1'700'000'000'000'000 + i);
+    EXPECT_EQ(message.session_id, 78);
+    const ParsedVehiclePacket read = OverTheBus(message);
+    ASSERT_TRUE(read.packet) << read.error;
+    ExpectSame(*read.packet, sent);  // float64 on the bus: no rounding
+    // The packet's float32 sample, sent both ways, is one sample to the cueing.
+    const auto bytes = EncodeVehiclePacket(sent);
+    const ParsedVehiclePacket by_udp = ParseVehiclePacket(bytes.data(), bytes.size());
+    ASSERT_TRUE(by_udp.packet) << by_udp.error;
+    const ParsedVehiclePacket by_bus = OverTheBus(VehicleMessage(*by_udp.packet, 78, 0));
+    ASSERT_TRUE(by_bus.packet) << by_bus.error;
+    ExpectSame(*by_bus.packet, *by_udp.packet);
+  }
+}
+
+TEST(VehicleMessage, EveryWayASenderGetsItWrongIsRefusedByNameAsOnUdp) {
+  const vehicle_motion_t good = VehicleMessage(VehiclePacket{}, 1, 0);
+  EXPECT_EQ(Refusal(good), "(accepted)");
+  vehicle_motion_t bad = good;
+  bad.command = 0;
+  EXPECT_NE(Refusal(bad).find("command 0: must be 1 engage"), std::string::npos);
+  bad.command = 5;
+  EXPECT_NE(Refusal(bad).find("command 5"), std::string::npos);
+  bad = good;
+  bad.seq = -1;
+  EXPECT_NE(Refusal(bad).find("seq -1: must be 0…4294967295"), std::string::npos);
+  bad.seq = std::int64_t{1} << 32;
+  EXPECT_NE(Refusal(bad).find("seq 4294967296"), std::string::npos);
+  bad.seq = 4294967295;
+  EXPECT_EQ(Refusal(bad), "(accepted)");
+  bad = good;
+  bad.time_s = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_NE(Refusal(bad).find("time_s = nan"), std::string::npos);
+  bad = good;
+  bad.specific_force[1] = std::numeric_limits<double>::infinity();
+  EXPECT_NE(Refusal(bad).find("specific force y = inf"), std::string::npos);
+  bad = good;
+  bad.angular_velocity[2] = 90.0;  // deg/s sent as rad/s
+  EXPECT_NE(Refusal(bad).find("angular velocity z = 90 rad/s"), std::string::npos);
+  // The angular acceleration is read only when flagged, and then checked.
+  bad = good;
+  bad.angular_acceleration[0] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(Refusal(bad), "(accepted)");
+  bad.has_angular_acceleration = true;
+  EXPECT_NE(Refusal(bad).find("angular acceleration x = nan"), std::string::npos);
 }
 
 }  // namespace

@@ -2,8 +2,10 @@
 // (edsp-cueing send) engage the platform through the planner (at home: no
 // move to make), the brake is washed out onto the platform (the setpoints are the
 // cueing source's, the rig moves back and tilts nose down), then disengage
-// washes it home and parks it; and a host that falls silent has its
-// platform washed home while still engaged, then an e-stop word holds it.
+// washes it home and parks it; and a host on the bus (EDSP_VEHICLE) that
+// falls silent has its platform washed home while still engaged, then an
+// e-stop word holds it, while samples addressed to another session never
+// engage it.
 #include <sys/wait.h>
 
 #include <cstdlib>
@@ -20,6 +22,7 @@
 #include "edsp/kinematics/config.h"
 #include "edsp/motion_status_t.hpp"
 #include "edsp/node/build_paths.h"
+#include "edsp/node/runtime.h"
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/rig_truth_t.hpp"
 #include "group_watch.h"
@@ -39,12 +42,15 @@ constexpr int kCueStaleMs = kStallTolerantStaleMs;
 const std::string kCueingPlanner = fmt::format(R"("--exit-after-hold-s", "2", "--cue-stale-ms", "{}")", kCueStaleMs);
 constexpr std::int64_t kSession = 78;
 
-// edsp-cueing send into the group's socket (the test's private network); its exit code.
+constexpr char kToUdp[] = "--to 127.0.0.1:7400";
+
+// edsp-cueing send to `to`: the group's socket (the test's private network),
+// or its bus; its exit code.
 int Send(const std::string& manoeuvre, const std::string& after, double lead_s, double tail_s,
-         const std::string& sent_log = "") {
-  const std::string command = fmt::format(
-      "{} send --manoeuvre {} --to 127.0.0.1:7400 --lead-s {} --after {} --tail-s {}{}", BuiltProgram("edsp-cueing"),
-      manoeuvre, lead_s, after, tail_s, sent_log.empty() ? "" : " --sent-log " + sent_log);
+         const std::string& sent_log = "", const std::string& to = kToUdp) {
+  const std::string command =
+      fmt::format("{} send --manoeuvre {} {} --lead-s {} --after {} --tail-s {}{}", BuiltProgram("edsp-cueing"),
+                  manoeuvre, to, lead_s, after, tail_s, sent_log.empty() ? "" : " --sent-log " + sent_log);
   const int status = std::system(command.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
@@ -182,9 +188,15 @@ TEST(CueingGroup, ABrakeFromUdpIsWashedOntoThePlatformThenDisengageParksItAtHome
   std::printf("vehicle sample -> drive write: %s\n", delay.dump().c_str());
 }
 
-TEST(CueingGroup, ASilentHostIsWashedHomeStillEngagedAndAnEStopWordHoldsIt) {
+TEST(CueingGroup, ASilentHostOnTheBusIsWashedHomeStillEngagedAnEStopWordHoldsItAndAnotherSessionsSamplesMoveNothing) {
   const PlatformModel model(Huang2021Config());
   const Vector6 home = model.home_pose().ToVector();
+  SimGroupExtras group = CueingGroup();
+  group.edit = [](GroupFileEditor& file) {
+    file.SetArg("cueing", "--cueing", SourcePath("config/cueing.toml")).SetArg("cueing", "--input", "lcm");
+  };
+  const std::string to_bus = fmt::format("--to lcm --lcm-url '{}' --session-id auto", kGroupLcmUrl);
+  std::int64_t foreign_sent_utime = 0;
   const GroupRun run = LaunchSimGroup(
       "cueing-silent", "signed", kCueingPlanner,
       [&](const std::string& dir) {
@@ -192,15 +204,27 @@ TEST(CueingGroup, ASilentHostIsWashedHomeStillEngagedAndAnEStopWordHoldsIt) {
             << "name = \"rest\"\ndescription = \"a rider at rest\"\nduration_s = 0.1\n"
                "[[pulse]]\nchannel = \"fx\"\nrise_s = 0.01\nfall_s = 0.01\namplitude = 0.0\n";
         WaitForTheGroup();
+        // Another session's host (a log replayed into this group) asks to engage for a second.
+        EXPECT_EQ(Send(dir + "/rest.toml", "engage", 0.5, 0.5, "",
+                       fmt::format("--to lcm --lcm-url '{}' --session-id {}", kGroupLcmUrl, kSession + 1)),
+                  0);
+        foreign_sent_utime = UtimeNow();
         // The brake, then silence mid-washout: the input fades to rest.
-        EXPECT_EQ(Send(SourcePath("config/manoeuvres/braking.toml"), "silence", 3.0, 12.0), 0);
+        EXPECT_EQ(Send(SourcePath("config/manoeuvres/braking.toml"), "silence", 3.0, 12.0, "", to_bus), 0);
         // A host back with e-stop: the planner holds, and ends the run.
-        EXPECT_EQ(Send(dir + "/rest.toml", "estop", 0.0, 1.0), 0);
+        EXPECT_EQ(Send(dir + "/rest.toml", "estop", 0.0, 1.0, "", to_bus), 0);
       },
-      kSession, kDefaultConfig, kStallTolerantStaleMs, CueingGroup());
+      kSession, kDefaultConfig, kStallTolerantStaleMs, group);
   ASSERT_EQ(run.exit_code, 0);
+  const std::string faults = FaultLines(run.log_path);
+  EXPECT_NE(faults.find(fmt::format("vehicle message of session {} refused", kSession + 1)), std::string::npos)
+      << faults;
   const auto statuses = LoggedMessages<motion_status_t>(run.log_path, "EDSP_MOTION_STATUS");
   ASSERT_FALSE(statuses.empty());
+  for (const motion_status_t& s : statuses) {
+    if (s.utime > foreign_sent_utime) break;
+    EXPECT_NE(s.state, motion_status_t::STATE_CUEING) << "engaged by another session's samples at " << s.utime;
+  }
   EXPECT_EQ(statuses.back().last_end, motion_status_t::END_STOPPED) << statuses.back().reason;
   // Still cueing when the host came back: the washout had brought the rig home.
   std::int64_t ended_utime = 0;

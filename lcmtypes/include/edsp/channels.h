@@ -28,6 +28,7 @@ inline constexpr char kMotionRequest[] = "EDSP_MOTION_REQUEST";
 inline constexpr char kMotionReply[] = "EDSP_MOTION_REPLY";
 inline constexpr char kMotionStatus[] = "EDSP_MOTION_STATUS";
 inline constexpr char kCueSetpoint[] = "EDSP_CUE_SETPOINT";
+inline constexpr char kVehicle[] = "EDSP_VEHICLE";
 
 // Whose seq numbers a channel carries: one publisher's (a gap is a lost
 // message), or several interleaved (every node's status and faults; the
@@ -61,6 +62,7 @@ inline constexpr Channel kChannels[] = {
     {kMotionReply, "motion_reply_t", "planner", 0.0, Publishers::kOne},
     {kMotionStatus, "motion_status_t", "planner", 50.0, Publishers::kOne},
     {kCueSetpoint, "pose_setpoint_t", "cueing", 1000.0, Publishers::kOne},
+    {kVehicle, "vehicle_motion_t", "the vehicle model (edsp-cueing send)", 250.0, Publishers::kOne},
 };
 
 // The row of `name`, or null for a channel that is not edsp's.

@@ -123,6 +123,14 @@ void VisitFields(const reply_t& m, V* r) {
 
 // The older layouts, field for field as they were.
 template <typename V>
+void VisitFields(const vehicle_motion_t& m, V* r) {
+  r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("session_id", m.session_id);
+  r->Add("command", m.command), r->Add("time_s", m.time_s);
+  r->Add("specific_force", m.specific_force), r->Add("angular_velocity", m.angular_velocity);
+  r->Add("has_angular_acceleration", m.has_angular_acceleration);
+  r->Add("angular_acceleration", m.angular_acceleration);
+}
+template <typename V>
 void VisitFields(const arm_v1_t& m, V* r) {
   r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("session_id", m.session_id);
   r->Add("operator_name", m.operator_name);

@@ -29,13 +29,14 @@
 #include "edsp/reply_t.hpp"
 #include "edsp/rig_truth_t.hpp"
 #include "edsp/tracker_point_t.hpp"
+#include "edsp/vehicle_motion_t.hpp"
 
 namespace edsp {
 
 // The order is the fuzz corpus's: a seed's first byte picks the type by index.
 using MessageTypes = std::tuple<pose_setpoint_t, leg_command_t, leg_state_t, platform_state_t, platform_config_t,
                                 tracker_point_t, rig_truth_t, node_status_t, fault_t, arm_t, pr_mode_t, calibration_t,
-                                motion_request_t, motion_reply_t, motion_status_t, reply_t>;
+                                motion_request_t, motion_reply_t, motion_status_t, reply_t, vehicle_motion_t>;
 inline constexpr std::size_t kMessageTypeCount = std::tuple_size_v<MessageTypes>;
 
 // Older layouts of changed types (lcmtypes/legacy/), read from the logs

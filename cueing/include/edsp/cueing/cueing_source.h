@@ -9,7 +9,11 @@
 //              input, faded in from a rider at rest over [input] fade_s;
 //   disengage  fade the input out to rest, let the washout bring the head
 //              home, then ask the planner to disengage at the neutral pose;
-//   freeze     brake the cue to rest and hold it there (left by disengage);
+//   freeze     brake the cue to rest and hold it there; left by disengage,
+//              or by engage once at rest: the washout starts again from
+//              rest, its input faded in as at engage, and the cue returns
+//              from where the freeze held it along a raised cosine no
+//              harder than the freeze's brake;
 //   e-stop     ask the planner to stop at once: its setpoints hold where
 //              they are (left by disengage, then engage).
 // A request refused, or the planner ending the cueing by itself (a cue it
@@ -91,7 +95,9 @@ class CueingSource {
  private:
   int DueSteps(double now_s);
   std::optional<CueingStep> EStop(double now_s);
-  CueSetpoint Wash(const VehicleSample& input, double gain);
+  CueSetpoint Wash(const VehicleSample& input, double gain, double now_s);
+  void Resume(double now_s);
+  Vector6 ReturnOffset(double now_s) const;
   CueSetpoint Brake();
   CueSetpoint Held() const;
   void Stop(std::string why);
@@ -108,6 +114,11 @@ class CueingSource {
   double engaged_s_ = 0.0;   // when the planner began following
   double fade_out_s_ = 0.0;  // when the washing out began
   double gain_at_fade_out_ = 0.0;
+  // Leaving a freeze: the cue's offset from where the restarted washout
+  // puts it, brought to nothing over return_s_ from return_start_s_.
+  Vector6 return_from_ = Vector6::Zero();
+  double return_start_s_ = 0.0;
+  double return_s_ = 1.0;
   HeadCue head_;      // the washout's last output
   CueSetpoint last_;  // the cue published last
   std::string why_;

@@ -33,6 +33,7 @@ inline constexpr std::size_t kVehiclePacketBytes = 60;
 
 enum class CueCommand : std::uint16_t { kEngage = 1, kDisengage = 2, kFreeze = 3, kEStop = 4 };
 const char* CueCommandName(CueCommand command);
+inline constexpr char kCueCommandsText[] = "1 engage, 2 disengage, 3 freeze or 4 e-stop";
 
 struct VehiclePacket {
   CueCommand command = CueCommand::kEngage;
@@ -49,6 +50,14 @@ struct ParsedVehiclePacket {
 };
 
 ParsedVehiclePacket ParseVehiclePacket(const std::uint8_t* data, std::size_t size);
+
+// The command numbered `value` (1 engage … 4 e-stop), or nothing.
+std::optional<CueCommand> CueCommandFromNumber(int value);
+// Why `packet`'s numbers are no vehicle's (time not finite; a vector's axis
+// not finite or beyond the limits above), naming the field, axis and value;
+// nothing if they are. Every input's samples pass it: the UDP packet's and
+// EDSP_VEHICLE's.
+std::optional<std::string> VehicleNumbersError(const VehiclePacket& packet);
 
 // A packet's sequence as a cue's and a cueing setpoint's `segment` carry it
 // (its low 31 bits): which vehicle sample a setpoint comes from, so that a
