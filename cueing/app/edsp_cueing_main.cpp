@@ -23,6 +23,8 @@
 //       a vehicle model's stand-in: the manoeuvre as packets, in real time (send_command.h).
 //   edsp-cueing delay --log RUN.lcmlog --sent SENT.csv [--json]
 //       each sample's delay from its sender to the drives, traced through the log (delay_command.h).
+//   edsp-cueing score --log RUN.lcmlog --cueing FILE [--json]
+//       a live run's cueing scored from its log, on the commanded and the real motion (score_command.h).
 
 #include <cstdio>
 #include <exception>
@@ -47,6 +49,8 @@
 #include "edsp/sim/played_poses.h"
 #include "delay_command.h"
 #include "live_command.h"
+#include "perception_json.h"
+#include "score_command.h"
 #include "send_command.h"
 
 namespace edsp {
@@ -77,18 +81,6 @@ PerceptionScore ScoreOnTheRig(const PlatformConfig& nominal, const RigEffects& e
   const std::vector<Pose> truth = PlayPosesThroughTheStack(nominal, effects, run.commanded, 1.0 / config.rate_hz);
   const VehicleSeries felt = PlatformMotionAtHead(truth, 1.0 / config.rate_hz, config.head_in_platform_m);
   return ScorePerception(config.perception, run.vehicle, felt);
-}
-
-nlohmann::json ChannelsJson(const PerceptionScore& score) {
-  nlohmann::json channels = nlohmann::json::object();
-  for (int channel = 0; channel < kCueChannels; ++channel) {
-    const ChannelScore& s = score.channels[static_cast<std::size_t>(channel)];
-    channels[CueChannelName(channel)] = {{"rms_error", s.rms_error},
-                                         {"correlation", s.correlation},
-                                         {"delay_s", s.delay_s},
-                                         {"in_thresholds", s.in_thresholds}};
-  }
-  return channels;
 }
 
 nlohmann::json RunJson(const Manoeuvre& manoeuvre, const CueingRun& run, const std::optional<PerceptionScore>& real) {
@@ -393,6 +385,14 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::Range(0.0, 600.0));
   send_command->add_option("--sent-log", send.sent_log_path, "CSV of each packet's sequence and send time");
+  edsp::ScoreOptions score;
+  CLI::App* score_command =
+      app.add_subcommand("score", "a live run's cueing scored from its log: commanded and real motion");
+  score_command->add_option("--log", score.log_path, "the group's log (.lcmlog)")->required()->check(CLI::ExistingFile);
+  score_command->add_option("--cueing", score.cueing_path, "cueing config (TOML): the head, the vestibular models")
+      ->required()
+      ->check(CLI::ExistingFile);
+  score_command->add_flag("--json", score.json, "JSON on stdout");
   edsp::DelayOptions delay;
   CLI::App* delay_command =
       app.add_subcommand("delay", "each vehicle sample's delay from its sender to the drives, from a group's log");
@@ -406,6 +406,7 @@ int main(int argc, char** argv) {
     if (live_command->parsed()) return edsp::RunLive(live);
     if (send_command->parsed()) return edsp::RunSend(send);
     if (delay_command->parsed()) return edsp::RunDelay(delay);
+    if (score_command->parsed()) return edsp::RunScore(score);
     if (omct_command->parsed()) return edsp::RunOmctTable(omct_config, omct_cueing, omct_json);
     if (bench_command->parsed()) return edsp::RunBench(bench);
     return edsp::RunOffline(offline);

@@ -142,5 +142,14 @@ TEST(EdspCueingCli, ABadCueingConfigIsNamedWithANonZeroExit) {
   EXPECT_NE(run.text.find(path + ":2: [washout] tilt_rate_max_rad_s = -1 must be > 0"), std::string::npos) << run.text;
 }
 
+TEST(EdspCueingCli, ScoringALogOfNoCueingNamesTheLogAndWhatItLacks) {
+  const std::string dir = test_support::ScratchDir("cueing_score");
+  const std::string path = dir + "/empty.lcmlog";
+  std::ofstream(path).flush();
+  const auto run = RunCueing("score --log " + path + " --cueing " + SourceDir() + "/config/cueing.toml");
+  EXPECT_NE(run.exit_code, 0);
+  EXPECT_NE(run.text.find(path + ": no setpoint of a cueing"), std::string::npos) << run.text;
+}
+
 }  // namespace
 }  // namespace edsp

@@ -242,6 +242,37 @@ TEST(CueingGroup, ASilentHostOnTheBusIsWashedHomeStillEngagedAnEStopWordHoldsItA
   }
   ASSERT_NE(at_stop, nullptr);
   EXPECT_LT((TruthPose(*at_stop) - home).head<3>().norm(), 0.5e-3) << "washed home before the e-stop";
+
+  // The run scored from its log (edsp-cueing score): the vehicle as the group
+  // heard it, this session's only, while the planner followed the cueing:
+  // the lead at rest, then the brake, until the host fell silent. The same
+  // brake scored offline (edsp-cueing offline: the manoeuvre's samples at
+  // 1 kHz through the washout, no process, no clock) over its own 10 s: the
+  // rest adds no error, so the live RMS is the offline one spread over the
+  // longer window. The rig follows its commands to micrometres: what its
+  // rider felt is what the commands make one feel.
+  const auto json_of = [&](const std::string& arguments, const std::string& name) {
+    const std::string path = run.dir + "/" + name;
+    EXPECT_EQ(std::system(fmt::format("{} {} --json > {}", BuiltProgram("edsp-cueing"), arguments, path).c_str()), 0);
+    std::ifstream in(path);
+    return nlohmann::json::parse(in);
+  };
+  const nlohmann::json score =
+      json_of(fmt::format("score --log {} --cueing {}", run.log_path, SourcePath("config/cueing.toml")), "score.json");
+  const nlohmann::json offline =
+      json_of(fmt::format("offline --config {} --cueing {} --manoeuvre {}", SourcePath("config/huang2021.toml"),
+                          SourcePath("config/cueing.toml"), SourcePath("config/manoeuvres/braking.toml")),
+              "offline.json");
+  EXPECT_EQ(score["session_id"], kSession);
+  const double window_s = score["duration_s"], brake_s = offline["manoeuvres"][0]["duration_s"];
+  EXPECT_GT(window_s, brake_s) << "the brake heard and followed, after the lead";
+  ASSERT_EQ(score["real_from"], "EDSP_RIG_TRUTH") << score.dump();
+  const double commanded = score["commanded"]["perception_error"], real = score["real"]["perception_error"];
+  const double offline_spread =
+      offline["manoeuvres"][0]["perception_error"].get<double>() * std::sqrt(brake_s / window_s);
+  EXPECT_NEAR(commanded, offline_spread, 0.03 * offline_spread) << score.dump();
+  EXPECT_NEAR(real, commanded, 0.02 * commanded) << score.dump();
+  std::printf("the live run scored: %s\n", score.dump().c_str());
 }
 
 }  // namespace

@@ -1,0 +1,128 @@
+#include "score_command.h"
+
+#include <cstdio>
+#include <optional>
+#include <stdexcept>
+#include <vector>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "edsp/channels.h"
+#include "edsp/cueing/cueing_config.h"
+#include "edsp/cueing/live_score.h"
+#include "edsp/logger/log_reader.h"
+#include "edsp/platform_state_t.hpp"
+#include "edsp/pose_setpoint_t.hpp"
+#include "edsp/rig_truth_t.hpp"
+#include "edsp/transport/decode.h"
+#include "edsp/vehicle_motion_t.hpp"
+#include "perception_json.h"
+
+namespace edsp {
+namespace {
+
+struct LoggedCueing {
+  std::optional<std::int64_t> session;  // the cueing setpoints'
+  std::vector<StampedPose> commanded;   // the longest stretch of them
+  std::vector<HeardVehicleSample> vehicle;
+  std::vector<StampedPose> truth, encoders;
+};
+
+template <typename Msg>
+bool Read(const LogEvent& event, Msg* m) {
+  return DecodeUntrusted(m, event.data.data(), event.data.size());
+}
+
+Vector6 PoseOf(const double (&pose)[6]) { return Eigen::Map<const Vector6>(pose); }
+
+void TakeSetpoint(const pose_setpoint_t& s, std::vector<StampedPose>& stretch, LoggedCueing& log) {
+  if (s.trajectory != "cueing") {
+    if (stretch.size() > log.commanded.size()) log.commanded.swap(stretch);
+    stretch.clear();
+    return;
+  }
+  if (!log.session) log.session = s.session_id;
+  if (s.session_id == *log.session) stretch.push_back({s.utime, PoseOf(s.pose)});
+}
+
+LoggedCueing ReadLog(const std::string& path) {
+  LoggedCueing log;
+  std::vector<StampedPose> stretch;
+  std::vector<std::pair<std::int64_t, vehicle_motion_t>> heard;  // sessions judged once the setpoints named theirs
+  LogReader reader(path);
+  LogEvent event;
+  while (reader.Next(&event)) {
+    if (pose_setpoint_t s; event.channel == channel::kSetpoint && Read(event, &s)) {
+      TakeSetpoint(s, stretch, log);
+    } else if (vehicle_motion_t v; event.channel == channel::kVehicle && Read(event, &v)) {
+      heard.emplace_back(event.timestamp_utime, v);
+    } else if (rig_truth_t t; event.channel == channel::kRigTruth && Read(event, &t)) {
+      log.truth.push_back({t.utime, PoseOf(t.pose)});
+    } else if (platform_state_t p; event.channel == channel::kPlatformState && Read(event, &p)) {
+      log.encoders.push_back({p.utime, PoseOf(p.pose)});
+    }
+  }
+  if (stretch.size() > log.commanded.size()) log.commanded.swap(stretch);
+  for (const auto& [utime, v] : heard) {
+    if (!log.session || v.session_id != *log.session) continue;
+    log.vehicle.push_back({utime, Vector3(v.specific_force[0], v.specific_force[1], v.specific_force[2]),
+                           Vector3(v.angular_velocity[0], v.angular_velocity[1], v.angular_velocity[2])});
+  }
+  return log;
+}
+
+nlohmann::json ScoreJson(const PerceptionScore& score) {
+  return {{"perception_error", score.overall}, {"channels", ChannelsJson(score)}};
+}
+
+void PrintScoreRow(const char* name, const PerceptionScore& score) {
+  std::string channels;
+  for (const ChannelScore& c : score.channels) channels += fmt::format(" {:6.2f}", c.in_thresholds);
+  std::printf("%-10s %6.2f %s   %5.1f ms\n", name, score.overall, channels.c_str(), score.channels[0].delay_s * 1e3);
+}
+
+}  // namespace
+
+int RunScore(const ScoreOptions& options) {
+  const CueingConfig config = LoadCueingConfig(options.cueing_path);
+  const LoggedCueing log = ReadLog(options.log_path);
+  if (log.commanded.empty()) {
+    throw std::runtime_error(
+        fmt::format("{}: no setpoint of a cueing (EDSP_SETPOINT, trajectory \"cueing\")", options.log_path));
+  }
+  if (log.vehicle.empty()) {
+    throw std::runtime_error(
+        fmt::format("{}: no vehicle sample of session {} on {} (a UDP host's packets are not logged: send --to lcm)",
+                    options.log_path, *log.session, channel::kVehicle));
+  }
+  const bool from_truth = !log.truth.empty();
+  const char* real_from = from_truth ? channel::kRigTruth : channel::kPlatformState;
+  LiveCueingScore score;
+  try {
+    score = ScoreLiveCueing(config, log.vehicle, log.commanded, from_truth ? log.truth : log.encoders);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(fmt::format("{}: {}", options.log_path, e.what()));
+  }
+  if (options.json) {
+    const nlohmann::json out = {{"log", options.log_path},
+                                {"session_id", *log.session},
+                                {"start_utime", score.start_utime},
+                                {"duration_s", score.duration_s},
+                                {"vehicle_samples", log.vehicle.size()},
+                                {"real_from", score.real ? nlohmann::json(real_from) : nlohmann::json(nullptr)},
+                                {"commanded", ScoreJson(score.commanded)},
+                                {"real", score.real ? ScoreJson(*score.real) : nlohmann::json(nullptr)}};
+    std::printf("%s\n", out.dump(2).c_str());
+    return 0;
+  }
+  std::printf("%s: %.3f s of cueing, session %lld, %zu vehicle samples; real motion from %s\n",
+              options.log_path.c_str(), score.duration_s, static_cast<long long>(*log.session), log.vehicle.size(),
+              score.real ? real_from : "(none spanning the run)");
+  std::printf("perceived error in thresholds (overall, then fx fy fz wx wy wz), fx's delay\n");
+  PrintScoreRow("commanded", score.commanded);
+  if (score.real) PrintScoreRow("real", *score.real);
+  return 0;
+}
+
+}  // namespace edsp
