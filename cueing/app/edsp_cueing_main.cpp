@@ -358,7 +358,8 @@ int main(int argc, char** argv) {
   edsp::AddNodeOptions(live_command, &live.node);
   live_command->add_option("--cueing", live.cueing_path, "cueing config (TOML)")->required()->check(CLI::ExistingFile);
   live_command->add_option("--input", live.input, "the vehicle's samples: udp (--udp) or lcm (EDSP_VEHICLE)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::IsMember({"udp", "lcm"}));
   live_command->add_option("--udp", live.udp, "the vehicle's packets: ADDRESS:PORT (\"\": none)")
       ->capture_default_str();
   edsp::SendOptions send;

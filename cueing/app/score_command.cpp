@@ -1,5 +1,6 @@
 #include "score_command.h"
 
+#include <cmath>
 #include <cstdio>
 #include <optional>
 #include <stdexcept>
@@ -11,6 +12,7 @@
 #include "edsp/channels.h"
 #include "edsp/cueing/cueing_config.h"
 #include "edsp/cueing/live_score.h"
+#include "edsp/cueing/vehicle_message.h"
 #include "edsp/logger/log_reader.h"
 #include "edsp/platform_state_t.hpp"
 #include "edsp/pose_setpoint_t.hpp"
@@ -26,6 +28,7 @@ struct LoggedCueing {
   std::optional<std::int64_t> session;  // the cueing setpoints'
   std::vector<StampedPose> commanded;   // the longest stretch of them
   std::vector<HeardVehicleSample> vehicle;
+  std::size_t vehicle_refused = 0;  // of the session, that the cueing refused too
   std::vector<StampedPose> truth, encoders;
 };
 
@@ -46,7 +49,7 @@ void TakeSetpoint(const pose_setpoint_t& s, std::vector<StampedPose>& stretch, L
   if (s.session_id == *log.session) stretch.push_back({s.utime, PoseOf(s.pose)});
 }
 
-LoggedCueing ReadLog(const std::string& path) {
+LoggedCueing ReadLog(const std::string& path, double input_timeout_s) {
   LoggedCueing log;
   std::vector<StampedPose> stretch;
   std::vector<std::pair<std::int64_t, vehicle_motion_t>> heard;  // sessions judged once the setpoints named theirs
@@ -64,10 +67,26 @@ LoggedCueing ReadLog(const std::string& path) {
     }
   }
   if (stretch.size() > log.commanded.size()) log.commanded.swap(stretch);
+  // What the cueing itself took (VehicleInput): a sample it refused (a
+  // number no vehicle makes, a sequence not ahead of the last) is not what
+  // the rider should feel; after a silence it took for a lost input, a new
+  // stream starts.
+  bool streaming = false;  // a sample taken, no silence since
+  std::uint32_t last_sequence = 0;
+  std::int64_t last_utime = 0;
   for (const auto& [utime, v] : heard) {
     if (!log.session || v.session_id != *log.session) continue;
-    log.vehicle.push_back({utime, Vector3(v.specific_force[0], v.specific_force[1], v.specific_force[2]),
-                           Vector3(v.angular_velocity[0], v.angular_velocity[1], v.angular_velocity[2])});
+    if (utime - last_utime > std::llround(input_timeout_s * 1e6)) streaming = false;
+    const ParsedVehiclePacket read = ReadVehicleMessage(v);
+    const bool ahead = read.packet && (!streaming || read.packet->sequence - last_sequence - 1 < 0x7fffffffU);
+    if (!ahead) {
+      ++log.vehicle_refused;
+      continue;
+    }
+    streaming = true;
+    last_sequence = read.packet->sequence;
+    last_utime = utime;
+    log.vehicle.push_back({utime, read.packet->specific_force_m_s2, read.packet->angular_velocity_rad_s});
   }
   return log;
 }
@@ -86,7 +105,7 @@ void PrintScoreRow(const char* name, const PerceptionScore& score) {
 
 int RunScore(const ScoreOptions& options) {
   const CueingConfig config = LoadCueingConfig(options.cueing_path);
-  const LoggedCueing log = ReadLog(options.log_path);
+  const LoggedCueing log = ReadLog(options.log_path, config.input.timeout_s);
   if (log.commanded.empty()) {
     throw std::runtime_error(
         fmt::format("{}: no setpoint of a cueing (EDSP_SETPOINT, trajectory \"cueing\")", options.log_path));
@@ -110,15 +129,16 @@ int RunScore(const ScoreOptions& options) {
                                 {"start_utime", score.start_utime},
                                 {"duration_s", score.duration_s},
                                 {"vehicle_samples", log.vehicle.size()},
+                                {"vehicle_samples_refused", log.vehicle_refused},
                                 {"real_from", score.real ? nlohmann::json(real_from) : nlohmann::json(nullptr)},
                                 {"commanded", ScoreJson(score.commanded)},
                                 {"real", score.real ? ScoreJson(*score.real) : nlohmann::json(nullptr)}};
     std::printf("%s\n", out.dump(2).c_str());
     return 0;
   }
-  std::printf("%s: %.3f s of cueing, session %lld, %zu vehicle samples; real motion from %s\n",
+  std::printf("%s: %.3f s of cueing, session %lld, %zu vehicle samples (%zu refused); real motion from %s\n",
               options.log_path.c_str(), score.duration_s, static_cast<long long>(*log.session), log.vehicle.size(),
-              score.real ? real_from : "(none spanning the run)");
+              log.vehicle_refused, score.real ? real_from : "(none spanning the run)");
   std::printf("perceived error in thresholds (overall, then fx fy fz wx wy wz), fx's delay\n");
   PrintScoreRow("commanded", score.commanded);
   if (score.real) PrintScoreRow("real", *score.real);

@@ -37,17 +37,23 @@ CueCommand AfterCommand(const std::string& after) {
 // Sends one packet (throws std::runtime_error naming where it failed to go).
 using PacketSender = std::function<void(const VehiclePacket&)>;
 
+// The socket and its I/O context, torn down in that order.
+struct UdpLink {
+  explicit UdpLink(const boost::asio::ip::udp::endpoint& to) : socket(io, to.protocol()) {}
+  boost::asio::io_context io;
+  boost::asio::ip::udp::socket socket;
+};
+
 PacketSender UdpSender(const std::string& to_text) {
   const HostPort to = ParseHostPort(to_text, "--to");
-  auto io = std::make_shared<boost::asio::io_context>();
   boost::system::error_code error;
   const boost::asio::ip::udp::endpoint endpoint(boost::asio::ip::make_address(to.host, error), to.port);
   if (error) throw std::invalid_argument(fmt::format("--to \"{}\": not an IP address", to_text));
-  auto socket = std::make_shared<boost::asio::ip::udp::socket>(*io, endpoint.protocol());
-  return [io, socket, endpoint, to_text](const VehiclePacket& packet) {
+  auto link = std::make_shared<UdpLink>(endpoint);
+  return [link, endpoint, to_text](const VehiclePacket& packet) {
     const auto bytes = EncodeVehiclePacket(packet);
     boost::system::error_code send_error;
-    socket->send_to(boost::asio::buffer(bytes), endpoint, 0, send_error);
+    link->socket.send_to(boost::asio::buffer(bytes), endpoint, 0, send_error);
     if (send_error) throw std::runtime_error(fmt::format("sending to {}: {}", to_text, send_error.message()));
   };
 }
@@ -96,6 +102,10 @@ PacketSender BusSender(const SendOptions& options) {
 int RunSend(const SendOptions& options) {
   const Manoeuvre manoeuvre = LoadManoeuvre(options.manoeuvre_path);
   const CueCommand after = AfterCommand(options.after);
+  if (options.to != "lcm" && (!options.group_path.empty() || !options.lcm_url.empty() || options.session != "auto")) {
+    throw std::invalid_argument(
+        fmt::format("--group, --lcm-url and --session-id address the bus: give --to lcm, not --to {}", options.to));
+  }
   const PacketSender send = options.to == "lcm" ? BusSender(options) : UdpSender(options.to);
   std::ofstream sent_log;
   if (!options.sent_log_path.empty()) {

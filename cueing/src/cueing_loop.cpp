@@ -3,12 +3,15 @@
 #include <cmath>
 #include <utility>
 
+#include <fmt/format.h>
+
 #include "edsp/channels.h"
 #include "edsp/cueing/vehicle_message.h"
 #include "edsp/motion_reply_t.hpp"
 #include "edsp/motion_request_t.hpp"
 #include "edsp/node/fault.h"
 #include "edsp/node/node_loop.h"
+#include "edsp/node/request_service.h"
 
 namespace edsp {
 
@@ -24,6 +27,7 @@ std::int8_t KindOf(CueRequest request) {
 }
 
 constexpr std::size_t kMaxQueuedVehicleMessages = 1000;
+const double kStampWindow_s = RequestPolicy{}.window_s;
 
 }  // namespace
 
@@ -79,12 +83,26 @@ void CueingLoop::TakeVehicleMessages(std::int64_t now_utime) {
   for (; !vehicle_messages_.empty(); vehicle_messages_.pop_front()) {
     const vehicle_motion_t& message = vehicle_messages_.front();
     if (message.session_id != options_.session_id) {
-      // A log replayed into a live group, or another group's host: never cued.
+      // Another group's host, or a log of another session replayed: never cued.
       reporting_.status().CountRejected();
       reporting_.Fault(MakeFault("cueing", channel::kVehicle, FaultCode::kForeignSession, fault_t::SEVERITY_WARNING,
                                  "vehicle message of session " + std::to_string(message.session_id) +
                                      " refused: this group's is " + std::to_string(options_.session_id),
                                  now_utime));
+      continue;
+    }
+    // A log of this session replayed later (a fixed session id), or a host
+    // whose clock is off: stamped further from this node's clock than a
+    // request may be (request_service.h), never cued.
+    const double age_s = static_cast<double>(now_utime - message.utime) * 1e-6;
+    if (!(std::abs(age_s) <= kStampWindow_s)) {
+      reporting_.status().CountRejected();
+      reporting_.Fault(MakeFault(
+          "cueing", channel::kVehicle, FaultCode::kStale, fault_t::SEVERITY_WARNING,
+          fmt::format("vehicle message seq {} stamped {:.1f} s {} this node's clock refused (a replayed log, or a "
+                      "clock off by more than {} s)",
+                      message.seq, std::abs(age_s), age_s > 0 ? "before" : "after", kStampWindow_s),
+          now_utime));
       continue;
     }
     TakeSample(ReadVehicleMessage(message), "vehicle message", now_utime);

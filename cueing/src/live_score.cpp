@@ -31,7 +31,18 @@ VehicleSeries HeldVehicle(const std::vector<HeardVehicleSample>& vehicle, std::i
   return series;
 }
 
-// The poses interpolated to each instant of the grid (linear between the two around it).
+// The tangent at knot k from its neighbours' stamps (one-sided at the ends).
+Vector6 Tangent(const std::vector<StampedPose>& poses, std::size_t k) {
+  const std::size_t before = k == 0 ? 0 : k - 1, after = std::min(k + 1, poses.size() - 1);
+  const double span_s = static_cast<double>(poses[after].utime - poses[before].utime) * 1e-6;
+  return span_s > 0.0 ? Vector6((poses[after].pose - poses[before].pose) / span_s) : Vector6::Zero();
+}
+
+// The poses at each instant of the grid: a cubic Hermite curve through
+// them with Catmull-Rom tangents on their own stamps. A stream slower than
+// the grid (the encoders' pose at 100 Hz) then has a continuous velocity,
+// where straight lines between its poses would put its whole acceleration
+// into spikes at the poses when the grid's motion is differentiated.
 std::vector<Pose> PosesOnGrid(const std::vector<StampedPose>& poses, std::int64_t start, std::size_t n) {
   std::vector<Pose> out(n);
   std::size_t next = 1;
@@ -40,9 +51,16 @@ std::vector<Pose> PosesOnGrid(const std::vector<StampedPose>& poses, std::int64_
     while (next + 1 < poses.size() && poses[next].utime < t) ++next;
     const StampedPose& a = poses[next - 1];
     const StampedPose& b = poses[next];
-    const double span = static_cast<double>(b.utime - a.utime);
-    const double w = span > 0.0 ? std::clamp(static_cast<double>(t - a.utime) / span, 0.0, 1.0) : 1.0;
-    out[k] = Pose::FromVector(a.pose + w * (b.pose - a.pose));
+    const double span_s = static_cast<double>(b.utime - a.utime) * 1e-6;
+    if (!(span_s > 0.0)) {
+      out[k] = Pose::FromVector(b.pose);
+      continue;
+    }
+    const double x = std::clamp(static_cast<double>(t - a.utime) * 1e-6 / span_s, 0.0, 1.0);
+    const double x2 = x * x, x3 = x2 * x;
+    const Vector6 p = (2 * x3 - 3 * x2 + 1) * a.pose + (x3 - 2 * x2 + x) * span_s * Tangent(poses, next - 1) +
+                      (-2 * x3 + 3 * x2) * b.pose + (x3 - x2) * span_s * Tangent(poses, next);
+    out[k] = Pose::FromVector(p);
   }
   return out;
 }

@@ -151,5 +151,14 @@ TEST(EdspCueingCli, ScoringALogOfNoCueingNamesTheLogAndWhatItLacks) {
   EXPECT_NE(run.text.find(path + ": no setpoint of a cueing"), std::string::npos) << run.text;
 }
 
+TEST(EdspCueingCli, SendRefusesTheBusOptionsWithAUdpAddressAndAnUnknownInput) {
+  const auto send = RunCueing("send --manoeuvre " + SourceDir() + "/config/manoeuvres/braking.toml --session-id 3");
+  EXPECT_NE(send.exit_code, 0);
+  EXPECT_NE(send.text.find("give --to lcm, not --to 127.0.0.1:7400"), std::string::npos) << send.text;
+  const auto live = RunCueing("live --cueing " + SourceDir() + "/config/cueing.toml --input can");
+  EXPECT_NE(live.exit_code, 0);
+  EXPECT_NE(live.text.find("--input"), std::string::npos) << live.text;
+}
+
 }  // namespace
 }  // namespace edsp

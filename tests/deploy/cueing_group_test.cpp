@@ -221,10 +221,13 @@ TEST(CueingGroup, ASilentHostOnTheBusIsWashedHomeStillEngagedAnEStopWordHoldsItA
       << faults;
   const auto statuses = LoggedMessages<motion_status_t>(run.log_path, "EDSP_MOTION_STATUS");
   ASSERT_FALSE(statuses.empty());
+  int before_the_host = 0;  // statuses while only the other session's host had sent
   for (const motion_status_t& s : statuses) {
     if (s.utime > foreign_sent_utime) break;
+    ++before_the_host;
     EXPECT_NE(s.state, motion_status_t::STATE_CUEING) << "engaged by another session's samples at " << s.utime;
   }
+  EXPECT_GT(before_the_host, 25) << "the planner's status at 50 Hz through the other host's second";
   EXPECT_EQ(statuses.back().last_end, motion_status_t::END_STOPPED) << statuses.back().reason;
   // Still cueing when the host came back: the washout had brought the rig home.
   std::int64_t ended_utime = 0;
@@ -249,7 +252,7 @@ TEST(CueingGroup, ASilentHostOnTheBusIsWashedHomeStillEngagedAnEStopWordHoldsItA
   // brake scored offline (edsp-cueing offline: the manoeuvre's samples at
   // 1 kHz through the washout, no process, no clock) over its own 10 s: the
   // rest adds no error, so the live RMS is the offline one spread over the
-  // longer window. The rig follows its commands to micrometres: what its
+  // longer window. The virtual rig follows its commands closely: what its
   // rider felt is what the commands make one feel.
   const auto json_of = [&](const std::string& arguments, const std::string& name) {
     const std::string path = run.dir + "/" + name;

@@ -98,8 +98,8 @@ def _following(group):
 
 
 class _SharedBrowser:
-    """One Chromium for the module's pages (its start is most of a short
-    test's time on a busy machine): each test opens the panel afresh in it,
+    """One Chromium for the module's pages (a start for each test would
+    cost more than many tests themselves): each test opens the panel afresh in it,
     a new document at the default window size with the console drained, so
     it reads only its own page. A browser that died is started again."""
 

@@ -121,7 +121,6 @@ void VisitFields(const reply_t& m, V* r) {
   r->Add("code", m.code), r->Add("reason", m.reason);
 }
 
-// The older layouts, field for field as they were.
 template <typename V>
 void VisitFields(const vehicle_motion_t& m, V* r) {
   r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("session_id", m.session_id);
@@ -130,6 +129,8 @@ void VisitFields(const vehicle_motion_t& m, V* r) {
   r->Add("has_angular_acceleration", m.has_angular_acceleration);
   r->Add("angular_acceleration", m.angular_acceleration);
 }
+
+// The older layouts, field for field as they were.
 template <typename V>
 void VisitFields(const arm_v1_t& m, V* r) {
   r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("session_id", m.session_id);

@@ -5,7 +5,8 @@
 // while cueing) and real (the rig's truth; on a real rig, the pose from
 // the encoders). Each stream is put on one grid at the stack's 1 kHz by its
 // own stamps: a vehicle sample is held until the next one came (as the
-// cueing holds it), a pose interpolated between its neighbours; the grid
+// cueing holds it), the poses followed by a smooth curve through them (a
+// real rig's encoder pose comes at 100 Hz); the grid
 // spans the longest time the planner followed the cueing while the
 // vehicle was heard without a silence the cueing took for a lost input
 // (what the vehicle did then is not known). So the real score carries the whole chain's lag and the drives'
