@@ -43,6 +43,8 @@ CueingLoop::CueingLoop(Bus& bus, CueingSource& source, VehicleSocket* socket, Cu
   if (options_.vehicle_on_bus) {
     bus.Subscribe<vehicle_motion_t>(channel::kVehicle, [this](const vehicle_motion_t& m) { OnVehicleMessage(m); });
     vehicle_in_ = &bus.Counters(channel::kVehicle);
+  } else if (socket_ != nullptr) {
+    vehicle_out_.emplace(bus.Advertise<vehicle_motion_t>(channel::kVehicle));
   }
 }
 
@@ -61,7 +63,7 @@ void CueingLoop::OnStatus(const motion_status_t& status) {
   source_.OnPlannerFollows(follows, status.reason);
 }
 
-void CueingLoop::TakeSample(const ParsedVehiclePacket& parsed, const char* what, std::int64_t now_utime) {
+bool CueingLoop::TakeSample(const ParsedVehiclePacket& parsed, const char* what, std::int64_t now_utime) {
   std::optional<std::string> refused;
   FaultCode code = FaultCode::kUndecodable;
   if (!parsed.packet) {
@@ -72,11 +74,21 @@ void CueingLoop::TakeSample(const ParsedVehiclePacket& parsed, const char* what,
   }
   if (!refused) {
     reporting_.status().CountIn();
-    return;
+    return true;
   }
   reporting_.status().CountRejected();
   reporting_.Fault(MakeFault("cueing", options_.input_name, code, fault_t::SEVERITY_WARNING,
                              std::string(what) + " refused: " + *refused, now_utime));
+  return false;
+}
+
+void CueingLoop::TakePackets(std::int64_t now_utime) {
+  socket_->Drain([&](const std::uint8_t* data, std::size_t size) {
+    const ParsedVehiclePacket parsed = ParseVehiclePacket(data, size);
+    if (TakeSample(parsed, "vehicle packet", now_utime) && vehicle_out_) {
+      vehicle_out_->Publish(VehicleMessage(*parsed.packet, options_.session_id, now_utime));
+    }
+  });
 }
 
 void CueingLoop::TakeVehicleMessages(std::int64_t now_utime) {
@@ -165,11 +177,7 @@ void CueingLoop::Publish(const CueSetpoint& cue, std::int64_t utime, std::uint32
 
 bool CueingLoop::RunCycle(std::int64_t now_utime, std::int64_t deadline_misses) {
   const auto began = std::chrono::steady_clock::now();
-  if (socket_ != nullptr) {
-    socket_->Drain([&](const std::uint8_t* data, std::size_t size) {
-      TakeSample(ParseVehiclePacket(data, size), "vehicle packet", now_utime);
-    });
-  }
+  if (socket_ != nullptr) TakePackets(now_utime);
   if (vehicle_in_ != nullptr) TakeVehicleMessages(now_utime);
   TakeAnswer(now_utime);
   const CueingStep step = source_.Step(static_cast<double>(now_utime) * 1e-6);

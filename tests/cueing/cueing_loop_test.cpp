@@ -2,11 +2,20 @@
 // a message of this session stamped now engages (the planner is asked);
 // one of another session, or stamped a minute ago (a log of this session
 // replayed later), is refused with a fault naming why and asks nothing;
-// a flood within one cycle is cut to the queue's bound and said.
+// a flood within one cycle is cut to the queue's bound and said. Reading
+// a UDP socket (loopback), the samples it took go out on EDSP_VEHICLE
+// stamped when they came, the refused ones do not.
 #include "edsp/cueing/cueing_loop.h"
 
+#include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
@@ -99,6 +108,63 @@ TEST(CueingLoopOnTheBus, AFloodWithinOneCycleIsCutToTheQueuesBoundAndSaid) {
   EXPECT_NE(f.Reasons().find("5 vehicle messages dropped: more than 1000 came within one cycle"), std::string::npos)
       << f.Reasons();
   EXPECT_EQ(f.requests.size(), 1u) << "the samples kept still engage";
+}
+
+// A vehicle host on loopback: each packet a datagram to `port`.
+void SendDatagram(std::uint16_t port, const VehiclePacket& packet) {
+  const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+  ASSERT_GE(fd, 0);
+  sockaddr_in to{};
+  to.sin_family = AF_INET;
+  to.sin_port = htons(port);
+  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  const auto bytes = EncodeVehiclePacket(packet);
+  EXPECT_EQ(::sendto(fd, bytes.data(), bytes.size(), 0, reinterpret_cast<const sockaddr*>(&to), sizeof to),
+            static_cast<ssize_t>(bytes.size()));
+  ::close(fd);
+}
+
+TEST(CueingLoopOnUdp, TheSamplesTakenGoOutOnTheBusStampedWhenTheyCameAndTheRefusedDoNot) {
+  Bus bus{test_support::MemqConfig("cueing_loop_udp")};
+  const CueingConfig config = LoadCueingConfig(SourceDir() + "/config/cueing.toml");
+  CueingSource source{config, PlatformModel(Huang2021Config()).home_pose().ToVector()};
+  VehicleSocket socket("127.0.0.1", 0);
+  CueingLoopOptions options;
+  options.session_id = kSession;
+  options.input_name = "UDP 127.0.0.1";
+  CueingLoop loop{bus, source, &socket, options};
+  std::vector<vehicle_motion_t> heard;
+  bus.Subscribe<vehicle_motion_t>(channel::kVehicle, [&](const vehicle_motion_t& m) { heard.push_back(m); });
+  auto cycle = [&](std::int64_t now) {
+    loop.RunCycle(now, 0);
+    while (bus.Handle(std::chrono::milliseconds(0)) > 0) {
+    }
+  };
+
+  VehiclePacket taken;
+  taken.sequence = 7;
+  taken.time_s = 0.007;
+  taken.specific_force_m_s2 = Vector3(1.5, -0.25, 9.5);
+  taken.angular_velocity_rad_s = Vector3(0.015625, 0.03125, -0.0625);  // exact in the packet's floats
+  SendDatagram(socket.port(), taken);
+  VehiclePacket refused = taken;
+  refused.sequence = 8;
+  refused.specific_force_m_s2.x() = std::numeric_limits<double>::quiet_NaN();
+  SendDatagram(socket.port(), refused);  // by its parser
+  VehiclePacket late = taken;
+  late.sequence = 6;
+  SendDatagram(socket.port(), late);  // by the source: out of order
+  cycle(kNow);
+
+  ASSERT_EQ(heard.size(), 1u) << "only the sample the source took is on the bus";
+  EXPECT_EQ(heard[0].session_id, kSession);
+  EXPECT_EQ(heard[0].utime, kNow);
+  EXPECT_EQ(heard[0].seq, 7);
+  const ParsedVehiclePacket back = ReadVehicleMessage(heard[0]);
+  ASSERT_TRUE(back.packet) << back.error;
+  EXPECT_EQ(back.packet->specific_force_m_s2, taken.specific_force_m_s2);
+  EXPECT_EQ(back.packet->angular_velocity_rad_s, taken.angular_velocity_rad_s);
+  EXPECT_EQ(back.packet->command, CueCommand::kEngage);
 }
 
 }  // namespace

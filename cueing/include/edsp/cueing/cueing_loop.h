@@ -5,6 +5,9 @@
 // sent again until answered without ever blocking the cycle. The planner's
 // EDSP_MOTION_STATUS says whether its setpoints follow this source. Every
 // packet refused is an EDSP_FAULT naming why; EDSP_STATUS once a second.
+// The socket's samples that the source took go out on EDSP_VEHICLE too,
+// stamped when they came, so that a run fed over UDP is logged and scored
+// (edsp-cueing score) as one fed on the bus.
 
 #include <chrono>
 #include <cstdint>
@@ -50,8 +53,10 @@ class CueingLoop {
 
  private:
   void OnVehicleMessage(const vehicle_motion_t& message);
-  // `what`: "vehicle packet" or "vehicle message", as the fault says.
-  void TakeSample(const ParsedVehiclePacket& parsed, const char* what, std::int64_t now_utime);
+  // `what`: "vehicle packet" or "vehicle message", as the fault says. True
+  // if the source took the sample.
+  bool TakeSample(const ParsedVehiclePacket& parsed, const char* what, std::int64_t now_utime);
+  void TakePackets(std::int64_t now_utime);
   void TakeVehicleMessages(std::int64_t now_utime);
   void Ask(CueRequest request);
   void TakeAnswer(std::int64_t now_utime);
@@ -63,6 +68,7 @@ class CueingLoop {
   VehicleSocket* socket_;
   CueingLoopOptions options_;
   Bus::Publisher<pose_setpoint_t> cues_;
+  std::optional<Bus::Publisher<vehicle_motion_t>> vehicle_out_;  // the socket's samples taken, on the bus
   NodeReporting reporting_;
   RequestClient requests_;
   // EDSP_VEHICLE's messages since the last cycle, taken at its start as
