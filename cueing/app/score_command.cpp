@@ -111,9 +111,9 @@ int RunScore(const ScoreOptions& options) {
         fmt::format("{}: no setpoint of a cueing (EDSP_SETPOINT, trajectory \"cueing\")", options.log_path));
   }
   if (log.vehicle.empty()) {
-    throw std::runtime_error(
-        fmt::format("{}: no vehicle sample of session {} on {} (a UDP host's packets are not logged: send --to lcm)",
-                    options.log_path, *log.session, channel::kVehicle));
+    throw std::runtime_error(fmt::format(
+        "{}: no vehicle sample of session {} on {}: the cueing took none, or the logger did not record the channel",
+        options.log_path, *log.session, channel::kVehicle));
   }
   const bool from_truth = !log.truth.empty();
   const char* real_from = from_truth ? channel::kRigTruth : channel::kPlatformState;

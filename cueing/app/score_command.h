@@ -2,7 +2,7 @@
 // edsp-cueing score: a live run's cueing scored from its log (live_score.h).
 //   edsp-cueing score --log RUN.lcmlog --cueing FILE [--json]
 // The vehicle as the group heard it on EDSP_VEHICLE (a host on the bus,
-// `send --to lcm`; a UDP host's packets are not in the log), the
+// `send --to lcm`, or a UDP host's packets as the cueing took them), the
 // commanded poses of the longest stretch the planner followed the cueing
 // (EDSP_SETPOINT, trajectory "cueing"), the real ones from EDSP_RIG_TRUTH
 // (the virtual rig) or else EDSP_PLATFORM_STATE (the encoders' pose, a

@@ -22,7 +22,7 @@ LogSummary SummarizeLog(const std::string& path) {
     c.bytes += static_cast<std::int64_t>(event.data.size());
     c.last_utime = event.timestamp_utime;
     EdspHeader header;
-    if (event.channel.rfind("EDSP_", 0) == 0 && !channel::HasManyPublishers(event.channel) &&
+    if (event.channel.rfind("EDSP_", 0) == 0 && !channel::SeqGapsAreNotLosses(event.channel) &&
         ParseEdspHeader(event.data, &header)) {
       c.seq_gaps += SeqGap(c.last_seq, header.seq);
       if (c.last_seq >= 0 && header.seq <= c.last_seq) ++c.seq_restarts;

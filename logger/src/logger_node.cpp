@@ -27,8 +27,9 @@ LoggerNode::LoggerNode(Bus& bus, LoggerOptions options)
 void LoggerNode::Record(const std::string& channel, const std::uint8_t* data, std::uint32_t size) {
   reporting_.status().CountIn();
   if (writer_.Enqueue(channel, data, size, UtimeNow())) reporting_.status().CountOut();
-  // EDSP_STATUS/EDSP_FAULT: several publishers' seq numbers interleave there.
-  if (channel::HasManyPublishers(channel) || IsOnSharedMemory(channel)) return;
+  // EDSP_STATUS/EDSP_FAULT: several publishers' seq numbers interleave
+  // there; EDSP_VEHICLE's are the vehicle's numbering.
+  if (channel::SeqGapsAreNotLosses(channel) || IsOnSharedMemory(channel)) return;
   EdspHeader header;
   if (ParseEdspHeader(data, size, &header)) lcm_seq_gaps_ += seqs_[channel].Count(0, header.seq);
 }

@@ -4,10 +4,9 @@
 // replayed later), is refused with a fault naming why and asks nothing;
 // a flood within one cycle is cut to the queue's bound and said. Reading
 // a UDP socket (loopback), the samples it took go out on EDSP_VEHICLE
-// stamped when they came, the refused ones do not.
+// stamped at the cycle that took them, the refused ones do not.
 #include "edsp/cueing/cueing_loop.h"
 
-#include <cmath>
 #include <limits>
 #include <string>
 #include <vector>

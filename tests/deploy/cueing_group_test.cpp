@@ -84,7 +84,10 @@ nlohmann::json ExpectScoredAsTheBrakeOffline(const GroupRun& run) {
   EXPECT_EQ(score["session_id"], kSession);
   const double window_s = score["duration_s"], brake_s = offline["manoeuvres"][0]["duration_s"];
   EXPECT_GT(window_s, brake_s) << "the brake heard and followed, after the lead";
-  EXPECT_EQ(score["real_from"], "EDSP_RIG_TRUTH") << score.dump();
+  if (score["real_from"] != "EDSP_RIG_TRUTH") {
+    ADD_FAILURE() << "the real motion not scored from the rig's truth: " << score.dump();
+    return score;
+  }
   const double commanded = score["commanded"]["perception_error"], real = score["real"]["perception_error"];
   const double offline_spread =
       offline["manoeuvres"][0]["perception_error"].get<double>() * std::sqrt(brake_s / window_s);
@@ -150,12 +153,15 @@ TEST(CueingGroup, ABrakeFromUdpIsWashedOntoThePlatformThenDisengageParksItAtHome
   // the last setpoint was, and never followed by a cue again.
   const auto cues = LoggedMessages<pose_setpoint_t>(run.log_path, "EDSP_CUE_SETPOINT");
   int followed = 0, carried = 0, held = 0, unverified = 0;
+  std::int64_t first_cueing_utime = 0, last_cueing_utime = 0;  // the stretch the planner followed the cueing
   std::size_t next = 0;  // the first cue stamped more than a cycle after the setpoint
   pose_setpoint_t previous{};
   for (const pose_setpoint_t& s : LoggedMessages<pose_setpoint_t>(run.log_path, "EDSP_SETPOINT")) {
     while (next < cues.size() && cues[next].utime <= s.utime + 1000) ++next;
     const pose_setpoint_t before = std::exchange(previous, s);
     if (s.trajectory != "cueing") continue;
+    if (first_cueing_utime == 0) first_cueing_utime = s.utime;
+    last_cueing_utime = s.utime;
     // Every cue up to the first after the setpoint's cycle in the log: none
     // the logger lost between the last one logged and the setpoint.
     bool found = false, logged_all = next == 0 || next == cues.size() || cues[next - 1].seq + 1 == cues[next].seq;
@@ -212,12 +218,15 @@ TEST(CueingGroup, ABrakeFromUdpIsWashedOntoThePlatformThenDisengageParksItAtHome
   // stamps are another's), and never under the bridge's 400 µs behind the
   // planner, which a trace to a write before its command came would be (the
   // leg state's own stamp, its reading's instant, would give that), less
-  // how late this run's machine let the planner's cycles run: a sample a
-  // late planner tick took is written by the bridge's tick on time, sooner
-  // after it (never below 0: every link of the trace comes after the one
-  // before it). How long it takes is the benchmark's figure.
+  // how late this run's machine let the planner's cycles run while it
+  // followed the cueing: a sample a late planner tick took is written by
+  // the bridge's tick on time, sooner after it (never below 0: every link
+  // of the trace comes after the one before it). How long it takes is the
+  // benchmark's figure.
   constexpr double kShortestChainMs = 0.4;
-  const double planner_late_ms = static_cast<double>(LargestLateCycleUs(run.log_path, "EDSP_SETPOINT", 1000)) * 1e-3;
+  const double planner_late_ms = static_cast<double>(LargestLateCycleUs(run.log_path, "EDSP_SETPOINT", 1000, 0, -1,
+                                                                        first_cueing_utime, last_cueing_utime)) *
+                                 1e-3;
   const double shortest_ms = std::max(0.0, kShortestChainMs - planner_late_ms);
   const nlohmann::json delay =
       CueingJson(run.dir, fmt::format("delay --log {} --sent {}/sent.csv", run.log_path, run.dir), "delay.json");
@@ -233,7 +242,7 @@ TEST(CueingGroup, ABrakeFromUdpIsWashedOntoThePlatformThenDisengageParksItAtHome
   // brake and the tail after the disengage word.
   const nlohmann::json score = ExpectScoredAsTheBrakeOffline(run);
   EXPECT_GT(score["vehicle_samples"].get<double>(), 0.95 * delay["samples_sent"].get<double>()) << score.dump();
-  EXPECT_EQ(score["vehicle_samples_refused"], 0) << score.dump();
+  EXPECT_EQ(score["vehicle_samples_refused"], 0) << "the cueing puts out only what it took: " << score.dump();
   std::printf("the UDP run scored: %s\n", score.dump().c_str());
 }
 

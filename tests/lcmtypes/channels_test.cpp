@@ -95,6 +95,12 @@ TEST(ChannelTable, OnlyStatusFaultsRequestsAndTheirRepliesInterleaveSeveralSeqSt
   EXPECT_EQ(many, (std::set<std::string>{"EDSP_STATUS", "EDSP_FAULT", "EDSP_ARM", "EDSP_PR_MODE", "EDSP_CALIBRATION",
                                          "EDSP_REPLY", "EDSP_MOTION_REQUEST"}));
   EXPECT_FALSE(channel::HasManyPublishers("OTHER_APP"));
+  // Their gaps, and the vehicle's numbering's, are no bus's losses; one publisher's are.
+  EXPECT_TRUE(channel::SeqGapsAreNotLosses("EDSP_FAULT"));
+  EXPECT_TRUE(channel::SeqGapsAreNotLosses("EDSP_VEHICLE"));
+  EXPECT_FALSE(channel::HasManyPublishers("EDSP_VEHICLE"));
+  EXPECT_FALSE(channel::SeqGapsAreNotLosses("EDSP_SETPOINT"));
+  EXPECT_FALSE(channel::SeqGapsAreNotLosses("OTHER_APP"));
   EXPECT_EQ(channel::Find("EDSP_NOPE"), nullptr);
   static_assert(channel::Find(channel::kLegCommand)->rate_hz == 1000.0, "usable at compile time");
 }

@@ -31,10 +31,12 @@ inline constexpr char kCueSetpoint[] = "EDSP_CUE_SETPOINT";
 inline constexpr char kVehicle[] = "EDSP_VEHICLE";
 
 // Whose seq numbers a channel carries: one publisher's (a gap is a lost
-// message), or several interleaved (every node's status and faults; the
+// message); several interleaved (every node's status and faults; the
 // operator's requests, each edsp-ctl run numbering its own from 1 and
-// repeating them until answered): no loss can be told across them.
-enum class Publishers { kOne, kMany };
+// repeating them until answered): no loss can be told across them; or the
+// vehicle's numbering of its samples (EDSP_VEHICLE: a sample the cueing
+// refused, or a network before it lost, is a gap the bus did not make).
+enum class Publishers { kOne, kMany, kVehicleNumbering };
 
 struct Channel {
   std::string_view name;
@@ -62,7 +64,8 @@ inline constexpr Channel kChannels[] = {
     {kMotionReply, "motion_reply_t", "planner", 0.0, Publishers::kOne},
     {kMotionStatus, "motion_status_t", "planner", 50.0, Publishers::kOne},
     {kCueSetpoint, "pose_setpoint_t", "cueing", 1000.0, Publishers::kOne},
-    {kVehicle, "vehicle_motion_t", "the vehicle model (edsp-cueing send)", 250.0, Publishers::kOne},
+    {kVehicle, "vehicle_motion_t", "the vehicle model (edsp-cueing send), or edsp-cueing live --input udp", 250.0,
+     Publishers::kVehicleNumbering},
 };
 
 // The row of `name`, or null for a channel that is not edsp's.
@@ -77,6 +80,13 @@ constexpr const Channel* Find(std::string_view name) {
 constexpr bool HasManyPublishers(std::string_view name) {
   const Channel* c = Find(name);
   return c != nullptr && c->publishers == Publishers::kMany;
+}
+
+// True if a gap in edsp channel `name`'s seq says nothing of a message the
+// bus lost (several publishers, or the vehicle's numbering).
+constexpr bool SeqGapsAreNotLosses(std::string_view name) {
+  const Channel* c = Find(name);
+  return c != nullptr && c->publishers != Publishers::kOne;
 }
 
 }  // namespace edsp::channel

@@ -6,8 +6,8 @@
 // EDSP_MOTION_STATUS says whether its setpoints follow this source. Every
 // packet refused is an EDSP_FAULT naming why; EDSP_STATUS once a second.
 // The socket's samples that the source took go out on EDSP_VEHICLE too,
-// stamped when they came, so that a run fed over UDP is logged and scored
-// (edsp-cueing score) as one fed on the bus.
+// stamped at the cycle that took them, so that a run fed over UDP is
+// logged and scored (edsp-cueing score) as one fed on the bus.
 
 #include <chrono>
 #include <cstdint>
