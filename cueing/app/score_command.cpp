@@ -78,7 +78,7 @@ LoggedCueing ReadLog(const std::string& path, double input_timeout_s) {
     if (!log.session || v.session_id != *log.session) continue;
     if (utime - last_utime > std::llround(input_timeout_s * 1e6)) streaming = false;
     const ParsedVehiclePacket read = ReadVehicleMessage(v);
-    const bool ahead = read.packet && (!streaming || read.packet->sequence - last_sequence - 1 < 0x7fffffffU);
+    const bool ahead = read.packet && (!streaming || SequenceIsAhead(read.packet->sequence, last_sequence));
     if (!ahead) {
       ++log.vehicle_refused;
       continue;

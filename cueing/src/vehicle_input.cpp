@@ -31,16 +31,14 @@ std::optional<std::string> VehicleInput::Accept(const VehiclePacket& packet, dou
   // restarted (sequence and time from 0) or one garbled packet must not
   // lock the input out for good.
   if (latest_ && state(now_s) != VehicleInputState::kLost) {
-    // Ahead by less than half the sequence space: newer, across a wrap too.
-    const std::uint32_t ahead = packet.sequence - latest_->sequence;
-    if (ahead == 0 || ahead >= 0x80000000u) {
+    if (!SequenceIsAhead(packet.sequence, latest_->sequence)) {
       return fmt::format("sequence {} after {}: out of order or repeated", packet.sequence, latest_->sequence);
     }
     // Equal times are a paused (frozen) vehicle; earlier ones are not its.
     if (packet.time_s < latest_->time_s) {
       return fmt::format("time_s {} after {}: the vehicle's time went back", packet.time_s, latest_->time_s);
     }
-    missed_packets_ += ahead - 1;
+    missed_packets_ += packet.sequence - latest_->sequence - 1;
   }
   latest_ = packet;
   latest_receive_s_ = now_s;

@@ -59,6 +59,13 @@ std::optional<CueCommand> CueCommandFromNumber(int value);
 // EDSP_VEHICLE's.
 std::optional<std::string> VehicleNumbersError(const VehiclePacket& packet);
 
+// Whether `sequence` comes after `latest` in a stream: ahead by less than
+// half the sequence space, so newer across a wrap too (a repeat is not).
+inline bool SequenceIsAhead(std::uint32_t sequence, std::uint32_t latest) {
+  const std::uint32_t ahead = sequence - latest;
+  return ahead != 0 && ahead < 0x80000000u;
+}
+
 // A packet's sequence as a cue's and a cueing setpoint's `segment` carry it
 // (its low 31 bits): which vehicle sample a setpoint comes from, so that a
 // log traces each sample to the drives (edsp-cueing delay).
