@@ -220,13 +220,19 @@ TEST(MultiHost, ControllerLinkDownHoldsWithin50msAndResumesOnlyAfterReArm) {
   group.Start();
   // 0.15 m into the first move's 0.5 m (over 2 s of it left at 0.15 m/s).
   ASSERT_NO_FATAL_FAILURE(WaitForTheFirstMoveUnderWay(group, 0.15));
+  const std::unique_ptr<GroupWatch> watch = group.WatchFrom("operator");
   const std::int64_t down_utime = UtimeNow();
   network.SetLink("controller", false);
   const std::int64_t down_done_utime = UtimeNow();  // `ip link set` ran somewhere in between
   Pause(1500);
   network.SetLink("controller", true);
   const std::int64_t up_utime = UtimeNow();
-  Pause(1500);  // the stream is back, but the bridge stays latched
+  // The stream is back when the bridge refuses it, still latched: on a
+  // busy machine the kernel may carry the port's traffic again only a
+  // second or more after `ip` returns.
+  ASSERT_TRUE(watch->WaitForFault("actuator_bridge", "re-arm required", up_utime, std::chrono::seconds(20)))
+      << "no command reached the bridge within 20 s of the link coming back:\n"
+      << Describe(FaultsOf(group.log_path()));
   const std::int64_t arm_utime = UtimeNow();
   int ctl = group.Ctl("operator", "arm --operator multihost-test");
   if (ctl != 0) ctl = group.Ctl("operator", "arm --operator multihost-test");  // one retry, as an operator would
