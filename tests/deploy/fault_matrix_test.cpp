@@ -20,7 +20,9 @@
 #include <cstdlib>
 #include <fstream>
 #include <optional>
+#include <regex>
 #include <sstream>
+#include <string>
 #include <thread>
 
 #include <fmt/format.h>
@@ -57,7 +59,7 @@ enum class Action { kFreeze, kKill, kDriveFault };
 
 struct FaultCase {
   std::string member;   // group member name
-  std::string program;  // its executable, for pgrep
+  std::string program;  // its executable
   Action action;
   std::string output;  // an LCM channel only it publishes: its successor is back ("" = none)
   // "": the sim group; "sim-modbus" or "sim-cia402": the bridge a CiA 402
@@ -94,16 +96,19 @@ struct Timeline {
   std::int64_t watch_lag_us = 0;      // how late the test saw the setpoint it struck on
 };
 
-// The member's pid ("[e]dsp-x": the pattern must not match the shell that
-// runs pgrep), found before the fault so that its time is the signal's.
+// The member's pid as its launcher reported it on starting it (the latest
+// start: a member restarted before the fault is its successor), found
+// before the fault so that its time is the signal's. Read from the
+// launcher's report, not searched for: a process started to search (pgrep)
+// can take seconds on a loaded machine, and once found none.
 pid_t MemberPid(const FaultCase& c, const std::string& dir) {
-  const std::string command =
-      fmt::format("pgrep -f '[{}]{} .*{}/group.toml'", c.program.front(), c.program.substr(1), dir);
-  FILE* pipe = ::popen(command.c_str(), "r");
+  std::ifstream report(dir + "/launch.err");
+  const std::regex started("^edsp-launch: (\\S+) +started +pid ([0-9]+)");
   long pid = -1;
-  if (pipe != nullptr) {
-    if (std::fscanf(pipe, "%ld", &pid) != 1) pid = -1;
-    ::pclose(pipe);
+  std::string line;
+  std::smatch m;
+  while (std::getline(report, line)) {
+    if (std::regex_search(line, m, started) && m[1] == c.member) pid = std::stol(m[2]);
   }
   return static_cast<pid_t>(pid);
 }

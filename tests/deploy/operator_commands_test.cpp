@@ -19,6 +19,7 @@
 #include "sim_group_harness.h"
 #include "edsp/fault_t.hpp"
 #include "edsp/kinematics/config.h"
+#include "edsp/kinematics/kinematics_node.h"
 #include "edsp/leg_command_t.hpp"
 #include "edsp/leg_state_t.hpp"
 #include "edsp/logger/log_reader.h"
@@ -111,7 +112,7 @@ TEST(OperatorCommands, PrModeSwitchedLiveBlendsWithoutAStepAndTheDwellsLandSigne
       R"("--motions", "Lz", "--stops", "3", "--dwell-s", "0.6", "--max-speed-m-s", "0.25", "--exit-after-hold-s", "0.3")",
       [&](const std::string& dir) {
         // Early in the first move (past 0.1 m/s), however long the group
-        // took to start: the 0.5 s blend ends before the first dwell.
+        // took to start: the 0.5 s blend is meant to end before the first dwell.
         test_support::GroupWatch watch(test_support::kGroupLcmUrl, "");
         if (!watch.WaitForSetpoint([](const pose_setpoint_t& s) { return std::abs(s.velocity[2]) > 0.1; },
                                    std::chrono::seconds(60))) {
@@ -128,6 +129,7 @@ TEST(OperatorCommands, PrModeSwitchedLiveBlendsWithoutAStepAndTheDwellsLandSigne
   LogEvent event;
   int before = 0, after = 0;
   double largest_change = 0.0, largest_switch = 0.0;
+  std::int64_t switched_setpoint_utime = 0;  // the setpoint time the blend began at
   leg_command_t previous{};
   bool have_previous = false;
   while (reader.Next(&event)) {
@@ -135,7 +137,7 @@ TEST(OperatorCommands, PrModeSwitchedLiveBlendsWithoutAStepAndTheDwellsLandSigne
       leg_command_t c;
       if (!Decode(event, &c)) continue;
       if (c.pr_mode == leg_command_t::PR_NONE) ++before;
-      if (c.pr_mode == leg_command_t::PR_SIGNED) ++after;
+      if (c.pr_mode == leg_command_t::PR_SIGNED && after++ == 0) switched_setpoint_utime = c.setpoint_utime;
       if (have_previous && c.seq == previous.seq + 1) {
         // Per millisecond of setpoint time: a late planner cycle is 2 ms of blend.
         const double ms = std::max(1.0, static_cast<double>(c.setpoint_utime - previous.setpoint_utime) * 1e-3);
@@ -157,13 +159,22 @@ TEST(OperatorCommands, PrModeSwitchedLiveBlendsWithoutAStepAndTheDwellsLandSigne
   EXPECT_LT(largest_change, 2e-6) << "change of the PR correction per ms of setpoint time (blend ≈ 0.6 µm/ms)";
   ::testing::Test::RecordProperty("largest_correction_change_nm", static_cast<int>(largest_change * 1e9));
 
+  // Every dwell after the blend lands signed. Most runs switch in the first
+  // move; on a loaded machine edsp-ctl may take seconds to start, and the
+  // switch then lands a dwell or two later.
   const PlatformModel model(Huang2021Config());
   const DwellErrors dwells = DwellErrorsFromLog(run.log_path, model);
-  ASSERT_GE(dwells.dwells.size(), 3u);
+  const std::int64_t blended_utime = switched_setpoint_utime + KinematicsNodeOptions{}.pr_blend_us;
+  int landed_signed = 0;
   for (const DwellError& d : dwells.dwells) {
+    std::printf("PR_SWITCH_ROW | %s: %.2f um off, from %.3f s after the blend\n", d.segment.c_str(),
+                d.error_norm_m() * 1e6, static_cast<double>(d.averaged_from_utime - blended_utime) * 1e-6);
+    if (d.averaged_from_utime < blended_utime) continue;
     EXPECT_EQ(d.pr_mode, PrMode::kSigned) << d.segment;
     EXPECT_LT(d.error_norm_m(), 5e-6) << d.segment;
+    ++landed_signed;
   }
+  EXPECT_GE(landed_signed, 2) << "the switch came too late in the motion to test the dwells after it";
 }
 
 // The rig's legs 60–300 µm longer than the model's (the rig's physics of
