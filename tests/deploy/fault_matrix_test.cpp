@@ -148,25 +148,6 @@ int Arm(const std::string& dir) {
   return status;
 }
 
-// A loaded machine can stall the bridge, or what feeds it, past its stale
-// limit later in the run: the bridge rightly latches again. Re-armed as an
-// operator would, until the planner stops, so the run still ends at its
-// last pose. Returns how often that was needed.
-int ReArmWhileLatched(test_support::GroupWatch* watch, const std::string& dir) {
-  int arms = 0;
-  std::int64_t armed_utime = UtimeNow();
-  while (watch->WaitForMessage("EDSP_SETPOINT", UtimeNow(), std::chrono::seconds(2))) {
-    // Refusals already in flight when it was re-armed do not count.
-    if (watch->LastReArmRequestUtime() > armed_utime + 300000) {
-      Arm(dir);
-      armed_utime = UtimeNow();
-      ++arms;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  return arms;
-}
-
 struct Truth {
   std::int64_t utime;
   std::int64_t seq;
@@ -493,7 +474,7 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
         // latch, but a machine stall later in the run may be: re-armed in
         // every case, and each such latch must be explained by a stall.
         t.rearm_from_utime = UtimeNow();
-        t.extra_arms = ReArmWhileLatched(&watch, d);
+        t.extra_arms = test_support::ReArmWhileLatched(&watch, [&] { Arm(d); });
       },
       77, config, test_support::kShippedStaleMs, extras);
   std::ifstream launch_err(dir + "/launch.err");

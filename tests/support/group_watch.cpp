@@ -165,4 +165,18 @@ bool GroupWatch::WaitForMessage(const std::string& channel, std::int64_t after_u
   });
 }
 
+int ReArmWhileLatched(GroupWatch* watch, const std::function<void()>& arm) {
+  int arms = 0;
+  std::int64_t armed_utime = UtimeNow();
+  while (watch->WaitForMessage("EDSP_SETPOINT", UtimeNow(), std::chrono::seconds(2))) {
+    if (watch->LastReArmRequestUtime() > armed_utime + 300000) {
+      arm();
+      armed_utime = UtimeNow();
+      ++arms;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  return arms;
+}
+
 }  // namespace edsp::test_support

@@ -93,4 +93,11 @@ class GroupWatch {
   std::thread listener_;
 };
 
+// While the group's setpoints flow, re-arms the bridge (with `arm`) each
+// time it says it holds until re-armed, 300 ms or more after the last arm
+// (refusals already in flight then do not count): a machine stall later in
+// a run may latch it, which the caller then asks a stall to explain
+// (late_cycles.h). Returns how many times it re-armed.
+int ReArmWhileLatched(GroupWatch* watch, const std::function<void()>& arm);
+
 }  // namespace edsp::test_support
