@@ -100,7 +100,7 @@ struct Timeline {
 // start: a member restarted before the fault is its successor), found
 // before the fault so that its time is the signal's. Read from the
 // launcher's report, not searched for: a process started to search (pgrep)
-// can take seconds on a loaded machine, and once found none.
+// can take seconds to run on a loaded machine, or find nothing.
 pid_t MemberPid(const FaultCase& c, const std::string& dir) {
   std::ifstream report(dir + "/launch.err");
   const std::regex started("^edsp-launch: (\\S+) +started +pid ([0-9]+)");
