@@ -172,6 +172,10 @@ struct Analysis {
       -1;                             // its watch steps' longest interval, in its first EDSP_STATUS from its report on
   std::int64_t launcher_late_us = 0;  // that past its 10 ms
   std::int64_t logger_drops = 0;      // what the logger said it lost (EDSP_STATUS)
+  // The launcher's own messages missing from the log: its EDSP_STATUS seq
+  // gaps, and faults it counted out (messages_out) that the log lacks (from
+  // its first status the log has: the logger starts after it).
+  std::int64_t launcher_lost = 0;
   std::int64_t first_event_utime = 0;
   std::int64_t events_before_fault = 0;
   std::int64_t largest_event_gap_us = 0;            // between logged events after the fault
@@ -209,6 +213,8 @@ Analysis Analyse(const std::string& log_path, const Timeline& t) {
   LogEvent e;
   std::int64_t previous_event_utime = 0, last_tracker_seq = -1, last_command_seq = -1;
   bool launcher_status_read = false;
+  std::int64_t launcher_faults = 0, last_launcher_status_seq = -1;
+  std::optional<std::int64_t> launcher_faults_unlogged;  // at its first status in the log
   while (reader.Next(&e)) {
     const int size = static_cast<int>(e.data.size());
     if (a.first_event_utime == 0) a.first_event_utime = e.timestamp_utime;
@@ -256,6 +262,7 @@ Analysis Analyse(const std::string& log_path, const Timeline& t) {
         a.first_report_utime = f.utime;
         a.first_report = f.node + ": " + f.reason;
       }
+      if (f.node == "launcher") ++launcher_faults;
       if (f.node == "launcher" && f.utime >= t.fault_utime && !a.launcher_report_utime)
         a.launcher_report_utime = f.utime;
       if (f.node == "launcher" && f.reason.find("restarted as pid") != std::string::npos) a.restarted_utime = f.utime;
@@ -274,7 +281,14 @@ Analysis Analyse(const std::string& log_path, const Timeline& t) {
       if (f.node == "logger" && f.reason.find("resumed after") != std::string::npos) a.logger_resumed = f.reason;
     } else if (e.channel == "EDSP_STATUS") {
       node_status_t s;
-      if (s.decode(e.data.data(), 0, size) < 0 || s.utime < t.fault_utime) continue;
+      if (s.decode(e.data.data(), 0, size) < 0) continue;
+      if (s.node == "launcher") {
+        if (last_launcher_status_seq >= 0) a.launcher_lost += std::max<std::int64_t>(0, s.seq - last_launcher_status_seq - 1);
+        last_launcher_status_seq = s.seq;
+        if (!launcher_faults_unlogged) launcher_faults_unlogged = s.messages_out - launcher_faults;
+        a.launcher_lost = std::max(a.launcher_lost, s.messages_out - launcher_faults - *launcher_faults_unlogged);
+      }
+      if (s.utime < t.fault_utime) continue;
       if (s.node == "actuator_bridge" && s.state == node_status_t::STATE_HOLDING) a.bridge_status_holding = true;
       if (s.node == "launcher" && s.state == node_status_t::STATE_FAULT) a.launcher_status_fault = true;
       if (s.node == "launcher" && a.launcher_report_utime && s.utime >= *a.launcher_report_utime &&
@@ -562,17 +576,19 @@ TEST_P(FaultMatrix, HoldsWithoutAJumpReportsAndRecoversAfterReArm) {
     // the first to (checked below: which drive, its error code).
     EXPECT_FALSE(a.launcher_report_utime.has_value()) << "the launcher reported a member that ran on";
   } else if (const std::int64_t lost = std::max(a.logger_drops, LostFromTheLog(run.log_path));
-             !a.launcher_report_utime && lost > 0) {
+             (!a.launcher_report_utime && lost > 0) || a.launcher_lost > 0) {
     // The logger lost datagrams (a sanitized logger on a loaded machine):
-    // counted on its EDSP_STATUS, or seen as gaps in the seq of what it took
-    // from LCM (losses after its last status). The launcher's fault may be
-    // among them, so its stderr is the evidence that it reported; its
-    // timing is not measurable then.
+    // counted on its EDSP_STATUS, seen as gaps in the seq of what it took
+    // from LCM (losses after its last status), or missing from the
+    // launcher's own (a later report of its, the restart, is then no
+    // measure of the first). The launcher's fault may be among them, so its
+    // stderr is the evidence that it reported; its timing is not
+    // measurable then.
     const std::string said = fmt::format("edsp-launch: {:<16} {}", c.member, kill ? "exited" : "frozen");
     const std::string text = launch_text.str();
     EXPECT_NE(text.find(said), std::string::npos)
         << "no launcher report for " << c.member << " in the log (the logger lost " << lost
-        << " datagrams) nor on its stderr:\n"
+        << " datagrams, the launcher's own " << a.launcher_lost << ") nor on its stderr:\n"
         << text;
   } else {
     ASSERT_TRUE(a.launcher_report_utime.has_value()) << "no launcher fault for " << c.member;
