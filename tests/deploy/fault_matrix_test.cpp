@@ -283,7 +283,8 @@ Analysis Analyse(const std::string& log_path, const Timeline& t) {
       node_status_t s;
       if (s.decode(e.data.data(), 0, size) < 0) continue;
       if (s.node == "launcher") {
-        if (last_launcher_status_seq >= 0) a.launcher_lost += std::max<std::int64_t>(0, s.seq - last_launcher_status_seq - 1);
+        if (last_launcher_status_seq >= 0)
+          a.launcher_lost += std::max<std::int64_t>(0, s.seq - last_launcher_status_seq - 1);
         last_launcher_status_seq = s.seq;
         if (!launcher_faults_unlogged) launcher_faults_unlogged = s.messages_out - launcher_faults;
         a.launcher_lost = std::max(a.launcher_lost, s.messages_out - launcher_faults - *launcher_faults_unlogged);
