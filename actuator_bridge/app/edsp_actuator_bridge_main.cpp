@@ -43,9 +43,7 @@ void WriteLatencyReport(const std::string& path, const nlohmann::json& report) {
 }
 
 int Run(int argc, char** argv) {
-  CLI::App app{"edsp-actuator-bridge: leg commands → drives, encoders → leg states"};
-  NodeOptions node;
-  AddNodeOptions(&app, &node);
+  NodeApp app{"edsp-actuator-bridge: leg commands → drives, encoders → leg states"};
   std::string backend_name, image_prefix;
   int stale_ms = 50;
   app.add_option("--backend", backend_name, "drive backend: " + KnownBackends() + " (default: [drives] backend)");
@@ -63,12 +61,12 @@ int Run(int argc, char** argv) {
       ->check(CLI::Range(0, 999));
   CLI11_PARSE(app, argc, argv);
 
-  const PlatformConfig config = LoadConfigFile(node.config_path);
-  const DrivesConfig drives = LoadDrivesConfig(node.config_path, config);
+  const PlatformConfig config = LoadConfigFile(app.node.config_path);
+  const DrivesConfig drives = LoadDrivesConfig(app.node.config_path, config);
   if (!drives.backend_note.empty())
     std::fprintf(stderr, "edsp-actuator-bridge: [drives] %s\n", drives.backend_note.c_str());
   if (backend_name.empty()) backend_name = drives.backend;
-  const TransportConfig transport = TransportFor(node);
+  const TransportConfig transport = TransportFor(app.node);
   InstallStopSignals();
   std::unique_ptr<DriveBackend> backend = MakeBackend(backend_name, drives, transport, image_prefix);
   std::string error;
@@ -76,7 +74,7 @@ int Run(int argc, char** argv) {
     throw std::runtime_error("drive backend " + backend_name + ": " + error);
   }
   BridgeOptions options;
-  options.session_id = node.session_id;
+  options.session_id = app.node.session_id;
   options.stale_us = std::int64_t{stale_ms} * 1000;
   options.rejoin_speed_m_s = rejoin_speed_m_s;
   ActuatorBridge bridge(PlatformModel(config), backend.get(), options);

@@ -125,9 +125,11 @@ int RunOffline(const OfflineOptions& options) {
     std::printf("%s: perceived error in thresholds (overall, then fx fy fz wx wy wz%s), stroke used\n",
                 CueingAlgorithmName(algorithm), effects ? ", then overall on the rig" : "");
     if (algorithm == CueingAlgorithm::kModelPredictive) {
+      const MpcLegRoom room = DeriveMpcLegRoom(model, model.home_pose(), config.mpc.wanted, config.mpc.leg_margin);
       std::printf(
-          "the box: %s\n",
-          DeriveMpcLimits(model, model.home_pose(), config.mpc.wanted, config.mpc.leg_margin).Describe().c_str());
+          "the box, every channel at once: %s\neach channel's largest, the others at rest: %s\n",
+          DeriveMpcLimits(model, model.home_pose(), config.mpc.wanted, config.mpc.leg_margin).Describe().c_str(),
+          room.Box(room.position.most, room.velocity.most, room.acceleration.most).Describe().c_str());
     }
   }
   for (const Manoeuvre& manoeuvre : manoeuvres) {

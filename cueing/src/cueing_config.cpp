@@ -116,7 +116,7 @@ double NonNegative(const ConfigSection& section, const char* key, double fallbac
 }
 
 void ReadMpc(const ConfigSection& s, MpcCueingParameters& m) {
-  s.RejectUnknownKeys({"position_max", "velocity_max", "acceleration_max", "jerk_max", "leg_margin",
+  s.RejectUnknownKeys({"position_max", "velocity_max", "acceleration_max", "jerk_max", "leg_margin", "demand_fade_s",
                        "perceived_force_weight", "perceived_rate_weight", "position_penalty", "velocity_penalty",
                        "acceleration_penalty", "jerk_penalty", "terminal_penalty", "solve_period_s", "fine_intervals",
                        "coarse_interval_s", "coarse_intervals"});
@@ -127,6 +127,7 @@ void ReadMpc(const ConfigSection& s, MpcCueingParameters& m) {
   m.leg_margin = NonNegative(s, "leg_margin", m.leg_margin);
   if (m.leg_margin > 0.5)
     s.Fail("leg_margin", fmt::format("{} leg_margin = {} must be at most 0.5", s.label(), m.leg_margin));
+  m.demand_fade_s = Positive(s, "demand_fade_s", m.demand_fade_s);
   MpcPenalties& w = m.penalties;
   w.perceived_force = NonNegative(s, "perceived_force_weight", w.perceived_force);
   w.perceived_rate = NonNegative(s, "perceived_rate_weight", w.perceived_rate);

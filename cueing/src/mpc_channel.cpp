@@ -1,5 +1,6 @@
 #include "edsp/cueing/mpc_channel.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -41,6 +42,11 @@ MpcChannel::MpcChannel(const MpcChannelSetup& setup) : setup_(setup) {
     throw std::invalid_argument(
         fmt::format("MPC horizon: solve period {} s over setpoint period {} s, {} fine and {} coarse intervals of {} s",
                     h.solve_period_s, setup.period_s, h.fine_intervals, h.coarse_intervals, h.coarse_interval_s));
+  }
+  if (!(setup.penalty_share.minCoeff() > 0.0 && setup.penalty_share.maxCoeff() <= 1.0)) {
+    throw std::invalid_argument(
+        fmt::format("MPC channel: shares {} {} {} (each must be in (0, 1]: the legs leave no room)",
+                    setup.penalty_share(0), setup.penalty_share(1), setup.penalty_share(2)));
   }
   const double ratio = h.solve_period_s / setup.period_s;
   steps_per_solve_ = static_cast<int>(std::lround(ratio));
@@ -106,10 +112,11 @@ MpcChannel::MpcChannel(const MpcChannelSetup& setup) : setup_(setup) {
     return row;
   };
   std::vector<std::pair<int, double>> boxed;  // state, its bound
+  const Eigen::Vector3d& at = setup.penalty_share;
   const auto axis = [&](int first, const MpcAxisBox& box) {
-    weigh(unit(first), w.position / (box.position * box.position), true);
-    weigh(unit(first + 1), w.velocity / (box.velocity * box.velocity), true);
-    weigh(unit(first + 2), w.acceleration / (box.acceleration * box.acceleration), false);
+    weigh(unit(first), w.position / std::pow(at(0) * box.position, 2), true);
+    weigh(unit(first + 1), w.velocity / std::pow(at(1) * box.velocity, 2), true);
+    weigh(unit(first + 2), w.acceleration / std::pow(at(2) * box.acceleration, 2), false);
     boxed.emplace_back(first, box.position);
     boxed.emplace_back(first + 1, box.velocity);
     boxed.emplace_back(first + 2, box.acceleration);
@@ -159,15 +166,21 @@ MpcChannel::MpcChannel(const MpcChannelSetup& setup) : setup_(setup) {
   const auto boxes = static_cast<Eigen::Index>(boxed.size());
   Eigen::MatrixXd selection = Eigen::MatrixXd::Zero(n * boxes, n * nx);
   state_bound_ = Eigen::VectorXd(n * boxes);
+  bound_kind_ = Eigen::VectorXi(n * boxes);
   for (Eigen::Index k = 0; k < n; ++k) {
     for (Eigen::Index s = 0; s < boxes; ++s) {
       selection(k * boxes + s, k * nx + boxed[static_cast<std::size_t>(s)].first) = 1.0;
       state_bound_(k * boxes + s) = boxed[static_cast<std::size_t>(s)].second;
+      bound_kind_(k * boxes + s) = static_cast<int>(s % 3);  // each axis boxes p, v, a in turn
     }
   }
+  boxed_state_ = Eigen::VectorXi(boxes);
+  for (Eigen::Index s = 0; s < boxes; ++s) boxed_state_(s) = boxed[static_cast<std::size_t>(s)].first;
   state_rows_ = selection * phi;
+  plan_rows_ = selection * gamma;
+  plan_ = Eigen::VectorXd::Zero(n * boxes);
   Eigen::MatrixXd constraint(n * boxes + n * nu, n * nu);
-  constraint << selection * gamma, Eigen::MatrixXd::Identity(n * nu, n * nu);
+  constraint << plan_rows_, Eigen::MatrixXd::Identity(n * nu, n * nu);
   lower_ = Eigen::VectorXd(constraint.rows());
   upper_ = Eigen::VectorXd(constraint.rows());
   for (Eigen::Index k = 0; k < n; ++k) {
@@ -186,22 +199,45 @@ MpcChannel::MpcChannel(const MpcChannelSetup& setup) : setup_(setup) {
   b_step_ = step.bd;
   x_ = Eigen::VectorXd::Zero(kStates);
   u_ = Eigen::VectorXd::Zero(nu_);
+  SetShare(setup.penalty_share);
 }
 
 void MpcChannel::Solve() {
   const Eigen::VectorXd offset = state_rows_ * x_;
   const Eigen::Index boxes = state_bound_.size();
-  upper_.head(boxes) = state_bound_ - offset;
-  lower_.head(boxes) = -state_bound_ - offset;
+  for (Eigen::Index r = 0; r < boxes; ++r) {
+    const double bound = share_(bound_kind_(r)) * state_bound_(r);
+    upper_(r) = bound - offset(r);
+    lower_(r) = -bound - offset(r);
+  }
   g_ = f_ * x_;
   const DenseQpResult& result = qp_->Solve(g_, lower_, upper_);
   if (!result.converged) ++unconverged_;
-  u_ = result.x.head(nu_).cwiseMax(-1.0).cwiseMin(1.0).cwiseProduct(jerk_bound_);
+  const Eigen::VectorXd jerks = result.x.cwiseMax(-1.0).cwiseMin(1.0);
+  plan_ = plan_rows_ * jerks + offset;
+  u_ = jerks.head(nu_).cwiseProduct(jerk_bound_);
+}
+
+void MpcChannel::SetShare(const Eigen::Vector3d& share) { share_ = share.cwiseMax(0.0).cwiseMin(1.0); }
+
+Eigen::Vector3d MpcChannel::PlanShare() const {
+  Eigen::Vector3d held = Eigen::Vector3d::Zero();
+  for (Eigen::Index r = 0; r < plan_.size(); ++r) {
+    const int kind = bound_kind_(r);
+    held(kind) = std::max(held(kind), std::fabs(plan_(r)) / state_bound_(r));
+  }
+  for (Eigen::Index s = 0; s < boxed_state_.size(); ++s) {  // the state now, where the plan goes on from
+    const int kind = bound_kind_(s);
+    held(kind) = std::max(held(kind), std::fabs(x_(boxed_state_(s))) / state_bound_(s));
+  }
+  return held;
 }
 
 void MpcChannel::Reset() {
   x_.setZero();
   u_.setZero();
+  plan_.setZero();
+  share_ = setup_.penalty_share;
   step_ = 0;
   qp_->Reset();
 }

@@ -75,18 +75,39 @@ Vector6 CurvatureBound(const PlatformModel& model, const Pose& neutral, const st
   return kWiden * bound;
 }
 
-// The largest λ ≤ 1 with Σ_j L_ij λ b_j ≤ budget_i for every leg.
-double Scale(const Matrix6& slope, const Vector6& wanted, const Vector6& budget) {
-  const Vector6 used = slope * wanted;
-  double scale = 1.0;
-  for (int i = 0; i < 6; ++i) scale = std::min(scale, used(i) > 0.0 ? budget(i) / used(i) : 1.0);
-  return std::max(scale, 0.0);
+// Per channel, per leg: Σ_{j in c} slope_ij wanted_j.
+Eigen::Matrix<double, kMpcChannels, 6> ChannelUse(const Matrix6& slope, const Vector6& wanted) {
+  Eigen::Matrix<double, kMpcChannels, 6> use = Eigen::Matrix<double, kMpcChannels, 6>::Zero();
+  for (int j = 0; j < 6; ++j) use.row(kMpcChannelOfAxis[j]) += (slope.col(j) * wanted(j)).transpose();
+  return use;
 }
 
+MpcLegShare Share(const Matrix6& slope, const Vector6& wanted, const Vector6& budget) {
+  MpcLegShare share;
+  share.use = ChannelUse(slope, wanted);
+  share.budget = budget.cwiseMax(0.0);
+  for (int c = 0; c < kMpcChannels; ++c) {
+    double most = 1.0;
+    for (int i = 0; i < 6; ++i) {
+      if (share.use(c, i) > 0.0) most = std::min(most, share.budget(i) / share.use(c, i));
+    }
+    share.most(c) = std::max(most, 0.0);
+  }
+  return share;
+}
+
+// Per axis: the wanted value times its channel's λ.
+Vector6 PerAxis(const Vector6& wanted, const MpcChannelVector& lambda) {
+  Vector6 v;
+  for (int j = 0; j < 6; ++j) v(j) = wanted(j) * lambda(kMpcChannelOfAxis[j]);
+  return v;
+}
+
+// The joint angles and the conditioning (the strokes are the shares' to keep).
 bool CornersReachable(const PlatformModel& model, const Pose& neutral, const Vector6& half) {
   for (const Vector6& q : BoxSamples(half)) {
     const Pose pose = Displaced(neutral, q);
-    if (!CheckLegs(model, model.Solve(pose)).ok() || !CheckConditioning(model, pose).ok()) return false;
+    if (!CheckJointAngles(model, model.Solve(pose)).ok() || !CheckConditioning(model, pose).ok()) return false;
   }
   return true;
 }
@@ -111,8 +132,43 @@ std::string MpcAxisLimits::Describe() const {
   return text;
 }
 
-MpcAxisLimits DeriveMpcLimits(const PlatformModel& model, const Pose& neutral, const MpcAxisLimits& wanted,
-                              double margin) {
+MpcChannelVector MpcLegShare::Allocate(const MpcChannelVector& committed, const MpcChannelVector& demand) const {
+  const MpcChannelVector held = committed.cwiseMax(0.0).cwiseMin(most);
+  const double top = demand.cwiseMax(0.0).maxCoeff();
+  const MpcChannelVector weight = top > 0.0 ? MpcChannelVector(demand.cwiseMax(0.0) / top) : MpcChannelVector::Ones();
+  const MpcChannelVector wish = weight.cwiseProduct(most - held);
+  double s = 1.0;
+  for (int i = 0; i < 6; ++i) {
+    const double left = budget(i) - held.dot(use.col(i));
+    const double asked = wish.dot(use.col(i));
+    if (asked > 0.0) s = std::min(s, left / asked);
+  }
+  return held + std::max(s, 0.0) * wish;
+}
+
+double MpcLegShare::Load(const MpcChannelVector& lambda) const {
+  double load = 0.0;
+  for (int i = 0; i < 6; ++i) {
+    const double used = lambda.dot(use.col(i));
+    load = std::max(load, budget(i) > 0.0 ? used / budget(i) : (used > 0.0 ? 1e300 : 0.0));
+  }
+  return load;
+}
+
+MpcAxisLimits MpcLegRoom::Box(const MpcChannelVector& position_lambda, const MpcChannelVector& velocity_lambda,
+                              const MpcChannelVector& acceleration_lambda) const {
+  MpcAxisLimits box;
+  box.position = PerAxis(wanted.position, position_lambda);
+  box.velocity = PerAxis(wanted.velocity, velocity_lambda);
+  box.acceleration = PerAxis(wanted.acceleration, acceleration_lambda);
+  box.position_scale = position_lambda.minCoeff();
+  box.velocity_scale = velocity_lambda.minCoeff();
+  box.acceleration_scale = acceleration_lambda.minCoeff();
+  return box;
+}
+
+MpcLegRoom DeriveMpcLegRoom(const PlatformModel& model, const Pose& neutral, const MpcAxisLimits& wanted,
+                            double margin) {
   CheckWanted(wanted.position, "position_max");
   CheckWanted(wanted.velocity, "velocity_max");
   CheckWanted(wanted.acceleration, "acceleration_max");
@@ -128,25 +184,35 @@ MpcAxisLimits DeriveMpcLimits(const PlatformModel& model, const Pose& neutral, c
   Vector6 room;
   for (int i = 0; i < 6; ++i) room(i) = std::min(home(i) - legs.leg_min_m, legs.leg_max_m - home(i));
 
-  MpcAxisLimits limits;
-  const std::vector<Vector6> samples = BoxSamples(wanted.position);
-  const Matrix6 slope = SlopeBound(model, neutral, samples);
-  limits.position_scale = Scale(slope, wanted.position, (1.0 - margin) * room);
-  while (limits.position_scale > 1e-3 && !CornersReachable(model, neutral, limits.position_scale * wanted.position)) {
-    limits.position_scale *= kShrink;
+  MpcLegRoom result;
+  result.wanted = wanted;
+  Matrix6 slope;
+  // The slopes over the box of every channel's largest position at once,
+  // whose corners must keep the joints and the conditioning.
+  for (;;) {
+    slope = SlopeBound(model, neutral, BoxSamples(result.wanted.position));
+    result.position = Share(slope, result.wanted.position, (1.0 - margin) * room);
+    const Vector6 largest = PerAxis(result.wanted.position, result.position.most);
+    if (CornersReachable(model, neutral, largest)) break;
+    result.wanted.position *= kShrink;
+    if (result.wanted.position.maxCoeff() < 1e-3 * wanted.position.maxCoeff()) {
+      throw std::invalid_argument("[mpc]: no box about the neutral pose keeps its corners inside the workspace");
+    }
   }
-  if (!CornersReachable(model, neutral, limits.position_scale * wanted.position)) {
-    throw std::invalid_argument("[mpc]: no box about the neutral pose keeps its corners inside the workspace");
-  }
-  limits.position = limits.position_scale * wanted.position;
-  const Vector6 speed_budget = Vector6::Constant((1.0 - margin) * legs.leg_speed_max_m_s);
-  limits.velocity_scale = Scale(slope, wanted.velocity, speed_budget);
-  limits.velocity = limits.velocity_scale * wanted.velocity;
-  const Vector6 curvature = CurvatureBound(model, neutral, BoxSamples(limits.position), limits.velocity);
-  const Vector6 accel_budget = (Vector6::Constant((1.0 - margin) * accel_max) - curvature).cwiseMax(0.0);
-  limits.acceleration_scale = Scale(slope, wanted.acceleration, accel_budget);
-  limits.acceleration = limits.acceleration_scale * wanted.acceleration;
-  return limits;
+  result.velocity = Share(slope, wanted.velocity, Vector6::Constant((1.0 - margin) * legs.leg_speed_max_m_s));
+  const Vector6 fastest = PerAxis(wanted.velocity, result.velocity.most);
+  const Vector6 widest = PerAxis(result.wanted.position, result.position.most);
+  const Vector6 curvature = CurvatureBound(model, neutral, BoxSamples(widest), fastest);
+  result.acceleration = Share(slope, wanted.acceleration, Vector6::Constant((1.0 - margin) * accel_max) - curvature);
+  return result;
+}
+
+MpcAxisLimits DeriveMpcLimits(const PlatformModel& model, const Pose& neutral, const MpcAxisLimits& wanted,
+                              double margin) {
+  const MpcLegRoom room = DeriveMpcLegRoom(model, neutral, wanted, margin);
+  const MpcChannelVector none = MpcChannelVector::Zero(), alike = MpcChannelVector::Ones();
+  return room.Box(room.position.Allocate(none, alike), room.velocity.Allocate(none, alike),
+                  room.acceleration.Allocate(none, alike));
 }
 
 }  // namespace edsp

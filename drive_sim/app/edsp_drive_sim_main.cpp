@@ -75,9 +75,7 @@ int Run(int argc, char** argv) {
   std::string axes = "own", image_prefix, serve = "modbus", csp_prefix;
   int fault_drive = 1;
   std::uint16_t fault_code = 0xFF01;
-  NodeOptions node;
-  CLI::App app{"Six simulated CiA 402 drives (CSP) behind a Modbus TCP server or a shared-memory image"};
-  AddNodeOptions(&app, &node);
+  NodeApp app{"Six simulated CiA 402 drives (CSP) behind a Modbus TCP server or a shared-memory image"};
   app.add_option("--serve", serve, "modbus: a Modbus TCP server; shm: the CSP image in shared memory")
       ->capture_default_str()
       ->check(CLI::IsMember({"modbus", "shm"}));
@@ -116,12 +114,12 @@ int Run(int argc, char** argv) {
   InstallStopSignals();
   InstallFaultSignal();
   auto axes_of = [&] {
-    return axes == "rig" ? RigAxes(node, image_prefix, options.drive.fieldbus_timeout_s) : nullptr;
+    return axes == "rig" ? RigAxes(app.node, image_prefix, options.drive.fieldbus_timeout_s) : nullptr;
   };
   if (serve == "shm") {
     cia402::ShmDriveServerOptions shm;
-    shm.prefix = csp_prefix.empty() ? TransportFor(node).shm_prefix : csp_prefix;
-    shm.permissions = TransportFor(node).shm_permissions;
+    shm.prefix = csp_prefix.empty() ? TransportFor(app.node).shm_prefix : csp_prefix;
+    shm.permissions = TransportFor(app.node).shm_permissions;
     shm.cycle_s = options.cycle_s;
     shm.drive = options.drive;
     cia402::CspShmServer server(shm, axes_of());

@@ -26,9 +26,7 @@ namespace edsp {
 namespace {
 
 int Run(int argc, char** argv) {
-  CLI::App app{"edsp-kinematics: setpoints → leg commands with PR compensation"};
-  NodeOptions node;
-  AddNodeOptions(&app, &node);
+  NodeApp app{"edsp-kinematics: setpoints → leg commands with PR compensation"};
   std::string mode_text = "signed";
   int stale_ms = 50;
   app.add_option("--pr-mode", mode_text, "none, unsigned (paper Eq. 9), signed, asin (LinuxCNC)");
@@ -46,11 +44,11 @@ int Run(int argc, char** argv) {
   if (!ParsePrMode(mode_text.c_str(), &options.pr_mode)) {
     throw std::runtime_error("--pr-mode " + mode_text + ": use none, unsigned, signed or asin");
   }
-  options.session_id = node.session_id;
+  options.session_id = app.node.session_id;
   options.stale_us = std::int64_t{stale_ms} * 1000;
   options.calibration_starts_from_drives = !replay;  // a replay has no drives: its commands are the log's
-  const std::string config_text = ReadTextFile(node.config_path);
-  const PlatformConfig config = LoadConfigFile(node.config_path);
+  const std::string config_text = ReadTextFile(app.node.config_path);
+  const PlatformConfig config = LoadConfigFile(app.node.config_path);
   const PlatformModel model(config);
   if (calibration_path.empty()) calibration_path = config.calibration_model;
   if (!calibration_path.empty()) {
@@ -59,7 +57,7 @@ int Run(int argc, char** argv) {
   }
   KinematicsNode kinematics(model, options);
   InstallStopSignals();
-  Bus bus(TransportFor(node));
+  Bus bus(TransportFor(app.node));
   KinematicsLoopOptions loop_options;
   loop_options.config_text = config_text;
   loop_options.replay = replay;

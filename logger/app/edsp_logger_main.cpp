@@ -17,9 +17,7 @@ namespace edsp {
 namespace {
 
 int Run(int argc, char** argv) {
-  CLI::App app{"edsp-logger: record LCM channels to log files"};
-  NodeOptions node;
-  AddNodeOptions(&app, &node);
+  NodeApp app{"edsp-logger: record LCM channels to log files"};
   LoggerOptions options;
   double rotate_mb = 0.0, max_queue_mb = 256.0;
   app.add_option("--channels", options.channels, "POSIX extended regex of channels to record");
@@ -35,7 +33,7 @@ int Run(int argc, char** argv) {
   options.writer.max_queue_bytes = static_cast<std::int64_t>(max_queue_mb * 1e6);
 
   InstallStopSignals();
-  Bus bus(TransportFor(node));
+  Bus bus(TransportFor(app.node));
   LoggerNode logger(bus, options);
   logger.Run(StopRequested);
   return 0;  // the writer drains, flushes and closes

@@ -22,9 +22,7 @@ namespace edsp {
 namespace {
 
 int Run(int argc, char** argv) {
-  CLI::App app{"edsp-planner: trajectories → EDSP_SETPOINT at 1 kHz"};
-  NodeOptions node;
-  AddNodeOptions(&app, &node);
+  NodeApp app{"edsp-planner: trajectories → EDSP_SETPOINT at 1 kHz"};
   std::string motions, csv;
   PaperMotionOptions paper;
   app.add_option("--motions", motions,
@@ -56,7 +54,7 @@ int Run(int argc, char** argv) {
       ->needs(assess_flag);
   CLI11_PARSE(app, argc, argv);
 
-  const PlatformModel model(LoadConfigFile(node.config_path));
+  const PlatformModel model(LoadConfigFile(app.node.config_path));
   const bool program = !motions.empty() || !csv.empty();
   if (identifiability) {
     if (!program) throw std::invalid_argument("--identifiability: give --motions or --csv");
@@ -64,7 +62,7 @@ int Run(int argc, char** argv) {
     return 0;
   }
   MotionServiceOptions serve;
-  serve.session_id = node.session_id;
+  serve.session_id = app.node.session_id;
   serve.cue_stale_s = cue_stale_ms * 1e-3;
   serve.programs = [&model, paper](const std::string& list) { return MotionSequence(model, MotionNames(list), paper); };
   MotionService service(model, serve);
@@ -73,13 +71,13 @@ int Run(int argc, char** argv) {
     const double duration_s = trajectory->duration_s();
     service.StartProgram(std::move(trajectory), csv.empty() ? motions : csv);
     std::fprintf(stderr, "edsp-planner: %.1f s of motion, session %lld\n", duration_s,
-                 static_cast<long long>(node.session_id));
+                 static_cast<long long>(app.node.session_id));
   } else {
     std::fprintf(stderr, "edsp-planner: holding home, serving motion requests, session %lld\n",
-                 static_cast<long long>(node.session_id));
+                 static_cast<long long>(app.node.session_id));
   }
   InstallStopSignals();
-  Bus bus(TransportFor(node));
+  Bus bus(TransportFor(app.node));
   PlannerLoop planner_loop(bus, service, loop);
   RateClock clock(kPlannerPeriod, std::chrono::microseconds(0));
   planner_loop.Run(clock, StopRequested);

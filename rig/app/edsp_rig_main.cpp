@@ -23,9 +23,7 @@ namespace edsp {
 namespace {
 
 int Run(int argc, char** argv) {
-  CLI::App app{"edsp-rig: the virtual EDSP with a laser-tracker emulator"};
-  NodeOptions node;
-  AddNodeOptions(&app, &node);
+  NodeApp app{"edsp-rig: the virtual EDSP with a laser-tracker emulator"};
   RigParameters rig_parameters;
   std::string frame_text, image_prefix;
   app.add_option("--tracker-noise-m", rig_parameters.tracker.noise_sigma_m, "1-sigma per axis")
@@ -40,11 +38,11 @@ int Run(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   rig_parameters.watchdog.timeout_s = watchdog_ms * 1e-3;
 
-  const PlatformConfig config = LoadConfigFile(node.config_path);
+  const PlatformConfig config = LoadConfigFile(app.node.config_path);
   rig_parameters.nominal = config;
-  rig_parameters.effects = LoadRigEffects(node.config_path);  // [rig.effects]: how this rig differs
+  rig_parameters.effects = LoadRigEffects(app.node.config_path);  // [rig.effects]: how this rig differs
   if (!frame_text.empty()) rig_parameters.tracker.X_TB = ParsePoseText(frame_text);
-  const TransportConfig transport = TransportFor(node);
+  const TransportConfig transport = TransportFor(app.node);
   InstallStopSignals();
   VirtualRig rig(rig_parameters);
   const std::string prefix = image_prefix.empty() ? transport.shm_prefix : image_prefix;

@@ -1,6 +1,7 @@
-// The model-predictive cueing: its box keeps every leg inside its limits
-// (checked on poses, speeds and accelerations drawn inside it, by the legs'
-// own lengths), a rough ride never leaves a limit, it cues the manoeuvres
+// The model-predictive cueing: its boxes, however the legs' room is shared,
+// keep every leg inside its limits (checked on poses, speeds and
+// accelerations drawn inside them, by the legs' own lengths), the room goes
+// where the demand is, a rough ride never leaves a limit, it cues the manoeuvres
 // better than classical washout, and a lost input washes out to neutral.
 #include "edsp/cueing/mpc_cueing.h"
 
@@ -37,30 +38,112 @@ Vector6 Draw(std::mt19937_64& random, const Vector6& half) {
   return q;
 }
 
-// Poses, velocities and accelerations drawn anywhere in the box, their
-// legs' lengths, speeds and accelerations by finite differences of the
-// lengths along a path through the draw: never past a limit.
-TEST_F(Mpc, AnyPointOfTheBoxKeepsEveryLegInsideItsLimits) {
-  const MpcAxisLimits box = DeriveMpcLimits(model, model.home_pose(), config.mpc.wanted, config.mpc.leg_margin);
-  EXPECT_GT(box.position.minCoeff(), 0.0) << box.Describe();
+// The largest excess over a leg limit (stroke, speed, acceleration; < 0
+// inside) of poses, velocities and accelerations drawn anywhere in `box`,
+// by finite differences of the legs' lengths along a path through each draw.
+struct Excess {
+  double stroke = -1e9, speed = -1e9, accel = -1e9;
+};
+Excess WorstInBox(const PlatformModel& model, const MpcAxisLimits& box, std::mt19937_64& random, int draws) {
   const WorkspaceLimits& legs = model.config().limits;
   const double accel_max = model.config().motion.leg_accel_max_m_s2;
-  std::mt19937_64 random(20261207);
   const double dt = 1e-4;
-  double worst_stroke = -1e9, worst_speed = -1e9, worst_accel = -1e9;  // the largest excess over a limit
-  for (int k = 0; k < 20'000; ++k) {
+  Excess worst;
+  for (int k = 0; k < draws; ++k) {
     const Vector6 q = Draw(random, box.position), v = Draw(random, box.velocity), a = Draw(random, box.acceleration);
     const auto at = [&](double t) {
       return model.LegLengths(Pose::FromVector(model.home_pose().ToVector() + q + v * t + 0.5 * a * t * t));
     };
     const Vector6 l0 = at(0.0), lp = at(dt), lm = at(-dt);
-    worst_stroke = std::max({worst_stroke, legs.leg_min_m - l0.minCoeff(), l0.maxCoeff() - legs.leg_max_m});
-    worst_speed = std::max(worst_speed, ((lp - lm) / (2 * dt)).cwiseAbs().maxCoeff() - legs.leg_speed_max_m_s);
-    worst_accel = std::max(worst_accel, ((lp - 2 * l0 + lm) / (dt * dt)).cwiseAbs().maxCoeff() - accel_max);
+    worst.stroke = std::max({worst.stroke, legs.leg_min_m - l0.minCoeff(), l0.maxCoeff() - legs.leg_max_m});
+    worst.speed = std::max(worst.speed, ((lp - lm) / (2 * dt)).cwiseAbs().maxCoeff() - legs.leg_speed_max_m_s);
+    worst.accel = std::max(worst.accel, ((lp - 2 * l0 + lm) / (dt * dt)).cwiseAbs().maxCoeff() - accel_max);
   }
-  EXPECT_LT(worst_stroke, 0.0) << box.Describe();
-  EXPECT_LT(worst_speed, 0.0) << box.Describe();
-  EXPECT_LT(worst_accel, 0.0) << box.Describe();
+  return worst;
+}
+
+MpcChannelVector DrawShares(std::mt19937_64& random) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  MpcChannelVector v;
+  for (int c = 0; c < kMpcChannels; ++c) v(c) = unit(random) < 0.3 ? 0.0 : unit(random);
+  return v;
+}
+
+// The box every channel fills at once, and boxes of shares as the cueing
+// hands them out (what each channel holds drawn inside a first allocation,
+// then the rest given by a random demand): poses, velocities and
+// accelerations drawn anywhere in them never take a leg past a limit.
+TEST_F(Mpc, AnyPointOfTheSharedBoxesKeepsEveryLegInsideItsLimits) {
+  const MpcAxisLimits box = DeriveMpcLimits(model, model.home_pose(), config.mpc.wanted, config.mpc.leg_margin);
+  EXPECT_GT(box.position.minCoeff(), 0.0) << box.Describe();
+  std::mt19937_64 random(20261207);
+  const Excess all_at_once = WorstInBox(model, box, random, 5'000);
+  EXPECT_LT(all_at_once.stroke, 0.0) << box.Describe();
+  EXPECT_LT(all_at_once.speed, 0.0) << box.Describe();
+  EXPECT_LT(all_at_once.accel, 0.0) << box.Describe();
+
+  const MpcLegRoom room = DeriveMpcLegRoom(model, model.home_pose(), config.mpc.wanted, config.mpc.leg_margin);
+  const auto share = [&](const MpcLegShare& kind) {
+    const MpcChannelVector first = kind.Allocate(MpcChannelVector::Zero(), DrawShares(random));
+    const MpcChannelVector held = first.cwiseProduct(DrawShares(random));
+    return kind.Allocate(held, DrawShares(random));
+  };
+  Excess worst;
+  for (int k = 0; k < 300; ++k) {
+    const MpcAxisLimits shared = room.Box(share(room.position), share(room.velocity), share(room.acceleration));
+    const Excess e = WorstInBox(model, shared, random, 50);
+    worst = {std::max(worst.stroke, e.stroke), std::max(worst.speed, e.speed), std::max(worst.accel, e.accel)};
+  }
+  EXPECT_LT(worst.stroke, 0.0);
+  EXPECT_LT(worst.speed, 0.0);
+  EXPECT_LT(worst.accel, 0.0);
+}
+
+// The shares: a channel alone in its demand gets all it can have; what a
+// channel holds stays its own whatever the others ask; the legs' load
+// never passes 1, and what is over-committed is given nothing more.
+TEST_F(Mpc, TheLegsRoomIsSharedByDemandAndWhatIsHeldStaysHeld) {
+  const MpcLegRoom room = DeriveMpcLegRoom(model, model.home_pose(), config.mpc.wanted, config.mpc.leg_margin);
+  std::mt19937_64 random(7);
+  for (const MpcLegShare* kind : {&room.position, &room.velocity, &room.acceleration}) {
+    for (int c = 0; c < kMpcChannels; ++c) {
+      const MpcChannelVector alone = kind->Allocate(MpcChannelVector::Zero(), MpcChannelVector::Unit(c));
+      EXPECT_NEAR(alone(c), kind->most(c), 1e-12) << "channel " << c;
+      EXPECT_NEAR(alone.sum() - alone(c), 0.0, 1e-12) << "channel " << c;
+    }
+    const MpcChannelVector all = kind->Allocate(MpcChannelVector::Zero(), MpcChannelVector::Ones());
+    EXPECT_NEAR(kind->Load(all), 1.0, 1e-9) << "every channel asking: the legs are full";
+    EXPECT_LT(all.maxCoeff(), kind->most.maxCoeff()) << "and no channel has its most";
+    for (int k = 0; k < 1000; ++k) {
+      const MpcChannelVector held =
+          kind->Allocate(MpcChannelVector::Zero(), DrawShares(random)).cwiseProduct(DrawShares(random));
+      const MpcChannelVector given = kind->Allocate(held, DrawShares(random));
+      EXPECT_TRUE((given.array() >= held.array() - 1e-15).all()) << held.transpose() << " → " << given.transpose();
+      EXPECT_LE(kind->Load(given), 1.0 + 1e-9);
+    }
+    const MpcChannelVector over = 2.0 * all;
+    const MpcChannelVector given = kind->Allocate(over, MpcChannelVector::Ones());
+    EXPECT_TRUE(given.isApprox(over.cwiseMin(kind->most))) << given.transpose();
+  }
+}
+
+// A brake is cued by surge alone: it takes more of the legs' speed than
+// its share of all at once, and the platform stays inside every limit.
+TEST_F(Mpc, ABrakeTakesMoreOfTheLegsThanItsShareOfAllAtOnce) {
+  MpcCueing mpc(model, model.home_pose(), config.head_in_platform_m, config.perception, config.mpc, period);
+  const double at_once = mpc.limits().velocity(0) / mpc.room().wanted.velocity(0);
+  const VehicleSeries brake = SampleManoeuvre(LoadManoeuvre(SourceDir() + "/config/manoeuvres/braking.toml"), period);
+  double most = 0.0, fastest_pitch = 0.0;
+  for (const VehicleSample& s : brake.samples) {
+    mpc.Step(s);
+    most = std::max(most, mpc.channels()[0]->share()(1));
+    fastest_pitch = std::max(fastest_pitch, std::fabs(mpc.channels()[0]->rotation_rate()));
+  }
+  EXPECT_GT(most, 1.5 * at_once) << "surge's speed share";
+  EXPECT_GT(fastest_pitch, mpc.limits().velocity(4)) << "the tilt went faster than all at once allow";
+  EXPECT_TRUE(RunCueing(model, config, CueingAlgorithm::kModelPredictive,
+                        LoadManoeuvre(SourceDir() + "/config/manoeuvres/braking.toml"))
+                  .path.ok());
 }
 
 // 10⁵ cycles of the bench's rough ride, every setpoint judged as the
@@ -77,9 +160,9 @@ TEST_F(Mpc, ARoughRideNeverLeavesALimit) {
 
 // Perception error over every manoeuvre of the repo, commanded motion:
 // the model-predictive cueing feels closer than classical washout on
-// average (docs/cueing.md gives the figure and why it is not the 0.7
-// aimed at), on every manoeuvre with a sustained cue (the tilt it plans), and no
-// manoeuvre leaves a limit.
+// average (the bench scores it on the rig's real motion against the 0.7
+// aimed at; docs/cueing.md), on every manoeuvre with a sustained cue (the
+// tilt it plans), and no manoeuvre leaves a limit.
 TEST_F(Mpc, TheManoeuvresAreFeltCloserThanClassicalWashoutFeelsThem) {
   double mpc_sum = 0.0, washout_sum = 0.0;
   int count = 0;
@@ -98,7 +181,7 @@ TEST_F(Mpc, TheManoeuvresAreFeltCloserThanClassicalWashoutFeelsThem) {
     ++count;
     std::printf("%-18s mpc %6.3f  washout %6.3f\n", name, mpc.score.overall, washout.score.overall);
   }
-  EXPECT_LE(mpc_sum / count, 0.85 * washout_sum / count) << mpc_sum / count << " against " << washout_sum / count;
+  EXPECT_LE(mpc_sum / count, 0.72 * washout_sum / count) << mpc_sum / count << " against " << washout_sum / count;
 }
 
 // The vehicle at rest after a brake (an input lost fades to rest): the
@@ -143,6 +226,7 @@ TEST(MpcConfig, AnAbsurdValueIsNamedWithItsKeyAndLine) {
                                                         {"leg_margin = 0.9", "leg_margin"},
                                                         {"fine_intervals = 0", "fine_intervals"},
                                                         {"jerk_penalty = -1", "jerk_penalty"},
+                                                        {"demand_fade_s = 0", "demand_fade_s"},
                                                         {"horizon_s = 1", "horizon_s"}}) {
     try {
       ParseCueingConfig(base + line + "\n", "cueing.toml");

@@ -55,9 +55,7 @@ int Serve(const NodeOptions& node, bool session_given, const web::WebServerOptio
 }
 
 int Run(int argc, char** argv) {
-  CLI::App app{"edsp-web: the rig's panel and its WebSocket protocol (foxglove.websocket.v1)"};
-  NodeOptions node;
-  AddNodeOptions(&app, &node);
+  NodeApp app{"edsp-web: the rig's panel and its WebSocket protocol (foxglove.websocket.v1)"};
   web::WebServerOptions options;
   options.panel_dir = DefaultPanelDir();
   std::string tokens_path = web::DefaultTokensPath();
@@ -94,7 +92,7 @@ int Run(int argc, char** argv) {
   if (list->parsed()) web::ListTokens(tokens_path);
   if (revoke->parsed()) web::RevokeToken(tokens_path, name);
   if (token->parsed()) return 0;
-  return Serve(node, app.count("--session-id") > 0, options, tokens_path);
+  return Serve(app.node, app.count("--session-id") > 0, options, tokens_path);
 }
 
 }  // namespace

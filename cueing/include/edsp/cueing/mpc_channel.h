@@ -22,7 +22,11 @@
 // intervals minimise Σ dt (perceived errors in thresholds² plus the
 // washout's penalties on p, v, a, θ, ω, α in their limits), subject to
 // every state's box at every interval's end and the jerks' box: a
-// condensed QP in the jerks (cueing/dense_qp.h). The first jerk is held
+// condensed QP in the jerks (cueing/dense_qp.h). The boxes are the
+// channel's largest times its share (position, velocity, acceleration),
+// which may change from solve to solve (cueing/mpc_limits.h); the
+// penalties weigh each value over the box of the shares all channels have
+// at once, so the cost stays as it was tuned. The first jerk is held
 // at the setpoint rate until the next solve, so the acceleration is
 // continuous and the jerk bounded by construction.
 
@@ -64,7 +68,10 @@ struct MpcChannelSetup {
   double lever_m = 0.0;            // head translation per rad: +h pitch → x, −h roll → y
   double force_offset_m_s2 = 0.0;  // the vehicle's force at rest on this channel (g on fz)
   double force_threshold = 1.0, rate_threshold = 1.0;
-  MpcAxisBox translation_box, rotation_box;
+  MpcAxisBox translation_box, rotation_box;  // at a share of 1
+  // The shares the penalties are weighed at (position, velocity,
+  // acceleration), and where the shares start.
+  Eigen::Vector3d penalty_share = Eigen::Vector3d::Ones();
   MpcPenalties penalties;
   MpcHorizon horizon;
   VestibularParameters perception;
@@ -80,7 +87,19 @@ class MpcChannel {
   // One setpoint period with the vehicle's newest force and rate on this
   // channel; solves first when one is due.
   void Step(double vehicle_force, double vehicle_rate);
-  // At rest at neutral, the next Step solving from a cold start.
+  // Whether the next Step solves.
+  bool SolvesNext() const { return step_ % steps_per_solve_ == 0; }
+  // The share of the boxes the next solves keep to (position, velocity,
+  // acceleration; each in [0, 1]): below what the plan holds (PlanShare),
+  // the plan may have no way inside.
+  void SetShare(const Eigen::Vector3d& share);
+  const Eigen::Vector3d& share() const { return share_; }
+  const Eigen::Vector3d& start_share() const { return setup_.penalty_share; }
+  // The largest share of the boxes the state and the last solve's plan
+  // reach, per kind.
+  Eigen::Vector3d PlanShare() const;
+  // At rest at neutral with the shares it started with, the next Step
+  // solving from a cold start.
   void Reset();
   double translation_m() const { return x_(kP); }
   double rotation_rad() const { return x_(kTheta); }
@@ -114,7 +133,12 @@ class MpcChannel {
   Eigen::MatrixXd a_step_, b_step_;  // one setpoint period
   Eigen::MatrixXd f_;                // g = f_ x0
   Eigen::MatrixXd state_rows_;       // the boxed states' predictions: rows · x0 + (rows of Γ) U
-  Eigen::VectorXd state_bound_;
+  Eigen::MatrixXd plan_rows_;        // those rows of Γ
+  Eigen::VectorXd state_bound_;      // at a share of 1
+  Eigen::VectorXi bound_kind_;       // 0 position, 1 velocity, 2 acceleration
+  Eigen::VectorXi boxed_state_;      // the state each of an interval's rows bounds
+  Eigen::Vector3d share_ = Eigen::Vector3d::Ones();
+  Eigen::VectorXd plan_;  // the boxed states along the last solve's plan
   Eigen::VectorXd jerk_bound_;
   Eigen::VectorXd x_, u_;
   Eigen::VectorXd g_, lower_, upper_;

@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 
 #include <CLI/CLI.hpp>
 
@@ -26,6 +27,14 @@ struct NodeOptions {
 };
 
 void AddNodeOptions(CLI::App* app, NodeOptions* options);
+
+// A node process's command line: its description, the options every node
+// takes (in `node` once parsed), and room for its own with add_option.
+class NodeApp : public CLI::App {
+ public:
+  explicit NodeApp(std::string description) : CLI::App(std::move(description)) { AddNodeOptions(this, &node); }
+  NodeOptions node;
+};
 
 // The transport config from the group file (defaults without one; read by
 // its one parser, group_file.h), routed for this member (host_routes.h), with
