@@ -1,6 +1,6 @@
 // edsp-cueing: motion cueing (docs/cueing.md).
 //   edsp-cueing offline --config FILE --cueing FILE --manoeuvre FILE... [--rig-effects FILE]
-//                       [--csv-dir DIR] [--algorithm classical_washout|mpc] [--json]
+//                       [--csv-dir DIR] [--plot DIR] [--algorithm classical_washout|mpc] [--json]
 //       each manoeuvre through a cueing algorithm at the cueing rate: every
 //       setpoint through the kinematics' whole-path check, and what a rider
 //       on the commanded platform perceives against the vehicle; with
@@ -40,6 +40,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "edsp/cueing/cueing_plot.h"
 #include "edsp/cueing/cueing_run.h"
 #include "edsp/cueing/cueing_soak.h"
 #include "edsp/cueing/omct.h"
@@ -62,6 +63,7 @@ struct OfflineOptions {
   std::vector<std::string> manoeuvre_paths;
   std::string rig_effects_path;
   std::string csv_dir;
+  std::string plot_dir;
   std::string algorithm;  // empty: the cueing config's [cueing] algorithm
   bool json = false;
 };
@@ -117,6 +119,7 @@ int RunOffline(const OfflineOptions& options) {
   std::vector<Manoeuvre> manoeuvres;
   for (const std::string& path : options.manoeuvre_paths) manoeuvres.push_back(LoadManoeuvre(path));
   if (!options.csv_dir.empty()) std::filesystem::create_directories(options.csv_dir);
+  if (!options.plot_dir.empty()) std::filesystem::create_directories(options.plot_dir);
   nlohmann::json runs = nlohmann::json::array();
   double error_sum = 0.0, real_sum = 0.0;
   int violations = 0;
@@ -144,6 +147,11 @@ int RunOffline(const OfflineOptions& options) {
       std::ofstream csv(path);
       csv << CueingRunCsv(run);
       if (!csv.flush()) throw std::runtime_error(fmt::format("{}: cannot write", path));
+    }
+    if (!options.plot_dir.empty()) {
+      const std::string png =
+          PlotCueingRun(run, config.perception, CueingAlgorithmName(algorithm), options.plot_dir, manoeuvre.name);
+      if (!options.json) std::printf("%s\n", png.c_str());
     }
     if (options.json)
       runs.push_back(RunJson(manoeuvre, run, real));
@@ -329,6 +337,8 @@ int main(int argc, char** argv) {
                    "score on the real motion too: a config whose [rig.effects] the rig has")
       ->check(CLI::ExistingFile);
   offline_command->add_option("--csv-dir", offline.csv_dir, "write <manoeuvre>.csv per manoeuvre here");
+  offline_command->add_option("--plot", offline.plot_dir,
+                              "draw <manoeuvre>.png per manoeuvre here: perceived, vehicle against platform");
   offline_command->add_option("--algorithm", offline.algorithm,
                               "classical_washout or mpc (default: the cueing config's [cueing] algorithm)");
   offline_command->add_flag("--json", offline.json, "JSON on stdout");
