@@ -10,10 +10,11 @@
 //       the Objective Motion Cueing Test's direct responses: gain and phase
 //       per channel at the test's twelve frequencies.
 //   edsp-cueing bench --config FILE --cueing FILE --manoeuvre FILE... [--rig-effects FILE]
-//                     [--cycles 1000000] [--seed 1] [--json]
+//                     [--cycles 1000000] [--seed 1] [--variants 3] [--variant-seed 2026] [--json]
 //       deploy/edsp bench cueing: per algorithm the manoeuvres' perception
-//       errors (commanded and real), a soak of random vehicle motion counting
-//       refused setpoints and the solve's time; their ratio; the OMCT.
+//       errors (commanded and real, and over variants of them no setting was
+//       chosen on), a soak of random vehicle motion counting refused
+//       setpoints and the solve's time; their ratios; the OMCT.
 //   edsp-cueing live --cueing FILE [--input udp|lcm] [--udp ADDRESS:PORT] [--config FILE] [--group FILE]
 //                    [--session-id N]
 //       the cueing source in a running group (live_command.h).
@@ -42,6 +43,7 @@
 
 #include "edsp/cueing/cueing_plot.h"
 #include "edsp/cueing/cueing_run.h"
+#include "edsp/cueing/manoeuvre_variants.h"
 #include "edsp/cueing/cueing_soak.h"
 #include "edsp/cueing/omct.h"
 #include "edsp/cueing/platform_motion.h"
@@ -212,6 +214,8 @@ struct BenchOptions {
   OfflineOptions offline;
   std::int64_t cycles = 1'000'000;
   std::uint64_t seed = 1;
+  int variants = 3;  // per manoeuvre, none tuned on
+  std::uint64_t variant_seed = 2026;
 };
 
 // One algorithm's figures for the bench: its perception error per
@@ -220,7 +224,22 @@ struct BenchOptions {
 struct AlgorithmFigures {
   nlohmann::json json;
   double commanded = 0.0, real = 0.0;  // the means over the manoeuvres
+  double variants = 0.0;               // the mean over their variants, commanded
 };
+
+// The mean perception error, commanded, over every manoeuvre's variants.
+double VariantsError(const BenchOptions& options, CueingAlgorithm algorithm, const PlatformModel& model,
+                     const CueingConfig& config) {
+  double sum = 0.0;
+  int count = 0;
+  for (const std::string& path : options.offline.manoeuvre_paths) {
+    for (const Manoeuvre& variant : ManoeuvreVariants(LoadManoeuvre(path), options.variants, options.variant_seed)) {
+      sum += RunCueing(model, config, algorithm, variant).score.overall;
+      ++count;
+    }
+  }
+  return count > 0 ? sum / count : 0.0;
+}
 
 AlgorithmFigures BenchAlgorithm(const BenchOptions& options, CueingAlgorithm algorithm, const PlatformConfig& nominal,
                                 const PlatformModel& model, const CueingConfig& config,
@@ -249,6 +268,7 @@ AlgorithmFigures BenchAlgorithm(const BenchOptions& options, CueingAlgorithm alg
   figures.real = effects ? real_sum / count : figures.commanded;
   commanded["overall"] = figures.commanded;
   if (effects) real["overall"] = figures.real;
+  figures.variants = VariantsError(options, algorithm, model, config);
   const CueingSoak soak = SoakCueing(model, config, algorithm, RandomVehicleParameters{}, options.cycles, options.seed);
   figures.json = {
       {"perception_error", commanded},
@@ -266,9 +286,14 @@ AlgorithmFigures BenchAlgorithm(const BenchOptions& options, CueingAlgorithm alg
   if (algorithm == CueingAlgorithm::kModelPredictive)
     figures.json["solve_period_ms"] = config.mpc.horizon.solve_period_s * 1e3;
   if (effects) figures.json["perception_error_real"] = real;
+  if (options.variants > 0) {
+    figures.json["perception_error_variants"] = {
+        {"overall", figures.variants}, {"variants_per_manoeuvre", options.variants}, {"seed", options.variant_seed}};
+  }
   if (!options.offline.json) {
     std::printf("%s: mean perception error %.3f thresholds", CueingAlgorithmName(algorithm), figures.commanded);
     if (effects) std::printf(" (%.3f on the rig)", figures.real);
+    if (options.variants > 0) std::printf(" (%.3f over their variants)", figures.variants);
     std::printf("; manoeuvres leaving a limit %lld\n", static_cast<long long>(violations));
     std::printf(
         "  soak: %lld cycles of random vehicle motion (seed %llu), %lld setpoints refused%s%s; stroke used %.0f%%\n",
@@ -300,17 +325,24 @@ int RunBench(const BenchOptions& options) {
   }
   const double ratio =
       figures[CueingAlgorithm::kModelPredictive].real / figures[CueingAlgorithm::kClassicalWashout].real;
-  nlohmann::json out = {{"algorithms", algorithms},
-                        {"ratio", ratio},
-                        {"ratio_of", effects ? "perception_error_real" : "perception_error"},
-                        {"omct", OmctJson(RunOmct(model, config))},
-                        {"delay_p99_ms", nullptr},
-                        {"delay_why_null", "measured on the live group: edsp-bench-cueing-live"}};
+  nlohmann::json out = {
+      {"algorithms", algorithms},
+      {"ratio", ratio},
+      {"ratio_of", effects ? "perception_error_real" : "perception_error"},
+      {"ratio_variants", options.variants > 0 ? nlohmann::json(figures[CueingAlgorithm::kModelPredictive].variants /
+                                                               figures[CueingAlgorithm::kClassicalWashout].variants)
+                                              : nlohmann::json(nullptr)},
+      {"omct", OmctJson(RunOmct(model, config))},
+      {"delay_p99_ms", nullptr},
+      {"delay_why_null", "measured on the live group: edsp-bench-cueing-live"}};
   if (options.offline.json) {
     std::printf("%s\n", out.dump(2).c_str());
     return 0;
   }
   std::printf("ratio (mpc over classical washout, %s): %.3f\n", effects ? "on the rig" : "commanded", ratio);
+  if (options.variants > 0) {
+    std::printf("ratio over the variants (commanded): %.3f\n", out["ratio_variants"].get<double>());
+  }
   return 0;
 }
 
@@ -364,6 +396,9 @@ int main(int argc, char** argv) {
   bench_command->add_option("--cycles", bench.cycles, "cycles of random vehicle motion")
       ->check(CLI::Range(1, 10'000'000));
   bench_command->add_option("--seed", bench.seed, "the random vehicle's seed");
+  bench_command->add_option("--variants", bench.variants, "variants of each manoeuvre scored too (0: none)")
+      ->check(CLI::Range(0, 100));
+  bench_command->add_option("--variant-seed", bench.variant_seed, "the variants' seed");
   bench_command->add_flag("--json", bench.offline.json, "JSON on stdout");
   edsp::LiveOptions live;
   CLI::App* live_command = app.add_subcommand("live", "the cueing source in a running group (EDSP_CUE_SETPOINT)");

@@ -9,7 +9,9 @@
 #include <nlohmann/json.hpp>
 
 #include "command_output.h"
+#include "edsp/cueing/cueing_config.h"
 #include "edsp/cueing/cueing_run.h"
+#include "edsp/cueing/manoeuvre_variants.h"
 #include "edsp/cueing/omct.h"
 #include "edsp/kinematics/config.h"
 #include "edsp/node/build_paths.h"
@@ -91,8 +93,9 @@ TEST(EdspCueingCli, OmctJsonHasEveryChannelAtEveryFrequencyAsTheLibraryMeasures)
 }
 
 TEST(EdspCueingCli, BenchJsonHasEveryFigureOfEveryAlgorithmAndTheirRatio) {
-  const auto run = RunCueing("bench" + kConfigs + " --manoeuvre " + SourceDir() +
-                             "/config/manoeuvres/braking.toml --cycles 3000 --seed 9 --json");
+  const auto run =
+      RunCueing("bench" + kConfigs + " --manoeuvre " + SourceDir() +
+                "/config/manoeuvres/braking.toml --cycles 3000 --seed 9 --variants 2 --variant-seed 5 --json");
   ASSERT_EQ(run.exit_code, 0) << run.text;
   const auto out = nlohmann::json::parse(run.text);
   const auto& washout = out["algorithms"]["classical_washout"];
@@ -112,6 +115,18 @@ TEST(EdspCueingCli, BenchJsonHasEveryFigureOfEveryAlgorithmAndTheirRatio) {
   EXPECT_EQ(out["ratio_of"], "perception_error");  // no --rig-effects: the commanded motion's
   EXPECT_DOUBLE_EQ(out["ratio"].get<double>(), mpc["perception_error"]["overall"].get<double>() /
                                                    washout["perception_error"]["overall"].get<double>());
+  // The variants: the library's, scored as the offline runs score them.
+  const PlatformModel model(LoadConfigFile(SourceDir() + "/config/huang2021.toml"));
+  const CueingConfig config = LoadCueingConfig(SourceDir() + "/config/cueing.toml");
+  double washout_sum = 0.0;
+  for (const Manoeuvre& v : ManoeuvreVariants(LoadManoeuvre(SourceDir() + "/config/manoeuvres/braking.toml"), 2, 5)) {
+    washout_sum += edsp::RunCueing(model, config, CueingAlgorithm::kClassicalWashout, v).score.overall;
+  }
+  EXPECT_NEAR(washout["perception_error_variants"]["overall"].get<double>(), washout_sum / 2, 1e-12);
+  EXPECT_EQ(washout["perception_error_variants"]["seed"], 5);
+  EXPECT_DOUBLE_EQ(out["ratio_variants"].get<double>(),
+                   mpc["perception_error_variants"]["overall"].get<double>() /
+                       washout["perception_error_variants"]["overall"].get<double>());
   EXPECT_TRUE(out["delay_p99_ms"].is_null());
   EXPECT_FALSE(out["delay_why_null"].get<std::string>().empty());
   EXPECT_EQ(out["omct"]["wz"].size(), kOmctFrequencies_rad_s.size());
