@@ -118,8 +118,8 @@ double NonNegative(const ConfigSection& section, const char* key, double fallbac
 void ReadMpc(const ConfigSection& s, MpcCueingParameters& m) {
   s.RejectUnknownKeys({"position_max", "velocity_max", "acceleration_max", "jerk_max", "leg_margin", "demand_fade_s",
                        "perceived_force_weight", "perceived_rate_weight", "position_penalty", "velocity_penalty",
-                       "acceleration_penalty", "jerk_penalty", "terminal_penalty", "solve_period_s", "fine_intervals",
-                       "coarse_interval_s", "coarse_intervals"});
+                       "acceleration_penalty", "jerk_penalty", "terminal_penalty", "horizon_discount_s",
+                       "solve_period_s", "fine_intervals", "coarse_interval_s", "coarse_intervals"});
   m.wanted.position = PositiveAxes(s, "position_max", m.wanted.position);
   m.wanted.velocity = PositiveAxes(s, "velocity_max", m.wanted.velocity);
   m.wanted.acceleration = PositiveAxes(s, "acceleration_max", m.wanted.acceleration);
@@ -136,6 +136,7 @@ void ReadMpc(const ConfigSection& s, MpcCueingParameters& m) {
   w.acceleration = NonNegative(s, "acceleration_penalty", w.acceleration);
   w.jerk = NonNegative(s, "jerk_penalty", w.jerk);
   w.terminal = NonNegative(s, "terminal_penalty", w.terminal);
+  w.horizon_discount_s = NonNegative(s, "horizon_discount_s", w.horizon_discount_s);
   MpcHorizon& h = m.horizon;
   h.solve_period_s = Positive(s, "solve_period_s", h.solve_period_s);
   h.fine_intervals = static_cast<int>(s.Integer("fine_intervals", h.fine_intervals, 1, 100));

@@ -85,7 +85,8 @@ MpcChannel::MpcChannel(const MpcChannelSetup& setup) : setup_(setup) {
   a.block(kCanal, kCanal, 3, 3) = canal.a;
   a.block(kCanal, 0, 3, kStates) += canal.b * rate_difference;
 
-  // What the cost weighs, a row each, and the weight of each row.
+  // What the cost weighs, a row each, the weight of each row, and whether
+  // it is a washout penalty (terminal_penalty times at the horizon's end).
   std::vector<Eigen::RowVectorXd> rows;
   std::vector<double> weights;
   std::vector<bool> terminal;
@@ -137,7 +138,13 @@ MpcChannel::MpcChannel(const MpcChannelSetup& setup) : setup_(setup) {
   Eigen::MatrixXd phi(n * nx, nx), gamma = Eigen::MatrixXd::Zero(n * nx, n * nu);
   Eigen::MatrixXd q_bar = Eigen::MatrixXd::Zero(n * nx, n * nx), r_bar = Eigen::MatrixXd::Zero(n * nu, n * nu);
   Eigen::MatrixXd previous = Eigen::MatrixXd::Identity(nx, nx);
+  double interval_end_s = 0.0;
   for (Eigen::Index k = 0; k < n; ++k) {
+    interval_end_s += dt[static_cast<std::size_t>(k)];
+    // The vehicle's input held this far ahead is a guess that ages: each
+    // stage weighs less the later it comes; the horizon's end, where the
+    // washout is asked for, keeps its whole weight.
+    const double stage_weight = w.horizon_discount_s > 0.0 ? std::exp(-interval_end_s / w.horizon_discount_s) : 1.0;
     const HeldSystem held = ZeroOrderHold(a, b, dt[static_cast<std::size_t>(k)]);
     phi.block(k * nx, 0, nx, nx) = held.ad * previous;
     previous = phi.block(k * nx, 0, nx, nx);
@@ -145,7 +152,7 @@ MpcChannel::MpcChannel(const MpcChannelSetup& setup) : setup_(setup) {
     gamma.block(k * nx, k * nu, nx, nu) = held.bd;
     Eigen::VectorXd weight(static_cast<Eigen::Index>(weights.size()));
     for (std::size_t r = 0; r < weights.size(); ++r) {
-      weight(static_cast<Eigen::Index>(r)) = weights[r] * (k + 1 == n && terminal[r] ? w.terminal : 1.0);
+      weight(static_cast<Eigen::Index>(r)) = weights[r] * (k + 1 == n && terminal[r] ? w.terminal : stage_weight);
     }
     q_bar.block(k * nx, k * nx, nx, nx) =
         dt[static_cast<std::size_t>(k)] * cost_rows.transpose() * weight.asDiagonal() * cost_rows;

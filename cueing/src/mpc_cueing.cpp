@@ -52,7 +52,8 @@ void ValidateMpc(const MpcCueingParameters& p) {
     }
   }
   const MpcPenalties& w = p.penalties;
-  for (double v : {w.perceived_force, w.perceived_rate, w.position, w.velocity, w.acceleration, w.jerk, w.terminal}) {
+  for (double v : {w.perceived_force, w.perceived_rate, w.position, w.velocity, w.acceleration, w.jerk, w.terminal,
+                   w.horizon_discount_s}) {
     if (!std::isfinite(v) || v < 0.0) throw std::invalid_argument(fmt::format("[mpc] a penalty is {}: must be ≥ 0", v));
   }
   if (!std::isfinite(p.demand_fade_s) || p.demand_fade_s <= 0.0) {

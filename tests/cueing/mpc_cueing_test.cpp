@@ -184,6 +184,20 @@ TEST_F(Mpc, TheManoeuvresAreFeltCloserThanClassicalWashoutFeelsThem) {
   EXPECT_LE(mpc_sum / count, 0.72 * washout_sum / count) << mpc_sum / count << " against " << washout_sum / count;
 }
 
+// The slalom's weave reverses before a tilt planned on its held input
+// would pay: with each stage weighed less the later it comes (the
+// configured horizon_discount_s), the cue chases it less late and the
+// rider feels it closer than with every stage alike.
+TEST_F(Mpc, AHeldInputThatAgesIsNotChasedLate) {
+  const Manoeuvre slalom = LoadManoeuvre(SourceDir() + "/config/manoeuvres/slalom.toml");
+  ASSERT_GT(config.mpc.penalties.horizon_discount_s, 0.0);
+  const double discounted = RunCueing(model, config, CueingAlgorithm::kModelPredictive, slalom).score.overall;
+  CueingConfig alike = config;
+  alike.mpc.penalties.horizon_discount_s = 0.0;
+  const double undiscounted = RunCueing(model, alike, CueingAlgorithm::kModelPredictive, slalom).score.overall;
+  EXPECT_LT(discounted, 0.9 * undiscounted) << discounted << " against " << undiscounted;
+}
+
 // The vehicle at rest after a brake (an input lost fades to rest): the
 // platform comes back to neutral and stays there, slowly enough that the
 // otoliths, which still feel the brake's tilt fade for seconds (τL 5.3 s),
@@ -227,6 +241,7 @@ TEST(MpcConfig, AnAbsurdValueIsNamedWithItsKeyAndLine) {
                                                         {"fine_intervals = 0", "fine_intervals"},
                                                         {"jerk_penalty = -1", "jerk_penalty"},
                                                         {"demand_fade_s = 0", "demand_fade_s"},
+                                                        {"horizon_discount_s = -1", "horizon_discount_s"},
                                                         {"horizon_s = 1", "horizon_s"}}) {
     try {
       ParseCueingConfig(base + line + "\n", "cueing.toml");

@@ -19,8 +19,9 @@
 // neutral pose (small angles), the head `lever` above the platform.
 //
 // Every solve period the jerks over a horizon of fine then coarse
-// intervals minimise Σ dt (perceived errors in thresholds² plus the
-// washout's penalties on p, v, a, θ, ω, α in their limits), subject to
+// intervals minimise Σ dt e^(−t/τ) (perceived errors in thresholds² plus
+// the washout's penalties on p, v, a, θ, ω, α in their limits) and the
+// terminal penalty, subject to
 // every state's box at every interval's end and the jerks' box: a
 // condensed QP in the jerks (cueing/dense_qp.h). The boxes are the
 // channel's largest times its share (position, velocity, acceleration),
@@ -51,6 +52,10 @@ struct MpcPenalties {
   double perceived_rate = 1.0;
   double position = 0.3, velocity = 0.05, acceleration = 0.0, jerk = 1e-4;
   double terminal = 5.0;  // the last interval's position and velocity penalties, this many times
+  // Each stage's cost weighed by e^(−t/τ) at t along the horizon, the
+  // terminal penalty whole: the vehicle's input held over the horizon is a
+  // guess that ages (0: every stage alike).
+  double horizon_discount_s = 0.5;
 };
 
 struct MpcHorizon {
