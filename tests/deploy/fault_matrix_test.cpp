@@ -277,7 +277,11 @@ Analysis Analyse(const std::string& log_path, const Timeline& t) {
         a.hold_report_utime = f.utime;
         a.hold_report = f.node + ": " + f.reason;
       }
-      if (f.node == "actuator_bridge" && f.utime >= t.fault_utime) a.bridge_reports += f.reason + "\n";
+      // By when the log received it, not its stamp: a bridge cycle that
+      // began before the fault may read the drive it faulted and report it
+      // with its own start's stamp (the later the machine runs, the more
+      // often); what was received after the fault was sent after it.
+      if (f.node == "actuator_bridge" && e.timestamp_utime >= t.fault_utime) a.bridge_reports += f.reason + "\n";
       if (f.node == "logger" && f.reason.find("resumed after") != std::string::npos) a.logger_resumed = f.reason;
     } else if (e.channel == "EDSP_STATUS") {
       node_status_t s;
@@ -289,8 +293,9 @@ Analysis Analyse(const std::string& log_path, const Timeline& t) {
         if (!launcher_faults_unlogged) launcher_faults_unlogged = s.messages_out - launcher_faults;
         a.launcher_lost = std::max(a.launcher_lost, s.messages_out - launcher_faults - *launcher_faults_unlogged);
       }
+      if (s.node == "actuator_bridge" && e.timestamp_utime >= t.fault_utime && s.state == node_status_t::STATE_HOLDING)
+        a.bridge_status_holding = true;  // received after the fault, as its reports
       if (s.utime < t.fault_utime) continue;
-      if (s.node == "actuator_bridge" && s.state == node_status_t::STATE_HOLDING) a.bridge_status_holding = true;
       if (s.node == "launcher" && s.state == node_status_t::STATE_FAULT) a.launcher_status_fault = true;
       if (s.node == "launcher" && a.launcher_report_utime && s.utime >= *a.launcher_report_utime &&
           !launcher_status_read) {
