@@ -68,9 +68,7 @@ MpcCueing::MpcCueing(const PlatformModel& model, const Pose& neutral, const Vect
                      const VestibularParameters& perception, const MpcCueingParameters& p, double period_s)
     : head_(head_in_platform_m), room_(DeriveMpcLegRoom(model, neutral, p.wanted, p.leg_margin)) {
   ValidateMpc(p);
-  const MpcChannelVector none = MpcChannelVector::Zero(), alike = MpcChannelVector::Ones();
-  limits_ = room_.Box(room_.position.Allocate(none, alike), room_.velocity.Allocate(none, alike),
-                      room_.acceleration.Allocate(none, alike));
+  limits_ = room_.AllAtOnce();
   demand_decay_ = std::exp(-period_s / p.demand_fade_s);
   for (int k = 0; k < 6; ++k) thresholds_(k) = perception.Threshold(k);
   const MpcAxisLimits& whole = room_.wanted;

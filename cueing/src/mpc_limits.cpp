@@ -167,6 +167,11 @@ MpcAxisLimits MpcLegRoom::Box(const MpcChannelVector& position_lambda, const Mpc
   return box;
 }
 
+MpcAxisLimits MpcLegRoom::AllAtOnce() const {
+  const MpcChannelVector none = MpcChannelVector::Zero(), alike = MpcChannelVector::Ones();
+  return Box(position.Allocate(none, alike), velocity.Allocate(none, alike), acceleration.Allocate(none, alike));
+}
+
 MpcLegRoom DeriveMpcLegRoom(const PlatformModel& model, const Pose& neutral, const MpcAxisLimits& wanted,
                             double margin) {
   CheckWanted(wanted.position, "position_max");
@@ -209,10 +214,7 @@ MpcLegRoom DeriveMpcLegRoom(const PlatformModel& model, const Pose& neutral, con
 
 MpcAxisLimits DeriveMpcLimits(const PlatformModel& model, const Pose& neutral, const MpcAxisLimits& wanted,
                               double margin) {
-  const MpcLegRoom room = DeriveMpcLegRoom(model, neutral, wanted, margin);
-  const MpcChannelVector none = MpcChannelVector::Zero(), alike = MpcChannelVector::Ones();
-  return room.Box(room.position.Allocate(none, alike), room.velocity.Allocate(none, alike),
-                  room.acceleration.Allocate(none, alike));
+  return DeriveMpcLegRoom(model, neutral, wanted, margin).AllAtOnce();
 }
 
 }  // namespace edsp

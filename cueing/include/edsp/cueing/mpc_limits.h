@@ -73,6 +73,8 @@ struct MpcLegRoom {
   // The box of the channels at these λs (position, velocity, acceleration).
   MpcAxisLimits Box(const MpcChannelVector& position_lambda, const MpcChannelVector& velocity_lambda,
                     const MpcChannelVector& acceleration_lambda) const;
+  // The box every channel may fill at once (each the same share of its largest).
+  MpcAxisLimits AllAtOnce() const;
 };
 
 // Throws std::invalid_argument naming the axis of a wanted limit that is
@@ -80,7 +82,7 @@ struct MpcLegRoom {
 // the workspace.
 MpcLegRoom DeriveMpcLegRoom(const PlatformModel& model, const Pose& neutral, const MpcAxisLimits& wanted,
                             double margin);
-// The box every channel may fill at once (each its equal share): what no
+// The box every channel may fill at once (MpcLegRoom::AllAtOnce): what no
 // allocation takes a channel below. Throws as DeriveMpcLegRoom.
 MpcAxisLimits DeriveMpcLimits(const PlatformModel& model, const Pose& neutral, const MpcAxisLimits& wanted,
                               double margin);
