@@ -40,9 +40,15 @@ motion_request_t MoveTo(const motion_request_t& r) {
   return move;
 }
 
-// The cue carried to `now_utime` (by the source's stamp, at most kCueLeadMax_s ahead).
+// The cue carried to `now_utime` by the source's stamp, along its velocity
+// and acceleration: forward for a cue that came late (at most
+// kCueLeadMax_s), back for one stamped after this cycle began (a source
+// that woke after a stall and caught up, another host's clock). Taken at its
+// own instant instead, a cue a period ahead would step the setpoints by two
+// periods' travel in one cycle: at a leg's top speed, more than the drives
+// may follow.
 PoseSample CueAt(const pose_setpoint_t& cue, std::int64_t now_utime) {
-  const double dt = std::clamp(static_cast<double>(now_utime - cue.utime) * 1e-6, 0.0, kCueLeadMax_s);
+  const double dt = std::clamp(static_cast<double>(now_utime - cue.utime) * 1e-6, -kCueLeadMax_s, kCueLeadMax_s);
   const Vector6 p = Eigen::Map<const Vector6>(cue.pose), v = Eigen::Map<const Vector6>(cue.velocity),
                 a = Eigen::Map<const Vector6>(cue.acceleration);
   PoseSample s;

@@ -26,8 +26,13 @@ class CueSource {
  public:
   explicit CueSource(Served& s) : s_(s) {}
   void Send(const Vector6& pose, const Vector6& velocity = Vector6::Zero(), std::int64_t session = kServiceSession) {
+    SendStamped(pose, velocity, s_.now_, session);
+  }
+  // A cue of instant `utime`, which need not be the service's now.
+  void SendStamped(const Vector6& pose, const Vector6& velocity, std::int64_t utime,
+                   std::int64_t session = kServiceSession) {
     pose_setpoint_t cue{};
-    cue.utime = s_.now_;
+    cue.utime = utime;
     cue.seq = ++seq_;
     cue.session_id = session;
     for (int k = 0; k < 6; ++k) {
@@ -195,6 +200,30 @@ TEST(MotionServiceCueing, ACueThatComesACycleLateIsCarriedAlongItsVelocityNotSto
   for (int cycle = 0; cycle < 400; ++cycle) {
     const double t = (cycle + 1) * 1e-3;
     if (cycle % 7 != 3) source.Send(neutral + Vec(0, speed * t, 0), Vec(0, speed, 0));  // every 7th comes late
+    const Vector6 now = PoseOf(s.Cycle());
+    ASSERT_NEAR(now(1) - previous(1), speed * 1e-3, 1e-12) << "cycle " << cycle << ": an even step";
+    previous = now;
+  }
+  EXPECT_EQ(s.service_.Status(s.now_).state, motion_status_t::STATE_CUEING);
+}
+
+// A source that woke after a stall stamps its cue with an instant after the
+// planner's cycle began (here up to 0.9 ms after): the setpoint is the cue
+// carried back to the cycle's instant, so the legs step by what the vehicle
+// moved in a cycle, not by the stamps' jitter on top (at a leg's top speed,
+// two periods' travel in one cycle ended the cueing as a jump).
+TEST(MotionServiceCueing, ACueStampedAfterTheCycleBeganIsTakenAtTheCyclesInstant) {
+  Served s;
+  CueSource source(s);
+  const Vector6 neutral = s.Held();
+  EngageAt(s, source, neutral);
+  const double speed = 0.3;  // m/s in y
+  const std::int64_t start_utime = s.now_;
+  Vector6 previous = PoseOf(s.Cycle());
+  for (int cycle = 0; cycle < 400; ++cycle) {
+    const std::int64_t stamp = s.now_ + (cycle % 3) * 450;  // 0, 0.45, 0.9 ms after the cycle's start
+    const double t = static_cast<double>(stamp - start_utime) * 1e-6;
+    source.SendStamped(neutral + Vec(0, speed * t, 0), Vec(0, speed, 0), stamp);
     const Vector6 now = PoseOf(s.Cycle());
     ASSERT_NEAR(now(1) - previous(1), speed * 1e-3, 1e-12) << "cycle " << cycle << ": an even step";
     previous = now;
