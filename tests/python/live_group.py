@@ -14,6 +14,11 @@ import time
 import edsp
 
 PR_SET_PDEATHSIG = 1  # <linux/prctl.h>
+# The bridge's and the kinematics' stale limit for tests of behaviour, not
+# of holding (tests/deploy/sim_group_harness.h's kStallTolerantStaleMs): a
+# CPU quota or a busy host takes the whole group away for 50 ms and more,
+# and the shipped 50 ms then latches a hold, correct but not what they test.
+STALL_TOLERANT_STALE_MS = 250
 
 
 def _die_with_parent():
@@ -31,6 +36,12 @@ def sim_group(source, bin_dir, tag, launch_args=(), rig_args=()):
         text = f.read()
     text = text.replace('shm_prefix = "edsp.sim"', f'shm_prefix = "edsp.{tag}.{os.getpid()}"')
     text = text.replace('config = "config/', f'config = "{os.path.abspath(source)}/config/')
+    stale = f'"--stale-ms", "{STALL_TOLERANT_STALE_MS}"'
+    for member, args in (('command = "edsp-actuator-bridge"\n', f'args = [{stale}]\n'),
+                         ('args = ["--pr-mode", "signed"', f', {stale}')):
+        if text.count(member) != 1:
+            raise RuntimeError(f"deploy/groups/sim.toml no longer has the line this edits: {member!r}")
+        text = text.replace(member, member + args)
     if rig_args:
         rig = 'args = ["--tracker-noise-m", "0"'
         if text.count(rig) != 1:
