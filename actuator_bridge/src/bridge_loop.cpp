@@ -14,7 +14,7 @@ BridgeLoop::BridgeLoop(Bus& bus, ActuatorBridge& bridge)
       states_(bus.Advertise<leg_state_t>(channel::kLegState)),
       replies_(bus.Advertise<reply_t>(channel::kReply)),
       reporting_(bus, "actuator_bridge"),
-      commands_in_(bus.Counters(channel::kLegCommand)) {
+      commands_in_(reporting_.WatchInput(bus, channel::kLegCommand, InputLosses::kCountedAsDrops)) {
   bus.Subscribe<leg_command_t>(channel::kLegCommand, [this](const leg_command_t& c) { OnCommand(c); });
   bus.Subscribe<arm_t>(channel::kArm, [this](const arm_t& arm) { OnArm(arm); });
 }
@@ -57,8 +57,6 @@ void BridgeLoop::RunCycle(std::int64_t now_utime, std::int64_t deadline_misses) 
   if (states_.Publish(state)) status.CountOut();
   status.SetState(bridge_.holding() ? node_status_t::STATE_HOLDING : node_status_t::STATE_RUNNING);
   status.RecordLoop(std::chrono::steady_clock::now() - start);
-  status.SetDrops(static_cast<std::int64_t>(commands_in_.seq_gaps + commands_in_.overruns));
-  reporting_.ReportUndecodable(channel::kLegCommand, commands_in_, now_utime);
   reporting_.StatusTick(now_utime, deadline_misses);
 }
 

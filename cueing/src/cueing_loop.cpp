@@ -42,7 +42,7 @@ CueingLoop::CueingLoop(Bus& bus, CueingSource& source, VehicleSocket* socket, Cu
   bus.Subscribe<motion_status_t>(channel::kMotionStatus, [this](const motion_status_t& s) { OnStatus(s); });
   if (options_.vehicle_on_bus) {
     bus.Subscribe<vehicle_motion_t>(channel::kVehicle, [this](const vehicle_motion_t& m) { OnVehicleMessage(m); });
-    vehicle_in_ = &bus.Counters(channel::kVehicle);
+    reporting_.WatchInput(bus, channel::kVehicle);
   } else if (socket_ != nullptr) {
     vehicle_out_.emplace(bus.Advertise<vehicle_motion_t>(channel::kVehicle));
   }
@@ -126,7 +126,6 @@ void CueingLoop::TakeVehicleMessages(std::int64_t now_utime) {
                                now_utime));
     vehicle_messages_dropped_ = 0;
   }
-  reporting_.ReportUndecodable(channel::kVehicle, *vehicle_in_, now_utime);
 }
 
 void CueingLoop::Ask(CueRequest request) {
@@ -178,7 +177,7 @@ void CueingLoop::Publish(const CueSetpoint& cue, std::int64_t utime, std::uint32
 bool CueingLoop::RunCycle(std::int64_t now_utime, std::int64_t deadline_misses) {
   const auto began = std::chrono::steady_clock::now();
   if (socket_ != nullptr) TakePackets(now_utime);
-  if (vehicle_in_ != nullptr) TakeVehicleMessages(now_utime);
+  if (options_.vehicle_on_bus) TakeVehicleMessages(now_utime);
   TakeAnswer(now_utime);
   const CueingStep step = source_.Step(static_cast<double>(now_utime) * 1e-6);
   if (step.cue) Publish(*step.cue, std::llround(step.time_s * 1e6), step.input_sequence);

@@ -24,8 +24,9 @@ KinematicsLoop::KinematicsLoop(Bus& bus, KinematicsNode& kinematics, KinematicsL
       states_(bus.Advertise<platform_state_t>(channel::kPlatformState)),
       config_out_(bus.Advertise<platform_config_t>(channel::kConfig)),
       replies_(bus.Advertise<reply_t>(channel::kReply)),
-      reporting_(bus, "kinematics"),
-      setpoints_in_(bus.Counters(channel::kSetpoint)) {
+      reporting_(bus, "kinematics") {
+  reporting_.WatchInput(bus, channel::kSetpoint, InputLosses::kCountedAsDrops);
+  reporting_.WatchInput(bus, channel::kLegState);
   if (options_.leg_state_decimation < 1) {
     throw std::invalid_argument("leg_state_decimation " + std::to_string(options_.leg_state_decimation) +
                                 ": one platform state per N >= 1 leg states");
@@ -92,9 +93,6 @@ void KinematicsLoop::Poll(std::int64_t now) {
     config_out_.Publish(kinematics_.ConfigMessage(now, options_.config_text));
     next_config_utime_ = now + kConfigPeriod_us;
   }
-  reporting_.status().SetDrops(static_cast<std::int64_t>(setpoints_in_.seq_gaps + setpoints_in_.overruns));
-  reporting_.ReportUndecodable(channel::kSetpoint, setpoints_in_, now);
-  reporting_.ReportUndecodable(channel::kLegState, bus_.Counters(channel::kLegState), now);
   reporting_.StatusTick(now, 0);
 }
 

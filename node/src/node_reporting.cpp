@@ -25,8 +25,28 @@ void NodeReporting::Fault(fault_t fault) {
 
 void NodeReporting::Announce(const fault_t& fault) { faults_.Publish(fault); }
 
+const ChannelCounters& NodeReporting::WatchInput(Bus& bus, const std::string& channel, InputLosses losses) {
+  const ChannelCounters& in = bus.Counters(channel);
+  inputs_.push_back({channel, &in, losses});
+  return in;
+}
+
 void NodeReporting::StatusTick(std::int64_t now_utime, std::int64_t deadline_misses) {
+  ReportInputs(now_utime);
   if (status_.Due(now_utime)) status_out_.Publish(status_.Report(now_utime, deadline_misses));
+}
+
+void NodeReporting::ReportInputs(std::int64_t now_utime) {
+  std::uint64_t drops = 0;
+  bool counted = false;
+  for (const WatchedInput& w : inputs_) {
+    if (w.losses == InputLosses::kCountedAsDrops) {
+      drops += w.in->seq_gaps + w.in->overruns;
+      counted = true;
+    }
+    ReportUndecodable(w.channel, *w.in, now_utime);
+  }
+  if (counted) status_.SetDrops(static_cast<std::int64_t>(drops));
 }
 
 void NodeReporting::ReportUndecodable(std::string_view channel, const ChannelCounters& in, std::int64_t now_utime) {

@@ -16,8 +16,8 @@ PlannerLoop::PlannerLoop(Bus& bus, MotionService& service, PlannerLoopOptions op
       setpoints_(bus.Advertise<pose_setpoint_t>(channel::kSetpoint)),
       replies_(bus.Advertise<motion_reply_t>(channel::kMotionReply)),
       motion_status_(bus.Advertise<motion_status_t>(channel::kMotionStatus)),
-      reporting_(bus, "planner"),
-      requests_in_(bus.Counters(channel::kMotionRequest)) {
+      reporting_(bus, "planner") {
+  reporting_.WatchInput(bus, channel::kMotionRequest);
   bus.Subscribe<motion_request_t>(channel::kMotionRequest,
                                   [this](const motion_request_t& request) { OnRequest(request); });
   bus.Subscribe<leg_state_t>(channel::kLegState,
@@ -104,7 +104,6 @@ bool PlannerLoop::RunCycle(std::int64_t now_utime, std::int64_t deadline_misses)
                                std::move(fault->reason), now_utime));
   }
   reporting_.status().RecordLoop(std::chrono::steady_clock::now() - began);
-  reporting_.ReportUndecodable(channel::kMotionRequest, requests_in_, now_utime);
   reporting_.StatusTick(now_utime, deadline_misses);
   return go_on;
 }

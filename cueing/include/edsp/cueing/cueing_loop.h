@@ -74,7 +74,6 @@ class CueingLoop {
   // EDSP_VEHICLE's messages since the last cycle, taken at its start as
   // the socket's are; at most a second of a 1 kHz host's (the rest dropped, said).
   std::deque<vehicle_motion_t> vehicle_messages_;
-  const ChannelCounters* vehicle_in_ = nullptr;  // EDSP_VEHICLE's, when read: its undecodable packets said
   std::uint64_t vehicle_messages_dropped_ = 0;
   std::optional<CueRequest> in_flight_;
   std::int64_t engage_id_ = 0;  // the last engage's request id: the planner's status names it while it follows

@@ -53,7 +53,6 @@ class KinematicsLoop {
   Bus::Publisher<platform_config_t> config_out_;
   Bus::Publisher<reply_t> replies_;
   NodeReporting reporting_;
-  const ChannelCounters& setpoints_in_;  // node-based map: no lookup per message
   std::int64_t leg_states_ = 0;
   std::int64_t next_config_utime_ = 0;
 };

@@ -69,7 +69,6 @@ class PlannerLoop {
   Bus::Publisher<motion_reply_t> replies_;
   Bus::Publisher<motion_status_t> motion_status_;
   NodeReporting reporting_;
-  const ChannelCounters& requests_in_;  // node-based map: no lookup per cycle
   std::int64_t next_motion_status_utime_ = 0;
   std::int64_t motion_status_seq_ = 0;  // the publisher's own count: a reader's seq gaps are losses
 
