@@ -28,20 +28,22 @@ def _die_with_parent():
 
 
 @contextlib.contextmanager
-def sim_group(source, bin_dir, tag, launch_args=(), rig_args=()):
-    """Yields the group file's path while the group runs; `rig_args` after the rig's own."""
+def sim_group(source, bin_dir, tag, launch_args=(), rig_args=(), stale_ms=STALL_TOLERANT_STALE_MS):
+    """Yields the group file's path while the group runs; `rig_args` after the rig's own;
+    the bridge and kinematics at `stale_ms` (None: as shipped, for a test of the hold)."""
     work = tempfile.mkdtemp(prefix=f"edsp_{tag}_")
     bin_dir = os.path.abspath(bin_dir)  # the group runs in `work`
     with open(os.path.join(source, "deploy", "groups", "sim.toml"), encoding="utf-8") as f:
         text = f.read()
     text = text.replace('shm_prefix = "edsp.sim"', f'shm_prefix = "edsp.{tag}.{os.getpid()}"')
     text = text.replace('config = "config/', f'config = "{os.path.abspath(source)}/config/')
-    stale = f'"--stale-ms", "{STALL_TOLERANT_STALE_MS}"'
+    stale = f'"--stale-ms", "{stale_ms}"'
     for member, args in (('command = "edsp-actuator-bridge"\n', f'args = [{stale}]\n'),
                          ('args = ["--pr-mode", "signed"', f', {stale}')):
         if text.count(member) != 1:
             raise RuntimeError(f"deploy/groups/sim.toml no longer has the line this edits: {member!r}")
-        text = text.replace(member, member + args)
+        if stale_ms is not None:
+            text = text.replace(member, member + args)
     if rig_args:
         rig = 'args = ["--tracker-noise-m", "0"'
         if text.count(rig) != 1:

@@ -18,10 +18,10 @@ WEB = os.path.join(BIN, "edsp-web")
 
 
 @contextlib.contextmanager
-def serve(work, extra=(), rig_args=()):
+def serve(work, extra=(), rig_args=(), stale_ms=live_group.STALL_TOLERANT_STALE_MS):
     """Yields {port, operator, viewer, group, pid, tokens, work} while the
-    group (its rig with `rig_args`) and the server (with edsp-web's options
-    `extra`) run."""
+    group (its rig with `rig_args`, its bridge and kinematics at `stale_ms`)
+    and the server (with edsp-web's options `extra`) run."""
     tokens = str(work / "tokens.toml")
 
     def add(name, role):
@@ -29,7 +29,7 @@ def serve(work, extra=(), rig_args=()):
                                        text=True, stderr=subprocess.DEVNULL).strip()
 
     operator, viewer = add("alice", "operator"), add("bob", "viewer")
-    with live_group.sim_group(SOURCE, BIN, "web", rig_args=rig_args) as group:
+    with live_group.sim_group(SOURCE, BIN, "web", rig_args=rig_args, stale_ms=stale_ms) as group:
         live_group.connect(group)
         with server(work / "web.err", group, tokens, extra) as (port, pid):
             yield {"port": port, "operator": operator, "viewer": viewer, "group": group, "pid": pid,

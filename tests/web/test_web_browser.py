@@ -57,8 +57,11 @@ def served(tmp_path_factory):
     work = tmp_path_factory.mktemp("web")
     drift = work / "drift.json"
     drift.write_text(json.dumps(DRIFT))
+    # The bridge at its shipped stale limit: a killed kinematics node must
+    # latch its hold before the launcher has restarted it (a stall's hold is
+    # re-armed before each test: _following).
     with served_web.serve(work, ["--drift-report", str(drift)],
-                          ["--tracker-frame", ",".join(str(v) for v in TRACKER_FRAME)]) as server:
+                          ["--tracker-frame", ",".join(str(v) for v in TRACKER_FRAME)], stale_ms=None) as server:
         yield {**server, "drift": drift}
 
 
