@@ -174,6 +174,24 @@ BlindScenario DrawBlindWholeRig(std::uint64_t seed, int index, double payload_ma
   return s;
 }
 
+BlindScenario DrawBlindEveryClassRig(std::uint64_t seed, int index, double payload_max_kg) {
+  BlindScenario s = DrawBlindWholeRig(seed, index, payload_max_kg);
+  Draw d(seed * 0x94d049bb133111ebULL + static_cast<std::uint64_t>(index) * 15485863ULL + 5);
+  BlindEffects& e = s.effects;
+  constexpr double kLightestKg = 100.0;
+  e.mass_kg = d.LogUniform(kLightestKg, std::max(kLightestKg * 1.001, payload_max_kg));
+  std::vector<std::string> parts = {fmt::format("every class: {:.0f} kg (c.o.m. {:.2f} m up) on {:.1f} N/um legs",
+                                                e.mass_kg, e.com_M.z(), e.stiffness_N_m.mean() * 1e-6)};
+  std::vector<std::string> dynamic = {"servo_lag", "thermal_drift"};
+  if (d.Index(2) == 0) dynamic.push_back("passive_rotation");
+  for (const std::string& name : dynamic) {
+    s.truth.push_back(name);
+    parts.push_back(AddEffect(name, d, &e));
+  }
+  s.description = fmt::format("{}", fmt::join(parts, "; "));
+  return s;
+}
+
 std::vector<std::string> OutOfVocabularyKinds() {
   return {"floor_vibration", "base_tilt", "stand_drift", "clock_drift", "target_reseat"};
 }

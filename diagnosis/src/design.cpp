@@ -231,7 +231,85 @@ void FillColumns(const PlatformModel& model, const Samples& samples, Design* d) 
   }
 }
 
+// The drives' following error as the encoders recorded it (leg_cmd −
+// leg_enc), split in two: the part servo_lag's terms describe (each leg's
+// velocity and acceleration, the legs' jerk alike: leg_error_model.cpp),
+// fitted to the encoders alone, stays in the residual for servo_lag to
+// explain and size; the rest (a soft loop ringing after each change of
+// acceleration, a load it has not yet caught up with) is taken out of the
+// residual as measured, where it stands above the tracker's noise. That part
+// is the drives' own, sample by sample: no effect of the platform can
+// explain it, and left in, a ringing loop is taken for a swaying structure.
+void TakeOutWhatTheLagTermsCannot(const std::vector<calibration::LegErrorState>& states, Design* d) {
+  if (!d->has_encoder) return;
+  constexpr int kTerms = 13;  // 6 velocity, 6 acceleration, 1 jerk
+  const auto terms = [&](std::size_t s, int leg) {
+    Eigen::Matrix<double, kTerms, 1> x = Eigen::Matrix<double, kTerms, 1>::Zero();
+    x(leg) = states[s].velocity(leg);
+    x(6 + leg) = states[s].accel(leg);
+    x(12) = states[s].jerk(leg);
+    return x;
+  };
+  Eigen::Matrix<double, kTerms, kTerms> gram = Eigen::Matrix<double, kTerms, kTerms>::Zero();
+  Eigen::Matrix<double, kTerms, 1> rhs = Eigen::Matrix<double, kTerms, 1>::Zero();
+  for (std::size_t s = 0; s < states.size(); ++s) {
+    for (int leg = 0; leg < 6; ++leg) {
+      const Eigen::Matrix<double, kTerms, 1> x = terms(s, leg);
+      gram += x * x.transpose();
+      rhs += x * d->servo_error_m[s](leg);
+    }
+  }
+  // A term never excited (a leg at rest all session) is left at zero.
+  for (int k = 0; k < kTerms; ++k) {
+    if (gram(k, k) <= 0.0) gram(k, k) = 1.0;
+  }
+  const Eigen::Matrix<double, kTerms, 1> lag = gram.ldlt().solve(rhs);
+  std::vector<Vector6> described(states.size());
+  double rest2 = 0.0, described2 = 0.0;
+  for (std::size_t s = 0; s < states.size(); ++s) {
+    for (int leg = 0; leg < 6; ++leg) described[s](leg) = terms(s, leg).dot(lag);
+    rest2 += (d->point_per_leg[s] * (d->servo_error_m[s] - described[s])).squaredNorm();
+    described2 += (d->point_per_leg[s] * described[s]).squaredNorm();
+  }
+  const double n = std::max<double>(1.0, static_cast<double>(states.size()));
+  d->drives_rest_rms_m = std::sqrt(rest2 / n);
+  d->drives_described_rms_m = std::sqrt(described2 / n);
+  // Under the tracker's noise the rest cannot pass for structure: it is left
+  // where it is, for servo_lag's terms to take up what they can of it as the
+  // drives' (a stiff loop's rest is a micrometre, its lag a few).
+  const double sigma_axis = NoiseFloorRms(*d) / std::sqrt(3.0);
+  d->drives_rest_taken_out = d->drives_rest_rms_m > sigma_axis;
+  if (!d->drives_rest_taken_out) return;
+  for (std::size_t s = 0; s < states.size(); ++s) {
+    d->residual.segment<3>(3 * static_cast<Eigen::Index>(s)) +=
+        d->point_per_leg[s] * (d->servo_error_m[s] - described[s]);
+    d->servo_error_m[s] = described[s];
+  }
+}
+
 }  // namespace
+
+double NoiseFloorRms(const Design& d) {
+  std::vector<double> diffs, all;
+  for (const ColumnRange& run : d.run_samples) {
+    for (int k = run.begin + 1; k < run.begin + run.count; ++k) {
+      const bool rest = d.leg_velocity_m_s[static_cast<std::size_t>(k)].cwiseAbs().maxCoeff() < 1e-5 &&
+                        d.leg_velocity_m_s[static_cast<std::size_t>(k - 1)].cwiseAbs().maxCoeff() < 1e-5;
+      for (int axis = 0; axis < 3; ++axis) {
+        const double diff = d.residual(3 * k + axis) - d.residual(3 * (k - 1) + axis);
+        all.push_back(std::abs(diff));
+        if (rest) diffs.push_back(std::abs(diff));
+      }
+    }
+  }
+  std::vector<double>& use = diffs.size() >= 150 ? diffs : all;
+  if (use.empty()) return 0.0;
+  std::nth_element(use.begin(), use.begin() + static_cast<std::ptrdiff_t>(use.size() / 2), use.end());
+  const double mad = use[use.size() / 2];
+  // |a − b| of two N(0, σ²) samples has median 0.6745·√2·σ.
+  const double sigma = mad / (0.6745 * std::sqrt(2.0));
+  return std::sqrt(3.0) * sigma;
+}
 
 Design BuildDesign(const PlatformModel& model, const MeasurementData& data, const DesignOptions& o) {
   Design d;
@@ -243,6 +321,7 @@ Design BuildDesign(const PlatformModel& model, const MeasurementData& data, cons
   AddJerk(d, &samples.states);
   ClassifyAppliedPr(model, samples.states, &d);
   FillColumns(model, samples, &d);
+  TakeOutWhatTheLagTermsCannot(samples.states, &d);
   return d;
 }
 

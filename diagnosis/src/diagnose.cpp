@@ -82,28 +82,6 @@ void Identifiability(const Design& d, const GramSet& gram, const Eigen::VectorXd
 
 }  // namespace
 
-double NoiseFloorRms(const Design& d) {
-  std::vector<double> diffs, all;
-  for (const ColumnRange& run : d.run_samples) {
-    for (int k = run.begin + 1; k < run.begin + run.count; ++k) {
-      const bool rest = d.leg_velocity_m_s[static_cast<std::size_t>(k)].cwiseAbs().maxCoeff() < 1e-5 &&
-                        d.leg_velocity_m_s[static_cast<std::size_t>(k - 1)].cwiseAbs().maxCoeff() < 1e-5;
-      for (int axis = 0; axis < 3; ++axis) {
-        const double diff = d.residual(3 * k + axis) - d.residual(3 * (k - 1) + axis);
-        all.push_back(std::abs(diff));
-        if (rest) diffs.push_back(std::abs(diff));
-      }
-    }
-  }
-  std::vector<double>& use = diffs.size() >= 150 ? diffs : all;
-  if (use.empty()) return 0.0;
-  std::nth_element(use.begin(), use.begin() + static_cast<std::ptrdiff_t>(use.size() / 2), use.end());
-  const double mad = use[use.size() / 2];
-  // |a − b| of two N(0, σ²) samples has median 0.6745·√2·σ.
-  const double sigma = mad / (0.6745 * std::sqrt(2.0));
-  return std::sqrt(3.0) * sigma;
-}
-
 std::vector<std::string> AmbiguousWithNames(const EffectResult& r) {
   std::vector<std::string> names;
   for (Effect e : r.ambiguous_with) names.emplace_back(EffectName(e));

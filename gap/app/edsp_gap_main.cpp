@@ -14,6 +14,8 @@
 //   edsp-gap benchmark --mode drift --scenarios N --seed S [--noise-m 5e-6] [--session-motions Lz,…] [--json]
 //                      (drift on whole rigs)
 //   edsp-gap benchmark --mode events --scenarios N --seed S [--motions …] [--json]   (changes within a session)
+//   edsp-gap benchmark --mode whole --scenarios N --seed S [--generator rig|blind] [--json]
+//                      (whole rigs of every class, scored as effects)
 #include <unistd.h>
 
 #include <cstdio>
@@ -227,8 +229,9 @@ CLI::App* AddBenchmark(CLI::App& app, BenchmarkArgs* a) {
                 "effects: which effect the diagnosis names; calibration: the loop closed on whole rigs, "
                 "designed motions against six; drift: what edsp-gap drift names on rigs that "
                 "changed or not "
-                "(--scenarios rigs); events: changes within a session found as events, on the blind rig")
-      ->check(CLI::IsMember({"effects", "calibration", "drift", "events"}));
+                "(--scenarios rigs); events: changes within a session found as events, on the blind rig; "
+                "whole: every scenario a whole rig of every class (static, dynamic, thermal), scored as effects")
+      ->check(CLI::IsMember({"effects", "calibration", "drift", "events", "whole"}));
   c->add_option("--held-out", a->held_out, "calibration mode: motions no fit sees, comma-separated")->delimiter(',');
   c->add_option("--session-motions", a->session_motions,
                 "drift mode: the motions of the sessions after the calibration, comma-separated")
@@ -396,6 +399,7 @@ int RunBenchmarkCommand(BenchmarkArgs a) {
   if (a.mode == "events") return RunEventsBenchmarkCommand(a);
   if (a.mode == "drift") return RunDriftBenchmarkCommand(a);
   a.bench.keep_dir = a.keep_dir;
+  a.bench.whole_rigs = a.mode == "whole";
   if (a.bench.closed_loop_motions == std::vector<std::string>{"none"}) a.bench.closed_loop_motions.clear();
   a.bench.progress = !a.json || isatty(fileno(stderr));
   const BenchmarkResult result = RunBenchmark(a.bench);

@@ -58,7 +58,8 @@ bool IsMiss(const ScenarioScore& s) {
   switch (s.kind) {
     case ScenarioKind::kNone: return s.false_identified;
     case ScenarioKind::kSingle: return s.false_identified || !s.top_identified_true;
-    case ScenarioKind::kPair: return s.false_identified || !s.all_identified;
+    case ScenarioKind::kPair:
+    case ScenarioKind::kWholeRig: return s.false_identified || !s.all_identified;
     case ScenarioKind::kOutOfVocabulary: return false;
   }
   return false;
@@ -75,7 +76,7 @@ ScenarioScore Score(const Drawn& s, const Diagnosis& d) {
   };
   // The report's ranking, pseudo-effects included (`none` or `unknown` may
   // be the top); only an effect of the vocabulary counts as identified.
-  std::vector<std::string> identified;
+  std::vector<std::string>& identified = score.identified;
   for (const RankedEntry& e : Ranking(d)) {
     const std::string name = RankedName(e);
     const Verdict verdict = RankedVerdict(e);
@@ -91,6 +92,15 @@ ScenarioScore Score(const Drawn& s, const Diagnosis& d) {
     return std::all_of(s.truth.begin(), s.truth.end(),
                        [&](const std::string& t) { return std::find(names.begin(), names.end(), t) != names.end(); });
   };
+  // On a whole rig, joint centres fitted move each leg's length as well: a
+  // leg offset is then not a separate effect to name.
+  const auto covers_leg_offsets = [&](std::vector<std::string>* names) {
+    const auto has = [&](const char* n) { return std::find(names->begin(), names->end(), n) != names->end(); };
+    if (s.kind == ScenarioKind::kWholeRig && has("joint_position") && !has("leg_offset"))
+      names->push_back("leg_offset");
+  };
+  covers_leg_offsets(&score.found);
+  covers_leg_offsets(&identified);
   score.all_found = all_in(score.found);
   score.all_identified = all_in(identified);
   score.before_rms_m = d.holdout_before.rms_m;
@@ -121,14 +131,38 @@ void CompareWithTheTruth(const PlatformModel& model, const MeasurementData& data
   score->data_tell_apart = truth2 < (1.0 - options.min_cv_gain) * found2;
 }
 
+// A whole rig's true effects that were not identified: can these runs show
+// each one at all? The true effects fitted without it, against all of them.
+void SplitMissedByWhatTheRunsShow(const PlatformModel& model, const MeasurementData& data, const Diagnosis& d,
+                                  const std::vector<std::string>& identified, ScenarioScore* score) {
+  std::vector<Effect> truth;
+  for (const std::string& name : score->truth) {
+    Effect e;
+    if (ParseEffect(name, &e)) truth.push_back(e);
+  }
+  const DiagnoseOptions options;
+  double all2 = -1.0;
+  for (const Effect e : truth) {
+    const std::string name = EffectName(e);
+    if (std::find(identified.begin(), identified.end(), name) != identified.end()) continue;
+    if (all2 < 0.0) all2 = std::pow(HeldOutRmsOf(model, data, options, d, truth), 2);
+    std::vector<Effect> without = truth;
+    without.erase(std::remove(without.begin(), without.end(), e), without.end());
+    const double without2 = std::pow(HeldOutRmsOf(model, data, options, d, without), 2);
+    (all2 < (1.0 - options.min_cv_gain) * without2 ? score->missed_shown : score->missed_unshown).push_back(name);
+  }
+  score->all_shown_identified = score->missed_shown.empty();
+}
+
 double SecondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 // Scenario k on edsp's own rig (edsp-sim rig's offline run).
-Drawn DrawOnRig(const BenchmarkOptions& options, const std::string& config, Rng& frames, int k,
+Drawn DrawOnRig(const BenchmarkOptions& options, const std::string& config, Rng& frames, int k, double rated_payload_kg,
                 const std::string& dir) {
-  const Scenario s = DrawScenario(options.seed, k);
+  const Scenario s =
+      options.whole_rigs ? DrawEveryClassRig(options.seed, k, rated_payload_kg) : DrawScenario(options.seed, k);
   OfflineRunOptions run;
   run.motions = options.motions;
   run.paper.stops = 5;
@@ -142,7 +176,7 @@ Drawn DrawOnRig(const BenchmarkOptions& options, const std::string& config, Rng&
   run.tracker.X_TB = DrawTrackerStand(frames);
   run.out_dir = dir;
   Drawn drawn;
-  drawn.kind = KindOfEffects(s.truth.size());
+  drawn.kind = options.whole_rigs ? ScenarioKind::kWholeRig : KindOfEffects(s.truth.size());
   for (Effect e : s.truth) drawn.truth.push_back(EffectName(e));
   drawn.description = s.description;
   drawn.noise_sigma_m = run.tracker.noise_sigma_m;
@@ -160,10 +194,12 @@ Drawn DrawOnRig(const BenchmarkOptions& options, const std::string& config, Rng&
 
 // Scenario k on the blind rig (blindrig/): its own kinematics, effects,
 // motions and tracker draw; only the config's numbers are shared.
-Drawn DrawOnBlindRig(const BenchmarkOptions& options, const PlatformConfig& config, int k, const std::string& dir) {
+Drawn DrawOnBlindRig(const BenchmarkOptions& options, const PlatformConfig& config, int k, double rated_payload_kg,
+                     const std::string& dir) {
   const std::optional<bool> encoders =
       options.encoders == "drawn" ? std::nullopt : std::optional<bool>(options.encoders == "with");
-  const blind::BlindScenario s = blind::DrawBlindScenario(options.seed, k, encoders);
+  const blind::BlindScenario s = options.whole_rigs ? blind::DrawBlindEveryClassRig(options.seed, k, rated_payload_kg)
+                                                    : blind::DrawBlindScenario(options.seed, k, encoders);
   blind::BlindRigSetup setup = blind::SetupFromConfig(config);
   setup.motions = options.motions;
   Drawn drawn;
@@ -193,7 +229,7 @@ Drawn DrawOnBlindRig(const BenchmarkOptions& options, const PlatformConfig& conf
 double AttainableShrink(const ScenarioScore& s) { return std::max(0.0, Shrink(s.before_rms_m, s.noise_floor_m)); }
 
 void Tally(BenchmarkResult* r) {
-  std::vector<double> shrinks, attainable, gap_shrinks, ratios, seconds;
+  std::vector<double> shrinks, attainable, gap_shrinks, ratios, seconds, whole_ratios;
   for (const ScenarioScore& s : r->scores) {
     seconds.push_back(s.diagnose_s);
     r->misses += s.miss;
@@ -211,7 +247,16 @@ void Tally(BenchmarkResult* r) {
       continue;
     }
     r->extra_identified += s.false_identified;
-    if (s.kind == ScenarioKind::kSingle) {
+    if (s.kind == ScenarioKind::kWholeRig) {
+      const double floor = std::sqrt(3.0) * s.noise_sigma_m;
+      ++r->whole;
+      r->whole_all_named += s.all_shown_identified;
+      r->whole_all_identified += s.all_identified;
+      r->whole_unshown += static_cast<int>(s.missed_unshown.size());
+      r->whole_closed += s.after_rms_m <= kWholeRigClosedFloorRatio * floor;
+      r->whole_wrong += s.false_identified;
+      whole_ratios.push_back(floor > 0 ? s.after_rms_m / floor : 0.0);
+    } else if (s.kind == ScenarioKind::kSingle) {
       ++r->single;
       r->single_top_true += s.top_true;
       r->single_identified_top_true += s.top_identified_true;
@@ -230,6 +275,7 @@ void Tally(BenchmarkResult* r) {
   r->median_gap_shrink = Median(gap_shrinks);
   r->median_after_over_noise = Median(ratios);
   r->median_diagnose_s = Median(seconds);
+  r->median_whole_after_over_floor = Median(whole_ratios);
   std::vector<double> measured, predicted, measured_gap, predicted_gap;
   for (const ScenarioScore& s : r->scores) {
     if (!s.closed_loop || s.kind == ScenarioKind::kNone || s.kind == ScenarioKind::kOutOfVocabulary) continue;
@@ -268,7 +314,10 @@ std::vector<Target> Targets(const BenchmarkResult& r) {
           {"any_false_identified", Rate(r.any_false_identified, static_cast<int>(r.scores.size())), 0.05, true,
            static_cast<int>(r.scores.size())},
           {"median_shrink", r.median_shrink, 0.85, false, r.single + r.pairs},
-          {"median_gap_shrink", r.median_gap_shrink, 0.85, false, r.single + r.pairs}};
+          {"median_gap_shrink", r.median_gap_shrink, 0.85, false, r.single + r.pairs},
+          {"whole_rig_all_shown_named", Rate(r.whole_all_named, r.whole), 0.90, false, r.whole},
+          {"whole_rig_closed", Rate(r.whole_closed, r.whole), 0.90, false, r.whole},
+          {"whole_rig_wrong_named", Rate(r.whole_wrong, r.whole), 0.05, true, r.whole}};
 }
 
 bool Met(const Target& t) { return t.scenarios == 0 || (t.at_most ? t.rate <= t.target : t.rate >= t.target); }
@@ -295,19 +344,21 @@ BenchmarkResult RunBenchmark(const BenchmarkOptions& options) {
       options.keep_dir.empty()
           ? (std::filesystem::temp_directory_path() / fmt::format("edsp-gap-bench-{}", ::getpid())).string()
           : options.keep_dir;
+  const double rated_payload_kg = options.whole_rigs ? WholeRigRatedPayload(model) : 0.0;
   Rng frames(options.seed);
   for (int k = 0; k < options.scenarios; ++k) {
     Progress(options, k, options.scenarios, fmt::format("scenario {}: simulating", k));
     const std::string dir = fmt::format("{}/scenario-{:03d}", root, k);
     std::filesystem::create_directories(dir);
-    const Drawn drawn = options.generator == "blind" ? DrawOnBlindRig(options, platform, k, dir)
-                                                     : DrawOnRig(options, config, frames, k, dir);
+    const Drawn drawn = options.generator == "blind" ? DrawOnBlindRig(options, platform, k, rated_payload_kg, dir)
+                                                     : DrawOnRig(options, config, frames, k, rated_payload_kg, dir);
     Progress(options, k, options.scenarios, fmt::format("scenario {}: diagnosing", k));
     // Blind: the diagnosis sees the measurement CSV and the nominal model only.
     const MeasurementData data = LoadMeasurement(drawn.csv_path);
     const Diagnosis d = Diagnose(model, data);
     ScenarioScore score = Score(drawn, d);
     if (score.miss) CompareWithTheTruth(model, data, d, &score);
+    if (score.kind == ScenarioKind::kWholeRig) SplitMissedByWhatTheRunsShow(model, data, d, score.identified, &score);
     score.index = k;
     score.simulate_s = drawn.simulate_s;
     if (drawn.run && !options.closed_loop_motions.empty()) {
@@ -349,6 +400,7 @@ BenchmarkResult RunBenchmark(const BenchmarkOptions& options) {
 
 nlohmann::json ToJson(const BenchmarkResult& r) {
   nlohmann::json j;
+  j["mode"] = r.options.whole_rigs ? "whole" : "effects";
   j["generator"] = r.options.generator;
   j["encoders"] = r.options.encoders;
   j["seed"] = r.options.seed;
@@ -372,6 +424,14 @@ nlohmann::json ToJson(const BenchmarkResult& r) {
   j["out_of_vocabulary"] = {{"scenarios", r.out_of_vocabulary},
                             {"unknown", r.out_of_vocabulary_unknown},
                             {"rate", Rate(r.out_of_vocabulary_unknown, r.out_of_vocabulary)}};
+  j["whole_rig"] = {{"scenarios", r.whole},
+                    {"all_shown_named", r.whole_all_named},
+                    {"all_named", r.whole_all_identified},
+                    {"effects_below_what_the_runs_show", r.whole_unshown},
+                    {"closed", r.whole_closed},
+                    {"closed_within_floor_times", kWholeRigClosedFloorRatio},
+                    {"wrong_named", r.whole_wrong},
+                    {"median_after_over_floor", r.median_whole_after_over_floor}};
   j["any_false_identified"] = {{"scenarios", r.any_false_identified},
                                {"rate", Rate(r.any_false_identified, static_cast<int>(r.scores.size()))}};
   j["with_effects_extra_identified"] = r.extra_identified;  // a false effect identified beside the true ones
@@ -406,6 +466,7 @@ nlohmann::json ToJson(const BenchmarkResult& r) {
                             {"truth", s.truth},
                             {"description", s.description},
                             {"found", s.found},
+                            {"identified", s.identified},
                             {"top", s.top},
                             {"conclusion", ConclusionName(s.conclusion)},
                             {"top_true", s.top_true},
@@ -426,6 +487,9 @@ nlohmann::json ToJson(const BenchmarkResult& r) {
       j["results"].back()["miss"] = {{"truth_heldout_rms_m", s.truth_heldout_rms_m},
                                      {"found_heldout_rms_m", s.found_heldout_rms_m},
                                      {"truth_predicts_better", s.data_tell_apart}};
+    }
+    if (s.kind == ScenarioKind::kWholeRig) {
+      j["results"].back()["missed"] = {{"shown", s.missed_shown}, {"below_what_the_runs_show", s.missed_unshown}};
     }
     if (s.closed_loop) {
       j["results"].back()["closed_loop"] = {{"before_rms_m", s.closed_before_rms_m},
@@ -468,6 +532,14 @@ void PrintBenchmark(const BenchmarkResult& r) {
       r.single_top_true, r.single, r.pairs_both, r.pairs, r.clean_nothing_identified, r.clean, r.extra_identified,
       100 * r.median_shrink, 100 * r.median_attainable_shrink, 100 * r.median_gap_shrink, r.median_after_over_noise,
       r.median_diagnose_s);
+  if (r.whole > 0) {
+    std::printf(
+        "whole rigs: every effect the runs show identified (leg offsets by joint centres) %d/%d (every true "
+        "effect %d/%d; %d effects below what the runs show); held out within %.1f× the noise floor %d/%d "
+        "(median %.2f×); a false effect identified %d/%d\n",
+        r.whole_all_named, r.whole, r.whole_all_identified, r.whole, r.whole_unshown, kWholeRigClosedFloorRatio,
+        r.whole_closed, r.whole, r.median_whole_after_over_floor, r.whole_wrong, r.whole);
+  }
   std::printf(
       "misses (a true effect not identified, a false one identified): %d, of which the true effects "
       "predict the held-out runs better in %d (the others the data cannot tell apart)\n",

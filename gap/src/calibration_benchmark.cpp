@@ -22,7 +22,6 @@
 #include "edsp/diagnosis/report.h"
 #include "edsp/gap/rig_scenarios.h"
 #include "edsp/kinematics/config.h"
-#include "edsp/rig/payload_rating.h"
 #include "edsp/sim/offline_run.h"
 #include "draws.h"
 #include "edsp/node/build_paths.h"
@@ -162,8 +161,7 @@ CalibrationBenchmarkResult RunCalibrationBenchmark(const CalibrationBenchmarkOpt
   const std::string config = options.config_path.empty() ? SourcePath("config/huang2021.toml") : options.config_path;
   const PlatformConfig platform = LoadConfigFile(config);
   const PlatformModel model(platform);
-  result.rated_payload_kg =
-      RatePayload(model, RigEffects{}.servo_lag, Vector3(0, 0, kWholeRigComHeightMaxM)).payload_kg;
+  result.rated_payload_kg = WholeRigRatedPayload(model);
   const std::string root =
       options.keep_dir.empty()
           ? (std::filesystem::temp_directory_path() / fmt::format("edsp-gap-calibration-bench-{}", ::getpid())).string()

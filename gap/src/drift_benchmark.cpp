@@ -16,7 +16,6 @@
 #include "edsp/diagnosis/report.h"
 #include "edsp/gap/rig_scenarios.h"
 #include "edsp/kinematics/config.h"
-#include "edsp/rig/payload_rating.h"
 #include "edsp/sim/offline_run.h"
 #include "draws.h"
 #include "edsp/node/build_paths.h"
@@ -143,7 +142,7 @@ DriftBenchmarkResult RunDriftBenchmark(const DriftBenchmarkOptions& o) {
   result.options = o;
   const std::string config = o.config_path.empty() ? SourcePath("config/huang2021.toml") : o.config_path;
   const PlatformModel model(LoadConfigFile(config));
-  const double rating = RatePayload(model, RigEffects{}.servo_lag, Vector3(0, 0, kWholeRigComHeightMaxM)).payload_kg;
+  const double rating = WholeRigRatedPayload(model);
   const std::string root =
       (std::filesystem::temp_directory_path() / fmt::format("edsp-gap-drift-bench-{}", ::getpid())).string();
   Rng rng(o.seed);

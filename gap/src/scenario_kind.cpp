@@ -6,7 +6,7 @@ namespace edsp::gap {
 
 namespace {
 
-constexpr const char* kScenarioKindNames[] = {"none", "single", "pair", "out_of_vocabulary"};
+constexpr const char* kScenarioKindNames[] = {"none", "single", "pair", "out_of_vocabulary", "whole_rig"};
 
 }  // namespace
 

@@ -32,12 +32,13 @@ TEST(ScenarioKinds, EachNameReadsBackAsItsKindAndNoOtherNameReads) {
       {ScenarioKind::kNone, "none"},
       {ScenarioKind::kSingle, "single"},
       {ScenarioKind::kPair, "pair"},
-      {ScenarioKind::kOutOfVocabulary, "out_of_vocabulary"}};
+      {ScenarioKind::kOutOfVocabulary, "out_of_vocabulary"},
+      {ScenarioKind::kWholeRig, "whole_rig"}};
   for (const auto& [kind, name] : contract) {
     EXPECT_EQ(ScenarioKindName(kind), name);
     EXPECT_EQ(ParseScenarioKind(name), kind) << name;
   }
-  for (const char* foreign : {"", "whole_rig", "None", "pairs"}) EXPECT_FALSE(ParseScenarioKind(foreign)) << foreign;
+  for (const char* foreign : {"", "whole", "None", "pairs"}) EXPECT_FALSE(ParseScenarioKind(foreign)) << foreign;
   EXPECT_EQ(KindOfEffects(0), ScenarioKind::kNone);
   EXPECT_EQ(KindOfEffects(1), ScenarioKind::kSingle);
   EXPECT_EQ(KindOfEffects(2), ScenarioKind::kPair);

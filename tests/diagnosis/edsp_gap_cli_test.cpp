@@ -219,14 +219,47 @@ TEST(EdspGapCli, BenchmarkOnTheBlindRigScoresEveryKindWithItsTargets) {
   EXPECT_EQ(j["out_of_vocabulary"]["scenarios"], 1);
   // The effect-free scenario: nothing there, nothing found.
   EXPECT_EQ(j["results"][0]["conclusion"], "none") << j["results"][0].dump();
-  ASSERT_EQ(j["targets"].size(), 7u);
+  ASSERT_EQ(j["targets"].size(), 10u);
   for (const auto& t : j["targets"]) {
     for (const char* key : {"score", "measured", "target", "met"}) EXPECT_TRUE(t.contains(key)) << t.dump();
   }
+  EXPECT_EQ(j["whole_rig"]["scenarios"], 0);    // none drawn in this mode
   EXPECT_EQ(j["closed_loop"]["scenarios"], 0);  // the blind rig cannot run edsp's kinematics
   const Output bad = Gap("benchmark --generator sim --scenarios 1");
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.text.find("sim"), std::string::npos) << bad.text;
+}
+
+// A whole rig of every class on the blind rig: static, play, compliance, a
+// soft servo loop and screws warming, all in the truth; every true effect
+// either identified or shown to be below what the runs can tell, and the
+// three whole-rig targets scored on it.
+TEST(EdspGapCli, WholeRigModeDrawsEveryClassAndSaysWhatTheRunsCannotShow) {
+  const Output out =
+      Gap("benchmark --mode whole --generator blind --scenarios 1 --seed 31 --motions Lz,Rz,M1,M2 --json");
+  ASSERT_EQ(out.exit_code, 0) << out.text;
+  const nlohmann::json j = nlohmann::json::parse(out.text);
+  EXPECT_EQ(j["mode"], "whole");
+  ASSERT_EQ(j["results"].size(), 1u);
+  const nlohmann::json& r = j["results"][0];
+  EXPECT_EQ(r["kind"], "whole_rig");
+  for (const char* effect : {"leg_offset", "joint_position", "lead_error", "periodic_lead_error", "backlash",
+                             "compliance", "servo_lag", "thermal_drift"}) {
+    EXPECT_NE(std::find(r["truth"].begin(), r["truth"].end(), effect), r["truth"].end()) << effect << r.dump();
+  }
+  // Each true effect is identified, missed though the runs show it, or
+  // below what they show: one of the three, never two.
+  for (const auto& t : r["truth"]) {
+    const auto in = [&](const nlohmann::json& list) { return std::find(list.begin(), list.end(), t) != list.end(); };
+    const bool identified = in(r["identified"]);
+    EXPECT_EQ(int{identified} + int{in(r["missed"]["shown"])} + int{in(r["missed"]["below_what_the_runs_show"])}, 1)
+        << t << ": " << r.dump();
+  }
+  EXPECT_EQ(j["whole_rig"]["scenarios"], 1);
+  EXPECT_EQ(j["whole_rig"]["all_shown_named"], r["missed"]["shown"].empty() ? 1 : 0);
+  int whole_targets = 0;
+  for (const auto& t : j["targets"]) whole_targets += t["score"].get<std::string>().rfind("whole_rig_", 0) == 0;
+  EXPECT_EQ(whole_targets, 3);
 }
 
 // Changes within a session on the blind rig, one of each kind the mode

@@ -132,6 +132,13 @@ BlindScenario DrawBlindScenario(std::uint64_t seed, int index, std::optional<boo
 // encoders, its stand anywhere on the floor. Kind "whole_rig".
 BlindScenario DrawBlindWholeRig(std::uint64_t seed, int index, double payload_max_kg);
 
+// Rig `index` of a seed with every class at once: DrawBlindWholeRig's, a
+// soft servo loop (10–30 Hz), screws warming by travel or by time under
+// power, half the rigs with screws whose passive rotation is not the
+// controller's, and payloads from light to heavy (log-uniform from 100 kg
+// up to `payload_max_kg`). Kind "whole_rig".
+BlindScenario DrawBlindEveryClassRig(std::uint64_t seed, int index, double payload_max_kg);
+
 // Names of the out-of-vocabulary kinds it draws.
 std::vector<std::string> OutOfVocabularyKinds();
 

@@ -6,7 +6,10 @@
 // (R0, t0, Umeyama) the residual r_n = point_n − (R0·A_n + t0) is linear in
 // the frame correction (δt, δω) and in every effect's parameters θ:
 //   r_n ≈ δt − R0[A_n]×·δω + Σ_e R0·G_n·B_e,n·θ_e.
-// Rows are stored grouped by run (each run a contiguous block).
+// Rows are stored grouped by run (each run a contiguous block). With encoder
+// columns, the drives' following error that servo_lag's terms cannot
+// describe is taken out of r as the encoders measured it, where it stands
+// above the tracker's noise.
 
 #include <array>
 #include <optional>
@@ -52,7 +55,14 @@ struct Design {
   // inertia at {M}'s origin (N·m/kg), then per kg·m of c.o.m. offset along
   // {M}'s x, y, z (N/kg); the platform's rotational inertia is left out.
   std::vector<Eigen::Matrix<double, 3, 4>> load_moment_per_kg;
-  std::vector<Vector6> servo_error_m;  // leg_cmd − leg_enc, when the data has encoders
+  // leg_cmd − leg_enc, when the data has encoders: the part servo_lag's
+  // terms describe (the rest is taken out of the residual: BuildDesign).
+  std::vector<Vector6> servo_error_m;
+  // At A, RMS over the samples: the drives' error beyond servo_lag's terms
+  // (taken out of the residual when above the tracker's noise per axis),
+  // and the part servo_lag's terms describe.
+  double drives_rest_rms_m = 0.0, drives_described_rms_m = 0.0;
+  bool drives_rest_taken_out = false;
   std::vector<double> time_s;
   std::vector<double> displacement;  // |pose − home| (m, rad mixed: metres + 1 m per rad)
   bool has_encoder = false;
@@ -70,6 +80,10 @@ struct Design {
   int parameters() const { return static_cast<int>(columns.cols()); }
   const ColumnRange& Of(Effect e) const { return effect[static_cast<std::size_t>(e)]; }
 };
+
+// Point noise floor (RMS of |noise| at A) from sample-to-sample differences
+// of the residual where the platform is at rest.
+double NoiseFloorRms(const Design& design);
 
 // The applied compensation's name in reports: a PR mode's, or "other".
 const char* AppliedPrName(const std::optional<PrMode>& applied);

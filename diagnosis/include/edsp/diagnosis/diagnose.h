@@ -181,8 +181,4 @@ struct Diagnosis {
 
 Diagnosis Diagnose(const PlatformModel& model, const MeasurementData& data, const DiagnoseOptions& options = {});
 
-// Point noise floor (RMS of |noise| at A) from sample-to-sample differences
-// of the residual where the platform is at rest.
-double NoiseFloorRms(const Design& design);
-
 }  // namespace edsp::gap

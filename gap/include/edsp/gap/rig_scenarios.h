@@ -11,6 +11,7 @@
 
 #include "edsp/diagnosis/effects.h"
 #include "edsp/kinematics/passive_rotation.h"
+#include "edsp/kinematics/platform_model.h"
 #include "edsp/kinematics/pose.h"
 #include "edsp/rig/rig_effects.h"
 
@@ -36,6 +37,18 @@ Scenario DrawScenario(std::uint64_t seed, int index);
 // takes the centre of mass it was rated for, 0.3 m up (the worst drawn).
 Scenario DrawWholeRig(std::uint64_t seed, int index, double rated_payload_kg);
 inline constexpr double kWholeRigComHeightMaxM = 0.3;
+// The payload the whole rigs are drawn up to: the drives' rating
+// (RatePayload) at the highest centre of mass drawn.
+double WholeRigRatedPayload(const PlatformModel& model);
+
+// Rig k of a seed with every class at once: DrawWholeRig's static ones and
+// its play, compliance and drive loop, but the loop a soft one (servo lag,
+// 8–20 Hz, integral action as DrawWholeRig's), screws warming with travel (thermal
+// drift), half the rigs with a passive rotation the controller gets wrong
+// (DrawScenario's draws), and payloads from light to heavy (log-uniform from
+// kEveryClassPayloadMinKg up to `rated_payload_kg`). `truth` lists them all.
+Scenario DrawEveryClassRig(std::uint64_t seed, int index, double rated_payload_kg);
+inline constexpr double kEveryClassPayloadMinKg = 100.0;
 
 // Where the tracker stands, X_TB: anywhere on the floor within 3 m, turned
 // any way about z, tilted up to 0.03 rad.

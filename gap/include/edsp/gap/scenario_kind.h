@@ -1,7 +1,8 @@
 #pragma once
 // What a benchmark scenario holds, which decides how it is scored: nothing,
-// one effect, two, or an effect outside the diagnosis's vocabulary. The
-// names are the benchmark JSON's `kind` (and the blind rig's draws).
+// one effect, two, an effect outside the diagnosis's vocabulary, or a whole
+// rig of every class at once. The names are the benchmark JSON's `kind`
+// (and the blind rig's draws).
 
 #include <cstddef>
 #include <optional>
@@ -9,7 +10,7 @@
 
 namespace edsp::gap {
 
-enum class ScenarioKind { kNone, kSingle, kPair, kOutOfVocabulary };
+enum class ScenarioKind { kNone, kSingle, kPair, kOutOfVocabulary, kWholeRig };
 
 const char* ScenarioKindName(ScenarioKind kind);
 std::optional<ScenarioKind> ParseScenarioKind(const std::string& name);
