@@ -30,6 +30,9 @@ constexpr double kSamePose = 1e-9;
 // A leg's step may exceed its speed × time by this much (rounding, the
 // drives' encoder count), as the bridge's jump check allows.
 constexpr double kLegStepSlack_m = 1e-6;
+// A catch-up's step, of what the legs may go in the cycle: the legs' lengths
+// are not linear in the pose, and a step scaled to the whole may overshoot.
+constexpr double kCatchUpShare = 0.9;
 
 // An engage's or a disengage's move: to its pose, in {B}, at its speeds.
 motion_request_t MoveTo(const motion_request_t& r) {
@@ -123,7 +126,30 @@ std::string MotionService::CueProblem(const pose_setpoint_t& cue, FaultCode* cod
     return fmt::format("EDSP_CUE_SETPOINT seq {} asks for {}, outside the workspace: {}", cue.seq, PoseText(q),
                        w.Describe());
   }
+  // The source's own stream while it is followed: no leg faster than the
+  // drives follow from its last cue to this one, by their stamps (before,
+  // during the engage move, nothing of it is followed).
+  if (cueing_->following && cueing_->latest && cueing_->latest_utime >= cueing_->following_utime) {
+    const pose_setpoint_t& last = *cueing_->latest;
+    const double span_s = std::max(1e-3, static_cast<double>(cue.utime - last.utime) * 1e-6);
+    const LegStep step = LegStepBetween(Eigen::Map<const Vector6>(last.pose), q, span_s);
+    if (step.most_m > step.allowed_m) {
+      *code = FaultCode::kJump;
+      return fmt::format(
+          "EDSP_CUE_SETPOINT seq {} moves leg {} by {:.6f} m in {:.1f} ms after seq {} (at most {:.6f} m at "
+          "[limits] leg_speed_max_m_s)",
+          cue.seq, step.leg + 1, step.most_m, span_s * 1e3, last.seq, step.allowed_m);
+    }
+  }
   return "";
+}
+
+MotionService::LegStep MotionService::LegStepBetween(const Vector6& from, const Vector6& to, double span_s) const {
+  const Vector6 step = (model_.LegLengths(Pose::FromVector(to)) - model_.LegLengths(Pose::FromVector(from))).cwiseAbs();
+  LegStep out;
+  out.most_m = step.maxCoeff(&out.leg);
+  out.allowed_m = model_.config().limits.leg_speed_max_m_s * span_s + kLegStepSlack_m;
+  return out;
 }
 
 std::string MotionService::CueToFollow(std::int64_t now_utime, FaultCode* code, PoseSample* to) const {
@@ -146,17 +172,22 @@ std::string MotionService::CueToFollow(std::int64_t now_utime, FaultCode* code, 
   *to = CueAt(*c.latest, now_utime);
   const double since_s =
       c.followed_utime == 0 ? 1e-3 : std::max(1e-3, static_cast<double>(now_utime - c.followed_utime) * 1e-6);
-  const Vector6 step =
-      (model_.LegLengths(Pose::FromVector(to->pose)) - model_.LegLengths(Pose::FromVector(hold_pose_))).cwiseAbs();
-  int leg = 0;
-  const double most = step.maxCoeff(&leg);
-  const double allowed = model_.config().limits.leg_speed_max_m_s * since_s + kLegStepSlack_m;
-  if (most <= allowed) return "";
+  const LegStep step = LegStepBetween(hold_pose_, to->pose, since_s);
+  if (step.most_m <= step.allowed_m) return "";
+  if (c.followed_utime != 0) {
+    // Its stream was within the legs' speed (CueProblem), but the cue
+    // carried to now is farther than they go in this cycle: a source or
+    // this planner paused past the lead a cue is carried (a stall of the
+    // host), and the vehicle went on meanwhile. Caught up at the legs'
+    // speed, a cycle at a time, as the bridge rejoins a stream.
+    to->pose = hold_pose_ + (to->pose - hold_pose_) * (kCatchUpShare * step.allowed_m / step.most_m);
+    return "";
+  }
   *code = FaultCode::kJump;
   return fmt::format(
-      "cueing from {} ended: EDSP_CUE_SETPOINT seq {} moves leg {} by {:.6f} m in {:.1f} ms (at most {:.6f} m at "
-      "[limits] leg_speed_max_m_s); holding the last pose",
-      c.source, c.latest->seq, leg + 1, most, since_s * 1e3, allowed);
+      "cueing from {} ended: EDSP_CUE_SETPOINT seq {} moves leg {} by {:.6f} m from the neutral pose in {:.1f} ms "
+      "(at most {:.6f} m at [limits] leg_speed_max_m_s); holding the last pose",
+      c.source, c.latest->seq, step.leg + 1, step.most_m, since_s * 1e3, step.allowed_m);
 }
 
 void MotionService::EndCueing(std::string why, std::int64_t now_utime, std::int8_t end,

@@ -231,6 +231,43 @@ TEST(MotionServiceCueing, ACueStampedAfterTheCycleBeganIsTakenAtTheCyclesInstant
   EXPECT_EQ(s.service_.Status(s.now_).state, motion_status_t::STATE_CUEING);
 }
 
+// The source falls silent for longer than a cue is carried (a stall of its
+// host), the vehicle going on meanwhile: its next cue is farther than the
+// legs go in a cycle from the pose last followed. The stream itself was
+// within the legs' speed, so the setpoints catch up at that speed, a cycle
+// at a time, and follow the cues again (ending the cueing as a jump ended
+// a live run on a machine half as fast).
+TEST(MotionServiceCueing, AfterASourcesStallTheSetpointsCatchUpWithinTheLegsSpeed) {
+  Served s;
+  CueSource source(s);
+  const Vector6 neutral = s.Held();
+  EngageAt(s, source, neutral);
+  const double speed = 0.4;  // m/s in y
+  const std::int64_t start_utime = s.now_;
+  const auto cue_at = [&](std::int64_t utime) -> Vector6 {
+    return neutral + Vec(0, speed * static_cast<double>(utime - start_utime) * 1e-6, 0);
+  };
+  const double allowed = s.model_.config().limits.leg_speed_max_m_s * 1e-3 + 1e-6;
+  Vector6 previous = PoseOf(s.Cycle());
+  int caught_up_at = -1;
+  for (int cycle = 0; cycle < 200; ++cycle) {
+    const bool silent = cycle >= 50 && cycle < 70;  // 20 ms without a cue
+    if (!silent) source.SendStamped(cue_at(s.now_), Vec(0, speed, 0), s.now_);
+    const std::int64_t at = s.now_;
+    const Vector6 now = PoseOf(s.Cycle());
+    const double step = (s.model_.LegLengths(Pose::FromVector(now)) - s.model_.LegLengths(Pose::FromVector(previous)))
+                            .cwiseAbs()
+                            .maxCoeff();
+    ASSERT_LE(step, allowed) << "cycle " << cycle;
+    ASSERT_EQ(s.service_.Status(s.now_).state, motion_status_t::STATE_CUEING)
+        << "cycle " << cycle << ": " << s.service_.Status(s.now_).reason;
+    if (cycle > 70 && caught_up_at < 0 && (now - cue_at(at)).cwiseAbs().maxCoeff() < 1e-12) caught_up_at = cycle;
+    previous = now;
+  }
+  EXPECT_GT(caught_up_at, 70) << "the cue again, once caught up";
+  EXPECT_LT(caught_up_at, 120);
+}
+
 // Engaged, swayed for a while: the pose last followed.
 Vector6 Swayed(Served& s, CueSource& source, const Vector6& neutral) {
   EngageAt(s, source, neutral);

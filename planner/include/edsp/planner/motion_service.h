@@ -137,6 +137,12 @@ class MotionService {
   std::string CueProblem(const pose_setpoint_t& cue, FaultCode* code) const;
   // The setpoint `to` the latest cue gives at `now`, unless the cueing must end: then why.
   std::string CueToFollow(std::int64_t now_utime, FaultCode* code, PoseSample* to) const;
+  // The largest leg move between two poses, and what the legs may go in `span_s`.
+  struct LegStep {
+    double most_m = 0.0, allowed_m = 0.0;
+    int leg = 0;
+  };
+  LegStep LegStepBetween(const Vector6& from, const Vector6& to, double span_s) const;
   // Ends the cueing where the platform stands; `why` (unless "") is the status's reason.
   void EndCueing(std::string why, std::int64_t now_utime, std::int8_t end,
                  std::optional<FaultCode> fault = std::nullopt);
