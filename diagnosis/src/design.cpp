@@ -276,7 +276,7 @@ void TakeOutWhatTheLagTermsCannot(const std::vector<calibration::LegErrorState>&
   d->drives_described_rms_m = std::sqrt(described2 / n);
   // Under the tracker's noise the rest cannot pass for structure: it is left
   // where it is, for servo_lag's terms to take up what they can of it as the
-  // drives' (a stiff loop's rest is a micrometre, its lag a few).
+  // drives' (a stiff loop's rest lies far under the noise).
   const double sigma_axis = NoiseFloorRms(*d) / std::sqrt(3.0);
   d->drives_rest_taken_out = d->drives_rest_rms_m > sigma_axis;
   if (!d->drives_rest_taken_out) return;

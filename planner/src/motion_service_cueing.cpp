@@ -113,7 +113,7 @@ motion_reply_t MotionService::Disengage(const motion_request_t& r, std::int64_t 
   return reply;
 }
 
-std::string MotionService::CueProblem(const pose_setpoint_t& cue, FaultCode* code) const {
+std::string MotionService::CueProblem(const pose_setpoint_t& cue, std::int64_t now_utime, FaultCode* code) const {
   const auto finite = [](const double* v) { return Eigen::Map<const Vector6>(v).allFinite(); };
   if (!finite(cue.pose) || !finite(cue.velocity) || !finite(cue.acceleration)) {
     *code = FaultCode::kNonFinite;
@@ -126,12 +126,25 @@ std::string MotionService::CueProblem(const pose_setpoint_t& cue, FaultCode* cod
     return fmt::format("EDSP_CUE_SETPOINT seq {} asks for {}, outside the workspace: {}", cue.seq, PoseText(q),
                        w.Describe());
   }
-  // The source's own stream while it is followed: no leg faster than the
-  // drives follow from its last cue to this one, by their stamps (before,
-  // during the engage move, nothing of it is followed).
-  if (cueing_->following && cueing_->latest && cueing_->latest_utime >= cueing_->following_utime) {
+  // Its own velocity no faster for a leg than the drives follow: it is what
+  // the cue is carried along.
+  const Vector6 v = Eigen::Map<const Vector6>(cue.velocity);
+  if (const LegStep moving = LegStepBetween(q, q + v * 1e-3, 1e-3); moving.most_m > moving.allowed_m) {
+    *code = FaultCode::kJump;
+    return fmt::format(
+        "EDSP_CUE_SETPOINT seq {} moves leg {} at {:.3f} m/s by its velocity (at most {:.3f} m/s at "
+        "[limits] leg_speed_max_m_s)",
+        cue.seq, moving.leg + 1, moving.most_m * 1e3, model_.config().limits.leg_speed_max_m_s);
+  }
+  // The source's stream while it is followed: no leg faster than the drives
+  // follow from its last cue to this one, by their stamps, and the stamps no
+  // further apart than the cues' arrivals allow (before, during the engage
+  // move, nothing of it is followed).
+  if (cueing_->following && cueing_->latest) {
     const pose_setpoint_t& last = *cueing_->latest;
-    const double span_s = std::max(1e-3, static_cast<double>(cue.utime - last.utime) * 1e-6);
+    const double arrivals_s = static_cast<double>(now_utime - cueing_->latest_utime) * 1e-6 + kCueLeadMax_s;
+    const double span_s =
+        std::clamp(static_cast<double>(cue.utime - last.utime) * 1e-6, 1e-3, std::max(1e-3, arrivals_s));
     const LegStep step = LegStepBetween(Eigen::Map<const Vector6>(last.pose), q, span_s);
     if (step.most_m > step.allowed_m) {
       *code = FaultCode::kJump;
@@ -170,6 +183,13 @@ std::string MotionService::CueToFollow(std::int64_t now_utime, FaultCode* code, 
   // No leg faster than the drives follow since the cycle that followed
   // last (or the neutral pose, at the first): what the bridge checks too.
   *to = CueAt(*c.latest, now_utime);
+  if (const WorkspaceCheck w = CheckWorkspace(model_, Pose::FromVector(to->pose)); !w.ok()) {
+    *code = FaultCode::kOutsideWorkspace;
+    return fmt::format(
+        "cueing from {} ended: EDSP_CUE_SETPOINT seq {} carried to now asks for {}, outside the "
+        "workspace: {}; holding the last pose",
+        c.source, c.latest->seq, PoseText(to->pose), w.Describe());
+  }
   const double since_s =
       c.followed_utime == 0 ? 1e-3 : std::max(1e-3, static_cast<double>(now_utime - c.followed_utime) * 1e-6);
   const LegStep step = LegStepBetween(hold_pose_, to->pose, since_s);
@@ -180,7 +200,14 @@ std::string MotionService::CueToFollow(std::int64_t now_utime, FaultCode* code, 
     // this planner paused past the lead a cue is carried (a stall of the
     // host), and the vehicle went on meanwhile. Caught up at the legs'
     // speed, a cycle at a time, as the bridge rejoins a stream.
-    to->pose = hold_pose_ + (to->pose - hold_pose_) * (kCatchUpShare * step.allowed_m / step.most_m);
+    const Vector6 gap = to->pose - hold_pose_;
+    double share = kCatchUpShare * step.allowed_m / step.most_m;
+    while (LegStepBetween(hold_pose_, hold_pose_ + gap * share, since_s).most_m > step.allowed_m) {
+      share *= 0.5;  // the legs are not linear in the pose: a step that far, then less
+    }
+    to->pose = hold_pose_ + gap * share;
+    to->velocity = gap * share / since_s;  // what the setpoints do, for the kinematics' feed-forward
+    to->acceleration = Vector6::Zero();
     return "";
   }
   *code = FaultCode::kJump;
@@ -225,7 +252,7 @@ void MotionService::OnCueSetpoint(const pose_setpoint_t& cue, std::int64_t now_u
   if (!cueing_ || cue.session_id != options_.session_id) return;
   if (cueing_->latest && cue.seq <= cueing_->latest->seq) return;  // a copy or one overtaken: the newer stands
   FaultCode code{};
-  if (std::string p = CueProblem(cue, &code); !p.empty()) {
+  if (std::string p = CueProblem(cue, now_utime, &code); !p.empty()) {
     EndCueing(fmt::format("cueing from {} ended: {}; holding the last pose", cueing_->source, p), now_utime,
               motion_status_t::END_STOPPED, code);
     return;

@@ -305,6 +305,14 @@ TEST(MotionServiceCueing, ACueNotFiniteOutsideTheWorkspaceOrTooFastForALegEndsIt
     source.Send(neutral + Vec(0, 0, 5.0));
     ExpectEndedHolding(s, last, "outside the workspace");
   }
+  {  // a cue whose own velocity is faster than a leg may go: it is what a cue is carried along
+    Served s;
+    CueSource source(s);
+    const Vector6 neutral = s.Held();
+    const Vector6 last = Swayed(s, source, neutral);
+    source.Send(last, Vec(0, 0, 1.0));
+    ExpectEndedHolding(s, last, "by its velocity");
+  }
   // A step in z: legs move by about its size; the limit is the config's
   // leg speed over the source's 1 ms, computed here by the legs' own lengths.
   for (const double share : {0.9, 1.2}) {

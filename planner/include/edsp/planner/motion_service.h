@@ -134,7 +134,7 @@ class MotionService {
   motion_reply_t Engage(const motion_request_t& r, std::int64_t now_utime, Lock& lock);
   motion_reply_t Disengage(const motion_request_t& r, std::int64_t now_utime, Lock& lock);
   // Why a cue setpoint cannot be followed on its own ("" if it can).
-  std::string CueProblem(const pose_setpoint_t& cue, FaultCode* code) const;
+  std::string CueProblem(const pose_setpoint_t& cue, std::int64_t now_utime, FaultCode* code) const;
   // The setpoint `to` the latest cue gives at `now`, unless the cueing must end: then why.
   std::string CueToFollow(std::int64_t now_utime, FaultCode* code, PoseSample* to) const;
   // The largest leg move between two poses, and what the legs may go in `span_s`.
