@@ -31,9 +31,11 @@ struct GapSummary {
   std::map<std::string, RmsMax> by_region;                        // near, mid, far from home (terciles)
   std::vector<std::pair<double, RmsMax>> over_time;               // start time of each tenth of the samples
   bool has_encoder = false;
-  std::array<double, 6> servo_tracking_m{};  // RMS of command − encoder, per leg
-  RmsMax mechanism;                          // residual once the encoders' legs are used
-  std::string where;                         // the above in a sentence or three
+  // RMS of command − encoder, per leg: where the design took the drives'
+  // rest out of the residual (design.h), the part servo_lag's terms describe.
+  std::array<double, 6> servo_tracking_m{};
+  RmsMax mechanism;   // residual once the encoders' legs are used
+  std::string where;  // the above in a sentence or three
 };
 
 // `residual`: 3 values per sample of `design`.
