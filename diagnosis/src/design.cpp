@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "edsp/kinematics/finite_difference.h"
+#include "edsp/kinematics/forward_kinematics.h"
 #include "edsp/kinematics/leg_error_model.h"
 
 namespace edsp::gap {
@@ -85,6 +86,12 @@ struct Samples {
   std::vector<calibration::LegErrorState> states;
   std::vector<Eigen::Matrix<double, 3, 6>> G;  // ∂A/∂l at each sample, {B}
   std::vector<Vector3> model_points, measured;
+  // The PR the controller compensated: the signed model's and Eq. (9)'s at
+  // the commanded pose (what ClassifyAppliedPr compares the record with).
+  std::vector<Vector6> commanded_pr_signed, commanded_pr_unsigned;
+  // How far the legs stood from their commands where the samples are taken
+  // about the encoders' pose (zero where about the commanded one).
+  std::vector<Vector6> behind;
 };
 
 // Places every effect's θ after the frame's 6 columns and sizes the rows.
@@ -129,6 +136,24 @@ Eigen::Matrix<double, 3, 4> LoadMoment(const Pose& pose, const Vector3& force) {
   return moment;
 }
 
+// Where the platform stood with its legs `behind` their commands (the
+// encoders' lengths − the commands'), and ∂A/∂l there into `at`; the
+// commanded pose (and `at` as given) where that pose cannot be solved. A soft
+// drive loop trails its command by millimetres, milliradians in a rotation:
+// every effect's columns and the model's point are taken about that pose,
+// so that neither the kinematics' curvature nor an effect seen from a pose
+// a few milliradians off (joint centres turned with the platform) is left
+// as structure. The linear part of the lag stays for servo_lag (FillColumns).
+Pose WhereTheLegsStood(const PlatformModel& model, const Pose& commanded, const Vector6& behind,
+                       calibration::PointSensitivity* at) {
+  if (behind.isZero(0.0)) return commanded;
+  const FkResult stood = SolveForward(model, model.EncoderLengths(commanded) + behind, commanded);
+  calibration::PointSensitivity there;
+  if (!stood.ok() || !calibration::PointSensitivityAt(model, stood.pose, &there)) return commanded;
+  *at = there;
+  return stood.pose;
+}
+
 // Pass 1: the model's point and the leg-space state of every sample, in run
 // order (play and heat carry over from run to run, as on the rig).
 Samples TrackSamples(const PlatformModel& model, const MeasurementData& data, const DesignOptions& o, Design* d) {
@@ -140,24 +165,35 @@ Samples TrackSamples(const PlatformModel& model, const MeasurementData& data, co
     d->run_samples.push_back({static_cast<int>(d->sample_run.size()), static_cast<int>(rows.size())});
     for (std::size_t k = 0; k < rows.size(); ++k) {
       const MeasurementRow& row = data.rows[static_cast<std::size_t>(rows[k])];
-      const Pose pose = Pose::FromVector(row.pose_cmd);
+      const Pose commanded = Pose::FromVector(row.pose_cmd);
       calibration::PointSensitivity at;
-      if (!calibration::PointSensitivityAt(model, pose, &at)) {
+      if (!calibration::PointSensitivityAt(model, commanded, &at)) {
         throw MeasurementError(fmt::format("{}: run \"{}\" at time_s {}: commanded pose {} is singular for the model",
-                                           data.source, data.runs[run], row.time_s, DescribePose(pose)));
+                                           data.source, data.runs[run], row.time_s, DescribePose(commanded)));
       }
+      Vector6 behind = d->has_encoder ? Vector6(row.leg_enc_m - row.leg_cmd_m) : Vector6::Zero();
+      const Pose pose = WhereTheLegsStood(model, commanded, behind, &at);
+      if (pose.ToVector() == commanded.ToVector()) behind.setZero();
       out.G.push_back(at.per_leg);
+      out.behind.push_back(behind);
       calibration::LegErrorInputs in;
       in.time_s = row.time_s;
       in.pose = pose;
-      in.command_m = row.leg_cmd_m;
-      // With encoder data the motor's own motion drives the play.
-      in.motor_m = row.has_encoder ? row.leg_enc_m : row.leg_cmd_m;
+      // With encoder data the motor's own motion drives the play, and the
+      // screw's travel, not the command's, sets where the thread's errors
+      // and the nut's heat are: a soft loop trails its command by a whole
+      // period of a thread error.
+      in.command_m = d->has_encoder ? row.leg_enc_m : row.leg_cmd_m;
+      in.motor_m = in.command_m;
       CommandRates(model, data, rows, k, &in);
       calibration::LegErrorState s = tracker.Advance(in);
-      // The compensation the PR basis scales is the PR's alone: a
-      // calibration's correction recorded with the command is not part of it.
-      s.compensation -= row.leg_corr_m;
+      const LegSolution legs_commanded = model.Solve(commanded);
+      // The compensation is what the controller applied, at the commanded
+      // pose; the one the PR basis scales is the PR's alone: a calibration's
+      // correction recorded with the command is not part of it.
+      s.compensation = legs_commanded.length_m - row.leg_cmd_m - row.leg_corr_m;
+      out.commanded_pr_signed.push_back(model.PrLengthError(legs_commanded, PrMode::kSigned));
+      out.commanded_pr_unsigned.push_back(model.PrLengthError(legs_commanded, PrMode::kUnsigned));
       out.states.push_back(s);
       out.model_points.push_back(model.ObservationPoint(pose));
       out.measured.push_back(row.point_m);
@@ -192,11 +228,13 @@ void AddJerk(const Design& d, std::vector<calibration::LegErrorState>* states) {
 }
 
 // The PR compensation the data's controller applied, against the signed PR model.
-void ClassifyAppliedPr(const PlatformModel& model, const std::vector<calibration::LegErrorState>& states, Design* d) {
+void ClassifyAppliedPr(const Samples& samples, Design* d) {
   double cp = 0.0, pp = 0.0, cc = 0.0, unsigned_misfit = 0.0;
-  for (const calibration::LegErrorState& s : states) {
-    cp += s.compensation.dot(s.pr_signed), pp += s.pr_signed.squaredNorm(), cc += s.compensation.squaredNorm();
-    unsigned_misfit += (s.compensation - model.PrLengthError(s.legs, PrMode::kUnsigned)).squaredNorm();
+  for (std::size_t k = 0; k < samples.states.size(); ++k) {
+    const Vector6& c = samples.states[k].compensation;
+    const Vector6& pr = samples.commanded_pr_signed[k];
+    cp += c.dot(pr), pp += pr.squaredNorm(), cc += c.squaredNorm();
+    unsigned_misfit += (c - samples.commanded_pr_unsigned[k]).squaredNorm();
   }
   d->applied_pr_ratio = pp > 0.0 ? cp / pp : 0.0;
   const double misfit = cc - 2.0 * d->applied_pr_ratio * cp + d->applied_pr_ratio * d->applied_pr_ratio * pp;
@@ -218,10 +256,13 @@ void FillColumns(const PlatformModel& model, const Samples& samples, Design* d) 
   d->point_per_leg.resize(static_cast<std::size_t>(n));
   for (int k = 0; k < n; ++k) {
     const std::size_t s = static_cast<std::size_t>(k);
-    d->residual.segment<3>(3 * k) = samples.measured[s] - (d->R0 * samples.model_points[s] + d->t0);
+    const Eigen::Matrix<double, 3, 6> RG = d->R0 * samples.G[s];
+    // About the encoders' pose the legs' shortfall is put back to first
+    // order, for servo_lag to explain as the drives'.
+    d->residual.segment<3>(3 * k) =
+        samples.measured[s] - (d->R0 * samples.model_points[s] + d->t0) + RG * samples.behind[s];
     d->columns.block<3, 3>(3 * k, 0) = Matrix3::Identity();
     d->columns.block<3, 3>(3 * k, 3) = -d->R0 * calibration::Skew(samples.model_points[s]);
-    const Eigen::Matrix<double, 3, 6> RG = d->R0 * samples.G[s];
     d->point_per_leg[s] = RG;
     for (Effect e : AllEffects()) {
       const ColumnRange& range = d->Of(e);
@@ -319,7 +360,7 @@ Design BuildDesign(const PlatformModel& model, const MeasurementData& data, cons
   for (const MeasurementRow& row : data.rows) d.has_encoder = d.has_encoder && row.has_encoder;
   Samples samples = TrackSamples(model, data, o, &d);
   AddJerk(d, &samples.states);
-  ClassifyAppliedPr(model, samples.states, &d);
+  ClassifyAppliedPr(samples, &d);
   FillColumns(model, samples, &d);
   TakeOutWhatTheLagTermsCannot(samples.states, &d);
   return d;

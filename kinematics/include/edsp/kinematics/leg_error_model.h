@@ -27,8 +27,8 @@ struct LegErrorOptions {
 // One instant as the error model needs it.
 struct LegErrorInputs {
   double time_s = 0.0;
-  Pose pose;                            // commanded pose of {M} in {B}
-  Vector6 command_m = Vector6::Zero();  // leg command (encoder-length units)
+  Pose pose;                            // of {M} in {B}: commanded, or where the encoders put it
+  Vector6 command_m = Vector6::Zero();  // where the screw is sent (encoder-length units): the stroke
   Vector6 motor_m = Vector6::Zero();    // what drives the play: the encoders' length, or the command
   Vector6 velocity = Vector6::Zero(), accel = Vector6::Zero(), jerk = Vector6::Zero();  // of the command
   Vector3 platform_accel_B_m_s2 = Vector3::Zero();
