@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 
 #include <Eigen/Eigenvalues>
@@ -137,21 +138,32 @@ Eigen::Matrix<double, 3, 4> LoadMoment(const Pose& pose, const Vector3& force) {
 }
 
 // Where the platform stood with its legs `behind` their commands (the
-// encoders' lengths − the commands'), and ∂A/∂l there into `at`; the
-// commanded pose (and `at` as given) where that pose cannot be solved. A soft
-// drive loop trails its command by millimetres, milliradians in a rotation:
-// every effect's columns and the model's point are taken about that pose,
-// so that neither the kinematics' curvature nor an effect seen from a pose
-// a few milliradians off (joint centres turned with the platform) is left
-// as structure. The linear part of the lag stays for servo_lag (FillColumns).
-Pose WhereTheLegsStood(const PlatformModel& model, const Pose& commanded, const Vector6& behind,
-                       calibration::PointSensitivity* at) {
+// encoders' lengths − the commands'); the commanded pose where that cannot be
+// solved. A soft drive loop trails its command by millimetres, milliradians
+// in a rotation: every effect's columns and the model's point are taken
+// about that pose, so that neither the kinematics' curvature nor an effect
+// seen from a pose a few milliradians off (joint centres turned with the
+// platform) is left as structure. The linear part of the lag stays for
+// servo_lag (FillColumns).
+Pose WhereTheLegsStood(const PlatformModel& model, const Pose& commanded, const Vector6& behind) {
   if (behind.isZero(0.0)) return commanded;
-  const FkResult stood = SolveForward(model, model.EncoderLengths(commanded) + behind, commanded);
-  calibration::PointSensitivity there;
-  if (!stood.ok() || !calibration::PointSensitivityAt(model, stood.pose, &there)) return commanded;
-  *at = there;
-  return stood.pose;
+  FkOptions fk;
+  fk.tolerance_m = 1e-9;  // a nanometre: far under any effect, two steps from millimetres
+  const FkResult stood = SolveForward(model, model.EncoderLengths(commanded) + behind, commanded, fk);
+  return stood.ok() ? stood.pose : commanded;
+}
+
+// The pose a sample is taken about (WhereTheLegsStood) and ∂A/∂l there into
+// `at`; the commanded pose, `behind` zeroed, where that one is singular; a
+// pose that is not finite where the commanded one is singular too.
+Pose PoseToTakeAbout(const PlatformModel& model, const Pose& commanded, Vector6* behind,
+                     calibration::PointSensitivity* at) {
+  const Pose stood = WhereTheLegsStood(model, commanded, *behind);
+  const bool moved = stood.ToVector() != commanded.ToVector();
+  if (moved && calibration::PointSensitivityAt(model, stood, at)) return stood;
+  behind->setZero();
+  if (calibration::PointSensitivityAt(model, commanded, at)) return commanded;
+  return Pose::FromVector(Vector6::Constant(std::numeric_limits<double>::quiet_NaN()));
 }
 
 // Pass 1: the model's point and the leg-space state of every sample, in run
@@ -166,14 +178,13 @@ Samples TrackSamples(const PlatformModel& model, const MeasurementData& data, co
     for (std::size_t k = 0; k < rows.size(); ++k) {
       const MeasurementRow& row = data.rows[static_cast<std::size_t>(rows[k])];
       const Pose commanded = Pose::FromVector(row.pose_cmd);
+      Vector6 behind = d->has_encoder ? Vector6(row.leg_enc_m - row.leg_cmd_m) : Vector6::Zero();
       calibration::PointSensitivity at;
-      if (!calibration::PointSensitivityAt(model, commanded, &at)) {
+      const Pose pose = PoseToTakeAbout(model, commanded, &behind, &at);
+      if (!pose.IsFinite()) {
         throw MeasurementError(fmt::format("{}: run \"{}\" at time_s {}: commanded pose {} is singular for the model",
                                            data.source, data.runs[run], row.time_s, DescribePose(commanded)));
       }
-      Vector6 behind = d->has_encoder ? Vector6(row.leg_enc_m - row.leg_cmd_m) : Vector6::Zero();
-      const Pose pose = WhereTheLegsStood(model, commanded, behind, &at);
-      if (pose.ToVector() == commanded.ToVector()) behind.setZero();
       out.G.push_back(at.per_leg);
       out.behind.push_back(behind);
       calibration::LegErrorInputs in;

@@ -41,7 +41,7 @@ OfflineRunOptions SessionRun(const DriftBenchmarkOptions& o, Rng& rng, std::uint
 void JumpLeg(int leg, double min_m, double max_m, Rng& rng, RigEffects* fx, DriftScenario* s) {
   const double jump = Uniform(rng, min_m, max_m) * (Uniform(rng, 0, 1) < 0.5 ? -1 : 1);
   fx->leg_offset.offset_m[static_cast<std::size_t>(leg)] += jump;
-  s->truth.push_back({"leg_offset", leg + 1, jump});
+  s->truth.push_back({Effect::kLegOffset, leg + 1, jump});
   s->description += fmt::format("leg {} re-seated: {:+.1f} µm", leg + 1, jump * 1e6);
 }
 
@@ -55,7 +55,7 @@ RigEffects Changed(const RigEffects& before, int index, Rng& rng, DriftScenario*
       s->kind = "backlash";
       const double grown = Uniform(rng, 10e-6, 30e-6);
       after.backlash.backlash_m[l] += grown;
-      s->truth.push_back({"backlash", leg + 1, grown});
+      s->truth.push_back({Effect::kBacklash, leg + 1, grown});
       s->description = fmt::format("backlash leg {} grown by {:.1f} µm", leg + 1, grown * 1e6);
       break;
     }
@@ -69,7 +69,7 @@ RigEffects Changed(const RigEffects& before, int index, Rng& rng, DriftScenario*
       s->kind = "two_at_once";
       const double grown = std::max(1.5 * before.backlash.backlash_m[l], 10e-6);
       after.backlash.backlash_m[l] += grown;
-      s->truth.push_back({"backlash", leg + 1, grown});
+      s->truth.push_back({Effect::kBacklash, leg + 1, grown});
       s->description = fmt::format("backlash leg {} +{:.1f} µm, ", leg + 1, grown * 1e6);
       JumpLeg((leg + 1 + static_cast<int>(Uniform(rng, 0, 5))) % 6, 30e-6, 60e-6, rng, &after, s);
       break;
@@ -81,7 +81,7 @@ RigEffects Changed(const RigEffects& before, int index, Rng& rng, DriftScenario*
       const double grown = 11.7e-6 * kelvin * 0.6;
       for (std::size_t i = 0; i < 6; ++i) {
         after.leg_offset.offset_m[i] += grown;
-        s->truth.push_back({"leg_offset", static_cast<int>(i) + 1, grown});
+        s->truth.push_back({Effect::kLegOffset, static_cast<int>(i) + 1, grown});
       }
       s->description = fmt::format("hall {:.1f} K warmer: every screw {:.1f} µm longer", kelvin, grown * 1e6);
     }
@@ -89,9 +89,9 @@ RigEffects Changed(const RigEffects& before, int index, Rng& rng, DriftScenario*
   return after;
 }
 
-const ParameterChange* Reported(const std::string& effect, int leg, const std::vector<ParameterChange>& among) {
+const ParameterChange* Reported(Effect effect, int leg, const std::vector<ParameterChange>& among) {
   for (const ParameterChange& c : among) {
-    if (EffectName(c.effect) == effect && c.leg == leg) return &c;
+    if (c.effect == effect && c.leg == leg) return &c;
   }
   return nullptr;
 }
@@ -109,7 +109,7 @@ const LegChange* ReportedLeg(int leg, const std::vector<LegChange>& among) {
 void Score(const DriftReport& changed, DriftScenario* s) {
   for (TrueChange& t : s->truth) {
     double reported = 0.0, sigma = 0.0;
-    if (t.effect == "leg_offset") {
+    if (t.effect == Effect::kLegOffset) {
       const LegChange* leg = ReportedLeg(t.leg, changed.legs);
       if (leg == nullptr) continue;
       reported = leg->change_m, sigma = leg->sigma_m;
@@ -125,14 +125,14 @@ void Score(const DriftReport& changed, DriftScenario* s) {
     t.eligible = std::abs(t.change) >= 3.0 * sigma;
     t.sized = std::abs(reported - t.change) <= 3.0 * sigma;
   }
-  const auto truly = [&](const std::string& effect, int leg) {
+  const auto truly = [&](Effect effect, int leg) {
     return std::any_of(s->truth.begin(), s->truth.end(),
                        [&](const TrueChange& t) { return t.effect == effect && t.leg == leg; });
   };
   for (const ParameterChange& c : changed.changed) {
-    s->false_changes += !truly(EffectName(c.effect), c.leg) && !(IsLegGeometry(c.effect) && truly("leg_offset", c.leg));
+    s->false_changes += !truly(c.effect, c.leg) && !(IsLegGeometry(c.effect) && truly(Effect::kLegOffset, c.leg));
   }
-  for (const LegChange& c : changed.legs_changed) s->false_changes += !truly("leg_offset", c.leg);
+  for (const LegChange& c : changed.legs_changed) s->false_changes += !truly(Effect::kLegOffset, c.leg);
 }
 
 }  // namespace
@@ -214,7 +214,7 @@ nlohmann::json ToJson(const DriftBenchmarkResult& r) {
   for (const DriftScenario& s : r.scenarios) {
     nlohmann::json truth = nlohmann::json::array();
     for (const TrueChange& t : s.truth) {
-      truth.push_back({{"effect", t.effect},
+      truth.push_back({{"effect", EffectName(t.effect)},
                        {"leg", t.leg},
                        {"change", t.change},
                        {"reported", t.reported},

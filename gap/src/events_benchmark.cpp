@@ -42,7 +42,7 @@ void DrawChange(int k, double session_s, const blind::Vec6& tracker_frame, Rng& 
   const double instant = Uniform(rng, 0.15, 0.85) * session_s;
   switch (k % 4) {
     case 0: {
-      s->kind = "leg_step";
+      s->kind = SessionChange::kLegStep;
       s->leg = static_cast<int>(Uniform(rng, 0, 6));
       s->size = Uniform(rng, 20e-6, 100e-6) * (Uniform(rng, 0, 1) < 0.5 ? -1 : 1);
       s->time_s = instant;
@@ -53,7 +53,7 @@ void DrawChange(int k, double session_s, const blind::Vec6& tracker_frame, Rng& 
       break;
     }
     case 1: {
-      s->kind = "tracker_step";
+      s->kind = SessionChange::kTrackerStep;
       const Eigen::Vector3d moved = Uniform(rng, 30e-6, 80e-6) * RandomDirection(rng);
       const Eigen::Vector3d turned = Uniform(rng, 20e-6, 60e-6) * RandomDirection(rng);
       s->time_s = instant;
@@ -69,7 +69,7 @@ void DrawChange(int k, double session_s, const blind::Vec6& tracker_frame, Rng& 
       break;
     }
     case 2: {
-      s->kind = "drift";
+      s->kind = SessionChange::kDrift;
       effects->heating_K_per_m = 0.0;  // a thermal effect the rig drew is replaced by this one
       effects->alpha_per_K = 11.5e-6;
       effects->heating_K_per_s = Uniform(rng, 0.01, 0.03);
@@ -78,25 +78,25 @@ void DrawChange(int k, double session_s, const blind::Vec6& tracker_frame, Rng& 
           fmt::format("screws warming {:.3f} K/s, τ {:.0f} s", effects->heating_K_per_s, effects->thermal_tau_s);
       break;
     }
-    default: s->kind = "none"; s->description = "no change";
+    default: s->kind = SessionChange::kNone; s->description = "no change";
   }
 }
 
 bool Matches(const EventScenario& s, const ChangeEvent& e) {
-  if (s.kind == "leg_step") return e.kind == ChangeKind::kLegLength && e.leg == s.leg;
-  return s.kind == "tracker_step" && e.kind == ChangeKind::kTrackerFrame;
+  if (s.kind == SessionChange::kLegStep) return e.kind == ChangeKind::kLegLength && e.leg == s.leg;
+  return s.kind == SessionChange::kTrackerStep && e.kind == ChangeKind::kTrackerFrame;
 }
 
 // The event's size beside the truth's, relative: a leg's step; the
 // tracker's rotation (its translation depends on the point the frame turns
 // about, which the two rigs need not share).
 double SizeError(const EventScenario& s, const ChangeEvent& e) {
-  const double found = s.kind == "leg_step" ? e.size(0) : e.size.tail<3>().norm();
+  const double found = s.kind == SessionChange::kLegStep ? e.size(0) : e.size.tail<3>().norm();
   return (found - s.size) / std::abs(s.size);
 }
 
 void Score(const Diagnosis& d, bool rig_has_thermal, EventScenario* s) {
-  const bool step = s->kind == "leg_step" || s->kind == "tracker_step";
+  const bool step = IsStep(s->kind);
   // The step's event: of its kind, the closest in time; every other is false.
   const ChangeEvent* match = nullptr;
   for (const ChangeEvent& e : d.changes.events) {
@@ -115,7 +115,7 @@ void Score(const Diagnosis& d, bool rig_has_thermal, EventScenario* s) {
   }
   const bool thermal = std::find(d.selected.begin(), d.selected.end(), Effect::kThermalDrift) != d.selected.end();
   s->step_named_thermal = step && thermal && !rig_has_thermal;
-  s->drift_as_step = s->kind == "drift" && !d.changes.events.empty();
+  s->drift_as_step = s->kind == SessionChange::kDrift && !d.changes.events.empty();
 }
 
 double SecondsSince(std::chrono::steady_clock::time_point t0) {
@@ -123,6 +123,18 @@ double SecondsSince(std::chrono::steady_clock::time_point t0) {
 }
 
 }  // namespace
+
+const char* SessionChangeName(SessionChange change) {
+  switch (change) {
+    case SessionChange::kLegStep: return "leg_step";
+    case SessionChange::kTrackerStep: return "tracker_step";
+    case SessionChange::kDrift: return "drift";
+    case SessionChange::kNone: return "none";
+  }
+  return "none";
+}
+
+bool IsStep(SessionChange change) { return change == SessionChange::kLegStep || change == SessionChange::kTrackerStep; }
 
 EventsBenchmarkResult RunEventsBenchmark(const EventsBenchmarkOptions& o) {
   EventsBenchmarkResult result;
@@ -146,7 +158,7 @@ EventsBenchmarkResult RunEventsBenchmark(const EventsBenchmarkOptions& o) {
     s.rig = rig.description;
     const bool rig_has_thermal = std::find(rig.truth.begin(), rig.truth.end(), "thermal_drift") != rig.truth.end();
     DrawChange(k, session_s, rig.tracker.frame, rng, &rig.effects, &s);
-    if (s.kind == "drift" && rig_has_thermal) s.rig += " (its thermal effect replaced by the drift)";
+    if (s.kind == SessionChange::kDrift && rig_has_thermal) s.rig += " (its thermal effect replaced by the drift)";
     try {
       const MeasurementData data =
           ParseMeasurementCsv(blind::GenerateMeasurementCsv(setup, rig.effects, rig.tracker), "blind");
@@ -158,7 +170,7 @@ EventsBenchmarkResult RunEventsBenchmark(const EventsBenchmarkOptions& o) {
     } catch (const std::exception& e) {
       s.error = e.what();
     }
-    const bool step = s.kind == "leg_step" || s.kind == "tracker_step";
+    const bool step = IsStep(s.kind);
     result.scenarios.push_back(s);
     if (!s.error.empty()) {  // scored on none of the counts below
       result.errors += 1;
@@ -202,7 +214,7 @@ nlohmann::json ToJson(const EventsBenchmarkResult& r) {
   j["scenarios"] = nlohmann::json::array();
   for (const EventScenario& s : r.scenarios) {
     nlohmann::json js = {{"index", s.index},
-                         {"kind", s.kind},
+                         {"kind", SessionChangeName(s.kind)},
                          {"rig", s.rig},
                          {"change", s.description},
                          {"events", s.events},
@@ -227,8 +239,8 @@ void PrintEventsBenchmark(const EventsBenchmarkResult& r) {
   for (const EventScenario& s : r.scenarios) {
     std::string found = s.events.empty() ? "no event" : fmt::format("{} event(s)", s.events.size());
     if (s.detected) found += fmt::format(": found, {:+.2f} s, size {:+.0f}%", s.time_error_s, s.size_error * 100.0);
-    std::printf("%-3d %-12s %-44.44s %s%s%s%s\n", s.index, s.kind.c_str(), s.description.c_str(), found.c_str(),
-                s.false_events ? fmt::format(", {} false", s.false_events).c_str() : "",
+    std::printf("%-3d %-12s %-44.44s %s%s%s%s\n", s.index, SessionChangeName(s.kind), s.description.c_str(),
+                found.c_str(), s.false_events ? fmt::format(", {} false", s.false_events).c_str() : "",
                 s.step_named_thermal ? ", thermal_drift named" : "",
                 s.error.empty() ? "" : (" ERROR " + s.error).c_str());
   }

@@ -14,6 +14,8 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "edsp/diagnosis/effects.h"
+
 namespace edsp::gap {
 
 struct DriftBenchmarkOptions {
@@ -27,9 +29,9 @@ struct DriftBenchmarkOptions {
 };
 
 struct TrueChange {
-  std::string effect;   // backlash | leg_offset
-  int leg = 0;          // 1–6
-  double change = 0.0;  // SI
+  Effect effect = Effect::kLegOffset;  // backlash, or leg_offset for a leg's own length
+  int leg = 0;                         // 1–6
+  double change = 0.0;                 // SI
   // What drift said of it.
   double reported = 0.0, sigma = 0.0;
   bool eligible = false;  // |change| ≥ 3σ

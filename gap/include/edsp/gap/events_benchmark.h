@@ -34,9 +34,14 @@ struct EventsBenchmarkOptions {
   bool progress = true;
 };
 
+// What a scenario's rig does within the session.
+enum class SessionChange { kLegStep, kTrackerStep, kDrift, kNone };
+const char* SessionChangeName(SessionChange change);  // the JSON's `kind`: leg_step, tracker_step, drift, none
+bool IsStep(SessionChange change);
+
 struct EventScenario {
   int index = 0;
-  std::string kind;         // leg_step | tracker_step | drift | none
+  SessionChange kind = SessionChange::kNone;
   std::string rig;          // the blind rig's draw, as it describes it
   std::string description;  // the change, as drawn
   double time_s = -1.0;     // the change's instant (steps)
