@@ -216,19 +216,21 @@ class Platform:
                           speed_m_s=_speed("speed_m_s", speed_m_s), speed_rad_s=_speed("speed_rad_s", speed_rad_s))
 
     def jog(self, axis: str, step: float, frame: Optional[str] = None, speed_m_s: Optional[float] = None,
-            speed_rad_s: Optional[float] = None, wait: bool = True, timeout: Optional[float] = None) -> dict:
+            speed_rad_s: Optional[float] = None, wait: bool = True, timeout: Optional[float] = None,
+            timeout_s: Optional[float] = None) -> dict:
         """A small relative move of the last target by `step` along one `axis`
         of `frame` ("x", "y", "z" in m; "roll", "pitch", "yaw" in rad, about
         the pivot), as move(..., relative=True). The planner refuses
         (RefusedError, code "invalid") a step that is zero, not finite or
         beyond 0.01 (10 mm, 10 mrad)."""
+        limit = _timeout(timeout, timeout_s, None)
         if axis not in _JOG_AXES:
             raise ValueError(f"jog: axis {axis!r}: want one of {', '.join(_JOG_AXES)}")
         pose = [0.0] * 6
         pose[_JOG_AXES.index(axis)] = float(step)
         reply = self._send(_edsp.KIND_JOG, pose, True, frame or "",
                            speed_m_s=_speed("speed_m_s", speed_m_s), speed_rad_s=_speed("speed_rad_s", speed_rad_s))
-        return self._wait(reply["request_id"], timeout, reply) if wait else reply
+        return self._wait(reply["request_id"], limit, reply) if wait else reply
 
     def run(self, motions: Optional[str] = None, csv: Optional[str] = None, wait: bool = True,
             timeout: Optional[float] = None, timeout_s: Optional[float] = None) -> dict:

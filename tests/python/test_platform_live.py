@@ -54,6 +54,9 @@ def test_a_script_through_a_work_frame_lands_each_move_on_target(group, tmp_path
             settled.append((target, start, time.time_ns() // 1000))
     elapsed_s = time.monotonic() - began
     assert rig.wait(timeout=10) == edsp.WaitOutcome.ON_TARGET  # nothing runs: it holds the last target
+    rig.jog("z", 0.002, timeout_s=30)  # either spelling of the limit, as move's
+    assert abs(rig.status()["pose_commanded"][2] - 1.513) < 1e-12
+    rig.jog("z", -0.002, timeout=30)
     final = rig.status()
     assert np.abs(np.array(final["pose_commanded"]) - [0, 0, 1.511, 0, 0, 0]).max() < 1e-12
     assert final["frame"] == "base" and list(final["pivot"]) == [0, 0, 0.3]
