@@ -190,11 +190,11 @@ Samples TrackSamples(const PlatformModel& model, const MeasurementData& data, co
       calibration::LegErrorInputs in;
       in.time_s = row.time_s;
       in.pose = pose;
-      // With encoder data the motor's own motion drives the play, and the
-      // screw's travel, not the command's, sets where the thread's errors
-      // and the nut's heat are: a soft loop trails its command by a whole
-      // period of a thread error.
-      in.command_m = d->has_encoder ? row.leg_enc_m : row.leg_cmd_m;
+      // Where a row has encoders the motor's own motion drives the play, and
+      // the screw's travel, not the command's, sets where the thread's errors
+      // and the nut's heat are: a soft loop trails its command by millimetres,
+      // a good part of a thread error's period.
+      in.command_m = row.has_encoder ? row.leg_enc_m : row.leg_cmd_m;
       in.motor_m = in.command_m;
       CommandRates(model, data, rows, k, &in);
       calibration::LegErrorState s = tracker.Advance(in);

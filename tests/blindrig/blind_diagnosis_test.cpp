@@ -131,7 +131,7 @@ TEST(BlindDiagnosis, JointCentresBesideASoftDriveLoopAreFoundInFull) {
 }
 
 // A once-per-turn lead error beside the same soft loop: the thread's error
-// is where the screw is, a fifth of a turn behind the command for each
+// is where the screw is, a tenth of a turn behind the command for each
 // millimetre of lag, so it is found from the encoders' travel.
 TEST(BlindDiagnosis, AThreadErrorBesideASoftDriveLoopIsFoundWhereTheScrewIs) {
   BlindEffects e;

@@ -1,6 +1,9 @@
 #pragma once
 // The linearised measurement model every fit of the diagnosis shares.
-// At each row n the nominal model puts point A at A_n = A(pose_cmd_n); leg
+// At each row n the nominal model puts point A at A_n = A(pose_n), the
+// commanded pose, or with encoder columns the pose the nominal model reaches
+// with the legs behind their commands by what the encoders recorded (the
+// lag's linear part, G_n·(enc − cmd), is added back to r for servo_lag); leg
 // errors Δl move it by G_n·Δl with G_n = ∂A/∂q·(∂l/∂q − ∂PR/∂q)⁻¹; the tracker
 // sees it through its frame, T(p) = R·p + t. Around a first frame estimate
 // (R0, t0, Umeyama) the residual r_n = point_n − (R0·A_n + t0) is linear in
