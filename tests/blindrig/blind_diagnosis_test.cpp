@@ -114,10 +114,10 @@ TEST(BlindDiagnosis, JointCentresAreIdentifiedAloneWithNothingUnknownLeft) {
 // The same joint centres on a rig whose drive loop is soft (11 Hz, its
 // motors millimetres behind their commands in motion). The encoders record
 // that lag: it is the drives' motion, not a misfit, so it must neither weigh
-// the prior down on the joint centres (shrunk, they left 3× the floor held
+// the prior down on the joint centres (shrunk, they leave 3× the floor held
 // out) nor leave the effects seen from the commanded pose, a few
-// milliradians from where the platform stood (a swaying structure was named
-// for what that left).
+// milliradians from where the platform stood (what that leaves passes for a
+// swaying structure).
 TEST(BlindDiagnosis, JointCentresBesideASoftDriveLoopAreFoundInFull) {
   BlindEffects e;
   e.base_joint_error_m.row(0) << 300e-6, -200e-6, 100e-6, -250e-6, 150e-6, 300e-6;
