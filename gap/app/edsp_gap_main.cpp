@@ -13,8 +13,8 @@
 //                      [--noise-m 5e-6] [--json] [--keep DIR]   (whole rigs: docs/calibration.md)
 //   edsp-gap benchmark --mode drift --scenarios N --seed S [--noise-m 5e-6] [--session-motions Lz,…] [--json]
 //                      (drift on whole rigs)
-//   edsp-gap benchmark --mode events --scenarios N --seed S [--motions …] [--json]   (changes within a session)
-//   edsp-gap benchmark --mode whole --scenarios N --seed S [--generator rig|blind] [--json]
+//   edsp-gap benchmark --mode events --scenarios N --seed S [--motions …] [--json] [--keep DIR]   (changes within a
+//   session) edsp-gap benchmark --mode whole --scenarios N --seed S [--generator rig|blind] [--json]
 //                      (whole rigs of every class, scored as effects)
 #include <unistd.h>
 
@@ -23,6 +23,8 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <string>
+#include <type_traits>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -41,6 +43,52 @@
 
 namespace edsp::gap {
 namespace {
+
+// --recorded: whether the baseline was applied while the new session was
+// recorded, or as the data's leg_corr columns say.
+enum class Recorded { kAuto, kWith, kWithout };
+// --mode of benchmark.
+enum class BenchmarkMode { kEffects, kCalibration, kDrift, kEvents, kWhole };
+
+const std::map<std::string, Against> kAgainstWords = {{"nominal", Against::kNominal},
+                                                      {"calibration", Against::kCalibration}};
+const std::map<std::string, Recorded> kRecordedWords = {
+    {"auto", Recorded::kAuto}, {"with", Recorded::kWith}, {"without", Recorded::kWithout}};
+const std::map<std::string, BenchmarkMode> kModeWords = {{"effects", BenchmarkMode::kEffects},
+                                                         {"calibration", BenchmarkMode::kCalibration},
+                                                         {"drift", BenchmarkMode::kDrift},
+                                                         {"events", BenchmarkMode::kEvents},
+                                                         {"whole", BenchmarkMode::kWhole}};
+const std::map<std::string, Generator> kGeneratorWords = {{"rig", Generator::kRig}, {"blind", Generator::kBlind}};
+const std::map<std::string, EncoderColumns> kEncoderWords = {
+    {"drawn", EncoderColumns::kDrawn}, {"with", EncoderColumns::kWith}, {"without", EncoderColumns::kWithout}};
+
+// An option whose words stand for an enum's values: the help lists the
+// words, and a word not among them is refused, named.
+template <typename E>
+CLI::Option* AddChoice(CLI::App* c, const std::string& name, E* target, const std::map<std::string, E>& words,
+                       const std::string& help) {
+  std::string list;
+  for (const auto& entry : words) list += (list.empty() ? "" : ",") + entry.first;
+  list = "{" + list + "}";
+  const CLI::Validator word(
+      [words, list](std::string& input) -> std::string {
+        const auto it = words.find(input);
+        if (it == words.end()) return "'" + input + "' is not one of " + list;
+        input = std::to_string(static_cast<std::underlying_type_t<E>>(it->second));  // what CLI11 reads an enum from
+        return "";
+      },
+      list);
+  return c->add_option(name, *target, help)->transform(word)->type_name("TEXT");
+}
+
+template <typename E>
+std::string WordOf(const std::map<std::string, E>& words, E value) {
+  for (const auto& [word, v] : words) {
+    if (v == value) return word;
+  }
+  return "";
+}
 
 MeasurementData LoadAll(const std::vector<std::string>& paths, TimingEvents timing = TimingEvents::kLeaveOut) {
   MeasurementData data;
@@ -109,7 +157,8 @@ struct EvaluateArgs {
 };
 
 struct DriftArgs {
-  std::string config, baseline, recorded = "auto";
+  std::string config, baseline;
+  Recorded recorded = Recorded::kAuto;
   std::vector<std::string> data;
   DriftOptions options;
   bool json = false;
@@ -125,7 +174,7 @@ TimingEvents TimingOf(bool keep) { return keep ? TimingEvents::kKeep : TimingEve
 
 struct BenchmarkArgs {
   BenchmarkOptions bench;
-  std::string mode = "effects";
+  BenchmarkMode mode = BenchmarkMode::kEffects;
   std::vector<std::string> held_out = CalibrationBenchmarkOptions{}.held_out;
   std::vector<std::string> session_motions = DriftBenchmarkOptions{}.session_motions;
   std::string keep_dir;
@@ -146,11 +195,9 @@ CLI::App* AddDiagnose(CLI::App& app, DiagnoseArgs* a) {
   c->add_option("--report", a->report_dir, "write report.md with PNG plots here");
   c->add_flag("--keep-timing-events", a->keep_timing_events, kKeepTimingEventsHelp);
   c->add_option("--max-rate-hz", a->options.max_rate_hz, "thin each run to this rate")->check(CLI::Range(1.0, 10000.0));
-  c->add_option("--against", a->options.against,
-                "data recorded with a calibration in force: nominal (the rig's whole effects; a model saved replaces "
-                "the calibration) or calibration (what it leaves)")
-      ->transform(CLI::CheckedTransformer(
-          std::map<std::string, Against>{{"nominal", Against::kNominal}, {"calibration", Against::kCalibration}}));
+  AddChoice(c, "--against", &a->options.against, kAgainstWords,
+            "data recorded with a calibration in force: nominal (the rig's whole effects; a model saved replaces "
+            "the calibration) or calibration (what it leaves)");
   a->thermal_tau = c->add_option("--thermal-time-constant-s", a->options.design.thermal_time_constant_s,
                                  "the screws' cooling time, fixed (default: estimated when thermal drift is found)")
                        ->check(CLI::Range(1.0, 1e6));
@@ -178,11 +225,10 @@ CLI::App* AddDrift(CLI::App& app, DriftArgs* a) {
   c->add_option("--config", a->config, "platform config (TOML)")->required();
   c->add_option("--baseline", a->baseline, "the calibration in force (diagnose --save-model)")->required();
   c->add_option("--data", a->data, "a new session's measurement CSV or edsp LCM log; repeatable")->required();
-  c->add_option("--recorded", a->recorded,
-                "with: the kinematics applied the baseline while it was recorded (usual); "
-                "without: it ran on the nominal model; auto (default): as the data's "
-                "leg_corr columns say, with where it has none")
-      ->check(CLI::IsMember({"auto", "with", "without"}));
+  AddChoice(c, "--recorded", &a->recorded, kRecordedWords,
+            "with: the kinematics applied the baseline while it was recorded (usual); "
+            "without: it ran on the nominal model; auto (default): as the data's "
+            "leg_corr columns say, with where it has none");
   c->add_option("--threshold-m", a->options.threshold_m,
                 "recalibrate when the baseline leaves more than this RMS (default: 1.5× the data's noise floor)")
       ->check(CLI::Range(0.0, 0.01));
@@ -214,24 +260,21 @@ CLI::App* AddBenchmark(CLI::App& app, BenchmarkArgs* a) {
   c->add_option("--seed", bench.seed, "scenario draw seed");
   c->add_option("--config", bench.config_path, "nominal platform config");
   c->add_option("--noise-m", bench.tracker_noise_m, "tracker noise, 1-σ per axis")->check(CLI::Range(0.0, 1e-3));
-  a->generator = c->add_option("--generator", bench.generator,
-                               "rig: edsp's own virtual rig; blind: the independently written rig (blindrig/), "
-                               "out-of-vocabulary scenarios and its own tracker draws")
-                     ->check(CLI::IsMember({"rig", "blind"}));
-  c->add_option("--encoders", bench.encoders,
-                "blind generator: encoder columns as drawn, in every scenario, or in none")
-      ->check(CLI::IsMember({"drawn", "with", "without"}));
+  a->generator = AddChoice(c, "--generator", &bench.generator, kGeneratorWords,
+                           "rig: edsp's own virtual rig; blind: the independently written rig (blindrig/), "
+                           "out-of-vocabulary scenarios and its own tracker draws");
+  AddChoice(c, "--encoders", &bench.encoders, kEncoderWords,
+            "blind generator: encoder columns as drawn, in every scenario, or in none");
   a->motions = c->add_option("--motions", bench.motions, "motions of every scenario, comma-separated")->delimiter(',');
   c->add_option("--closed-loop-motions", bench.closed_loop_motions,
                 "rig generator: motions no fit saw, run without and with the model applied (\"none\": skip)")
       ->delimiter(',');
-  c->add_option("--mode", a->mode,
-                "effects: which effect the diagnosis names; calibration: the loop closed on whole rigs, "
-                "designed motions against six; drift: what edsp-gap drift names on rigs that "
-                "changed or not "
-                "(--scenarios rigs); events: changes within a session found as events, on the blind rig; "
-                "whole: every scenario a whole rig of every class (static, dynamic, thermal), scored as effects")
-      ->check(CLI::IsMember({"effects", "calibration", "drift", "events", "whole"}));
+  AddChoice(c, "--mode", &a->mode, kModeWords,
+            "effects: which effect the diagnosis names; calibration: the loop closed on whole rigs, "
+            "designed motions against six; drift: what edsp-gap drift names on rigs that "
+            "changed or not "
+            "(--scenarios rigs); events: changes within a session found as events, on the blind rig; "
+            "whole: every scenario a whole rig of every class (static, dynamic, thermal), scored as effects");
   c->add_option("--held-out", a->held_out, "calibration mode: motions no fit sees, comma-separated")->delimiter(',');
   c->add_option("--session-motions", a->session_motions,
                 "drift mode: the motions of the sessions after the calibration, comma-separated")
@@ -295,8 +338,8 @@ int RunEvaluate(const EvaluateArgs& a) {
 // --recorded: with, without, or auto: as the data's leg_corr columns say
 // (several files are one session: any correction in them says "with"), and
 // "with" for data without the columns, the usual case.
-bool RecordedWithBaseline(const std::string& choice, const MeasurementData& data) {
-  if (choice != "auto") return choice == "with";
+bool RecordedWithBaseline(Recorded choice, const MeasurementData& data) {
+  if (choice != Recorded::kAuto) return choice == Recorded::kWith;
   return !data.has_correction || CarriesACorrection(data);
 }
 
@@ -338,8 +381,9 @@ int RunCompare(const CompareArgs& a) {
 
 // Drift closes the loop through edsp's kinematics on edsp's rig only.
 void RequireEdspRig(const BenchmarkArgs& a) {
-  if (a.bench.generator == "rig") return;
-  throw std::invalid_argument("benchmark --mode " + a.mode + " --generator " + a.bench.generator +
+  if (a.bench.generator == Generator::kRig) return;
+  throw std::invalid_argument("benchmark --mode " + WordOf(kModeWords, a.mode) + " --generator " +
+                              GeneratorName(a.bench.generator) +
                               ": drift is scored on edsp's rig only (--generator rig)");
 }
 
@@ -381,8 +425,8 @@ int RunDriftBenchmarkCommand(const BenchmarkArgs& a) {
 
 // Rigs that change within a session (or not), on the blind rig.
 int RunEventsBenchmarkCommand(const BenchmarkArgs& a) {
-  if (a.generator != nullptr && a.generator->count() > 0 && a.bench.generator != "blind") {
-    throw std::invalid_argument("benchmark --mode events --generator " + a.bench.generator +
+  if (a.generator != nullptr && a.generator->count() > 0 && a.bench.generator != Generator::kBlind) {
+    throw std::invalid_argument(std::string("benchmark --mode events --generator ") + GeneratorName(a.bench.generator) +
                                 ": events are scored on the blind rig only (--generator blind)");
   }
   EventsBenchmarkOptions o;
@@ -390,16 +434,21 @@ int RunEventsBenchmarkCommand(const BenchmarkArgs& a) {
   o.seed = a.bench.seed;
   o.config_path = a.bench.config_path;
   if (a.motions != nullptr && a.motions->count() > 0) o.motions = a.bench.motions;
+  o.keep_dir = a.keep_dir;
   o.progress = !a.json || isatty(fileno(stderr));
   return Emit(RunEventsBenchmark(o), a.json, PrintEventsBenchmark);
 }
 
 int RunBenchmarkCommand(BenchmarkArgs a) {
-  if (a.mode == "calibration") return RunCalibrationBenchmarkCommand(a);
-  if (a.mode == "events") return RunEventsBenchmarkCommand(a);
-  if (a.mode == "drift") return RunDriftBenchmarkCommand(a);
+  switch (a.mode) {
+    case BenchmarkMode::kCalibration: return RunCalibrationBenchmarkCommand(a);
+    case BenchmarkMode::kEvents: return RunEventsBenchmarkCommand(a);
+    case BenchmarkMode::kDrift: return RunDriftBenchmarkCommand(a);
+    case BenchmarkMode::kEffects:
+    case BenchmarkMode::kWhole: break;
+  }
   a.bench.keep_dir = a.keep_dir;
-  a.bench.whole_rigs = a.mode == "whole";
+  a.bench.whole_rigs = a.mode == BenchmarkMode::kWhole;
   if (a.bench.closed_loop_motions == std::vector<std::string>{"none"}) a.bench.closed_loop_motions.clear();
   a.bench.progress = !a.json || isatty(fileno(stderr));
   const BenchmarkResult result = RunBenchmark(a.bench);

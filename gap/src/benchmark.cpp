@@ -196,8 +196,9 @@ Drawn DrawOnRig(const BenchmarkOptions& options, const std::string& config, Rng&
 // motions and tracker draw; only the config's numbers are shared.
 Drawn DrawOnBlindRig(const BenchmarkOptions& options, const PlatformConfig& config, int k, double rated_payload_kg,
                      const std::string& dir) {
-  const std::optional<bool> encoders =
-      options.encoders == "drawn" ? std::nullopt : std::optional<bool>(options.encoders == "with");
+  const std::optional<bool> encoders = options.encoders == EncoderColumns::kDrawn
+                                           ? std::nullopt
+                                           : std::optional<bool>(options.encoders == EncoderColumns::kWith);
   const blind::BlindScenario s = options.whole_rigs ? blind::DrawBlindEveryClassRig(options.seed, k, rated_payload_kg)
                                                     : blind::DrawBlindScenario(options.seed, k, encoders);
   blind::BlindRigSetup setup = blind::SetupFromConfig(config);
@@ -325,14 +326,8 @@ bool Met(const Target& t) { return t.scenarios == 0 || (t.at_most ? t.rate <= t.
 }  // namespace
 
 BenchmarkResult RunBenchmark(const BenchmarkOptions& options) {
-  if (options.generator != "rig" && options.generator != "blind") {
-    throw std::invalid_argument("benchmark generator '" + options.generator + "': expected rig or blind");
-  }
-  if (options.encoders != "drawn" && options.encoders != "with" && options.encoders != "without") {
-    throw std::invalid_argument("benchmark encoders '" + options.encoders + "': expected drawn, with or without");
-  }
-  if (options.encoders != "drawn" && options.generator != "blind") {
-    throw std::invalid_argument("benchmark encoders '" + options.encoders +
+  if (options.encoders != EncoderColumns::kDrawn && options.generator != Generator::kBlind) {
+    throw std::invalid_argument(std::string("benchmark encoders '") + EncoderColumnsName(options.encoders) +
                                 "': only the blind generator draws them (the rig's tracker always has encoders)");
   }
   BenchmarkResult result;
@@ -350,8 +345,9 @@ BenchmarkResult RunBenchmark(const BenchmarkOptions& options) {
     Progress(options, k, options.scenarios, fmt::format("scenario {}: simulating", k));
     const std::string dir = fmt::format("{}/scenario-{:03d}", root, k);
     std::filesystem::create_directories(dir);
-    const Drawn drawn = options.generator == "blind" ? DrawOnBlindRig(options, platform, k, rated_payload_kg, dir)
-                                                     : DrawOnRig(options, config, frames, k, rated_payload_kg, dir);
+    const Drawn drawn = options.generator == Generator::kBlind
+                            ? DrawOnBlindRig(options, platform, k, rated_payload_kg, dir)
+                            : DrawOnRig(options, config, frames, k, rated_payload_kg, dir);
     Progress(options, k, options.scenarios, fmt::format("scenario {}: diagnosing", k));
     // Blind: the diagnosis sees the measurement CSV and the nominal model only.
     const MeasurementData data = LoadMeasurement(drawn.csv_path);
@@ -401,8 +397,8 @@ BenchmarkResult RunBenchmark(const BenchmarkOptions& options) {
 nlohmann::json ToJson(const BenchmarkResult& r) {
   nlohmann::json j;
   j["mode"] = r.options.whole_rigs ? "whole" : "effects";
-  j["generator"] = r.options.generator;
-  j["encoders"] = r.options.encoders;
+  j["generator"] = GeneratorName(r.options.generator);
+  j["encoders"] = EncoderColumnsName(r.options.encoders);
   j["seed"] = r.options.seed;
   j["scenarios"] = r.scores.size();
   j["tracker_noise_m"] = r.options.tracker_noise_m;
@@ -442,7 +438,7 @@ nlohmann::json ToJson(const BenchmarkResult& r) {
   j["median_after_over_noise_floor"] = r.median_after_over_noise;
   j["median_diagnose_s"] = r.median_diagnose_s;
   j["closed_loop"] = {
-      {"motions", r.options.generator == "rig" ? r.options.closed_loop_motions : std::vector<std::string>{}},
+      {"motions", r.options.generator == Generator::kRig ? r.options.closed_loop_motions : std::vector<std::string>{}},
       {"scenarios", r.closed_loop},
       {"median_measured_shrink", r.median_closed_shrink},
       {"median_predicted_shrink", r.median_closed_predicted_shrink},
@@ -506,9 +502,9 @@ nlohmann::json ToJson(const BenchmarkResult& r) {
 }
 
 void PrintBenchmark(const BenchmarkResult& r) {
-  std::printf("generator %s, seed %llu\n%-3s %-18s %-40s %-40s %-16s %8s %8s %7s %7s\n", r.options.generator.c_str(),
-              static_cast<unsigned long long>(r.options.seed), "#", "kind", "truth", "found (ranked)", "conclusion",
-              "before", "after", "shrink", "gap");
+  std::printf("generator %s, seed %llu\n%-3s %-18s %-40s %-40s %-16s %8s %8s %7s %7s\n",
+              GeneratorName(r.options.generator), static_cast<unsigned long long>(r.options.seed), "#", "kind", "truth",
+              "found (ranked)", "conclusion", "before", "after", "shrink", "gap");
   for (const ScenarioScore& s : r.scores) {
     std::printf("%-3d %-18s %-40s %-40s %-16s %6.1fµm %6.1fµm %6.0f%% %6.0f%%\n", s.index, ScenarioKindName(s.kind),
                 (s.truth.empty() ? std::string("-") : fmt::format("{}", fmt::join(s.truth, ","))).c_str(),

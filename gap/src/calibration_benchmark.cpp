@@ -153,9 +153,6 @@ void Tally(CalibrationBenchmarkResult* r) {
 CalibrationBenchmarkResult RunCalibrationBenchmark(const CalibrationBenchmarkOptions& options) {
   if (options.designs.empty()) throw std::invalid_argument("calibration benchmark: no motion design to score");
   if (options.held_out.empty()) throw std::invalid_argument("calibration benchmark: no held-out motions");
-  if (options.generator != "rig" && options.generator != "blind") {
-    throw std::invalid_argument("calibration benchmark: generator " + options.generator + " is neither rig nor blind");
-  }
   CalibrationBenchmarkResult result;
   result.options = options;
   const std::string config = options.config_path.empty() ? SourcePath("config/huang2021.toml") : options.config_path;
@@ -167,7 +164,7 @@ CalibrationBenchmarkResult RunCalibrationBenchmark(const CalibrationBenchmarkOpt
           ? (std::filesystem::temp_directory_path() / fmt::format("edsp-gap-calibration-bench-{}", ::getpid())).string()
           : options.keep_dir;
   std::mt19937_64 stands(options.seed);
-  const bool blind_rig = options.generator == "blind";
+  const bool blind_rig = options.generator == Generator::kBlind;
   for (int k = 0; k < options.rigs; ++k) {
     RigScore score;
     score.index = k;
@@ -201,7 +198,7 @@ CalibrationBenchmarkResult RunCalibrationBenchmark(const CalibrationBenchmarkOpt
 nlohmann::json ToJson(const CalibrationBenchmarkResult& r) {
   nlohmann::json j;
   j["mode"] = "calibration";
-  j["generator"] = r.options.generator;
+  j["generator"] = GeneratorName(r.options.generator);
   j["seed"] = r.options.seed;
   j["tracker_noise_m"] = r.options.tracker_noise_m;
   j["tracker_rate_hz"] = r.options.tracker_rate_hz;
@@ -243,7 +240,7 @@ nlohmann::json ToJson(const CalibrationBenchmarkResult& r) {
 
 void PrintCalibrationBenchmark(const CalibrationBenchmarkResult& r) {
   std::printf("calibration on %zu whole rigs of %s (seed %llu, payloads 500–%.0f kg), held out: %s\n", r.rigs.size(),
-              r.options.generator == "blind" ? "the blind rig" : "edsp's rig",
+              r.options.generator == Generator::kBlind ? "the blind rig" : "edsp's rig",
               static_cast<unsigned long long>(r.options.seed), r.rated_payload_kg,
               fmt::format("{}", fmt::join(r.options.held_out, ",")).c_str());
   std::printf("%-4s %-58s", "rig", "");

@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 
 #include <Eigen/Geometry>
 #include <fmt/format.h>
@@ -13,6 +15,7 @@
 #include "edsp/blindrig/blind_kinematics.h"
 #include "edsp/blindrig/blind_setup.h"
 #include "edsp/diagnosis/diagnose.h"
+#include "edsp/diagnosis/report.h"
 #include "edsp/kinematics/config.h"
 #include "edsp/node/build_paths.h"
 
@@ -118,6 +121,13 @@ void Score(const Diagnosis& d, bool rig_has_thermal, EventScenario* s) {
   s->drift_as_step = s->kind == SessionChange::kDrift && !d.changes.events.empty();
 }
 
+// A scenario's data and its diagnosis, to look at again (edsp-gap diagnose --data DIR/data.csv).
+void Keep(const std::string& dir, const std::string& csv, const Diagnosis& d) {
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir + "/data.csv") << csv;
+  std::ofstream(dir + "/diagnosis.json") << ToJson(d).dump(2) << "\n";
+}
+
 double SecondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -160,11 +170,12 @@ EventsBenchmarkResult RunEventsBenchmark(const EventsBenchmarkOptions& o) {
     DrawChange(k, session_s, rig.tracker.frame, rng, &rig.effects, &s);
     if (s.kind == SessionChange::kDrift && rig_has_thermal) s.rig += " (its thermal effect replaced by the drift)";
     try {
-      const MeasurementData data =
-          ParseMeasurementCsv(blind::GenerateMeasurementCsv(setup, rig.effects, rig.tracker), "blind");
+      const std::string csv = blind::GenerateMeasurementCsv(setup, rig.effects, rig.tracker);
+      const MeasurementData data = ParseMeasurementCsv(csv, "blind");
       const auto t0 = std::chrono::steady_clock::now();
       const Diagnosis d = Diagnose(model, data);
       s.diagnose_s = SecondsSince(t0);
+      if (!o.keep_dir.empty()) Keep(o.keep_dir + "/" + std::to_string(k), csv, d);
       seconds.push_back(s.diagnose_s);
       Score(d, rig_has_thermal, &s);
     } catch (const std::exception& e) {

@@ -65,7 +65,8 @@ motion_reply_t MotionService::Handle(const motion_request_t& r, std::int64_t now
       r, now_utime, [&](ReplyCode code, std::string reason) { return Reply(r, code, std::move(reason)); },
       [&] { return Act(r, now_utime, lock); });
   if (answer.acted) {
-    refused_ = answer.reply.accepted ? "" : RequestKindName(r.kind) + " refused: " + answer.reply.reason;
+    refused_.reset();
+    if (!answer.reply.accepted) refused_ = RequestKindName(r.kind) + " refused: " + answer.reply.reason;
     Changed();
   }
   return answer.reply;
@@ -299,7 +300,7 @@ motion_reply_t MotionService::Decelerate(const motion_request_t& r, bool stop, s
   const std::string what = stop ? "stop" : "halt";
   if (cueing_ && cueing_->following) {
     const std::string source = cueing_->source;
-    EndCueing("", now_utime, end);
+    EndCueing(now_utime, end);
     return Reply(r, ReplyCode::kDone,
                  fmt::format("{}: cueing from {} ended, holding {}", what, source, PoseText(hold_pose_)));
   }
@@ -493,7 +494,7 @@ std::int8_t MotionService::State(std::int64_t now_utime) const {
   if (current_) return current_->halting ? motion_status_t::STATE_HALTING : motion_status_t::STATE_MOVING;
   if (!queue_.empty()) return motion_status_t::STATE_MOVING;
   if (cueing_ && cueing_->following) return motion_status_t::STATE_CUEING;
-  if (!refused_.empty()) return motion_status_t::STATE_REFUSED;
+  if (refused_) return motion_status_t::STATE_REFUSED;
   return ever_moved_ ? motion_status_t::STATE_HOLDING : motion_status_t::STATE_IDLE;
 }
 
@@ -531,7 +532,7 @@ motion_status_t MotionService::Status(std::int64_t now_utime) const {
   if (s.state == motion_status_t::STATE_FAULT)
     s.reason = BridgeProblem(now_utime);
   else if (s.state == motion_status_t::STATE_REFUSED)
-    s.reason = refused_;
+    s.reason = *refused_;
   return s;
 }
 

@@ -103,7 +103,7 @@ motion_reply_t MotionService::Disengage(const motion_request_t& r, std::int64_t 
   if (!cueing_) return Reply(r, ReplyCode::kNotNow, "no cueing is engaged");
   if (std::string p = PoseProblem(r); !p.empty()) return Reply(r, ReplyCode::kInvalid, p);
   const std::string source = cueing_->source;
-  EndCueing("", now_utime, motion_status_t::END_COMPLETED);
+  EndCueing(now_utime, motion_status_t::END_COMPLETED);
   if ((PoseOf(PlannedEnd()).ToVector() - RequestPose(r)).cwiseAbs().maxCoeff() <= kSamePose) {
     return Reply(r, ReplyCode::kDone, fmt::format("cueing from {} disengaged at {}", source, PoseText(hold_pose_)));
   }
@@ -217,17 +217,18 @@ std::string MotionService::CueToFollow(std::int64_t now_utime, FaultCode* code, 
       c.source, c.latest->seq, step.leg + 1, step.most_m, since_s * 1e3, step.allowed_m);
 }
 
-void MotionService::EndCueing(std::string why, std::int64_t now_utime, std::int8_t end,
-                              std::optional<FaultCode> fault) {
+void MotionService::EndCueing(std::int64_t now_utime, std::int8_t end, std::optional<CueFault> fault) {
   if (!cueing_) return;
-  if (fault) cue_fault_ = CueFault{*fault, why};
   if (cueing_->following) {
     last_end_ = end;
     ended_utime_ = now_utime;
     within_since_ = 0;
   }
   cueing_.reset();
-  if (!why.empty()) refused_ = std::move(why);
+  if (fault) {
+    refused_ = fault->reason;
+    cue_fault_ = std::move(fault);
+  }
   Changed();
 }
 
@@ -253,8 +254,8 @@ void MotionService::OnCueSetpoint(const pose_setpoint_t& cue, std::int64_t now_u
   if (cueing_->latest && cue.seq <= cueing_->latest->seq) return;  // a copy or one overtaken: the newer stands
   FaultCode code{};
   if (std::string p = CueProblem(cue, now_utime, &code); !p.empty()) {
-    EndCueing(fmt::format("cueing from {} ended: {}; holding the last pose", cueing_->source, p), now_utime,
-              motion_status_t::END_STOPPED, code);
+    EndCueing(now_utime, motion_status_t::END_STOPPED,
+              CueFault{code, fmt::format("cueing from {} ended: {}; holding the last pose", cueing_->source, p)});
     return;
   }
   cueing_->latest = cue;
@@ -272,7 +273,7 @@ void MotionService::FollowCue(std::int64_t now_utime, PoseSample* sample) {
   FaultCode code{};
   PoseSample cue;
   if (std::string why = CueToFollow(now_utime, &code, &cue); !why.empty()) {
-    EndCueing(std::move(why), now_utime, motion_status_t::END_STOPPED, code);
+    EndCueing(now_utime, motion_status_t::END_STOPPED, CueFault{code, std::move(why)});
     return;
   }
   if (!cueing_->latest) return;  // none yet, within the stale limit: the neutral pose held

@@ -39,7 +39,7 @@ using namespace test_support;  // sim_group_harness.h
 
 // Runs edsp-ctl with the group's LCM URL; returns its exit status, output in *out.
 // What is tested is the node's answer, not how fast a loaded machine gives it:
-// a pinned CPU hog made a fresh-clone run miss edsp-ctl's default 2 s.
+// a pinned CPU hog can hold the answer past edsp-ctl's default 2 s.
 int Ctl(const std::string& dir, const std::string& args, std::string* out) {
   const std::string path = dir + "/ctl.out";
   const int status = std::system(

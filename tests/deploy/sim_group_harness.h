@@ -42,9 +42,9 @@ inline constexpr const char* kDefaultConfig = "config/huang2021.toml";
 
 // The nodes' stale limit as shipped: what the hold tests exercise.
 inline constexpr int kShippedStaleMs = 50;
-// For tests of accuracy, not of holding: this shared 2-core VM has stalled
-// for over 50 ms (a fresh-clone CI run latched the bridge mid-motion), which
-// is a correct hold but not what those tests measure.
+// For tests of accuracy, not of holding: a shared machine can stall a node
+// past 50 ms, which latches the bridge mid-motion, a correct hold but not
+// what those tests measure.
 inline constexpr int kStallTolerantStaleMs = 250;
 
 // What some tests change beyond the planner: the shipped group they start
@@ -64,7 +64,7 @@ struct SimGroupExtras {
 // long, and their following-error window is a leg's travel at 0.5 m/s
 // meanwhile (a drive simulator descheduled for 10 ms while the rig moves
 // the legs at 0.25 m/s falls 2.5 mm behind its target: past the shipped
-// 1.9 mm window, a fault on a fresh-clone test run). `group`: sim-modbus,
+// 1.9 mm window, a fault). `group`: sim-modbus,
 // or sim-cia402 (the same drives over the shared-memory CSP image).
 SimGroupExtras OverModbus(const std::string& dir, int stall_ms, std::string* config,
                           const std::string& group = "sim-modbus");

@@ -23,12 +23,11 @@ using namespace test_support;  // sim_group_harness.h
 
 // The group `group` run as `name`: point A within 5 µm at every dwell.
 // For a test of accuracy, not of holding (as kStallTolerantStaleMs): on
-// this shared 2-core VM a drive simulator descheduled past the shipped
-// 5 ms response timeout (a busy fresh-clone CI run), a bridge silent past
-// the drives' 20 ms fieldbus timeout, or drives 8 ms behind a rig moving
-// the legs at 0.25 m/s (past the 1.9 mm following window) is a correct
-// fault and hold, not what this measures. All tolerate the stale limit's
-// 250 ms here.
+// a shared machine a drive simulator descheduled past the shipped 5 ms
+// response timeout, a bridge silent past the drives' 20 ms fieldbus
+// timeout, or drives 8 ms behind a rig moving the legs at 0.25 m/s (past
+// the 1.9 mm following window) is a correct fault and hold, not what this
+// measures. All tolerate the stale limit's 250 ms here.
 void ExpectEveryDwellWithin5um(const std::string& group, const std::string& name) {
   std::string config;
   const SimGroupExtras extras =

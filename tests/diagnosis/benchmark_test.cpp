@@ -69,7 +69,7 @@ TEST(Benchmark, TheGapIsTheDepartureAboveTheTrackersNoise) {
 // sample-to-sample differences at rest, lands on √3·σ.
 TEST(Benchmark, TheShrinkIsScoredAgainstTheTrackersNoise) {
   BenchmarkOptions o;
-  o.generator = "blind";
+  o.generator = Generator::kBlind;
   o.scenarios = 3;
   o.seed = 11;
   o.progress = false;
@@ -105,8 +105,8 @@ TEST(Benchmark, TheShrinkIsScoredAgainstTheTrackersNoise) {
 // whatever was drawn, and the JSON says which choice it ran with.
 TEST(Benchmark, EncodersCanBeLeftOutOfEveryBlindScenario) {
   BenchmarkOptions o;
-  o.generator = "blind";
-  o.encoders = "without";
+  o.generator = Generator::kBlind;
+  o.encoders = EncoderColumns::kWithout;
   o.scenarios = 1;
   o.seed = 5;
   o.progress = false;
@@ -117,24 +117,21 @@ TEST(Benchmark, EncodersCanBeLeftOutOfEveryBlindScenario) {
   }
 }
 
-// The rig's tracker always has encoders: forcing them there, or a word
-// that is not a choice, is an error that names the value.
+// The rig's tracker always has encoders: forcing them there is an error
+// that names the choice.
 TEST(Benchmark, AnEncoderChoiceTheGeneratorCannotHonourIsAnError) {
-  const auto expect_refused = [](const BenchmarkOptions& o) {
-    try {
-      RunBenchmark(o);
-      ADD_FAILURE() << o.generator << " generator accepted --encoders " << o.encoders;
-    } catch (const std::invalid_argument& e) {
-      EXPECT_NE(std::string(e.what()).find("'" + o.encoders + "'"), std::string::npos) << e.what();
-    }
-  };
   BenchmarkOptions o;
   o.progress = false;
-  o.encoders = "without";
-  expect_refused(o);
-  o.generator = "blind";
-  o.encoders = "some";
-  expect_refused(o);
+  for (EncoderColumns forced : {EncoderColumns::kWith, EncoderColumns::kWithout}) {
+    o.encoders = forced;
+    try {
+      RunBenchmark(o);
+      ADD_FAILURE() << "the rig generator accepted --encoders " << EncoderColumnsName(forced);
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(std::string("'") + EncoderColumnsName(forced) + "'"), std::string::npos)
+          << e.what();
+    }
+  }
 }
 
 }  // namespace

@@ -40,7 +40,7 @@ TEST(CalibrationBenchmark, OnTheBlindRigBothDesignsAreScored) {
   CalibrationBenchmarkOptions o;
   o.rigs = 1;
   o.seed = 17;
-  o.generator = "blind";
+  o.generator = Generator::kBlind;
   o.held_out = {"M3"};
   o.progress = false;
   const CalibrationBenchmarkResult r = RunCalibrationBenchmark(o);
@@ -53,8 +53,6 @@ TEST(CalibrationBenchmark, OnTheBlindRigBothDesignsAreScored) {
     EXPECT_LT(s.after_rms_m, 0.5 * s.before_rms_m) << s.design;
   }
   EXPECT_EQ(ToJson(r)["generator"], "blind");
-  o.generator = "sim";
-  EXPECT_THROW(RunCalibrationBenchmark(o), std::invalid_argument);
 }
 
 }  // namespace

@@ -199,8 +199,8 @@ namespace {
 
 // The benchmark on the independently written rig: scenario k is of the kind
 // its index draws (effect-free, two single, a pair, one outside the
-// vocabulary), scored with the targets; an unknown generator is
-// refused by name.
+// vocabulary), scored with the targets; an unknown generator or
+// encoder choice is refused by name.
 TEST(EdspGapCli, BenchmarkOnTheBlindRigScoresEveryKindWithItsTargets) {
   const Output out = Gap("benchmark --generator blind --scenarios 5 --seed 31 --motions Lz,Rz,M1,M2 --json");
   ASSERT_EQ(out.exit_code, 0) << out.text;
@@ -228,6 +228,9 @@ TEST(EdspGapCli, BenchmarkOnTheBlindRigScoresEveryKindWithItsTargets) {
   const Output bad = Gap("benchmark --generator sim --scenarios 1");
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.text.find("sim"), std::string::npos) << bad.text;
+  const Output bad_encoders = Gap("benchmark --generator blind --encoders some --scenarios 1");
+  EXPECT_NE(bad_encoders.exit_code, 0);
+  EXPECT_NE(bad_encoders.text.find("some"), std::string::npos) << bad_encoders.text;
 }
 
 // A whole rig of every class on the blind rig: static, play, compliance, a

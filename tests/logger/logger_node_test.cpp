@@ -264,9 +264,9 @@ TEST(LoggerNode, LcmCopiesOfARingThatNeverComesAreRecordedAfterAGraceAndSaid) {
 
 // A writer that starts after the logger fills its ring (64 slots, 64 ms at
 // 1 kHz) before long: the logger must find the ring before its first
-// message is overwritten. At a 100 ms look a 10-minute sim run lost the
-// planner's first 7 setpoints; here 80 messages, the first 30 of them
-// before the logger has had 15 ms to look.
+// message is overwritten (a look every 100 ms would lose a 1 kHz writer's
+// first messages); here 80 messages, the first 30 of them before the
+// logger has had 15 ms to look.
 TEST(LoggerNode, FindsALateRingBeforeItsFirstMessagesAreOverwritten) {
   TransportConfig config = MemqConfig("logger_late_ring_fast");
   config.channels["EDSP_LEG_COMMAND"].path = ChannelPath::kShm;

@@ -31,9 +31,9 @@ struct MultiHostOptions {
   std::string controller_host = "controller";
   std::string drive_host = "drive";
   // The bridge's and kinematics' stale limit. The shipped 50 ms for the tests
-  // of holding; for the others more, as in the single-host group tests: this
-  // shared 2-vCPU VM has delivered a command 91 ms late in a fresh run, a
-  // correct hold but not what those tests measure.
+  // of holding; for the others more, as in the single-host group tests: a
+  // shared machine can deliver a command past 50 ms late, a correct hold
+  // but not what those tests measure.
   int stale_ms = 250;
   // The drive cabinet as a fieldbus: the bridge moves to the controller and
   // is a Modbus TCP master of edsp-drive-sim on the drive host (which moves

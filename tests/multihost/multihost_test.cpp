@@ -357,9 +357,9 @@ TEST(MultiHost, DrivesLinkPulledOverModbusHoldsNamesTheDrivesAndResumesOnlyAfter
   MultiHostOptions options{R"("--motions", "Lz", "--stops", "2", "--dwell-s", "1", "--max-speed-m-s", "0.1",
                                "--exit-after-hold-s", "1")"};
   // The stale limit, response and fieldbus timeouts at 250 ms (the shipped
-  // 50 ms hold is the link-down test's): a 2-vCPU CI machine stalls a node
-  // for over 50 ms now and then, and a second latch after the re-arm is not
-  // what this test is about.
+  // 50 ms hold is the link-down test's): a shared machine stalls a node for
+  // over 50 ms now and then, and a second latch after the re-arm is not what
+  // this test is about.
   options.drives_over_modbus = true;
   MultiHostGroup group(network, "modbus_pulled", options);
   group.Start();

@@ -17,6 +17,7 @@
 #include "edsp/diagnosis/conclusion.h"
 #include "edsp/diagnosis/diagnose.h"
 #include "edsp/diagnosis/gap_shrink.h"
+#include "edsp/gap/generator.h"
 #include "edsp/gap/rig_scenarios.h"
 #include "edsp/gap/scenario_kind.h"
 
@@ -31,13 +32,11 @@ struct BenchmarkOptions {
   // The paper's four and four mixed motions (every axis at once): each run
   // held out is then predicted from runs that span the same workspace.
   std::vector<std::string> motions = {"Lz", "Lx", "Rz", "Ry", "M1", "M2", "M3", "M4"};
-  std::string generator = "rig";  // rig | blind (the blind rig draws its own tracker: rate 10–1000 Hz,
-                                  // σ 2–20 µm, with or without encoders; noise and rate above are the rig's)
-  // Blind generator: encoder columns as drawn, or in every scenario
-  // ("with") or none ("without"), so the checks that need their absence
-  // (the clock's offset, step 12) are exercised; the rest of each draw is
-  // the same.
-  std::string encoders = "drawn";  // drawn | with | without
+  Generator generator = Generator::kRig;  // the noise and rate above are the rig's (the blind rig draws its own)
+  // Blind generator: the checks that need the encoders' absence (the
+  // clock's offset, step 12) run on every draw without them; the rest of
+  // each draw is the same.
+  EncoderColumns encoders = EncoderColumns::kDrawn;
   // The closed loop (rig generator only): after the diagnosis, these motions,
   // which no fit saw, run without and with the saved model applied by the
   // kinematics; empty: not run.

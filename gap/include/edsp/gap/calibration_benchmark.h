@@ -15,6 +15,8 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "edsp/gap/generator.h"
+
 namespace edsp::gap {
 
 struct MotionDesign {
@@ -25,10 +27,10 @@ struct MotionDesign {
 struct CalibrationBenchmarkOptions {
   int rigs = 10;
   std::uint64_t seed = 1;
-  // rig: edsp's virtual rig (rig_scenarios.h's DrawWholeRig); blind: the
-  // independently written rig (blindrig/'s DrawBlindWholeRig), its
-  // controller corrected by edsp's LegCompensator (blind_closed_loop.h).
-  std::string generator = "rig";
+  // kRig: rig_scenarios.h's DrawWholeRig; kBlind: blindrig/'s
+  // DrawBlindWholeRig, its controller corrected by edsp's LegCompensator
+  // (blind_closed_loop.h).
+  Generator generator = Generator::kRig;
   std::string config_path;        // nominal model; default: the paper's platform
   double tracker_noise_m = 5e-6;  // 1-σ per axis
   double tracker_rate_hz = 100.0;

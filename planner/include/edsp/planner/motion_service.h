@@ -143,9 +143,9 @@ class MotionService {
     int leg = 0;
   };
   LegStep LegStepBetween(const Vector6& from, const Vector6& to, double span_s) const;
-  // Ends the cueing where the platform stands; `why` (unless "") is the status's reason.
-  void EndCueing(std::string why, std::int64_t now_utime, std::int8_t end,
-                 std::optional<FaultCode> fault = std::nullopt);
+  // Ends the cueing where the platform stands; a `fault` ended it: its reason
+  // is the status's (a refusal) and it is raised once (TakeCueFault).
+  void EndCueing(std::int64_t now_utime, std::int8_t end, std::optional<CueFault> fault = std::nullopt);
   std::string CueingProblem() const;  // why a move or run must wait ("" if nothing is engaged)
   void StartCueing(const std::string& source, std::int64_t request_id);  // engaged, not yet following
   // After a motion ends: an engage move's end starts the following.
@@ -187,7 +187,7 @@ class MotionService {
   std::int8_t last_end_ = motion_status_t::END_NONE;
   std::int64_t ended_utime_ = 0;
   bool ever_moved_ = false;
-  std::string refused_;  // the last request's refusal, until one is accepted
+  std::optional<std::string> refused_;  // the last request's refusal, until one is accepted
   bool changed_ = true;
   std::uint64_t decelerations_ = 0;  // halts and stops so far: a plan older than the last is refused
   std::int64_t setpoint_seq_ = 0;
