@@ -26,6 +26,7 @@ const char* StepRejectionName(StepRejection why) {
     case StepRejection::kDrift: return "drift";
     case StepRejection::kStructure: return "structure";
     case StepRejection::kUndetermined: return "undetermined";
+    case StepRejection::kOtherSignature: return "other_signature";
   }
   return "";
 }
@@ -354,6 +355,15 @@ ChangeEvent EventOf(const Design& d, const Timeline& line, int signature, int po
 
 inline constexpr double kLargestSigma = 1e-3;  // m or rad
 
+// Whether the step's statistic (in the widened σ²) is step_over_structure
+// times what is left along its signature block by block (`left_sigma2`,
+// in white noise's σ²): one change standing on structure, not fitted into
+// it. The more the signature holds block by block, and the more its noise
+// adds up over a block, the larger the step must be.
+bool StandsAboveStructure(const Fitted& step, double left_sigma2, const ChangePointOptions& o) {
+  return step.wald >= o.step_over_structure * left_sigma2;
+}
+
 // The step of `signature` at `pos` judged against the noise and the
 // structure (Judge, LeftBlockByBlock): nothing when it is within the
 // noise; an event whose `alternative` is kStructure when what is left
@@ -366,7 +376,8 @@ std::optional<ChangeEvent> Assess(const Base& base, const Timeline& line, int si
   ChangeEvent ev = EventOf(base.d, line, signature, pos, *step, threshold);
   ev.step_sigma2 = step->wald;
   std::tie(ev.left_sigma2, ev.left_threshold) = LeftBlockByBlock(base.d, line, signature, *step);
-  if (ev.left_sigma2 > ev.left_threshold) ev.alternative = StepRejection::kStructure;
+  if (ev.left_sigma2 > ev.left_threshold && !StandsAboveStructure(*step, ev.left_sigma2, o))
+    ev.alternative = StepRejection::kStructure;
   // A step the session cannot size to within a millimetre or a milliradian
   // in some direction (its columns all but collinear with the rest there)
   // passes its bar on the directions it can size, but is no change a rig
@@ -385,12 +396,13 @@ void AgainstADrift(const Base& base, int signature, const Fitted& step, const Ch
   if (ev->step_sigma2 - ev->drift_sigma2 < o.step_over_drift) ev->alternative = StepRejection::kDrift;
 }
 
-Eigen::VectorXd PriorFor(const Design& d) {
-  const double sigma_axis = std::max(NoiseFloorRms(d) / std::sqrt(3.0), 1e-8);
-  const Eigen::MatrixXd F = d.columns.middleCols(d.frame.begin, d.frame.count);
-  const Eigen::VectorXd frame_only = d.residual - F * (F.transpose() * F).ldlt().solve(F.transpose() * d.residual);
-  const double mse0 = frame_only.squaredNorm() / static_cast<double>(std::max<Eigen::Index>(1, d.residual.size()));
-  return PriorWeights(d, std::max(sigma_axis * sigma_axis, mse0));
+// Whether a better step of another signature, already turned away, stands
+// at the step's instant: the same change seen through a signature that
+// mimics part of it (a knocked tracker through a leg whose pose the motion
+// before it barely varied), which must not be reported in its place.
+bool BesideABetterStep(const ChangeEvent& step, const std::vector<ChangeEvent>& better, const ChangePointOptions& o) {
+  return std::any_of(better.begin(), better.end(),
+                     [&](const ChangeEvent& b) { return std::abs(b.time_s - step.time_s) <= o.shadow_s; });
 }
 
 // Each row of the data the design's samples came from, moved by `shift` (3 per sample, tracker frame).
@@ -400,6 +412,59 @@ MeasurementData Shifted(const MeasurementData& data, const Design& d, const Eige
     out.rows[static_cast<std::size_t>(d.source_row[static_cast<std::size_t>(k)])].point_m -= shift.segment<3>(3 * k);
   }
   return out;
+}
+
+// A significant step of one signature at the scan's best instant, judged (Assess).
+struct Candidate {
+  ChangeEvent ev;
+  Fitted step;
+  int signature = 0;
+};
+
+// Whether `a` explains the data better than `b` by the parameters' count
+// too (BIC, in b's σ²): of two steps at one instant, the one with fewer
+// columns unless the other removes ln(rows) σ² more per column it adds.
+bool ExplainsBetter(const Candidate& a, const Candidate& b, Eigen::Index rows) {
+  const double extra_columns = Width(a.signature) - Width(b.signature);
+  return (a.step.gain - b.step.gain) / b.step.sigma2 > extra_columns * std::log(static_cast<double>(rows));
+}
+
+// The event to take of the candidates, if any: the one past its bar by the
+// most (a leg's step must not go to the tracker's frame, whose six columns
+// mimic part of it, by their number alone) unless a drift explains it as
+// well or a better step of another signature at its instant was turned
+// away; then the next. Of accepted steps at one instant, the one that
+// explains the data better (ExplainsBetter) is taken: a signature whose
+// noise the model's misfit widens stands lower past its bar than its
+// shadow. The candidates turned away go to `rejected` when none is taken.
+std::optional<std::size_t> ChooseEvent(const Base& base, const ChangePointOptions& o,
+                                       std::vector<Candidate>* candidates, std::vector<ChangeEvent>* rejected) {
+  std::vector<Candidate>& c = *candidates;
+  std::vector<std::size_t> order(c.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return c[a].ev.wald - c[a].ev.threshold > c[b].ev.wald - c[b].ev.threshold;
+  });
+  const auto accepted = [&](Candidate& x) {
+    if (x.ev.alternative == StepRejection::kNone && BesideABetterStep(x.ev, *rejected, o))
+      x.ev.alternative = StepRejection::kOtherSignature;
+    if (x.ev.alternative == StepRejection::kNone) AgainstADrift(base, x.signature, x.step, o, &x.ev);
+    return x.ev.alternative == StepRejection::kNone;
+  };
+  for (std::size_t n = 0; n < order.size(); ++n) {
+    std::size_t k = order[n];
+    if (!accepted(c[k])) {
+      rejected->push_back(c[k].ev);
+      continue;
+    }
+    for (std::size_t m = n + 1; m < order.size(); ++m) {
+      Candidate& other = c[order[m]];
+      if (std::abs(other.ev.time_s - c[k].ev.time_s) > o.shadow_s) continue;
+      if (ExplainsBetter(other, c[k], base.e.size()) && accepted(other)) k = order[m];
+    }
+    return k;
+  }
+  return std::nullopt;
 }
 
 }  // namespace
@@ -427,7 +492,7 @@ ChangeSearch FindChanges(const PlatformModel& model, const MeasurementData& data
   *corrected = data;
   if (!o.search || data.rows.empty()) return search;
   Design d = BuildDesign(model, data, design);
-  const Eigen::VectorXd prior = PriorFor(d);
+  const Eigen::VectorXd prior = PriorWeights(d, PriorVariance(d, NoiseFloorRms(d)));
   const TimeOffset clock = EstimateTimeOffset(d, prior);
   if (clock.applied) RemoveTimeOffset(clock.offset_s, &d);
   const Timeline line(d, o);
@@ -438,46 +503,26 @@ ChangeSearch FindChanges(const PlatformModel& model, const MeasurementData& data
   Eigen::VectorXd shift = Eigen::VectorXd::Zero(d.residual.size());
   while (static_cast<int>(search.events.size()) < o.max_events) {
     const std::vector<Best> best = Scan(base, line, &search.candidates);
-    // Every signature's best step judged; of those that are events, the one
-    // past its bar by the most (a leg's step must not go to the tracker's
-    // frame, whose six columns mimic part of it, by their number alone),
-    // unless a drift explains it as well; then the next.
-    std::vector<std::pair<ChangeEvent, Fitted>> steps;
-    std::vector<int> signature_of;
+    std::vector<Candidate> candidates;
     for (int s = 0; s < kSignatures; ++s) {
       const int pos = best[static_cast<std::size_t>(s)].pos;
       if (pos <= 0) continue;
       Fitted step = FitBeside(base, StepColumns(d, line, s, pos));
-      if (std::optional<ChangeEvent> ev = Assess(base, line, s, pos, o, &step)) {
-        steps.emplace_back(std::move(*ev), std::move(step));
-        signature_of.push_back(s);
-      }
+      if (std::optional<ChangeEvent> ev = Assess(base, line, s, pos, o, &step))
+        candidates.push_back({std::move(*ev), std::move(step), s});
     }
-    std::vector<std::size_t> order(steps.size());
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-      return steps[a].first.wald - steps[a].first.threshold > steps[b].first.wald - steps[b].first.threshold;
-    });
-    std::optional<std::pair<ChangeEvent, Fitted>> chosen;
-    std::vector<ChangeEvent> explained;
-    for (std::size_t k : order) {
-      auto& [ev, step] = steps[k];
-      if (ev.alternative == StepRejection::kNone) AgainstADrift(base, signature_of[k], step, o, &ev);
-      if (ev.alternative == StepRejection::kNone) {
-        chosen.emplace(std::move(ev), std::move(step));
-        break;
-      }
-      explained.push_back(ev);
-    }
-    if (!chosen) {
-      search.rejected = std::move(explained);
+    std::vector<ChangeEvent> rejected;
+    const std::optional<std::size_t> k = ChooseEvent(base, o, &candidates, &rejected);
+    if (!k) {
+      search.rejected = std::move(rejected);
       break;
     }
-    const Eigen::VectorXd moved = chosen->second.Z * chosen->second.a;
+    const Candidate& chosen = candidates[*k];
+    const Eigen::VectorXd moved = chosen.step.Z * chosen.step.a;
     d.residual -= moved;
     shift += moved;
     base.Refit();
-    search.events.push_back(std::move(chosen->first));
+    search.events.push_back(chosen.ev);
   }
   if (!search.events.empty()) *corrected = Shifted(data, d, shift);
   search.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

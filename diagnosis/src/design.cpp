@@ -377,6 +377,16 @@ Design BuildDesign(const PlatformModel& model, const MeasurementData& data, cons
   return d;
 }
 
+Eigen::VectorXd ResidualWhereTheLegsStood(const Design& d) {
+  Eigen::VectorXd r = d.residual;
+  if (!d.has_encoder) return r;
+  for (int k = 0; k < d.samples(); ++k) {
+    const std::size_t s = static_cast<std::size_t>(k);
+    r.segment<3>(3 * k) += d.point_per_leg[s] * d.servo_error_m[s];
+  }
+  return r;
+}
+
 const char* AppliedPrName(const std::optional<PrMode>& applied) { return applied ? PrModeName(*applied) : "other"; }
 
 }  // namespace edsp::gap

@@ -430,21 +430,6 @@ Eigen::VectorXd HoldOut(const Design& d, const GramSet& gram, const Eigen::Vecto
   return heldout;
 }
 
-// Σ r² of the frame alone, with the drives' following error as the encoders
-// recorded it set aside: a measured motion, not a misfit (a soft loop's
-// millimetres would weigh the prior down on every parameter, and joint
-// centres beside it would be shrunk to a fraction of themselves).
-double MisfitBeforeAnyEffect(const Design& d, const Columns& frame_cols) {
-  Eigen::VectorXd r = d.residual;
-  if (d.has_encoder) {
-    for (std::size_t s = 0; s < d.servo_error_m.size(); ++s) {
-      r.segment<3>(3 * static_cast<Eigen::Index>(s)) += d.point_per_leg[s] * d.servo_error_m[s];
-    }
-  }
-  const Eigen::MatrixXd frame = d.columns(Eigen::all, frame_cols);
-  return (r - frame * frame.colPivHouseholderQr().solve(r)).squaredNorm();
-}
-
 // `clock`: the tracker's time offset when an earlier pass over the same
 // data estimated it (it does not depend on the bases' settings).
 Diagnosis DiagnoseOnce(const PlatformModel& model, const MeasurementData& data, const DiagnoseOptions& o,
@@ -475,11 +460,7 @@ Diagnosis DiagnoseOnce(const PlatformModel& model, const MeasurementData& data, 
   const Eigen::VectorXd baseline = d.residual - d.columns(Eigen::all, frame_cols) * frame_only;
   out.gap = SummarizeGap(d, baseline);
 
-  // The prior's weight is set against what the model does not yet explain
-  // (not only the noise): a systematic misfit must not push poorly excited
-  // parameters (joint centres seen from a single axis) far beyond real rigs.
-  const double mse0 = MisfitBeforeAnyEffect(d, frame_cols) / n_res;
-  out.prior_sigma2 = std::max(sigma_axis * sigma_axis, mse0);
+  out.prior_sigma2 = PriorVariance(d, out.noise_floor_rms_m);
   const Eigen::VectorXd prior = PriorWeights(d, out.prior_sigma2);
   Evaluator eval(d, gram, prior);
 

@@ -83,9 +83,7 @@ Fitted FitChange(const Design& d, const std::vector<Effect>& baseline, double no
   if (baseline.empty()) return fit;
   const GramSet gram(d, MakeFolds(d));
   const std::vector<int> all = gram.AllFolds();
-  const double sigma_axis = std::max(noise_floor_rms_m / std::sqrt(3.0), 1e-8);
-  const double mse0 = WithoutFrame(d, d.residual).squaredNorm() / std::max(1, gram.Residuals(all));
-  const Eigen::VectorXd prior = PriorWeights(d, std::max(sigma_axis * sigma_axis, mse0));
+  const Eigen::VectorXd prior = PriorWeights(d, PriorVariance(d, noise_floor_rms_m));
   const Columns cols = ColumnsOf(d, baseline);
   const Eigen::VectorXd theta = gram.Solve(cols, all, prior);
   const Columns effect_cols(cols.begin() + 6, cols.end());

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/QR>
 #include <fmt/format.h>
 
 namespace edsp::gap {
@@ -186,6 +187,15 @@ Eigen::VectorXd PriorWeights(const Design& d, double sigma2) {
     w.segment(r.begin, r.count).setConstant(sigma2 / (PriorSigma(e) * PriorSigma(e)));
   }
   return w;
+}
+
+double PriorVariance(const Design& d, double noise_floor_rms_m) {
+  const double sigma_axis = std::max(noise_floor_rms_m / std::sqrt(3.0), 1e-8);
+  const Eigen::VectorXd r = ResidualWhereTheLegsStood(d);
+  const Eigen::MatrixXd frame = d.columns(Eigen::all, ColumnsOf(d, {}));
+  const double misfit = (r - frame * frame.colPivHouseholderQr().solve(r)).squaredNorm() /
+                        static_cast<double>(std::max<Eigen::Index>(1, r.size()));
+  return std::max(sigma_axis * sigma_axis, misfit);
 }
 
 Columns ColumnsOf(const Design& d, const std::vector<Effect>& effects) {

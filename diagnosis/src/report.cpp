@@ -247,6 +247,29 @@ nlohmann::json EventsJson(const std::vector<ChangeEvent>& events) {
 
 }  // namespace
 
+namespace {
+
+// Why a significant step is no event, with its evidence.
+std::string WhyRejected(const ChangeEvent& e) {
+  switch (e.alternative) {
+    case StepRejection::kStructure:
+      return fmt::format(
+          "its signature varies block by block beyond it ({:.0f} σ² left against {:.0f}), structure rather than "
+          "one change",
+          e.left_sigma2, e.left_threshold);
+    case StepRejection::kDrift:
+      return fmt::format("a drift ({}) explains it as well ({:.0f} σ² against {:.0f})", e.drift, e.drift_sigma2,
+                         e.step_sigma2);
+    case StepRejection::kUndetermined: return "the session cannot size it (past 1 mm or 1 mrad in some direction)";
+    case StepRejection::kOtherSignature:
+      return "a better step of another signature, turned away, stands at its instant";
+    case StepRejection::kNone: break;
+  }
+  return "";
+}
+
+}  // namespace
+
 std::string ChangesText(const Diagnosis& d) {
   if (!d.changes.searched) return "not searched";
   std::string text;
@@ -255,17 +278,8 @@ std::string ChangesText(const Diagnosis& d) {
     text = "none: one rig explains the whole session";
   else
     text += "; the diagnosis is of the rig after the last change";
-  for (const ChangeEvent& e : d.changes.rejected) {
-    if (e.alternative == StepRejection::kStructure) {
-      text += fmt::format(
-          "; a step {} was rejected: its signature varies block by block beyond it ({:.0f} σ² "
-          "left against {:.0f}), structure rather than one change",
-          DescribeEvent(e), e.left_sigma2, e.left_threshold);
-    } else {
-      text += fmt::format("; a step {} was rejected: a drift ({}) explains it as well ({:.0f} σ² against {:.0f})",
-                          DescribeEvent(e), e.drift, e.drift_sigma2, e.step_sigma2);
-    }
-  }
+  for (const ChangeEvent& e : d.changes.rejected)
+    text += "; a step " + DescribeEvent(e) + " was rejected: " + WhyRejected(e);
   return text;
 }
 

@@ -22,18 +22,6 @@ Eigen::MatrixXd OffsetColumn(const Design& d) {
   return c;
 }
 
-// The residual with the drives' own tracking error (command − encoder, seen
-// at A) taken out: what is left of a servo lag is nothing, of a clock
-// offset all of it.
-Eigen::VectorXd WithoutServoError(const Design& d) {
-  Eigen::VectorXd r = d.residual;
-  for (int k = 0; k < d.samples(); ++k) {
-    const std::size_t s = static_cast<std::size_t>(k);
-    r.segment<3>(3 * k) += d.point_per_leg[s] * d.servo_error_m[s];
-  }
-  return r;
-}
-
 std::vector<Effect> AllButServoLag() {
   std::vector<Effect> effects;
   for (Effect e : AllEffects()) {
@@ -53,7 +41,7 @@ TimeOffset EstimateTimeOffset(const Design& design, const Eigen::VectorXd& prior
     return out;
   }
   Design e = WithNuisance(design, OffsetColumn(design));
-  e.residual = WithoutServoError(design);
+  e.residual = ResidualWhereTheLegsStood(design);
   const int offset_column = design.frame.begin + design.frame.count + design.nuisance.count;
   Eigen::VectorXd prior(e.parameters());
   prior << prior_weight.head(offset_column), 0.0, prior_weight.tail(prior_weight.size() - offset_column);

@@ -21,14 +21,23 @@
 //     of the grid and every signature (Bonferroni), and
 //   - what is left along the signature after the step, fitted block by
 //     block: past white noise's χ² (1%), the signature holds structure (a
-//     sway the model lacks, runs that sit apart), not one change, and
+//     sway the model lacks, runs that sit apart), not one change, unless
+//     the step's statistic is step_over_structure times what is left (a
+//     change standing on a misfit the model lacks: a soft drive loop seen
+//     without encoders), and
 //   - a drift of the same signature (linear in time, or saturating with
 //     each of the thermal time constants): the step is an event only where
 //     it removes clearly more than the best drift (step_over_drift, in the
 //     same widened σ²).
+// Of the steps that are events, the one furthest past its bar is taken,
+// unless another within shadow_s explains the data better counting its
+// columns (BIC); then the search runs again.
 // A step that fails either of the last two is named as rejected, with the
 // alternative that won and its evidence, and is not an event; so is a step
-// whose size is unknown to a millimetre or a milliradian in some direction.
+// whose size is unknown to a millimetre or a milliradian in some direction,
+// and a step within shadow_s of a better one (further past its bar) of
+// another signature that was turned away: the same change seen through
+// a signature that mimics part of it.
 // An event found is removed from the data (the rows before it moved to the
 // rig after it), and the search runs again for the next, up to max_events.
 // The diagnosis then works on the corrected data: the rig as it is at the
@@ -56,6 +65,11 @@ struct ChangePointOptions {
   double block_s = 10.0;        // the blocks the noise's correlation is read over (cut at runs too)
   double grid_s = 0.1;          // the scan's candidate instants, then every sample around the best
   double step_over_drift = 10;  // the step's advantage over the best drift, in σ² (as the BIC's margin)
+  // A step's statistic against what is left along its signature block by
+  // block, for it to stand as one change beside structure (a step fitted
+  // into a sway, a ramp or runs that sit apart stands far lower).
+  double step_over_structure = 10;
+  double shadow_s = 1.0;  // a step this close to a better one turned away is that one's shadow
   int max_events = 4;
   double min_side_share = 0.01;  // of the samples, on each side of an instant (and at least 30)
   // The drifts a step must beat: linear in time and saturating, 1 − e^(−t/τ).
@@ -64,10 +78,11 @@ struct ChangePointOptions {
 
 // Why a significant step is no event: a drift of the same signature
 // explains it as well; its signature varies block by block beyond it
-// (structure rather than one change); or the session cannot size it
-// (its σ past 1 mm or 1 mrad in some direction).
-enum class StepRejection { kNone, kDrift, kStructure, kUndetermined };
-// "drift", "structure", "undetermined" ("" for none): the report's words.
+// (structure rather than one change); the session cannot size it (its σ
+// past 1 mm or 1 mrad in some direction); or a better step of another
+// signature at its instant was turned away (its shadow).
+enum class StepRejection { kNone, kDrift, kStructure, kUndetermined, kOtherSignature };
+// "drift", "structure", "undetermined", "other_signature" ("" for none): the report's words.
 const char* StepRejectionName(StepRejection why);
 
 struct ChangeEvent {

@@ -88,6 +88,12 @@ struct Design {
 // of the residual where the platform is at rest.
 double NoiseFloorRms(const Design& design);
 
+// r with the drives' following error as the encoders recorded it (servo
+// error, seen at A) set aside: the residual about the pose the legs stood
+// at, a soft loop's millimetres no longer counted as misfit. r itself
+// without encoder columns.
+Eigen::VectorXd ResidualWhereTheLegsStood(const Design& design);
+
 // The applied compensation's name in reports: a PR mode's, or "other".
 const char* AppliedPrName(const std::optional<PrMode>& applied);
 

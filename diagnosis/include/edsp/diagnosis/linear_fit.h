@@ -66,6 +66,15 @@ class GramSet {
 // nuisance's.
 Eigen::VectorXd PriorWeights(const Design& design, double sigma2);
 
+// The σ² per axis that prior is weighed with: the larger of the noise
+// floor's and the misfit of the frame (and nuisance) alone, taken where the
+// legs stood (ResidualWhereTheLegsStood). Against what the model does not
+// yet explain, not the noise alone, a systematic misfit cannot push poorly
+// excited parameters (joint centres seen from a single axis) far beyond
+// real rigs; a soft drive loop's recorded lag is motion, not misfit, and
+// counted as one it would shrink every parameter beside it.
+double PriorVariance(const Design& design, double noise_floor_rms_m);
+
 // Every column of the frame, of the nuisance and of the listed effects.
 Columns ColumnsOf(const Design& design, const std::vector<Effect>& effects);
 
