@@ -164,20 +164,34 @@ def _until(driver, seconds, script, what):
                          driver.find_element(By.TAG_NAME, "body").text[:2000])
 
 
-def _press(driver, element_id, seconds=10):
+def _press(driver, element_id, seconds=10, attempts=3):
     """Click a control the way an operator does on a page that still
     fills in (plots, the calibration view and replies reflow it): brought
     to the middle of the window, clicked once nothing lies over it. The
     WebDriver click alone clicks wherever the control was when it looked,
-    which the sticky header can cover a moment later."""
-    _until(driver, seconds, """
-        const b = document.getElementById(arguments[0]);
-        b.scrollIntoView({block: 'center', inline: 'nearest'});
-        const r = b.getBoundingClientRect();
-        const hit = document.elementFromPoint((r.left + r.right) / 2, (r.top + r.bottom) / 2);
-        return hit !== null && b.contains(hit);""".replace("arguments[0]", json.dumps(element_id)),
-           f"#{element_id} clear to click")
-    driver.find_element(By.ID, element_id).click()
+    which the sticky header or a reply's line can cover a moment later: a
+    click the control did not receive (seen by a listener on it) is made
+    again."""
+    for _ in range(attempts):
+        _until(driver, seconds, """
+            const b = document.getElementById(arguments[0]);
+            b.scrollIntoView({block: 'center', inline: 'nearest'});
+            const r = b.getBoundingClientRect();
+            const hit = document.elementFromPoint((r.left + r.right) / 2, (r.top + r.bottom) / 2);
+            return hit !== null && b.contains(hit);""".replace("arguments[0]", json.dumps(element_id)),
+               f"#{element_id} clear to click")
+        driver.execute_script("""
+            const id = arguments[0];
+            window.edspPressed = null;
+            document.getElementById(id).addEventListener(
+                'click', () => { window.edspPressed = id; }, {once: true, capture: true});""", element_id)
+        driver.find_element(By.ID, element_id).click()
+        deadline = time.monotonic() + 2.0
+        while time.monotonic() < deadline:
+            if driver.execute_script("return window.edspPressed") == element_id:
+                return
+            time.sleep(0.05)
+    raise AssertionError(f"#{element_id} did not receive a click in {attempts} attempts")
 
 
 def _severe_console(driver):
