@@ -400,9 +400,12 @@ void AgainstADrift(const Base& base, int signature, const Fitted& step, const Ch
 // at the step's instant: the same change seen through a signature that
 // mimics part of it (a knocked tracker through a leg whose pose the motion
 // before it barely varied), which must not be reported in its place.
+// A shadow turned away casts none of its own: the chain would reach past
+// shadow_s.
 bool BesideABetterStep(const ChangeEvent& step, const std::vector<ChangeEvent>& better, const ChangePointOptions& o) {
-  return std::any_of(better.begin(), better.end(),
-                     [&](const ChangeEvent& b) { return std::abs(b.time_s - step.time_s) <= o.shadow_s; });
+  return std::any_of(better.begin(), better.end(), [&](const ChangeEvent& b) {
+    return b.alternative != StepRejection::kOtherSignature && std::abs(b.time_s - step.time_s) <= o.shadow_s;
+  });
 }
 
 // Each row of the data the design's samples came from, moved by `shift` (3 per sample, tracker frame).
@@ -421,12 +424,17 @@ struct Candidate {
   int signature = 0;
 };
 
-// Whether `a` explains the data better than `b` by the parameters' count
-// too (BIC, in b's σ²): of two steps at one instant, the one with fewer
-// columns unless the other removes ln(rows) σ² more per column it adds.
-bool ExplainsBetter(const Candidate& a, const Candidate& b, Eigen::Index rows) {
-  const double extra_columns = Width(a.signature) - Width(b.signature);
-  return (a.step.gain - b.step.gain) / b.step.sigma2 > extra_columns * std::log(static_cast<double>(rows));
+// Whether `a` explains the data better than `b`, the parameters' count
+// counted (BIC, in the larger of the two widened σ²: a correlated misfit
+// gives each column more than white noise would): of two steps at one
+// instant, the one with fewer columns unless the other removes
+// ln(residual rows) σ² more per column it adds; of two of as many columns,
+// `b` unless `a` removes step_over_drift σ² more.
+bool ExplainsBetter(const Candidate& a, const Candidate& b, Eigen::Index rows, const ChangePointOptions& o) {
+  const double sigma2 = std::max(a.step.sigma2 * a.step.inflation, b.step.sigma2 * b.step.inflation);
+  const int extra_columns = Width(a.signature) - Width(b.signature);
+  const double bar = extra_columns == 0 ? o.step_over_drift : extra_columns * std::log(static_cast<double>(rows));
+  return (a.step.gain - b.step.gain) / sigma2 > bar;
 }
 
 // The event to take of the candidates, if any: the one past its bar by the
@@ -452,15 +460,16 @@ std::optional<std::size_t> ChooseEvent(const Base& base, const ChangePointOption
     return x.ev.alternative == StepRejection::kNone;
   };
   for (std::size_t n = 0; n < order.size(); ++n) {
-    std::size_t k = order[n];
-    if (!accepted(c[k])) {
-      rejected->push_back(c[k].ev);
+    const std::size_t first = order[n];
+    if (!accepted(c[first])) {
+      rejected->push_back(c[first].ev);
       continue;
     }
+    std::size_t k = first;
     for (std::size_t m = n + 1; m < order.size(); ++m) {
       Candidate& other = c[order[m]];
-      if (std::abs(other.ev.time_s - c[k].ev.time_s) > o.shadow_s) continue;
-      if (ExplainsBetter(other, c[k], base.e.size()) && accepted(other)) k = order[m];
+      if (std::abs(other.ev.time_s - c[first].ev.time_s) > o.shadow_s) continue;
+      if (ExplainsBetter(other, c[k], base.e.size(), o) && accepted(other)) k = order[m];
     }
     return k;
   }

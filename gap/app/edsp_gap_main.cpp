@@ -5,16 +5,16 @@
 //   edsp-gap compare --config C --before B --after A [--model M [--apply-ambiguous]] [--plot DIR] [--json]
 //                    [--keep-timing-events]
 //   edsp-gap benchmark --scenarios N --seed S [--generator rig|blind] [--motions Lz,…] [--json] [--noise-m 5e-6]
-//   [--keep DIR]
-//                      [--closed-loop-motions Ly,Rx,M9|none] [--encoders drawn|with|without]
+//                      [--keep DIR] [--closed-loop-motions Ly,Rx,M9|none] [--encoders drawn|with|without]
 //   edsp-gap drift --config C --baseline M --data D [--data D2 …] [--recorded with|without] [--threshold-m X]
 //                  [--apply-ambiguous] [--json]
 //   edsp-gap benchmark --mode calibration --scenarios N --seed S [--generator rig|blind] [--held-out Ly,Rx,M3,M4]
 //                      [--noise-m 5e-6] [--json] [--keep DIR]   (whole rigs: docs/calibration.md)
 //   edsp-gap benchmark --mode drift --scenarios N --seed S [--noise-m 5e-6] [--session-motions Lz,…] [--json]
 //                      (drift on whole rigs)
-//   edsp-gap benchmark --mode events --scenarios N --seed S [--motions …] [--json] [--keep DIR]   (changes within a
-//   session) edsp-gap benchmark --mode whole --scenarios N --seed S [--generator rig|blind] [--json]
+//   edsp-gap benchmark --mode events --scenarios N --seed S [--motions …] [--json] [--keep DIR]
+//                      (changes within a session)
+//   edsp-gap benchmark --mode whole --scenarios N --seed S [--generator rig|blind] [--json]
 //                      (whole rigs of every class, scored as effects)
 #include <unistd.h>
 

@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
+#include <stdexcept>
 
 #include <Eigen/Geometry>
 #include <fmt/format.h>
@@ -121,11 +123,18 @@ void Score(const Diagnosis& d, bool rig_has_thermal, EventScenario* s) {
   s->drift_as_step = s->kind == SessionChange::kDrift && !d.changes.events.empty();
 }
 
-// A scenario's data and its diagnosis, to look at again (edsp-gap diagnose --data DIR/data.csv).
+void WriteFile(const std::string& path, const std::string& text) {
+  std::ofstream out(path);
+  out << text;
+  if (!out) throw std::runtime_error(path + ": cannot write");
+}
+
+// A scenario's data and its diagnosis, to look at again (edsp-gap diagnose
+// --data DIR/data.csv); a directory that cannot be written stops the run.
 void Keep(const std::string& dir, const std::string& csv, const Diagnosis& d) {
   std::filesystem::create_directories(dir);
-  std::ofstream(dir + "/data.csv") << csv;
-  std::ofstream(dir + "/diagnosis.json") << ToJson(d).dump(2) << "\n";
+  WriteFile(dir + "/data.csv", csv);
+  WriteFile(dir + "/diagnosis.json", ToJson(d).dump(2) + "\n");
 }
 
 double SecondsSince(std::chrono::steady_clock::time_point t0) {
@@ -169,18 +178,20 @@ EventsBenchmarkResult RunEventsBenchmark(const EventsBenchmarkOptions& o) {
     const bool rig_has_thermal = std::find(rig.truth.begin(), rig.truth.end(), "thermal_drift") != rig.truth.end();
     DrawChange(k, session_s, rig.tracker.frame, rng, &rig.effects, &s);
     if (s.kind == SessionChange::kDrift && rig_has_thermal) s.rig += " (its thermal effect replaced by the drift)";
+    std::string csv;
+    std::optional<Diagnosis> d;
     try {
-      const std::string csv = blind::GenerateMeasurementCsv(setup, rig.effects, rig.tracker);
+      csv = blind::GenerateMeasurementCsv(setup, rig.effects, rig.tracker);
       const MeasurementData data = ParseMeasurementCsv(csv, "blind");
       const auto t0 = std::chrono::steady_clock::now();
-      const Diagnosis d = Diagnose(model, data);
+      d = Diagnose(model, data);
       s.diagnose_s = SecondsSince(t0);
-      if (!o.keep_dir.empty()) Keep(o.keep_dir + "/" + std::to_string(k), csv, d);
       seconds.push_back(s.diagnose_s);
-      Score(d, rig_has_thermal, &s);
+      Score(*d, rig_has_thermal, &s);
     } catch (const std::exception& e) {
       s.error = e.what();
     }
+    if (!o.keep_dir.empty() && d) Keep(fmt::format("{}/scenario-{:03d}", o.keep_dir, k), csv, *d);
     const bool step = IsStep(s.kind);
     result.scenarios.push_back(s);
     if (!s.error.empty()) {  // scored on none of the counts below

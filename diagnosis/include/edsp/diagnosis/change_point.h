@@ -30,8 +30,8 @@
 //     it removes clearly more than the best drift (step_over_drift, in the
 //     same widened σ²).
 // Of the steps that are events, the one furthest past its bar is taken,
-// unless another within shadow_s explains the data better counting its
-// columns (BIC); then the search runs again.
+// unless another within shadow_s of it explains the data better counting
+// its columns (BIC); then the search runs again.
 // A step that fails either of the last two is named as rejected, with the
 // alternative that won and its evidence, and is not an event; so is a step
 // whose size is unknown to a millimetre or a milliradian in some direction,
@@ -69,7 +69,10 @@ struct ChangePointOptions {
   // block, for it to stand as one change beside structure (a step fitted
   // into a sway, a ramp or runs that sit apart stands far lower).
   double step_over_structure = 10;
-  double shadow_s = 1.0;  // a step this close to a better one turned away is that one's shadow
+  // Steps of two signatures this close in time are one change seen twice:
+  // the shadow of a better one turned away is no event, and of two accepted
+  // the better explanation is taken.
+  double shadow_s = 1.0;
   int max_events = 4;
   double min_side_share = 0.01;  // of the samples, on each side of an instant (and at least 30)
   // The drifts a step must beat: linear in time and saturating, 1 − e^(−t/τ).

@@ -90,7 +90,7 @@ double NoiseFloorRms(const Design& design);
 
 // r with the drives' following error as the encoders recorded it (servo
 // error, seen at A) set aside: the residual about the pose the legs stood
-// at, a soft loop's millimetres no longer counted as misfit. r itself
+// at, in which a soft loop's millimetres are motion, not misfit. r itself
 // without encoder columns.
 Eigen::VectorXd ResidualWhereTheLegsStood(const Design& design);
 

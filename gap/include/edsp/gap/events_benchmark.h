@@ -31,7 +31,7 @@ struct EventsBenchmarkOptions {
   std::uint64_t seed = 1;
   std::string config_path;  // nominal model; default: the paper's platform
   std::vector<std::string> motions = {"Lz", "Lx", "Rz", "Ry", "M1", "M2"};
-  std::string keep_dir;  // non-empty: each scenario's data.csv and diagnosis.json in <keep_dir>/<k>
+  std::string keep_dir;  // non-empty: each scenario's data.csv and diagnosis.json in <keep_dir>/scenario-NNN
   bool progress = true;
 };
 
