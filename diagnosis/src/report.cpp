@@ -245,10 +245,6 @@ nlohmann::json EventsJson(const std::vector<ChangeEvent>& events) {
   return j;
 }
 
-}  // namespace
-
-namespace {
-
 // Why a significant step is no event, with its evidence.
 std::string WhyRejected(const ChangeEvent& e) {
   switch (e.alternative) {

@@ -41,6 +41,8 @@ TimeOffset EstimateTimeOffset(const Design& design, const Eigen::VectorXd& prior
     return out;
   }
   Design e = WithNuisance(design, OffsetColumn(design));
+  // The drives' own tracking error set aside: what is left of a servo lag
+  // is nothing, of a clock offset all of it.
   e.residual = ResidualWhereTheLegsStood(design);
   const int offset_column = design.frame.begin + design.frame.count + design.nuisance.count;
   Eigen::VectorXd prior(e.parameters());

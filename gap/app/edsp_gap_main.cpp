@@ -22,6 +22,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <initializer_list>
 #include <map>
 #include <string>
 #include <type_traits>
@@ -50,8 +51,15 @@ enum class Recorded { kAuto, kWith, kWithout };
 // --mode of benchmark.
 enum class BenchmarkMode { kEffects, kCalibration, kDrift, kEvents, kWhole };
 
-const std::map<std::string, Against> kAgainstWords = {{"nominal", Against::kNominal},
-                                                      {"calibration", Against::kCalibration}};
+// The words of an enum whose names its library gives: one table.
+template <typename E>
+std::map<std::string, E> WordsOf(std::initializer_list<E> values, const char* (*name)(E)) {
+  std::map<std::string, E> words;
+  for (E value : values) words.emplace(name(value), value);
+  return words;
+}
+
+const std::map<std::string, Against> kAgainstWords = WordsOf({Against::kNominal, Against::kCalibration}, AgainstName);
 const std::map<std::string, Recorded> kRecordedWords = {
     {"auto", Recorded::kAuto}, {"with", Recorded::kWith}, {"without", Recorded::kWithout}};
 const std::map<std::string, BenchmarkMode> kModeWords = {{"effects", BenchmarkMode::kEffects},
@@ -59,9 +67,9 @@ const std::map<std::string, BenchmarkMode> kModeWords = {{"effects", BenchmarkMo
                                                          {"drift", BenchmarkMode::kDrift},
                                                          {"events", BenchmarkMode::kEvents},
                                                          {"whole", BenchmarkMode::kWhole}};
-const std::map<std::string, Generator> kGeneratorWords = {{"rig", Generator::kRig}, {"blind", Generator::kBlind}};
-const std::map<std::string, EncoderColumns> kEncoderWords = {
-    {"drawn", EncoderColumns::kDrawn}, {"with", EncoderColumns::kWith}, {"without", EncoderColumns::kWithout}};
+const std::map<std::string, Generator> kGeneratorWords = WordsOf({Generator::kRig, Generator::kBlind}, GeneratorName);
+const std::map<std::string, EncoderColumns> kEncoderWords =
+    WordsOf({EncoderColumns::kDrawn, EncoderColumns::kWith, EncoderColumns::kWithout}, EncoderColumnsName);
 
 // An option whose words stand for an enum's values: the help lists the
 // words, and a word not among them is refused, named.

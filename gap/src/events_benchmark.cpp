@@ -164,6 +164,7 @@ EventsBenchmarkResult RunEventsBenchmark(const EventsBenchmarkOptions& o) {
   blind::BlindRigSetup setup = blind::SetupFromConfig(config);
   setup.motions = o.motions;
   const double session_s = SessionSeconds(setup);
+  if (!o.keep_dir.empty()) std::filesystem::create_directories(o.keep_dir);  // a place it cannot write: before any work
   Rng rng(o.seed * 104729 + 17);
   std::vector<double> seconds;
   for (int k = 0; k < o.scenarios; ++k) {

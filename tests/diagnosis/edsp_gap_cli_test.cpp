@@ -269,8 +269,11 @@ TEST(EdspGapCli, WholeRigModeDrawsEveryClassAndSaysWhatTheRunsCannotShow) {
 // draws (a leg's step, the tracker knocked, screws warming, no change):
 // both steps found as events of their kind within a second, none on the
 // drift or the unchanged rig, and the mode refuses edsp's rig by name.
+// --keep leaves each scenario's data and diagnosis, the events the score
+// read; a directory it cannot write stops the run, named.
 TEST(EdspGapCli, EventsBenchmarkFindsEachStepAndNoEventWhereNothingStepped) {
-  const Output out = Gap("benchmark --mode events --scenarios 4 --seed 61 --motions Lz,Rz,M1,M2 --json");
+  const std::string kept = Dir() + "/events";
+  const Output out = Gap("benchmark --mode events --scenarios 4 --seed 61 --motions Lz,Rz,M1,M2 --json --keep " + kept);
   ASSERT_EQ(out.exit_code, 0) << out.text;
   const nlohmann::json j = nlohmann::json::parse(out.text);
   EXPECT_EQ(j["mode"], "events");
@@ -287,6 +290,11 @@ TEST(EdspGapCli, EventsBenchmarkFindsEachStepAndNoEventWhereNothingStepped) {
       EXPECT_TRUE(s["events"].empty()) << s.dump();
     }
     EXPECT_EQ(s["false_events"], 0) << s.dump();
+    const std::string dir = fmt::format("{}/scenario-{:03d}", kept, k);
+    std::ifstream diagnosis(dir + "/diagnosis.json");
+    ASSERT_TRUE(diagnosis) << dir;
+    EXPECT_EQ(nlohmann::json::parse(diagnosis)["events"].size(), s["events"].size()) << dir;
+    EXPECT_TRUE(std::ifstream(dir + "/data.csv").good()) << dir;
   }
   EXPECT_EQ(j["steps"], 2);
   EXPECT_EQ(j["detected"], 2);
@@ -295,6 +303,9 @@ TEST(EdspGapCli, EventsBenchmarkFindsEachStepAndNoEventWhereNothingStepped) {
   const Output bad = Gap("benchmark --mode events --generator rig --scenarios 1");
   EXPECT_EQ(bad.exit_code, 1) << bad.text;
   EXPECT_NE(bad.text.find("--mode events --generator rig"), std::string::npos) << bad.text;
+  const Output unwritable = Gap("benchmark --mode events --scenarios 1 --seed 61 --motions Lz --keep /proc/edsp-kept");
+  EXPECT_NE(unwritable.exit_code, 0) << unwritable.text;
+  EXPECT_NE(unwritable.text.find("/proc/edsp-kept"), std::string::npos) << unwritable.text;
 }
 
 // The closed loop on edsp's rig: scenario 1 (one effect) is measured again
