@@ -13,7 +13,7 @@
 #include "edsp/cueing/cueing_delay.h"
 #include "edsp/leg_command_t.hpp"
 #include "edsp/leg_state_t.hpp"
-#include "edsp/logger/log_reader.h"
+#include "edsp/logger/logged_message.h"
 #include "edsp/pose_setpoint_t.hpp"
 
 namespace edsp {
@@ -41,11 +41,6 @@ std::vector<SentSample> ReadSent(const std::string& path) {
   return sent;
 }
 
-template <typename Msg>
-bool Decoded(const LogEvent& event, Msg* m) {
-  return m->decode(event.data.data(), 0, static_cast<int>(event.data.size())) >= 0;
-}
-
 CueingDelays TraceLog(const std::string& log_path, const std::vector<SentSample>& sent) {
   std::vector<CueingSetpointLink> setpoints;
   std::vector<CommandLink> commands;
@@ -53,11 +48,11 @@ CueingDelays TraceLog(const std::string& log_path, const std::vector<SentSample>
   LogReader reader(log_path);
   LogEvent event;
   while (reader.Next(&event)) {
-    if (pose_setpoint_t s; event.channel == channel::kSetpoint && Decoded(event, &s)) {
-      if (s.trajectory == "cueing") setpoints.push_back({s.seq, s.segment, event.timestamp_utime});
-    } else if (leg_command_t c; event.channel == channel::kLegCommand && Decoded(event, &c)) {
+    if (pose_setpoint_t s; event.channel == channel::kSetpoint && DecodeEvent(event, &s)) {
+      if (s.phase == pose_setpoint_t::PHASE_CUEING) setpoints.push_back({s.seq, s.segment, event.timestamp_utime});
+    } else if (leg_command_t c; event.channel == channel::kLegCommand && DecodeEvent(event, &c)) {
       commands.push_back({c.seq, c.setpoint_seq});
-    } else if (leg_state_t w; event.channel == channel::kLegState && Decoded(event, &w)) {
+    } else if (leg_state_t w; event.channel == channel::kLegState && DecodeEvent(event, &w)) {
       writes.push_back({event.timestamp_utime, w.command_seq});
     }
   }

@@ -13,11 +13,10 @@
 #include "edsp/cueing/cueing_config.h"
 #include "edsp/cueing/live_score.h"
 #include "edsp/cueing/vehicle_message.h"
-#include "edsp/logger/log_reader.h"
+#include "edsp/logger/logged_message.h"
 #include "edsp/platform_state_t.hpp"
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/rig_truth_t.hpp"
-#include "edsp/transport/decode.h"
 #include "edsp/vehicle_motion_t.hpp"
 #include "perception_json.h"
 
@@ -32,15 +31,10 @@ struct LoggedCueing {
   std::vector<StampedPose> truth, encoders;
 };
 
-template <typename Msg>
-bool Read(const LogEvent& event, Msg* m) {
-  return DecodeUntrusted(m, event.data.data(), event.data.size());
-}
-
 Vector6 PoseOf(const double (&pose)[6]) { return Eigen::Map<const Vector6>(pose); }
 
 void TakeSetpoint(const pose_setpoint_t& s, std::vector<StampedPose>& stretch, LoggedCueing& log) {
-  if (s.trajectory != "cueing") {
+  if (s.phase != pose_setpoint_t::PHASE_CUEING) {
     if (stretch.size() > log.commanded.size()) log.commanded.swap(stretch);
     stretch.clear();
     return;
@@ -56,13 +50,13 @@ LoggedCueing ReadLog(const std::string& path, double input_timeout_s) {
   LogReader reader(path);
   LogEvent event;
   while (reader.Next(&event)) {
-    if (pose_setpoint_t s; event.channel == channel::kSetpoint && Read(event, &s)) {
+    if (pose_setpoint_t s; event.channel == channel::kSetpoint && DecodeEvent(event, &s)) {
       TakeSetpoint(s, stretch, log);
-    } else if (vehicle_motion_t v; event.channel == channel::kVehicle && Read(event, &v)) {
+    } else if (vehicle_motion_t v; event.channel == channel::kVehicle && DecodeEvent(event, &v)) {
       heard.emplace_back(event.timestamp_utime, v);
-    } else if (rig_truth_t t; event.channel == channel::kRigTruth && Read(event, &t)) {
+    } else if (rig_truth_t t; event.channel == channel::kRigTruth && DecodeEvent(event, &t)) {
       log.truth.push_back({t.utime, PoseOf(t.pose)});
-    } else if (platform_state_t p; event.channel == channel::kPlatformState && Read(event, &p)) {
+    } else if (platform_state_t p; event.channel == channel::kPlatformState && DecodeEvent(event, &p)) {
       log.encoders.push_back({p.utime, PoseOf(p.pose)});
     }
   }

@@ -170,6 +170,7 @@ void CueingLoop::Publish(const CueSetpoint& cue, std::int64_t utime, std::uint32
     sp.acceleration[k] = cue.acceleration(k);
   }
   sp.trajectory = "cueing";
+  sp.phase = pose_setpoint_t::PHASE_CUEING;
   sp.segment = VehicleSequenceAsSegment(input_sequence);
   if (cues_.Publish(sp)) reporting_.status().CountOut();
 }

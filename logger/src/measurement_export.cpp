@@ -1,4 +1,3 @@
-#include "edsp/transport/decode.h"
 #include "edsp/logger/measurement_export.h"
 
 #include <algorithm>
@@ -14,7 +13,7 @@
 #include "edsp/channels.h"
 #include "edsp/leg_command_t.hpp"
 #include "edsp/leg_state_t.hpp"
-#include "edsp/logger/log_reader.h"
+#include "edsp/logger/logged_message.h"
 #include "edsp/logger/stall_watch.h"
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/rig_truth_t.hpp"
@@ -37,11 +36,6 @@ constexpr double kLongestCarryS = timing::kFeedForwardLapseS;
 // Setpoints further apart than this in the log are a stream that stopped,
 // not ticks missing from it: nothing is interpolated across.
 constexpr std::int64_t kLongestGapUs = 50'000;
-template <typename Msg>
-bool Decode(const LogEvent& event, Msg* msg) {
-  return DecodeUntrusted(msg, event.data.data(), event.data.size());
-}
-
 void WriteHeader(std::ostream& out) {
   out << "time_s,run,pose_cmd_x_m,pose_cmd_y_m,pose_cmd_z_m,pose_cmd_roll_rad,pose_cmd_pitch_rad,"
          "pose_cmd_yaw_rad";
@@ -273,19 +267,19 @@ MeasurementExport ExportMeasurementCsv(const std::string& log_path, std::ostream
   while (reader.Next(&event)) {
     if (event.channel == channel::kSetpoint) {
       pose_setpoint_t setpoint;
-      if (Decode(event, &setpoint)) pairing.Add(setpoint);
+      if (DecodeEvent(event, &setpoint)) pairing.Add(setpoint);
     } else if (event.channel == channel::kLegCommand) {
       leg_command_t command;
-      if (Decode(event, &command)) pairing.Add(command);
+      if (DecodeEvent(event, &command)) pairing.Add(command);
     } else if (event.channel == channel::kLegState) {
       leg_state_t legs;
-      if (Decode(event, &legs)) pairing.Add(legs);
+      if (DecodeEvent(event, &legs)) pairing.Add(legs);
     } else if (event.channel == channel::kRigTruth) {
       rig_truth_t truth;
-      if (Decode(event, &truth)) pairing.Add(truth);
+      if (DecodeEvent(event, &truth)) pairing.Add(truth);
     } else if (event.channel == channel::kTracker) {
       tracker_point_t point{};
-      if (Decode(event, &point))
+      if (DecodeEvent(event, &point))
         pairing.Add(event.timestamp_utime, point);
       else
         ++result.skipped;

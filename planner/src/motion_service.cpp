@@ -463,6 +463,7 @@ pose_setpoint_t MotionService::Step(std::int64_t now_utime) {
     const PathSegment segment = current_->motion.path->SegmentAt(MotionState(current_->motion, t).position);
     hold_name_ = segment.name != nullptr ? *segment.name : current_->motion.activity;
     hold_segment_ = segment.index;
+    hold_phase_ = segment.dwells ? pose_setpoint_t::PHASE_DWELL : pose_setpoint_t::PHASE_MOVE;
   } else if (cueing_ && cueing_->following) {
     FollowCue(now_utime, &sample);
   }
@@ -473,6 +474,7 @@ pose_setpoint_t MotionService::Step(std::int64_t now_utime) {
   }
   sp.trajectory = hold_name_;
   sp.segment = hold_segment_;
+  sp.phase = hold_phase_;
   commanded_pose_ = sample.pose;
   return sp;
 }

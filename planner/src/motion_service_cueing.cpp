@@ -281,6 +281,7 @@ void MotionService::FollowCue(std::int64_t now_utime, PoseSample* sample) {
   hold_pose_ = sample->pose;
   cueing_->followed_utime = now_utime;
   hold_name_ = kCueingTrajectory;
+  hold_phase_ = pose_setpoint_t::PHASE_CUEING;
   hold_segment_ = cueing_->latest->segment;  // the vehicle packet it came from: the cueing delay's trace
 }
 

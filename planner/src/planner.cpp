@@ -49,6 +49,7 @@ pose_setpoint_t Planner::Step(std::int64_t now_utime) {
   }
   msg.trajectory = sequence_->SegmentName(segment);
   msg.segment = segment;
+  msg.phase = sequence_->SegmentDwells(segment) ? pose_setpoint_t::PHASE_DWELL : pose_setpoint_t::PHASE_MOVE;
   return msg;
 }
 

@@ -43,7 +43,7 @@ std::string ProgramPath::Extent() const { return fmt::format("{:.3f} s of its ow
 
 PathSegment ProgramPath::SegmentAt(double u) const {
   const int index = program_->SegmentAt(u);
-  return {&program_->SegmentName(index), static_cast<std::int32_t>(index)};
+  return {&program_->SegmentName(index), static_cast<std::int32_t>(index), program_->SegmentDwells(index)};
 }
 
 }  // namespace edsp

@@ -1,9 +1,8 @@
-#include "edsp/transport/decode.h"
 #include "edsp/sim/dwell_errors.h"
 
 #include "edsp/channels.h"
 #include "edsp/leg_command_t.hpp"
-#include "edsp/logger/log_reader.h"
+#include "edsp/logger/logged_message.h"
 #include "edsp/pose_setpoint_t.hpp"
 #include "edsp/tracker_point_t.hpp"
 
@@ -26,12 +25,7 @@ struct OpenDwell {
   std::vector<TrackerSample> samples;
 };
 
-template <typename Msg>
-bool Decode(const LogEvent& event, Msg* msg) {
-  return DecodeUntrusted(msg, event.data.data(), event.data.size());
-}
-
-bool IsDwell(const pose_setpoint_t& s) { return s.trajectory.find("/dwell") != std::string::npos; }
+bool IsDwell(const pose_setpoint_t& s) { return s.phase == pose_setpoint_t::PHASE_DWELL; }
 
 bool Close(const OpenDwell& open, const PlatformModel& model, double fraction, DwellError* out) {
   const double span = static_cast<double>(open.last_utime - open.first_utime);
@@ -83,15 +77,15 @@ DwellErrors DwellErrorsFromLog(const std::string& log_path, const PlatformModel&
   while (reader.Next(&event)) {
     if (event.channel == channel::kLegCommand) {
       leg_command_t c;
-      if (Decode(event, &c)) pr_mode = c.pr_mode;
+      if (DecodeEvent(event, &c)) pr_mode = c.pr_mode;
     } else if (event.channel == channel::kTracker) {
       tracker_point_t t;
-      if (in_dwell && Decode(event, &t) && t.valid) {
+      if (in_dwell && DecodeEvent(event, &t) && t.valid) {
         open.samples.push_back({t.utime, Vector3(t.point_m[0], t.point_m[1], t.point_m[2])});
       }
     } else if (event.channel == channel::kSetpoint) {
       pose_setpoint_t sp;
-      if (!Decode(event, &sp)) continue;
+      if (!DecodeEvent(event, &sp)) continue;
       const bool same = in_dwell && sp.segment == open.setpoint.segment && sp.trajectory == open.setpoint.trajectory;
       if (same) {
         open.last_utime = sp.utime;

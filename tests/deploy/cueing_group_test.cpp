@@ -160,7 +160,7 @@ TEST(CueingGroup, ABrakeFromUdpIsWashedOntoThePlatformThenDisengageParksItAtHome
   for (const pose_setpoint_t& s : LoggedMessages<pose_setpoint_t>(run.log_path, "EDSP_SETPOINT")) {
     while (next < cues.size() && cues[next].utime <= s.utime + kCueLeadUs) ++next;
     const pose_setpoint_t before = std::exchange(previous, s);
-    if (s.trajectory != "cueing") continue;
+    if (s.phase != pose_setpoint_t::PHASE_CUEING) continue;
     if (first_cueing_utime == 0) first_cueing_utime = s.utime;
     last_cueing_utime = s.utime;
     // Every cue up to the first after the setpoint's cycle in the log: none
@@ -190,7 +190,7 @@ TEST(CueingGroup, ABrakeFromUdpIsWashedOntoThePlatformThenDisengageParksItAtHome
     }
     // Catching up after a stall (the cue carried to the tick farther than
     // the legs go in a cycle): a step toward it within the legs' speed.
-    if (held == 0 && before.trajectory == "cueing" && s.utime > before.utime) {
+    if (held == 0 && before.phase == pose_setpoint_t::PHASE_CUEING && s.utime > before.utime) {
       const Vector6 legs_step = (model.LegLengths(Pose::FromVector(Eigen::Map<const Vector6>(s.pose))) -
                                  model.LegLengths(Pose::FromVector(Eigen::Map<const Vector6>(before.pose))))
                                     .cwiseAbs();
@@ -200,7 +200,7 @@ TEST(CueingGroup, ABrakeFromUdpIsWashedOntoThePlatformThenDisengageParksItAtHome
         continue;
       }
     }
-    ASSERT_TRUE(before.trajectory == "cueing" && IsHoldOf(s, before))
+    ASSERT_TRUE(before.phase == pose_setpoint_t::PHASE_CUEING && IsHoldOf(s, before))
         << "setpoint seq " << s.seq << (held == 0 ? " follows none of the cues before it" : " moves after the hold");
     ++held;
   }

@@ -22,7 +22,7 @@
 #include "edsp/kinematics/kinematics_node.h"
 #include "edsp/leg_command_t.hpp"
 #include "edsp/leg_state_t.hpp"
-#include "edsp/logger/log_reader.h"
+#include "edsp/logger/logged_message.h"
 #include "edsp/node/fault.h"
 #include "edsp/node/runtime.h"
 #include "edsp/pr_mode_t.hpp"
@@ -50,11 +50,6 @@ int Ctl(const std::string& dir, const std::string& args, std::string* out) {
   text << in.rdbuf();
   *out = text.str();
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-template <typename Msg>
-bool Decode(const LogEvent& e, Msg* m) {
-  return m->decode(e.data.data(), 0, static_cast<int>(e.data.size())) >= 0;
 }
 
 // A request or its reply lost on the way (one UDP datagram among the
@@ -135,7 +130,7 @@ TEST(OperatorCommands, PrModeSwitchedLiveBlendsWithoutAStepAndTheDwellsLandSigne
   while (reader.Next(&event)) {
     if (event.channel == "EDSP_LEG_COMMAND") {
       leg_command_t c;
-      if (!Decode(event, &c)) continue;
+      if (!DecodeEvent(event, &c)) continue;
       if (c.pr_mode == leg_command_t::PR_NONE) ++before;
       if (c.pr_mode == leg_command_t::PR_SIGNED && after++ == 0) switched_setpoint_utime = c.setpoint_utime;
       if (have_previous && c.seq == previous.seq + 1) {
@@ -227,7 +222,7 @@ TEST(OperatorCommands, CalibrationSwitchedLiveBlendsWithoutAStepAndTheDwellsLand
         test_support::GroupWatch watch(test_support::kGroupLcmUrl, "");
         if (!watch.WaitForSetpoint(
                 [&](const pose_setpoint_t& s) {
-                  dwelt = dwelt || s.trajectory.find("/dwell") != std::string::npos;
+                  dwelt = dwelt || s.phase == pose_setpoint_t::PHASE_DWELL;
                   return dwelt && std::abs(s.velocity[0]) > 0.1;
                 },
                 std::chrono::seconds(60))) {
@@ -251,10 +246,10 @@ TEST(OperatorCommands, CalibrationSwitchedLiveBlendsWithoutAStepAndTheDwellsLand
   while (reader.Next(&event)) {
     if (event.channel == "EDSP_SETPOINT") {
       pose_setpoint_t s;
-      if (Decode(event, &s)) segment_of_setpoint[s.seq] = s.trajectory;
+      if (DecodeEvent(event, &s)) segment_of_setpoint[s.seq] = s.trajectory;
     } else if (event.channel == "EDSP_LEG_COMMAND") {
       leg_command_t c;
-      if (!Decode(event, &c)) continue;
+      if (!DecodeEvent(event, &c)) continue;
       const double carried = CorrectionCarried(c);
       if (have_previous && c.seq == previous.seq + 1) {
         const double ms = std::max(1.0, static_cast<double>(c.setpoint_utime - previous.setpoint_utime) * 1e-3);
@@ -352,17 +347,17 @@ TEST(OperatorCommands, LatchedBridgeResumesOnlyWhenReArmed) {
   while (reader.Next(&event)) {
     if (event.channel == "EDSP_REPLY") {
       reply_t r;
-      if (Decode(event, &r) && r.node == "actuator_bridge" && r.code == reply_t::CODE_DONE && armed_utime < 0) {
+      if (DecodeEvent(event, &r) && r.node == "actuator_bridge" && r.code == reply_t::CODE_DONE && armed_utime < 0) {
         armed_utime = r.utime;
       }
     } else if (event.channel == "EDSP_FAULT") {
       fault_t f;
-      if (!Decode(event, &f) || f.node != "actuator_bridge") continue;
+      if (!DecodeEvent(event, &f) || f.node != "actuator_bridge") continue;
       if (f.reason.find("re-arm required") != std::string::npos) {
         (armed_utime < 0 ? refused_before : refused_after) += 1;
       }
     } else if (event.channel == "EDSP_LEG_STATE") {
-      Decode(event, &last_state);
+      DecodeEvent(event, &last_state);
     }
   }
   EXPECT_TRUE(successor_seen) << "the restarted kinematics never published";

@@ -260,7 +260,7 @@ std::vector<DwellEnd> DwellEnds(const std::string& log_path, const PlatformModel
       pose_setpoint_t sp;
       if (sp.decode(event.data.data(), 0, size) < 0) continue;
       if (have_previous && have_tracker && sp.segment != previous.segment &&
-          previous.trajectory.find("/dwell") != std::string::npos) {
+          previous.phase == pose_setpoint_t::PHASE_DWELL) {
         Vector6 q;
         for (int k = 0; k < 6; ++k) q(k) = previous.pose[k];
         const Vector3 target = model.ObservationPoint(Pose::FromVector(q));

@@ -124,8 +124,8 @@ TEST_F(ChannelCsvExportTest, EveryFieldOfEveryMessageOneFilePerChannel) {
   const auto sp = ReadCsv(dir_ + "/EDSP_SETPOINT.csv");
   ASSERT_EQ(sp.size(), 4u);
   const auto& h = sp[0];
-  // log_time_s, utime, seq, session_id, pose×6, velocity×6, acceleration×6, trajectory, segment
-  EXPECT_EQ(h.size(), 1u + 3 + 18 + 2);
+  // log_time_s, utime, seq, session_id, pose×6, velocity×6, acceleration×6, trajectory, segment, phase
+  EXPECT_EQ(h.size(), 1u + 3 + 18 + 3);
   for (std::size_t r = 1; r < sp.size(); ++r) EXPECT_EQ(sp[r].size(), h.size());
   EXPECT_EQ(h[0], "log_time_s");
   EXPECT_EQ(std::stod(sp[2][HeaderIndex(h, "log_time_s")]), 0.001);
@@ -135,6 +135,7 @@ TEST_F(ChannelCsvExportTest, EveryFieldOfEveryMessageOneFilePerChannel) {
   EXPECT_EQ(std::stod(sp[3][HeaderIndex(h, "pose_6")]), -0.1 - 1e-17);
   EXPECT_EQ(sp[3][HeaderIndex(h, "trajectory")], "Rz/move 2");
   EXPECT_EQ(sp[3][HeaderIndex(h, "segment")], "2");
+  EXPECT_EQ(h.back(), "phase");
 
   const auto lc = ReadCsv(dir_ + "/EDSP_LEG_COMMAND.csv");
   ASSERT_EQ(lc.size(), 2u);

@@ -102,6 +102,7 @@ TEST(MotionServiceCueing, EngageMovesToTheNeutralPoseThenEverySetpointIsTheSourc
     ASSERT_LT((PoseOf(sp) - cue).cwiseAbs().maxCoeff(), 1e-15) << "cycle " << cycle;
     ASSERT_LT((VelocityOf(sp) - velocity).cwiseAbs().maxCoeff(), 1e-15) << "cycle " << cycle;
     ASSERT_EQ(sp.trajectory, "cueing");
+    ASSERT_EQ(sp.phase, pose_setpoint_t::PHASE_CUEING);
   }
   EXPECT_EQ(s.service_.Status(s.now_).state, motion_status_t::STATE_CUEING);
 }

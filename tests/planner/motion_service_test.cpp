@@ -10,6 +10,7 @@
 
 #include <Eigen/Geometry>
 #include <limits>
+#include <map>
 #include <random>
 #include <set>
 #include <string>
@@ -145,6 +146,37 @@ TEST(MotionService, TwoClientsAtOnceAreServedInTurnEachWithItsOwnReply) {
 // A jog is a relative move by its step along one axis: from the last
 // target (queued behind a move still running), about the pivot, whatever
 // its relative flag says.
+// A program's setpoints say by their phase when they move and when they
+// dwell (the segments' types: the labels agree, as the paper motions name
+// their dwells), a hold before any motion is a hold, and after the program
+// the hold keeps its last segment's label and phase.
+TEST(MotionService, AProgramsSetpointsSayByTheirPhaseWhenTheyMoveAndWhenTheyDwell) {
+  Served s;
+  EXPECT_EQ(s.Cycle().phase, pose_setpoint_t::PHASE_HOLD);
+  motion_request_t run = s.requests_.Make(motion_request_t::KIND_RUN, s.now_);
+  run.motions = "Lz";
+  ASSERT_TRUE(s.Ask(run).accepted);
+  std::map<std::int8_t, int> cycles_in;
+  pose_setpoint_t sp{};
+  while (s.service_.busy()) {
+    sp = s.Cycle();
+    ++cycles_in[sp.phase];
+    ASSERT_EQ(sp.phase == pose_setpoint_t::PHASE_DWELL, sp.trajectory.find("/dwell") != std::string::npos)
+        << sp.trajectory;
+    if (sp.phase == pose_setpoint_t::PHASE_DWELL) {
+      ASSERT_EQ(Eigen::Map<const Vector6>(sp.velocity).norm(), 0.0);
+    }
+    if (sp.phase == pose_setpoint_t::PHASE_HOLD) {
+      ASSERT_EQ(cycles_in[pose_setpoint_t::PHASE_MOVE], 0);
+    }
+  }
+  EXPECT_GT(cycles_in[pose_setpoint_t::PHASE_MOVE], 1000);
+  EXPECT_GT(cycles_in[pose_setpoint_t::PHASE_DWELL], 1000);
+  const pose_setpoint_t held = s.Cycle();
+  EXPECT_EQ(held.trajectory, "Lz/dwell home");
+  EXPECT_EQ(held.phase, pose_setpoint_t::PHASE_DWELL);
+}
+
 TEST(MotionService, AJogLandsAtTheLastTargetPlusItsStepAlongItsAxis) {
   Served s;
   auto& r = s.requests_;

@@ -162,10 +162,12 @@ TEST(Planner, FollowsTheAbsoluteClockAndHoldsAtTheEnd) {
   EXPECT_EQ(late.seq, first.seq + 1);
   EXPECT_EQ(late.session_id, 42);
   EXPECT_EQ(late.trajectory, "up");
+  EXPECT_EQ(late.phase, pose_setpoint_t::PHASE_MOVE);
   EXPECT_FALSE(planner.Finished(start + 1400000));
   const pose_setpoint_t after = planner.Step(start + 9000000);
   EXPECT_TRUE(planner.Finished(start + 9000000));
   EXPECT_EQ(after.trajectory, "stay");
+  EXPECT_EQ(after.phase, pose_setpoint_t::PHASE_DWELL);  // by the segment's type, not its name
   EXPECT_NEAR(after.pose[2], Home()(2) + 0.1, 1e-15);
   EXPECT_EQ(after.velocity[2], 0.0);
 }

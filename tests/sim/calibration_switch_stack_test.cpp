@@ -98,7 +98,7 @@ StackRun RunLx(Calibration calibration, double largest_offset_m = 0.0) {
     run.commands.push_back({});
     std::copy(s.command.command_length_m, s.command.command_length_m + 6, run.commands.back().begin());
     const bool dwell_ended = have_previous && previous.setpoint.segment != s.setpoint.segment &&
-                             previous.setpoint.trajectory.find("/dwell") != std::string::npos;
+                             previous.setpoint.phase == pose_setpoint_t::PHASE_DWELL;
     if (dwell_ended) {
       Vector6 q;
       for (int k = 0; k < 6; ++k) q(k) = previous.setpoint.pose[k];

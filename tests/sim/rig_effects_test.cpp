@@ -64,7 +64,7 @@ std::vector<DwellEnd> RunStack(const std::string& motion, const RigEffects& effe
     }
     last_command = command;
     if (have_previous && s.setpoint.segment != previous.setpoint.segment &&
-        previous.setpoint.trajectory.find("/dwell") != std::string::npos) {
+        previous.setpoint.phase == pose_setpoint_t::PHASE_DWELL) {
       DwellEnd d;
       d.segment = previous.setpoint.trajectory;
       for (int k = 0; k < 6; ++k) d.target(k) = previous.setpoint.pose[k];
@@ -285,7 +285,7 @@ LagStats RunServoLag(double speed_m_s, double bandwidth_hz) {
       stats.max_predicted_m = std::max(stats.max_predicted_m, a / (wn * wn) * (1 + wn * T) + a * T * T);
     }
     if (commands.size() > 1 && s.setpoint.segment != previous.setpoint.segment &&
-        previous.setpoint.trajectory.find("/dwell") != std::string::npos) {
+        previous.setpoint.phase == pose_setpoint_t::PHASE_DWELL) {
       for (int i = 0; i < 6; ++i) {
         stats.max_rest_error_m = std::max(
             stats.max_rest_error_m, std::abs(previous.command.command_length_m[i] - previous.legs.encoder_length_m[i]));

@@ -13,6 +13,7 @@
 #include "edsp/kinematics/config.h"
 #include "edsp/leg_command_t.hpp"
 #include "edsp/pose_setpoint_t.hpp"
+#include "edsp/pose_setpoint_v1_t.hpp"
 #include "edsp/sim/paper_table.h"
 #include "edsp/sim/stack_report.h"
 #include "edsp/tracker_point_t.hpp"
@@ -24,9 +25,14 @@ namespace {
 
 using test_support::LogBuilder;
 
+// The setpoints' layout: today's, or the one logs recorded before setpoints
+// carried their phase (the dwell told by its label alone).
+enum class Layout { kToday, kBeforePhase };
+
 class RunLog {
  public:
-  RunLog(const std::string& path, const PlatformModel& model) : b_(path), model_(model) {}
+  RunLog(const std::string& path, const PlatformModel& model, Layout layout = Layout::kToday)
+      : b_(path), model_(model), layout_(layout) {}
   void Command(std::int8_t mode) {
     leg_command_t c{};
     c.pr_mode = mode;
@@ -34,16 +40,17 @@ class RunLog {
   }
   // `ms` setpoints 1 ms apart; from `bad_until_ms` on, the tracker reads
   // point A of the pose plus `offset`, before it something far off.
-  void Segment(const std::string& name, int segment, const Vector6& pose, int ms, const Vector3& offset,
-               int bad_until_ms) {
+  void Segment(const std::string& name, std::int8_t phase, int segment, const Vector6& pose, int ms,
+               const Vector3& offset, int bad_until_ms) {
     const Vector3 a = model_.ObservationPoint(Pose::FromVector(pose));
     for (int k = 0; k < ms; ++k, utime_ += 1000) {
       pose_setpoint_t sp{};
       sp.utime = utime_;
       sp.trajectory = name;
       sp.segment = segment;
+      sp.phase = phase;
       for (int i = 0; i < 6; ++i) sp.pose[i] = pose(i);
-      b_.Add("EDSP_SETPOINT", sp);
+      AddSetpoint(sp);
       tracker_point_t t{};
       t.utime = utime_ + 200;
       t.valid = true;
@@ -59,10 +66,24 @@ class RunLog {
   }
 
  private:
+  void AddSetpoint(const pose_setpoint_t& sp) {
+    if (layout_ == Layout::kToday) return b_.Add("EDSP_SETPOINT", sp);
+    pose_setpoint_v1_t old{};
+    old.utime = sp.utime;
+    old.trajectory = sp.trajectory;
+    old.segment = sp.segment;
+    for (int i = 0; i < 6; ++i) old.pose[i] = sp.pose[i];
+    b_.Add("EDSP_SETPOINT", old);
+  }
+
   LogBuilder b_;
   const PlatformModel& model_;
+  Layout layout_;
   std::int64_t utime_ = 1000000;
 };
+
+constexpr std::int8_t kMove = pose_setpoint_t::PHASE_MOVE;
+constexpr std::int8_t kDwell = pose_setpoint_t::PHASE_DWELL;
 
 class StackReportTest : public ::testing::Test {
  protected:
@@ -76,20 +97,25 @@ class StackReportTest : public ::testing::Test {
   const std::string plots_ = test_support::ScratchRoot() + "/stack_plots";
 };
 
+// Two dwells of Lz and Rz between moves, the last cut short.
+void WriteTwoDwells(RunLog& run, const Vector6& home, const Vector6& up, const Vector6& yawed) {
+  run.Command(leg_command_t::PR_NONE);
+  run.Segment("Lz/move 1", kMove, 0, home, 50, Vector3::Zero(), 50);
+  run.Segment("Lz/dwell 1", kDwell, 1, up, 400, Vector3(3e-6, -1e-6, 2e-6), 150);  // bad first 150 ms
+  run.Segment("Rz/move 1", kMove, 2, up, 30, Vector3::Zero(), 30);
+  run.Command(leg_command_t::PR_SIGNED);
+  run.Segment("Rz/dwell 1", kDwell, 3, yawed, 200, Vector3(0, 0, -5e-6), 0);
+  run.Segment("Rz/move 2", kMove, 4, home, 10, Vector3::Zero(), 10);
+  run.Segment("Rz/dwell 2", kDwell, 5, home, 100, Vector3::Zero(), 0);  // cut short: not a stop
+}
+
 TEST_F(StackReportTest, DwellsAveragedOverTheirSettledHalfWithModeAndDisplacement) {
   Vector6 up = home_, yawed = home_;
   up(2) += 0.25;
   yawed(5) -= 0.3;
   {
     RunLog run(log_, model_);
-    run.Command(leg_command_t::PR_NONE);
-    run.Segment("Lz/move 1", 0, home_, 50, Vector3::Zero(), 50);
-    run.Segment("Lz/dwell 1", 1, up, 400, Vector3(3e-6, -1e-6, 2e-6), 150);  // bad first 150 ms
-    run.Segment("Rz/move 1", 2, up, 30, Vector3::Zero(), 30);
-    run.Command(leg_command_t::PR_SIGNED);
-    run.Segment("Rz/dwell 1", 3, yawed, 200, Vector3(0, 0, -5e-6), 0);
-    run.Segment("Rz/move 2", 4, home_, 10, Vector3::Zero(), 10);
-    run.Segment("Rz/dwell 2", 5, home_, 100, Vector3::Zero(), 0);  // cut short: not a stop
+    WriteTwoDwells(run, home_, up, yawed);
   }
   const DwellErrors e = DwellErrorsFromLog(log_, model_);
   EXPECT_FALSE(e.damaged);
@@ -129,6 +155,49 @@ TEST_F(StackReportTest, DwellsAveragedOverTheirSettledHalfWithModeAndDisplacemen
     in.read(magic, 8);
     EXPECT_EQ(std::string(magic + 1, 3), "PNG") << png;
     EXPECT_GT(std::filesystem::file_size(png), 2000u) << png;
+  }
+}
+
+// A dwell is what the setpoint's phase says, whatever its label: a
+// trajectory CSV's segment may be named anything.
+TEST_F(StackReportTest, TheSetpointsPhaseNotTheirLabelMakesADwell) {
+  Vector6 up = home_;
+  up(2) += 0.1;
+  {
+    RunLog run(log_, model_);
+    run.Command(leg_command_t::PR_NONE);
+    run.Segment("Lz/dwell 1", kMove, 0, home_, 100, Vector3::Zero(), 0);  // a move, whatever its name
+    run.Segment("csv/pause", kDwell, 1, up, 200, Vector3(0, 2e-6, 0), 0);
+    run.Segment("csv/back", kMove, 2, home_, 10, Vector3::Zero(), 0);
+  }
+  const DwellErrors e = DwellErrorsFromLog(log_, model_);
+  ASSERT_EQ(e.dwells.size(), 1u);
+  EXPECT_EQ(e.dwells[0].segment, "csv/pause");
+  EXPECT_NEAR(e.dwells[0].error_m.y(), 2e-6, 1e-12);
+}
+
+// A log recorded before setpoints carried their phase reads the same
+// dwells, told by the labels its planner wrote.
+TEST_F(StackReportTest, ALogOfTheOlderSetpointLayoutReadsTheSameDwells) {
+  Vector6 up = home_, yawed = home_;
+  up(2) += 0.25;
+  yawed(5) -= 0.3;
+  {
+    RunLog run(log_, model_);
+    WriteTwoDwells(run, home_, up, yawed);
+  }
+  const DwellErrors today = DwellErrorsFromLog(log_, model_);
+  {
+    RunLog run(log_, model_, Layout::kBeforePhase);
+    WriteTwoDwells(run, home_, up, yawed);
+  }
+  const DwellErrors before = DwellErrorsFromLog(log_, model_);
+  ASSERT_EQ(today.dwells.size(), 2u);
+  ASSERT_EQ(before.dwells.size(), today.dwells.size());
+  for (std::size_t k = 0; k < today.dwells.size(); ++k) {
+    EXPECT_EQ(before.dwells[k].segment, today.dwells[k].segment);
+    EXPECT_EQ(before.dwells[k].samples, today.dwells[k].samples);
+    EXPECT_EQ(before.dwells[k].error_m, today.dwells[k].error_m);
   }
 }
 

@@ -38,7 +38,7 @@ std::vector<DwellResult> RunMotion(const std::string& motion, PrMode mode) {
     const StackSample s = sim.Step();
     // The last sample of each dwell: the segment changes after it.
     if (have_previous && previous.setpoint.segment != s.setpoint.segment &&
-        previous.setpoint.trajectory.find("/dwell") != std::string::npos) {
+        previous.setpoint.phase == pose_setpoint_t::PHASE_DWELL) {
       Vector6 q;
       for (int k = 0; k < 6; ++k) q(k) = previous.setpoint.pose[k];
       const Vector3 target = model.ObservationPoint(Pose::FromVector(q));

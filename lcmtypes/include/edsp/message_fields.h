@@ -13,11 +13,17 @@
 
 namespace edsp {
 
-template <typename V>
-void VisitFields(const pose_setpoint_t& m, V* r) {
+// pose_setpoint_t and its older layout, which has no phase.
+template <typename Setpoint, typename V>
+void VisitSetpointFields(const Setpoint& m, V* r) {
   r->Add("utime", m.utime), r->Add("seq", m.seq), r->Add("session_id", m.session_id);
   r->Add("pose", m.pose), r->Add("velocity", m.velocity), r->Add("acceleration", m.acceleration);
   r->Add("trajectory", m.trajectory), r->Add("segment", m.segment);
+  if constexpr (std::is_same_v<Setpoint, pose_setpoint_t>) r->Add("phase", m.phase);
+}
+template <typename V>
+void VisitFields(const pose_setpoint_t& m, V* r) {
+  VisitSetpointFields(m, r);
 }
 template <typename V>
 void VisitFields(const leg_command_t& m, V* r) {
@@ -165,6 +171,10 @@ void VisitMotionStatusFields(const Status& m, V* r) {
   r->Add("on_target", m.on_target), r->Add("frame", m.frame);
   if constexpr (std::is_same_v<Status, motion_status_t>) r->Add("frame_pose", m.frame_pose);
   r->Add("pivot", m.pivot), r->Add("reason", m.reason);
+}
+template <typename V>
+void VisitFields(const pose_setpoint_v1_t& m, V* r) {
+  VisitSetpointFields(m, r);
 }
 template <typename V>
 void VisitFields(const motion_status_v1_t& m, V* r) {

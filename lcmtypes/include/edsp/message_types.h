@@ -24,6 +24,7 @@
 #include "edsp/platform_config_t.hpp"
 #include "edsp/platform_state_t.hpp"
 #include "edsp/pose_setpoint_t.hpp"
+#include "edsp/pose_setpoint_v1_t.hpp"
 #include "edsp/pr_mode_t.hpp"
 #include "edsp/pr_mode_v1_t.hpp"
 #include "edsp/reply_t.hpp"
@@ -41,7 +42,8 @@ inline constexpr std::size_t kMessageTypeCount = std::tuple_size_v<MessageTypes>
 
 // Older layouts of changed types (lcmtypes/legacy/), read from the logs
 // that carry them and never sent: a log's reader knows them by fingerprint.
-using LegacyMessageTypes = std::tuple<arm_v1_t, pr_mode_v1_t, calibration_v1_t, motion_reply_v1_t, motion_status_v1_t>;
+using LegacyMessageTypes =
+    std::tuple<arm_v1_t, pr_mode_v1_t, calibration_v1_t, motion_reply_v1_t, motion_status_v1_t, pose_setpoint_v1_t>;
 
 // A message type as a value, for the visitors below.
 template <typename Msg>

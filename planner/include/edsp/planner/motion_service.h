@@ -183,6 +183,7 @@ class MotionService {
   std::string activity_ = "hold";
   std::string hold_name_ = "hold";  // the setpoints' trajectory name: the last motion's while holding
   std::int32_t hold_segment_ = 0;
+  std::int8_t hold_phase_ = pose_setpoint_t::PHASE_HOLD;
   std::string frame_ = "base";
   std::int8_t last_end_ = motion_status_t::END_NONE;
   std::int64_t ended_utime_ = 0;

@@ -18,6 +18,7 @@ namespace edsp {
 struct PathSegment {
   const std::string* name = nullptr;
   std::int32_t index = 0;
+  bool dwells = false;  // a program's dwell (Trajectory::dwells)
 };
 
 class PosePath {

@@ -22,6 +22,9 @@ class Trajectory {
   virtual double duration_s() const = 0;
   // Valid for any t: before 0 the start, after duration_s() the end.
   virtual PoseSample Sample(double t_s) const = 0;
+  // Standing still on purpose (a dwell, for a measurement), not a motion
+  // that happens to be slow: setpoints say so in their phase.
+  virtual bool dwells() const { return false; }
 };
 
 // Point to point with a quintic (minimum-jerk) profile: zero velocity and
@@ -44,6 +47,7 @@ class Dwell final : public Trajectory {
  public:
   Dwell(const Vector6& at, double duration_s) : at_(at), duration_s_(duration_s) {}
   double duration_s() const override { return duration_s_; }
+  bool dwells() const override { return true; }
   PoseSample Sample(double /*t_s*/) const override {
     PoseSample sample;  // velocity and acceleration zero
     sample.pose = at_;
@@ -79,6 +83,7 @@ class TrajectorySequence final : public Trajectory {
   // Index and name of the segment playing at t (the last one after the end).
   int SegmentAt(double t_s) const;
   const std::string& SegmentName(int index) const { return segments_[index].name; }
+  bool SegmentDwells(int index) const { return segments_[index].trajectory->dwells(); }
   double SegmentStart(int index) const { return segments_[index].start_s; }
   int size() const { return static_cast<int>(segments_.size()); }
   Vector6 EndPose() const;
