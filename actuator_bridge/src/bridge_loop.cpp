@@ -56,8 +56,7 @@ void BridgeLoop::RunCycle(std::int64_t now_utime, std::int64_t deadline_misses) 
   NodeStatus& status = reporting_.status();
   if (states_.Publish(state)) status.CountOut();
   status.SetState(bridge_.holding() ? node_status_t::STATE_HOLDING : node_status_t::STATE_RUNNING);
-  status.RecordLoop(std::chrono::steady_clock::now() - start);
-  reporting_.StatusTick(now_utime, deadline_misses);
+  reporting_.EndCycle(start, now_utime, deadline_misses);
 }
 
 void BridgeLoop::Run(CycleClock& clock, const std::function<bool()>& stop) {

@@ -185,8 +185,7 @@ bool CueingLoop::RunCycle(std::int64_t now_utime, std::int64_t deadline_misses) 
   if (step.request) Ask(*step.request);
   reporting_.status().SetState(source_.phase() == CueingPhase::kStopped ? node_status_t::STATE_HOLDING
                                                                         : node_status_t::STATE_RUNNING);
-  reporting_.status().RecordLoop(std::chrono::steady_clock::now() - began);
-  reporting_.StatusTick(now_utime, deadline_misses);
+  reporting_.EndCycle(began, now_utime, deadline_misses);
   return true;
 }
 

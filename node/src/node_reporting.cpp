@@ -36,6 +36,12 @@ void NodeReporting::StatusTick(std::int64_t now_utime, std::int64_t deadline_mis
   if (status_.Due(now_utime)) status_out_.Publish(status_.Report(now_utime, deadline_misses));
 }
 
+void NodeReporting::EndCycle(std::chrono::steady_clock::time_point began, std::int64_t now_utime,
+                             std::int64_t deadline_misses) {
+  status_.RecordLoop(std::chrono::steady_clock::now() - began);
+  StatusTick(now_utime, deadline_misses);
+}
+
 void NodeReporting::ReportInputs(std::int64_t now_utime) {
   std::uint64_t drops = 0;
   bool counted = false;

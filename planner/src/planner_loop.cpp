@@ -103,8 +103,7 @@ bool PlannerLoop::RunCycle(std::int64_t now_utime, std::int64_t deadline_misses)
     reporting_.Fault(MakeFault("planner", channel::kCueSetpoint, fault->code, fault_t::SEVERITY_ERROR,
                                std::move(fault->reason), now_utime));
   }
-  reporting_.status().RecordLoop(std::chrono::steady_clock::now() - began);
-  reporting_.StatusTick(now_utime, deadline_misses);
+  reporting_.EndCycle(began, now_utime, deadline_misses);
   return go_on;
 }
 

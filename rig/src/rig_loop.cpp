@@ -66,8 +66,7 @@ void RigLoop::RunCycle(std::int64_t now, std::int64_t deadline_misses) {
     cycles_ += static_cast<std::int64_t>(reports.size());
     image_.PublishFeedback(reports.back().feedback, reports.back().utime, cycles_);
   }
-  reporting_.status().RecordLoop(std::chrono::steady_clock::now() - start);
-  reporting_.StatusTick(now, deadline_misses);
+  reporting_.EndCycle(start, now, deadline_misses);
 }
 
 void RigLoop::Publish(const RigCycleReport& report) {

@@ -2,6 +2,7 @@
 // A node's two reporting channels on the bus: throttled EDSP_FAULT and its
 // EDSP_STATUS once a second.
 
+#include <chrono>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -38,6 +39,9 @@ class NodeReporting {
   // Once a cycle or poll: the watched inputs reported, then EDSP_STATUS
   // when a second has passed since the last one.
   void StatusTick(std::int64_t now_utime, std::int64_t deadline_misses);
+  // The end of a clocked loop's cycle begun at `began`: its busy time
+  // recorded (the status's loop times), then StatusTick.
+  void EndCycle(std::chrono::steady_clock::time_point began, std::int64_t now_utime, std::int64_t deadline_misses);
 
  private:
   struct WatchedInput {
