@@ -25,14 +25,14 @@ bool AllFinite(const double* v, int n) {
 }
 
 // One requested limit: 0 keeps `current`; else it must be in [most/1000, most].
-std::string TakeLimit(double asked, double most, const char* field, const char* key, double* current) {
-  if (asked == 0.0) return "";
+Problem TakeLimit(double asked, double most, const char* field, const char* key, double* current) {
+  if (asked == 0.0) return std::nullopt;
   if (!std::isfinite(asked) || asked < most * kSlowestShare || asked > most) {
     return fmt::format("{} = {} is not in [{}, {}] (the config's [motion] {} and a thousandth of it)", field, asked,
                        most * kSlowestShare, most, key);
   }
   *current = asked;
-  return "";
+  return std::nullopt;
 }
 
 }  // namespace
@@ -52,8 +52,9 @@ Vector6 RequestPose(const motion_request_t& r) {
   return q;
 }
 
-std::string PoseProblem(const motion_request_t& r) {
-  return AllFinite(r.pose, 6) ? "" : "pose has a non-finite value (NaN or infinity)";
+Problem PoseProblem(const motion_request_t& r) {
+  if (AllFinite(r.pose, 6)) return std::nullopt;
+  return "pose has a non-finite value (NaN or infinity)";
 }
 
 int JogAxisIndex(std::string_view name) {
@@ -63,7 +64,7 @@ int JogAxisIndex(std::string_view name) {
   return -1;
 }
 
-std::string JogProblem(const motion_request_t& r) {
+Problem JogProblem(const motion_request_t& r) {
   int axis = -1;
   std::string axes;
   for (int k = 0; k < 6; ++k) {
@@ -82,10 +83,10 @@ std::string JogProblem(const motion_request_t& r) {
     return fmt::format("jog step along {} = {} {} is beyond {} {} (a jog is small: move --relative for more)",
                        kJogAxes[axis], r.pose[axis], unit, kJogStepMax, unit);
   }
-  return "";
+  return std::nullopt;
 }
 
-std::string FrameDefinitionProblem(const motion_request_t& r) {
+Problem FrameDefinitionProblem(const motion_request_t& r) {
   const std::string& name = r.frame;
   if (name.empty() || name == "base" || name == "home") {
     return fmt::format("frame name \"{}\": give a new name (base and home are built in)", name);
@@ -95,30 +96,31 @@ std::string FrameDefinitionProblem(const motion_request_t& r) {
   if (offset_m > kMaxFrameOffset_m) {
     return fmt::format("frame {}: origin {:.3f} m from {{B}}, beyond {} m", name, offset_m, kMaxFrameOffset_m);
   }
-  return "";
+  return std::nullopt;
 }
 
-std::string PivotProblem(const motion_request_t& r) {
+Problem PivotProblem(const motion_request_t& r) {
   const Vector3 c(r.point[0], r.point[1], r.point[2]);
-  if (c.allFinite() && c.norm() <= kMaxPivotOffset_m) return "";
+  if (c.allFinite() && c.norm() <= kMaxPivotOffset_m) return std::nullopt;
   return fmt::format("pivot ({}, {}, {}) m: give a finite point within {} m of {{M}}'s origin", c(0), c(1), c(2),
                      kMaxPivotOffset_m);
 }
 
-std::string ProgramProblem(const motion_request_t& r) {
-  return r.motions.empty() == r.csv_text.empty() ? "give either motions or a CSV, not both" : "";
+Problem ProgramProblem(const motion_request_t& r) {
+  if (r.motions.empty() != r.csv_text.empty()) return std::nullopt;
+  return "give either motions or a CSV, not both";
 }
 
-std::string SpeedLimitsProblem(const motion_request_t& r, const MoveLimits& most, MoveLimits* limits) {
-  std::string p = TakeLimit(r.speed_m_s, most.speed_m_s, "speed_m_s", "speed_max_m_s", &limits->speed_m_s);
-  if (p.empty()) p = TakeLimit(r.speed_rad_s, most.speed_rad_s, "speed_rad_s", "speed_max_rad_s", &limits->speed_rad_s);
+Problem SpeedLimitsProblem(const motion_request_t& r, const MoveLimits& most, MoveLimits* limits) {
+  Problem p = TakeLimit(r.speed_m_s, most.speed_m_s, "speed_m_s", "speed_max_m_s", &limits->speed_m_s);
+  if (!p) p = TakeLimit(r.speed_rad_s, most.speed_rad_s, "speed_rad_s", "speed_max_rad_s", &limits->speed_rad_s);
   return p;
 }
 
-std::string AllLimitsProblem(const motion_request_t& r, const MoveLimits& most, MoveLimits* limits) {
-  std::string p = SpeedLimitsProblem(r, most, limits);
-  if (p.empty()) p = TakeLimit(r.accel_m_s2, most.accel_m_s2, "accel_m_s2", "accel_max_m_s2", &limits->accel_m_s2);
-  if (p.empty()) {
+Problem AllLimitsProblem(const motion_request_t& r, const MoveLimits& most, MoveLimits* limits) {
+  Problem p = SpeedLimitsProblem(r, most, limits);
+  if (!p) p = TakeLimit(r.accel_m_s2, most.accel_m_s2, "accel_m_s2", "accel_max_m_s2", &limits->accel_m_s2);
+  if (!p) {
     p = TakeLimit(r.accel_rad_s2, most.accel_rad_s2, "accel_rad_s2", "accel_max_rad_s2", &limits->accel_rad_s2);
   }
   return p;

@@ -108,7 +108,7 @@ motion_reply_t MotionService::Reply(const motion_request_t& r, ReplyCode code, s
   return reply;
 }
 
-std::string MotionService::BridgeProblem(std::int64_t now_utime) const {
+Problem MotionService::BridgeProblem(std::int64_t now_utime) const {
   if (leg_state_utime_ == 0) return "no EDSP_LEG_STATE from the actuator bridge yet: is it running?";
   const double silent_s = static_cast<double>(now_utime - leg_state_utime_) * 1e-6;
   if (silent_s > options_.bridge_stale_s) {
@@ -121,11 +121,11 @@ std::string MotionService::BridgeProblem(std::int64_t now_utime) const {
   if (!bridge_holds_.empty()) {
     return "the actuator bridge holds the legs (" + bridge_holds_ + "): re-arm it first (edsp-ctl arm)";
   }
-  return "";
+  return std::nullopt;
 }
 
-std::string MotionService::QueueProblem() const {
-  if (queue_.size() < options_.queue_max) return "";
+Problem MotionService::QueueProblem() const {
+  if (queue_.size() < options_.queue_max) return std::nullopt;
   return fmt::format("{} motions already queued: wait, or halt", queue_.size());
 }
 
@@ -152,7 +152,7 @@ double MotionService::TimeToIdle(std::int64_t now_utime) const {
 }
 
 motion_reply_t MotionService::Move(const motion_request_t& r, bool check_only, std::int64_t now_utime, Lock& lock) {
-  if (std::string p = PoseProblem(r); !p.empty()) return Reply(r, ReplyCode::kInvalid, p);
+  if (Problem p = PoseProblem(r)) return Reply(r, ReplyCode::kInvalid, *p);
   const WorkFrame* found = FindFrame(r.frame);
   if (found == nullptr) {
     std::string known;
@@ -163,13 +163,13 @@ motion_reply_t MotionService::Move(const motion_request_t& r, bool check_only, s
   const WorkFrame frame = *found;
   const Vector3 pivot = pivot_M_;
   MoveLimits limits = default_limits_;
-  if (std::string p = SpeedLimitsProblem(r, config_limits_, &limits); !p.empty()) {
-    return Reply(r, ReplyCode::kInvalid, p);
+  if (Problem p = SpeedLimitsProblem(r, config_limits_, &limits)) {
+    return Reply(r, ReplyCode::kInvalid, *p);
   }
   if (!check_only) {
-    if (std::string p = CueingProblem(); !p.empty()) return Reply(r, ReplyCode::kNotNow, p);
-    if (std::string p = BridgeProblem(now_utime); !p.empty()) return Reply(r, ReplyCode::kNotNow, p);
-    if (std::string p = QueueProblem(); !p.empty()) return Reply(r, ReplyCode::kNotNow, p);
+    if (Problem p = CueingProblem()) return Reply(r, ReplyCode::kNotNow, *p);
+    if (Problem p = BridgeProblem(now_utime)) return Reply(r, ReplyCode::kNotNow, *p);
+    if (Problem p = QueueProblem()) return Reply(r, ReplyCode::kNotNow, *p);
   }
   const Transform from = PlannedEnd();
   FramedPose to = FramedPoseOf(RequestPose(r));
@@ -201,8 +201,8 @@ motion_reply_t MotionService::Move(const motion_request_t& r, bool check_only, s
       fmt::format("{} to {} in {} ({}) in {:.3f} s, {}", check_only ? "would move" : "moves", PoseText(target),
                   frame.name, m.path->Extent(), m.duration_s(), m.check.Describe());
   if (check_only) return Reply(r, ReplyCode::kDone, what, m.duration_s(), TimeToIdle(now_utime));
-  if (std::string p = PlanOutdated(from, decelerations); !p.empty()) return Reply(r, ReplyCode::kNotNow, p);
-  if (std::string p = QueueProblem(); !p.empty()) return Reply(r, ReplyCode::kNotNow, p);
+  if (Problem p = PlanOutdated(from, decelerations)) return Reply(r, ReplyCode::kNotNow, *p);
+  if (Problem p = QueueProblem()) return Reply(r, ReplyCode::kNotNow, *p);
   std::deque<PlannedMotion> motions;
   motions.push_back(std::move(m));
   motion_reply_t reply = Enqueue(r, std::move(motions), now_utime);
@@ -211,7 +211,7 @@ motion_reply_t MotionService::Move(const motion_request_t& r, bool check_only, s
 }
 
 motion_reply_t MotionService::Jog(const motion_request_t& r, std::int64_t now_utime, Lock& lock) {
-  if (std::string p = JogProblem(r); !p.empty()) return Reply(r, ReplyCode::kInvalid, p);
+  if (Problem p = JogProblem(r)) return Reply(r, ReplyCode::kInvalid, *p);
   motion_request_t move = r;
   move.relative = true;  // whatever the client set: a jog is from the last target
   motion_reply_t reply = Move(move, false, now_utime, lock);
@@ -223,26 +223,26 @@ motion_reply_t MotionService::Jog(const motion_request_t& r, std::int64_t now_ut
   return reply;
 }
 
-std::string MotionService::PlanOutdated(const Transform& from, std::uint64_t decelerations) const {
+Problem MotionService::PlanOutdated(const Transform& from, std::uint64_t decelerations) const {
   if (decelerations != decelerations_) return "a halt or stop came while the path was checked: ask again";
   if (!PlannedEnd().isApprox(from, 1e-12)) {
     return "another motion was queued while the path was checked (it would start elsewhere): ask again";
   }
-  return "";
+  return std::nullopt;
 }
 
 motion_reply_t MotionService::Run(const motion_request_t& r, std::int64_t now_utime, Lock& lock) {
-  if (std::string p = CueingProblem(); !p.empty()) return Reply(r, ReplyCode::kNotNow, p);
-  if (std::string p = BridgeProblem(now_utime); !p.empty()) return Reply(r, ReplyCode::kNotNow, p);
-  if (std::string p = QueueProblem(); !p.empty()) return Reply(r, ReplyCode::kNotNow, p);
-  if (std::string p = ProgramProblem(r); !p.empty()) return Reply(r, ReplyCode::kInvalid, p);
+  if (Problem p = CueingProblem()) return Reply(r, ReplyCode::kNotNow, *p);
+  if (Problem p = BridgeProblem(now_utime)) return Reply(r, ReplyCode::kNotNow, *p);
+  if (Problem p = QueueProblem()) return Reply(r, ReplyCode::kNotNow, *p);
+  if (Problem p = ProgramProblem(r)) return Reply(r, ReplyCode::kInvalid, *p);
   const Transform from = PlannedEnd();
   const MoveLimits limits = default_limits_;
   const std::uint64_t decelerations = decelerations_;
   lock.unlock();  // the program built, planned and checked without the lock, as a move
   std::deque<PlannedMotion> motions;
   const std::string name = !r.motions.empty() ? r.motions : r.csv_origin.empty() ? "csv" : r.csv_origin;
-  std::string problem;
+  Problem problem;
   ReplyCode problem_code = ReplyCode::kOutOfLimits;  // a path that crosses a limit, unless it cannot be built
   try {
     std::unique_ptr<TrajectorySequence> program;
@@ -265,7 +265,7 @@ motion_reply_t MotionService::Run(const motion_request_t& r, std::int64_t now_ut
     }
     const TrajectorySequence* sequence = program.get();
     PlannedMotion played = PlanProgram(model_, std::move(program), limits, options_.check_rate_hz);
-    if (problem.empty() && !played.check.ok()) problem = TrajectoryViolation(*sequence, played.check);
+    if (!problem && !played.check.ok()) problem = TrajectoryViolation(*sequence, played.check);
     played.activity = "run " + name;
     played.request_id = r.request_id;
     motions.push_back(std::move(played));
@@ -274,9 +274,9 @@ motion_reply_t MotionService::Run(const motion_request_t& r, std::int64_t now_ut
     problem_code = ReplyCode::kInvalid;
   }
   lock.lock();
-  if (!problem.empty()) return Reply(r, problem_code, problem);
-  if (std::string p = PlanOutdated(from, decelerations); !p.empty()) return Reply(r, ReplyCode::kNotNow, p);
-  if (std::string p = QueueProblem(); !p.empty()) return Reply(r, ReplyCode::kNotNow, p);
+  if (problem) return Reply(r, problem_code, *problem);
+  if (Problem p = PlanOutdated(from, decelerations)) return Reply(r, ReplyCode::kNotNow, *p);
+  if (Problem p = QueueProblem()) return Reply(r, ReplyCode::kNotNow, *p);
   return Enqueue(r, std::move(motions), now_utime);
 }
 
@@ -339,13 +339,13 @@ motion_reply_t MotionService::Decelerate(const motion_request_t& r, bool stop, s
 }
 
 motion_reply_t MotionService::DefineFrame(const motion_request_t& r) {
-  if (std::string p = FrameDefinitionProblem(r); !p.empty()) return Reply(r, ReplyCode::kInvalid, p);
+  if (Problem p = FrameDefinitionProblem(r)) return Reply(r, ReplyCode::kInvalid, *p);
   frames_[r.frame] = WorkFrame{r.frame, TransformOf(Pose::FromVector(RequestPose(r)))};
   return Reply(r, ReplyCode::kDone, fmt::format("frame {} = {} in {{B}}", r.frame, PoseText(RequestPose(r))));
 }
 
 motion_reply_t MotionService::SetPivot(const motion_request_t& r) {
-  if (std::string p = PivotProblem(r); !p.empty()) return Reply(r, ReplyCode::kInvalid, p);
+  if (Problem p = PivotProblem(r)) return Reply(r, ReplyCode::kInvalid, *p);
   const Vector3 c(r.point[0], r.point[1], r.point[2]);
   pivot_M_ = c;
   return Reply(
@@ -355,7 +355,7 @@ motion_reply_t MotionService::SetPivot(const motion_request_t& r) {
 
 motion_reply_t MotionService::SetLimits(const motion_request_t& r) {
   MoveLimits l = default_limits_;
-  if (std::string p = AllLimitsProblem(r, config_limits_, &l); !p.empty()) return Reply(r, ReplyCode::kInvalid, p);
+  if (Problem p = AllLimitsProblem(r, config_limits_, &l)) return Reply(r, ReplyCode::kInvalid, *p);
   default_limits_ = l;
   return Reply(r, ReplyCode::kDone,
                fmt::format("moves from now: {} m/s, {} rad/s, {} m/s^2, {} rad/s^2", l.speed_m_s, l.speed_rad_s,
@@ -492,7 +492,7 @@ std::int8_t MotionService::State(std::int64_t now_utime) const {
   // it for a blip. A request meanwhile is still refused at once.
   const bool holds_for_now =
       !bridge_holds_.empty() && holds_since_utime_ != 0 && now_utime - holds_since_utime_ < kTransientHoldUs;
-  if (bridge_followed_ && !holds_for_now && !BridgeProblem(now_utime).empty()) return motion_status_t::STATE_FAULT;
+  if (bridge_followed_ && !holds_for_now && BridgeProblem(now_utime)) return motion_status_t::STATE_FAULT;
   if (current_) return current_->halting ? motion_status_t::STATE_HALTING : motion_status_t::STATE_MOVING;
   if (!queue_.empty()) return motion_status_t::STATE_MOVING;
   if (cueing_ && cueing_->following) return motion_status_t::STATE_CUEING;
@@ -532,7 +532,7 @@ motion_status_t MotionService::Status(std::int64_t now_utime) const {
   for (int k = 0; k < 6; ++k) s.frame_pose[k] = frame_pose(k);
   for (int k = 0; k < 3; ++k) s.pivot[k] = pivot_M_(k);
   if (s.state == motion_status_t::STATE_FAULT)
-    s.reason = BridgeProblem(now_utime);
+    s.reason = BridgeProblem(now_utime).value_or("");
   else if (s.state == motion_status_t::STATE_REFUSED)
     s.reason = *refused_;
   return s;

@@ -63,20 +63,20 @@ PoseSample CueAt(const pose_setpoint_t& cue, std::int64_t now_utime) {
 
 }  // namespace
 
-std::string MotionService::CueingProblem() const {
-  if (!cueing_) return "";
+Problem MotionService::CueingProblem() const {
+  if (!cueing_) return std::nullopt;
   return fmt::format("cueing from {} is engaged: disengage it first", cueing_->source);
 }
 
 motion_reply_t MotionService::Engage(const motion_request_t& r, std::int64_t now_utime, Lock& lock) {
-  if (std::string p = CueingProblem(); !p.empty()) return Reply(r, ReplyCode::kNotNow, p);
+  if (Problem p = CueingProblem()) return Reply(r, ReplyCode::kNotNow, *p);
   if (current_ || !queue_.empty()) {
     return Reply(r, ReplyCode::kNotNow,
                  fmt::format("{} is in progress: engage once it has ended, or halt it",
                              current_ ? current_->motion.activity : queue_.front().activity));
   }
-  if (std::string p = PoseProblem(r); !p.empty()) return Reply(r, ReplyCode::kInvalid, p);
-  if (std::string p = BridgeProblem(now_utime); !p.empty()) return Reply(r, ReplyCode::kNotNow, p);
+  if (Problem p = PoseProblem(r)) return Reply(r, ReplyCode::kInvalid, *p);
+  if (Problem p = BridgeProblem(now_utime)) return Reply(r, ReplyCode::kNotNow, *p);
   const std::string source = r.client.empty() ? "an unnamed source" : r.client;
   const Vector6 neutral = RequestPose(r);
   if ((hold_pose_ - neutral).cwiseAbs().maxCoeff() <= kSamePose) {  // no move to plan: following from now
@@ -101,7 +101,7 @@ motion_reply_t MotionService::Engage(const motion_request_t& r, std::int64_t now
 
 motion_reply_t MotionService::Disengage(const motion_request_t& r, std::int64_t now_utime, Lock& lock) {
   if (!cueing_) return Reply(r, ReplyCode::kNotNow, "no cueing is engaged");
-  if (std::string p = PoseProblem(r); !p.empty()) return Reply(r, ReplyCode::kInvalid, p);
+  if (Problem p = PoseProblem(r)) return Reply(r, ReplyCode::kInvalid, *p);
   const std::string source = cueing_->source;
   EndCueing(now_utime, motion_status_t::END_COMPLETED);
   if ((PoseOf(PlannedEnd()).ToVector() - RequestPose(r)).cwiseAbs().maxCoeff() <= kSamePose) {
@@ -113,7 +113,7 @@ motion_reply_t MotionService::Disengage(const motion_request_t& r, std::int64_t 
   return reply;
 }
 
-std::string MotionService::CueProblem(const pose_setpoint_t& cue, std::int64_t now_utime, FaultCode* code) const {
+Problem MotionService::CueProblem(const pose_setpoint_t& cue, std::int64_t now_utime, FaultCode* code) const {
   const auto finite = [](const double* v) { return Eigen::Map<const Vector6>(v).allFinite(); };
   if (!finite(cue.pose) || !finite(cue.velocity) || !finite(cue.acceleration)) {
     *code = FaultCode::kNonFinite;
@@ -154,7 +154,7 @@ std::string MotionService::CueProblem(const pose_setpoint_t& cue, std::int64_t n
           cue.seq, step.leg + 1, step.most_m, span_s * 1e3, last.seq, step.allowed_m);
     }
   }
-  return "";
+  return std::nullopt;
 }
 
 MotionService::LegStep MotionService::LegStepBetween(const Vector6& from, const Vector6& to, double span_s) const {
@@ -165,12 +165,12 @@ MotionService::LegStep MotionService::LegStepBetween(const Vector6& from, const 
   return out;
 }
 
-std::string MotionService::CueToFollow(std::int64_t now_utime, FaultCode* code, PoseSample* to) const {
+Problem MotionService::CueToFollow(std::int64_t now_utime, FaultCode* code, PoseSample* to) const {
   const EngagedCueing& c = *cueing_;
   *code = FaultCode::kStale;
   if (!c.latest) {  // the source's first cue may come a cycle after its engage was answered
     const double waited_s = static_cast<double>(now_utime - c.following_utime) * 1e-6;
-    if (waited_s <= options_.cue_stale_s) return "";
+    if (waited_s <= options_.cue_stale_s) return std::nullopt;
     return fmt::format("cueing from {} ended: no EDSP_CUE_SETPOINT within {:.0f} ms of the engage; holding", c.source,
                        options_.cue_stale_s * 1e3);
   }
@@ -193,7 +193,7 @@ std::string MotionService::CueToFollow(std::int64_t now_utime, FaultCode* code, 
   const double since_s =
       c.followed_utime == 0 ? 1e-3 : std::max(1e-3, static_cast<double>(now_utime - c.followed_utime) * 1e-6);
   const LegStep step = LegStepBetween(hold_pose_, to->pose, since_s);
-  if (step.most_m <= step.allowed_m) return "";
+  if (step.most_m <= step.allowed_m) return std::nullopt;
   if (c.followed_utime != 0) {
     // Its stream was within the legs' speed (CueProblem), but the cue
     // carried to now is farther than they go in this cycle: a source or
@@ -208,7 +208,7 @@ std::string MotionService::CueToFollow(std::int64_t now_utime, FaultCode* code, 
     to->pose = hold_pose_ + gap * share;
     to->velocity = gap * share / since_s;  // what the setpoints do, for the kinematics' feed-forward
     to->acceleration = Vector6::Zero();
-    return "";
+    return std::nullopt;
   }
   *code = FaultCode::kJump;
   return fmt::format(
@@ -253,9 +253,9 @@ void MotionService::OnCueSetpoint(const pose_setpoint_t& cue, std::int64_t now_u
   if (!cueing_ || cue.session_id != options_.session_id) return;
   if (cueing_->latest && cue.seq <= cueing_->latest->seq) return;  // a copy or one overtaken: the newer stands
   FaultCode code{};
-  if (std::string p = CueProblem(cue, now_utime, &code); !p.empty()) {
+  if (Problem p = CueProblem(cue, now_utime, &code)) {
     EndCueing(now_utime, motion_status_t::END_STOPPED,
-              CueFault{code, fmt::format("cueing from {} ended: {}; holding the last pose", cueing_->source, p)});
+              CueFault{code, fmt::format("cueing from {} ended: {}; holding the last pose", cueing_->source, *p)});
     return;
   }
   cueing_->latest = cue;
@@ -272,8 +272,8 @@ std::optional<MotionService::CueFault> MotionService::TakeCueFault() {
 void MotionService::FollowCue(std::int64_t now_utime, PoseSample* sample) {
   FaultCode code{};
   PoseSample cue;
-  if (std::string why = CueToFollow(now_utime, &code, &cue); !why.empty()) {
-    EndCueing(now_utime, motion_status_t::END_STOPPED, CueFault{code, std::move(why)});
+  if (Problem why = CueToFollow(now_utime, &code, &cue)) {
+    EndCueing(now_utime, motion_status_t::END_STOPPED, CueFault{code, std::move(*why)});
     return;
   }
   if (!cueing_->latest) return;  // none yet, within the stale limit: the neutral pose held

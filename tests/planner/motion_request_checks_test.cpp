@@ -14,6 +14,9 @@
 namespace edsp {
 namespace {
 
+// The reason of a refusal ("" for none), for matching and printing.
+std::string Why(const Problem& p) { return p.value_or(""); }
+
 motion_request_t PoseRequest(double x, double z) {
   motion_request_t r{};
   r.pose[0] = x;
@@ -31,9 +34,9 @@ MoveLimits ConfigLimits() {
 }
 
 TEST(MotionRequestChecks, APoseMustBeFinite) {
-  EXPECT_EQ(PoseProblem(PoseRequest(0.1, 1.5)), "");
-  EXPECT_NE(PoseProblem(PoseRequest(std::nan(""), 1.5)).find("non-finite"), std::string::npos);
-  EXPECT_NE(PoseProblem(PoseRequest(0.0, std::numeric_limits<double>::infinity())).find("non-finite"),
+  EXPECT_EQ(PoseProblem(PoseRequest(0.1, 1.5)), std::nullopt);
+  EXPECT_NE(Why(PoseProblem(PoseRequest(std::nan(""), 1.5))).find("non-finite"), std::string::npos);
+  EXPECT_NE(Why(PoseProblem(PoseRequest(0.0, std::numeric_limits<double>::infinity()))).find("non-finite"),
             std::string::npos);
   EXPECT_EQ(RequestPose(PoseRequest(0.1, 1.5))(2), 1.5);
 }
@@ -42,25 +45,27 @@ TEST(MotionRequestChecks, AJogIsOneSmallFiniteStepAlongOneAxis) {
   motion_request_t r{};
   r.kind = motion_request_t::KIND_JOG;
   r.pose[0] = 0.01;  // 10 mm: the most
-  EXPECT_EQ(JogProblem(r), "");
+  EXPECT_EQ(JogProblem(r), std::nullopt);
   r.pose[0] = 0.0;
   r.pose[5] = -0.01;  // -10 mrad about yaw
-  EXPECT_EQ(JogProblem(r), "");
+  EXPECT_EQ(JogProblem(r), std::nullopt);
   r.pose[5] = 0.0;
-  EXPECT_NE(JogProblem(r).find("zero"), std::string::npos) << JogProblem(r);
+  EXPECT_NE(Why(JogProblem(r)).find("zero"), std::string::npos) << Why(JogProblem(r));
   r.pose[1] = 0.002;
   r.pose[4] = 0.001;
-  EXPECT_NE(JogProblem(r).find("along y, pitch: a jog moves along one axis"), std::string::npos) << JogProblem(r);
+  EXPECT_NE(Why(JogProblem(r)).find("along y, pitch: a jog moves along one axis"), std::string::npos)
+      << Why(JogProblem(r));
   r = motion_request_t{};
   r.pose[2] = -0.0101;
-  EXPECT_NE(JogProblem(r).find("along z = -0.0101 m is beyond 0.01 m"), std::string::npos) << JogProblem(r);
+  EXPECT_NE(Why(JogProblem(r)).find("along z = -0.0101 m is beyond 0.01 m"), std::string::npos) << Why(JogProblem(r));
   r.pose[2] = 0.0;
   r.pose[3] = 0.02;
-  EXPECT_NE(JogProblem(r).find("along roll = 0.02 rad is beyond 0.01 rad"), std::string::npos) << JogProblem(r);
+  EXPECT_NE(Why(JogProblem(r)).find("along roll = 0.02 rad is beyond 0.01 rad"), std::string::npos)
+      << Why(JogProblem(r));
   r.pose[3] = std::nan("");
-  EXPECT_NE(JogProblem(r).find("along roll = nan: give a finite step"), std::string::npos) << JogProblem(r);
+  EXPECT_NE(Why(JogProblem(r)).find("along roll = nan: give a finite step"), std::string::npos) << Why(JogProblem(r));
   r.pose[3] = std::numeric_limits<double>::infinity();
-  EXPECT_NE(JogProblem(r).find("finite"), std::string::npos) << JogProblem(r);
+  EXPECT_NE(Why(JogProblem(r)).find("finite"), std::string::npos) << Why(JogProblem(r));
   for (int k = 0; k < 6; ++k) EXPECT_EQ(JogAxisIndex(kJogAxes[k]), k);
   EXPECT_EQ(JogAxisIndex("rx"), -1);
 }
@@ -68,35 +73,36 @@ TEST(MotionRequestChecks, AJogIsOneSmallFiniteStepAlongOneAxis) {
 TEST(MotionRequestChecks, AFrameNeedsANewNameAndAnOriginWithinReach) {
   motion_request_t r = PoseRequest(0.05, 1.55);
   r.frame = "fixture";
-  EXPECT_EQ(FrameDefinitionProblem(r), "");
+  EXPECT_EQ(FrameDefinitionProblem(r), std::nullopt);
   for (const char* built_in : {"", "base", "home"}) {
     r.frame = built_in;
-    EXPECT_NE(FrameDefinitionProblem(r).find("base and home are built in"), std::string::npos) << built_in;
+    EXPECT_NE(Why(FrameDefinitionProblem(r)).find("base and home are built in"), std::string::npos) << built_in;
   }
   r.frame = "far";
   r.pose[0] = 100.5;
-  EXPECT_NE(FrameDefinitionProblem(r).find("frame far: origin 100.5"), std::string::npos) << FrameDefinitionProblem(r);
+  EXPECT_NE(Why(FrameDefinitionProblem(r)).find("frame far: origin 100.5"), std::string::npos)
+      << Why(FrameDefinitionProblem(r));
   r.pose[0] = std::nan("");
-  EXPECT_NE(FrameDefinitionProblem(r).find("non-finite"), std::string::npos);
+  EXPECT_NE(Why(FrameDefinitionProblem(r)).find("non-finite"), std::string::npos);
 }
 
 TEST(MotionRequestChecks, APivotMustBeFiniteAndWithinTenMetres) {
   motion_request_t r{};
   r.point[2] = 0.3;
-  EXPECT_EQ(PivotProblem(r), "");
+  EXPECT_EQ(PivotProblem(r), std::nullopt);
   r.point[2] = 10.01;
-  EXPECT_NE(PivotProblem(r).find("within 10 m"), std::string::npos);
+  EXPECT_NE(Why(PivotProblem(r)).find("within 10 m"), std::string::npos);
   r.point[2] = std::nan("");
-  EXPECT_NE(PivotProblem(r).find("finite"), std::string::npos);
+  EXPECT_NE(Why(PivotProblem(r)).find("finite"), std::string::npos);
 }
 
 TEST(MotionRequestChecks, AProgramIsNamedOrGivenAsCsvNotBoth) {
   motion_request_t r{};
-  EXPECT_NE(ProgramProblem(r), "");
+  EXPECT_NE(ProgramProblem(r), std::nullopt);
   r.motions = "Lz";
-  EXPECT_EQ(ProgramProblem(r), "");
+  EXPECT_EQ(ProgramProblem(r), std::nullopt);
   r.csv_text = "t,x,y,z,roll,pitch,yaw\n";
-  EXPECT_NE(ProgramProblem(r), "");
+  EXPECT_NE(ProgramProblem(r), std::nullopt);
 }
 
 TEST(MotionRequestChecks, LimitsAreTakenWithinTheConfigsAndZeroKeepsTheCurrent) {
@@ -105,25 +111,25 @@ TEST(MotionRequestChecks, LimitsAreTakenWithinTheConfigsAndZeroKeepsTheCurrent) 
   current.speed_m_s = 0.05;
   motion_request_t r{};
   MoveLimits taken = current;
-  EXPECT_EQ(SpeedLimitsProblem(r, most, &taken), "");
+  EXPECT_EQ(SpeedLimitsProblem(r, most, &taken), std::nullopt);
   EXPECT_EQ(taken.speed_m_s, 0.05);  // 0 asked: the current one kept
   r.speed_m_s = 0.08;
   r.speed_rad_s = 0.1;
-  EXPECT_EQ(SpeedLimitsProblem(r, most, &taken), "");
+  EXPECT_EQ(SpeedLimitsProblem(r, most, &taken), std::nullopt);
   EXPECT_EQ(taken.speed_m_s, 0.08);
   EXPECT_EQ(taken.speed_rad_s, 0.1);
   r.speed_m_s = 0.2;  // above the config's
-  EXPECT_NE(SpeedLimitsProblem(r, most, &taken).find("speed_m_s = 0.2 is not in [0.0001, 0.1]"), std::string::npos)
-      << SpeedLimitsProblem(r, most, &taken);
+  EXPECT_NE(Why(SpeedLimitsProblem(r, most, &taken)).find("speed_m_s = 0.2 is not in [0.0001, 0.1]"), std::string::npos)
+      << Why(SpeedLimitsProblem(r, most, &taken));
   r.speed_m_s = 0.5e-4;  // below a thousandth of it: a typo
-  EXPECT_NE(SpeedLimitsProblem(r, most, &taken), "");
+  EXPECT_NE(SpeedLimitsProblem(r, most, &taken), std::nullopt);
   r = motion_request_t{};
   r.accel_rad_s2 = 2.0;
   taken = current;
-  EXPECT_EQ(SpeedLimitsProblem(r, most, &taken), "");  // a move's limits are speeds only
-  EXPECT_NE(AllLimitsProblem(r, most, &taken).find("accel_rad_s2 = 2"), std::string::npos);
+  EXPECT_EQ(SpeedLimitsProblem(r, most, &taken), std::nullopt);  // a move's limits are speeds only
+  EXPECT_NE(Why(AllLimitsProblem(r, most, &taken)).find("accel_rad_s2 = 2"), std::string::npos);
   r.accel_rad_s2 = 0.5;
-  EXPECT_EQ(AllLimitsProblem(r, most, &taken), "");
+  EXPECT_EQ(AllLimitsProblem(r, most, &taken), std::nullopt);
   EXPECT_EQ(taken.accel_rad_s2, 0.5);
 }
 

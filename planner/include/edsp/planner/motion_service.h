@@ -38,6 +38,7 @@
 #include "edsp/node/fault.h"
 #include "edsp/node/request_service.h"
 #include "edsp/planner/paper_motions.h"
+#include "edsp/planner/motion_request_checks.h"
 #include "edsp/planner/planned_motion.h"
 #include "edsp/platform_state_t.hpp"
 #include "edsp/pose_setpoint_t.hpp"
@@ -133,10 +134,10 @@ class MotionService {
   motion_reply_t SetLimits(const motion_request_t& r);
   motion_reply_t Engage(const motion_request_t& r, std::int64_t now_utime, Lock& lock);
   motion_reply_t Disengage(const motion_request_t& r, std::int64_t now_utime, Lock& lock);
-  // Why a cue setpoint cannot be followed on its own ("" if it can).
-  std::string CueProblem(const pose_setpoint_t& cue, std::int64_t now_utime, FaultCode* code) const;
+  // Why a cue setpoint cannot be followed on its own (nothing if it can).
+  Problem CueProblem(const pose_setpoint_t& cue, std::int64_t now_utime, FaultCode* code) const;
   // The setpoint `to` the latest cue gives at `now`, unless the cueing must end: then why.
-  std::string CueToFollow(std::int64_t now_utime, FaultCode* code, PoseSample* to) const;
+  Problem CueToFollow(std::int64_t now_utime, FaultCode* code, PoseSample* to) const;
   // The largest leg move between two poses, and what the legs may go in `span_s`.
   struct LegStep {
     double most_m = 0.0, allowed_m = 0.0;
@@ -146,7 +147,7 @@ class MotionService {
   // Ends the cueing where the platform stands; a `fault` ended it: its reason
   // is the status's (a refusal) and it is raised once (TakeCueFault).
   void EndCueing(std::int64_t now_utime, std::int8_t end, std::optional<CueFault> fault = std::nullopt);
-  std::string CueingProblem() const;  // why a move or run must wait ("" if nothing is engaged)
+  Problem CueingProblem() const;  // why a move or run must wait (nothing if nothing is engaged)
   void StartCueing(const std::string& source, std::int64_t request_id);  // engaged, not yet following
   // After a motion ends: an engage move's end starts the following.
   void StartFollowingIfEngaged(std::int64_t now_utime);
@@ -154,7 +155,7 @@ class MotionService {
   void FollowCue(std::int64_t now_utime, PoseSample* sample);
   motion_reply_t Enqueue(const motion_request_t& r, std::deque<PlannedMotion> motions, std::int64_t now_utime);
 
-  std::string BridgeProblem(std::int64_t now_utime) const;
+  Problem BridgeProblem(std::int64_t now_utime) const;
   const WorkFrame* FindFrame(const std::string& name) const;
   Transform PlannedEnd() const;
   double TimeToIdle(std::int64_t now_utime) const;
@@ -164,9 +165,9 @@ class MotionService {
   bool OnTarget(std::int64_t now_utime) const;
   void Changed() { changed_ = true; }
   bool Busy() const { return current_.has_value() || !queue_.empty() || cueing_.has_value(); }
-  std::string QueueProblem() const;
-  // Why a plan made from `from` before `decelerations` halts may not be queued ("" if it may).
-  std::string PlanOutdated(const Transform& from, std::uint64_t decelerations) const;
+  Problem QueueProblem() const;
+  // Why a plan made from `from` before `decelerations` halts may not be queued (nothing if it may).
+  Problem PlanOutdated(const Transform& from, std::uint64_t decelerations) const;
 
   mutable std::mutex mutex_;
   PlatformModel model_;
