@@ -10,6 +10,7 @@ diagnosis (docs/python.md).
 """
 from __future__ import annotations
 
+import enum
 import math
 import os
 from typing import Optional, Sequence
@@ -18,7 +19,7 @@ from . import _edsp, gap
 from ._data import CHANNELS, Recording, read_log, record_for
 
 __all__ = ["Kinematics", "Platform", "Recording", "read_log", "gap", "CHANNELS", "PrMode", "WaitOutcome",
-           "REPLY_CODES", "EdspError", "RefusedError", "TimeoutError", "HaltedError", "FaultError",
+           "REPLY_CODES", "SetpointPhase", "EdspError", "RefusedError", "TimeoutError", "HaltedError", "FaultError",
            "Refused", "Timeout", "Halted", "Fault"]
 
 # Made by the C++ module from its own tables (reply codes, wait outcomes,
@@ -32,6 +33,9 @@ FaultError = _edsp.FaultError
 PrMode = _edsp.PrMode
 WaitOutcome = _edsp.WaitOutcome
 REPLY_CODES = _edsp.REPLY_CODES  # name -> the wire's code (reply_t.CODE_*)
+# A setpoint's phase (EDSP_SETPOINT's `phase` column: hold, move, dwell,
+# cueing), an int so that numpy columns compare with it.
+SetpointPhase = enum.IntEnum("SetpointPhase", _edsp.SETPOINT_PHASES)
 # The names of earlier releases.
 Refused, Timeout, Halted, Fault = RefusedError, TimeoutError, HaltedError, FaultError
 

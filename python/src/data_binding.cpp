@@ -3,6 +3,7 @@
 // which python/edsp/_data.py assembles into numpy structured arrays.
 #include <pybind11/stl.h>
 
+#include <cctype>
 #include <cstdint>
 #include <cstring>
 #include <memory>
@@ -16,6 +17,7 @@
 #include "edsp/logger/bus_recording.h"
 #include "edsp/logger/message_columns.h"
 #include "edsp/node/group_file.h"
+#include "edsp/setpoint_phases.h"
 #include "edsp/transport/transport_config.h"
 
 namespace edsp::python {
@@ -187,6 +189,14 @@ void BindData(py::module_& m) {
   py::dict channels;
   for (const channel::Channel& c : channel::kChannels) channels[py::str(std::string(c.name))] = std::string(c.type);
   m.attr("CHANNELS") = channels;
+  // name (upper-cased) -> pose_setpoint_t.PHASE_*: edsp.SetpointPhase is made from it.
+  py::dict phases;
+  for (const SetpointPhaseRow& row : kSetpointPhases) {
+    std::string name(row.name);
+    for (char& c : name) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    phases[py::str(name)] = static_cast<int>(row.phase);
+  }
+  m.attr("SETPOINT_PHASES") = phases;
   py::class_<Recording>(m, "Recording")
       .def(py::init<const std::string&, const std::string&, const std::vector<std::string>&, std::int64_t>(),
            py::arg("group_file"), py::arg("lcm_url"), py::arg("channels"), py::arg("max_bytes"))

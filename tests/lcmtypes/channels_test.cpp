@@ -4,6 +4,7 @@
 // channel or a type added in one place and not the others fails.
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <fstream>
 #include <map>
 #include <regex>
@@ -14,6 +15,7 @@
 #include "edsp/channels.h"
 #include "edsp/message_types.h"
 #include "edsp/node/build_paths.h"
+#include "edsp/setpoint_phases.h"
 
 namespace edsp {
 namespace {
@@ -103,6 +105,24 @@ TEST(ChannelTable, OnlyStatusFaultsRequestsAndTheirRepliesInterleaveSeveralSeqSt
   EXPECT_FALSE(channel::SeqGapsAreNotLosses("OTHER_APP"));
   EXPECT_EQ(channel::Find("EDSP_NOPE"), nullptr);
   static_assert(channel::Find(channel::kLegCommand)->rate_hz == 1000.0, "usable at compile time");
+}
+
+// The phase table (setpoint_phases.h) names every PHASE_* constant of
+// pose_setpoint_t.lcm, read from the file: a phase added there and not
+// here would reach Python and the readers nameless.
+TEST(SetpointPhases, TheTableNamesEveryPhaseOfTheLcmFile) {
+  const std::string lcm = Slurp(SourcePath("lcmtypes/pose_setpoint_t.lcm"));
+  const std::regex constant(R"(const int8_t PHASE_(\w+) = (\d+);)");
+  std::map<int, std::string> in_file;
+  for (std::sregex_iterator m(lcm.begin(), lcm.end(), constant), end; m != end; ++m) {
+    std::string name = (*m)[1];
+    for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    in_file[std::stoi((*m)[2])] = name;
+  }
+  std::map<int, std::string> in_table;
+  for (const SetpointPhaseRow& row : kSetpointPhases) in_table[row.phase] = std::string(row.name);
+  EXPECT_EQ(in_table, in_file);
+  EXPECT_EQ(in_file.size(), 4u);
 }
 
 }  // namespace

@@ -64,6 +64,20 @@ def test_every_field_of_every_message_matches_an_independent_decoder(rig_log):
                 assert np.array_equal(column, np.array(want, dtype=column.dtype)), (channel, name)
 
 
+
+def test_setpoints_say_by_their_phase_where_they_dwell(rig_log):
+    """The phase names what a setpoint does (edsp.SetpointPhase, from the
+    C++ table); the paper motions' labels agree with it."""
+    assert [p.name for p in edsp.SetpointPhase] == ["HOLD", "MOVE", "DWELL", "CUEING"]
+    assert [int(p) for p in edsp.SetpointPhase] == [0, 1, 2, 3]  # pose_setpoint_t.PHASE_*
+    setpoints = edsp.read_log(rig_log, ["EDSP_SETPOINT"])["EDSP_SETPOINT"]
+    dwelling = setpoints["phase"] == edsp.SetpointPhase.DWELL
+    moving = setpoints["phase"] == edsp.SetpointPhase.MOVE
+    assert dwelling.any() and moving.any()
+    assert all("/dwell" in label for label in setpoints["trajectory"][dwelling])
+    assert not any("/dwell" in label for label in setpoints["trajectory"][moving])
+    assert not np.abs(setpoints["velocity"][dwelling]).any()
+
 def test_a_channel_filter_and_an_edsp_channel_the_log_lacks(rig_log):
     data = edsp.read_log(rig_log, channels=["EDSP_TRACKER", "EDSP_MOTION_REPLY"])
     assert set(data) == {"EDSP_TRACKER", "EDSP_MOTION_REPLY"}
