@@ -154,8 +154,8 @@ void Compare(const SavedEffect& e, const Eigen::VectorXd& delta, const Eigen::Ve
 
 bool IsLegGeometry(Effect e) { return e == Effect::kLegOffset || e == Effect::kJointPosition; }
 
-double ChangeThreshold(int parameters) {
-  const double p = 0.05 / std::max(1, parameters);
+double ChangeThreshold(int tests, double chance) {
+  const double p = chance / std::max(1, tests);
   double lo = 0.0, hi = 40.0;
   for (int k = 0; k < 100; ++k) {
     const double mid = 0.5 * (lo + hi);
@@ -197,8 +197,10 @@ DriftReport Drift(const PlatformModel& model, const nlohmann::json& baseline, co
   for (const SavedEffect& e : effects) baseline_effects.push_back(e.effect);
   const Fitted fit = FitChange(d, baseline_effects, r.noise_floor_rms_m);
   for (const SavedEffect& e : effects) Compare(e, fit.delta.at(e.effect), fit.sigma.at(e.effect), &r.parameters);
-  r.z_threshold = ChangeThreshold(static_cast<int>(
-      6 + std::count_if(r.parameters.begin(), r.parameters.end(), [](const ParameterChange& c) { return c.applied; })));
+  r.z_threshold = ChangeThreshold(static_cast<int>(std::count_if(r.parameters.begin(), r.parameters.end(),
+                                                                 [](const ParameterChange& c) { return c.applied; })),
+                                  (1.0 - kLegsShare) * kFamilyWiseChance);
+  r.leg_z_threshold = ChangeThreshold(6, kLegsShare * kFamilyWiseChance);
   const double samples = std::max(1, d.samples());
   for (ParameterChange& c : r.parameters) {
     c.z = c.sigma > 0.0 ? c.change / c.sigma : 0.0;
@@ -217,7 +219,7 @@ DriftReport Drift(const PlatformModel& model, const nlohmann::json& baseline, co
     c.at_a_m =
         std::abs(c.change_m) * d.columns.col(d.Of(Effect::kLegOffset).begin + c.leg - 1).norm() / std::sqrt(samples);
     r.legs.push_back(c);
-    if (std::abs(c.z) >= r.z_threshold && c.at_a_m >= kChangeAtAShare * r.noise_floor_rms_m) {
+    if (std::abs(c.z) >= r.leg_z_threshold && c.at_a_m >= kChangeAtAShare * r.noise_floor_rms_m) {
       r.legs_changed.push_back(c);
     }
   }
@@ -284,6 +286,7 @@ nlohmann::json ToJson(const DriftReport& r) {
   j["parameters"] = nlohmann::json::array();
   for (const ParameterChange& c : r.parameters) j["parameters"].push_back(entry(c));
   j["z_threshold"] = r.z_threshold;
+  j["leg_z_threshold"] = r.leg_z_threshold;
   j["appeared"] = names(r.appeared);
   j["vanished"] = names(r.vanished);
   j["heldout_rms_m"] = r.heldout_rms_m;
@@ -317,7 +320,8 @@ std::string DriftText(const DriftReport& r) {
   for (const LegChange& c : r.legs_changed) text += LegChangeText(c) + "\n";
   for (const ParameterChange& c : r.changed) text += ChangeText(c) + "\n";
   if (r.changed.empty() && r.legs_changed.empty()) {
-    text += fmt::format("no leg's length and no parameter changed beyond {:.1f}σ\n", r.z_threshold);
+    text += fmt::format("no leg's length changed beyond {:.1f}σ and no parameter beyond {:.1f}σ\n", r.leg_z_threshold,
+                        r.z_threshold);
   }
   const auto list = [](const std::vector<Effect>& effects) {
     std::string s;

@@ -178,6 +178,7 @@ TEST(Drift, TheChangeThresholdKeepsNoiseFromCountingAsChange) {
   for (int n : {100, 1000}) {
     const double z = ChangeThreshold(n);
     EXPECT_NEAR(n * std::erfc(z / std::sqrt(2.0)), 0.05, 1e-6) << n;
+    EXPECT_NEAR(n * std::erfc(ChangeThreshold(n, 0.025) / std::sqrt(2.0)), 0.025, 1e-6) << n;
   }
 }
 
@@ -190,6 +191,12 @@ TEST(Drift, TheCommandLineSaysWhatChangedAndRefusesABadBaseline) {
   const nlohmann::json j = nlohmann::json::parse(ok.text.substr(ok.text.find('{')));
   for (const char* key : {"changed", "legs", "legs_changed", "appeared", "vanished", "heldout_rms_m", "recalibrate"})
     EXPECT_TRUE(j.contains(key)) << key;
+  // The legs' six lengths are judged as their own family, whatever the
+  // number of the baseline's parameters: half the 5% chance over six.
+  EXPECT_DOUBLE_EQ(j["leg_z_threshold"].get<double>(), 3.0);
+  int applied = 0;
+  for (const nlohmann::json& p : j["parameters"]) applied += p["applied"].get<bool>() ? 1 : 0;
+  EXPECT_DOUBLE_EQ(j["z_threshold"].get<double>(), ChangeThreshold(applied, 0.025));
   // By default the data says whether the baseline was applied (its leg_corr columns).
   EXPECT_TRUE(j["recorded_with_baseline"].get<bool>());
   const auto without = test_support::RunCommand(
