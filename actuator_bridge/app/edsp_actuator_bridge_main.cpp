@@ -26,16 +26,6 @@
 namespace edsp {
 namespace {
 
-// --backend, or else the config's [drives] backend (backend_registry.h).
-std::unique_ptr<DriveBackend> MakeBackend(const std::string& name, const DrivesConfig& drives,
-                                          const TransportConfig& transport, const std::string& image_prefix) {
-  std::string note;
-  const BackendKind* kind = FindBackend(name, &note);
-  if (kind == nullptr) throw std::runtime_error("--backend " + name + ": known backends: " + KnownBackends());
-  if (!note.empty()) std::fprintf(stderr, "edsp-actuator-bridge: --backend: %s\n", note.c_str());
-  return kind->make(BackendContext{drives, transport, image_prefix});
-}
-
 void WriteLatencyReport(const std::string& path, const nlohmann::json& report) {
   std::ofstream out(path);
   out << report.dump(2) << "\n";
@@ -68,11 +58,9 @@ int Run(int argc, char** argv) {
   if (backend_name.empty()) backend_name = drives.backend;
   const TransportConfig transport = TransportFor(app.node);
   InstallStopSignals();
-  std::unique_ptr<DriveBackend> backend = MakeBackend(backend_name, drives, transport, image_prefix);
-  std::string error;
-  if (!backend->Configure(config, &error) || !backend->Activate(&error)) {
-    throw std::runtime_error("drive backend " + backend_name + ": " + error);
-  }
+  std::string note;
+  const ActiveBackend backend(backend_name, BackendContext{drives, transport, image_prefix}, config, &note);
+  if (!note.empty()) std::fprintf(stderr, "edsp-actuator-bridge: --backend: %s\n", note.c_str());
   BridgeOptions options;
   options.session_id = app.node.session_id;
   options.stale_us = std::int64_t{stale_ms} * 1000;
@@ -83,8 +71,6 @@ int Run(int argc, char** argv) {
   RateClock own_clock(kBridgePeriod, std::chrono::microseconds(cycle_phase_us));
   CycleClock* clock = backend->Clock() != nullptr ? backend->Clock() : &own_clock;
   loop.Run(*clock, [] { return StopRequested(); });
-  backend->Deactivate();
-  backend->Cleanup();
   if (!latency_report.empty()) WriteLatencyReport(latency_report, LatencyReport(loop, clock->missed()));
   return 0;
 }

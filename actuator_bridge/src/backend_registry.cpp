@@ -1,5 +1,7 @@
 #include "edsp/actuator_bridge/backend_registry.h"
 
+#include <stdexcept>
+
 #include <fmt/format.h>
 
 #include "edsp/actuator_bridge/cia402_backend.h"
@@ -67,6 +69,24 @@ const BackendKind* FindBackend(const std::string& name, std::string* note) {
   }
   note->clear();
   return nullptr;
+}
+
+ActiveBackend::ActiveBackend(const std::string& name, const BackendContext& context, const PlatformConfig& config,
+                             std::string* note) {
+  const BackendKind* kind = FindBackend(name, note);
+  if (kind == nullptr) throw std::runtime_error("--backend " + name + ": known backends: " + KnownBackends());
+  backend_ = kind->make(context);
+  std::string error;
+  if (!backend_->Configure(config, &error)) throw std::runtime_error("drive backend " + name + ": " + error);
+  if (!backend_->Activate(&error)) {
+    backend_->Cleanup();
+    throw std::runtime_error("drive backend " + name + ": " + error);
+  }
+}
+
+ActiveBackend::~ActiveBackend() {
+  backend_->Deactivate();
+  backend_->Cleanup();
 }
 
 }  // namespace edsp

@@ -21,6 +21,7 @@
 #include <fmt/format.h>
 
 #include "edsp/actuator_bridge/actuator_bridge.h"
+#include "edsp/actuator_bridge/backend_registry.h"
 #include "edsp/actuator_bridge/cia402_backend.h"
 #include "edsp/drives/csp_shm_master.h"
 #include "edsp/drives/csp_shm_server.h"
@@ -134,6 +135,20 @@ void WaitForDriveCycles(Link link, const Cabinet& drives, int cycles) {
     ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "the drives stopped cycling";
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
     ASSERT_TRUE(observer->ReadFeedback(&feedback, &error)) << error;
+  }
+}
+
+// Once the drives have taken the last commands: each shut down (ready to
+// switch on), read over a link of its own.
+void ExpectTheDrivesWithoutPower(Link link, const Cabinet& drives) {
+  ASSERT_NO_FATAL_FAILURE(WaitForDriveCycles(link, drives, 3));
+  auto observer = LinkTo(link, drives.port(), drives.prefix());
+  std::string error;
+  ASSERT_TRUE(observer->Connect(&error)) << error;
+  cia402::CspFeedbacks feedback{};
+  ASSERT_TRUE(observer->ReadFeedback(&feedback, &error)) << error;
+  for (std::size_t d = 0; d < feedback.size(); ++d) {
+    EXPECT_EQ(cia402::StateOfStatusword(feedback[d].statusword), cia402::State::kReadyToSwitchOn) << "drive " << d + 1;
   }
 }
 
@@ -307,14 +322,35 @@ TEST_P(Cia402Backends, DeactivatedThenGoneItLeavesTheDrivesWithoutPower) {
     backend->Deactivate();
     backend->Cleanup();
   }
-  ASSERT_NO_FATAL_FAILURE(WaitForDriveCycles(GetParam(), drives, 3));  // the last commands taken
-  auto observer = LinkTo(GetParam(), drives.port(), drives.prefix());
-  std::string error;
-  ASSERT_TRUE(observer->Connect(&error)) << error;
-  cia402::CspFeedbacks feedback{};
-  ASSERT_TRUE(observer->ReadFeedback(&feedback, &error)) << error;
-  for (std::size_t d = 0; d < feedback.size(); ++d) {
-    EXPECT_EQ(cia402::StateOfStatusword(feedback[d].statusword), cia402::State::kReadyToSwitchOn) << "drive " << d + 1;
+  ExpectTheDrivesWithoutPower(GetParam(), drives);
+}
+
+// The backend as the bridge's main holds it (ActiveBackend, by its
+// registry name): an exception out of the loop still deactivates it.
+TEST_P(Cia402Backends, AnActiveBackendLeftByAnExceptionLeavesTheDrivesWithoutPower) {
+  Cabinet drives(GetParam());
+  const DrivesConfig config = ConfigFor(drives.port());
+  const TransportConfig transport;
+  const std::string name = GetParam() == Link::kModbus ? "modbus-tcp" : "cia402-shm";
+  try {
+    std::string note;
+    const ActiveBackend backend(name, BackendContext{config, transport, drives.prefix()}, PlatformConfig{}, &note);
+    EXPECT_EQ(backend->state(), BackendState::kActive);
+    DriveFeedback f;
+    EXPECT_TRUE(backend->Read(Now(), &f)) << backend->Detail();
+    throw std::runtime_error("the loop failed");
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "the loop failed");
+  }
+  ExpectTheDrivesWithoutPower(GetParam(), drives);
+  std::string note;
+  try {
+    const ActiveBackend unknown("ethercat", BackendContext{config, transport, drives.prefix()}, PlatformConfig{},
+                                &note);
+    ADD_FAILURE() << "an unknown backend was made";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("--backend ethercat: known backends: " + KnownBackends()), std::string::npos)
+        << e.what();
   }
 }
 

@@ -41,4 +41,25 @@ std::string KnownBackends();
 // *note to a sentence naming the new one (else *note is cleared).
 const BackendKind* FindBackend(const std::string& name, std::string* note);
 
+// The backend `name` names, made, configured and activated for as long as
+// this lives: deactivated and cleaned up when it goes, also when the loop
+// that drives it throws, so no path out of the bridge leaves drives active.
+class ActiveBackend {
+ public:
+  // Throws std::runtime_error naming the backend and why (an unknown name
+  // with the known ones); an old spelling's note goes to *note.
+  ActiveBackend(const std::string& name, const BackendContext& context, const PlatformConfig& config,
+                std::string* note);
+  ~ActiveBackend();
+  ActiveBackend(const ActiveBackend&) = delete;
+  ActiveBackend& operator=(const ActiveBackend&) = delete;
+
+  DriveBackend& operator*() const { return *backend_; }
+  DriveBackend* operator->() const { return backend_.get(); }
+  DriveBackend* get() const { return backend_.get(); }
+
+ private:
+  std::unique_ptr<DriveBackend> backend_;
+};
+
 }  // namespace edsp
