@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <set>
 
 #include <fmt/format.h>
@@ -106,8 +107,25 @@ Fitted FitChange(const Design& d, const std::vector<Effect>& baseline, double no
   return fit;
 }
 
+// The group that reads θ index `t` in a pair (a periodic error's amplitude
+// and phase: the pair's sine and cosine terms, in the amplitude's unit), and
+// whether t is the pair's cosine term; none if no group reads t so.
+std::optional<ParameterGroup> PairGroupOf(Effect effect, int t, bool* cosine) {
+  for (const ParameterGroup& g : ParameterGroups(effect)) {
+    if (calibration::HasSigma(g)) continue;
+    for (int k = 0; k < calibration::ValueCount(g); ++k) {
+      const int sine = calibration::ThetaIndex(g, k);
+      if (t != sine && t != sine + 1) continue;
+      *cosine = t == sine + 1;
+      return g;
+    }
+  }
+  return std::nullopt;
+}
+
 // Every parameter of one effect, named by the vocabulary's groups; θ a
-// group reads in pairs (a periodic error's amplitude and phase) as "theta".
+// group reads in pairs (a periodic error's amplitude and phase) as "theta",
+// with its leg.
 void Compare(const SavedEffect& e, const Eigen::VectorXd& delta, const Eigen::VectorXd& sigma_delta,
              std::vector<ParameterChange>* out) {
   const Eigen::VectorXd after = e.theta + delta;
@@ -137,6 +155,10 @@ void Compare(const SavedEffect& e, const Eigen::VectorXd& delta, const Eigen::Ve
     c.effect = e.effect;
     c.parameter = "theta";
     c.index = c.theta_index = t;
+    bool cosine = false;
+    if (const std::optional<ParameterGroup> g = PairGroupOf(e.effect, t, &cosine); g && calibration::IsPerLeg(*g)) {
+      c.leg = (t - g->first) / g->stride + 1;
+    }
     c.before = e.theta(t);
     c.after = after(t);
     c.change = delta(t);
@@ -303,6 +325,12 @@ std::string ChangeText(const ParameterChange& c) {
   int decimals = 6;
   for (const ParameterGroup& g : ParameterGroups(c.effect)) {
     if (c.parameter == g.key) unit = g.unit, label = g.label, scale = g.unit_scale, decimals = g.decimals;
+  }
+  bool cosine = false;
+  if (const std::optional<ParameterGroup> g = PairGroupOf(c.effect, c.theta_index, &cosine);
+      c.parameter == "theta" && g) {
+    unit = g->unit, scale = g->unit_scale, decimals = g->decimals;
+    label = fmt::format("{}, its {} term", g->label, cosine ? "cosine" : "sine");
   }
   const std::string where = c.leg > 0 ? fmt::format(" leg {}", c.leg) : "";
   return fmt::format("{} {}{}: {:.{}f} → {:.{}f} {}, {:+.{}f} ± {:.{}f} {} ({:.1f}σ)", EffectName(c.effect), label,

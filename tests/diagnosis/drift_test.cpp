@@ -172,6 +172,21 @@ TEST(Drift, AnEffectTheBaselineDoesNotHoldAppears) {
   EXPECT_TRUE(r.recalibrate) << DriftText(r);
 }
 
+// A periodic error's θ reads in pairs (no σ of its own for an amplitude
+// or a phase): a change of one term says which, of which leg, in the
+// amplitude's unit.
+TEST(Drift, AChangeOfAPeriodicErrorsTermNamesItsLegTermAndUnit) {
+  ParameterChange c;
+  c.effect = Effect::kPeriodicLeadError;
+  c.parameter = "theta";
+  c.index = c.theta_index = 5;  // leg 3's cosine term
+  c.leg = 3;
+  c.before = 7e-6, c.after = 5e-6, c.change = -2e-6, c.sigma = 0.5e-6, c.z = -4.0;
+  EXPECT_EQ(ChangeText(c), "periodic_lead_error amplitude, its cosine term leg 3: 7.0 → 5.0 µm, -2.0 ± 0.5 µm (4.0σ)");
+  c.index = c.theta_index = 4;
+  EXPECT_NE(ChangeText(c).find("its sine term leg 3"), std::string::npos) << ChangeText(c);
+}
+
 // The bound many parameters need, against the normal tail it stands for.
 TEST(Drift, TheChangeThresholdKeepsNoiseFromCountingAsChange) {
   EXPECT_DOUBLE_EQ(ChangeThreshold(1), 3.0);
