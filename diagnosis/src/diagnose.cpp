@@ -445,6 +445,10 @@ Diagnosis DiagnoseOnce(const PlatformModel& model, const MeasurementData& data, 
   out.t0 = d.t0;
   out.applied_pr = d.applied_pr;
   out.applied_pr_ratio = d.applied_pr_ratio;
+  out.has_encoder = d.has_encoder;
+  out.drives_described_rms_m = d.drives_described_rms_m;
+  out.drives_rest_rms_m = d.drives_rest_rms_m;
+  out.drives_rest_taken_out = d.drives_rest_taken_out;
   out.platform = calibration::PlatformFingerprint(model);
   out.noise_floor_rms_m = NoiseFloorRms(d);
   const double sigma_axis = std::max(out.noise_floor_rms_m / std::sqrt(3.0), 1e-8);

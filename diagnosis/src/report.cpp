@@ -353,6 +353,11 @@ nlohmann::json ToJson(const Diagnosis& d) {
                std::isfinite(d.condition_number) ? nlohmann::json(d.condition_number) : nlohmann::json("inf")}};
   j["samples"] = d.samples;
   j["timing_excluded_samples"] = d.timing_excluded;
+  if (d.has_encoder) {
+    j["drives"] = {{"described_rms_m", d.drives_described_rms_m},
+                   {"rest_rms_m", d.drives_rest_rms_m},
+                   {"rest_taken_out", d.drives_rest_taken_out}};
+  }
   j["recorded_correction"] = {{"against", AgainstName(d.against)}, {"rms_m", d.recorded_correction_rms_m}};
   j["seconds"] = d.seconds;
   return j;

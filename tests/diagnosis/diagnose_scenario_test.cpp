@@ -89,6 +89,10 @@ TEST(Diagnose, EffectFreeDataIdentifiesNothing) {
   EXPECT_NEAR(d.noise_floor_rms_m, std::sqrt(3.0) * kNoise, 0.15 * std::sqrt(3.0) * kNoise);
   EXPECT_LE(d.holdout_after.rms_m, 1.1 * d.noise_floor_rms_m);
   EXPECT_LT(std::abs(d.whiteness.lag1), 0.1) << "what is left is (nearly) white";
+  // A stiff loop: the drives' following error is under the tracker's noise.
+  const nlohmann::json drives = ToJson(d)["drives"];
+  EXPECT_FALSE(drives["rest_taken_out"].get<bool>()) << drives.dump();
+  EXPECT_LT(drives["rest_rms_m"].get<double>(), d.noise_floor_rms_m / std::sqrt(3.0)) << drives.dump();
 }
 
 struct SingleCase {
@@ -199,6 +203,7 @@ TEST(Diagnose, WithoutEncodersADrivesLoopIsNotTakenForAClockOffset) {
   EXPECT_EQ(ResultFor(d, Effect::kServoLag).verdict, Verdict::kIdentified)
       << ResultFor(d, Effect::kServoLag).next_measurement;
   EXPECT_EQ(d.conclusion, Conclusion::kEffects) << d.unexplained_note;
+  EXPECT_FALSE(ToJson(d).contains("drives")) << "no encoders, no following error to report";
 }
 
 // A soft drive loop with integral action (10 Hz) under a heavy payload on
@@ -223,6 +228,12 @@ TEST(Diagnose, ARingingDriveLoopIsTheDrivesNotASwayingStructure) {
   EXPECT_EQ(ResultFor(d, Effect::kStructuralResonance).verdict, Verdict::kRejected);
   EXPECT_EQ(d.conclusion, Conclusion::kEffects) << d.unexplained_note;
   ExpectClosed(d);
+  // The report says so: the rest of the following error, above the
+  // tracker's noise, was taken out before any effect was fitted.
+  const nlohmann::json drives = ToJson(d)["drives"];
+  EXPECT_TRUE(drives["rest_taken_out"].get<bool>()) << drives.dump();
+  EXPECT_GT(drives["rest_rms_m"].get<double>(), d.noise_floor_rms_m / std::sqrt(3.0)) << drives.dump();
+  EXPECT_GT(drives["described_rms_m"].get<double>(), 0.0) << drives.dump();
 }
 
 TEST(Diagnose, BacklashAndLeadErrorAreRecoveredWithTheirSizes) {

@@ -168,6 +168,12 @@ struct Diagnosis {
   TimeOffset time_offset;            // the tracker's clock, a nuisance (time_offset.h)
   std::optional<PrMode> applied_pr;  // the compensation found in the data (nullopt: another)
   double applied_pr_ratio = 0.0;
+  // With encoders: the drives' following error at A, the part servo_lag's
+  // terms describe and the rest, and whether the rest was taken out of the
+  // residual (design.h).
+  bool has_encoder = false;
+  double drives_described_rms_m = 0.0, drives_rest_rms_m = 0.0;
+  bool drives_rest_taken_out = false;
   RobustFitSummary robust;
   double condition_number = 0.0;  // of the selected model's column-scaled Jacobian
   std::string platform;           // calibration::PlatformFingerprint of the model it ran on
