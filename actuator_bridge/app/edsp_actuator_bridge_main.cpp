@@ -11,6 +11,7 @@
 // write latencies and cycles without a fresh command (the stack benchmark reads it).
 #include <cstdio>
 #include <fstream>
+#include <optional>
 
 #include "edsp/actuator_bridge/actuator_bridge.h"
 #include "edsp/actuator_bridge/bridge_loop.h"
@@ -59,19 +60,22 @@ int Run(int argc, char** argv) {
   const TransportConfig transport = TransportFor(app.node);
   InstallStopSignals();
   std::string note;
-  const ActiveBackend backend(backend_name, BackendContext{drives, transport, image_prefix}, config, &note);
+  std::optional<ActiveBackend> backend;
+  backend.emplace(backend_name, BackendContext{drives, transport, image_prefix}, config, &note);
   if (!note.empty()) std::fprintf(stderr, "edsp-actuator-bridge: --backend: %s\n", note.c_str());
   BridgeOptions options;
   options.session_id = app.node.session_id;
   options.stale_us = std::int64_t{stale_ms} * 1000;
   options.rejoin_speed_m_s = rejoin_speed_m_s;
-  ActuatorBridge bridge(PlatformModel(config), backend.get(), options);
+  ActuatorBridge bridge(PlatformModel(config), backend->get(), options);
   Bus bus(transport);
   BridgeLoop loop(bus, bridge);
   RateClock own_clock(kBridgePeriod, std::chrono::microseconds(cycle_phase_us));
-  CycleClock* clock = backend->Clock() != nullptr ? backend->Clock() : &own_clock;
+  CycleClock* clock = backend->get()->Clock() != nullptr ? backend->get()->Clock() : &own_clock;
   loop.Run(*clock, [] { return StopRequested(); });
-  if (!latency_report.empty()) WriteLatencyReport(latency_report, LatencyReport(loop, clock->missed()));
+  const nlohmann::json report = LatencyReport(loop, clock->missed());
+  backend.reset();  // the drives deactivated before anything else is done
+  if (!latency_report.empty()) WriteLatencyReport(latency_report, report);
   return 0;
 }
 

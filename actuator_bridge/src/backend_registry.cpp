@@ -1,5 +1,6 @@
 #include "edsp/actuator_bridge/backend_registry.h"
 
+#include <cstdio>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -75,18 +76,24 @@ ActiveBackend::ActiveBackend(const std::string& name, const BackendContext& cont
                              std::string* note) {
   const BackendKind* kind = FindBackend(name, note);
   if (kind == nullptr) throw std::runtime_error("--backend " + name + ": known backends: " + KnownBackends());
+  // A failure names the backend as the command line did, and its new name.
+  const std::string named = note->empty() ? name : name + " (" + *note + ")";
   backend_ = kind->make(context);
   std::string error;
-  if (!backend_->Configure(config, &error)) throw std::runtime_error("drive backend " + name + ": " + error);
+  if (!backend_->Configure(config, &error)) throw std::runtime_error("drive backend " + named + ": " + error);
   if (!backend_->Activate(&error)) {
     backend_->Cleanup();
-    throw std::runtime_error("drive backend " + name + ": " + error);
+    throw std::runtime_error("drive backend " + named + ": " + error);
   }
 }
 
 ActiveBackend::~ActiveBackend() {
-  backend_->Deactivate();
-  backend_->Cleanup();
+  try {
+    backend_->Deactivate();
+    backend_->Cleanup();
+  } catch (const std::exception& e) {  // a destructor must not throw: say it, the drives' watchdog holds them
+    std::fprintf(stderr, "drive backend: deactivating: %s\n", e.what());
+  }
 }
 
 }  // namespace edsp

@@ -107,17 +107,23 @@ Fitted FitChange(const Design& d, const std::vector<Effect>& baseline, double no
   return fit;
 }
 
-// The group that reads θ index `t` in a pair (a periodic error's amplitude
-// and phase: the pair's sine and cosine terms, in the amplitude's unit), and
-// whether t is the pair's cosine term; none if no group reads t so.
-std::optional<ParameterGroup> PairGroupOf(Effect effect, int t, bool* cosine) {
+// One term of a pair a group reads (a periodic error's amplitude and
+// phase: the pair's sine and cosine terms, in the amplitude's unit).
+struct PairTerm {
+  ParameterGroup group;
+  int leg = 0;  // 1–6 for a per-leg group
+  bool cosine = false;
+};
+
+// The pair term θ index `t` is, if a group reads it in a pair.
+std::optional<PairTerm> PairTermOf(Effect effect, int t) {
   for (const ParameterGroup& g : ParameterGroups(effect)) {
     if (calibration::HasSigma(g)) continue;
     for (int k = 0; k < calibration::ValueCount(g); ++k) {
       const int sine = calibration::ThetaIndex(g, k);
       if (t != sine && t != sine + 1) continue;
-      *cosine = t == sine + 1;
-      return g;
+      const int leg = calibration::IsPerLeg(g) ? k / calibration::ValuesPerLeg(g) + 1 : 0;
+      return PairTerm{g, leg, t == sine + 1};
     }
   }
   return std::nullopt;
@@ -155,10 +161,7 @@ void Compare(const SavedEffect& e, const Eigen::VectorXd& delta, const Eigen::Ve
     c.effect = e.effect;
     c.parameter = "theta";
     c.index = c.theta_index = t;
-    bool cosine = false;
-    if (const std::optional<ParameterGroup> g = PairGroupOf(e.effect, t, &cosine); g && calibration::IsPerLeg(*g)) {
-      c.leg = (t - g->first) / g->stride + 1;
-    }
+    if (const std::optional<PairTerm> term = PairTermOf(e.effect, t)) c.leg = term->leg;
     c.before = e.theta(t);
     c.after = after(t);
     c.change = delta(t);
@@ -219,10 +222,14 @@ DriftReport Drift(const PlatformModel& model, const nlohmann::json& baseline, co
   for (const SavedEffect& e : effects) baseline_effects.push_back(e.effect);
   const Fitted fit = FitChange(d, baseline_effects, r.noise_floor_rms_m);
   for (const SavedEffect& e : effects) Compare(e, fit.delta.at(e.effect), fit.sigma.at(e.effect), &r.parameters);
-  r.z_threshold = ChangeThreshold(static_cast<int>(std::count_if(r.parameters.begin(), r.parameters.end(),
-                                                                 [](const ParameterChange& c) { return c.applied; })),
-                                  (1.0 - kLegsShare) * kFamilyWiseChance);
+  const int applied = static_cast<int>(
+      std::count_if(r.parameters.begin(), r.parameters.end(), [](const ParameterChange& c) { return c.applied; }));
+  r.z_threshold = ChangeThreshold(applied, (1.0 - kLegsShare) * kFamilyWiseChance);
   r.leg_z_threshold = ChangeThreshold(6, kLegsShare * kFamilyWiseChance);
+  // Whether an effect is there at all, before and after, is another
+  // question than whether it changed: one bar over the legs and the
+  // applied parameters, the whole 5%.
+  const double presence_z = ChangeThreshold(6 + applied, kFamilyWiseChance);
   const double samples = std::max(1, d.samples());
   for (ParameterChange& c : r.parameters) {
     c.z = c.sigma > 0.0 ? c.change / c.sigma : 0.0;
@@ -249,8 +256,8 @@ DriftReport Drift(const PlatformModel& model, const nlohmann::json& baseline, co
     bool was = false, is = false;
     for (int t = 0; t < e.theta.size(); ++t) {
       const double before = e.theta(t), after = before + fit.delta.at(e.effect)(t);
-      was = was || (e.sigma(t) > 0.0 ? std::abs(before) >= r.z_threshold * e.sigma(t) : before != 0.0);
-      is = is || std::abs(after) >= r.z_threshold * std::max(fit.sigma.at(e.effect)(t), 1e-300);
+      was = was || (e.sigma(t) > 0.0 ? std::abs(before) >= presence_z * e.sigma(t) : before != 0.0);
+      is = is || std::abs(after) >= presence_z * std::max(fit.sigma.at(e.effect)(t), 1e-300);
     }
     if (was && !is) r.vanished.push_back(e.effect);
   }
@@ -326,13 +333,14 @@ std::string ChangeText(const ParameterChange& c) {
   for (const ParameterGroup& g : ParameterGroups(c.effect)) {
     if (c.parameter == g.key) unit = g.unit, label = g.label, scale = g.unit_scale, decimals = g.decimals;
   }
-  bool cosine = false;
-  if (const std::optional<ParameterGroup> g = PairGroupOf(c.effect, c.theta_index, &cosine);
-      c.parameter == "theta" && g) {
-    unit = g->unit, scale = g->unit_scale, decimals = g->decimals;
-    label = fmt::format("{}, its {} term", g->label, cosine ? "cosine" : "sine");
+  int leg = c.leg;
+  if (const std::optional<PairTerm> term = PairTermOf(c.effect, c.theta_index); c.parameter == "theta" && term) {
+    const ParameterGroup& g = term->group;
+    unit = g.unit, scale = g.unit_scale, decimals = g.decimals;
+    label = fmt::format("{}, its {} term", g.label, term->cosine ? "cosine" : "sine");
+    leg = term->leg;
   }
-  const std::string where = c.leg > 0 ? fmt::format(" leg {}", c.leg) : "";
+  const std::string where = leg > 0 ? fmt::format(" leg {}", leg) : "";
   return fmt::format("{} {}{}: {:.{}f} → {:.{}f} {}, {:+.{}f} ± {:.{}f} {} ({:.1f}σ)", EffectName(c.effect), label,
                      where, c.before * scale, decimals, c.after * scale, decimals, unit, c.change * scale, decimals,
                      c.sigma * scale, decimals, unit, std::abs(c.z));

@@ -78,6 +78,7 @@ OfflineRunResult RunOffline(const std::string& config_path, const RigEffects& ef
   // settles at home under it, unrecorded, as a rig team applies one and
   // then measures: its first correction is not a transient of the run.
   std::unique_ptr<TrajectorySequence> motions = std::make_unique<TrajectorySequence>();
+  const int settle_segments = stack.calibration ? 1 : 0;  // the first segments, left out of the log
   if (stack.calibration) {
     motions->Append(kSettleSegment, std::make_unique<Dwell>(model.home_pose().ToVector(), kCalibrationSettle_s));
   }
@@ -121,7 +122,7 @@ OfflineRunResult RunOffline(const std::string& config_path, const RigEffects& ef
     };
     while (!sim.Finished()) {
       const StackSample s = sim.Step();
-      if (s.setpoint.trajectory == kSettleSegment) continue;
+      if (s.setpoint.segment < settle_segments) continue;
       utime = s.setpoint.utime;
       log.Write(channel::kSetpoint, s.setpoint, utime);
       if (s.command_valid) log.Write(channel::kLegCommand, s.command, utime);

@@ -179,8 +179,7 @@ TEST(Drift, AChangeOfAPeriodicErrorsTermNamesItsLegTermAndUnit) {
   ParameterChange c;
   c.effect = Effect::kPeriodicLeadError;
   c.parameter = "theta";
-  c.index = c.theta_index = 5;  // leg 3's cosine term
-  c.leg = 3;
+  c.index = c.theta_index = 5;  // leg 3's cosine term: the text finds its leg
   c.before = 7e-6, c.after = 5e-6, c.change = -2e-6, c.sigma = 0.5e-6, c.z = -4.0;
   EXPECT_EQ(ChangeText(c), "periodic_lead_error amplitude, its cosine term leg 3: 7.0 → 5.0 µm, -2.0 ± 0.5 µm (4.0σ)");
   c.index = c.theta_index = 4;
