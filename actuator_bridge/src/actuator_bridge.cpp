@@ -213,8 +213,9 @@ std::optional<ActuatorBridge::Refusal> ActuatorBridge::WhyNotListening(const leg
                    fmt::format("leg command seq {} from session {}, this group is session {}", c.seq, c.session_id,
                                options_.session_id)};
   }
-  std::string stamp = StampProblem(fmt::format("leg command seq {}", c.seq), c.utime, now_utime, options_.stale_us);
-  if (!stamp.empty()) return Refusal{FaultCode::kStale, std::move(stamp)};
+  std::optional<std::string> stamp =
+      StampProblem(fmt::format("leg command seq {}", c.seq), c.utime, now_utime, options_.stale_us);
+  if (stamp) return Refusal{FaultCode::kStale, std::move(*stamp)};
   return std::nullopt;
 }
 

@@ -28,8 +28,8 @@ Cia402Backend::Cia402Backend(const DrivesConfig& config, std::unique_ptr<cia402:
 
 bool Cia402Backend::Configure(const PlatformConfig&, std::string* error) {
   if (!lifecycle_.Allows(BackendTransition::kConfigure, error)) return false;
-  if (const std::string problem = ScalingProblem(config_.scaling); !problem.empty()) {
-    *error = problem;
+  if (const std::optional<std::string> problem = ScalingProblem(config_.scaling)) {
+    *error = *problem;
     return false;
   }
   return lifecycle_.Take(BackendTransition::kConfigure, error);

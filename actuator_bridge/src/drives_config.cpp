@@ -64,14 +64,14 @@ DrivesConfig ParseDrivesConfig(const std::string& toml_text, const std::string& 
   return config;
 }
 
-std::string ScalingProblem(const std::array<cia402::DriveScaling, 6>& scaling) {
+std::optional<std::string> ScalingProblem(const std::array<cia402::DriveScaling, 6>& scaling) {
   for (std::size_t i = 0; i < scaling.size(); ++i) {
-    const std::string problem = scaling[i].Problem();
-    if (!problem.empty()) {
-      return fmt::format("[drives] leg {}: {} (from the config's [drives] counts_per_m and direction)", i + 1, problem);
+    if (const std::optional<std::string> problem = scaling[i].Problem()) {
+      return fmt::format("[drives] leg {}: {} (from the config's [drives] counts_per_m and direction)", i + 1,
+                         *problem);
     }
   }
-  return "";
+  return std::nullopt;
 }
 
 DrivesConfig LoadDrivesConfig(const std::string& path, const PlatformConfig& platform) {

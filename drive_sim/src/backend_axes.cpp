@@ -10,8 +10,8 @@ namespace edsp::cia402 {
 BackendAxes::BackendAxes(std::unique_ptr<DriveBackend> backend, const PlatformConfig& config,
                          const std::array<DriveScaling, kCabinetDrives>& scaling, std::int64_t fieldbus_timeout_us)
     : backend_(std::move(backend)), scaling_(scaling), fieldbus_timeout_us_(fieldbus_timeout_us) {
-  if (const std::string problem = ScalingProblem(scaling_); !problem.empty()) {
-    throw std::runtime_error("the drives' axes: " + problem);
+  if (const std::optional<std::string> problem = ScalingProblem(scaling_)) {
+    throw std::runtime_error("the drives' axes: " + *problem);
   }
   std::string error;
   if (!backend_->Configure(config, &error) || !backend_->Activate(&error)) {

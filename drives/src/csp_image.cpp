@@ -20,12 +20,12 @@ std::optional<std::int32_t> ToInt32(double value) {
 
 }  // namespace
 
-std::string DriveScaling::Problem() const {
+std::optional<std::string> DriveScaling::Problem() const {
   if (!std::isfinite(counts_per_rad) || counts_per_rad <= 0.0) {
     return fmt::format("counts_per_rad must be a positive number, not {}", counts_per_rad);
   }
   if (direction != 1 && direction != -1) return fmt::format("direction must be 1 or -1, not {}", direction);
-  return "";
+  return std::nullopt;
 }
 
 double DriveScaling::Counts(double angle_rad) const {

@@ -187,8 +187,8 @@ bool KinematicsNode::HandleSetpoint(const pose_setpoint_t& sp, std::int64_t now_
     return false;
   }
   const std::string what = fmt::format("setpoint seq {}", sp.seq);
-  if (std::string stamp = StampProblem(what, sp.utime, now_utime, options_.stale_us); !stamp.empty()) {
-    *fault = Fault(FaultCode::kStale, std::move(stamp), now_utime, kChannel);
+  if (std::optional<std::string> stamp = StampProblem(what, sp.utime, now_utime, options_.stale_us)) {
+    *fault = Fault(FaultCode::kStale, std::move(*stamp), now_utime, kChannel);
     return false;
   }
   Vector6 q;

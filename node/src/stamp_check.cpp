@@ -4,8 +4,8 @@
 
 namespace edsp {
 
-std::string StampProblem(const std::string& what, std::int64_t stamp_utime, std::int64_t now_utime,
-                         std::int64_t limit_us) {
+std::optional<std::string> StampProblem(const std::string& what, std::int64_t stamp_utime, std::int64_t now_utime,
+                                        std::int64_t limit_us) {
   // In double: exact for any real clock (below 2^53 µs), and no overflow
   // for a stamp anywhere in int64.
   const double age_us = static_cast<double>(now_utime) - static_cast<double>(stamp_utime);
@@ -17,7 +17,7 @@ std::string StampProblem(const std::string& what, std::int64_t stamp_utime, std:
         "one disagree (docs/multihost.md)",
         what, -age_us, limit_us);
   }
-  return "";
+  return std::nullopt;
 }
 
 }  // namespace edsp

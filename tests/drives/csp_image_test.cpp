@@ -52,15 +52,15 @@ TEST(DriveScaling, WhatDoesNotFitADrivesPositionIsRefusedNotWrapped) {
 
 TEST(DriveScaling, AbsurdScalingsAreNamed) {
   DriveScaling s = Encoder();
-  EXPECT_EQ(s.Problem(), "");
+  EXPECT_EQ(s.Problem(), std::nullopt);
   s.counts_per_rad = 0.0;
-  EXPECT_NE(s.Problem().find("counts_per_rad"), std::string::npos);
+  EXPECT_NE(s.Problem().value_or("").find("counts_per_rad"), std::string::npos);
   s = Encoder();
   s.counts_per_rad = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_NE(s.Problem().find("counts_per_rad"), std::string::npos);
+  EXPECT_NE(s.Problem().value_or("").find("counts_per_rad"), std::string::npos);
   s = Encoder();
   s.direction = 0;
-  EXPECT_NE(s.Problem().find("direction"), std::string::npos);
+  EXPECT_NE(s.Problem().value_or("").find("direction"), std::string::npos);
 }
 
 TEST(ModbusRegisterMap, CommandsAndFeedbackAsEncodedByHand) {

@@ -13,9 +13,9 @@ namespace {
 constexpr std::int64_t kNow = 1'764'000'000'000'000;  // 2025-11, µs
 
 TEST(StampCheck, WithinTheLimitEitherWayIsOnTime) {
-  EXPECT_EQ(StampProblem("x", kNow, kNow, 50000), "");
-  EXPECT_EQ(StampProblem("x", kNow - 50000, kNow, 50000), "") << "the limit itself is still on time";
-  EXPECT_EQ(StampProblem("x", kNow + 50000, kNow, 50000), "");
+  EXPECT_EQ(StampProblem("x", kNow, kNow, 50000), std::nullopt);
+  EXPECT_EQ(StampProblem("x", kNow - 50000, kNow, 50000), std::nullopt) << "the limit itself is still on time";
+  EXPECT_EQ(StampProblem("x", kNow + 50000, kNow, 50000), std::nullopt);
 }
 
 TEST(StampCheck, BeyondItTheMessageSaysWhichWayAndByHowMuch) {
@@ -27,11 +27,11 @@ TEST(StampCheck, BeyondItTheMessageSaysWhichWayAndByHowMuch) {
 }
 
 TEST(StampCheck, AnyInt64StampIsJudgedWithoutOverflow) {
-  const std::string oldest = StampProblem("x", std::numeric_limits<std::int64_t>::min(), kNow, 50000);
+  const std::string oldest = StampProblem("x", std::numeric_limits<std::int64_t>::min(), kNow, 50000).value_or("");
   EXPECT_NE(oldest.find("us old"), std::string::npos) << oldest;
-  const std::string latest = StampProblem("x", std::numeric_limits<std::int64_t>::max(), kNow, 50000);
+  const std::string latest = StampProblem("x", std::numeric_limits<std::int64_t>::max(), kNow, 50000).value_or("");
   EXPECT_NE(latest.find("in the future"), std::string::npos) << latest;
-  EXPECT_NE(StampProblem("x", 0, std::numeric_limits<std::int64_t>::max(), 50000), "");
+  EXPECT_NE(StampProblem("x", 0, std::numeric_limits<std::int64_t>::max(), 50000), std::nullopt);
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 //   direction = 1                  # +1 or -1 (a motor mounted the other way): a number or 6
 
 #include <array>
+#include <optional>
 #include <string>
 
 #include "edsp/drives/csp_image.h"
@@ -31,10 +32,10 @@ struct DrivesConfig {
   std::array<cia402::DriveScaling, 6> scaling{};
 };
 
-// "" when every drive's scaling is usable, else which leg and why, naming
+// Nothing when every drive's scaling is usable, else which leg and why, naming
 // the [drives] keys it comes from (a backend given counts by --backend
 // while the config's [drives] declares none has a scaling of 0).
-std::string ScalingProblem(const std::array<cia402::DriveScaling, 6>& scaling);
+std::optional<std::string> ScalingProblem(const std::array<cia402::DriveScaling, 6>& scaling);
 
 // Throws ConfigError naming the file, line and key.
 DrivesConfig ParseDrivesConfig(const std::string& toml_text, const std::string& origin, const DriveParameters& drive);

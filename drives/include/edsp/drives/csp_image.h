@@ -40,8 +40,8 @@ struct DriveScaling {
   std::int32_t offset_counts = 0;  // the drive's count at the leg's home
   int direction = 1;               // +1, or −1 for a motor mounted the other way
 
-  // "" when usable, else what is wrong (for config errors naming the drive).
-  std::string Problem() const;
+  // Nothing when usable, else what is wrong (for config errors naming the drive).
+  std::optional<std::string> Problem() const;
   // The count of `angle_rad` (counts/s of `rate_rad_s`) before rounding:
   // where an axis stands, for a reading; never a target.
   double Counts(double angle_rad) const;

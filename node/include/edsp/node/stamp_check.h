@@ -6,13 +6,14 @@
 // overflow.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 namespace edsp {
 
-// Empty when `stamp_utime` is within `limit_us` of `now_utime`; else why
+// Nothing when `stamp_utime` is within `limit_us` of `now_utime`; else why
 // not, naming `what` ("leg command seq 12"), the age and the limit.
-std::string StampProblem(const std::string& what, std::int64_t stamp_utime, std::int64_t now_utime,
-                         std::int64_t limit_us);
+std::optional<std::string> StampProblem(const std::string& what, std::int64_t stamp_utime, std::int64_t now_utime,
+                                        std::int64_t limit_us);
 
 }  // namespace edsp
