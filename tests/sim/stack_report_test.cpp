@@ -85,18 +85,6 @@ class RunLog {
 constexpr std::int8_t kMove = pose_setpoint_t::PHASE_MOVE;
 constexpr std::int8_t kDwell = pose_setpoint_t::PHASE_DWELL;
 
-class StackReportTest : public ::testing::Test {
- protected:
-  void TearDown() override {
-    std::filesystem::remove(log_);
-    std::filesystem::remove_all(plots_);
-  }
-  const PlatformModel model_ = test_support::Huang2021Model();
-  const Vector6 home_ = model_.home_pose().ToVector();
-  const std::string log_ = test_support::ScratchRoot() + "/stack_report.lcmlog";
-  const std::string plots_ = test_support::ScratchRoot() + "/stack_plots";
-};
-
 // Two dwells of Lz and Rz between moves, the last cut short.
 void WriteTwoDwells(RunLog& run, const Vector6& home, const Vector6& up, const Vector6& yawed) {
   run.Command(leg_command_t::PR_NONE);
@@ -109,15 +97,31 @@ void WriteTwoDwells(RunLog& run, const Vector6& home, const Vector6& up, const V
   run.Segment("Rz/dwell 2", kDwell, 5, home, 100, Vector3::Zero(), 0);  // cut short: not a stop
 }
 
-TEST_F(StackReportTest, DwellsAveragedOverTheirSettledHalfWithModeAndDisplacement) {
-  Vector6 up = home_, yawed = home_;
-  up(2) += 0.25;
-  yawed(5) -= 0.3;
-  {
-    RunLog run(log_, model_);
-    WriteTwoDwells(run, home_, up, yawed);
+class StackReportTest : public ::testing::Test {
+ protected:
+  void TearDown() override {
+    std::filesystem::remove(log_);
+    std::filesystem::remove_all(plots_);
   }
-  const DwellErrors e = DwellErrorsFromLog(log_, model_);
+  // Two dwells of Lz and Rz written in `layout` (WriteTwoDwells), read back.
+  DwellErrors TwoDwellsIn(Layout layout) {
+    {
+      RunLog run(log_, model_, layout);
+      WriteTwoDwells(run, home_, up_, yawed_);
+    }
+    return DwellErrorsFromLog(log_, model_);
+  }
+
+  const PlatformModel model_ = test_support::Huang2021Model();
+  const Vector6 home_ = model_.home_pose().ToVector();
+  const Vector6 up_ = home_ + 0.25 * Vector6::Unit(2);
+  const Vector6 yawed_ = home_ - 0.3 * Vector6::Unit(5);
+  const std::string log_ = test_support::ScratchRoot() + "/stack_report.lcmlog";
+  const std::string plots_ = test_support::ScratchRoot() + "/stack_plots";
+};
+
+TEST_F(StackReportTest, DwellsAveragedOverTheirSettledHalfWithModeAndDisplacement) {
+  const DwellErrors e = TwoDwellsIn(Layout::kToday);
   EXPECT_FALSE(e.damaged);
   ASSERT_EQ(e.dwells.size(), 2u);
   const DwellError& lz = e.dwells[0];
@@ -139,7 +143,7 @@ TEST_F(StackReportTest, DwellsAveragedOverTheirSettledHalfWithModeAndDisplacemen
   EXPECT_EQ(rows[0].mode, PrMode::kNone);
   EXPECT_EQ(rows[0].stops, 1);
   EXPECT_NEAR(rows[0].max_measured_m, std::sqrt(14.0) * 1e-6, 1e-12);
-  EXPECT_DOUBLE_EQ(rows[0].max_predicted_m, PointAError(model_, Pose::FromVector(up), PrMode::kNone));
+  EXPECT_DOUBLE_EQ(rows[0].max_predicted_m, PointAError(model_, Pose::FromVector(up_), PrMode::kNone));
   EXPECT_GT(rows[0].max_predicted_m, 1e-5);  // the PR miss without compensation
   EXPECT_LT(rows[1].max_predicted_m, 1e-8);  // signed: none left
   const std::string text = FormatStackTable(rows);
@@ -179,19 +183,8 @@ TEST_F(StackReportTest, TheSetpointsPhaseNotTheirLabelMakesADwell) {
 // A log recorded before setpoints carried their phase reads the same
 // dwells, told by the labels its planner wrote.
 TEST_F(StackReportTest, ALogOfTheOlderSetpointLayoutReadsTheSameDwells) {
-  Vector6 up = home_, yawed = home_;
-  up(2) += 0.25;
-  yawed(5) -= 0.3;
-  {
-    RunLog run(log_, model_);
-    WriteTwoDwells(run, home_, up, yawed);
-  }
-  const DwellErrors today = DwellErrorsFromLog(log_, model_);
-  {
-    RunLog run(log_, model_, Layout::kBeforePhase);
-    WriteTwoDwells(run, home_, up, yawed);
-  }
-  const DwellErrors before = DwellErrorsFromLog(log_, model_);
+  const DwellErrors today = TwoDwellsIn(Layout::kToday);
+  const DwellErrors before = TwoDwellsIn(Layout::kBeforePhase);
   ASSERT_EQ(today.dwells.size(), 2u);
   ASSERT_EQ(before.dwells.size(), today.dwells.size());
   for (std::size_t k = 0; k < today.dwells.size(); ++k) {
